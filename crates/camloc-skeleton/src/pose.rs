@@ -1,0 +1,337 @@
+//! Landmarks, limbs and the 2D/3D pose containers.
+
+use serde::{Deserialize, Serialize};
+
+/// Number of landmarks in a camloc pose.
+pub const NUM_LANDMARKS: usize = 15;
+/// Number of limbs (landmark pairs) in a camloc pose.
+pub const NUM_LIMBS: usize = 14;
+
+/// The 15 landmarks, in the fixed order of SPEC.md section 3 (the discriminant is the index).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[repr(u8)]
+pub enum Landmark {
+    /// Pelvis (root); the origin of the canonical 3D frame and the 2D shape-context centre.
+    Pelvis = 0,
+    /// Left hip joint.
+    LeftHip = 1,
+    /// Left knee.
+    LeftKnee = 2,
+    /// Left ankle.
+    LeftAnkle = 3,
+    /// Right hip joint.
+    RightHip = 4,
+    /// Right knee.
+    RightKnee = 5,
+    /// Right ankle.
+    RightAnkle = 6,
+    /// Neck (lower neck / thorax end).
+    Neck = 7,
+    /// Head (upper neck end).
+    Head = 8,
+    /// Left shoulder.
+    LeftShoulder = 9,
+    /// Left elbow.
+    LeftElbow = 10,
+    /// Left wrist.
+    LeftWrist = 11,
+    /// Right shoulder.
+    RightShoulder = 12,
+    /// Right elbow.
+    RightElbow = 13,
+    /// Right wrist.
+    RightWrist = 14,
+}
+
+impl Landmark {
+    /// All landmarks in index order.
+    pub const ALL: [Landmark; NUM_LANDMARKS] = [
+        Landmark::Pelvis,
+        Landmark::LeftHip,
+        Landmark::LeftKnee,
+        Landmark::LeftAnkle,
+        Landmark::RightHip,
+        Landmark::RightKnee,
+        Landmark::RightAnkle,
+        Landmark::Neck,
+        Landmark::Head,
+        Landmark::LeftShoulder,
+        Landmark::LeftElbow,
+        Landmark::LeftWrist,
+        Landmark::RightShoulder,
+        Landmark::RightElbow,
+        Landmark::RightWrist,
+    ];
+
+    /// Index of the landmark in a pose (0..15).
+    pub const fn index(self) -> usize {
+        self as usize
+    }
+
+    /// The landmark at `index`, or `None` when `index >= 15`.
+    pub fn from_index(index: usize) -> Option<Landmark> {
+        Landmark::ALL.get(index).copied()
+    }
+
+    /// Snake-case name as used in the project's JSON keypoint format (`left_hip`, ...).
+    pub const fn name(self) -> &'static str {
+        match self {
+            Landmark::Pelvis => "pelvis",
+            Landmark::LeftHip => "left_hip",
+            Landmark::LeftKnee => "left_knee",
+            Landmark::LeftAnkle => "left_ankle",
+            Landmark::RightHip => "right_hip",
+            Landmark::RightKnee => "right_knee",
+            Landmark::RightAnkle => "right_ankle",
+            Landmark::Neck => "neck",
+            Landmark::Head => "head",
+            Landmark::LeftShoulder => "left_shoulder",
+            Landmark::LeftElbow => "left_elbow",
+            Landmark::LeftWrist => "left_wrist",
+            Landmark::RightShoulder => "right_shoulder",
+            Landmark::RightElbow => "right_elbow",
+            Landmark::RightWrist => "right_wrist",
+        }
+    }
+
+    /// The landmark with snake-case `name`, or `None`.
+    pub fn from_name(name: &str) -> Option<Landmark> {
+        Landmark::ALL.iter().copied().find(|l| l.name() == name)
+    }
+
+    /// The same landmark on the other side of the body (left <-> right); central ones map to
+    /// themselves.
+    pub const fn mirrored(self) -> Landmark {
+        match self {
+            Landmark::LeftHip => Landmark::RightHip,
+            Landmark::LeftKnee => Landmark::RightKnee,
+            Landmark::LeftAnkle => Landmark::RightAnkle,
+            Landmark::RightHip => Landmark::LeftHip,
+            Landmark::RightKnee => Landmark::LeftKnee,
+            Landmark::RightAnkle => Landmark::LeftAnkle,
+            Landmark::LeftShoulder => Landmark::RightShoulder,
+            Landmark::LeftElbow => Landmark::RightElbow,
+            Landmark::LeftWrist => Landmark::RightWrist,
+            Landmark::RightShoulder => Landmark::LeftShoulder,
+            Landmark::RightElbow => Landmark::LeftElbow,
+            Landmark::RightWrist => Landmark::LeftWrist,
+            other => other,
+        }
+    }
+}
+
+/// Index of the left/right counterpart of landmark `index` (see [`Landmark::mirrored`]).
+///
+/// Returns `index` itself for the central landmarks and for out-of-range indices.
+pub fn mirror_landmark_index(index: usize) -> usize {
+    Landmark::from_index(index).map_or(index, |l| l.mirrored().index())
+}
+
+/// The 14 limbs as (parent, child) landmark pairs, in the order of SPEC.md section 3.
+pub const LIMBS: [(Landmark, Landmark); NUM_LIMBS] = [
+    (Landmark::Pelvis, Landmark::LeftHip),
+    (Landmark::LeftHip, Landmark::LeftKnee),
+    (Landmark::LeftKnee, Landmark::LeftAnkle),
+    (Landmark::Pelvis, Landmark::RightHip),
+    (Landmark::RightHip, Landmark::RightKnee),
+    (Landmark::RightKnee, Landmark::RightAnkle),
+    (Landmark::Pelvis, Landmark::Neck),
+    (Landmark::Neck, Landmark::Head),
+    (Landmark::Neck, Landmark::LeftShoulder),
+    (Landmark::LeftShoulder, Landmark::LeftElbow),
+    (Landmark::LeftElbow, Landmark::LeftWrist),
+    (Landmark::Neck, Landmark::RightShoulder),
+    (Landmark::RightShoulder, Landmark::RightElbow),
+    (Landmark::RightElbow, Landmark::RightWrist),
+];
+
+/// Position of the torso (pelvis to neck) in [`LIMBS`]; the reference length in 2D.
+pub const TORSO_LIMB: usize = 6;
+
+/// Human-readable limb names, parallel to [`LIMBS`].
+pub const LIMB_NAMES: [&str; NUM_LIMBS] = [
+    "left pelvis-hip",
+    "left thigh",
+    "left shin",
+    "right pelvis-hip",
+    "right thigh",
+    "right shin",
+    "torso",
+    "neck-head",
+    "left collar",
+    "left upper arm",
+    "left forearm",
+    "right collar",
+    "right upper arm",
+    "right forearm",
+];
+
+/// A 2D pose: the 15 landmarks in image coordinates `(u, v)`, `v` growing downwards.
+///
+/// Units are whatever the caller uses (pixels for photos, metres for orthographic
+/// projections); every camloc descriptor is invariant to 2D translation and scale.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Pose2 {
+    /// Landmark positions, indexed by [`Landmark::index`].
+    pub points: [[f64; 2]; NUM_LANDMARKS],
+}
+
+impl Pose2 {
+    /// Wraps 15 image points.
+    pub const fn new(points: [[f64; 2]; NUM_LANDMARKS]) -> Self {
+        Pose2 { points }
+    }
+
+    /// Position of one landmark.
+    pub fn get(&self, landmark: Landmark) -> [f64; 2] {
+        self.points[landmark.index()]
+    }
+
+    /// Euclidean length of limb `limb` (an index into [`LIMBS`]), in the pose's units.
+    pub fn limb_length(&self, limb: usize) -> f64 {
+        let (a, b) = LIMBS[limb];
+        let (p, q) = (self.get(a), self.get(b));
+        (p[0] - q[0]).hypot(p[1] - q[1])
+    }
+
+    /// Length of the torso (pelvis to neck), the 2D unit of scale.
+    pub fn torso_length(&self) -> f64 {
+        self.limb_length(TORSO_LIMB)
+    }
+
+    /// `true` when every coordinate is finite.
+    pub fn is_finite(&self) -> bool {
+        self.points.iter().flatten().all(|c| c.is_finite())
+    }
+
+    /// The image mirrored horizontally (`u -> -u`) with left and right labels swapped, i.e. the
+    /// pose a camera at the mirrored viewpoint would see.
+    pub fn mirrored(&self) -> Pose2 {
+        let mut points = [[0.0; 2]; NUM_LANDMARKS];
+        for (i, p) in self.points.iter().enumerate() {
+            points[mirror_landmark_index(i)] = [-p[0], p[1]];
+        }
+        Pose2 { points }
+    }
+}
+
+/// A 3D pose: the 15 landmarks in metres, in the right-handed z-up world frame of SPEC.md
+/// section 1 (canonical poses have the pelvis at the origin and face -x, right side towards +y).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Pose3 {
+    /// Landmark positions in metres, indexed by [`Landmark::index`].
+    pub points: [[f64; 3]; NUM_LANDMARKS],
+}
+
+impl Pose3 {
+    /// Wraps 15 points in metres.
+    pub const fn new(points: [[f64; 3]; NUM_LANDMARKS]) -> Self {
+        Pose3 { points }
+    }
+
+    /// Position of one landmark, in metres.
+    pub fn get(&self, landmark: Landmark) -> [f64; 3] {
+        self.points[landmark.index()]
+    }
+
+    /// Euclidean length of limb `limb` (an index into [`LIMBS`]), in metres.
+    pub fn limb_length(&self, limb: usize) -> f64 {
+        let (a, b) = LIMBS[limb];
+        let (p, q) = (self.get(a), self.get(b));
+        ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt()
+    }
+
+    /// `true` when every coordinate is finite.
+    pub fn is_finite(&self) -> bool {
+        self.points.iter().flatten().all(|c| c.is_finite())
+    }
+}
+
+/// A 2D pose whose landmarks may be missing (`None`): what keypoint files and detectors give.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PartialPose2 {
+    /// Landmark positions in image coordinates, `None` where the landmark is missing.
+    pub points: [Option<[f64; 2]>; NUM_LANDMARKS],
+}
+
+impl PartialPose2 {
+    /// A pose with every landmark missing.
+    pub const fn empty() -> Self {
+        PartialPose2 {
+            points: [None; NUM_LANDMARKS],
+        }
+    }
+
+    /// The complete pose, or `None` if any landmark is missing.
+    pub fn complete(&self) -> Option<Pose2> {
+        let mut points = [[0.0; 2]; NUM_LANDMARKS];
+        for (o, p) in points.iter_mut().zip(&self.points) {
+            *o = (*p)?;
+        }
+        Some(Pose2 { points })
+    }
+
+    /// Landmarks that are missing, in index order.
+    pub fn missing(&self) -> impl Iterator<Item = Landmark> + '_ {
+        Landmark::ALL
+            .into_iter()
+            .filter(|l| self.points[l.index()].is_none())
+    }
+
+    /// Bit `i` set when landmark `i` is present.
+    pub fn present_mask(&self) -> u16 {
+        self.points
+            .iter()
+            .enumerate()
+            .fold(0, |m, (i, p)| if p.is_some() { m | (1 << i) } else { m })
+    }
+}
+
+impl From<Pose2> for PartialPose2 {
+    fn from(pose: Pose2) -> Self {
+        PartialPose2 {
+            points: pose.points.map(Some),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn landmark_order_and_names_round_trip() {
+        for (i, l) in Landmark::ALL.iter().enumerate() {
+            assert_eq!(l.index(), i);
+            assert_eq!(Landmark::from_name(l.name()), Some(*l));
+            assert_eq!(l.mirrored().mirrored(), *l);
+        }
+        assert_eq!(Landmark::from_index(15), None);
+    }
+
+    #[test]
+    fn limbs_form_a_tree_rooted_at_the_pelvis() {
+        // Every landmark except the pelvis is the child of exactly one limb.
+        let mut parents = [0usize; NUM_LANDMARKS];
+        for (_, child) in LIMBS {
+            parents[child.index()] += 1;
+        }
+        assert_eq!(parents[0], 0);
+        assert!(parents[1..].iter().all(|&n| n == 1));
+        assert_eq!(LIMBS[TORSO_LIMB], (Landmark::Pelvis, Landmark::Neck));
+    }
+
+    #[test]
+    fn mirroring_twice_is_identity_and_keeps_limb_lengths() {
+        let mut points = [[0.0; 2]; NUM_LANDMARKS];
+        for (i, p) in points.iter_mut().enumerate() {
+            *p = [i as f64 * 1.5 - 3.0, (i * i) as f64 * 0.25];
+        }
+        let pose = Pose2::new(points);
+        assert_eq!(pose.mirrored().mirrored(), pose);
+        let m = pose.mirrored();
+        // The left thigh of the mirror is the right thigh of the original.
+        assert!((m.limb_length(1) - pose.limb_length(4)).abs() < 1e-12);
+        assert!((m.torso_length() - pose.torso_length()).abs() < 1e-12);
+    }
+}
