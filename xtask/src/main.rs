@@ -1,1 +1,45 @@
-fn main() {}
+//! `cargo xtask`: camloc's project automation.
+//!
+//! * `cargo xtask gen-dataset`: project real mocap through a camera sphere into a dataset file.
+
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+mod gen_dataset;
+mod progress;
+
+/// camloc project automation.
+#[derive(Parser)]
+#[command(name = "cargo xtask", version, about)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Generate a labelled dataset of 2D projections from motion capture (SPEC.md section 7).
+    GenDataset(gen_dataset::Args),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::GenDataset(args) => gen_dataset::run(&args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(message) => {
+            eprintln!("error: {message}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// The workspace root (the folder above `xtask/`).
+pub fn workspace_root() -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .map_or_else(|| ".".into(), |p| p.to_path_buf())
+}

@@ -1,1 +1,58 @@
-//! placeholder
+//! L2-regularised multinomial logistic regression solved by Newton's method (SPEC.md
+//! section 5, the paper's section 7), built for speed.
+//!
+//! * [`Features`] wraps a row-major `n x d` buffer of raw features (validated: sizes,
+//!   finite values).
+//! * [`LogisticRegression`] holds the hyper-parameters and [`fit`](LogisticRegression::fit)s a
+//!   [`LogisticModel`], returning a [`FitReport`] with the per-iteration log.
+//! * [`LogisticModel`] predicts from raw features (the standardiser is stored inside),
+//!   allocation-free with [`LogisticModel::predict_proba_into`], in parallel with
+//!   [`LogisticModel::predict_proba_batch`], and saves/loads itself in a versioned,
+//!   checksummed binary format ([`LogisticModel::save`], [`LogisticModel::load`]).
+//! * [`cross_validate_grouped`] selects hyper-parameters by k-fold cross-validation with
+//!   groups (subjects) kept within one fold.
+//!
+//! # Objective
+//!
+//! Multinomial (default), eq. 8 and 11, with the full `(d + 1) K` parametrisation:
+//! `f(W, b) = -sum_i log softmax(W x_i + b)_{y_i} + lambda ||W||_F^2`, the bias not
+//! penalised. One-vs-rest (eq. 9) fits one binary problem per class. See
+//! [`LogisticRegression`] for the exact definitions and the stopping rule, and the
+//! [`newton`] module for how the Hessian is assembled.
+//!
+//! # Example
+//!
+//! ```
+//! use camloc_learning::{Features, LogisticRegression};
+//!
+//! // Two features, three well-separated classes.
+//! let data = [0.0, 0.1, 0.2, 0.0, 5.0, 5.1, 5.2, 5.0, -5.0, 5.0, -5.1, 5.2];
+//! let labels = [0, 0, 1, 1, 2, 2];
+//! let x = Features::new(&data, 2)?;
+//! let (model, report) = LogisticRegression::default().fit(&x, &labels, 3)?;
+//! assert!(report.converged);
+//! let p = model.predict_proba(&[5.1, 5.1])?;
+//! assert_eq!(model.predict(&[5.1, 5.1])?, 1);
+//! assert!((p.iter().sum::<f64>() - 1.0).abs() < 1e-12);
+//! # Ok::<(), camloc_learning::LearningError>(())
+//! ```
+
+mod config;
+mod cv;
+mod data;
+mod error;
+mod model;
+pub mod newton;
+mod persist;
+mod softmax;
+mod standardise;
+
+pub use config::{LogisticRegression, Mode};
+pub use cv::{CandidateScore, CvReport, cross_validate_grouped, group_k_fold};
+pub use data::Features;
+pub use error::LearningError;
+pub use model::LogisticModel;
+pub use newton::{FitReport, IterationLog, NewtonProblem, Termination};
+pub use persist::{FORMAT_VERSION, MAGIC};
+pub use softmax::softmax_in_place;
+pub use standardise::Standardiser;

@@ -1,0 +1,281 @@
+//! The dataset file: header, samples, subject splits, save/load.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use camloc_geometry::{CameraSet, Matrix3};
+use camloc_skeleton::{Pose2, Pose3};
+use camloc_store::{FileKind, StoreError};
+use serde::{Deserialize, Serialize};
+
+use crate::Protocol;
+
+/// The dataset file kind: magic bytes and the format version this build reads and writes.
+pub const DATASET_FILE: FileKind = FileKind {
+    magic: *b"CAMLOCDS",
+    version: 1,
+    what: "dataset",
+};
+
+/// Errors of dataset handling.
+#[derive(Debug, thiserror::Error)]
+pub enum DatasetError {
+    /// Reading or writing the file failed (missing, exists, wrong kind/version, corrupt).
+    #[error(transparent)]
+    Store(#[from] StoreError),
+    /// A sample refers to a clip the header does not list.
+    #[error("sample {sample} refers to clip {clip}, but the header lists {clips} clips")]
+    BadClipIndex {
+        /// Index of the sample.
+        sample: usize,
+        /// Clip index in the sample.
+        clip: u32,
+        /// Number of clips in the header.
+        clips: usize,
+    },
+    /// A sample's label is not a camera of the header's camera set.
+    #[error("sample {sample} has camera label {label}, but the camera set has {cameras} cameras")]
+    BadLabel {
+        /// Index of the sample.
+        sample: usize,
+        /// Its label.
+        label: u16,
+        /// Cameras in the set.
+        cameras: usize,
+    },
+    /// Invalid generation settings or input poses.
+    #[error("invalid dataset generation input: {0}")]
+    Invalid(String),
+}
+
+/// One clip of motion capture that samples were drawn from.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct ClipInfo {
+    /// Subject id (CMU file-name prefix, e.g. `"35"` for `35_02.bvh`).
+    pub subject: String,
+    /// Clip name (file stem, e.g. `"35_02"`).
+    pub name: String,
+}
+
+/// How a dataset was made.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct DatasetHeader {
+    /// Version of camloc that wrote the file.
+    pub camloc_version: String,
+    /// Projection protocol.
+    pub protocol: Protocol,
+    /// The camera classes (labels 1..=n).
+    pub cameras: CameraSet,
+    /// Random seed (jitter, noise).
+    pub seed: u64,
+    /// Frame stride: every `stride`-th mocap frame was used.
+    pub stride: usize,
+    /// 2D noise standard deviation as a fraction of the 2D torso length (0 for none).
+    pub noise_fraction: f64,
+    /// Clips the samples come from, indexed by [`Sample::clip`].
+    pub clips: Vec<ClipInfo>,
+}
+
+/// One labelled 2D projection of a 3D pose.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Sample {
+    /// Projected landmarks: orthographic metres for `canonical`, focal-length-scaled image
+    /// units (v down) for `jittered`.
+    pub landmarks: Pose2,
+    /// Bit `i` set when landmark `i` was dropped (treat as missing); 0 for complete poses.
+    pub missing_mask: u16,
+    /// Camera class label (1-based, in [`DatasetHeader::cameras`]).
+    pub label: u16,
+    /// The exact camera rotation used (rows: camera axes in world coordinates); equals the
+    /// class rotation under `canonical`, a jittered one otherwise.
+    pub rotation: Matrix3,
+    /// Index into [`DatasetHeader::clips`].
+    pub clip: u32,
+    /// Frame index in the clip (0-based, before striding).
+    pub frame: u32,
+    /// The canonical 3D pose, metres (pelvis at origin, facing -x, z up).
+    pub pose3: Pose3,
+}
+
+/// Number of samples seen by one camera.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct CameraCount {
+    /// Camera label.
+    pub label: u16,
+    /// Number of samples.
+    pub samples: usize,
+}
+
+/// A labelled dataset: header and samples.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Dataset {
+    /// How the dataset was made.
+    pub header: DatasetHeader,
+    /// The samples.
+    pub samples: Vec<Sample>,
+}
+
+impl Dataset {
+    /// Checks that every sample's clip index and label are valid for the header.
+    ///
+    /// # Errors
+    /// [`DatasetError::BadClipIndex`] or [`DatasetError::BadLabel`] for the first bad sample.
+    pub fn validate(&self) -> Result<(), DatasetError> {
+        let clips = self.header.clips.len();
+        let cameras = self.header.cameras.len();
+        for (i, s) in self.samples.iter().enumerate() {
+            if s.clip as usize >= clips {
+                return Err(DatasetError::BadClipIndex {
+                    sample: i,
+                    clip: s.clip,
+                    clips,
+                });
+            }
+            if s.label == 0 || s.label as usize > cameras {
+                return Err(DatasetError::BadLabel {
+                    sample: i,
+                    label: s.label,
+                    cameras,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Encodes the dataset as a versioned, checksummed envelope.
+    ///
+    /// # Errors
+    /// [`DatasetError::Store`] if encoding fails.
+    pub fn to_bytes(&self) -> Result<Vec<u8>, DatasetError> {
+        Ok(camloc_store::encode(DATASET_FILE, self)?)
+    }
+
+    /// Decodes and validates a dataset from envelope bytes.
+    ///
+    /// # Errors
+    /// [`DatasetError::Store`] for a wrong kind, version or corrupt bytes; validation errors.
+    pub fn from_bytes(bytes: &[u8]) -> Result<Dataset, DatasetError> {
+        let d: Dataset = camloc_store::decode(DATASET_FILE, bytes)?;
+        d.validate()?;
+        Ok(d)
+    }
+
+    /// Writes the dataset to `path` (temporary file + rename); refuses to replace an existing
+    /// file unless `overwrite`.
+    ///
+    /// # Errors
+    /// [`DatasetError::Store`] (exists, I/O).
+    pub fn save(&self, path: &Path, overwrite: bool) -> Result<(), DatasetError> {
+        Ok(camloc_store::save(DATASET_FILE, self, path, overwrite)?)
+    }
+
+    /// Reads and validates a dataset file.
+    ///
+    /// # Errors
+    /// [`DatasetError::Store`] (missing file, wrong kind/version, corrupt) or validation errors.
+    pub fn load(path: &Path) -> Result<Dataset, DatasetError> {
+        let d: Dataset = camloc_store::load(DATASET_FILE, path)?;
+        d.validate()?;
+        Ok(d)
+    }
+
+    /// Subject of a sample.
+    pub fn subject_of(&self, sample: &Sample) -> &str {
+        self.header
+            .clips
+            .get(sample.clip as usize)
+            .map_or("?", |c| c.subject.as_str())
+    }
+
+    /// Clip name of a sample.
+    pub fn clip_of(&self, sample: &Sample) -> &str {
+        self.header
+            .clips
+            .get(sample.clip as usize)
+            .map_or("?", |c| c.name.as_str())
+    }
+
+    /// Distinct subjects with their number of samples, sorted by subject id (numerically when
+    /// ids are numbers).
+    pub fn subjects(&self) -> Vec<(String, usize)> {
+        let mut counts: BTreeMap<SubjectKey, usize> = BTreeMap::new();
+        for s in &self.samples {
+            *counts
+                .entry(SubjectKey(self.subject_of(s).to_string()))
+                .or_default() += 1;
+        }
+        counts.into_iter().map(|(k, n)| (k.0, n)).collect()
+    }
+
+    /// Samples per camera label, for every camera of the set (zero counts included).
+    pub fn samples_per_camera(&self) -> Vec<CameraCount> {
+        let mut counts = vec![0usize; self.header.cameras.len()];
+        for s in &self.samples {
+            if let Some(c) = (s.label as usize)
+                .checked_sub(1)
+                .and_then(|i| counts.get_mut(i))
+            {
+                *c += 1;
+            }
+        }
+        counts
+            .into_iter()
+            .enumerate()
+            .map(|(i, samples)| CameraCount {
+                label: i as u16 + 1,
+                samples,
+            })
+            .collect()
+    }
+
+    /// Splits by subject: samples whose subject is in `test_subjects` go to the second dataset,
+    /// all others to the first. Both keep the full header. Never splits a subject.
+    pub fn split_by_subjects(&self, test_subjects: &[String]) -> (Dataset, Dataset) {
+        let (test, train): (Vec<Sample>, Vec<Sample>) = self
+            .samples
+            .iter()
+            .cloned()
+            .partition(|s| test_subjects.iter().any(|t| t == self.subject_of(s)));
+        (
+            Dataset {
+                header: self.header.clone(),
+                samples: train,
+            },
+            Dataset {
+                header: self.header.clone(),
+                samples: test,
+            },
+        )
+    }
+}
+
+/// The subjects held out for testing by default: every fourth subject in sorted order,
+/// starting with the second, so that about a quarter of subjects (and no frame of theirs) are
+/// unseen in training. Deterministic for a given subject list.
+pub fn default_test_subjects(subjects: &[(String, usize)]) -> Vec<String> {
+    subjects
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| i % 4 == 1)
+        .map(|(_, (s, _))| s.clone())
+        .collect()
+}
+
+/// Orders subject ids numerically when both are numbers, else as text.
+#[derive(Clone, Debug, PartialEq, Eq)]
+struct SubjectKey(String);
+
+impl Ord for SubjectKey {
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        match (self.0.parse::<u64>(), other.0.parse::<u64>()) {
+            (Ok(a), Ok(b)) => a.cmp(&b).then_with(|| self.0.cmp(&other.0)),
+            _ => self.0.cmp(&other.0),
+        }
+    }
+}
+
+impl PartialOrd for SubjectKey {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}

@@ -1,0 +1,447 @@
+//! Dataset generation: project canonical 3D poses through a camera set (SPEC.md section 7).
+
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use camloc_geometry::{
+    CameraSet, Perspective, Viewpoint, WeakPerspective, look_at_origin, roll_about_optical_axis,
+    sphere_point,
+};
+use camloc_skeleton::{Landmark, NUM_LANDMARKS, Pose2, Pose3};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use rand_distr::{Distribution, Normal};
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use crate::{ClipInfo, Dataset, DatasetError, DatasetHeader, Sample};
+
+/// How 3D poses are turned into labelled 2D samples.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum Protocol {
+    /// The paper's protocol: every pose seen exactly from every camera of the set,
+    /// orthographically (landmarks in metres).
+    Canonical,
+    /// Realistic protocol: per sample the camera is jittered around its class centre
+    /// (azimuth, elevation, roll), placed 3-8 m away with full perspective, and Gaussian noise
+    /// is added to the 2D landmarks.
+    Jittered,
+}
+
+impl Protocol {
+    /// Lower-case name (`"canonical"`, `"jittered"`).
+    pub const fn name(self) -> &'static str {
+        match self {
+            Protocol::Canonical => "canonical",
+            Protocol::Jittered => "jittered",
+        }
+    }
+
+    /// Default 2D noise, as a fraction of the 2D torso length: 0 for canonical, 3% for
+    /// jittered.
+    pub const fn default_noise_fraction(self) -> f64 {
+        match self {
+            Protocol::Canonical => 0.0,
+            Protocol::Jittered => 0.03,
+        }
+    }
+}
+
+impl std::str::FromStr for Protocol {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s {
+            "canonical" => Ok(Protocol::Canonical),
+            "jittered" => Ok(Protocol::Jittered),
+            other => Err(format!(
+                "unknown protocol '{other}' (expected canonical or jittered)"
+            )),
+        }
+    }
+}
+
+impl std::fmt::Display for Protocol {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// Camera jitter of the `jittered` protocol (uniform ranges around the class centre).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Jitter {
+    /// Azimuth offset bound, degrees (offset ~ U(-b, b)).
+    pub azimuth_deg: f64,
+    /// Elevation offset bound, degrees.
+    pub elevation_deg: f64,
+    /// Roll about the optical axis bound, degrees.
+    pub roll_deg: f64,
+    /// Camera distance range from the pelvis, metres.
+    pub distance_m: (f64, f64),
+    /// Focal length of the perspective camera, image units (pixels).
+    pub focal: f64,
+}
+
+impl Default for Jitter {
+    /// SPEC.md section 7: +-30 deg azimuth, +-15 deg elevation, +-5 deg roll, 3-8 m, f = 1000 px.
+    fn default() -> Self {
+        Jitter {
+            azimuth_deg: 30.0,
+            elevation_deg: 15.0,
+            roll_deg: 5.0,
+            distance_m: (3.0, 8.0),
+            focal: 1000.0,
+        }
+    }
+}
+
+/// Settings of [`generate`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct GenerateConfig {
+    /// Projection protocol.
+    pub protocol: Protocol,
+    /// Camera classes.
+    pub cameras: CameraSet,
+    /// Use every `stride`-th frame (>= 1).
+    pub stride: usize,
+    /// 2D Gaussian noise sigma as a fraction of the 2D torso length (>= 0).
+    pub noise_fraction: f64,
+    /// Random seed; the same seed and inputs give the same dataset.
+    pub seed: u64,
+    /// Camera jitter (used by [`Protocol::Jittered`]).
+    pub jitter: Jitter,
+    /// Number of random non-torso landmarks to mark missing per sample (0..=13).
+    pub drop_landmarks: usize,
+}
+
+impl GenerateConfig {
+    /// Defaults for `protocol`: Table-1 cameras, stride 1, the protocol's default noise,
+    /// seed 0, default jitter, no dropped landmarks.
+    pub fn new(protocol: Protocol) -> Self {
+        GenerateConfig {
+            protocol,
+            cameras: CameraSet::table1(),
+            stride: 1,
+            noise_fraction: protocol.default_noise_fraction(),
+            seed: 0,
+            jitter: Jitter::default(),
+            drop_landmarks: 0,
+        }
+    }
+
+    fn validate(&self) -> Result<(), DatasetError> {
+        let bad = |m: String| Err(DatasetError::Invalid(m));
+        if self.stride == 0 {
+            return bad("stride must be at least 1".into());
+        }
+        if !(self.noise_fraction >= 0.0 && self.noise_fraction.is_finite()) {
+            return bad(format!(
+                "noise fraction must be a finite number >= 0, got {}",
+                self.noise_fraction
+            ));
+        }
+        if self.drop_landmarks > NUM_LANDMARKS - 2 {
+            return bad(format!(
+                "can drop at most {} non-torso landmarks, asked for {}",
+                NUM_LANDMARKS - 2,
+                self.drop_landmarks
+            ));
+        }
+        let j = &self.jitter;
+        let (near, far) = j.distance_m;
+        if !(near >= 2.0 && far >= near && far.is_finite()) {
+            return bad(format!(
+                "camera distance range must satisfy 2 m <= near <= far, got {near}..{far}"
+            ));
+        }
+        if ![j.azimuth_deg, j.elevation_deg, j.roll_deg, j.focal]
+            .iter()
+            .all(|v| v.is_finite() && *v >= 0.0)
+            || j.focal <= 0.0
+        {
+            return bad("jitter bounds must be finite and >= 0, focal > 0".into());
+        }
+        Ok(())
+    }
+}
+
+/// The canonical 3D poses of one clip, with their frame indices.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PoseSequence {
+    /// Subject and clip name.
+    pub clip: ClipInfo,
+    /// `(frame index, canonical pose in metres)`, in frame order.
+    pub frames: Vec<(u32, Pose3)>,
+}
+
+/// Projects every `stride`-th frame of every sequence through every camera of the set under
+/// the configured protocol. Deterministic for a given seed and input (each sample draws from
+/// its own random stream keyed by clip, frame and camera, so parallelism does not change the
+/// result). `progress(done, total)` is called as sequences finish.
+///
+/// # Errors
+/// [`DatasetError::Invalid`] for invalid settings, non-finite poses, or a pose that reaches
+/// behind a perspective camera.
+pub fn generate(
+    sequences: &[PoseSequence],
+    config: &GenerateConfig,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<Dataset, DatasetError> {
+    config.validate()?;
+    let done = AtomicUsize::new(0);
+    let per_clip: Vec<Vec<Sample>> = sequences
+        .par_iter()
+        .enumerate()
+        .map(|(clip_index, seq)| {
+            let mut out = Vec::new();
+            for (frame, pose3) in &seq.frames {
+                if *frame as usize % config.stride != 0 {
+                    continue;
+                }
+                if !pose3.is_finite() {
+                    return Err(DatasetError::Invalid(format!(
+                        "clip {} frame {frame}: pose has a non-finite coordinate",
+                        seq.clip.name
+                    )));
+                }
+                for view in config.cameras.viewpoints() {
+                    let mut rng = sample_rng(config.seed, clip_index as u32, *frame, view.label);
+                    let mut sample =
+                        project_sample(pose3, view, config, &mut rng).map_err(|e| {
+                            DatasetError::Invalid(format!(
+                                "clip {} frame {frame} camera {:02}: {e}",
+                                seq.clip.name, view.label
+                            ))
+                        })?;
+                    sample.clip = clip_index as u32;
+                    sample.frame = *frame;
+                    out.push(sample);
+                }
+            }
+            progress(done.fetch_add(1, Ordering::Relaxed) + 1, sequences.len());
+            Ok(out)
+        })
+        .collect::<Result<_, _>>()?;
+    Ok(Dataset {
+        header: DatasetHeader {
+            camloc_version: env!("CARGO_PKG_VERSION").to_string(),
+            protocol: config.protocol,
+            cameras: config.cameras.clone(),
+            seed: config.seed,
+            stride: config.stride,
+            noise_fraction: config.noise_fraction,
+            clips: sequences.iter().map(|s| s.clip.clone()).collect(),
+        },
+        samples: per_clip.into_iter().flatten().collect(),
+    })
+}
+
+/// SplitMix64 finaliser: spreads the bits of `x`.
+fn mix(mut x: u64) -> u64 {
+    x = x.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    x = (x ^ (x >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    x = (x ^ (x >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    x ^ (x >> 31)
+}
+
+fn sample_rng(seed: u64, clip: u32, frame: u32, label: u16) -> ChaCha8Rng {
+    let key = mix(mix(mix(seed) ^ u64::from(clip)) ^ u64::from(frame)) ^ u64::from(label);
+    ChaCha8Rng::seed_from_u64(mix(key))
+}
+
+fn symmetric(rng: &mut ChaCha8Rng, bound: f64) -> f64 {
+    if bound > 0.0 {
+        rng.random_range(-bound..=bound)
+    } else {
+        0.0
+    }
+}
+
+/// One sample: the projection of `pose3` by (a jittered version of) camera `view`; the caller
+/// fills in `clip` and `frame`.
+fn project_sample(
+    pose3: &Pose3,
+    view: &Viewpoint,
+    config: &GenerateConfig,
+    rng: &mut ChaCha8Rng,
+) -> Result<Sample, camloc_geometry::GeometryError> {
+    let (points, rotation) = match config.protocol {
+        Protocol::Canonical => (
+            WeakPerspective::orthographic(view.rotation).project(&pose3.points),
+            view.rotation,
+        ),
+        Protocol::Jittered => {
+            let j = &config.jitter;
+            let azimuth = view.azimuth_deg + symmetric(rng, j.azimuth_deg);
+            let elevation =
+                (view.elevation_deg + symmetric(rng, j.elevation_deg)).clamp(-89.0, 89.0);
+            let roll = symmetric(rng, j.roll_deg).to_radians();
+            let (near, far) = j.distance_m;
+            let distance = if far > near {
+                rng.random_range(near..=far)
+            } else {
+                near
+            };
+            let centre = sphere_point(azimuth, elevation, distance);
+            let rotation = roll_about_optical_axis(&look_at_origin(centre)?, roll);
+            let camera = Perspective {
+                rotation,
+                centre,
+                focal: j.focal,
+            };
+            (camera.project(&pose3.points)?, rotation)
+        }
+    };
+    let mut landmarks = Pose2::new(points);
+    let sigma = config.noise_fraction * landmarks.torso_length();
+    if sigma > 0.0 {
+        if let Ok(normal) = Normal::new(0.0, sigma) {
+            for c in landmarks.points.iter_mut().flatten() {
+                *c += normal.sample(rng);
+            }
+        }
+    }
+    Ok(Sample {
+        landmarks,
+        missing_mask: drop_mask(config.drop_landmarks, rng),
+        label: view.label,
+        rotation,
+        clip: 0,
+        frame: 0,
+        pose3: *pose3,
+    })
+}
+
+/// A mask of `count` distinct random landmarks other than the pelvis and neck.
+fn drop_mask(count: usize, rng: &mut ChaCha8Rng) -> u16 {
+    let mut candidates: Vec<usize> = (0..NUM_LANDMARKS)
+        .filter(|&i| i != Landmark::Pelvis.index() && i != Landmark::Neck.index())
+        .collect();
+    let mut mask = 0u16;
+    for _ in 0..count.min(candidates.len()) {
+        let k = rng.random_range(0..candidates.len());
+        mask |= 1 << candidates.swap_remove(k);
+    }
+    mask
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use camloc_geometry::procrustes_camera;
+
+    /// A standing canonical pose: facing -x, right side on +y, z up, metres.
+    pub(crate) fn standing() -> Pose3 {
+        Pose3::new([
+            [0.0, 0.0, 0.0],
+            [0.0, -0.1, -0.05],
+            [0.02, -0.11, -0.48],
+            [0.05, -0.11, -0.9],
+            [0.0, 0.1, -0.05],
+            [-0.03, 0.12, -0.47],
+            [0.0, 0.12, -0.9],
+            [0.0, 0.0, 0.5],
+            [-0.02, 0.0, 0.72],
+            [0.0, -0.18, 0.48],
+            [0.05, -0.22, 0.2],
+            [-0.1, -0.2, 0.0],
+            [0.0, 0.18, 0.48],
+            [0.03, 0.25, 0.22],
+            [-0.05, 0.3, 0.0],
+        ])
+    }
+
+    fn sequences() -> Vec<PoseSequence> {
+        let mut frames = Vec::new();
+        for f in 0..6u32 {
+            let mut p = standing();
+            p.points[11][0] -= 0.05 * f as f64;
+            frames.push((f, p));
+        }
+        vec![
+            PoseSequence {
+                clip: ClipInfo {
+                    subject: "1".into(),
+                    name: "1_01".into(),
+                },
+                frames: frames.clone(),
+            },
+            PoseSequence {
+                clip: ClipInfo {
+                    subject: "2".into(),
+                    name: "2_01".into(),
+                },
+                frames,
+            },
+        ]
+    }
+
+    #[test]
+    fn canonical_samples_are_exact_projections() {
+        let mut config = GenerateConfig::new(Protocol::Canonical);
+        config.stride = 2;
+        let d = generate(&sequences(), &config, &|_, _| {}).unwrap();
+        assert_eq!(d.samples.len(), 2 * 3 * 12);
+        assert!(d.samples_per_camera().iter().all(|c| c.samples == 6));
+        for s in &d.samples {
+            assert_eq!(s.frame % 2, 0);
+            let fit = procrustes_camera(&s.pose3.points, &s.landmarks.points).unwrap();
+            assert!((fit.rotation - s.rotation).abs().max() < 1e-9);
+            assert!((fit.scale - 1.0).abs() < 1e-9);
+        }
+        assert_eq!(d.subjects(), vec![("1".into(), 36), ("2".into(), 36)]);
+    }
+
+    #[test]
+    fn jittered_is_deterministic_and_stays_near_the_class() {
+        let mut config = GenerateConfig::new(Protocol::Jittered);
+        config.seed = 7;
+        config.drop_landmarks = 2;
+        let a = generate(&sequences(), &config, &|_, _| {}).unwrap();
+        let b = generate(&sequences(), &config, &|_, _| {}).unwrap();
+        assert_eq!(a.to_bytes().unwrap(), b.to_bytes().unwrap());
+        config.seed = 8;
+        let c = generate(&sequences(), &config, &|_, _| {}).unwrap();
+        assert_ne!(a.samples[0].landmarks, c.samples[0].landmarks);
+        for s in &a.samples {
+            assert_eq!(a.header.cameras.nearest(&s.rotation).label, s.label);
+            assert_eq!(s.missing_mask.count_ones(), 2);
+            assert_eq!(
+                s.missing_mask & 0b1000_0001,
+                0,
+                "pelvis and neck never dropped"
+            );
+        }
+    }
+
+    #[test]
+    fn save_load_round_trips_and_split_keeps_subjects_apart() {
+        let d = generate(
+            &sequences(),
+            &GenerateConfig::new(Protocol::Jittered),
+            &|_, _| {},
+        )
+        .unwrap();
+        let bytes = d.to_bytes().unwrap();
+        let back = Dataset::from_bytes(&bytes).unwrap();
+        assert_eq!(back, d);
+        assert_eq!(back.to_bytes().unwrap(), bytes);
+        let (train, test) = d.split_by_subjects(&["2".to_string()]);
+        assert!(train.samples.iter().all(|s| train.subject_of(s) == "1"));
+        assert!(test.samples.iter().all(|s| test.subject_of(s) == "2"));
+        assert_eq!(train.samples.len() + test.samples.len(), d.samples.len());
+    }
+
+    #[test]
+    fn invalid_settings_and_poses_are_errors() {
+        let mut config = GenerateConfig::new(Protocol::Canonical);
+        config.stride = 0;
+        assert!(generate(&sequences(), &config, &|_, _| {}).is_err());
+        let mut config = GenerateConfig::new(Protocol::Canonical);
+        config.noise_fraction = f64::NAN;
+        assert!(generate(&sequences(), &config, &|_, _| {}).is_err());
+        let mut seqs = sequences();
+        seqs[1].frames[2].1.points[3][1] = f64::INFINITY;
+        let err =
+            generate(&seqs, &GenerateConfig::new(Protocol::Canonical), &|_, _| {}).unwrap_err();
+        assert!(err.to_string().contains("2_01 frame 2"), "{err}");
+    }
+}

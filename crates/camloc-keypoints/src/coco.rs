@@ -1,0 +1,267 @@
+//! COCO-17 keypoints: a COCO dataset file (`{"annotations": [...]}`) or a results list
+//! (`[{"image_id": .., "keypoints": [..], "score": ..}]`).
+//!
+//! The top level and the annotations are streamed: only `image_id`, `id` and `keypoints` of each
+//! annotation are kept, so that segmentation polygons and image lists of large dataset files are
+//! skipped rather than held in memory.
+
+use std::fmt;
+
+use camloc_skeleton::{Landmark, PartialPose2};
+use serde::de::{self, Deserialize, Deserializer, IgnoredAny, MapAccess, SeqAccess, Visitor};
+
+use crate::ReadOptions;
+use crate::error::{KeypointError, Location};
+use crate::json::{self, Json, index_path, key_path, number_array, wrong_type};
+use crate::record::{KeypointRecord, finish};
+
+/// The 17 COCO keypoints in file order. The first five (nose, eyes, ears) become the camloc head;
+/// the other twelve have camloc landmarks of the same name.
+pub const COCO_KEYPOINTS: [&str; 17] = [
+    "nose",
+    "left_eye",
+    "right_eye",
+    "left_ear",
+    "right_ear",
+    "left_shoulder",
+    "right_shoulder",
+    "left_elbow",
+    "right_elbow",
+    "left_wrist",
+    "right_wrist",
+    "left_hip",
+    "right_hip",
+    "left_knee",
+    "right_knee",
+    "left_ankle",
+    "right_ankle",
+];
+
+/// Number of COCO keypoints that describe the face (the first ones in [`COCO_KEYPOINTS`]).
+const FACE_KEYPOINTS: usize = 5;
+
+/// The fields of one annotation (or result) this reader uses; the rest are skipped.
+#[derive(Default)]
+struct Annotation {
+    image_id: Option<Json>,
+    id: Option<Json>,
+    keypoints: Option<Json>,
+}
+
+impl<'de> Deserialize<'de> for Annotation {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        deserializer.deserialize_map(AnnotationVisitor)
+    }
+}
+
+struct AnnotationVisitor;
+
+impl<'de> Visitor<'de> for AnnotationVisitor {
+    type Value = Annotation;
+
+    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("a COCO annotation object")
+    }
+
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Annotation, A::Error> {
+        let mut annotation = Annotation::default();
+        while let Some(key) = map.next_key::<String>()? {
+            let (slot, name) = match key.as_str() {
+                "image_id" => (&mut annotation.image_id, "image_id"),
+                "id" => (&mut annotation.id, "id"),
+                "keypoints" => (&mut annotation.keypoints, "keypoints"),
+                _ => {
+                    map.next_value::<IgnoredAny>()?;
+                    continue;
+                }
+            };
+            if slot.is_some() {
+                return Err(de::Error::duplicate_field(name));
+            }
+            *slot = Some(map.next_value()?);
+        }
+        Ok(annotation)
+    }
+}
+
+/// A whole COCO input.
+enum CocoInput {
+    /// A dataset object; `None` when it has no `annotations` key.
+    Dataset(Option<Vec<Annotation>>),
+    /// A results list.
+    Results(Vec<Annotation>),
+}
+
+impl<'de> Deserialize<'de> for CocoInput {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        deserializer.deserialize_any(InputVisitor)
+    }
+}
+
+struct InputVisitor;
+
+impl<'de> Visitor<'de> for InputVisitor {
+    type Value = CocoInput;
+
+    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("a COCO dataset object or a list of COCO results")
+    }
+
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<CocoInput, A::Error> {
+        let mut results = Vec::new();
+        while let Some(annotation) = seq.next_element()? {
+            results.push(annotation);
+        }
+        Ok(CocoInput::Results(results))
+    }
+
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<CocoInput, A::Error> {
+        let mut annotations = None;
+        while let Some(key) = map.next_key::<String>()? {
+            if key == "annotations" {
+                if annotations.is_some() {
+                    return Err(de::Error::duplicate_field("annotations"));
+                }
+                annotations = Some(map.next_value()?);
+            } else {
+                map.next_value::<IgnoredAny>()?;
+            }
+        }
+        Ok(CocoInput::Dataset(annotations))
+    }
+}
+
+/// Reads COCO text (BOM already removed, known not to be blank).
+pub(crate) fn parse(
+    text: &str,
+    file: &str,
+    options: &ReadOptions,
+) -> Result<Vec<KeypointRecord>, KeypointError> {
+    let (annotations, list_path) = match json::parse(text, file)? {
+        CocoInput::Results(results) => (results, ""),
+        CocoInput::Dataset(Some(annotations)) => (annotations, "annotations"),
+        CocoInput::Dataset(None) => {
+            return Err(KeypointError::MissingKey {
+                file: file.to_owned(),
+                at: Location::Path(String::new()),
+                key: "annotations",
+            });
+        }
+    };
+    annotations
+        .iter()
+        .enumerate()
+        .map(|(i, annotation)| record(annotation, &index_path(list_path, i), i, file, options))
+        .collect()
+}
+
+/// One annotation at JSON path `path` (the `index`-th of its list) as a record.
+fn record<'a>(
+    annotation: &'a Annotation,
+    path: &str,
+    index: usize,
+    file: &str,
+    options: &ReadOptions,
+) -> Result<KeypointRecord, KeypointError> {
+    let required = |value: Option<&'a Json>, key: &'static str| {
+        value.ok_or_else(|| KeypointError::MissingKey {
+            file: file.to_owned(),
+            at: Location::Path(path.to_owned()),
+            key,
+        })
+    };
+    let image = id_text(
+        required(annotation.image_id.as_ref(), "image_id")?,
+        file,
+        &key_path(path, "image_id"),
+    )?;
+    let suffix = match &annotation.id {
+        Some(id) => id_text(id, file, &key_path(path, "id"))?,
+        None => index.to_string(),
+    };
+    let values = number_array::<{ 3 * COCO_KEYPOINTS.len() }>(
+        required(annotation.keypoints.as_ref(), "keypoints")?,
+        "17 COCO keypoints as x, y, v",
+        file,
+        &key_path(path, "keypoints"),
+    )?;
+
+    let mut pose = PartialPose2::empty();
+    let mut face = Vec::with_capacity(FACE_KEYPOINTS);
+    for (k, (name, xyv)) in COCO_KEYPOINTS
+        .iter()
+        .zip(values.chunks_exact(3))
+        .enumerate()
+    {
+        if xyv[2] <= options.coco.min_score {
+            continue;
+        }
+        let point = [xyv[0], xyv[1]];
+        if k < FACE_KEYPOINTS {
+            face.push(point);
+        } else if let Some(landmark) = Landmark::from_name(name) {
+            pose.points[landmark.index()] = Some(point);
+        }
+    }
+    let mut derived = Vec::new();
+    if !face.is_empty() {
+        // Mean of the present face points; dividing first keeps the sum finite.
+        let n = face.len() as f64;
+        let head = face
+            .iter()
+            .fold([0.0, 0.0], |m, p| [m[0] + p[0] / n, m[1] + p[1] / n]);
+        pose.points[Landmark::Head.index()] = Some(head);
+        derived.push(Landmark::Head);
+    }
+    let source = format!("{file}: {}", Location::Path(path.to_owned()));
+    Ok(finish(
+        format!("{image}/{suffix}"),
+        pose,
+        derived,
+        source,
+        options,
+    ))
+}
+
+/// An image or annotation id (a number or a string) as text.
+fn id_text(value: &Json, file: &str, path: &str) -> Result<String, KeypointError> {
+    match value {
+        Json::Number(n) => Ok(n.to_string()),
+        Json::String(s) => Ok(s.clone()),
+        other => Err(wrong_type(file, path, "a number or a string", other)),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_body_keypoint_names_a_camloc_landmark() {
+        for name in &COCO_KEYPOINTS[FACE_KEYPOINTS..] {
+            assert!(Landmark::from_name(name).is_some(), "{name}");
+        }
+        for name in &COCO_KEYPOINTS[..FACE_KEYPOINTS] {
+            assert!(Landmark::from_name(name).is_none(), "{name}");
+        }
+    }
+
+    #[test]
+    fn skips_other_keys_and_rejects_a_repeated_annotation_key() {
+        let mut kp = vec![0.0; 51];
+        kp[3 * 5..3 * 5 + 3].copy_from_slice(&[7.0, 8.0, 2.0]);
+        let kp = serde_json::to_string(&kp).unwrap();
+        let ok = format!(
+            r#"{{"images": [{{"id": 1}}], "annotations": [{{"segmentation": [[1,2,3]], "image_id": 1, "keypoints": {kp}}}]}}"#
+        );
+        let records = parse(&ok, "c.json", &ReadOptions::default()).unwrap();
+        assert_eq!(records[0].id, "1/0");
+        assert_eq!(
+            records[0].pose.points[Landmark::LeftShoulder.index()],
+            Some([7.0, 8.0])
+        );
+        let twice = format!(r#"[{{"image_id": 1, "keypoints": {kp}, "keypoints": {kp}}}]"#);
+        let err = parse(&twice, "c.json", &ReadOptions::default()).unwrap_err();
+        assert!(matches!(err, KeypointError::Json { .. }), "{err:?}");
+    }
+}

@@ -1,0 +1,326 @@
+//! The error type of every reader, and where in the input an error is.
+
+use std::fmt;
+
+use camloc_skeleton::Landmark;
+
+/// Where in an input a problem was found.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub enum Location {
+    /// A 1-based line of a text file (CSV).
+    Line(usize),
+    /// A JSON path such as `poses[2].landmarks.left_knee`; the empty path is the top-level value.
+    Path(String),
+}
+
+impl fmt::Display for Location {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Location::Line(line) => write!(f, "line {line}"),
+            Location::Path(path) if path.is_empty() => f.write_str("top level"),
+            Location::Path(path) => f.write_str(path),
+        }
+    }
+}
+
+/// Everything that can go wrong while reading a keypoint file.
+///
+/// `file` is the name the input was read under (a path, or the `source_name` given to
+/// [`parse_keypoints`](crate::parse_keypoints)); every message starts with it, followed by the
+/// line or JSON path of the problem when there is one.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum KeypointError {
+    /// The file could not be opened or read (missing, a directory, no permission, ...).
+    #[error("{file}: cannot read the file: {source}")]
+    Io {
+        /// The path as given.
+        file: String,
+        /// The operating system's error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The input holds nothing but white space.
+    #[error("{file}: the input is empty")]
+    Empty {
+        /// Name of the input.
+        file: String,
+    },
+    /// The input is longer than [`ReadOptions::max_bytes`](crate::ReadOptions::max_bytes).
+    #[error(
+        "{file}: the input has at least {bytes} bytes, more than the limit of {limit} bytes \
+         (ReadOptions::max_bytes)"
+    )]
+    TooLarge {
+        /// Name of the input.
+        file: String,
+        /// Size of the input in bytes (a lower bound when the size was not known in advance).
+        bytes: u64,
+        /// The limit in bytes.
+        limit: u64,
+    },
+    /// The input is not valid UTF-8.
+    #[error("{file}: line {line}: not valid UTF-8 (invalid byte at offset {offset})")]
+    NotUtf8 {
+        /// Name of the input.
+        file: String,
+        /// 1-based line of the first invalid byte.
+        line: usize,
+        /// 0-based byte offset of the first invalid byte.
+        offset: usize,
+    },
+    /// No format was given and none could be told from the extension and the content.
+    #[error("{file}: cannot tell the keypoint format ({reason}); name it: camloc, lsp or coco")]
+    UnknownFormat {
+        /// Name of the input.
+        file: String,
+        /// What was looked at.
+        reason: String,
+    },
+    /// The text is not JSON, or a value has a type a COCO reader cannot take (reported by the
+    /// JSON parser, with line and column).
+    #[error("{file}: line {line}, column {column}: {message}")]
+    Json {
+        /// Name of the input.
+        file: String,
+        /// 1-based line.
+        line: usize,
+        /// 1-based column.
+        column: usize,
+        /// The parser's message.
+        message: String,
+    },
+    /// The CSV header does not name exactly the columns `image,joint,x,y,visible`.
+    #[error(
+        "{file}: line {line}: the header must name the columns image,joint,x,y,visible \
+         (found \"{header}\"; missing: {}; unknown or repeated: {})",
+        list_or_none(missing),
+        list_or_none(extra)
+    )]
+    CsvHeader {
+        /// Name of the input.
+        file: String,
+        /// 1-based line of the header.
+        line: usize,
+        /// The header line as found.
+        header: String,
+        /// Required columns that are absent.
+        missing: Vec<String>,
+        /// Columns that are not expected, or named twice.
+        extra: Vec<String>,
+    },
+    /// A CSV row has a different number of fields than the header.
+    #[error(
+        "{file}: line {line}: expected {expected} comma-separated fields (as in the header), found {found}"
+    )]
+    CsvFieldCount {
+        /// Name of the input.
+        file: String,
+        /// 1-based line.
+        line: usize,
+        /// Number of columns in the header.
+        expected: usize,
+        /// Number of fields in this row.
+        found: usize,
+    },
+    /// A CSV row names a joint the format does not have.
+    #[error("{file}: {at}: unknown joint \"{name}\" (expected one of: {expected})")]
+    UnknownJoint {
+        /// Name of the input.
+        file: String,
+        /// Where.
+        at: Location,
+        /// The joint name as found.
+        name: String,
+        /// The joint names of the format, comma-separated.
+        expected: String,
+    },
+    /// A joint is given twice for the same image.
+    #[error("{file}: {at}: joint \"{joint}\" of image \"{image}\" given twice (first at {first})")]
+    DuplicateJoint {
+        /// Name of the input.
+        file: String,
+        /// Where the second occurrence is.
+        at: Location,
+        /// Where the first occurrence is.
+        first: Location,
+        /// The image the joint belongs to.
+        image: String,
+        /// The joint name.
+        joint: String,
+    },
+    /// A JSON object has keys the format does not define (all of them are listed).
+    #[error(
+        "{file}: {at}: unknown key(s) {} (allowed: {allowed})",
+        quoted_list(keys)
+    )]
+    UnknownKeys {
+        /// Name of the input.
+        file: String,
+        /// Path of the object.
+        at: Location,
+        /// The unknown keys, in the order found.
+        keys: Vec<String>,
+        /// The allowed keys, comma-separated.
+        allowed: String,
+    },
+    /// A JSON object has the same key twice.
+    #[error("{file}: {at}: key given twice")]
+    DuplicateKey {
+        /// Name of the input.
+        file: String,
+        /// Path of the repeated key.
+        at: Location,
+    },
+    /// A required JSON key is absent.
+    #[error("{file}: {at}: missing required key \"{key}\"")]
+    MissingKey {
+        /// Name of the input.
+        file: String,
+        /// Path of the object.
+        at: Location,
+        /// The missing key.
+        key: &'static str,
+    },
+    /// A JSON value has the wrong type.
+    #[error("{file}: {at}: expected {expected}, found {found}")]
+    WrongType {
+        /// Name of the input.
+        file: String,
+        /// Path of the value.
+        at: Location,
+        /// What the format wants there.
+        expected: &'static str,
+        /// The JSON type found.
+        found: &'static str,
+    },
+    /// A JSON array has the wrong number of elements (a landmark not `[u, v]`, COCO keypoints
+    /// not 51 numbers).
+    #[error("{file}: {at}: expected {expected} numbers ({what}), found {found}")]
+    WrongLength {
+        /// Name of the input.
+        file: String,
+        /// Path of the array.
+        at: Location,
+        /// Required length.
+        expected: usize,
+        /// Length found.
+        found: usize,
+        /// What the array holds.
+        what: &'static str,
+    },
+    /// A field does not hold what it must (a coordinate that is not a number, a visibility flag
+    /// other than 0 or 1, an empty image name, a wrong format tag).
+    #[error("{file}: {at}: {field} \"{text}\" is not {expected}")]
+    InvalidValue {
+        /// Name of the input.
+        file: String,
+        /// Where.
+        at: Location,
+        /// The field (column or key).
+        field: &'static str,
+        /// The value as found.
+        text: String,
+        /// What is allowed there.
+        expected: &'static str,
+    },
+    /// A coordinate is NaN or infinite.
+    #[error("{file}: {at}: {field} \"{text}\" is not a finite number")]
+    NonFinite {
+        /// Name of the input.
+        file: String,
+        /// Where.
+        at: Location,
+        /// The field (column or key).
+        field: &'static str,
+        /// The value as found.
+        text: String,
+    },
+    /// A camloc JSON document has a `version` this reader does not understand.
+    #[error(
+        "{file}: {at}: unsupported camloc-keypoints version {found} (this reader reads version 1)"
+    )]
+    UnsupportedVersion {
+        /// Name of the input.
+        file: String,
+        /// Path of the `version` key.
+        at: Location,
+        /// The version as found.
+        found: String,
+    },
+    /// Returned by [`KeypointRecord::require_torso`](crate::KeypointRecord::require_torso): the
+    /// pose lacks the pelvis or the neck, and neither file nor derivation supplied it.
+    #[error(
+        "{origin}: pose \"{id}\" has no {} (and it could not be derived from the hips/shoulders); \
+         the torso is needed",
+        landmark_list(missing)
+    )]
+    MissingTorso {
+        /// The pose id.
+        id: String,
+        /// Where the pose came from ([`KeypointRecord::source`](crate::KeypointRecord::source)).
+        origin: String,
+        /// The missing torso landmarks (pelvis, neck or both).
+        missing: Vec<Landmark>,
+    },
+}
+
+/// `a, b, c`, or `none`.
+fn list_or_none(items: &[String]) -> String {
+    if items.is_empty() {
+        "none".to_owned()
+    } else {
+        items.join(", ")
+    }
+}
+
+/// `"a", "b"`.
+fn quoted_list(items: &[String]) -> String {
+    items
+        .iter()
+        .map(|k| format!("\"{k}\""))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// `pelvis and neck`.
+fn landmark_list(items: &[Landmark]) -> String {
+    items
+        .iter()
+        .map(|l| l.name())
+        .collect::<Vec<_>>()
+        .join(" and ")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn messages_name_file_and_location() {
+        let e = KeypointError::UnknownKeys {
+            file: "a.json".into(),
+            at: Location::Path("poses[1].landmarks".into()),
+            keys: vec!["nose".into(), "left_kne".into()],
+            allowed: "pelvis, left_hip".into(),
+        };
+        assert_eq!(
+            e.to_string(),
+            "a.json: poses[1].landmarks: unknown key(s) \"nose\", \"left_kne\" (allowed: pelvis, left_hip)"
+        );
+        let e = KeypointError::CsvHeader {
+            file: "b.csv".into(),
+            line: 1,
+            header: "image,joint,x,y".into(),
+            missing: vec!["visible".into()],
+            extra: vec![],
+        };
+        let msg = e.to_string();
+        assert!(msg.starts_with("b.csv: line 1: "), "{msg}");
+        assert!(
+            msg.contains("missing: visible; unknown or repeated: none"),
+            "{msg}"
+        );
+        assert_eq!(Location::Path(String::new()).to_string(), "top level");
+    }
+}

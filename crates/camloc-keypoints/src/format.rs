@@ -1,0 +1,163 @@
+//! The supported formats and their detection.
+
+use std::fmt;
+use std::str::FromStr;
+
+/// A keypoint file format this crate reads.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum KeypointFormat {
+    /// camloc JSON, the project's own format (see the crate documentation).
+    Camloc,
+    /// LSP-14 CSV: `image,joint,x,y,visible`, one row per joint.
+    Lsp,
+    /// COCO-17 JSON: a dataset file with `annotations`, or a results list.
+    Coco,
+}
+
+impl KeypointFormat {
+    /// All formats.
+    pub const ALL: [KeypointFormat; 3] = [
+        KeypointFormat::Camloc,
+        KeypointFormat::Lsp,
+        KeypointFormat::Coco,
+    ];
+
+    /// Short lower-case name (`camloc`, `lsp`, `coco`), as accepted by [`str::parse`].
+    pub const fn name(self) -> &'static str {
+        match self {
+            KeypointFormat::Camloc => "camloc",
+            KeypointFormat::Lsp => "lsp",
+            KeypointFormat::Coco => "coco",
+        }
+    }
+
+    /// Guesses the format of a file from its extension (without the dot, any case) and content.
+    ///
+    /// * `csv` → [`Lsp`](KeypointFormat::Lsp).
+    /// * `json`, or any other or no extension when the content starts with `{` or `[`: a
+    ///   top-level array is a COCO results list; otherwise an object key `"poses"` or
+    ///   `"landmarks"` means [`Camloc`](KeypointFormat::Camloc), and `"annotations"` or
+    ///   `"keypoints"` means [`Coco`](KeypointFormat::Coco).
+    /// * Other extensions: content whose first non-blank line names the columns `image` and
+    ///   `joint` is LSP CSV.
+    ///
+    /// Returns `None` when nothing matches. Only looks at the text; it does not validate it.
+    pub fn from_extension_and_content(
+        extension: Option<&str>,
+        content: &str,
+    ) -> Option<KeypointFormat> {
+        let content = content.trim_start_matches('\u{feff}').trim_start();
+        let extension = extension.map(str::to_ascii_lowercase);
+        match extension.as_deref() {
+            Some("csv") => Some(KeypointFormat::Lsp),
+            Some("json") => sniff_json(content),
+            _ if content.starts_with(['{', '[']) => sniff_json(content),
+            _ => sniff_csv(content),
+        }
+    }
+}
+
+/// The JSON format of `content` (leading white space removed).
+fn sniff_json(content: &str) -> Option<KeypointFormat> {
+    if content.starts_with('[') {
+        Some(KeypointFormat::Coco)
+    } else if has_key(content, "poses") || has_key(content, "landmarks") {
+        Some(KeypointFormat::Camloc)
+    } else if has_key(content, "annotations") || has_key(content, "keypoints") {
+        Some(KeypointFormat::Coco)
+    } else {
+        None
+    }
+}
+
+/// `true` when `"key"` appears followed by `:` (an object key, not a string value).
+fn has_key(content: &str, key: &str) -> bool {
+    let quoted = format!("\"{key}\"");
+    content
+        .match_indices(&quoted)
+        .any(|(at, _)| content[at + quoted.len()..].trim_start().starts_with(':'))
+}
+
+/// LSP CSV when the first non-blank line has `image` and `joint` columns.
+fn sniff_csv(content: &str) -> Option<KeypointFormat> {
+    let header = content.lines().find(|l| !l.trim().is_empty())?;
+    let has = |column: &str| {
+        header
+            .split(',')
+            .any(|c| c.trim().eq_ignore_ascii_case(column))
+    };
+    (has("image") && has("joint")).then_some(KeypointFormat::Lsp)
+}
+
+impl fmt::Display for KeypointFormat {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// A format name that is not `camloc`, `lsp` or `coco`.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("unknown keypoint format \"{0}\" (expected camloc, lsp or coco)")]
+pub struct UnknownFormatName(pub String);
+
+impl FromStr for KeypointFormat {
+    type Err = UnknownFormatName;
+
+    /// Parses a name of [`KeypointFormat::name`], ignoring ASCII case.
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        KeypointFormat::ALL
+            .into_iter()
+            .find(|f| f.name().eq_ignore_ascii_case(s.trim()))
+            .ok_or_else(|| UnknownFormatName(s.to_owned()))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn detection_by_extension_and_content() {
+        use KeypointFormat::*;
+        let detect = KeypointFormat::from_extension_and_content;
+        assert_eq!(detect(Some("CSV"), "{}"), Some(Lsp));
+        assert_eq!(
+            detect(
+                Some("json"),
+                r#"{"format": "camloc-keypoints", "poses": []}"#
+            ),
+            Some(Camloc)
+        );
+        assert_eq!(
+            detect(Some("json"), "\u{feff} {\"landmarks\" : {}}"),
+            Some(Camloc)
+        );
+        assert_eq!(
+            detect(Some("json"), r#"{"images": [], "annotations": []}"#),
+            Some(Coco)
+        );
+        assert_eq!(detect(Some("json"), r#"  [{"image_id": 1}]"#), Some(Coco));
+        // A string value is not a key.
+        assert_eq!(
+            detect(Some("json"), r#"{"id": "poses", "annotations": []}"#),
+            Some(Coco)
+        );
+        assert_eq!(detect(Some("json"), r#"{"a": 1}"#), None);
+        assert_eq!(detect(None, "\n image, joint,x,y,visible\n"), Some(Lsp));
+        assert_eq!(detect(Some("txt"), r#"{"poses": []}"#), Some(Camloc));
+        assert_eq!(detect(None, "hello"), None);
+        assert_eq!(detect(None, ""), None);
+    }
+
+    #[test]
+    fn names_round_trip() {
+        for f in KeypointFormat::ALL {
+            assert_eq!(f.name().parse::<KeypointFormat>(), Ok(f));
+            assert_eq!(
+                f.to_string().to_uppercase().parse::<KeypointFormat>(),
+                Ok(f)
+            );
+        }
+        assert!("mpii".parse::<KeypointFormat>().is_err());
+    }
+}

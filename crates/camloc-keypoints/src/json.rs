@@ -1,0 +1,271 @@
+//! A JSON tree that keeps object keys in order, duplicates included (so that a landmark given
+//! twice is an error rather than silently overwritten), and helpers that report problems with
+//! their JSON path.
+
+use std::fmt;
+
+use serde::de::{self, Deserialize, Deserializer, MapAccess, SeqAccess, Visitor};
+
+use crate::error::{KeypointError, Location};
+
+/// A parsed JSON value.
+#[derive(Debug)]
+pub(crate) enum Json {
+    Null,
+    /// A boolean (no format uses its value, only its type).
+    Bool,
+    /// Kept as `serde_json::Number` so that integer ids print exactly.
+    Number(serde_json::Number),
+    String(String),
+    Array(Vec<Json>),
+    /// Keys in input order, duplicates kept.
+    Object(Vec<(String, Json)>),
+}
+
+impl Json {
+    /// The JSON type, as used in error messages.
+    pub(crate) fn kind(&self) -> &'static str {
+        match self {
+            Json::Null => "null",
+            Json::Bool => "a boolean",
+            Json::Number(_) => "a number",
+            Json::String(_) => "a string",
+            Json::Array(_) => "an array",
+            Json::Object(_) => "an object",
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for Json {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        deserializer.deserialize_any(JsonVisitor)
+    }
+}
+
+struct JsonVisitor;
+
+impl<'de> Visitor<'de> for JsonVisitor {
+    type Value = Json;
+
+    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("a JSON value")
+    }
+
+    fn visit_unit<E: de::Error>(self) -> Result<Json, E> {
+        Ok(Json::Null)
+    }
+
+    fn visit_bool<E: de::Error>(self, _: bool) -> Result<Json, E> {
+        Ok(Json::Bool)
+    }
+
+    fn visit_i64<E: de::Error>(self, v: i64) -> Result<Json, E> {
+        Ok(Json::Number(v.into()))
+    }
+
+    fn visit_u64<E: de::Error>(self, v: u64) -> Result<Json, E> {
+        Ok(Json::Number(v.into()))
+    }
+
+    fn visit_f64<E: de::Error>(self, v: f64) -> Result<Json, E> {
+        serde_json::Number::from_f64(v)
+            .map(Json::Number)
+            .ok_or_else(|| E::custom("number is not finite"))
+    }
+
+    fn visit_str<E: de::Error>(self, v: &str) -> Result<Json, E> {
+        Ok(Json::String(v.to_owned()))
+    }
+
+    fn visit_string<E: de::Error>(self, v: String) -> Result<Json, E> {
+        Ok(Json::String(v))
+    }
+
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Json, A::Error> {
+        let mut items = Vec::new();
+        while let Some(item) = seq.next_element()? {
+            items.push(item);
+        }
+        Ok(Json::Array(items))
+    }
+
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Json, A::Error> {
+        let mut fields = Vec::new();
+        while let Some(entry) = map.next_entry::<String, Json>()? {
+            fields.push(entry);
+        }
+        Ok(Json::Object(fields))
+    }
+}
+
+/// Parses `text` as JSON into `T`, turning parser errors into [`KeypointError::Json`].
+pub(crate) fn parse<'a, T: Deserialize<'a>>(text: &'a str, file: &str) -> Result<T, KeypointError> {
+    serde_json::from_str(text).map_err(|e| {
+        let full = e.to_string();
+        let suffix = format!(" at line {} column {}", e.line(), e.column());
+        let message = full.strip_suffix(&suffix).unwrap_or(&full).to_owned();
+        KeypointError::Json {
+            file: file.to_owned(),
+            line: e.line(),
+            column: e.column(),
+            message,
+        }
+    })
+}
+
+/// Path of key `key` inside the object at `parent`.
+pub(crate) fn key_path(parent: &str, key: &str) -> String {
+    if parent.is_empty() {
+        key.to_owned()
+    } else {
+        format!("{parent}.{key}")
+    }
+}
+
+/// Path of element `index` of the array at `parent`.
+pub(crate) fn index_path(parent: &str, index: usize) -> String {
+    format!("{parent}[{index}]")
+}
+
+/// Checks that the object at `path` uses only `allowed` keys, each at most once.
+///
+/// Every unknown key is named in the error. Once all keys are known, a repeat is found within
+/// the first `allowed.len() + 1` keys, so the check is cheap even on hostile input.
+pub(crate) fn check_keys(
+    fields: &[(String, Json)],
+    allowed: &[&str],
+    file: &str,
+    path: &str,
+) -> Result<(), KeypointError> {
+    let unknown: Vec<String> = fields
+        .iter()
+        .filter(|(k, _)| !allowed.contains(&k.as_str()))
+        .map(|(k, _)| k.clone())
+        .collect();
+    if !unknown.is_empty() {
+        return Err(KeypointError::UnknownKeys {
+            file: file.to_owned(),
+            at: Location::Path(path.to_owned()),
+            keys: unknown,
+            allowed: allowed.join(", "),
+        });
+    }
+    for (i, (key, _)) in fields.iter().enumerate() {
+        if fields[..i].iter().any(|(k, _)| k == key) {
+            return Err(KeypointError::DuplicateKey {
+                file: file.to_owned(),
+                at: Location::Path(key_path(path, key)),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// The value of `key` in `fields`, if present.
+pub(crate) fn get<'a>(fields: &'a [(String, Json)], key: &str) -> Option<&'a Json> {
+    fields.iter().find(|(k, _)| k == key).map(|(_, v)| v)
+}
+
+/// A [`KeypointError::WrongType`] for `found` at `path`.
+pub(crate) fn wrong_type(
+    file: &str,
+    path: &str,
+    expected: &'static str,
+    found: &Json,
+) -> KeypointError {
+    KeypointError::WrongType {
+        file: file.to_owned(),
+        at: Location::Path(path.to_owned()),
+        expected,
+        found: found.kind(),
+    }
+}
+
+/// The `N` numbers of the array `value` at `path`.
+pub(crate) fn number_array<const N: usize>(
+    value: &Json,
+    what: &'static str,
+    file: &str,
+    path: &str,
+) -> Result<[f64; N], KeypointError> {
+    let Json::Array(items) = value else {
+        return Err(wrong_type(file, path, what, value));
+    };
+    let wrong_length = || KeypointError::WrongLength {
+        file: file.to_owned(),
+        at: Location::Path(path.to_owned()),
+        expected: N,
+        found: items.len(),
+        what,
+    };
+    // Checked first so that a wrong length is reported before any element type.
+    if items.len() != N {
+        return Err(wrong_length());
+    }
+    let numbers = items
+        .iter()
+        .enumerate()
+        .map(|(i, item)| match item {
+            Json::Number(n) => {
+                n.as_f64()
+                    .filter(|x| x.is_finite())
+                    .ok_or_else(|| KeypointError::NonFinite {
+                        file: file.to_owned(),
+                        at: Location::Path(index_path(path, i)),
+                        field: "coordinate",
+                        text: n.to_string(),
+                    })
+            }
+            other => Err(wrong_type(file, &index_path(path, i), "a number", other)),
+        })
+        .collect::<Result<Vec<f64>, _>>()?;
+    numbers.try_into().map_err(|_| wrong_length())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn keeps_duplicate_keys_and_integer_ids() {
+        let v: Json = parse(
+            r#"{"a": 1, "a": [2.5, null], "b": 18446744073709551615}"#,
+            "t",
+        )
+        .unwrap();
+        let Json::Object(fields) = &v else {
+            panic!("{v:?}")
+        };
+        assert_eq!(fields.len(), 3);
+        assert_eq!(fields[0].0, "a");
+        assert_eq!(fields[1].0, "a");
+        let Json::Number(n) = &fields[2].1 else {
+            panic!()
+        };
+        assert_eq!(n.to_string(), "18446744073709551615");
+        let err = check_keys(fields, &["a", "b"], "t", "x").unwrap_err();
+        assert!(
+            matches!(err, KeypointError::DuplicateKey { at: Location::Path(p), .. } if p == "x.a")
+        );
+    }
+
+    #[test]
+    fn json_errors_carry_line_and_column_once() {
+        let err = parse::<Json>("{\n  \"a\": [1,\n}", "f.json").unwrap_err();
+        let KeypointError::Json { line, message, .. } = &err else {
+            panic!("{err:?}")
+        };
+        assert_eq!(*line, 3);
+        assert!(!message.contains("at line"), "{message}");
+    }
+
+    #[test]
+    fn paths_compose() {
+        assert_eq!(key_path("", "poses"), "poses");
+        assert_eq!(
+            key_path(&index_path("poses", 2), "landmarks"),
+            "poses[2].landmarks"
+        );
+        assert_eq!(index_path("", 4), "[4]");
+    }
+}

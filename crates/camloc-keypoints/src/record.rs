@@ -1,0 +1,175 @@
+//! The reader output ([`KeypointRecord`]) and the torso derivation rule (SPEC.md section 3).
+
+use camloc_skeleton::{Landmark, PartialPose2};
+
+use crate::ReadOptions;
+use crate::error::KeypointError;
+
+/// One pose read from a keypoint file.
+#[derive(Clone, Debug, PartialEq)]
+pub struct KeypointRecord {
+    /// Identifier of the pose: the camloc `id`, the LSP image name, or `"{image_id}/{id}"` for
+    /// COCO (see the crate documentation).
+    pub id: String,
+    /// The 15 landmarks in the file's image coordinates (usually pixels, `v` down); `None` where
+    /// a landmark is missing.
+    pub pose: PartialPose2,
+    /// Landmarks computed from other keypoints rather than read as one annotated point (pelvis
+    /// and neck by [`derive_torso`], the COCO head from the face points), in landmark order.
+    pub derived: Vec<Landmark>,
+    /// Where the pose is in the input, e.g. `lsp.csv: line 17` or `poses.json: poses[3]`.
+    pub source: String,
+}
+
+impl KeypointRecord {
+    /// `true` when `landmark` was derived rather than read (see [`KeypointRecord::derived`]).
+    pub fn is_derived(&self, landmark: Landmark) -> bool {
+        self.derived.contains(&landmark)
+    }
+
+    /// Checks that the pelvis and the neck, the torso every camloc descriptor is scaled by, are
+    /// present; otherwise returns [`KeypointError::MissingTorso`] naming the pose.
+    ///
+    /// Readers do not reject such poses themselves: what to do with them is the caller's choice.
+    pub fn require_torso(&self) -> Result<(), KeypointError> {
+        let missing: Vec<Landmark> = [Landmark::Pelvis, Landmark::Neck]
+            .into_iter()
+            .filter(|l| self.pose.points[l.index()].is_none())
+            .collect();
+        if missing.is_empty() {
+            Ok(())
+        } else {
+            Err(KeypointError::MissingTorso {
+                id: self.id.clone(),
+                origin: self.source.clone(),
+                missing,
+            })
+        }
+    }
+}
+
+/// The derivation rule: (derived landmark, its two sources whose midpoint it becomes).
+const TORSO_RULES: [(Landmark, Landmark, Landmark); 2] = [
+    (Landmark::Pelvis, Landmark::LeftHip, Landmark::RightHip),
+    (
+        Landmark::Neck,
+        Landmark::LeftShoulder,
+        Landmark::RightShoulder,
+    ),
+];
+
+/// Fills a missing pelvis with the midpoint of the hips, and a missing neck with the midpoint of
+/// the shoulders, when both are present (SPEC.md section 3). Returns the landmarks it filled.
+///
+/// Landmarks already present are never changed.
+pub fn derive_torso(pose: &mut PartialPose2) -> Vec<Landmark> {
+    let mut filled = Vec::new();
+    for (target, a, b) in TORSO_RULES {
+        if pose.points[target.index()].is_some() {
+            continue;
+        }
+        if let (Some(p), Some(q)) = (pose.points[a.index()], pose.points[b.index()]) {
+            // Halve first: the midpoint of two finite coordinates stays finite.
+            pose.points[target.index()] = Some([0.5 * p[0] + 0.5 * q[0], 0.5 * p[1] + 0.5 * q[1]]);
+            filled.push(target);
+        }
+    }
+    filled
+}
+
+/// Builds a record: applies [`derive_torso`] when `options.derive_torso`, and records what was
+/// derived (`derived` holds what the format-specific reader already computed).
+pub(crate) fn finish(
+    id: String,
+    mut pose: PartialPose2,
+    mut derived: Vec<Landmark>,
+    source: String,
+    options: &ReadOptions,
+) -> KeypointRecord {
+    if options.derive_torso {
+        derived.extend(derive_torso(&mut pose));
+    }
+    derived.sort_unstable();
+    derived.dedup();
+    KeypointRecord {
+        id,
+        pose,
+        derived,
+        source,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn with(points: &[(Landmark, [f64; 2])]) -> PartialPose2 {
+        let mut pose = PartialPose2::empty();
+        for &(l, p) in points {
+            pose.points[l.index()] = Some(p);
+        }
+        pose
+    }
+
+    #[test]
+    fn derives_pelvis_and_neck_as_midpoints_only_when_missing() {
+        let mut pose = with(&[
+            (Landmark::LeftHip, [10.0, 100.0]),
+            (Landmark::RightHip, [30.0, 104.0]),
+            (Landmark::LeftShoulder, [0.0, 20.0]),
+            (Landmark::RightShoulder, [40.0, 24.0]),
+        ]);
+        assert_eq!(
+            derive_torso(&mut pose),
+            vec![Landmark::Pelvis, Landmark::Neck]
+        );
+        assert_eq!(pose.points[Landmark::Pelvis.index()], Some([20.0, 102.0]));
+        assert_eq!(pose.points[Landmark::Neck.index()], Some([20.0, 22.0]));
+        // A second pass has nothing left to do and changes nothing.
+        let before = pose;
+        assert!(derive_torso(&mut pose).is_empty());
+        assert_eq!(pose, before);
+    }
+
+    #[test]
+    fn does_not_derive_from_one_side_or_overwrite() {
+        let mut pose = with(&[
+            (Landmark::LeftHip, [10.0, 100.0]),
+            (Landmark::Neck, [5.0, 5.0]),
+            (Landmark::LeftShoulder, [0.0, 20.0]),
+            (Landmark::RightShoulder, [40.0, 24.0]),
+        ]);
+        assert!(derive_torso(&mut pose).is_empty());
+        assert_eq!(pose.points[Landmark::Pelvis.index()], None);
+        assert_eq!(pose.points[Landmark::Neck.index()], Some([5.0, 5.0]));
+    }
+
+    #[test]
+    fn midpoint_of_huge_coordinates_stays_finite() {
+        let mut pose = with(&[
+            (Landmark::LeftHip, [f64::MAX, -f64::MAX]),
+            (Landmark::RightHip, [f64::MAX, -f64::MAX]),
+        ]);
+        derive_torso(&mut pose);
+        assert_eq!(pose.points[0], Some([f64::MAX, -f64::MAX]));
+    }
+
+    #[test]
+    fn require_torso_names_the_pose_and_what_is_missing() {
+        let record = KeypointRecord {
+            id: "im7".into(),
+            pose: with(&[(Landmark::Neck, [1.0, 2.0])]),
+            derived: vec![],
+            source: "x.csv: line 9".into(),
+        };
+        let err = record.require_torso().unwrap_err();
+        assert!(
+            matches!(&err, KeypointError::MissingTorso { id, missing, .. } if id == "im7" && missing == &[Landmark::Pelvis])
+        );
+        assert!(
+            err.to_string()
+                .starts_with("x.csv: line 9: pose \"im7\" has no pelvis"),
+            "{err}"
+        );
+    }
+}

@@ -1,0 +1,176 @@
+//! The estimator configuration ([`LogisticRegression`]) and its `fit`.
+
+use serde::{Deserialize, Serialize};
+
+use crate::newton::{FitReport, IterationLog, NewtonProblem, Termination};
+use crate::{Features, LearningError, LogisticModel};
+
+/// How the classes are modelled.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum Mode {
+    /// One multinomial (softmax) model, eq. 8: `P(k | x) = softmax(W x + b)_k`. The
+    /// parameters are `(d + 1) K` (full parametrisation, every class has weights and a
+    /// bias); the Hessian couples all classes.
+    #[default]
+    Multinomial,
+    /// One binary L2 logistic problem per class ("class k against the rest"), eq. 9, each
+    /// solved by its own Newton iteration (block-diagonal Hessian, one line search per
+    /// class). Probabilities are the per-class sigmoids normalised to sum to 1.
+    OneVsRest,
+}
+
+/// L2-regularised logistic regression fitted by Newton's method (SPEC.md section 5).
+///
+/// Minimises, over weights `W` (`K x d`) and biases `b` (`K`),
+///
+/// * [`Mode::Multinomial`]: `f = -sum_i log softmax(W x_i + b)_{y_i} + lambda ||W||_F^2`;
+/// * [`Mode::OneVsRest`]: `f = sum_k [ -sum_i log sigmoid(s_ik (w_k . x_i + b_k)) + lambda ||w_k||^2 ]`
+///   with `s_ik = +1` if `y_i = k` and `-1` otherwise.
+///
+/// The loss is a *sum* over samples (not a mean) and the bias is not penalised; `x_i` are
+/// the standardised features when [`standardise`](Self::standardise) is set. In
+/// scikit-learn's terms `lambda = 1 / (2 C)`.
+///
+/// Each iteration computes the exact gradient and Hessian, factorises the Hessian with
+/// faer's dense Cholesky, and takes the Newton step with a backtracking (Armijo) line
+/// search. It stops when the infinity norm of the gradient of `f` is at most
+/// `gradient_tolerance * n_samples` (the tolerance is on the gradient of the *mean* loss,
+/// so it does not depend on the number of samples).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct LogisticRegression {
+    /// Ridge weight `lambda >= 0` on the squared weights (biases excluded). Default 0.5,
+    /// scikit-learn's default `C = 1`.
+    pub lambda: f64,
+    /// Maximum number of Newton iterations. Default 100.
+    pub max_iter: usize,
+    /// Stop when `||grad f||_inf <= gradient_tolerance * n_samples`. Default 1e-8.
+    pub gradient_tolerance: f64,
+    /// Multinomial (default) or one-vs-rest.
+    pub mode: Mode,
+    /// Standardise features (zero mean, unit variance per column, fitted on the training
+    /// data and stored in the model). Default true.
+    pub standardise: bool,
+}
+
+impl Default for LogisticRegression {
+    fn default() -> Self {
+        Self {
+            lambda: 0.5,
+            max_iter: 100,
+            gradient_tolerance: 1e-8,
+            mode: Mode::Multinomial,
+            standardise: true,
+        }
+    }
+}
+
+impl LogisticRegression {
+    /// Returns `self` with the ridge weight `lambda` set.
+    pub fn with_lambda(mut self, lambda: f64) -> Self {
+        self.lambda = lambda;
+        self
+    }
+
+    /// Returns `self` with the maximum number of Newton iterations set.
+    pub fn with_max_iter(mut self, max_iter: usize) -> Self {
+        self.max_iter = max_iter;
+        self
+    }
+
+    /// Returns `self` with the (per-sample) gradient tolerance set.
+    pub fn with_gradient_tolerance(mut self, gradient_tolerance: f64) -> Self {
+        self.gradient_tolerance = gradient_tolerance;
+        self
+    }
+
+    /// Returns `self` with the mode set.
+    pub fn with_mode(mut self, mode: Mode) -> Self {
+        self.mode = mode;
+        self
+    }
+
+    /// Returns `self` with standardisation switched on or off.
+    pub fn with_standardise(mut self, standardise: bool) -> Self {
+        self.standardise = standardise;
+        self
+    }
+
+    /// Checks the hyper-parameters.
+    ///
+    /// # Errors
+    /// [`LearningError::InvalidParameter`] if `lambda` or `gradient_tolerance` is negative or
+    /// not finite.
+    pub fn validate(&self) -> Result<(), LearningError> {
+        if !(self.lambda.is_finite() && self.lambda >= 0.0) {
+            return Err(LearningError::InvalidParameter {
+                name: "lambda",
+                value: self.lambda.to_string(),
+                reason: "must be finite and >= 0",
+            });
+        }
+        if !(self.gradient_tolerance.is_finite() && self.gradient_tolerance >= 0.0) {
+            return Err(LearningError::InvalidParameter {
+                name: "gradient_tolerance",
+                value: self.gradient_tolerance.to_string(),
+                reason: "must be finite and >= 0",
+            });
+        }
+        Ok(())
+    }
+
+    /// Fits the model on `x` (one row per sample) with labels `y` in `0..n_classes`.
+    ///
+    /// # Errors
+    /// Invalid hyper-parameters, zero samples, a label count different from the sample
+    /// count, a label `>= n_classes`, fewer than 2 classes, or a Hessian that cannot be
+    /// factorised even with damping ([`LearningError::Singular`]). Not converging within
+    /// `max_iter` is not an error: see [`FitReport::converged`].
+    pub fn fit(
+        &self,
+        x: &Features<'_>,
+        y: &[usize],
+        n_classes: usize,
+    ) -> Result<(LogisticModel, FitReport), LearningError> {
+        self.fit_with_progress(x, y, n_classes, |_| {})
+    }
+
+    /// Like [`fit`](Self::fit), calling `progress` with the log of the starting point and of
+    /// every Newton iteration as soon as it is done.
+    ///
+    /// # Errors
+    /// As [`fit`](Self::fit).
+    pub fn fit_with_progress(
+        &self,
+        x: &Features<'_>,
+        y: &[usize],
+        n_classes: usize,
+        mut progress: impl FnMut(&IterationLog),
+    ) -> Result<(LogisticModel, FitReport), LearningError> {
+        let mut problem = NewtonProblem::new(x, y, n_classes, self)?;
+        let threshold = self.gradient_tolerance * x.n_samples() as f64;
+        let start = problem.log(0.0);
+        progress(&start);
+        let mut iterations = vec![start];
+        let termination = loop {
+            if problem.gradient_norm() <= threshold {
+                break Termination::Converged;
+            }
+            if problem.iteration() >= self.max_iter {
+                break Termination::MaxIterations;
+            }
+            let log = problem.newton_step()?;
+            progress(&log);
+            let stalled = log.step == 0.0;
+            iterations.push(log);
+            if stalled {
+                break Termination::NoProgress;
+            }
+        };
+        let report = FitReport {
+            iterations,
+            converged: termination == Termination::Converged,
+            termination,
+        };
+        Ok((problem.into_model(), report))
+    }
+}

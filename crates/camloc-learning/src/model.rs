@@ -1,0 +1,344 @@
+//! The fitted classifier: standardiser, weights and biases, and prediction.
+
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use crate::data::{check_finite_row, check_labels};
+use crate::newton::row_loss;
+use crate::softmax::{one_vs_rest_in_place, softmax_in_place};
+use crate::standardise::Standardiser;
+use crate::{Features, LearningError, Mode};
+
+/// A fitted logistic-regression classifier over `n_features` raw features and `n_classes`
+/// classes.
+///
+/// Self-contained: it keeps the standardiser fitted on the training data, so every method
+/// takes raw features (the same units the training features had). Logits are
+/// `z_k = b_k + sum_j W[j][k] (x_j - mean_j) / scale_j`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct LogisticModel {
+    mode: Mode,
+    lambda: f64,
+    standardiser: Standardiser,
+    n_classes: usize,
+    /// Feature-major `n_features x n_classes`: `weights[j * n_classes + k]`.
+    weights: Vec<f64>,
+    biases: Vec<f64>,
+}
+
+impl LogisticModel {
+    /// Builds a model from its parts (e.g. coefficients fitted elsewhere).
+    ///
+    /// `weights` is feature-major, `weights[j * n_classes + k]` being the weight of
+    /// standardised feature `j` for class `k`; `biases` has one entry per class;
+    /// `lambda` is the ridge weight the model was (or is deemed) fitted with, used by
+    /// [`objective`](Self::objective).
+    ///
+    /// # Errors
+    /// [`LearningError::TooFewClasses`] for fewer than 2 biases,
+    /// [`LearningError::SizeMismatch`] if `weights` is not `n_features * n_classes` long,
+    /// [`LearningError::InvalidParameter`] for a non-finite weight, bias or lambda (or a
+    /// negative lambda).
+    pub fn new(
+        mode: Mode,
+        lambda: f64,
+        standardiser: Standardiser,
+        weights: Vec<f64>,
+        biases: Vec<f64>,
+    ) -> Result<Self, LearningError> {
+        let model = Self::from_validated_parts(mode, lambda, standardiser, weights, biases);
+        model.validate()?;
+        Ok(model)
+    }
+
+    /// Assembles a model from parts known to be consistent (the Newton solver's output).
+    pub(crate) fn from_validated_parts(
+        mode: Mode,
+        lambda: f64,
+        standardiser: Standardiser,
+        weights: Vec<f64>,
+        biases: Vec<f64>,
+    ) -> Self {
+        Self {
+            mode,
+            lambda,
+            standardiser,
+            n_classes: biases.len(),
+            weights,
+            biases,
+        }
+    }
+
+    /// Checks every invariant: used by [`new`](Self::new) and when decoding a stored model.
+    pub(crate) fn validate(&self) -> Result<(), LearningError> {
+        self.standardiser.validate()?;
+        if self.n_classes < 2 {
+            return Err(LearningError::TooFewClasses {
+                n_classes: self.n_classes,
+            });
+        }
+        if self.biases.len() != self.n_classes {
+            return Err(LearningError::SizeMismatch {
+                what: "model biases (one per class)",
+                expected: self.n_classes,
+                found: self.biases.len(),
+            });
+        }
+        let expected = self.n_features() * self.n_classes;
+        if self.weights.len() != expected {
+            return Err(LearningError::SizeMismatch {
+                what: "model weights (n_features * n_classes)",
+                expected,
+                found: self.weights.len(),
+            });
+        }
+        if !(self.lambda.is_finite() && self.lambda >= 0.0) {
+            return Err(LearningError::InvalidParameter {
+                name: "lambda",
+                value: self.lambda.to_string(),
+                reason: "must be finite and >= 0",
+            });
+        }
+        if let Some(v) = self
+            .weights
+            .iter()
+            .chain(&self.biases)
+            .find(|v| !v.is_finite())
+        {
+            return Err(LearningError::InvalidParameter {
+                name: "model coefficient",
+                value: v.to_string(),
+                reason: "every weight and bias must be finite",
+            });
+        }
+        Ok(())
+    }
+
+    /// Number of raw input features.
+    pub fn n_features(&self) -> usize {
+        self.standardiser.n_features()
+    }
+
+    /// Number of classes.
+    pub fn n_classes(&self) -> usize {
+        self.n_classes
+    }
+
+    /// Multinomial or one-vs-rest.
+    pub fn mode(&self) -> Mode {
+        self.mode
+    }
+
+    /// Ridge weight the model was fitted with.
+    pub fn lambda(&self) -> f64 {
+        self.lambda
+    }
+
+    /// The feature standardiser applied before the linear part.
+    pub fn standardiser(&self) -> &Standardiser {
+        &self.standardiser
+    }
+
+    /// Weights on the standardised features, feature-major:
+    /// `weights()[j * n_classes() + k]` is feature `j`, class `k`.
+    pub fn weights(&self) -> &[f64] {
+        &self.weights
+    }
+
+    /// One bias per class.
+    pub fn biases(&self) -> &[f64] {
+        &self.biases
+    }
+
+    /// Checks that `x` has `n_features` finite values.
+    fn check_sample(&self, x: &[f64]) -> Result<(), LearningError> {
+        if x.len() != self.n_features() {
+            return Err(LearningError::SizeMismatch {
+                what: "number of features of the sample",
+                expected: self.n_features(),
+                found: x.len(),
+            });
+        }
+        check_finite_row(x, 0, x.len().max(1))
+    }
+
+    /// Checks that an output slice has one entry per class.
+    fn check_output(&self, out: &[f64]) -> Result<(), LearningError> {
+        if out.len() != self.n_classes {
+            return Err(LearningError::SizeMismatch {
+                what: "output length (one per class)",
+                expected: self.n_classes,
+                found: out.len(),
+            });
+        }
+        Ok(())
+    }
+
+    /// Logits of one raw sample into `out` (one per class), without allocating: softmax
+    /// inputs for [`Mode::Multinomial`], per-class binary logits for [`Mode::OneVsRest`].
+    ///
+    /// # Errors
+    /// [`LearningError::SizeMismatch`] for a sample or output of the wrong length,
+    /// [`LearningError::NonFinite`] (row 0) for a non-finite feature.
+    pub fn decision_function_into(&self, x: &[f64], out: &mut [f64]) -> Result<(), LearningError> {
+        self.check_sample(x)?;
+        self.check_output(out)?;
+        self.logits_unchecked(x, out);
+        Ok(())
+    }
+
+    /// Logits of a sample whose sizes have been checked.
+    #[inline]
+    fn logits_unchecked(&self, x: &[f64], out: &mut [f64]) {
+        out.copy_from_slice(&self.biases);
+        for (((&raw, &mean), &scale), w) in x
+            .iter()
+            .zip(self.standardiser.means())
+            .zip(self.standardiser.scales())
+            .zip(self.weights.chunks_exact(self.n_classes))
+        {
+            let v = Standardiser::apply(mean, scale, raw);
+            for (o, &wk) in out.iter_mut().zip(w) {
+                *o += wk * v;
+            }
+        }
+    }
+
+    /// Logits of one raw sample (see [`decision_function_into`](Self::decision_function_into)).
+    ///
+    /// # Errors
+    /// As [`decision_function_into`](Self::decision_function_into).
+    pub fn decision_function(&self, x: &[f64]) -> Result<Vec<f64>, LearningError> {
+        let mut out = vec![0.0; self.n_classes];
+        self.decision_function_into(x, &mut out)?;
+        Ok(out)
+    }
+
+    /// Class probabilities of one raw sample into `out`, without allocating. They are
+    /// non-negative and sum to 1 (within rounding), for any finite input.
+    ///
+    /// # Errors
+    /// As [`decision_function_into`](Self::decision_function_into), plus
+    /// [`LearningError::NanLogit`] if the linear part overflows to NaN.
+    pub fn predict_proba_into(&self, x: &[f64], out: &mut [f64]) -> Result<(), LearningError> {
+        self.decision_function_into(x, out)?;
+        if let Some(class) = out.iter().position(|z| z.is_nan()) {
+            return Err(LearningError::NanLogit { class });
+        }
+        match self.mode {
+            Mode::Multinomial => softmax_in_place(out),
+            Mode::OneVsRest => one_vs_rest_in_place(out),
+        }
+        Ok(())
+    }
+
+    /// Class probabilities of one raw sample (see [`predict_proba_into`](Self::predict_proba_into)).
+    ///
+    /// # Errors
+    /// As [`predict_proba_into`](Self::predict_proba_into).
+    pub fn predict_proba(&self, x: &[f64]) -> Result<Vec<f64>, LearningError> {
+        let mut out = vec![0.0; self.n_classes];
+        self.predict_proba_into(x, &mut out)?;
+        Ok(out)
+    }
+
+    /// Most probable class of one raw sample (lowest index on ties).
+    ///
+    /// # Errors
+    /// As [`predict_proba_into`](Self::predict_proba_into).
+    pub fn predict(&self, x: &[f64]) -> Result<usize, LearningError> {
+        Ok(argmax(&self.predict_proba(x)?))
+    }
+
+    /// Class probabilities of every sample, row-major `n_samples x n_classes`, computed in
+    /// parallel (rayon); each row is bit-identical to [`predict_proba`](Self::predict_proba)
+    /// on that sample.
+    ///
+    /// # Errors
+    /// [`LearningError::SizeMismatch`] if `x` does not have `n_features` columns,
+    /// [`LearningError::NanLogit`] as for a single sample.
+    pub fn predict_proba_batch(&self, x: &Features<'_>) -> Result<Vec<f64>, LearningError> {
+        if x.n_features() != self.n_features() {
+            return Err(LearningError::SizeMismatch {
+                what: "number of feature columns",
+                expected: self.n_features(),
+                found: x.n_features(),
+            });
+        }
+        let mut out = vec![0.0; x.n_samples() * self.n_classes];
+        out.par_chunks_mut(self.n_classes)
+            .zip(x.data().par_chunks(x.n_features()))
+            .try_for_each(|(o, row)| self.predict_proba_into(row, o))?;
+        Ok(out)
+    }
+
+    /// Most probable class of every sample (see [`predict_proba_batch`](Self::predict_proba_batch)).
+    ///
+    /// # Errors
+    /// As [`predict_proba_batch`](Self::predict_proba_batch).
+    pub fn predict_batch(&self, x: &Features<'_>) -> Result<Vec<usize>, LearningError> {
+        Ok(self
+            .predict_proba_batch(x)?
+            .chunks_exact(self.n_classes)
+            .map(argmax)
+            .collect())
+    }
+
+    /// Fraction of samples whose predicted class equals the label, in `[0, 1]` (0 for no
+    /// samples).
+    ///
+    /// # Errors
+    /// As [`predict_proba_batch`](Self::predict_proba_batch), plus label errors as in
+    /// [`LogisticRegression::fit`](crate::LogisticRegression::fit).
+    pub fn accuracy(&self, x: &Features<'_>, y: &[usize]) -> Result<f64, LearningError> {
+        check_labels(y, x.n_samples(), self.n_classes)?;
+        let predicted = self.predict_batch(x)?;
+        let correct = predicted.iter().zip(y).filter(|(p, t)| p == t).count();
+        Ok(if y.is_empty() {
+            0.0
+        } else {
+            correct as f64 / y.len() as f64
+        })
+    }
+
+    /// The training objective of this model on `(x, y)`: the per-sample losses summed plus
+    /// `lambda ||W||^2` (see [`LogisticRegression`](crate::LogisticRegression) for both
+    /// modes), with the model's own standardisation. After a fit it equals the objective
+    /// reported in the last [`IterationLog`](crate::IterationLog) up to rounding.
+    ///
+    /// # Errors
+    /// As [`accuracy`](Self::accuracy).
+    pub fn objective(&self, x: &Features<'_>, y: &[usize]) -> Result<f64, LearningError> {
+        check_labels(y, x.n_samples(), self.n_classes)?;
+        if x.n_features() != self.n_features() {
+            return Err(LearningError::SizeMismatch {
+                what: "number of feature columns",
+                expected: self.n_features(),
+                found: x.n_features(),
+            });
+        }
+        let n_blocks = match self.mode {
+            Mode::Multinomial => 1,
+            Mode::OneVsRest => self.n_classes,
+        };
+        let mut logits = vec![0.0; self.n_classes];
+        let mut partial = vec![0.0; n_blocks];
+        for (row, &label) in x.rows().zip(y) {
+            self.logits_unchecked(row, &mut logits);
+            row_loss(self.mode, label, self.n_classes, |c| logits[c], &mut partial);
+        }
+        let ridge: f64 = self.weights.iter().map(|w| w * w).sum::<f64>() * self.lambda;
+        Ok(partial.iter().sum::<f64>() + ridge)
+    }
+}
+
+/// Index of the largest value (first one on ties; 0 for an empty slice).
+fn argmax(values: &[f64]) -> usize {
+    values
+        .iter()
+        .enumerate()
+        .fold((0, f64::NEG_INFINITY), |(bi, bv), (i, &v)| {
+            if v > bv { (i, v) } else { (bi, bv) }
+        })
+        .0
+}

@@ -1,0 +1,919 @@
+//! Newton's method on the L2 logistic objective: state, exact gradient and Hessian, Cholesky
+//! solve and backtracking line search.
+//!
+//! # Layout
+//!
+//! * Design matrix `X`: `n x D` column-major, `D = d + 1`, the standardised features
+//!   followed by a column of ones (the bias).
+//! * Parameters `theta`: `D x K` column-major, i.e. class-major: `theta[k * D + a]` is the
+//!   weight of feature `a` for class `k`, `a = d` being the bias. Gradient and Newton
+//!   direction use the same layout; the Hessian is the `P x P` matrix (`P = D K`) on it.
+//! * Logits, probabilities and residuals: `K x n` column-major (each sample's `K` values
+//!   contiguous).
+//!
+//! # Hessian
+//!
+//! Multinomial: block `(j, k)` of the Hessian of the loss is `X^T diag(w_jk) X` with
+//! `w_jk = p_j (delta_jk - p_k)`. Since `sum_k w_jk = 0`, every diagonal block is minus the
+//! sum of the off-diagonal blocks of its block row, so only the `K (K - 1) / 2` blocks
+//! `G_jk = X^T diag(p_j p_k) X`, `j < k`, are computed: `H_jk = -G_jk`,
+//! `H_jj = sum_{k != j} G_jk` (a sum of positive semi-definite terms, without the
+//! cancellation of `1 - p_j`). Each block is symmetric, so only its upper triangle is
+//! needed: with `U` the `n x D(D+1)/2` matrix of products `x_ia x_ib` (`a <= b`) and `W`
+//! the `n x K(K-1)/2` matrix of weights `p_ij p_ik`, all packed blocks are the single
+//! product `W^T U`. It is accumulated over chunks of rows (`U` is never stored whole)
+//! with faer's GEMM, one worker thread per core, each with its own buffers allocated once
+//! per fit. One-vs-rest uses the `K` weights `sigma(z_k)(1 - sigma(z_k))` instead and a
+//! block-diagonal Hessian.
+//!
+//! Actual multiply-adds per Hessian: `n * D(D+1)/2 * Q` with `Q = K(K-1)/2` (multinomial)
+//! or `K` (one-vs-rest); see [`NewtonProblem::hessian_flops`].
+//!
+//! # Singular directions
+//!
+//! In the multinomial model adding the same constant to every class's bias leaves the
+//! probabilities unchanged and the bias is not penalised, so the Hessian is singular along
+//! `u = (1/sqrt K) sum_k e_(k, bias)`; the gradient is always orthogonal to `u`. The Newton
+//! system is solved with `H + c u u^T` (`c` = mean bias curvature), which is positive
+//! definite and gives exactly the minimum-norm Newton step. With `lambda = 0` the same is
+//! done for every feature (each weight vector shift `w_k -> w_k + v` is then a null
+//! direction too). If the Cholesky factorisation still fails, increasing multiples of the
+//! identity are added (damping) until it succeeds.
+
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::cholesky::llt::factor::{LltRegularization, cholesky_in_place, cholesky_in_place_scratch};
+use faer::linalg::cholesky::llt::solve::solve_in_place;
+use faer::linalg::matmul::matmul;
+use faer::prelude::{Reborrow, ReborrowMut};
+use faer::{Accum, MatMut, MatRef, Par};
+use rayon::prelude::*;
+
+use crate::data::check_labels;
+use crate::softmax::{log_sum_exp, sigmoid, sigmoid_curvature, softmax_in_place, softplus};
+use crate::standardise::Standardiser;
+use crate::{Features, LearningError, LogisticModel, LogisticRegression, Mode};
+
+/// Sufficient-decrease constant of the Armijo condition `f(t) <= f(0) + c t g.d`.
+const ARMIJO_C1: f64 = 1e-4;
+/// Maximum number of step halvings in one line search (smallest step `2^-50`).
+const MAX_HALVINGS: usize = 50;
+/// Rows per task in the parallel passes over samples (probabilities, losses).
+const ROWS_PER_TASK: usize = 2048;
+/// Rows per chunk in the Hessian assembly (`U` chunk is this many rows by `D(D+1)/2`).
+const HESSIAN_CHUNK_ROWS: usize = 256;
+/// First diagonal damping, relative to the largest diagonal entry, if Cholesky fails.
+const FIRST_DAMPING: f64 = 1e-10;
+/// Number of damping attempts (each 100 times the previous one) before giving up.
+const DAMPING_ATTEMPTS: usize = 8;
+
+/// What happened in one Newton iteration (or at the starting point, iteration 0).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct IterationLog {
+    /// Iteration number; 0 is the starting point (all parameters zero).
+    pub iteration: usize,
+    /// Objective `f` after the iteration (sum over samples plus the ridge term).
+    pub objective: f64,
+    /// `||grad f||_inf` after the iteration.
+    pub gradient_norm: f64,
+    /// Step length taken along the Newton direction (1 is the full step; 0 means no
+    /// decrease could be found). For one-vs-rest, the largest of the per-class steps.
+    pub step: f64,
+}
+
+/// Why the Newton iteration stopped.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Termination {
+    /// The gradient tolerance was met.
+    Converged,
+    /// `max_iter` iterations were done without meeting the tolerance.
+    MaxIterations,
+    /// The line search could not decrease the objective (typically the optimum is reached
+    /// to rounding precision while the tolerance is tighter than that).
+    NoProgress,
+}
+
+/// Summary of a fit: the per-iteration log and whether it converged.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FitReport {
+    /// Starting point (iteration 0) then one entry per Newton iteration.
+    pub iterations: Vec<IterationLog>,
+    /// True when the gradient tolerance was met.
+    pub converged: bool,
+    /// Why the iteration stopped.
+    pub termination: Termination,
+}
+
+/// Per-worker buffers of the Hessian assembly, allocated once per fit.
+#[derive(Debug)]
+struct HessianWorker {
+    /// First row (sample) handled by this worker.
+    first_row: usize,
+    /// One past the last row handled by this worker.
+    end_row: usize,
+    /// `chunk x T` column-major products `x_ia x_ib`.
+    products: Vec<f64>,
+    /// `chunk x Q` column-major sample weights.
+    weights: Vec<f64>,
+    /// `Q x T` column-major accumulated packed blocks.
+    accumulator: Vec<f64>,
+}
+
+/// The state of a Newton fit: data, parameters and every work buffer.
+///
+/// Built by [`NewtonProblem::new`] (which also evaluates the starting point, all parameters
+/// zero), advanced by [`NewtonProblem::newton_step`], turned into a model by
+/// [`NewtonProblem::into_model`]. [`LogisticRegression::fit`] drives it; it is public so that
+/// benchmarks can time single iterations and the Hessian assembly.
+pub struct NewtonProblem {
+    mode: Mode,
+    lambda: f64,
+    n_samples: usize,
+    /// `D = d + 1`.
+    dim: usize,
+    n_classes: usize,
+    standardiser: Standardiser,
+    /// `n x D` column-major design matrix (standardised features, then ones).
+    x: Vec<f64>,
+    labels: Vec<usize>,
+    /// `D x K` parameters.
+    theta: Vec<f64>,
+    /// `K x n` logits.
+    logits: Vec<f64>,
+    /// `K x n` probabilities (softmax, or per-class sigmoids for one-vs-rest).
+    probabilities: Vec<f64>,
+    /// `K x n` probabilities minus one-hot labels.
+    residuals: Vec<f64>,
+    /// `K x n` change of the logits along the Newton direction.
+    direction_logits: Vec<f64>,
+    /// `D x K` gradient.
+    gradient: Vec<f64>,
+    /// `D x K` Newton direction.
+    direction: Vec<f64>,
+    /// `P x P` Hessian (full, symmetric).
+    hessian: Vec<f64>,
+    /// `P x P` Cholesky work matrix.
+    factor: Vec<f64>,
+    cholesky_scratch: MemBuffer,
+    /// Line-search blocks: one (multinomial) or one per class (one-vs-rest).
+    block_objectives: Vec<f64>,
+    trial_objectives: Vec<f64>,
+    directional_derivatives: Vec<f64>,
+    block_steps: Vec<f64>,
+    block_done: Vec<bool>,
+    /// Step per class, derived from the block steps.
+    class_steps: Vec<f64>,
+    /// `tasks x blocks` partial loss sums of the parallel row passes.
+    partial_losses: Vec<f64>,
+    /// Class pairs `(j, k)` whose weight columns form `W` (`j < k`, or `j == k` for
+    /// one-vs-rest).
+    weight_pairs: Vec<(usize, usize)>,
+    /// Feature pairs `(a, b)`, `a <= b`, whose products form `U`.
+    feature_pairs: Vec<(usize, usize)>,
+    workers: Vec<HessianWorker>,
+    /// `Q x T` sum of the workers' accumulators.
+    packed: Vec<f64>,
+    iteration: usize,
+}
+
+impl std::fmt::Debug for NewtonProblem {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("NewtonProblem")
+            .field("mode", &self.mode)
+            .field("lambda", &self.lambda)
+            .field("n_samples", &self.n_samples)
+            .field("n_features", &(self.dim - 1))
+            .field("n_classes", &self.n_classes)
+            .field("iteration", &self.iteration)
+            .field("objective", &self.objective())
+            .field("gradient_norm", &self.gradient_norm())
+            .finish_non_exhaustive()
+    }
+}
+
+impl NewtonProblem {
+    /// Validates the data, standardises it (if configured), allocates every buffer and
+    /// evaluates objective and gradient at the starting point (all parameters zero).
+    ///
+    /// # Errors
+    /// As [`LogisticRegression::fit`].
+    pub fn new(
+        x: &Features<'_>,
+        y: &[usize],
+        n_classes: usize,
+        config: &LogisticRegression,
+    ) -> Result<Self, LearningError> {
+        config.validate()?;
+        let n = x.n_samples();
+        if n == 0 {
+            return Err(LearningError::NoSamples);
+        }
+        check_labels(y, n, n_classes)?;
+        let d = x.n_features();
+        let dim = d + 1;
+        let k = n_classes;
+        let p = dim * k;
+        let standardiser = if config.standardise {
+            Standardiser::fit(x)
+        } else {
+            Standardiser::identity(d)
+        };
+        let mut design = vec![1.0; n * dim];
+        for (i, row) in x.rows().enumerate() {
+            for (a, ((&v, &m), &s)) in row
+                .iter()
+                .zip(standardiser.means())
+                .zip(standardiser.scales())
+                .enumerate()
+            {
+                design[a * n + i] = Standardiser::apply(m, s, v);
+            }
+        }
+        let weight_pairs: Vec<(usize, usize)> = match config.mode {
+            Mode::Multinomial => (0..k)
+                .flat_map(|j| (j + 1..k).map(move |l| (j, l)))
+                .collect(),
+            Mode::OneVsRest => (0..k).map(|j| (j, j)).collect(),
+        };
+        let feature_pairs: Vec<(usize, usize)> = (0..dim)
+            .flat_map(|a| (a..dim).map(move |b| (a, b)))
+            .collect();
+        let q = weight_pairs.len();
+        let t = feature_pairs.len();
+        let n_workers = rayon::current_num_threads().clamp(1, n.div_ceil(HESSIAN_CHUNK_ROWS));
+        let rows_per_worker = n.div_ceil(n_workers);
+        let chunk = HESSIAN_CHUNK_ROWS.min(rows_per_worker);
+        let workers = (0..n_workers)
+            .map(|w| HessianWorker {
+                first_row: (w * rows_per_worker).min(n),
+                end_row: ((w + 1) * rows_per_worker).min(n),
+                products: vec![0.0; chunk * t],
+                weights: vec![0.0; chunk * q],
+                accumulator: vec![0.0; q * t],
+            })
+            .collect();
+        let n_blocks = match config.mode {
+            Mode::Multinomial => 1,
+            Mode::OneVsRest => k,
+        };
+        let max_block = match config.mode {
+            Mode::Multinomial => p,
+            Mode::OneVsRest => dim,
+        };
+        let cholesky_scratch = MemBuffer::new(cholesky_in_place_scratch::<f64>(
+            max_block,
+            Par::rayon(0),
+            Default::default(),
+        ));
+        let mut problem = Self {
+            mode: config.mode,
+            lambda: config.lambda,
+            n_samples: n,
+            dim,
+            n_classes: k,
+            standardiser,
+            x: design,
+            labels: y.to_vec(),
+            theta: vec![0.0; p],
+            logits: vec![0.0; k * n],
+            probabilities: vec![0.0; k * n],
+            residuals: vec![0.0; k * n],
+            direction_logits: vec![0.0; k * n],
+            gradient: vec![0.0; p],
+            direction: vec![0.0; p],
+            hessian: vec![0.0; p * p],
+            factor: vec![0.0; max_block * max_block],
+            cholesky_scratch,
+            block_objectives: vec![0.0; n_blocks],
+            trial_objectives: vec![0.0; n_blocks],
+            directional_derivatives: vec![0.0; n_blocks],
+            block_steps: vec![0.0; n_blocks],
+            block_done: vec![false; n_blocks],
+            class_steps: vec![0.0; k],
+            partial_losses: vec![0.0; n.div_ceil(ROWS_PER_TASK) * n_blocks],
+            weight_pairs,
+            feature_pairs,
+            workers,
+            packed: vec![0.0; q * t],
+            iteration: 0,
+        };
+        problem.refresh_from_parameters();
+        Ok(problem)
+    }
+
+    /// Number of parameters `P = (d + 1) K`.
+    pub fn n_parameters(&self) -> usize {
+        self.theta.len()
+    }
+
+    /// Number of Newton iterations done so far.
+    pub fn iteration(&self) -> usize {
+        self.iteration
+    }
+
+    /// Current objective `f` (sum of the per-sample losses plus the ridge term).
+    pub fn objective(&self) -> f64 {
+        self.block_objectives.iter().sum()
+    }
+
+    /// `||grad f||_inf` at the current parameters.
+    pub fn gradient_norm(&self) -> f64 {
+        self.gradient.iter().fold(0.0, |m, g| m.max(g.abs()))
+    }
+
+    /// Current parameters, class-major: `parameters()[k * (d + 1) + a]` is the weight of
+    /// standardised feature `a` for class `k`, and `a = d` the bias of class `k`.
+    pub fn parameters(&self) -> &[f64] {
+        &self.theta
+    }
+
+    /// Gradient of `f` at the current parameters, same layout as
+    /// [`parameters`](Self::parameters).
+    pub fn gradient(&self) -> &[f64] {
+        &self.gradient
+    }
+
+    /// The Hessian last assembled by [`assemble_hessian`](Self::assemble_hessian) (or by a
+    /// Newton step), `P x P` column-major, without the singular-direction correction of the
+    /// Newton solve: it is exactly the second derivative of `f`.
+    pub fn hessian(&self) -> &[f64] {
+        &self.hessian
+    }
+
+    /// Sets the parameters (layout of [`parameters`](Self::parameters)) and re-evaluates
+    /// objective and gradient there. Used to restart from a known point (benchmarks time
+    /// single iterations from the same state this way).
+    ///
+    /// # Errors
+    /// [`LearningError::SizeMismatch`] if `theta` does not have [`n_parameters`](Self::n_parameters)
+    /// entries, [`LearningError::InvalidParameter`] if one is not finite.
+    pub fn set_parameters(&mut self, theta: &[f64]) -> Result<(), LearningError> {
+        if theta.len() != self.theta.len() {
+            return Err(LearningError::SizeMismatch {
+                what: "number of Newton parameters",
+                expected: self.theta.len(),
+                found: theta.len(),
+            });
+        }
+        if let Some(v) = theta.iter().find(|v| !v.is_finite()) {
+            return Err(LearningError::InvalidParameter {
+                name: "theta",
+                value: v.to_string(),
+                reason: "every parameter must be finite",
+            });
+        }
+        self.theta.copy_from_slice(theta);
+        self.refresh_from_parameters();
+        Ok(())
+    }
+
+    /// Floating-point operations of one Hessian assembly as actually computed:
+    /// `2 n T Q` with `T = D(D+1)/2` (packed symmetric blocks) and `Q = K(K-1)/2`
+    /// (multinomial) or `K` (one-vs-rest) weight columns.
+    pub fn hessian_flops(&self) -> f64 {
+        2.0 * self.n_samples as f64 * self.feature_pairs.len() as f64 * self.weight_pairs.len() as f64
+    }
+
+    /// Floating-point operations of the textbook assembly of the upper blocks,
+    /// `2 n D^2 K(K+1)/2` (every upper block `X^T diag(w) X` as a full GEMM), for comparing
+    /// with other implementations: `hessian_flops` is about 0.43 of this for the paper's
+    /// size.
+    pub fn hessian_flops_textbook(&self) -> f64 {
+        let k = self.n_classes as f64;
+        let d = self.dim as f64;
+        match self.mode {
+            Mode::Multinomial => self.n_samples as f64 * d * d * k * (k + 1.0),
+            Mode::OneVsRest => 2.0 * self.n_samples as f64 * d * d * k,
+        }
+    }
+
+    /// Log entry of the current state with the given step length.
+    pub(crate) fn log(&self, step: f64) -> IterationLog {
+        IterationLog {
+            iteration: self.iteration,
+            objective: self.objective(),
+            gradient_norm: self.gradient_norm(),
+            step,
+        }
+    }
+
+    /// Logits, losses, probabilities, residuals, objective and gradient from `theta`.
+    fn refresh_from_parameters(&mut self) {
+        let (n, dim, k) = (self.n_samples, self.dim, self.n_classes);
+        let x = MatRef::from_column_major_slice(&self.x, n, dim);
+        let theta = MatRef::from_column_major_slice(&self.theta, dim, k);
+        matmul(
+            MatMut::from_column_major_slice_mut(&mut self.logits, k, n),
+            Accum::Replace,
+            theta.transpose(),
+            x.transpose(),
+            1.0,
+            Par::rayon(0),
+        );
+        self.class_steps.fill(0.0);
+        self.update_pass(false);
+    }
+
+    /// One pass over the samples: optionally moves the logits by `class_steps` along
+    /// `direction_logits`, then recomputes probabilities, residuals and losses; then the
+    /// block objectives (with the ridge term of the current `theta`) and the gradient.
+    fn update_pass(&mut self, move_logits: bool) {
+        let k = self.n_classes;
+        let mode = self.mode;
+        let n_blocks = self.block_objectives.len();
+        let steps = &self.class_steps;
+        self.logits
+            .par_chunks_mut(ROWS_PER_TASK * k)
+            .zip(self.probabilities.par_chunks_mut(ROWS_PER_TASK * k))
+            .zip(self.residuals.par_chunks_mut(ROWS_PER_TASK * k))
+            .zip(self.direction_logits.par_chunks(ROWS_PER_TASK * k))
+            .zip(self.labels.par_chunks(ROWS_PER_TASK))
+            .zip(self.partial_losses.par_chunks_mut(n_blocks))
+            .for_each(|(((((z, p), r), dz), labels), partial)| {
+                partial.fill(0.0);
+                for ((((z, p), r), dz), &y) in z
+                    .chunks_exact_mut(k)
+                    .zip(p.chunks_exact_mut(k))
+                    .zip(r.chunks_exact_mut(k))
+                    .zip(dz.chunks_exact(k))
+                    .zip(labels)
+                {
+                    if move_logits {
+                        for ((zc, &dc), &s) in z.iter_mut().zip(dz).zip(steps) {
+                            *zc = shifted(*zc, dc, s);
+                        }
+                    }
+                    row_loss(mode, y, k, |c| z[c], partial);
+                    p.copy_from_slice(z);
+                    match mode {
+                        Mode::Multinomial => softmax_in_place(p),
+                        Mode::OneVsRest => p.iter_mut().for_each(|v| *v = sigmoid(*v)),
+                    }
+                    r.copy_from_slice(p);
+                    if let Some(ry) = r.get_mut(y) {
+                        *ry -= 1.0;
+                    }
+                }
+            });
+        self.finish_objectives();
+        self.compute_gradient();
+    }
+
+    /// Block objectives = sums of the task partials (in task order) plus the ridge terms of
+    /// the current `theta`.
+    fn finish_objectives(&mut self) {
+        let dim = self.dim;
+        let lambda = self.lambda;
+        let ridges = self
+            .theta
+            .chunks_exact(dim)
+            .map(|params| ridge(lambda, params[..dim - 1].iter().copied()));
+        block_totals(
+            &self.partial_losses,
+            self.mode,
+            ridges,
+            &mut self.block_objectives,
+        );
+    }
+
+    /// `grad f = X^T R^T + 2 lambda [W; 0]`.
+    fn compute_gradient(&mut self) {
+        let (n, dim, k) = (self.n_samples, self.dim, self.n_classes);
+        matmul(
+            MatMut::from_column_major_slice_mut(&mut self.gradient, dim, k),
+            Accum::Replace,
+            MatRef::from_column_major_slice(&self.x, n, dim).transpose(),
+            MatRef::from_column_major_slice(&self.residuals, k, n).transpose(),
+            1.0,
+            Par::rayon(0),
+        );
+        let two_lambda = 2.0 * self.lambda;
+        for (g, t) in self
+            .gradient
+            .chunks_exact_mut(dim)
+            .zip(self.theta.chunks_exact(dim))
+        {
+            for (gv, tv) in g[..dim - 1].iter_mut().zip(&t[..dim - 1]) {
+                *gv += two_lambda * tv;
+            }
+        }
+    }
+
+    /// Assembles the exact Hessian of `f` at the current parameters into
+    /// [`hessian`](Self::hessian). This is the dominant cost of an iteration
+    /// ([`hessian_flops`](Self::hessian_flops) flops).
+    pub fn assemble_hessian(&mut self) {
+        let n = self.n_samples;
+        let k = self.n_classes;
+        let mode = self.mode;
+        let x = &self.x;
+        let logits = &self.logits;
+        let probabilities = &self.probabilities;
+        let weight_pairs = &self.weight_pairs;
+        let feature_pairs = &self.feature_pairs;
+        let q = weight_pairs.len();
+        let t = feature_pairs.len();
+        self.workers.par_iter_mut().for_each(|worker| {
+            worker.accumulator.fill(0.0);
+            let chunk_capacity = worker.weights.len() / q.max(1);
+            let mut start = worker.first_row;
+            while start < worker.end_row {
+                let rows = chunk_capacity.min(worker.end_row - start);
+                let weights = &mut worker.weights[..rows * q];
+                let rows_p = &probabilities[start * k..(start + rows) * k];
+                let rows_z = &logits[start * k..(start + rows) * k];
+                for (column, &(j, l)) in weights.chunks_exact_mut(rows).zip(weight_pairs) {
+                    match mode {
+                        Mode::Multinomial => {
+                            for (w, p) in column.iter_mut().zip(rows_p.chunks_exact(k)) {
+                                *w = p[j] * p[l];
+                            }
+                        }
+                        Mode::OneVsRest => {
+                            for (w, z) in column.iter_mut().zip(rows_z.chunks_exact(k)) {
+                                *w = sigmoid_curvature(z[j]);
+                            }
+                        }
+                    }
+                }
+                let products = &mut worker.products[..rows * t];
+                for (column, &(a, b)) in products.chunks_exact_mut(rows).zip(feature_pairs) {
+                    let xa = &x[a * n + start..a * n + start + rows];
+                    let xb = &x[b * n + start..b * n + start + rows];
+                    for ((u, &va), &vb) in column.iter_mut().zip(xa).zip(xb) {
+                        *u = va * vb;
+                    }
+                }
+                matmul(
+                    MatMut::from_column_major_slice_mut(&mut worker.accumulator, q, t),
+                    Accum::Add,
+                    MatRef::from_column_major_slice(weights, rows, q).transpose(),
+                    MatRef::from_column_major_slice(products, rows, t),
+                    1.0,
+                    Par::Seq,
+                );
+                start += rows;
+            }
+        });
+        self.packed.fill(0.0);
+        for worker in &self.workers {
+            for (s, &v) in self.packed.iter_mut().zip(&worker.accumulator) {
+                *s += v;
+            }
+        }
+        self.unpack_hessian();
+    }
+
+    /// One Newton iteration: Hessian, Cholesky solve for the direction, backtracking line
+    /// search, update of parameters, objective and gradient. Returns the log of the new
+    /// state; a step of 0 means no decrease was found and nothing changed.
+    ///
+    /// # Errors
+    /// [`LearningError::Singular`] if the Hessian cannot be factorised even with damping.
+    pub fn newton_step(&mut self) -> Result<IterationLog, LearningError> {
+        self.assemble_hessian();
+        self.solve_newton_system()?;
+        let (n, dim, k) = (self.n_samples, self.dim, self.n_classes);
+        matmul(
+            MatMut::from_column_major_slice_mut(&mut self.direction_logits, k, n),
+            Accum::Replace,
+            MatRef::from_column_major_slice(&self.direction, dim, k).transpose(),
+            MatRef::from_column_major_slice(&self.x, n, dim).transpose(),
+            1.0,
+            Par::rayon(0),
+        );
+        self.line_search();
+        let step = self.block_steps.iter().fold(0.0, |m: f64, &s| m.max(s));
+        if step > 0.0 {
+            for ((t, d), &s) in self
+                .theta
+                .chunks_exact_mut(dim)
+                .zip(self.direction.chunks_exact(dim))
+                .zip(&self.class_steps)
+            {
+                for (tv, &dv) in t.iter_mut().zip(d) {
+                    *tv = shifted(*tv, dv, s);
+                }
+            }
+            self.update_pass(true);
+        }
+        self.iteration += 1;
+        Ok(self.log(step))
+    }
+
+    /// `direction = -H^-1 grad` (per class block for one-vs-rest), with the singular-direction
+    /// correction of the multinomial model and, if needed, diagonal damping.
+    fn solve_newton_system(&mut self) -> Result<(), LearningError> {
+        let p = self.theta.len();
+        let dim = self.dim;
+        let k = self.n_classes;
+        let (block_size, n_blocks) = match self.mode {
+            Mode::Multinomial => (p, 1),
+            Mode::OneVsRest => (dim, k),
+        };
+        for (d, g) in self.direction.iter_mut().zip(&self.gradient) {
+            *d = -g;
+        }
+        // Features whose all-classes shift is a null direction of the Hessian.
+        let null_features = match (self.mode, self.lambda == 0.0) {
+            (Mode::OneVsRest, _) => 0..0,
+            (Mode::Multinomial, false) => dim - 1..dim,
+            (Mode::Multinomial, true) => 0..dim,
+        };
+        for block in 0..n_blocks {
+            let offset = block * block_size;
+            let max_diagonal = (offset..offset + block_size)
+                .map(|i| self.hessian[i * p + i])
+                .fold(0.0, f64::max);
+            let mut damping = 0.0;
+            let mut attempt = 0;
+            loop {
+                let factor = &mut self.factor[..block_size * block_size];
+                for (c, column) in factor.chunks_exact_mut(block_size).enumerate() {
+                    let start = (offset + c) * p + offset;
+                    column.copy_from_slice(&self.hessian[start..start + block_size]);
+                    if let Some(v) = column.get_mut(c) {
+                        *v += damping;
+                    }
+                }
+                for a in null_features.clone() {
+                    let mean_curvature = (0..k)
+                        .map(|j| self.hessian[(j * dim + a) * p + j * dim + a])
+                        .sum::<f64>()
+                        / (k * k) as f64;
+                    for j in 0..k {
+                        for l in 0..k {
+                            factor[(l * dim + a) * block_size + j * dim + a] += mean_curvature;
+                        }
+                    }
+                }
+                let mut factor =
+                    MatMut::from_column_major_slice_mut(factor, block_size, block_size);
+                let stack = MemStack::new(&mut self.cholesky_scratch);
+                let result = cholesky_in_place(
+                    factor.rb_mut(),
+                    LltRegularization::default(),
+                    Par::rayon(0),
+                    stack,
+                    Default::default(),
+                );
+                if result.is_ok() {
+                    solve_in_place(
+                        factor.rb(),
+                        MatMut::from_column_major_slice_mut(
+                            &mut self.direction[offset..offset + block_size],
+                            block_size,
+                            1,
+                        ),
+                        Par::rayon(0),
+                        stack,
+                    );
+                    break;
+                }
+                if attempt == DAMPING_ATTEMPTS {
+                    return Err(LearningError::Singular {
+                        iteration: self.iteration + 1,
+                        damping,
+                    });
+                }
+                attempt += 1;
+                damping = if damping == 0.0 {
+                    FIRST_DAMPING * max_diagonal.max(f64::MIN_POSITIVE)
+                } else {
+                    damping * 100.0
+                };
+            }
+        }
+        Ok(())
+    }
+
+    /// Backtracking line search along `direction`, one step length per block, halving from
+    /// 1 until the Armijo condition holds. Blocks whose direction is not a descent direction
+    /// or that find no decrease get step 0. Leaves the result in `block_steps` and
+    /// `class_steps`.
+    fn line_search(&mut self) {
+        let dim = self.dim;
+        self.directional_derivatives.fill(0.0);
+        for (class, (g, d)) in self
+            .gradient
+            .chunks_exact(dim)
+            .zip(self.direction.chunks_exact(dim))
+            .enumerate()
+        {
+            let dot: f64 = g.iter().zip(d).map(|(a, b)| a * b).sum();
+            if let Some(v) = self.directional_derivatives.get_mut(block_of_class(self.mode, class)) {
+                *v += dot;
+            }
+        }
+        for ((step, done), &dd) in self
+            .block_steps
+            .iter_mut()
+            .zip(self.block_done.iter_mut())
+            .zip(&self.directional_derivatives)
+        {
+            // Not a descent direction (only possible through rounding at the optimum).
+            let descent = dd < 0.0;
+            *step = if descent { 1.0 } else { 0.0 };
+            *done = !descent;
+        }
+        for _ in 0..=MAX_HALVINGS {
+            self.sync_class_steps();
+            self.trial_pass();
+            let mut all_done = true;
+            for (((step, done), &trial), (&f0, &dd)) in self
+                .block_steps
+                .iter_mut()
+                .zip(self.block_done.iter_mut())
+                .zip(&self.trial_objectives)
+                .zip(self.block_objectives.iter().zip(&self.directional_derivatives))
+            {
+                if *done {
+                    continue;
+                }
+                if trial <= f0 + ARMIJO_C1 * *step * dd {
+                    *done = true;
+                } else {
+                    *step *= 0.5;
+                    all_done = false;
+                }
+            }
+            if all_done {
+                break;
+            }
+        }
+        for (step, &done) in self.block_steps.iter_mut().zip(&self.block_done) {
+            if !done {
+                *step = 0.0;
+            }
+        }
+        self.sync_class_steps();
+    }
+
+    /// `class_steps[c] = block_steps[block of c]`.
+    fn sync_class_steps(&mut self) {
+        let mode = self.mode;
+        for (class, s) in self.class_steps.iter_mut().enumerate() {
+            *s = self
+                .block_steps
+                .get(block_of_class(mode, class))
+                .copied()
+                .unwrap_or(0.0);
+        }
+    }
+
+    /// Objective of every block at `theta + class_steps * direction`, into
+    /// `trial_objectives`, without changing the state.
+    fn trial_pass(&mut self) {
+        let k = self.n_classes;
+        let mode = self.mode;
+        let n_blocks = self.block_objectives.len();
+        let steps = &self.class_steps;
+        self.logits
+            .par_chunks(ROWS_PER_TASK * k)
+            .zip(self.direction_logits.par_chunks(ROWS_PER_TASK * k))
+            .zip(self.labels.par_chunks(ROWS_PER_TASK))
+            .zip(self.partial_losses.par_chunks_mut(n_blocks))
+            .for_each(|(((z, dz), labels), partial)| {
+                partial.fill(0.0);
+                for ((z, dz), &y) in z.chunks_exact(k).zip(dz.chunks_exact(k)).zip(labels) {
+                    row_loss(
+                        mode,
+                        y,
+                        k,
+                        |c| shifted(z[c], dz[c], steps[c]),
+                        partial,
+                    );
+                }
+            });
+        let dim = self.dim;
+        let lambda = self.lambda;
+        let ridges = self
+            .theta
+            .chunks_exact(dim)
+            .zip(self.direction.chunks_exact(dim))
+            .zip(steps)
+            .map(|((t, d), &s)| {
+                ridge(
+                    lambda,
+                    t[..dim - 1].iter().zip(d).map(|(&tv, &dv)| shifted(tv, dv, s)),
+                )
+            });
+        block_totals(&self.partial_losses, mode, ridges, &mut self.trial_objectives);
+    }
+
+    /// The fitted model: parameters mapped back to per-feature weights and biases, with the
+    /// standardiser.
+    pub fn into_model(self) -> LogisticModel {
+        let d = self.dim - 1;
+        let k = self.n_classes;
+        let mut weights = vec![0.0; d * k];
+        let mut biases = vec![0.0; k];
+        for (class, params) in self.theta.chunks_exact(self.dim).enumerate() {
+            for (a, &w) in params[..d].iter().enumerate() {
+                weights[a * k + class] = w;
+            }
+            biases[class] = params[d];
+        }
+        LogisticModel::from_validated_parts(self.mode, self.lambda, self.standardiser, weights, biases)
+    }
+
+    /// Expands the packed blocks into the full symmetric `P x P` Hessian and adds the ridge
+    /// curvature `2 lambda` on the weight diagonal.
+    fn unpack_hessian(&mut self) {
+        let dim = self.dim;
+        let p = self.theta.len();
+        let q = self.weight_pairs.len();
+        let h = &mut self.hessian;
+        h.fill(0.0);
+        // Accumulate the upper triangle of every block (a <= b within blocks, j <= k across).
+        for (ti, &(a, b)) in self.feature_pairs.iter().enumerate() {
+            let column = &self.packed[ti * q..(ti + 1) * q];
+            for (&g, &(j, l)) in column.iter().zip(&self.weight_pairs) {
+                if j == l {
+                    h[(j * dim + b) * p + j * dim + a] += g;
+                } else {
+                    // Off-diagonal block (j, l): -G, both (a, b) and (b, a) entries.
+                    h[(l * dim + b) * p + j * dim + a] = -g;
+                    h[(l * dim + a) * p + j * dim + b] = -g;
+                    h[(j * dim + b) * p + j * dim + a] += g;
+                    h[(l * dim + b) * p + l * dim + a] += g;
+                }
+            }
+        }
+        // Mirror the upper triangle into the lower one.
+        for col in 0..p {
+            for row in col + 1..p {
+                h[col * p + row] = h[row * p + col];
+            }
+        }
+        let two_lambda = 2.0 * self.lambda;
+        for class in 0..self.n_classes {
+            for a in 0..dim - 1 {
+                let i = class * dim + a;
+                h[i * p + i] += two_lambda;
+            }
+        }
+    }
+}
+
+/// `totals[b] = sum over tasks of partials[task][b]` (in task order), then plus the ridge
+/// term of each class in its block. Shared by the trial and the update passes so that an
+/// accepted trial objective and the objective recomputed after the update are identical.
+fn block_totals(
+    partials: &[f64],
+    mode: Mode,
+    ridges: impl Iterator<Item = f64>,
+    totals: &mut [f64],
+) {
+    totals.fill(0.0);
+    for partial in partials.chunks_exact(totals.len().max(1)) {
+        for (b, &v) in totals.iter_mut().zip(partial) {
+            *b += v;
+        }
+    }
+    for (class, r) in ridges.enumerate() {
+        if let Some(b) = totals.get_mut(block_of_class(mode, class)) {
+            *b += r;
+        }
+    }
+}
+
+/// Line-search block of a class: 0 for multinomial, the class itself for one-vs-rest.
+#[inline]
+fn block_of_class(mode: Mode, class: usize) -> usize {
+    match mode {
+        Mode::Multinomial => 0,
+        Mode::OneVsRest => class,
+    }
+}
+
+/// `lambda * sum w^2` over the weights of one class.
+#[inline]
+fn ridge(lambda: f64, weights: impl Iterator<Item = f64>) -> f64 {
+    weights.map(|w| w * w).sum::<f64>() * lambda
+}
+
+/// `z + s dz`, leaving `z` untouched (even if `dz` is not finite) when `s == 0`.
+#[inline]
+fn shifted(z: f64, dz: f64, s: f64) -> f64 {
+    if s == 0.0 { z } else { z + s * dz }
+}
+
+/// Adds the loss of one sample with label `y` and logits `logit(0..k)` to its line-search
+/// block(s): `lse(z) - z_y` (multinomial, block 0) or `softplus(z_c) - [y = c] z_c` for each
+/// class `c` (one-vs-rest, block `c`).
+#[inline]
+pub(crate) fn row_loss(mode: Mode, y: usize, k: usize, logit: impl Fn(usize) -> f64, partial: &mut [f64]) {
+    match mode {
+        Mode::Multinomial => {
+            if let Some(b) = partial.first_mut() {
+                *b += log_sum_exp(k, &logit) - logit(y);
+            }
+        }
+        Mode::OneVsRest => {
+            for (c, b) in partial.iter_mut().enumerate() {
+                let z = logit(c);
+                *b += if c == y { softplus(-z) } else { softplus(z) };
+            }
+        }
+    }
+}

@@ -1,0 +1,130 @@
+//! Per-feature standardisation `(x - mean) / scale`, fitted on training data and stored in
+//! the model so that predictions take raw features.
+
+use serde::{Deserialize, Serialize};
+
+use crate::{Features, LearningError};
+
+/// Relative spread below which a feature column counts as constant: a column whose standard
+/// deviation is at most this times its largest absolute value gets scale 1 (rounding in the
+/// mean would otherwise turn a constant column into amplified noise).
+const CONSTANT_COLUMN_RELATIVE_SPREAD: f64 = 1e-10;
+
+/// Per-feature affine map `x -> (x - means[j]) / scales[j]`, in the units of the raw
+/// features. Every scale is finite and positive.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Standardiser {
+    means: Vec<f64>,
+    scales: Vec<f64>,
+}
+
+impl Standardiser {
+    /// The identity map on `n_features` features (means 0, scales 1).
+    pub fn identity(n_features: usize) -> Self {
+        Self {
+            means: vec![0.0; n_features],
+            scales: vec![1.0; n_features],
+        }
+    }
+
+    /// Fits means and population standard deviations (divisor `n`) column by column.
+    /// Constant columns (standard deviation at most 1e-10 times the column's largest
+    /// absolute value) get scale 1 so that they standardise to 0 instead of to noise. With zero rows
+    /// the identity is returned.
+    pub fn fit(x: &Features<'_>) -> Self {
+        let d = x.n_features();
+        let n = x.n_samples();
+        if n == 0 {
+            return Self::identity(d);
+        }
+        let mut means = vec![0.0; d];
+        let mut max_abs = vec![0.0_f64; d];
+        for row in x.rows() {
+            for ((m, a), &v) in means.iter_mut().zip(max_abs.iter_mut()).zip(row) {
+                *m += v;
+                *a = a.max(v.abs());
+            }
+        }
+        let inv_n = 1.0 / n as f64;
+        means.iter_mut().for_each(|m| *m *= inv_n);
+        let mut variances = vec![0.0; d];
+        for row in x.rows() {
+            for ((s, m), &v) in variances.iter_mut().zip(&means).zip(row) {
+                let c = v - m;
+                *s += c * c;
+            }
+        }
+        let scales = variances
+            .iter()
+            .zip(&max_abs)
+            .map(|(&var, &a)| {
+                let sd = (var * inv_n).sqrt();
+                if sd > CONSTANT_COLUMN_RELATIVE_SPREAD * a && sd.is_finite() {
+                    sd
+                } else {
+                    1.0
+                }
+            })
+            .collect();
+        Self { means, scales }
+    }
+
+    /// Builds a standardiser from stored parts, checking them.
+    ///
+    /// # Errors
+    /// [`LearningError::SizeMismatch`] if the lengths differ, [`LearningError::InvalidParameter`]
+    /// if a mean is not finite or a scale is not finite and positive.
+    pub fn from_parts(means: Vec<f64>, scales: Vec<f64>) -> Result<Self, LearningError> {
+        let s = Self { means, scales };
+        s.validate()?;
+        Ok(s)
+    }
+
+    /// Checks the invariants (equal lengths, finite means, finite positive scales).
+    pub(crate) fn validate(&self) -> Result<(), LearningError> {
+        if self.means.len() != self.scales.len() {
+            return Err(LearningError::SizeMismatch {
+                what: "standardiser scales (one per mean)",
+                expected: self.means.len(),
+                found: self.scales.len(),
+            });
+        }
+        if let Some(m) = self.means.iter().find(|m| !m.is_finite()) {
+            return Err(LearningError::InvalidParameter {
+                name: "standardiser mean",
+                value: m.to_string(),
+                reason: "must be finite",
+            });
+        }
+        if let Some(s) = self.scales.iter().find(|s| !(s.is_finite() && **s > 0.0)) {
+            return Err(LearningError::InvalidParameter {
+                name: "standardiser scale",
+                value: s.to_string(),
+                reason: "must be finite and positive",
+            });
+        }
+        Ok(())
+    }
+
+    /// Number of features.
+    pub fn n_features(&self) -> usize {
+        self.means.len()
+    }
+
+    /// Per-feature means subtracted first (raw feature units).
+    pub fn means(&self) -> &[f64] {
+        &self.means
+    }
+
+    /// Per-feature divisors applied after centring (raw feature units).
+    pub fn scales(&self) -> &[f64] {
+        &self.scales
+    }
+
+    /// Standardises one raw value with its column's mean and scale. Fitting and prediction
+    /// both go through this function so that they round identically.
+    #[inline]
+    pub(crate) fn apply(mean: f64, scale: f64, raw: f64) -> f64 {
+        (raw - mean) / scale
+    }
+}

@@ -1,0 +1,239 @@
+//! Behaviour of whole fits: monotone objective, convergence, optimality, standardisation.
+
+mod support;
+
+use camloc_learning::{Features, LogisticRegression, Mode, NewtonProblem, Termination};
+use proptest::prelude::*;
+
+/// Gradient of the objective at the fitted model, computed directly from its
+/// probabilities on the standardised features (independent of the solver's code).
+fn model_gradient(
+    model: &camloc_learning::LogisticModel,
+    x: &[f64],
+    y: &[usize],
+    d: usize,
+) -> Vec<f64> {
+    let k = model.n_classes();
+    let s = model.standardiser();
+    let mut g = vec![0.0; (d + 1) * k];
+    for (row, &label) in x.chunks_exact(d).zip(y) {
+        let p = model.predict_proba(row).expect("valid sample");
+        let residual: Vec<f64> = (0..k)
+            .map(|c| {
+                let pc = match model.mode() {
+                    Mode::Multinomial => p[c],
+                    // One-vs-rest gradients use each class's own sigmoid.
+                    Mode::OneVsRest => {
+                        let z = model.decision_function(row).expect("valid sample")[c];
+                        1.0 / (1.0 + (-z).exp())
+                    }
+                };
+                pc - if c == label { 1.0 } else { 0.0 }
+            })
+            .collect();
+        for c in 0..k {
+            for j in 0..d {
+                let v = (row[j] - s.means()[j]) / s.scales()[j];
+                g[c * (d + 1) + j] += v * residual[c];
+            }
+            g[c * (d + 1) + d] += residual[c];
+        }
+    }
+    for c in 0..k {
+        for j in 0..d {
+            g[c * (d + 1) + j] += 2.0 * model.lambda() * model.weights()[j * k + c];
+        }
+    }
+    g
+}
+
+fn check_optimal(mode: Mode) {
+    let (n, d, k) = (300, 5, 4);
+    let (x, y) = support::gaussian_classes(n, d, k, 1.0, 4.0, 21);
+    let features = Features::new(&x, d).expect("valid features");
+    let config = LogisticRegression::default().with_mode(mode).with_lambda(0.2);
+    let (model, report) = config.fit(&features, &y, k).expect("fit");
+    assert!(report.converged, "{mode:?}: {:?}", report.termination);
+    let g = model_gradient(&model, &x, &y, d);
+    let norm = g.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+    assert!(norm <= 1e-6 * n as f64, "{mode:?}: gradient norm {norm} at the optimum");
+    let last = report.iterations.last().expect("at least the start");
+    assert!(last.gradient_norm <= config.gradient_tolerance * n as f64);
+    let objective = model.objective(&features, &y).expect("objective");
+    assert!(
+        (objective - last.objective).abs() <= 1e-10 * objective,
+        "model objective {objective} vs solver {}",
+        last.objective
+    );
+}
+
+#[test]
+fn multinomial_fit_reaches_a_stationary_point() {
+    check_optimal(Mode::Multinomial);
+}
+
+#[test]
+fn one_vs_rest_fit_reaches_a_stationary_point() {
+    check_optimal(Mode::OneVsRest);
+}
+
+#[test]
+fn multinomial_biases_sum_to_zero() {
+    // The bias shift common to all classes is a null direction: the solver must take the
+    // minimum-norm step, so from zero the biases keep summing to zero.
+    let (x, y) = support::gaussian_classes(200, 3, 5, 1.5, 1.0, 8);
+    let features = Features::new(&x, 3).expect("valid features");
+    let (model, _) = LogisticRegression::default()
+        .fit(&features, &y, 5)
+        .expect("fit");
+    let sum: f64 = model.biases().iter().sum();
+    let scale: f64 = model.biases().iter().map(|b| b.abs()).sum();
+    assert!(sum.abs() <= 1e-9 * (1.0 + scale), "biases sum to {sum}");
+    for j in 0..3 {
+        let s: f64 = model.weights()[j * 5..(j + 1) * 5].iter().sum();
+        assert!(s.abs() <= 1e-9, "weights of feature {j} sum to {s}");
+    }
+}
+
+#[test]
+fn unregularised_multinomial_converges_on_overlapping_classes() {
+    let (x, y) = support::gaussian_classes(400, 3, 3, 0.5, 0.0, 4);
+    let features = Features::new(&x, 3).expect("valid features");
+    let (_, report) = LogisticRegression::default()
+        .with_lambda(0.0)
+        .fit(&features, &y, 3)
+        .expect("fit");
+    assert!(report.converged, "{:?}", report.termination);
+}
+
+#[test]
+fn separable_problem_is_fitted_perfectly() {
+    for mode in [Mode::Multinomial, Mode::OneVsRest] {
+        let (x, y) = support::gaussian_classes(240, 4, 3, 12.0, 0.0, 2);
+        let features = Features::new(&x, 4).expect("valid features");
+        let (model, report) = LogisticRegression::default()
+            .with_mode(mode)
+            .with_lambda(1e-3)
+            .fit(&features, &y, 3)
+            .expect("fit");
+        assert!(report.converged, "{mode:?}: {:?}", report.termination);
+        let accuracy = model.accuracy(&features, &y).expect("accuracy");
+        assert_eq!(accuracy, 1.0, "{mode:?}");
+    }
+}
+
+#[test]
+fn max_iter_zero_returns_the_starting_point() {
+    let (x, y) = support::gaussian_classes(50, 2, 3, 1.0, 0.0, 1);
+    let features = Features::new(&x, 2).expect("valid features");
+    let (model, report) = LogisticRegression::default()
+        .with_max_iter(0)
+        .fit(&features, &y, 3)
+        .expect("fit");
+    assert_eq!(report.termination, Termination::MaxIterations);
+    assert!(!report.converged);
+    assert_eq!(report.iterations.len(), 1);
+    let p = model.predict_proba(&x[..2]).expect("valid sample");
+    for v in p {
+        assert!((v - 1.0 / 3.0).abs() < 1e-15);
+    }
+}
+
+#[test]
+fn progress_callback_sees_every_logged_iteration() {
+    let (x, y) = support::gaussian_classes(120, 3, 3, 1.0, 0.0, 6);
+    let features = Features::new(&x, 3).expect("valid features");
+    let mut seen = Vec::new();
+    let (_, report) = LogisticRegression::default()
+        .fit_with_progress(&features, &y, 3, |log| seen.push(*log))
+        .expect("fit");
+    assert_eq!(seen, report.iterations);
+    for (i, log) in seen.iter().enumerate() {
+        assert_eq!(log.iteration, i);
+    }
+}
+
+#[test]
+fn standardisation_makes_the_fit_invariant_to_feature_units() {
+    // Fitting on x and on a per-column affine image of x must give the same predictions
+    // when each model is fed features in its own units: the standardiser is inside.
+    let (n, d, k) = (200, 3, 3);
+    let (x, y) = support::gaussian_classes(n, d, k, 1.0, 0.0, 12);
+    let affine = |v: f64, j: usize| 1000.0 + v * [0.001, 50.0, 3.0][j];
+    let x2: Vec<f64> = x
+        .iter()
+        .enumerate()
+        .map(|(i, &v)| affine(v, i % d))
+        .collect();
+    let config = LogisticRegression::default();
+    let (m1, _) = config
+        .fit(&Features::new(&x, d).expect("valid"), &y, k)
+        .expect("fit");
+    let (m2, _) = config
+        .fit(&Features::new(&x2, d).expect("valid"), &y, k)
+        .expect("fit");
+    for (r1, r2) in x.chunks_exact(d).zip(x2.chunks_exact(d)) {
+        let p1 = m1.predict_proba(r1).expect("valid");
+        let p2 = m2.predict_proba(r2).expect("valid");
+        for (a, b) in p1.iter().zip(&p2) {
+            assert!((a - b).abs() < 1e-7, "{p1:?} vs {p2:?}");
+        }
+    }
+    let means = m2.standardiser().means();
+    for j in 0..d {
+        let mean = x2.iter().skip(j).step_by(d).sum::<f64>() / n as f64;
+        assert!((means[j] - mean).abs() <= 1e-9 * mean.abs());
+    }
+}
+
+#[test]
+fn constant_columns_get_unit_scale_and_do_not_break_the_fit() {
+    let (n, d, k) = (90, 3, 3);
+    let (mut x, y) = support::gaussian_classes(n, d, k, 2.0, 0.0, 30);
+    for row in x.chunks_exact_mut(d) {
+        row[1] = 0.1; // constant column (its mean is not exactly 0.1 in floating point)
+    }
+    let features = Features::new(&x, d).expect("valid");
+    let (model, report) = LogisticRegression::default()
+        .fit(&features, &y, k)
+        .expect("fit");
+    assert!(report.converged);
+    assert_eq!(model.standardiser().scales()[1], 1.0);
+    for c in 0..k {
+        assert!(model.weights()[k + c].abs() < 1e-12, "constant column got a weight");
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(24))]
+
+    #[test]
+    fn objective_never_increases(
+        seed in 0u64..10_000,
+        n in 12usize..80,
+        d in 1usize..5,
+        k in 2usize..5,
+        separation in 0.0f64..6.0,
+        lambda in prop_oneof![Just(0.0), 1e-4f64..10.0],
+        one_vs_rest in any::<bool>(),
+    ) {
+        let (x, y) = support::gaussian_classes(n, d, k, separation, 1.0, seed);
+        let features = Features::new(&x, d).expect("valid");
+        let mode = if one_vs_rest { Mode::OneVsRest } else { Mode::Multinomial };
+        let config = LogisticRegression::default()
+            .with_mode(mode)
+            .with_lambda(lambda)
+            .with_max_iter(30);
+        let mut problem = NewtonProblem::new(&features, &y, k, &config).expect("valid");
+        let mut previous = problem.objective();
+        for _ in 0..config.max_iter {
+            let log = problem.newton_step().expect("step");
+            prop_assert!(log.objective <= previous, "objective rose from {} to {}", previous, log.objective);
+            prop_assert_eq!(log.objective, problem.objective());
+            previous = log.objective;
+            if log.step == 0.0 || log.gradient_norm <= 1e-10 * n as f64 {
+                break;
+            }
+        }
+    }
+}

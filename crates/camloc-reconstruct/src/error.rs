@@ -1,0 +1,110 @@
+//! Errors of the reconstruction crate.
+
+use camloc_geometry::GeometryError;
+use camloc_store::StoreError;
+
+/// What can go wrong building a basis, reconstructing a pose or storing a basis.
+#[derive(Debug, thiserror::Error)]
+pub enum ReconstructError {
+    /// [`crate::PoseBasis::fit`] was given no training poses.
+    #[error("pose basis: the training set is empty")]
+    EmptyTrainingSet,
+    /// A training pose holds NaN or infinity.
+    #[error("pose basis: training pose {index} has a non-finite coordinate")]
+    NonFiniteTrainingPose {
+        /// Index of the pose in the training slice.
+        index: usize,
+    },
+    /// A training pose has all limbs of zero length, so its scale cannot be normalised.
+    #[error("pose basis: training pose {index} has zero total limb length (all joints coincide)")]
+    DegenerateTrainingPose {
+        /// Index of the pose in the training slice.
+        index: usize,
+    },
+    /// More PCA components were requested than the training poses support.
+    #[error(
+        "pose basis: {requested} components requested but the {training} training poses span only {available} directions with non-zero variance"
+    )]
+    TooManyComponents {
+        /// `BasisConfig::n_components`.
+        requested: usize,
+        /// Number of components with variance above the numerical floor.
+        available: usize,
+        /// Number of training poses.
+        training: usize,
+    },
+    /// A configuration value is out of its valid range.
+    #[error("invalid configuration: {field} = {value}: {reason}")]
+    InvalidConfig {
+        /// Name of the field, e.g. `ReconstructConfig::max_basis`.
+        field: &'static str,
+        /// The offending value, formatted.
+        value: String,
+        /// Why it is refused.
+        reason: &'static str,
+    },
+    /// A stored basis decoded but its content is inconsistent.
+    #[error("pose basis {origin}: invalid content: {reason}")]
+    InvalidBasis {
+        /// Where the basis came from (file path or `<memory>`).
+        origin: String,
+        /// What is inconsistent.
+        reason: String,
+    },
+    /// Reading, writing, encoding or decoding a stored basis failed (wrong magic, other
+    /// version, truncation, checksum, I/O).
+    #[error("pose basis {origin}: {source}")]
+    Store {
+        /// Where the basis came from or goes to (file path or `<memory>`).
+        origin: String,
+        /// The storage error.
+        source: StoreError,
+    },
+    /// The 2D input holds NaN or infinity.
+    #[error("2D pose: landmark {landmark} ({name}) has a non-finite coordinate")]
+    NonFiniteInput {
+        /// Landmark index (0..15).
+        landmark: usize,
+        /// Landmark name.
+        name: &'static str,
+    },
+    /// The 2D input cannot be reconstructed (zero torso, all points coinciding).
+    #[error("2D pose is degenerate: {0}")]
+    DegenerateInput(&'static str),
+    /// A camera rotation given in a [`crate::CameraMode`] is not a proper rotation.
+    #[error("camera mode {mode}: the given matrix is not a proper rotation: {source}")]
+    InvalidRotation {
+        /// Name of the mode.
+        mode: &'static str,
+        /// The rotation check that failed.
+        source: GeometryError,
+    },
+    /// A constrained least-squares problem has no feasible point (the constraint's quadric is
+    /// empty).
+    #[error(
+        "constrained least squares: the constraint set is empty (radius^2 = {radius_sq:.3e} < 0)"
+    )]
+    InfeasibleConstraint {
+        /// `c^T Q^-1 c - e`, which must be non-negative.
+        radius_sq: f64,
+    },
+    /// The constraint matrix `Q` is not symmetric positive definite.
+    #[error("constrained least squares: Q is not symmetric positive definite")]
+    NotPositiveDefinite,
+    /// Matrix or vector sizes of a least-squares problem do not agree.
+    #[error("constrained least squares: {what}: expected {expected}, got {got}")]
+    DimensionMismatch {
+        /// Which operand.
+        what: &'static str,
+        /// Expected size.
+        expected: usize,
+        /// Given size.
+        got: usize,
+    },
+    /// A numerical step failed (non-finite intermediate, failed eigen-decomposition).
+    #[error("numerical failure: {0}")]
+    Numerical(&'static str),
+    /// A camera estimate failed.
+    #[error("camera estimation failed: {0}")]
+    Geometry(#[from] GeometryError),
+}

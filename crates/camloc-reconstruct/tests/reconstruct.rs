@@ -1,0 +1,252 @@
+//! End-to-end properties of projected matching pursuit on synthetic poses.
+
+mod common;
+
+use std::sync::OnceLock;
+
+use camloc_geometry::{Matrix3, Vector3, WeakPerspective, check_rotation};
+use camloc_reconstruct::{
+    BasisConfig, CameraMode, LengthTarget, PoseBasis, ReconstructConfig, ReconstructError,
+    Reconstructor, sum_squared_limb_lengths,
+};
+use camloc_skeleton::{Pose2, Pose3};
+use proptest::prelude::*;
+
+/// 12 components: small enough that a pose on the first few is recovered exactly.
+fn basis() -> &'static PoseBasis {
+    static BASIS: OnceLock<PoseBasis> = OnceLock::new();
+    BASIS.get_or_init(|| {
+        PoseBasis::fit(
+            &common::training_set(2000, 7),
+            &BasisConfig { n_components: 12 },
+        )
+        .unwrap()
+    })
+}
+
+fn reconstructor(config: ReconstructConfig) -> Reconstructor {
+    Reconstructor::new(basis().clone(), config).unwrap()
+}
+
+/// Projects `pose` with a camera at `rotation`, 250 image units per metre, offset.
+fn project(pose: &Pose3, rotation: Matrix3) -> Pose2 {
+    let camera = WeakPerspective {
+        scale: 250.0,
+        rotation,
+        translation: [400.0, 300.0],
+    };
+    Pose2::new(camera.project(&pose.points))
+}
+
+fn max_distance(a: &Pose3, b: &Pose3) -> f64 {
+    a.points
+        .iter()
+        .zip(&b.points)
+        .map(|(p, q)| (Vector3::from(*p) - Vector3::from(*q)).norm())
+        .fold(0.0, f64::max)
+}
+
+fn all_modes(rotation: Matrix3, other: Matrix3) -> [CameraMode; 4] {
+    [
+        CameraMode::Opt,
+        CameraMode::Classified(other),
+        CameraMode::Oracle(rotation),
+        CameraMode::Hybrid(other),
+    ]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(12))]
+
+    /// Oracle camera, a pose inside the basis span on the anthropometric target, exact
+    /// projection: the pose comes back, up to the depth reflection.
+    #[test]
+    fn oracle_recovers_a_pose_in_the_span(seed in 0u64..1_000_000) {
+        let mut rng = common::rng(seed);
+        let (truth, _) = common::pose_in_span(basis(), &mut rng, basis().n_components(), basis().anthropometric_target());
+        let rotation = common::random_rotation(&mut rng, 60.0);
+        let rec = reconstructor(ReconstructConfig {
+            max_basis: basis().n_components(),
+            min_relative_decrease: 0.0,
+            alternation_tolerance: 0.0,
+            max_alternations: 500,
+            ..ReconstructConfig::default()
+        });
+        let out = rec.reconstruct(&project(&truth, rotation), &CameraMode::Oracle(rotation)).unwrap();
+        let mirrored = Pose3::new(truth.points.map(|p| {
+            let x = Vector3::from(p);
+            let axis: Vector3 = rotation.row(2).transpose();
+            (x - axis * (2.0 * axis.dot(&x))).into()
+        }));
+        let error = max_distance(&out.pose, &truth).min(max_distance(&out.pose, &mirrored));
+        prop_assert!(error < 1e-6, "joint error {error} m, projection error {}", out.projection_error);
+        prop_assert!((out.camera.scale - 250.0).abs() < 1e-4);
+    }
+
+    /// Every mode: the anthropometric constraint holds to 1e-9, the reported projection error is
+    /// the camera's actual reprojection error, the camera is a proper rotation (the given one in
+    /// fixed modes), the selection respects `max_basis` and reproduces the pose.
+    #[test]
+    fn reconstructions_are_consistent(seed in 0u64..1_000_000, mean_target in any::<bool>()) {
+        let mut rng = common::rng(seed);
+        let truth = common::random_pose(&mut rng);
+        let rotation = common::random_rotation(&mut rng, 45.0);
+        let other = common::random_rotation(&mut rng, 45.0);
+        let config = ReconstructConfig {
+            max_basis: 7,
+            length_target: if mean_target { LengthTarget::Mean } else { LengthTarget::TrainingAverage },
+            ..ReconstructConfig::default()
+        };
+        let rec = reconstructor(config);
+        let expected_sum = if mean_target {
+            sum_squared_limb_lengths(&basis().mean())
+        } else {
+            basis().anthropometric_target()
+        };
+        prop_assert!((rec.length_target() - expected_sum).abs() < 1e-12);
+        let pose2 = project(&truth, rotation);
+        for mode in all_modes(rotation, other) {
+            let out = rec.reconstruct(&pose2, &mode).unwrap();
+            prop_assert!((sum_squared_limb_lengths(&out.pose) - expected_sum).abs() < 1e-9,
+                "{}: limb sum {} vs {}", mode.name(), sum_squared_limb_lengths(&out.pose), expected_sum);
+            let actual = out.camera.squared_error(&out.pose.points, &pose2.points).unwrap().sqrt();
+            prop_assert!((actual - out.projection_error).abs() <= 1e-9 * (1.0 + actual));
+            prop_assert!(check_rotation(&out.camera.rotation, 1e-9).is_ok());
+            match mode {
+                CameraMode::Classified(r) | CameraMode::Oracle(r) => prop_assert_eq!(out.camera.rotation, r),
+                _ => {}
+            }
+            prop_assert!(!out.selected.is_empty() && out.selected.len() <= 7);
+            prop_assert_eq!(out.selected.len(), out.coefficients.len());
+            let mut unique = out.selected.clone();
+            unique.sort_unstable();
+            unique.dedup();
+            prop_assert_eq!(unique.len(), out.selected.len());
+            let mut w = vec![0.0; basis().n_components()];
+            for (&j, &c) in out.selected.iter().zip(&out.coefficients) {
+                w[j] = c;
+            }
+            prop_assert!(max_distance(&basis().pose(&w).unwrap(), &out.pose) < 1e-12);
+            prop_assert!(out.iterations >= out.selected.len());
+        }
+    }
+
+    /// Trying the depth-reflected hypothesis never leaves a larger projection error, and the
+    /// hybrid refinement never ends above the fixed-rotation solution it starts from.
+    #[test]
+    fn reflection_and_hybrid_never_increase_the_error(seed in 0u64..1_000_000) {
+        let mut rng = common::rng(seed);
+        let truth = common::random_pose(&mut rng);
+        let rotation = common::random_rotation(&mut rng, 45.0);
+        let classified = common::random_rotation(&mut rng, 45.0);
+        let pose2 = project(&truth, rotation);
+        let with = reconstructor(ReconstructConfig::default());
+        let without = reconstructor(ReconstructConfig { try_depth_reflection: false, ..ReconstructConfig::default() });
+        for mode in all_modes(rotation, classified) {
+            let a = with.reconstruct(&pose2, &mode).unwrap();
+            let b = without.reconstruct(&pose2, &mode).unwrap();
+            prop_assert!(a.projection_error <= b.projection_error * (1.0 + 1e-12), "{}", mode.name());
+            prop_assert!(!b.reflected);
+            if !a.reflected {
+                // The primary hypothesis is the same computation in both runs.
+                prop_assert_eq!(&a.selected, &b.selected);
+            }
+        }
+        let fixed = with.reconstruct(&pose2, &CameraMode::Classified(classified)).unwrap();
+        let hybrid = with.reconstruct(&pose2, &CameraMode::Hybrid(classified)).unwrap();
+        prop_assert!(hybrid.projection_error <= fixed.projection_error * (1.0 + 1e-12));
+    }
+
+    /// The 2D input's units and origin do not matter: scaling and shifting it scales and
+    /// shifts the camera and leaves the 3D pose unchanged.
+    #[test]
+    fn image_similarity_invariance(seed in 0u64..1_000_000, a in 0.01f64..100.0,
+                                   tx in -1000.0f64..1000.0, ty in -1000.0f64..1000.0) {
+        let mut rng = common::rng(seed);
+        let truth = common::random_pose(&mut rng);
+        let rotation = common::random_rotation(&mut rng, 45.0);
+        let pose2 = project(&truth, rotation);
+        let moved = Pose2::new(pose2.points.map(|p| [a * p[0] + tx, a * p[1] + ty]));
+        let rec = reconstructor(ReconstructConfig::default());
+        for mode in [CameraMode::Opt, CameraMode::Oracle(rotation)] {
+            let x = rec.reconstruct(&pose2, &mode).unwrap();
+            let y = rec.reconstruct(&moved, &mode).unwrap();
+            prop_assert!(max_distance(&x.pose, &y.pose) < 1e-6, "{}", mode.name());
+            prop_assert!((y.camera.scale - a * x.camera.scale).abs() < 1e-6 * y.camera.scale.abs());
+            prop_assert!((y.projection_error - a * x.projection_error).abs() < 1e-6 * (1.0 + y.projection_error));
+        }
+    }
+}
+
+#[test]
+fn bad_input_is_a_typed_error() {
+    let rec = reconstructor(ReconstructConfig::default());
+    let mut rng = common::rng(3);
+    let truth = common::random_pose(&mut rng);
+    let rotation = common::random_rotation(&mut rng, 45.0);
+    let good = project(&truth, rotation);
+
+    let mut nan = good;
+    nan.points[11][1] = f64::NAN;
+    assert!(matches!(
+        rec.reconstruct(&nan, &CameraMode::Opt),
+        Err(ReconstructError::NonFiniteInput { landmark: 11, .. })
+    ));
+    let mut no_torso = good;
+    no_torso.points[7] = no_torso.points[0];
+    assert!(matches!(
+        rec.reconstruct(&no_torso, &CameraMode::Oracle(rotation)),
+        Err(ReconstructError::DegenerateInput(_))
+    ));
+    let point = Pose2::new([[3.0, 4.0]; 15]);
+    assert!(matches!(
+        rec.reconstruct(&point, &CameraMode::Opt),
+        Err(ReconstructError::DegenerateInput(_))
+    ));
+    let reflection = Matrix3::from_diagonal(&Vector3::new(1.0, 1.0, -1.0));
+    assert!(matches!(
+        rec.reconstruct(&good, &CameraMode::Classified(reflection)),
+        Err(ReconstructError::InvalidRotation {
+            mode: "classified",
+            ..
+        })
+    ));
+    assert!(matches!(
+        rec.reconstruct(&good, &CameraMode::Hybrid(rotation * 2.0)),
+        Err(ReconstructError::InvalidRotation { mode: "hybrid", .. })
+    ));
+    // Collinear landmarks: Procrustes cannot determine a camera.
+    let line = Pose2::new(std::array::from_fn(|i| [i as f64, 2.0 * i as f64]));
+    assert!(matches!(
+        rec.reconstruct(&line, &CameraMode::Opt),
+        Err(ReconstructError::Geometry(_))
+    ));
+}
+
+#[test]
+fn invalid_configs_are_refused() {
+    let bad = [
+        ReconstructConfig {
+            max_basis: 0,
+            ..ReconstructConfig::default()
+        },
+        ReconstructConfig {
+            max_alternations: 0,
+            ..ReconstructConfig::default()
+        },
+        ReconstructConfig {
+            alternation_tolerance: 1.0,
+            ..ReconstructConfig::default()
+        },
+        ReconstructConfig {
+            min_relative_decrease: f64::NAN,
+            ..ReconstructConfig::default()
+        },
+    ];
+    for config in bad {
+        assert!(matches!(
+            Reconstructor::new(basis().clone(), config),
+            Err(ReconstructError::InvalidConfig { .. })
+        ));
+    }
+}

@@ -1,0 +1,204 @@
+//! Every CMU file in the shared data folder parses to plausible human poses.
+//! Skipped (with a message) when the data folder is absent; `CAMLOC_DATA` overrides its path.
+
+use std::path::PathBuf;
+use std::sync::OnceLock;
+use std::time::Instant;
+
+use camloc_skeleton::mocap::{MocapClip, MocapSource, canonicalise, discover};
+use camloc_skeleton::{LIMB_NAMES, LIMBS, Landmark, NUM_LIMBS};
+
+fn cmu_dir() -> Option<PathBuf> {
+    let data = std::env::var_os("CAMLOC_DATA").map_or_else(
+        || PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/data")),
+        PathBuf::from,
+    );
+    let cmu = data.join("cmu");
+    cmu.is_dir().then_some(cmu)
+}
+
+/// Every clip under `cmu/`, read once per test binary; `None` when the data is absent.
+fn clips() -> Option<&'static [(MocapSource, MocapClip)]> {
+    static CLIPS: OnceLock<Option<Vec<(MocapSource, MocapClip)>>> = OnceLock::new();
+    let clips = CLIPS.get_or_init(|| {
+        let dir = cmu_dir()?;
+        let start = Instant::now();
+        let clips: Vec<_> = discover(&dir)
+            .unwrap()
+            .into_iter()
+            .map(|source| {
+                let clip = source.read().unwrap_or_else(|e| panic!("{e}"));
+                (source, clip)
+            })
+            .collect();
+        let frames: usize = clips.iter().map(|(_, c)| c.frames.len()).sum();
+        eprintln!(
+            "read {} clips, {frames} frames from {} in {:.2?} (single thread)",
+            clips.len(),
+            dir.display(),
+            start.elapsed()
+        );
+        Some(clips)
+    });
+    if clips.is_none() {
+        eprintln!("skipping: ../shared/data not found");
+    }
+    clips.as_deref()
+}
+
+fn is_bvh(source: &MocapSource) -> bool {
+    matches!(source, MocapSource::Bvh { .. })
+}
+
+#[test]
+fn every_bvh_and_amc_file_is_found_and_parses() {
+    let Some(clips) = clips() else { return };
+    let dir = cmu_dir().unwrap();
+    let count = |sub: &str, ext: &str| {
+        std::fs::read_dir(dir.join(sub))
+            .unwrap()
+            .filter(|e| {
+                e.as_ref()
+                    .unwrap()
+                    .path()
+                    .extension()
+                    .is_some_and(|x| x == ext)
+            })
+            .count()
+    };
+    let bvh = clips.iter().filter(|(s, _)| is_bvh(s)).count();
+    assert_eq!(bvh, count("bvh", "bvh"));
+    assert_eq!(clips.len() - bvh, count("asfamc", "amc"));
+    for (source, clip) in clips {
+        assert!(!clip.frames.is_empty(), "{}", clip.clip);
+        assert!(clip.frame_time_s > 0.0 && clip.frame_time_s < 0.1);
+        assert!(clip.frames.iter().all(|f| f.is_finite()), "{}", clip.clip);
+        assert_eq!(clip.subject, source.subject());
+        assert!(clip.clip.starts_with(&format!("{}_", clip.subject)));
+    }
+}
+
+/// Mean and relative standard deviation of one limb's length over a clip.
+fn length_stats(clip: &MocapClip, limb: usize) -> (f64, f64) {
+    let n = clip.frames.len() as f64;
+    let lengths: Vec<f64> = clip.frames.iter().map(|f| f.limb_length(limb)).collect();
+    let mean = lengths.iter().sum::<f64>() / n;
+    let var = lengths.iter().map(|l| (l - mean).powi(2)).sum::<f64>() / n;
+    (mean, var.sqrt() / mean)
+}
+
+#[test]
+fn bone_lengths_are_constant_and_human() {
+    let Some(clips) = clips() else { return };
+    // Torso (pelvis-neck) and neck-head span several jointed bones in both formats; every other
+    // limb is one rigid bone.
+    let multi_joint = [6, 7];
+    let mut worst = [0.0f64; NUM_LIMBS];
+    for (_, clip) in clips {
+        for limb in 0..NUM_LIMBS {
+            let (mean, rel_std) = length_stats(clip, limb);
+            worst[limb] = worst[limb].max(rel_std);
+            let tolerance = if multi_joint.contains(&limb) {
+                0.05
+            } else {
+                1e-9
+            };
+            assert!(
+                rel_std < tolerance,
+                "{}: {} length varies by {rel_std}",
+                clip.clip,
+                LIMB_NAMES[limb]
+            );
+            assert!(
+                mean > 0.05 && mean < 0.6,
+                "{}: {} is {mean} m",
+                clip.clip,
+                LIMB_NAMES[limb]
+            );
+        }
+        for thigh in [1, 4] {
+            let (mean, _) = length_stats(clip, thigh);
+            assert!((0.3..0.6).contains(&mean), "{}: thigh {mean} m", clip.clip);
+        }
+    }
+    for (limb, w) in worst.iter().enumerate() {
+        eprintln!(
+            "{:>16}: largest relative std over clips {w:.2e}",
+            LIMB_NAMES[limb]
+        );
+    }
+}
+
+#[test]
+fn poses_are_upright_in_z() {
+    let Some(clips) = clips() else { return };
+    for (_, clip) in clips {
+        let n = clip.frames.len() as f64;
+        let mean_z = |l: Landmark| clip.frames.iter().map(|f| f.get(l)[2]).sum::<f64>() / n;
+        let (head, pelvis, ankle) = (
+            mean_z(Landmark::Head),
+            mean_z(Landmark::Pelvis),
+            mean_z(Landmark::LeftAnkle),
+        );
+        assert!(head > pelvis + 0.3 && pelvis > ankle + 0.5, "{}", clip.clip);
+    }
+}
+
+#[test]
+fn canonical_poses_face_minus_x() {
+    let Some(clips) = clips() else { return };
+    for (_, clip) in clips {
+        let mut knee_forward = 0.0;
+        for pose in &clip.frames {
+            let c = canonicalise(pose).unwrap_or_else(|e| panic!("{}: {e}", clip.clip));
+            assert!(c.get(Landmark::Pelvis).iter().all(|v| *v == 0.0));
+            assert!(c.get(Landmark::RightHip)[1] > 0.0 && c.get(Landmark::LeftHip)[1] < 0.0);
+            assert!(c.get(Landmark::Head)[2] > 0.0);
+            for limb in 0..LIMBS.len() {
+                assert!((c.limb_length(limb) - pose.limb_length(limb)).abs() < 1e-9);
+            }
+            // Knees only bend forwards: the knee lies ahead of (at smaller x than) the middle
+            // of hip and ankle.
+            for (hip, knee, ankle) in [
+                (Landmark::LeftHip, Landmark::LeftKnee, Landmark::LeftAnkle),
+                (
+                    Landmark::RightHip,
+                    Landmark::RightKnee,
+                    Landmark::RightAnkle,
+                ),
+            ] {
+                knee_forward += c.get(knee)[0] - 0.5 * (c.get(hip)[0] + c.get(ankle)[0]);
+            }
+        }
+        let mean = knee_forward / (2.0 * clip.frames.len() as f64);
+        assert!(mean < -0.02, "{}: knees {mean} m ahead", clip.clip);
+    }
+}
+
+#[test]
+fn bvh_and_asf_of_one_subject_agree_except_for_the_thorax() {
+    let Some(clips) = clips() else { return };
+    // Subject 16 is in both folders (BVH walks, ASF/AMC jumps) with the same skeleton.
+    let first = |bvh: bool| {
+        clips
+            .iter()
+            .find(|(s, c)| c.subject == "16" && is_bvh(s) == bvh)
+            .map(|(_, c)| c)
+    };
+    let (Some(bvh), Some(amc)) = (first(true), first(false)) else {
+        eprintln!("skipping: subject 16 is not in both formats");
+        return;
+    };
+    for limb in (0..NUM_LIMBS).filter(|l| *l != 6 && *l != 7) {
+        let (b, a) = (length_stats(bvh, limb).0, length_stats(amc, limb).0);
+        assert!(
+            (a - b).abs() < 1e-4,
+            "{}: BVH {b} m, ASF {a} m",
+            LIMB_NAMES[limb]
+        );
+    }
+    // The BVH has no thorax bone (2.17 units, 0.123 m, in 16.asf): its torso is that much
+    // shorter, up to spine bending.
+    let (b, a) = (length_stats(bvh, 6).0, length_stats(amc, 6).0);
+    assert!((a - b - 0.123).abs() < 0.02, "torso: BVH {b} m, ASF {a} m");
+}

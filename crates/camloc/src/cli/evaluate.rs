@@ -1,0 +1,84 @@
+//! `camloc evaluate`.
+
+use std::fmt::Write;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use camloc::dataset::Dataset;
+use camloc::{CameraLocalizer, CamlocError, evaluate};
+
+/// Arguments of `camloc evaluate`.
+#[derive(clap::Args)]
+pub struct Args {
+    /// Model file (from `camloc train`).
+    #[arg(long, value_name = "MODEL")]
+    pub model: PathBuf,
+    /// Labelled dataset (from `cargo xtask gen-dataset`).
+    #[arg(long, value_name = "FILE")]
+    pub dataset: PathBuf,
+    /// Print one JSON object (keys: samples, accuracy, accuracy_folded, per_level,
+    /// per_camera, confusion).
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Runs `camloc evaluate`.
+pub fn run(args: &Args, out: &mut String) -> Result<ExitCode, CamlocError> {
+    let localizer = CameraLocalizer::load(&args.model)?;
+    let dataset = Dataset::load(&args.dataset)?;
+    let e = evaluate(&localizer, &dataset)?;
+    if args.json {
+        let _ = writeln!(
+            out,
+            "{}",
+            serde_json::to_string_pretty(&e).map_err(|err| CamlocError::InvalidOption {
+                name: "json",
+                detail: err.to_string(),
+            })?
+        );
+        return Ok(ExitCode::SUCCESS);
+    }
+    let _ = writeln!(out, "samples:          {}", e.samples);
+    let _ = writeln!(out, "accuracy:         {:.2}%", 100.0 * e.accuracy);
+    let _ = writeln!(
+        out,
+        "accuracy folded:  {:.2}% (back cameras folded onto front)",
+        100.0 * e.accuracy_folded
+    );
+    let _ = writeln!(out, "per level:");
+    for l in &e.per_level {
+        let _ = writeln!(
+            out,
+            "  {:<6} {:>8} samples  exact {:>6.2}%  right level {:>6.2}%",
+            l.level.name(),
+            l.samples,
+            100.0 * l.accuracy,
+            100.0 * l.level_accuracy
+        );
+    }
+    let _ = writeln!(out, "per camera:");
+    for c in &e.per_camera {
+        let _ = writeln!(
+            out,
+            "  {:02} {:<13} {:>8} samples  {:>6.2}%",
+            c.label,
+            c.name,
+            c.samples,
+            100.0 * c.accuracy
+        );
+    }
+    let _ = writeln!(out, "confusion (rows: true camera, columns: predicted):");
+    let _ = write!(out, "      ");
+    for p in 1..=e.confusion.len() {
+        let _ = write!(out, "{p:>7}");
+    }
+    let _ = writeln!(out);
+    for (t, row) in e.confusion.iter().enumerate() {
+        let _ = write!(out, "  {:02}  ", t + 1);
+        for c in row {
+            let _ = write!(out, "{c:>7}");
+        }
+        let _ = writeln!(out);
+    }
+    Ok(ExitCode::SUCCESS)
+}

@@ -1,0 +1,114 @@
+//! `camloc train`.
+
+use std::fmt::Write;
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
+
+use camloc::dataset::Dataset;
+use camloc::learning::Mode;
+use camloc::{CameraLocalizer, CamlocError, Descriptor, LandmarkDropout, TrainOptions};
+use clap::ValueEnum;
+
+/// Arguments of `camloc train`.
+#[derive(clap::Args)]
+pub struct Args {
+    /// Training dataset (from `cargo xtask gen-dataset`).
+    #[arg(long, value_name = "FILE")]
+    pub dataset: PathBuf,
+    /// Output model file (refuses to overwrite unless --force).
+    #[arg(long, value_name = "MODEL")]
+    pub out: PathBuf,
+    /// Pose descriptor: `landmarks` (default, keeps which landmark is where) or `paper`
+    /// (the paper's Algorithm 1: Gaussian relative lengths + log-polar shape context).
+    #[arg(long, default_value = "landmarks", value_name = "NAME")]
+    pub descriptor: String,
+    /// Ridge weight lambda of eq. 11 (on the sum of the per-sample losses; scikit-learn's
+    /// C = 1 / (2 lambda)).
+    #[arg(long, default_value_t = 1e-2, value_name = "L")]
+    pub lambda: f64,
+    /// Classifier: multinomial softmax (eq. 8) or one-vs-rest (eq. 9).
+    #[arg(long, value_enum, default_value = "multinomial")]
+    pub mode: ModeArg,
+    /// Copies of the training set with 1-3 random landmarks dropped (0 disables), so that
+    /// localization copes with missing landmarks.
+    #[arg(long, default_value_t = 1.0, value_name = "COPIES")]
+    pub dropout: f64,
+    /// Overwrite --out if it exists.
+    #[arg(long)]
+    pub force: bool,
+    /// Do not print the Newton iteration log.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+/// Classifier modes on the command line.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum ModeArg {
+    /// One multinomial softmax model (eq. 8).
+    Multinomial,
+    /// One binary problem per class (eq. 9).
+    OneVsRest,
+}
+
+/// Runs `camloc train`.
+pub fn run(args: &Args, out: &mut String) -> Result<ExitCode, CamlocError> {
+    if args.out.exists() && !args.force {
+        return Err(camloc::store_exists(&args.out));
+    }
+    let descriptor =
+        Descriptor::from_name(&args.descriptor).map_err(|source| CamlocError::Feature {
+            context: "--descriptor".into(),
+            source,
+        })?;
+    let mut options = TrainOptions {
+        descriptor,
+        ..TrainOptions::default()
+    };
+    options.regression = options
+        .regression
+        .with_lambda(args.lambda)
+        .with_mode(match args.mode {
+            ModeArg::Multinomial => Mode::Multinomial,
+            ModeArg::OneVsRest => Mode::OneVsRest,
+        });
+    options.regression.validate()?;
+    options.dropout = (args.dropout > 0.0).then_some(LandmarkDropout {
+        copies: args.dropout,
+        ..LandmarkDropout::default()
+    });
+    let start = Instant::now();
+    let dataset = Dataset::load(&args.dataset)?;
+    eprintln!(
+        "training on {} samples of {} subjects ({} protocol, {} cameras), descriptor {}, lambda {}",
+        dataset.samples.len(),
+        dataset.subjects().len(),
+        dataset.header.protocol,
+        dataset.header.cameras.len(),
+        descriptor.name(),
+        args.lambda
+    );
+    let quiet = args.quiet;
+    let (localizer, report) = CameraLocalizer::train(&dataset, &options, |log| {
+        if !quiet {
+            eprintln!(
+                "  newton {:>3}: objective {:.6e}  |grad|_inf {:.3e}  step {:.3}",
+                log.iteration, log.objective, log.gradient_norm, log.step
+            );
+        }
+    })?;
+    localizer.save(&args.out, args.force)?;
+    let _ = writeln!(
+        out,
+        "wrote {} ({} Newton iterations, {}, {:.1} s)",
+        args.out.display(),
+        report.iterations.len().saturating_sub(1),
+        if report.converged {
+            "converged"
+        } else {
+            "NOT converged"
+        },
+        start.elapsed().as_secs_f64()
+    );
+    Ok(ExitCode::SUCCESS)
+}

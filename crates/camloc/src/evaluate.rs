@@ -1,0 +1,167 @@
+//! Accuracy of a [`CameraLocalizer`] on a labelled dataset.
+
+use camloc_dataset::Dataset;
+use camloc_geometry::Level;
+use camloc_learning::Features;
+use camloc_skeleton::PartialPose2;
+use serde::Serialize;
+
+use crate::localizer::{extract_rows, impute_rows, sample_pose};
+use crate::{CameraLocalizer, CamlocError};
+
+/// Accuracy of one camera (by true label).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct CameraAccuracy {
+    /// Camera label.
+    pub label: u16,
+    /// Its level and side in words, e.g. `"lower front"`.
+    pub name: String,
+    /// Samples whose true camera is this one.
+    pub samples: usize,
+    /// Share of them classified correctly.
+    pub accuracy: f64,
+}
+
+/// Accuracy of one level (by true label).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct LevelAccuracy {
+    /// The level.
+    pub level: Level,
+    /// Samples of that level.
+    pub samples: usize,
+    /// Share classified with the exact camera.
+    pub accuracy: f64,
+    /// Share classified with the right level (any side).
+    pub level_accuracy: f64,
+}
+
+/// Results of [`evaluate`].
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Evaluation {
+    /// Number of samples evaluated.
+    pub samples: usize,
+    /// Share classified with the exact camera (all classes).
+    pub accuracy: f64,
+    /// Share correct after mirror folding both truth and prediction (back -> front).
+    pub accuracy_folded: f64,
+    /// Per level.
+    pub per_level: Vec<LevelAccuracy>,
+    /// Per camera.
+    pub per_camera: Vec<CameraAccuracy>,
+    /// `confusion[t][p]`: samples of true label `t + 1` predicted as `p + 1`.
+    pub confusion: Vec<Vec<usize>>,
+}
+
+/// Localizes every sample of `dataset` (using its missing-landmark masks) and compares with
+/// the true labels.
+///
+/// # Errors
+/// [`CamlocError::Inconsistent`] when the dataset's cameras differ from the model's, or it is
+/// empty; descriptor or prediction errors naming the sample.
+pub fn evaluate(localizer: &CameraLocalizer, dataset: &Dataset) -> Result<Evaluation, CamlocError> {
+    let cameras = localizer.cameras();
+    if dataset.header.cameras != *cameras {
+        return Err(CamlocError::Inconsistent {
+            what: "dataset",
+            detail: format!(
+                "its {} cameras differ from the model's {} cameras",
+                dataset.header.cameras.len(),
+                cameras.len()
+            ),
+        });
+    }
+    if dataset.samples.is_empty() {
+        return Err(CamlocError::Inconsistent {
+            what: "dataset",
+            detail: "no samples to evaluate".into(),
+        });
+    }
+    let poses: Vec<PartialPose2> = dataset.samples.iter().map(sample_pose).collect();
+    let predicted = localizer.predict_labels(&poses)?;
+    let k = cameras.len();
+    let mut confusion = vec![vec![0usize; k]; k];
+    for (s, &p) in dataset.samples.iter().zip(&predicted) {
+        let t = usize::from(s.label) - 1;
+        confusion[t][usize::from(p) - 1] += 1;
+    }
+    let n = dataset.samples.len();
+    let share = |hits: usize, total: usize| {
+        if total == 0 {
+            0.0
+        } else {
+            hits as f64 / total as f64
+        }
+    };
+    let correct: usize = (0..k).map(|t| confusion[t][t]).sum();
+    let folded = dataset
+        .samples
+        .iter()
+        .zip(&predicted)
+        .filter(|(s, p)| cameras.fold_back_to_front(s.label) == cameras.fold_back_to_front(**p))
+        .count();
+    let views = cameras.viewpoints();
+    let per_camera = views
+        .iter()
+        .map(|v| {
+            let row = &confusion[usize::from(v.label) - 1];
+            CameraAccuracy {
+                label: v.label,
+                name: format!("{} {}", v.level.name(), v.side.name()),
+                samples: row.iter().sum(),
+                accuracy: share(row[usize::from(v.label) - 1], row.iter().sum()),
+            }
+        })
+        .collect();
+    let per_level = [Level::Lower, Level::Middle, Level::Upper]
+        .into_iter()
+        .filter_map(|level| {
+            let (mut total, mut exact, mut same_level) = (0, 0, 0);
+            for t in views.iter().filter(|v| v.level == level) {
+                for p in views {
+                    let c = confusion[usize::from(t.label) - 1][usize::from(p.label) - 1];
+                    total += c;
+                    if p.label == t.label {
+                        exact += c;
+                    }
+                    if p.level == level {
+                        same_level += c;
+                    }
+                }
+            }
+            (total > 0).then(|| LevelAccuracy {
+                level,
+                samples: total,
+                accuracy: share(exact, total),
+                level_accuracy: share(same_level, total),
+            })
+        })
+        .collect();
+    Ok(Evaluation {
+        samples: n,
+        accuracy: share(correct, n),
+        accuracy_folded: share(folded, n),
+        per_level,
+        per_camera,
+        confusion,
+    })
+}
+
+impl CameraLocalizer {
+    /// Most probable label of each pose, computed as one batch (descriptors and a matrix
+    /// product in parallel).
+    ///
+    /// # Errors
+    /// Descriptor errors naming the sample; prediction errors.
+    pub fn predict_labels(&self, poses: &[PartialPose2]) -> Result<Vec<u16>, CamlocError> {
+        let descriptor = self.descriptor();
+        let (mut x, undefined) = extract_rows(descriptor, poses)?;
+        impute_rows(&mut x, &undefined, self.imputation());
+        let features = Features::new(&x, descriptor.len())?;
+        Ok(self
+            .model()
+            .predict_batch(&features)?
+            .into_iter()
+            .map(|c| c as u16 + 1)
+            .collect())
+    }
+}

@@ -1,0 +1,463 @@
+//! [`CameraLocalizer`]: descriptor + classifier + camera set, trained, saved and used together.
+
+use std::path::Path;
+
+use camloc_dataset::{Dataset, Protocol};
+use camloc_features::Descriptor;
+use camloc_geometry::{CameraSet, Level, Matrix3, Side};
+use camloc_learning::{Features, FitReport, IterationLog, LogisticModel, LogisticRegression};
+use camloc_skeleton::{Landmark, NUM_LANDMARKS, PartialPose2, Pose2};
+use camloc_store::FileKind;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use crate::CamlocError;
+
+/// The model file kind: magic bytes and format version this build reads and writes.
+pub const MODEL_FILE: FileKind = FileKind {
+    magic: *b"CAMLOCMD",
+    version: 1,
+    what: "model",
+};
+
+/// Random landmark dropout used in training so that localization copes with missing
+/// landmarks: `copies` augmented copies of the training set are appended, in each of which
+/// every sample loses between 1 and `max_missing` random non-torso landmarks (whose descriptor
+/// values are imputed, as at prediction time).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct LandmarkDropout {
+    /// Number of augmented copies of the training set (fractions allowed: 0.5 = half of the
+    /// samples, chosen at random).
+    pub copies: f64,
+    /// Most landmarks dropped from one sample (1..=13).
+    pub max_missing: usize,
+    /// Random seed.
+    pub seed: u64,
+}
+
+impl Default for LandmarkDropout {
+    /// One augmented copy with up to 3 missing landmarks, seed 0.
+    fn default() -> Self {
+        LandmarkDropout {
+            copies: 1.0,
+            max_missing: 3,
+            seed: 0,
+        }
+    }
+}
+
+/// How to train a [`CameraLocalizer`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct TrainOptions {
+    /// The pose descriptor (default: [`Descriptor::Landmarks`]).
+    pub descriptor: Descriptor,
+    /// The classifier and its Newton solver settings.
+    pub regression: LogisticRegression,
+    /// Landmark dropout augmentation (`None`: train on the samples as they are).
+    pub dropout: Option<LandmarkDropout>,
+}
+
+impl Default for TrainOptions {
+    /// Landmark descriptor, multinomial regression with lambda 1e-2, dropout with one copy.
+    fn default() -> Self {
+        TrainOptions {
+            descriptor: Descriptor::Landmarks,
+            regression: LogisticRegression::default().with_lambda(1e-2),
+            dropout: Some(LandmarkDropout::default()),
+        }
+    }
+}
+
+/// What a model was trained on (kept in the model file for `camloc` to report).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TrainingInfo {
+    /// camloc version that trained the model.
+    pub camloc_version: String,
+    /// Protocol of the training dataset.
+    pub protocol: Protocol,
+    /// Training samples (before augmentation).
+    pub samples: usize,
+    /// Training subjects.
+    pub subjects: Vec<String>,
+    /// Regression settings.
+    pub lambda: f64,
+    /// Dropout used, if any.
+    pub dropout: Option<LandmarkDropout>,
+}
+
+/// Where the camera stood, as localized from one 2D pose.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Localization {
+    /// Most probable camera label (1-based; Table 1 numbering for the default cameras).
+    pub label: u16,
+    /// Its height class.
+    pub level: Level,
+    /// Its side of the body.
+    pub side: Side,
+    /// Its rotation (rows: camera x, y, z axes in the canonical body frame).
+    pub rotation: Matrix3,
+    /// Probability of `label`.
+    pub probability: f64,
+    /// Probability of every camera, index `label - 1`.
+    pub probabilities: Vec<f64>,
+    /// `label` after mirror folding (back -> front of the same level, paper section 8.1).
+    pub folded_label: u16,
+    /// Landmarks that were missing in the input (their descriptor values were imputed).
+    pub missing: Vec<Landmark>,
+}
+
+/// A trained camera localizer: descriptor, classifier and the camera set it predicts.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CameraLocalizer {
+    descriptor: Descriptor,
+    cameras: CameraSet,
+    model: LogisticModel,
+    /// Per descriptor value, the training mean used in place of undefined values.
+    imputation: Vec<f64>,
+    info: TrainingInfo,
+}
+
+impl CameraLocalizer {
+    /// Trains on every sample of `dataset`. `progress` receives the Newton iteration log.
+    ///
+    /// # Errors
+    /// [`CamlocError::Inconsistent`] for an empty dataset, [`CamlocError::Feature`] naming the
+    /// first sample whose descriptor fails, [`CamlocError::Learning`] from the solver.
+    pub fn train(
+        dataset: &Dataset,
+        options: &TrainOptions,
+        progress: impl FnMut(&IterationLog),
+    ) -> Result<(CameraLocalizer, FitReport), CamlocError> {
+        let descriptor = options.descriptor;
+        descriptor
+            .validate()
+            .map_err(|source| CamlocError::Feature {
+                context: "descriptor settings".into(),
+                source,
+            })?;
+        if dataset.samples.is_empty() {
+            return Err(CamlocError::Inconsistent {
+                what: "dataset",
+                detail: "no samples to train on".into(),
+            });
+        }
+        let d = descriptor.len();
+        let poses: Vec<PartialPose2> = dataset.samples.iter().map(sample_pose).collect();
+        let (mut x, undefined) = extract_rows(&descriptor, &poses)?;
+        let imputation = column_means(&x, &undefined, d);
+        impute_rows(&mut x, &undefined, &imputation);
+        let mut y: Vec<usize> = dataset
+            .samples
+            .iter()
+            .map(|s| usize::from(s.label).saturating_sub(1))
+            .collect();
+        if let Some(dropout) = options.dropout {
+            let (extra, labels) = augment(&descriptor, &poses, &y, &dropout, &imputation)?;
+            x.extend_from_slice(&extra);
+            y.extend_from_slice(&labels);
+        }
+        let features = Features::new(&x, d)?;
+        let (model, report) = options.regression.fit_with_progress(
+            &features,
+            &y,
+            dataset.header.cameras.len(),
+            progress,
+        )?;
+        let info = TrainingInfo {
+            camloc_version: env!("CARGO_PKG_VERSION").to_string(),
+            protocol: dataset.header.protocol,
+            samples: dataset.samples.len(),
+            subjects: dataset.subjects().into_iter().map(|(s, _)| s).collect(),
+            lambda: options.regression.lambda,
+            dropout: options.dropout,
+        };
+        let localizer = CameraLocalizer {
+            descriptor,
+            cameras: dataset.header.cameras.clone(),
+            model,
+            imputation,
+            info,
+        };
+        Ok((localizer, report))
+    }
+
+    /// The descriptor the model was trained with.
+    pub fn descriptor(&self) -> &Descriptor {
+        &self.descriptor
+    }
+
+    /// The camera classes.
+    pub fn cameras(&self) -> &CameraSet {
+        &self.cameras
+    }
+
+    /// The fitted classifier.
+    pub fn model(&self) -> &LogisticModel {
+        &self.model
+    }
+
+    /// What the model was trained on.
+    pub fn training_info(&self) -> &TrainingInfo {
+        &self.info
+    }
+
+    /// Per descriptor value, the training mean used in place of values that depend on a
+    /// missing landmark.
+    pub fn imputation(&self) -> &[f64] {
+        &self.imputation
+    }
+
+    /// Localizes the camera of a complete 2D pose (image coordinates, any units).
+    ///
+    /// # Errors
+    /// [`CamlocError::Feature`] for non-finite landmarks or a degenerate torso.
+    pub fn localize(&self, pose: &Pose2) -> Result<Localization, CamlocError> {
+        self.localize_partial(&PartialPose2::from(*pose))
+    }
+
+    /// Localizes the camera of a 2D pose with possibly missing landmarks; values of the
+    /// descriptor that depend on a missing landmark are replaced by their training mean.
+    ///
+    /// # Errors
+    /// [`CamlocError::Feature`] when the pelvis or neck is missing, for non-finite landmarks
+    /// or a degenerate torso.
+    pub fn localize_partial(&self, pose: &PartialPose2) -> Result<Localization, CamlocError> {
+        let d = self.descriptor.len();
+        let mut x = vec![0.0; d];
+        let mut undefined = vec![false; d];
+        self.descriptor
+            .extract_partial_into(pose, &mut x, &mut undefined)
+            .map_err(|source| CamlocError::Feature {
+                context: "input pose".into(),
+                source,
+            })?;
+        impute_rows(&mut x, &undefined, &self.imputation);
+        let mut probabilities = vec![0.0; self.model.n_classes()];
+        self.model.predict_proba_into(&x, &mut probabilities)?;
+        Ok(self.localization_from(probabilities, pose.missing().collect()))
+    }
+
+    /// Localizes many poses in parallel; one result per pose, in order.
+    pub fn localize_batch(&self, poses: &[PartialPose2]) -> Vec<Result<Localization, CamlocError>> {
+        poses.par_iter().map(|p| self.localize_partial(p)).collect()
+    }
+
+    fn localization_from(&self, probabilities: Vec<f64>, missing: Vec<Landmark>) -> Localization {
+        let (best, probability) =
+            probabilities
+                .iter()
+                .copied()
+                .enumerate()
+                .fold(
+                    (0, f64::NEG_INFINITY),
+                    |a, (i, p)| if p > a.1 { (i, p) } else { a },
+                );
+        let label = best as u16 + 1;
+        let view = self.cameras.get(label);
+        Localization {
+            label,
+            level: view.map_or(Level::Middle, |v| v.level),
+            side: view.map_or(Side::Front, |v| v.side),
+            rotation: view.map_or_else(Matrix3::identity, |v| v.rotation),
+            probability,
+            probabilities,
+            folded_label: self.cameras.fold_back_to_front(label),
+            missing,
+        }
+    }
+
+    /// Encodes the localizer as a versioned, checksummed model file.
+    ///
+    /// # Errors
+    /// [`CamlocError::Store`] if encoding fails.
+    pub fn to_bytes(&self) -> Result<Vec<u8>, CamlocError> {
+        Ok(camloc_store::encode(MODEL_FILE, self)?)
+    }
+
+    /// Decodes and checks a model file.
+    ///
+    /// # Errors
+    /// [`CamlocError::Store`] for another kind of file, another version or a corrupt one;
+    /// [`CamlocError::Inconsistent`] when its parts do not fit together.
+    pub fn from_bytes(bytes: &[u8]) -> Result<CameraLocalizer, CamlocError> {
+        let localizer: CameraLocalizer = camloc_store::decode(MODEL_FILE, bytes)?;
+        localizer.check()?;
+        Ok(localizer)
+    }
+
+    /// Writes the model to `path` (temporary file + rename); refuses to replace an existing
+    /// file unless `overwrite`.
+    ///
+    /// # Errors
+    /// [`CamlocError::Store`].
+    pub fn save(&self, path: &Path, overwrite: bool) -> Result<(), CamlocError> {
+        Ok(camloc_store::write_new(path, &self.to_bytes()?, overwrite)?)
+    }
+
+    /// Reads a model file.
+    ///
+    /// # Errors
+    /// As [`CameraLocalizer::from_bytes`], and [`CamlocError::Store`] if it cannot be read.
+    pub fn load(path: &Path) -> Result<CameraLocalizer, CamlocError> {
+        let bytes = std::fs::read(path).map_err(|source| camloc_store::StoreError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        Self::from_bytes(&bytes)
+    }
+
+    /// The default model embedded in this build (trained by `cargo xtask train-default` on
+    /// the CMU data under the `jittered` protocol, with landmark dropout).
+    ///
+    /// # Errors
+    /// [`CamlocError::NoDefault`] when the build embedded none; decoding errors otherwise.
+    pub fn default_model() -> Result<CameraLocalizer, CamlocError> {
+        let bytes = include_bytes!(concat!(env!("OUT_DIR"), "/default-model.bin"));
+        if bytes.is_empty() {
+            return Err(CamlocError::NoDefault("model"));
+        }
+        Self::from_bytes(bytes)
+    }
+
+    /// Checks that descriptor, classifier, imputation and cameras agree in size.
+    fn check(&self) -> Result<(), CamlocError> {
+        let inconsistent = |detail: String| CamlocError::Inconsistent {
+            what: "model",
+            detail,
+        };
+        self.descriptor
+            .validate()
+            .map_err(|e| inconsistent(e.to_string()))?;
+        let d = self.descriptor.len();
+        if self.model.n_features() != d || self.imputation.len() != d {
+            return Err(inconsistent(format!(
+                "descriptor '{}' has {d} values, classifier expects {} and imputation has {}",
+                self.descriptor.name(),
+                self.model.n_features(),
+                self.imputation.len()
+            )));
+        }
+        if self.model.n_classes() != self.cameras.len() {
+            return Err(inconsistent(format!(
+                "classifier has {} classes for {} cameras",
+                self.model.n_classes(),
+                self.cameras.len()
+            )));
+        }
+        if !self.imputation.iter().all(|v| v.is_finite()) {
+            return Err(inconsistent("non-finite imputation value".into()));
+        }
+        Ok(())
+    }
+}
+
+/// The (possibly partial) 2D pose of a dataset sample.
+pub(crate) fn sample_pose(sample: &camloc_dataset::Sample) -> PartialPose2 {
+    let mut pose = PartialPose2::from(sample.landmarks);
+    for (i, p) in pose.points.iter_mut().enumerate() {
+        if sample.missing_mask & (1 << i) != 0 {
+            *p = None;
+        }
+    }
+    pose
+}
+
+/// Descriptors of `poses` (row-major) and the flags of undefined values, in parallel.
+pub(crate) fn extract_rows(
+    descriptor: &Descriptor,
+    poses: &[PartialPose2],
+) -> Result<(Vec<f64>, Vec<bool>), CamlocError> {
+    let d = descriptor.len();
+    let mut x = vec![0.0; poses.len() * d];
+    let mut undefined = vec![false; poses.len() * d];
+    x.par_chunks_mut(d)
+        .zip(undefined.par_chunks_mut(d))
+        .zip(poses.par_iter())
+        .enumerate()
+        .try_for_each(|(i, ((row, flags), pose))| {
+            descriptor
+                .extract_partial_into(pose, row, flags)
+                .map_err(|source| CamlocError::Feature {
+                    context: format!("sample {i}"),
+                    source,
+                })
+        })?;
+    Ok((x, undefined))
+}
+
+/// Column means over defined values (0 where a column is never defined).
+fn column_means(x: &[f64], undefined: &[bool], d: usize) -> Vec<f64> {
+    let mut sums = vec![0.0; d];
+    let mut counts = vec![0usize; d];
+    for (row, flags) in x.chunks_exact(d).zip(undefined.chunks_exact(d)) {
+        for j in 0..d {
+            if !flags[j] {
+                sums[j] += row[j];
+                counts[j] += 1;
+            }
+        }
+    }
+    sums.iter()
+        .zip(&counts)
+        .map(|(s, &n)| if n > 0 { s / n as f64 } else { 0.0 })
+        .collect()
+}
+
+/// Replaces undefined values by the imputation values (rows of `imputation.len()`).
+pub(crate) fn impute_rows(x: &mut [f64], undefined: &[bool], imputation: &[f64]) {
+    let d = imputation.len().max(1);
+    for (row, flags) in x.chunks_exact_mut(d).zip(undefined.chunks_exact(d)) {
+        for ((v, &u), m) in row.iter_mut().zip(flags).zip(imputation) {
+            if u {
+                *v = *m;
+            }
+        }
+    }
+}
+
+/// Augmented copies of the training poses with random non-torso landmarks dropped.
+fn augment(
+    descriptor: &Descriptor,
+    poses: &[PartialPose2],
+    labels: &[usize],
+    dropout: &LandmarkDropout,
+    imputation: &[f64],
+) -> Result<(Vec<f64>, Vec<usize>), CamlocError> {
+    if !(dropout.copies >= 0.0 && dropout.copies.is_finite())
+        || dropout.max_missing == 0
+        || dropout.max_missing > NUM_LANDMARKS - 2
+    {
+        return Err(CamlocError::InvalidOption {
+            name: "dropout",
+            detail: format!(
+                "copies must be finite and >= 0 and max_missing in 1..=13, got {} and {}",
+                dropout.copies, dropout.max_missing
+            ),
+        });
+    }
+    let mut rng = ChaCha8Rng::seed_from_u64(dropout.seed);
+    let droppable: Vec<usize> = (0..NUM_LANDMARKS)
+        .filter(|&i| i != Landmark::Pelvis.index() && i != Landmark::Neck.index())
+        .collect();
+    let whole = dropout.copies.floor() as usize;
+    let mut chosen: Vec<usize> = (0..whole).flat_map(|_| 0..poses.len()).collect();
+    let part = dropout.copies - whole as f64;
+    chosen.extend((0..poses.len()).filter(|_| rng.random_bool(part.clamp(0.0, 1.0))));
+    let dropped: Vec<PartialPose2> = chosen
+        .iter()
+        .map(|&i| {
+            let mut pose = poses[i];
+            let mut candidates = droppable.clone();
+            for _ in 0..rng.random_range(1..=dropout.max_missing) {
+                let k = rng.random_range(0..candidates.len());
+                pose.points[candidates.swap_remove(k)] = None;
+            }
+            pose
+        })
+        .collect();
+    let (mut x, undefined) = extract_rows(descriptor, &dropped)?;
+    impute_rows(&mut x, &undefined, imputation);
+    Ok((x, chosen.iter().map(|&i| labels[i]).collect()))
+}

@@ -1,0 +1,208 @@
+//! `cargo xtask gen-dataset`.
+
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+use std::time::Instant;
+
+use camloc_dataset::{
+    GenerateConfig, Protocol, default_cmu_folder, default_test_subjects, generate,
+    load_mocap_folders,
+};
+use camloc_geometry::CameraSet;
+
+use crate::progress::Progress;
+
+/// Arguments of `gen-dataset`.
+#[derive(clap::Args)]
+#[command(
+    after_help = "Example:\n  cargo xtask gen-dataset --mocap ../shared/data/cmu --out d.bin --protocol jittered --seed 1"
+)]
+pub struct Args {
+    /// Folder of motion capture, walked recursively for .bvh and .asf/.amc files (repeatable).
+    /// Default: ../shared/data/cmu (or $CAMLOC_DATA/cmu).
+    #[arg(long = "mocap", value_name = "DIR")]
+    pub mocap: Vec<PathBuf>,
+    /// Output dataset file (refuses to overwrite unless --force).
+    #[arg(long, value_name = "FILE")]
+    pub out: PathBuf,
+    /// Projection protocol: canonical (Table-1 cameras exactly, orthographic) or jittered
+    /// (jittered cameras, perspective from 3-8 m, 2D noise).
+    #[arg(long, default_value = "canonical", value_parser = parse_protocol)]
+    pub protocol: Protocol,
+    /// Use every N-th mocap frame (CMU is 120 fps: 10 gives 12 poses per second).
+    #[arg(long, default_value_t = 10, value_name = "N")]
+    pub stride: usize,
+    /// 2D Gaussian noise sigma as a fraction of the 2D torso length
+    /// [default: 0 for canonical, 0.03 for jittered].
+    #[arg(long, value_name = "F")]
+    pub noise: Option<f64>,
+    /// Random seed (camera jitter, noise, dropped landmarks).
+    #[arg(long, default_value_t = 0, value_name = "S")]
+    pub seed: u64,
+    /// Camera sphere: "table1" (the paper's 12 cameras) or "N:E1,E2,..." for N azimuths at
+    /// the given elevations in degrees, e.g. "8:-30,0,30".
+    #[arg(long, default_value = "table1", value_name = "SPHERE", value_parser = parse_sphere)]
+    pub sphere: CameraSet,
+    /// Mark this many random non-torso landmarks per sample as missing.
+    #[arg(long, default_value_t = 0, value_name = "N")]
+    pub drop_landmarks: usize,
+    /// Also split by subject: write the held-out subjects' samples to this file and only
+    /// the other subjects' samples to --out.
+    #[arg(long, value_name = "FILE")]
+    pub test_out: Option<PathBuf>,
+    /// Subjects held out with --test-out, comma-separated [default: every fourth subject in
+    /// sorted order, starting with the second].
+    #[arg(long, value_name = "IDS", value_delimiter = ',')]
+    pub test_subjects: Vec<String>,
+    /// Overwrite --out (and --test-out) if they exist.
+    #[arg(long)]
+    pub force: bool,
+}
+
+fn parse_protocol(s: &str) -> Result<Protocol, String> {
+    s.parse()
+}
+
+/// Parses `table1` or `N:E1,E2,...`.
+pub fn parse_sphere(s: &str) -> Result<CameraSet, String> {
+    if s == "table1" {
+        return Ok(CameraSet::table1());
+    }
+    let (n, elevations) = s
+        .split_once(':')
+        .ok_or_else(|| format!("expected 'table1' or 'N:E1,E2,...', got '{s}'"))?;
+    let n: usize = n
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{n}' is not a number of azimuths"))?;
+    let elevations = elevations
+        .split(',')
+        .map(|e| {
+            e.trim()
+                .parse::<f64>()
+                .map_err(|_| format!("'{e}' is not an elevation in degrees"))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    CameraSet::sphere(n, &elevations).map_err(|e| e.to_string())
+}
+
+/// Runs `gen-dataset`.
+pub fn run(args: &Args) -> Result<(), String> {
+    let start = Instant::now();
+    for out in std::iter::once(&args.out).chain(&args.test_out) {
+        if out.exists() && !args.force {
+            return Err(format!(
+                "{}: already exists (pass --force to overwrite it)",
+                out.display()
+            ));
+        }
+    }
+    let folders = if args.mocap.is_empty() {
+        vec![default_cmu_folder(&crate::workspace_root())]
+    } else {
+        args.mocap.clone()
+    };
+    let mut warnings = 0usize;
+    let mut reading = Progress::new("reading mocap");
+    let (sequences, summary) = load_mocap_folders(
+        &folders,
+        &mut |w| {
+            warnings += 1;
+            eprintln!("warning: {w}");
+        },
+        &mut |done, total, name| reading.tick(done, total, name),
+    )
+    .map_err(|e| e.to_string())?;
+    let mut config = GenerateConfig::new(args.protocol);
+    config.cameras = args.sphere.clone();
+    config.stride = args.stride;
+    config.noise_fraction = args.noise.unwrap_or(args.protocol.default_noise_fraction());
+    config.seed = args.seed;
+    config.drop_landmarks = args.drop_landmarks;
+    let projecting = std::sync::Mutex::new(Progress::new("projecting clips"));
+    let dataset = generate(&sequences, &config, &|done, total| {
+        if let Ok(mut p) = projecting.lock() {
+            p.tick(done, total, "");
+        }
+    })
+    .map_err(|e| e.to_string())?;
+    let dataset = match &args.test_out {
+        None => dataset,
+        Some(test_out) => {
+            let test_subjects = if args.test_subjects.is_empty() {
+                default_test_subjects(&dataset.subjects())
+            } else {
+                args.test_subjects.clone()
+            };
+            let known = dataset.subjects();
+            if let Some(unknown) = test_subjects
+                .iter()
+                .find(|t| !known.iter().any(|(s, _)| s == *t))
+            {
+                return Err(format!(
+                    "--test-subjects: no subject '{unknown}' in the data"
+                ));
+            }
+            let (train, test) = dataset.split_by_subjects(&test_subjects);
+            test.save(test_out, args.force).map_err(|e| e.to_string())?;
+            println!(
+                "wrote {} ({} samples of held-out subjects {})",
+                test_out.display(),
+                test.samples.len(),
+                test_subjects.join(", ")
+            );
+            train
+        }
+    };
+    dataset
+        .save(&args.out, args.force)
+        .map_err(|e| e.to_string())?;
+
+    let subjects = dataset.subjects();
+    println!(
+        "wrote {} ({} samples, protocol {}, {} cameras, stride {}, noise {}, seed {}) in {:.1} s",
+        args.out.display(),
+        dataset.samples.len(),
+        config.protocol,
+        config.cameras.len(),
+        config.stride,
+        config.noise_fraction,
+        config.seed,
+        start.elapsed().as_secs_f64()
+    );
+    println!(
+        "files: {} read, {} skipped; frames: {} read, {} degenerate dropped, {} used after stride",
+        summary.files_read,
+        summary.skipped.len(),
+        summary.frames,
+        summary.degenerate_frames,
+        dataset.samples.len() / config.cameras.len().max(1)
+    );
+    let mut clips_per_subject: BTreeMap<&str, usize> = BTreeMap::new();
+    for c in &dataset.header.clips {
+        *clips_per_subject.entry(c.subject.as_str()).or_default() += 1;
+    }
+    println!("subjects ({}):", subjects.len());
+    for (s, n) in &subjects {
+        println!(
+            "  {s:>6}: {:>3} clips, {n:>7} samples",
+            clips_per_subject.get(s.as_str()).copied().unwrap_or(0)
+        );
+    }
+    println!("samples per camera:");
+    for c in dataset.samples_per_camera() {
+        if let Some(v) = dataset.header.cameras.get(c.label) {
+            println!(
+                "  {} {:<6} {:<5} {:>8}",
+                v.label_text(),
+                v.level.name(),
+                v.side.name(),
+                c.samples
+            );
+        }
+    }
+    if warnings > 0 {
+        println!("{warnings} warning(s) above");
+    }
+    Ok(())
+}
