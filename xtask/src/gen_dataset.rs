@@ -5,8 +5,8 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use camloc_dataset::{
-    GenerateConfig, Protocol, default_cmu_folder, default_test_subjects, generate,
-    load_mocap_folders,
+    Dataset, GenerateConfig, MocapSummary, PoseSequence, Protocol, default_cmu_folder,
+    default_test_subjects, generate, load_mocap_folders,
 };
 use camloc_geometry::CameraSet;
 
@@ -86,21 +86,16 @@ pub fn parse_sphere(s: &str) -> Result<CameraSet, String> {
     CameraSet::sphere(n, &elevations).map_err(|e| e.to_string())
 }
 
-/// Runs `gen-dataset`.
-pub fn run(args: &Args) -> Result<(), String> {
-    let start = Instant::now();
-    for out in std::iter::once(&args.out).chain(&args.test_out) {
-        if out.exists() && !args.force {
-            return Err(format!(
-                "{}: already exists (pass --force to overwrite it)",
-                out.display()
-            ));
-        }
-    }
-    let folders = if args.mocap.is_empty() {
+/// Reads the motion capture under `folders` (default: the CMU data beside the workspace)
+/// into canonical pose sequences, with progress and one warning per skipped file on stderr.
+/// Returns the sequences, what was read, and the number of warnings.
+pub fn load_sequences(
+    folders: &[PathBuf],
+) -> Result<(Vec<PoseSequence>, MocapSummary, usize), String> {
+    let folders = if folders.is_empty() {
         vec![default_cmu_folder(&crate::workspace_root())]
     } else {
-        args.mocap.clone()
+        folders.to_vec()
     };
     let mut warnings = 0usize;
     let mut reading = Progress::new("reading mocap");
@@ -113,19 +108,39 @@ pub fn run(args: &Args) -> Result<(), String> {
         &mut |done, total, name| reading.tick(done, total, name),
     )
     .map_err(|e| e.to_string())?;
+    Ok((sequences, summary, warnings))
+}
+
+/// Generates a dataset from loaded sequences, with progress on stderr.
+pub fn project(sequences: &[PoseSequence], config: &GenerateConfig) -> Result<Dataset, String> {
+    let projecting = std::sync::Mutex::new(Progress::new("projecting clips"));
+    generate(sequences, config, &|done, total| {
+        if let Ok(mut p) = projecting.lock() {
+            p.tick(done, total, "");
+        }
+    })
+    .map_err(|e| e.to_string())
+}
+
+/// Runs `gen-dataset`.
+pub fn run(args: &Args) -> Result<(), String> {
+    let start = Instant::now();
+    for out in std::iter::once(&args.out).chain(&args.test_out) {
+        if out.exists() && !args.force {
+            return Err(format!(
+                "{}: already exists (pass --force to overwrite it)",
+                out.display()
+            ));
+        }
+    }
+    let (sequences, summary, warnings) = load_sequences(&args.mocap)?;
     let mut config = GenerateConfig::new(args.protocol);
     config.cameras = args.sphere.clone();
     config.stride = args.stride;
     config.noise_fraction = args.noise.unwrap_or(args.protocol.default_noise_fraction());
     config.seed = args.seed;
     config.drop_landmarks = args.drop_landmarks;
-    let projecting = std::sync::Mutex::new(Progress::new("projecting clips"));
-    let dataset = generate(&sequences, &config, &|done, total| {
-        if let Ok(mut p) = projecting.lock() {
-            p.tick(done, total, "");
-        }
-    })
-    .map_err(|e| e.to_string())?;
+    let dataset = project(&sequences, &config)?;
     let dataset = match &args.test_out {
         None => dataset,
         Some(test_out) => {

@@ -1,6 +1,8 @@
 //! `cargo xtask`: camloc's project automation.
 //!
 //! * `cargo xtask gen-dataset`: project real mocap through a camera sphere into a dataset file.
+//! * `cargo xtask train-default`: train the default model embedded in the `camloc` binary.
+//! * `cargo xtask report`: measure everything and write docs/RESULTS.md.
 
 use std::process::ExitCode;
 
@@ -8,6 +10,8 @@ use clap::{Parser, Subcommand};
 
 mod gen_dataset;
 mod progress;
+mod report;
+mod train_default;
 
 /// camloc project automation.
 #[derive(Parser)]
@@ -21,12 +25,18 @@ struct Cli {
 enum Command {
     /// Generate a labelled dataset of 2D projections from motion capture (SPEC.md section 7).
     GenDataset(gen_dataset::Args),
+    /// Train the default model embedded in the camloc binary (fixtures/default-model.bin).
+    TrainDefault(train_default::Args),
+    /// Measure localization (and reconstruction) and write docs/RESULTS.md.
+    Report(report::Args),
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::GenDataset(args) => gen_dataset::run(&args),
+        Command::TrainDefault(args) => train_default::run(&args),
+        Command::Report(args) => report::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -5,7 +5,7 @@ use std::collections::HashMap;
 use camloc_skeleton::{Landmark, PartialPose2};
 
 use crate::error::{KeypointError, Location};
-use crate::record::{KeypointRecord, finish};
+use crate::record::{KeypointRecord, derive_torso, finish};
 use crate::{Invisible, ReadOptions};
 
 /// The 14 LSP joints and the camloc landmark each one becomes (`head_top` is read as the head;
@@ -141,12 +141,30 @@ pub(crate) fn parse(
         .into_iter()
         .map(|image| {
             let mut pose = PartialPose2::empty();
+            let mut annotated = PartialPose2::empty();
             for ((_, landmark), joint) in LSP_JOINTS.iter().zip(&image.joints) {
                 let kept = joint.filter(|j| j.visible || options.lsp.invisible == Invisible::Use);
                 pose.points[landmark.index()] = kept.map(|j| j.point);
+                annotated.points[landmark.index()] = joint.map(|j| j.point);
+            }
+            // The torso is the unit of scale and LSP annotates hidden joints too: a pelvis or
+            // neck that the visible joints cannot give comes from the annotated (invisible)
+            // hips, shoulders or neck, and is recorded as derived.
+            let mut derived = Vec::new();
+            if options.derive_torso {
+                derive_torso(&mut annotated);
+                let mut visible_only = pose;
+                derive_torso(&mut visible_only);
+                for torso in [Landmark::Pelvis, Landmark::Neck] {
+                    let t = torso.index();
+                    if visible_only.points[t].is_none() && annotated.points[t].is_some() {
+                        pose.points[t] = annotated.points[t];
+                        derived.push(torso);
+                    }
+                }
             }
             let source = format!("{file}: {}", Location::Line(image.first_line));
-            finish(image.name.to_owned(), pose, Vec::new(), source, options)
+            finish(image.name.to_owned(), pose, derived, source, options)
         })
         .collect())
 }

@@ -41,6 +41,7 @@ mod config;
 mod cv;
 mod data;
 mod error;
+mod hessian;
 mod model;
 pub mod newton;
 mod persist;

@@ -22,9 +22,9 @@
 //! needed: with `U` the `n x D(D+1)/2` matrix of products `x_ia x_ib` (`a <= b`) and `W`
 //! the `n x K(K-1)/2` matrix of weights `p_ij p_ik`, all packed blocks are the single
 //! product `W^T U`. It is accumulated over chunks of rows (`U` is never stored whole)
-//! with faer's GEMM, one worker thread per core, each with its own buffers allocated once
-//! per fit. One-vs-rest uses the `K` weights `sigma(z_k)(1 - sigma(z_k))` instead and a
-//! block-diagonal Hessian.
+//! with faer's GEMM on every core, with buffers allocated once per fit and a schedule that
+//! keeps the result bit-for-bit reproducible. One-vs-rest uses the `K` weights
+//! `sigma(z_k)(1 - sigma(z_k))` instead and a block-diagonal Hessian.
 //!
 //! Actual multiply-adds per Hessian: `n * D(D+1)/2 * Q` with `Q = K(K-1)/2` (multinomial)
 //! or `K` (one-vs-rest); see [`NewtonProblem::hessian_flops`].
@@ -49,7 +49,8 @@ use faer::{Accum, MatMut, MatRef, Par};
 use rayon::prelude::*;
 
 use crate::data::check_labels;
-use crate::softmax::{log_sum_exp, sigmoid, sigmoid_curvature, softmax_in_place, softplus};
+use crate::hessian::PackedHessian;
+use crate::softmax::{log_sum_exp, sigmoid, softmax_in_place, softplus};
 use crate::standardise::Standardiser;
 use crate::{Features, LearningError, LogisticModel, LogisticRegression, Mode};
 
@@ -59,8 +60,6 @@ const ARMIJO_C1: f64 = 1e-4;
 const MAX_HALVINGS: usize = 50;
 /// Rows per task in the parallel passes over samples (probabilities, losses).
 const ROWS_PER_TASK: usize = 2048;
-/// Rows per chunk in the Hessian assembly (`U` chunk is this many rows by `D(D+1)/2`).
-const HESSIAN_CHUNK_ROWS: usize = 256;
 /// First diagonal damping, relative to the largest diagonal entry, if Cholesky fails.
 const FIRST_DAMPING: f64 = 1e-10;
 /// Number of damping attempts (each 100 times the previous one) before giving up.
@@ -101,21 +100,6 @@ pub struct FitReport {
     pub converged: bool,
     /// Why the iteration stopped.
     pub termination: Termination,
-}
-
-/// Per-worker buffers of the Hessian assembly, allocated once per fit.
-#[derive(Debug)]
-struct HessianWorker {
-    /// First row (sample) handled by this worker.
-    first_row: usize,
-    /// One past the last row handled by this worker.
-    end_row: usize,
-    /// `chunk x T` column-major products `x_ia x_ib`.
-    products: Vec<f64>,
-    /// `chunk x Q` column-major sample weights.
-    weights: Vec<f64>,
-    /// `Q x T` column-major accumulated packed blocks.
-    accumulator: Vec<f64>,
 }
 
 /// The state of a Newton fit: data, parameters and every work buffer.
@@ -164,14 +148,8 @@ pub struct NewtonProblem {
     class_steps: Vec<f64>,
     /// `tasks x blocks` partial loss sums of the parallel row passes.
     partial_losses: Vec<f64>,
-    /// Class pairs `(j, k)` whose weight columns form `W` (`j < k`, or `j == k` for
-    /// one-vs-rest).
-    weight_pairs: Vec<(usize, usize)>,
-    /// Feature pairs `(a, b)`, `a <= b`, whose products form `U`.
-    feature_pairs: Vec<(usize, usize)>,
-    workers: Vec<HessianWorker>,
-    /// `Q x T` sum of the workers' accumulators.
-    packed: Vec<f64>,
+    /// Packed Hessian blocks and their work buffers.
+    packed: PackedHessian,
     iteration: usize,
 }
 
@@ -228,29 +206,6 @@ impl NewtonProblem {
                 design[a * n + i] = Standardiser::apply(m, s, v);
             }
         }
-        let weight_pairs: Vec<(usize, usize)> = match config.mode {
-            Mode::Multinomial => (0..k)
-                .flat_map(|j| (j + 1..k).map(move |l| (j, l)))
-                .collect(),
-            Mode::OneVsRest => (0..k).map(|j| (j, j)).collect(),
-        };
-        let feature_pairs: Vec<(usize, usize)> = (0..dim)
-            .flat_map(|a| (a..dim).map(move |b| (a, b)))
-            .collect();
-        let q = weight_pairs.len();
-        let t = feature_pairs.len();
-        let n_workers = rayon::current_num_threads().clamp(1, n.div_ceil(HESSIAN_CHUNK_ROWS));
-        let rows_per_worker = n.div_ceil(n_workers);
-        let chunk = HESSIAN_CHUNK_ROWS.min(rows_per_worker);
-        let workers = (0..n_workers)
-            .map(|w| HessianWorker {
-                first_row: (w * rows_per_worker).min(n),
-                end_row: ((w + 1) * rows_per_worker).min(n),
-                products: vec![0.0; chunk * t],
-                weights: vec![0.0; chunk * q],
-                accumulator: vec![0.0; q * t],
-            })
-            .collect();
         let n_blocks = match config.mode {
             Mode::Multinomial => 1,
             Mode::OneVsRest => k,
@@ -290,10 +245,7 @@ impl NewtonProblem {
             block_done: vec![false; n_blocks],
             class_steps: vec![0.0; k],
             partial_losses: vec![0.0; n.div_ceil(ROWS_PER_TASK) * n_blocks],
-            weight_pairs,
-            feature_pairs,
-            workers,
-            packed: vec![0.0; q * t],
+            packed: PackedHessian::new(n, dim, k, config.mode),
             iteration: 0,
         };
         problem.refresh_from_parameters();
@@ -370,7 +322,7 @@ impl NewtonProblem {
     /// `2 n T Q` with `T = D(D+1)/2` (packed symmetric blocks) and `Q = K(K-1)/2`
     /// (multinomial) or `K` (one-vs-rest) weight columns.
     pub fn hessian_flops(&self) -> f64 {
-        2.0 * self.n_samples as f64 * self.feature_pairs.len() as f64 * self.weight_pairs.len() as f64
+        self.packed.flops(self.n_samples)
     }
 
     /// Floating-point operations of the textbook assembly of the upper blocks,
@@ -502,64 +454,12 @@ impl NewtonProblem {
     /// [`hessian`](Self::hessian). This is the dominant cost of an iteration
     /// ([`hessian_flops`](Self::hessian_flops) flops).
     pub fn assemble_hessian(&mut self) {
-        let n = self.n_samples;
-        let k = self.n_classes;
-        let mode = self.mode;
-        let x = &self.x;
-        let logits = &self.logits;
-        let probabilities = &self.probabilities;
-        let weight_pairs = &self.weight_pairs;
-        let feature_pairs = &self.feature_pairs;
-        let q = weight_pairs.len();
-        let t = feature_pairs.len();
-        self.workers.par_iter_mut().for_each(|worker| {
-            worker.accumulator.fill(0.0);
-            let chunk_capacity = worker.weights.len() / q.max(1);
-            let mut start = worker.first_row;
-            while start < worker.end_row {
-                let rows = chunk_capacity.min(worker.end_row - start);
-                let weights = &mut worker.weights[..rows * q];
-                let rows_p = &probabilities[start * k..(start + rows) * k];
-                let rows_z = &logits[start * k..(start + rows) * k];
-                for (column, &(j, l)) in weights.chunks_exact_mut(rows).zip(weight_pairs) {
-                    match mode {
-                        Mode::Multinomial => {
-                            for (w, p) in column.iter_mut().zip(rows_p.chunks_exact(k)) {
-                                *w = p[j] * p[l];
-                            }
-                        }
-                        Mode::OneVsRest => {
-                            for (w, z) in column.iter_mut().zip(rows_z.chunks_exact(k)) {
-                                *w = sigmoid_curvature(z[j]);
-                            }
-                        }
-                    }
-                }
-                let products = &mut worker.products[..rows * t];
-                for (column, &(a, b)) in products.chunks_exact_mut(rows).zip(feature_pairs) {
-                    let xa = &x[a * n + start..a * n + start + rows];
-                    let xb = &x[b * n + start..b * n + start + rows];
-                    for ((u, &va), &vb) in column.iter_mut().zip(xa).zip(xb) {
-                        *u = va * vb;
-                    }
-                }
-                matmul(
-                    MatMut::from_column_major_slice_mut(&mut worker.accumulator, q, t),
-                    Accum::Add,
-                    MatRef::from_column_major_slice(weights, rows, q).transpose(),
-                    MatRef::from_column_major_slice(products, rows, t),
-                    1.0,
-                    Par::Seq,
-                );
-                start += rows;
-            }
-        });
-        self.packed.fill(0.0);
-        for worker in &self.workers {
-            for (s, &v) in self.packed.iter_mut().zip(&worker.accumulator) {
-                *s += v;
-            }
-        }
+        let per_sample = match self.mode {
+            Mode::Multinomial => &self.probabilities,
+            Mode::OneVsRest => &self.logits,
+        };
+        self.packed
+            .accumulate(&self.x, self.n_samples, self.n_classes, self.mode, per_sample);
         self.unpack_hessian();
     }
 
@@ -821,13 +721,17 @@ impl NewtonProblem {
     fn unpack_hessian(&mut self) {
         let dim = self.dim;
         let p = self.theta.len();
-        let q = self.weight_pairs.len();
+        let class_pairs = &self.packed.class_pairs;
         let h = &mut self.hessian;
         h.fill(0.0);
-        // Accumulate the upper triangle of every block (a <= b within blocks, j <= k across).
-        for (ti, &(a, b)) in self.feature_pairs.iter().enumerate() {
-            let column = &self.packed[ti * q..(ti + 1) * q];
-            for (&g, &(j, l)) in column.iter().zip(&self.weight_pairs) {
+        // Accumulate the upper triangle of every block (a <= b within blocks, j <= l across).
+        for (&(a, b), column) in self
+            .packed
+            .feature_pairs
+            .iter()
+            .zip(self.packed.packed.chunks_exact(class_pairs.len().max(1)))
+        {
+            for (&g, &(j, l)) in column.iter().zip(class_pairs) {
                 if j == l {
                     h[(j * dim + b) * p + j * dim + a] += g;
                 } else {

@@ -47,7 +47,7 @@ impl ModeKind {
         ModeKind::Hybrid,
     ];
 
-    /// Lower-case name, as [`CameraMode::name`].
+    /// Lower-case name (`opt`, `classified`, `oracle`, `hybrid`).
     pub fn name(self) -> &'static str {
         match self {
             ModeKind::Opt => "opt",

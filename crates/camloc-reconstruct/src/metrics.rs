@@ -3,7 +3,9 @@
 use camloc_skeleton::{NUM_LANDMARKS, Pose2, Pose3};
 use nalgebra::{Matrix3, SVD, Vector3};
 
-use crate::{ReconstructError, Reconstruction, is_positive, is_positive_finite};
+use crate::{
+    ReconstructError, Reconstruction, check_finite_landmarks, is_positive, is_positive_finite,
+};
 
 /// `estimate` mapped onto `truth` by the similarity transform (scale, proper rotation with
 /// det +1, translation) that minimises the summed squared joint distances (Umeyama 1991 with
@@ -140,15 +142,7 @@ pub fn rms_error_in_torsos(pose2: &Pose2, recon: &Reconstruction) -> Result<f64,
 
 /// Eq. 6: `|L - projection|_2` over the 30 coordinates, image units.
 fn residual_norm(pose2: &Pose2, recon: &Reconstruction) -> Result<f64, ReconstructError> {
-    if let Some(landmark) = camloc_skeleton::Landmark::ALL
-        .into_iter()
-        .find(|l| !pose2.get(*l).iter().all(|c| c.is_finite()))
-    {
-        return Err(ReconstructError::NonFiniteInput {
-            landmark: landmark.index(),
-            name: landmark.name(),
-        });
-    }
+    check_finite_landmarks(pose2)?;
     Ok(recon
         .camera
         .squared_error(&recon.pose.points, &pose2.points)?

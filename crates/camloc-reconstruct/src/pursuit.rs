@@ -2,13 +2,15 @@
 //! with the camera modes of SPEC.md section 6.
 
 use camloc_geometry::{GeometryError, Matrix3, Vector3, WeakPerspective, check_rotation};
-use camloc_skeleton::{Landmark, NUM_LANDMARKS, Pose2, Pose3};
+use camloc_skeleton::{NUM_LANDMARKS, Pose2, Pose3};
 use nalgebra::{DMatrix, DVector};
 use serde::{Deserialize, Serialize};
 
 use crate::basis::{LIMB_DIM, POSE_DIM, limb_vectors, vector_to_pose};
 use crate::lsq::constrained_least_squares;
-use crate::{PoseBasis, ReconstructError, is_positive, is_positive_finite};
+use crate::{
+    ModeKind, PoseBasis, ReconstructError, check_finite_landmarks, is_positive, is_positive_finite,
+};
 
 /// Number of image coordinates of a pose (15 landmarks x 2).
 const IMAGE_DIM: usize = 2 * NUM_LANDMARKS;
@@ -49,7 +51,7 @@ pub struct ReconstructConfig {
 
 impl Default for ReconstructConfig {
     /// `max_basis` 12 with the training-average length target and depth reflection on.
-    /// Measured on held-out CMU subjects (`examples/cmu_modes.rs`), `max_basis` from 8 to 16
+    /// Measured on held-out CMU subjects (`examples/compare_modes.rs`), `max_basis` from 8 to 16
     /// changes the mean MPJPE by less than 3 mm, and larger values overfit the 2D noise; the
     /// [`LengthTarget::Mean`] target is 6-16 mm worse there. The alternation and
     /// stopping tolerances are unit-free (the 2D input is normalised internally).
@@ -58,7 +60,7 @@ impl Default for ReconstructConfig {
             max_basis: 12,
             length_target: LengthTarget::TrainingAverage,
             max_alternations: 30,
-            alternation_tolerance: 1e-6,
+            alternation_tolerance: 1e-4,
             min_relative_decrease: 1e-3,
             try_depth_reflection: true,
         }
@@ -88,14 +90,19 @@ pub enum CameraMode {
 }
 
 impl CameraMode {
+    /// The mode without its rotation.
+    pub fn kind(&self) -> ModeKind {
+        match self {
+            CameraMode::Opt => ModeKind::Opt,
+            CameraMode::Classified(_) => ModeKind::Classified,
+            CameraMode::Oracle(_) => ModeKind::Oracle,
+            CameraMode::Hybrid(_) => ModeKind::Hybrid,
+        }
+    }
+
     /// Short lower-case name (`opt`, `classified`, `oracle`, `hybrid`).
     pub fn name(&self) -> &'static str {
-        match self {
-            CameraMode::Opt => "opt",
-            CameraMode::Classified(_) => "classified",
-            CameraMode::Oracle(_) => "oracle",
-            CameraMode::Hybrid(_) => "hybrid",
-        }
+        self.kind().name()
     }
 }
 
@@ -171,14 +178,7 @@ struct Observation {
 
 impl Observation {
     fn new(pose: &Pose2) -> Result<Observation, ReconstructError> {
-        for landmark in Landmark::ALL {
-            if !pose.get(landmark).iter().all(|c| c.is_finite()) {
-                return Err(ReconstructError::NonFiniteInput {
-                    landmark: landmark.index(),
-                    name: landmark.name(),
-                });
-            }
-        }
+        check_finite_landmarks(pose)?;
         let n = NUM_LANDMARKS as f64;
         let centroid = pose
             .points
@@ -236,8 +236,8 @@ struct Fit {
     iterations: usize,
 }
 
-/// The result of [`Reconstructor::solve`].
-struct Outcome {
+/// The result of [`Reconstructor::solve`]: the winning hypothesis.
+struct Solved {
     fit: Fit,
     reflected: bool,
     iterations: usize,
@@ -387,10 +387,10 @@ impl Reconstructor {
                 } else {
                     refined
                 };
-                Outcome { iterations, ..best }
+                Solved { iterations, ..best }
             }
         };
-        let Outcome {
+        let Solved {
             fit,
             reflected,
             iterations,
@@ -415,7 +415,7 @@ impl Reconstructor {
         start: CameraUpdate,
         update: CameraUpdate,
         refine: bool,
-    ) -> Result<Outcome, ReconstructError> {
+    ) -> Result<Solved, ReconstructError> {
         let mean = self.points(&[], &[]);
         let camera = start.fit(&mean, &obs.points)?;
         let initial = Fit {
@@ -446,13 +446,13 @@ impl Reconstructor {
             Some(other) => {
                 let iterations = primary.iterations + other.iterations;
                 let reflected = other.error < primary.error;
-                Outcome {
+                Solved {
                     fit: if reflected { other } else { primary },
                     reflected,
                     iterations,
                 }
             }
-            None => Outcome {
+            None => Solved {
                 iterations: primary.iterations,
                 fit: primary,
                 reflected: false,

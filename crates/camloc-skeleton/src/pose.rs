@@ -278,6 +278,16 @@ impl PartialPose2 {
             .filter(|l| self.points[l.index()].is_none())
     }
 
+    /// The image mirrored horizontally (`u -> -u`) with left and right labels swapped (see
+    /// [`Pose2::mirrored`]); missing landmarks stay missing.
+    pub fn mirrored(&self) -> PartialPose2 {
+        let mut points = [None; NUM_LANDMARKS];
+        for (i, p) in self.points.iter().enumerate() {
+            points[mirror_landmark_index(i)] = p.map(|q| [-q[0], q[1]]);
+        }
+        PartialPose2 { points }
+    }
+
     /// Bit `i` set when landmark `i` is present.
     pub fn present_mask(&self) -> u16 {
         self.points

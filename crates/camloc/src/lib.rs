@@ -22,6 +22,7 @@
 mod error;
 mod evaluate;
 mod localizer;
+mod select;
 pub mod svg;
 
 pub use camloc_dataset as dataset;
@@ -37,6 +38,7 @@ pub use camloc_features::Descriptor;
 pub use camloc_geometry::{CameraSet, Level, Side};
 pub use camloc_skeleton::{Landmark, PartialPose2, Pose2, Pose3};
 pub use error::CamlocError;
+pub use select::{DescriptorCv, cross_validate};
 pub use evaluate::{CameraAccuracy, Evaluation, LevelAccuracy, evaluate};
 /// The error for an output file that exists and may not be overwritten.
 pub fn store_exists(path: &std::path::Path) -> CamlocError {
@@ -46,5 +48,6 @@ pub fn store_exists(path: &std::path::Path) -> CamlocError {
 }
 
 pub use localizer::{
-    CameraLocalizer, LandmarkDropout, Localization, MODEL_FILE, TrainOptions, TrainingInfo,
+    CameraLocalizer, DEFAULT_LAMBDA, LandmarkDropout, Localization, MODEL_FILE, TrainOptions,
+    TrainingInfo,
 };

@@ -48,6 +48,10 @@ impl Default for LandmarkDropout {
     }
 }
 
+/// Default ridge weight lambda of the localizer (on the sum of per-sample losses), chosen by
+/// cross-validation grouped by subject on the CMU data (docs/RESULTS.md).
+pub const DEFAULT_LAMBDA: f64 = 30.0;
+
 /// How to train a [`CameraLocalizer`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct TrainOptions {
@@ -60,11 +64,12 @@ pub struct TrainOptions {
 }
 
 impl Default for TrainOptions {
-    /// Landmark descriptor, multinomial regression with lambda 1e-2, dropout with one copy.
+    /// Landmark descriptor, multinomial regression with [`DEFAULT_LAMBDA`], dropout with one
+    /// copy.
     fn default() -> Self {
         TrainOptions {
             descriptor: Descriptor::Landmarks,
-            regression: LogisticRegression::default().with_lambda(1e-2),
+            regression: LogisticRegression::default().with_lambda(DEFAULT_LAMBDA),
             dropout: Some(LandmarkDropout::default()),
         }
     }
@@ -388,7 +393,7 @@ pub(crate) fn extract_rows(
 }
 
 /// Column means over defined values (0 where a column is never defined).
-fn column_means(x: &[f64], undefined: &[bool], d: usize) -> Vec<f64> {
+pub(crate) fn column_means(x: &[f64], undefined: &[bool], d: usize) -> Vec<f64> {
     let mut sums = vec![0.0; d];
     let mut counts = vec![0usize; d];
     for (row, flags) in x.chunks_exact(d).zip(undefined.chunks_exact(d)) {

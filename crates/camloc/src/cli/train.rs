@@ -25,7 +25,7 @@ pub struct Args {
     pub descriptor: String,
     /// Ridge weight lambda of eq. 11 (on the sum of the per-sample losses; scikit-learn's
     /// C = 1 / (2 lambda)).
-    #[arg(long, default_value_t = 1e-2, value_name = "L")]
+    #[arg(long, default_value_t = camloc::DEFAULT_LAMBDA, value_name = "L")]
     pub lambda: f64,
     /// Classifier: multinomial softmax (eq. 8) or one-vs-rest (eq. 9).
     #[arg(long, value_enum, default_value = "multinomial")]
