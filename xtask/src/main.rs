@@ -8,6 +8,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+mod compare_sklearn;
 mod gen_dataset;
 mod progress;
 mod report;
@@ -29,6 +30,8 @@ enum Command {
     TrainDefault(train_default::Args),
     /// Measure localization (and reconstruction) and write docs/RESULTS.md.
     Report(report::Args),
+    /// Compare camloc's Newton solver with scikit-learn on the same design matrix.
+    CompareSklearn(compare_sklearn::Args),
 }
 
 fn main() -> ExitCode {
@@ -37,6 +40,7 @@ fn main() -> ExitCode {
         Command::GenDataset(args) => gen_dataset::run(&args),
         Command::TrainDefault(args) => train_default::run(&args),
         Command::Report(args) => report::run(&args),
+        Command::CompareSklearn(args) => compare_sklearn::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

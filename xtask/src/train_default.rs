@@ -1,9 +1,11 @@
-//! `cargo xtask train-default`: the default model embedded in the `camloc` binary.
+//! `cargo xtask train-default`: the default model and reconstruction basis embedded in the
+//! `camloc` binary.
 
 use std::path::PathBuf;
 use std::time::Instant;
 
 use camloc::dataset::{GenerateConfig, Protocol};
+use camloc::reconstruct::{BasisConfig, PoseBasis};
 use camloc::{CameraLocalizer, TrainOptions};
 
 use crate::gen_dataset::{load_sequences, project};
@@ -22,6 +24,9 @@ pub struct Args {
     /// Where to write the model.
     #[arg(long, default_value = "fixtures/default-model.bin", value_name = "FILE")]
     pub out: PathBuf,
+    /// Where to write the reconstruction basis.
+    #[arg(long, default_value = "fixtures/default-basis.bin", value_name = "FILE")]
+    pub basis_out: PathBuf,
     /// Overwrite the output if it exists.
     #[arg(long)]
     pub force: bool,
@@ -48,11 +53,14 @@ pub fn default_dataset_config() -> GenerateConfig {
 pub fn run(args: &Args) -> Result<(), String> {
     let start = Instant::now();
     let out = crate::workspace_root().join(&args.out);
-    if out.exists() && !args.force {
-        return Err(format!(
-            "{}: already exists (pass --force to replace the default model)",
-            out.display()
-        ));
+    let basis_out = crate::workspace_root().join(&args.basis_out);
+    for path in [&out, &basis_out] {
+        if path.exists() && !args.force {
+            return Err(format!(
+                "{}: already exists (pass --force to replace the defaults)",
+                path.display()
+            ));
+        }
     }
     let (sequences, _, _) = load_sequences(&args.mocap)?;
     let dataset = project(&sequences, &default_dataset_config())?;
@@ -81,6 +89,16 @@ pub fn run(args: &Args) -> Result<(), String> {
         options.regression.lambda,
         dataset.samples.len(),
         start.elapsed().as_secs_f64()
+    );
+    let poses = dataset.unique_poses();
+    let basis = PoseBasis::fit(&poses, &BasisConfig::default()).map_err(|e| e.to_string())?;
+    basis.save(&basis_out, args.force).map_err(|e| e.to_string())?;
+    println!(
+        "wrote {} ({} components explaining {:.1}% of the variance of {} poses)",
+        basis_out.display(),
+        basis.n_components(),
+        100.0 * basis.explained_variance_ratio(),
+        poses.len()
     );
     println!("rebuild the binary (cargo build --release -p camloc) to embed it");
     Ok(())

@@ -228,6 +228,17 @@ impl Dataset {
             .collect()
     }
 
+    /// The distinct canonical 3D poses of the dataset (one per clip and frame, in sample
+    /// order): what a reconstruction basis is built from.
+    pub fn unique_poses(&self) -> Vec<Pose3> {
+        let mut seen = std::collections::HashSet::new();
+        self.samples
+            .iter()
+            .filter(|s| seen.insert((s.clip, s.frame)))
+            .map(|s| s.pose3)
+            .collect()
+    }
+
     /// Splits by subject: samples whose subject is in `test_subjects` go to the second dataset,
     /// all others to the first. Both keep the full header. Never splits a subject.
     pub fn split_by_subjects(&self, test_subjects: &[String]) -> (Dataset, Dataset) {

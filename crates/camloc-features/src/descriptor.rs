@@ -41,7 +41,7 @@ pub enum FeatureError {
         landmark: &'static str,
     },
     /// Unknown descriptor name.
-    #[error("unknown descriptor '{0}' (expected 'landmarks' or 'paper')")]
+    #[error("unknown descriptor '{0}' (expected 'landmarks', 'joints' or 'paper')")]
     UnknownName(String),
 }
 
@@ -64,21 +64,33 @@ impl Default for PaperConfig {
     }
 }
 
-/// A 2D pose descriptor, chosen by name (`landmarks`, the default, or `paper`).
+/// A 2D pose descriptor, chosen by name: `joints` (the default), `landmarks` or `paper`.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub enum Descriptor {
-    /// Landmark-aware descriptor (default): torso-normalised coordinates of the 14 non-pelvis
+    /// Landmark-aware descriptor: torso-normalised coordinates of the 14 non-pelvis
     /// landmarks (28 values), the unit direction of every limb (28), and the 13 non-torso limb
     /// lengths relative to the torso (13): 69 values.
     Landmarks,
     /// The paper's Algorithm 1: 13 Gaussian-smoothed relative lengths, then the shape-context
     /// histogram (counts of the 14 non-pelvis landmarks per cell).
     Paper(PaperConfig),
+    /// Convention-robust descriptor: like [`Descriptor::Landmarks`] but built only on the 12
+    /// limb joints (hips, knees, ankles, shoulders, elbows, wrists), which every keypoint
+    /// convention places alike. The frame is the mid-hip point (origin) and the mid-shoulder
+    /// point (unit length) instead of the pelvis and neck, whose placement differs between
+    /// mocap skeletons and photo annotations. Values: 12 joint coordinates (24), directions
+    /// (20) and relative lengths (10) of the 10 segments hip-hip, shoulder-shoulder and the
+    /// 8 limb bones: 54 values. Falls back to the pelvis (neck) when a hip (shoulder) is
+    /// missing.
+    Joints,
 }
 
 impl Default for Descriptor {
+    /// [`Descriptor::Joints`]: as accurate as [`Descriptor::Landmarks`] on held-out mocap
+    /// subjects and robust to how photo annotations place the neck and pelvis
+    /// (docs/RESULTS.md).
     fn default() -> Self {
-        Descriptor::Landmarks
+        Descriptor::Joints
     }
 }
 
@@ -86,29 +98,60 @@ impl Default for Descriptor {
 const COORDS: usize = 2 * (NUM_LANDMARKS - 1);
 const DIRECTIONS: usize = 2 * NUM_LIMBS;
 const LENGTHS: usize = NUM_LIMBS - 1;
+/// The 12 limb joints of [`Descriptor::Joints`].
+const JOINTS: [Landmark; 12] = [
+    Landmark::LeftHip,
+    Landmark::LeftKnee,
+    Landmark::LeftAnkle,
+    Landmark::RightHip,
+    Landmark::RightKnee,
+    Landmark::RightAnkle,
+    Landmark::LeftShoulder,
+    Landmark::LeftElbow,
+    Landmark::LeftWrist,
+    Landmark::RightShoulder,
+    Landmark::RightElbow,
+    Landmark::RightWrist,
+];
+/// The 10 segments of [`Descriptor::Joints`].
+const SEGMENTS: [(Landmark, Landmark); 10] = [
+    (Landmark::LeftHip, Landmark::RightHip),
+    (Landmark::LeftHip, Landmark::LeftKnee),
+    (Landmark::LeftKnee, Landmark::LeftAnkle),
+    (Landmark::RightHip, Landmark::RightKnee),
+    (Landmark::RightKnee, Landmark::RightAnkle),
+    (Landmark::LeftShoulder, Landmark::RightShoulder),
+    (Landmark::LeftShoulder, Landmark::LeftElbow),
+    (Landmark::LeftElbow, Landmark::LeftWrist),
+    (Landmark::RightShoulder, Landmark::RightElbow),
+    (Landmark::RightElbow, Landmark::RightWrist),
+];
 /// Mask with every landmark present.
 const ALL_PRESENT: u16 = (1 << NUM_LANDMARKS) - 1;
 /// Values that can be flagged undefined: the landmark-aware descriptor's length bounds every
 /// descriptor's defined-by-landmark part (the histogram is never flagged).
 const MAX_LEN: usize = COORDS + DIRECTIONS + LENGTHS;
+const _: () = assert!(2 * JOINTS.len() + 3 * SEGMENTS.len() <= MAX_LEN);
 
 impl Descriptor {
-    /// The descriptor called `name`: `landmarks` or `paper` (with default settings).
+    /// The descriptor called `name`: `landmarks`, `joints` or `paper` (with default settings).
     ///
     /// # Errors
     /// [`FeatureError::UnknownName`].
     pub fn from_name(name: &str) -> Result<Descriptor, FeatureError> {
         match name {
             "landmarks" => Ok(Descriptor::Landmarks),
+            "joints" => Ok(Descriptor::Joints),
             "paper" => Ok(Descriptor::Paper(PaperConfig::default())),
             other => Err(FeatureError::UnknownName(other.to_string())),
         }
     }
 
-    /// Short name (`"landmarks"`, `"paper"`).
+    /// Short name (`"landmarks"`, `"joints"`, `"paper"`).
     pub fn name(&self) -> &'static str {
         match self {
             Descriptor::Landmarks => "landmarks",
+            Descriptor::Joints => "joints",
             Descriptor::Paper(_) => "paper",
         }
     }
@@ -117,6 +160,7 @@ impl Descriptor {
     pub fn len(&self) -> usize {
         match self {
             Descriptor::Landmarks => COORDS + DIRECTIONS + LENGTHS,
+            Descriptor::Joints => 2 * JOINTS.len() + 3 * SEGMENTS.len(),
             Descriptor::Paper(c) => LENGTHS + c.bins.len(),
         }
     }
@@ -165,7 +209,8 @@ impl Descriptor {
     /// landmarks.
     ///
     /// # Errors
-    /// [`FeatureError::MissingTorso`] when the pelvis or neck is missing, then as
+    /// [`FeatureError::MissingTorso`] when the pelvis or neck is missing (for
+    /// [`Descriptor::Joints`]: when it is missing and so is a hip or shoulder), then as
     /// [`Descriptor::extract_into`] (also for a wrong `undefined` length).
     pub fn extract_partial_into(
         &self,
@@ -173,16 +218,22 @@ impl Descriptor {
         out: &mut [f64],
         undefined: &mut [bool],
     ) -> Result<(), FeatureError> {
-        for torso in [Landmark::Pelvis, Landmark::Neck] {
-            if pose.points[torso.index()].is_none() {
+        let has = |l: Landmark| pose.points[l.index()].is_some();
+        for (torso, left, right) in [
+            (Landmark::Pelvis, Landmark::LeftHip, Landmark::RightHip),
+            (Landmark::Neck, Landmark::LeftShoulder, Landmark::RightShoulder),
+        ] {
+            let replaceable = matches!(self, Descriptor::Joints) && has(left) && has(right);
+            if !has(torso) && !replaceable {
                 return Err(FeatureError::MissingTorso {
                     landmark: torso.name(),
                 });
             }
         }
-        // Missing landmarks sit at the pelvis: every value they touch is overwritten below.
-        let pelvis = pose.points[0].unwrap_or([0.0, 0.0]);
-        let filled = Pose2::new(pose.points.map(|p| p.unwrap_or(pelvis)));
+        // Missing landmarks sit at the first present one: every value they touch is
+        // overwritten below.
+        let anchor = pose.points.iter().flatten().next().copied().unwrap_or([0.0, 0.0]);
+        let filled = Pose2::new(pose.points.map(|p| p.unwrap_or(anchor)));
         self.extract_masked(&filled, pose.present_mask(), out, Some(undefined))
     }
 
@@ -214,7 +265,10 @@ impl Descriptor {
             let (a, b) = LIMBS[limb];
             is_present(a) && is_present(b)
         };
-        let frame = TorsoFrame::new(pose)?;
+        let frame = match self {
+            Descriptor::Joints => TorsoFrame::from_joints(pose, &is_present)?,
+            _ => TorsoFrame::new(pose)?,
+        };
         // Indices of the values each part fills, to flag undefined ones.
         let mut flags: [bool; MAX_LEN] = [false; MAX_LEN];
         match self {
@@ -232,15 +286,7 @@ impl Descriptor {
                 }
                 for (limb, d) in directions.chunks_exact_mut(2).enumerate() {
                     let (a, b) = LIMBS[limb];
-                    let (p, q) = (pose.get(a), pose.get(b));
-                    let (du, dv) = (q[0] - p[0], q[1] - p[1]);
-                    let n = du.hypot(dv);
-                    // A zero-length limb has no direction: encode it as (0, 0).
-                    let (du, dv) = if n > frame.torso * 1e-12 {
-                        (du / n, dv / n)
-                    } else {
-                        (0.0, 0.0)
-                    };
+                    let [du, dv] = frame.direction(pose.get(a), pose.get(b));
                     d[0] = du;
                     d[1] = dv;
                     if !limb_present(limb) {
@@ -255,6 +301,36 @@ impl Descriptor {
                 {
                     *o = rl;
                     flags[COORDS + DIRECTIONS + k] = !limb_present(limb);
+                }
+            }
+            Descriptor::Joints => {
+                let (coords, rest) = out.split_at_mut(2 * JOINTS.len());
+                let (directions, lengths) = rest.split_at_mut(2 * SEGMENTS.len());
+                for (k, (c, joint)) in coords.chunks_exact_mut(2).zip(JOINTS).enumerate() {
+                    let [du, dv] = frame.offset(pose, joint.index());
+                    c[0] = du;
+                    c[1] = dv;
+                    if !is_present(joint) {
+                        flags[2 * k] = true;
+                        flags[2 * k + 1] = true;
+                    }
+                }
+                let base = 2 * JOINTS.len();
+                for (k, ((d, length), (a, b))) in directions
+                    .chunks_exact_mut(2)
+                    .zip(lengths.iter_mut())
+                    .zip(SEGMENTS)
+                    .enumerate()
+                {
+                    let [du, dv] = frame.direction(pose.get(a), pose.get(b));
+                    d[0] = du;
+                    d[1] = dv;
+                    *length = frame.relative(pose.get(a), pose.get(b));
+                    if !(is_present(a) && is_present(b)) {
+                        flags[base + 2 * k] = true;
+                        flags[base + 2 * k + 1] = true;
+                        flags[base + 2 * SEGMENTS.len() + k] = true;
+                    }
                 }
             }
             Descriptor::Paper(c) => {
@@ -318,22 +394,45 @@ impl Descriptor {
     }
 }
 
-/// The pelvis origin and torso unit of a pose.
+/// The origin and unit length of a descriptor's 2D frame.
 struct TorsoFrame {
     origin: [f64; 2],
     torso: f64,
 }
 
 impl TorsoFrame {
+    /// Pelvis origin, pelvis-to-neck unit.
     fn new(pose: &Pose2) -> Result<TorsoFrame, FeatureError> {
+        Self::checked(pose, pose.get(Landmark::Pelvis), pose.get(Landmark::Neck))
+    }
+
+    /// Mid-hip origin and mid-hip-to-mid-shoulder unit; the pelvis (neck) stands in when a
+    /// hip (shoulder) is missing.
+    fn from_joints(pose: &Pose2, is_present: &dyn Fn(Landmark) -> bool) -> Result<TorsoFrame, FeatureError> {
+        let mid_or = |a: Landmark, b: Landmark, fallback: Landmark| {
+            if is_present(a) && is_present(b) {
+                let (p, q) = (pose.get(a), pose.get(b));
+                [0.5 * (p[0] + q[0]), 0.5 * (p[1] + q[1])]
+            } else {
+                pose.get(fallback)
+            }
+        };
+        let origin = mid_or(Landmark::LeftHip, Landmark::RightHip, Landmark::Pelvis);
+        let top = mid_or(Landmark::LeftShoulder, Landmark::RightShoulder, Landmark::Neck);
+        Self::checked(pose, origin, top)
+    }
+
+    /// The frame with `origin` and unit `|top - origin|`, after checking that the pose is
+    /// finite and the unit is not degenerate.
+    fn checked(pose: &Pose2, origin: [f64; 2], top: [f64; 2]) -> Result<TorsoFrame, FeatureError> {
         for (i, p) in pose.points.iter().enumerate() {
             if !(p[0].is_finite() && p[1].is_finite()) {
                 return Err(FeatureError::NonFinite {
-                    landmark: camloc_skeleton::Landmark::ALL[i].name(),
+                    landmark: Landmark::ALL[i].name(),
                 });
             }
         }
-        let torso = pose.torso_length();
+        let torso = (top[0] - origin[0]).hypot(top[1] - origin[1]);
         let extent = pose
             .points
             .iter()
@@ -344,13 +443,27 @@ impl TorsoFrame {
                 length: if extent > 0.0 { torso / extent } else { 0.0 },
             });
         }
-        Ok(TorsoFrame {
-            origin: pose.points[0],
-            torso,
-        })
+        Ok(TorsoFrame { origin, torso })
     }
 
-    /// Offset of landmark `i` from the pelvis, in torso lengths.
+    /// Unit direction from `p` to `q`; `(0, 0)` for a (near) zero-length segment, which has
+    /// no direction.
+    fn direction(&self, p: [f64; 2], q: [f64; 2]) -> [f64; 2] {
+        let (du, dv) = (q[0] - p[0], q[1] - p[1]);
+        let n = du.hypot(dv);
+        if n > self.torso * 1e-12 {
+            [du / n, dv / n]
+        } else {
+            [0.0, 0.0]
+        }
+    }
+
+    /// Distance from `p` to `q` in torso units.
+    fn relative(&self, p: [f64; 2], q: [f64; 2]) -> f64 {
+        (q[0] - p[0]).hypot(q[1] - p[1]) / self.torso
+    }
+
+    /// Offset of landmark `i` from the origin, in torso lengths.
     fn offset(&self, pose: &Pose2, i: usize) -> [f64; 2] {
         let p = pose.points[i];
         [
@@ -364,7 +477,10 @@ impl TorsoFrame {
     fn relative_lengths<'a>(&'a self, pose: &'a Pose2) -> impl Iterator<Item = (usize, f64)> + 'a {
         (0..NUM_LIMBS)
             .filter(|&l| l != TORSO_LIMB)
-            .map(move |l| (l, pose.limb_length(l) / self.torso))
+            .map(move |l| {
+                let (a, b) = LIMBS[l];
+                (l, self.relative(pose.get(a), pose.get(b)))
+            })
     }
 }
 
@@ -393,9 +509,10 @@ mod tests {
         ])
     }
 
-    fn all() -> [Descriptor; 2] {
+    fn all() -> [Descriptor; 3] {
         [
             Descriptor::Landmarks,
+            Descriptor::Joints,
             Descriptor::Paper(PaperConfig::default()),
         ]
     }
@@ -463,7 +580,7 @@ mod tests {
             match d {
                 // The wrist ends 1 limb (forearm), the knee 2 (thigh, shin): 2 landmarks x 2
                 // coordinates, 3 limbs x 2 direction values, 3 lengths.
-                Descriptor::Landmarks => assert_eq!(flagged, 4 + 6 + 3),
+                Descriptor::Landmarks | Descriptor::Joints => assert_eq!(flagged, 4 + 6 + 3),
                 // 3 lengths; the histogram counts the 12 present non-pelvis landmarks.
                 Descriptor::Paper(_) => {
                     assert_eq!(flagged, 3);
@@ -473,11 +590,17 @@ mod tests {
             for (k, (a, b)) in complete.iter().zip(&out).enumerate() {
                 if undefined[k] {
                     assert_eq!(*b, 0.0);
-                } else if k < 13 || matches!(d, Descriptor::Landmarks) {
+                } else if k < 13 || !matches!(d, Descriptor::Paper(_)) {
                     assert!((a - b).abs() < 1e-12, "{} value {k}", d.name());
                 }
             }
             partial.points[Landmark::Neck.index()] = None;
+            if matches!(d, Descriptor::Joints) {
+                // The shoulders stand in for the neck: nothing changes.
+                d.extract_partial_into(&partial, &mut out, &mut undefined)
+                    .unwrap();
+                partial.points[Landmark::LeftShoulder.index()] = None;
+            }
             assert_eq!(
                 d.extract_partial_into(&partial, &mut out, &mut undefined),
                 Err(FeatureError::MissingTorso { landmark: "neck" })
@@ -487,8 +610,11 @@ mod tests {
 
     #[test]
     fn bad_input_is_an_error_not_nan() {
+        // Neck on the pelvis, and the shoulders on the hips (the joints descriptor's frame).
         let mut p = pose();
         p.points[7] = p.points[0];
+        p.points[9] = p.points[1];
+        p.points[12] = p.points[4];
         for d in all() {
             assert!(matches!(
                 d.extract(&p),

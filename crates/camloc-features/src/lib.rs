@@ -7,9 +7,17 @@
 //! * [`Descriptor::Paper`]: the paper's Algorithm 1 (SPEC.md section 4): the 13 non-torso limb
 //!   lengths relative to the torso through `exp(-rl^2 / (2 sigma^2))`, then a log-polar shape
 //!   context histogram of the 14 other landmarks centred on the pelvis.
-//! * [`Descriptor::Landmarks`] (the default): keeps which landmark is where: torso-normalised
-//!   coordinates of the 14 landmarks, the unit direction of each limb, and the raw relative
-//!   limb lengths.
+//! * [`Descriptor::Landmarks`]: keeps which landmark is where: torso-normalised coordinates of
+//!   the 14 landmarks, the unit direction of each limb, and the raw relative limb lengths.
+//! * [`Descriptor::Joints`] (the default): the same kind of values built only on the 12 limb
+//!   joints, in a frame from the mid-hip point to the mid-shoulder point. Mocap skeletons and
+//!   photo annotations place the pelvis and neck differently (CMU's neck sits below the
+//!   shoulder line, a photo annotator's above it); the limb joints they place alike, so this
+//!   descriptor transfers to real keypoints.
+//!
+//! Every descriptor except [`Descriptor::Joints`] uses the torso (pelvis to neck) as unit and
+//! the pelvis as origin (SPEC.md section 3); the joints descriptor departs from that on purpose,
+//! for the reason above.
 
 mod descriptor;
 mod shape_context;

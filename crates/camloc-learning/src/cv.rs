@@ -155,7 +155,11 @@ pub fn cross_validate_grouped<G: Hash + Eq>(
         .iter()
         .enumerate()
         .fold((0, f64::NEG_INFINITY), |(bi, bv), (i, s)| {
-            if s.mean_accuracy > bv { (i, s.mean_accuracy) } else { (bi, bv) }
+            if s.mean_accuracy > bv {
+                (i, s.mean_accuracy)
+            } else {
+                (bi, bv)
+            }
         })
         .0;
     Ok(CvReport {

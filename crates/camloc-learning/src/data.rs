@@ -65,7 +65,10 @@ impl<'a> Features<'a> {
     pub(crate) fn select_rows(&self, indices: &[usize]) -> Vec<f64> {
         let mut out = Vec::with_capacity(indices.len() * self.n_features);
         for &i in indices {
-            if let Some(row) = self.data.get(i * self.n_features..(i + 1) * self.n_features) {
+            if let Some(row) = self
+                .data
+                .get(i * self.n_features..(i + 1) * self.n_features)
+            {
                 out.extend_from_slice(row);
             }
         }

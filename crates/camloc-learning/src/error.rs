@@ -69,7 +69,9 @@ pub enum LearningError {
         reason: &'static str,
     },
     /// The Hessian could not be factorised even after damping.
-    #[error("Newton iteration {iteration}: Hessian not positive definite even with damping {damping:e}")]
+    #[error(
+        "Newton iteration {iteration}: Hessian not positive definite even with damping {damping:e}"
+    )]
     Singular {
         /// Newton iteration (1-based) at which it happened.
         iteration: usize,

@@ -325,7 +325,13 @@ impl LogisticModel {
         let mut partial = vec![0.0; n_blocks];
         for (row, &label) in x.rows().zip(y) {
             self.logits_unchecked(row, &mut logits);
-            row_loss(self.mode, label, self.n_classes, |c| logits[c], &mut partial);
+            row_loss(
+                self.mode,
+                label,
+                self.n_classes,
+                |c| logits[c],
+                &mut partial,
+            );
         }
         let ridge: f64 = self.weights.iter().map(|w| w * w).sum::<f64>() * self.lambda;
         Ok(partial.iter().sum::<f64>() + ridge)

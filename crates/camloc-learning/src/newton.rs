@@ -41,7 +41,9 @@
 //! identity are added (damping) until it succeeds.
 
 use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::linalg::cholesky::llt::factor::{LltRegularization, cholesky_in_place, cholesky_in_place_scratch};
+use faer::linalg::cholesky::llt::factor::{
+    LltRegularization, cholesky_in_place, cholesky_in_place_scratch,
+};
 use faer::linalg::cholesky::llt::solve::solve_in_place;
 use faer::linalg::matmul::matmul;
 use faer::prelude::{Reborrow, ReborrowMut};
@@ -318,7 +320,8 @@ impl NewtonProblem {
         Ok(())
     }
 
-    /// Floating-point operations of one Hessian assembly as actually computed:
+    /// Floating-point operations of one Hessian assembly as actually computed (in general;
+    /// when every feature weight is zero, as at the start, one Gram matrix suffices):
     /// `2 n T Q` with `T = D(D+1)/2` (packed symmetric blocks) and `Q = K(K-1)/2`
     /// (multinomial) or `K` (one-vs-rest) weight columns.
     pub fn hessian_flops(&self) -> f64 {
@@ -395,15 +398,7 @@ impl NewtonProblem {
                         }
                     }
                     row_loss(mode, y, k, |c| z[c], partial);
-                    p.copy_from_slice(z);
-                    match mode {
-                        Mode::Multinomial => softmax_in_place(p),
-                        Mode::OneVsRest => p.iter_mut().for_each(|v| *v = sigmoid(*v)),
-                    }
-                    r.copy_from_slice(p);
-                    if let Some(ry) = r.get_mut(y) {
-                        *ry -= 1.0;
-                    }
+                    residuals_of_row(mode, y, z, p, r);
                 }
             });
         self.finish_objectives();
@@ -458,8 +453,28 @@ impl NewtonProblem {
             Mode::Multinomial => &self.probabilities,
             Mode::OneVsRest => &self.logits,
         };
-        self.packed
-            .accumulate(&self.x, self.n_samples, self.n_classes, self.mode, per_sample);
+        let dim = self.dim;
+        let weights_are_zero = self
+            .theta
+            .chunks_exact(dim)
+            .all(|params| params[..dim - 1].iter().all(|&w| w == 0.0));
+        match per_sample.get(..self.n_classes) {
+            // Same logits for every sample (e.g. the starting point): one Gram matrix.
+            Some(shared) if weights_are_zero => self.packed.accumulate_uniform(
+                &self.x,
+                (self.n_samples, dim),
+                self.mode,
+                shared,
+                &mut self.factor[..dim * dim],
+            ),
+            _ => self.packed.accumulate(
+                &self.x,
+                self.n_samples,
+                self.n_classes,
+                self.mode,
+                per_sample,
+            ),
+        }
         self.unpack_hessian();
     }
 
@@ -600,7 +615,10 @@ impl NewtonProblem {
             .enumerate()
         {
             let dot: f64 = g.iter().zip(d).map(|(a, b)| a * b).sum();
-            if let Some(v) = self.directional_derivatives.get_mut(block_of_class(self.mode, class)) {
+            if let Some(v) = self
+                .directional_derivatives
+                .get_mut(block_of_class(self.mode, class))
+            {
                 *v += dot;
             }
         }
@@ -624,7 +642,11 @@ impl NewtonProblem {
                 .iter_mut()
                 .zip(self.block_done.iter_mut())
                 .zip(&self.trial_objectives)
-                .zip(self.block_objectives.iter().zip(&self.directional_derivatives))
+                .zip(
+                    self.block_objectives
+                        .iter()
+                        .zip(&self.directional_derivatives),
+                )
             {
                 if *done {
                     continue;
@@ -675,13 +697,7 @@ impl NewtonProblem {
             .for_each(|(((z, dz), labels), partial)| {
                 partial.fill(0.0);
                 for ((z, dz), &y) in z.chunks_exact(k).zip(dz.chunks_exact(k)).zip(labels) {
-                    row_loss(
-                        mode,
-                        y,
-                        k,
-                        |c| shifted(z[c], dz[c], steps[c]),
-                        partial,
-                    );
+                    row_loss(mode, y, k, |c| shifted(z[c], dz[c], steps[c]), partial);
                 }
             });
         let dim = self.dim;
@@ -694,10 +710,18 @@ impl NewtonProblem {
             .map(|((t, d), &s)| {
                 ridge(
                     lambda,
-                    t[..dim - 1].iter().zip(d).map(|(&tv, &dv)| shifted(tv, dv, s)),
+                    t[..dim - 1]
+                        .iter()
+                        .zip(d)
+                        .map(|(&tv, &dv)| shifted(tv, dv, s)),
                 )
             });
-        block_totals(&self.partial_losses, mode, ridges, &mut self.trial_objectives);
+        block_totals(
+            &self.partial_losses,
+            mode,
+            ridges,
+            &mut self.trial_objectives,
+        );
     }
 
     /// The fitted model: parameters mapped back to per-feature weights and biases, with the
@@ -713,7 +737,13 @@ impl NewtonProblem {
             }
             biases[class] = params[d];
         }
-        LogisticModel::from_validated_parts(self.mode, self.lambda, self.standardiser, weights, biases)
+        LogisticModel::from_validated_parts(
+            self.mode,
+            self.lambda,
+            self.standardiser,
+            weights,
+            biases,
+        )
     }
 
     /// Expands the packed blocks into the full symmetric `P x P` Hessian and adds the ridge
@@ -796,6 +826,36 @@ fn ridge(lambda: f64, weights: impl Iterator<Item = f64>) -> f64 {
     weights.map(|w| w * w).sum::<f64>() * lambda
 }
 
+/// Probabilities `p` and residuals `r = p - onehot(y)` of one sample with logits `z`. The
+/// residual of the true class is computed without cancellation: `-sum_{c != y} p_c`
+/// (multinomial) or `-sigmoid(-z_y)` (one-vs-rest), not `p_y - 1`, so the gradient stays
+/// accurate when the model is confident.
+#[inline]
+fn residuals_of_row(mode: Mode, y: usize, z: &[f64], p: &mut [f64], r: &mut [f64]) {
+    match mode {
+        Mode::Multinomial => {
+            p.copy_from_slice(z);
+            softmax_in_place(p);
+            r.copy_from_slice(p);
+            let others: f64 = p
+                .iter()
+                .enumerate()
+                .filter(|&(c, _)| c != y)
+                .map(|(_, v)| v)
+                .sum();
+            if let Some(ry) = r.get_mut(y) {
+                *ry = -others;
+            }
+        }
+        Mode::OneVsRest => {
+            for (c, ((pc, rc), &zc)) in p.iter_mut().zip(r.iter_mut()).zip(z).enumerate() {
+                *pc = sigmoid(zc);
+                *rc = if c == y { -sigmoid(-zc) } else { *pc };
+            }
+        }
+    }
+}
+
 /// `z + s dz`, leaving `z` untouched (even if `dz` is not finite) when `s == 0`.
 #[inline]
 fn shifted(z: f64, dz: f64, s: f64) -> f64 {
@@ -806,7 +866,13 @@ fn shifted(z: f64, dz: f64, s: f64) -> f64 {
 /// block(s): `lse(z) - z_y` (multinomial, block 0) or `softplus(z_c) - [y = c] z_c` for each
 /// class `c` (one-vs-rest, block `c`).
 #[inline]
-pub(crate) fn row_loss(mode: Mode, y: usize, k: usize, logit: impl Fn(usize) -> f64, partial: &mut [f64]) {
+pub(crate) fn row_loss(
+    mode: Mode,
+    y: usize,
+    k: usize,
+    logit: impl Fn(usize) -> f64,
+    partial: &mut [f64],
+) {
     match mode {
         Mode::Multinomial => {
             if let Some(b) = partial.first_mut() {

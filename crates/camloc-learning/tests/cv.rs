@@ -51,7 +51,10 @@ fn folds_are_balanced_for_equal_groups() {
 fn too_few_groups_or_folds_are_errors() {
     assert!(matches!(
         group_k_fold(&["a", "b", "a"], 3),
-        Err(LearningError::TooFewGroups { groups: 2, folds: 3 })
+        Err(LearningError::TooFewGroups {
+            groups: 2,
+            folds: 3
+        })
     ));
     assert!(matches!(
         group_k_fold(&[1, 2, 3], 1),
@@ -77,10 +80,20 @@ fn cross_validation_scores_every_candidate_and_picks_the_best() {
         assert_eq!(score.fold_accuracies.len(), 4);
         let mean = score.fold_accuracies.iter().sum::<f64>() / 4.0;
         assert!((score.mean_accuracy - mean).abs() < 1e-15);
-        assert!(score.fold_accuracies.iter().all(|a| (0.0..=1.0).contains(a)));
+        assert!(
+            score
+                .fold_accuracies
+                .iter()
+                .all(|a| (0.0..=1.0).contains(a))
+        );
     }
     let best = report.best_candidate().expect("a best candidate");
-    assert!(report.candidates.iter().all(|c| c.mean_accuracy <= best.mean_accuracy));
+    assert!(
+        report
+            .candidates
+            .iter()
+            .all(|c| c.mean_accuracy <= best.mean_accuracy)
+    );
     // The huge ridge shrinks every weight to about zero: it cannot win.
     assert_eq!(report.best, 1);
     // Each subject is in one fold.
@@ -96,15 +109,32 @@ fn cross_validation_input_errors() {
     let features = Features::new(&x, 2).expect("valid");
     let groups: Vec<u32> = (0..20).map(|i| i % 2).collect();
     assert!(matches!(
-        cross_validate_grouped(&features, &y, 2, &groups, 3, &[LogisticRegression::default()]),
-        Err(LearningError::TooFewGroups { groups: 2, folds: 3 })
+        cross_validate_grouped(
+            &features,
+            &y,
+            2,
+            &groups,
+            3,
+            &[LogisticRegression::default()]
+        ),
+        Err(LearningError::TooFewGroups {
+            groups: 2,
+            folds: 3
+        })
     ));
     assert!(matches!(
         cross_validate_grouped(&features, &y, 2, &groups, 2, &[]),
         Err(LearningError::NoCandidates)
     ));
     assert!(matches!(
-        cross_validate_grouped(&features, &y, 2, &groups[..5], 2, &[LogisticRegression::default()]),
+        cross_validate_grouped(
+            &features,
+            &y,
+            2,
+            &groups[..5],
+            2,
+            &[LogisticRegression::default()]
+        ),
         Err(LearningError::SizeMismatch { .. })
     ));
 }

@@ -46,8 +46,14 @@ fn file_round_trip_is_identical_and_leaves_no_temporary_file() {
     model.save(&path).expect("save");
     model.save(&path).expect("overwrite");
     let back = LogisticModel::load(&path).expect("load");
-    assert_eq!(std::fs::read(&path).expect("read"), model.to_bytes().expect("encode"));
-    assert_eq!(back.predict_proba(&x[..3]).expect("valid"), model.predict_proba(&x[..3]).expect("valid"));
+    assert_eq!(
+        std::fs::read(&path).expect("read"),
+        model.to_bytes().expect("encode")
+    );
+    assert_eq!(
+        back.predict_proba(&x[..3]).expect("valid"),
+        model.predict_proba(&x[..3]).expect("valid")
+    );
     let dir = path.parent().expect("has a parent");
     let leftovers: Vec<_> = std::fs::read_dir(dir)
         .expect("list")
@@ -103,12 +109,21 @@ fn every_truncation_and_extension_is_refused() {
     let bytes = model.to_bytes().expect("encode");
     for len in 0..bytes.len() {
         assert!(
-            matches!(LogisticModel::from_bytes(&bytes[..len]), Err(LearningError::Corrupt(_))),
+            matches!(
+                LogisticModel::from_bytes(&bytes[..len]),
+                Err(LearningError::Corrupt(_))
+            ),
             "truncated to {len} bytes"
         );
     }
     let mut longer = bytes.clone();
     longer.push(0);
-    assert!(matches!(LogisticModel::from_bytes(&longer), Err(LearningError::Corrupt(_))));
-    assert!(matches!(LogisticModel::from_bytes(b"not a model at all, not at all"), Err(LearningError::Corrupt(_))));
+    assert!(matches!(
+        LogisticModel::from_bytes(&longer),
+        Err(LearningError::Corrupt(_))
+    ));
+    assert!(matches!(
+        LogisticModel::from_bytes(b"not a model at all, not at all"),
+        Err(LearningError::Corrupt(_))
+    ));
 }

@@ -142,7 +142,9 @@ fn nan_input_is_rejected_with_its_position() {
     }
     let (model, _, _) = fitted(Mode::Multinomial);
     match model.predict_proba(&[0.0, f64::INFINITY, 0.0, 0.0]) {
-        Err(LearningError::NonFinite { row: 0, column: 1, .. }) => {}
+        Err(LearningError::NonFinite {
+            row: 0, column: 1, ..
+        }) => {}
         other => panic!("expected NonFinite, got {other:?}"),
     }
 }
@@ -151,18 +153,32 @@ fn nan_input_is_rejected_with_its_position() {
 fn wrong_sizes_are_rejected() {
     assert!(matches!(
         Features::new(&[1.0, 2.0, 3.0], 2),
-        Err(LearningError::RaggedFeatures { len: 3, n_features: 2 })
+        Err(LearningError::RaggedFeatures {
+            len: 3,
+            n_features: 2
+        })
     ));
-    assert!(matches!(Features::new(&[1.0], 0), Err(LearningError::NoFeatures)));
+    assert!(matches!(
+        Features::new(&[1.0], 0),
+        Err(LearningError::NoFeatures)
+    ));
     let (model, _, _) = fitted(Mode::Multinomial);
     assert!(matches!(
         model.predict_proba(&[1.0, 2.0]),
-        Err(LearningError::SizeMismatch { expected: 4, found: 2, .. })
+        Err(LearningError::SizeMismatch {
+            expected: 4,
+            found: 2,
+            ..
+        })
     ));
     let mut out = [0.0; 2];
     assert!(matches!(
         model.predict_proba_into(&[1.0; 4], &mut out),
-        Err(LearningError::SizeMismatch { expected: 3, found: 2, .. })
+        Err(LearningError::SizeMismatch {
+            expected: 3,
+            found: 2,
+            ..
+        })
     ));
     let three = Features::new(&[1.0; 6], 3).expect("valid");
     assert!(matches!(
@@ -172,7 +188,11 @@ fn wrong_sizes_are_rejected() {
     let x = Features::new(&[1.0; 8], 4).expect("valid");
     assert!(matches!(
         LogisticRegression::default().fit(&x, &[0], 2),
-        Err(LearningError::SizeMismatch { expected: 2, found: 1, .. })
+        Err(LearningError::SizeMismatch {
+            expected: 2,
+            found: 1,
+            ..
+        })
     ));
 }
 
@@ -181,7 +201,11 @@ fn bad_labels_and_parameters_are_rejected() {
     let x = Features::new(&[0.0, 1.0, 2.0, 3.0], 1).expect("valid");
     assert!(matches!(
         LogisticRegression::default().fit(&x, &[0, 1, 3, 0], 3),
-        Err(LearningError::LabelOutOfRange { row: 2, label: 3, n_classes: 3 })
+        Err(LearningError::LabelOutOfRange {
+            row: 2,
+            label: 3,
+            n_classes: 3
+        })
     ));
     assert!(matches!(
         LogisticRegression::default().fit(&x, &[0, 0, 0, 0], 1),
@@ -195,7 +219,9 @@ fn bad_labels_and_parameters_are_rejected() {
     ));
     for lambda in [-1.0, f64::NAN, f64::INFINITY] {
         assert!(matches!(
-            LogisticRegression::default().with_lambda(lambda).fit(&x, &[0, 1, 0, 1], 2),
+            LogisticRegression::default()
+                .with_lambda(lambda)
+                .fit(&x, &[0, 1, 0, 1], 2),
             Err(LearningError::InvalidParameter { name: "lambda", .. })
         ));
     }
@@ -203,7 +229,10 @@ fn bad_labels_and_parameters_are_rejected() {
         LogisticRegression::default()
             .with_gradient_tolerance(-1.0)
             .fit(&x, &[0, 1, 0, 1], 2),
-        Err(LearningError::InvalidParameter { name: "gradient_tolerance", .. })
+        Err(LearningError::InvalidParameter {
+            name: "gradient_tolerance",
+            ..
+        })
     ));
 }
 
@@ -211,11 +240,27 @@ fn bad_labels_and_parameters_are_rejected() {
 fn model_constructor_checks_its_parts() {
     let s = Standardiser::identity(2);
     assert!(matches!(
-        LogisticModel::new(Mode::Multinomial, 0.1, s.clone(), vec![0.0; 5], vec![0.0; 3]),
-        Err(LearningError::SizeMismatch { expected: 6, found: 5, .. })
+        LogisticModel::new(
+            Mode::Multinomial,
+            0.1,
+            s.clone(),
+            vec![0.0; 5],
+            vec![0.0; 3]
+        ),
+        Err(LearningError::SizeMismatch {
+            expected: 6,
+            found: 5,
+            ..
+        })
     ));
     assert!(matches!(
-        LogisticModel::new(Mode::Multinomial, 0.1, s.clone(), vec![0.0; 2], vec![0.0; 1]),
+        LogisticModel::new(
+            Mode::Multinomial,
+            0.1,
+            s.clone(),
+            vec![0.0; 2],
+            vec![0.0; 1]
+        ),
         Err(LearningError::TooFewClasses { .. })
     ));
     assert!(matches!(

@@ -22,6 +22,7 @@
 mod error;
 mod evaluate;
 mod localizer;
+mod reconstruction;
 mod select;
 pub mod svg;
 
@@ -38,6 +39,10 @@ pub use camloc_features::Descriptor;
 pub use camloc_geometry::{CameraSet, Level, Side};
 pub use camloc_skeleton::{Landmark, PartialPose2, Pose2, Pose3};
 pub use error::CamlocError;
+pub use reconstruction::{
+    CameraChoice, PoseReconstruction, default_basis, evaluate_reconstruction, reconstruct,
+    reconstructor,
+};
 pub use select::{DescriptorCv, cross_validate};
 pub use evaluate::{CameraAccuracy, Evaluation, LevelAccuracy, evaluate};
 /// The error for an output file that exists and may not be overwritten.

@@ -55,7 +55,7 @@ pub const DEFAULT_LAMBDA: f64 = 30.0;
 /// How to train a [`CameraLocalizer`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct TrainOptions {
-    /// The pose descriptor (default: [`Descriptor::Landmarks`]).
+    /// The pose descriptor (default: [`Descriptor::Joints`]).
     pub descriptor: Descriptor,
     /// The classifier and its Newton solver settings.
     pub regression: LogisticRegression,
@@ -64,11 +64,11 @@ pub struct TrainOptions {
 }
 
 impl Default for TrainOptions {
-    /// Landmark descriptor, multinomial regression with [`DEFAULT_LAMBDA`], dropout with one
+    /// Joints descriptor, multinomial regression with [`DEFAULT_LAMBDA`], dropout with one
     /// copy.
     fn default() -> Self {
         TrainOptions {
-            descriptor: Descriptor::Landmarks,
+            descriptor: Descriptor::default(),
             regression: LogisticRegression::default().with_lambda(DEFAULT_LAMBDA),
             dropout: Some(LandmarkDropout::default()),
         }

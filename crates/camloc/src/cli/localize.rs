@@ -12,12 +12,6 @@ use super::{InputArgs, load_model, numbered_path};
 
 /// Arguments of `camloc localize`.
 #[derive(clap::Args)]
-#[command(
-    after_long_help = "Missing landmarks: null in camloc JSON, visible=0 in LSP CSV (unless \
---lsp-invisible use), confidence 0 in COCO. The pelvis and neck are derived from the hips and \
-shoulders when missing; a pose whose torso cannot be derived is reported as an error and the \
-others are still localized."
-)]
 pub struct Args {
     /// Model file [default: the model embedded in this binary].
     #[arg(long, value_name = "MODEL")]

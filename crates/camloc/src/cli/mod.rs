@@ -9,6 +9,7 @@ use clap::{Parser, Subcommand, ValueEnum};
 
 mod evaluate;
 mod localize;
+mod reconstruct;
 mod train;
 
 /// Exit code for a failure (bad input, unreadable or invalid file, failed pose).
@@ -40,8 +41,21 @@ enum Command {
     #[command(after_help = EXIT_CODES)]
     Evaluate(evaluate::Args),
     /// Localize the camera of 2D poses read from a keypoint file.
+    ///
+    /// Missing landmarks: null in camloc JSON, visible=0 in LSP CSV (unless --lsp-invisible
+    /// use), confidence 0 in COCO; their descriptor values are imputed. The pelvis and neck are
+    /// derived from the hips and shoulders when missing; a pose whose torso cannot be derived
+    /// is reported as an error and the others are still localized.
     #[command(after_help = EXIT_CODES)]
     Localize(localize::Args),
+    /// Reconstruct the 3D poses of a keypoint file with a PCA basis and projected matching
+    /// pursuit, using the classified camera (hybrid, classified) or Procrustes (opt).
+    #[command(after_help = EXIT_CODES)]
+    Reconstruct(reconstruct::Args),
+    /// Measure 3D error (mm, after similarity alignment) and projection error of every
+    /// camera mode on a labelled dataset.
+    #[command(after_help = EXIT_CODES)]
+    EvaluateReconstruction(reconstruct::EvalArgs),
 }
 
 /// Runs the parsed command line, appending what goes to standard output to `out`.
@@ -50,6 +64,8 @@ pub fn run(cli: Cli, out: &mut String) -> Result<ExitCode, CamlocError> {
         Command::Train(args) => train::run(&args, out),
         Command::Evaluate(args) => evaluate::run(&args, out),
         Command::Localize(args) => localize::run(&args, out),
+        Command::Reconstruct(args) => reconstruct::run(&args, out),
+        Command::EvaluateReconstruction(args) => reconstruct::run_evaluation(&args, out),
     }
 }
 

@@ -19,9 +19,11 @@ pub struct Args {
     /// Output model file (refuses to overwrite unless --force).
     #[arg(long, value_name = "MODEL")]
     pub out: PathBuf,
-    /// Pose descriptor: `landmarks` (default, keeps which landmark is where) or `paper`
-    /// (the paper's Algorithm 1: Gaussian relative lengths + log-polar shape context).
-    #[arg(long, default_value = "landmarks", value_name = "NAME")]
+    /// Pose descriptor: `joints` (default: the 12 limb joints in a mid-hip to mid-shoulder
+    /// frame, robust to how annotations place the neck and pelvis), `landmarks` (all 15
+    /// landmarks in the pelvis-neck frame) or `paper` (the paper's Algorithm 1: Gaussian
+    /// relative lengths + log-polar shape context).
+    #[arg(long, default_value = "joints", value_name = "NAME")]
     pub descriptor: String,
     /// Ridge weight lambda of eq. 11 (on the sum of the per-sample losses; scikit-learn's
     /// C = 1 / (2 lambda)).

@@ -1,0 +1,165 @@
+//! The `camloc` binary answers bad input with a non-zero exit and one clear line, never a
+//! panic.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn camloc(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_camloc"))
+        .args(args)
+        .output()
+        .expect("the camloc binary runs")
+}
+
+fn fixture(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../fixtures")
+        .join(name)
+}
+
+struct TempDir(PathBuf);
+
+impl TempDir {
+    fn new(name: &str) -> TempDir {
+        let dir = std::env::temp_dir().join(format!("camloc-cli-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        TempDir(dir)
+    }
+    fn file(&self, name: &str, content: &str) -> String {
+        let p = self.0.join(name);
+        std::fs::write(&p, content).unwrap();
+        p.to_string_lossy().into_owned()
+    }
+}
+
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+/// Asserts a failure with exit code 1, no panic, and a message naming `expected`.
+fn assert_clean_failure(out: &Output, expected: &str) {
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "stderr: {stderr}");
+    assert!(!stderr.contains("panicked"), "panic: {stderr}");
+    assert!(!stderr.contains("RUST_BACKTRACE"), "panic: {stderr}");
+    let lines: Vec<&str> = stderr.lines().filter(|l| !l.trim().is_empty()).collect();
+    assert!(!lines.is_empty(), "no message");
+    assert!(
+        lines.iter().all(|l| l.starts_with("camloc:")),
+        "every stderr line is a camloc message: {stderr}"
+    );
+    assert!(stderr.contains(expected), "expected '{expected}' in: {stderr}");
+}
+
+const FIFTEEN: &str = r#"{"poses": [{"id": "p", "landmarks": {
+  "pelvis": [100, 200], "left_hip": [110, 205], "left_knee": [112, 260], "left_ankle": [113, 320],
+  "right_hip": [90, 205], "right_knee": [88, 262], "right_ankle": [87, 322], "neck": [100, 140],
+  "head": [100, 115], "left_shoulder": [118, 145], "left_elbow": [125, 175], "left_wrist": [128, 200],
+  "right_shoulder": [82, 145], "right_elbow": [75, 175], "right_wrist": [72, 200]}}]}"#;
+
+#[test]
+fn the_example_is_localized() {
+    let out = camloc(&["localize", "--input", fixture("keypoints/example.json").to_str().unwrap()]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(stdout.matches("probability").count(), 3, "{stdout}");
+}
+
+#[test]
+fn json_output_has_one_object_per_pose_with_probabilities_summing_to_one() {
+    let dir = TempDir::new("json");
+    let input = dir.file("p.json", FIFTEEN);
+    let out = camloc(&["localize", "--input", &input, "--json"]);
+    assert!(out.status.success());
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let poses = v.as_array().unwrap();
+    assert_eq!(poses.len(), 1);
+    let p = &poses[0];
+    let total: f64 = p["probabilities"]
+        .as_object()
+        .unwrap()
+        .values()
+        .map(|x| x.as_f64().unwrap())
+        .sum();
+    assert!((total - 1.0).abs() < 1e-9);
+    let label = p["label"].as_u64().unwrap();
+    assert!((1..=12).contains(&label));
+    assert_eq!(p["rotation"].as_array().unwrap().len(), 3);
+}
+
+#[test]
+fn svg_is_written_and_not_overwritten_without_force() {
+    let dir = TempDir::new("svg");
+    let input = dir.file("p.json", FIFTEEN);
+    let svg = dir.0.join("out.svg");
+    let svg = svg.to_str().unwrap();
+    let out = camloc(&["localize", "--input", &input, "--svg", svg]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let drawing = std::fs::read_to_string(svg).unwrap();
+    assert!(drawing.starts_with("<svg") && drawing.trim_end().ends_with("</svg>"));
+    std::fs::write(svg, "mine").unwrap();
+    let out = camloc(&["localize", "--input", &input, "--svg", svg]);
+    assert_clean_failure(&out, "already exists");
+    assert_eq!(std::fs::read_to_string(svg).unwrap(), "mine");
+    let out = camloc(&["localize", "--input", &input, "--svg", svg, "--force"]);
+    assert!(out.status.success());
+}
+
+#[test]
+fn bad_inputs_fail_cleanly() {
+    let dir = TempDir::new("bad");
+    let missing = dir.0.join("nope.json");
+    assert_clean_failure(
+        &camloc(&["localize", "--input", missing.to_str().unwrap()]),
+        "nope.json",
+    );
+    let wrong_columns = dir.file("w.csv", "image,joint,x,y\nim1,neck,1,2\n");
+    assert_clean_failure(&camloc(&["localize", "--input", &wrong_columns]), "w.csv");
+    let nan = dir.file("nan.json", &FIFTEEN.replace("[100, 140]", "[NaN, 140]"));
+    assert_clean_failure(&camloc(&["localize", "--input", &nan]), "nan.json");
+    let nan_csv = dir.file(
+        "nan.csv",
+        "image,joint,x,y,visible\nim1,neck,nan,2,1\n",
+    );
+    assert_clean_failure(&camloc(&["localize", "--input", &nan_csv]), "nan.csv");
+    // 14 landmarks: the neck is missing and cannot be derived without both shoulders.
+    let fourteen = dir.file(
+        "fourteen.json",
+        &FIFTEEN
+            .replace(r#""neck": [100, 140],"#, "")
+            .replace(r#""left_shoulder": [118, 145],"#, ""),
+    );
+    assert_clean_failure(&camloc(&["localize", "--input", &fourteen]), "neck");
+    let empty = dir.file("empty.json", "");
+    assert_clean_failure(&camloc(&["localize", "--input", &empty]), "empty.json");
+    let not_a_model = dir.file("model.bin", "hello");
+    assert_clean_failure(
+        &camloc(&["localize", "--model", &not_a_model, "--input", &nan]),
+        "not a camloc model",
+    );
+    assert_clean_failure(
+        &camloc(&["evaluate", "--model", &not_a_model, "--dataset", &not_a_model]),
+        "not a camloc model",
+    );
+    assert_clean_failure(
+        &camloc(&["train", "--dataset", &not_a_model, "--out", dir.0.join("m.bin").to_str().unwrap()]),
+        "not a camloc dataset",
+    );
+    let usage = camloc(&["localize"]);
+    assert_eq!(usage.status.code(), Some(2));
+}
+
+#[test]
+fn help_documents_exit_codes() {
+    let out = camloc(&["--help"]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("Exit codes"), "{text}");
+    for sub in ["train", "evaluate", "localize"] {
+        let out = camloc(&[sub, "--help"]);
+        assert!(out.status.success());
+        assert!(String::from_utf8_lossy(&out.stdout).contains("Exit codes"));
+    }
+}
