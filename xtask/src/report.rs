@@ -111,6 +111,7 @@ pub fn run(args: &Args) -> Result<(), String> {
                 descriptor,
                 regression: score.config.clone(),
                 dropout: None,
+                mirror: false,
             };
             let label = match descriptor {
                 Descriptor::Paper(c) => format!("paper (sigma {})", c.sigma),
@@ -121,7 +122,7 @@ pub fn run(args: &Args) -> Result<(), String> {
         // The shipped configuration: joints, default lambda, landmark dropout.
         let options = default_options();
         let (localizer, row) = train_and_test_keep(
-            "joints + dropout (default model settings)",
+            "joints + mirror + dropout (default model settings)",
             &train,
             &test,
             &options,
@@ -143,8 +144,8 @@ pub fn run(args: &Args) -> Result<(), String> {
             let e_plain = evaluate(&plain, &missing_test).map_err(|e| e.to_string())?;
             let _ = writeln!(
                 missing_text,
-                "| joints + dropout (default settings) | {:.2}% | {:.2}% |\n\
-                 | joints, no dropout | {:.2}% | {:.2}% |",
+                "| joints + mirror + dropout (default settings) | {:.2}% | {:.2}% |\n\
+                 | joints + mirror, no dropout | {:.2}% | {:.2}% |",
                 100.0 * e.accuracy,
                 100.0 * e.accuracy_folded,
                 100.0 * e_plain.accuracy,

@@ -24,6 +24,9 @@ const CHUNK_ROWS: usize = 256;
 /// Tasks per rayon thread: enough for dynamic load balancing, few enough that the
 /// per-task accumulators stay small.
 const TASKS_PER_THREAD: usize = 4;
+/// Rows per block of the Gram-matrix shortcut (`D` column pieces of this many rows fit in
+/// L2 together).
+const GRAM_BLOCK_ROWS: usize = 512;
 /// Sample weights below this are treated as 0. It keeps subnormal numbers, which are about
 /// a hundred times slower, out of the GEMM; the dropped contributions are at most
 /// `1e-250 x_a x_b`, far below the rounding of any Hessian entry of a problem with
@@ -71,6 +74,20 @@ fn take_scratch(pool: &[Mutex<Scratch>]) -> Option<MutexGuard<'_, Scratch>> {
         pool.first()
             .map(|m| m.lock().unwrap_or_else(PoisonError::into_inner))
     })
+}
+
+/// `sum_i a_i b_i` with four interleaved partial sums (so that it vectorises).
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    let mut lanes = [0.0; 4];
+    let (a4, a_rest) = a.split_at(a.len() - a.len() % 4);
+    let (b4, b_rest) = b.split_at(a4.len().min(b.len()));
+    for (ca, cb) in a4.chunks_exact(4).zip(b4.chunks_exact(4)) {
+        for ((l, &va), &vb) in lanes.iter_mut().zip(ca).zip(cb) {
+            *l += va * vb;
+        }
+    }
+    let tail: f64 = a_rest.iter().zip(b_rest).map(|(va, vb)| va * vb).sum();
+    (lanes[0] + lanes[1]) + (lanes[2] + lanes[3]) + tail
 }
 
 /// Weight of class pair `(j, l)` for one sample whose `K` probabilities (multinomial) or
@@ -133,39 +150,37 @@ impl PackedHessian {
 
     /// Recomputes [`packed`](Self::packed) when every sample has the same weights
     /// (all feature weights zero, so that the logits do not depend on the sample):
-    /// `G_q = w_q X^T X`, one Gram matrix (`2 n D^2` flops) instead of `Q` weighted ones.
-    /// `shared` holds the `K` probabilities (multinomial) or logits (one-vs-rest) common to
-    /// all samples; `gram` is a work buffer of `dim * dim` values, `dim = D`.
-    pub(crate) fn accumulate_uniform(
-        &mut self,
-        x: &[f64],
-        (n, dim): (usize, usize),
-        mode: Mode,
-        shared: &[f64],
-        gram: &mut [f64],
-    ) {
-        let design = MatRef::from_column_major_slice(x, n, dim);
-        matmul(
-            MatMut::from_column_major_slice_mut(gram, dim, dim),
-            Accum::Replace,
-            design.transpose(),
-            design,
-            1.0,
-            Par::rayon(0),
-        );
-        let weights: Vec<f64> = self
-            .class_pairs
-            .iter()
-            .map(|&(j, l)| sample_weight(mode, shared, j, l))
-            .collect();
-        for (column, &(a, b)) in self
-            .packed
-            .chunks_exact_mut(weights.len().max(1))
-            .zip(&self.feature_pairs)
-        {
-            let g = gram[b * dim + a];
-            for (v, &w) in column.iter_mut().zip(&weights) {
-                *v = w * g;
+    /// `G_q = w_q X^T X`, one packed Gram matrix (`n T` multiply-adds) instead of `Q`
+    /// weighted ones. `shared` holds the `K` probabilities (multinomial) or logits
+    /// (one-vs-rest) common to all samples.
+    pub(crate) fn accumulate_uniform(&mut self, x: &[f64], n: usize, mode: Mode, shared: &[f64]) {
+        let feature_pairs = &self.feature_pairs;
+        // Per task: its rows' contribution to each packed Gram entry, in the first T
+        // entries of its accumulator.
+        self.tasks.par_iter_mut().for_each(|task| {
+            task.accumulator.fill(0.0);
+            // Blocks of rows small enough for all D column pieces to stay in L2.
+            let mut first = task.first_row;
+            while first < task.end_row {
+                let end = (first + GRAM_BLOCK_ROWS).min(task.end_row);
+                for (g, &(a, b)) in task.accumulator.iter_mut().zip(feature_pairs) {
+                    *g += dot(
+                        &x[a * n + first..a * n + end],
+                        &x[b * n + first..b * n + end],
+                    );
+                }
+                first = end;
+            }
+        });
+        let q = self.class_pairs.len();
+        for (ti, column) in self.packed.chunks_exact_mut(q.max(1)).enumerate() {
+            let gram: f64 = self
+                .tasks
+                .iter()
+                .filter_map(|task| task.accumulator.get(ti))
+                .sum();
+            for (v, &(j, l)) in column.iter_mut().zip(&self.class_pairs) {
+                *v = sample_weight(mode, shared, j, l) * gram;
             }
         }
     }

@@ -133,6 +133,8 @@ pub struct NewtonProblem {
     direction_logits: Vec<f64>,
     /// `D x K` gradient.
     gradient: Vec<f64>,
+    /// `tasks x (K x D)` per-task partial gradients (`K x D` column-major each).
+    gradient_partials: Vec<f64>,
     /// `D x K` Newton direction.
     direction: Vec<f64>,
     /// `P x P` Hessian (full, symmetric).
@@ -236,6 +238,7 @@ impl NewtonProblem {
             residuals: vec![0.0; k * n],
             direction_logits: vec![0.0; k * n],
             gradient: vec![0.0; p],
+            gradient_partials: vec![0.0; n.div_ceil(ROWS_PER_TASK) * p],
             direction: vec![0.0; p],
             hessian: vec![0.0; p * p],
             factor: vec![0.0; max_block * max_block],
@@ -353,17 +356,7 @@ impl NewtonProblem {
 
     /// Logits, losses, probabilities, residuals, objective and gradient from `theta`.
     fn refresh_from_parameters(&mut self) {
-        let (n, dim, k) = (self.n_samples, self.dim, self.n_classes);
-        let x = MatRef::from_column_major_slice(&self.x, n, dim);
-        let theta = MatRef::from_column_major_slice(&self.theta, dim, k);
-        matmul(
-            MatMut::from_column_major_slice_mut(&mut self.logits, k, n),
-            Accum::Replace,
-            theta.transpose(),
-            x.transpose(),
-            1.0,
-            Par::rayon(0),
-        );
+        linear_logits(&self.x, self.dim, &self.theta, &mut self.logits);
         self.class_steps.fill(0.0);
         self.update_pass(false);
     }
@@ -425,14 +418,33 @@ impl NewtonProblem {
     /// `grad f = X^T R^T + 2 lambda [W; 0]`.
     fn compute_gradient(&mut self) {
         let (n, dim, k) = (self.n_samples, self.dim, self.n_classes);
-        matmul(
-            MatMut::from_column_major_slice_mut(&mut self.gradient, dim, k),
-            Accum::Replace,
-            MatRef::from_column_major_slice(&self.x, n, dim).transpose(),
-            MatRef::from_column_major_slice(&self.residuals, k, n).transpose(),
-            1.0,
-            Par::rayon(0),
-        );
+        let x = MatRef::from_column_major_slice(&self.x, n, dim);
+        // Per task of rows: partial `K x D` = R_rows X_rows, then summed in task order.
+        self.residuals
+            .par_chunks(ROWS_PER_TASK * k)
+            .zip(self.gradient_partials.par_chunks_mut(k * dim))
+            .enumerate()
+            .for_each(|(task, (r, partial))| {
+                let rows = r.len() / k;
+                matmul(
+                    MatMut::from_column_major_slice_mut(partial, k, dim),
+                    Accum::Replace,
+                    MatRef::from_column_major_slice(r, k, rows),
+                    x.subrows(task * ROWS_PER_TASK, rows),
+                    1.0,
+                    Par::Seq,
+                );
+            });
+        self.gradient.fill(0.0);
+        for partial in self.gradient_partials.chunks_exact(k * dim) {
+            for (a, column) in partial.chunks_exact(k).enumerate() {
+                for (class, &v) in column.iter().enumerate() {
+                    if let Some(g) = self.gradient.get_mut(class * dim + a) {
+                        *g += v;
+                    }
+                }
+            }
+        }
         let two_lambda = 2.0 * self.lambda;
         for (g, t) in self
             .gradient
@@ -460,13 +472,10 @@ impl NewtonProblem {
             .all(|params| params[..dim - 1].iter().all(|&w| w == 0.0));
         match per_sample.get(..self.n_classes) {
             // Same logits for every sample (e.g. the starting point): one Gram matrix.
-            Some(shared) if weights_are_zero => self.packed.accumulate_uniform(
-                &self.x,
-                (self.n_samples, dim),
-                self.mode,
-                shared,
-                &mut self.factor[..dim * dim],
-            ),
+            Some(shared) if weights_are_zero => {
+                self.packed
+                    .accumulate_uniform(&self.x, self.n_samples, self.mode, shared)
+            }
             _ => self.packed.accumulate(
                 &self.x,
                 self.n_samples,
@@ -487,15 +496,8 @@ impl NewtonProblem {
     pub fn newton_step(&mut self) -> Result<IterationLog, LearningError> {
         self.assemble_hessian();
         self.solve_newton_system()?;
-        let (n, dim, k) = (self.n_samples, self.dim, self.n_classes);
-        matmul(
-            MatMut::from_column_major_slice_mut(&mut self.direction_logits, k, n),
-            Accum::Replace,
-            MatRef::from_column_major_slice(&self.direction, dim, k).transpose(),
-            MatRef::from_column_major_slice(&self.x, n, dim).transpose(),
-            1.0,
-            Par::rayon(0),
-        );
+        let dim = self.dim;
+        linear_logits(&self.x, dim, &self.direction, &mut self.direction_logits);
         self.line_search();
         let step = self.block_steps.iter().fold(0.0, |m: f64, &s| m.max(s));
         if step > 0.0 {
@@ -824,6 +826,28 @@ fn block_of_class(mode: Mode, class: usize) -> usize {
 #[inline]
 fn ridge(lambda: f64, weights: impl Iterator<Item = f64>) -> f64 {
     weights.map(|w| w * w).sum::<f64>() * lambda
+}
+
+/// `out = params^T X^T` (`K x n`): the logits of every sample for parameters `params`
+/// (`D x K`), computed in parallel over tasks of rows, each one sequential GEMM.
+fn linear_logits(x: &[f64], dim: usize, params: &[f64], out: &mut [f64]) {
+    let k = params.len() / dim.max(1);
+    let n = x.len() / dim.max(1);
+    let x = MatRef::from_column_major_slice(x, n, dim);
+    let params = MatRef::from_column_major_slice(params, dim, k);
+    out.par_chunks_mut(ROWS_PER_TASK * k)
+        .enumerate()
+        .for_each(|(task, z)| {
+            let rows = z.len() / k.max(1);
+            matmul(
+                MatMut::from_column_major_slice_mut(z, k, rows),
+                Accum::Replace,
+                params.transpose(),
+                x.subrows(task * ROWS_PER_TASK, rows).transpose(),
+                1.0,
+                Par::Seq,
+            );
+        });
 }
 
 /// Probabilities `p` and residuals `r = p - onehot(y)` of one sample with logits `z`. The

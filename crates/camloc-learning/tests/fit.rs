@@ -47,8 +47,8 @@ fn model_gradient(
     g
 }
 
-fn check_optimal(mode: Mode) {
-    let (n, d, k) = (300, 5, 4);
+fn check_optimal(mode: Mode, n: usize) {
+    let (d, k) = (5, 4);
     let (x, y) = support::gaussian_classes(n, d, k, 1.0, 4.0, 21);
     let features = Features::new(&x, d).expect("valid features");
     let config = LogisticRegression::default()
@@ -74,12 +74,20 @@ fn check_optimal(mode: Mode) {
 
 #[test]
 fn multinomial_fit_reaches_a_stationary_point() {
-    check_optimal(Mode::Multinomial);
+    check_optimal(Mode::Multinomial, 300);
+}
+
+#[test]
+fn fits_split_over_many_row_tasks_reach_a_stationary_point() {
+    // More samples than one parallel task of rows holds (2048): partial sums of the
+    // gradient, logits and Hessian over tasks must add up.
+    check_optimal(Mode::Multinomial, 5000);
+    check_optimal(Mode::OneVsRest, 5000);
 }
 
 #[test]
 fn one_vs_rest_fit_reaches_a_stationary_point() {
-    check_optimal(Mode::OneVsRest);
+    check_optimal(Mode::OneVsRest, 300);
 }
 
 #[test]
@@ -271,4 +279,15 @@ fn duplicated_columns_without_ridge_still_fit() {
         assert!(model.weights().iter().all(|w| w.is_finite()));
         assert!(model.accuracy(&features, &y).expect("accuracy") > 0.5);
     }
+}
+
+#[test]
+fn fits_are_bit_for_bit_reproducible() {
+    let (x, y) = support::gaussian_classes(5000, 4, 3, 0.7, 1.0, 99);
+    let features = Features::new(&x, 4).expect("valid");
+    let config = LogisticRegression::default();
+    let (m1, r1) = config.fit(&features, &y, 3).expect("fit");
+    let (m2, r2) = config.fit(&features, &y, 3).expect("fit");
+    assert_eq!(m1, m2);
+    assert_eq!(r1, r2);
 }

@@ -50,7 +50,7 @@ impl Default for LandmarkDropout {
 
 /// Default ridge weight lambda of the localizer (on the sum of per-sample losses), chosen by
 /// cross-validation grouped by subject on the CMU data (docs/RESULTS.md).
-pub const DEFAULT_LAMBDA: f64 = 30.0;
+pub const DEFAULT_LAMBDA: f64 = 1.0;
 
 /// How to train a [`CameraLocalizer`].
 #[derive(Clone, Debug, PartialEq)]
@@ -61,16 +61,21 @@ pub struct TrainOptions {
     pub regression: LogisticRegression,
     /// Landmark dropout augmentation (`None`: train on the samples as they are).
     pub dropout: Option<LandmarkDropout>,
+    /// Add the left-right mirror image of every sample, labelled with the mirrored camera
+    /// (an exact augmentation: the mirrored image is what the mirrored camera sees of the
+    /// mirrored person), so that predictions respect the body's symmetry.
+    pub mirror: bool,
 }
 
 impl Default for TrainOptions {
     /// Joints descriptor, multinomial regression with [`DEFAULT_LAMBDA`], dropout with one
-    /// copy.
+    /// copy, mirror augmentation.
     fn default() -> Self {
         TrainOptions {
             descriptor: Descriptor::default(),
             regression: LogisticRegression::default().with_lambda(DEFAULT_LAMBDA),
             dropout: Some(LandmarkDropout::default()),
+            mirror: true,
         }
     }
 }
@@ -90,6 +95,8 @@ pub struct TrainingInfo {
     pub lambda: f64,
     /// Dropout used, if any.
     pub dropout: Option<LandmarkDropout>,
+    /// Whether mirror augmentation was used.
+    pub mirror: bool,
 }
 
 /// Where the camera stood, as localized from one 2D pose.
@@ -149,14 +156,19 @@ impl CameraLocalizer {
             });
         }
         let d = descriptor.len();
-        let poses: Vec<PartialPose2> = dataset.samples.iter().map(sample_pose).collect();
+        let cameras = &dataset.header.cameras;
+        let mut poses: Vec<PartialPose2> = dataset.samples.iter().map(sample_pose).collect();
+        let mut labels: Vec<u16> = dataset.samples.iter().map(|s| s.label).collect();
+        if options.mirror {
+            poses.extend(poses.iter().map(PartialPose2::mirrored).collect::<Vec<_>>());
+            labels.extend(labels.iter().map(|&l| cameras.mirror_left_right(l)).collect::<Vec<_>>());
+        }
         let (mut x, undefined) = extract_rows(&descriptor, &poses)?;
         let imputation = column_means(&x, &undefined, d);
         impute_rows(&mut x, &undefined, &imputation);
-        let mut y: Vec<usize> = dataset
-            .samples
+        let mut y: Vec<usize> = labels
             .iter()
-            .map(|s| usize::from(s.label).saturating_sub(1))
+            .map(|&l| usize::from(l).saturating_sub(1))
             .collect();
         if let Some(dropout) = options.dropout {
             let (extra, labels) = augment(&descriptor, &poses, &y, &dropout, &imputation)?;
@@ -177,6 +189,7 @@ impl CameraLocalizer {
             subjects: dataset.subjects().into_iter().map(|(s, _)| s).collect(),
             lambda: options.regression.lambda,
             dropout: options.dropout,
+            mirror: options.mirror,
         };
         let localizer = CameraLocalizer {
             descriptor,

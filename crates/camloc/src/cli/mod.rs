@@ -49,7 +49,7 @@ enum Command {
     #[command(after_help = EXIT_CODES)]
     Localize(localize::Args),
     /// Reconstruct the 3D poses of a keypoint file with a PCA basis and projected matching
-    /// pursuit, using the classified camera (hybrid, classified) or Procrustes (opt).
+    /// pursuit, using the Procrustes camera (opt, default) or the classified one (classified, hybrid).
     #[command(after_help = EXIT_CODES)]
     Reconstruct(reconstruct::Args),
     /// Measure 3D error (mm, after similarity alignment) and projection error of every

@@ -36,6 +36,10 @@ pub struct Args {
     /// localization copes with missing landmarks.
     #[arg(long, default_value_t = 1.0, value_name = "COPIES")]
     pub dropout: f64,
+    /// Do not add left-right mirrored copies of the samples (mirror augmentation is on by
+    /// default).
+    #[arg(long)]
+    pub no_mirror: bool,
     /// Overwrite --out if it exists.
     #[arg(long)]
     pub force: bool,
@@ -75,6 +79,7 @@ pub fn run(args: &Args, out: &mut String) -> Result<ExitCode, CamlocError> {
             ModeArg::OneVsRest => Mode::OneVsRest,
         });
     options.regression.validate()?;
+    options.mirror = !args.no_mirror;
     options.dropout = (args.dropout > 0.0).then_some(LandmarkDropout {
         copies: args.dropout,
         ..LandmarkDropout::default()

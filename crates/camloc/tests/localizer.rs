@@ -1,0 +1,150 @@
+//! CameraLocalizer: training on synthetic data, save/load, corruption, missing landmarks, and
+//! the mirror behaviour on real LSP photos (skipped without ../shared/data).
+
+use std::path::PathBuf;
+
+use camloc::dataset::{ClipInfo, GenerateConfig, PoseSequence, Protocol, generate};
+use camloc::keypoints::{ReadOptions, read_keypoints};
+use camloc::{CameraLocalizer, CamlocError, PartialPose2, Pose3, TrainOptions, evaluate};
+
+/// A canonical standing pose (metres, facing -x, right side on +y), bent by `t`.
+fn pose(t: f64) -> Pose3 {
+    let (s, c) = (t.sin(), t.cos());
+    Pose3::new([
+        [0.0, 0.0, 0.0],
+        [0.0, -0.1, -0.05],
+        [-0.1 * s, -0.11, -0.48],
+        [0.05 * c, -0.11, -0.9],
+        [0.0, 0.1, -0.05],
+        [0.1 * s, 0.12, -0.47],
+        [-0.05 * c, 0.12, -0.9],
+        [0.0, 0.0, 0.5],
+        [-0.05, 0.0, 0.72],
+        [0.02, -0.18, 0.46],
+        [0.05 + 0.1 * s, -0.22, 0.2],
+        [-0.1 * c, -0.2, 0.0],
+        [0.02, 0.18, 0.46],
+        [0.03 - 0.1 * s, 0.25, 0.22],
+        [-0.05, 0.3 * c, 0.05],
+    ])
+}
+
+fn sequences() -> Vec<PoseSequence> {
+    (0..4)
+        .map(|subject| PoseSequence {
+            clip: ClipInfo {
+                subject: subject.to_string(),
+                name: format!("{subject}_01"),
+            },
+            frames: (0..20u32)
+                .map(|f| (f, pose(f as f64 * 0.3 + subject as f64)))
+                .collect(),
+        })
+        .collect()
+}
+
+fn trained() -> (CameraLocalizer, camloc::dataset::Dataset) {
+    let mut config = GenerateConfig::new(Protocol::Jittered);
+    config.seed = 3;
+    let dataset = generate(&sequences(), &config, &|_, _| {}).unwrap();
+    let (localizer, report) =
+        CameraLocalizer::train(&dataset, &TrainOptions::default(), |_| {}).unwrap();
+    assert!(report.converged);
+    (localizer, dataset)
+}
+
+#[test]
+fn trains_and_localizes_synthetic_views() {
+    let (localizer, dataset) = trained();
+    let e = evaluate(&localizer, &dataset).unwrap();
+    // A separable-enough toy problem: the training views are recognised.
+    assert!(e.accuracy > 0.9, "training accuracy {}", e.accuracy);
+    assert_eq!(e.samples, dataset.samples.len());
+    let row_sums: usize = e.confusion.iter().flatten().sum();
+    assert_eq!(row_sums, e.samples);
+    let l = localizer.localize(&dataset.samples[0].landmarks).unwrap();
+    assert!((l.probabilities.iter().sum::<f64>() - 1.0).abs() < 1e-12);
+    assert_eq!(l.probability, l.probabilities[usize::from(l.label) - 1]);
+}
+
+#[test]
+fn save_load_round_trips_byte_for_byte_and_corruption_is_refused() {
+    let (localizer, dataset) = trained();
+    let bytes = localizer.to_bytes().unwrap();
+    let back = CameraLocalizer::from_bytes(&bytes).unwrap();
+    assert_eq!(back.to_bytes().unwrap(), bytes);
+    for s in dataset.samples.iter().step_by(17) {
+        let a = localizer.localize(&s.landmarks).unwrap();
+        let b = back.localize(&s.landmarks).unwrap();
+        assert_eq!(a.probabilities, b.probabilities);
+    }
+    for pos in [0, 9, bytes.len() / 2, bytes.len() - 1] {
+        let mut bad = bytes.clone();
+        bad[pos] ^= 0x10;
+        assert!(matches!(
+            CameraLocalizer::from_bytes(&bad),
+            Err(CamlocError::Store(_))
+        ));
+    }
+    assert!(CameraLocalizer::from_bytes(&bytes[..bytes.len() - 3]).is_err());
+    assert!(CameraLocalizer::from_bytes(&dataset.to_bytes().unwrap()).is_err());
+}
+
+#[test]
+fn missing_landmarks_are_imputed_and_missing_torso_is_an_error() {
+    let (localizer, dataset) = trained();
+    let mut pose = PartialPose2::from(dataset.samples[5].landmarks);
+    pose.points[11] = None;
+    pose.points[3] = None;
+    let l = localizer.localize_partial(&pose).unwrap();
+    assert_eq!(l.missing.len(), 2);
+    assert!((l.probabilities.iter().sum::<f64>() - 1.0).abs() < 1e-12);
+    // The default descriptor stands the shoulders in for a missing neck; with neither the
+    // neck nor a shoulder there is no torso.
+    pose.points[7] = None;
+    pose.points[9] = None;
+    let err = localizer.localize_partial(&pose).unwrap_err();
+    assert!(err.to_string().contains("neck"), "{err}");
+}
+
+#[test]
+fn the_embedded_default_model_loads() {
+    let localizer = CameraLocalizer::default_model().unwrap();
+    assert_eq!(localizer.cameras().len(), 12);
+    assert_eq!(localizer.descriptor().name(), "joints");
+}
+
+fn lsp_file() -> Option<PathBuf> {
+    let base = std::env::var_os("CAMLOC_DATA").map_or_else(
+        || PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/data")),
+        PathBuf::from,
+    );
+    let file = base.join("lsp/lsp400_joints.csv");
+    file.exists().then_some(file)
+}
+
+/// A horizontally mirrored photo with left/right labels swapped is seen from the mirrored side.
+#[test]
+fn mirrored_lsp_poses_get_the_mirrored_side() {
+    let Some(file) = lsp_file() else {
+        eprintln!("skipping: ../shared/data not found (set CAMLOC_DATA)");
+        return;
+    };
+    let localizer = CameraLocalizer::default_model().unwrap();
+    let records = read_keypoints(&file, None, &ReadOptions::default()).unwrap();
+    assert_eq!(records.len(), 400);
+    let (mut ok, mut consistent) = (0usize, 0usize);
+    for r in &records {
+        if let (Ok(a), Ok(b)) = (
+            localizer.localize_partial(&r.pose),
+            localizer.localize_partial(&r.pose.mirrored()),
+        ) {
+            ok += 1;
+            consistent += usize::from(b.side == a.side.mirrored());
+        }
+    }
+    let share = consistent as f64 / ok as f64;
+    eprintln!("LSP mirror check: {consistent} of {ok} poses ({:.1}%)", 100.0 * share);
+    assert!(ok >= 390, "only {ok} of 400 LSP poses localized");
+    assert!(share >= 0.9, "mirrored side in {:.1}% of poses", 100.0 * share);
+}
