@@ -29,7 +29,7 @@ impl Progress {
             }
         } else {
             // Without a terminal, one line per quarter of the work.
-            let quarter = if total == 0 { 4 } else { done * 4 / total };
+            let quarter = (done * 4).checked_div(total).unwrap_or(4);
             if quarter > self.last_quarter {
                 self.last_quarter = quarter;
                 let _ = writeln!(err, "{} [{done}/{total}]", self.label);

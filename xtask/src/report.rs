@@ -83,7 +83,7 @@ pub fn run(args: &Args) -> Result<(), String> {
         let mut cv_data = train.clone();
         cv_data
             .samples
-            .retain(|s| s.frame as usize % (2 * DEFAULT_STRIDE) == 0);
+            .retain(|s| (s.frame as usize).is_multiple_of(2 * DEFAULT_STRIDE));
         let candidates: Vec<LogisticRegression> = LAMBDAS
             .iter()
             .map(|&l| LogisticRegression::default().with_lambda(l))
@@ -95,7 +95,11 @@ pub fn run(args: &Args) -> Result<(), String> {
                 ..PaperConfig::default()
             })
         }));
-        eprintln!("{protocol}: cross-validating {} descriptors x {} lambdas", descriptors.len(), LAMBDAS.len());
+        eprintln!(
+            "{protocol}: cross-validating {} descriptors x {} lambdas",
+            descriptors.len(),
+            LAMBDAS.len()
+        );
         let cvs = cross_validate(&cv_data, &descriptors, &candidates, args.folds)
             .map_err(|e| e.to_string())?;
         // Best setting per descriptor family (paper: over all sigmas).
@@ -117,7 +121,13 @@ pub fn run(args: &Args) -> Result<(), String> {
                 Descriptor::Paper(c) => format!("paper (sigma {})", c.sigma),
                 other => other.name().to_string(),
             };
-            rows.push(train_and_test(&label, &train, &test, &options, Some(score.mean_accuracy))?);
+            rows.push(train_and_test(
+                &label,
+                &train,
+                &test,
+                &options,
+                Some(score.mean_accuracy),
+            )?);
         }
         // The shipped configuration: joints, default lambda, landmark dropout.
         let options = default_options();
@@ -139,8 +149,8 @@ pub fn run(args: &Args) -> Result<(), String> {
                 dropout: None,
                 ..default_options()
             };
-            let (plain, _) = CameraLocalizer::train(&train, &no_dropout, |_| {})
-                .map_err(|e| e.to_string())?;
+            let (plain, _) =
+                CameraLocalizer::train(&train, &no_dropout, |_| {}).map_err(|e| e.to_string())?;
             let e_plain = evaluate(&plain, &missing_test).map_err(|e| e.to_string())?;
             let _ = writeln!(
                 missing_text,
@@ -200,7 +210,10 @@ pub fn run(args: &Args) -> Result<(), String> {
         "The `jittered` test subjects again, with 2 random non-torso landmarks of every sample \
          marked missing (their descriptor values are imputed with the training means):\n"
     );
-    let _ = writeln!(md, "| model | accuracy | folded |\n|---|---|---|\n{missing_text}");
+    let _ = writeln!(
+        md,
+        "| model | accuracy | folded |\n|---|---|---|\n{missing_text}"
+    );
     reconstruction_section(&mut md, &recon_rows);
     lsp_section(&mut md, args, &root)?;
     let out = root.join(&args.out);
@@ -241,15 +254,23 @@ fn reconstruction_rows(
     let report = camloc::evaluate_reconstruction(&reconstructor, localizer, &subset)
         .map_err(|e| e.to_string())?;
     let per_pose_ms = 1e3 * start.elapsed().as_secs_f64() / subset.samples.len().max(1) as f64;
-    Ok((test.header.protocol, subset.samples.len(), report, per_pose_ms))
+    Ok((
+        test.header.protocol,
+        subset.samples.len(),
+        report,
+        per_pose_ms,
+    ))
 }
 
 fn reconstruction_section(
     md: &mut String,
     rows: &[(Protocol, usize, camloc::reconstruct::EvalReport, f64)],
 ) {
-    let _ = writeln!(md, "## 3D reconstruction on held-out CMU subjects
-");
+    let _ = writeln!(
+        md,
+        "## 3D reconstruction on held-out CMU subjects
+"
+    );
     let _ = writeln!(
         md,
         "Basis: PCA ({} components) of the training subjects' canonical poses; classifier: the \
@@ -368,7 +389,10 @@ fn lsp_section(md: &mut String, args: &Args, root: &std::path::Path) -> Result<(
             .map_or_else(String::new, |n| n.to_string_lossy().into_owned()),
         records.len()
     );
-    let _ = writeln!(md, "| camera | level | side | poses | share |\n|---|---|---|---|---|");
+    let _ = writeln!(
+        md,
+        "| camera | level | side | poses | share |\n|---|---|---|---|---|"
+    );
     for (v, n) in cameras.viewpoints().iter().zip(&counts) {
         let _ = writeln!(
             md,

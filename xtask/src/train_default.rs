@@ -22,10 +22,18 @@ pub struct Args {
     #[arg(long = "mocap", value_name = "DIR")]
     pub mocap: Vec<PathBuf>,
     /// Where to write the model.
-    #[arg(long, default_value = "fixtures/default-model.bin", value_name = "FILE")]
+    #[arg(
+        long,
+        default_value = "fixtures/default-model.bin",
+        value_name = "FILE"
+    )]
     pub out: PathBuf,
     /// Where to write the reconstruction basis.
-    #[arg(long, default_value = "fixtures/default-basis.bin", value_name = "FILE")]
+    #[arg(
+        long,
+        default_value = "fixtures/default-basis.bin",
+        value_name = "FILE"
+    )]
     pub basis_out: PathBuf,
     /// Overwrite the output if it exists.
     #[arg(long)]
@@ -80,7 +88,9 @@ pub fn run(args: &Args) -> Result<(), String> {
     if !report.converged {
         return Err("the Newton solver did not converge; the default model was not written".into());
     }
-    localizer.save(&out, args.force).map_err(|e| e.to_string())?;
+    localizer
+        .save(&out, args.force)
+        .map_err(|e| e.to_string())?;
     println!(
         "wrote {} ({} bytes, descriptor {}, lambda {}, {} samples) in {:.1} s",
         out.display(),
@@ -92,7 +102,9 @@ pub fn run(args: &Args) -> Result<(), String> {
     );
     let poses = dataset.unique_poses();
     let basis = PoseBasis::fit(&poses, &BasisConfig::default()).map_err(|e| e.to_string())?;
-    basis.save(&basis_out, args.force).map_err(|e| e.to_string())?;
+    basis
+        .save(&basis_out, args.force)
+        .map_err(|e| e.to_string())?;
     println!(
         "wrote {} ({} components explaining {:.1}% of the variance of {} poses)",
         basis_out.display(),

@@ -193,7 +193,7 @@ pub fn generate(
         .map(|(clip_index, seq)| {
             let mut out = Vec::new();
             for (frame, pose3) in &seq.frames {
-                if *frame as usize % config.stride != 0 {
+                if !(*frame as usize).is_multiple_of(config.stride) {
                     continue;
                 }
                 if !pose3.is_finite() {

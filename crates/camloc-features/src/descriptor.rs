@@ -221,7 +221,11 @@ impl Descriptor {
         let has = |l: Landmark| pose.points[l.index()].is_some();
         for (torso, left, right) in [
             (Landmark::Pelvis, Landmark::LeftHip, Landmark::RightHip),
-            (Landmark::Neck, Landmark::LeftShoulder, Landmark::RightShoulder),
+            (
+                Landmark::Neck,
+                Landmark::LeftShoulder,
+                Landmark::RightShoulder,
+            ),
         ] {
             let replaceable = matches!(self, Descriptor::Joints) && has(left) && has(right);
             if !has(torso) && !replaceable {
@@ -232,7 +236,13 @@ impl Descriptor {
         }
         // Missing landmarks sit at the first present one: every value they touch is
         // overwritten below.
-        let anchor = pose.points.iter().flatten().next().copied().unwrap_or([0.0, 0.0]);
+        let anchor = pose
+            .points
+            .iter()
+            .flatten()
+            .next()
+            .copied()
+            .unwrap_or([0.0, 0.0]);
         let filled = Pose2::new(pose.points.map(|p| p.unwrap_or(anchor)));
         self.extract_masked(&filled, pose.present_mask(), out, Some(undefined))
     }
@@ -408,7 +418,10 @@ impl TorsoFrame {
 
     /// Mid-hip origin and mid-hip-to-mid-shoulder unit; the pelvis (neck) stands in when a
     /// hip (shoulder) is missing.
-    fn from_joints(pose: &Pose2, is_present: &dyn Fn(Landmark) -> bool) -> Result<TorsoFrame, FeatureError> {
+    fn from_joints(
+        pose: &Pose2,
+        is_present: &dyn Fn(Landmark) -> bool,
+    ) -> Result<TorsoFrame, FeatureError> {
         let mid_or = |a: Landmark, b: Landmark, fallback: Landmark| {
             if is_present(a) && is_present(b) {
                 let (p, q) = (pose.get(a), pose.get(b));
@@ -418,7 +431,11 @@ impl TorsoFrame {
             }
         };
         let origin = mid_or(Landmark::LeftHip, Landmark::RightHip, Landmark::Pelvis);
-        let top = mid_or(Landmark::LeftShoulder, Landmark::RightShoulder, Landmark::Neck);
+        let top = mid_or(
+            Landmark::LeftShoulder,
+            Landmark::RightShoulder,
+            Landmark::Neck,
+        );
         Self::checked(pose, origin, top)
     }
 
@@ -475,12 +492,10 @@ impl TorsoFrame {
     /// The 13 non-torso limbs and their lengths divided by the torso length, in [`LIMBS`]
     /// order.
     fn relative_lengths<'a>(&'a self, pose: &'a Pose2) -> impl Iterator<Item = (usize, f64)> + 'a {
-        (0..NUM_LIMBS)
-            .filter(|&l| l != TORSO_LIMB)
-            .map(move |l| {
-                let (a, b) = LIMBS[l];
-                (l, self.relative(pose.get(a), pose.get(b)))
-            })
+        (0..NUM_LIMBS).filter(|&l| l != TORSO_LIMB).map(move |l| {
+            let (a, b) = LIMBS[l];
+            (l, self.relative(pose.get(a), pose.get(b)))
+        })
     }
 }
 

@@ -268,7 +268,8 @@ fn lsp_reads_visible_coordinates_and_drops_invisible_ones_by_default() {
     assert!(
         records
             .iter()
-            .any(|r| r.pose.points[0].is_some() && r.pose.points[Landmark::LeftHip.index()].is_none()),
+            .any(|r| r.pose.points[0].is_some()
+                && r.pose.points[Landmark::LeftHip.index()].is_none()),
         "fixture derives a pelvis from an invisible hip"
     );
 }

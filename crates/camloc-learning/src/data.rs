@@ -25,7 +25,7 @@ impl<'a> Features<'a> {
         if n_features == 0 {
             return Err(LearningError::NoFeatures);
         }
-        if data.len() % n_features != 0 {
+        if !data.len().is_multiple_of(n_features) {
             return Err(LearningError::RaggedFeatures {
                 len: data.len(),
                 n_features,

@@ -4,7 +4,8 @@
 //! The rows (samples) are split into a fixed number of tasks, each owning a `Q x T`
 //! accumulator; rayon schedules the tasks dynamically (a core slowed down by another
 //! process does not hold the others back), and the accumulators are summed in task order,
-//! so the result does not depend on the schedule: fits are bit-for-bit reproducible. The
+//! so the result does not depend on the schedule: fits are bit-for-bit reproducible for a
+//! given number of rayon threads (which fixes the number of tasks). The
 //! chunk buffers (`U` and `W` for one chunk of rows) are per running task, taken from a
 //! pool allocated once per fit.
 
@@ -202,6 +203,7 @@ impl PackedHessian {
         let pool = &self.scratch;
         self.tasks.par_iter_mut().for_each(|task| {
             task.accumulator.fill(0.0);
+            // The pool is never empty (`new` creates at least one set).
             let Some(mut scratch) = take_scratch(pool) else {
                 return;
             };

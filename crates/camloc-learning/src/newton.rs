@@ -26,6 +26,9 @@
 //! keeps the result bit-for-bit reproducible. One-vs-rest uses the `K` weights
 //! `sigma(z_k)(1 - sigma(z_k))` instead and a block-diagonal Hessian.
 //!
+//! When every feature weight is zero (the starting point) all samples share the same
+//! weights and the blocks are multiples of one Gram matrix `X^T X`, computed instead.
+//!
 //! Actual multiply-adds per Hessian: `n * D(D+1)/2 * Q` with `Q = K(K-1)/2` (multinomial)
 //! or `K` (one-vs-rest); see [`NewtonProblem::hessian_flops`].
 //!

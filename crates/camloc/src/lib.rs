@@ -39,12 +39,12 @@ pub use camloc_features::Descriptor;
 pub use camloc_geometry::{CameraSet, Level, Side};
 pub use camloc_skeleton::{Landmark, PartialPose2, Pose2, Pose3};
 pub use error::CamlocError;
+pub use evaluate::{CameraAccuracy, Evaluation, LevelAccuracy, evaluate};
 pub use reconstruction::{
     CameraChoice, PoseReconstruction, default_basis, evaluate_reconstruction, reconstruct,
     reconstructor,
 };
 pub use select::{DescriptorCv, cross_validate};
-pub use evaluate::{CameraAccuracy, Evaluation, LevelAccuracy, evaluate};
 /// The error for an output file that exists and may not be overwritten.
 pub fn store_exists(path: &std::path::Path) -> CamlocError {
     CamlocError::Store(camloc_store::StoreError::Exists {

@@ -161,7 +161,12 @@ impl CameraLocalizer {
         let mut labels: Vec<u16> = dataset.samples.iter().map(|s| s.label).collect();
         if options.mirror {
             poses.extend(poses.iter().map(PartialPose2::mirrored).collect::<Vec<_>>());
-            labels.extend(labels.iter().map(|&l| cameras.mirror_left_right(l)).collect::<Vec<_>>());
+            labels.extend(
+                labels
+                    .iter()
+                    .map(|&l| cameras.mirror_left_right(l))
+                    .collect::<Vec<_>>(),
+            );
         }
         let (mut x, undefined) = extract_rows(&descriptor, &poses)?;
         let imputation = column_means(&x, &undefined, d);

@@ -9,7 +9,7 @@ use camloc_skeleton::PartialPose2;
 use serde::Serialize;
 
 use crate::localizer::sample_pose;
-use crate::{CamlocError, CameraLocalizer, Localization};
+use crate::{CameraLocalizer, CamlocError, Localization};
 
 /// Which camera the reconstruction uses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]

@@ -35,7 +35,11 @@ pub fn cross_validate(
         .iter()
         .map(|s| usize::from(s.label).saturating_sub(1))
         .collect();
-    let groups: Vec<&str> = dataset.samples.iter().map(|s| dataset.subject_of(s)).collect();
+    let groups: Vec<&str> = dataset
+        .samples
+        .iter()
+        .map(|s| dataset.subject_of(s))
+        .collect();
     descriptors
         .iter()
         .map(|descriptor| {

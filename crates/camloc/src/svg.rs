@@ -188,6 +188,9 @@ fn draw_sphere(svg: &mut String, cameras: &CameraSet, label: u16, x: f64, y: f64
     }
 }
 
+/// Orthographic view of a 3D point (metres) onto drawing coordinates (v down).
+type ViewProjection = fn([f64; 3]) -> [f64; 2];
+
 /// Input 2D pose (dashed) with the reprojection of the reconstruction over it, and the 3D
 /// skeleton from the front (camera on -x), the left side (-y) and above (+z).
 pub fn reconstruction_svg(
@@ -221,7 +224,7 @@ pub fn reconstruction_svg(
         svg,
         r#"<text x="20" y="16">input (dashed) and reprojection</text>"#
     );
-    let views: [(&str, fn([f64; 3]) -> [f64; 2]); 3] = [
+    let views: [(&str, ViewProjection); 3] = [
         ("front", |p| [-p[1], -p[2]]),
         ("left side", |p| [-p[0], -p[2]]),
         ("top", |p| [-p[1], p[0]]),

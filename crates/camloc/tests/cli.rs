@@ -51,7 +51,10 @@ fn assert_clean_failure(out: &Output, expected: &str) {
         lines.iter().all(|l| l.starts_with("camloc:")),
         "every stderr line is a camloc message: {stderr}"
     );
-    assert!(stderr.contains(expected), "expected '{expected}' in: {stderr}");
+    assert!(
+        stderr.contains(expected),
+        "expected '{expected}' in: {stderr}"
+    );
 }
 
 const FIFTEEN: &str = r#"{"poses": [{"id": "p", "landmarks": {
@@ -62,8 +65,16 @@ const FIFTEEN: &str = r#"{"poses": [{"id": "p", "landmarks": {
 
 #[test]
 fn the_example_is_localized() {
-    let out = camloc(&["localize", "--input", fixture("keypoints/example.json").to_str().unwrap()]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let out = camloc(&[
+        "localize",
+        "--input",
+        fixture("keypoints/example.json").to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert_eq!(stdout.matches("probability").count(), 3, "{stdout}");
 }
@@ -97,7 +108,11 @@ fn svg_is_written_and_not_overwritten_without_force() {
     let svg = dir.0.join("out.svg");
     let svg = svg.to_str().unwrap();
     let out = camloc(&["localize", "--input", &input, "--svg", svg]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let drawing = std::fs::read_to_string(svg).unwrap();
     assert!(drawing.starts_with("<svg") && drawing.trim_end().ends_with("</svg>"));
     std::fs::write(svg, "mine").unwrap();
@@ -120,10 +135,7 @@ fn bad_inputs_fail_cleanly() {
     assert_clean_failure(&camloc(&["localize", "--input", &wrong_columns]), "w.csv");
     let nan = dir.file("nan.json", &FIFTEEN.replace("[100, 140]", "[NaN, 140]"));
     assert_clean_failure(&camloc(&["localize", "--input", &nan]), "nan.json");
-    let nan_csv = dir.file(
-        "nan.csv",
-        "image,joint,x,y,visible\nim1,neck,nan,2,1\n",
-    );
+    let nan_csv = dir.file("nan.csv", "image,joint,x,y,visible\nim1,neck,nan,2,1\n");
     assert_clean_failure(&camloc(&["localize", "--input", &nan_csv]), "nan.csv");
     // 14 landmarks: the neck is missing and cannot be derived without both shoulders.
     let fourteen = dir.file(
@@ -141,11 +153,23 @@ fn bad_inputs_fail_cleanly() {
         "not a camloc model",
     );
     assert_clean_failure(
-        &camloc(&["evaluate", "--model", &not_a_model, "--dataset", &not_a_model]),
+        &camloc(&[
+            "evaluate",
+            "--model",
+            &not_a_model,
+            "--dataset",
+            &not_a_model,
+        ]),
         "not a camloc model",
     );
     assert_clean_failure(
-        &camloc(&["train", "--dataset", &not_a_model, "--out", dir.0.join("m.bin").to_str().unwrap()]),
+        &camloc(&[
+            "train",
+            "--dataset",
+            &not_a_model,
+            "--out",
+            dir.0.join("m.bin").to_str().unwrap(),
+        ]),
         "not a camloc dataset",
     );
     let usage = camloc(&["localize"]);

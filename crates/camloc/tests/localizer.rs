@@ -144,7 +144,14 @@ fn mirrored_lsp_poses_get_the_mirrored_side() {
         }
     }
     let share = consistent as f64 / ok as f64;
-    eprintln!("LSP mirror check: {consistent} of {ok} poses ({:.1}%)", 100.0 * share);
+    eprintln!(
+        "LSP mirror check: {consistent} of {ok} poses ({:.1}%)",
+        100.0 * share
+    );
     assert!(ok >= 390, "only {ok} of 400 LSP poses localized");
-    assert!(share >= 0.9, "mirrored side in {:.1}% of poses", 100.0 * share);
+    assert!(
+        share >= 0.9,
+        "mirrored side in {:.1}% of poses",
+        100.0 * share
+    );
 }

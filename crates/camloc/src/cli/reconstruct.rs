@@ -7,7 +7,7 @@ use std::process::ExitCode;
 use camloc::dataset::Dataset;
 use camloc::reconstruct::PoseBasis;
 use camloc::{
-    CamlocError, CameraChoice, Landmark, Pose2, default_basis, evaluate_reconstruction,
+    CameraChoice, CamlocError, Landmark, Pose2, default_basis, evaluate_reconstruction,
     reconstruct, reconstructor, svg,
 };
 use clap::ValueEnum;
@@ -106,7 +106,9 @@ pub fn run(args: &Args, out: &mut String) -> Result<ExitCode, CamlocError> {
             Err(e) => {
                 failures += 1;
                 eprintln!("camloc: error: {} ({}): {e}", record.id, record.source);
-                json_out.push(json!({"id": record.id, "source": record.source, "error": e.to_string()}));
+                json_out.push(
+                    json!({"id": record.id, "source": record.source, "error": e.to_string()}),
+                );
                 continue;
             }
         };
@@ -147,12 +149,26 @@ pub fn run(args: &Args, out: &mut String) -> Result<ExitCode, CamlocError> {
                 record.id, r.projection_error
             );
             for row in &rotation {
-                let _ = writeln!(out, "  R = [{:>7.4} {:>7.4} {:>7.4}]", row[0], row[1], row[2]);
+                let _ = writeln!(
+                    out,
+                    "  R = [{:>7.4} {:>7.4} {:>7.4}]",
+                    row[0], row[1], row[2]
+                );
             }
-            let _ = writeln!(out, "  3D landmarks (metres, canonical frame: facing -x, z up):");
+            let _ = writeln!(
+                out,
+                "  3D landmarks (metres, canonical frame: facing -x, z up):"
+            );
             for l in Landmark::ALL {
                 let p = r.pose.points[l.index()];
-                let _ = writeln!(out, "    {:<15} {:>8.4} {:>8.4} {:>8.4}", l.name(), p[0], p[1], p[2]);
+                let _ = writeln!(
+                    out,
+                    "    {:<15} {:>8.4} {:>8.4} {:>8.4}",
+                    l.name(),
+                    p[0],
+                    p[1],
+                    p[2]
+                );
             }
         }
         if let (Some(svg_out), Some(input)) = (&args.svg, record.pose.complete()) {
@@ -167,7 +183,10 @@ pub fn run(args: &Args, out: &mut String) -> Result<ExitCode, CamlocError> {
         let _ = writeln!(out, "{}", to_json(&json_out)?);
     }
     if failures > 0 {
-        eprintln!("camloc: {failures} of {} poses could not be reconstructed", records.len());
+        eprintln!(
+            "camloc: {failures} of {} poses could not be reconstructed",
+            records.len()
+        );
         return Ok(ExitCode::from(super::EXIT_ERROR));
     }
     Ok(ExitCode::SUCCESS)

@@ -1,0 +1,36 @@
+#!/usr/bin/env bash
+# Runs every camloc fuzz target for a bounded time, seeded with the project's fixtures.
+#   fuzz/run.sh [SECONDS_PER_TARGET] [TARGET...]      (default: 600 s, all targets)
+# Needs cargo-fuzz (`cargo install cargo-fuzz`); RUSTC_BOOTSTRAP=1 lets the stable toolchain
+# build with the sanitizer flags cargo-fuzz passes. Crashes are written to
+# fuzz/artifacts/<target>/; turn each into a regression test before fixing it.
+set -euo pipefail
+cd "$(dirname "$0")"
+seconds="${1:-600}"
+shift || true
+targets=("$@")
+[ ${#targets[@]} -gt 0 ] || targets=(bvh asf_amc keypoints)
+export RUSTC_BOOTSTRAP=1
+
+seed() {
+    local target=$1 dir=corpus/$1
+    mkdir -p "$dir"
+    case "$target" in
+        bvh) cp ../fixtures/mocap/*.bvh "$dir"/ ;;
+        asf_amc)
+            # ASF, a NUL byte, then the AMC (the target's input layout).
+            { cat ../fixtures/mocap/99.asf; printf '\0'; cat ../fixtures/mocap/99_01.amc; } > "$dir/99"
+            ;;
+        keypoints)
+            for f in ../fixtures/keypoints/*.json ../fixtures/keypoints/*.csv; do
+                { printf '\3'; cat "$f"; } > "$dir/$(basename "$f")"
+            done
+            ;;
+    esac
+}
+
+for target in "${targets[@]}"; do
+    seed "$target"
+    echo "== fuzzing $target for $seconds s"
+    cargo fuzz run -O "$target" "corpus/$target" -- -max_total_time="$seconds" -rss_limit_mb=2048 -max_len=65536
+done
