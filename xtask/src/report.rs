@@ -23,13 +23,17 @@ pub struct Args {
     /// LSP-14 CSV of real photos [default: ../shared/data/lsp/lsp400_joints.csv].
     #[arg(long, value_name = "FILE")]
     pub lsp: Option<PathBuf>,
-    /// Where to write the report (replaced).
+    /// Where to write the report (replaced, except for its "## Performance" section, which
+    /// holds the output of the benches and `compare-sklearn` and is kept).
     #[arg(long, default_value = "docs/RESULTS.md", value_name = "FILE")]
     pub out: PathBuf,
     /// Folds of the subject-grouped cross-validation that picks lambda and sigma.
     #[arg(long, default_value_t = 3)]
     pub folds: usize,
 }
+
+/// Heading of the RESULTS.md section that `report` keeps from the previous file.
+const PERFORMANCE_HEADING: &str = "## Performance";
 
 /// Ridge weights tried by cross-validation.
 const LAMBDAS: [f64; 3] = [1.0, 30.0, 300.0];
@@ -217,6 +221,13 @@ pub fn run(args: &Args) -> Result<(), String> {
     reconstruction_section(&mut md, &recon_rows);
     lsp_section(&mut md, args, &root)?;
     let out = root.join(&args.out);
+    // The performance section comes from other commands (benches, compare-sklearn), whose
+    // output is pasted there with the command that printed it: keep it.
+    if let Ok(previous) = std::fs::read_to_string(&out) {
+        if let Some(at) = previous.find(PERFORMANCE_HEADING) {
+            md.push_str(&previous[at..]);
+        }
+    }
     camloc::store::write_new(&out, md.as_bytes(), true).map_err(|e| e.to_string())?;
     println!("wrote {}", out.display());
     Ok(())

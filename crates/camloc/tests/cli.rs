@@ -187,3 +187,62 @@ fn help_documents_exit_codes() {
         assert!(String::from_utf8_lossy(&out.stdout).contains("Exit codes"));
     }
 }
+
+/// Every malformed keypoint fixture, fed to every subcommand that reads keypoints, gives exit
+/// code 1 and camloc messages only; malformed model and dataset files likewise for the
+/// subcommands that read those.
+#[test]
+fn every_malformed_file_fails_cleanly_in_every_subcommand() {
+    let bad_dir = fixture("keypoints/bad");
+    let mut bad: Vec<PathBuf> = std::fs::read_dir(&bad_dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    bad.sort();
+    assert!(bad.len() >= 12, "at least a dozen malformed fixtures");
+    for file in &bad {
+        let name = file.file_name().unwrap().to_string_lossy().into_owned();
+        let path = file.to_str().unwrap();
+        for sub in ["localize", "reconstruct"] {
+            let out = camloc(&[sub, "--input", path]);
+            assert_clean_failure(&out, &name);
+        }
+    }
+    let dir = TempDir::new("bad-binary");
+    let truncated_model = {
+        let bytes = camloc::CameraLocalizer::default_model()
+            .unwrap()
+            .to_bytes()
+            .unwrap();
+        let p = dir.0.join("truncated-model.bin");
+        std::fs::write(&p, &bytes[..bytes.len() / 2]).unwrap();
+        p
+    };
+    let binaries = [
+        dir.file("empty.bin", ""),
+        dir.file("text.bin", "image,joint,x,y,visible\n"),
+        truncated_model.to_string_lossy().into_owned(),
+    ];
+    let input = fixture("keypoints/example.json");
+    let input = input.to_str().unwrap();
+    let out_model = dir.0.join("m.bin");
+    let out_model = out_model.to_str().unwrap();
+    for file in &binaries {
+        let name = Path::new(file).file_name().unwrap().to_string_lossy().into_owned();
+        for args in [
+            vec!["localize", "--model", file, "--input", input],
+            vec!["reconstruct", "--model", file, "--input", input],
+            vec!["reconstruct", "--basis", file, "--input", input],
+            vec!["evaluate", "--model", file, "--dataset", file],
+            vec!["evaluate-reconstruction", "--dataset", file],
+            vec!["train", "--dataset", file, "--out", out_model],
+        ] {
+            let out = camloc(&args);
+            let stderr = String::from_utf8_lossy(&out.stderr);
+            assert_eq!(out.status.code(), Some(1), "{args:?}: {stderr}");
+            assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+            assert_eq!(stderr.lines().count(), 1, "{args:?} ({name}): {stderr}");
+        }
+    }
+    assert!(!Path::new(out_model).exists(), "no model written from bad input");
+}
