@@ -38,11 +38,24 @@ fn one_bad_file_is_skipped_with_a_warning_and_the_others_are_used() {
     assert_eq!(summary.skipped.len(), 2);
     assert_eq!(warnings, summary.skipped);
     assert_eq!(progress_calls, 4);
-    assert!(warnings.iter().any(|w| w.contains("97_02.bvh") && w.contains(':')), "{warnings:?}");
-    assert!(warnings.iter().any(|w| w.contains("55.asf")), "{warnings:?}");
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w.contains("97_02.bvh") && w.contains(':')),
+        "{warnings:?}"
+    );
+    assert!(
+        warnings.iter().any(|w| w.contains("55.asf")),
+        "{warnings:?}"
+    );
     let names: Vec<&str> = sequences.iter().map(|s| s.clip.name.as_str()).collect();
     assert_eq!(names, ["98_01", "99_01"]);
-    let dataset = generate(&sequences, &GenerateConfig::new(Protocol::Canonical), &|_, _| {}).unwrap();
+    let dataset = generate(
+        &sequences,
+        &GenerateConfig::new(Protocol::Canonical),
+        &|_, _| {},
+    )
+    .unwrap();
     assert_eq!(dataset.subjects().len(), 2);
 
     // A folder with nothing readable is an error, not an empty dataset.

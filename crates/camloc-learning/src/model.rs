@@ -69,8 +69,12 @@ impl LogisticModel {
         }
     }
 
-    /// Checks every invariant: used by [`new`](Self::new) and when decoding a stored model.
-    pub(crate) fn validate(&self) -> Result<(), LearningError> {
+    /// Checks every invariant (sizes, finite values, a valid standardiser): used by
+    /// [`new`](Self::new) and when decoding a stored model, also one nested in another file.
+    ///
+    /// # Errors
+    /// The first violated invariant, as in [`new`](Self::new).
+    pub fn validate(&self) -> Result<(), LearningError> {
         self.standardiser.validate()?;
         if self.n_classes < 2 {
             return Err(LearningError::TooFewClasses {

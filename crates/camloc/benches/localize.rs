@@ -60,7 +60,11 @@ fn benches(c: &mut Criterion) {
     group.throughput(Throughput::Elements(BATCH as u64));
     group.bench_function("1M poses: descriptors + predicted labels", |b| {
         b.iter_batched(
-            || (0..BATCH).map(|k| PartialPose2::from(pose(k))).collect::<Vec<_>>(),
+            || {
+                (0..BATCH)
+                    .map(|k| PartialPose2::from(pose(k)))
+                    .collect::<Vec<_>>()
+            },
             |poses| localizer.predict_labels(&poses),
             BatchSize::LargeInput,
         )

@@ -228,7 +228,11 @@ fn every_malformed_file_fails_cleanly_in_every_subcommand() {
     let out_model = dir.0.join("m.bin");
     let out_model = out_model.to_str().unwrap();
     for file in &binaries {
-        let name = Path::new(file).file_name().unwrap().to_string_lossy().into_owned();
+        let name = Path::new(file)
+            .file_name()
+            .unwrap()
+            .to_string_lossy()
+            .into_owned();
         for args in [
             vec!["localize", "--model", file, "--input", input],
             vec!["reconstruct", "--model", file, "--input", input],
@@ -244,5 +248,8 @@ fn every_malformed_file_fails_cleanly_in_every_subcommand() {
             assert_eq!(stderr.lines().count(), 1, "{args:?} ({name}): {stderr}");
         }
     }
-    assert!(!Path::new(out_model).exists(), "no model written from bad input");
+    assert!(
+        !Path::new(out_model).exists(),
+        "no model written from bad input"
+    );
 }
