@@ -3,6 +3,7 @@
 //! * `cargo xtask gen-dataset`: project real mocap through a camera sphere into a dataset file.
 //! * `cargo xtask train-default`: train the default model embedded in the `camloc` binary.
 //! * `cargo xtask report`: measure everything and write docs/RESULTS.md.
+//! * `cargo xtask compare-sklearn`: camloc's Newton solver against scikit-learn on one matrix.
 
 use std::process::ExitCode;
 
