@@ -76,6 +76,17 @@ fn draw_skeleton(svg: &mut String, points: &[Option<[f64; 2]>; 15], dashed: bool
     }
 }
 
+/// An SVG document of `w` x `h` pixels on a white background, left open for drawing.
+fn begin(w: f64, h: f64) -> String {
+    let mut svg = String::new();
+    let _ = writeln!(
+        svg,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" viewBox="0 0 {w} {h}" font-family="sans-serif" font-size="12">"#
+    );
+    let _ = writeln!(svg, r#"<rect width="{w}" height="{h}" fill="white"/>"#);
+    svg
+}
+
 fn escape(text: &str) -> String {
     text.replace('&', "&amp;")
         .replace('<', "&lt;")
@@ -93,12 +104,7 @@ pub fn localization_svg(
     caption: &str,
 ) -> String {
     let (w, h) = (640.0, 360.0);
-    let mut svg = String::new();
-    let _ = writeln!(
-        svg,
-        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" viewBox="0 0 {w} {h}" font-family="sans-serif" font-size="12">"#
-    );
-    let _ = writeln!(svg, r#"<rect width="{w}" height="{h}" fill="white"/>"#);
+    let mut svg = begin(w, h);
     let present: Vec<[f64; 2]> = pose.points.iter().flatten().copied().collect();
     let map = fit_box(&present, 10.0, 10.0, 300.0, 310.0);
     draw_skeleton(&mut svg, &pose.points.map(|p| p.map(&map)), false, 3.0);
@@ -200,12 +206,7 @@ pub fn reconstruction_svg(
     caption: &str,
 ) -> String {
     let (w, h) = (880.0, 260.0);
-    let mut svg = String::new();
-    let _ = writeln!(
-        svg,
-        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" viewBox="0 0 {w} {h}" font-family="sans-serif" font-size="12">"#
-    );
-    let _ = writeln!(svg, r#"<rect width="{w}" height="{h}" fill="white"/>"#);
+    let mut svg = begin(w, h);
     let both: Vec<[f64; 2]> = input
         .points
         .iter()
