@@ -417,8 +417,7 @@ fn lsp_section(md: &mut String, args: &Args, root: &std::path::Path) -> Result<(
          {missing} poses have at least one), localized with the default model embedded in the \
          binary (`cargo xtask train-default`). {ok} of {} poses localized. There is no ground \
          truth camera for these photos: this is a sanity check of how the predictions spread \
-         over the sphere. Sports photos are mostly taken from about body height, in front of \
-         or beside the athlete.\n",
+         over the sphere.\n",
         path.file_name()
             .map_or_else(String::new, |n| n.to_string_lossy().into_owned()),
         records.len()
@@ -437,6 +436,28 @@ fn lsp_section(md: &mut String, args: &Args, root: &std::path::Path) -> Result<(
             100.0 * *n as f64 / ok.max(1) as f64
         );
     }
+    let level_share = |level: camloc::Level| {
+        let n: usize = cameras
+            .viewpoints()
+            .iter()
+            .zip(&counts)
+            .filter(|(v, _)| v.level == level)
+            .map(|(_, n)| n)
+            .sum();
+        100.0 * n as f64 / ok.max(1) as f64
+    };
+    let _ = writeln!(
+        md,
+        "\nBy level: lower {:.1}%, middle {:.1}%, upper {:.1}%. The spread leans to the upper \
+         ring more than we would expect of sports photos; the model is trained on mocap \
+         skeletons, whose joint placement and body proportions differ from annotated photos \
+         (the reason the default `joints` descriptor avoids the pelvis and neck), so take the \
+         level predicted for a photo with caution; the side (front, left, back, right) is the \
+         more reliable part.",
+        level_share(camloc::Level::Lower),
+        level_share(camloc::Level::Middle),
+        level_share(camloc::Level::Upper)
+    );
     let _ = writeln!(
         md,
         "\nMirror check: each pose mirrored horizontally with left/right labels swapped is \
