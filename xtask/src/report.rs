@@ -223,10 +223,10 @@ pub fn run(args: &Args) -> Result<(), String> {
     let out = root.join(&args.out);
     // The performance section comes from other commands (benches, compare-sklearn), whose
     // output is pasted there with the command that printed it: keep it.
-    if let Ok(previous) = std::fs::read_to_string(&out) {
-        if let Some(at) = previous.find(PERFORMANCE_HEADING) {
-            md.push_str(&previous[at..]);
-        }
+    if let Ok(previous) = std::fs::read_to_string(&out)
+        && let Some(at) = previous.find(PERFORMANCE_HEADING)
+    {
+        md.push_str(&previous[at..]);
     }
     camloc::store::write_new(&out, md.as_bytes(), true).map_err(|e| e.to_string())?;
     println!("wrote {}", out.display());
