@@ -80,8 +80,11 @@ pub fn run(args: &Args) -> Result<(), String> {
     );
     let (localizer, report) = CameraLocalizer::train(&dataset, &options, |log| {
         eprintln!(
-            "  newton {:>3}: objective {:.6e}  |grad|_inf {:.3e}",
-            log.iteration, log.objective, log.gradient_norm
+            "  newton {:>3}: objective {:.6e}  |grad|_inf {:.3e}  ({})",
+            log.iteration,
+            log.objective,
+            log.gradient_norm,
+            log.direction_summary()
         );
     })
     .map_err(|e| e.to_string())?;

@@ -20,7 +20,7 @@ mod support;
 use std::hint::black_box;
 use std::time::{Duration, Instant};
 
-use camloc_learning::{Features, LogisticRegression, NewtonProblem};
+use camloc_learning::{DirectionSolver, Features, LogisticRegression, NewtonProblem};
 use criterion::{Bencher, BenchmarkId, Criterion, criterion_group, criterion_main};
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Mat, Par};
@@ -34,7 +34,10 @@ const SEPARATION: f64 = 0.3;
 /// Fixed seed of the synthetic data.
 const SEED: u64 = 2024;
 
-/// Data and a Newton problem in a typical mid-fit state (after one iteration from zero).
+/// Data and a Newton problem in a typical mid-fit state (after one iteration from zero),
+/// with the direct solver, so that every timed iteration assembles and factorises the
+/// Hessian (with conjugate gradients, repeating an iteration from the same point would
+/// reuse the factor of that very point).
 struct Setup {
     x: Vec<f64>,
     y: Vec<usize>,
@@ -46,9 +49,13 @@ impl Setup {
     fn new(n: usize) -> Self {
         let (x, y) = support::gaussian_classes(n, D_FEATURES, K_CLASSES, SEPARATION, 3.0, SEED);
         let features = Features::new(&x, D_FEATURES).expect("valid features");
-        let mut problem =
-            NewtonProblem::new(&features, &y, K_CLASSES, &LogisticRegression::default())
-                .expect("valid problem");
+        let mut problem = NewtonProblem::new(
+            &features,
+            &y,
+            K_CLASSES,
+            &LogisticRegression::default().with_direction_solver(DirectionSolver::Cholesky),
+        )
+        .expect("valid problem");
         problem.newton_step().expect("first step");
         let theta = problem.parameters().to_vec();
         Self {
@@ -183,29 +190,40 @@ fn newton_benches(c: &mut Criterion, label: &str, n: usize) {
         );
     }
 
-    let mut best = Duration::MAX;
-    let mut iterations = 0;
-    group.bench_function("fit", |bench| {
-        let s = setup.get_or_insert_with(|| Setup::new(n));
-        let features = Features::new(&s.x, D_FEATURES).expect("valid features");
-        let config = LogisticRegression::default();
-        timed(
-            bench,
-            &mut (),
-            &mut best,
-            |_| {},
-            |()| {
-                let (_, report) = config.fit(&features, &s.y, K_CLASSES).expect("fit");
-                iterations = report.iterations.len() - 1;
-                black_box(report);
-            },
-        );
-    });
-    if best < Duration::MAX {
-        eprintln!(
-            "{label}: whole fit {:.1} ms (fastest), {iterations} Newton iterations",
-            best.as_secs_f64() * 1e3
-        );
+    for (name, solver) in [
+        ("fit", DirectionSolver::PreconditionedCg),
+        ("fit_cholesky_every_iteration", DirectionSolver::Cholesky),
+    ] {
+        let mut best = Duration::MAX;
+        let mut summary = String::new();
+        group.bench_function(name, |bench| {
+            let s = setup.get_or_insert_with(|| Setup::new(n));
+            let features = Features::new(&s.x, D_FEATURES).expect("valid features");
+            let config = LogisticRegression::default().with_direction_solver(solver);
+            timed(
+                bench,
+                &mut (),
+                &mut best,
+                |_| {},
+                |()| {
+                    let (_, report) = config.fit(&features, &s.y, K_CLASSES).expect("fit");
+                    let steps = &report.iterations[1..];
+                    summary = format!(
+                        "{} Newton iterations, {} Hessian assemblies, {} CG products",
+                        steps.len(),
+                        steps.iter().filter(|l| l.hessian_assembled).count(),
+                        steps.iter().map(|l| l.cg_products).sum::<usize>()
+                    );
+                    black_box(report);
+                },
+            );
+        });
+        if best < Duration::MAX {
+            eprintln!(
+                "{label}: {name} {:.1} ms (fastest), {summary}",
+                best.as_secs_f64() * 1e3
+            );
+        }
     }
     group.finish();
 }

@@ -19,6 +19,28 @@ pub enum Mode {
     OneVsRest,
 }
 
+/// How each Newton system `H d = -grad f` is solved (multinomial mode; one-vs-rest always
+/// uses [`DirectionSolver::Cholesky`], its blocks being small).
+///
+/// Both give the exact Newton direction, to the accuracy of a direct solve; they differ
+/// only in how often the Hessian is assembled, which is the dominant cost of an iteration.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum DirectionSolver {
+    /// Assemble the exact Hessian and factorise it with faer's dense Cholesky at every
+    /// iteration.
+    Cholesky,
+    /// Conjugate gradients on exact Hessian-vector products (`O(n d K)` each, against
+    /// `O(n d^2 K^2)` for an assembly), preconditioned by the Cholesky factor of the last
+    /// assembled Hessian, run until the error of the direction in the Hessian norm is at
+    /// most `1e-10` of the direction's norm. When that would take more products than the
+    /// budget allows (typically in the first iterations, where the Hessian changes fast),
+    /// the Hessian is assembled and factorised afresh, as with [`Cholesky`](Self::Cholesky).
+    /// Near the optimum the Hessian changes little, so one factor serves several
+    /// iterations. The default.
+    #[default]
+    PreconditionedCg,
+}
+
 /// L2-regularised logistic regression fitted by Newton's method (SPEC.md section 5).
 ///
 /// Minimises, over weights `W` (`K x d`) and biases `b` (`K`),
@@ -31,9 +53,10 @@ pub enum Mode {
 /// the standardised features when [`standardise`](Self::standardise) is set. In
 /// scikit-learn's terms `lambda = 1 / (2 C)`.
 ///
-/// Each iteration computes the exact gradient and Hessian, factorises the Hessian with
-/// faer's dense Cholesky, and takes the Newton step with a backtracking (Armijo) line
-/// search. It stops when the infinity norm of the gradient of `f` is at most
+/// Each iteration computes the exact gradient, solves the Newton system of the exact
+/// Hessian (with faer's dense Cholesky, or with conjugate gradients preconditioned by an
+/// earlier Cholesky factor: see [`DirectionSolver`]), and takes the Newton step with a
+/// backtracking (Armijo) line search. It stops when the infinity norm of the gradient of `f` is at most
 /// `gradient_tolerance * n_samples` (the tolerance is on the gradient of the *mean* loss,
 /// so it does not depend on the number of samples).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -50,6 +73,9 @@ pub struct LogisticRegression {
     /// Standardise features (zero mean, unit variance per column, fitted on the training
     /// data and stored in the model). Default true.
     pub standardise: bool,
+    /// How the Newton systems are solved. Default [`DirectionSolver::PreconditionedCg`].
+    #[serde(default)]
+    pub direction_solver: DirectionSolver,
 }
 
 impl Default for LogisticRegression {
@@ -60,6 +86,7 @@ impl Default for LogisticRegression {
             gradient_tolerance: 1e-8,
             mode: Mode::Multinomial,
             standardise: true,
+            direction_solver: DirectionSolver::PreconditionedCg,
         }
     }
 }
@@ -92,6 +119,12 @@ impl LogisticRegression {
     /// Returns `self` with standardisation switched on or off.
     pub fn with_standardise(mut self, standardise: bool) -> Self {
         self.standardise = standardise;
+        self
+    }
+
+    /// Returns `self` with the Newton system solver set.
+    pub fn with_direction_solver(mut self, direction_solver: DirectionSolver) -> Self {
+        self.direction_solver = direction_solver;
         self
     }
 
@@ -148,7 +181,7 @@ impl LogisticRegression {
     ) -> Result<(LogisticModel, FitReport), LearningError> {
         let mut problem = NewtonProblem::new(x, y, n_classes, self)?;
         let threshold = self.gradient_tolerance * x.n_samples() as f64;
-        let start = problem.log(0.0);
+        let start = problem.log(0.0, false, 0);
         progress(&start);
         let mut iterations = vec![start];
         let termination = loop {

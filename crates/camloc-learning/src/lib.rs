@@ -48,7 +48,7 @@ mod persist;
 mod softmax;
 mod standardise;
 
-pub use config::{LogisticRegression, Mode};
+pub use config::{DirectionSolver, LogisticRegression, Mode};
 pub use cv::{CandidateScore, CvReport, cross_validate_grouped, group_k_fold};
 pub use data::Features;
 pub use error::LearningError;

@@ -32,6 +32,15 @@
 //! Actual multiply-adds per Hessian: `n * D(D+1)/2 * Q` with `Q = K(K-1)/2` (multinomial)
 //! or `K` (one-vs-rest); see [`NewtonProblem::hessian_flops`].
 //!
+//! # Reusing a factor
+//!
+//! With [`DirectionSolver::PreconditionedCg`] (the default, multinomial mode), an iteration
+//! first tries to solve its Newton system by conjugate gradients on exact Hessian-vector
+//! products (`4 n D K` flops each), preconditioned by the Cholesky factor of the last
+//! assembled Hessian, to the accuracy of the direct solve; only if that would take longer
+//! than an assembly does it assemble and factorise the Hessian. Near the optimum the
+//! Hessian barely changes, so one factor serves the last few iterations (module `cg`).
+//!
 //! # Singular directions
 //!
 //! In the multinomial model adding the same constant to every class's bias leaves the
@@ -57,7 +66,9 @@ use crate::data::check_labels;
 use crate::hessian::PackedHessian;
 use crate::softmax::{log_sum_exp, sigmoid, softmax_in_place, softplus};
 use crate::standardise::Standardiser;
-use crate::{Features, LearningError, LogisticModel, LogisticRegression, Mode};
+use crate::{DirectionSolver, Features, LearningError, LogisticModel, LogisticRegression, Mode};
+
+mod cg;
 
 /// Sufficient-decrease constant of the Armijo condition `f(t) <= f(0) + c t g.d`.
 const ARMIJO_C1: f64 = 1e-4;
@@ -82,6 +93,27 @@ pub struct IterationLog {
     /// Step length taken along the Newton direction (1 is the full step; 0 means no
     /// decrease could be found). For one-vs-rest, the largest of the per-class steps.
     pub step: f64,
+    /// Whether the Hessian was assembled and factorised in this iteration (false at the
+    /// starting point and when conjugate gradients solved the Newton system with an earlier
+    /// factor, see [`DirectionSolver`]).
+    pub hessian_assembled: bool,
+    /// Hessian-vector products spent by conjugate gradients in this iteration, including
+    /// those of an attempt that gave up for an assembly.
+    pub cg_products: usize,
+}
+
+impl IterationLog {
+    /// How the Newton direction of this iteration was found, in words for logs:
+    /// `"start"`, `"Hessian + Cholesky"`, `"CG, 7 products"` or
+    /// `"CG gave up after 4 products, Hessian + Cholesky"`.
+    pub fn direction_summary(&self) -> String {
+        match (self.iteration, self.hessian_assembled, self.cg_products) {
+            (0, _, _) => "start".to_owned(),
+            (_, true, 0) => "Hessian + Cholesky".to_owned(),
+            (_, true, c) => format!("CG gave up after {c} products, Hessian + Cholesky"),
+            (_, false, c) => format!("CG, {c} products"),
+        }
+    }
 }
 
 /// Why the Newton iteration stopped.
@@ -115,6 +147,7 @@ pub struct FitReport {
 /// benchmarks can time single iterations and the Hessian assembly.
 pub struct NewtonProblem {
     mode: Mode,
+    direction_solver: DirectionSolver,
     lambda: f64,
     n_samples: usize,
     /// `D = d + 1`.
@@ -142,8 +175,18 @@ pub struct NewtonProblem {
     direction: Vec<f64>,
     /// `P x P` Hessian (full, symmetric).
     hessian: Vec<f64>,
-    /// `P x P` Cholesky work matrix.
+    /// `P x P` Cholesky work matrix; after a successful undamped multinomial factorisation
+    /// its lower triangle is the factor `L` of `H + S` (`S` the singular-direction shift),
+    /// kept as the preconditioner of [`DirectionSolver::PreconditionedCg`].
     factor: Vec<f64>,
+    /// True when `factor` holds such a preconditioner.
+    factor_ready: bool,
+    /// Per design column `a`: the curvature `c_a` of the singular-direction shift in
+    /// `factor` (`S` adds `c_a` to every entry `((j, a), (l, a))`); 0 for columns without.
+    null_shifts: Vec<f64>,
+    /// Conjugate-gradient vectors (`P` each): residual, preconditioned residual, search
+    /// direction and its Hessian product.
+    cg: cg::Vectors,
     cholesky_scratch: MemBuffer,
     /// Line-search blocks: one (multinomial) or one per class (one-vs-rest).
     block_objectives: Vec<f64>,
@@ -228,6 +271,7 @@ impl NewtonProblem {
         ));
         let mut problem = Self {
             mode: config.mode,
+            direction_solver: config.direction_solver,
             lambda: config.lambda,
             n_samples: n,
             dim,
@@ -245,6 +289,9 @@ impl NewtonProblem {
             direction: vec![0.0; p],
             hessian: vec![0.0; p * p],
             factor: vec![0.0; max_block * max_block],
+            factor_ready: false,
+            null_shifts: vec![0.0; dim],
+            cg: cg::Vectors::new(p),
             cholesky_scratch,
             block_objectives: vec![0.0; n_blocks],
             trial_objectives: vec![0.0; n_blocks],
@@ -348,12 +395,19 @@ impl NewtonProblem {
     }
 
     /// Log entry of the current state with the given step length.
-    pub(crate) fn log(&self, step: f64) -> IterationLog {
+    pub(crate) fn log(
+        &self,
+        step: f64,
+        hessian_assembled: bool,
+        cg_products: usize,
+    ) -> IterationLog {
         IterationLog {
             iteration: self.iteration,
             objective: self.objective(),
             gradient_norm: self.gradient_norm(),
             step,
+            hessian_assembled,
+            cg_products,
         }
     }
 
@@ -420,44 +474,15 @@ impl NewtonProblem {
 
     /// `grad f = X^T R^T + 2 lambda [W; 0]`.
     fn compute_gradient(&mut self) {
-        let (n, dim, k) = (self.n_samples, self.dim, self.n_classes);
-        let x = MatRef::from_column_major_slice(&self.x, n, dim);
-        // Per task of rows: partial `K x D` = R_rows X_rows, then summed in task order.
-        self.residuals
-            .par_chunks(ROWS_PER_TASK * k)
-            .zip(self.gradient_partials.par_chunks_mut(k * dim))
-            .enumerate()
-            .for_each(|(task, (r, partial))| {
-                let rows = r.len() / k;
-                matmul(
-                    MatMut::from_column_major_slice_mut(partial, k, dim),
-                    Accum::Replace,
-                    MatRef::from_column_major_slice(r, k, rows),
-                    x.subrows(task * ROWS_PER_TASK, rows),
-                    1.0,
-                    Par::Seq,
-                );
-            });
-        self.gradient.fill(0.0);
-        for partial in self.gradient_partials.chunks_exact(k * dim) {
-            for (a, column) in partial.chunks_exact(k).enumerate() {
-                for (class, &v) in column.iter().enumerate() {
-                    if let Some(g) = self.gradient.get_mut(class * dim + a) {
-                        *g += v;
-                    }
-                }
-            }
-        }
-        let two_lambda = 2.0 * self.lambda;
-        for (g, t) in self
-            .gradient
-            .chunks_exact_mut(dim)
-            .zip(self.theta.chunks_exact(dim))
-        {
-            for (gv, tv) in g[..dim - 1].iter_mut().zip(&t[..dim - 1]) {
-                *gv += two_lambda * tv;
-            }
-        }
+        transpose_product(
+            &self.x,
+            self.dim,
+            self.n_classes,
+            &self.residuals,
+            &mut self.gradient_partials,
+            &mut self.gradient,
+        );
+        add_ridge_curvature(self.lambda, self.dim, &self.theta, &mut self.gradient);
     }
 
     /// Assembles the exact Hessian of `f` at the current parameters into
@@ -490,15 +515,26 @@ impl NewtonProblem {
         self.unpack_hessian();
     }
 
-    /// One Newton iteration: Hessian, Cholesky solve for the direction, backtracking line
+    /// One Newton iteration: the Newton direction (Hessian assembly and Cholesky solve, or
+    /// preconditioned conjugate gradients: see [`DirectionSolver`]), backtracking line
     /// search, update of parameters, objective and gradient. Returns the log of the new
     /// state; a step of 0 means no decrease was found and nothing changed.
     ///
     /// # Errors
     /// [`LearningError::Singular`] if the Hessian cannot be factorised even with damping.
     pub fn newton_step(&mut self) -> Result<IterationLog, LearningError> {
-        self.assemble_hessian();
-        self.solve_newton_system()?;
+        let reuse = self.direction_solver == DirectionSolver::PreconditionedCg
+            && self.mode == Mode::Multinomial
+            && self.factor_ready;
+        let cg = if reuse { self.solve_by_cg() } else { Err(0) };
+        let (hessian_assembled, cg_products) = match cg {
+            Ok(products) => (false, products),
+            Err(products) => {
+                self.assemble_hessian();
+                self.solve_newton_system()?;
+                (true, products)
+            }
+        };
         let dim = self.dim;
         linear_logits(&self.x, dim, &self.direction, &mut self.direction_logits);
         self.line_search();
@@ -517,7 +553,7 @@ impl NewtonProblem {
             self.update_pass(true);
         }
         self.iteration += 1;
-        Ok(self.log(step))
+        Ok(self.log(step, hessian_assembled, cg_products))
     }
 
     /// `direction = -H^-1 grad` (per class block for one-vs-rest), with the singular-direction
@@ -539,6 +575,8 @@ impl NewtonProblem {
             (Mode::Multinomial, false) => dim - 1..dim,
             (Mode::Multinomial, true) => 0..dim,
         };
+        self.factor_ready = false;
+        self.null_shifts.fill(0.0);
         for block in 0..n_blocks {
             let offset = block * block_size;
             let max_diagonal = (offset..offset + block_size)
@@ -560,6 +598,9 @@ impl NewtonProblem {
                         .map(|j| self.hessian[(j * dim + a) * p + j * dim + a])
                         .sum::<f64>()
                         / (k * k) as f64;
+                    if let Some(c) = self.null_shifts.get_mut(a) {
+                        *c = mean_curvature;
+                    }
                     for j in 0..k {
                         for l in 0..k {
                             factor[(l * dim + a) * block_size + j * dim + a] += mean_curvature;
@@ -587,6 +628,7 @@ impl NewtonProblem {
                         Par::rayon(0),
                         stack,
                     );
+                    self.factor_ready = self.mode == Mode::Multinomial && damping == 0.0;
                     break;
                 }
                 if attempt == DAMPING_ATTEMPTS {
@@ -829,6 +871,56 @@ fn block_of_class(mode: Mode, class: usize) -> usize {
 #[inline]
 fn ridge(lambda: f64, weights: impl Iterator<Item = f64>) -> f64 {
     weights.map(|w| w * w).sum::<f64>() * lambda
+}
+
+/// `out = M X` as a `D x K` class-major matrix (`out[k * D + a] = sum_i m_ki x_ia`) for a
+/// `K x n` matrix `m` and the `n x D` design matrix `x`, in parallel over tasks of rows,
+/// each one sequential GEMM into its `K x D` slot of `partials`, summed in task order.
+fn transpose_product(
+    x: &[f64],
+    dim: usize,
+    k: usize,
+    m: &[f64],
+    partials: &mut [f64],
+    out: &mut [f64],
+) {
+    let n = x.len() / dim.max(1);
+    let x = MatRef::from_column_major_slice(x, n, dim);
+    m.par_chunks(ROWS_PER_TASK * k)
+        .zip(partials.par_chunks_mut(k * dim))
+        .enumerate()
+        .for_each(|(task, (m, partial))| {
+            let rows = m.len() / k;
+            matmul(
+                MatMut::from_column_major_slice_mut(partial, k, dim),
+                Accum::Replace,
+                MatRef::from_column_major_slice(m, k, rows),
+                x.subrows(task * ROWS_PER_TASK, rows),
+                1.0,
+                Par::Seq,
+            );
+        });
+    out.fill(0.0);
+    for partial in partials.chunks_exact(k * dim) {
+        for (a, column) in partial.chunks_exact(k).enumerate() {
+            for (class, &v) in column.iter().enumerate() {
+                if let Some(g) = out.get_mut(class * dim + a) {
+                    *g += v;
+                }
+            }
+        }
+    }
+}
+
+/// `out += 2 lambda [V; 0]`: the ridge term's gradient at `v` (or, equally, its Hessian
+/// times `v`), biases excluded; `v` and `out` are `D x K` class-major.
+fn add_ridge_curvature(lambda: f64, dim: usize, v: &[f64], out: &mut [f64]) {
+    let two_lambda = 2.0 * lambda;
+    for (o, t) in out.chunks_exact_mut(dim).zip(v.chunks_exact(dim)) {
+        for (ov, tv) in o[..dim - 1].iter_mut().zip(&t[..dim - 1]) {
+            *ov += two_lambda * tv;
+        }
+    }
 }
 
 /// `out = params^T X^T` (`K x n`): the logits of every sample for parameters `params`

@@ -2,7 +2,9 @@
 
 mod support;
 
-use camloc_learning::{Features, LogisticRegression, Mode, NewtonProblem, Termination};
+use camloc_learning::{
+    DirectionSolver, Features, LogisticRegression, Mode, NewtonProblem, Termination,
+};
 use proptest::prelude::*;
 
 /// Gradient of the objective at the fitted model, computed directly from its
@@ -290,4 +292,73 @@ fn fits_are_bit_for_bit_reproducible() {
     let (m2, r2) = config.fit(&features, &y, 3).expect("fit");
     assert_eq!(m1, m2);
     assert_eq!(r1, r2);
+}
+
+/// Every Newton step that conjugate gradients solved with an earlier factor is the step
+/// that the direct solve (fresh Hessian, Cholesky) takes from the same parameters, and the
+/// whole fit reaches the same optimum; with and without the ridge (lambda = 0 makes every
+/// feature's all-classes shift a singular direction).
+#[test]
+fn conjugate_gradient_steps_match_direct_solves() {
+    for (lambda, seed) in [(1.0, 5), (1e-3, 6), (0.0, 7)] {
+        let (n, d, k) = (3000, 8, 5);
+        let (x, y) = support::gaussian_classes(n, d, k, 0.8, 2.0, seed);
+        let features = Features::new(&x, d).expect("valid");
+        let config = LogisticRegression::default()
+            .with_lambda(lambda)
+            .with_gradient_tolerance(1e-9);
+        let direct_config = config
+            .clone()
+            .with_direction_solver(DirectionSolver::Cholesky);
+        assert_eq!(config.direction_solver, DirectionSolver::PreconditionedCg);
+        let mut problem = NewtonProblem::new(&features, &y, k, &config).expect("valid");
+        let mut direct = NewtonProblem::new(&features, &y, k, &direct_config).expect("valid");
+        let mut cg_steps = 0;
+        for _ in 0..20 {
+            if problem.gradient_norm() <= 1e-9 * n as f64 {
+                break;
+            }
+            let before = problem.parameters().to_vec();
+            let log = problem.newton_step().expect("step");
+            direct.set_parameters(&before).expect("valid parameters");
+            let direct_log = direct.newton_step().expect("step");
+            assert!(direct_log.hessian_assembled && direct_log.cg_products == 0);
+            if log.hessian_assembled {
+                continue;
+            }
+            cg_steps += 1;
+            assert!(log.cg_products > 0);
+            let scale = before
+                .iter()
+                .chain(direct.parameters())
+                .fold(1.0f64, |m, v| m.max(v.abs()));
+            for (a, b) in problem.parameters().iter().zip(direct.parameters()) {
+                assert!(
+                    (a - b).abs() <= 1e-7 * scale,
+                    "lambda {lambda}, iteration {}: CG step gives {a}, direct {b}",
+                    log.iteration
+                );
+            }
+            let rel = (log.objective - direct_log.objective).abs() / direct_log.objective;
+            assert!(
+                rel <= 1e-12,
+                "lambda {lambda}: objectives differ by {rel:e}"
+            );
+        }
+        assert!(cg_steps > 0, "lambda {lambda}: no step was solved by CG");
+        let (_, cg_report) = config.fit(&features, &y, k).expect("fit");
+        let (_, direct_report) = direct_config.fit(&features, &y, k).expect("fit");
+        assert!(
+            cg_report.converged && direct_report.converged,
+            "lambda {lambda}: {cg_report:?} {direct_report:?}"
+        );
+        let (a, b) = (
+            cg_report.iterations.last().expect("log").objective,
+            direct_report.iterations.last().expect("log").objective,
+        );
+        assert!(
+            (a - b).abs() <= 1e-12 * b,
+            "lambda {lambda}: optimum {a} (CG) vs {b} (direct)"
+        );
+    }
 }

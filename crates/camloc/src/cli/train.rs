@@ -99,8 +99,12 @@ pub fn run(args: &Args, out: &mut String) -> Result<ExitCode, CamlocError> {
     let (localizer, report) = CameraLocalizer::train(&dataset, &options, |log| {
         if !quiet {
             eprintln!(
-                "  newton {:>3}: objective {:.6e}  |grad|_inf {:.3e}  step {:.3}",
-                log.iteration, log.objective, log.gradient_norm, log.step
+                "  newton {:>3}: objective {:.6e}  |grad|_inf {:.3e}  step {:.3}  ({})",
+                log.iteration,
+                log.objective,
+                log.gradient_norm,
+                log.step,
+                log.direction_summary()
             );
         }
     })?;

@@ -1,0 +1,186 @@
+//! The Newton direction by conjugate gradients on exact Hessian-vector products,
+//! preconditioned by the Cholesky factor of an earlier Hessian
+//! ([`DirectionSolver::PreconditionedCg`](crate::DirectionSolver::PreconditionedCg)).
+//!
+//! The system is the one the direct solve factorises, `(H + S) d = -g`, `S` the
+//! singular-direction shift recorded with the factor (the gradient is orthogonal to the
+//! null space of `H`, so `S` does not change the solution). A product
+//! `H v = X^T [(diag p_i - p_i p_i^T) V^T x_i]_i + 2 lambda [V; 0]` costs two passes over
+//! `X` (`4 n D K` flops) instead of the `2 n T Q` of an assembly.
+//!
+//! Stopping: `r^T M^-1 r <= CG_TOLERANCE^2 r_0^T M^-1 r_0`, with `M` the preconditioner.
+//! When `M` is close to `H + S` (the only case where CG is kept), `r^T M^-1 r` is close
+//! to the squared error of `d` in the `H + S` norm, so the direction is exact to about
+//! `CG_TOLERANCE` relative in the norm that governs the Newton step, about the accuracy of
+//! the direct solve. CG gives up (and the caller assembles a fresh Hessian) when the
+//! budget of products is spent, when the convergence rate seen so far would need more
+//! than the budget, or when a curvature `p^T A p` is not positive.
+
+use faer::MatMut;
+use faer::dyn_stack::MemStack;
+use faer::linalg::cholesky::llt::solve::solve_in_place;
+use faer::{MatRef, Par};
+use rayon::prelude::*;
+
+use super::{NewtonProblem, ROWS_PER_TASK, add_ridge_curvature, linear_logits, transpose_product};
+
+/// Target relative error of the direction in the Hessian norm.
+const CG_TOLERANCE: f64 = 1e-10;
+/// Fewest products CG may spend, whatever the cost model says (small problems).
+const MIN_BUDGET: usize = 10;
+/// How many times the flops of a Hessian-vector product cost, in time, relative to the
+/// flops of an assembly (the products are thin GEMMs bound by reading `X`, the assembly
+/// runs at GEMM speed). At the paper's size on a 2-core AVX2 machine a product took about
+/// 5 ms against 200 ms for an assembly (2.6 times the flop rate); 2 lets CG run a little
+/// longer than break-even, and the rate check stops it early when it converges slowly.
+const PRODUCT_COST_WEIGHT: f64 = 2.0;
+/// Products after which the convergence rate is extrapolated to decide whether to go on.
+const RATE_CHECK_AFTER: usize = 4;
+
+/// The conjugate-gradient work vectors, `P` entries each.
+#[derive(Debug)]
+pub(super) struct Vectors {
+    residual: Vec<f64>,
+    preconditioned: Vec<f64>,
+    search: Vec<f64>,
+    product: Vec<f64>,
+}
+
+impl Vectors {
+    /// Zeroed vectors for `p` parameters.
+    pub(super) fn new(p: usize) -> Self {
+        Self {
+            residual: vec![0.0; p],
+            preconditioned: vec![0.0; p],
+            search: vec![0.0; p],
+            product: vec![0.0; p],
+        }
+    }
+}
+
+/// `sum_i a_i b_i`, sequential (so that the iteration is reproducible).
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+impl NewtonProblem {
+    /// Most products one CG solve may spend: the time of an assembly and factorisation,
+    /// by the flop counts and [`PRODUCT_COST_WEIGHT`], at least [`MIN_BUDGET`].
+    fn cg_budget(&self) -> usize {
+        let n = self.n_samples as f64;
+        let p = self.theta.len() as f64;
+        let assembly = self.packed.flops(self.n_samples) + p * p * p / 3.0;
+        let product = 4.0 * n * self.dim as f64 * self.n_classes as f64 + 2.0 * p * p;
+        let budget = assembly / (PRODUCT_COST_WEIGHT * product);
+        if budget.is_finite() {
+            (budget as usize).max(MIN_BUDGET)
+        } else {
+            MIN_BUDGET
+        }
+    }
+
+    /// `cg.preconditioned = M^-1 cg.residual`, `M = L L^T` the kept factor.
+    fn precondition(&mut self) {
+        let p = self.theta.len();
+        self.cg.preconditioned.copy_from_slice(&self.cg.residual);
+        let factor = MatRef::from_column_major_slice(&self.factor[..p * p], p, p);
+        solve_in_place(
+            factor,
+            MatMut::from_column_major_slice_mut(&mut self.cg.preconditioned, p, 1),
+            Par::Seq,
+            MemStack::new(&mut self.cholesky_scratch),
+        );
+    }
+
+    /// `cg.product = (H + S) cg.search` with the exact Hessian `H` at the current
+    /// parameters. Uses `direction_logits` and `gradient_partials` as scratch.
+    fn hessian_times_search(&mut self) {
+        let (dim, k) = (self.dim, self.n_classes);
+        let v = &self.cg.search;
+        // s_i = V^T x_i, then t_i = diag(p_i) s_i - p_i (p_i . s_i).
+        linear_logits(&self.x, dim, v, &mut self.direction_logits);
+        self.direction_logits
+            .par_chunks_mut(ROWS_PER_TASK * k)
+            .zip(self.probabilities.par_chunks(ROWS_PER_TASK * k))
+            .for_each(|(s, p)| {
+                for (s, p) in s.chunks_exact_mut(k).zip(p.chunks_exact(k)) {
+                    let mean = dot(s, p);
+                    for (sc, &pc) in s.iter_mut().zip(p) {
+                        *sc = pc * (*sc - mean);
+                    }
+                }
+            });
+        let product = &mut self.cg.product;
+        transpose_product(
+            &self.x,
+            dim,
+            k,
+            &self.direction_logits,
+            &mut self.gradient_partials,
+            product,
+        );
+        add_ridge_curvature(self.lambda, dim, v, product);
+        // S v: c_a times the sum over classes of v's entries for column a, in every class.
+        for (a, &c) in self.null_shifts.iter().enumerate() {
+            if c != 0.0 {
+                let total: f64 = v.iter().skip(a).step_by(dim).sum();
+                for out in product.iter_mut().skip(a).step_by(dim) {
+                    *out += c * total;
+                }
+            }
+        }
+    }
+
+    /// Tries to put the Newton direction into `direction` by preconditioned conjugate
+    /// gradients. Returns the number of Hessian-vector products spent: `Ok` when the
+    /// direction is there, `Err` when CG gave up and the caller must assemble and factorise
+    /// the Hessian instead (`direction` is then meaningless). Needs `factor_ready`.
+    pub(super) fn solve_by_cg(&mut self) -> Result<usize, usize> {
+        let budget = self.cg_budget();
+        for (r, g) in self.cg.residual.iter_mut().zip(&self.gradient) {
+            *r = -g;
+        }
+        self.direction.fill(0.0);
+        self.precondition();
+        self.cg.search.copy_from_slice(&self.cg.preconditioned);
+        let mut rz = dot(&self.cg.residual, &self.cg.preconditioned);
+        let initial = rz;
+        let target = CG_TOLERANCE * CG_TOLERANCE * initial;
+        if !(initial > 0.0) {
+            // Zero gradient: the zero direction is exact.
+            return if initial == 0.0 { Ok(0) } else { Err(0) };
+        }
+        for products in 1..=budget {
+            self.hessian_times_search();
+            let curvature = dot(&self.cg.search, &self.cg.product);
+            if !(curvature > 0.0) {
+                return Err(products);
+            }
+            let alpha = rz / curvature;
+            for (d, &s) in self.direction.iter_mut().zip(&self.cg.search) {
+                *d += alpha * s;
+            }
+            for (r, &q) in self.cg.residual.iter_mut().zip(&self.cg.product) {
+                *r -= alpha * q;
+            }
+            self.precondition();
+            let next = dot(&self.cg.residual, &self.cg.preconditioned);
+            if next <= target {
+                return Ok(products);
+            }
+            if products >= RATE_CHECK_AFTER {
+                // Products needed at the rate seen so far.
+                let needed = products as f64 * (target / initial).ln() / (next / initial).ln();
+                if !(next < initial && needed <= budget as f64) {
+                    return Err(products);
+                }
+            }
+            let beta = next / rz;
+            for (s, &z) in self.cg.search.iter_mut().zip(&self.cg.preconditioned) {
+                *s = z + beta * *s;
+            }
+            rz = next;
+        }
+        Err(budget)
+    }
+}
