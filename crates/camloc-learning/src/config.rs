@@ -191,9 +191,13 @@ impl LogisticRegression {
             if problem.iteration() >= self.max_iter {
                 break Termination::MaxIterations;
             }
+            let before = problem.objective();
             let log = problem.newton_step()?;
             progress(&log);
-            let stalled = log.step == 0.0;
+            // No decrease found, or a shortened step that left the objective unchanged: the
+            // line search is deciding on rounding noise, and further iterations would only
+            // repeat that (up to max_iter of them).
+            let stalled = log.step == 0.0 || (log.step < 1.0 && log.objective >= before);
             iterations.push(log);
             if stalled {
                 break Termination::NoProgress;

@@ -123,8 +123,9 @@ pub enum Termination {
     Converged,
     /// `max_iter` iterations were done without meeting the tolerance.
     MaxIterations,
-    /// The line search could not decrease the objective (typically the optimum is reached
-    /// to rounding precision while the tolerance is tighter than that).
+    /// The line search could not decrease the objective: it found no decrease, or only a
+    /// shortened step that left the objective unchanged to the last bit (typically the
+    /// optimum is reached to rounding precision while the tolerance is tighter than that).
     NoProgress,
 }
 

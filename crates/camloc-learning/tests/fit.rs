@@ -362,3 +362,36 @@ fn conjugate_gradient_steps_match_direct_solves() {
         );
     }
 }
+
+/// With a tolerance no fit can meet, the solver stops once the objective has stopped
+/// changing (rounding floor) instead of taking tiny steps until `max_iter`.
+#[test]
+fn an_unreachable_tolerance_ends_in_no_progress_not_max_iterations() {
+    for (lambda, seed) in [(1.0, 5), (1e-3, 6), (0.0, 7)] {
+        let (n, d, k) = (3000, 8, 5);
+        let (x, y) = support::gaussian_classes(n, d, k, 0.8, 2.0, seed);
+        let features = Features::new(&x, d).expect("valid");
+        for solver in [DirectionSolver::PreconditionedCg, DirectionSolver::Cholesky] {
+            let (_, report) = LogisticRegression::default()
+                .with_lambda(lambda)
+                .with_gradient_tolerance(0.0)
+                .with_max_iter(200)
+                .with_direction_solver(solver)
+                .fit(&features, &y, k)
+                .expect("fit");
+            let steps = report.iterations.len() - 1;
+            assert_eq!(
+                report.termination,
+                Termination::NoProgress,
+                "lambda {lambda}, {solver:?}: {steps} iterations"
+            );
+            assert!(
+                steps < 40,
+                "lambda {lambda}, {solver:?}: {steps} iterations"
+            );
+            // The last gradient is at the rounding floor of a converged fit.
+            let last = report.iterations.last().expect("log");
+            assert!(last.gradient_norm <= 1e-8 * n as f64, "{last:?}");
+        }
+    }
+}
