@@ -17,7 +17,7 @@
 //!
 //! The layers below are re-exported: [`geometry`] (camera sphere, projection, Procrustes),
 //! [`skeleton`] (landmarks, limbs, mocap readers), [`dataset`], [`features`], [`learning`],
-//! [`keypoints`] and [`reconstruct`].
+//! [`keypoints`] and [`reconstruct`](mod@reconstruct).
 
 mod error;
 mod evaluate;
