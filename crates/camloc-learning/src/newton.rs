@@ -340,9 +340,11 @@ impl NewtonProblem {
         &self.gradient
     }
 
-    /// The Hessian last assembled by [`assemble_hessian`](Self::assemble_hessian) (or by a
-    /// Newton step), `P x P` column-major, without the singular-direction correction of the
-    /// Newton solve: it is exactly the second derivative of `f`.
+    /// The Hessian last assembled by [`assemble_hessian`](Self::assemble_hessian) or by a
+    /// Newton step that assembled one ([`IterationLog::hessian_assembled`]), `P x P`
+    /// column-major, without the singular-direction correction of the Newton solve: it is
+    /// exactly the second derivative of `f` at the parameters where it was assembled (not
+    /// necessarily the current ones).
     pub fn hessian(&self) -> &[f64] {
         &self.hessian
     }
