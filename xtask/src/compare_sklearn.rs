@@ -141,11 +141,10 @@ struct CamlocFits {
 impl CamlocFits {
     /// `"6 (2 Hessians assembled)"`.
     fn iterations_cell(&self) -> String {
-        let steps = self.report.iterations.get(1..).unwrap_or_default();
         format!(
             "{} ({} Hessians assembled)",
-            steps.len(),
-            steps.iter().filter(|l| l.hessian_assembled).count()
+            self.report.newton_iterations(),
+            self.report.hessian_assemblies()
         )
     }
 }
@@ -315,7 +314,7 @@ pub fn run(args: &Args) -> Result<(), String> {
         notes.push(format!(
             "camloc did not converge: {:?} after {} iterations",
             report.termination,
-            report.iterations.len().saturating_sub(1)
+            report.newton_iterations()
         ));
     }
     for fit in &sklearn.solvers {

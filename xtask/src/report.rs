@@ -372,7 +372,7 @@ fn train_and_test_keep(
         cv_accuracy: None,
         accuracy: e.accuracy,
         folded: e.accuracy_folded,
-        iterations: report.iterations.len().saturating_sub(1),
+        iterations: report.newton_iterations(),
         seconds,
     };
     Ok((localizer, row))

@@ -207,12 +207,11 @@ fn newton_benches(c: &mut Criterion, label: &str, n: usize) {
                 |_| {},
                 |()| {
                     let (_, report) = config.fit(&features, &s.y, K_CLASSES).expect("fit");
-                    let steps = &report.iterations[1..];
                     summary = format!(
                         "{} Newton iterations, {} Hessian assemblies, {} CG products",
-                        steps.len(),
-                        steps.iter().filter(|l| l.hessian_assembled).count(),
-                        steps.iter().map(|l| l.cg_products).sum::<usize>()
+                        report.newton_iterations(),
+                        report.hessian_assemblies(),
+                        report.cg_products()
                     );
                     black_box(report);
                 },

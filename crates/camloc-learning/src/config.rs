@@ -56,8 +56,8 @@ pub enum DirectionSolver {
 /// Each iteration computes the exact gradient, solves the Newton system of the exact
 /// Hessian (with faer's dense Cholesky, or with conjugate gradients preconditioned by an
 /// earlier Cholesky factor: see [`DirectionSolver`]), and takes the Newton step with a
-/// backtracking (Armijo) line search. It stops when the infinity norm of the gradient of `f` is at most
-/// `gradient_tolerance * n_samples` (the tolerance is on the gradient of the *mean* loss,
+/// backtracking (Armijo) line search. It stops when the infinity norm of the gradient of
+/// `f` is at most `gradient_tolerance * n_samples` (the tolerance is on the gradient of the *mean* loss,
 /// so it does not depend on the number of samples).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct LogisticRegression {

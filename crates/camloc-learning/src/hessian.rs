@@ -77,8 +77,9 @@ fn take_scratch(pool: &[Mutex<Scratch>]) -> Option<MutexGuard<'_, Scratch>> {
     })
 }
 
-/// `sum_i a_i b_i` with four interleaved partial sums (so that it vectorises).
-fn dot(a: &[f64], b: &[f64]) -> f64 {
+/// `sum_i a_i b_i` with four interleaved partial sums (so that it vectorises), in a fixed
+/// order (so that results are reproducible).
+pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
     let mut lanes = [0.0; 4];
     let (a4, a_rest) = a.split_at(a.len() - a.len() % 4);
     let (b4, b_rest) = b.split_at(a4.len().min(b.len()));

@@ -140,6 +140,26 @@ pub struct FitReport {
     pub termination: Termination,
 }
 
+impl FitReport {
+    /// Newton iterations done (the log minus its starting point).
+    pub fn newton_iterations(&self) -> usize {
+        self.iterations.len().saturating_sub(1)
+    }
+
+    /// Iterations that assembled and factorised the Hessian.
+    pub fn hessian_assemblies(&self) -> usize {
+        self.iterations
+            .iter()
+            .filter(|l| l.hessian_assembled)
+            .count()
+    }
+
+    /// Hessian-vector products spent by conjugate gradients over the whole fit.
+    pub fn cg_products(&self) -> usize {
+        self.iterations.iter().map(|l| l.cg_products).sum()
+    }
+}
+
 /// The state of a Newton fit: data, parameters and every work buffer.
 ///
 /// Built by [`NewtonProblem::new`] (which also evaluates the starting point, all parameters

@@ -294,15 +294,26 @@ fn fits_are_bit_for_bit_reproducible() {
     assert_eq!(r1, r2);
 }
 
+/// The problems of the solver-comparison tests: `(lambda, n, d, k, features, labels)` for
+/// a ridge of 1, a weak one and none (lambda = 0 makes every feature's all-classes shift a
+/// singular direction), on overlapping Gaussian classes.
+fn solver_test_problems() -> impl Iterator<Item = (f64, usize, usize, usize, Vec<f64>, Vec<usize>)>
+{
+    [(1.0, 5), (1e-3, 6), (0.0, 7)]
+        .into_iter()
+        .map(|(lambda, seed)| {
+            let (n, d, k) = (3000, 8, 5);
+            let (x, y) = support::gaussian_classes(n, d, k, 0.8, 2.0, seed);
+            (lambda, n, d, k, x, y)
+        })
+}
+
 /// Every Newton step that conjugate gradients solved with an earlier factor is the step
 /// that the direct solve (fresh Hessian, Cholesky) takes from the same parameters, and the
-/// whole fit reaches the same optimum; with and without the ridge (lambda = 0 makes every
-/// feature's all-classes shift a singular direction).
+/// whole fit reaches the same optimum; with and without the ridge.
 #[test]
 fn conjugate_gradient_steps_match_direct_solves() {
-    for (lambda, seed) in [(1.0, 5), (1e-3, 6), (0.0, 7)] {
-        let (n, d, k) = (3000, 8, 5);
-        let (x, y) = support::gaussian_classes(n, d, k, 0.8, 2.0, seed);
+    for (lambda, n, d, k, x, y) in solver_test_problems() {
         let features = Features::new(&x, d).expect("valid");
         let config = LogisticRegression::default()
             .with_lambda(lambda)
@@ -367,9 +378,7 @@ fn conjugate_gradient_steps_match_direct_solves() {
 /// changing (rounding floor) instead of taking tiny steps until `max_iter`.
 #[test]
 fn an_unreachable_tolerance_ends_in_no_progress_not_max_iterations() {
-    for (lambda, seed) in [(1.0, 5), (1e-3, 6), (0.0, 7)] {
-        let (n, d, k) = (3000, 8, 5);
-        let (x, y) = support::gaussian_classes(n, d, k, 0.8, 2.0, seed);
+    for (lambda, n, d, k, x, y) in solver_test_problems() {
         let features = Features::new(&x, d).expect("valid");
         for solver in [DirectionSolver::PreconditionedCg, DirectionSolver::Cholesky] {
             let (_, report) = LogisticRegression::default()
@@ -379,7 +388,7 @@ fn an_unreachable_tolerance_ends_in_no_progress_not_max_iterations() {
                 .with_direction_solver(solver)
                 .fit(&features, &y, k)
                 .expect("fit");
-            let steps = report.iterations.len() - 1;
+            let steps = report.newton_iterations();
             assert_eq!(
                 report.termination,
                 Termination::NoProgress,

@@ -23,6 +23,7 @@ use faer::{MatRef, Par};
 use rayon::prelude::*;
 
 use super::{NewtonProblem, ROWS_PER_TASK, add_ridge_curvature, linear_logits, transpose_product};
+use crate::hessian::dot;
 
 /// Target relative error of the direction in the Hessian norm.
 const CG_TOLERANCE: f64 = 1e-10;
@@ -56,11 +57,6 @@ impl Vectors {
             product: vec![0.0; p],
         }
     }
-}
-
-/// `sum_i a_i b_i`, sequential (so that the iteration is reproducible).
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
 impl NewtonProblem {

@@ -113,7 +113,7 @@ pub fn run(args: &Args, out: &mut String) -> Result<ExitCode, CamlocError> {
         out,
         "wrote {} ({} Newton iterations, {}, {:.1} s)",
         args.out.display(),
-        report.iterations.len().saturating_sub(1),
+        report.newton_iterations(),
         if report.converged {
             "converged"
         } else {
