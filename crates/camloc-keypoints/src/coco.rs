@@ -7,38 +7,25 @@
 
 use std::fmt;
 
-use camloc_skeleton::{Landmark, PartialPose2};
 use serde::de::{self, Deserialize, Deserializer, IgnoredAny, MapAccess, SeqAccess, Visitor};
 
 use crate::ReadOptions;
 use crate::error::{KeypointError, Location};
 use crate::json::{self, Json, index_path, key_path, number_array, wrong_type};
+use crate::layout::{COCO17, keeps, map_joints};
 use crate::record::{KeypointRecord, finish};
 
 /// The 17 COCO keypoints in file order. The first five (nose, eyes, ears) become the camloc head;
 /// the other twelve have camloc landmarks of the same name.
-pub const COCO_KEYPOINTS: [&str; 17] = [
-    "nose",
-    "left_eye",
-    "right_eye",
-    "left_ear",
-    "right_ear",
-    "left_shoulder",
-    "right_shoulder",
-    "left_elbow",
-    "right_elbow",
-    "left_wrist",
-    "right_wrist",
-    "left_hip",
-    "right_hip",
-    "left_knee",
-    "right_knee",
-    "left_ankle",
-    "right_ankle",
-];
-
-/// Number of COCO keypoints that describe the face (the first ones in [`COCO_KEYPOINTS`]).
-const FACE_KEYPOINTS: usize = 5;
+pub const COCO_KEYPOINTS: [&str; 17] = {
+    let mut names = [""; 17];
+    let mut i = 0;
+    while i < 17 {
+        names[i] = COCO17[i].0;
+        i += 1;
+    }
+    names
+};
 
 /// The fields of one annotation (or result) this reader uses; the rest are skipped.
 #[derive(Default)]
@@ -186,33 +173,10 @@ fn record<'a>(
         &key_path(path, "keypoints"),
     )?;
 
-    let mut pose = PartialPose2::empty();
-    let mut face = Vec::with_capacity(FACE_KEYPOINTS);
-    for (k, (name, xyv)) in COCO_KEYPOINTS
-        .iter()
-        .zip(values.chunks_exact(3))
-        .enumerate()
-    {
-        if xyv[2] <= options.coco.min_score {
-            continue;
-        }
-        let point = [xyv[0], xyv[1]];
-        if k < FACE_KEYPOINTS {
-            face.push(point);
-        } else if let Some(landmark) = Landmark::from_name(name) {
-            pose.points[landmark.index()] = Some(point);
-        }
-    }
-    let mut derived = Vec::new();
-    if !face.is_empty() {
-        // Mean of the present face points; dividing first keeps the sum finite.
-        let n = face.len() as f64;
-        let head = face
-            .iter()
-            .fold([0.0, 0.0], |m, p| [m[0] + p[0] / n, m[1] + p[1] / n]);
-        pose.points[Landmark::Head.index()] = Some(head);
-        derived.push(Landmark::Head);
-    }
+    let points = values
+        .chunks_exact(3)
+        .map(|xyv| keeps(xyv[2], options).then_some([xyv[0], xyv[1]]));
+    let (pose, derived) = map_joints(&COCO17, points);
     let source = format!("{file}: {}", Location::Path(path.to_owned()));
     Ok(finish(
         format!("{image}/{suffix}"),
@@ -235,16 +199,7 @@ fn id_text(value: &Json, file: &str, path: &str) -> Result<String, KeypointError
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn every_body_keypoint_names_a_camloc_landmark() {
-        for name in &COCO_KEYPOINTS[FACE_KEYPOINTS..] {
-            assert!(Landmark::from_name(name).is_some(), "{name}");
-        }
-        for name in &COCO_KEYPOINTS[..FACE_KEYPOINTS] {
-            assert!(Landmark::from_name(name).is_none(), "{name}");
-        }
-    }
+    use camloc_skeleton::Landmark;
 
     #[test]
     fn skips_other_keys_and_rejects_a_repeated_annotation_key() {

@@ -11,6 +11,9 @@ pub enum Location {
     Line(usize),
     /// A JSON path such as `poses[2].landmarks.left_knee`; the empty path is the top-level value.
     Path(String),
+    /// An element of a `.npy` array: `[pose]`, `[pose, joint]` or `[pose, joint, channel]`
+    /// (0-based), or the whole array's `shape` when empty.
+    Array(Box<[u64]>),
 }
 
 impl fmt::Display for Location {
@@ -18,7 +21,12 @@ impl fmt::Display for Location {
         match self {
             Location::Line(line) => write!(f, "line {line}"),
             Location::Path(path) if path.is_empty() => f.write_str("top level"),
-            Location::Path(path) => f.write_str(path),
+            Location::Path(path) => write!(f, "{}", clip(path)),
+            Location::Array(index) if index.is_empty() => f.write_str("shape"),
+            Location::Array(index) => {
+                let index: Vec<String> = index.iter().map(u64::to_string).collect();
+                write!(f, "[{}]", index.join(", "))
+            }
         }
     }
 }
@@ -46,11 +54,9 @@ pub enum KeypointError {
         /// Name of the input.
         file: String,
     },
-    /// The input is longer than [`ReadOptions::max_bytes`](crate::ReadOptions::max_bytes).
-    #[error(
-        "{file}: the input has at least {bytes} bytes, more than the limit of {limit} bytes \
-         (ReadOptions::max_bytes)"
-    )]
+    /// The input is longer than the limit for its format: [`ReadOptions::max_bytes`](crate::ReadOptions::max_bytes), and for one OpenPose frame also
+    /// [`OPENPOSE_FRAME_MAX_BYTES`](crate::OPENPOSE_FRAME_MAX_BYTES).
+    #[error("{file}: the input has at least {bytes} bytes, more than the limit of {limit} bytes ({rule})")]
     TooLarge {
         /// Name of the input.
         file: String,
@@ -58,6 +64,8 @@ pub enum KeypointError {
         bytes: u64,
         /// The limit in bytes.
         limit: u64,
+        /// Which limit: `ReadOptions::max_bytes` or `OPENPOSE_FRAME_MAX_BYTES, one frame`.
+        rule: &'static str,
     },
     /// The input is not valid UTF-8.
     #[error("{file}: line {line}: not valid UTF-8 (invalid byte at offset {offset})")]
@@ -70,7 +78,11 @@ pub enum KeypointError {
         offset: usize,
     },
     /// No format was given and none could be told from the extension and the content.
-    #[error("{file}: cannot tell the keypoint format ({reason}); name it: camloc, lsp or coco")]
+    #[error(
+        "{file}: cannot tell the keypoint format ({}); name it: {}",
+        clip(reason),
+        crate::KeypointFormat::NAMES
+    )]
     UnknownFormat {
         /// Name of the input.
         file: String,
@@ -79,7 +91,7 @@ pub enum KeypointError {
     },
     /// The text is not JSON, or a value has a type a COCO reader cannot take (reported by the
     /// JSON parser, with line and column).
-    #[error("{file}: line {line}, column {column}: {message}")]
+    #[error("{file}: line {line}, column {column}: {}", clip(message))]
     Json {
         /// Name of the input.
         file: String,
@@ -93,7 +105,8 @@ pub enum KeypointError {
     /// The CSV header does not name exactly the columns `image,joint,x,y,visible`.
     #[error(
         "{file}: line {line}: the header must name the columns image,joint,x,y,visible \
-         (found \"{header}\"; missing: {}; unknown or repeated: {})",
+         (found \"{}\"; missing: {}; unknown or repeated: {})",
+        clip(header),
         list_or_none(missing),
         list_or_none(extra)
     )]
@@ -124,7 +137,7 @@ pub enum KeypointError {
         found: usize,
     },
     /// A CSV row names a joint the format does not have.
-    #[error("{file}: {at}: unknown joint \"{name}\" (expected one of: {expected})")]
+    #[error("{file}: {at}: unknown joint \"{}\" (expected one of: {expected})", clip(name))]
     UnknownJoint {
         /// Name of the input.
         file: String,
@@ -136,7 +149,11 @@ pub enum KeypointError {
         expected: String,
     },
     /// A joint is given twice for the same image.
-    #[error("{file}: {at}: joint \"{joint}\" of image \"{image}\" given twice (first at {first})")]
+    #[error(
+        "{file}: {at}: joint \"{}\" of image \"{}\" given twice (first at {first})",
+        clip(joint),
+        clip(image)
+    )]
     DuplicateJoint {
         /// Name of the input.
         file: String,
@@ -211,7 +228,7 @@ pub enum KeypointError {
     },
     /// A field does not hold what it must (a coordinate that is not a number, a visibility flag
     /// other than 0 or 1, an empty image name, a wrong format tag).
-    #[error("{file}: {at}: {field} \"{text}\" is not {expected}")]
+    #[error("{file}: {at}: {field} \"{}\" is not {expected}", clip(text))]
     InvalidValue {
         /// Name of the input.
         file: String,
@@ -225,7 +242,7 @@ pub enum KeypointError {
         expected: &'static str,
     },
     /// A coordinate is NaN or infinite.
-    #[error("{file}: {at}: {field} \"{text}\" is not a finite number")]
+    #[error("{file}: {at}: {field} \"{}\" is not a finite number", clip(text))]
     NonFinite {
         /// Name of the input.
         file: String,
@@ -238,7 +255,8 @@ pub enum KeypointError {
     },
     /// A camloc JSON document has a `version` this reader does not understand.
     #[error(
-        "{file}: {at}: unsupported camloc-keypoints version {found} (this reader reads version 1)"
+        "{file}: {at}: unsupported camloc-keypoints version {} (this reader reads version 1)",
+        clip(found)
     )]
     UnsupportedVersion {
         /// Name of the input.
@@ -248,11 +266,66 @@ pub enum KeypointError {
         /// The version as found.
         found: String,
     },
+    /// A keypoint score outside the range its format defines (OpenPose confidences and
+    /// MediaPipe visibilities are in [0, 1], as are the scores of `(N, J, 3)` arrays).
+    #[error("{file}: {at}: {what} {score} is outside [0, 1]{hint}")]
+    ScoreOutOfRange {
+        /// Name of the input.
+        file: String,
+        /// Where.
+        at: Location,
+        /// What the number is (`confidence`, `visibility`, `score`).
+        what: &'static str,
+        /// The value found.
+        score: f64,
+        /// A hint for the likely cause, empty or starting with `; `.
+        hint: &'static str,
+    },
+    /// A pose has a number of joints that the layout does not have.
+    #[error("{file}: {at}: {found} joints: {what}")]
+    JointCount {
+        /// Name of the input.
+        file: String,
+        /// Where (the array's `shape`, or the JSON path of the keypoint list).
+        at: Location,
+        /// Number of joints found.
+        found: u64,
+        /// What was expected, e.g. `layout coco17 has 17` or `no layout has 13 (...)`.
+        what: String,
+    },
+    /// A joint has one coordinate NaN and the other not (both NaN marks a missing joint).
+    #[error("{file}: {at}: one coordinate is NaN and the other is not (NaN, NaN marks a missing joint)")]
+    HalfMissing {
+        /// Name of the input.
+        file: String,
+        /// The element `[pose, joint]`.
+        at: Location,
+    },
+    /// The input has normalised coordinates and no image size was given.
+    #[error(
+        "{file}: {format} coordinates are normalised to [0, 1]: give the image size in pixels \
+         (ReadOptions::image_size, --image-size W,H)"
+    )]
+    ImageSizeNeeded {
+        /// Name of the input.
+        file: String,
+        /// The format (`MediaPipe`).
+        format: &'static str,
+    },
+    /// A `.npy` file whose header, type, shape or length cannot be read as keypoints.
+    #[error("{file}: {}", clip(problem))]
+    Npy {
+        /// Name of the input.
+        file: String,
+        /// What is wrong, e.g. `shape (4, 15) is not (N, J, 2) or (N, J, 3)`.
+        problem: String,
+    },
     /// Returned by [`KeypointRecord::require_torso`](crate::KeypointRecord::require_torso): the
     /// pose lacks the pelvis or the neck, and neither file nor derivation supplied it.
     #[error(
-        "{origin}: pose \"{id}\" has no {} (and it could not be derived from the hips/shoulders); \
+        "{origin}: pose \"{}\" has no {} (and it could not be derived from the hips/shoulders); \
          the torso is needed",
+        clip(id),
         landmark_list(missing)
     )]
     MissingTorso {
@@ -265,22 +338,59 @@ pub enum KeypointError {
     },
 }
 
+/// The most characters of one piece of input (a key, a field, a header, an id) that an error
+/// message quotes; longer text is cut there and ends with `…`, so that a 50 MB key or line gives
+/// a short message.
+pub const MAX_QUOTED_CHARS: usize = 80;
+
+/// The most items of a list of input pieces (unknown keys, header columns) that an error message
+/// names; the rest are counted (`… and 999 more`).
+pub const MAX_QUOTED_ITEMS: usize = 8;
+
+/// Input text as an error message quotes it: at most [`MAX_QUOTED_CHARS`] characters (then `…`),
+/// control characters escaped so that the message stays on one line.
+pub(crate) fn clip(text: &str) -> String {
+    let mut out = String::new();
+    for (n, c) in text.chars().enumerate() {
+        if n == MAX_QUOTED_CHARS {
+            out.push('…');
+            break;
+        }
+        if c.is_control() {
+            out.extend(c.escape_default());
+        } else {
+            out.push(c);
+        }
+    }
+    out
+}
+
+/// At most [`MAX_QUOTED_ITEMS`] items, each [`clip`]ped and formatted by `item`, separated by
+/// commas, then `… and N more`.
+fn capped_list(items: &[String], item: impl Fn(String) -> String) -> String {
+    let mut shown: Vec<String> = items
+        .iter()
+        .take(MAX_QUOTED_ITEMS)
+        .map(|i| item(clip(i)))
+        .collect();
+    if items.len() > MAX_QUOTED_ITEMS {
+        shown.push(format!("… and {} more", items.len() - MAX_QUOTED_ITEMS));
+    }
+    shown.join(", ")
+}
+
 /// `a, b, c`, or `none`.
 fn list_or_none(items: &[String]) -> String {
     if items.is_empty() {
         "none".to_owned()
     } else {
-        items.join(", ")
+        capped_list(items, |i| i)
     }
 }
 
 /// `"a", "b"`.
 fn quoted_list(items: &[String]) -> String {
-    items
-        .iter()
-        .map(|k| format!("\"{k}\""))
-        .collect::<Vec<_>>()
-        .join(", ")
+    capped_list(items, |k| format!("\"{k}\""))
 }
 
 /// `pelvis and neck`.

@@ -12,32 +12,59 @@ pub enum KeypointFormat {
     Lsp,
     /// COCO-17 JSON: a dataset file with `annotations`, or a results list.
     Coco,
+    /// OpenPose JSON, one file per frame: `people[].pose_keypoints_2d` (BODY_25 or COCO-18).
+    OpenPose,
+    /// MMPose predictions: `keypoints` as `[[x, y], ...]` plus `keypoint_scores`.
+    MmPose,
+    /// MediaPipe Pose: a list of frames of 33 `{x, y, z, visibility}` normalised landmarks.
+    MediaPipe,
+    /// A NumPy `.npy` array of shape (N, J, 2) or (N, J, 3) in a [`Layout`](crate::Layout).
+    Npy,
+    /// MPII annotations in their common JSON form: `[{"image", "joints", "joints_vis"}]`.
+    Mpii,
 }
 
 impl KeypointFormat {
     /// All formats.
-    pub const ALL: [KeypointFormat; 3] = [
+    pub const ALL: [KeypointFormat; 8] = [
         KeypointFormat::Camloc,
         KeypointFormat::Lsp,
         KeypointFormat::Coco,
+        KeypointFormat::OpenPose,
+        KeypointFormat::MmPose,
+        KeypointFormat::MediaPipe,
+        KeypointFormat::Npy,
+        KeypointFormat::Mpii,
     ];
 
-    /// Short lower-case name (`camloc`, `lsp`, `coco`), as accepted by [`str::parse`].
+    /// The names of [`KeypointFormat::ALL`], comma-separated (for messages and help texts).
+    pub const NAMES: &'static str = "camloc, lsp, coco, openpose, mmpose, mediapipe, npy, mpii";
+
+    /// Short lower-case name (`camloc`, `lsp`, `coco`, `openpose`, `mmpose`, `mediapipe`, `npy`,
+    /// `mpii`), as accepted by [`str::parse`].
     pub const fn name(self) -> &'static str {
         match self {
             KeypointFormat::Camloc => "camloc",
             KeypointFormat::Lsp => "lsp",
             KeypointFormat::Coco => "coco",
+            KeypointFormat::OpenPose => "openpose",
+            KeypointFormat::MmPose => "mmpose",
+            KeypointFormat::MediaPipe => "mediapipe",
+            KeypointFormat::Npy => "npy",
+            KeypointFormat::Mpii => "mpii",
         }
     }
 
     /// Guesses the format of a file from its extension (without the dot, any case) and content.
     ///
+    /// * `npy`, or content starting with the NumPy magic `\x93NUMPY` → [`Npy`](KeypointFormat::Npy).
     /// * `csv` → [`Lsp`](KeypointFormat::Lsp).
-    /// * `json`, or any other or no extension when the content starts with `{` or `[`: a
-    ///   top-level array is a COCO results list; otherwise an object key `"poses"` or
-    ///   `"landmarks"` means [`Camloc`](KeypointFormat::Camloc), and `"annotations"` or
-    ///   `"keypoints"` means [`Coco`](KeypointFormat::Coco).
+    /// * `json`, or any other or no extension when the content starts with `{` or `[`: by the
+    ///   first of these object keys found: `"people"` → OpenPose; `"poses"` or `"landmarks"` →
+    ///   camloc; `"keypoint_scores"`, `"instance_info"` or `"instances"` → MMPose;
+    ///   `"joints_vis"` → MPII; `"visibility"` or `"x"`, or a list whose first element is a list or
+    ///   `null` → MediaPipe; `"annotations"` or `"keypoints"`, or any other top-level list →
+    ///   COCO.
     /// * Other extensions: content whose first non-blank line names the columns `image` and
     ///   `joint` is LSP CSV.
     ///
@@ -46,9 +73,13 @@ impl KeypointFormat {
         extension: Option<&str>,
         content: &str,
     ) -> Option<KeypointFormat> {
+        if content.as_bytes().starts_with(NPY_MAGIC) {
+            return Some(KeypointFormat::Npy);
+        }
         let content = content.trim_start_matches('\u{feff}').trim_start();
         let extension = extension.map(str::to_ascii_lowercase);
         match extension.as_deref() {
+            Some("npy") => Some(KeypointFormat::Npy),
             Some("csv") => Some(KeypointFormat::Lsp),
             Some("json") => sniff_json(content),
             _ if content.starts_with(['{', '[']) => sniff_json(content),
@@ -57,14 +88,28 @@ impl KeypointFormat {
     }
 }
 
+/// The first bytes of every `.npy` file.
+pub(crate) const NPY_MAGIC: &[u8] = b"\x93NUMPY";
+
 /// The JSON format of `content` (leading white space removed).
 fn sniff_json(content: &str) -> Option<KeypointFormat> {
-    if content.starts_with('[') {
-        Some(KeypointFormat::Coco)
-    } else if has_key(content, "poses") || has_key(content, "landmarks") {
-        Some(KeypointFormat::Camloc)
-    } else if has_key(content, "annotations") || has_key(content, "keypoints") {
-        Some(KeypointFormat::Coco)
+    use KeypointFormat::*;
+    let any = |keys: &[&str]| keys.iter().any(|k| has_key(content, k));
+    let list_of_lists = content
+        .strip_prefix('[')
+        .is_some_and(|rest| rest.trim_start().starts_with(['[', 'n']));
+    if any(&["people"]) {
+        Some(OpenPose)
+    } else if any(&["poses", "landmarks"]) {
+        Some(Camloc)
+    } else if any(&["keypoint_scores", "instance_info", "instances"]) {
+        Some(MmPose)
+    } else if any(&["joints_vis"]) {
+        Some(Mpii)
+    } else if list_of_lists || any(&["visibility", "x"]) {
+        Some(MediaPipe)
+    } else if content.starts_with('[') || any(&["annotations", "keypoints"]) {
+        Some(Coco)
     } else {
         None
     }
@@ -95,9 +140,13 @@ impl fmt::Display for KeypointFormat {
     }
 }
 
-/// A format name that is not `camloc`, `lsp` or `coco`.
+/// A format name that is not one of [`KeypointFormat::NAMES`].
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-#[error("unknown keypoint format \"{0}\" (expected camloc, lsp or coco)")]
+#[error(
+    "unknown keypoint format \"{}\" (expected one of: {})",
+    crate::error::clip(.0),
+    KeypointFormat::NAMES
+)]
 pub struct UnknownFormatName(pub String);
 
 impl FromStr for KeypointFormat {
@@ -158,6 +207,6 @@ mod tests {
                 Ok(f)
             );
         }
-        assert!("mpii".parse::<KeypointFormat>().is_err());
+        assert!("mpii16".parse::<KeypointFormat>().is_err());
     }
 }

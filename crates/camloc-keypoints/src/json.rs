@@ -188,9 +188,7 @@ pub(crate) fn number_array<const N: usize>(
     file: &str,
     path: &str,
 ) -> Result<[f64; N], KeypointError> {
-    let Json::Array(items) = value else {
-        return Err(wrong_type(file, path, what, value));
-    };
+    let items = array(value, what, file, path)?;
     let wrong_length = || KeypointError::WrongLength {
         file: file.to_owned(),
         at: Location::Path(path.to_owned()),
@@ -202,24 +200,101 @@ pub(crate) fn number_array<const N: usize>(
     if items.len() != N {
         return Err(wrong_length());
     }
-    let numbers = items
+    numbers(value, what, file, path)?
+        .try_into()
+        .map_err(|_| wrong_length())
+}
+
+/// The elements of the array `value` at `path` (`what` describes it in the error otherwise).
+pub(crate) fn array<'a>(
+    value: &'a Json,
+    what: &'static str,
+    file: &str,
+    path: &str,
+) -> Result<&'a [Json], KeypointError> {
+    match value {
+        Json::Array(items) => Ok(items),
+        other => Err(wrong_type(file, path, what, other)),
+    }
+}
+
+/// The fields of the object `value` at `path` (`what` describes it in the error otherwise).
+pub(crate) fn object<'a>(
+    value: &'a Json,
+    what: &'static str,
+    file: &str,
+    path: &str,
+) -> Result<&'a [(String, Json)], KeypointError> {
+    match value {
+        Json::Object(fields) => Ok(fields),
+        other => Err(wrong_type(file, path, what, other)),
+    }
+}
+
+/// The value of the required key `key` of the object at `path`.
+pub(crate) fn required<'a>(
+    fields: &'a [(String, Json)],
+    key: &'static str,
+    file: &str,
+    path: &str,
+) -> Result<&'a Json, KeypointError> {
+    get(fields, key).ok_or_else(|| KeypointError::MissingKey {
+        file: file.to_owned(),
+        at: Location::Path(path.to_owned()),
+        key,
+    })
+}
+
+/// The finite number `value` at `path`.
+pub(crate) fn number(value: &Json, file: &str, path: &str) -> Result<f64, KeypointError> {
+    match value {
+        Json::Number(n) => {
+            n.as_f64()
+                .filter(|x| x.is_finite())
+                .ok_or_else(|| KeypointError::NonFinite {
+                    file: file.to_owned(),
+                    at: Location::Path(path.to_owned()),
+                    field: "number",
+                    text: n.to_string(),
+                })
+        }
+        other => Err(wrong_type(file, path, "a number", other)),
+    }
+}
+
+/// The finite numbers of the array `value` at `path`, any length.
+pub(crate) fn numbers(
+    value: &Json,
+    what: &'static str,
+    file: &str,
+    path: &str,
+) -> Result<Vec<f64>, KeypointError> {
+    array(value, what, file, path)?
         .iter()
         .enumerate()
-        .map(|(i, item)| match item {
-            Json::Number(n) => {
-                n.as_f64()
-                    .filter(|x| x.is_finite())
-                    .ok_or_else(|| KeypointError::NonFinite {
-                        file: file.to_owned(),
-                        at: Location::Path(index_path(path, i)),
-                        field: "coordinate",
-                        text: n.to_string(),
-                    })
-            }
-            other => Err(wrong_type(file, &index_path(path, i), "a number", other)),
+        .map(|(i, item)| number(item, file, &index_path(path, i)))
+        .collect()
+}
+
+/// Checks that `score` (found at `path`) lies in [0, 1], the range of OpenPose confidences and
+/// MediaPipe visibilities.
+pub(crate) fn unit_score(
+    score: f64,
+    what: &'static str,
+    file: &str,
+    path: &str,
+) -> Result<f64, KeypointError> {
+    if (0.0..=1.0).contains(&score) {
+        Ok(score)
+    } else {
+        Err(KeypointError::ScoreOutOfRange {
+            file: file.to_owned(),
+            at: Location::Path(path.to_owned()),
+            what,
+            score,
+            hint: "",
         })
-        .collect::<Result<Vec<f64>, _>>()?;
-    numbers.try_into().map_err(|_| wrong_length())
+    }
 }
 
 #[cfg(test)]

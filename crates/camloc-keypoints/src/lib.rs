@@ -103,20 +103,35 @@
 mod camloc_json;
 mod coco;
 mod error;
+mod folder;
 mod format;
 mod json;
+mod layout;
 mod lsp;
+mod mediapipe;
+mod mmpose;
+mod mpii;
+mod npy;
+mod openpose;
 mod record;
 
-use std::io::Read;
+use std::fmt;
+use std::io::{self, Read};
 use std::path::Path;
+use std::str::FromStr;
 
 pub use camloc_json::{CAMLOC_FORMAT_TAG, CAMLOC_FORMAT_VERSION, to_camloc_json};
-pub use camloc_skeleton::{Landmark, PartialPose2};
+pub use camloc_skeleton::{Landmark, PartialPose2, Pose3};
 pub use coco::COCO_KEYPOINTS;
-pub use error::{KeypointError, Location};
+pub use error::{KeypointError, Location, MAX_QUOTED_CHARS, MAX_QUOTED_ITEMS};
+pub use folder::{FolderRecords, keypoint_files, read_folder};
 pub use format::{KeypointFormat, UnknownFormatName};
+pub use layout::{ArrayPoseError, Layout, MappedPose, UnknownLayoutName, pose_from_array};
 pub use lsp::LSP_JOINTS;
+pub use npy::{
+    NPY_MAX_HEADER_BYTES, NpyPose, NpyPoseWriter, NpyPoses, read_npy_poses3, write_npy,
+};
+pub use openpose::{OPENPOSE_FRAME_MAX_BYTES, frame_index};
 pub use record::{KeypointRecord, derive_torso};
 
 /// What to do with LSP joints marked `visible = 0`.
@@ -137,12 +152,51 @@ pub struct LspOptions {
     pub invisible: Invisible,
 }
 
-/// Options of the COCO reader.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct CocoOptions {
-    /// A keypoint is present when its third value (visibility flag or confidence) is strictly
-    /// greater than this. Default 0: only `v == 0` (or below) is missing.
-    pub min_score: f64,
+/// The size of the images that normalised coordinates (MediaPipe) are relative to, in pixels.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ImageSize {
+    /// Width in pixels (multiplies normalised `x`).
+    pub width: f64,
+    /// Height in pixels (multiplies normalised `y`).
+    pub height: f64,
+}
+
+/// An image size that is not `W,H` (or `WxH`) with two positive finite numbers.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "image size \"{}\" is not W,H with two positive numbers of pixels (e.g. 1920,1080)",
+    error::clip(.0)
+)]
+pub struct InvalidImageSize(pub String);
+
+impl FromStr for ImageSize {
+    type Err = InvalidImageSize;
+
+    /// Parses `W,H` or `WxH` (e.g. `1920,1080`); both must be positive and finite.
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        let invalid = || InvalidImageSize(s.to_owned());
+        let (w, h) = s
+            .split_once(',')
+            .or_else(|| s.split_once(['x', 'X']))
+            .ok_or_else(invalid)?;
+        let number = |t: &str| {
+            t.trim()
+                .parse::<f64>()
+                .ok()
+                .filter(|v| v.is_finite() && *v > 0.0)
+                .ok_or_else(invalid)
+        };
+        Ok(ImageSize {
+            width: number(w)?,
+            height: number(h)?,
+        })
+    }
+}
+
+impl fmt::Display for ImageSize {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{},{}", self.width, self.height)
+    }
 }
 
 /// Options shared by all readers.
@@ -152,16 +206,37 @@ pub struct ReadOptions {
     pub derive_torso: bool,
     /// LSP CSV options.
     pub lsp: LspOptions,
-    /// COCO options.
-    pub coco: CocoOptions,
-    /// Largest input accepted, in bytes; longer inputs give [`KeypointError::TooLarge`].
-    /// Default [`ReadOptions::DEFAULT_MAX_BYTES`] (1 GiB).
+    /// Joints whose score is below this are missing, in every format with scores: COCO
+    /// (visibility flag or confidence), OpenPose (confidence), MMPose (`keypoint_scores`),
+    /// MediaPipe (`visibility`), `.npy` (N, J, 3). A score of 0 always means missing. Default 0;
+    /// meant to be finite and at least 0 (COCO dataset flags go up to 2).
+    pub min_score: f64,
+    /// The image size that normalised coordinates are scaled by (MediaPipe needs it; other
+    /// formats ignore it). Default `None`.
+    pub image_size: Option<ImageSize>,
+    /// The joint layout of `.npy` arrays and MMPose keypoints. `None` (the default): told from
+    /// the joint count, with 17 meaning COCO-17 for MMPose and needing a name for `.npy`.
+    pub layout: Option<Layout>,
+    /// Largest text input accepted, in bytes; longer inputs give [`KeypointError::TooLarge`].
+    /// Default [`ReadOptions::DEFAULT_MAX_BYTES`] (1 GiB). One OpenPose frame is also limited
+    /// to [`OPENPOSE_FRAME_MAX_BYTES`]; `.npy` arrays are streamed and not limited.
     pub max_bytes: u64,
 }
 
 impl ReadOptions {
     /// The default input size limit: 1 GiB, room for the largest COCO keypoint files.
     pub const DEFAULT_MAX_BYTES: u64 = 1 << 30;
+
+    /// The size limit for an input of `format` (`None`: not known yet).
+    fn byte_limit(&self, format: Option<KeypointFormat>) -> (u64, &'static str) {
+        match format {
+            Some(KeypointFormat::OpenPose) if OPENPOSE_FRAME_MAX_BYTES < self.max_bytes => (
+                OPENPOSE_FRAME_MAX_BYTES,
+                "OPENPOSE_FRAME_MAX_BYTES, one frame",
+            ),
+            _ => (self.max_bytes, "ReadOptions::max_bytes"),
+        }
+    }
 }
 
 impl Default for ReadOptions {
@@ -169,55 +244,157 @@ impl Default for ReadOptions {
         ReadOptions {
             derive_torso: true,
             lsp: LspOptions::default(),
-            coco: CocoOptions::default(),
+            min_score: 0.0,
+            image_size: None,
+            layout: None,
             max_bytes: ReadOptions::DEFAULT_MAX_BYTES,
+        }
+    }
+}
+
+/// The records of one input, produced as they are read: `.npy` arrays pose by pose (memory
+/// independent of N), text formats from the parsed file. Returned by [`open_keypoints`] and
+/// [`open_keypoints_reader`].
+pub struct KeypointStream {
+    inner: StreamInner,
+}
+
+/// Where a [`KeypointStream`]'s records come from.
+enum StreamInner {
+    Parsed(std::vec::IntoIter<KeypointRecord>),
+    Npy(Box<NpyPoses<Box<dyn Read + Send>>>),
+}
+
+impl Iterator for KeypointStream {
+    type Item = Result<KeypointRecord, KeypointError>;
+
+    fn next(&mut self) -> Option<Self::Item> {
+        match &mut self.inner {
+            StreamInner::Parsed(records) => records.next().map(Ok),
+            StreamInner::Npy(poses) => poses.next(),
+        }
+    }
+
+    /// Exact for text formats; for `.npy` the poses left (fewer if an error stops the stream).
+    fn size_hint(&self) -> (usize, Option<usize>) {
+        match &self.inner {
+            StreamInner::Parsed(records) => records.size_hint(),
+            StreamInner::Npy(poses) => (0, usize::try_from(poses.len()).ok()),
         }
     }
 }
 
 /// Reads a keypoint file. `format: None` detects it from the extension and content
 /// ([`KeypointFormat::from_extension_and_content`]). Record sources and error messages name the
-/// file as `path` displays.
+/// file as `path` displays. See [`open_keypoints`] to get the records one at a time.
 pub fn read_keypoints(
     path: impl AsRef<Path>,
     format: Option<KeypointFormat>,
     options: &ReadOptions,
 ) -> Result<Vec<KeypointRecord>, KeypointError> {
+    open_keypoints(path, format, options)?.collect()
+}
+
+/// Opens a keypoint file and returns its records as a stream: a `.npy` array is read one pose
+/// at a time, other formats are read whole (within their size limit) and parsed. `format: None`
+/// detects the format as [`read_keypoints`] does.
+pub fn open_keypoints(
+    path: impl AsRef<Path>,
+    format: Option<KeypointFormat>,
+    options: &ReadOptions,
+) -> Result<KeypointStream, KeypointError> {
     let path = path.as_ref();
     let name = path.display().to_string();
-    let io = |source| KeypointError::Io {
+    let io_error = |source| KeypointError::Io {
         file: name.clone(),
         source,
     };
-    let file = std::fs::File::open(path).map_err(io)?;
+    let file = std::fs::File::open(path).map_err(io_error)?;
+    let metadata = file.metadata().map_err(io_error)?;
+    let size = metadata.is_file().then_some(metadata.len());
+    let extension = path.extension().and_then(|e| e.to_str());
+    let format = format.or_else(|| {
+        extension
+            .filter(|e| e.eq_ignore_ascii_case("npy"))
+            .map(|_| KeypointFormat::Npy)
+    });
+    open_keypoints_reader(io::BufReader::new(file), &name, size, format, options)
+}
+
+/// Reads keypoints from any reader, e.g. standard input: `name` names it in records and errors
+/// (its extension, if any, helps detection), `size` is its length in bytes when known. A `.npy`
+/// array (named by `format`, or recognised by its magic bytes) is streamed; other formats are
+/// read up to their size limit and parsed.
+pub fn open_keypoints_reader(
+    mut reader: impl Read + Send + 'static,
+    name: &str,
+    size: Option<u64>,
+    format: Option<KeypointFormat>,
+    options: &ReadOptions,
+) -> Result<KeypointStream, KeypointError> {
+    let io_error = |source| KeypointError::Io {
+        file: name.to_owned(),
+        source,
+    };
+    // Peek at the first bytes for the NumPy magic.
+    let mut start = Vec::with_capacity(format::NPY_MAGIC.len());
+    (&mut reader)
+        .take(format::NPY_MAGIC.len() as u64)
+        .read_to_end(&mut start)
+        .map_err(io_error)?;
+    let npy = match format {
+        Some(format) => format == KeypointFormat::Npy,
+        None => start.starts_with(format::NPY_MAGIC),
+    };
+    let reader = io::Cursor::new(start).chain(reader);
+    if npy {
+        let reader: Box<dyn Read + Send> = Box::new(reader);
+        let poses = NpyPoses::new(reader, name, size, options)?;
+        return Ok(KeypointStream {
+            inner: StreamInner::Npy(Box::new(poses)),
+        });
+    }
+    let (limit, rule) = options.byte_limit(format);
     let too_large = |bytes| KeypointError::TooLarge {
-        file: name.clone(),
+        file: name.to_owned(),
         bytes,
-        limit: options.max_bytes,
+        limit,
+        rule,
     };
     // Refuse known-large files before reading; `take` also bounds pipes and special files.
-    let size = file.metadata().map_err(io)?.len();
-    if size > options.max_bytes {
+    if let Some(size) = size.filter(|&size| size > limit) {
         return Err(too_large(size));
     }
     let mut bytes = Vec::new();
-    file.take(options.max_bytes.saturating_add(1))
+    reader
+        .take(limit.saturating_add(1))
         .read_to_end(&mut bytes)
-        .map_err(io)?;
-    if bytes.len() as u64 > options.max_bytes {
+        .map_err(io_error)?;
+    if bytes.len() as u64 > limit {
         return Err(too_large(bytes.len() as u64));
     }
-    parse_keypoints_bytes(&bytes, &name, format, options)
+    let records = parse_keypoints_bytes(&bytes, name, format, options)?;
+    Ok(KeypointStream {
+        inner: StreamInner::Parsed(records.into_iter()),
+    })
 }
 
-/// Parses keypoint bytes, which must be UTF-8 ([`KeypointError::NotUtf8`] otherwise); see
-/// [`parse_keypoints`].
+/// Parses keypoint bytes: a `.npy` array (named by `format` or recognised by its magic), or
+/// UTF-8 text ([`KeypointError::NotUtf8`] otherwise) as [`parse_keypoints`] does.
 pub fn parse_keypoints_bytes(
     bytes: &[u8],
     source_name: &str,
     format: Option<KeypointFormat>,
     options: &ReadOptions,
 ) -> Result<Vec<KeypointRecord>, KeypointError> {
+    let npy = match format {
+        Some(format) => format == KeypointFormat::Npy,
+        None => bytes.starts_with(format::NPY_MAGIC),
+    };
+    if npy {
+        let size = Some(bytes.len() as u64);
+        return NpyPoses::new(bytes, source_name, size, options)?.collect();
+    }
     match std::str::from_utf8(bytes) {
         Ok(text) => parse_keypoints(text, source_name, format, options),
         Err(e) => {
@@ -234,7 +411,7 @@ pub fn parse_keypoints_bytes(
 
 /// Parses keypoint text. `source_name` names the input in record sources and errors, and its
 /// extension (if any) helps detection when `format` is `None`. A leading byte-order mark is
-/// ignored.
+/// ignored. `.npy` arrays are binary: see [`parse_keypoints_bytes`].
 pub fn parse_keypoints(
     text: &str,
     source_name: &str,
@@ -242,12 +419,15 @@ pub fn parse_keypoints(
     options: &ReadOptions,
 ) -> Result<Vec<KeypointRecord>, KeypointError> {
     let file = source_name;
-    if text.len() as u64 > options.max_bytes {
-        return Err(KeypointError::TooLarge {
-            file: file.to_owned(),
-            bytes: text.len() as u64,
-            limit: options.max_bytes,
-        });
+    let too_large = |(limit, rule)| KeypointError::TooLarge {
+        file: file.to_owned(),
+        bytes: text.len() as u64,
+        limit,
+        rule,
+    };
+    let (limit, rule) = options.byte_limit(format);
+    if text.len() as u64 > limit {
+        return Err(too_large((limit, rule)));
     }
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     if text.trim().is_empty() {
@@ -268,9 +448,21 @@ pub fn parse_keypoints(
             }
         })?,
     };
+    let (limit, rule) = options.byte_limit(Some(format));
+    if text.len() as u64 > limit {
+        return Err(too_large((limit, rule)));
+    }
     match format {
         KeypointFormat::Camloc => camloc_json::parse(text, file, options),
         KeypointFormat::Lsp => lsp::parse(text, file, options),
         KeypointFormat::Coco => coco::parse(text, file, options),
+        KeypointFormat::OpenPose => openpose::parse(text, file, options),
+        KeypointFormat::MmPose => mmpose::parse(text, file, options),
+        KeypointFormat::MediaPipe => mediapipe::parse(text, file, options),
+        KeypointFormat::Mpii => mpii::parse(text, file, options),
+        KeypointFormat::Npy => {
+            let size = Some(text.len() as u64);
+            NpyPoses::new(text.as_bytes(), file, size, options)?.collect()
+        }
     }
 }

@@ -19,6 +19,13 @@ pub struct KeypointRecord {
     pub derived: Vec<Landmark>,
     /// Where the pose is in the input, e.g. `lsp.csv: line 17` or `poses.json: poses[3]`.
     pub source: String,
+    /// The video frame of the pose (0-based), for inputs that have frames: the number in an
+    /// OpenPose file name, MMPose's `frame_id`, the position in a MediaPipe list, the row of a
+    /// `.npy` array. `None` otherwise.
+    pub frame: Option<u64>,
+    /// The person's position among the poses of its frame (0-based: OpenPose `people`, MMPose
+    /// `instances`), `None` for inputs with one pose per frame or no frames.
+    pub person: Option<u64>,
 }
 
 impl KeypointRecord {
@@ -96,6 +103,8 @@ pub(crate) fn finish(
         pose,
         derived,
         source,
+        frame: None,
+        person: None,
     }
 }
 
@@ -161,6 +170,8 @@ mod tests {
             pose: with(&[(Landmark::Neck, [1.0, 2.0])]),
             derived: vec![],
             source: "x.csv: line 9".into(),
+            frame: None,
+            person: None,
         };
         let err = record.require_torso().unwrap_err();
         assert!(

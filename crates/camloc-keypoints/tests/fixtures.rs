@@ -3,7 +3,7 @@
 mod common;
 
 use camloc_keypoints::{
-    COCO_KEYPOINTS, CocoOptions, Invisible, KeypointError, KeypointFormat, LSP_JOINTS, Landmark,
+    COCO_KEYPOINTS, Invisible, KeypointError, KeypointFormat, LSP_JOINTS, Landmark,
     LspOptions, ReadOptions, parse_keypoints, read_keypoints, to_camloc_json,
 };
 use common::{fixture, fixture_text, mid, point, read};
@@ -326,7 +326,7 @@ fn coco_entries(name: &str) -> Vec<(String, Option<String>, Vec<f64>)> {
 /// Checks COCO records against the file's keypoints, with `min_score`.
 fn check_coco(name: &str, min_score: f64) {
     let options = ReadOptions {
-        coco: CocoOptions { min_score },
+        min_score,
         ..ReadOptions::default()
     };
     let records = read_keypoints(fixture(name), None, &options).unwrap();
@@ -335,7 +335,11 @@ fn check_coco(name: &str, min_score: f64) {
     for (i, (r, (image, id, kp))) in records.iter().zip(&entries).enumerate() {
         let suffix = id.clone().unwrap_or_else(|| i.to_string());
         assert_eq!(r.id, format!("{image}/{suffix}"));
-        let present = |k: usize| (kp[3 * k + 2] > min_score).then(|| [kp[3 * k], kp[3 * k + 1]]);
+        // Score 0 is missing; below min_score too.
+        let present = |k: usize| {
+            let v = kp[3 * k + 2];
+            (v > 0.0 && v >= min_score).then(|| [kp[3 * k], kp[3 * k + 1]])
+        };
         for (k, name) in COCO_KEYPOINTS.iter().enumerate() {
             if let Some(l) = Landmark::from_name(name) {
                 assert_eq!(r.pose.points[l.index()], present(k), "{} {name}", r.id);
@@ -403,7 +407,7 @@ fn coco_results_use_the_confidence_threshold() {
     check_coco("tiny_coco_results.json", 0.0);
     check_coco("tiny_coco_results.json", 0.85);
     let options = ReadOptions {
-        coco: CocoOptions { min_score: 0.85 },
+        min_score: 0.85,
         ..ReadOptions::default()
     };
     let strict = read_keypoints(fixture("tiny_coco_results.json"), None, &options).unwrap();

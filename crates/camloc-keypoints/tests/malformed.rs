@@ -358,7 +358,8 @@ fn deep_nesting_and_huge_numbers_do_not_crash() {
     };
     for (text, format) in [
         (nested(r#"{"poses": "#, "}"), KeypointFormat::Camloc),
-        (nested("", ""), KeypointFormat::Coco),
+        // A list of lists is MediaPipe's list of frames.
+        (nested("", ""), KeypointFormat::MediaPipe),
         (
             nested(r#"{"annotations": [{"image_id": 1, "keypoints": "#, "}]}"),
             KeypointFormat::Coco,

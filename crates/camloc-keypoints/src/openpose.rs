@@ -1,0 +1,112 @@
+//! OpenPose JSON (`--write_json`): one file per frame, `people[].pose_keypoints_2d` as x, y, c
+//! triples, BODY_25 (75 numbers) or COCO-18 (54 numbers).
+
+use std::path::Path;
+
+use crate::ReadOptions;
+use crate::error::{KeypointError, Location};
+use crate::json::{self, Json, array, index_path, key_path, numbers, object, required, unit_score};
+use crate::layout::{Joint, Layout, COCO18, keeps, map_joints};
+use crate::record::{KeypointRecord, finish};
+
+/// The largest OpenPose frame file read, in bytes (16 MiB): one frame of about 2,000 people
+/// with face and hand keypoints. Larger inputs give
+/// [`KeypointError::TooLarge`](crate::KeypointError::TooLarge).
+pub const OPENPOSE_FRAME_MAX_BYTES: u64 = 16 << 20;
+
+/// The frame index in an OpenPose file name: the digits that end its stem once `.json` and
+/// `_keypoints` are removed (`video_000000000012_keypoints.json` → 12). `None` when the stem
+/// does not end in digits (or they do not fit a `u64`).
+pub fn frame_index(file_name: &str) -> Option<u64> {
+    let name = Path::new(file_name).file_name()?.to_str()?;
+    let stem = strip_suffix_ignore_case(name, ".json").unwrap_or(name);
+    let stem = stem.strip_suffix("_keypoints").unwrap_or(stem);
+    let digits = stem.len() - stem.trim_end_matches(|c: char| c.is_ascii_digit()).len();
+    stem[stem.len() - digits..].parse().ok()
+}
+
+/// `text` without `suffix`, compared ignoring ASCII case.
+fn strip_suffix_ignore_case<'a>(text: &'a str, suffix: &str) -> Option<&'a str> {
+    let cut = text.len().checked_sub(suffix.len())?;
+    (text.is_char_boundary(cut) && text[cut..].eq_ignore_ascii_case(suffix)).then(|| &text[..cut])
+}
+
+/// Reads one OpenPose frame (BOM already removed, known not to be blank).
+pub(crate) fn parse(
+    text: &str,
+    file: &str,
+    options: &ReadOptions,
+) -> Result<Vec<KeypointRecord>, KeypointError> {
+    let root: Json = json::parse(text, file)?;
+    let fields = object(&root, "an object with \"people\"", file, "")?;
+    let people = array(
+        required(fields, "people", file, "")?,
+        "an array of people",
+        file,
+        "people",
+    )?;
+    let frame = frame_index(file);
+    let frame_name = match frame {
+        Some(frame) => frame.to_string(),
+        None => Path::new(file)
+            .file_stem()
+            .map_or_else(|| file.to_owned(), |s| s.to_string_lossy().into_owned()),
+    };
+    people
+        .iter()
+        .enumerate()
+        .map(|(p, person)| {
+            let path = index_path("people", p);
+            let fields = object(person, "a person object", file, &path)?;
+            let kp_path = key_path(&path, "pose_keypoints_2d");
+            let values = numbers(
+                required(fields, "pose_keypoints_2d", file, &path)?,
+                "an array of x, y, c numbers",
+                file,
+                &kp_path,
+            )?;
+            let table: &[Joint] = match values.len() {
+                75 => Layout::Body25.joints(),
+                54 => &COCO18,
+                found => {
+                    return Err(KeypointError::WrongLength {
+                        file: file.to_owned(),
+                        at: Location::Path(kp_path),
+                        expected: 75,
+                        found,
+                        what: "BODY_25 x, y, c triples, or 54 for COCO-18",
+                    });
+                }
+            };
+            let mut points = Vec::with_capacity(table.len());
+            for (k, xyc) in values.chunks_exact(3).enumerate() {
+                let c_path = index_path(&kp_path, 3 * k + 2);
+                let c = unit_score(xyc[2], "confidence", file, &c_path)?;
+                points.push(keeps(c, options).then_some([xyc[0], xyc[1]]));
+            }
+            let (pose, derived) = map_joints(table, points);
+            let source = format!("{file}: {}", Location::Path(path));
+            Ok(KeypointRecord {
+                frame,
+                person: Some(p as u64),
+                ..finish(format!("{frame_name}/{p}"), pose, derived, source, options)
+            })
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn frame_index_from_file_names() {
+        assert_eq!(frame_index("out/video_000000000012_keypoints.json"), Some(12));
+        assert_eq!(frame_index("frame_7.JSON"), Some(7));
+        assert_eq!(frame_index("12.json"), Some(12));
+        assert_eq!(frame_index("video_keypoints.json"), None);
+        assert_eq!(frame_index("a_99999999999999999999999_keypoints.json"), None);
+        assert_eq!(frame_index("é.json"), None);
+        assert_eq!(frame_index(""), None);
+    }
+}
