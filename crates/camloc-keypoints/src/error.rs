@@ -56,7 +56,9 @@ pub enum KeypointError {
     },
     /// The input is longer than the limit for its format: [`ReadOptions::max_bytes`](crate::ReadOptions::max_bytes), and for one OpenPose frame also
     /// [`OPENPOSE_FRAME_MAX_BYTES`](crate::OPENPOSE_FRAME_MAX_BYTES).
-    #[error("{file}: the input has at least {bytes} bytes, more than the limit of {limit} bytes ({rule})")]
+    #[error(
+        "{file}: the input has at least {bytes} bytes, more than the limit of {limit} bytes ({rule})"
+    )]
     TooLarge {
         /// Name of the input.
         file: String,
@@ -137,7 +139,10 @@ pub enum KeypointError {
         found: usize,
     },
     /// A CSV row names a joint the format does not have.
-    #[error("{file}: {at}: unknown joint \"{}\" (expected one of: {expected})", clip(name))]
+    #[error(
+        "{file}: {at}: unknown joint \"{}\" (expected one of: {expected})",
+        clip(name)
+    )]
     UnknownJoint {
         /// Name of the input.
         file: String,
@@ -294,7 +299,9 @@ pub enum KeypointError {
         what: String,
     },
     /// A joint has one coordinate NaN and the other not (both NaN marks a missing joint).
-    #[error("{file}: {at}: one coordinate is NaN and the other is not (NaN, NaN marks a missing joint)")]
+    #[error(
+        "{file}: {at}: one coordinate is NaN and the other is not (NaN, NaN marks a missing joint)"
+    )]
     HalfMissing {
         /// Name of the input.
         file: String,
@@ -313,7 +320,7 @@ pub enum KeypointError {
         format: &'static str,
     },
     /// A `.npy` file whose header, type, shape or length cannot be read as keypoints.
-    #[error("{file}: {}", clip(problem))]
+    #[error("{file}: {problem}")]
     Npy {
         /// Name of the input.
         file: String,

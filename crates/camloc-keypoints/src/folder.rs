@@ -35,9 +35,10 @@ pub fn keypoint_files(dir: &Path, recursive: bool) -> Result<Vec<PathBuf>, Keypo
                     pending.push(path);
                 }
             } else if path.is_file()
-                && path.extension().and_then(|e| e.to_str()).is_some_and(|e| {
-                    EXTENSIONS.iter().any(|x| x.eq_ignore_ascii_case(e))
-                })
+                && path
+                    .extension()
+                    .and_then(|e| e.to_str())
+                    .is_some_and(|e| EXTENSIONS.iter().any(|x| x.eq_ignore_ascii_case(e)))
             {
                 files.push(path);
             }
@@ -58,8 +59,15 @@ fn natural_cmp(a: &str, b: &str) -> Ordering {
             (Some(_), None) => return Ordering::Greater,
             (Some(x), Some(y)) if x.is_ascii_digit() && y.is_ascii_digit() => {
                 let (da, db) = (digits(a), digits(b));
-                let (na, nb) = (a[..da].trim_start_matches('0'), b[..db].trim_start_matches('0'));
-                let order = na.len().cmp(&nb.len()).then_with(|| na.cmp(nb)).then(da.cmp(&db));
+                let (na, nb) = (
+                    a[..da].trim_start_matches('0'),
+                    b[..db].trim_start_matches('0'),
+                );
+                let order = na
+                    .len()
+                    .cmp(&nb.len())
+                    .then_with(|| na.cmp(nb))
+                    .then(da.cmp(&db));
                 if order != Ordering::Equal {
                     return order;
                 }
@@ -127,11 +135,25 @@ mod tests {
 
     #[test]
     fn natural_order_compares_numbers() {
-        let mut names = vec!["f_10.json", "f_2.json", "f_1.json", "f_02.json", "e.json", "f_.json"];
+        let mut names = vec![
+            "f_10.json",
+            "f_2.json",
+            "f_1.json",
+            "f_02.json",
+            "e.json",
+            "f_.json",
+        ];
         names.sort_by(|a, b| natural_cmp(a, b));
         assert_eq!(
             names,
-            ["e.json", "f_.json", "f_1.json", "f_2.json", "f_02.json", "f_10.json"]
+            [
+                "e.json",
+                "f_.json",
+                "f_1.json",
+                "f_2.json",
+                "f_02.json",
+                "f_10.json"
+            ]
         );
         assert_eq!(natural_cmp("a9", "a10"), Ordering::Less);
         assert_eq!(natural_cmp("é2", "é10"), Ordering::Less);

@@ -418,7 +418,9 @@ pub struct MappedPose {
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum ArrayPoseError {
     /// The slice does not hold `J × C` numbers, or C is not 2 or 3.
-    #[error("expected {joints} joints × 2 or 3 channels for layout {layout}, got {values} numbers with {channels} channels")]
+    #[error(
+        "expected {joints} joints × 2 or 3 channels for layout {layout}, got {values} numbers with {channels} channels"
+    )]
     Shape {
         /// The layout.
         layout: Layout,
@@ -535,7 +537,9 @@ mod tests {
         for layout in Layout::ALL {
             for j in 0..layout.joint_count() {
                 let name = layout.joint_name(j).unwrap();
-                if let (Some(named), Some(l)) = (Landmark::from_name(name), layout.joint_landmark(j)) {
+                if let (Some(named), Some(l)) =
+                    (Landmark::from_name(name), layout.joint_landmark(j))
+                {
                     assert_eq!(named, l, "{layout} {name}");
                 }
             }

@@ -128,9 +128,7 @@ pub use folder::{FolderRecords, keypoint_files, read_folder};
 pub use format::{KeypointFormat, UnknownFormatName};
 pub use layout::{ArrayPoseError, Layout, MappedPose, UnknownLayoutName, pose_from_array};
 pub use lsp::LSP_JOINTS;
-pub use npy::{
-    NPY_MAX_HEADER_BYTES, NpyPose, NpyPoseWriter, NpyPoses, read_npy_poses3, write_npy,
-};
+pub use npy::{NPY_MAX_HEADER_BYTES, NpyPose, NpyPoseWriter, NpyPoses, read_npy_poses3, write_npy};
 pub use openpose::{OPENPOSE_FRAME_MAX_BYTES, frame_index};
 pub use record::{KeypointRecord, derive_torso};
 

@@ -65,8 +65,16 @@ fn frame(
         let path = index_path(path, k);
         let fields = object(landmark, "a landmark {x, y, z, visibility}", file, &path)?;
         check_keys(fields, &LANDMARK_KEYS, file, &path)?;
-        let x = number(required(fields, "x", file, &path)?, file, &key_path(&path, "x"))?;
-        let y = number(required(fields, "y", file, &path)?, file, &key_path(&path, "y"))?;
+        let x = number(
+            required(fields, "x", file, &path)?,
+            file,
+            &key_path(&path, "x"),
+        )?;
+        let y = number(
+            required(fields, "y", file, &path)?,
+            file,
+            &key_path(&path, "y"),
+        )?;
         if let Some(z) = get(fields, "z") {
             number(z, file, &key_path(&path, "z"))?;
         }

@@ -6,7 +6,9 @@
 
 use crate::ReadOptions;
 use crate::error::{KeypointError, Location};
-use crate::json::{self, Json, array, get, index_path, key_path, number_array, numbers, object, required};
+use crate::json::{
+    self, Json, array, get, index_path, key_path, number_array, numbers, object, required,
+};
 use crate::layout::{Layout, keeps, map_joints, resolve_layout};
 use crate::record::{KeypointRecord, finish};
 
@@ -96,12 +98,14 @@ fn instance_record(
         file,
         &kp_path,
     )?;
-    let layout = resolve_layout(options.layout, keypoints.len(), Some(Layout::Coco17))
-        .map_err(|what| KeypointError::JointCount {
-            file: file.to_owned(),
-            at: Location::Path(kp_path.clone()),
-            found: keypoints.len() as u64,
-            what,
+    let layout =
+        resolve_layout(options.layout, keypoints.len(), Some(Layout::Coco17)).map_err(|what| {
+            KeypointError::JointCount {
+                file: file.to_owned(),
+                at: Location::Path(kp_path.clone()),
+                found: keypoints.len() as u64,
+                what,
+            }
         })?;
     let scores = match get(fields, "keypoint_scores") {
         Some(value) => {

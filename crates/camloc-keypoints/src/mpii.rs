@@ -4,7 +4,9 @@
 
 use crate::ReadOptions;
 use crate::error::{KeypointError, Location};
-use crate::json::{self, Json, array, index_path, key_path, number_array, numbers, object, required};
+use crate::json::{
+    self, Json, array, index_path, key_path, number_array, numbers, object, required,
+};
 use crate::layout::{MPII16, map_joints};
 use crate::record::{KeypointRecord, finish};
 
@@ -77,7 +79,13 @@ pub(crate) fn parse(
             }
             let (pose, derived) = map_joints(&MPII16, points);
             let source = format!("{file}: {}", Location::Path(path));
-            Ok(finish(format!("{image}/{i}"), pose, derived, source, options))
+            Ok(finish(
+                format!("{image}/{i}"),
+                pose,
+                derived,
+                source,
+                options,
+            ))
         })
         .collect()
 }

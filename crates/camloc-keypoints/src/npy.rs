@@ -11,11 +11,11 @@ use std::io::{self, Read, Write};
 use camloc_skeleton::{NUM_LANDMARKS, PartialPose2, Pose3};
 use npyz::WriterBuilder;
 
+use crate::ReadOptions;
 use crate::error::{KeypointError, Location};
 use crate::format::NPY_MAGIC;
 use crate::layout::{ArrayPoseError, Layout, pose_from_array, resolve_layout};
 use crate::record::KeypointRecord;
-use crate::ReadOptions;
 
 /// The longest `.npy` header accepted, in bytes: NumPy's own default limit (`max_header_size`).
 pub const NPY_MAX_HEADER_BYTES: usize = 10_000;
@@ -83,15 +83,13 @@ impl<R: Read> NpyPoses<R> {
                 "the array is in Fortran order; save it in C order (np.ascontiguousarray)".into(),
             ));
         }
-        let dtype = npy.dtype().descr();
+        let dtype = crate::error::clip(npy.dtype().descr().trim_matches('\''));
         let (values, item_bytes) = match npy.try_data::<f64>() {
             Ok(values) => (Values::F64(values), 8),
             Err(npy) => match npy.try_data::<f32>() {
                 Ok(values) => (Values::F32(values), 4),
                 Err(_) => {
-                    return Err(problem(format!(
-                        "dtype {dtype} is not float64 or float32"
-                    )));
+                    return Err(problem(format!("dtype {dtype} is not float64 or float32")));
                 }
             },
         };
@@ -314,14 +312,18 @@ fn check_header(text: &[u8]) -> Result<(), String> {
     {
         return Err(format!("{} (with a plain dtype string)", bad()));
     }
-    let dims = get("shape").and_then(py_literal::Value::as_tuple).ok_or_else(bad)?;
+    let dims = get("shape")
+        .and_then(py_literal::Value::as_tuple)
+        .ok_or_else(bad)?;
     dims.iter()
         .try_fold(1u64, |product, dim| {
             let dim: u64 = dim.as_integer()?.to_string().parse().ok()?;
             product.checked_mul(dim)
         })
         .map(|_| ())
-        .ok_or_else(|| "the header's shape is not a tuple of sizes with a product below 2^64".to_owned())
+        .ok_or_else(|| {
+            "the header's shape is not a tuple of sizes with a product below 2^64".to_owned()
+        })
 }
 
 /// A pose that [`NpyPoseWriter`] can write as one row of a (N, 15, C) `float64` array.

@@ -6,7 +6,7 @@ use std::path::Path;
 use crate::ReadOptions;
 use crate::error::{KeypointError, Location};
 use crate::json::{self, Json, array, index_path, key_path, numbers, object, required, unit_score};
-use crate::layout::{Joint, Layout, COCO18, keeps, map_joints};
+use crate::layout::{COCO18, Joint, Layout, keeps, map_joints};
 use crate::record::{KeypointRecord, finish};
 
 /// The largest OpenPose frame file read, in bytes (16 MiB): one frame of about 2,000 people
@@ -101,11 +101,17 @@ mod tests {
 
     #[test]
     fn frame_index_from_file_names() {
-        assert_eq!(frame_index("out/video_000000000012_keypoints.json"), Some(12));
+        assert_eq!(
+            frame_index("out/video_000000000012_keypoints.json"),
+            Some(12)
+        );
         assert_eq!(frame_index("frame_7.JSON"), Some(7));
         assert_eq!(frame_index("12.json"), Some(12));
         assert_eq!(frame_index("video_keypoints.json"), None);
-        assert_eq!(frame_index("a_99999999999999999999999_keypoints.json"), None);
+        assert_eq!(
+            frame_index("a_99999999999999999999999_keypoints.json"),
+            None
+        );
         assert_eq!(frame_index("é.json"), None);
         assert_eq!(frame_index(""), None);
     }

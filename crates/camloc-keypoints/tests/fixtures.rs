@@ -3,8 +3,8 @@
 mod common;
 
 use camloc_keypoints::{
-    COCO_KEYPOINTS, Invisible, KeypointError, KeypointFormat, LSP_JOINTS, Landmark,
-    LspOptions, ReadOptions, parse_keypoints, read_keypoints, to_camloc_json,
+    COCO_KEYPOINTS, Invisible, KeypointError, KeypointFormat, LSP_JOINTS, Landmark, LspOptions,
+    ReadOptions, parse_keypoints, read_keypoints, to_camloc_json,
 };
 use common::{fixture, fixture_text, mid, point, read};
 use serde_json::Value;
