@@ -9,7 +9,7 @@ cd "$(dirname "$0")"
 seconds="${1:-600}"
 shift || true
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(bvh asf_amc keypoints)
+[ ${#targets[@]} -gt 0 ] || targets=(bvh asf_amc keypoints keypoint_formats)
 export RUSTC_BOOTSTRAP=1
 
 seed() {
@@ -24,6 +24,13 @@ seed() {
         keypoints)
             for f in ../fixtures/keypoints/*.json ../fixtures/keypoints/*.csv; do
                 { printf '\3'; cat "$f"; } > "$dir/$(basename "$f")"
+            done
+            ;;
+        keypoint_formats)
+            # Byte 0: detect the format; byte 1: layout h36m17, min_score 0, read as bytes.
+            for f in ../fixtures/keypoints/samples/*.* ../fixtures/keypoints/samples/openpose/*.json \
+                     ../fixtures/keypoints/bad/npy_*.npy ../fixtures/keypoints/bad/[mo]*.json; do
+                { printf '\5\1'; cat "$f"; } > "$dir/$(basename "$f")"
             done
             ;;
     esac

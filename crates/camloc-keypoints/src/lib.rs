@@ -14,15 +14,22 @@
 //! ```
 //!
 //! Every reader returns one [`KeypointRecord`] per pose: an id, the pose, the landmarks that were
-//! *derived* rather than read, and where the pose is in the file. Coordinates are kept in the
-//! file's units (pixels for the three formats below); camloc's descriptors are invariant to 2D
-//! translation and scale.
+//! *derived* rather than read, where the pose is in the file, and its frame and person for
+//! inputs that have them. Coordinates are kept in the file's units (pixels, except MediaPipe's
+//! normalised coordinates, which are scaled by [`ReadOptions::image_size`]); camloc's
+//! descriptors are invariant to 2D translation and scale.
 //!
 //! # Formats
 //!
-//! [`KeypointFormat::from_extension_and_content`] picks the format when none is given: `.csv` is
-//! LSP, `.json` is camloc JSON if it has a `"poses"` or `"landmarks"` key and COCO if it has
-//! `"annotations"` or `"keypoints"` or is a top-level list.
+//! [`KeypointFormat`] lists the eight formats: camloc JSON, LSP-14 CSV and COCO-17 JSON (below),
+//! and OpenPose JSON (BODY_25, COCO-18), MMPose predictions, MediaPipe Pose, NumPy `.npy` arrays
+//! in a [`Layout`], and MPII JSON annotations, whose joint mappings are tabled in
+//! docs/keypoints.md. [`KeypointFormat::from_extension_and_content`] picks the format when none
+//! is given. [`read_keypoints`] reads a file, [`open_keypoints`] and [`open_keypoints_reader`]
+//! (standard input) stream its records (`.npy` arrays one pose at a time), [`read_folder`]
+//! reads a folder file by file, each with its own result; [`pose_from_array`] maps one raw
+//! (J, 2) or (J, 3) pose; [`write_npy`] and [`NpyPoseWriter`] write (N, 15, 2) and (N, 15, 3)
+//! arrays.
 //!
 //! ## camloc JSON (version 1)
 //!
@@ -72,8 +79,8 @@
 //! other keys and other annotation fields are skipped) or a results list
 //! (`[{"image_id": .., "keypoints": [..], "score": ..}]`). `keypoints` holds 51 numbers, `x, y, v`
 //! for each of [`COCO_KEYPOINTS`]; a keypoint is present when `v` (visibility flag in dataset
-//! files, confidence in results) is above [`CocoOptions::min_score`], 0 by default, so `v == 0`
-//! is missing. Shoulders, elbows, wrists, hips, knees and ankles map by name; the head is the
+//! files, confidence in results) is above 0 and at least [`ReadOptions::min_score`] (0 by
+//! default), so `v == 0` is missing. Shoulders, elbows, wrists, hips, knees and ankles map by name; the head is the
 //! mean of the present face points (nose, eyes, ears) and is recorded as derived. That point
 //! lies between nose and eye level, and in front of the neck axis in side views; CMU's head
 //! landmark (the end of the `upperneck` bone) lies about two thirds of the way from the neck to
@@ -94,9 +101,11 @@
 //! # Errors
 //!
 //! Nothing in this crate panics on any input. [`KeypointError`] says what is wrong and where:
-//! the file, then a line (CSV), a JSON path such as `poses[2].landmarks.left_knee`, or a JSON
-//! line and column for syntax errors. Inputs longer than [`ReadOptions::max_bytes`] are refused
-//! before they are parsed.
+//! the file, then a line (CSV), a JSON path such as `poses[2].landmarks.left_knee`, a JSON
+//! line and column for syntax errors, or an array element `[pose, joint, channel]`. Messages
+//! quote at most [`MAX_QUOTED_CHARS`] characters of any piece of input. Text inputs longer than
+//! [`ReadOptions::max_bytes`] (one OpenPose frame: [`OPENPOSE_FRAME_MAX_BYTES`]) are refused
+//! before they are parsed; `.npy` arrays are streamed.
 
 #![warn(missing_docs)]
 

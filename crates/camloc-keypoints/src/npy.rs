@@ -103,7 +103,7 @@ impl<R: Read> NpyPoses<R> {
             }
         };
         let layout = usize::try_from(joints)
-            .map_err(|_| String::new())
+            .map_err(|_| "no layout has that many".to_owned())
             .and_then(|j| resolve_layout(options.layout, j, None))
             .map_err(|what| KeypointError::JointCount {
                 file: file.to_owned(),

@@ -639,3 +639,37 @@ fn detection_recognises_every_sample() {
         assert_eq!(stream[0].pose, explicit[0].pose, "{name}");
     }
 }
+
+#[test]
+fn options_parse_from_the_text_a_command_line_gives() {
+    let size = |w, h| ImageSize {
+        width: w,
+        height: h,
+    };
+    assert_eq!("1920,1080".parse::<ImageSize>(), Ok(size(1920.0, 1080.0)));
+    assert_eq!(" 640 x 480 ".parse::<ImageSize>(), Ok(size(640.0, 480.0)));
+    assert_eq!(
+        size(640.0, 480.5).to_string().parse(),
+        Ok(size(640.0, 480.5))
+    );
+    for bad in ["", "1920", "0,10", "-5,5", "nan,1", "inf,2", "1,2,3", "a,b"] {
+        let e = bad.parse::<ImageSize>().unwrap_err();
+        assert!(e.to_string().contains("W,H"), "{bad}: {e}");
+    }
+    for format in KeypointFormat::ALL {
+        assert_eq!(format.name().parse(), Ok(format));
+        assert!(KeypointFormat::NAMES.contains(format.name()));
+    }
+    for layout in Layout::ALL {
+        assert!(Layout::NAMES.contains(layout.name()));
+    }
+}
+
+#[test]
+fn streams_and_records_can_move_to_worker_threads() {
+    fn send<T: Send>() {}
+    send::<camloc_keypoints::KeypointStream>();
+    send::<camloc_keypoints::FolderRecords>();
+    send::<KeypointRecord>();
+    send::<camloc_keypoints::KeypointError>();
+}
