@@ -23,6 +23,9 @@ pub const NPY_MAX_HEADER_BYTES: usize = 10_000;
 /// The deepest bracket nesting accepted in a `.npy` header (a plain header has 2).
 const MAX_HEADER_DEPTH: usize = 8;
 
+/// The input after its header: the header bytes read ahead, then the rest, buffered.
+type Buffered<R> = io::BufReader<io::Chain<io::Cursor<Vec<u8>>, R>>;
+
 /// The numbers of an array, in `f64` or `f32`.
 enum Values<R: Read> {
     F64(npyz::NpyReader<f64, R>),
@@ -47,7 +50,8 @@ impl<R: Read> Values<R> {
 /// Iteration stops after the first error.
 pub struct NpyPoses<R: Read> {
     file: String,
-    values: Option<Values<io::Chain<io::Cursor<Vec<u8>>, R>>>,
+    /// Buffered here (whatever `R` is) so that reading one number is a copy from the buffer.
+    values: Option<Values<Buffered<R>>>,
     count: u64,
     channels: usize,
     layout: Layout,
@@ -75,7 +79,7 @@ impl<R: Read> NpyPoses<R> {
         };
         let head = read_head(&mut reader).map_err(problem)?;
         let head_len = head.len() as u64;
-        let npy = npyz::NpyFile::new(io::Cursor::new(head).chain(reader))
+        let npy = npyz::NpyFile::new(io::BufReader::new(io::Cursor::new(head).chain(reader)))
             .map_err(|e| problem(format!("not a readable .npy header: {e}")))?;
         let shape = npy.shape().to_vec();
         if npy.order() != npyz::Order::C {
@@ -195,7 +199,8 @@ impl<R: Read> NpyPoses<R> {
             id: n.to_string(),
             pose: mapped.pose,
             derived: mapped.derived,
-            source: format!("{}: {}", self.file, Location::Array(Box::new([n]))),
+            // As `Location::Array([n])` displays, without its allocations.
+            source: format!("{}: [{n}]", self.file),
             frame: Some(n),
             person: None,
         }))
