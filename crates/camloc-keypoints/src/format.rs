@@ -57,7 +57,9 @@ impl KeypointFormat {
 
     /// Guesses the format of a file from its extension (without the dot, any case) and content.
     ///
-    /// * `npy`, or content starting with the NumPy magic `\x93NUMPY` → [`Npy`](KeypointFormat::Npy).
+    /// * `npy` → [`Npy`](KeypointFormat::Npy). (Text cannot start with NumPy's magic bytes
+    ///   `\x93NUMPY`; the byte readers, e.g. [`parse_keypoints_bytes`](crate::parse_keypoints_bytes),
+    ///   recognise arrays by them before looking at text.)
     /// * `csv` → [`Lsp`](KeypointFormat::Lsp).
     /// * `json`, or any other or no extension when the content starts with `{` or `[`: by the
     ///   first of these object keys found: `"people"` → OpenPose; `"poses"` or `"landmarks"` →
@@ -73,9 +75,6 @@ impl KeypointFormat {
         extension: Option<&str>,
         content: &str,
     ) -> Option<KeypointFormat> {
-        if content.as_bytes().starts_with(NPY_MAGIC) {
-            return Some(KeypointFormat::Npy);
-        }
         let content = content.trim_start_matches('\u{feff}').trim_start();
         let extension = extension.map(str::to_ascii_lowercase);
         match extension.as_deref() {
@@ -195,6 +194,32 @@ mod tests {
         assert_eq!(detect(None, "\n image, joint,x,y,visible\n"), Some(Lsp));
         assert_eq!(detect(Some("txt"), r#"{"poses": []}"#), Some(Camloc));
         assert_eq!(detect(None, "hello"), None);
+        assert_eq!(detect(Some("NPY"), ""), Some(Npy));
+        assert_eq!(
+            detect(Some("json"), r#"{"version": 1.3, "people": []}"#),
+            Some(OpenPose)
+        );
+        assert_eq!(
+            detect(
+                Some("json"),
+                r#"[{"keypoints": [], "keypoint_scores": []}]"#
+            ),
+            Some(MmPose)
+        );
+        assert_eq!(
+            detect(None, r#"{"meta_info": {}, "instance_info": []}"#),
+            Some(MmPose)
+        );
+        assert_eq!(
+            detect(Some("json"), r#"[{"image": "a.jpg", "joints_vis": []}]"#),
+            Some(Mpii)
+        );
+        assert_eq!(detect(Some("json"), " [ [{\"x\": 0.5}]]"), Some(MediaPipe));
+        assert_eq!(detect(Some("json"), "[null, []]"), Some(MediaPipe));
+        assert_eq!(
+            detect(Some("json"), r#"[{"x": 0.5, "y": 1}]"#),
+            Some(MediaPipe)
+        );
         assert_eq!(detect(None, ""), None);
     }
 

@@ -116,9 +116,9 @@ impl<R: Read> NpyPoses<R> {
                 what,
             })?;
         if let Some(size) = size {
-            // The shape product cannot overflow (checked with the header); J and C are small.
-            let data = count
-                .checked_mul(joints * channels as u64 * item_bytes)
+            let data = joints
+                .checked_mul(channels as u64 * item_bytes)
+                .and_then(|pose| count.checked_mul(pose))
                 .and_then(|d| d.checked_add(head_len));
             if data != Some(size) {
                 return Err(problem(format!(
