@@ -217,8 +217,8 @@ pub enum KeypointError {
         found: &'static str,
     },
     /// A JSON array has the wrong number of elements (a landmark not `[u, v]`, COCO keypoints
-    /// not 51 numbers).
-    #[error("{file}: {at}: expected {expected} numbers ({what}), found {found}")]
+    /// not 51 numbers, a MediaPipe frame not 33 landmarks).
+    #[error("{file}: {at}: expected {expected} {items} ({what}), found {found}")]
     WrongLength {
         /// Name of the input.
         file: String,
@@ -228,6 +228,8 @@ pub enum KeypointError {
         expected: usize,
         /// Length found.
         found: usize,
+        /// What the elements are: `numbers`, `landmarks`, `joints`, `flags`.
+        items: &'static str,
         /// What the array holds.
         what: &'static str,
     },

@@ -194,6 +194,7 @@ pub(crate) fn number_array<const N: usize>(
         at: Location::Path(path.to_owned()),
         expected: N,
         found: items.len(),
+        items: "numbers",
         what,
     };
     // Checked first so that a wrong length is reported before any element type.

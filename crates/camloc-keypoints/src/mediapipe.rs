@@ -57,7 +57,8 @@ fn frame(
             at: Location::Path(path.to_owned()),
             expected: MEDIAPIPE33.len(),
             found: landmarks.len(),
-            what: "MediaPipe Pose landmarks",
+            items: "landmarks",
+            what: "MediaPipe Pose, or null for a frame without a person",
         });
     }
     let mut points = Vec::with_capacity(landmarks.len());

@@ -117,6 +117,7 @@ fn instance_record(
                     at: Location::Path(scores_path),
                     expected: keypoints.len(),
                     found: scores.len(),
+                    items: "numbers",
                     what: "one score per keypoint",
                 });
             }

@@ -49,9 +49,9 @@ pub(crate) fn parse(
                 file,
                 &vis_path,
             )?;
-            for (found, at, what) in [
-                (joints.len(), &joints_path, "MPII joints [x, y]"),
-                (vis.len(), &vis_path, "MPII joints_vis flags"),
+            for (found, at, items, what) in [
+                (joints.len(), &joints_path, "joints", "MPII [x, y]"),
+                (vis.len(), &vis_path, "flags", "MPII joints_vis"),
             ] {
                 if found != MPII16.len() {
                     return Err(KeypointError::WrongLength {
@@ -59,6 +59,7 @@ pub(crate) fn parse(
                         at: Location::Path(at.clone()),
                         expected: MPII16.len(),
                         found,
+                        items,
                         what,
                     });
                 }

@@ -74,6 +74,7 @@ pub(crate) fn parse(
                         at: Location::Path(kp_path),
                         expected: 75,
                         found,
+                        items: "numbers",
                         what: "BODY_25 x, y, c triples, or 54 for COCO-18",
                     });
                 }

@@ -488,7 +488,7 @@ fn detector_formats_report_file_and_place() {
         (
             "mediapipe_32_landmarks.json",
             None,
-            ": [1]: expected 33 numbers (MediaPipe Pose landmarks), found 32",
+            ": [1]: expected 33 landmarks (MediaPipe Pose, or null for a frame without a person), found 32",
         ),
         (
             "mediapipe_visibility.json",
@@ -503,7 +503,7 @@ fn detector_formats_report_file_and_place() {
         (
             "mediapipe_empty_frame.json",
             None,
-            ": [0]: expected 33 numbers (MediaPipe Pose landmarks), found 0",
+            ": [0]: expected 33 landmarks (MediaPipe Pose, or null for a frame without a person), found 0",
         ),
         (
             "mpii_joints_vis.json",
@@ -513,7 +513,7 @@ fn detector_formats_report_file_and_place() {
         (
             "mpii_15_joints.json",
             None,
-            ": [0].joints: expected 16 numbers (MPII joints [x, y]), found 15",
+            ": [0].joints: expected 16 joints (MPII [x, y]), found 15",
         ),
         (
             "mpii_missing_joints.json",
