@@ -85,6 +85,8 @@ fn natural_cmp(a: &str, b: &str) -> Ordering {
 
 /// The files of a folder, read one at a time: each item is a file and its records or its
 /// error, so one bad file is reported and the others are still read. Made by [`read_folder`].
+/// Each file is read whole; to stream large `.npy` arrays of a folder, open each of
+/// [`keypoint_files`] with [`open_keypoints`](crate::open_keypoints).
 pub struct FolderRecords {
     files: std::vec::IntoIter<PathBuf>,
     format: Option<KeypointFormat>,
