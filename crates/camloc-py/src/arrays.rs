@@ -1,0 +1,193 @@
+//! NumPy input: a batch of raw poses in a joint layout, checked for shape, mapped pose by pose
+//! by [`pose_from_array`]; and the conversion of outputs back to NumPy.
+
+use std::borrow::Cow;
+
+use camloc::keypoints::{ArrayPoseError, Layout, MappedPose, ReadOptions, pose_from_array};
+use numpy::{AllowTypeChange, PyArrayDyn, PyArrayLikeDyn, PyArrayMethods, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+
+use crate::value_error;
+
+/// Most joints of any layout (BODY_25), for the stack buffer that joins points and scores.
+const MAX_JOINTS: usize = 25;
+
+/// Points as given (any array-like of numbers, converted to float64 by NumPy when needed).
+pub(crate) type ArrayArg<'py> = PyArrayLikeDyn<'py, f64, AllowTypeChange>;
+
+/// The numbers of an array in C order, borrowed when the array is C-contiguous.
+fn c_order<'a>(array: &'a ArrayArg<'_>) -> Cow<'a, [f64]> {
+    match array.as_slice() {
+        Ok(slice) => Cow::Borrowed(slice),
+        Err(_) => Cow::Owned(array.as_array().iter().copied().collect()),
+    }
+}
+
+/// A checked batch of raw poses: N poses of J joints (the layout's count) with C = 2 (x, y)
+/// or 3 (x, y, score) channels, and optional separate scores (N × J). Read-only and `Sync`, so
+/// poses are mapped on any thread without the GIL.
+pub(crate) struct PoseBatch<'a> {
+    values: Cow<'a, [f64]>,
+    scores: Option<Cow<'a, [f64]>>,
+    layout: Layout,
+    channels: usize,
+    poses: usize,
+    options: ReadOptions,
+    /// `true` when one pose (J, C) was given rather than a batch (N, J, C).
+    pub single: bool,
+}
+
+impl<'a> PoseBatch<'a> {
+    /// Checks `points` ((N, J, C) or (J, C)), `scores` ((N, J) or (J,), only with C = 2), the
+    /// layout name and `min_score`; every problem is a `ValueError` saying what was expected.
+    pub(crate) fn new(
+        points: &'a ArrayArg<'_>,
+        layout: &str,
+        scores: Option<&'a ArrayArg<'_>>,
+        min_score: f64,
+    ) -> PyResult<Self> {
+        let layout: Layout = layout.parse().map_err(|e| value_error(format!("{e}")))?;
+        let joints = layout.joint_count();
+        let shape = points.shape();
+        let (poses, single) = match shape.len() {
+            3 => (shape[0], false),
+            2 => (1, true),
+            _ => {
+                return Err(value_error(format!(
+                    "points must have shape (N, J, 2) or one pose (J, 2), got {shape:?}"
+                )));
+            }
+        };
+        let (j, channels) = (shape[shape.len() - 2], shape[shape.len() - 1]);
+        if j != joints {
+            return Err(value_error(format!(
+                "points have {j} joints per pose but layout {layout} has {joints} (shape {shape:?})"
+            )));
+        }
+        if !(channels == 2 || channels == 3) {
+            return Err(value_error(format!(
+                "points must have 2 channels (x, y) or 3 (x, y, score) per joint, got {channels} (shape {shape:?})"
+            )));
+        }
+        if !(min_score.is_finite() && min_score >= 0.0) {
+            return Err(value_error(format!(
+                "min_score must be a finite number >= 0, got {min_score}"
+            )));
+        }
+        if let Some(scores) = scores {
+            let expected: &[usize] = if single { &shape[..1] } else { &shape[..2] };
+            if channels == 3 {
+                return Err(value_error(
+                    "scores given twice: points have a third (score) channel and scores is set",
+                ));
+            }
+            if scores.shape() != expected {
+                return Err(value_error(format!(
+                    "scores must have shape {expected:?} (one per joint of points {shape:?}), got {:?}",
+                    scores.shape()
+                )));
+            }
+        }
+        let options = ReadOptions {
+            min_score,
+            ..ReadOptions::default()
+        };
+        Ok(PoseBatch {
+            values: c_order(points),
+            scores: scores.map(c_order),
+            layout,
+            channels,
+            poses,
+            options,
+            single,
+        })
+    }
+
+    /// Number of poses N.
+    pub(crate) fn len(&self) -> usize {
+        self.poses
+    }
+
+    /// Pose `i` mapped to the 15 landmarks (NaN coordinates = missing joint).
+    pub(crate) fn pose(&self, i: usize) -> Result<MappedPose, ArrayPoseError> {
+        let joints = self.layout.joint_count();
+        let values = &self.values[i * joints * self.channels..(i + 1) * joints * self.channels];
+        match &self.scores {
+            None => pose_from_array(self.layout, values, self.channels, &self.options),
+            Some(scores) => {
+                let scores = &scores[i * joints..(i + 1) * joints];
+                let mut joined = [0.0; 3 * MAX_JOINTS];
+                for ((out, xy), s) in joined
+                    .chunks_exact_mut(3)
+                    .zip(values.chunks_exact(2))
+                    .zip(scores)
+                {
+                    out.copy_from_slice(&[xy[0], xy[1], *s]);
+                }
+                pose_from_array(self.layout, &joined[..3 * joints], 3, &self.options)
+            }
+        }
+    }
+}
+
+/// Output arrays of a batch: each value is stored with shape `(N, *rest)`, or `rest` alone
+/// for a single pose; per-pose errors become a list (or one value for a single pose).
+pub(crate) struct Output<'py> {
+    dict: Bound<'py, PyDict>,
+    poses: usize,
+    single: bool,
+}
+
+impl<'py> Output<'py> {
+    /// An empty output for `poses` poses (`single`: one pose given without the batch axis).
+    pub(crate) fn new(py: Python<'py>, poses: usize, single: bool) -> Self {
+        Output {
+            dict: PyDict::new(py),
+            poses,
+            single,
+        }
+    }
+
+    /// Stores `data` (N × prod(rest) values in C order) under `key` with shape (N, *rest).
+    pub(crate) fn array<T: numpy::Element>(
+        &self,
+        key: &str,
+        data: Vec<T>,
+        rest: &[usize],
+    ) -> PyResult<()> {
+        let py = self.dict.py();
+        let mut shape = Vec::with_capacity(rest.len() + 1);
+        if !self.single {
+            shape.push(self.poses);
+        }
+        shape.extend_from_slice(rest);
+        let array = numpy::PyArray1::from_vec(py, data).reshape(shape)?;
+        let array: Bound<'py, PyArrayDyn<T>> = array;
+        self.dict.set_item(key, array)
+    }
+
+    /// Stores per-pose errors under `error`: a list with `None` where the pose is fine (one value
+    /// for a single pose). `errors` holds (pose index, message).
+    pub(crate) fn errors(&self, errors: Vec<(usize, String)>) -> PyResult<()> {
+        let py = self.dict.py();
+        let mut messages: Vec<Option<String>> = vec![None; self.poses];
+        for (i, message) in errors {
+            messages[i] = Some(message);
+        }
+        if self.single {
+            return self.dict.set_item("error", messages.pop().flatten());
+        }
+        self.dict.set_item("error", PyList::new(py, messages)?)
+    }
+
+    /// Stores any Python value under `key`.
+    pub(crate) fn set(&self, key: &str, value: impl IntoPyObject<'py>) -> PyResult<()> {
+        self.dict.set_item(key, value)
+    }
+
+    /// The finished dict.
+    pub(crate) fn into_dict(self) -> Bound<'py, PyDict> {
+        self.dict
+    }
+}

@@ -1,0 +1,134 @@
+//! `camloc.Localizer`: the camera localizer over NumPy batches.
+
+use std::path::PathBuf;
+
+use camloc::CameraLocalizer;
+use numpy::{PyArray1, PyArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use rayon::prelude::*;
+
+use crate::arrays::{ArrayArg, Output, PoseBatch};
+use crate::to_py_err;
+
+/// Poses per parallel task: large enough that scheduling costs nothing next to the work.
+const CHUNK: usize = 1024;
+
+/// A trained camera localizer (the model embedded in camloc, or one loaded from a file).
+#[pyclass(frozen, module = "camloc")]
+pub(crate) struct Localizer {
+    pub(crate) inner: CameraLocalizer,
+}
+
+#[pymethods]
+impl Localizer {
+    /// The default model embedded in this build.
+    #[new]
+    fn new() -> PyResult<Self> {
+        Ok(Localizer {
+            inner: CameraLocalizer::default_model().map_err(to_py_err)?,
+        })
+    }
+
+    /// Reads a model file written by `camloc train`.
+    #[staticmethod]
+    fn load(path: PathBuf) -> PyResult<Self> {
+        Ok(Localizer {
+            inner: CameraLocalizer::load(&path).map_err(to_py_err)?,
+        })
+    }
+
+    /// The camera classes, one dict per label (1-based, the column `label - 1` of
+    /// `probabilities`): label, level, side, azimuth_deg, elevation_deg, rotation (3, 3).
+    #[getter]
+    fn cameras<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+        let cameras = self
+            .inner
+            .cameras()
+            .viewpoints()
+            .iter()
+            .map(|v| {
+                let camera = PyDict::new(py);
+                camera.set_item("label", v.label)?;
+                camera.set_item("level", v.level.name())?;
+                camera.set_item("side", v.side.name())?;
+                camera.set_item("azimuth_deg", v.azimuth_deg)?;
+                camera.set_item("elevation_deg", v.elevation_deg)?;
+                let r = &v.rotation;
+                let rows: Vec<f64> = (0..9).map(|k| r[(k / 3, k % 3)]).collect();
+                camera.set_item("rotation", PyArray1::from_vec(py, rows).reshape([3, 3])?)?;
+                Ok(camera)
+            })
+            .collect::<PyResult<Vec<_>>>()?;
+        PyList::new(py, cameras)
+    }
+
+    /// Localizes the camera of every pose; see `camloc.pyi`.
+    #[pyo3(signature = (points, layout = "camloc15", scores = None, min_score = 0.0))]
+    fn localize<'py>(
+        &self,
+        py: Python<'py>,
+        points: ArrayArg<'py>,
+        layout: &str,
+        scores: Option<ArrayArg<'py>>,
+        min_score: f64,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let batch = PoseBatch::new(&points, layout, scores.as_ref(), min_score)?;
+        let n = batch.len();
+        let k = self.inner.cameras().len();
+        let localizer = &self.inner;
+        let (label, folded, probability, probabilities, errors) = py.detach(|| {
+            let mut label = vec![0i64; n];
+            let mut folded = vec![0i64; n];
+            let mut probability = vec![f64::NAN; n];
+            let mut probabilities = vec![f64::NAN; n * k];
+            let errors: Vec<(usize, String)> = label
+                .par_chunks_mut(CHUNK)
+                .zip(folded.par_chunks_mut(CHUNK))
+                .zip(probability.par_chunks_mut(CHUNK))
+                .zip(probabilities.par_chunks_mut(CHUNK * k))
+                .enumerate()
+                .flat_map_iter(|(c, (((label, folded), probability), probabilities))| {
+                    let mut errors = Vec::new();
+                    for (j, row) in probabilities.chunks_exact_mut(k).enumerate() {
+                        let i = c * CHUNK + j;
+                        let result = batch.pose(i).map_err(|e| e.to_string()).and_then(|m| {
+                            localizer
+                                .localize_partial(&m.pose)
+                                .map_err(|e| e.to_string())
+                        });
+                        match result {
+                            Ok(loc) => {
+                                label[j] = i64::from(loc.label);
+                                folded[j] = i64::from(loc.folded_label);
+                                probability[j] = loc.probability;
+                                row.copy_from_slice(&loc.probabilities);
+                                // The continuous viewpoint (azimuth_deg, elevation_deg,
+                                // uncertainty_deg) of issue 11 goes here once `Localization`
+                                // has it: one more (N,) array each.
+                            }
+                            Err(message) => errors.push((i, message)),
+                        }
+                    }
+                    errors
+                })
+                .collect();
+            (label, folded, probability, probabilities, errors)
+        });
+        let out = Output::new(py, n, batch.single);
+        out.array("label", label, &[])?;
+        out.array("folded_label", folded, &[])?;
+        out.array("probability", probability, &[])?;
+        out.array("probabilities", probabilities, &[k])?;
+        out.errors(errors)?;
+        Ok(out.into_dict())
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "camloc.Localizer(descriptor={:?}, cameras={})",
+            self.inner.descriptor().name(),
+            self.inner.cameras().len()
+        )
+    }
+}

@@ -1,0 +1,144 @@
+//! `camloc.read_keypoints`: a keypoint file or folder as NumPy arrays.
+
+use std::path::PathBuf;
+
+use camloc::keypoints::{
+    ImageSize, Invisible, KeypointFormat, KeypointRecord, Layout, ReadOptions, read_folder,
+    read_keypoints as read_file,
+};
+use camloc::{CamlocError, Landmark};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+
+use crate::arrays::Output;
+use crate::{to_py_err, value_error};
+
+/// `image_size` as given: `(W, H)` in pixels or the text `"W,H"`.
+#[derive(FromPyObject)]
+pub(crate) enum ImageSizeArg {
+    Pair(f64, f64),
+    Text(String),
+}
+
+/// The reader options from the Python arguments; bad values are `ValueError`s.
+fn read_options(
+    layout: Option<&str>,
+    min_score: f64,
+    image_size: Option<ImageSizeArg>,
+    lsp_invisible: &str,
+    derive_torso: bool,
+) -> PyResult<ReadOptions> {
+    let layout = layout
+        .map(str::parse::<Layout>)
+        .transpose()
+        .map_err(|e| value_error(e.to_string()))?;
+    if !(min_score.is_finite() && min_score >= 0.0) {
+        return Err(value_error(format!(
+            "min_score must be a finite number >= 0, got {min_score}"
+        )));
+    }
+    let image_size = match image_size {
+        None => None,
+        Some(ImageSizeArg::Text(text)) => Some(text),
+        Some(ImageSizeArg::Pair(w, h)) => Some(format!("{w},{h}")),
+    }
+    .map(|text| text.parse::<ImageSize>())
+    .transpose()
+    .map_err(|e| value_error(e.to_string()))?;
+    let invisible = match lsp_invisible {
+        "missing" => Invisible::Missing,
+        "use" => Invisible::Use,
+        other => {
+            return Err(value_error(format!(
+                "lsp_invisible must be \"missing\" or \"use\", got \"{other}\""
+            )));
+        }
+    };
+    let mut options = ReadOptions {
+        derive_torso,
+        min_score,
+        image_size,
+        layout,
+        ..ReadOptions::default()
+    };
+    options.lsp.invisible = invisible;
+    Ok(options)
+}
+
+/// Reads a keypoint file, or every keypoint file of a folder; see `camloc.pyi`.
+#[pyfunction]
+#[pyo3(signature = (path, format = None, layout = None, min_score = 0.0, image_size = None, lsp_invisible = "missing", derive_torso = true, recursive = false))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn read_keypoints<'py>(
+    py: Python<'py>,
+    path: PathBuf,
+    format: Option<&str>,
+    layout: Option<&str>,
+    min_score: f64,
+    image_size: Option<ImageSizeArg>,
+    lsp_invisible: &str,
+    derive_torso: bool,
+    recursive: bool,
+) -> PyResult<Bound<'py, PyDict>> {
+    let format = format
+        .map(str::parse::<KeypointFormat>)
+        .transpose()
+        .map_err(|e| value_error(e.to_string()))?;
+    let options = read_options(layout, min_score, image_size, lsp_invisible, derive_torso)?;
+    let (records, file_errors) = py
+        .detach(|| -> Result<_, CamlocError> {
+            if !path.is_dir() {
+                return Ok((read_file(&path, format, &options)?, Vec::new()));
+            }
+            let mut records = Vec::new();
+            let mut file_errors = Vec::new();
+            for (file, result) in read_folder(&path, format, &options, recursive)? {
+                match result {
+                    Ok(mut read) => records.append(&mut read),
+                    Err(e) => file_errors.push((file.display().to_string(), e.to_string())),
+                }
+            }
+            Ok((records, file_errors))
+        })
+        .map_err(to_py_err)?;
+    records_dict(py, &records, file_errors)
+}
+
+/// The records as arrays: points (N, 15, 2) with NaN for missing landmarks, derived (N, 15),
+/// frames and persons (N,) with -1 for none, ids and sources as lists of str.
+fn records_dict<'py>(
+    py: Python<'py>,
+    records: &[KeypointRecord],
+    file_errors: Vec<(String, String)>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let n = records.len();
+    let mut points = Vec::with_capacity(n * 30);
+    let mut derived = Vec::with_capacity(n * 15);
+    for record in records {
+        for (point, landmark) in record.pose.points.iter().zip(Landmark::ALL) {
+            points.extend_from_slice(&point.unwrap_or([f64::NAN; 2]));
+            derived.push(record.is_derived(landmark));
+        }
+    }
+    let index = |v: Option<u64>| v.and_then(|v| i64::try_from(v).ok()).unwrap_or(-1);
+    let out = Output::new(py, n, false);
+    out.array("points", points, &[15, 2])?;
+    out.array("derived", derived, &[15])?;
+    out.array(
+        "frames",
+        records.iter().map(|r| index(r.frame)).collect(),
+        &[],
+    )?;
+    out.array(
+        "persons",
+        records.iter().map(|r| index(r.person)).collect(),
+        &[],
+    )?;
+    out.set("ids", PyList::new(py, records.iter().map(|r| &r.id))?)?;
+    out.set(
+        "sources",
+        PyList::new(py, records.iter().map(|r| &r.source))?,
+    )?;
+    out.set("file_errors", PyList::new(py, file_errors)?)?;
+    Ok(out.into_dict())
+}
