@@ -115,6 +115,6 @@ pub fn run(args: &Args) -> Result<(), String> {
         100.0 * basis.explained_variance_ratio(),
         poses.len()
     );
-    println!("rebuild the binary (cargo build --release -p camloc) to embed it");
+    println!("rebuild the binary (cargo build --release -p camloc-cli) to embed it");
     Ok(())
 }

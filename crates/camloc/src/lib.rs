@@ -24,7 +24,6 @@ mod evaluate;
 mod localizer;
 mod reconstruction;
 mod select;
-pub mod svg;
 
 pub use camloc_dataset as dataset;
 pub use camloc_features as features;
@@ -45,12 +44,6 @@ pub use reconstruction::{
     reconstructor,
 };
 pub use select::{DescriptorCv, cross_validate};
-/// The error for an output file that exists and may not be overwritten.
-pub fn store_exists(path: &std::path::Path) -> CamlocError {
-    CamlocError::Store(camloc_store::StoreError::Exists {
-        path: path.to_path_buf(),
-    })
-}
 
 pub use localizer::{
     CameraLocalizer, DEFAULT_LAMBDA, LandmarkDropout, Localization, MODEL_FILE, TrainOptions,

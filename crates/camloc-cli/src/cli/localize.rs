@@ -5,8 +5,10 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use camloc::keypoints::KeypointRecord;
-use camloc::{CameraLocalizer, CamlocError, Localization, svg};
+use camloc::{CameraLocalizer, CamlocError, Localization};
 use serde_json::json;
+
+use crate::svg;
 
 use super::{InputArgs, load_model, numbered_path};
 

@@ -60,7 +60,10 @@ pub enum ModeArg {
 /// Runs `camloc train`.
 pub fn run(args: &Args, out: &mut String) -> Result<ExitCode, CamlocError> {
     if args.out.exists() && !args.force {
-        return Err(camloc::store_exists(&args.out));
+        return Err(camloc::store::StoreError::Exists {
+            path: args.out.clone(),
+        }
+        .into());
     }
     let descriptor =
         Descriptor::from_name(&args.descriptor).map_err(|source| CamlocError::Feature {

@@ -8,10 +8,12 @@ use camloc::dataset::Dataset;
 use camloc::reconstruct::PoseBasis;
 use camloc::{
     CameraChoice, CamlocError, Landmark, Pose2, default_basis, evaluate_reconstruction,
-    reconstruct, reconstructor, svg,
+    reconstruct, reconstructor,
 };
 use clap::ValueEnum;
 use serde_json::json;
+
+use crate::svg;
 
 use super::{InputArgs, load_model, numbered_path};
 

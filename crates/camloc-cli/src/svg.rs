@@ -3,8 +3,8 @@
 
 use std::fmt::Write;
 
-use camloc_geometry::{CameraSet, Matrix3, Vector3, look_at_origin, sphere_point};
-use camloc_skeleton::{LIMBS, Landmark, PartialPose2, Pose2, Pose3};
+use camloc::geometry::{CameraSet, Matrix3, Vector3, look_at_origin, sphere_point};
+use camloc::skeleton::{LIMBS, Landmark, PartialPose2, Pose2, Pose3};
 
 const LEFT: &str = "#1f77b4";
 const RIGHT: &str = "#d62728";
