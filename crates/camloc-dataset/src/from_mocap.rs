@@ -2,7 +2,7 @@
 
 use std::path::{Path, PathBuf};
 
-use camloc_skeleton::mocap::{self, MocapSource};
+use camloc_mocap::{self as mocap, MocapSource};
 
 use crate::{ClipInfo, DatasetError, PoseSequence};
 

@@ -30,10 +30,10 @@ use std::path::PathBuf;
 use camloc_geometry::{
     CameraSet, WeakPerspective, look_at_origin, roll_about_optical_axis, sphere_point,
 };
+use camloc_mocap::{canonicalise, discover};
 use camloc_reconstruct::{
     BasisConfig, EvalSample, ModeKind, PoseBasis, ReconstructConfig, Reconstructor, evaluate,
 };
-use camloc_skeleton::mocap::{canonicalise, discover};
 use camloc_skeleton::{Pose2, Pose3};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;

@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
-use camloc_skeleton::mocap::{
+use camloc_mocap::{
     CMU_FRAME_TIME_S, CMU_UNIT_M, MocapError, MocapSource, canonicalise, discover, parse_bvh,
     read_amc, read_asf, read_bvh,
 };

@@ -24,7 +24,7 @@
 //!
 //! ```no_run
 //! use camloc_skeleton::Landmark;
-//! use camloc_skeleton::mocap::{canonicalise, discover};
+//! use camloc_mocap::{canonicalise, discover};
 //!
 //! for source in discover("../shared/data/cmu")? {
 //!     let clip = source.read()?;
@@ -54,7 +54,7 @@ pub use canonical::canonicalise;
 pub use discover::{MocapSource, discover};
 pub use error::{CanonicaliseError, MocapError, ParseProblem};
 
-use crate::Pose3;
+use camloc_skeleton::Pose3;
 
 /// Metres per CMU length unit: one unit is `1 / 0.45` inch (ASF `:units length 0.45`),
 /// about 0.0564 m.
