@@ -248,7 +248,9 @@ fn reconstruction_rows(
         &camloc::reconstruct::BasisConfig::default(),
     )
     .map_err(|e| e.to_string())?;
-    let reconstructor = camloc::reconstructor(basis).map_err(|e| e.to_string())?;
+    let reconstructor = camloc::PoseReconstructor::new(basis)
+        .map_err(|e| e.to_string())?
+        .with_localizer(localizer.clone());
     let mut subset = test.clone();
     subset.samples = test
         .samples
@@ -262,8 +264,7 @@ fn reconstruction_rows(
         subset.samples.len()
     );
     let start = Instant::now();
-    let report = camloc::evaluate_reconstruction(&reconstructor, localizer, &subset)
-        .map_err(|e| e.to_string())?;
+    let report = reconstructor.evaluate(&subset).map_err(|e| e.to_string())?;
     let per_pose_ms = 1e3 * start.elapsed().as_secs_f64() / subset.samples.len().max(1) as f64;
     Ok((
         test.header.protocol,
@@ -404,7 +405,7 @@ fn lsp_section(md: &mut String, args: &Args, root: &std::path::Path) -> Result<(
     for (a, b) in results.iter().zip(&mirrored_results) {
         if let Ok(a) = a {
             ok += 1;
-            counts[usize::from(a.label) - 1] += 1;
+            counts[a.label.index()] += 1;
             missing += usize::from(!a.missing.is_empty());
             if let Ok(b) = b {
                 consistent += usize::from(b.side == a.side.mirrored());

@@ -13,12 +13,14 @@
 
 mod camera;
 mod error;
+mod label;
 mod procrustes;
 mod rotation;
 mod sphere;
 
 pub use camera::{Perspective, WeakPerspective};
 pub use error::GeometryError;
+pub use label::CameraLabel;
 pub use procrustes::procrustes_camera;
 pub use rotation::{
     check_rotation, roll_about_optical_axis, rotation_about_axis, rotation_about_z,

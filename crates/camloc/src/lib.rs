@@ -35,17 +35,16 @@ pub use camloc_skeleton as skeleton;
 pub use camloc_store as store;
 
 pub use camloc_features::Descriptor;
+pub use camloc_geometry::CameraLabel;
 pub use camloc_geometry::{CameraSet, Level, Side};
+pub use camloc_reconstruct::ModeKind;
 pub use camloc_skeleton::{Landmark, PartialPose2, Pose2, Pose3};
 pub use error::CamlocError;
 pub use evaluate::{CameraAccuracy, Evaluation, LevelAccuracy, evaluate};
-pub use reconstruction::{
-    CameraChoice, PoseReconstruction, default_basis, evaluate_reconstruction, reconstruct,
-    reconstructor,
-};
+pub use reconstruction::{PoseReconstruction, PoseReconstructor, default_basis};
 pub use select::{DescriptorCv, cross_validate};
 
 pub use localizer::{
-    CameraLocalizer, DEFAULT_LAMBDA, LandmarkDropout, Localization, MODEL_FILE, TrainOptions,
-    TrainingInfo,
+    CameraLocalizer, DEFAULT_LAMBDA, LandmarkDropout, Localization, MAX_DROPOUT_COPIES, MODEL_FILE,
+    TrainOptions, TrainingInfo,
 };
