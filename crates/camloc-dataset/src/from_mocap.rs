@@ -1,6 +1,6 @@
 //! Reading folders of motion capture into canonical pose sequences.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use camloc_mocap::{self as mocap, MocapSource};
 
@@ -96,14 +96,5 @@ fn natural_key(id: &str) -> (u8, u64, &str) {
     match id.parse::<u64>() {
         Ok(n) => (0, n, id),
         Err(_) => (1, 0, id),
-    }
-}
-
-/// The default location of the CMU data: `../shared/data/cmu` from the workspace root,
-/// overridden by the `CAMLOC_DATA` environment variable (the folder holding `cmu/`).
-pub fn default_cmu_folder(workspace_root: &Path) -> PathBuf {
-    match std::env::var_os("CAMLOC_DATA") {
-        Some(d) => PathBuf::from(d).join("cmu"),
-        None => workspace_root.join("../shared/data/cmu"),
     }
 }

@@ -18,5 +18,5 @@ pub use dataset::{
     CameraCount, ClipInfo, DATASET_FILE, Dataset, DatasetError, DatasetHeader, Sample,
     default_test_subjects,
 };
-pub use from_mocap::{MocapSummary, default_cmu_folder, load_mocap_folders};
+pub use from_mocap::{MocapSummary, load_mocap_folders};
 pub use generate::{GenerateConfig, Jitter, PoseSequence, Protocol, generate};

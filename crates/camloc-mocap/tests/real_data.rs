@@ -8,20 +8,17 @@ use std::time::Instant;
 use camloc_mocap::{CanonicaliseError, MocapClip, MocapSource, canonicalise, discover};
 use camloc_skeleton::{LIMB_NAMES, LIMBS, Landmark, NUM_LIMBS};
 
-fn cmu_dir() -> Option<PathBuf> {
-    let data = std::env::var_os("CAMLOC_DATA").map_or_else(
-        || PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/data")),
-        PathBuf::from,
-    );
-    let cmu = data.join("cmu");
-    cmu.is_dir().then_some(cmu)
+/// The CMU folder; `None` (and a visible `SKIPPED` line naming `test`) when it is absent.
+fn cmu_dir(test: &str) -> Option<PathBuf> {
+    camloc_skeleton::data::data_path_or_skip("cmu", test)
 }
 
-/// Every clip under `cmu/`, read once per test binary; `None` when the data is absent.
-fn clips() -> Option<&'static [(MocapSource, MocapClip)]> {
-    static CLIPS: OnceLock<Option<Vec<(MocapSource, MocapClip)>>> = OnceLock::new();
+/// Every clip under `cmu/`, read once per test binary; `None` (and a visible `SKIPPED` line
+/// naming `test`) when the data is absent.
+fn clips(test: &str) -> Option<&'static [(MocapSource, MocapClip)]> {
+    static CLIPS: OnceLock<Vec<(MocapSource, MocapClip)>> = OnceLock::new();
+    let dir = cmu_dir(test)?;
     let clips = CLIPS.get_or_init(|| {
-        let dir = cmu_dir()?;
         let start = Instant::now();
         let clips: Vec<_> = discover(&dir)
             .unwrap()
@@ -38,12 +35,9 @@ fn clips() -> Option<&'static [(MocapSource, MocapClip)]> {
             dir.display(),
             start.elapsed()
         );
-        Some(clips)
+        clips
     });
-    if clips.is_none() {
-        eprintln!("skipping: ../shared/data not found");
-    }
-    clips.as_deref()
+    Some(clips)
 }
 
 fn is_bvh(source: &MocapSource) -> bool {
@@ -52,8 +46,10 @@ fn is_bvh(source: &MocapSource) -> bool {
 
 #[test]
 fn every_bvh_and_amc_file_is_found_and_parses() {
-    let Some(clips) = clips() else { return };
-    let dir = cmu_dir().unwrap();
+    let Some(clips) = clips("camloc-mocap::every_bvh_and_amc_file_is_found_and_parses") else {
+        return;
+    };
+    let dir = cmu_dir("camloc-mocap::every_bvh_and_amc_file_is_found_and_parses").unwrap();
     let count = |sub: &str, ext: &str| {
         std::fs::read_dir(dir.join(sub))
             .unwrap()
@@ -89,7 +85,9 @@ fn length_stats(clip: &MocapClip, limb: usize) -> (f64, f64) {
 
 #[test]
 fn bone_lengths_are_constant_and_human() {
-    let Some(clips) = clips() else { return };
+    let Some(clips) = clips("camloc-mocap::bone_lengths_are_constant_and_human") else {
+        return;
+    };
     // Torso (pelvis-neck) and neck-head span several jointed bones in both formats; every other
     // limb is one rigid bone.
     let multi_joint = [6, 7];
@@ -133,7 +131,11 @@ fn bone_lengths_are_constant_and_human() {
 /// walking, per the data README) one by one: every frame of a walk is upright.
 #[test]
 fn real_motion_is_mostly_upright_and_walks_are_always_upright() {
-    let Some(clips) = clips() else { return };
+    let Some(clips) =
+        clips("camloc-mocap::real_motion_is_mostly_upright_and_walks_are_always_upright")
+    else {
+        return;
+    };
     let z = |f: &camloc_skeleton::Pose3, l: Landmark| f.get(l)[2];
     let (mut frames, mut head_up) = (0usize, 0usize);
     for (source, clip) in clips {
@@ -170,7 +172,11 @@ fn real_motion_is_mostly_upright_and_walks_are_always_upright() {
 /// walking (BVH) clips, the body faces -x: knees, which only bend forwards, lie ahead.
 #[test]
 fn canonical_frames_satisfy_the_definition_and_walks_face_minus_x() {
-    let Some(clips) = clips() else { return };
+    let Some(clips) =
+        clips("camloc-mocap::canonical_frames_satisfy_the_definition_and_walks_face_minus_x")
+    else {
+        return;
+    };
     let (mut frames, mut degenerate) = (0usize, 0usize);
     let (mut knee_forward, mut walk_frames) = (0.0, 0usize);
     for (source, clip) in clips {
@@ -236,7 +242,10 @@ fn canonical_frames_satisfy_the_definition_and_walks_face_minus_x() {
 
 #[test]
 fn bvh_and_asf_of_one_subject_agree_except_for_the_thorax() {
-    let Some(clips) = clips() else { return };
+    let Some(clips) = clips("camloc-mocap::bvh_and_asf_of_one_subject_agree_except_for_the_thorax")
+    else {
+        return;
+    };
     // Subject 16 is in both folders (BVH walks, ASF/AMC jumps) with the same skeleton.
     let first = |bvh: bool| {
         clips
@@ -245,7 +254,9 @@ fn bvh_and_asf_of_one_subject_agree_except_for_the_thorax() {
             .map(|(_, c)| c)
     };
     let (Some(bvh), Some(amc)) = (first(true), first(false)) else {
-        eprintln!("skipping: subject 16 is not in both formats");
+        let line = "SKIPPED: camloc-mocap::bvh_and_asf_of_one_subject_agree_except_for_the_thorax: \
+                    subject 16 is not in both formats\n";
+        let _ = std::io::Write::write_all(&mut std::io::stderr(), line.as_bytes());
         return;
     };
     for limb in (0..NUM_LIMBS).filter(|l| *l != 6 && *l != 7) {

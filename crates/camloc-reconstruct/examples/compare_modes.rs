@@ -25,7 +25,6 @@ mod common;
 
 use std::collections::BTreeSet;
 use std::error::Error;
-use std::path::PathBuf;
 
 use camloc_geometry::{
     CameraSet, WeakPerspective, look_at_origin, roll_about_optical_axis, sphere_point,
@@ -99,15 +98,9 @@ type Split = (Vec<Pose3>, Vec<Pose3>);
 
 /// Canonical CMU poses split by subject into (training, held-out); `None` without the data.
 fn cmu(stride: usize) -> Result<Option<Split>, Box<dyn Error>> {
-    let data = std::env::var_os("CAMLOC_DATA").map_or_else(
-        || PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/data")),
-        PathBuf::from,
-    );
-    let dir = data.join("cmu");
-    if !dir.is_dir() {
-        println!("skipping: {} not found (set CAMLOC_DATA)", dir.display());
+    let Some(dir) = camloc_skeleton::data::data_path_or_skip("cmu", "compare_modes cmu") else {
         return Ok(None);
-    }
+    };
     let sources = discover(&dir)?;
     let subjects: BTreeSet<String> = sources.iter().map(|s| s.subject()).collect();
     let held_out: BTreeSet<&String> = subjects.iter().step_by(4).collect();

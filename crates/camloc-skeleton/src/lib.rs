@@ -7,6 +7,7 @@
 //! * [`Pose2`] holds 2D landmarks in image coordinates (any unit, `v` grows downwards);
 //!   [`Pose3`] holds 3D landmarks in metres in the z-up world frame of SPEC.md section 1.
 
+pub mod data;
 mod pose;
 
 pub use pose::{

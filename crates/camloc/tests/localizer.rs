@@ -1,8 +1,6 @@
 //! CameraLocalizer: training on synthetic data, save/load, corruption, missing landmarks, and
 //! the mirror behaviour on real LSP photos (skipped without ../shared/data).
 
-use std::path::PathBuf;
-
 use camloc::dataset::{ClipInfo, GenerateConfig, PoseSequence, Protocol, generate};
 use camloc::keypoints::{ReadOptions, read_keypoints};
 use camloc::{CameraLocalizer, CamlocError, PartialPose2, Pose3, TrainOptions, evaluate};
@@ -114,20 +112,13 @@ fn the_embedded_default_model_loads() {
     assert_eq!(localizer.descriptor().name(), "joints");
 }
 
-fn lsp_file() -> Option<PathBuf> {
-    let base = std::env::var_os("CAMLOC_DATA").map_or_else(
-        || PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/data")),
-        PathBuf::from,
-    );
-    let file = base.join("lsp/lsp400_joints.csv");
-    file.exists().then_some(file)
-}
-
 /// A horizontally mirrored photo with left/right labels swapped is seen from the mirrored side.
 #[test]
 fn mirrored_lsp_poses_get_the_mirrored_side() {
-    let Some(file) = lsp_file() else {
-        eprintln!("skipping: ../shared/data not found (set CAMLOC_DATA)");
+    let Some(file) = camloc::skeleton::data::data_path_or_skip(
+        "lsp/lsp400_joints.csv",
+        "camloc::mirrored_lsp_poses_get_the_mirrored_side",
+    ) else {
         return;
     };
     let localizer = CameraLocalizer::default_model().unwrap();
@@ -207,11 +198,13 @@ fn train_options_reject_out_of_range_values() {
         1e15,
         camloc::MAX_DROPOUT_COPIES + 0.5,
     ] {
-        let mut options = TrainOptions::default();
-        options.dropout = Some(camloc::LandmarkDropout {
-            copies,
-            ..camloc::LandmarkDropout::default()
-        });
+        let options = TrainOptions {
+            dropout: Some(camloc::LandmarkDropout {
+                copies,
+                ..camloc::LandmarkDropout::default()
+            }),
+            ..TrainOptions::default()
+        };
         let err = options.validate().unwrap_err();
         assert!(
             matches!(
@@ -227,11 +220,13 @@ fn train_options_reject_out_of_range_values() {
         assert!(matches!(trained, Err(CamlocError::InvalidOption { .. })));
     }
     for max_missing in [0, 14] {
-        let mut options = TrainOptions::default();
-        options.dropout = Some(camloc::LandmarkDropout {
-            max_missing,
-            ..camloc::LandmarkDropout::default()
-        });
+        let options = TrainOptions {
+            dropout: Some(camloc::LandmarkDropout {
+                max_missing,
+                ..camloc::LandmarkDropout::default()
+            }),
+            ..TrainOptions::default()
+        };
         assert!(options.validate().is_err(), "{max_missing}");
     }
     for lambda in [f64::NAN, -1.0, f64::INFINITY] {
@@ -240,11 +235,13 @@ fn train_options_reject_out_of_range_values() {
         let err = options.validate().unwrap_err();
         assert!(matches!(err, CamlocError::Learning(_)), "{lambda}: {err}");
     }
-    let mut options = TrainOptions::default();
-    options.dropout = Some(camloc::LandmarkDropout {
-        copies: camloc::MAX_DROPOUT_COPIES,
-        ..camloc::LandmarkDropout::default()
-    });
+    let options = TrainOptions {
+        dropout: Some(camloc::LandmarkDropout {
+            copies: camloc::MAX_DROPOUT_COPIES,
+            ..camloc::LandmarkDropout::default()
+        }),
+        ..TrainOptions::default()
+    };
     assert!(options.validate().is_ok());
     assert!(TrainOptions::default().validate().is_ok());
 }
