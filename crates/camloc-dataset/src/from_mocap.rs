@@ -20,8 +20,9 @@ pub struct MocapSummary {
 }
 
 /// Walks each folder for `.bvh` files and `.amc` files with their subject's `.asf`, reads them,
-/// and canonicalises every frame (SPEC.md section 1). A file that fails to read is skipped with
-/// a warning (passed to `warn` and recorded in the summary); the others are still used.
+/// and canonicalises every frame (docs/conventions.md section 1). A file that fails to read is
+/// skipped with a warning (passed to `warn` and recorded in the summary); the others are still
+/// used.
 /// `progress(done, total, name)` is called after each file.
 ///
 /// Sequences are sorted by subject and clip name, so the result does not depend on the order

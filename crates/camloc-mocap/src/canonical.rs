@@ -1,4 +1,4 @@
-//! Canonical body frame (SPEC.md section 1).
+//! Canonical body frame (docs/conventions.md section 1).
 
 use super::error::CanonicaliseError;
 use camloc_skeleton::{Landmark, Pose3};

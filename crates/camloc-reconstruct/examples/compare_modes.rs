@@ -11,7 +11,8 @@
 //! basis is fitted on the others. `synthetic`: 4000 training poses and `samples` test poses
 //! from the random skeleton of `tests/common` (seeds 1 and 99). At most `samples` test poses
 //! (default 1500, evenly spaced) are each seen by a random Table-1 camera under two protocols
-//! (SPEC.md section 7): `canonical` (the exact Table-1 rotation, orthographic, no noise) and
+//! (docs/conventions.md section 7): `canonical` (the exact Table-1 rotation, orthographic, no
+//! noise) and
 //! `jittered` (azimuth +-30 deg, elevation +-15 deg, roll +-5 deg, weak perspective, Gaussian
 //! noise of 3% of the 2D torso). `classified` and `hybrid` are given the Table-1 rotation of the
 //! true class, i.e. they model a classifier that is always right; `oracle` gets the exact

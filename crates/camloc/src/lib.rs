@@ -4,20 +4,31 @@
 //! around the person the image was taken from (by default the 12 cameras of Table 1 of the
 //! paper), with its probability, and 3D reconstruction of the pose with that camera.
 //!
-//! ```no_run
-//! use camloc::{CameraLocalizer, Pose2};
+//! ```
+//! use camloc::keypoints::{ReadOptions, read_keypoints};
+//! use camloc::{CameraLocalizer, PoseReconstructor, default_basis};
 //! # fn main() -> Result<(), camloc::CamlocError> {
+//! // Three 2D poses (15 landmarks in image coordinates, v down) made by this project.
+//! let records = read_keypoints("../../fixtures/keypoints/example.json", None,
+//!                              &ReadOptions::default())?;
 //! let localizer = CameraLocalizer::default_model()?;
-//! let pose = Pose2::new([[0.0; 2]; 15]); // 15 landmarks in image coordinates (v down)
-//! let where_ = localizer.localize(&pose)?;
-//! println!("camera {:02} ({} {}), p = {:.2}", where_.label, where_.level.name(),
-//!          where_.side.name(), where_.probability);
+//! let reconstructor = PoseReconstructor::new(default_basis()?)?;
+//! for record in &records {
+//!     let where_ = localizer.localize_partial(&record.pose)?;
+//!     println!("{}: camera {} ({} {}), p = {:.2}", record.id, where_.label,
+//!              where_.level.name(), where_.side.name(), where_.probability);
+//!     let pose3 = reconstructor.reconstruct(&record.pose)?.reconstruction.pose;
+//!     assert!(pose3.is_finite()); // metres, canonical body frame (docs/conventions.md)
+//! }
 //! # Ok(()) }
 //! ```
 //!
-//! The layers below are re-exported: [`geometry`] (camera sphere, projection, Procrustes),
-//! [`skeleton`] (landmarks, limbs, mocap readers), [`dataset`], [`features`], [`learning`],
-//! [`keypoints`] and [`reconstruct`](mod@reconstruct).
+//! [`CameraLocalizer::train`] fits a localizer on a [`dataset::Dataset`], [`evaluate`]
+//! measures one, [`PoseReconstructor`] reconstructs 3D poses with a chosen [`ModeKind`].
+//! Cameras are named by [`CameraLabel`] (Table 1 numbering). The layers below are
+//! re-exported: [`geometry`] (camera sphere, projection, Procrustes), [`skeleton`]
+//! (landmarks, limbs, pose types), [`dataset`], [`features`], [`learning`], [`keypoints`] and
+//! [`reconstruct`](mod@reconstruct).
 
 mod error;
 mod evaluate;
