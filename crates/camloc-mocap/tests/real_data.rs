@@ -254,7 +254,7 @@ fn bvh_and_asf_of_one_subject_agree_except_for_the_thorax() {
             .map(|(_, c)| c)
     };
     let (Some(bvh), Some(amc)) = (first(true), first(false)) else {
-        let line = "SKIPPED: camloc-mocap::bvh_and_asf_of_one_subject_agree_except_for_the_thorax: \
+        let line = "\nSKIPPED: camloc-mocap::bvh_and_asf_of_one_subject_agree_except_for_the_thorax: \
                     subject 16 is not in both formats\n";
         let _ = std::io::Write::write_all(&mut std::io::stderr(), line.as_bytes());
         return;

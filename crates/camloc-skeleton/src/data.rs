@@ -25,8 +25,10 @@ pub fn data_path_or_skip(relative: &str, what: &str) -> Option<PathBuf> {
     if path.exists() {
         return Some(path);
     }
+    // The leading newline keeps the line whole when the harness has half-written a line of its
+    // own (parallel tests).
     let line = format!(
-        "SKIPPED: {what}: {} not found (set {DATA_ENV})\n",
+        "\nSKIPPED: {what}: {} not found (set {DATA_ENV})\n",
         path.display()
     );
     // Nothing useful can be done when standard error is closed.
