@@ -181,7 +181,7 @@ pub fn run(args: &Args) -> Result<(), String> {
     let _ = writeln!(md, "{split_text}\n");
     let _ = writeln!(
         md,
-        "Protocols (docs/conventions.md section 7): `canonical` = the 12 Table-1 cameras exactly, \
+        "Protocols ([conventions.md](conventions.md) section 7): `canonical` = the 12 Table-1 cameras exactly, \
          orthographic; `jittered` = azimuth +-30 deg, elevation +-15 deg, roll +-5 deg around \
          the class centre, perspective from 3-8 m, 2D noise sigma = 3% of the torso. lambda (and \
          the paper descriptor's sigma) chosen by {}-fold cross-validation grouped by subject on \
