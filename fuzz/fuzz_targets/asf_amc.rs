@@ -8,7 +8,7 @@ fuzz_target!(|data: &[u8]| {
         Some(i) => (&data[..i], &data[i + 1..]),
         None => (data, &data[..0]),
     };
-    if let Ok(skeleton) = camloc_skeleton::mocap::parse_asf(asf, "fuzz.asf") {
-        let _ = camloc_skeleton::mocap::parse_amc(amc, "fuzz.amc", &skeleton);
+    if let Ok(skeleton) = camloc_mocap::parse_asf(asf, "fuzz.asf") {
+        let _ = camloc_mocap::parse_amc(amc, "fuzz.amc", &skeleton);
     }
 });

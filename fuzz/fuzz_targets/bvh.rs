@@ -3,5 +3,5 @@
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
-    let _ = camloc_skeleton::mocap::parse_bvh(data, "fuzz.bvh");
+    let _ = camloc_mocap::parse_bvh(data, "fuzz.bvh");
 });

@@ -245,7 +245,7 @@ pub fn run(args: &Args) -> Result<(), String> {
         Some(path) => from_dataset(path)?,
         None => synthetic(args.n, args.d, args.k, args.seed)?,
     };
-    standardise(&mut problem.x, problem.n_features);
+    standardise(&mut problem.x, problem.n_features)?;
     eprintln!("problem: {}", problem.description);
 
     let features = Features::new(&problem.x, problem.n_features).map_err(|e| e.to_string())?;
@@ -404,29 +404,21 @@ fn from_dataset(path: &Path) -> Result<Problem, String> {
     })
 }
 
-/// Standardises every column of the row-major `x` (`d` columns) in place: mean 0 and
-/// population standard deviation 1; a constant column is only centred.
-fn standardise(x: &mut [f64], d: usize) {
-    let n = (x.len() / d.max(1)).max(1) as f64;
-    let mut mean = vec![0.0; d];
-    for row in x.chunks_exact(d) {
-        mean.iter_mut().zip(row).for_each(|(m, v)| *m += v / n);
-    }
-    let mut variance = vec![0.0; d];
-    for row in x.chunks_exact(d) {
-        for ((s, v), m) in variance.iter_mut().zip(row).zip(&mean) {
-            *s += (v - m) * (v - m) / n;
-        }
-    }
-    let scale: Vec<f64> = variance
-        .iter()
-        .map(|v| if *v > 0.0 { v.sqrt() } else { 1.0 })
-        .collect();
+/// Standardises every column of the row-major `x` (`d` columns) in place with camloc's own
+/// [`Standardiser`] (column mean 0, population standard deviation 1; a constant column is
+/// only centred).
+fn standardise(x: &mut [f64], d: usize) -> Result<(), String> {
+    let standardiser = Standardiser::fit(&Features::new(x, d).map_err(|e| e.to_string())?);
     for row in x.chunks_exact_mut(d) {
-        for ((v, m), s) in row.iter_mut().zip(&mean).zip(&scale) {
+        for ((v, m), s) in row
+            .iter_mut()
+            .zip(standardiser.means())
+            .zip(standardiser.scales())
+        {
             *v = (*v - m) / s;
         }
     }
+    Ok(())
 }
 
 /// The Python of the virtual environment `target/sklearn-venv`, created with
@@ -749,24 +741,9 @@ fn render(
         note(format!("Warning: {text}"));
     }
     if args.markdown {
-        note(format!("Machine: {}.", machine_description()));
+        note(format!("Machine: {}.", crate::report::machine()));
     }
     let command: Vec<String> = std::env::args().skip(1).collect();
     note(format!("Command: `cargo xtask {}`.", command.join(" ")));
     out
-}
-
-/// CPU model (from /proc/cpuinfo), number of cores available to this process, and OS.
-fn machine_description() -> String {
-    let model = std::fs::read_to_string("/proc/cpuinfo")
-        .ok()
-        .and_then(|info| {
-            info.lines()
-                .find(|l| l.starts_with("model name"))
-                .and_then(|l| l.split_once(':'))
-                .map(|(_, m)| m.trim().to_string())
-        })
-        .unwrap_or_else(|| "unknown CPU".into());
-    let cores = std::thread::available_parallelism().map_or(1, usize::from);
-    format!("{model}, {cores} cores, {}", std::env::consts::OS)
 }

@@ -5,8 +5,8 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use camloc_dataset::{
-    Dataset, GenerateConfig, MocapSummary, PoseSequence, Protocol, default_cmu_folder,
-    default_test_subjects, generate, load_mocap_folders,
+    Dataset, GenerateConfig, MocapSummary, PoseSequence, Protocol, default_test_subjects, generate,
+    load_mocap_folders,
 };
 use camloc_geometry::CameraSet;
 
@@ -93,7 +93,7 @@ pub fn load_sequences(
     folders: &[PathBuf],
 ) -> Result<(Vec<PoseSequence>, MocapSummary, usize), String> {
     let folders = if folders.is_empty() {
-        vec![default_cmu_folder(&crate::workspace_root())]
+        vec![camloc::skeleton::data::data_folder().join("cmu")]
     } else {
         folders.to_vec()
     };

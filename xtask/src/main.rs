@@ -25,7 +25,8 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Generate a labelled dataset of 2D projections from motion capture (SPEC.md section 7).
+    /// Generate a labelled dataset of 2D projections from motion capture (docs/conventions.md
+    /// section 7).
     GenDataset(gen_dataset::Args),
     /// Train the default model embedded in the camloc binary (fixtures/default-model.bin).
     TrainDefault(train_default::Args),

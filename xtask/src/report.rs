@@ -17,10 +17,11 @@ use crate::train_default::{DEFAULT_SEED, DEFAULT_STRIDE, default_options};
 /// Arguments of `report`.
 #[derive(clap::Args)]
 pub struct Args {
-    /// Motion capture folders [default: ../shared/data/cmu].
+    /// Motion capture folders [default: $CAMLOC_DATA/cmu, else ../shared/data/cmu].
     #[arg(long = "mocap", value_name = "DIR")]
     pub mocap: Vec<PathBuf>,
-    /// LSP-14 CSV of real photos [default: ../shared/data/lsp/lsp400_joints.csv].
+    /// LSP-14 CSV of real photos [default: $CAMLOC_DATA/lsp/lsp400_joints.csv, else
+    /// ../shared/data/lsp/lsp400_joints.csv].
     #[arg(long, value_name = "FILE")]
     pub lsp: Option<PathBuf>,
     /// Where to write the report (replaced, except for its "## Performance" section, which
@@ -180,7 +181,7 @@ pub fn run(args: &Args) -> Result<(), String> {
     let _ = writeln!(md, "{split_text}\n");
     let _ = writeln!(
         md,
-        "Protocols (SPEC.md section 7): `canonical` = the 12 Table-1 cameras exactly, \
+        "Protocols ([conventions.md](conventions.md) section 7): `canonical` = the 12 Table-1 cameras exactly, \
          orthographic; `jittered` = azimuth +-30 deg, elevation +-15 deg, roll +-5 deg around \
          the class centre, perspective from 3-8 m, 2D noise sigma = 3% of the torso. lambda (and \
          the paper descriptor's sigma) chosen by {}-fold cross-validation grouped by subject on \
@@ -219,7 +220,7 @@ pub fn run(args: &Args) -> Result<(), String> {
         "| model | accuracy | folded |\n|---|---|---|\n{missing_text}"
     );
     reconstruction_section(&mut md, &recon_rows);
-    lsp_section(&mut md, args, &root)?;
+    lsp_section(&mut md, args)?;
     let out = root.join(&args.out);
     // The performance section comes from other commands (benches, compare-sklearn), whose
     // output is pasted there with the command that printed it: keep it.
@@ -248,7 +249,9 @@ fn reconstruction_rows(
         &camloc::reconstruct::BasisConfig::default(),
     )
     .map_err(|e| e.to_string())?;
-    let reconstructor = camloc::reconstructor(basis).map_err(|e| e.to_string())?;
+    let reconstructor = camloc::PoseReconstructor::new(basis)
+        .map_err(|e| e.to_string())?
+        .with_localizer(localizer.clone());
     let mut subset = test.clone();
     subset.samples = test
         .samples
@@ -262,8 +265,7 @@ fn reconstruction_rows(
         subset.samples.len()
     );
     let start = Instant::now();
-    let report = camloc::evaluate_reconstruction(&reconstructor, localizer, &subset)
-        .map_err(|e| e.to_string())?;
+    let report = reconstructor.evaluate(&subset).map_err(|e| e.to_string())?;
     let per_pose_ms = 1e3 * start.elapsed().as_secs_f64() / subset.samples.len().max(1) as f64;
     Ok((
         test.header.protocol,
@@ -330,15 +332,29 @@ fn reconstruction_section(
             );
         }
     }
-    let _ = writeln!(
-        md,
-        "\n`classified` fixes the rotation at the class centre. Under `canonical` that is the \
-         true camera whenever the classifier is right; under `jittered` the true camera is up \
-         to 30 deg (azimuth) and 15 deg (elevation) away from it, and that rotation error costs \
-         more than Procrustes' own mistakes. `camloc reconstruct` therefore defaults to `opt`, \
-         the best mode when cameras stand anywhere; `--camera classified` is the paper's \
-         section 8.2.\n"
-    );
+    let _ = writeln!(md);
+    // `camloc reconstruct` defaults to `opt`; say whether this run agrees, from the numbers.
+    let jittered_best = rows
+        .iter()
+        .filter(|(p, ..)| *p == Protocol::Jittered)
+        .flat_map(|(_, _, r, _)| &r.modes)
+        .filter(|m| m.mode != camloc::ModeKind::Oracle)
+        .filter_map(|m| m.mean_mpjpe_mm.map(|e| (m.mode, e)))
+        .min_by(|a, b| a.1.total_cmp(&b.1));
+    if let Some((mode, _)) = jittered_best {
+        let verdict = if mode == camloc::ModeKind::Opt {
+            "agrees with"
+        } else {
+            "does not agree with"
+        };
+        let _ = writeln!(
+            md,
+            "`camloc reconstruct` defaults to `opt`; under `jittered` (cameras anywhere near the \
+             classes) this run's best mode without the true camera is `{}`, which {verdict} that \
+             default.\n",
+            mode.name()
+        );
+    }
 }
 
 fn train_and_test(
@@ -379,11 +395,11 @@ fn train_and_test_keep(
 }
 
 /// Distribution of predicted viewpoints on the LSP photos, with the embedded default model.
-fn lsp_section(md: &mut String, args: &Args, root: &std::path::Path) -> Result<(), String> {
+fn lsp_section(md: &mut String, args: &Args) -> Result<(), String> {
     let path = args
         .lsp
         .clone()
-        .unwrap_or_else(|| root.join("../shared/data/lsp/lsp400_joints.csv"));
+        .unwrap_or_else(|| camloc::skeleton::data::data_folder().join("lsp/lsp400_joints.csv"));
     let _ = writeln!(md, "## Real photos: 400 LSP poses\n");
     let localizer = match CameraLocalizer::default_model() {
         Ok(l) => l,
@@ -404,7 +420,7 @@ fn lsp_section(md: &mut String, args: &Args, root: &std::path::Path) -> Result<(
     for (a, b) in results.iter().zip(&mirrored_results) {
         if let Ok(a) = a {
             ok += 1;
-            counts[usize::from(a.label) - 1] += 1;
+            counts[a.label.index()] += 1;
             missing += usize::from(!a.missing.is_empty());
             if let Ok(b) = b {
                 consistent += usize::from(b.side == a.side.mirrored());
@@ -448,12 +464,7 @@ fn lsp_section(md: &mut String, args: &Args, root: &std::path::Path) -> Result<(
     };
     let _ = writeln!(
         md,
-        "\nBy level: lower {:.1}%, middle {:.1}%, upper {:.1}%. The spread leans to the upper \
-         ring more than we would expect of sports photos; the model is trained on mocap \
-         skeletons, whose joint placement and body proportions differ from annotated photos \
-         (the reason the default `joints` descriptor avoids the pelvis and neck), so take the \
-         level predicted for a photo with caution; the side (front, left, back, right) is the \
-         more reliable part.",
+        "\nBy level: lower {:.1}%, middle {:.1}%, upper {:.1}%.",
         level_share(camloc::Level::Lower),
         level_share(camloc::Level::Middle),
         level_share(camloc::Level::Upper)
@@ -468,7 +479,8 @@ fn lsp_section(md: &mut String, args: &Args, root: &std::path::Path) -> Result<(
     Ok(())
 }
 
-/// One line describing this machine (CPU model and cores).
+/// One line describing this machine: CPU model (from /proc/cpuinfo), cores available to this
+/// process, and operating system.
 pub fn machine() -> String {
     let cpu = std::fs::read_to_string("/proc/cpuinfo")
         .ok()
@@ -479,6 +491,6 @@ pub fn machine() -> String {
                 .map(|m| m.trim().to_string())
         })
         .unwrap_or_else(|| "unknown CPU".into());
-    let cores = std::thread::available_parallelism().map_or(0, |n| n.get());
-    format!("{cpu}, {cores} cores")
+    let cores = std::thread::available_parallelism().map_or(1, usize::from);
+    format!("{cpu}, {cores} cores, {}", std::env::consts::OS)
 }

@@ -18,7 +18,7 @@ pub const DEFAULT_STRIDE: usize = 10;
 /// Arguments of `train-default`.
 #[derive(clap::Args)]
 pub struct Args {
-    /// Motion capture folders [default: ../shared/data/cmu].
+    /// Motion capture folders [default: $CAMLOC_DATA/cmu, else ../shared/data/cmu].
     #[arg(long = "mocap", value_name = "DIR")]
     pub mocap: Vec<PathBuf>,
     /// Where to write the model.
@@ -115,6 +115,6 @@ pub fn run(args: &Args) -> Result<(), String> {
         100.0 * basis.explained_variance_ratio(),
         poses.len()
     );
-    println!("rebuild the binary (cargo build --release -p camloc) to embed it");
+    println!("rebuild the binary (cargo build --release -p camloc-cli) to embed it");
     Ok(())
 }

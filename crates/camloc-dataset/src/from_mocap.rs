@@ -1,8 +1,8 @@
 //! Reading folders of motion capture into canonical pose sequences.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
-use camloc_skeleton::mocap::{self, MocapSource};
+use camloc_mocap::{self as mocap, MocapSource};
 
 use crate::{ClipInfo, DatasetError, PoseSequence};
 
@@ -20,8 +20,9 @@ pub struct MocapSummary {
 }
 
 /// Walks each folder for `.bvh` files and `.amc` files with their subject's `.asf`, reads them,
-/// and canonicalises every frame (SPEC.md section 1). A file that fails to read is skipped with
-/// a warning (passed to `warn` and recorded in the summary); the others are still used.
+/// and canonicalises every frame (docs/conventions.md section 1). A file that fails to read is
+/// skipped with a warning (passed to `warn` and recorded in the summary); the others are still
+/// used.
 /// `progress(done, total, name)` is called after each file.
 ///
 /// Sequences are sorted by subject and clip name, so the result does not depend on the order
@@ -96,14 +97,5 @@ fn natural_key(id: &str) -> (u8, u64, &str) {
     match id.parse::<u64>() {
         Ok(n) => (0, n, id),
         Err(_) => (1, 0, id),
-    }
-}
-
-/// The default location of the CMU data: `../shared/data/cmu` from the workspace root,
-/// overridden by the `CAMLOC_DATA` environment variable (the folder holding `cmu/`).
-pub fn default_cmu_folder(workspace_root: &Path) -> PathBuf {
-    match std::env::var_os("CAMLOC_DATA") {
-        Some(d) => PathBuf::from(d).join("cmu"),
-        None => workspace_root.join("../shared/data/cmu"),
     }
 }

@@ -1,4 +1,5 @@
-//! Dataset generation: project canonical 3D poses through a camera set (SPEC.md section 7).
+//! Dataset generation: project canonical 3D poses through a camera set (docs/conventions.md section
+//! 7).
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 
@@ -81,7 +82,8 @@ pub struct Jitter {
 }
 
 impl Default for Jitter {
-    /// SPEC.md section 7: +-30 deg azimuth, +-15 deg elevation, +-5 deg roll, 3-8 m, f = 1000 px.
+    /// docs/conventions.md section 7: +-30 deg azimuth, +-15 deg elevation, +-5 deg roll, 3-8 m, f
+    /// = 1000 px.
     fn default() -> Self {
         Jitter {
             azimuth_deg: 30.0,

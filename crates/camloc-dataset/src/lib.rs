@@ -7,7 +7,7 @@
 //! set, seed and versions, so a file says how it was made.
 //!
 //! [`generate`] builds a dataset from canonical 3D poses under a [`Protocol`]
-//! (SPEC.md section 7); [`Dataset::save`]/[`Dataset::load`] store it as a versioned,
+//! (docs/conventions.md section 7); [`Dataset::save`]/[`Dataset::load`] store it as a versioned,
 //! checksummed file ([`camloc_store`]). Splits are by subject ([`Dataset::split_by_subjects`]).
 
 mod dataset;
@@ -18,5 +18,5 @@ pub use dataset::{
     CameraCount, ClipInfo, DATASET_FILE, Dataset, DatasetError, DatasetHeader, Sample,
     default_test_subjects,
 };
-pub use from_mocap::{MocapSummary, default_cmu_folder, load_mocap_folders};
+pub use from_mocap::{MocapSummary, load_mocap_folders};
 pub use generate::{GenerateConfig, Jitter, PoseSequence, Protocol, generate};

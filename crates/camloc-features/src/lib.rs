@@ -1,12 +1,13 @@
 //! 2D pose descriptors: fixed-length feature vectors that describe how a pose looks in the image.
 //!
-//! Every descriptor is computed relative to the pelvis and in units of the 2D torso length
-//! (pelvis to neck), so it is invariant to 2D translation and scale of the input. Image axes are
-//! kept (u right, v down): the in-image orientation of the body is what tells the viewpoint.
+//! Every descriptor is computed relative to a body origin and in units of a 2D torso length
+//! (pelvis and neck for `paper` and `landmarks`, mid-hip and mid-shoulder for `joints`), so it
+//! is invariant to 2D translation and scale of the input. Image axes are kept (u right, v
+//! down): the in-image orientation of the body is what tells the viewpoint.
 //!
-//! * [`Descriptor::Paper`]: the paper's Algorithm 1 (SPEC.md section 4): the 13 non-torso limb
-//!   lengths relative to the torso through `exp(-rl^2 / (2 sigma^2))`, then a log-polar shape
-//!   context histogram of the 14 other landmarks centred on the pelvis.
+//! * [`Descriptor::Paper`]: the paper's Algorithm 1 (docs/conventions.md section 4): the 13
+//!   non-torso limb lengths relative to the torso through `exp(-rl^2 / (2 sigma^2))`, then a
+//!   log-polar shape context histogram of the 14 other landmarks centred on the pelvis.
 //! * [`Descriptor::Landmarks`]: keeps which landmark is where: torso-normalised coordinates of
 //!   the 14 landmarks, the unit direction of each limb, and the raw relative limb lengths.
 //! * [`Descriptor::Joints`] (the default): the same kind of values built only on the 12 limb
@@ -16,8 +17,8 @@
 //!   descriptor transfers to real keypoints.
 //!
 //! Every descriptor except [`Descriptor::Joints`] uses the torso (pelvis to neck) as unit and
-//! the pelvis as origin (SPEC.md section 3); the joints descriptor departs from that on purpose,
-//! for the reason above.
+//! the pelvis as origin (docs/conventions.md section 3); the joints descriptor departs from that on
+//! purpose, for the reason above.
 
 mod descriptor;
 mod shape_context;

@@ -16,7 +16,8 @@ pub struct ShapeContextBins {
 }
 
 impl Default for ShapeContextBins {
-    /// 5 radial x 12 angular bins between 0.125 and 2.5 torso lengths (SPEC.md section 4).
+    /// 5 radial x 12 angular bins between 0.125 and 2.5 torso lengths (docs/conventions.md section
+    /// 4).
     fn default() -> Self {
         ShapeContextBins {
             radial: 5,

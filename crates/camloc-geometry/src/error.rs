@@ -56,6 +56,17 @@ pub enum GeometryError {
     /// leaves the rotation undetermined).
     #[error("degenerate point configuration: {0}")]
     Degenerate(&'static str),
+    /// A camera label that names no camera: 0, or beyond the camera set.
+    #[error("invalid camera label {label}{}", match cameras {
+        Some(n) => format!(": the camera set has labels 1 to {n}"),
+        None => ": labels start at 1".to_string(),
+    })]
+    InvalidLabel {
+        /// The label given.
+        label: u16,
+        /// Number of cameras in the set it was checked against, if any.
+        cameras: Option<usize>,
+    },
     /// A sphere definition that makes no sense (no azimuths, elevation at a pole, ...).
     #[error("invalid camera sphere: {0}")]
     InvalidSphere(String),

@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::{GeometryError, Matrix3, Vector3};
+use crate::{CameraLabel, GeometryError, Matrix3, Vector3};
 
 /// Point on a sphere of `radius` (metres) around the origin at `azimuth_deg` (angle in the xy
 /// plane from +x, counter-clockwise seen from above) and `elevation_deg` (above the xy plane).
@@ -254,6 +254,20 @@ impl CameraSet {
     /// All viewpoints, in label order.
     pub fn viewpoints(&self) -> &[Viewpoint] {
         &self.viewpoints
+    }
+
+    /// `value` as a label of this set.
+    ///
+    /// # Errors
+    /// [`GeometryError::InvalidLabel`] for 0 or a label above [`CameraSet::len`].
+    pub fn label(&self, value: u16) -> Result<CameraLabel, GeometryError> {
+        match CameraLabel::new(value) {
+            Ok(label) if usize::from(value) <= self.len() => Ok(label),
+            _ => Err(GeometryError::InvalidLabel {
+                label: value,
+                cameras: Some(self.len()),
+            }),
+        }
     }
 
     /// The viewpoint with `label` (1-based), or `None`.

@@ -89,7 +89,7 @@
 //! `"{image_id}/{id}"`, or `"{image_id}/{index}"` (0-based position in the list) when the entry
 //! has no `id` (results lists).
 //!
-//! # Derivation (SPEC.md section 3)
+//! # Derivation (docs/conventions.md section 3)
 //!
 //! With [`ReadOptions::derive_torso`] (the default), in every format, a missing pelvis becomes
 //! the midpoint of the hips when both are present, and a missing neck the midpoint of the

@@ -1,4 +1,5 @@
-//! The reader output ([`KeypointRecord`]) and the torso derivation rule (SPEC.md section 3).
+//! The reader output ([`KeypointRecord`]) and the torso derivation rule (docs/conventions.md
+//! section 3).
 
 use camloc_skeleton::{Landmark, PartialPose2};
 
@@ -66,7 +67,8 @@ const TORSO_RULES: [(Landmark, Landmark, Landmark); 2] = [
 ];
 
 /// Fills a missing pelvis with the midpoint of the hips, and a missing neck with the midpoint of
-/// the shoulders, when both are present (SPEC.md section 3). Returns the landmarks it filled.
+/// the shoulders, when both are present (docs/conventions.md section 3). Returns the landmarks it
+/// filled.
 ///
 /// Landmarks already present are never changed.
 pub fn derive_torso(pose: &mut PartialPose2) -> Vec<Landmark> {

@@ -5,19 +5,16 @@ mod common;
 use std::collections::HashMap;
 
 use camloc_keypoints::{Invisible, LSP_JOINTS, Landmark, LspOptions, ReadOptions, read_keypoints};
-use common::{data_dir, mid, point};
+use common::{mid, point};
 
 #[test]
 fn lsp400_gives_400_records_of_14_joints_with_derived_pelvis() {
-    let Some(dir) = data_dir() else {
-        println!("skipping: ../shared/data not found");
+    let Some(path) = camloc_skeleton::data::data_path_or_skip(
+        "lsp/lsp400_joints.csv",
+        "camloc-keypoints::lsp400_gives_400_records_of_14_joints_with_derived_pelvis",
+    ) else {
         return;
     };
-    let path = dir.join("lsp/lsp400_joints.csv");
-    if !path.is_file() {
-        println!("skipping: {} not found", path.display());
-        return;
-    }
     // Count rows and visible rows per image independently of the reader.
     let text = std::fs::read_to_string(&path).unwrap();
     let mut order: Vec<String> = Vec::new();

@@ -41,13 +41,13 @@ pub enum DirectionSolver {
     PreconditionedCg,
 }
 
-/// L2-regularised logistic regression fitted by Newton's method (SPEC.md section 5).
+/// L2-regularised logistic regression fitted by Newton's method (docs/conventions.md section 5).
 ///
 /// Minimises, over weights `W` (`K x d`) and biases `b` (`K`),
 ///
 /// * [`Mode::Multinomial`]: `f = -sum_i log softmax(W x_i + b)_{y_i} + lambda ||W||_F^2`;
-/// * [`Mode::OneVsRest`]: `f = sum_k [ -sum_i log sigmoid(s_ik (w_k . x_i + b_k)) + lambda ||w_k||^2 ]`
-///   with `s_ik = +1` if `y_i = k` and `-1` otherwise.
+/// * [`Mode::OneVsRest`]: `f = sum_k [ -sum_i log sigmoid(s_ik (w_k . x_i + b_k)) + lambda
+///   ||w_k||^2 ]` with `s_ik = +1` if `y_i = k` and `-1` otherwise.
 ///
 /// The loss is a *sum* over samples (not a mean) and the bias is not penalised; `x_i` are
 /// the standardised features when [`standardise`](Self::standardise) is set. In
@@ -57,8 +57,8 @@ pub enum DirectionSolver {
 /// Hessian (with faer's dense Cholesky, or with conjugate gradients preconditioned by an
 /// earlier Cholesky factor: see [`DirectionSolver`]), and takes the Newton step with a
 /// backtracking (Armijo) line search. It stops when the infinity norm of the gradient of
-/// `f` is at most `gradient_tolerance * n_samples` (the tolerance is on the gradient of the *mean* loss,
-/// so it does not depend on the number of samples).
+/// `f` is at most `gradient_tolerance * n_samples` (the tolerance is on the gradient of the *mean*
+/// loss, so it does not depend on the number of samples).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct LogisticRegression {
     /// Ridge weight `lambda >= 0` on the squared weights (biases excluded). Default 0.5,

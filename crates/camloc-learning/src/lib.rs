@@ -1,4 +1,4 @@
-//! L2-regularised multinomial logistic regression solved by Newton's method (SPEC.md
+//! L2-regularised multinomial logistic regression solved by Newton's method (docs/conventions.md
 //! section 5, the paper's section 7), built for speed.
 //!
 //! * [`Features`] wraps a row-major `n x d` buffer of raw features (validated: sizes,

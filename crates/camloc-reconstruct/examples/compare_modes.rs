@@ -11,7 +11,8 @@
 //! basis is fitted on the others. `synthetic`: 4000 training poses and `samples` test poses
 //! from the random skeleton of `tests/common` (seeds 1 and 99). At most `samples` test poses
 //! (default 1500, evenly spaced) are each seen by a random Table-1 camera under two protocols
-//! (SPEC.md section 7): `canonical` (the exact Table-1 rotation, orthographic, no noise) and
+//! (docs/conventions.md section 7): `canonical` (the exact Table-1 rotation, orthographic, no
+//! noise) and
 //! `jittered` (azimuth +-30 deg, elevation +-15 deg, roll +-5 deg, weak perspective, Gaussian
 //! noise of 3% of the 2D torso). `classified` and `hybrid` are given the Table-1 rotation of the
 //! true class, i.e. they model a classifier that is always right; `oracle` gets the exact
@@ -25,15 +26,14 @@ mod common;
 
 use std::collections::BTreeSet;
 use std::error::Error;
-use std::path::PathBuf;
 
 use camloc_geometry::{
     CameraSet, WeakPerspective, look_at_origin, roll_about_optical_axis, sphere_point,
 };
+use camloc_mocap::{canonicalise, discover};
 use camloc_reconstruct::{
     BasisConfig, EvalSample, ModeKind, PoseBasis, ReconstructConfig, Reconstructor, evaluate,
 };
-use camloc_skeleton::mocap::{canonicalise, discover};
 use camloc_skeleton::{Pose2, Pose3};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -99,15 +99,9 @@ type Split = (Vec<Pose3>, Vec<Pose3>);
 
 /// Canonical CMU poses split by subject into (training, held-out); `None` without the data.
 fn cmu(stride: usize) -> Result<Option<Split>, Box<dyn Error>> {
-    let data = std::env::var_os("CAMLOC_DATA").map_or_else(
-        || PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/data")),
-        PathBuf::from,
-    );
-    let dir = data.join("cmu");
-    if !dir.is_dir() {
-        println!("skipping: {} not found (set CAMLOC_DATA)", dir.display());
+    let Some(dir) = camloc_skeleton::data::data_path_or_skip("cmu", "compare_modes cmu") else {
         return Ok(None);
-    }
+    };
     let sources = discover(&dir)?;
     let subjects: BTreeSet<String> = sources.iter().map(|s| s.subject()).collect();
     let held_out: BTreeSet<&String> = subjects.iter().step_by(4).collect();

@@ -45,9 +45,9 @@ impl Default for BasisConfig {
 
 /// A linear model of canonical 3D poses, `X = mu + B w` (eq. 5).
 ///
-/// Frame: the canonical body frame of SPEC.md section 1 (pelvis at the origin, facing -x, right
-/// side towards +y, z up), metres. Every training pose is translated so that its pelvis is at
-/// the origin and scaled so that its sum of squared limb lengths equals the training average
+/// Frame: the canonical body frame of docs/conventions.md section 1 (pelvis at the origin, facing
+/// -x, right side towards +y, z up), metres. Every training pose is translated so that its pelvis
+/// is at the origin and scaled so that its sum of squared limb lengths equals the training average
 /// (the *anthropometric target*); `mu` is their mean and the columns of `B` are the leading
 /// principal components (orthonormal, unit-free directions in pose space).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

@@ -1,4 +1,4 @@
-//! 3D human pose from 2D landmarks (SPEC.md section 6; the paper's eqs. 5-6 and 12; Ramakrishna,
+//! 3D human pose from 2D landmarks (docs/conventions.md; the paper's eqs. 5-6 and 12; Ramakrishna,
 //! Kanade & Sheikh, "Reconstructing 3D Human Pose from 2D Image Landmarks", ECCV 2012).
 //!
 //! * [`PoseBasis`]: mean pose and PCA components of scale-normalised canonical 3D poses
@@ -42,33 +42,13 @@
 //!
 //! # Choosing a camera mode
 //!
-//! Measured with `cargo run --release -p camloc-reconstruct --example compare_modes` (basis
-//! of 24 components and `max_basis` 12 fitted on 17 CMU subjects, 790 poses of the 6 held-out
-//! subjects, a random Table-1 class per pose; `classified` and `hybrid` are given the true
-//! class's Table-1 rotation, i.e. a classifier that is always right). Mean MPJPE after
-//! similarity alignment, mm:
-//!
-//! | protocol | opt | classified | oracle | hybrid |
-//! |---|---|---|---|---|
-//! | canonical (exact Table-1 cameras, no noise) | 38.3 | 34.4 | 34.4 | 35.0 |
-//! | jittered (+-30 deg azimuth, +-15 deg elevation, 3% noise) | 40.7 | 57.9 | 34.7 | 39.6 |
-//! | synthetic poses, canonical (`-- synthetic`, 1000 poses) | 130.7 | 91.0 | 91.0 | 91.2 |
-//! | synthetic poses, jittered | 128.5 | 107.3 | 91.2 | 102.2 |
-//!
-//! The CMU test poses are mostly walking, where Procrustes is rarely misled; the synthetic
-//! poses have random joint angles, where it often is. A fixed class rotation helps only when
-//! the true camera is close to it: 30 degrees of azimuth error costs more than Procrustes' own
-//! mistakes on CMU. `hybrid` (see [`CameraMode::Hybrid`]) is the best non-oracle mode in both
-//! jittered rows (by 1.1 and 5.1 mm) and within 0.6 mm of the best in the canonical rows, where
-//! the class rotation is exact. A real classifier is sometimes wrong, which costs `classified`
-//! more than `hybrid` (whose Procrustes hypothesis can escape a wrong start; not measured
-//! here). `hybrid` is therefore the recommended mode when a classified rotation is available,
-//! and `opt` otherwise. Measured during
-//! development and not kept as options: hybrid as only the fixed-rotation pursuit followed by
-//! Procrustes refinement (CMU jittered 49.3 mm), or only Procrustes started from the class
-//! rotation (CMU canonical 37.6 mm, synthetic jittered 110 mm). Trying the depth-reflected
-//! hypothesis lowers the reprojection error but changed the mean MPJPE by at most 1.3 mm
-//! (either way) in these runs.
+//! `opt` needs nothing but the 2D pose and is the default of the `camloc` facade and tool: it
+//! gave the lowest 3D error on held-out CMU subjects when real cameras stand between the
+//! classes (the `jittered` protocol). A fixed class rotation (`classified`) helps only when the
+//! true camera is close to it, as under the `canonical` protocol; `hybrid` starts from the
+//! class rotation and lets Procrustes move away from it, which limits the cost of a wrong or
+//! approximate class. The measurements behind this, per protocol and mode, are in
+//! `docs/RESULTS.md` (`cargo xtask report` and the `compare_modes` example).
 
 #![warn(missing_docs)]
 

@@ -1,5 +1,5 @@
 //! Projected matching pursuit (Ramakrishna, Kanade & Sheikh, ECCV 2012; the paper's eqs. 5-6)
-//! with the camera modes of SPEC.md section 6.
+//! with the camera modes of docs/conventions.md section 6.
 
 use camloc_geometry::{GeometryError, Matrix3, Vector3, WeakPerspective, check_rotation};
 use camloc_skeleton::{NUM_LANDMARKS, Pose2, Pose3};
@@ -24,8 +24,8 @@ pub enum LengthTarget {
     /// The basis's anthropometric target, [`PoseBasis::anthropometric_target`]: the value every
     /// normalised training pose has.
     TrainingAverage,
-    /// The value of the mean pose `mu` (SPEC.md section 6 as written; smaller than the
-    /// training average, because averaging poses shortens limbs).
+    /// The value of the mean pose `mu` (as the pursuit's constraint is usually written; smaller
+    /// than the training average, because averaging poses shortens limbs).
     Mean,
 }
 

@@ -7,7 +7,8 @@ pub const NUM_LANDMARKS: usize = 15;
 /// Number of limbs (landmark pairs) in a camloc pose.
 pub const NUM_LIMBS: usize = 14;
 
-/// The 15 landmarks, in the fixed order of SPEC.md section 3 (the discriminant is the index).
+/// The 15 landmarks, in the fixed order of docs/conventions.md section 3 (the discriminant is the
+/// index).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 #[repr(u8)]
 pub enum Landmark {
@@ -127,7 +128,7 @@ pub fn mirror_landmark_index(index: usize) -> usize {
     Landmark::from_index(index).map_or(index, |l| l.mirrored().index())
 }
 
-/// The 14 limbs as (parent, child) landmark pairs, in the order of SPEC.md section 3.
+/// The 14 limbs as (parent, child) landmark pairs, in the order of docs/conventions.md section 3.
 pub const LIMBS: [(Landmark, Landmark); NUM_LIMBS] = [
     (Landmark::Pelvis, Landmark::LeftHip),
     (Landmark::LeftHip, Landmark::LeftKnee),
@@ -215,8 +216,9 @@ impl Pose2 {
     }
 }
 
-/// A 3D pose: the 15 landmarks in metres, in the right-handed z-up world frame of SPEC.md
-/// section 1 (canonical poses have the pelvis at the origin and face -x, right side towards +y).
+/// A 3D pose: the 15 landmarks in metres, in the right-handed z-up world frame of
+/// docs/conventions.md section 1 (canonical poses have the pelvis at the origin and face -x, right
+/// side towards +y).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Pose3 {
     /// Landmark positions in metres, indexed by [`Landmark::index`].

@@ -2,6 +2,7 @@
 
 use camloc_dataset::DatasetError;
 use camloc_features::FeatureError;
+use camloc_geometry::GeometryError;
 use camloc_keypoints::KeypointError;
 use camloc_learning::LearningError;
 use camloc_reconstruct::ReconstructError;
@@ -18,6 +19,9 @@ pub enum CamlocError {
         /// Why.
         source: FeatureError,
     },
+    /// A camera label or camera geometry problem (e.g. a label that names no camera).
+    #[error(transparent)]
+    Geometry(#[from] GeometryError),
     /// Training or prediction failed in the classifier.
     #[error(transparent)]
     Learning(#[from] LearningError),

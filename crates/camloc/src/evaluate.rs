@@ -1,7 +1,7 @@
 //! Accuracy of a [`CameraLocalizer`] on a labelled dataset.
 
 use camloc_dataset::Dataset;
-use camloc_geometry::Level;
+use camloc_geometry::{CameraLabel, Level};
 use camloc_learning::Features;
 use camloc_skeleton::PartialPose2;
 use serde::Serialize;
@@ -12,8 +12,8 @@ use crate::{CameraLocalizer, CamlocError};
 /// Accuracy of one camera (by true label).
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct CameraAccuracy {
-    /// Camera label.
-    pub label: u16,
+    /// The camera.
+    pub label: CameraLabel,
     /// Its level and side in words, e.g. `"lower front"`.
     pub name: String,
     /// Samples whose true camera is this one.
@@ -48,7 +48,8 @@ pub struct Evaluation {
     pub per_level: Vec<LevelAccuracy>,
     /// Per camera.
     pub per_camera: Vec<CameraAccuracy>,
-    /// `confusion[t][p]`: samples of true label `t + 1` predicted as `p + 1`.
+    /// `confusion[t][p]`: samples of true label `t + 1` predicted as `p + 1` (0-based
+    /// [`CameraLabel::index`] on both axes).
     pub confusion: Vec<Vec<usize>>,
 }
 
@@ -56,9 +57,11 @@ pub struct Evaluation {
 /// the true labels.
 ///
 /// # Errors
-/// [`CamlocError::Inconsistent`] when the dataset's cameras differ from the model's, or it is
-/// empty; descriptor or prediction errors naming the sample.
+/// [`CamlocError::Dataset`] for a sample whose label is not a camera of the dataset or whose
+/// clip index is out of range; [`CamlocError::Inconsistent`] when the dataset's cameras differ
+/// from the model's, or it is empty; descriptor or prediction errors naming the sample.
 pub fn evaluate(localizer: &CameraLocalizer, dataset: &Dataset) -> Result<Evaluation, CamlocError> {
+    dataset.validate()?;
     let cameras = localizer.cameras();
     if dataset.header.cameras != *cameras {
         return Err(CamlocError::Inconsistent {
@@ -82,7 +85,7 @@ pub fn evaluate(localizer: &CameraLocalizer, dataset: &Dataset) -> Result<Evalua
     let mut confusion = vec![vec![0usize; k]; k];
     for (s, &p) in dataset.samples.iter().zip(&predicted) {
         let t = usize::from(s.label) - 1;
-        confusion[t][usize::from(p) - 1] += 1;
+        confusion[t][p.index()] += 1;
     }
     let n = dataset.samples.len();
     let share = |hits: usize, total: usize| {
@@ -97,21 +100,22 @@ pub fn evaluate(localizer: &CameraLocalizer, dataset: &Dataset) -> Result<Evalua
         .samples
         .iter()
         .zip(&predicted)
-        .filter(|(s, p)| cameras.fold_back_to_front(s.label) == cameras.fold_back_to_front(**p))
+        .filter(|(s, p)| cameras.fold_back_to_front(s.label) == cameras.fold_back_to_front(p.get()))
         .count();
     let views = cameras.viewpoints();
     let per_camera = views
         .iter()
         .map(|v| {
-            let row = &confusion[usize::from(v.label) - 1];
-            CameraAccuracy {
-                label: v.label,
+            let label = cameras.label(v.label)?;
+            let row = &confusion[label.index()];
+            Ok(CameraAccuracy {
+                label,
                 name: format!("{} {}", v.level.name(), v.side.name()),
                 samples: row.iter().sum(),
-                accuracy: share(row[usize::from(v.label) - 1], row.iter().sum()),
-            }
+                accuracy: share(row[label.index()], row.iter().sum()),
+            })
         })
-        .collect();
+        .collect::<Result<_, CamlocError>>()?;
     let per_level = [Level::Lower, Level::Middle, Level::Upper]
         .into_iter()
         .filter_map(|level| {
@@ -152,16 +156,15 @@ impl CameraLocalizer {
     ///
     /// # Errors
     /// Descriptor errors naming the sample; prediction errors.
-    pub fn predict_labels(&self, poses: &[PartialPose2]) -> Result<Vec<u16>, CamlocError> {
+    pub fn predict_labels(&self, poses: &[PartialPose2]) -> Result<Vec<CameraLabel>, CamlocError> {
         let descriptor = self.descriptor();
         let (mut x, undefined) = extract_rows(descriptor, poses)?;
         impute_rows(&mut x, &undefined, self.imputation());
         let features = Features::new(&x, descriptor.len())?;
-        Ok(self
-            .model()
+        self.model()
             .predict_batch(&features)?
             .into_iter()
-            .map(|c| c as u16 + 1)
-            .collect())
+            .map(|c| Ok(CameraLabel::from_index(c)?))
+            .collect()
     }
 }

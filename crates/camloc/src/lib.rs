@@ -4,27 +4,37 @@
 //! around the person the image was taken from (by default the 12 cameras of Table 1 of the
 //! paper), with its probability, and 3D reconstruction of the pose with that camera.
 //!
-//! ```no_run
-//! use camloc::{CameraLocalizer, Pose2};
+//! ```
+//! use camloc::keypoints::{ReadOptions, read_keypoints};
+//! use camloc::{CameraLocalizer, PoseReconstructor, default_basis};
 //! # fn main() -> Result<(), camloc::CamlocError> {
+//! // Three 2D poses (15 landmarks in image coordinates, v down) made by this project.
+//! let records = read_keypoints("../../fixtures/keypoints/example.json", None,
+//!                              &ReadOptions::default())?;
 //! let localizer = CameraLocalizer::default_model()?;
-//! let pose = Pose2::new([[0.0; 2]; 15]); // 15 landmarks in image coordinates (v down)
-//! let where_ = localizer.localize(&pose)?;
-//! println!("camera {:02} ({} {}), p = {:.2}", where_.label, where_.level.name(),
-//!          where_.side.name(), where_.probability);
+//! let reconstructor = PoseReconstructor::new(default_basis()?)?;
+//! for record in &records {
+//!     let where_ = localizer.localize_partial(&record.pose)?;
+//!     println!("{}: camera {} ({} {}), p = {:.2}", record.id, where_.label,
+//!              where_.level.name(), where_.side.name(), where_.probability);
+//!     let pose3 = reconstructor.reconstruct(&record.pose)?.reconstruction.pose;
+//!     assert!(pose3.is_finite()); // metres, canonical body frame (docs/conventions.md)
+//! }
 //! # Ok(()) }
 //! ```
 //!
-//! The layers below are re-exported: [`geometry`] (camera sphere, projection, Procrustes),
-//! [`skeleton`] (landmarks, limbs, mocap readers), [`dataset`], [`features`], [`learning`],
-//! [`keypoints`] and [`reconstruct`](mod@reconstruct).
+//! [`CameraLocalizer::train`] fits a localizer on a [`dataset::Dataset`], [`evaluate`]
+//! measures one, [`PoseReconstructor`] reconstructs 3D poses with a chosen [`ModeKind`].
+//! Cameras are named by [`CameraLabel`] (Table 1 numbering). The layers below are
+//! re-exported: [`geometry`] (camera sphere, projection, Procrustes), [`skeleton`]
+//! (landmarks, limbs, pose types), [`dataset`], [`features`], [`learning`], [`keypoints`] and
+//! [`reconstruct`](mod@reconstruct).
 
 mod error;
 mod evaluate;
 mod localizer;
 mod reconstruction;
 mod select;
-pub mod svg;
 
 pub use camloc_dataset as dataset;
 pub use camloc_features as features;
@@ -36,23 +46,16 @@ pub use camloc_skeleton as skeleton;
 pub use camloc_store as store;
 
 pub use camloc_features::Descriptor;
+pub use camloc_geometry::CameraLabel;
 pub use camloc_geometry::{CameraSet, Level, Side};
+pub use camloc_reconstruct::ModeKind;
 pub use camloc_skeleton::{Landmark, PartialPose2, Pose2, Pose3};
 pub use error::CamlocError;
 pub use evaluate::{CameraAccuracy, Evaluation, LevelAccuracy, evaluate};
-pub use reconstruction::{
-    CameraChoice, PoseReconstruction, default_basis, evaluate_reconstruction, reconstruct,
-    reconstructor,
-};
+pub use reconstruction::{PoseReconstruction, PoseReconstructor, default_basis};
 pub use select::{DescriptorCv, cross_validate};
-/// The error for an output file that exists and may not be overwritten.
-pub fn store_exists(path: &std::path::Path) -> CamlocError {
-    CamlocError::Store(camloc_store::StoreError::Exists {
-        path: path.to_path_buf(),
-    })
-}
 
 pub use localizer::{
-    CameraLocalizer, DEFAULT_LAMBDA, LandmarkDropout, Localization, MODEL_FILE, TrainOptions,
-    TrainingInfo,
+    CameraLocalizer, DEFAULT_LAMBDA, LandmarkDropout, Localization, MAX_DROPOUT_COPIES, MODEL_FILE,
+    TrainOptions, TrainingInfo,
 };

@@ -4,7 +4,7 @@ use std::path::Path;
 
 use camloc_dataset::{Dataset, Protocol};
 use camloc_features::Descriptor;
-use camloc_geometry::{CameraSet, Level, Matrix3, Side};
+use camloc_geometry::{CameraLabel, CameraSet, Level, Matrix3, Side};
 use camloc_learning::{Features, FitReport, IterationLog, LogisticModel, LogisticRegression};
 use camloc_skeleton::{Landmark, NUM_LANDMARKS, PartialPose2, Pose2};
 use camloc_store::FileKind;
@@ -22,19 +22,54 @@ pub const MODEL_FILE: FileKind = FileKind {
     what: "model",
 };
 
+/// Largest number of dropout copies [`TrainOptions::validate`] accepts: each copy adds as many
+/// descriptor rows as the training set has samples (with mirroring, twice that), so the bound
+/// keeps memory within about eleven times that of the plain training set.
+pub const MAX_DROPOUT_COPIES: f64 = 10.0;
+
 /// Random landmark dropout used in training so that localization copes with missing
 /// landmarks: `copies` augmented copies of the training set are appended, in each of which
 /// every sample loses between 1 and `max_missing` random non-torso landmarks (whose descriptor
 /// values are imputed, as at prediction time).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct LandmarkDropout {
-    /// Number of augmented copies of the training set (fractions allowed: 0.5 = half of the
-    /// samples, chosen at random).
+    /// Number of augmented copies of the training set, 0 to [`MAX_DROPOUT_COPIES`]
+    /// (fractions allowed: 0.5 = half of the samples, chosen at random).
     pub copies: f64,
     /// Most landmarks dropped from one sample (1..=13).
     pub max_missing: usize,
     /// Random seed.
     pub seed: u64,
+}
+
+impl LandmarkDropout {
+    /// Checks the settings: `copies` finite in `0..=MAX_DROPOUT_COPIES`, `max_missing` in
+    /// `1..=13` (every landmark but the pelvis and neck).
+    ///
+    /// # Errors
+    /// [`CamlocError::InvalidOption`] naming the setting.
+    pub fn validate(&self) -> Result<(), CamlocError> {
+        if !(self.copies >= 0.0 && self.copies <= MAX_DROPOUT_COPIES) {
+            return Err(CamlocError::InvalidOption {
+                name: "dropout copies",
+                detail: format!(
+                    "must be a number from 0 to {MAX_DROPOUT_COPIES}, got {}",
+                    self.copies
+                ),
+            });
+        }
+        if self.max_missing == 0 || self.max_missing > NUM_LANDMARKS - 2 {
+            return Err(CamlocError::InvalidOption {
+                name: "dropout max_missing",
+                detail: format!(
+                    "must be from 1 to {}, got {}",
+                    NUM_LANDMARKS - 2,
+                    self.max_missing
+                ),
+            });
+        }
+        Ok(())
+    }
 }
 
 impl Default for LandmarkDropout {
@@ -80,6 +115,28 @@ impl Default for TrainOptions {
     }
 }
 
+impl TrainOptions {
+    /// Checks every setting: the descriptor's, the regression's (lambda finite and >= 0,
+    /// tolerances) and the dropout's ([`LandmarkDropout::validate`]). Training calls it first.
+    ///
+    /// # Errors
+    /// [`CamlocError::Feature`] for descriptor settings, [`CamlocError::Learning`] for
+    /// regression settings, [`CamlocError::InvalidOption`] for dropout settings.
+    pub fn validate(&self) -> Result<(), CamlocError> {
+        self.descriptor
+            .validate()
+            .map_err(|source| CamlocError::Feature {
+                context: "descriptor settings".into(),
+                source,
+            })?;
+        self.regression.validate()?;
+        if let Some(dropout) = &self.dropout {
+            dropout.validate()?;
+        }
+        Ok(())
+    }
+}
+
 /// What a model was trained on (kept in the model file for `camloc` to report).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct TrainingInfo {
@@ -102,8 +159,8 @@ pub struct TrainingInfo {
 /// Where the camera stood, as localized from one 2D pose.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Localization {
-    /// Most probable camera label (1-based; Table 1 numbering for the default cameras).
-    pub label: u16,
+    /// Most probable camera (Table 1 numbering for the default cameras).
+    pub label: CameraLabel,
     /// Its height class.
     pub level: Level,
     /// Its side of the body.
@@ -112,10 +169,10 @@ pub struct Localization {
     pub rotation: Matrix3,
     /// Probability of `label`.
     pub probability: f64,
-    /// Probability of every camera, index `label - 1`.
+    /// Probability of every camera, index [`CameraLabel::index`].
     pub probabilities: Vec<f64>,
     /// `label` after mirror folding (back -> front of the same level, paper section 8.1).
-    pub folded_label: u16,
+    pub folded_label: CameraLabel,
     /// Landmarks that were missing in the input (their descriptor values were imputed).
     pub missing: Vec<Landmark>,
 }
@@ -135,20 +192,18 @@ impl CameraLocalizer {
     /// Trains on every sample of `dataset`. `progress` receives the Newton iteration log.
     ///
     /// # Errors
-    /// [`CamlocError::Inconsistent`] for an empty dataset, [`CamlocError::Feature`] naming the
-    /// first sample whose descriptor fails, [`CamlocError::Learning`] from the solver.
+    /// Invalid options ([`TrainOptions::validate`]); [`CamlocError::Dataset`] for a sample
+    /// whose label is not a camera of the dataset or whose clip index is out of range;
+    /// [`CamlocError::Inconsistent`] for an empty dataset; [`CamlocError::Feature`] naming the
+    /// first sample whose descriptor fails; [`CamlocError::Learning`] from the solver.
     pub fn train(
         dataset: &Dataset,
         options: &TrainOptions,
         progress: impl FnMut(&IterationLog),
     ) -> Result<(CameraLocalizer, FitReport), CamlocError> {
+        options.validate()?;
+        dataset.validate()?;
         let descriptor = options.descriptor;
-        descriptor
-            .validate()
-            .map_err(|source| CamlocError::Feature {
-                context: "descriptor settings".into(),
-                source,
-            })?;
         if dataset.samples.is_empty() {
             return Err(CamlocError::Inconsistent {
                 what: "dataset",
@@ -171,10 +226,8 @@ impl CameraLocalizer {
         let (mut x, undefined) = extract_rows(&descriptor, &poses)?;
         let imputation = column_means(&x, &undefined, d);
         impute_rows(&mut x, &undefined, &imputation);
-        let mut y: Vec<usize> = labels
-            .iter()
-            .map(|&l| usize::from(l).saturating_sub(1))
-            .collect();
+        // Labels are 1..=cameras (checked by `dataset.validate()`), mirroring keeps them so.
+        let mut y: Vec<usize> = labels.iter().map(|&l| usize::from(l) - 1).collect();
         if let Some(dropout) = options.dropout {
             let (extra, labels) = augment(&descriptor, &poses, &y, &dropout, &imputation)?;
             x.extend_from_slice(&extra);
@@ -259,7 +312,7 @@ impl CameraLocalizer {
         impute_rows(&mut x, &undefined, &self.imputation);
         let mut probabilities = vec![0.0; self.model.n_classes()];
         self.model.predict_proba_into(&x, &mut probabilities)?;
-        Ok(self.localization_from(probabilities, pose.missing().collect()))
+        self.localization_from(probabilities, pose.missing().collect())
     }
 
     /// Localizes many poses in parallel; one result per pose, in order.
@@ -267,7 +320,11 @@ impl CameraLocalizer {
         poses.par_iter().map(|p| self.localize_partial(p)).collect()
     }
 
-    fn localization_from(&self, probabilities: Vec<f64>, missing: Vec<Landmark>) -> Localization {
+    fn localization_from(
+        &self,
+        probabilities: Vec<f64>,
+        missing: Vec<Landmark>,
+    ) -> Result<Localization, CamlocError> {
         let (best, probability) =
             probabilities
                 .iter()
@@ -277,18 +334,19 @@ impl CameraLocalizer {
                     (0, f64::NEG_INFINITY),
                     |a, (i, p)| if p > a.1 { (i, p) } else { a },
                 );
-        let label = best as u16 + 1;
-        let view = self.cameras.get(label);
-        Localization {
+        let label = CameraLabel::from_index(best)?;
+        let view = self.cameras.get(label.get());
+        let folded = self.cameras.fold_back_to_front(label.get());
+        Ok(Localization {
             label,
             level: view.map_or(Level::Middle, |v| v.level),
             side: view.map_or(Side::Front, |v| v.side),
             rotation: view.map_or_else(Matrix3::identity, |v| v.rotation),
             probability,
             probabilities,
-            folded_label: self.cameras.fold_back_to_front(label),
+            folded_label: CameraLabel::new(folded).unwrap_or(label),
             missing,
-        }
+        })
     }
 
     /// Encodes the localizer as a versioned, checksummed model file.
@@ -448,18 +506,7 @@ fn augment(
     dropout: &LandmarkDropout,
     imputation: &[f64],
 ) -> Result<(Vec<f64>, Vec<usize>), CamlocError> {
-    if !(dropout.copies >= 0.0 && dropout.copies.is_finite())
-        || dropout.max_missing == 0
-        || dropout.max_missing > NUM_LANDMARKS - 2
-    {
-        return Err(CamlocError::InvalidOption {
-            name: "dropout",
-            detail: format!(
-                "copies must be finite and >= 0 and max_missing in 1..=13, got {} and {}",
-                dropout.copies, dropout.max_missing
-            ),
-        });
-    }
+    dropout.validate()?;
     let mut rng = ChaCha8Rng::seed_from_u64(dropout.seed);
     let droppable: Vec<usize> = (0..NUM_LANDMARKS)
         .filter(|&i| i != Landmark::Pelvis.index() && i != Landmark::Neck.index())

@@ -6,37 +6,9 @@ use camloc_reconstruct::{
     Reconstructor,
 };
 use camloc_skeleton::PartialPose2;
-use serde::Serialize;
 
 use crate::localizer::sample_pose;
 use crate::{CameraLocalizer, CamlocError, Localization};
-
-/// Which camera the reconstruction uses.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-pub enum CameraChoice {
-    /// Orthogonal Procrustes re-estimated at every step (Ramakrishna et al.'s baseline). The
-    /// default: lowest 3D error on held-out subjects under the realistic `jittered` protocol
-    /// (docs/RESULTS.md), where real cameras stand up to 30 deg away from the class centres.
-    Opt,
-    /// The rotation of the classified camera, fixed; only scale and translation are fitted
-    /// (the paper's section 8.2). Best when the camera really is one of the set's viewpoints
-    /// (the `canonical` protocol).
-    Classified,
-    /// The classified rotation as the start, refined by Procrustes; keeps the better of
-    /// that and the Procrustes pursuit started from it.
-    Hybrid,
-}
-
-impl CameraChoice {
-    /// Lower-case name (`opt`, `classified`, `hybrid`).
-    pub fn name(self) -> &'static str {
-        match self {
-            CameraChoice::Opt => "opt",
-            CameraChoice::Classified => "classified",
-            CameraChoice::Hybrid => "hybrid",
-        }
-    }
-}
 
 /// A reconstructed pose and the camera localization it used (none for `opt`).
 #[derive(Clone, Debug)]
@@ -64,89 +36,184 @@ pub fn default_basis() -> Result<PoseBasis, CamlocError> {
     })
 }
 
-/// Builds a reconstructor with the default settings on `basis`.
+/// 3D reconstruction of 2D poses: a PCA pose basis, the pursuit settings, the camera mode, and
+/// (for the `classified` and `hybrid` modes) the camera localizer that classifies the camera.
 ///
-/// # Errors
-/// [`CamlocError::Reconstruct`] if the basis is unusable.
-pub fn reconstructor(basis: PoseBasis) -> Result<Reconstructor, CamlocError> {
-    Reconstructor::new(basis, ReconstructConfig::default()).map_err(|source| {
-        CamlocError::Reconstruct {
-            context: "basis".into(),
-            source,
-        }
-    })
+/// ```
+/// use camloc::{PoseReconstructor, CameraLocalizer, ModeKind};
+/// # fn main() -> Result<(), camloc::CamlocError> {
+/// let reconstructor = PoseReconstructor::new(camloc::default_basis()?)?
+///     .with_localizer(CameraLocalizer::default_model()?)
+///     .with_mode(ModeKind::Classified)?;
+/// assert_eq!(reconstructor.mode(), ModeKind::Classified);
+/// # Ok(()) }
+/// ```
+#[derive(Clone, Debug)]
+pub struct PoseReconstructor {
+    reconstructor: Reconstructor,
+    mode: ModeKind,
+    localizer: Option<CameraLocalizer>,
 }
 
-/// Reconstructs one 2D pose (all 15 landmarks needed) with the chosen camera.
-///
-/// # Errors
-/// [`CamlocError::Reconstruct`] when landmarks are missing or the pose is degenerate;
-/// localization errors for `classified` and `hybrid`.
-pub fn reconstruct(
-    reconstructor: &Reconstructor,
-    localizer: &CameraLocalizer,
-    pose: &PartialPose2,
-    choice: CameraChoice,
-) -> Result<PoseReconstruction, CamlocError> {
-    let Some(complete) = pose.complete() else {
-        let missing: Vec<&str> = pose.missing().map(|l| l.name()).collect();
-        return Err(CamlocError::InvalidOption {
-            name: "input pose",
-            detail: format!(
-                "reconstruction needs all 15 landmarks; missing: {}",
-                missing.join(", ")
-            ),
-        });
-    };
-    let localization = match choice {
-        CameraChoice::Opt => None,
-        _ => Some(localizer.localize(&complete)?),
-    };
-    let mode = match (&localization, choice) {
-        (Some(l), CameraChoice::Classified) => CameraMode::Classified(l.rotation),
-        (Some(l), _) => CameraMode::Hybrid(l.rotation),
-        (None, _) => CameraMode::Opt,
-    };
-    let reconstruction = reconstructor
-        .reconstruct(&complete, &mode)
-        .map_err(|source| CamlocError::Reconstruct {
-            context: "input pose".into(),
-            source,
-        })?;
-    Ok(PoseReconstruction {
-        reconstruction,
-        localization,
-    })
-}
+impl PoseReconstructor {
+    /// A reconstructor on `basis` with the default pursuit settings, the `opt` camera mode and
+    /// no localizer.
+    ///
+    /// # Errors
+    /// [`CamlocError::Reconstruct`] if the basis is unusable.
+    pub fn new(basis: PoseBasis) -> Result<PoseReconstructor, CamlocError> {
+        Self::with_config(basis, ReconstructConfig::default())
+    }
 
-/// Reconstructs every complete sample of `dataset` with every camera mode (`opt`,
-/// `classified` with `localizer`'s prediction, `oracle` with the true rotation, `hybrid`) and
-/// reports 3D error after similarity alignment and projection error per mode.
-///
-/// # Errors
-/// Localization errors naming the sample.
-pub fn evaluate_reconstruction(
-    reconstructor: &Reconstructor,
-    localizer: &CameraLocalizer,
-    dataset: &Dataset,
-) -> Result<EvalReport, CamlocError> {
-    let poses: Vec<PartialPose2> = dataset.samples.iter().map(sample_pose).collect();
-    let labels = localizer.predict_labels(&poses)?;
-    let samples: Vec<EvalSample> = dataset
-        .samples
-        .iter()
-        .zip(&labels)
-        .filter(|(s, _)| s.missing_mask == 0)
-        .map(|(s, label)| EvalSample {
-            pose2: s.landmarks,
-            truth: s.pose3,
-            true_rotation: s.rotation,
-            classified_rotation: localizer.cameras().get(*label).map(|v| v.rotation),
+    /// A reconstructor on `basis` with the pursuit settings `config`, the `opt` camera mode
+    /// and no localizer.
+    ///
+    /// # Errors
+    /// [`CamlocError::Reconstruct`] if the basis or the settings are unusable.
+    pub fn with_config(
+        basis: PoseBasis,
+        config: ReconstructConfig,
+    ) -> Result<PoseReconstructor, CamlocError> {
+        let reconstructor =
+            Reconstructor::new(basis, config).map_err(|source| CamlocError::Reconstruct {
+                context: "basis".into(),
+                source,
+            })?;
+        Ok(PoseReconstructor {
+            reconstructor,
+            mode: ModeKind::Opt,
+            localizer: None,
         })
-        .collect();
-    Ok(camloc_reconstruct::evaluate(
-        &samples,
-        reconstructor,
-        &ModeKind::ALL,
-    ))
+    }
+
+    /// Uses `localizer` to classify the camera (needed by the `classified` and `hybrid` modes
+    /// and by [`PoseReconstructor::evaluate`]).
+    pub fn with_localizer(mut self, localizer: CameraLocalizer) -> PoseReconstructor {
+        self.localizer = Some(localizer);
+        self
+    }
+
+    /// Sets the camera mode: [`ModeKind::Opt`] (the default: Procrustes camera, lowest 3D
+    /// error when real cameras stand between the classes, docs/RESULTS.md),
+    /// [`ModeKind::Classified`] (the rotation of the classified camera, the paper's section
+    /// 8.2) or [`ModeKind::Hybrid`] (the classified rotation refined by Procrustes).
+    ///
+    /// # Errors
+    /// [`CamlocError::InvalidOption`] for [`ModeKind::Oracle`] (it needs the true camera,
+    /// which only an evaluation has), and for `classified` or `hybrid` without a localizer.
+    pub fn with_mode(mut self, mode: ModeKind) -> Result<PoseReconstructor, CamlocError> {
+        let detail = match mode {
+            ModeKind::Oracle => Some("oracle needs the true camera: it exists only in evaluation"),
+            ModeKind::Classified | ModeKind::Hybrid if self.localizer.is_none() => {
+                Some("this mode classifies the camera: give a localizer first (with_localizer)")
+            }
+            _ => None,
+        };
+        if let Some(detail) = detail {
+            return Err(CamlocError::InvalidOption {
+                name: "camera mode",
+                detail: format!("{}: {detail}", mode.name()),
+            });
+        }
+        self.mode = mode;
+        Ok(self)
+    }
+
+    /// The camera mode.
+    pub fn mode(&self) -> ModeKind {
+        self.mode
+    }
+
+    /// The camera localizer, if one was given.
+    pub fn localizer(&self) -> Option<&CameraLocalizer> {
+        self.localizer.as_ref()
+    }
+
+    /// The underlying pursuit (basis and settings).
+    pub fn reconstructor(&self) -> &Reconstructor {
+        &self.reconstructor
+    }
+
+    /// Reconstructs one 2D pose (image coordinates; all 15 landmarks needed) with the camera
+    /// mode: a 3D pose in metres in the canonical body frame, its weak-perspective camera, and
+    /// the localization used (none for `opt`).
+    ///
+    /// # Errors
+    /// [`CamlocError::InvalidOption`] when landmarks are missing; localization errors for
+    /// `classified` and `hybrid`; [`CamlocError::Reconstruct`] for a degenerate pose.
+    pub fn reconstruct(&self, pose: &PartialPose2) -> Result<PoseReconstruction, CamlocError> {
+        let Some(complete) = pose.complete() else {
+            let missing: Vec<&str> = pose.missing().map(|l| l.name()).collect();
+            return Err(CamlocError::InvalidOption {
+                name: "input pose",
+                detail: format!(
+                    "reconstruction needs all 15 landmarks; missing: {}",
+                    missing.join(", ")
+                ),
+            });
+        };
+        let localization = match (self.mode, &self.localizer) {
+            (ModeKind::Opt, _) => None,
+            (_, Some(localizer)) => Some(localizer.localize(&complete)?),
+            (mode, None) => {
+                return Err(CamlocError::InvalidOption {
+                    name: "camera mode",
+                    detail: format!("{} needs a localizer", mode.name()),
+                });
+            }
+        };
+        let mode = match (&localization, self.mode) {
+            (Some(l), ModeKind::Hybrid) => CameraMode::Hybrid(l.rotation),
+            (Some(l), _) => CameraMode::Classified(l.rotation),
+            (None, _) => CameraMode::Opt,
+        };
+        let reconstruction =
+            self.reconstructor
+                .reconstruct(&complete, &mode)
+                .map_err(|source| CamlocError::Reconstruct {
+                    context: "input pose".into(),
+                    source,
+                })?;
+        Ok(PoseReconstruction {
+            reconstruction,
+            localization,
+        })
+    }
+
+    /// Reconstructs every complete sample of `dataset` with every camera mode (`opt`,
+    /// `classified` with the localizer's prediction, `oracle` with the true rotation,
+    /// `hybrid`) and reports 3D error after similarity alignment and projection error per
+    /// mode. The reconstructor's own mode does not matter here.
+    ///
+    /// # Errors
+    /// [`CamlocError::InvalidOption`] without a localizer; [`CamlocError::Dataset`] for an
+    /// invalid sample label or clip index; localization errors naming the sample.
+    pub fn evaluate(&self, dataset: &Dataset) -> Result<EvalReport, CamlocError> {
+        let Some(localizer) = &self.localizer else {
+            return Err(CamlocError::InvalidOption {
+                name: "localizer",
+                detail: "evaluating the classified and hybrid modes needs a localizer".into(),
+            });
+        };
+        dataset.validate()?;
+        let poses: Vec<PartialPose2> = dataset.samples.iter().map(sample_pose).collect();
+        let labels = localizer.predict_labels(&poses)?;
+        let samples: Vec<EvalSample> = dataset
+            .samples
+            .iter()
+            .zip(&labels)
+            .filter(|(s, _)| s.missing_mask == 0)
+            .map(|(s, label)| EvalSample {
+                pose2: s.landmarks,
+                truth: s.pose3,
+                true_rotation: s.rotation,
+                classified_rotation: localizer.cameras().get(label.get()).map(|v| v.rotation),
+            })
+            .collect();
+        Ok(camloc_reconstruct::evaluate(
+            &samples,
+            &self.reconstructor,
+            &ModeKind::ALL,
+        ))
+    }
 }

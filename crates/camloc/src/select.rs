@@ -22,18 +22,21 @@ pub struct DescriptorCv {
 /// landmarks are imputed with the dataset's means. Returns one report per descriptor.
 ///
 /// # Errors
-/// Descriptor errors naming the sample, and learning errors (e.g. fewer subjects than folds).
+/// [`CamlocError::Dataset`] for an invalid sample label or clip index; descriptor errors
+/// naming the sample, and learning errors (e.g. fewer subjects than folds).
 pub fn cross_validate(
     dataset: &Dataset,
     descriptors: &[Descriptor],
     candidates: &[LogisticRegression],
     folds: usize,
 ) -> Result<Vec<DescriptorCv>, CamlocError> {
+    dataset.validate()?;
     let poses: Vec<PartialPose2> = dataset.samples.iter().map(sample_pose).collect();
+    // Labels are 1..=cameras (checked by `dataset.validate()`).
     let y: Vec<usize> = dataset
         .samples
         .iter()
-        .map(|s| usize::from(s.label).saturating_sub(1))
+        .map(|s| usize::from(s.label) - 1)
         .collect();
     let groups: Vec<&str> = dataset
         .samples

@@ -1,8 +1,6 @@
 //! CameraLocalizer: training on synthetic data, save/load, corruption, missing landmarks, and
 //! the mirror behaviour on real LSP photos (skipped without ../shared/data).
 
-use std::path::PathBuf;
-
 use camloc::dataset::{ClipInfo, GenerateConfig, PoseSequence, Protocol, generate};
 use camloc::keypoints::{ReadOptions, read_keypoints};
 use camloc::{CameraLocalizer, CamlocError, PartialPose2, Pose3, TrainOptions, evaluate};
@@ -64,7 +62,7 @@ fn trains_and_localizes_synthetic_views() {
     assert_eq!(row_sums, e.samples);
     let l = localizer.localize(&dataset.samples[0].landmarks).unwrap();
     assert!((l.probabilities.iter().sum::<f64>() - 1.0).abs() < 1e-12);
-    assert_eq!(l.probability, l.probabilities[usize::from(l.label) - 1]);
+    assert_eq!(l.probability, l.probabilities[l.label.index()]);
 }
 
 #[test]
@@ -114,20 +112,13 @@ fn the_embedded_default_model_loads() {
     assert_eq!(localizer.descriptor().name(), "joints");
 }
 
-fn lsp_file() -> Option<PathBuf> {
-    let base = std::env::var_os("CAMLOC_DATA").map_or_else(
-        || PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/data")),
-        PathBuf::from,
-    );
-    let file = base.join("lsp/lsp400_joints.csv");
-    file.exists().then_some(file)
-}
-
 /// A horizontally mirrored photo with left/right labels swapped is seen from the mirrored side.
 #[test]
 fn mirrored_lsp_poses_get_the_mirrored_side() {
-    let Some(file) = lsp_file() else {
-        eprintln!("skipping: ../shared/data not found (set CAMLOC_DATA)");
+    let Some(file) = camloc::skeleton::data::data_path_or_skip(
+        "lsp/lsp400_joints.csv",
+        "camloc::mirrored_lsp_poses_get_the_mirrored_side",
+    ) else {
         return;
     };
     let localizer = CameraLocalizer::default_model().unwrap();
@@ -154,4 +145,134 @@ fn mirrored_lsp_poses_get_the_mirrored_side() {
         "mirrored side in {:.1}% of poses",
         100.0 * share
     );
+}
+
+/// A dataset whose sample 3 has label `label`.
+fn with_label(label: u16) -> camloc::dataset::Dataset {
+    let mut config = GenerateConfig::new(Protocol::Canonical);
+    config.seed = 5;
+    let mut dataset = generate(&sequences()[..2], &config, &|_, _| {}).unwrap();
+    dataset.samples[3].label = label;
+    dataset
+}
+
+fn is_bad_label(result: Result<impl std::fmt::Debug, CamlocError>) -> bool {
+    matches!(
+        result,
+        Err(CamlocError::Dataset(
+            camloc::dataset::DatasetError::BadLabel { sample: 3, .. }
+        ))
+    )
+}
+
+/// Labels outside the camera set were a panic in `evaluate` (label 0) and silently mapped to
+/// camera 1 in training; both now refuse the dataset, naming the sample.
+#[test]
+fn labels_outside_the_camera_set_are_rejected_by_training_and_evaluation() {
+    let (localizer, _) = trained();
+    for label in [0, 13, u16::MAX] {
+        let dataset = with_label(label);
+        assert!(is_bad_label(evaluate(&localizer, &dataset)), "{label}");
+        let trained = CameraLocalizer::train(&dataset, &TrainOptions::default(), |_| {});
+        assert!(is_bad_label(trained.map(|_| ())), "{label}");
+        let cv = camloc::cross_validate(
+            &dataset,
+            &[camloc::Descriptor::Joints],
+            &[camloc::learning::LogisticRegression::default()],
+            2,
+        );
+        assert!(is_bad_label(cv.map(|_| ())), "{label}");
+    }
+}
+
+/// Library callers bypass the command line's checks: the options themselves refuse values that
+/// would misbehave (NaN or negative dropout used to turn dropout off; 1e15 copies allocated
+/// without bound; a negative lambda).
+#[test]
+fn train_options_reject_out_of_range_values() {
+    let dataset = with_label(1);
+    for copies in [
+        f64::NAN,
+        -1.0,
+        f64::INFINITY,
+        1e15,
+        camloc::MAX_DROPOUT_COPIES + 0.5,
+    ] {
+        let options = TrainOptions {
+            dropout: Some(camloc::LandmarkDropout {
+                copies,
+                ..camloc::LandmarkDropout::default()
+            }),
+            ..TrainOptions::default()
+        };
+        let err = options.validate().unwrap_err();
+        assert!(
+            matches!(
+                err,
+                CamlocError::InvalidOption {
+                    name: "dropout copies",
+                    ..
+                }
+            ),
+            "{copies}: {err}"
+        );
+        let trained = CameraLocalizer::train(&dataset, &options, |_| {});
+        assert!(matches!(trained, Err(CamlocError::InvalidOption { .. })));
+    }
+    for max_missing in [0, 14] {
+        let options = TrainOptions {
+            dropout: Some(camloc::LandmarkDropout {
+                max_missing,
+                ..camloc::LandmarkDropout::default()
+            }),
+            ..TrainOptions::default()
+        };
+        assert!(options.validate().is_err(), "{max_missing}");
+    }
+    for lambda in [f64::NAN, -1.0, f64::INFINITY] {
+        let mut options = TrainOptions::default();
+        options.regression = options.regression.with_lambda(lambda);
+        let err = options.validate().unwrap_err();
+        assert!(matches!(err, CamlocError::Learning(_)), "{lambda}: {err}");
+    }
+    let options = TrainOptions {
+        dropout: Some(camloc::LandmarkDropout {
+            copies: camloc::MAX_DROPOUT_COPIES,
+            ..camloc::LandmarkDropout::default()
+        }),
+        ..TrainOptions::default()
+    };
+    assert!(options.validate().is_ok());
+    assert!(TrainOptions::default().validate().is_ok());
+}
+
+/// A `PoseReconstructor` refuses modes it cannot run, and reconstructs a projected pose.
+#[test]
+fn pose_reconstructor_modes() {
+    use camloc::{ModeKind, PoseReconstructor};
+    let basis = camloc::default_basis().unwrap();
+    let opt = PoseReconstructor::new(basis.clone()).unwrap();
+    assert_eq!(opt.mode(), ModeKind::Opt);
+    assert!(opt.clone().with_mode(ModeKind::Classified).is_err());
+    assert!(opt.clone().with_mode(ModeKind::Hybrid).is_err());
+    let (localizer, dataset) = trained();
+    let classified = opt
+        .clone()
+        .with_localizer(localizer)
+        .with_mode(ModeKind::Classified)
+        .unwrap();
+    assert!(classified.clone().with_mode(ModeKind::Oracle).is_err());
+    let sample = &dataset.samples[0];
+    let pose = PartialPose2::from(sample.landmarks);
+    let r = classified.reconstruct(&pose).unwrap();
+    assert!(r.localization.is_some());
+    assert!(r.reconstruction.projection_error.is_finite());
+    let r = opt.reconstruct(&pose).unwrap();
+    assert!(r.localization.is_none());
+    let mut partial = pose;
+    partial.points[3] = None;
+    assert!(matches!(
+        opt.reconstruct(&partial),
+        Err(CamlocError::InvalidOption { .. })
+    ));
 }

@@ -25,16 +25,6 @@ pub fn read(name: &str) -> Vec<KeypointRecord> {
     read_keypoints(fixture(name), None, &ReadOptions::default()).unwrap_or_else(|e| panic!("{e}"))
 }
 
-/// The shared data directory (`CAMLOC_DATA` or `../shared/data`), if it exists.
-pub fn data_dir() -> Option<PathBuf> {
-    let dir = std::env::var_os("CAMLOC_DATA")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| {
-            PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/data"))
-        });
-    dir.is_dir().then_some(dir)
-}
-
 /// A landmark's point, panicking with the record id when it is missing.
 pub fn point(record: &KeypointRecord, landmark: Landmark) -> [f64; 2] {
     record.pose.points[landmark.index()]

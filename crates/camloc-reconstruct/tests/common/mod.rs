@@ -1,6 +1,7 @@
 //! Synthetic canonical 3D poses for tests and benches: a plausible 15-landmark skeleton with
 //! per-subject limb lengths and random joint angles (half of the poses follow a walking cycle,
-//! half are free poses), canonicalised as SPEC.md section 1 says (pelvis at the origin, facing
+//! half are free poses), canonicalised as docs/conventions.md section 1 says (pelvis at the origin,
+//! facing
 //! -x, right side towards +y, z up, metres).
 
 #![allow(dead_code)] // Each test binary uses a different part of this module.
@@ -203,7 +204,7 @@ fn skeleton(a: &Angles, l: [f64; 8]) -> Pose3 {
 }
 
 /// Rotates about z so that the horizontal part of (right_hip - left_hip) + (right_shoulder -
-/// left_shoulder) points to +y, with the pelvis at the origin (SPEC.md section 1).
+/// left_shoulder) points to +y, with the pelvis at the origin (docs/conventions.md section 1).
 pub fn canonicalise(pose: Pose3) -> Pose3 {
     let q = |i: usize| v(pose.points[i]);
     let pelvis = q(0);

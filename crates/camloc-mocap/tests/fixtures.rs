@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
-use camloc_skeleton::mocap::{
+use camloc_mocap::{
     CMU_FRAME_TIME_S, CMU_UNIT_M, MocapError, MocapSource, canonicalise, discover, parse_bvh,
     read_amc, read_asf, read_bvh,
 };
@@ -16,7 +16,7 @@ fn fixture(name: &str) -> PathBuf {
 }
 
 /// A point given in CMU units in the y-up file frame, in metres in the z-up world
-/// (SPEC.md section 1: (x, y, z) -> (x, -z, y)).
+/// (docs/conventions.md section 1: (x, y, z) -> (x, -z, y)).
 fn world(p: [f64; 3]) -> [f64; 3] {
     [p[0] * CMU_UNIT_M, -p[2] * CMU_UNIT_M, p[1] * CMU_UNIT_M]
 }

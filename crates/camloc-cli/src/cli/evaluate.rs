@@ -60,7 +60,7 @@ pub fn run(args: &Args, out: &mut String) -> Result<ExitCode, CamlocError> {
     for c in &e.per_camera {
         let _ = writeln!(
             out,
-            "  {:02} {:<13} {:>8} samples  {:>6.2}%",
+            "  {} {:<13} {:>8} samples  {:>6.2}%",
             c.label,
             c.name,
             c.samples,

@@ -3,9 +3,7 @@
 
 use std::path::Path;
 
-use camloc_skeleton::mocap::{
-    CMU_UNIT_M, CanonicaliseError, canonicalise, parse_amc, parse_asf, parse_bvh,
-};
+use camloc_mocap::{CMU_UNIT_M, CanonicaliseError, canonicalise, parse_amc, parse_asf, parse_bvh};
 use camloc_skeleton::{LIMBS, Landmark, NUM_LANDMARKS, Pose3};
 use proptest::prelude::*;
 

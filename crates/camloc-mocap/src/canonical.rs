@@ -1,7 +1,7 @@
-//! Canonical body frame (SPEC.md section 1).
+//! Canonical body frame (docs/conventions.md section 1).
 
 use super::error::CanonicaliseError;
-use crate::{Landmark, Pose3};
+use camloc_skeleton::{Landmark, Pose3};
 
 /// Moves and turns a pose into the canonical body frame: pelvis at the origin, right side
 /// towards +y, facing -x (z up, metres).

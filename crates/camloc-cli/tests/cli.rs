@@ -253,3 +253,165 @@ fn every_malformed_file_fails_cleanly_in_every_subcommand() {
         "no model written from bad input"
     );
 }
+
+/// Asserts a usage error: exit code 2, clap's message naming `option`, no panic.
+fn assert_usage_error(out: &Output, option: &str) {
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "stderr: {stderr}");
+    assert!(!stderr.contains("panicked"), "panic: {stderr}");
+    assert!(stderr.contains("invalid value"), "{stderr}");
+    assert!(stderr.contains(option), "expected '{option}' in: {stderr}");
+}
+
+/// Numeric options are checked when the command line is parsed: out-of-range values are usage
+/// errors (exit 2, as the help promises), before any file is read or any output checked.
+#[test]
+fn out_of_range_options_are_usage_errors() {
+    let dir = TempDir::new("bounds");
+    let existing = dir.file("exists.bin", "mine");
+    let dataset = dir.0.join("no-such-dataset.bin");
+    let dataset = dataset.to_str().unwrap();
+    let train = |extra: &[&str]| {
+        let mut args = vec!["train", "--dataset", dataset, "--out", &existing];
+        args.extend_from_slice(extra);
+        camloc(&args)
+    };
+    for bad in ["-1", "NaN", "inf", "-inf", "x"] {
+        assert_usage_error(&train(&["--lambda", bad]), "--lambda");
+    }
+    for bad in ["-1", "nan", "1e15", "10.5", "inf", "many"] {
+        assert_usage_error(&train(&["--dropout", bad]), "--dropout");
+    }
+    // The descriptor is checked by clap, before the output-exists check.
+    assert_usage_error(&train(&["--descriptor", "nope"]), "--descriptor");
+    let input = fixture("keypoints/example.json");
+    assert_usage_error(
+        &camloc(&[
+            "reconstruct",
+            "--input",
+            input.to_str().unwrap(),
+            "--camera",
+            "oracle",
+        ]),
+        "--camera",
+    );
+    // In range, the same command gets past parsing and stops at the existing output (exit 1).
+    assert_clean_failure(
+        &train(&["--lambda", "0", "--dropout", "10"]),
+        "already exists",
+    );
+    assert_eq!(std::fs::read_to_string(&existing).unwrap(), "mine");
+}
+
+/// A tiny labelled dataset made through the library from the project's mocap fixtures.
+fn fixture_dataset(dir: &TempDir) -> String {
+    use camloc::dataset::{GenerateConfig, Protocol, generate, load_mocap_folders};
+    let (sequences, _) =
+        load_mocap_folders(&[fixture("mocap")], &mut |_| {}, &mut |_, _, _| {}).unwrap();
+    let mut config = GenerateConfig::new(Protocol::Jittered);
+    config.seed = 7;
+    let dataset = generate(&sequences, &config, &|_, _| {}).unwrap();
+    assert!(dataset.samples.len() >= 24, "{}", dataset.samples.len());
+    let path = dir.0.join("data.bin");
+    dataset.save(&path, false).unwrap();
+    path.to_string_lossy().into_owned()
+}
+
+/// train, evaluate, reconstruct and evaluate-reconstruction succeed on a fixture dataset, and
+/// what they print agrees with the files they read and write.
+#[test]
+fn train_evaluate_and_reconstruct_succeed_on_fixture_data() {
+    let dir = TempDir::new("success");
+    let data = fixture_dataset(&dir);
+    let model = dir.0.join("model.bin");
+    let model = model.to_str().unwrap();
+    let out = camloc(&[
+        "train",
+        "--dataset",
+        &data,
+        "--out",
+        model,
+        "--descriptor",
+        "landmarks",
+        "--lambda",
+        "0.5",
+        "--dropout",
+        "0.5",
+        "--quiet",
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(String::from_utf8_lossy(&out.stdout).starts_with("wrote "));
+    let trained = camloc::CameraLocalizer::load(Path::new(model)).unwrap();
+    assert_eq!(trained.descriptor().name(), "landmarks");
+    assert_eq!(trained.training_info().lambda, 0.5);
+
+    let out = camloc(&["evaluate", "--model", model, "--dataset", &data, "--json"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let e: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let dataset = camloc::dataset::Dataset::load(Path::new(&data)).unwrap();
+    assert_eq!(e["samples"].as_u64(), Some(dataset.samples.len() as u64));
+    let accuracy = e["accuracy"].as_f64().unwrap();
+    assert!((0.0..=1.0).contains(&accuracy));
+    let confusion: u64 = e["confusion"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .flat_map(|row| row.as_array().unwrap())
+        .map(|c| c.as_u64().unwrap())
+        .sum();
+    assert_eq!(confusion, dataset.samples.len() as u64);
+    let text = camloc(&["evaluate", "--model", model, "--dataset", &data]);
+    assert!(text.status.success());
+    assert!(
+        String::from_utf8_lossy(&text.stdout)
+            .contains(&format!("accuracy:         {:.2}%", 100.0 * accuracy))
+    );
+
+    let input = fixture("keypoints/example.json");
+    let input = input.to_str().unwrap();
+    let out = camloc(&[
+        "reconstruct",
+        "--model",
+        model,
+        "--input",
+        input,
+        "--camera",
+        "classified",
+        "--json",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let poses: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let poses = poses.as_array().unwrap();
+    assert_eq!(poses.len(), 3);
+    for p in poses {
+        assert_eq!(p["camera_mode"], "classified");
+        let label = p["classified_label"].as_u64().unwrap();
+        assert!((1..=12).contains(&label));
+        assert_eq!(p["landmarks_m"].as_object().unwrap().len(), 15);
+    }
+
+    let out = camloc(&[
+        "evaluate-reconstruction",
+        "--model",
+        model,
+        "--dataset",
+        &data,
+        "--json",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert!(report.is_object(), "{report}");
+}

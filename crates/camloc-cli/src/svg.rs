@@ -3,8 +3,8 @@
 
 use std::fmt::Write;
 
-use camloc_geometry::{CameraSet, Matrix3, Vector3, look_at_origin, sphere_point};
-use camloc_skeleton::{LIMBS, Landmark, PartialPose2, Pose2, Pose3};
+use camloc::geometry::{CameraLabel, CameraSet, Matrix3, Vector3, look_at_origin, sphere_point};
+use camloc::skeleton::{LIMBS, Landmark, PartialPose2, Pose2, Pose3};
 
 const LEFT: &str = "#1f77b4";
 const RIGHT: &str = "#d62728";
@@ -100,7 +100,7 @@ fn escape(text: &str) -> String {
 pub fn localization_svg(
     pose: &PartialPose2,
     cameras: &CameraSet,
-    label: u16,
+    label: CameraLabel,
     caption: &str,
 ) -> String {
     let (w, h) = (640.0, 360.0);
@@ -108,7 +108,7 @@ pub fn localization_svg(
     let present: Vec<[f64; 2]> = pose.points.iter().flatten().copied().collect();
     let map = fit_box(&present, 10.0, 10.0, 300.0, 310.0);
     draw_skeleton(&mut svg, &pose.points.map(|p| p.map(&map)), false, 3.0);
-    draw_sphere(&mut svg, cameras, label, 330.0, 10.0, 300.0, 310.0);
+    draw_sphere(&mut svg, cameras, label.get(), 330.0, 10.0, 300.0, 310.0);
     let _ = writeln!(
         svg,
         r#"<text x="10" y="{}" fill="{CENTRE}">{}</text>"#,

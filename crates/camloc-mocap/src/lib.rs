@@ -1,16 +1,17 @@
 //! Readers that turn CMU motion capture (BVH, and ASF skeletons with AMC motions) into
-//! sequences of 15-landmark [`Pose3`]s, plus [`canonicalise`] (SPEC.md sections 1 and 3).
+//! sequences of 15-landmark [`Pose3`]s, plus [`canonicalise`] (docs/conventions.md sections 1 and
+//! 3).
 //!
 //! # Conventions
 //!
-//! * **Output frame.** Poses are in metres in the right-handed z-up world of SPEC.md section 1.
-//!   The files are y-up; a file point `(x, y, z)` becomes `(x, -z, y)` times the unit scale.
-//!   CMU subjects face +z in the files, so read poses face -y; [`canonicalise`] turns them to
-//!   face -x with the pelvis at the origin.
+//! * **Output frame.** Poses are in metres in the right-handed z-up world of docs/conventions.md
+//!   section 1. The files are y-up; a file point `(x, y, z)` becomes `(x, -z, y)` times the unit
+//!   scale. CMU subjects face +z in the files, so read poses face -y; [`canonicalise`] turns them
+//!   to face -x with the pelvis at the origin.
 //! * **Units.** BVH files carry no unit: coordinates are taken to be CMU units,
 //!   [`CMU_UNIT_M`] metres each. ASF files declare `:units length L`, meaning one unit is
 //!   `1 / L` inch (CMU uses `L = 0.45`, i.e. [`CMU_UNIT_M`]).
-//! * **Landmarks** are joint positions, located as in SPEC.md section 3:
+//! * **Landmarks** are joint positions, located as in docs/conventions.md section 3:
 //!   for BVH the joint's origin (see [`parse_bvh`] for the two joint namings), for ASF the end
 //!   point of a bone (see [`parse_asf`]); the pelvis is the root position.
 //! * **CMU BVH versus ASF.** The CMU BVH conversions drop the ASF `thorax` bone (`lowerneck`
@@ -24,7 +25,7 @@
 //!
 //! ```no_run
 //! use camloc_skeleton::Landmark;
-//! use camloc_skeleton::mocap::{canonicalise, discover};
+//! use camloc_mocap::{canonicalise, discover};
 //!
 //! for source in discover("../shared/data/cmu")? {
 //!     let clip = source.read()?;
@@ -54,7 +55,7 @@ pub use canonical::canonicalise;
 pub use discover::{MocapSource, discover};
 pub use error::{CanonicaliseError, MocapError, ParseProblem};
 
-use crate::Pose3;
+use camloc_skeleton::Pose3;
 
 /// Metres per CMU length unit: one unit is `1 / 0.45` inch (ASF `:units length 0.45`),
 /// about 0.0564 m.

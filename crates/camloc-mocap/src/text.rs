@@ -4,7 +4,7 @@
 use std::str::Split;
 
 use super::error::{MocapError, ParseProblem};
-use crate::Pose3;
+use camloc_skeleton::Pose3;
 
 /// The file being parsed, for building located errors.
 #[derive(Clone, Copy, Debug)]

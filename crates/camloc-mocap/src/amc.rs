@@ -9,7 +9,7 @@ use super::error::{MocapError, ParseProblem};
 use super::rotation::Rot3;
 use super::text::{Lines, Source, decode};
 use super::{CMU_FRAME_TIME_S, MocapClip, read_file, subject_and_clip};
-use crate::Pose3;
+use camloc_skeleton::Pose3;
 
 /// Reads an AMC motion of `skeleton`; see [`parse_amc`].
 ///

@@ -5,8 +5,10 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use camloc::keypoints::KeypointRecord;
-use camloc::{CameraLocalizer, CamlocError, Localization, svg};
+use camloc::{CameraLocalizer, CamlocError, Localization};
 use serde_json::json;
+
+use crate::svg;
 
 use super::{InputArgs, load_model, numbered_path};
 
@@ -48,7 +50,7 @@ pub fn run(args: &Args, out: &mut String) -> Result<ExitCode, CamlocError> {
                 if let Some(out) = &args.svg {
                     let path = numbered_path(out, i, records.len());
                     let caption = format!(
-                        "{}: camera {:02} ({} {}), p = {:.2}",
+                        "{}: camera {} ({} {}), p = {:.2}",
                         record.id,
                         loc.label,
                         loc.level.name(),
@@ -130,7 +132,7 @@ fn print_localization(
     record: &KeypointRecord,
     loc: &Localization,
 ) {
-    let view = localizer.cameras().get(loc.label);
+    let view = localizer.cameras().get(loc.label.get());
     let where_ = view.map_or_else(String::new, |v| {
         format!(
             " (azimuth {:.0} deg, elevation {:.0} deg)",
@@ -139,7 +141,7 @@ fn print_localization(
     });
     let _ = writeln!(
         out,
-        "{}: camera {:02}, {} level, {} side{where_}, probability {:.3}",
+        "{}: camera {}, {} level, {} side{where_}, probability {:.3}",
         record.id,
         loc.label,
         loc.level.name(),
@@ -147,7 +149,7 @@ fn print_localization(
         loc.probability
     );
     if loc.folded_label != loc.label {
-        let _ = writeln!(out, "  mirror-folded camera: {:02}", loc.folded_label);
+        let _ = writeln!(out, "  mirror-folded camera: {}", loc.folded_label);
     }
     for row in rotation_rows(loc) {
         let _ = writeln!(

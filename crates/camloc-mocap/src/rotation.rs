@@ -87,7 +87,7 @@ pub(crate) fn add(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
 }
 
 /// Maps a point of a y-up mocap file, in file units, to the z-up world in metres
-/// (SPEC.md section 1): `(x, y, z) * scale -> (x, -z, y) * scale`.
+/// (docs/conventions.md section 1): `(x, y, z) * scale -> (x, -z, y) * scale`.
 pub(crate) fn y_up_to_z_up(v: [f64; 3], metres_per_unit: f64) -> [f64; 3] {
     [
         v[0] * metres_per_unit,

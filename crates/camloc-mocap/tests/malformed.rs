@@ -2,10 +2,10 @@
 
 use std::path::Path;
 
-use camloc_skeleton::Landmark;
-use camloc_skeleton::mocap::{
+use camloc_mocap::{
     AsfSkeleton, MocapClip, MocapError, ParseProblem, parse_amc, parse_asf, parse_bvh,
 };
+use camloc_skeleton::Landmark;
 
 fn fixture_text(name: &str) -> String {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))

@@ -6,26 +6,37 @@ use std::process::ExitCode;
 
 use camloc::dataset::Dataset;
 use camloc::reconstruct::PoseBasis;
-use camloc::{
-    CameraChoice, CamlocError, Landmark, Pose2, default_basis, evaluate_reconstruction,
-    reconstruct, reconstructor, svg,
-};
-use clap::ValueEnum;
+use camloc::{CamlocError, Landmark, ModeKind, Pose2, PoseReconstructor, default_basis};
+use clap::builder::{PossibleValue, TypedValueParser};
 use serde_json::json;
+
+use crate::svg;
 
 use super::{InputArgs, load_model, numbered_path};
 
-/// Camera modes on the command line.
-#[derive(Clone, Copy, Debug, ValueEnum)]
-pub enum CameraArg {
-    /// Procrustes camera re-estimated at every step (Ramakrishna et al.); default: lowest 3D
-    /// error when cameras stand anywhere (jittered protocol, docs/RESULTS.md).
-    Opt,
-    /// Rotation fixed to the classified Table-1 camera (the paper's section 8.2); best when the
-    /// camera is one of the 12 viewpoints.
-    Classified,
-    /// Classified rotation as the start, refined by Procrustes.
-    Hybrid,
+/// The camera modes `reconstruct` offers (the library's [`ModeKind`] without `oracle`, which
+/// needs the true camera), with their help.
+fn camera_modes() -> [PossibleValue; 3] {
+    [
+        PossibleValue::new("opt").help(
+            "Procrustes camera re-estimated at every step (Ramakrishna et al.); default: lowest \
+             3D error when cameras stand anywhere (jittered protocol, docs/RESULTS.md)",
+        ),
+        PossibleValue::new("classified").help(
+            "Rotation fixed to the classified Table-1 camera (the paper's section 8.2); best \
+             when the camera is one of the 12 viewpoints",
+        ),
+        PossibleValue::new("hybrid")
+            .help("Classified rotation as the start, refined by Procrustes"),
+    ]
+}
+
+/// Parses `--camera` (clap has already checked the name against [`camera_modes`]).
+fn parse_camera(text: &str) -> Result<ModeKind, String> {
+    ModeKind::ALL
+        .into_iter()
+        .find(|m| m.name() == text && *m != ModeKind::Oracle)
+        .ok_or_else(|| format!("unknown camera mode {text:?}"))
 }
 
 /// Arguments of `camloc reconstruct`.
@@ -40,8 +51,10 @@ pub struct Args {
     #[command(flatten)]
     pub input: InputArgs,
     /// Which camera to reconstruct with.
-    #[arg(long, value_enum, default_value = "opt")]
-    pub camera: CameraArg,
+    #[arg(long, default_value = "opt", value_name = "MODE",
+          value_parser = clap::builder::PossibleValuesParser::new(camera_modes())
+              .try_map(|s| parse_camera(&s)))]
+    pub camera: ModeKind,
     /// Print one JSON array with one object per pose.
     #[arg(long)]
     pub json: bool,
@@ -90,18 +103,17 @@ fn to_json<T: serde::Serialize>(value: &T) -> Result<String, CamlocError> {
 
 /// Runs `camloc reconstruct`.
 pub fn run(args: &Args, out: &mut String) -> Result<ExitCode, CamlocError> {
-    let localizer = load_model(args.model.as_deref())?;
-    let reconstructor = reconstructor(load_basis(args.basis.as_deref())?)?;
-    let choice = match args.camera {
-        CameraArg::Opt => CameraChoice::Opt,
-        CameraArg::Classified => CameraChoice::Classified,
-        CameraArg::Hybrid => CameraChoice::Hybrid,
-    };
+    let choice = args.camera;
+    let mut reconstructor = PoseReconstructor::new(load_basis(args.basis.as_deref())?)?;
+    if choice != ModeKind::Opt || args.model.is_some() {
+        reconstructor = reconstructor.with_localizer(load_model(args.model.as_deref())?);
+    }
+    let reconstructor = reconstructor.with_mode(choice)?;
     let records = args.input.read()?;
     let mut failures = 0;
     let mut json_out = Vec::new();
     for (i, record) in records.iter().enumerate() {
-        let result = match reconstruct(&reconstructor, &localizer, &record.pose, choice) {
+        let result = match reconstructor.reconstruct(&record.pose) {
             Ok(r) => r,
             Err(e) => {
                 failures += 1;
@@ -115,7 +127,7 @@ pub fn run(args: &Args, out: &mut String) -> Result<ExitCode, CamlocError> {
         let r = &result.reconstruction;
         let camera_text = match &result.localization {
             Some(l) => format!(
-                "{} (classified camera {:02}, {} {}, p = {:.3})",
+                "{} (classified camera {}, {} {}, p = {:.3})",
                 choice.name(),
                 l.label,
                 l.level.name(),
@@ -194,10 +206,10 @@ pub fn run(args: &Args, out: &mut String) -> Result<ExitCode, CamlocError> {
 
 /// Runs `camloc evaluate-reconstruction`.
 pub fn run_evaluation(args: &EvalArgs, out: &mut String) -> Result<ExitCode, CamlocError> {
-    let localizer = load_model(args.model.as_deref())?;
-    let reconstructor = reconstructor(load_basis(args.basis.as_deref())?)?;
+    let reconstructor = PoseReconstructor::new(load_basis(args.basis.as_deref())?)?
+        .with_localizer(load_model(args.model.as_deref())?);
     let dataset = Dataset::load(&args.dataset)?;
-    let report = evaluate_reconstruction(&reconstructor, &localizer, &dataset)?;
+    let report = reconstructor.evaluate(&dataset)?;
     if args.json {
         let _ = writeln!(out, "{}", to_json(&report)?);
     } else {

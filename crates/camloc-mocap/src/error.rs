@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use thiserror::Error;
 
-use crate::Landmark;
+use camloc_skeleton::Landmark;
 
 /// Why a motion-capture file or folder could not be turned into poses.
 ///

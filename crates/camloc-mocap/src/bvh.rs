@@ -7,7 +7,7 @@ use super::error::{MocapError, ParseProblem};
 use super::rotation::{Axis, Rot3, add, y_up_to_z_up};
 use super::text::{Lines, Source, decode};
 use super::{CMU_UNIT_M, MocapClip, read_file, subject_and_clip};
-use crate::{Landmark, NUM_LANDMARKS, Pose3};
+use camloc_skeleton::{Landmark, NUM_LANDMARKS, Pose3};
 
 /// Reads a BVH file; see [`parse_bvh`] for the conventions.
 ///

@@ -6,7 +6,8 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use camloc::dataset::Dataset;
-use camloc::learning::Mode;
+use camloc::features::PaperConfig;
+use camloc::learning::{LogisticRegression, Mode};
 use camloc::{CameraLocalizer, CamlocError, Descriptor, LandmarkDropout, TrainOptions};
 use clap::ValueEnum;
 
@@ -19,22 +20,22 @@ pub struct Args {
     /// Output model file (refuses to overwrite unless --force).
     #[arg(long, value_name = "MODEL")]
     pub out: PathBuf,
-    /// Pose descriptor: `joints` (default: the 12 limb joints in a mid-hip to mid-shoulder
-    /// frame, robust to how annotations place the neck and pelvis), `landmarks` (all 15
-    /// landmarks in the pelvis-neck frame) or `paper` (the paper's Algorithm 1: Gaussian
-    /// relative lengths + log-polar shape context).
-    #[arg(long, default_value = "joints", value_name = "NAME")]
-    pub descriptor: String,
+    /// Pose descriptor.
+    #[arg(long, value_enum, default_value = "joints", value_name = "NAME")]
+    pub descriptor: DescriptorArg,
     /// Ridge weight lambda of eq. 11 (on the sum of the per-sample losses; scikit-learn's
-    /// C = 1 / (2 lambda)).
-    #[arg(long, default_value_t = camloc::DEFAULT_LAMBDA, value_name = "L")]
+    /// C = 1 / (2 lambda)): a finite number >= 0.
+    #[arg(long, default_value_t = camloc::DEFAULT_LAMBDA, value_name = "L",
+          value_parser = parse_lambda, allow_hyphen_values = true)]
     pub lambda: f64,
     /// Classifier: multinomial softmax (eq. 8) or one-vs-rest (eq. 9).
     #[arg(long, value_enum, default_value = "multinomial")]
     pub mode: ModeArg,
-    /// Copies of the training set with 1-3 random landmarks dropped (0 disables), so that
-    /// localization copes with missing landmarks.
-    #[arg(long, default_value_t = 1.0, value_name = "COPIES")]
+    /// Copies of the training set with 1-3 random landmarks dropped, so that localization
+    /// copes with missing landmarks: a number from 0 (disables) to 10; fractions take that
+    /// share of the samples.
+    #[arg(long, default_value_t = 1.0, value_name = "COPIES", value_parser = parse_dropout,
+          allow_hyphen_values = true)]
     pub dropout: f64,
     /// Do not add left-right mirrored copies of the samples (mirror augmentation is on by
     /// default).
@@ -48,6 +49,59 @@ pub struct Args {
     pub quiet: bool,
 }
 
+/// Pose descriptors on the command line.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum DescriptorArg {
+    /// The 12 limb joints in a mid-hip to mid-shoulder frame, robust to how annotations place
+    /// the neck and pelvis (the default).
+    Joints,
+    /// All 15 landmarks in the pelvis-neck frame.
+    Landmarks,
+    /// The paper's Algorithm 1: Gaussian relative lengths + log-polar shape context.
+    Paper,
+}
+
+impl DescriptorArg {
+    /// The library's descriptor (default settings).
+    fn descriptor(self) -> Descriptor {
+        match self {
+            DescriptorArg::Joints => Descriptor::Joints,
+            DescriptorArg::Landmarks => Descriptor::Landmarks,
+            DescriptorArg::Paper => Descriptor::Paper(PaperConfig::default()),
+        }
+    }
+}
+
+/// Parses `--lambda`: a finite number >= 0 (the library's check of the setting).
+fn parse_lambda(text: &str) -> Result<f64, String> {
+    let value = parse_number(text)?;
+    LogisticRegression::default()
+        .with_lambda(value)
+        .validate()
+        .map_err(|e| e.to_string())?;
+    Ok(value)
+}
+
+/// Parses `--dropout`: a number from 0 to [`camloc::MAX_DROPOUT_COPIES`] (the library's check
+/// of the setting).
+fn parse_dropout(text: &str) -> Result<f64, String> {
+    let copies = parse_number(text)?;
+    LandmarkDropout {
+        copies,
+        ..LandmarkDropout::default()
+    }
+    .validate()
+    .map_err(|e| e.to_string())?;
+    Ok(copies)
+}
+
+/// Parses a decimal number, naming the text when it is none.
+fn parse_number(text: &str) -> Result<f64, String> {
+    text.trim()
+        .parse()
+        .map_err(|_| format!("not a number: {text:?}"))
+}
+
 /// Classifier modes on the command line.
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub enum ModeArg {
@@ -59,14 +113,13 @@ pub enum ModeArg {
 
 /// Runs `camloc train`.
 pub fn run(args: &Args, out: &mut String) -> Result<ExitCode, CamlocError> {
+    let descriptor = args.descriptor.descriptor();
     if args.out.exists() && !args.force {
-        return Err(camloc::store_exists(&args.out));
+        return Err(camloc::store::StoreError::Exists {
+            path: args.out.clone(),
+        }
+        .into());
     }
-    let descriptor =
-        Descriptor::from_name(&args.descriptor).map_err(|source| CamlocError::Feature {
-            context: "--descriptor".into(),
-            source,
-        })?;
     let mut options = TrainOptions {
         descriptor,
         ..TrainOptions::default()
@@ -78,12 +131,12 @@ pub fn run(args: &Args, out: &mut String) -> Result<ExitCode, CamlocError> {
             ModeArg::Multinomial => Mode::Multinomial,
             ModeArg::OneVsRest => Mode::OneVsRest,
         });
-    options.regression.validate()?;
     options.mirror = !args.no_mirror;
     options.dropout = (args.dropout > 0.0).then_some(LandmarkDropout {
         copies: args.dropout,
         ..LandmarkDropout::default()
     });
+    options.validate()?;
     let start = Instant::now();
     let dataset = Dataset::load(&args.dataset)?;
     eprintln!(
