@@ -1,7 +1,7 @@
 //! Python bindings of camloc, importable as `camloc`: NumPy arrays in, dicts of NumPy arrays out.
 //!
 //! Thin over the Rust crates: joint layouts come from [`camloc::keypoints::pose_from_array`],
-//! localization from [`camloc::CameraLocalizer`], reconstruction from [`camloc::reconstruct`],
+//! localization from [`camloc::CameraLocalizer`], reconstruction from [`camloc::PoseReconstructor`],
 //! files from [`camloc::keypoints::read_keypoints`]. This crate only converts arrays, releases
 //! the GIL around batch work and runs batches on rayon's thread pool. The Python API is
 //! documented in `camloc.pyi` beside this crate's Cargo.toml.

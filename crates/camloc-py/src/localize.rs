@@ -99,8 +99,8 @@ impl Localizer {
                         });
                         match result {
                             Ok(loc) => {
-                                label[j] = i64::from(loc.label);
-                                folded[j] = i64::from(loc.folded_label);
+                                label[j] = i64::from(loc.label.get());
+                                folded[j] = i64::from(loc.folded_label.get());
                                 probability[j] = loc.probability;
                                 row.copy_from_slice(&loc.probabilities);
                                 // The continuous viewpoint (azimuth_deg, elevation_deg,

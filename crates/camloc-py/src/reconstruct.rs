@@ -3,8 +3,8 @@
 use std::path::PathBuf;
 use std::sync::OnceLock;
 
-use camloc::reconstruct::{PoseBasis, Reconstructor};
-use camloc::{CameraChoice, CameraLocalizer, CamlocError};
+use camloc::reconstruct::PoseBasis;
+use camloc::{CameraLocalizer, CamlocError, ModeKind, PoseReconstructor};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use rayon::prelude::*;
@@ -13,16 +13,14 @@ use crate::arrays::{ArrayArg, Output, PoseBatch};
 use crate::localize::Localizer;
 use crate::{to_py_err, value_error};
 
-/// The embedded default model and the reconstructor on the embedded basis, made once.
-fn defaults() -> PyResult<&'static (CameraLocalizer, Reconstructor)> {
-    static DEFAULTS: OnceLock<Result<(CameraLocalizer, Reconstructor), String>> = OnceLock::new();
-    DEFAULTS
+/// The reconstructor on the embedded basis with the embedded default model, made once.
+fn default_reconstructor() -> PyResult<&'static PoseReconstructor> {
+    static DEFAULT: OnceLock<Result<PoseReconstructor, String>> = OnceLock::new();
+    DEFAULT
         .get_or_init(|| {
             let made = || -> Result<_, CamlocError> {
-                Ok((
-                    CameraLocalizer::default_model()?,
-                    camloc::reconstructor(camloc::default_basis()?)?,
-                ))
+                Ok(PoseReconstructor::new(camloc::default_basis()?)?
+                    .with_localizer(CameraLocalizer::default_model()?))
             };
             made().map_err(|e| e.to_string())
         })
@@ -44,32 +42,32 @@ pub(crate) fn reconstruct<'py>(
     localizer: Option<PyRef<'py, Localizer>>,
     basis: Option<PathBuf>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let choice = match camera {
-        "opt" => CameraChoice::Opt,
-        "classified" => CameraChoice::Classified,
-        "hybrid" => CameraChoice::Hybrid,
-        other => {
-            return Err(value_error(format!(
-                "unknown camera \"{other}\" (expected one of: opt, classified, hybrid)"
-            )));
-        }
-    };
+    let mode = ModeKind::ALL
+        .into_iter()
+        .find(|m| m.name() == camera && *m != ModeKind::Oracle)
+        .ok_or_else(|| {
+            value_error(format!(
+                "unknown camera \"{camera}\" (expected one of: opt, classified, hybrid)"
+            ))
+        })?;
     let batch = PoseBatch::new(&points, layout, scores.as_ref(), min_score)?;
-    let (default_localizer, default_reconstructor) = defaults()?;
-    let own_reconstructor = match basis {
-        Some(path) => Some(
-            PoseBasis::load(&path)
-                .map_err(|source| CamlocError::Reconstruct {
-                    context: path.display().to_string(),
-                    source,
-                })
-                .and_then(camloc::reconstructor)
-                .map_err(to_py_err)?,
-        ),
-        None => None,
+    let mut reconstructor = match basis {
+        Some(path) => PoseBasis::load(&path)
+            .map_err(|source| CamlocError::Reconstruct {
+                context: path.display().to_string(),
+                source,
+            })
+            .and_then(PoseReconstructor::new)
+            .map_err(to_py_err)?
+            .with_localizer(CameraLocalizer::default_model().map_err(to_py_err)?),
+        None => default_reconstructor()?.clone(),
     };
-    let reconstructor = own_reconstructor.as_ref().unwrap_or(default_reconstructor);
-    let localizer = localizer.as_ref().map_or(default_localizer, |l| &l.inner);
+    if let Some(localizer) = localizer {
+        reconstructor = reconstructor.with_localizer(localizer.inner.clone());
+    }
+    let reconstructor = reconstructor
+        .with_mode(mode)
+        .map_err(|e| value_error(e.to_string()))?;
     let n = batch.len();
     let results = py.detach(|| {
         (0..n)
@@ -77,7 +75,8 @@ pub(crate) fn reconstruct<'py>(
             .with_max_len(8)
             .map(|i| {
                 let mapped = batch.pose(i).map_err(|e| e.to_string())?;
-                camloc::reconstruct(reconstructor, localizer, &mapped.pose, choice)
+                reconstructor
+                    .reconstruct(&mapped.pose)
                     .map_err(|e| e.to_string())
             })
             .collect::<Vec<_>>()
@@ -110,7 +109,10 @@ pub(crate) fn reconstruct<'py>(
         scale[i] = rec.camera.scale;
         translation[i * 2..(i + 1) * 2].copy_from_slice(&rec.camera.translation);
         projection_error[i] = rec.projection_error;
-        label[i] = r.localization.as_ref().map_or(0, |l| i64::from(l.label));
+        label[i] = r
+            .localization
+            .as_ref()
+            .map_or(0, |l| i64::from(l.label.get()));
     }
     let out = Output::new(py, n, batch.single);
     out.array("points3d", points3d, &[15, 3])?;
@@ -120,6 +122,6 @@ pub(crate) fn reconstruct<'py>(
     out.array("projection_error", projection_error, &[])?;
     out.array("label", label, &[])?;
     out.errors(errors)?;
-    out.set("camera", choice.name())?;
+    out.set("camera", mode.name())?;
     Ok(out.into_dict())
 }
