@@ -1,0 +1,155 @@
+"""camloc: where the camera stood, from the 2D landmarks of a human pose.
+
+Which of the 12 cameras of Table 1 (3 heights x front/left/back/right of the person) saw a 2D
+pose, with probabilities, and a plausible 3D skeleton for it. NumPy arrays in, dicts of NumPy
+arrays out; the work is done by camloc's Rust library, in parallel, without holding the GIL.
+
+Poses are arrays of shape (N, J, 2) (or one pose (J, 2)) in image coordinates (x to the right,
+y down, any unit, usually pixels), J joints in a ``layout``:
+
+- ``camloc15``: camloc's 15 landmarks in ``LANDMARKS`` order (pelvis first);
+- ``coco17``, ``h36m17``, ``body25``, ``mpii16``, ``lsp14``: detector and dataset layouts,
+  mapped to the 15 landmarks as documented in docs/keypoints.md of the repository (the head of
+  COCO-17 and BODY_25 is the mean of the face points; a missing pelvis or neck is the midpoint
+  of the hips or shoulders).
+
+A joint whose two coordinates are NaN is missing. Scores, either a third channel (N, J, 3) or
+``scores`` of shape (N, J), must lie in [0, 1]; a joint scoring 0 or below ``min_score`` is
+missing.
+
+Batch calls never fail for one bad pose: each result dict has an ``error`` list with ``None``
+where the pose is fine and the library's message where it is not (NaN and label 0 in that
+pose's rows). Wrong shapes, unknown layouts and bad option values raise ``ValueError``;
+unreadable files ``OSError``; other library errors ``CamlocError``. For one pose (J, 2) the
+leading N axis is left out of every array and ``error`` is a single value.
+"""
+
+from os import PathLike
+from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+LAYOUTS: List[str]
+"""The joint layouts: coco17, h36m17, body25, mpii16, lsp14, camloc15."""
+FORMATS: List[str]
+"""The keypoint file formats ``read_keypoints`` reads."""
+LANDMARKS: List[str]
+"""camloc's 15 landmarks, in the order of the ``camloc15`` layout and of every output."""
+
+class CamlocError(Exception):
+    """An error of camloc's Rust library (malformed file, unusable model, ...), with its message."""
+
+_Path = Union[str, PathLike]
+
+class Localizer:
+    """A trained camera localizer."""
+
+    def __init__(self) -> None:
+        """The default model embedded in camloc (trained on CMU motion capture)."""
+
+    @staticmethod
+    def load(path: _Path) -> "Localizer":
+        """Reads a model file written by ``camloc train``.
+
+        Raises OSError if it cannot be read, CamlocError if it is not a valid model."""
+
+    @property
+    def cameras(self) -> List[Dict[str, Any]]:
+        """The camera classes, one dict per label: ``label`` (1-based; column ``label - 1`` of
+        ``probabilities``), ``level`` (lower/middle/upper), ``side`` (front/left/back/right),
+        ``azimuth_deg``, ``elevation_deg`` (degrees, person's canonical frame: azimuth 180 =
+        front, 270 = the person's left) and ``rotation`` (3, 3) (rows: camera axes)."""
+
+    def localize(
+        self,
+        points: npt.ArrayLike,
+        layout: str = "camloc15",
+        scores: Optional[npt.ArrayLike] = None,
+        min_score: float = 0.0,
+    ) -> Dict[str, Any]:
+        """Localizes the camera of every pose.
+
+        points: (N, J, 2) or (N, J, 3) with scores, or one pose (J, 2) / (J, 3); J is the
+        layout's joint count; NaN coordinates mark a missing joint. Converted to float64.
+        scores: optional (N, J) (or (J,)) confidences in [0, 1] for 2-channel points.
+        min_score: joints scoring below it are missing (finite, >= 0).
+
+        Returns a dict:
+          label (N,) int64: most probable camera, 1..12 (0 where the pose failed);
+          folded_label (N,) int64: the label with back cameras folded to the front;
+          probability (N,) float64: probability of ``label``;
+          probabilities (N, 12) float64: probability of each camera (column label - 1);
+          error: list of N messages, None where the pose was localized.
+
+        Raises ValueError for a wrong shape, an unknown layout or a bad ``min_score``.
+        """
+
+    def __repr__(self) -> str: ...
+
+def reconstruct(
+    points: npt.ArrayLike,
+    layout: str = "camloc15",
+    camera: str = "opt",
+    scores: Optional[npt.ArrayLike] = None,
+    min_score: float = 0.0,
+    localizer: Optional[Localizer] = None,
+    basis: Optional[_Path] = None,
+) -> Dict[str, Any]:
+    """Reconstructs the 3D pose of every pose (all 15 landmarks needed) by projected matching
+    pursuit on camloc's PCA pose basis.
+
+    points, layout, scores, min_score: as for ``Localizer.localize``.
+    camera: ``opt`` (Procrustes camera, the default), ``classified`` (the rotation of the
+    classified camera) or ``hybrid`` (classified rotation refined by Procrustes).
+    localizer: the model that classifies the camera (default: the embedded one).
+    basis: a pose basis file (default: the embedded one).
+
+    Returns a dict:
+      points3d (N, 15, 3) float64: the 3D landmarks in metres, canonical body frame (pelvis at
+        the origin, z up), ``LANDMARKS`` order;
+      rotation (N, 3, 3), scale (N,) (image units per metre), translation (N, 2) (image units):
+        the weak-perspective camera, image = scale * rotation[:2] @ X + translation;
+      projection_error (N,): norm of the reprojection residuals, image units;
+      label (N,) int64: the classified camera (0 for ``opt`` and failed poses);
+      camera: the mode used;
+      error: list of N messages, None where the pose was reconstructed.
+
+    Raises ValueError for a wrong shape, layout or camera mode; OSError / CamlocError for an
+    unreadable or invalid basis.
+    """
+
+def read_keypoints(
+    path: _Path,
+    format: Optional[str] = None,
+    layout: Optional[str] = None,
+    min_score: float = 0.0,
+    image_size: Optional[Union[Tuple[float, float], str]] = None,
+    lsp_invisible: str = "missing",
+    derive_torso: bool = True,
+    recursive: bool = False,
+) -> Dict[str, Any]:
+    """Reads a keypoint file, or every keypoint file (.json, .csv, .npy) of a folder.
+
+    format: one of ``FORMATS`` (camloc, lsp, coco, openpose, mmpose, mediapipe, npy, mpii);
+      None detects it from the extension and content.
+    layout: the joint layout of .npy arrays and MMPose keypoints (None: from the joint count).
+    min_score: joints scoring below it are missing (formats with scores).
+    image_size: (width, height) in pixels or "W,H", to scale MediaPipe's normalised coordinates.
+    lsp_invisible: ``missing`` or ``use`` (LSP joints marked visible=0).
+    derive_torso: derive a missing pelvis / neck from the hips / shoulders.
+    recursive: for a folder, read its sub-folders too.
+
+    Returns a dict:
+      points (N, 15, 2) float64: the 15 landmarks (``LANDMARKS`` order), NaN where missing;
+        ready for ``Localizer.localize(points)`` (layout camloc15);
+      derived (N, 15) bool: landmarks computed from other points rather than read;
+      ids, sources: lists of N str (pose id; file and place in it);
+      frames, persons (N,) int64: video frame and person index, -1 where the format has none;
+      file_errors: for a folder, (file, message) of each file that could not be read (the
+        others are still read); empty for a file.
+
+    Raises OSError if the file cannot be read, CamlocError if it is malformed (the message
+    names the file and place), ValueError for bad options.
+    """
