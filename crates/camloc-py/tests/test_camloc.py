@@ -1,0 +1,330 @@
+"""Tests of the camloc Python package: answers equal the `camloc` command line's on the
+fixtures, shapes and dtypes, missing joints, bad input, a 100k-pose batch.
+
+The command-line comparisons run the `camloc` binary named by the environment variable
+CAMLOC_BIN (.ci/run sets it), else `target/debug/camloc` of the repository; without either they
+are skipped with a visible reason.
+"""
+
+import json
+import os
+import shutil
+import subprocess
+import threading
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import camloc
+
+ROOT = Path(__file__).resolve().parents[3]
+KEYPOINTS = ROOT / "fixtures" / "keypoints"
+SAMPLES = KEYPOINTS / "samples"
+
+# Files the command line reads without options, and whose poses it localizes.
+CLI_FILES = [
+    KEYPOINTS / "example.json",
+    KEYPOINTS / "partial.json",
+    KEYPOINTS / "single_pose.json",
+    KEYPOINTS / "tiny_lsp.csv",
+    KEYPOINTS / "tiny_coco.json",
+    KEYPOINTS / "tiny_coco_results.json",
+    SAMPLES / "camloc15.npy",
+    SAMPLES / "mmpose.json",
+    SAMPLES / "mpii.json",
+    SAMPLES / "openpose_coco18_000000000007_keypoints.json",
+    SAMPLES / "openpose" / "clip_000000000001_keypoints.json",
+]
+
+
+@pytest.fixture(scope="module")
+def cli():
+    """Runs `camloc ARGS... --json` and returns (exit code, parsed standard output)."""
+    given = os.environ.get("CAMLOC_BIN")
+    binary = Path(given) if given else ROOT / "target" / "debug" / "camloc"
+    if not binary.is_file():
+        if given:
+            pytest.fail(f"CAMLOC_BIN={given} is not a file")
+        pytest.skip(f"no camloc binary at {binary} (build it with `cargo build -p camloc-cli`)")
+
+    def run(*args):
+        done = subprocess.run(
+            [str(binary), *map(str, args), "--json"], capture_output=True, text=True, check=False
+        )
+        assert done.returncode in (0, 1), done.stderr
+        return done.returncode, json.loads(done.stdout)
+
+    return run
+
+
+@pytest.fixture(scope="module")
+def localizer():
+    return camloc.Localizer()
+
+
+def example_points():
+    return camloc.read_keypoints(KEYPOINTS / "example.json")["points"]
+
+
+@pytest.mark.parametrize("path", CLI_FILES, ids=lambda p: p.name)
+def test_localize_equals_the_command_line(cli, localizer, path):
+    code, expected = cli("localize", "--input", path)
+    read = camloc.read_keypoints(path)
+    got = localizer.localize(read["points"])
+    assert len(expected) == len(read["ids"]) == len(got["error"]) > 0
+    assert code == (1 if any(e is not None for e in got["error"]) else 0)
+    for i, want in enumerate(expected):
+        assert read["ids"][i] == want["id"]
+        assert read["sources"][i] == want["source"]
+        if "error" in want:
+            assert got["error"][i] == want["error"]
+            assert got["label"][i] == 0 and np.isnan(got["probabilities"][i]).all()
+            continue
+        assert got["error"][i] is None
+        assert got["label"][i] == want["label"]
+        assert got["folded_label"][i] == want["folded_label"]
+        assert got["probability"][i] == pytest.approx(want["probability"], rel=1e-12)
+        probabilities = [want["probabilities"][f"{c['label']:02}"] for c in localizer.cameras]
+        np.testing.assert_allclose(got["probabilities"][i], probabilities, rtol=1e-12)
+        derived = [camloc.LANDMARKS[j] for j in np.flatnonzero(read["derived"][i])]
+        assert derived == want["derived"]
+        missing = [camloc.LANDMARKS[j] for j in np.flatnonzero(np.isnan(read["points"][i, :, 0]))]
+        assert missing == want["missing"]
+
+
+@pytest.mark.parametrize("camera", ["opt", "classified"])
+def test_reconstruct_equals_the_command_line(cli, camera):
+    path = KEYPOINTS / "example.json"
+    _, expected = cli("reconstruct", "--input", path, "--camera", camera)
+    got = camloc.reconstruct(example_points(), camera=camera)
+    assert got["camera"] == camera
+    for i, want in enumerate(expected):
+        assert got["error"][i] is None
+        landmarks = [want["landmarks_m"][name] for name in camloc.LANDMARKS]
+        np.testing.assert_allclose(got["points3d"][i], landmarks, rtol=1e-9, atol=1e-12)
+        np.testing.assert_allclose(got["rotation"][i], want["camera"]["rotation"], atol=1e-12)
+        assert got["scale"][i] == pytest.approx(want["camera"]["scale"], rel=1e-12)
+        np.testing.assert_allclose(got["translation"][i], want["camera"]["translation"], atol=1e-9)
+        assert got["projection_error"][i] == pytest.approx(want["projection_error"], rel=1e-9)
+        assert got["label"][i] == (want["classified_label"] or 0)
+
+
+def test_raw_h36m_array_gives_the_labels_of_the_same_poses_in_camloc_json(localizer):
+    # samples/h36m17_scores.npy holds the poses of example.json in the Human3.6M layout
+    # (fixtures/keypoints/README.md), with a score channel.
+    array = np.load(SAMPLES / "h36m17_scores.npy")
+    assert array.shape == (3, 17, 3)
+    reference = localizer.localize(example_points())
+    with_channel = localizer.localize(array, layout="h36m17")
+    separate = localizer.localize(array[..., :2], layout="h36m17", scores=array[..., 2])
+    from_file = camloc.read_keypoints(SAMPLES / "h36m17_scores.npy", layout="h36m17")
+    via_file = localizer.localize(from_file["points"])
+    for got in (with_channel, separate, via_file):
+        assert got["error"] == [None] * 3
+        np.testing.assert_array_equal(got["label"], reference["label"])
+    np.testing.assert_array_equal(with_channel["probabilities"], separate["probabilities"])
+    np.testing.assert_array_equal(with_channel["probabilities"], via_file["probabilities"])
+
+
+def test_min_score_drops_weak_joints_as_the_reader_does(localizer):
+    # Pose 1's right wrist scores 0.05 in the sample (fixtures/keypoints/README.md).
+    array = np.load(SAMPLES / "h36m17_scores.npy")
+    raw = localizer.localize(array, layout="h36m17", min_score=0.1)
+    read = camloc.read_keypoints(SAMPLES / "h36m17_scores.npy", layout="h36m17", min_score=0.1)
+    assert np.isnan(read["points"][1, camloc.LANDMARKS.index("right_wrist")]).all()
+    np.testing.assert_array_equal(
+        raw["probabilities"], localizer.localize(read["points"])["probabilities"]
+    )
+    full = localizer.localize(array, layout="h36m17")
+    assert not np.array_equal(raw["probabilities"][1], full["probabilities"][1])
+    np.testing.assert_array_equal(raw["probabilities"][[0, 2]], full["probabilities"][[0, 2]])
+
+
+def test_shapes_and_dtypes(localizer):
+    points = example_points()
+    got = localizer.localize(points)
+    assert got["label"].shape == (3,) and got["label"].dtype == np.int64
+    assert got["folded_label"].shape == (3,) and got["folded_label"].dtype == np.int64
+    assert got["probability"].shape == (3,) and got["probability"].dtype == np.float64
+    assert got["probabilities"].shape == (3, 12) and got["probabilities"].dtype == np.float64
+    np.testing.assert_allclose(got["probabilities"].sum(axis=1), 1.0, rtol=1e-12)
+    np.testing.assert_array_equal(got["probability"], got["probabilities"].max(axis=1))
+    np.testing.assert_array_equal(got["label"], got["probabilities"].argmax(axis=1) + 1)
+    assert isinstance(got["error"], list) and got["error"] == [None] * 3
+    assert [c["label"] for c in localizer.cameras] == list(range(1, 13))
+    assert localizer.cameras[0]["rotation"].shape == (3, 3)
+
+    one = localizer.localize(points[1])
+    assert one["label"].shape == () and one["probabilities"].shape == (12,)
+    assert one["label"] == got["label"][1] and one["error"] is None
+    np.testing.assert_array_equal(one["probabilities"], got["probabilities"][1])
+
+    empty = localizer.localize(np.zeros((0, 15, 2)))
+    assert empty["label"].shape == (0,) and empty["probabilities"].shape == (0, 12)
+    assert empty["error"] == []
+
+    rec = camloc.reconstruct(points)
+    assert rec["points3d"].shape == (3, 15, 3) and rec["points3d"].dtype == np.float64
+    assert rec["rotation"].shape == (3, 3, 3) and rec["translation"].shape == (3, 2)
+    assert rec["scale"].shape == rec["projection_error"].shape == rec["label"].shape == (3,)
+    np.testing.assert_array_equal(rec["label"], 0)  # opt classifies no camera
+    for r in rec["rotation"]:
+        np.testing.assert_allclose(r @ r.T, np.eye(3), atol=1e-9)
+    assert camloc.reconstruct(points[0])["points3d"].shape == (15, 3)
+
+    read = camloc.read_keypoints(KEYPOINTS / "example.json")
+    assert read["points"].shape == (3, 15, 2) and read["points"].dtype == np.float64
+    assert read["derived"].shape == (3, 15) and read["derived"].dtype == np.bool_
+    assert read["frames"].dtype == np.int64 and list(read["frames"]) == [-1] * 3
+    assert read["file_errors"] == []
+
+
+def test_other_dtypes_lists_and_strided_arrays_are_converted(localizer):
+    points = example_points()
+    reference = localizer.localize(points)
+    fortran = np.asfortranarray(points)
+    strided = np.repeat(points, 2, axis=0)[::2]
+    assert not strided.flags.c_contiguous
+    for variant in (fortran, strided, points.tolist()):
+        got = localizer.localize(variant)
+        np.testing.assert_array_equal(got["probabilities"], reference["probabilities"])
+    as_float32 = localizer.localize(points.astype(np.float32))
+    np.testing.assert_array_equal(as_float32["label"], reference["label"])
+    as_int = localizer.localize(np.round(points).astype(np.int32))
+    assert as_int["error"] == [None] * 3
+
+
+def test_nan_marks_missing_joints(localizer):
+    points = np.repeat(example_points(), 2, axis=0)
+    elbow = camloc.LANDMARKS.index("right_elbow")
+    points[1, elbow] = np.nan  # a missing limb joint: imputed, still localized
+    for name in ("pelvis", "left_hip"):  # no pelvis and it cannot be derived
+        points[2, camloc.LANDMARKS.index(name)] = np.nan
+    points[3, elbow, 0] = np.nan  # half a joint
+    points[4, elbow, 1] = np.inf
+    got = localizer.localize(points)
+    assert got["error"][0] is None and got["error"][1] is None and got["error"][5] is None
+    assert 1 <= got["label"][1] <= 12
+    assert "pelvis" in got["error"][2]
+    assert "one coordinate is NaN" in got["error"][3]
+    assert "not a finite number" in got["error"][4]
+    for i in (2, 3, 4):
+        assert got["label"][i] == 0 and np.isnan(got["probabilities"][i]).all()
+    np.testing.assert_array_equal(got["label"][[0, 5]], localizer.localize(points[[0, 5]])["label"])
+
+    rec = camloc.reconstruct(points[:2])
+    assert rec["error"][0] is None
+    assert "needs all 15 landmarks" in rec["error"][1] and "right_elbow" in rec["error"][1]
+    assert np.isnan(rec["points3d"][1]).all()
+
+
+def test_bad_shapes_layouts_and_options_raise_value_error(localizer):
+    points = example_points()
+    bad_calls = [
+        lambda: localizer.localize(points[:, :14]),
+        lambda: localizer.localize(points, layout="coco17"),
+        lambda: localizer.localize(np.zeros((3, 15, 4))),
+        lambda: localizer.localize(np.zeros(30)),
+        lambda: localizer.localize(np.zeros((1, 3, 15, 2))),
+        lambda: localizer.localize(points, layout="openpose"),
+        lambda: localizer.localize(points, scores=np.ones((3, 14))),
+        lambda: localizer.localize(np.zeros((3, 15, 3)), scores=np.ones((3, 15))),
+        lambda: localizer.localize(points, min_score=-0.5),
+        lambda: localizer.localize(points, min_score=float("nan")),
+        lambda: localizer.localize([[1.0, 2.0], [3.0]]),
+        lambda: camloc.reconstruct(points, camera="oracle"),
+        lambda: camloc.reconstruct(points, camera="best"),
+        lambda: camloc.reconstruct(points, layout="lsp"),
+        lambda: camloc.read_keypoints(KEYPOINTS / "example.json", format="yaml"),
+        lambda: camloc.read_keypoints(KEYPOINTS / "example.json", layout="coco18"),
+        lambda: camloc.read_keypoints(KEYPOINTS / "example.json", image_size=(0, 480)),
+        lambda: camloc.read_keypoints(KEYPOINTS / "example.json", lsp_invisible="hide"),
+    ]
+    for call in bad_calls:
+        with pytest.raises(ValueError):
+            call()
+    with pytest.raises(ValueError, match="layout coco17 has 17"):
+        localizer.localize(points, layout="coco17")
+    with pytest.raises(ValueError, match="unknown layout"):
+        localizer.localize(points, layout="openpose")
+
+
+def test_file_errors_are_exceptions_with_the_library_message(tmp_path):
+    with pytest.raises(OSError, match="no_such_file.json"):
+        camloc.read_keypoints(tmp_path / "no_such_file.json")
+    with pytest.raises(camloc.CamlocError, match="syntax.json"):
+        camloc.read_keypoints(KEYPOINTS / "bad" / "syntax.json")
+    with pytest.raises(OSError):
+        camloc.Localizer.load(tmp_path / "missing-model.bin")
+    with pytest.raises(camloc.CamlocError):
+        camloc.Localizer.load(KEYPOINTS / "example.json")
+    with pytest.raises(camloc.CamlocError):
+        camloc.reconstruct(example_points(), basis=ROOT / "fixtures" / "default-model.bin")
+
+
+def test_a_model_file_gives_the_embedded_models_answers(localizer):
+    loaded = camloc.Localizer.load(ROOT / "fixtures" / "default-model.bin")
+    points = example_points()
+    np.testing.assert_array_equal(
+        loaded.localize(points)["probabilities"], localizer.localize(points)["probabilities"]
+    )
+    classified = camloc.reconstruct(points, camera="classified", localizer=loaded)
+    np.testing.assert_array_equal(classified["label"], localizer.localize(points)["label"])
+
+
+def test_folders_read_every_file_and_report_bad_ones(tmp_path):
+    folder = camloc.read_keypoints(SAMPLES / "openpose")
+    assert list(folder["frames"]) == [0, 1, 1] and list(folder["persons"]) == [0, 0, 1]
+    shutil.copytree(SAMPLES / "openpose", tmp_path / "frames")
+    shutil.copy(
+        KEYPOINTS / "bad" / "openpose_truncated_000000000003_keypoints.json", tmp_path / "frames"
+    )
+    read = camloc.read_keypoints(tmp_path / "frames")
+    np.testing.assert_array_equal(read["points"], folder["points"])
+    assert len(read["file_errors"]) == 1
+    file, message = read["file_errors"][0]
+    assert file.endswith("openpose_truncated_000000000003_keypoints.json") and message
+
+
+def test_mediapipe_needs_and_uses_the_image_size():
+    path = SAMPLES / "mediapipe.json"
+    pixels = camloc.read_keypoints(path, image_size=(640, 480))["points"]
+    text = camloc.read_keypoints(path, image_size="640,480")["points"]
+    np.testing.assert_array_equal(pixels, text)
+    assert np.nanmax(pixels[..., 0]) > 1.5  # scaled from [0, 1] to pixels
+
+
+def test_a_100k_pose_batch(localizer):
+    base = example_points()
+    n = 100_000
+    rng = np.random.default_rng(7)
+    # Scaled and shifted copies: the descriptors are invariant to both.
+    scale = rng.uniform(0.5, 2.0, size=(n, 1, 1))
+    shift = rng.uniform(-500, 500, size=(n, 1, 2))
+    points = base[np.arange(n) % 3] * scale + shift
+    got = localizer.localize(points)
+    assert got["label"].shape == (n,) and got["probabilities"].shape == (n, 12)
+    assert got["error"] == [None] * n
+    reference = localizer.localize(base)
+    np.testing.assert_array_equal(got["label"], np.tile(reference["label"], n // 3 + 1)[:n])
+    np.testing.assert_allclose(
+        got["probabilities"], np.tile(reference["probabilities"], (n // 3 + 1, 1))[:n], atol=1e-9
+    )
+
+
+def test_threads_share_a_localizer(localizer):
+    points = np.tile(example_points(), (2000, 1, 1))
+    reference = localizer.localize(points)
+    results = [None] * 4
+
+    def work(k):
+        results[k] = localizer.localize(points)["probabilities"]
+
+    threads = [threading.Thread(target=work, args=(k,)) for k in range(4)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    for r in results:
+        np.testing.assert_array_equal(r, reference["probabilities"])
