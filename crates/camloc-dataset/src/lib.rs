@@ -10,13 +10,22 @@
 //! (SPEC.md section 7); [`Dataset::save`]/[`Dataset::load`] store it as a versioned,
 //! checksummed file ([`camloc_store`]). Splits are by subject ([`Dataset::split_by_subjects`]).
 
+mod augment;
+mod category;
 mod dataset;
 mod from_mocap;
 mod generate;
+mod select;
 
+pub use augment::{
+    Augmentation, angle_between_deg, camera_direction_deg, direction_vector, in_class_box,
+    nearest_by_direction,
+};
+pub use category::{CATEGORY_RULES, CategorySource, MocapIndex, MotionCategory, assign_categories};
 pub use dataset::{
     CameraCount, ClipInfo, DATASET_FILE, Dataset, DatasetError, DatasetHeader, Sample,
     default_test_subjects,
 };
 pub use from_mocap::{MocapSummary, default_cmu_folder, load_mocap_folders};
-pub use generate::{GenerateConfig, Jitter, PoseSequence, Protocol, generate};
+pub use generate::{GenerateConfig, Jitter, PoseSequence, Protocol, SPHERE_BAND_DEG, generate};
+pub use select::{DEFAULT_MIN_POSE_DISTANCE_MM, max_joint_distance_mm, select_by_pose};
