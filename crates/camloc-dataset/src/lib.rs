@@ -8,7 +8,17 @@
 //!
 //! [`generate`] builds a dataset from canonical 3D poses under a [`Protocol`]
 //! (SPEC.md section 7); [`Dataset::save`]/[`Dataset::load`] store it as a versioned,
-//! checksummed file ([`camloc_store`]). Splits are by subject ([`Dataset::split_by_subjects`]).
+//! checksummed file ([`camloc_store`]). Splits are by subject ([`Dataset::split_by_subjects`])
+//! or by motion category ([`Dataset::split_by_category`], leave-one-category-out).
+//!
+//! Frames are chosen by pose ([`select_by_pose`]: a frame is kept when its maximum per-joint
+//! distance to every frame kept before it in its clip exceeds a threshold in mm), so static
+//! stretches, repeated cycles and frame rates do not decide what a model sees. Each clip
+//! carries a [`MotionCategory`] read from the CMU index text ([`MocapIndex`],
+//! [`assign_categories`]). The `sphere` protocol draws camera directions anywhere in the band
+//! the Table-1 cameras cover and labels each with the nearest camera, recording whether it
+//! lies in that camera's class box; [`Augmentation`] varies bone lengths and the neck, pelvis
+//! and head placements of photo annotations.
 
 mod augment;
 mod category;
