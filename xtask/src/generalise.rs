@@ -282,6 +282,20 @@ pub fn run(args: &Args) -> Result<(), String> {
             100.0 * ins.accuracy,
             inside.samples.len()
         );
+        println!(
+            "\n{name}, jittered test: folded (back -> front) {:.2}%; per level, exact camera / right level: {}",
+            100.0 * jit.accuracy_folded,
+            jit.per_level
+                .iter()
+                .map(|l| format!(
+                    "{} {:.2}% / {:.2}%",
+                    l.level.name(),
+                    100.0 * l.accuracy,
+                    100.0 * l.level_accuracy
+                ))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
         // Continuous viewpoint: heads fitted on sphere-protocol views of the training
         // subjects (directions everywhere in the band), calibrated on jittered training views.
         let sphere_train = project(
