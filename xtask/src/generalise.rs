@@ -10,7 +10,7 @@ use std::time::Instant;
 use camloc::PartialPose2;
 use camloc::dataset::{
     Augmentation, Dataset, GenerateConfig, MotionCategory, PoseSequence, Protocol,
-    camera_direction_deg, direction_vector,
+    camera_direction_deg, direction_vector, nearest_by_direction,
 };
 use camloc::learning::{DirectionHeads, Features, LogisticRegression, angle_deg};
 use camloc::{CameraLocalizer, Descriptor, TrainOptions, cross_validate, evaluate};
@@ -123,8 +123,16 @@ fn viewpoint_errors(
     let mut head_err = Vec::new();
     let mut centre_err = Vec::new();
     let mut covered = 0usize;
-    for ((row, t), &(class, p)) in x.chunks_exact(d).zip(&truth).zip(&picks) {
+    let mut relabelled = 0usize;
+    for (((row, t), &(class, p)), s) in x.chunks_exact(d).zip(&truth).zip(&picks).zip(&data.samples)
+    {
         let u = heads.predict(class, row).map_err(|e| e.to_string())?;
+        let (az, el) = (
+            u[1].atan2(u[0]).to_degrees(),
+            u[2].clamp(-1.0, 1.0).asin().to_degrees(),
+        );
+        relabelled +=
+            usize::from(nearest_by_direction(localizer.cameras(), az, el).label == s.label);
         let e = angle_deg(&u, t);
         covered += usize::from(e <= heads.uncertainty_deg(p));
         head_err.push(e);
@@ -143,8 +151,9 @@ fn viewpoint_errors(
     let (hm, hb) = stats(&mut head_err);
     let (cm, cb) = stats(&mut centre_err);
     Ok(format!(
-        "heads: median {hm:.1} deg, {hb:.2}% beyond 45 deg, {:.1}% within the stated uncertainty; class centre: median {cm:.1} deg, {cb:.2}% beyond 45 deg",
-        100.0 * covered as f64 / head_err.len() as f64
+        "heads: median {hm:.1} deg, {hb:.2}% beyond 45 deg, {:.1}% within the stated uncertainty; class centre: median {cm:.1} deg, {cb:.2}% beyond 45 deg; label = camera nearest the heads' direction: {:.2}% correct",
+        100.0 * covered as f64 / head_err.len() as f64,
+        100.0 * relabelled as f64 / head_err.len() as f64
     ))
 }
 
