@@ -5,8 +5,8 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use camloc_dataset::{
-    Dataset, GenerateConfig, MocapSummary, PoseSequence, Protocol, default_test_subjects, generate,
-    load_mocap_folders,
+    Augmentation, DEFAULT_MIN_POSE_DISTANCE_MM, Dataset, GenerateConfig, MocapIndex, MocapSummary,
+    PoseSequence, Protocol, assign_categories, default_test_subjects, generate, load_mocap_folders,
 };
 use camloc_geometry::CameraSet;
 
@@ -25,13 +25,34 @@ pub struct Args {
     /// Output dataset file (refuses to overwrite unless --force).
     #[arg(long, value_name = "FILE")]
     pub out: PathBuf,
-    /// Projection protocol: canonical (Table-1 cameras exactly, orthographic) or jittered
-    /// (jittered cameras, perspective from 3-8 m, 2D noise).
+    /// Projection protocol: canonical (Table-1 cameras exactly, orthographic), jittered
+    /// (jittered cameras, perspective from 3-8 m, 2D noise) or sphere (camera directions
+    /// uniform over |elevation| <= 67.5 deg, labelled with the nearest camera).
     #[arg(long, default_value = "canonical", value_parser = parse_protocol)]
     pub protocol: Protocol,
-    /// Use every N-th mocap frame (CMU is 120 fps: 10 gives 12 poses per second).
-    #[arg(long, default_value_t = 10, value_name = "N")]
+    /// Consider every N-th mocap frame only (before selection by pose).
+    #[arg(long, default_value_t = 1, value_name = "N")]
     pub stride: usize,
+    /// Selection by pose: keep a frame when the largest distance of any joint to the same
+    /// joint of every frame already kept for its clip is more than MM millimetres (canonical
+    /// poses); 0 keeps every (strided) frame.
+    #[arg(long, default_value_t = DEFAULT_MIN_POSE_DISTANCE_MM, value_name = "MM")]
+    pub min_pose_distance: f64,
+    /// The CMU index text giving each clip's motion category
+    /// [default: cmu-mocap-index-text.txt in the first --mocap folder, or in the default one].
+    #[arg(long, value_name = "FILE")]
+    pub index: Option<PathBuf>,
+    /// Augment each sample: bone lengths scaled by up to +-10% per limb, photo-annotation
+    /// placements of neck, pelvis and head for half of the samples.
+    #[arg(long)]
+    pub augment: bool,
+    /// Camera roll bound about the optical axis, degrees (jittered and sphere) [default: 5].
+    #[arg(long, value_name = "DEG")]
+    pub roll: Option<f64>,
+    /// Camera distance range from the pelvis, metres, as NEAR,FAR (jittered and sphere)
+    /// [default: 3,8].
+    #[arg(long, value_name = "NEAR,FAR", value_delimiter = ',', num_args = 2)]
+    pub distance: Vec<f64>,
     /// 2D Gaussian noise sigma as a fraction of the 2D torso length
     /// [default: 0 for canonical, 0.03 for jittered].
     #[arg(long, value_name = "F")]
@@ -111,6 +132,36 @@ pub fn load_sequences(
     Ok((sequences, summary, warnings))
 }
 
+/// Sets every sequence's motion category from the CMU index at `index` (default:
+/// `cmu-mocap-index-text.txt` in the first of `folders`, or in the default CMU folder), with
+/// a warning on stderr for a missing index or subjects it does not describe. Returns the
+/// number of warnings.
+pub fn categorise(
+    sequences: &mut [PoseSequence],
+    folders: &[PathBuf],
+    index: Option<&PathBuf>,
+) -> usize {
+    let path = index.cloned().unwrap_or_else(|| {
+        folders
+            .first()
+            .cloned()
+            .unwrap_or_else(|| camloc::skeleton::data::data_folder().join("cmu"))
+            .join("cmu-mocap-index-text.txt")
+    });
+    let index = match MocapIndex::load(&path) {
+        Ok(index) => index,
+        Err(e) => {
+            eprintln!("warning: no motion categories (every clip is 'other'): {e}");
+            return 1;
+        }
+    };
+    let warnings = assign_categories(sequences, &index);
+    for w in &warnings {
+        eprintln!("warning: {w}");
+    }
+    warnings.len()
+}
+
 /// Generates a dataset from loaded sequences, with progress on stderr.
 pub fn project(sequences: &[PoseSequence], config: &GenerateConfig) -> Result<Dataset, String> {
     let projecting = std::sync::Mutex::new(Progress::new("projecting clips"));
@@ -133,10 +184,21 @@ pub fn run(args: &Args) -> Result<(), String> {
             ));
         }
     }
-    let (sequences, summary, warnings) = load_sequences(&args.mocap)?;
+    let (mut sequences, summary, mut warnings) = load_sequences(&args.mocap)?;
+    warnings += categorise(&mut sequences, &args.mocap, args.index.as_ref());
     let mut config = GenerateConfig::new(args.protocol);
     config.cameras = args.sphere.clone();
     config.stride = args.stride;
+    config.min_pose_distance_mm = args.min_pose_distance;
+    if args.augment {
+        config.augmentation = Augmentation::TRAINING;
+    }
+    if let Some(roll) = args.roll {
+        config.jitter.roll_deg = roll;
+    }
+    if let [near, far] = args.distance[..] {
+        config.jitter.distance_m = (near, far);
+    }
     config.noise_fraction = args.noise.unwrap_or(args.protocol.default_noise_fraction());
     config.seed = args.seed;
     config.drop_landmarks = args.drop_landmarks;
@@ -175,18 +237,19 @@ pub fn run(args: &Args) -> Result<(), String> {
 
     let subjects = dataset.subjects();
     println!(
-        "wrote {} ({} samples, protocol {}, {} cameras, stride {}, noise {}, seed {}) in {:.1} s",
+        "wrote {} ({} samples, protocol {}, {} cameras, stride {}, min pose distance {} mm, noise {}, seed {}) in {:.1} s",
         args.out.display(),
         dataset.samples.len(),
         config.protocol,
         config.cameras.len(),
         config.stride,
+        config.min_pose_distance_mm,
         config.noise_fraction,
         config.seed,
         start.elapsed().as_secs_f64()
     );
     println!(
-        "files: {} read, {} skipped; frames: {} read, {} degenerate dropped, {} used after stride",
+        "files: {} read, {} skipped; frames: {} read, {} degenerate dropped, {} used after stride and selection",
         summary.files_read,
         summary.skipped.len(),
         summary.frames,
@@ -202,6 +265,24 @@ pub fn run(args: &Args) -> Result<(), String> {
         println!(
             "  {s:>6}: {:>3} clips, {n:>7} samples",
             clips_per_subject.get(s.as_str()).copied().unwrap_or(0)
+        );
+    }
+    println!("samples per motion category:");
+    for (category, n) in dataset.samples_per_category() {
+        let clips = dataset
+            .samples
+            .iter()
+            .filter(|s| dataset.category_of(s) == category)
+            .map(|s| s.clip)
+            .collect::<std::collections::BTreeSet<_>>()
+            .len();
+        println!("  {:<10} {clips:>3} clips, {n:>7} samples", category.name());
+    }
+    if config.protocol == Protocol::Sphere {
+        let inside = dataset.samples.iter().filter(|s| s.in_class_box).count();
+        println!(
+            "inside the class boxes: {inside} of {} samples",
+            dataset.samples.len()
         );
     }
     println!("samples per camera:");

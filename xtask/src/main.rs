@@ -3,6 +3,7 @@
 //! * `cargo xtask gen-dataset`: project real mocap through a camera sphere into a dataset file.
 //! * `cargo xtask train-default`: train the default model embedded in the `camloc` binary.
 //! * `cargo xtask report`: measure everything and write docs/RESULTS.md.
+//! * `cargo xtask generalise`: accuracy per motion category, leave-one-category-out, sphere.
 //! * `cargo xtask compare-sklearn`: camloc's Newton solver against scikit-learn on one matrix.
 
 use std::process::ExitCode;
@@ -11,6 +12,7 @@ use clap::{Parser, Subcommand};
 
 mod compare_sklearn;
 mod gen_dataset;
+mod generalise;
 mod progress;
 mod report;
 mod train_default;
@@ -32,6 +34,9 @@ enum Command {
     TrainDefault(train_default::Args),
     /// Measure localization (and reconstruction) and write docs/RESULTS.md.
     Report(report::Args),
+    /// Measure generalisation: per motion category, leave-one-category-out, sphere protocol,
+    /// joints against joints-quadratic (issue 11). Prints markdown tables.
+    Generalise(generalise::Args),
     /// Compare camloc's Newton solver with scikit-learn on the same design matrix.
     CompareSklearn(compare_sklearn::Args),
 }
@@ -43,6 +48,7 @@ fn main() -> ExitCode {
         Command::TrainDefault(args) => train_default::run(&args),
         Command::Report(args) => report::run(&args),
         Command::CompareSklearn(args) => compare_sklearn::run(&args),
+        Command::Generalise(args) => generalise::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

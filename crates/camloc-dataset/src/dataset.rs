@@ -8,12 +8,12 @@ use camloc_skeleton::{Pose2, Pose3};
 use camloc_store::{FileKind, StoreError};
 use serde::{Deserialize, Serialize};
 
-use crate::Protocol;
+use crate::{Augmentation, Jitter, MotionCategory, Protocol};
 
 /// The dataset file kind: magic bytes and the format version this build reads and writes.
 pub const DATASET_FILE: FileKind = FileKind {
     magic: *b"CAMLOCDS",
-    version: 1,
+    version: 2,
     what: "dataset",
 };
 
@@ -55,6 +55,20 @@ pub struct ClipInfo {
     pub subject: String,
     /// Clip name (file stem, e.g. `"35_02"`).
     pub name: String,
+    /// What the person does in the clip (from the CMU index; [`MotionCategory::Other`] when
+    /// unknown).
+    pub category: MotionCategory,
+}
+
+impl ClipInfo {
+    /// A clip of `subject` called `name`, of category [`MotionCategory::Other`].
+    pub fn new(subject: impl Into<String>, name: impl Into<String>) -> ClipInfo {
+        ClipInfo {
+            subject: subject.into(),
+            name: name.into(),
+            category: MotionCategory::Other,
+        }
+    }
 }
 
 /// How a dataset was made.
@@ -68,8 +82,15 @@ pub struct DatasetHeader {
     pub cameras: CameraSet,
     /// Random seed (jitter, noise).
     pub seed: u64,
-    /// Frame stride: every `stride`-th mocap frame was used.
+    /// Frame stride: every `stride`-th mocap frame was considered.
     pub stride: usize,
+    /// Frame selection by pose: a strided frame was kept when its maximum per-joint distance
+    /// to every frame kept before it in its clip was more than this (mm); 0 for none.
+    pub min_pose_distance_mm: f64,
+    /// The 3D pose augmentation applied per sample.
+    pub augmentation: Augmentation,
+    /// Camera jitter, roll and distance of the perspective protocols.
+    pub jitter: Jitter,
     /// 2D noise standard deviation as a fraction of the 2D torso length (0 for none).
     pub noise_fraction: f64,
     /// Clips the samples come from, indexed by [`Sample::clip`].
@@ -84,8 +105,12 @@ pub struct Sample {
     pub landmarks: Pose2,
     /// Bit `i` set when landmark `i` was dropped (treat as missing); 0 for complete poses.
     pub missing_mask: u16,
-    /// Camera class label (1-based, in [`DatasetHeader::cameras`]).
+    /// Camera class label (1-based, in [`DatasetHeader::cameras`]); under `sphere` the camera
+    /// nearest in direction.
     pub label: u16,
+    /// Whether the camera direction lies in the label's class box (azimuth and elevation
+    /// within the jitter bounds of its centre): always under `canonical` and `jittered`.
+    pub in_class_box: bool,
     /// The exact camera rotation used (rows: camera axes in world coordinates); equals the
     /// class rotation under `canonical`, a jittered one otherwise.
     pub rotation: Matrix3,
@@ -185,6 +210,51 @@ impl Dataset {
             .clips
             .get(sample.clip as usize)
             .map_or("?", |c| c.subject.as_str())
+    }
+
+    /// Motion category of a sample's clip.
+    pub fn category_of(&self, sample: &Sample) -> MotionCategory {
+        self.header
+            .clips
+            .get(sample.clip as usize)
+            .map_or(MotionCategory::Other, |c| c.category)
+    }
+
+    /// Samples per motion category, for every category that has any, in
+    /// [`MotionCategory::ALL`] order.
+    pub fn samples_per_category(&self) -> Vec<(MotionCategory, usize)> {
+        let mut counts = [0usize; MotionCategory::ALL.len()];
+        for s in &self.samples {
+            let c = self.category_of(s);
+            if let Some(i) = MotionCategory::ALL.iter().position(|&a| a == c) {
+                counts[i] += 1;
+            }
+        }
+        MotionCategory::ALL
+            .into_iter()
+            .zip(counts)
+            .filter(|(_, n)| *n > 0)
+            .collect()
+    }
+
+    /// Splits by motion category: samples of clips of `category` go to the second dataset,
+    /// all others to the first (leave-one-category-out). Both keep the full header.
+    pub fn split_by_category(&self, category: MotionCategory) -> (Dataset, Dataset) {
+        let (test, train): (Vec<Sample>, Vec<Sample>) = self
+            .samples
+            .iter()
+            .cloned()
+            .partition(|s| self.category_of(s) == category);
+        (
+            Dataset {
+                header: self.header.clone(),
+                samples: train,
+            },
+            Dataset {
+                header: self.header.clone(),
+                samples: test,
+            },
+        )
     }
 
     /// Clip name of a sample.

@@ -59,10 +59,7 @@ pub fn load_mocap_folders(
                     }
                 }
                 sequences.push(PoseSequence {
-                    clip: ClipInfo {
-                        subject: clip.subject,
-                        name: clip.clip,
-                    },
+                    clip: ClipInfo::new(clip.subject, clip.clip),
                     frames,
                 });
             }

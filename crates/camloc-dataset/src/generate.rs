@@ -14,7 +14,13 @@ use rand_distr::{Distribution, Normal};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use crate::{ClipInfo, Dataset, DatasetError, DatasetHeader, Sample};
+use crate::augment::{camera_direction_deg, in_class_box, nearest_by_direction};
+use crate::{Augmentation, ClipInfo, Dataset, DatasetError, DatasetHeader, Sample, select_by_pose};
+
+/// The elevation band of the `sphere` protocol, degrees: camera directions are drawn
+/// uniformly (by area) over `|elevation| <= SPHERE_BAND_DEG`, the band the 12 Table-1 cameras
+/// cover (their +-45 deg rings plus half the 45 deg spacing).
+pub const SPHERE_BAND_DEG: f64 = 67.5;
 
 /// How 3D poses are turned into labelled 2D samples.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -26,6 +32,12 @@ pub enum Protocol {
     /// (azimuth, elevation, roll), placed 3-8 m away with full perspective, and Gaussian noise
     /// is added to the 2D landmarks.
     Jittered,
+    /// Cameras anywhere: per sample a direction drawn uniformly over the sphere band
+    /// `|elevation| <= SPHERE_BAND_DEG` (uniform by area), roll, distance and noise as
+    /// `jittered`, perspective; the label is the camera of the set nearest in direction, and
+    /// [`Sample::in_class_box`] records whether the direction lies in that camera's jittered
+    /// class box.
+    Sphere,
 }
 
 impl Protocol {
@@ -34,15 +46,16 @@ impl Protocol {
         match self {
             Protocol::Canonical => "canonical",
             Protocol::Jittered => "jittered",
+            Protocol::Sphere => "sphere",
         }
     }
 
     /// Default 2D noise, as a fraction of the 2D torso length: 0 for canonical, 3% for
-    /// jittered.
+    /// jittered and sphere.
     pub const fn default_noise_fraction(self) -> f64 {
         match self {
             Protocol::Canonical => 0.0,
-            Protocol::Jittered => 0.03,
+            Protocol::Jittered | Protocol::Sphere => 0.03,
         }
     }
 }
@@ -53,8 +66,9 @@ impl std::str::FromStr for Protocol {
         match s {
             "canonical" => Ok(Protocol::Canonical),
             "jittered" => Ok(Protocol::Jittered),
+            "sphere" => Ok(Protocol::Sphere),
             other => Err(format!(
-                "unknown protocol '{other}' (expected canonical or jittered)"
+                "unknown protocol '{other}' (expected canonical, jittered or sphere)"
             )),
         }
     }
@@ -102,26 +116,37 @@ pub struct GenerateConfig {
     pub protocol: Protocol,
     /// Camera classes.
     pub cameras: CameraSet,
-    /// Use every `stride`-th frame (>= 1).
+    /// Use every `stride`-th frame (>= 1), before selection by pose.
     pub stride: usize,
+    /// Frame selection by pose ([`select_by_pose`]): of the strided frames of a clip, keep
+    /// one only when its maximum per-joint distance to every frame kept before it is more
+    /// than this many millimetres. 0 keeps every strided frame.
+    pub min_pose_distance_mm: f64,
+    /// Per-sample 3D pose augmentation (none by default).
+    pub augmentation: Augmentation,
     /// 2D Gaussian noise sigma as a fraction of the 2D torso length (>= 0).
     pub noise_fraction: f64,
     /// Random seed; the same seed and inputs give the same dataset.
     pub seed: u64,
-    /// Camera jitter (used by [`Protocol::Jittered`]).
+    /// Camera jitter (used by [`Protocol::Jittered`]; its roll and distance also by
+    /// [`Protocol::Sphere`], its azimuth and elevation bounds give the class boxes of
+    /// [`Sample::in_class_box`]).
     pub jitter: Jitter,
     /// Number of random non-torso landmarks to mark missing per sample (0..=13).
     pub drop_landmarks: usize,
 }
 
 impl GenerateConfig {
-    /// Defaults for `protocol`: Table-1 cameras, stride 1, the protocol's default noise,
-    /// seed 0, default jitter, no dropped landmarks.
+    /// Defaults for `protocol`: Table-1 cameras, stride 1, no selection by pose, no
+    /// augmentation, the protocol's default noise, seed 0, default jitter, no dropped
+    /// landmarks.
     pub fn new(protocol: Protocol) -> Self {
         GenerateConfig {
             protocol,
             cameras: CameraSet::table1(),
             stride: 1,
+            min_pose_distance_mm: 0.0,
+            augmentation: Augmentation::default(),
             noise_fraction: protocol.default_noise_fraction(),
             seed: 0,
             jitter: Jitter::default(),
@@ -140,6 +165,13 @@ impl GenerateConfig {
                 self.noise_fraction
             ));
         }
+        if !(self.min_pose_distance_mm >= 0.0 && self.min_pose_distance_mm.is_finite()) {
+            return bad(format!(
+                "minimum pose distance must be a finite number of mm >= 0, got {}",
+                self.min_pose_distance_mm
+            ));
+        }
+        self.augmentation.check().or_else(bad)?;
         if self.drop_landmarks > NUM_LANDMARKS - 2 {
             return bad(format!(
                 "can drop at most {} non-torso landmarks, asked for {}",
@@ -174,8 +206,10 @@ pub struct PoseSequence {
     pub frames: Vec<(u32, Pose3)>,
 }
 
-/// Projects every `stride`-th frame of every sequence through every camera of the set under
-/// the configured protocol. Deterministic for a given seed and input (each sample draws from
+/// Projects every `stride`-th frame of every sequence, thinned by pose
+/// ([`GenerateConfig::min_pose_distance_mm`]), through every camera of the set under the
+/// configured protocol (under `sphere`: through as many random directions as the set has
+/// cameras). Deterministic for a given seed and input (each sample draws from
 /// its own random stream keyed by clip, frame and camera, so parallelism does not change the
 /// result). `progress(done, total)` is called as sequences finish.
 ///
@@ -194,16 +228,20 @@ pub fn generate(
         .enumerate()
         .map(|(clip_index, seq)| {
             let mut out = Vec::new();
-            for (frame, pose3) in &seq.frames {
-                if !(*frame as usize).is_multiple_of(config.stride) {
-                    continue;
-                }
-                if !pose3.is_finite() {
-                    return Err(DatasetError::Invalid(format!(
-                        "clip {} frame {frame}: pose has a non-finite coordinate",
-                        seq.clip.name
-                    )));
-                }
+            let strided: Vec<&(u32, Pose3)> = seq
+                .frames
+                .iter()
+                .filter(|(frame, _)| (*frame as usize).is_multiple_of(config.stride))
+                .collect();
+            if let Some((frame, _)) = strided.iter().find(|(_, p)| !p.is_finite()) {
+                return Err(DatasetError::Invalid(format!(
+                    "clip {} frame {frame}: pose has a non-finite coordinate",
+                    seq.clip.name
+                )));
+            }
+            let poses: Vec<&Pose3> = strided.iter().map(|(_, p)| p).collect();
+            for k in select_by_pose(&poses, config.min_pose_distance_mm) {
+                let (frame, pose3) = strided[k];
                 for view in config.cameras.viewpoints() {
                     let mut rng = sample_rng(config.seed, clip_index as u32, *frame, view.label);
                     let mut sample =
@@ -229,6 +267,9 @@ pub fn generate(
             cameras: config.cameras.clone(),
             seed: config.seed,
             stride: config.stride,
+            min_pose_distance_mm: config.min_pose_distance_mm,
+            augmentation: config.augmentation,
+            jitter: config.jitter,
             noise_fraction: config.noise_fraction,
             clips: sequences.iter().map(|s| s.clip.clone()).collect(),
         },
@@ -257,14 +298,56 @@ fn symmetric(rng: &mut ChaCha8Rng, bound: f64) -> f64 {
     }
 }
 
-/// One sample: the projection of `pose3` by (a jittered version of) camera `view`; the caller
-/// fills in `clip` and `frame`.
+/// The augmentation's own random stream, apart from the camera's, so that datasets made
+/// without augmentation stay as they were.
+fn augmentation_rng(rng: &mut ChaCha8Rng) -> ChaCha8Rng {
+    ChaCha8Rng::seed_from_u64(mix(rng.clone().random::<u64>() ^ 0xA5A5_5A5A_C3C3_3C3C))
+}
+
+/// A perspective camera at `azimuth`, `elevation` (degrees), rolled by up to the jitter's
+/// roll bound and placed in its distance range; returns the projection and the rotation.
+fn perspective_view(
+    pose3: &Pose3,
+    azimuth: f64,
+    elevation: f64,
+    j: &Jitter,
+    rng: &mut ChaCha8Rng,
+) -> Result<([[f64; 2]; NUM_LANDMARKS], camloc_geometry::Matrix3), camloc_geometry::GeometryError> {
+    let roll = symmetric(rng, j.roll_deg).to_radians();
+    let (near, far) = j.distance_m;
+    let distance = if far > near {
+        rng.random_range(near..=far)
+    } else {
+        near
+    };
+    let centre = sphere_point(azimuth, elevation, distance);
+    let rotation = roll_about_optical_axis(&look_at_origin(centre)?, roll);
+    let camera = Perspective {
+        rotation,
+        centre,
+        focal: j.focal,
+    };
+    Ok((camera.project(&pose3.points)?, rotation))
+}
+
+/// One sample: the projection of `pose3` (augmented as configured) by (a jittered version
+/// of) camera `view`, or under `sphere` by a random camera; the caller fills in `clip` and
+/// `frame`.
 fn project_sample(
     pose3: &Pose3,
     view: &Viewpoint,
     config: &GenerateConfig,
     rng: &mut ChaCha8Rng,
 ) -> Result<Sample, camloc_geometry::GeometryError> {
+    let augmented;
+    let pose3 = if config.augmentation.is_active() {
+        augmented = config.augmentation.apply(pose3, &mut augmentation_rng(rng));
+        &augmented
+    } else {
+        pose3
+    };
+    let mut label = view.label;
+    let mut inside = true;
     let (points, rotation) = match config.protocol {
         Protocol::Canonical => (
             WeakPerspective::orthographic(view.rotation).project(&pose3.points),
@@ -275,21 +358,19 @@ fn project_sample(
             let azimuth = view.azimuth_deg + symmetric(rng, j.azimuth_deg);
             let elevation =
                 (view.elevation_deg + symmetric(rng, j.elevation_deg)).clamp(-89.0, 89.0);
-            let roll = symmetric(rng, j.roll_deg).to_radians();
-            let (near, far) = j.distance_m;
-            let distance = if far > near {
-                rng.random_range(near..=far)
-            } else {
-                near
-            };
-            let centre = sphere_point(azimuth, elevation, distance);
-            let rotation = roll_about_optical_axis(&look_at_origin(centre)?, roll);
-            let camera = Perspective {
-                rotation,
-                centre,
-                focal: j.focal,
-            };
-            (camera.project(&pose3.points)?, rotation)
+            perspective_view(pose3, azimuth, elevation, j, rng)?
+        }
+        Protocol::Sphere => {
+            let j = &config.jitter;
+            let azimuth = rng.random_range(0.0..360.0);
+            let band = SPHERE_BAND_DEG.to_radians().sin();
+            let elevation = rng.random_range(-band..=band).asin().to_degrees();
+            let (points, rotation) = perspective_view(pose3, azimuth, elevation, j, rng)?;
+            let (azimuth, elevation) = camera_direction_deg(&rotation);
+            let nearest = nearest_by_direction(&config.cameras, azimuth, elevation);
+            label = nearest.label;
+            inside = in_class_box(nearest, azimuth, elevation, j.azimuth_deg, j.elevation_deg);
+            (points, rotation)
         }
     };
     let mut landmarks = Pose2::new(points);
@@ -304,7 +385,8 @@ fn project_sample(
     Ok(Sample {
         landmarks,
         missing_mask: drop_mask(config.drop_landmarks, rng),
-        label: view.label,
+        label,
+        in_class_box: inside,
         rotation,
         clip: 0,
         frame: 0,
@@ -326,7 +408,7 @@ fn drop_mask(count: usize, rng: &mut ChaCha8Rng) -> u16 {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use camloc_geometry::procrustes_camera;
 
@@ -360,17 +442,11 @@ mod tests {
         }
         vec![
             PoseSequence {
-                clip: ClipInfo {
-                    subject: "1".into(),
-                    name: "1_01".into(),
-                },
+                clip: ClipInfo::new("1", "1_01"),
                 frames: frames.clone(),
             },
             PoseSequence {
-                clip: ClipInfo {
-                    subject: "2".into(),
-                    name: "2_01".into(),
-                },
+                clip: ClipInfo::new("2", "2_01"),
                 frames,
             },
         ]
@@ -412,6 +488,46 @@ mod tests {
                 "pelvis and neck never dropped"
             );
         }
+    }
+
+    #[test]
+    fn sphere_labels_are_nearest_cameras_and_boxes_are_recorded() {
+        let mut config = GenerateConfig::new(Protocol::Sphere);
+        config.seed = 5;
+        config.augmentation = Augmentation::TRAINING;
+        let d = generate(&sequences(), &config, &|_, _| {}).unwrap();
+        assert_eq!(d.samples.len(), 2 * 6 * 12);
+        let mut inside = 0;
+        for s in &d.samples {
+            let (az, el) = camera_direction_deg(&s.rotation);
+            assert!(el.abs() <= SPHERE_BAND_DEG + 1e-9);
+            assert_eq!(
+                nearest_by_direction(&d.header.cameras, az, el).label,
+                s.label
+            );
+            let v = d.header.cameras.get(s.label).unwrap();
+            assert_eq!(s.in_class_box, in_class_box(v, az, el, 30.0, 15.0));
+            inside += usize::from(s.in_class_box);
+        }
+        // The boxes cover 3 x 30 deg of the 135 deg band (less by area): some, not all.
+        assert!(inside > 0 && inside < d.samples.len(), "{inside}");
+    }
+
+    #[test]
+    fn selection_by_pose_drops_near_duplicates() {
+        let mut config = GenerateConfig::new(Protocol::Canonical);
+        // Consecutive frames differ by 50 mm at the wrist.
+        config.min_pose_distance_mm = 70.0;
+        let d = generate(&sequences(), &config, &|_, _| {}).unwrap();
+        let frames: Vec<u32> = d
+            .samples
+            .iter()
+            .filter(|s| s.clip == 0 && s.label == 1)
+            .map(|s| s.frame)
+            .collect();
+        assert_eq!(frames, vec![0, 2, 4]);
+        config.min_pose_distance_mm = f64::NAN;
+        assert!(generate(&sequences(), &config, &|_, _| {}).is_err());
     }
 
     #[test]

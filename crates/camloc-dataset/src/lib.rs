@@ -8,15 +8,34 @@
 //!
 //! [`generate`] builds a dataset from canonical 3D poses under a [`Protocol`]
 //! (docs/conventions.md section 7); [`Dataset::save`]/[`Dataset::load`] store it as a versioned,
-//! checksummed file ([`camloc_store`]). Splits are by subject ([`Dataset::split_by_subjects`]).
+//! checksummed file ([`camloc_store`]). Splits are by subject ([`Dataset::split_by_subjects`])
+//! or by motion category ([`Dataset::split_by_category`], leave-one-category-out).
+//!
+//! Frames are chosen by pose ([`select_by_pose`]: a frame is kept when its maximum per-joint
+//! distance to every frame kept before it in its clip exceeds a threshold in mm), so static
+//! stretches, repeated cycles and frame rates do not decide what a model sees. Each clip
+//! carries a [`MotionCategory`] read from the CMU index text ([`MocapIndex`],
+//! [`assign_categories`]). The `sphere` protocol draws camera directions anywhere in the band
+//! the Table-1 cameras cover and labels each with the nearest camera, recording whether it
+//! lies in that camera's class box; [`Augmentation`] varies bone lengths and the neck, pelvis
+//! and head placements of photo annotations.
 
+mod augment;
+mod category;
 mod dataset;
 mod from_mocap;
 mod generate;
+mod select;
 
+pub use augment::{
+    Augmentation, angle_between_deg, camera_direction_deg, direction_vector, in_class_box,
+    nearest_by_direction,
+};
+pub use category::{CATEGORY_RULES, CategorySource, MocapIndex, MotionCategory, assign_categories};
 pub use dataset::{
     CameraCount, ClipInfo, DATASET_FILE, Dataset, DatasetError, DatasetHeader, Sample,
     default_test_subjects,
 };
 pub use from_mocap::{MocapSummary, load_mocap_folders};
-pub use generate::{GenerateConfig, Jitter, PoseSequence, Protocol, generate};
+pub use generate::{GenerateConfig, Jitter, PoseSequence, Protocol, SPHERE_BAND_DEG, generate};
+pub use select::{DEFAULT_MIN_POSE_DISTANCE_MM, max_joint_distance_mm, select_by_pose};

@@ -9,6 +9,9 @@
 //!   allocation-free with [`LogisticModel::predict_proba_into`], in parallel with
 //!   [`LogisticModel::predict_proba_batch`], and saves/loads itself in a versioned,
 //!   checksummed binary format ([`LogisticModel::save`], [`LogisticModel::load`]).
+//! * [`RidgeModel`] (multi-output ridge regression) and [`DirectionHeads`] (one ridge
+//!   regression of a unit direction per class, with a calibrated uncertainty) refine a
+//!   class into a continuous direction.
 //! * [`cross_validate_grouped`] selects hyper-parameters by k-fold cross-validation with
 //!   groups (subjects) kept within one fold.
 //!
@@ -45,6 +48,7 @@ mod hessian;
 mod model;
 pub mod newton;
 mod persist;
+mod ridge;
 mod softmax;
 mod standardise;
 
@@ -55,5 +59,6 @@ pub use error::LearningError;
 pub use model::LogisticModel;
 pub use newton::{FitReport, IterationLog, NewtonProblem, Termination};
 pub use persist::{FORMAT_VERSION, MAGIC};
+pub use ridge::{CONFIDENCE_BINS, DirectionHeads, RidgeModel, angle_deg};
 pub use softmax::softmax_in_place;
 pub use standardise::Standardiser;

@@ -30,10 +30,7 @@ fn pose(t: f64) -> Pose3 {
 fn sequences() -> Vec<PoseSequence> {
     (0..4)
         .map(|subject| PoseSequence {
-            clip: ClipInfo {
-                subject: subject.to_string(),
-                name: format!("{subject}_01"),
-            },
+            clip: ClipInfo::new(subject.to_string(), format!("{subject}_01")),
             frames: (0..20u32)
                 .map(|f| (f, pose(f as f64 * 0.3 + subject as f64)))
                 .collect(),

@@ -1,0 +1,338 @@
+//! Multi-output ridge regression on standardised features, and [`DirectionHeads`]: one
+//! ridge regression of a unit 3D direction per class, the continuous refinement of a
+//! classifier whose classes are directions (camera viewpoints).
+
+use faer::linalg::solvers::Solve;
+use faer::{Mat, Side};
+use serde::{Deserialize, Serialize};
+
+use crate::{Features, LearningError, Standardiser};
+
+/// A fitted multi-output ridge regression `y = W ((x - mean) / scale) + b`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RidgeModel {
+    standardiser: Standardiser,
+    /// `n_outputs x d`, row-major.
+    weights: Vec<f64>,
+    biases: Vec<f64>,
+}
+
+impl RidgeModel {
+    /// Fits `min_W,b sum_i ||y_i - W z_i - b||^2 + lambda ||W||_F^2` on standardised
+    /// features `z_i` (the standardiser is fitted on `x` and kept), with `y` row-major
+    /// `n x n_outputs`. The bias is not penalised (it is the mean of `y`).
+    ///
+    /// # Errors
+    /// [`LearningError::NoSamples`], [`LearningError::SizeMismatch`] for a `y` of the wrong
+    /// length, [`LearningError::InvalidParameter`] for a negative or non-finite `lambda` or
+    /// a non-finite target, [`LearningError::Singular`] when the regularised Gram matrix
+    /// cannot be factorised (`lambda = 0` with dependent features).
+    pub fn fit(
+        x: &Features<'_>,
+        y: &[f64],
+        n_outputs: usize,
+        lambda: f64,
+    ) -> Result<RidgeModel, LearningError> {
+        let (n, d) = (x.n_samples(), x.n_features());
+        if n == 0 {
+            return Err(LearningError::NoSamples);
+        }
+        if y.len() != n * n_outputs || n_outputs == 0 {
+            return Err(LearningError::SizeMismatch {
+                what: "targets (n_samples x n_outputs, n_outputs >= 1)",
+                expected: n * n_outputs.max(1),
+                found: y.len(),
+            });
+        }
+        if !(lambda.is_finite() && lambda >= 0.0) {
+            return Err(LearningError::InvalidParameter {
+                name: "lambda",
+                value: lambda.to_string(),
+                reason: "must be finite and >= 0",
+            });
+        }
+        if let Some(v) = y.iter().find(|v| !v.is_finite()) {
+            return Err(LearningError::InvalidParameter {
+                name: "target",
+                value: v.to_string(),
+                reason: "targets must be finite",
+            });
+        }
+        let standardiser = Standardiser::fit(x);
+        let (means, scales) = (standardiser.means(), standardiser.scales());
+        let z = Mat::<f64>::from_fn(n, d, |i, j| (x.data()[i * d + j] - means[j]) / scales[j]);
+        let mut y_mean = vec![0.0; n_outputs];
+        for row in y.chunks_exact(n_outputs) {
+            for (m, v) in y_mean.iter_mut().zip(row) {
+                *m += v / n as f64;
+            }
+        }
+        let yc = Mat::<f64>::from_fn(n, n_outputs, |i, k| y[i * n_outputs + k] - y_mean[k]);
+        let mut gram = z.transpose() * &z;
+        for j in 0..d {
+            gram[(j, j)] += lambda;
+        }
+        let rhs = z.transpose() * &yc;
+        let llt = gram
+            .as_ref()
+            .llt(Side::Lower)
+            .map_err(|_| LearningError::Singular {
+                iteration: 0,
+                damping: lambda,
+            })?;
+        let w = llt.solve(&rhs);
+        let weights = (0..n_outputs)
+            .flat_map(|k| (0..d).map(move |j| (k, j)))
+            .map(|(k, j)| w[(j, k)])
+            .collect();
+        Ok(RidgeModel {
+            standardiser,
+            weights,
+            biases: y_mean,
+        })
+    }
+
+    /// Number of input features.
+    pub fn n_features(&self) -> usize {
+        self.standardiser.n_features()
+    }
+
+    /// Number of outputs.
+    pub fn n_outputs(&self) -> usize {
+        self.biases.len()
+    }
+
+    /// Predicts the outputs of one raw feature row `x` into `out` (length
+    /// [`n_outputs`](Self::n_outputs)), without allocating.
+    ///
+    /// # Errors
+    /// [`LearningError::SizeMismatch`] for wrong lengths.
+    pub fn predict_into(&self, x: &[f64], out: &mut [f64]) -> Result<(), LearningError> {
+        let d = self.n_features();
+        if x.len() != d {
+            return Err(LearningError::SizeMismatch {
+                what: "feature row",
+                expected: d,
+                found: x.len(),
+            });
+        }
+        if out.len() != self.n_outputs() {
+            return Err(LearningError::SizeMismatch {
+                what: "output buffer",
+                expected: self.n_outputs(),
+                found: out.len(),
+            });
+        }
+        let (means, scales) = (self.standardiser.means(), self.standardiser.scales());
+        for ((o, w), b) in out
+            .iter_mut()
+            .zip(self.weights.chunks_exact(d))
+            .zip(&self.biases)
+        {
+            *o = b + x
+                .iter()
+                .zip(w)
+                .zip(means.iter().zip(scales))
+                .map(|((v, w), (m, s))| w * (v - m) / s)
+                .sum::<f64>();
+        }
+        Ok(())
+    }
+}
+
+/// Bounds of the probability bins of [`DirectionHeads`]' uncertainty calibration: the
+/// uncertainty of a prediction is looked up by the probability of its class.
+pub const CONFIDENCE_BINS: [f64; 4] = [0.5, 0.8, 0.95, 0.99];
+
+/// One ridge regression of a unit direction per class: given the class a classifier chose
+/// (or a sample's true class in training), predicts the direction from the same features,
+/// normalised to unit length. Each head is fitted only on samples of its class, so it
+/// resolves the direction within the class's region, where the mapping is close to linear.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct DirectionHeads {
+    heads: Vec<RidgeModel>,
+    /// Angular error (degrees) holding 68% of the calibration samples, per bin of
+    /// [`CONFIDENCE_BINS`] (below the first bound, between bounds, above the last).
+    uncertainty_deg: Vec<f64>,
+}
+
+impl DirectionHeads {
+    /// Fits one head per class `0..n_classes` on the samples of that class (`x` rows,
+    /// `directions` unit vectors `[x, y, z]` per sample, `classes` their class), with ridge
+    /// weight `lambda`. The uncertainty table is calibrated on `calibration`: per sample,
+    /// the class chosen, its probability, the features and the true direction.
+    ///
+    /// # Errors
+    /// [`LearningError::SizeMismatch`] for inconsistent lengths, [`LearningError::NoSamples`]
+    /// naming no class in particular when a class has no samples, and [`RidgeModel::fit`]'s
+    /// errors.
+    pub fn fit(
+        x: &Features<'_>,
+        directions: &[[f64; 3]],
+        classes: &[usize],
+        n_classes: usize,
+        lambda: f64,
+    ) -> Result<DirectionHeads, LearningError> {
+        let n = x.n_samples();
+        for (what, len) in [("directions", directions.len()), ("classes", classes.len())] {
+            if len != n {
+                return Err(LearningError::SizeMismatch {
+                    what,
+                    expected: n,
+                    found: len,
+                });
+            }
+        }
+        let d = x.n_features();
+        let heads = (0..n_classes)
+            .map(|k| {
+                let rows: Vec<usize> = (0..n).filter(|&i| classes[i] == k).collect();
+                let xs: Vec<f64> = rows
+                    .iter()
+                    .flat_map(|&i| x.data()[i * d..(i + 1) * d].iter().copied())
+                    .collect();
+                let ys: Vec<f64> = rows.iter().flat_map(|&i| directions[i]).collect();
+                RidgeModel::fit(&Features::new(&xs, d)?, &ys, 3, lambda)
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok(DirectionHeads {
+            heads,
+            uncertainty_deg: vec![f64::NAN; CONFIDENCE_BINS.len() + 1],
+        })
+    }
+
+    /// Calibrates the uncertainty table: for each sample (features `x` row, the class
+    /// `chosen` for it with probability `probability`, its true unit direction), the
+    /// angular error of [`predict`](Self::predict); per probability bin, the error below
+    /// which 68% of its samples lie (bins without samples take the next lower bin's value,
+    /// or 180 deg).
+    ///
+    /// # Errors
+    /// As [`predict`](Self::predict), and [`LearningError::SizeMismatch`].
+    pub fn calibrate(
+        &mut self,
+        x: &Features<'_>,
+        chosen: &[(usize, f64)],
+        directions: &[[f64; 3]],
+    ) -> Result<(), LearningError> {
+        let n = x.n_samples();
+        if chosen.len() != n || directions.len() != n {
+            return Err(LearningError::SizeMismatch {
+                what: "calibration classes and directions",
+                expected: n,
+                found: chosen.len().min(directions.len()),
+            });
+        }
+        let mut errors: Vec<Vec<f64>> = vec![Vec::new(); CONFIDENCE_BINS.len() + 1];
+        for ((row, &(class, p)), truth) in x.rows().zip(chosen).zip(directions) {
+            let u = self.predict(class, row)?;
+            errors[bin_of(p)].push(angle_deg(&u, truth));
+        }
+        let mut last = 180.0;
+        for (slot, mut e) in self.uncertainty_deg.iter_mut().zip(errors) {
+            if !e.is_empty() {
+                e.sort_by(f64::total_cmp);
+                last = e[((e.len() as f64 * 0.68).ceil() as usize).clamp(1, e.len()) - 1];
+            }
+            *slot = last;
+        }
+        Ok(())
+    }
+
+    /// The unit direction predicted by the head of `class` for the raw feature row `x`.
+    ///
+    /// # Errors
+    /// [`LearningError::LabelOutOfRange`] for an unknown class, [`RidgeModel::predict_into`]'s
+    /// errors.
+    pub fn predict(&self, class: usize, x: &[f64]) -> Result<[f64; 3], LearningError> {
+        let head = self
+            .heads
+            .get(class)
+            .ok_or(LearningError::LabelOutOfRange {
+                row: 0,
+                label: class,
+                n_classes: self.heads.len(),
+            })?;
+        let mut u = [0.0; 3];
+        head.predict_into(x, &mut u)?;
+        let norm = u.iter().map(|v| v * v).sum::<f64>().sqrt();
+        if norm > 0.0 {
+            u.iter_mut().for_each(|v| *v /= norm);
+        }
+        Ok(u)
+    }
+
+    /// The calibrated uncertainty (degrees, the angular radius holding about 68% of the
+    /// calibration errors) of a prediction whose class has probability `probability`; NaN
+    /// before [`calibrate`](Self::calibrate).
+    pub fn uncertainty_deg(&self, probability: f64) -> f64 {
+        self.uncertainty_deg
+            .get(bin_of(probability))
+            .copied()
+            .unwrap_or(f64::NAN)
+    }
+}
+
+fn bin_of(p: f64) -> usize {
+    CONFIDENCE_BINS.iter().take_while(|&&b| p >= b).count()
+}
+
+/// Angle in degrees between two unit vectors (atan2 of the cross and dot products, accurate
+/// at small angles where acos is not).
+pub fn angle_deg(u: &[f64; 3], v: &[f64; 3]) -> f64 {
+    let dot: f64 = (0..3).map(|k| u[k] * v[k]).sum();
+    let c = [
+        u[1] * v[2] - u[2] * v[1],
+        u[2] * v[0] - u[0] * v[2],
+        u[0] * v[1] - u[1] * v[0],
+    ];
+    c.iter()
+        .map(|x| x * x)
+        .sum::<f64>()
+        .sqrt()
+        .atan2(dot)
+        .to_degrees()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ridge_recovers_a_linear_map_and_heads_a_direction() {
+        // y = [2 x0 - x1 + 3, x1]; tiny lambda.
+        let x: Vec<f64> = (0..40)
+            .flat_map(|i| [i as f64 * 0.1, (i * i % 7) as f64])
+            .collect();
+        let y: Vec<f64> = x
+            .chunks(2)
+            .flat_map(|r| [2.0 * r[0] - r[1] + 3.0, r[1]])
+            .collect();
+        let f = Features::new(&x, 2).unwrap();
+        let m = RidgeModel::fit(&f, &y, 2, 1e-9).unwrap();
+        let mut out = [0.0; 2];
+        m.predict_into(&[1.5, 2.0], &mut out).unwrap();
+        assert!(
+            (out[0] - 4.0).abs() < 1e-6 && (out[1] - 2.0).abs() < 1e-6,
+            "{out:?}"
+        );
+        assert!(m.predict_into(&[1.0], &mut out).is_err());
+        assert!(RidgeModel::fit(&f, &y[..3], 2, 1.0).is_err());
+        assert!(RidgeModel::fit(&f, &y, 2, -1.0).is_err());
+
+        // Directions in the xy plane at angle a = x0, one class: the head predicts them.
+        let angles: Vec<f64> = (0..50).map(|i| -0.3 + 0.012 * i as f64).collect();
+        let xs: Vec<f64> = angles.iter().flat_map(|a| [a.cos(), a.sin()]).collect();
+        let dirs: Vec<[f64; 3]> = angles.iter().map(|a| [a.cos(), a.sin(), 0.0]).collect();
+        let fx = Features::new(&xs, 2).unwrap();
+        let mut heads = DirectionHeads::fit(&fx, &dirs, &vec![0; 50], 1, 1e-9).unwrap();
+        assert!(heads.uncertainty_deg(0.9).is_nan());
+        let chosen = vec![(0, 0.9); 50];
+        heads.calibrate(&fx, &chosen, &dirs).unwrap();
+        assert!(heads.uncertainty_deg(0.9) < 1e-3);
+        assert_eq!(heads.uncertainty_deg(0.2), 180.0);
+        let u = heads.predict(0, &[0.1f64.cos(), 0.1f64.sin()]).unwrap();
+        assert!(angle_deg(&u, &[0.1f64.cos(), 0.1f64.sin(), 0.0]) < 1e-3);
+        assert!(heads.predict(1, &[1.0, 0.0]).is_err());
+    }
+}

@@ -1,0 +1,388 @@
+//! `cargo xtask generalise`: how the localizer holds on motions and subjects it was not
+//! trained on (issue 11): accuracy per motion category on held-out subjects,
+//! leave-one-category-out, the `sphere` protocol, and the linear `joints` descriptor against
+//! `joints-quadratic`. Prints markdown tables; writes nothing.
+
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+use std::time::Instant;
+
+use camloc::PartialPose2;
+use camloc::dataset::{
+    Augmentation, Dataset, GenerateConfig, MotionCategory, PoseSequence, Protocol,
+    camera_direction_deg, direction_vector, nearest_by_direction,
+};
+use camloc::learning::{DirectionHeads, Features, LogisticRegression, angle_deg};
+use camloc::{CameraLocalizer, Descriptor, TrainOptions, cross_validate, evaluate};
+
+use crate::gen_dataset::{categorise, load_sequences, project};
+
+/// Arguments of `generalise`.
+#[derive(clap::Args)]
+pub struct Args {
+    /// Motion capture folders [default: ../shared/data/cmu].
+    #[arg(long = "mocap", value_name = "DIR")]
+    pub mocap: Vec<PathBuf>,
+    /// Frame selection by pose, millimetres of maximum per-joint distance.
+    #[arg(long, default_value_t = 150.0, value_name = "MM")]
+    pub min_pose_distance: f64,
+    /// Held-out subjects (never trained on; old and new ones).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "06,09,16,17,35,47,113,127,141"
+    )]
+    pub test_subjects: Vec<String>,
+    /// Descriptors compared.
+    #[arg(long, value_delimiter = ',', default_value = "joints,joints-quadratic")]
+    pub descriptors: Vec<String>,
+    /// Ridge weights tried by cross-validation grouped by subject on the training subjects.
+    #[arg(long, value_delimiter = ',', default_value = "1,10,100")]
+    pub lambdas: Vec<f64>,
+    /// Folds of that cross-validation (0: no cross-validation, the first lambda).
+    #[arg(long, default_value_t = 3)]
+    pub folds: usize,
+    /// Also run leave-one-category-out.
+    #[arg(long)]
+    pub loco: bool,
+    /// Train with augmentation (bone lengths, photo landmarks, roll up to 15 deg).
+    #[arg(long)]
+    pub augment: bool,
+    /// Add this many copies of landmark dropout in training (0: none).
+    #[arg(long, default_value_t = 0.0)]
+    pub dropout: f64,
+    /// Ridge weight of the continuous-viewpoint heads.
+    #[arg(long, default_value_t = 1.0)]
+    pub head_lambda: f64,
+}
+
+/// The localizer's descriptor of every sample (complete poses; undefined values imputed as
+/// the localizer does), row-major.
+fn features_of(localizer: &CameraLocalizer, data: &Dataset) -> Result<Vec<f64>, String> {
+    let descriptor = localizer.descriptor();
+    let d = descriptor.len();
+    let mut x = vec![0.0; data.samples.len() * d];
+    let mut undefined = vec![false; d];
+    for (row, s) in x.chunks_exact_mut(d).zip(&data.samples) {
+        let mut pose = PartialPose2::from(s.landmarks);
+        for (i, p) in pose.points.iter_mut().enumerate() {
+            if s.missing_mask & (1 << i) != 0 {
+                *p = None;
+            }
+        }
+        descriptor
+            .extract_partial_into(&pose, row, &mut undefined)
+            .map_err(|e| e.to_string())?;
+        for ((v, u), m) in row.iter_mut().zip(&undefined).zip(localizer.imputation()) {
+            if *u {
+                *v = *m;
+            }
+        }
+    }
+    Ok(x)
+}
+
+fn true_directions(data: &Dataset) -> Vec<[f64; 3]> {
+    data.samples
+        .iter()
+        .map(|s| {
+            let (a, e) = camera_direction_deg(&s.rotation);
+            direction_vector(a, e)
+        })
+        .collect()
+}
+
+/// (class chosen, its probability) for every sample.
+fn chosen(localizer: &CameraLocalizer, data: &Dataset) -> Result<Vec<(usize, f64)>, String> {
+    let poses: Vec<PartialPose2> = data
+        .samples
+        .iter()
+        .map(|s| PartialPose2::from(s.landmarks))
+        .collect();
+    localizer
+        .localize_batch(&poses)
+        .into_iter()
+        .map(|r| {
+            r.map(|l| (l.label.index(), l.probability))
+                .map_err(|e| e.to_string())
+        })
+        .collect()
+}
+
+/// Median error, share beyond 45 deg, share within the stated uncertainty, of the heads and
+/// of the chosen class centre, on `data`.
+fn viewpoint_errors(
+    localizer: &CameraLocalizer,
+    heads: &DirectionHeads,
+    data: &Dataset,
+) -> Result<String, String> {
+    let d = localizer.descriptor().len();
+    let x = features_of(localizer, data)?;
+    let truth = true_directions(data);
+    let picks = chosen(localizer, data)?;
+    let mut head_err = Vec::new();
+    let mut centre_err = Vec::new();
+    let mut covered = 0usize;
+    let mut relabelled = 0usize;
+    for (((row, t), &(class, p)), s) in x.chunks_exact(d).zip(&truth).zip(&picks).zip(&data.samples)
+    {
+        let u = heads.predict(class, row).map_err(|e| e.to_string())?;
+        let (az, el) = (
+            u[1].atan2(u[0]).to_degrees(),
+            u[2].clamp(-1.0, 1.0).asin().to_degrees(),
+        );
+        relabelled +=
+            usize::from(nearest_by_direction(localizer.cameras(), az, el).label == s.label);
+        let e = angle_deg(&u, t);
+        covered += usize::from(e <= heads.uncertainty_deg(p));
+        head_err.push(e);
+        let v = &localizer.cameras().viewpoints()[class];
+        centre_err.push(angle_deg(
+            &direction_vector(v.azimuth_deg, v.elevation_deg),
+            t,
+        ));
+    }
+    let stats = |e: &mut Vec<f64>| {
+        e.sort_by(f64::total_cmp);
+        let median = e[e.len() / 2];
+        let beyond = e.iter().filter(|&&v| v > 45.0).count() as f64 / e.len() as f64;
+        (median, 100.0 * beyond)
+    };
+    let (hm, hb) = stats(&mut head_err);
+    let (cm, cb) = stats(&mut centre_err);
+    Ok(format!(
+        "heads: median {hm:.1} deg, {hb:.2}% beyond 45 deg, {:.1}% within the stated uncertainty; class centre: median {cm:.1} deg, {cb:.2}% beyond 45 deg; label = camera nearest the heads' direction: {:.2}% correct",
+        100.0 * covered as f64 / head_err.len() as f64,
+        100.0 * relabelled as f64 / head_err.len() as f64
+    ))
+}
+
+fn config(protocol: Protocol, seed: u64, args: &Args, augment: bool) -> GenerateConfig {
+    let mut c = GenerateConfig::new(protocol);
+    c.seed = seed;
+    c.min_pose_distance_mm = args.min_pose_distance;
+    if augment {
+        c.augmentation = Augmentation::TRAINING;
+        c.jitter.roll_deg = 15.0;
+    }
+    c
+}
+
+fn accuracy_by_category(
+    localizer: &CameraLocalizer,
+    test: &Dataset,
+) -> Result<Vec<(MotionCategory, usize, f64)>, String> {
+    let mut out = Vec::new();
+    for (category, n) in test.samples_per_category() {
+        let (_, part) = test.split_by_category(category);
+        let e = evaluate(localizer, &part).map_err(|e| e.to_string())?;
+        out.push((category, n, e.accuracy));
+    }
+    Ok(out)
+}
+
+fn train(train: &Dataset, options: &TrainOptions) -> Result<(CameraLocalizer, f64, usize), String> {
+    let start = Instant::now();
+    let (localizer, report) =
+        CameraLocalizer::train(train, options, |_| {}).map_err(|e| e.to_string())?;
+    Ok((
+        localizer,
+        start.elapsed().as_secs_f64(),
+        report.newton_iterations(),
+    ))
+}
+
+/// Runs `generalise`.
+pub fn run(args: &Args) -> Result<(), String> {
+    let started = Instant::now();
+    let (mut sequences, _, _) = load_sequences(&args.mocap)?;
+    categorise(&mut sequences, &args.mocap, None);
+    let (train_seqs, test_seqs): (Vec<PoseSequence>, Vec<PoseSequence>) = sequences
+        .into_iter()
+        .partition(|s| !args.test_subjects.contains(&s.clip.subject));
+    let train_set = project(
+        &train_seqs,
+        &config(Protocol::Jittered, 1, args, args.augment),
+    )?;
+    let test_set = project(&test_seqs, &config(Protocol::Jittered, 2, args, false))?;
+    let sphere_set = project(&test_seqs, &config(Protocol::Sphere, 3, args, false))?;
+    println!(
+        "Training: {} samples of subjects {}; test: {} jittered and {} sphere samples of held-out subjects {}; min pose distance {} mm, augmentation {}, dropout copies {}.\n",
+        train_set.samples.len(),
+        train_set
+            .subjects()
+            .iter()
+            .map(|(s, _)| s.as_str())
+            .collect::<Vec<_>>()
+            .join(", "),
+        test_set.samples.len(),
+        sphere_set.samples.len(),
+        args.test_subjects.join(", "),
+        args.min_pose_distance,
+        args.augment,
+        args.dropout
+    );
+    let mut per_cat_train: BTreeMap<MotionCategory, usize> = BTreeMap::new();
+    for (c, n) in train_set.samples_per_category() {
+        per_cat_train.insert(c, n);
+    }
+    println!(
+        "| descriptor | lambda (CV) | CV accuracy | fit time | iterations | jittered | sphere, all | sphere, inside class boxes | per category (jittered) |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|");
+    let mut chosen_options = Vec::new();
+    for name in &args.descriptors {
+        let descriptor = Descriptor::from_name(name).map_err(|e| e.to_string())?;
+        let candidates: Vec<LogisticRegression> = args
+            .lambdas
+            .iter()
+            .map(|&l| LogisticRegression::default().with_lambda(l))
+            .collect();
+        let (regression, cv_accuracy) = if args.folds >= 2 && candidates.len() > 1 {
+            let cvs = cross_validate(&train_set, &[descriptor], &candidates, args.folds)
+                .map_err(|e| e.to_string())?;
+            let best = cvs
+                .first()
+                .and_then(|c| c.report.best_candidate())
+                .ok_or("no CV candidate")?;
+            for c in &cvs[0].report.candidates {
+                eprintln!(
+                    "{name}: lambda {} CV {:.4}",
+                    c.config.lambda, c.mean_accuracy
+                );
+            }
+            (best.config.clone(), Some(best.mean_accuracy))
+        } else {
+            (candidates[0].clone(), None)
+        };
+        let options = TrainOptions {
+            descriptor,
+            regression,
+            dropout: (args.dropout > 0.0).then(|| camloc::LandmarkDropout {
+                copies: args.dropout,
+                ..Default::default()
+            }),
+            mirror: true,
+        };
+        let (localizer, seconds, iterations) = train(&train_set, &options)?;
+        let jit = evaluate(&localizer, &test_set).map_err(|e| e.to_string())?;
+        let sph = evaluate(&localizer, &sphere_set).map_err(|e| e.to_string())?;
+        let inside = Dataset {
+            header: sphere_set.header.clone(),
+            samples: sphere_set
+                .samples
+                .iter()
+                .filter(|s| s.in_class_box)
+                .cloned()
+                .collect(),
+        };
+        let ins = evaluate(&localizer, &inside).map_err(|e| e.to_string())?;
+        let cats = accuracy_by_category(&localizer, &test_set)?
+            .iter()
+            .map(|(c, n, a)| format!("{} {:.2}% ({n})", c.name(), 100.0 * a))
+            .collect::<Vec<_>>()
+            .join("; ");
+        println!(
+            "| {name} | {} | {} | {seconds:.1} s | {iterations} | {:.2}% | {:.2}% | {:.2}% ({} samples) | {cats} |",
+            options.regression.lambda,
+            cv_accuracy.map_or("-".into(), |a| format!("{:.2}%", 100.0 * a)),
+            100.0 * jit.accuracy,
+            100.0 * sph.accuracy,
+            100.0 * ins.accuracy,
+            inside.samples.len()
+        );
+        println!(
+            "\n{name}, jittered test: folded (back -> front) {:.2}%; per level, exact camera / right level: {}",
+            100.0 * jit.accuracy_folded,
+            jit.per_level
+                .iter()
+                .map(|l| format!(
+                    "{} {:.2}% / {:.2}%",
+                    l.level.name(),
+                    100.0 * l.accuracy,
+                    100.0 * l.level_accuracy
+                ))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+        // Continuous viewpoint: heads fitted on sphere-protocol views of the training
+        // subjects (directions everywhere in the band), calibrated on jittered training views.
+        let sphere_train = project(
+            &train_seqs,
+            &config(Protocol::Sphere, 4, args, args.augment),
+        )?;
+        let xs = features_of(&localizer, &sphere_train)?;
+        let classes: Vec<usize> = sphere_train
+            .samples
+            .iter()
+            .map(|s| usize::from(s.label) - 1)
+            .collect();
+        let d = descriptor.len();
+        let fx = Features::new(&xs, d).map_err(|e| e.to_string())?;
+        let mut heads = DirectionHeads::fit(
+            &fx,
+            &true_directions(&sphere_train),
+            &classes,
+            localizer.cameras().len(),
+            args.head_lambda,
+        )
+        .map_err(|e| e.to_string())?;
+        let picks = chosen(&localizer, &sphere_train)?;
+        heads
+            .calibrate(&fx, &picks, &true_directions(&sphere_train))
+            .map_err(|e| e.to_string())?;
+        println!(
+            "\n{name}, continuous viewpoint (heads lambda {}): jittered test: {}; sphere test: {}\n",
+            args.head_lambda,
+            viewpoint_errors(&localizer, &heads, &test_set)?,
+            viewpoint_errors(&localizer, &heads, &sphere_set)?
+        );
+        chosen_options.push(options);
+    }
+    if args.loco {
+        println!(
+            "\nLeave-one-category-out (all subjects; train without the category, test on it, jittered):\n"
+        );
+        let all_seqs: Vec<PoseSequence> = train_seqs.iter().chain(&test_seqs).cloned().collect();
+        let all_train = project(
+            &all_seqs,
+            &config(Protocol::Jittered, 1, args, args.augment),
+        )?;
+        let all_test = project(&all_seqs, &config(Protocol::Jittered, 2, args, false))?;
+        println!(
+            "| category | test samples | {} |",
+            args.descriptors.join(" | ")
+        );
+        println!("|---|---|{}", "---|".repeat(args.descriptors.len()));
+        let mut means = vec![0.0; chosen_options.len()];
+        let mut count = 0usize;
+        for (category, _) in all_test.samples_per_category() {
+            let (train_part, _) = all_train.split_by_category(category);
+            let (_, test_part) = all_test.split_by_category(category);
+            let mut cells = Vec::new();
+            for (k, options) in chosen_options.iter().enumerate() {
+                let (localizer, _, _) = train(&train_part, options)?;
+                let e = evaluate(&localizer, &test_part).map_err(|e| e.to_string())?;
+                means[k] += e.accuracy * test_part.samples.len() as f64;
+                cells.push(format!("{:.2}%", 100.0 * e.accuracy));
+            }
+            count += test_part.samples.len();
+            println!(
+                "| {} | {} | {} |",
+                category.name(),
+                test_part.samples.len(),
+                cells.join(" | ")
+            );
+        }
+        println!(
+            "| all (sample-weighted) | {count} | {} |",
+            means
+                .iter()
+                .map(|m| format!("{:.2}%", 100.0 * m / count.max(1) as f64))
+                .collect::<Vec<_>>()
+                .join(" | ")
+        );
+    }
+    println!("\nTotal {:.0} s.", started.elapsed().as_secs_f64());
+    Ok(())
+}
