@@ -107,8 +107,9 @@ def reconstruct(
     basis: a pose basis file (default: the embedded one).
 
     Returns a dict:
-      points3d (N, 15, 3) float64: the 3D landmarks in metres, canonical body frame (pelvis at
-        the origin, z up), ``LANDMARKS`` order;
+      points3d (N, 15, 3) float64: the 3D landmarks in metres at the training-average body
+        size, in the basis's canonical body frame (pelvis at the origin, z up; see
+        docs/conventions.md), ``LANDMARKS`` order;
       rotation (N, 3, 3), scale (N,) (image units per metre), translation (N, 2) (image units):
         the weak-perspective camera, image = scale * rotation[:2] @ X + translation;
       projection_error (N,): norm of the reprojection residuals, image units;
