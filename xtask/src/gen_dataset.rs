@@ -4,6 +4,7 @@ use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::time::Instant;
 
+use camloc::store::Persist;
 use camloc_dataset::{
     Dataset, GenerateConfig, MocapSummary, PoseSequence, Protocol, default_cmu_folder,
     default_test_subjects, generate, load_mocap_folders,

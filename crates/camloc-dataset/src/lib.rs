@@ -7,7 +7,7 @@
 //! set, seed and versions, so a file says how it was made.
 //!
 //! [`generate`] builds a dataset from canonical 3D poses under a [`Protocol`]
-//! (SPEC.md section 7); [`Dataset::save`]/[`Dataset::load`] store it as a versioned,
+//! (SPEC.md section 7); `Dataset` implements [`camloc_store::Persist`] (save, load with validation) as a versioned,
 //! checksummed file ([`camloc_store`]). Splits are by subject ([`Dataset::split_by_subjects`]).
 
 mod dataset;
@@ -15,8 +15,7 @@ mod from_mocap;
 mod generate;
 
 pub use dataset::{
-    CameraCount, ClipInfo, DATASET_FILE, Dataset, DatasetError, DatasetHeader, Sample,
-    default_test_subjects,
+    CameraCount, ClipInfo, Dataset, DatasetError, DatasetHeader, Sample, default_test_subjects,
 };
 pub use from_mocap::{MocapSummary, default_cmu_folder, load_mocap_folders};
 pub use generate::{GenerateConfig, Jitter, PoseSequence, Protocol, generate};

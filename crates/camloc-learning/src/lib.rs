@@ -7,8 +7,8 @@
 //!   [`LogisticModel`], returning a [`FitReport`] with the per-iteration log.
 //! * [`LogisticModel`] predicts from raw features (the standardiser is stored inside),
 //!   allocation-free with [`LogisticModel::predict_proba_into`], in parallel with
-//!   [`LogisticModel::predict_proba_batch`], and saves/loads itself in a versioned,
-//!   checksummed binary format ([`LogisticModel::save`], [`LogisticModel::load`]).
+//!   [`LogisticModel::predict_proba_batch`]; it is stored inside the files of the crates
+//!   that use it, which run its [`camloc_store::Validate`] check after decoding.
 //! * [`cross_validate_grouped`] selects hyper-parameters by k-fold cross-validation with
 //!   groups (subjects) kept within one fold.
 //!
@@ -44,7 +44,6 @@ mod error;
 mod hessian;
 mod model;
 pub mod newton;
-mod persist;
 mod softmax;
 mod standardise;
 
@@ -54,6 +53,5 @@ pub use data::Features;
 pub use error::LearningError;
 pub use model::LogisticModel;
 pub use newton::{FitReport, IterationLog, NewtonProblem, Termination};
-pub use persist::{FORMAT_VERSION, MAGIC};
 pub use softmax::softmax_in_place;
 pub use standardise::Standardiser;

@@ -53,6 +53,5 @@ pub fn store_exists(path: &std::path::Path) -> CamlocError {
 }
 
 pub use localizer::{
-    CameraLocalizer, DEFAULT_LAMBDA, LandmarkDropout, Localization, MODEL_FILE, TrainOptions,
-    TrainingInfo,
+    CameraLocalizer, DEFAULT_LAMBDA, LandmarkDropout, Localization, TrainOptions, TrainingInfo,
 };

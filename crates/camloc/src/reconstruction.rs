@@ -6,6 +6,7 @@ use camloc_reconstruct::{
     Reconstructor,
 };
 use camloc_skeleton::PartialPose2;
+use camloc_store::Persist;
 use serde::Serialize;
 
 use crate::localizer::sample_pose;
@@ -58,10 +59,10 @@ pub fn default_basis() -> Result<PoseBasis, CamlocError> {
     if bytes.is_empty() {
         return Err(CamlocError::NoDefault("basis"));
     }
-    PoseBasis::from_bytes(bytes).map_err(|source| CamlocError::Reconstruct {
-        context: "embedded default basis".into(),
-        source,
-    })
+    Ok(PoseBasis::from_bytes_named(
+        bytes,
+        "embedded default basis",
+    )?)
 }
 
 /// Builds a reconstructor with the default settings on `basis`.

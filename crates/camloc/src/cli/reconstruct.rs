@@ -6,6 +6,7 @@ use std::process::ExitCode;
 
 use camloc::dataset::Dataset;
 use camloc::reconstruct::PoseBasis;
+use camloc::store::Persist;
 use camloc::{
     CameraChoice, CamlocError, Landmark, Pose2, default_basis, evaluate_reconstruction,
     reconstruct, reconstructor, svg,
@@ -73,10 +74,7 @@ pub struct EvalArgs {
 
 fn load_basis(path: Option<&std::path::Path>) -> Result<PoseBasis, CamlocError> {
     match path {
-        Some(p) => PoseBasis::load(p).map_err(|source| CamlocError::Reconstruct {
-            context: p.display().to_string(),
-            source,
-        }),
+        Some(p) => Ok(PoseBasis::load(p)?),
         None => default_basis(),
     }
 }

@@ -7,6 +7,7 @@ use std::time::Instant;
 
 use camloc::dataset::Dataset;
 use camloc::learning::Mode;
+use camloc::store::Persist;
 use camloc::{CameraLocalizer, CamlocError, Descriptor, LandmarkDropout, TrainOptions};
 use clap::ValueEnum;
 
