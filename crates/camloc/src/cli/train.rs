@@ -41,7 +41,9 @@ pub struct Args {
     /// default).
     #[arg(long)]
     pub no_mirror: bool,
-    /// Overwrite --out if it exists.
+    /// Replace existing output files. A symbolic link at an output path is replaced by the new
+    /// file (never written through; its target is untouched); a directory, device or FIFO is
+    /// refused even with --force.
     #[arg(long)]
     pub force: bool,
     /// Do not print the Newton iteration log.
