@@ -207,6 +207,15 @@ fn write_new_refuses_to_overwrite_and_leaves_no_temporary() {
         .map(|e| e.unwrap().file_name())
         .collect();
     assert_eq!(names, ["out.bin"]);
+    #[cfg(unix)]
+    {
+        // Same mode as a file made by `File::create` (0666 less the umask), not 0600.
+        use std::os::unix::fs::PermissionsExt;
+        let plain = dir.path().join("plain.bin");
+        fs::File::create(&plain).unwrap();
+        let mode = |p: &Path| fs::metadata(p).unwrap().permissions().mode() & 0o777;
+        assert_eq!(mode(&path), mode(&plain));
+    }
     assert!(matches!(
         write_new(&dir.path().join("missing-dir").join("x.bin"), b"x", false),
         Err(StoreError::Io { .. })

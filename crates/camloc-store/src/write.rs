@@ -67,11 +67,13 @@ pub fn write_new(path: &Path, bytes: &[u8], overwrite: bool) -> Result<(), Store
         path.file_name()
             .map_or_else(|| "output".into(), |n| n.to_string_lossy())
     );
-    let mut tmp = tempfile::Builder::new()
-        .prefix(&prefix)
-        .suffix(".tmp")
-        .tempfile_in(&dir)
-        .map_err(io)?;
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(&prefix).suffix(".tmp");
+    // An ordinary output file (0666 less the umask, as `File::create` makes), not the
+    // owner-only mode temporary files get by default.
+    #[cfg(unix)]
+    builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
+    let mut tmp = builder.tempfile_in(&dir).map_err(io)?;
     tmp.write_all(bytes).map_err(io)?;
     tmp.as_file().sync_all().map_err(io)?;
     let persisted = if overwrite {
