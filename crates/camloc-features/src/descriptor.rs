@@ -281,7 +281,9 @@ impl Descriptor {
             let (a, b) = LIMBS[limb];
             is_present(a) && is_present(b)
         };
-        let scaled = within_safe_range(pose);
+        // Descriptors are scale invariant: extreme magnitudes are brought into range first
+        // (exactly, by a power of two).
+        let (scaled, _) = pose.within_safe_range();
         let pose = &scaled;
         let frame = match self {
             Descriptor::Joints => TorsoFrame::from_joints(pose, &is_present)?,
@@ -410,38 +412,6 @@ impl Descriptor {
             .try_for_each(|(i, (row, pose))| self.extract_into(pose, row).map_err(|e| (i, e)))?;
         Ok(out)
     }
-}
-
-/// Largest coordinate magnitude (as a power of two) used as is; larger or smaller poses are
-/// rescaled first. Within it, differences, midpoints and squares of coordinates can neither
-/// overflow nor underflow.
-const SAFE_EXPONENT: i32 = 500;
-
-/// `pose` multiplied by a power of two that brings its largest coordinate magnitude near 1
-/// when that magnitude is beyond 2^±[`SAFE_EXPONENT`] (e.g. coordinates of 1e308 or 1e-200);
-/// otherwise (and for non-finite poses, refused later) the pose unchanged. Every descriptor
-/// is invariant to the scale of the pose, and scaling by a power of two is exact, so this
-/// changes no descriptor value; it only keeps the arithmetic in range.
-fn within_safe_range(pose: &Pose2) -> Pose2 {
-    let extent = pose
-        .points
-        .iter()
-        .map(|p| p[0].abs().max(p[1].abs()))
-        .fold(0.0, f64::max);
-    if !extent.is_finite() || extent == 0.0 {
-        return *pose;
-    }
-    let exponent = extent.log2().floor() as i32;
-    if exponent.abs() <= SAFE_EXPONENT {
-        return *pose;
-    }
-    // 2^-exponent in two exact steps (a single factor could overflow for tiny poses).
-    let half = 2f64.powi(-exponent / 2);
-    let rest = 2f64.powi(-exponent - (-exponent / 2));
-    Pose2::new(
-        pose.points
-            .map(|p| [p[0] * half * rest, p[1] * half * rest]),
-    )
 }
 
 /// The origin and unit length of a descriptor's 2D frame.

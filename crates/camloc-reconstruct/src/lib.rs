@@ -86,8 +86,8 @@ pub use error::ReconstructError;
 pub use eval::{EvalReport, EvalSample, ModeKind, ModeReport, evaluate};
 pub use lsq::{ConstrainedSolution, constrained_least_squares};
 pub use metrics::{
-    align_similarity, bounding_box, mpjpe_after_similarity, projection_error_eq12,
-    projection_error_eq12_bbox, rms_error_in_torsos,
+    BBOX_FLOOR_IN_TORSOS, align_similarity, bounding_box, mpjpe_after_similarity,
+    projection_error_eq12, projection_error_eq12_bbox, rms_error_in_torsos,
 };
 pub use pursuit::{CameraMode, LengthTarget, ReconstructConfig, Reconstruction, Reconstructor};
 
