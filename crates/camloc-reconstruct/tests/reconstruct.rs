@@ -311,7 +311,9 @@ fn eq12_is_bounded_for_an_edge_on_pose() {
         rec.reconstruct(&flat, &CameraMode::Opt),
         Err(ReconstructError::Geometry(_))
     ));
-    let recon = rec.reconstruct(&flat, &CameraMode::Oracle(rotation)).unwrap();
+    let recon = rec
+        .reconstruct(&flat, &CameraMode::Oracle(rotation))
+        .unwrap();
     let eq12 = projection_error_eq12_bbox(&flat, &recon).unwrap();
     let (w, h) = camloc_reconstruct::bounding_box(&flat);
     assert!(w < 1e-10, "width {w}");
