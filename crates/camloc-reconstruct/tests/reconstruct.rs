@@ -215,12 +215,11 @@ fn bad_input_is_a_typed_error() {
         rec.reconstruct(&good, &CameraMode::Hybrid(rotation * 2.0)),
         Err(ReconstructError::InvalidRotation { mode: "hybrid", .. })
     ));
-    // Collinear landmarks: Procrustes cannot determine a camera.
+    // Collinear landmarks (an edge-on view): Procrustes completes the camera's second axis,
+    // so even this reconstructs, to finite numbers.
     let line = Pose2::new(std::array::from_fn(|i| [i as f64, 2.0 * i as f64]));
-    assert!(matches!(
-        rec.reconstruct(&line, &CameraMode::Opt),
-        Err(ReconstructError::Geometry(_))
-    ));
+    let r = rec.reconstruct(&line, &CameraMode::Opt).unwrap();
+    assert!(r.pose.is_finite() && r.projection_error.is_finite());
 }
 
 #[test]
@@ -305,12 +304,11 @@ fn eq12_is_bounded_for_an_edge_on_pose() {
     for p in &mut flat.points {
         p[0] = u0 + (p[0] - u0) * 1e-14;
     }
-    // Opt cannot place a camera on collinear landmarks (the fixture mocap's planar
-    // skeletons seen from the side): a typed error, as for any collinear input.
-    assert!(matches!(
-        rec.reconstruct(&flat, &CameraMode::Opt),
-        Err(ReconstructError::Geometry(_))
-    ));
+    // Opt places a camera on collinear landmarks too (the fixture mocap's planar skeletons
+    // seen from the side failed with a degenerate Procrustes camera before).
+    let opt = rec.reconstruct(&flat, &CameraMode::Opt).unwrap();
+    assert!(opt.pose.is_finite());
+    assert!(projection_error_eq12_bbox(&flat, &opt).unwrap() < 1.0);
     let recon = rec
         .reconstruct(&flat, &CameraMode::Oracle(rotation))
         .unwrap();
