@@ -345,6 +345,37 @@ mod tests {
     use super::*;
 
     #[test]
+    fn within_safe_range_rescales_only_extreme_poses_and_exactly() {
+        let pose = Pose2::new(std::array::from_fn(|i| {
+            [i as f64 * 3.5 - 20.0, 7.25 * i as f64]
+        }));
+        assert_eq!(pose.within_safe_range(), (pose, 1.0));
+        for k in [1e154, 1e-200, 1e300] {
+            let big = Pose2::new(pose.points.map(|p| [p[0] * k, p[1] * k]));
+            let (scaled, f) = big.within_safe_range();
+            assert_eq!(f.log2().fract(), 0.0, "{k:e}: a power of two");
+            let extent = scaled
+                .points
+                .iter()
+                .flatten()
+                .fold(0.0_f64, |m, c| m.max(c.abs()));
+            assert!((1.0..2.0).contains(&extent), "{k:e}: extent {extent}");
+            for (a, b) in scaled
+                .points
+                .iter()
+                .flatten()
+                .zip(big.points.iter().flatten())
+            {
+                assert_eq!(*a, b * f, "exact");
+            }
+        }
+        let zero = Pose2::new([[0.0; 2]; NUM_LANDMARKS]);
+        assert_eq!(zero.within_safe_range().1, 1.0);
+        let nan = Pose2::new([[f64::NAN; 2]; NUM_LANDMARKS]);
+        assert_eq!(nan.within_safe_range().1, 1.0);
+    }
+
+    #[test]
     fn landmark_order_and_names_round_trip() {
         for (i, l) in Landmark::ALL.iter().enumerate() {
             assert_eq!(l.index(), i);
