@@ -4,6 +4,8 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+use camloc::store::Persist;
+
 fn camloc(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_camloc"))
         .args(args)

@@ -5,6 +5,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use camloc::dataset::Dataset;
+use camloc::store::Persist;
 use camloc::{CameraLocalizer, CamlocError, evaluate};
 
 /// Arguments of `camloc evaluate`.

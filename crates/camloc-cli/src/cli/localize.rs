@@ -27,7 +27,9 @@ pub struct Args {
     /// FILE-001.svg, FILE-002.svg, ...).
     #[arg(long, value_name = "OUT")]
     pub svg: Option<PathBuf>,
-    /// Overwrite existing SVG files.
+    /// Replace existing output files. A symbolic link at an output path is replaced by the new
+    /// file (never written through; its target is untouched); a directory, device or FIFO is
+    /// refused even with --force.
     #[arg(long)]
     pub force: bool,
 }

@@ -4,6 +4,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use camloc::keypoints::{Invisible, KeypointFormat, KeypointRecord, ReadOptions, read_keypoints};
+use camloc::store::Persist;
 use camloc::{CameraLocalizer, CamlocError};
 use clap::{Parser, Subcommand, ValueEnum};
 
@@ -123,7 +124,7 @@ impl InputArgs {
 /// The model at `path`, or the embedded default.
 pub fn load_model(path: Option<&Path>) -> Result<CameraLocalizer, CamlocError> {
     match path {
-        Some(p) => CameraLocalizer::load(p),
+        Some(p) => Ok(CameraLocalizer::load(p)?),
         None => CameraLocalizer::default_model(),
     }
 }

@@ -6,6 +6,7 @@ use std::process::ExitCode;
 
 use camloc::dataset::Dataset;
 use camloc::reconstruct::PoseBasis;
+use camloc::store::Persist;
 use camloc::{CamlocError, Landmark, ModeKind, Pose2, PoseReconstructor, default_basis};
 use clap::builder::{PossibleValue, TypedValueParser};
 use serde_json::json;
@@ -62,7 +63,9 @@ pub struct Args {
     /// poses: FILE-001.svg, ...).
     #[arg(long, value_name = "OUT")]
     pub svg: Option<PathBuf>,
-    /// Overwrite existing SVG files.
+    /// Replace existing output files. A symbolic link at an output path is replaced by the new
+    /// file (never written through; its target is untouched); a directory, device or FIFO is
+    /// refused even with --force.
     #[arg(long)]
     pub force: bool,
 }
@@ -86,10 +89,7 @@ pub struct EvalArgs {
 
 fn load_basis(path: Option<&std::path::Path>) -> Result<PoseBasis, CamlocError> {
     match path {
-        Some(p) => PoseBasis::load(p).map_err(|source| CamlocError::Reconstruct {
-            context: p.display().to_string(),
-            source,
-        }),
+        Some(p) => Ok(PoseBasis::load(p)?),
         None => default_basis(),
     }
 }

@@ -8,6 +8,7 @@ use std::time::Instant;
 use camloc::dataset::Dataset;
 use camloc::features::PaperConfig;
 use camloc::learning::{LogisticRegression, Mode};
+use camloc::store::Persist;
 use camloc::{CameraLocalizer, CamlocError, Descriptor, LandmarkDropout, TrainOptions};
 use clap::ValueEnum;
 
@@ -41,7 +42,9 @@ pub struct Args {
     /// default).
     #[arg(long)]
     pub no_mirror: bool,
-    /// Overwrite --out if it exists.
+    /// Replace existing output files. A symbolic link at an output path is replaced by the new
+    /// file (never written through; its target is untouched); a directory, device or FIFO is
+    /// refused even with --force.
     #[arg(long)]
     pub force: bool,
     /// Do not print the Newton iteration log.
