@@ -4,7 +4,6 @@ use std::fmt::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use camloc::geometry::CameraSet;
 use camloc::keypoints::KeypointRecord;
 use camloc::{CameraLabel, CameraLocalizer, Localization, Pose3};
 use serde::ser::SerializeMap;
@@ -52,13 +51,19 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         force: args.force,
         pose: std::marker::PhantomData,
     };
+    let labels: Vec<String> = localizer
+        .cameras()
+        .viewpoints()
+        .iter()
+        .map(|v| v.label_text())
+        .collect();
     let bar = progress::counter(args.progress.quiet, inputs.len_hint(), "localize", "poses");
     let summary = stream::run(inputs, out, format, &files, &bar, |record| {
         let loc = localizer
             .localize_partial(&record.pose)
             .map_err(|e| e.to_string())?;
         let text = if format.is_json() {
-            stream::json_line(&localization_json(&localizer, record, &loc))
+            stream::json_line(&localization_json(&labels, record, &loc))
         } else {
             localization_text(&localizer, record, &loc)
         };
@@ -91,14 +96,15 @@ fn rotation_rows(loc: &Localization) -> [[f64; 3]; 3] {
     ]
 }
 
-/// The probabilities as a map from camera label ("01".."12") to probability.
-struct Probabilities<'a>(&'a CameraSet, &'a [f64]);
+/// The probabilities as a map from camera label ("01".."12", the labels' texts in camera
+/// order) to probability.
+struct Probabilities<'a>(&'a [String], &'a [f64]);
 
 impl Serialize for Probabilities<'_> {
     fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
         let mut map = serializer.serialize_map(Some(self.1.len()))?;
-        for (view, p) in self.0.viewpoints().iter().zip(self.1) {
-            map.serialize_entry(&view.label_text(), p)?;
+        for (label, p) in self.0.iter().zip(self.1) {
+            map.serialize_entry(label, p)?;
         }
         map.end()
     }
@@ -125,7 +131,7 @@ struct LocalizationJson<'a> {
 }
 
 fn localization_json<'a>(
-    localizer: &'a CameraLocalizer,
+    labels: &'a [String],
     record: &'a KeypointRecord,
     loc: &'a Localization,
 ) -> LocalizationJson<'a> {
@@ -140,7 +146,7 @@ fn localization_json<'a>(
         probability: loc.probability,
         folded_label: loc.folded_label,
         rotation: rotation_rows(loc),
-        probabilities: Probabilities(localizer.cameras(), &loc.probabilities),
+        probabilities: Probabilities(labels, &loc.probabilities),
         missing: loc.missing.iter().map(|l| l.name()).collect(),
         derived: record.derived.iter().map(|l| l.name()).collect(),
     }

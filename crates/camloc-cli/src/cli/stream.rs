@@ -113,9 +113,14 @@ struct ErrorJson<'a> {
 
 /// Serialises one output object on one line.
 pub fn json_line<T: Serialize>(value: &T) -> String {
-    // Serialising plain structs of numbers and strings cannot fail; an empty object is the
-    // conservative answer if it ever did.
-    serde_json::to_string(value).unwrap_or_else(|_| "{}".to_owned())
+    // Room for a typical object at once (no regrowth while writing it).
+    let mut bytes = Vec::with_capacity(1024);
+    // Serialising plain structs of numbers and strings into memory cannot fail, and
+    // serde_json writes UTF-8; an empty object is the conservative answer if either ever did.
+    match serde_json::to_writer(&mut bytes, value) {
+        Ok(()) => String::from_utf8(bytes).unwrap_or_else(|_| "{}".to_owned()),
+        Err(_) => "{}".to_owned(),
+    }
 }
 
 /// Runs `compute` over every pose of `inputs` in batches and writes the results. A pose for
@@ -165,82 +170,92 @@ where
         written += 1;
         Ok(())
     };
-    let mut batch = Vec::with_capacity(BATCH);
-    loop {
-        batch.clear();
-        batch.extend(inputs.by_ref().take(BATCH));
-        if batch.is_empty() {
-            break;
-        }
-        let results: Vec<Result<Done<P>, String>> = batch
-            .par_iter()
-            .map(|item| match item {
-                Ok(record) => compute(record),
-                // Reported below; nothing to compute.
-                Err(_) => Err(String::new()),
-            })
-            .collect();
-        for (item, result) in batch.iter().zip(results) {
-            let record = match item {
-                Ok(record) => record,
-                Err(e) => {
-                    summary.failed_files += 1;
-                    let message = e.to_string();
-                    bar.suspend(|| eprintln!("camloc: error: {message}"));
-                    if format.is_json() {
-                        let object = ErrorJson {
-                            id: None,
-                            source: None,
-                            error: &message,
-                        };
-                        emit(out, &json_line(&object))?;
-                    }
-                    continue;
+    // One thread reads the next batch while the others process this one.
+    let (sender, batches) = std::sync::mpsc::sync_channel(1);
+    let reader = &mut inputs;
+    std::thread::scope(|scope| -> Result<(), CliError> {
+        scope.spawn(move || {
+            loop {
+                let mut batch = Vec::with_capacity(BATCH);
+                batch.extend(reader.by_ref().take(BATCH));
+                // Stop at the end, or when the receiver has stopped (an error, a closed pipe).
+                if batch.is_empty() || sender.send(batch).is_err() {
+                    break;
                 }
-            };
-            let index = summary.poses;
-            summary.poses += 1;
-            match result {
-                Ok(done) => {
-                    emit(out, &done.text)?;
-                    if let (Some(svg), Some(drawing)) = (&files.svg, &done.svg) {
-                        let path = numbered_path(svg, index as usize, 2);
-                        let at = staged.add(&path, drawing.as_bytes())?;
-                        if index == 0 {
-                            first_svg = Some(at);
+            }
+        });
+        for batch in batches {
+            let results: Vec<Result<Done<P>, String>> = batch
+                .par_iter()
+                .map(|item| match item {
+                    Ok(record) => compute(record),
+                    // Reported below; nothing to compute.
+                    Err(_) => Err(String::new()),
+                })
+                .collect();
+            for (item, result) in batch.iter().zip(results) {
+                let record = match item {
+                    Ok(record) => record,
+                    Err(e) => {
+                        summary.failed_files += 1;
+                        let message = e.to_string();
+                        bar.suspend(|| eprintln!("camloc: error: {message}"));
+                        if format.is_json() {
+                            let object = ErrorJson {
+                                id: None,
+                                source: None,
+                                error: &message,
+                            };
+                            emit(out, &json_line(&object))?;
+                        }
+                        continue;
+                    }
+                };
+                let index = summary.poses;
+                summary.poses += 1;
+                match result {
+                    Ok(done) => {
+                        emit(out, &done.text)?;
+                        if let (Some(svg), Some(drawing)) = (&files.svg, &done.svg) {
+                            let path = numbered_path(svg, index as usize, 2);
+                            let at = staged.add(&path, drawing.as_bytes())?;
+                            if index == 0 {
+                                first_svg = Some(at);
+                            }
+                        }
+                        if let Some(npy) = &mut npy {
+                            npy.push(done.row.as_ref())?;
                         }
                     }
-                    if let Some(npy) = &mut npy {
-                        npy.push(done.row.as_ref())?;
-                    }
-                }
-                Err(message) => {
-                    summary.failed_poses += 1;
-                    bar.suspend(|| {
-                        eprintln!(
-                            "camloc: error: {} ({}): {message}",
-                            record.id, record.source
-                        )
-                    });
-                    if format.is_json() {
-                        let object = ErrorJson {
-                            id: Some(&record.id),
-                            source: Some(&record.source),
-                            error: &message,
-                        };
-                        emit(out, &json_line(&object))?;
-                    }
-                    if let Some(npy) = &mut npy {
-                        npy.push(None)?;
+                    Err(message) => {
+                        summary.failed_poses += 1;
+                        bar.suspend(|| {
+                            eprintln!(
+                                "camloc: error: {} ({}): {message}",
+                                record.id, record.source
+                            )
+                        });
+                        if format.is_json() {
+                            let object = ErrorJson {
+                                id: Some(&record.id),
+                                source: Some(&record.source),
+                                error: &message,
+                            };
+                            emit(out, &json_line(&object))?;
+                        }
+                        if let Some(npy) = &mut npy {
+                            npy.push(None)?;
+                        }
                     }
                 }
             }
+            bar.inc(batch.len() as u64);
+            if out.closed() && !has_files {
+                break;
+            }
         }
-        bar.inc(batch.len() as u64);
-        if out.closed() && !has_files {
-            break;
-        }
-    }
+        Ok(())
+    })?;
     bar.finish_and_clear();
     if summary.poses == 0 && summary.failed_files == 0 {
         return Err(CliError::NoPoses(inputs.name().to_owned()));
