@@ -585,7 +585,7 @@ fn folders_are_read_in_order_and_a_bad_file_does_not_stop_the_rest() {
 fn empty_npy() -> Vec<u8> {
     let header = "{'descr': '<f8', 'fortran_order': False, 'shape': (0, 15, 2), }";
     let mut header = header.to_owned();
-    while (10 + header.len() + 1) % 64 != 0 {
+    while !(10 + header.len() + 1).is_multiple_of(64) {
         header.push(' ');
     }
     header.push('\n');
