@@ -838,3 +838,36 @@ fn reader_options_are_checked_at_parse_time() {
         assert_usage_error(&out, option);
     }
 }
+
+/// An output path that is a symbolic link is an existing file: refused without --force,
+/// replaced itself (its target untouched) with it; a device is never replaced.
+#[cfg(unix)]
+#[test]
+fn symlinks_and_devices_at_output_paths() {
+    let dir = TempDir::new("links");
+    let input = dir.file("p.json", FIFTEEN);
+    let precious = dir.file("precious.txt", "mine");
+    let link = dir.0.join("view.svg");
+    std::os::unix::fs::symlink(&precious, &link).unwrap();
+    let link = link.to_str().unwrap();
+    let out = camloc(&["localize", "--input", &input, "--svg", link]);
+    assert_clean_failure(&out, "already exists");
+    success(&camloc(&[
+        "localize", "--input", &input, "--svg", link, "--force",
+    ]));
+    assert_eq!(std::fs::read_to_string(&precious).unwrap(), "mine");
+    let meta = std::fs::symlink_metadata(link).unwrap();
+    assert!(meta.is_file(), "the link itself was replaced");
+    assert!(std::fs::read_to_string(link).unwrap().starts_with("<svg"));
+    if Path::new("/dev/null").exists() {
+        let out = camloc(&[
+            "localize",
+            "--input",
+            &input,
+            "--svg",
+            "/dev/null",
+            "--force",
+        ]);
+        assert_clean_failure(&out, "not a regular file");
+    }
+}
