@@ -414,6 +414,28 @@ fn train_evaluate_and_reconstruct_succeed_on_fixture_data() {
     );
     let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert!(report.is_object(), "{report}");
+
+    // The model is moved into place only after standard output was written.
+    if let Ok(full) = std::fs::OpenOptions::new().write(true).open("/dev/full") {
+        let second = dir.0.join("second.bin");
+        let out = Command::new(env!("CARGO_BIN_EXE_camloc"))
+            .args([
+                "train",
+                "--dataset",
+                &data,
+                "--out",
+                second.to_str().unwrap(),
+                "--quiet",
+            ])
+            .stdout(full)
+            .output()
+            .unwrap();
+        // (train also reports what it trains on, on standard error.)
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{stderr}");
+        assert!(stderr.contains("camloc: error: cannot write to standard output"));
+        assert!(!second.exists());
+    }
 }
 
 /// Runs camloc with `stdin` as standard input.
