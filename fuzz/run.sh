@@ -9,7 +9,7 @@ cd "$(dirname "$0")"
 seconds="${1:-600}"
 shift || true
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(bvh asf_amc keypoints keypoint_formats)
+[ ${#targets[@]} -gt 0 ] || targets=(bvh asf_amc keypoints keypoint_formats model basis dataset)
 export RUSTC_BOOTSTRAP=1
 
 seed() {
@@ -20,6 +20,20 @@ seed() {
         asf_amc)
             # ASF, a NUL byte, then the AMC (the target's input layout).
             { cat ../fixtures/mocap/99.asf; printf '\0'; cat ../fixtures/mocap/99_01.amc; } > "$dir/99"
+            ;;
+        model | basis)
+            # Both input layouts: the file as it is (selector 0) and its payload (selector 1).
+            local file=../fixtures/default-$target.bin
+            { printf '\0'; cat "$file"; } > "$dir/file"
+            { printf '\1'; tail -c +29 "$file"; } > "$dir/payload"
+            ;;
+        dataset)
+            # A small dataset made from the fixture mocap (xtask), whole and as a payload.
+            local file=../target/fuzz-seed-dataset.bin
+            [ -f "$file" ] || (cd .. && cargo xtask gen-dataset --mocap fixtures/mocap --stride 40 \
+                --drop-landmarks 2 --protocol jittered --out target/fuzz-seed-dataset.bin)
+            { printf '\0'; cat "$file"; } > "$dir/file"
+            { printf '\1'; tail -c +29 "$file"; } > "$dir/payload"
             ;;
         keypoints)
             for f in ../fixtures/keypoints/*.json ../fixtures/keypoints/*.csv; do

@@ -19,10 +19,11 @@ use std::process::{Command, Stdio};
 use std::time::Instant;
 
 use camloc::Descriptor;
-use camloc::dataset::{Dataset, DatasetError, Sample};
+use camloc::dataset::{Dataset, Sample};
 use camloc::learning::{
     DirectionSolver, Features, FitReport, LogisticModel, LogisticRegression, Mode, Standardiser,
 };
+use camloc::store::Persist;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, StandardNormal};
@@ -361,11 +362,8 @@ fn synthetic(n: usize, d: usize, k: usize, seed: u64) -> Result<Problem, String>
 /// The landmark descriptors and 0-based camera labels of the complete poses (no dropped
 /// landmark) of the dataset file at `path`.
 fn from_dataset(path: &Path) -> Result<Problem, String> {
-    let dataset = Dataset::load(path).map_err(|e| match e {
-        // Store errors already name the file.
-        DatasetError::Store(_) => e.to_string(),
-        other => format!("{}: {other}", path.display()),
-    })?;
+    // Store errors (validation included) name the file.
+    let dataset = Dataset::load(path).map_err(|e| e.to_string())?;
     let complete: Vec<(usize, &Sample)> = dataset
         .samples
         .iter()

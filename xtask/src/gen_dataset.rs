@@ -4,6 +4,7 @@ use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::time::Instant;
 
+use camloc::store::Persist;
 use camloc_dataset::{
     Augmentation, DEFAULT_MIN_POSE_DISTANCE_MM, Dataset, GenerateConfig, MocapIndex, MocapSummary,
     PoseSequence, Protocol, assign_categories, default_test_subjects, generate, load_mocap_folders,

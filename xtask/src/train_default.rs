@@ -6,6 +6,7 @@ use std::time::Instant;
 
 use camloc::dataset::{GenerateConfig, Protocol};
 use camloc::reconstruct::{BasisConfig, PoseBasis};
+use camloc::store::Persist;
 use camloc::{CameraLocalizer, TrainOptions};
 
 use crate::gen_dataset::{load_sequences, project};

@@ -1,21 +1,13 @@
 //! The dataset file: header, samples, subject splits, save/load.
 
 use std::collections::BTreeMap;
-use std::path::Path;
 
-use camloc_geometry::{CameraSet, Matrix3};
-use camloc_skeleton::{Pose2, Pose3};
-use camloc_store::{FileKind, StoreError};
+use camloc_geometry::{CameraSet, GeometryError, Matrix3};
+use camloc_skeleton::{NUM_LANDMARKS, Pose2, Pose3};
+use camloc_store::{FileKind, Persist, StoreError, Validate};
 use serde::{Deserialize, Serialize};
 
 use crate::{Augmentation, Jitter, MotionCategory, Protocol};
-
-/// The dataset file kind: magic bytes and the format version this build reads and writes.
-pub const DATASET_FILE: FileKind = FileKind {
-    magic: *b"CAMLOCDS",
-    version: 2,
-    what: "dataset",
-};
 
 /// Errors of dataset handling.
 #[derive(Debug, thiserror::Error)]
@@ -42,6 +34,37 @@ pub enum DatasetError {
         label: u16,
         /// Cameras in the set.
         cameras: usize,
+    },
+    /// A sample's missing-landmark mask has bits beyond the 15 landmarks.
+    #[error(
+        "sample {sample} has missing-landmark mask {mask:#06x}, which names landmarks beyond the 15"
+    )]
+    BadMissingMask {
+        /// Index of the sample.
+        sample: usize,
+        /// The mask.
+        mask: u16,
+    },
+    /// A sample holds NaN or an infinity.
+    #[error("sample {sample}: {what} holds a non-finite number")]
+    NonFinite {
+        /// Index of the sample.
+        sample: usize,
+        /// Which part ("2D landmarks", "rotation", "3D pose").
+        what: &'static str,
+    },
+    /// The header's camera set is not a valid sphere of cameras.
+    #[error("dataset camera set: {0}")]
+    Cameras(#[source] GeometryError),
+    /// A header field is out of its domain.
+    #[error("dataset header: {field} = {value}: {reason}")]
+    BadHeader {
+        /// Field name.
+        field: &'static str,
+        /// Its value, as text.
+        value: String,
+        /// The valid domain.
+        reason: &'static str,
     },
     /// Invalid generation settings or input poses.
     #[error("invalid dataset generation input: {0}")]
@@ -140,14 +163,36 @@ pub struct Dataset {
     pub samples: Vec<Sample>,
 }
 
-impl Dataset {
-    /// Checks that every sample's clip index and label are valid for the header.
+impl Validate for Dataset {
+    type Invalid = DatasetError;
+
+    /// Checks the header (a valid camera set, stride at least 1, a finite non-negative noise
+    /// fraction) and every sample (clip index and label within the header, a mask naming only
+    /// the 15 landmarks, finite landmarks, rotation and 3D pose).
     ///
     /// # Errors
-    /// [`DatasetError::BadClipIndex`] or [`DatasetError::BadLabel`] for the first bad sample.
-    pub fn validate(&self) -> Result<(), DatasetError> {
-        let clips = self.header.clips.len();
-        let cameras = self.header.cameras.len();
+    /// [`DatasetError::Cameras`], [`DatasetError::BadHeader`], then for the first bad sample
+    /// [`DatasetError::BadClipIndex`], [`DatasetError::BadLabel`],
+    /// [`DatasetError::BadMissingMask`] or [`DatasetError::NonFinite`].
+    fn validate(&self) -> Result<(), DatasetError> {
+        let header = &self.header;
+        header.cameras.validate().map_err(DatasetError::Cameras)?;
+        if header.stride == 0 {
+            return Err(DatasetError::BadHeader {
+                field: "stride",
+                value: "0".into(),
+                reason: "must be at least 1",
+            });
+        }
+        if !(header.noise_fraction >= 0.0 && header.noise_fraction.is_finite()) {
+            return Err(DatasetError::BadHeader {
+                field: "noise_fraction",
+                value: header.noise_fraction.to_string(),
+                reason: "must be finite and >= 0",
+            });
+        }
+        let clips = header.clips.len();
+        let cameras = header.cameras.len();
         for (i, s) in self.samples.iter().enumerate() {
             if s.clip as usize >= clips {
                 return Err(DatasetError::BadClipIndex {
@@ -163,47 +208,34 @@ impl Dataset {
                     cameras,
                 });
             }
+            if s.missing_mask >> NUM_LANDMARKS != 0 {
+                return Err(DatasetError::BadMissingMask {
+                    sample: i,
+                    mask: s.missing_mask,
+                });
+            }
+            let non_finite = |what| DatasetError::NonFinite { sample: i, what };
+            if !s.landmarks.is_finite() {
+                return Err(non_finite("2D landmarks"));
+            }
+            if !s.rotation.iter().all(|v| v.is_finite()) {
+                return Err(non_finite("rotation"));
+            }
+            if !s.pose3.is_finite() {
+                return Err(non_finite("3D pose"));
+            }
         }
         Ok(())
     }
+}
 
-    /// Encodes the dataset as a versioned, checksummed envelope.
-    ///
-    /// # Errors
-    /// [`DatasetError::Store`] if encoding fails.
-    pub fn to_bytes(&self) -> Result<Vec<u8>, DatasetError> {
-        Ok(camloc_store::encode(DATASET_FILE, self)?)
-    }
+/// Dataset files: [`camloc_store::DATASET_KIND`] (magic `CAMLOCDS`); load with
+/// [`Persist::load`], write with [`Persist::save`] (no overwrite unless asked).
+impl Persist for Dataset {
+    const KIND: FileKind = camloc_store::DATASET_KIND;
+}
 
-    /// Decodes and validates a dataset from envelope bytes.
-    ///
-    /// # Errors
-    /// [`DatasetError::Store`] for a wrong kind, version or corrupt bytes; validation errors.
-    pub fn from_bytes(bytes: &[u8]) -> Result<Dataset, DatasetError> {
-        let d: Dataset = camloc_store::decode(DATASET_FILE, bytes)?;
-        d.validate()?;
-        Ok(d)
-    }
-
-    /// Writes the dataset to `path` (temporary file + rename); refuses to replace an existing
-    /// file unless `overwrite`.
-    ///
-    /// # Errors
-    /// [`DatasetError::Store`] (exists, I/O).
-    pub fn save(&self, path: &Path, overwrite: bool) -> Result<(), DatasetError> {
-        Ok(camloc_store::save(DATASET_FILE, self, path, overwrite)?)
-    }
-
-    /// Reads and validates a dataset file.
-    ///
-    /// # Errors
-    /// [`DatasetError::Store`] (missing file, wrong kind/version, corrupt) or validation errors.
-    pub fn load(path: &Path) -> Result<Dataset, DatasetError> {
-        let d: Dataset = camloc_store::load(DATASET_FILE, path)?;
-        d.validate()?;
-        Ok(d)
-    }
-
+impl Dataset {
     /// Subject of a sample.
     pub fn subject_of(&self, sample: &Sample) -> &str {
         self.header

@@ -411,6 +411,7 @@ fn drop_mask(count: usize, rng: &mut ChaCha8Rng) -> u16 {
 pub(crate) mod tests {
     use super::*;
     use camloc_geometry::procrustes_camera;
+    use camloc_store::Persist;
 
     /// A standing canonical pose: facing -x, right side on +y, z up, metres.
     pub(crate) fn standing() -> Pose3 {
@@ -546,6 +547,83 @@ pub(crate) mod tests {
         assert!(train.samples.iter().all(|s| train.subject_of(s) == "1"));
         assert!(test.samples.iter().all(|s| test.subject_of(s) == "2"));
         assert_eq!(train.samples.len() + test.samples.len(), d.samples.len());
+    }
+
+    /// The dataset as an envelope with a valid checksum after `tamper` changed its payload.
+    fn forged(d: &Dataset, tamper: impl FnOnce(&mut Vec<u8>)) -> Vec<u8> {
+        let mut payload = d.to_bytes().unwrap()[camloc_store::HEADER_LEN..].to_vec();
+        tamper(&mut payload);
+        camloc_store::envelope(camloc_store::DATASET_KIND, &payload)
+    }
+
+    #[test]
+    fn decoded_datasets_are_fully_validated() {
+        let d = generate(
+            &sequences(),
+            &GenerateConfig::new(Protocol::Canonical),
+            &|_, _| {},
+        )
+        .unwrap();
+        let invalid = |bytes: &[u8]| match Dataset::from_bytes_named(bytes, "d.bin") {
+            Err(camloc_store::StoreError::Invalid { source, .. }) => source.to_string(),
+            other => panic!("expected Invalid, got {other:?}"),
+        };
+        let mut bad = d.clone();
+        bad.samples[3].label = 0;
+        assert!(invalid(&bad.to_bytes().unwrap()).contains("sample 3 has camera label 0"));
+        let mut bad = d.clone();
+        bad.samples[4].landmarks.points[2][0] = f64::NAN;
+        assert_eq!(
+            invalid(&bad.to_bytes().unwrap()),
+            "sample 4: 2D landmarks holds a non-finite number"
+        );
+        let mut bad = d.clone();
+        bad.samples[5].pose3.points[7][2] = f64::INFINITY;
+        assert!(invalid(&bad.to_bytes().unwrap()).contains("3D pose"));
+        let mut bad = d.clone();
+        bad.samples[1].missing_mask = 1 << 15;
+        assert!(invalid(&bad.to_bytes().unwrap()).contains("mask"));
+        let mut bad = d.clone();
+        bad.header.stride = 0;
+        assert!(invalid(&bad.to_bytes().unwrap()).contains("stride"));
+        // A camera set with 0 azimuths (its first field, right after version and protocol).
+        let offset = bincode::serde::encode_to_vec(
+            (&d.header.camloc_version, &d.header.protocol),
+            bincode::config::standard(),
+        )
+        .unwrap()
+        .len();
+        let bytes = forged(&d, |p| {
+            assert_eq!(p[offset], 4, "azimuths of Table 1");
+            p[offset] = 0;
+        });
+        assert!(invalid(&bytes).contains("camera set"));
+        let err = Dataset::from_bytes_named(&bytes, "d.bin").unwrap_err();
+        assert!(
+            err.to_string()
+                .starts_with("d.bin: invalid camloc dataset file: ")
+        );
+        assert!(Dataset::from_bytes(&forged(&d, |_| {})).is_ok());
+    }
+
+    #[test]
+    fn hostile_dataset_files_fail_fast() {
+        let zero = std::path::Path::new("/dev/zero");
+        if zero.exists() {
+            let err = Dataset::load(zero).unwrap_err();
+            assert!(
+                matches!(err, camloc_store::StoreError::WrongKind { .. }),
+                "{err:?}"
+            );
+        } else {
+            eprintln!("SKIPPED /dev/zero part: it does not exist here");
+        }
+        let mut forged = camloc_store::envelope(camloc_store::DATASET_KIND, b"");
+        forged[12..20].copy_from_slice(&(1u64 << 40).to_le_bytes());
+        assert!(matches!(
+            Dataset::from_bytes(&forged),
+            Err(camloc_store::StoreError::TooLarge { .. })
+        ));
     }
 
     #[test]

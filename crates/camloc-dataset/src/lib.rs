@@ -7,8 +7,8 @@
 //! set, seed and versions, so a file says how it was made.
 //!
 //! [`generate`] builds a dataset from canonical 3D poses under a [`Protocol`]
-//! (docs/conventions.md section 7); [`Dataset::save`]/[`Dataset::load`] store it as a versioned,
-//! checksummed file ([`camloc_store`]). Splits are by subject ([`Dataset::split_by_subjects`])
+//! (docs/conventions.md section 7); `Dataset` implements [`camloc_store::Persist`] (save, load with validation) as a
+//! versioned, checksummed file ([`camloc_store`]). Splits are by subject ([`Dataset::split_by_subjects`])
 //! or by motion category ([`Dataset::split_by_category`], leave-one-category-out).
 //!
 //! Frames are chosen by pose ([`select_by_pose`]: a frame is kept when its maximum per-joint
@@ -33,8 +33,7 @@ pub use augment::{
 };
 pub use category::{CATEGORY_RULES, CategorySource, MocapIndex, MotionCategory, assign_categories};
 pub use dataset::{
-    CameraCount, ClipInfo, DATASET_FILE, Dataset, DatasetError, DatasetHeader, Sample,
-    default_test_subjects,
+    CameraCount, ClipInfo, Dataset, DatasetError, DatasetHeader, Sample, default_test_subjects,
 };
 pub use from_mocap::{MocapSummary, load_mocap_folders};
 pub use generate::{GenerateConfig, Jitter, PoseSequence, Protocol, SPHERE_BAND_DEG, generate};

@@ -16,13 +16,19 @@ pub enum FeatureError {
         /// Name of the landmark.
         landmark: &'static str,
     },
-    /// Pelvis and neck coincide (or nearly so): there is no unit of scale.
+    /// The two ends of the torso segment that gives the descriptor its unit of length
+    /// coincide (or nearly so): there is no unit of scale.
     #[error(
-        "degenerate torso: pelvis and neck are {length:e} apart (relative to the pose size), so the pose has no scale"
+        "degenerate torso: {top} and {origin} are {length:e} apart (relative to the pose size), so the pose has no scale"
     )]
     DegenerateTorso {
         /// Torso length relative to the pose's extent.
         length: f64,
+        /// Lower end of the torso segment: "the pelvis" or, for [`Descriptor::Joints`],
+        /// "the hip midpoint".
+        origin: &'static str,
+        /// Upper end: "the neck" or, for [`Descriptor::Joints`], "the shoulder midpoint".
+        top: &'static str,
     },
     /// The output buffer has the wrong length.
     #[error("descriptor buffer has length {got}, expected {expected}")]
@@ -316,6 +322,10 @@ impl Descriptor {
             let (a, b) = LIMBS[limb];
             is_present(a) && is_present(b)
         };
+        // Descriptors are scale invariant: extreme magnitudes are brought into range first
+        // (exactly, by a power of two).
+        let (scaled, _) = pose.within_safe_range();
+        let pose = &scaled;
         let frame = match self {
             Descriptor::Joints | Descriptor::JointsQuadratic => {
                 TorsoFrame::from_joints(pose, &is_present)?
@@ -458,7 +468,11 @@ struct TorsoFrame {
 impl TorsoFrame {
     /// Pelvis origin, pelvis-to-neck unit.
     fn new(pose: &Pose2) -> Result<TorsoFrame, FeatureError> {
-        Self::checked(pose, pose.get(Landmark::Pelvis), pose.get(Landmark::Neck))
+        Self::checked(
+            pose,
+            (pose.get(Landmark::Pelvis), "the pelvis"),
+            (pose.get(Landmark::Neck), "the neck"),
+        )
     }
 
     /// Mid-hip origin and mid-hip-to-mid-shoulder unit; the pelvis (neck) stands in when a
@@ -467,26 +481,36 @@ impl TorsoFrame {
         pose: &Pose2,
         is_present: &dyn Fn(Landmark) -> bool,
     ) -> Result<TorsoFrame, FeatureError> {
-        let mid_or = |a: Landmark, b: Landmark, fallback: Landmark| {
+        let mid_or = |a: Landmark, b: Landmark, fallback: Landmark, names: [&'static str; 2]| {
             if is_present(a) && is_present(b) {
                 let (p, q) = (pose.get(a), pose.get(b));
-                [0.5 * (p[0] + q[0]), 0.5 * (p[1] + q[1])]
+                ([0.5 * (p[0] + q[0]), 0.5 * (p[1] + q[1])], names[0])
             } else {
-                pose.get(fallback)
+                (pose.get(fallback), names[1])
             }
         };
-        let origin = mid_or(Landmark::LeftHip, Landmark::RightHip, Landmark::Pelvis);
+        let origin = mid_or(
+            Landmark::LeftHip,
+            Landmark::RightHip,
+            Landmark::Pelvis,
+            ["the hip midpoint", "the pelvis"],
+        );
         let top = mid_or(
             Landmark::LeftShoulder,
             Landmark::RightShoulder,
             Landmark::Neck,
+            ["the shoulder midpoint", "the neck"],
         );
         Self::checked(pose, origin, top)
     }
 
     /// The frame with `origin` and unit `|top - origin|`, after checking that the pose is
-    /// finite and the unit is not degenerate.
-    fn checked(pose: &Pose2, origin: [f64; 2], top: [f64; 2]) -> Result<TorsoFrame, FeatureError> {
+    /// finite and the unit is not degenerate (the names go into the error).
+    fn checked(
+        pose: &Pose2,
+        (origin, origin_name): ([f64; 2], &'static str),
+        (top, top_name): ([f64; 2], &'static str),
+    ) -> Result<TorsoFrame, FeatureError> {
         for (i, p) in pose.points.iter().enumerate() {
             if !(p[0].is_finite() && p[1].is_finite()) {
                 return Err(FeatureError::NonFinite {
@@ -503,6 +527,8 @@ impl TorsoFrame {
         if !(torso > 1e-9 * extent) || torso == 0.0 {
             return Err(FeatureError::DegenerateTorso {
                 length: if extent > 0.0 { torso / extent } else { 0.0 },
+                origin: origin_name,
+                top: top_name,
             });
         }
         Ok(TorsoFrame { origin, torso })
@@ -611,6 +637,72 @@ mod tests {
             let pb = Descriptor::Paper(PaperConfig::default()).extract(&m).unwrap();
             prop_assert!((pa[1] - pb[4]).abs() < 1e-12); // left thigh vs right thigh (index 1 vs 4)
         }
+    }
+
+    /// `pose()` with every coordinate multiplied by `k`.
+    fn scaled(k: f64) -> Pose2 {
+        Pose2::new(pose().points.map(|p| [p[0] * k, p[1] * k]))
+    }
+
+    #[test]
+    fn shoulders_on_the_hips_name_the_segment_that_collapsed() {
+        let mut p = scaled(2.5);
+        let (pelvis, neck) = (p.get(Landmark::Pelvis), p.get(Landmark::Neck));
+        assert_eq!((pelvis[1] - neck[1]).abs(), 150.0);
+        for (shoulder, hip) in [
+            (Landmark::LeftShoulder, Landmark::LeftHip),
+            (Landmark::RightShoulder, Landmark::RightHip),
+        ] {
+            p.points[shoulder.index()] = p.get(hip);
+        }
+        let err = Descriptor::Joints.extract(&p).unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "degenerate torso: the shoulder midpoint and the hip midpoint are 0e0 apart (relative to the pose size), so the pose has no scale"
+        );
+        // The descriptors built on pelvis and neck are well defined for this pose.
+        assert!(Descriptor::Landmarks.extract(&p).is_ok());
+        let mut q = pose();
+        q.points[Landmark::Neck.index()] = q.get(Landmark::Pelvis);
+        let err = Descriptor::Landmarks.extract(&q).unwrap_err();
+        assert!(
+            err.to_string()
+                .starts_with("degenerate torso: the neck and the pelvis are 0e0 apart"),
+            "{err}"
+        );
+    }
+
+    #[test]
+    fn extreme_coordinates_neither_overflow_nor_underflow() {
+        for d in all() {
+            let reference = d.extract(&pose()).unwrap();
+            for k in [1e154, 1e305 / 322.0, 1e-200, 1e-300] {
+                let v = d.extract(&scaled(k)).unwrap();
+                for (a, b) in v.iter().zip(&reference) {
+                    assert!((a - b).abs() < 1e-9, "{} x {k:e}: {a} vs {b}", d.name());
+                }
+            }
+        }
+        // +-1e308 corners: finite, and a collapsed torso is "0e0 apart", never "NaN apart".
+        let mut p = Pose2::new([[1e308, -1e308]; 15]);
+        p.points[Landmark::Neck.index()] = [-1e308, 1e308];
+        for d in [
+            Descriptor::Landmarks,
+            Descriptor::Paper(PaperConfig::default()),
+        ] {
+            let v = d.extract(&p).unwrap();
+            assert!(v.iter().all(|x| x.is_finite()), "{}: {v:?}", d.name());
+        }
+        let flat = Pose2::new([[1e308, -1e308]; 15]);
+        for d in all() {
+            let err = d.extract(&flat).unwrap_err().to_string();
+            assert!(err.contains(" are 0e0 apart"), "{}: {err}", d.name());
+        }
+        let mut signs = Pose2::new([[1e308, 1e308]; 15]);
+        signs.points[Landmark::LeftHip.index()] = [-1e308, -1e308];
+        signs.points[Landmark::LeftShoulder.index()] = [-1e308, -1e308];
+        let err = Descriptor::Joints.extract(&signs).unwrap_err().to_string();
+        assert!(!err.contains("NaN"), "{err}");
     }
 
     #[test]

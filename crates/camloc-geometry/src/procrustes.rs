@@ -60,13 +60,16 @@ pub fn procrustes_camera(
     let (Some(u), Some(v_t)) = (t_svd.u, t_svd.v_t) else {
         return Err(GeometryError::Degenerate("SVD of the linear camera failed"));
     };
-    if !(t_svd.singular_values[0] > 0.0)
-        || t_svd.singular_values[1] <= t_svd.singular_values[0] * 1e-12
-    {
+    if !(t_svd.singular_values[0] > 0.0) {
         return Err(GeometryError::Degenerate(
-            "the 2D points do not span two directions explained by the 3D points",
+            "the 2D points do not vary along any direction explained by the 3D points",
         ));
     }
+    let v_t = if t_svd.singular_values[1] <= t_svd.singular_values[0] * 1e-12 {
+        rank_one_completion(&v_t, &c)?
+    } else {
+        v_t
+    };
     let r2 = u * v_t; // 2x3, orthonormal rows
     let r1: Vector3 = r2.row(0).transpose();
     let r2v: Vector3 = r2.row(1).transpose();
@@ -88,6 +91,44 @@ pub fn procrustes_camera(
         rotation,
         translation: [lm[0] - scale * pm[0], lm[1] - scale * pm[1]],
     })
+}
+
+/// The right singular vectors of a rank-1 linear camera, completed: the 2D points lie on a
+/// line (e.g. a planar skeleton seen edge-on), so only the first image axis has a 3D direction
+/// `v1`; the second image axis, along which the 2D points do not spread, gets the direction
+/// orthogonal to `v1` along which the 3D points spread least (smallest eigenvector of their
+/// moment matrix `c` restricted to the plane orthogonal to `v1`), which is the least-squares
+/// choice. Its sign is arbitrary (the two signs are depth-mirrored cameras).
+fn rank_one_completion(v_t: &Matrix2x3<f64>, c: &Matrix3) -> Result<Matrix2x3<f64>, GeometryError> {
+    let v1: Vector3 = v_t.row(0).transpose();
+    // An orthonormal basis (a, b) of the plane orthogonal to v1.
+    let axis = if v1.x.abs() < 0.9 {
+        Vector3::x()
+    } else {
+        Vector3::y()
+    };
+    let a = v1.cross(&axis).normalize();
+    let b = v1.cross(&a);
+    let m = nalgebra::Matrix2::new(
+        a.dot(&(c * a)),
+        a.dot(&(c * b)),
+        b.dot(&(c * a)),
+        b.dot(&(c * b)),
+    );
+    let eig = nalgebra::SymmetricEigen::new(m);
+    let i = if eig.eigenvalues[0] <= eig.eigenvalues[1] {
+        0
+    } else {
+        1
+    };
+    let e = eig.eigenvectors.column(i);
+    let r2 = (a * e[0] + b * e[1]).normalize();
+    if !r2.iter().all(|x| x.is_finite()) {
+        return Err(GeometryError::Degenerate(
+            "the 2D points are collinear and no second camera axis can be chosen",
+        ));
+    }
+    Ok(Matrix2x3::from_rows(&[v1.transpose(), r2.transpose()]))
 }
 
 #[cfg(test)]
@@ -132,5 +173,37 @@ mod tests {
             procrustes_camera(&body(), &flat2),
             Err(GeometryError::Degenerate(_))
         ));
+    }
+
+    #[test]
+    fn a_planar_body_seen_edge_on_gets_an_exact_camera() {
+        // All points in the plane x = 0 (a planar skeleton), seen by cameras looking along
+        // the plane: the 2D points are collinear.
+        let planar = body().map(|p| [0.0, p[1], p[2]]);
+        for angle in [0.0, 0.4, -1.2] {
+            let r = rotation_about_axis(Vector3::z(), std::f64::consts::FRAC_PI_2)
+                * rotation_about_axis(Vector3::x(), angle);
+            let cam = WeakPerspective {
+                scale: 3.0,
+                rotation: r,
+                translation: [10.0, -4.0],
+            };
+            let projected = cam.project(&planar);
+            let spread_u = projected
+                .iter()
+                .map(|p| p[0])
+                .fold(f64::NEG_INFINITY, f64::max)
+                - projected.iter().map(|p| p[0]).fold(f64::INFINITY, f64::min);
+            let spread_v = projected
+                .iter()
+                .map(|p| p[1])
+                .fold(f64::NEG_INFINITY, f64::max)
+                - projected.iter().map(|p| p[1]).fold(f64::INFINITY, f64::min);
+            assert!(spread_u.min(spread_v) < 1e-12, "the view is edge-on");
+            let fit = procrustes_camera(&planar, &projected).unwrap();
+            assert!(check_rotation(&fit.rotation, 1e-9).is_ok());
+            let error = fit.squared_error(&planar, &projected).unwrap();
+            assert!(error < 1e-18, "angle {angle}: squared error {error}");
+        }
     }
 }

@@ -190,10 +190,12 @@ impl CameraSet {
                 "need at least one azimuth and one elevation".into(),
             ));
         }
-        if azimuths * elevations_deg.len() > u16::MAX as usize {
+        let count = azimuths.checked_mul(elevations_deg.len());
+        if count.is_none_or(|n| n > u16::MAX as usize) {
             return Err(GeometryError::InvalidSphere(format!(
-                "{} viewpoints is too many",
-                azimuths * elevations_deg.len()
+                "{azimuths} azimuths x {} elevations is too many viewpoints (at most {})",
+                elevations_deg.len(),
+                u16::MAX
             )));
         }
         if let Some(bad) = elevations_deg
@@ -229,6 +231,27 @@ impl CameraSet {
             elevations_deg: elevations_deg.to_vec(),
             viewpoints,
         })
+    }
+
+    /// Checks that the set is exactly what [`CameraSet::sphere`] builds from its azimuth
+    /// count and elevations (labels, angles, levels, sides and rotations): the check for a set
+    /// decoded from a file, since every other method relies on that layout.
+    ///
+    /// # Errors
+    /// [`GeometryError::InvalidSphere`] for invalid parameters or viewpoints that differ from
+    /// the ones the parameters give.
+    pub fn validate(&self) -> Result<(), GeometryError> {
+        let rebuilt = CameraSet::sphere(self.azimuths, &self.elevations_deg)?;
+        if rebuilt.viewpoints != self.viewpoints {
+            return Err(GeometryError::InvalidSphere(format!(
+                "the {} stored viewpoints are not the {} viewpoints of {} azimuths x {} elevations",
+                self.viewpoints.len(),
+                rebuilt.viewpoints.len(),
+                self.azimuths,
+                self.elevations_deg.len()
+            )));
+        }
+        Ok(())
     }
 
     /// Number of viewpoints (classes).
@@ -384,6 +407,31 @@ mod tests {
         assert_eq!(words[0], "lower front");
         assert_eq!(words[5], "middle left");
         assert_eq!(words[11], "upper right");
+    }
+
+    #[test]
+    fn validate_accepts_built_sets_and_refuses_tampered_ones() {
+        let set = CameraSet::table1();
+        set.validate().unwrap();
+        CameraSet::sphere(5, &[-10.0, 30.0])
+            .unwrap()
+            .validate()
+            .unwrap();
+        let mut no_azimuth = set.clone();
+        no_azimuth.azimuths = 0;
+        assert!(no_azimuth.validate().is_err());
+        let mut huge = set.clone();
+        huge.azimuths = usize::MAX;
+        assert!(huge.validate().is_err());
+        let mut short = set.clone();
+        short.viewpoints.pop();
+        assert!(short.validate().is_err());
+        let mut relabelled = set.clone();
+        relabelled.viewpoints[3].label = 40;
+        assert!(relabelled.validate().is_err());
+        let mut turned = set;
+        turned.viewpoints[0].rotation[(0, 0)] = f64::NAN;
+        assert!(turned.validate().is_err());
     }
 
     #[test]

@@ -1,9 +1,7 @@
 //! Errors of the learning crate.
 
-use std::path::PathBuf;
-
 /// What can go wrong when validating data, fitting, predicting, cross-validating or
-/// (de)serialising a model.
+/// validating a decoded model.
 #[derive(Debug, thiserror::Error)]
 pub enum LearningError {
     /// The feature matrix has no columns.
@@ -95,26 +93,4 @@ pub enum LearningError {
     /// Cross-validation was given no candidate configuration.
     #[error("cross-validation needs at least one candidate configuration")]
     NoCandidates,
-    /// A model file or buffer written by another format version.
-    #[error("model format version {found} is not supported (expected {expected})")]
-    Version {
-        /// Version stored in the header.
-        found: u32,
-        /// Version this build reads and writes.
-        expected: u32,
-    },
-    /// A model file or buffer that is not a valid model (bad magic, checksum, truncated, ...).
-    #[error("corrupt model data: {0}")]
-    Corrupt(String),
-    /// Serialising a model failed.
-    #[error("cannot encode model: {0}")]
-    Encode(String),
-    /// Reading or writing a model file failed.
-    #[error("I/O error on {path}: {source}")]
-    Io {
-        /// The file.
-        path: PathBuf,
-        /// The underlying error.
-        source: std::io::Error,
-    },
 }

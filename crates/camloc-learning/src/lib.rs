@@ -7,8 +7,8 @@
 //!   [`LogisticModel`], returning a [`FitReport`] with the per-iteration log.
 //! * [`LogisticModel`] predicts from raw features (the standardiser is stored inside),
 //!   allocation-free with [`LogisticModel::predict_proba_into`], in parallel with
-//!   [`LogisticModel::predict_proba_batch`], and saves/loads itself in a versioned,
-//!   checksummed binary format ([`LogisticModel::save`], [`LogisticModel::load`]).
+//!   [`LogisticModel::predict_proba_batch`]; it is stored inside the files of the crates
+//!   that use it, which run its [`camloc_store::Validate`] check after decoding.
 //! * [`RidgeModel`] (multi-output ridge regression) and [`DirectionHeads`] (one ridge
 //!   regression of a unit direction per class, with a calibrated uncertainty) refine a
 //!   class into a continuous direction.
@@ -47,7 +47,6 @@ mod error;
 mod hessian;
 mod model;
 pub mod newton;
-mod persist;
 mod ridge;
 mod softmax;
 mod standardise;
@@ -58,7 +57,6 @@ pub use data::Features;
 pub use error::LearningError;
 pub use model::LogisticModel;
 pub use newton::{FitReport, IterationLog, NewtonProblem, Termination};
-pub use persist::{FORMAT_VERSION, MAGIC};
 pub use ridge::{CONFIDENCE_BINS, DirectionHeads, RidgeModel, angle_deg};
 pub use softmax::softmax_in_place;
 pub use standardise::Standardiser;

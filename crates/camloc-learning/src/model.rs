@@ -8,6 +8,7 @@ use crate::newton::row_loss;
 use crate::softmax::{one_vs_rest_in_place, softmax_in_place};
 use crate::standardise::Standardiser;
 use crate::{Features, LearningError, Mode};
+use camloc_store::Validate;
 
 /// A fitted logistic-regression classifier over `n_features` raw features and `n_classes`
 /// classes.
@@ -70,12 +71,17 @@ impl LogisticModel {
     }
 
     /// Checks every invariant (sizes, finite values, a valid standardiser): used by
-    /// [`new`](Self::new) and when decoding a stored model, also one nested in another file.
+    /// [`new`](Self::new) and, through [`Validate`], after decoding a stored model (also one
+    /// nested in another file).
     ///
     /// # Errors
-    /// The first violated invariant, as in [`new`](Self::new).
+    /// The first violated invariant, as in [`new`](Self::new), and
+    /// [`LearningError::NoFeatures`] for a model of zero features.
     pub fn validate(&self) -> Result<(), LearningError> {
         self.standardiser.validate()?;
+        if self.n_features() == 0 {
+            return Err(LearningError::NoFeatures);
+        }
         if self.n_classes < 2 {
             return Err(LearningError::TooFewClasses {
                 n_classes: self.n_classes,
@@ -88,8 +94,9 @@ impl LogisticModel {
                 found: self.biases.len(),
             });
         }
-        let expected = self.n_features() * self.n_classes;
-        if self.weights.len() != expected {
+        let expected = self.n_features().checked_mul(self.n_classes);
+        if expected != Some(self.weights.len()) {
+            let expected = expected.unwrap_or(usize::MAX);
             return Err(LearningError::SizeMismatch {
                 what: "model weights (n_features * n_classes)",
                 expected,
@@ -339,6 +346,16 @@ impl LogisticModel {
         }
         let ridge: f64 = self.weights.iter().map(|w| w * w).sum::<f64>() * self.lambda;
         Ok(partial.iter().sum::<f64>() + ridge)
+    }
+}
+
+/// The model's invariants, run after every decode of a stored model (the containing file's
+/// own [`Validate`] calls it).
+impl Validate for LogisticModel {
+    type Invalid = LearningError;
+
+    fn validate(&self) -> Result<(), LearningError> {
+        LogisticModel::validate(self)
     }
 }
 

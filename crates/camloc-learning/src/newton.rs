@@ -41,6 +41,13 @@
 //! than an assembly does it assemble and factorise the Hessian. Near the optimum the
 //! Hessian barely changes, so one factor serves the last few iterations (module `cg`).
 //!
+//! # Where the code is
+//!
+//! This module holds the solver state, the fit loop and the reports; the direction solvers
+//! are in `direct` (Hessian assembly and Cholesky solve) and `cg` (conjugate gradients
+//! preconditioned by the last factor), the Armijo backtracking in `line_search`, and the
+//! per-sample passes and reductions they share in `kernels`.
+//!
 //! # Singular directions
 //!
 //! In the multinomial model adding the same constant to every class's bias leaves the
@@ -52,34 +59,30 @@
 //! direction too). If the Cholesky factorisation still fails, increasing multiples of the
 //! identity are added (damping) until it succeeds.
 
-use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::linalg::cholesky::llt::factor::{
-    LltRegularization, cholesky_in_place, cholesky_in_place_scratch,
-};
-use faer::linalg::cholesky::llt::solve::solve_in_place;
-use faer::linalg::matmul::matmul;
-use faer::prelude::{Reborrow, ReborrowMut};
-use faer::{Accum, MatMut, MatRef, Par};
+use faer::Par;
+use faer::dyn_stack::MemBuffer;
+use faer::linalg::cholesky::llt::factor::cholesky_in_place_scratch;
 use rayon::prelude::*;
 
 use crate::data::check_labels;
 use crate::hessian::PackedHessian;
-use crate::softmax::{log_sum_exp, sigmoid, softmax_in_place, softplus};
 use crate::standardise::Standardiser;
 use crate::{DirectionSolver, Features, LearningError, LogisticModel, LogisticRegression, Mode};
 
 mod cg;
+mod direct;
+mod kernels;
+mod line_search;
 
-/// Sufficient-decrease constant of the Armijo condition `f(t) <= f(0) + c t g.d`.
-const ARMIJO_C1: f64 = 1e-4;
-/// Maximum number of step halvings in one line search (smallest step `2^-50`).
-const MAX_HALVINGS: usize = 50;
+use cg::CgOutcome;
+pub(crate) use kernels::row_loss;
+use kernels::{
+    add_ridge_curvature, block_totals, linear_logits, residuals_of_row, ridge, shifted,
+    transpose_product,
+};
+
 /// Rows per task in the parallel passes over samples (probabilities, losses).
 const ROWS_PER_TASK: usize = 2048;
-/// First diagonal damping, relative to the largest diagonal entry, if Cholesky fails.
-const FIRST_DAMPING: f64 = 1e-10;
-/// Number of damping attempts (each 100 times the previous one) before giving up.
-const DAMPING_ATTEMPTS: usize = 8;
 
 /// What happened in one Newton iteration (or at the starting point, iteration 0).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -508,36 +511,6 @@ impl NewtonProblem {
         add_ridge_curvature(self.lambda, self.dim, &self.theta, &mut self.gradient);
     }
 
-    /// Assembles the exact Hessian of `f` at the current parameters into
-    /// [`hessian`](Self::hessian). This is the dominant cost of an iteration
-    /// ([`hessian_flops`](Self::hessian_flops) flops).
-    pub fn assemble_hessian(&mut self) {
-        let per_sample = match self.mode {
-            Mode::Multinomial => &self.probabilities,
-            Mode::OneVsRest => &self.logits,
-        };
-        let dim = self.dim;
-        let weights_are_zero = self
-            .theta
-            .chunks_exact(dim)
-            .all(|params| params[..dim - 1].iter().all(|&w| w == 0.0));
-        match per_sample.get(..self.n_classes) {
-            // Same logits for every sample (e.g. the starting point): one Gram matrix.
-            Some(shared) if weights_are_zero => {
-                self.packed
-                    .accumulate_uniform(&self.x, self.n_samples, self.mode, shared)
-            }
-            _ => self.packed.accumulate(
-                &self.x,
-                self.n_samples,
-                self.n_classes,
-                self.mode,
-                per_sample,
-            ),
-        }
-        self.unpack_hessian();
-    }
-
     /// One Newton iteration: the Newton direction (Hessian assembly and Cholesky solve, or
     /// preconditioned conjugate gradients: see [`DirectionSolver`]), backtracking line
     /// search, update of parameters, objective and gradient. Returns the log of the new
@@ -549,10 +522,19 @@ impl NewtonProblem {
         let reuse = self.direction_solver == DirectionSolver::PreconditionedCg
             && self.mode == Mode::Multinomial
             && self.factor_ready;
-        let cg = if reuse { self.solve_by_cg() } else { Err(0) };
+        let cg = if reuse {
+            self.solve_by_cg()
+        } else {
+            CgOutcome::NotTried
+        };
         let (hessian_assembled, cg_products) = match cg {
-            Ok(products) => (false, products),
-            Err(products) => {
+            CgOutcome::Solved { products } => (false, products),
+            CgOutcome::NotTried => {
+                self.assemble_hessian();
+                self.solve_newton_system()?;
+                (true, 0)
+            }
+            CgOutcome::GaveUp { products } => {
                 self.assemble_hessian();
                 self.solve_newton_system()?;
                 (true, products)
@@ -579,221 +561,6 @@ impl NewtonProblem {
         Ok(self.log(step, hessian_assembled, cg_products))
     }
 
-    /// `direction = -H^-1 grad` (per class block for one-vs-rest), with the singular-direction
-    /// correction of the multinomial model and, if needed, diagonal damping.
-    fn solve_newton_system(&mut self) -> Result<(), LearningError> {
-        let p = self.theta.len();
-        let dim = self.dim;
-        let k = self.n_classes;
-        let (block_size, n_blocks) = match self.mode {
-            Mode::Multinomial => (p, 1),
-            Mode::OneVsRest => (dim, k),
-        };
-        for (d, g) in self.direction.iter_mut().zip(&self.gradient) {
-            *d = -g;
-        }
-        // Features whose all-classes shift is a null direction of the Hessian.
-        let null_features = match (self.mode, self.lambda == 0.0) {
-            (Mode::OneVsRest, _) => 0..0,
-            (Mode::Multinomial, false) => dim - 1..dim,
-            (Mode::Multinomial, true) => 0..dim,
-        };
-        self.factor_ready = false;
-        self.null_shifts.fill(0.0);
-        for block in 0..n_blocks {
-            let offset = block * block_size;
-            let max_diagonal = (offset..offset + block_size)
-                .map(|i| self.hessian[i * p + i])
-                .fold(0.0, f64::max);
-            let mut damping = 0.0;
-            let mut attempt = 0;
-            loop {
-                let factor = &mut self.factor[..block_size * block_size];
-                for (c, column) in factor.chunks_exact_mut(block_size).enumerate() {
-                    let start = (offset + c) * p + offset;
-                    column.copy_from_slice(&self.hessian[start..start + block_size]);
-                    if let Some(v) = column.get_mut(c) {
-                        *v += damping;
-                    }
-                }
-                for a in null_features.clone() {
-                    let mean_curvature = (0..k)
-                        .map(|j| self.hessian[(j * dim + a) * p + j * dim + a])
-                        .sum::<f64>()
-                        / (k * k) as f64;
-                    if let Some(c) = self.null_shifts.get_mut(a) {
-                        *c = mean_curvature;
-                    }
-                    for j in 0..k {
-                        for l in 0..k {
-                            factor[(l * dim + a) * block_size + j * dim + a] += mean_curvature;
-                        }
-                    }
-                }
-                let mut factor =
-                    MatMut::from_column_major_slice_mut(factor, block_size, block_size);
-                let stack = MemStack::new(&mut self.cholesky_scratch);
-                let result = cholesky_in_place(
-                    factor.rb_mut(),
-                    LltRegularization::default(),
-                    Par::rayon(0),
-                    stack,
-                    Default::default(),
-                );
-                if result.is_ok() {
-                    solve_in_place(
-                        factor.rb(),
-                        MatMut::from_column_major_slice_mut(
-                            &mut self.direction[offset..offset + block_size],
-                            block_size,
-                            1,
-                        ),
-                        Par::rayon(0),
-                        stack,
-                    );
-                    self.factor_ready = self.mode == Mode::Multinomial && damping == 0.0;
-                    break;
-                }
-                if attempt == DAMPING_ATTEMPTS {
-                    return Err(LearningError::Singular {
-                        iteration: self.iteration + 1,
-                        damping,
-                    });
-                }
-                attempt += 1;
-                damping = if damping == 0.0 {
-                    FIRST_DAMPING * max_diagonal.max(f64::MIN_POSITIVE)
-                } else {
-                    damping * 100.0
-                };
-            }
-        }
-        Ok(())
-    }
-
-    /// Backtracking line search along `direction`, one step length per block, halving from
-    /// 1 until the Armijo condition holds. Blocks whose direction is not a descent direction
-    /// or that find no decrease get step 0. Leaves the result in `block_steps` and
-    /// `class_steps`.
-    fn line_search(&mut self) {
-        let dim = self.dim;
-        self.directional_derivatives.fill(0.0);
-        for (class, (g, d)) in self
-            .gradient
-            .chunks_exact(dim)
-            .zip(self.direction.chunks_exact(dim))
-            .enumerate()
-        {
-            let dot: f64 = g.iter().zip(d).map(|(a, b)| a * b).sum();
-            if let Some(v) = self
-                .directional_derivatives
-                .get_mut(block_of_class(self.mode, class))
-            {
-                *v += dot;
-            }
-        }
-        for ((step, done), &dd) in self
-            .block_steps
-            .iter_mut()
-            .zip(self.block_done.iter_mut())
-            .zip(&self.directional_derivatives)
-        {
-            // Not a descent direction (only possible through rounding at the optimum).
-            let descent = dd < 0.0;
-            *step = if descent { 1.0 } else { 0.0 };
-            *done = !descent;
-        }
-        for _ in 0..=MAX_HALVINGS {
-            self.sync_class_steps();
-            self.trial_pass();
-            let mut all_done = true;
-            for (((step, done), &trial), (&f0, &dd)) in self
-                .block_steps
-                .iter_mut()
-                .zip(self.block_done.iter_mut())
-                .zip(&self.trial_objectives)
-                .zip(
-                    self.block_objectives
-                        .iter()
-                        .zip(&self.directional_derivatives),
-                )
-            {
-                if *done {
-                    continue;
-                }
-                if trial <= f0 + ARMIJO_C1 * *step * dd {
-                    *done = true;
-                } else {
-                    *step *= 0.5;
-                    all_done = false;
-                }
-            }
-            if all_done {
-                break;
-            }
-        }
-        for (step, &done) in self.block_steps.iter_mut().zip(&self.block_done) {
-            if !done {
-                *step = 0.0;
-            }
-        }
-        self.sync_class_steps();
-    }
-
-    /// `class_steps[c] = block_steps[block of c]`.
-    fn sync_class_steps(&mut self) {
-        let mode = self.mode;
-        for (class, s) in self.class_steps.iter_mut().enumerate() {
-            *s = self
-                .block_steps
-                .get(block_of_class(mode, class))
-                .copied()
-                .unwrap_or(0.0);
-        }
-    }
-
-    /// Objective of every block at `theta + class_steps * direction`, into
-    /// `trial_objectives`, without changing the state.
-    fn trial_pass(&mut self) {
-        let k = self.n_classes;
-        let mode = self.mode;
-        let n_blocks = self.block_objectives.len();
-        let steps = &self.class_steps;
-        self.logits
-            .par_chunks(ROWS_PER_TASK * k)
-            .zip(self.direction_logits.par_chunks(ROWS_PER_TASK * k))
-            .zip(self.labels.par_chunks(ROWS_PER_TASK))
-            .zip(self.partial_losses.par_chunks_mut(n_blocks))
-            .for_each(|(((z, dz), labels), partial)| {
-                partial.fill(0.0);
-                for ((z, dz), &y) in z.chunks_exact(k).zip(dz.chunks_exact(k)).zip(labels) {
-                    row_loss(mode, y, k, |c| shifted(z[c], dz[c], steps[c]), partial);
-                }
-            });
-        let dim = self.dim;
-        let lambda = self.lambda;
-        let ridges = self
-            .theta
-            .chunks_exact(dim)
-            .zip(self.direction.chunks_exact(dim))
-            .zip(steps)
-            .map(|((t, d), &s)| {
-                ridge(
-                    lambda,
-                    t[..dim - 1]
-                        .iter()
-                        .zip(d)
-                        .map(|(&tv, &dv)| shifted(tv, dv, s)),
-                )
-            });
-        block_totals(
-            &self.partial_losses,
-            mode,
-            ridges,
-            &mut self.trial_objectives,
-        );
-    }
-
     /// The fitted model: parameters mapped back to per-feature weights and biases, with the
     /// standardiser.
     pub fn into_model(self) -> LogisticModel {
@@ -814,218 +581,5 @@ impl NewtonProblem {
             weights,
             biases,
         )
-    }
-
-    /// Expands the packed blocks into the full symmetric `P x P` Hessian and adds the ridge
-    /// curvature `2 lambda` on the weight diagonal.
-    fn unpack_hessian(&mut self) {
-        let dim = self.dim;
-        let p = self.theta.len();
-        let class_pairs = &self.packed.class_pairs;
-        let h = &mut self.hessian;
-        h.fill(0.0);
-        // Accumulate the upper triangle of every block (a <= b within blocks, j <= l across).
-        for (&(a, b), column) in self
-            .packed
-            .feature_pairs
-            .iter()
-            .zip(self.packed.packed.chunks_exact(class_pairs.len().max(1)))
-        {
-            for (&g, &(j, l)) in column.iter().zip(class_pairs) {
-                if j == l {
-                    h[(j * dim + b) * p + j * dim + a] += g;
-                } else {
-                    // Off-diagonal block (j, l): -G, both (a, b) and (b, a) entries.
-                    h[(l * dim + b) * p + j * dim + a] = -g;
-                    h[(l * dim + a) * p + j * dim + b] = -g;
-                    h[(j * dim + b) * p + j * dim + a] += g;
-                    h[(l * dim + b) * p + l * dim + a] += g;
-                }
-            }
-        }
-        // Mirror the upper triangle into the lower one.
-        for col in 0..p {
-            for row in col + 1..p {
-                h[col * p + row] = h[row * p + col];
-            }
-        }
-        let two_lambda = 2.0 * self.lambda;
-        for class in 0..self.n_classes {
-            for a in 0..dim - 1 {
-                let i = class * dim + a;
-                h[i * p + i] += two_lambda;
-            }
-        }
-    }
-}
-
-/// `totals[b] = sum over tasks of partials[task][b]` (in task order), then plus the ridge
-/// term of each class in its block. Shared by the trial and the update passes so that an
-/// accepted trial objective and the objective recomputed after the update are identical.
-fn block_totals(
-    partials: &[f64],
-    mode: Mode,
-    ridges: impl Iterator<Item = f64>,
-    totals: &mut [f64],
-) {
-    totals.fill(0.0);
-    for partial in partials.chunks_exact(totals.len().max(1)) {
-        for (b, &v) in totals.iter_mut().zip(partial) {
-            *b += v;
-        }
-    }
-    for (class, r) in ridges.enumerate() {
-        if let Some(b) = totals.get_mut(block_of_class(mode, class)) {
-            *b += r;
-        }
-    }
-}
-
-/// Line-search block of a class: 0 for multinomial, the class itself for one-vs-rest.
-#[inline]
-fn block_of_class(mode: Mode, class: usize) -> usize {
-    match mode {
-        Mode::Multinomial => 0,
-        Mode::OneVsRest => class,
-    }
-}
-
-/// `lambda * sum w^2` over the weights of one class.
-#[inline]
-fn ridge(lambda: f64, weights: impl Iterator<Item = f64>) -> f64 {
-    weights.map(|w| w * w).sum::<f64>() * lambda
-}
-
-/// `out = M X` as a `D x K` class-major matrix (`out[k * D + a] = sum_i m_ki x_ia`) for a
-/// `K x n` matrix `m` and the `n x D` design matrix `x`, in parallel over tasks of rows,
-/// each one sequential GEMM into its `K x D` slot of `partials`, summed in task order.
-fn transpose_product(
-    x: &[f64],
-    dim: usize,
-    k: usize,
-    m: &[f64],
-    partials: &mut [f64],
-    out: &mut [f64],
-) {
-    let n = x.len() / dim.max(1);
-    let x = MatRef::from_column_major_slice(x, n, dim);
-    m.par_chunks(ROWS_PER_TASK * k)
-        .zip(partials.par_chunks_mut(k * dim))
-        .enumerate()
-        .for_each(|(task, (m, partial))| {
-            let rows = m.len() / k;
-            matmul(
-                MatMut::from_column_major_slice_mut(partial, k, dim),
-                Accum::Replace,
-                MatRef::from_column_major_slice(m, k, rows),
-                x.subrows(task * ROWS_PER_TASK, rows),
-                1.0,
-                Par::Seq,
-            );
-        });
-    out.fill(0.0);
-    for partial in partials.chunks_exact(k * dim) {
-        for (a, column) in partial.chunks_exact(k).enumerate() {
-            for (class, &v) in column.iter().enumerate() {
-                if let Some(g) = out.get_mut(class * dim + a) {
-                    *g += v;
-                }
-            }
-        }
-    }
-}
-
-/// `out += 2 lambda [V; 0]`: the ridge term's gradient at `v` (or, equally, its Hessian
-/// times `v`), biases excluded; `v` and `out` are `D x K` class-major.
-fn add_ridge_curvature(lambda: f64, dim: usize, v: &[f64], out: &mut [f64]) {
-    let two_lambda = 2.0 * lambda;
-    for (o, t) in out.chunks_exact_mut(dim).zip(v.chunks_exact(dim)) {
-        for (ov, tv) in o[..dim - 1].iter_mut().zip(&t[..dim - 1]) {
-            *ov += two_lambda * tv;
-        }
-    }
-}
-
-/// `out = params^T X^T` (`K x n`): the logits of every sample for parameters `params`
-/// (`D x K`), computed in parallel over tasks of rows, each one sequential GEMM.
-fn linear_logits(x: &[f64], dim: usize, params: &[f64], out: &mut [f64]) {
-    let k = params.len() / dim.max(1);
-    let n = x.len() / dim.max(1);
-    let x = MatRef::from_column_major_slice(x, n, dim);
-    let params = MatRef::from_column_major_slice(params, dim, k);
-    out.par_chunks_mut(ROWS_PER_TASK * k)
-        .enumerate()
-        .for_each(|(task, z)| {
-            let rows = z.len() / k.max(1);
-            matmul(
-                MatMut::from_column_major_slice_mut(z, k, rows),
-                Accum::Replace,
-                params.transpose(),
-                x.subrows(task * ROWS_PER_TASK, rows).transpose(),
-                1.0,
-                Par::Seq,
-            );
-        });
-}
-
-/// Probabilities `p` and residuals `r = p - onehot(y)` of one sample with logits `z`. The
-/// residual of the true class is computed without cancellation: `-sum_{c != y} p_c`
-/// (multinomial) or `-sigmoid(-z_y)` (one-vs-rest), not `p_y - 1`, so the gradient stays
-/// accurate when the model is confident.
-#[inline]
-fn residuals_of_row(mode: Mode, y: usize, z: &[f64], p: &mut [f64], r: &mut [f64]) {
-    match mode {
-        Mode::Multinomial => {
-            p.copy_from_slice(z);
-            softmax_in_place(p);
-            r.copy_from_slice(p);
-            let others: f64 = p
-                .iter()
-                .enumerate()
-                .filter(|&(c, _)| c != y)
-                .map(|(_, v)| v)
-                .sum();
-            if let Some(ry) = r.get_mut(y) {
-                *ry = -others;
-            }
-        }
-        Mode::OneVsRest => {
-            for (c, ((pc, rc), &zc)) in p.iter_mut().zip(r.iter_mut()).zip(z).enumerate() {
-                *pc = sigmoid(zc);
-                *rc = if c == y { -sigmoid(-zc) } else { *pc };
-            }
-        }
-    }
-}
-
-/// `z + s dz`, leaving `z` untouched (even if `dz` is not finite) when `s == 0`.
-#[inline]
-fn shifted(z: f64, dz: f64, s: f64) -> f64 {
-    if s == 0.0 { z } else { z + s * dz }
-}
-
-/// Adds the loss of one sample with label `y` and logits `logit(0..k)` to its line-search
-/// block(s): `lse(z) - z_y` (multinomial, block 0) or `softplus(z_c) - [y = c] z_c` for each
-/// class `c` (one-vs-rest, block `c`).
-#[inline]
-pub(crate) fn row_loss(
-    mode: Mode,
-    y: usize,
-    k: usize,
-    logit: impl Fn(usize) -> f64,
-    partial: &mut [f64],
-) {
-    match mode {
-        Mode::Multinomial => {
-            if let Some(b) = partial.first_mut() {
-                *b += log_sum_exp(k, &logit) - logit(y);
-            }
-        }
-        Mode::OneVsRest => {
-            for (c, b) in partial.iter_mut().enumerate() {
-                let z = logit(c);
-                *b += if c == y { softplus(-z) } else { softplus(z) };
-            }
-        }
     }
 }

@@ -1,9 +1,7 @@
 //! The PCA pose basis: mean pose, principal components, anthropometric target, storage.
 
-use std::path::Path;
-
 use camloc_skeleton::{LIMBS, NUM_LANDMARKS, NUM_LIMBS, Pose3};
-use camloc_store::FileKind;
+use camloc_store::{FileKind, Persist, Validate};
 use nalgebra::{DMatrix, DVector, SymmetricEigen};
 use serde::{Deserialize, Serialize};
 
@@ -15,16 +13,6 @@ pub const POSE_DIM: usize = 3 * NUM_LANDMARKS;
 
 /// Length of a limb-vector stack: 14 limbs x 3 coordinates (child minus parent), metres.
 pub(crate) const LIMB_DIM: usize = 3 * NUM_LIMBS;
-
-/// The stored-file identity of a [`PoseBasis`] (magic `CAMLOCPB`, format version 1).
-pub const BASIS_FILE_KIND: FileKind = FileKind {
-    magic: *b"CAMLOCPB",
-    version: 1,
-    what: "pose basis",
-};
-
-/// Origin string used in errors for bases decoded from memory.
-const MEMORY_ORIGIN: &str = "<memory>";
 
 /// Options of [`PoseBasis::fit`].
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -51,6 +39,7 @@ impl Default for BasisConfig {
 /// (the *anthropometric target*); `mu` is their mean and the columns of `B` are the leading
 /// principal components (orthonormal, unit-free directions in pose space).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(try_from = "StoredBasis")]
 pub struct PoseBasis {
     mean: DVector<f64>,
     components: DMatrix<f64>,
@@ -217,89 +206,71 @@ impl PoseBasis {
             &(&self.mean + &self.components * DVector::from_column_slice(w)),
         ))
     }
+}
 
-    /// Encodes the basis as a versioned, checksummed envelope ([`BASIS_FILE_KIND`],
-    /// [`camloc_store`]).
-    ///
-    /// # Errors
-    /// [`ReconstructError::Store`] if encoding fails.
-    pub fn to_bytes(&self) -> Result<Vec<u8>, ReconstructError> {
-        camloc_store::encode(BASIS_FILE_KIND, self).map_err(|source| ReconstructError::Store {
-            origin: MEMORY_ORIGIN.into(),
-            source,
+/// The serde layout of a [`PoseBasis`] as written (nalgebra's `(data, rows, columns)` for
+/// the vector and the matrix), decoded without nalgebra so that a hostile shape is an error
+/// instead of an overflow in nalgebra's own size check.
+#[derive(Deserialize)]
+struct StoredBasis {
+    mean: (Vec<f64>, usize, ()),
+    components: (Vec<f64>, usize, usize),
+    variances: Vec<f64>,
+    total_variance: f64,
+    anthropometric_target: f64,
+    n_training: usize,
+}
+
+impl TryFrom<StoredBasis> for PoseBasis {
+    type Error = String;
+
+    fn try_from(s: StoredBasis) -> Result<PoseBasis, String> {
+        let (mean, mean_rows, ()) = s.mean;
+        let (data, rows, cols) = s.components;
+        if mean.len() != mean_rows {
+            return Err(format!(
+                "mean vector declares {mean_rows} rows but holds {} numbers",
+                mean.len()
+            ));
+        }
+        if rows.checked_mul(cols) != Some(data.len()) {
+            return Err(format!(
+                "component matrix declares {rows} x {cols} but holds {} numbers",
+                data.len()
+            ));
+        }
+        Ok(PoseBasis {
+            mean: DVector::from_vec(mean),
+            components: DMatrix::from_vec(rows, cols, data),
+            variances: s.variances,
+            total_variance: s.total_variance,
+            anthropometric_target: s.anthropometric_target,
+            n_training: s.n_training,
         })
     }
+}
 
-    /// Decodes a basis written by [`PoseBasis::to_bytes`] and checks its content.
-    ///
-    /// # Errors
-    /// [`ReconstructError::Store`] for another kind of file, another version or damaged bytes;
-    /// [`ReconstructError::InvalidBasis`] for decodable but inconsistent content.
-    pub fn from_bytes(bytes: &[u8]) -> Result<PoseBasis, ReconstructError> {
-        Self::decode(bytes, MEMORY_ORIGIN)
-    }
+/// The invariants `fit` establishes, checked after every decode: a 45-entry mean, 1 to 45
+/// orthonormal 45-entry components with one variance each, finite numbers and a positive
+/// anthropometric target.
+impl Validate for PoseBasis {
+    type Invalid = ReconstructError;
 
-    /// Writes the basis to `path` through a temporary file and a rename; refuses to replace an
-    /// existing file unless `overwrite`.
-    ///
-    /// # Errors
-    /// [`ReconstructError::Store`] (encoding, existing file, I/O), naming `path`.
-    pub fn save(&self, path: &Path, overwrite: bool) -> Result<(), ReconstructError> {
-        camloc_store::save(BASIS_FILE_KIND, self, path, overwrite).map_err(|source| {
-            ReconstructError::Store {
-                origin: path.display().to_string(),
-                source,
-            }
-        })
-    }
-
-    /// Reads a basis written by [`PoseBasis::save`].
-    ///
-    /// # Errors
-    /// As [`PoseBasis::from_bytes`], plus I/O errors, naming `path`.
-    pub fn load(path: &Path) -> Result<PoseBasis, ReconstructError> {
-        let origin = path.display().to_string();
-        let bytes = std::fs::read(path).map_err(|e| ReconstructError::Store {
-            origin: origin.clone(),
-            source: camloc_store::StoreError::Io {
-                path: path.to_path_buf(),
-                source: e,
-            },
-        })?;
-        Self::decode(&bytes, &origin)
-    }
-
-    fn decode(bytes: &[u8], origin: &str) -> Result<PoseBasis, ReconstructError> {
-        let basis: PoseBasis = camloc_store::decode(BASIS_FILE_KIND, bytes).map_err(|source| {
-            ReconstructError::Store {
-                origin: origin.into(),
-                source,
-            }
-        })?;
-        basis
-            .validate()
-            .map_err(|reason| ReconstructError::InvalidBasis {
-                origin: origin.into(),
-                reason,
-            })?;
-        Ok(basis)
-    }
-
-    /// Checks the invariants `fit` establishes.
-    fn validate(&self) -> Result<(), String> {
+    fn validate(&self) -> Result<(), ReconstructError> {
+        let invalid = |reason: String| ReconstructError::InvalidBasis { reason };
         let k = self.components.ncols();
         if self.mean.len() != POSE_DIM || self.components.nrows() != POSE_DIM {
-            return Err(format!(
+            return Err(invalid(format!(
                 "mean has {} entries and components {} rows, expected {POSE_DIM}",
                 self.mean.len(),
                 self.components.nrows()
-            ));
+            )));
         }
-        if k == 0 || self.variances.len() != k {
-            return Err(format!(
-                "{k} components with {} variances",
+        if k == 0 || k > POSE_DIM || self.variances.len() != k {
+            return Err(invalid(format!(
+                "{k} components (1 to {POSE_DIM} allowed) with {} variances",
                 self.variances.len()
-            ));
+            )));
         }
         let numbers = self.mean.iter().chain(self.components.iter());
         let scalars = self
@@ -307,21 +278,29 @@ impl PoseBasis {
             .iter()
             .chain([&self.total_variance, &self.anthropometric_target]);
         if !numbers.chain(scalars).all(|v| v.is_finite()) {
-            return Err("non-finite number".into());
+            return Err(invalid("non-finite number".into()));
         }
         if !is_positive(self.anthropometric_target) {
-            return Err(format!(
+            return Err(invalid(format!(
                 "anthropometric target {} is not positive",
                 self.anthropometric_target
-            ));
+            )));
         }
         let gram = self.components.transpose() * &self.components;
         let off = (gram - DMatrix::identity(k, k)).abs().max();
         if off > 1e-8 {
-            return Err(format!("components are not orthonormal (error {off:.3e})"));
+            return Err(invalid(format!(
+                "components are not orthonormal (error {off:.3e})"
+            )));
         }
         Ok(())
     }
+}
+
+/// Basis files: [`camloc_store::POSE_BASIS_KIND`] (magic `CAMLOCPB`); load with
+/// [`Persist::load`], write with [`Persist::save`] (no overwrite unless asked).
+impl Persist for PoseBasis {
+    const KIND: FileKind = camloc_store::POSE_BASIS_KIND;
 }
 
 /// Sum of the 14 squared limb lengths of `pose`, m^2 (the anthropometric quantity that

@@ -1,9 +1,9 @@
 //! Errors of the reconstruction crate.
 
 use camloc_geometry::GeometryError;
-use camloc_store::StoreError;
 
-/// What can go wrong building a basis, reconstructing a pose or storing a basis.
+/// What can go wrong building a basis, reconstructing a pose or validating a stored basis
+/// (reading and writing basis files fail with [`camloc_store::StoreError`]).
 #[derive(Debug, thiserror::Error)]
 pub enum ReconstructError {
     /// [`crate::PoseBasis::fit`] was given no training poses.
@@ -43,22 +43,12 @@ pub enum ReconstructError {
         /// Why it is refused.
         reason: &'static str,
     },
-    /// A stored basis decoded but its content is inconsistent.
-    #[error("pose basis {origin}: invalid content: {reason}")]
+    /// A stored basis decoded but its content is inconsistent (the file's name is added by
+    /// [`camloc_store::StoreError::Invalid`] around this error).
+    #[error("pose basis content is inconsistent: {reason}")]
     InvalidBasis {
-        /// Where the basis came from (file path or `<memory>`).
-        origin: String,
         /// What is inconsistent.
         reason: String,
-    },
-    /// Reading, writing, encoding or decoding a stored basis failed (wrong magic, other
-    /// version, truncation, checksum, I/O).
-    #[error("pose basis {origin}: {source}")]
-    Store {
-        /// Where the basis came from or goes to (file path or `<memory>`).
-        origin: String,
-        /// The storage error.
-        source: StoreError,
     },
     /// The 2D input holds NaN or infinity.
     #[error("2D pose: landmark {landmark} ({name}) has a non-finite coordinate")]

@@ -3,7 +3,8 @@
 //!
 //! * [`PoseBasis`]: mean pose and PCA components of scale-normalised canonical 3D poses
 //!   (metres, pelvis at the origin, facing -x), with the anthropometric target (the training
-//!   poses' common sum of squared limb lengths); stored as a versioned, checksummed file.
+//!   poses' common sum of squared limb lengths); stored as a versioned, checksummed file
+//!   ([`camloc_store::Persist`], validated after every decode).
 //! * [`Reconstructor::reconstruct`]: projected matching pursuit. The pose `mu + B w` (at most
 //!   `k` components) and a weak-perspective camera minimise the reprojection error (eq. 6)
 //!   subject to the anthropometric constraint, solved exactly per step by
@@ -19,6 +20,7 @@
 //! ```no_run
 //! use camloc_geometry::CameraSet;
 //! use camloc_reconstruct::{BasisConfig, CameraMode, PoseBasis, ReconstructConfig, Reconstructor};
+//! use camloc_store::Persist; // save / load
 //! # fn training_poses() -> Vec<camloc_skeleton::Pose3> { unimplemented!() }
 //! # fn landmarks() -> camloc_skeleton::Pose2 { unimplemented!() }
 //!
@@ -30,7 +32,7 @@
 //! let Some(front) = table.get(5) else { unreachable!("Table 1 has camera 05") };
 //! let recon = reconstructor.reconstruct(&landmarks(), &CameraMode::Hybrid(front.rotation))?;
 //! println!("{} basis poses, eq. 6 error {:.2} px", recon.selected.len(), recon.projection_error);
-//! # Ok::<(), camloc_reconstruct::ReconstructError>(())
+//! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
 //! # Frames and units
@@ -59,13 +61,13 @@ mod lsq;
 mod metrics;
 mod pursuit;
 
-pub use basis::{BASIS_FILE_KIND, BasisConfig, POSE_DIM, PoseBasis, sum_squared_limb_lengths};
+pub use basis::{BasisConfig, POSE_DIM, PoseBasis, sum_squared_limb_lengths};
 pub use error::ReconstructError;
 pub use eval::{EvalReport, EvalSample, ModeKind, ModeReport, evaluate};
 pub use lsq::{ConstrainedSolution, constrained_least_squares};
 pub use metrics::{
-    align_similarity, bounding_box, mpjpe_after_similarity, projection_error_eq12,
-    projection_error_eq12_bbox, rms_error_in_torsos,
+    BBOX_FLOOR_IN_TORSOS, align_similarity, bounding_box, mpjpe_after_similarity,
+    projection_error_eq12, projection_error_eq12_bbox, rms_error_in_torsos,
 };
 pub use pursuit::{CameraMode, LengthTarget, ReconstructConfig, Reconstruction, Reconstructor};
 

@@ -1,5 +1,6 @@
 //! Evaluation metrics: 3D error after similarity alignment, and the paper's projection error.
 
+use camloc_geometry::WeakPerspective;
 use camloc_skeleton::{NUM_LANDMARKS, Pose2, Pose3};
 use nalgebra::{Matrix3, SVD, Vector3};
 
@@ -90,22 +91,39 @@ pub fn projection_error_eq12(
             });
         }
     }
-    Ok(residual_norm(pose2, recon)? / (width * height))
+    Ok(residual_norm(pose2, recon)? / width / height)
 }
 
+/// Smallest side of the box [`projection_error_eq12_bbox`] divides by, in 2D torso lengths
+/// (pelvis to neck): a pose seen edge-on (e.g. a planar skeleton from the side) has a box of
+/// nearly zero width, which would blow the error up by many orders of magnitude.
+pub const BBOX_FLOOR_IN_TORSOS: f64 = 0.25;
+
 /// Eq. 12 with the image replaced by the bounding box of `pose2`'s landmarks (its width x
-/// height in image units): the normalisation used by [`crate::evaluate`], where datasets hold
-/// no image size.
+/// height in image units, each side floored at [`BBOX_FLOOR_IN_TORSOS`] torso lengths): the
+/// normalisation used by [`crate::evaluate`], where datasets hold no image size. Computed on
+/// the pose brought into range by an exact power of two ([`Pose2::within_safe_range`]), so
+/// that coordinates of 1e154 or 1e-200 give the same value as ordinary ones (the error
+/// scales as 1 / image unit).
 ///
 /// # Errors
-/// As [`projection_error_eq12`]; a bounding box of zero width or height is refused as
-/// [`ReconstructError::InvalidConfig`].
+/// [`ReconstructError::NonFiniteInput`] for a non-finite landmark,
+/// [`ReconstructError::DegenerateInput`] for a zero torso.
 pub fn projection_error_eq12_bbox(
     pose2: &Pose2,
     recon: &Reconstruction,
 ) -> Result<f64, ReconstructError> {
-    let (width, height) = bounding_box(pose2);
-    projection_error_eq12(pose2, recon, width, height)
+    check_finite_landmarks(pose2)?;
+    let (scaled, factor) = pose2.within_safe_range();
+    let floor = BBOX_FLOOR_IN_TORSOS * scaled.torso_length();
+    if !is_positive(floor) {
+        return Err(ReconstructError::DegenerateInput(
+            "the torso (pelvis to neck) has zero length",
+        ));
+    }
+    let (width, height) = bounding_box(&scaled);
+    let norm = scaled_residual_norm(&scaled, factor, recon)?;
+    Ok(norm / width.max(floor) / height.max(floor) * factor)
 }
 
 /// Width and height of the axis-aligned bounding box of `pose2`'s landmarks, image units (NaN
@@ -140,12 +158,28 @@ pub fn rms_error_in_torsos(pose2: &Pose2, recon: &Reconstruction) -> Result<f64,
     Ok(norm / (NUM_LANDMARKS as f64).sqrt() / torso)
 }
 
-/// Eq. 6: `|L - projection|_2` over the 30 coordinates, image units.
+/// Eq. 6: `|L - projection|_2` over the 30 coordinates, image units (computed on the pose
+/// brought into range, so that it neither overflows nor underflows).
 fn residual_norm(pose2: &Pose2, recon: &Reconstruction) -> Result<f64, ReconstructError> {
     check_finite_landmarks(pose2)?;
-    Ok(recon
-        .camera
-        .squared_error(&recon.pose.points, &pose2.points)?
+    let (scaled, factor) = pose2.within_safe_range();
+    Ok(scaled_residual_norm(&scaled, factor, recon)? / factor)
+}
+
+/// Eq. 6 for `scaled = factor x` the input pose (units of `scaled`): the camera is scaled
+/// alike.
+fn scaled_residual_norm(
+    scaled: &Pose2,
+    factor: f64,
+    recon: &Reconstruction,
+) -> Result<f64, ReconstructError> {
+    let camera = WeakPerspective {
+        scale: recon.camera.scale * factor,
+        rotation: recon.camera.rotation,
+        translation: recon.camera.translation.map(|t| t * factor),
+    };
+    Ok(camera
+        .squared_error(&recon.pose.points, &scaled.points)?
         .sqrt())
 }
 

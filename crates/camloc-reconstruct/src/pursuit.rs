@@ -179,6 +179,10 @@ struct Observation {
 impl Observation {
     fn new(pose: &Pose2) -> Result<Observation, ReconstructError> {
         check_finite_landmarks(pose)?;
+        // Extreme magnitudes (1e154, 1e-200, ...) are first brought into range by an exact
+        // power of two `factor` (1 for ordinary poses), so that the squares below neither
+        // overflow nor underflow; centroid and scale are mapped back at the end.
+        let (pose, factor) = pose.within_safe_range();
         let n = NUM_LANDMARKS as f64;
         let centroid = pose
             .points
@@ -189,9 +193,7 @@ impl Observation {
             .map(|p| [p[0] - centroid[0], p[1] - centroid[1]]);
         let scale = (centred.iter().flatten().map(|c| c * c).sum::<f64>() / n).sqrt();
         if !is_positive_finite(scale) {
-            return Err(ReconstructError::DegenerateInput(
-                "all landmarks coincide (or the coordinates overflow)",
-            ));
+            return Err(ReconstructError::DegenerateInput("all landmarks coincide"));
         }
         let has_torso = pose.torso_length() > 1e-9 * scale;
         if !has_torso {
@@ -201,8 +203,8 @@ impl Observation {
         }
         Ok(Observation {
             points: centred.map(|p| [p[0] / scale, p[1] / scale]),
-            centroid,
-            scale,
+            centroid: [centroid[0] / factor, centroid[1] / factor],
+            scale: scale / factor,
         })
     }
 

@@ -167,6 +167,10 @@ pub const LIMB_NAMES: [&str; NUM_LIMBS] = [
     "right forearm",
 ];
 
+/// Largest coordinate magnitude, as a power of two, that [`Pose2::within_safe_range`] leaves
+/// as it is.
+pub const SAFE_EXPONENT: i32 = 500;
+
 /// A 2D pose: the 15 landmarks in image coordinates `(u, v)`, `v` growing downwards.
 ///
 /// Units are whatever the caller uses (pixels for photos, metres for orthographic
@@ -198,6 +202,37 @@ impl Pose2 {
     /// Length of the torso (pelvis to neck), the 2D unit of scale.
     pub fn torso_length(&self) -> f64 {
         self.limb_length(TORSO_LIMB)
+    }
+
+    /// The pose multiplied by an exact power of two `f` that brings its largest coordinate
+    /// magnitude into `[1, 2)`, and `f`, when that magnitude lies outside
+    /// `2^-SAFE_EXPONENT..=2^SAFE_EXPONENT` (e.g. coordinates of 1e308 or 1e-200); otherwise,
+    /// and for non-finite or all-zero poses, the pose unchanged and `f = 1`.
+    ///
+    /// Within the safe range, differences, midpoints and squares of coordinates neither
+    /// overflow nor underflow. Multiplying by a power of two is exact (barring subnormal
+    /// results), so scale-invariant computations give the same bits on the rescaled pose;
+    /// poses already in range are not touched at all.
+    pub fn within_safe_range(&self) -> (Pose2, f64) {
+        let extent = self
+            .points
+            .iter()
+            .map(|p| p[0].abs().max(p[1].abs()))
+            .fold(0.0, f64::max);
+        if !extent.is_finite() || extent == 0.0 {
+            return (*self, 1.0);
+        }
+        let exponent = extent.log2().floor() as i32;
+        if exponent.abs() <= SAFE_EXPONENT {
+            return (*self, 1.0);
+        }
+        // 2^-exponent in two exact factors (one could overflow for tiny poses).
+        let (a, b) = (
+            2f64.powi(-exponent / 2),
+            2f64.powi(-exponent - (-exponent / 2)),
+        );
+        let scaled = self.points.map(|p| [p[0] * a * b, p[1] * a * b]);
+        (Pose2::new(scaled), a * b)
     }
 
     /// `true` when every coordinate is finite.
@@ -310,6 +345,37 @@ impl From<Pose2> for PartialPose2 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn within_safe_range_rescales_only_extreme_poses_and_exactly() {
+        let pose = Pose2::new(std::array::from_fn(|i| {
+            [i as f64 * 3.5 - 20.0, 7.25 * i as f64]
+        }));
+        assert_eq!(pose.within_safe_range(), (pose, 1.0));
+        for k in [1e154, 1e-200, 1e300] {
+            let big = Pose2::new(pose.points.map(|p| [p[0] * k, p[1] * k]));
+            let (scaled, f) = big.within_safe_range();
+            assert_eq!(f.log2().fract(), 0.0, "{k:e}: a power of two");
+            let extent = scaled
+                .points
+                .iter()
+                .flatten()
+                .fold(0.0_f64, |m, c| m.max(c.abs()));
+            assert!((1.0..2.0).contains(&extent), "{k:e}: extent {extent}");
+            for (a, b) in scaled
+                .points
+                .iter()
+                .flatten()
+                .zip(big.points.iter().flatten())
+            {
+                assert_eq!(*a, b * f, "exact");
+            }
+        }
+        let zero = Pose2::new([[0.0; 2]; NUM_LANDMARKS]);
+        assert_eq!(zero.within_safe_range().1, 1.0);
+        let nan = Pose2::new([[f64::NAN; 2]; NUM_LANDMARKS]);
+        assert_eq!(nan.within_safe_range().1, 1.0);
+    }
 
     #[test]
     fn landmark_order_and_names_round_trip() {

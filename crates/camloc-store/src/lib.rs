@@ -10,22 +10,44 @@
 //! | 8 | FNV-1a 64-bit checksum of the payload, little-endian |
 //! | n | payload: the value, bincode 2 (`config::standard()`) through serde |
 //!
-//! [`decode`] refuses another kind of file, another version, a truncated file and any flipped
-//! byte with a typed [`StoreError`]. [`write_new`] writes to a temporary file beside the target
-//! and renames it into place, so a crash never leaves a half-written output, and it refuses to
-//! replace an existing file unless asked to.
+//! One mechanism reads and writes them all: a type implements [`Validate`] (the invariants a
+//! decoded value must satisfy) and [`Persist`] (its [`FileKind`]), and gets
+//! [`Persist::to_bytes`], [`Persist::from_bytes`], [`Persist::save`] and [`Persist::load`].
+//!
+//! Reading is bounded: the 28-byte header is read first, the magic and version are checked,
+//! the declared payload length is capped by the kind's [`FileKind::max_payload`] and by the
+//! actual file length, exactly that many bytes are read, and bincode decodes under a byte
+//! limit. A wrong kind, another version, a truncated or padded file, any flipped byte
+//! (checksum) and a decoded value that breaks its invariants ([`Validate`]) are refused with
+//! a typed [`StoreError`] that names the file.
+//!
+//! Writing goes through [`write_new`]: a temporary file in the target's folder, renamed into
+//! place, never replacing an existing file unless asked to (see there for links and special
+//! files).
 
 use std::fs;
-use std::io::Write;
+use std::io::Read;
 use std::path::{Path, PathBuf};
 
 use serde::Serialize;
 use serde::de::DeserializeOwned;
 
+mod write;
+
+pub use write::write_new;
+
 /// Length of the envelope header in bytes.
 pub const HEADER_LEN: usize = 28;
 
-/// What can go wrong reading or writing a camloc file.
+/// Largest number of bytes bincode may consume while decoding one payload (the largest
+/// [`FileKind::max_payload`] of the kinds below); a second bound besides the payload length.
+const DECODE_LIMIT: usize = 1 << 31;
+
+/// Origin named in errors for values decoded from memory rather than from a file.
+pub const MEMORY_ORIGIN: &str = "<memory>";
+
+/// What can go wrong reading or writing a camloc file. Every variant names the file (or the
+/// origin of the bytes, e.g. `<memory>`).
 #[derive(Debug, thiserror::Error)]
 pub enum StoreError {
     /// Operating-system error on `path`.
@@ -42,19 +64,46 @@ pub enum StoreError {
         /// File that exists.
         path: PathBuf,
     },
+    /// The output path is a symbolic link and overwriting was not requested; camloc never
+    /// writes through a link.
+    #[error(
+        "{path}: is a symbolic link; camloc does not write through links (pass --force to replace the link itself by a new file; its target is left untouched)"
+    )]
+    Symlink {
+        /// The link.
+        path: PathBuf,
+    },
+    /// The output path is neither a regular file nor a symbolic link (a directory, device,
+    /// FIFO or socket); refused even with `--force`.
+    #[error(
+        "{path}: is a {kind}, not a regular file; camloc writes only regular files and never replaces or writes into a {kind}, even with --force"
+    )]
+    NotRegular {
+        /// The path.
+        path: PathBuf,
+        /// What it is ("directory", "character device", "FIFO", ...).
+        kind: &'static str,
+    },
     /// The bytes are not a file of the expected kind.
-    #[error("not a camloc {what} file (magic bytes {found:?})")]
+    #[error("{origin}: not a camloc {what} file (magic bytes \"{found}\"{})",
+        .other.map_or(String::new(), |o| format!(": this is a {o}")))]
     WrongKind {
+        /// File (or origin) read.
+        origin: String,
         /// Expected kind, e.g. "model".
         what: &'static str,
-        /// The first bytes found, lossily decoded.
+        /// The first (up to 8) bytes found, ASCII-escaped.
         found: String,
+        /// The kind of camloc file these magic bytes belong to, if any.
+        other: Option<&'static str>,
     },
     /// The file is of the right kind but another format version.
     #[error(
-        "camloc {what} file has format version {found}, this build reads version {expected}; regenerate it with this version of camloc"
+        "{origin}: camloc {what} file has format version {found}, this build reads version {expected}; regenerate it with this version of camloc"
     )]
     Version {
+        /// File (or origin) read.
+        origin: String,
         /// Kind of file.
         what: &'static str,
         /// Version in the file.
@@ -62,13 +111,40 @@ pub enum StoreError {
         /// Version this build reads.
         expected: u32,
     },
-    /// The file is damaged: truncated, checksum mismatch, or undecodable payload.
-    #[error("camloc {what} file is corrupt: {detail}")]
+    /// The header declares a payload larger than any valid file of this kind.
+    #[error(
+        "{origin}: camloc {what} file declares a payload of {declared} bytes, more than the {max} bytes a {what} file may hold"
+    )]
+    TooLarge {
+        /// File (or origin) read.
+        origin: String,
+        /// Kind of file.
+        what: &'static str,
+        /// Payload length in the header.
+        declared: u64,
+        /// [`FileKind::max_payload`].
+        max: u64,
+    },
+    /// The file is damaged: truncated, padded, checksum mismatch, or undecodable payload.
+    #[error("{origin}: camloc {what} file is corrupt: {detail}")]
     Corrupt {
+        /// File (or origin) read.
+        origin: String,
         /// Kind of file.
         what: &'static str,
         /// What is wrong.
         detail: String,
+    },
+    /// The file decoded but its content breaks the invariants of the value
+    /// ([`Validate::validate`]).
+    #[error("{origin}: invalid camloc {what} file: {source}")]
+    Invalid {
+        /// File (or origin) read.
+        origin: String,
+        /// Kind of file.
+        what: &'static str,
+        /// The violated invariant (the type's own validation error).
+        source: Box<dyn std::error::Error + Send + Sync>,
     },
     /// The value could not be encoded.
     #[error("could not encode {what}: {detail}")]
@@ -80,7 +156,8 @@ pub enum StoreError {
     },
 }
 
-/// Identifies one kind of camloc file: its magic bytes, current version and a human name.
+/// Identifies one kind of camloc file: its magic bytes, current version, a human name and
+/// the largest payload a file of that kind may declare.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct FileKind {
     /// Eight magic bytes at the start of the file.
@@ -89,6 +166,115 @@ pub struct FileKind {
     pub version: u32,
     /// Name used in messages ("dataset", "model", ...).
     pub what: &'static str,
+    /// Largest payload length in bytes accepted in a header (bounds the memory a hostile
+    /// header can make a reader allocate).
+    pub max_payload: u64,
+}
+
+/// Datasets (`camloc_dataset::Dataset`): up to 2 GiB of payload (about 3 million samples of
+/// about 700 bytes).
+pub const DATASET_KIND: FileKind = FileKind {
+    magic: *b"CAMLOCDS",
+    version: 2,
+    what: "dataset",
+    max_payload: 1 << 31,
+};
+
+/// Camera localizer models (`camloc::CameraLocalizer`): up to 64 MiB (a descriptor of
+/// 100,000 values for 64 cameras would still fit; the default model is under 8 KiB).
+pub const MODEL_KIND: FileKind = FileKind {
+    magic: *b"CAMLOCMD",
+    version: 1,
+    what: "model",
+    max_payload: 64 << 20,
+};
+
+/// PCA pose bases (`camloc_reconstruct::PoseBasis`): up to 1 MiB (a full 45 x 45 basis is
+/// about 17 KiB).
+pub const POSE_BASIS_KIND: FileKind = FileKind {
+    magic: *b"CAMLOCPB",
+    version: 1,
+    what: "pose basis",
+    max_payload: 1 << 20,
+};
+
+/// Every kind of file camloc writes (used to say what a file of the wrong kind is).
+pub const KINDS: [FileKind; 3] = [DATASET_KIND, MODEL_KIND, POSE_BASIS_KIND];
+
+/// The invariants a decoded value must satisfy before it is used: run by [`Persist`] after
+/// every decode, and by containers on the values nested in them.
+pub trait Validate {
+    /// The error describing the first violated invariant.
+    type Invalid: std::error::Error + Send + Sync + 'static;
+
+    /// Checks every invariant (sizes against each other, finite numbers, ...), so that no
+    /// method of a validated value can panic or silently compute garbage.
+    ///
+    /// # Errors
+    /// The first violated invariant.
+    fn validate(&self) -> Result<(), Self::Invalid>;
+}
+
+/// A value stored in its own kind of envelope file. Implementors give the [`FileKind`]; the
+/// methods are provided and are the only way camloc reads and writes these files.
+pub trait Persist: Validate + Serialize + DeserializeOwned {
+    /// Magic, version, name and size cap of the file kind.
+    const KIND: FileKind;
+
+    /// Encodes the value as an envelope. Deterministic: equal values give equal bytes.
+    ///
+    /// # Errors
+    /// [`StoreError::Encode`] if serde/bincode refuses the value.
+    fn to_bytes(&self) -> Result<Vec<u8>, StoreError> {
+        encode(Self::KIND, self)
+    }
+
+    /// Decodes and validates an envelope held in memory; errors name `origin` (e.g.
+    /// [`MEMORY_ORIGIN`] or "embedded default model").
+    ///
+    /// # Errors
+    /// As [`decode`], plus [`StoreError::Invalid`] when [`Validate::validate`] refuses it.
+    fn from_bytes_named(bytes: &[u8], origin: &str) -> Result<Self, StoreError> {
+        validated(decode(Self::KIND, bytes, origin)?, Self::KIND, origin)
+    }
+
+    /// [`from_bytes_named`](Self::from_bytes_named) with origin [`MEMORY_ORIGIN`].
+    ///
+    /// # Errors
+    /// As [`from_bytes_named`](Self::from_bytes_named).
+    fn from_bytes(bytes: &[u8]) -> Result<Self, StoreError> {
+        Self::from_bytes_named(bytes, MEMORY_ORIGIN)
+    }
+
+    /// Reads, decodes and validates the file at `path`, with bounded reading (see the crate
+    /// documentation): `/dev/zero` or a forged length fail after reading the header.
+    ///
+    /// # Errors
+    /// [`StoreError::Io`] if it cannot be opened or read, otherwise as
+    /// [`from_bytes_named`](Self::from_bytes_named) (naming `path`).
+    fn load(path: &Path) -> Result<Self, StoreError> {
+        let origin = path.display().to_string();
+        validated(read_file(Self::KIND, path)?, Self::KIND, &origin)
+    }
+
+    /// Encodes the value and writes it to `path` with [`write_new`] (never replacing an
+    /// existing file unless `overwrite`).
+    ///
+    /// # Errors
+    /// As [`encode`] and [`write_new`].
+    fn save(&self, path: &Path, overwrite: bool) -> Result<(), StoreError> {
+        write_new(path, &self.to_bytes()?, overwrite)
+    }
+}
+
+/// Runs the validation hook on a freshly decoded value.
+fn validated<T: Validate>(value: T, kind: FileKind, origin: &str) -> Result<T, StoreError> {
+    value.validate().map_err(|e| StoreError::Invalid {
+        origin: origin.to_string(),
+        what: kind.what,
+        source: Box::new(e),
+    })?;
+    Ok(value)
 }
 
 /// FNV-1a 64-bit hash, the envelope checksum.
@@ -102,7 +288,7 @@ pub fn fnv1a64(bytes: &[u8]) -> u64 {
 ///
 /// # Errors
 /// [`StoreError::Encode`] if serde/bincode refuses the value.
-pub fn encode<T: Serialize>(kind: FileKind, value: &T) -> Result<Vec<u8>, StoreError> {
+pub fn encode<T: Serialize + ?Sized>(kind: FileKind, value: &T) -> Result<Vec<u8>, StoreError> {
     let payload =
         bincode::serde::encode_to_vec(value, bincode::config::standard()).map_err(|e| {
             StoreError::Encode {
@@ -110,70 +296,157 @@ pub fn encode<T: Serialize>(kind: FileKind, value: &T) -> Result<Vec<u8>, StoreE
                 detail: e.to_string(),
             }
         })?;
+    Ok(envelope(kind, &payload))
+}
+
+/// Wraps an already encoded payload in the envelope header of `kind` (magic, version, length,
+/// checksum). Useful to build test files whose checksum is valid.
+pub fn envelope(kind: FileKind, payload: &[u8]) -> Vec<u8> {
     let mut out = Vec::with_capacity(HEADER_LEN + payload.len());
     out.extend_from_slice(&kind.magic);
     out.extend_from_slice(&kind.version.to_le_bytes());
     out.extend_from_slice(&(payload.len() as u64).to_le_bytes());
-    out.extend_from_slice(&fnv1a64(&payload).to_le_bytes());
-    out.extend_from_slice(&payload);
-    Ok(out)
+    out.extend_from_slice(&fnv1a64(payload).to_le_bytes());
+    out.extend_from_slice(payload);
+    out
 }
 
-/// Decodes an envelope of `kind` back into a value.
+/// Decodes an envelope of `kind` held in memory (no validation: see [`Persist`]); errors name
+/// `origin`.
 ///
 /// # Errors
-/// [`StoreError::WrongKind`], [`StoreError::Version`] or [`StoreError::Corrupt`] (truncated,
-/// trailing bytes, checksum mismatch, undecodable payload).
-pub fn decode<T: DeserializeOwned>(kind: FileKind, bytes: &[u8]) -> Result<T, StoreError> {
+/// [`StoreError::WrongKind`], [`StoreError::Version`], [`StoreError::TooLarge`] or
+/// [`StoreError::Corrupt`] (truncated, trailing bytes, checksum mismatch, undecodable
+/// payload).
+pub fn decode<T: DeserializeOwned>(
+    kind: FileKind,
+    bytes: &[u8],
+    origin: &str,
+) -> Result<T, StoreError> {
+    let mut reader = bytes;
+    read_envelope(kind, &mut reader, Some(bytes.len() as u64), origin)
+}
+
+/// Opens `path` and decodes the envelope it holds with bounded reading.
+fn read_file<T: DeserializeOwned>(kind: FileKind, path: &Path) -> Result<T, StoreError> {
+    let io = |source| StoreError::Io {
+        path: path.to_path_buf(),
+        source,
+    };
+    let file = fs::File::open(path).map_err(io)?;
+    let meta = file.metadata().map_err(io)?;
+    if meta.is_dir() {
+        return Err(io(std::io::Error::new(
+            std::io::ErrorKind::IsADirectory,
+            "is a directory",
+        )));
+    }
+    // Only a regular file has a trustworthy length; devices and pipes are read as streams
+    // (still bounded by the header's length and the kind's cap).
+    let known_len = meta.is_file().then_some(meta.len());
+    let mut reader = std::io::BufReader::new(file);
+    read_envelope(kind, &mut reader, known_len, &path.display().to_string())
+}
+
+/// Reads up to `buf.len()` bytes, stopping early only at the end of the input.
+fn read_full(reader: &mut impl Read, buf: &mut [u8]) -> std::io::Result<usize> {
+    let mut filled = 0;
+    while filled < buf.len() {
+        match reader.read(&mut buf[filled..]) {
+            Ok(0) => break,
+            Ok(n) => filled += n,
+            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
+            Err(e) => return Err(e),
+        }
+    }
+    Ok(filled)
+}
+
+/// The envelope reader behind [`decode`] and [`Persist::load`]: header first, then exactly
+/// the declared payload (capped by the kind and by `known_len`, the input's total length when
+/// known), then a check that nothing follows.
+fn read_envelope<T: DeserializeOwned>(
+    kind: FileKind,
+    reader: &mut impl Read,
+    known_len: Option<u64>,
+    origin: &str,
+) -> Result<T, StoreError> {
     let corrupt = |detail: String| StoreError::Corrupt {
+        origin: origin.to_string(),
         what: kind.what,
         detail,
     };
-    if bytes.len() < 8 || bytes[..8] != kind.magic {
+    let io = |e: std::io::Error| StoreError::Io {
+        path: PathBuf::from(origin),
+        source: e,
+    };
+    let mut header = [0u8; HEADER_LEN];
+    let got = read_full(reader, &mut header).map_err(io)?;
+    if got < 8 || header[..8] != kind.magic {
+        let magic = &header[..got.min(8)];
         return Err(StoreError::WrongKind {
+            origin: origin.to_string(),
             what: kind.what,
-            found: String::from_utf8_lossy(&bytes[..bytes.len().min(8)]).into_owned(),
+            found: magic.escape_ascii().to_string(),
+            other: KINDS.iter().find(|k| k.magic == magic).map(|k| k.what),
         });
     }
-    if bytes.len() < HEADER_LEN {
+    if got < HEADER_LEN {
         return Err(corrupt(format!(
-            "truncated header ({} of {HEADER_LEN} bytes)",
-            bytes.len()
+            "truncated header ({got} of {HEADER_LEN} bytes)"
         )));
     }
-    let le_u32 = |r: std::ops::Range<usize>| {
-        let mut a = [0u8; 4];
-        a.copy_from_slice(&bytes[r]);
-        u32::from_le_bytes(a)
-    };
-    let le_u64 = |r: std::ops::Range<usize>| {
-        let mut a = [0u8; 8];
-        a.copy_from_slice(&bytes[r]);
-        u64::from_le_bytes(a)
-    };
-    let version = le_u32(8..12);
+    let version = u32::from_le_bytes([header[8], header[9], header[10], header[11]]);
     if version != kind.version {
         return Err(StoreError::Version {
+            origin: origin.to_string(),
             what: kind.what,
             found: version,
             expected: kind.version,
         });
     }
-    let len = le_u64(12..20);
-    let checksum = le_u64(20..28);
-    let payload = &bytes[HEADER_LEN..];
-    if payload.len() as u64 != len {
+    let mut word = [0u8; 8];
+    word.copy_from_slice(&header[12..20]);
+    let len = u64::from_le_bytes(word);
+    word.copy_from_slice(&header[20..28]);
+    let checksum = u64::from_le_bytes(word);
+    if len > kind.max_payload {
+        return Err(StoreError::TooLarge {
+            origin: origin.to_string(),
+            what: kind.what,
+            declared: len,
+            max: kind.max_payload,
+        });
+    }
+    if let Some(total) = known_len {
+        let actual = total.saturating_sub(HEADER_LEN as u64);
+        if actual != len {
+            return Err(corrupt(format!(
+                "payload is {actual} bytes, header says {len} (truncated or padded file)"
+            )));
+        }
+    }
+    // `len` is at most `max_payload` (and the file's length when known): safe to reserve.
+    let mut payload = Vec::with_capacity(usize::try_from(len).unwrap_or(0));
+    reader.take(len).read_to_end(&mut payload).map_err(io)?;
+    if (payload.len() as u64) < len {
         return Err(corrupt(format!(
-            "payload is {} bytes, header says {len} (truncated or padded file)",
+            "payload is {} bytes, header says {len} (truncated file)",
             payload.len()
         )));
     }
-    if fnv1a64(payload) != checksum {
+    if read_full(reader, &mut [0u8; 1]).map_err(io)? != 0 {
+        return Err(corrupt(format!(
+            "bytes after the {len}-byte payload (padded file)"
+        )));
+    }
+    if fnv1a64(&payload) != checksum {
         return Err(corrupt(
             "checksum mismatch (the file was modified or damaged)".into(),
         ));
     }
-    let (value, used) = bincode::serde::decode_from_slice(payload, bincode::config::standard())
+    let config = bincode::config::standard().with_limit::<DECODE_LIMIT>();
+    let (value, used) = bincode::serde::decode_from_slice(&payload, config)
         .map_err(|e| corrupt(format!("undecodable payload: {e}")))?;
     if used != payload.len() {
         return Err(corrupt(format!(
@@ -184,178 +457,5 @@ pub fn decode<T: DeserializeOwned>(kind: FileKind, bytes: &[u8]) -> Result<T, St
     Ok(value)
 }
 
-/// Reads and decodes the envelope file at `path`.
-///
-/// # Errors
-/// [`StoreError::Io`] if the file cannot be read, then as [`decode`].
-pub fn load<T: DeserializeOwned>(kind: FileKind, path: &Path) -> Result<T, StoreError> {
-    let bytes = fs::read(path).map_err(|source| StoreError::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
-    decode(kind, &bytes)
-}
-
-/// Encodes `value` and writes it to `path` with [`write_new`].
-///
-/// # Errors
-/// As [`encode`] and [`write_new`].
-pub fn save<T: Serialize>(
-    kind: FileKind,
-    value: &T,
-    path: &Path,
-    overwrite: bool,
-) -> Result<(), StoreError> {
-    write_new(path, &encode(kind, value)?, overwrite)
-}
-
-/// Writes `bytes` to `path` through a temporary file in the same folder and a rename, so that
-/// `path` is either untouched or complete. Refuses to replace an existing `path` unless
-/// `overwrite` is `true`.
-///
-/// # Errors
-/// [`StoreError::Exists`] if `path` exists and `overwrite` is false, [`StoreError::Io`] for
-/// operating-system failures (the temporary file is removed).
-pub fn write_new(path: &Path, bytes: &[u8], overwrite: bool) -> Result<(), StoreError> {
-    let io = |source| StoreError::Io {
-        path: path.to_path_buf(),
-        source,
-    };
-    if !overwrite && path.exists() {
-        return Err(StoreError::Exists {
-            path: path.to_path_buf(),
-        });
-    }
-    let dir = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "output".into());
-    let tmp = dir.join(format!(".{name}.tmp-{}", std::process::id()));
-    let result = (|| {
-        let mut f = fs::File::create(&tmp)?;
-        f.write_all(bytes)?;
-        f.sync_all()?;
-        drop(f);
-        if !overwrite && path.exists() {
-            return Err(std::io::Error::new(
-                std::io::ErrorKind::AlreadyExists,
-                "appeared while writing",
-            ));
-        }
-        fs::rename(&tmp, path)
-    })();
-    if result.is_err() {
-        let _ = fs::remove_file(&tmp);
-    }
-    result.map_err(|e| {
-        if e.kind() == std::io::ErrorKind::AlreadyExists {
-            StoreError::Exists {
-                path: path.to_path_buf(),
-            }
-        } else {
-            io(e)
-        }
-    })
-}
-
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use proptest::prelude::*;
-
-    const KIND: FileKind = FileKind {
-        magic: *b"CAMLOCTS",
-        version: 3,
-        what: "test",
-    };
-
-    #[derive(Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-    struct Thing {
-        name: String,
-        values: Vec<f64>,
-    }
-
-    proptest! {
-        #[test]
-        fn round_trip_is_exact(name in ".{0,20}", values in proptest::collection::vec(proptest::num::f64::ANY, 0..50)) {
-            let t = Thing { name, values };
-            let bytes = encode(KIND, &t).unwrap();
-            let back: Thing = decode(KIND, &bytes).unwrap();
-            prop_assert_eq!(encode(KIND, &back).unwrap(), bytes);
-        }
-
-        #[test]
-        fn any_flipped_byte_is_refused(pos in 0usize..200, bit in 0u8..8) {
-            let t = Thing { name: "abc".into(), values: vec![1.5, -2.0, 3.25, 1e300] };
-            let mut bytes = encode(KIND, &t).unwrap();
-            let pos = pos % bytes.len();
-            bytes[pos] ^= 1 << bit;
-            prop_assert!(decode::<Thing>(KIND, &bytes).is_err());
-        }
-    }
-
-    #[test]
-    fn kind_version_and_truncation_errors() {
-        let bytes = encode(KIND, &vec![1u32, 2, 3]).unwrap();
-        let other = FileKind { version: 4, ..KIND };
-        assert!(matches!(
-            decode::<Vec<u32>>(other, &bytes),
-            Err(StoreError::Version {
-                found: 3,
-                expected: 4,
-                ..
-            })
-        ));
-        let wrong = FileKind {
-            magic: *b"CAMLOCXX",
-            ..KIND
-        };
-        assert!(matches!(
-            decode::<Vec<u32>>(wrong, &bytes),
-            Err(StoreError::WrongKind { .. })
-        ));
-        assert!(matches!(
-            decode::<Vec<u32>>(KIND, &bytes[..bytes.len() - 1]),
-            Err(StoreError::Corrupt { .. })
-        ));
-        assert!(matches!(
-            decode::<Vec<u32>>(KIND, &bytes[..10]),
-            Err(StoreError::Corrupt { .. })
-        ));
-        assert!(matches!(
-            decode::<Vec<u32>>(KIND, b""),
-            Err(StoreError::WrongKind { .. })
-        ));
-    }
-
-    #[test]
-    fn write_new_refuses_to_overwrite_and_leaves_no_temporary() {
-        let dir = std::env::temp_dir().join(format!("camloc-store-test-{}", std::process::id()));
-        fs::create_dir_all(&dir).unwrap();
-        let path = dir.join("out.bin");
-        let _ = fs::remove_file(&path);
-        write_new(&path, b"first", false).unwrap();
-        assert!(matches!(
-            write_new(&path, b"second", false),
-            Err(StoreError::Exists { .. })
-        ));
-        assert_eq!(fs::read(&path).unwrap(), b"first");
-        write_new(&path, b"third", true).unwrap();
-        assert_eq!(fs::read(&path).unwrap(), b"third");
-        let leftovers: Vec<_> = fs::read_dir(&dir)
-            .unwrap()
-            .filter_map(|e| e.ok())
-            .filter(|e| e.file_name().to_string_lossy().contains(".tmp-"))
-            .collect();
-        assert!(leftovers.is_empty());
-        assert!(matches!(
-            write_new(&dir.join("missing-dir").join("x.bin"), b"x", false),
-            Err(StoreError::Io { .. })
-        ));
-        fs::remove_dir_all(&dir).unwrap();
-    }
-}
+mod tests;

@@ -4,6 +4,7 @@ use camloc_dataset::Dataset;
 use camloc_geometry::{CameraLabel, Level};
 use camloc_learning::Features;
 use camloc_skeleton::PartialPose2;
+use camloc_store::Validate;
 use serde::Serialize;
 
 use crate::localizer::{extract_rows, impute_rows, sample_pose};

@@ -56,6 +56,6 @@ pub use reconstruction::{PoseReconstruction, PoseReconstructor, default_basis};
 pub use select::{DescriptorCv, cross_validate};
 
 pub use localizer::{
-    CameraLocalizer, DEFAULT_LAMBDA, LandmarkDropout, Localization, MAX_DROPOUT_COPIES, MODEL_FILE,
+    CameraLocalizer, DEFAULT_LAMBDA, LandmarkDropout, Localization, MAX_DROPOUT_COPIES,
     TrainOptions, TrainingInfo,
 };

@@ -1,26 +1,17 @@
 //! [`CameraLocalizer`]: descriptor + classifier + camera set, trained, saved and used together.
 
-use std::path::Path;
-
 use camloc_dataset::{Dataset, Protocol};
 use camloc_features::Descriptor;
 use camloc_geometry::{CameraLabel, CameraSet, Level, Matrix3, Side};
 use camloc_learning::{Features, FitReport, IterationLog, LogisticModel, LogisticRegression};
 use camloc_skeleton::{Landmark, NUM_LANDMARKS, PartialPose2, Pose2};
-use camloc_store::FileKind;
+use camloc_store::{FileKind, Persist, Validate};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::CamlocError;
-
-/// The model file kind: magic bytes and format version this build reads and writes.
-pub const MODEL_FILE: FileKind = FileKind {
-    magic: *b"CAMLOCMD",
-    version: 1,
-    what: "model",
-};
 
 /// Largest number of dropout copies [`TrainOptions::validate`] accepts: each copy adds as many
 /// descriptor rows as the training set has samples (with mirroring, twice that), so the bound
@@ -349,46 +340,6 @@ impl CameraLocalizer {
         })
     }
 
-    /// Encodes the localizer as a versioned, checksummed model file.
-    ///
-    /// # Errors
-    /// [`CamlocError::Store`] if encoding fails.
-    pub fn to_bytes(&self) -> Result<Vec<u8>, CamlocError> {
-        Ok(camloc_store::encode(MODEL_FILE, self)?)
-    }
-
-    /// Decodes and checks a model file.
-    ///
-    /// # Errors
-    /// [`CamlocError::Store`] for another kind of file, another version or a corrupt one;
-    /// [`CamlocError::Inconsistent`] when its parts do not fit together.
-    pub fn from_bytes(bytes: &[u8]) -> Result<CameraLocalizer, CamlocError> {
-        let localizer: CameraLocalizer = camloc_store::decode(MODEL_FILE, bytes)?;
-        localizer.check()?;
-        Ok(localizer)
-    }
-
-    /// Writes the model to `path` (temporary file + rename); refuses to replace an existing
-    /// file unless `overwrite`.
-    ///
-    /// # Errors
-    /// [`CamlocError::Store`].
-    pub fn save(&self, path: &Path, overwrite: bool) -> Result<(), CamlocError> {
-        Ok(camloc_store::write_new(path, &self.to_bytes()?, overwrite)?)
-    }
-
-    /// Reads a model file.
-    ///
-    /// # Errors
-    /// As [`CameraLocalizer::from_bytes`], and [`CamlocError::Store`] if it cannot be read.
-    pub fn load(path: &Path) -> Result<CameraLocalizer, CamlocError> {
-        let bytes = std::fs::read(path).map_err(|source| camloc_store::StoreError::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
-        Self::from_bytes(&bytes)
-    }
-
     /// The default model embedded in this build (trained by `cargo xtask train-default` on
     /// the CMU data under the `jittered` protocol, with landmark dropout).
     ///
@@ -399,11 +350,18 @@ impl CameraLocalizer {
         if bytes.is_empty() {
             return Err(CamlocError::NoDefault("model"));
         }
-        Self::from_bytes(bytes)
+        Self::from_bytes_named(bytes, "embedded default model").map_err(CamlocError::from)
     }
+}
 
-    /// Checks that descriptor, classifier, imputation and cameras agree in size.
-    fn check(&self) -> Result<(), CamlocError> {
+/// The localizer's invariants, run after every decode of a model file: a valid descriptor
+/// and camera set, the classifier's own [`LogisticModel::validate`] (shapes against its class
+/// count and feature count, finite numbers, positive scales), and descriptor, classifier,
+/// imputation and cameras agreeing in size.
+impl Validate for CameraLocalizer {
+    type Invalid = CamlocError;
+
+    fn validate(&self) -> Result<(), CamlocError> {
         let inconsistent = |detail: String| CamlocError::Inconsistent {
             what: "model",
             detail,
@@ -411,6 +369,10 @@ impl CameraLocalizer {
         self.descriptor
             .validate()
             .map_err(|e| inconsistent(e.to_string()))?;
+        self.cameras
+            .validate()
+            .map_err(|e| inconsistent(format!("camera set: {e}")))?;
+        self.model.validate()?;
         let d = self.descriptor.len();
         if self.model.n_features() != d || self.imputation.len() != d {
             return Err(inconsistent(format!(
@@ -432,6 +394,12 @@ impl CameraLocalizer {
         }
         Ok(())
     }
+}
+
+/// Model files: [`camloc_store::MODEL_KIND`] (magic `CAMLOCMD`); load with
+/// [`Persist::load`], write with [`Persist::save`] (no overwrite unless asked).
+impl Persist for CameraLocalizer {
+    const KIND: FileKind = camloc_store::MODEL_KIND;
 }
 
 /// The (possibly partial) 2D pose of a dataset sample.

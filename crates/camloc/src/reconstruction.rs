@@ -6,6 +6,8 @@ use camloc_reconstruct::{
     Reconstructor,
 };
 use camloc_skeleton::PartialPose2;
+use camloc_store::Persist;
+use camloc_store::Validate;
 
 use crate::localizer::sample_pose;
 use crate::{CameraLocalizer, CamlocError, Localization};
@@ -30,10 +32,10 @@ pub fn default_basis() -> Result<PoseBasis, CamlocError> {
     if bytes.is_empty() {
         return Err(CamlocError::NoDefault("basis"));
     }
-    PoseBasis::from_bytes(bytes).map_err(|source| CamlocError::Reconstruct {
-        context: "embedded default basis".into(),
-        source,
-    })
+    Ok(PoseBasis::from_bytes_named(
+        bytes,
+        "embedded default basis",
+    )?)
 }
 
 /// 3D reconstruction of 2D poses: a PCA pose basis, the pursuit settings, the camera mode, and

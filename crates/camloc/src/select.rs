@@ -4,6 +4,7 @@ use camloc_dataset::Dataset;
 use camloc_features::Descriptor;
 use camloc_learning::{CvReport, Features, LogisticRegression, cross_validate_grouped};
 use camloc_skeleton::PartialPose2;
+use camloc_store::Validate;
 
 use crate::CamlocError;
 use crate::localizer::{extract_rows, impute_rows, sample_pose};

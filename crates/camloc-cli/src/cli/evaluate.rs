@@ -4,8 +4,10 @@ use std::fmt::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use camloc::dataset::Dataset;
+use camloc::store::Persist;
 use camloc::{CameraLocalizer, CamlocError, evaluate};
+
+use super::{CliError, Out, load_dataset};
 
 /// Arguments of `camloc evaluate`.
 #[derive(clap::Args)]
@@ -23,10 +25,11 @@ pub struct Args {
 }
 
 /// Runs `camloc evaluate`.
-pub fn run(args: &Args, out: &mut String) -> Result<ExitCode, CamlocError> {
+pub fn run(args: &Args, stdout: &mut Out) -> Result<ExitCode, CliError> {
     let localizer = CameraLocalizer::load(&args.model)?;
-    let dataset = Dataset::load(&args.dataset)?;
+    let dataset = load_dataset(&args.dataset)?;
     let e = evaluate(&localizer, &dataset)?;
+    let mut out = String::new();
     if args.json {
         let _ = writeln!(
             out,
@@ -36,6 +39,8 @@ pub fn run(args: &Args, out: &mut String) -> Result<ExitCode, CamlocError> {
                 detail: err.to_string(),
             })?
         );
+        stdout.write(&out)?;
+        stdout.flush()?;
         return Ok(ExitCode::SUCCESS);
     }
     let _ = writeln!(out, "samples:          {}", e.samples);
@@ -80,5 +85,7 @@ pub fn run(args: &Args, out: &mut String) -> Result<ExitCode, CamlocError> {
         }
         let _ = writeln!(out);
     }
+    stdout.write(&out)?;
+    stdout.flush()?;
     Ok(ExitCode::SUCCESS)
 }

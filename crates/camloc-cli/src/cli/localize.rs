@@ -5,12 +5,15 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use camloc::keypoints::KeypointRecord;
-use camloc::{CameraLocalizer, CamlocError, Localization};
-use serde_json::json;
+use camloc::{CameraLabel, CameraLocalizer, Localization, Pose3};
+use serde::ser::SerializeMap;
+use serde::{Serialize, Serializer};
 
 use crate::svg;
 
-use super::{InputArgs, load_model, numbered_path};
+use super::input::Inputs;
+use super::stream::{self, Done, Files, Format};
+use super::{CliError, InputArgs, Out, ProgressArgs, load_model, progress};
 
 /// Arguments of `camloc localize`.
 #[derive(clap::Args)]
@@ -20,74 +23,70 @@ pub struct Args {
     pub model: Option<PathBuf>,
     #[command(flatten)]
     pub input: InputArgs,
-    /// Print one JSON array with one object per pose.
-    #[arg(long)]
+    /// Print one JSON array with one object per pose (streamed: written as poses are done).
+    #[arg(long, conflicts_with = "jsonl")]
     pub json: bool,
+    /// Print one JSON object per line, each as soon as its pose is done (for large inputs).
+    #[arg(long)]
+    pub jsonl: bool,
     /// Draw each pose and its predicted viewpoint as SVG to this file (several poses:
-    /// FILE-001.svg, FILE-002.svg, ...).
+    /// FILE-001.svg, FILE-002.svg, ...). All files are written at the end, or none.
     #[arg(long, value_name = "OUT")]
     pub svg: Option<PathBuf>,
-    /// Overwrite existing SVG files.
+    /// Replace existing output files. A symbolic link at an output path is replaced by the new
+    /// file (never written through; its target is untouched); a directory, device or FIFO is
+    /// refused even with --force.
     #[arg(long)]
     pub force: bool,
+    #[command(flatten)]
+    pub progress: ProgressArgs,
 }
 
 /// Runs `camloc localize`.
-pub fn run(args: &Args, out: &mut String) -> Result<ExitCode, CamlocError> {
+pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     let localizer = load_model(args.model.as_deref())?;
-    let records = args.input.read()?;
-    let results = localizer.localize_batch(&records.iter().map(|r| r.pose).collect::<Vec<_>>());
-    let mut failures = 0usize;
-    let mut json_out = Vec::new();
-    for (i, (record, result)) in records.iter().zip(&results).enumerate() {
-        match result {
-            Ok(loc) => {
-                if args.json {
-                    json_out.push(localization_json(&localizer, record, loc));
-                } else {
-                    print_localization(out, &localizer, record, loc);
-                }
-                if let Some(out) = &args.svg {
-                    let path = numbered_path(out, i, records.len());
-                    let caption = format!(
-                        "{}: camera {} ({} {}), p = {:.2}",
-                        record.id,
-                        loc.label,
-                        loc.level.name(),
-                        loc.side.name(),
-                        loc.probability
-                    );
-                    let drawing = svg::localization_svg(
-                        &record.pose,
-                        localizer.cameras(),
-                        loc.label,
-                        &caption,
-                    );
-                    camloc::store::write_new(&path, drawing.as_bytes(), args.force)?;
-                }
-            }
-            Err(e) => {
-                failures += 1;
-                eprintln!("camloc: error: {} ({}): {e}", record.id, record.source);
-                if args.json {
-                    json_out.push(
-                        json!({"id": record.id, "source": record.source, "error": e.to_string()}),
-                    );
-                }
-            }
-        }
-    }
-    if args.json {
-        let _ = writeln!(out, "{}", serde_json::Value::Array(json_out));
-    }
-    if failures > 0 {
-        eprintln!(
-            "camloc: {failures} of {} poses could not be localized",
-            records.len()
-        );
-        return Ok(ExitCode::from(super::EXIT_ERROR));
-    }
-    Ok(ExitCode::SUCCESS)
+    let inputs = Inputs::open(&args.input)?;
+    let format = Format::from_flags(args.json, args.jsonl);
+    let files = Files::<Pose3> {
+        svg: args.svg.clone(),
+        npy: None,
+        force: args.force,
+        pose: std::marker::PhantomData,
+    };
+    let labels: Vec<String> = localizer
+        .cameras()
+        .viewpoints()
+        .iter()
+        .map(|v| v.label_text())
+        .collect();
+    let bar = progress::counter(args.progress.quiet, inputs.len_hint(), "localize", "poses");
+    let summary = stream::run(inputs, out, format, &files, &bar, |record| {
+        let loc = localizer
+            .localize_partial(&record.pose)
+            .map_err(|e| e.to_string())?;
+        let text = if format.is_json() {
+            stream::json_line(&localization_json(&labels, record, &loc))
+        } else {
+            localization_text(&localizer, record, &loc)
+        };
+        let svg = files.svg.as_ref().map(|_| {
+            let caption = format!(
+                "{}: camera {} ({} {}), p = {:.2}",
+                record.id,
+                loc.label,
+                loc.level.name(),
+                loc.side.name(),
+                loc.probability
+            );
+            svg::localization_svg(&record.pose, localizer.cameras(), loc.label, &caption)
+        });
+        Ok(Done {
+            text,
+            svg,
+            row: None,
+        })
+    })?;
+    Ok(summary.exit_code("localized"))
 }
 
 fn rotation_rows(loc: &Localization) -> [[f64; 3]; 3] {
@@ -99,39 +98,68 @@ fn rotation_rows(loc: &Localization) -> [[f64; 3]; 3] {
     ]
 }
 
-fn localization_json(
-    localizer: &CameraLocalizer,
-    record: &KeypointRecord,
-    loc: &Localization,
-) -> serde_json::Value {
-    let probabilities: serde_json::Map<String, serde_json::Value> = localizer
-        .cameras()
-        .viewpoints()
-        .iter()
-        .zip(&loc.probabilities)
-        .map(|(v, p)| (v.label_text(), json!(p)))
-        .collect();
-    json!({
-        "id": record.id,
-        "source": record.source,
-        "label": loc.label,
-        "level": loc.level.name(),
-        "side": loc.side.name(),
-        "probability": loc.probability,
-        "folded_label": loc.folded_label,
-        "rotation": rotation_rows(loc),
-        "probabilities": probabilities,
-        "missing": loc.missing.iter().map(|l| l.name()).collect::<Vec<_>>(),
-        "derived": record.derived.iter().map(|l| l.name()).collect::<Vec<_>>(),
-    })
+/// The probabilities as a map from camera label ("01".."12", the labels' texts in camera
+/// order) to probability.
+struct Probabilities<'a>(&'a [String], &'a [f64]);
+
+impl Serialize for Probabilities<'_> {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        let mut map = serializer.serialize_map(Some(self.1.len()))?;
+        for (label, p) in self.0.iter().zip(self.1) {
+            map.serialize_entry(label, p)?;
+        }
+        map.end()
+    }
 }
 
-fn print_localization(
-    out: &mut String,
+/// One pose of `localize --json` / `--jsonl`.
+#[derive(Serialize)]
+struct LocalizationJson<'a> {
+    id: &'a str,
+    source: &'a str,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    frame: Option<u64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    person: Option<u64>,
+    label: CameraLabel,
+    level: &'static str,
+    side: &'static str,
+    probability: f64,
+    folded_label: CameraLabel,
+    rotation: [[f64; 3]; 3],
+    probabilities: Probabilities<'a>,
+    missing: Vec<&'static str>,
+    derived: Vec<&'static str>,
+}
+
+fn localization_json<'a>(
+    labels: &'a [String],
+    record: &'a KeypointRecord,
+    loc: &'a Localization,
+) -> LocalizationJson<'a> {
+    LocalizationJson {
+        id: &record.id,
+        source: &record.source,
+        frame: record.frame,
+        person: record.person,
+        label: loc.label,
+        level: loc.level.name(),
+        side: loc.side.name(),
+        probability: loc.probability,
+        folded_label: loc.folded_label,
+        rotation: rotation_rows(loc),
+        probabilities: Probabilities(labels, &loc.probabilities),
+        missing: loc.missing.iter().map(|l| l.name()).collect(),
+        derived: record.derived.iter().map(|l| l.name()).collect(),
+    }
+}
+
+fn localization_text(
     localizer: &CameraLocalizer,
     record: &KeypointRecord,
     loc: &Localization,
-) {
+) -> String {
+    let mut out = String::new();
     let view = localizer.cameras().get(loc.label.get());
     let where_ = view.map_or_else(String::new, |v| {
         format!(
@@ -166,4 +194,5 @@ fn print_localization(
         let names: Vec<&str> = loc.missing.iter().map(|l| l.name()).collect();
         let _ = writeln!(out, "  missing (imputed): {}", names.join(", "));
     }
+    out
 }

@@ -3,23 +3,37 @@
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use camloc::keypoints::{Invisible, KeypointFormat, KeypointRecord, ReadOptions, read_keypoints};
+use camloc::dataset::Dataset;
+use camloc::keypoints::{ImageSize, Invisible, KeypointError, KeypointFormat, Layout, ReadOptions};
+use camloc::store::{Persist, StoreError};
 use camloc::{CameraLocalizer, CamlocError};
+use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use clap::{Parser, Subcommand, ValueEnum};
 
+mod convert;
 mod evaluate;
+mod input;
 mod localize;
+pub mod output;
+mod progress;
 mod reconstruct;
+mod stream;
 mod train;
+
+pub use output::Out;
 
 /// Exit code for a failure (bad input, unreadable or invalid file, failed pose).
 pub const EXIT_ERROR: u8 = 1;
 
 const EXIT_CODES: &str = "Exit codes:
   0  success
-  1  error: unreadable, malformed or invalid input, an output that exists without --force,
-     or (localize, reconstruct) at least one pose that could not be processed
-  2  usage error: unknown subcommand or option, missing or invalid argument";
+  1  error: unreadable, malformed or invalid input, an input without any pose, an output
+     that exists without --force, a failed write to standard output, or (localize,
+     reconstruct, convert) at least one pose or file of a folder that could not be processed
+  2  usage error: unknown subcommand or option, missing or invalid argument
+
+An input with no pose at all (an empty pose list, a header-only CSV, an empty .npy array, a
+folder without poses, a dataset without samples) is an error: \"no poses in INPUT\", exit 1.";
 
 /// Camera localization from 2D human-pose landmarks, and 3D reconstruction.
 ///
@@ -40,44 +54,69 @@ enum Command {
     /// Measure a model's accuracy on a labelled dataset.
     #[command(after_help = EXIT_CODES)]
     Evaluate(evaluate::Args),
-    /// Localize the camera of 2D poses read from a keypoint file.
+    /// Localize the camera of 2D poses read from a keypoint file, a folder or standard input.
     ///
-    /// Missing landmarks: null in camloc JSON, visible=0 in LSP CSV (unless --lsp-invisible
-    /// use), confidence 0 in COCO; their descriptor values are imputed. The pelvis and neck are
-    /// derived from the hips and shoulders when missing; a pose whose torso cannot be derived
-    /// is reported as an error and the others are still localized.
+    /// Missing landmarks (null in camloc JSON, visible=0 in LSP CSV unless --lsp-invisible use,
+    /// a score of 0 or below --min-score, NaN in .npy) have their descriptor values imputed.
+    /// The pelvis and neck are derived from the hips and shoulders when missing; a pose whose
+    /// torso cannot be derived is reported as an error and the others are still localized.
+    ///
+    /// Poses are read, localized (in parallel) and written in batches, so memory does not grow
+    /// with the input; use --jsonl for one JSON object per line.
     #[command(after_help = EXIT_CODES)]
     Localize(localize::Args),
-    /// Reconstruct the 3D poses of a keypoint file with a PCA basis and projected matching
+    /// Reconstruct the 3D poses of a keypoint input with a PCA basis and projected matching
     /// pursuit, using the Procrustes camera (opt, default) or the classified one (classified, hybrid).
+    ///
+    /// Poses are read, reconstructed (in parallel) and written in batches.
     #[command(after_help = EXIT_CODES)]
     Reconstruct(reconstruct::Args),
     /// Measure 3D error (mm, after similarity alignment) and projection error of every
     /// camera mode on a labelled dataset.
     #[command(after_help = EXIT_CODES)]
     EvaluateReconstruction(reconstruct::EvalArgs),
+    /// Write any readable keypoint input in camloc's own formats: camloc JSON or a
+    /// (N, 15, 2) float64 .npy array (NaN, NaN for a missing landmark).
+    #[command(after_help = EXIT_CODES)]
+    Convert(convert::Args),
 }
 
-/// Runs the parsed command line, appending what goes to standard output to `out`.
-pub fn run(cli: Cli, out: &mut String) -> Result<ExitCode, CamlocError> {
+/// Everything that ends a command with exit code 1.
+#[derive(Debug, thiserror::Error)]
+pub enum CliError {
+    /// A library error (input, model, dataset, output file).
+    #[error(transparent)]
+    Camloc(#[from] CamlocError),
+    /// Standard output could not be written (other than a closed pipe).
+    #[error("cannot write to standard output: {0}")]
+    Stdout(#[source] std::io::Error),
+    /// The input holds no pose at all (the rule for empty inputs, see `camloc --help`).
+    #[error("no poses in {0}")]
+    NoPoses(String),
+}
+
+impl From<KeypointError> for CliError {
+    fn from(e: KeypointError) -> Self {
+        CliError::Camloc(e.into())
+    }
+}
+
+impl From<StoreError> for CliError {
+    fn from(e: StoreError) -> Self {
+        CliError::Camloc(e.into())
+    }
+}
+
+/// Runs the parsed command line, writing what goes to standard output to `out`.
+pub fn run(cli: Cli, out: &mut Out) -> Result<ExitCode, CliError> {
     match cli.command {
         Command::Train(args) => train::run(&args, out),
         Command::Evaluate(args) => evaluate::run(&args, out),
         Command::Localize(args) => localize::run(&args, out),
         Command::Reconstruct(args) => reconstruct::run(&args, out),
         Command::EvaluateReconstruction(args) => reconstruct::run_evaluation(&args, out),
+        Command::Convert(args) => convert::run(&args, out),
     }
-}
-
-/// Input keypoint formats on the command line.
-#[derive(Clone, Copy, Debug, ValueEnum)]
-pub enum FormatArg {
-    /// camloc's 15-landmark JSON (docs/keypoints.md).
-    Camloc,
-    /// LSP-14 CSV: image,joint,x,y,visible.
-    Lsp,
-    /// COCO-17 JSON (dataset file or results list).
-    Coco,
 }
 
 /// How LSP joints marked visible=0 are read.
@@ -89,41 +128,129 @@ pub enum InvisibleArg {
     Use,
 }
 
+/// `--format` values with their help.
+fn format_values() -> Vec<PossibleValue> {
+    KeypointFormat::ALL
+        .into_iter()
+        .map(|f| {
+            PossibleValue::new(f.name()).help(match f {
+                KeypointFormat::Camloc => "camloc's 15-landmark JSON (docs/keypoints.md)",
+                KeypointFormat::Lsp => "LSP-14 CSV: image,joint,x,y,visible",
+                KeypointFormat::Coco => "COCO-17 JSON (dataset file or results list)",
+                KeypointFormat::OpenPose => {
+                    "OpenPose JSON, one file per frame (BODY_25 or COCO-18)"
+                }
+                KeypointFormat::MmPose => "MMPose predictions (keypoints + keypoint_scores)",
+                KeypointFormat::MediaPipe => {
+                    "MediaPipe Pose 33 normalised landmarks (needs --image-size)"
+                }
+                KeypointFormat::Npy => "NumPy array (N, J, 2) or (N, J, 3) in a --layout",
+                KeypointFormat::Mpii => "MPII annotations JSON (image, joints, joints_vis)",
+            })
+        })
+        .collect()
+}
+
+/// `--layout` values with their help.
+fn layout_values() -> Vec<PossibleValue> {
+    Layout::ALL
+        .into_iter()
+        .map(|l| {
+            PossibleValue::new(l.name()).help(match l {
+                Layout::Coco17 => "COCO-17 (17 joints)",
+                Layout::H36m17 => "Human3.6M (17 joints)",
+                Layout::Body25 => "OpenPose BODY_25 (25 joints)",
+                Layout::Mpii16 => "MPII (16 joints)",
+                Layout::Lsp14 => "LSP (14 joints, joints.mat order)",
+                Layout::Camloc15 => "camloc's 15 landmarks, pelvis first",
+            })
+        })
+        .collect()
+}
+
+/// Parses `--min-score`: a finite number >= 0.
+fn parse_min_score(text: &str) -> Result<f64, String> {
+    text.trim()
+        .parse::<f64>()
+        .ok()
+        .filter(|s| s.is_finite() && *s >= 0.0)
+        .ok_or_else(|| format!("not a finite number >= 0: {text:?}"))
+}
+
 /// Input options shared by the commands that read keypoints.
 #[derive(clap::Args)]
 pub struct InputArgs {
-    /// Keypoint file: camloc JSON (.json), LSP-14 CSV (.csv) or COCO-17 JSON.
-    #[arg(long, value_name = "FILE")]
+    /// Keypoints: a file, a folder (its .json, .csv and .npy files in natural order; a bad
+    /// file is reported and the others are read, exit 1 at the end) or - for standard input.
+    #[arg(long, value_name = "FILE|DIR|-")]
     pub input: PathBuf,
-    /// Input format [default: from the extension and content].
-    #[arg(long, value_enum)]
-    pub format: Option<FormatArg>,
+    /// Input format [default: from the extension and content, for each file].
+    #[arg(long, value_name = "NAME",
+          value_parser = PossibleValuesParser::new(format_values())
+              .try_map(|s| s.parse::<KeypointFormat>()))]
+    pub format: Option<KeypointFormat>,
+    /// Joint layout of .npy arrays (and MMPose keypoints) [default: from the joint count;
+    /// 17 joints need it named].
+    #[arg(long, value_name = "NAME",
+          value_parser = PossibleValuesParser::new(layout_values())
+              .try_map(|s| s.parse::<Layout>()))]
+    pub layout: Option<Layout>,
+    /// Joints whose score is below S are missing (COCO, OpenPose, MMPose, MediaPipe,
+    /// (N, J, 3) .npy); a score of 0 is always missing. A finite number >= 0.
+    #[arg(long, value_name = "S", default_value_t = 0.0, value_parser = parse_min_score,
+          allow_hyphen_values = true)]
+    pub min_score: f64,
+    /// Image size in pixels that normalised coordinates are scaled by (MediaPipe), e.g.
+    /// 1920,1080.
+    #[arg(long, value_name = "W,H", value_parser = |s: &str| s.parse::<ImageSize>())]
+    pub image_size: Option<ImageSize>,
+    /// With a folder --input: read its sub-folders too.
+    #[arg(long)]
+    pub recursive: bool,
     /// LSP joints with visible=0: treat as missing, or use their coordinates.
     #[arg(long, value_enum, default_value = "missing")]
     pub lsp_invisible: InvisibleArg,
 }
 
 impl InputArgs {
-    /// Reads the keypoint records.
-    pub fn read(&self) -> Result<Vec<KeypointRecord>, CamlocError> {
-        let format = self.format.map(|f| match f {
-            FormatArg::Camloc => KeypointFormat::Camloc,
-            FormatArg::Lsp => KeypointFormat::Lsp,
-            FormatArg::Coco => KeypointFormat::Coco,
-        });
-        let mut options = ReadOptions::default();
+    /// The reader options these arguments ask for.
+    pub fn options(&self) -> ReadOptions {
+        let mut options = ReadOptions {
+            min_score: self.min_score,
+            image_size: self.image_size,
+            layout: self.layout,
+            ..ReadOptions::default()
+        };
         options.lsp.invisible = match self.lsp_invisible {
             InvisibleArg::Missing => Invisible::Missing,
             InvisibleArg::Use => Invisible::Use,
         };
-        Ok(read_keypoints(&self.input, format, &options)?)
+        options
     }
+}
+
+/// Options of the commands that show progress.
+#[derive(clap::Args)]
+pub struct ProgressArgs {
+    /// No progress bar on standard error (it is shown only when standard error is a terminal).
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+/// Loads a labelled dataset; one without samples is [`CliError::NoPoses`] (the empty-input
+/// rule).
+pub fn load_dataset(path: &Path) -> Result<Dataset, CliError> {
+    let dataset = Dataset::load(path).map_err(CamlocError::from)?;
+    if dataset.samples.is_empty() {
+        return Err(CliError::NoPoses(path.display().to_string()));
+    }
+    Ok(dataset)
 }
 
 /// The model at `path`, or the embedded default.
 pub fn load_model(path: Option<&Path>) -> Result<CameraLocalizer, CamlocError> {
     match path {
-        Some(p) => CameraLocalizer::load(p),
+        Some(p) => Ok(CameraLocalizer::load(p)?),
         None => CameraLocalizer::default_model(),
     }
 }

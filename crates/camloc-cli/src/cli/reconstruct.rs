@@ -4,15 +4,20 @@ use std::fmt::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use camloc::dataset::Dataset;
-use camloc::reconstruct::PoseBasis;
-use camloc::{CamlocError, Landmark, ModeKind, Pose2, PoseReconstructor, default_basis};
+use camloc::reconstruct::{PoseBasis, Reconstruction};
+use camloc::store::Persist;
+use camloc::{
+    CameraLabel, CamlocError, Landmark, ModeKind, Pose2, Pose3, PoseReconstructor, default_basis,
+};
 use clap::builder::{PossibleValue, TypedValueParser};
-use serde_json::json;
+use serde::ser::SerializeMap;
+use serde::{Serialize, Serializer};
 
 use crate::svg;
 
-use super::{InputArgs, load_model, numbered_path};
+use super::input::Inputs;
+use super::stream::{self, Done, Files, Format};
+use super::{CliError, InputArgs, Out, ProgressArgs, load_dataset, load_model, progress};
 
 /// The camera modes `reconstruct` offers (the library's [`ModeKind`] without `oracle`, which
 /// needs the true camera), with their help.
@@ -55,16 +60,27 @@ pub struct Args {
           value_parser = clap::builder::PossibleValuesParser::new(camera_modes())
               .try_map(|s| parse_camera(&s)))]
     pub camera: ModeKind,
-    /// Print one JSON array with one object per pose.
-    #[arg(long)]
+    /// Print one JSON array with one object per pose (streamed: written as poses are done).
+    #[arg(long, conflicts_with = "jsonl")]
     pub json: bool,
+    /// Print one JSON object per line, each as soon as its pose is done (for large inputs).
+    #[arg(long)]
+    pub jsonl: bool,
+    /// Write the 3D poses as a (N, 15, 3) float64 .npy array in metres (camloc15 layout, the
+    /// canonical frame): row n is the n-th pose read, NaN where it could not be reconstructed.
+    #[arg(long, value_name = "OUT")]
+    pub npy: Option<PathBuf>,
     /// Draw input, reprojection and three views of the 3D pose as SVG to this file (several
-    /// poses: FILE-001.svg, ...).
+    /// poses: FILE-001.svg, ...). All files are written at the end, or none.
     #[arg(long, value_name = "OUT")]
     pub svg: Option<PathBuf>,
-    /// Overwrite existing SVG files.
+    /// Replace existing output files. A symbolic link at an output path is replaced by the new
+    /// file (never written through; its target is untouched); a directory, device or FIFO is
+    /// refused even with --force.
     #[arg(long)]
     pub force: bool,
+    #[command(flatten)]
+    pub progress: ProgressArgs,
 }
 
 /// Arguments of `camloc evaluate-reconstruction`.
@@ -82,14 +98,13 @@ pub struct EvalArgs {
     /// Print one JSON object.
     #[arg(long)]
     pub json: bool,
+    #[command(flatten)]
+    pub progress: ProgressArgs,
 }
 
 fn load_basis(path: Option<&std::path::Path>) -> Result<PoseBasis, CamlocError> {
     match path {
-        Some(p) => PoseBasis::load(p).map_err(|source| CamlocError::Reconstruct {
-            context: p.display().to_string(),
-            source,
-        }),
+        Some(p) => Ok(PoseBasis::load(p)?),
         None => default_basis(),
     }
 }
@@ -102,28 +117,31 @@ fn to_json<T: serde::Serialize>(value: &T) -> Result<String, CamlocError> {
 }
 
 /// Runs `camloc reconstruct`.
-pub fn run(args: &Args, out: &mut String) -> Result<ExitCode, CamlocError> {
+pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     let choice = args.camera;
     let mut reconstructor = PoseReconstructor::new(load_basis(args.basis.as_deref())?)?;
     if choice != ModeKind::Opt || args.model.is_some() {
         reconstructor = reconstructor.with_localizer(load_model(args.model.as_deref())?);
     }
     let reconstructor = reconstructor.with_mode(choice)?;
-    let records = args.input.read()?;
-    let mut failures = 0;
-    let mut json_out = Vec::new();
-    for (i, record) in records.iter().enumerate() {
-        let result = match reconstructor.reconstruct(&record.pose) {
-            Ok(r) => r,
-            Err(e) => {
-                failures += 1;
-                eprintln!("camloc: error: {} ({}): {e}", record.id, record.source);
-                json_out.push(
-                    json!({"id": record.id, "source": record.source, "error": e.to_string()}),
-                );
-                continue;
-            }
-        };
+    let inputs = Inputs::open(&args.input)?;
+    let format = Format::from_flags(args.json, args.jsonl);
+    let files = Files::<Pose3> {
+        svg: args.svg.clone(),
+        npy: args.npy.clone(),
+        force: args.force,
+        pose: std::marker::PhantomData,
+    };
+    let bar = progress::counter(
+        args.progress.quiet,
+        inputs.len_hint(),
+        "reconstruct",
+        "poses",
+    );
+    let summary = stream::run(inputs, out, format, &files, &bar, |record| {
+        let result = reconstructor
+            .reconstruct(&record.pose)
+            .map_err(|e| e.to_string())?;
         let r = &result.reconstruction;
         let camera_text = match &result.localization {
             Some(l) => format!(
@@ -137,83 +155,143 @@ pub fn run(args: &Args, out: &mut String) -> Result<ExitCode, CamlocError> {
             None => choice.name().to_string(),
         };
         let rot = &r.camera.rotation;
-        let rotation: Vec<[f64; 3]> = (0..3)
-            .map(|i| [rot[(i, 0)], rot[(i, 1)], rot[(i, 2)]])
-            .collect();
-        if args.json {
-            let landmarks: serde_json::Map<String, serde_json::Value> = Landmark::ALL
-                .iter()
-                .map(|l| (l.name().to_string(), json!(r.pose.points[l.index()])))
-                .collect();
-            json_out.push(json!({
-                "id": record.id,
-                "source": record.source,
-                "camera_mode": choice.name(),
-                "classified_label": result.localization.as_ref().map(|l| l.label),
-                "camera": {"rotation": rotation, "scale": r.camera.scale, "translation": r.camera.translation},
-                "projection_error": r.projection_error,
-                "landmarks_m": landmarks,
-            }));
+        let rotation: [[f64; 3]; 3] =
+            std::array::from_fn(|i| [rot[(i, 0)], rot[(i, 1)], rot[(i, 2)]]);
+        let text = if format.is_json() {
+            stream::json_line(&ReconstructionJson {
+                id: &record.id,
+                source: &record.source,
+                frame: record.frame,
+                person: record.person,
+                camera_mode: choice.name(),
+                classified_label: result.localization.as_ref().map(|l| l.label),
+                camera: CameraJson {
+                    rotation,
+                    scale: r.camera.scale,
+                    translation: r.camera.translation,
+                },
+                projection_error: r.projection_error,
+                landmarks_m: Landmarks(&r.pose),
+            })
         } else {
-            let _ = writeln!(
-                out,
-                "{}: camera {camera_text}; reprojection error {:.3} (image units, eq. 6)",
-                record.id, r.projection_error
-            );
-            for row in &rotation {
-                let _ = writeln!(
-                    out,
-                    "  R = [{:>7.4} {:>7.4} {:>7.4}]",
-                    row[0], row[1], row[2]
-                );
+            reconstruction_text(&record.id, &camera_text, r, &rotation)
+        };
+        let svg = match (&files.svg, record.pose.complete()) {
+            (Some(_), Some(input)) => {
+                let reprojection = Pose2::new(r.camera.project(&r.pose.points));
+                let caption = format!("{}: camera {camera_text}", record.id);
+                Some(svg::reconstruction_svg(
+                    &input,
+                    &reprojection,
+                    &r.pose,
+                    &caption,
+                ))
             }
-            let _ = writeln!(
-                out,
-                "  3D landmarks (metres, canonical frame: facing -x, z up):"
-            );
-            for l in Landmark::ALL {
-                let p = r.pose.points[l.index()];
-                let _ = writeln!(
-                    out,
-                    "    {:<15} {:>8.4} {:>8.4} {:>8.4}",
-                    l.name(),
-                    p[0],
-                    p[1],
-                    p[2]
-                );
-            }
+            _ => None,
+        };
+        Ok(Done {
+            text,
+            svg,
+            row: files.npy.as_ref().map(|_| r.pose),
+        })
+    })?;
+    Ok(summary.exit_code("reconstructed"))
+}
+
+/// The camera of one pose of `reconstruct --json`.
+#[derive(Serialize)]
+struct CameraJson {
+    rotation: [[f64; 3]; 3],
+    scale: f64,
+    translation: [f64; 2],
+}
+
+/// The 3D landmarks as a map from landmark name to `[x, y, z]` in metres.
+struct Landmarks<'a>(&'a Pose3);
+
+impl Serialize for Landmarks<'_> {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        let mut map = serializer.serialize_map(Some(Landmark::ALL.len()))?;
+        for l in Landmark::ALL {
+            map.serialize_entry(l.name(), &self.0.points[l.index()])?;
         }
-        if let (Some(svg_out), Some(input)) = (&args.svg, record.pose.complete()) {
-            let reprojection = Pose2::new(r.camera.project(&r.pose.points));
-            let caption = format!("{}: camera {camera_text}", record.id);
-            let drawing = svg::reconstruction_svg(&input, &reprojection, &r.pose, &caption);
-            let path = numbered_path(svg_out, i, records.len());
-            camloc::store::write_new(&path, drawing.as_bytes(), args.force)?;
-        }
+        map.end()
     }
-    if args.json {
-        let _ = writeln!(out, "{}", to_json(&json_out)?);
-    }
-    if failures > 0 {
-        eprintln!(
-            "camloc: {failures} of {} poses could not be reconstructed",
-            records.len()
+}
+
+/// One pose of `reconstruct --json` / `--jsonl`.
+#[derive(Serialize)]
+struct ReconstructionJson<'a> {
+    id: &'a str,
+    source: &'a str,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    frame: Option<u64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    person: Option<u64>,
+    camera_mode: &'static str,
+    classified_label: Option<CameraLabel>,
+    camera: CameraJson,
+    projection_error: f64,
+    landmarks_m: Landmarks<'a>,
+}
+
+fn reconstruction_text(
+    id: &str,
+    camera_text: &str,
+    r: &Reconstruction,
+    rotation: &[[f64; 3]; 3],
+) -> String {
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "{id}: camera {camera_text}; reprojection error {:.3} (image units, eq. 6)",
+        r.projection_error
+    );
+    for row in rotation {
+        let _ = writeln!(
+            out,
+            "  R = [{:>7.4} {:>7.4} {:>7.4}]",
+            row[0], row[1], row[2]
         );
-        return Ok(ExitCode::from(super::EXIT_ERROR));
     }
-    Ok(ExitCode::SUCCESS)
+    let _ = writeln!(
+        out,
+        "  3D landmarks (metres, canonical frame: facing -x, z up):"
+    );
+    for l in Landmark::ALL {
+        let p = r.pose.points[l.index()];
+        let _ = writeln!(
+            out,
+            "    {:<15} {:>8.4} {:>8.4} {:>8.4}",
+            l.name(),
+            p[0],
+            p[1],
+            p[2]
+        );
+    }
+    out
 }
 
 /// Runs `camloc evaluate-reconstruction`.
-pub fn run_evaluation(args: &EvalArgs, out: &mut String) -> Result<ExitCode, CamlocError> {
+pub fn run_evaluation(args: &EvalArgs, out: &mut Out) -> Result<ExitCode, CliError> {
     let reconstructor = PoseReconstructor::new(load_basis(args.basis.as_deref())?)?
         .with_localizer(load_model(args.model.as_deref())?);
-    let dataset = Dataset::load(&args.dataset)?;
-    let report = reconstructor.evaluate(&dataset)?;
+    let dataset = load_dataset(&args.dataset)?;
+    let bar = progress::spinner(
+        args.progress.quiet,
+        &format!(
+            "reconstructing {} samples with every camera mode",
+            dataset.samples.len()
+        ),
+    );
+    let report = reconstructor.evaluate(&dataset);
+    bar.finish_and_clear();
+    let report = report?;
     if args.json {
-        let _ = writeln!(out, "{}", to_json(&report)?);
+        out.write(&format!("{}\n", to_json(&report)?))?;
     } else {
-        let _ = write!(out, "{report}");
+        out.write(&report.to_string())?;
     }
+    out.flush()?;
     Ok(ExitCode::SUCCESS)
 }

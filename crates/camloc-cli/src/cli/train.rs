@@ -5,11 +5,14 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
 
-use camloc::dataset::Dataset;
 use camloc::features::PaperConfig;
 use camloc::learning::{LogisticRegression, Mode};
-use camloc::{CameraLocalizer, CamlocError, Descriptor, LandmarkDropout, TrainOptions};
+use camloc::store::Persist;
+use camloc::{CameraLocalizer, Descriptor, LandmarkDropout, TrainOptions};
 use clap::ValueEnum;
+
+use super::output::{Staged, check_target};
+use super::{CliError, Out, load_dataset, progress};
 
 /// Arguments of `camloc train`.
 #[derive(clap::Args)]
@@ -41,10 +44,12 @@ pub struct Args {
     /// default).
     #[arg(long)]
     pub no_mirror: bool,
-    /// Overwrite --out if it exists.
+    /// Replace existing output files. A symbolic link at an output path is replaced by the new
+    /// file (never written through; its target is untouched); a directory, device or FIFO is
+    /// refused even with --force.
     #[arg(long)]
     pub force: bool,
-    /// Do not print the Newton iteration log.
+    /// Do not print the Newton iteration log nor the progress spinner.
     #[arg(long, short)]
     pub quiet: bool,
 }
@@ -112,14 +117,9 @@ pub enum ModeArg {
 }
 
 /// Runs `camloc train`.
-pub fn run(args: &Args, out: &mut String) -> Result<ExitCode, CamlocError> {
+pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     let descriptor = args.descriptor.descriptor();
-    if args.out.exists() && !args.force {
-        return Err(camloc::store::StoreError::Exists {
-            path: args.out.clone(),
-        }
-        .into());
-    }
+    check_target(&args.out, args.force)?;
     let mut options = TrainOptions {
         descriptor,
         ..TrainOptions::default()
@@ -138,7 +138,7 @@ pub fn run(args: &Args, out: &mut String) -> Result<ExitCode, CamlocError> {
     });
     options.validate()?;
     let start = Instant::now();
-    let dataset = Dataset::load(&args.dataset)?;
+    let dataset = load_dataset(&args.dataset)?;
     eprintln!(
         "training on {} samples of {} subjects ({} protocol, {} cameras), descriptor {}, lambda {}",
         dataset.samples.len(),
@@ -149,21 +149,33 @@ pub fn run(args: &Args, out: &mut String) -> Result<ExitCode, CamlocError> {
         args.lambda
     );
     let quiet = args.quiet;
-    let (localizer, report) = CameraLocalizer::train(&dataset, &options, |log| {
+    let bar = progress::spinner(quiet, "training: descriptors and Newton iterations");
+    let trained = CameraLocalizer::train(&dataset, &options, |log| {
+        bar.set_message(format!(
+            "training: Newton iteration {}, objective {:.6e}",
+            log.iteration, log.objective
+        ));
         if !quiet {
-            eprintln!(
-                "  newton {:>3}: objective {:.6e}  |grad|_inf {:.3e}  step {:.3}  ({})",
-                log.iteration,
-                log.objective,
-                log.gradient_norm,
-                log.step,
-                log.direction_summary()
-            );
+            bar.suspend(|| {
+                eprintln!(
+                    "  newton {:>3}: objective {:.6e}  |grad|_inf {:.3e}  step {:.3}  ({})",
+                    log.iteration,
+                    log.objective,
+                    log.gradient_norm,
+                    log.step,
+                    log.direction_summary()
+                )
+            });
         }
-    })?;
-    localizer.save(&args.out, args.force)?;
+    });
+    bar.finish_and_clear();
+    let (localizer, report) = trained?;
+    // The model is moved into place only after standard output was written.
+    let mut staged = Staged::new(args.force);
+    staged.add(&args.out, &localizer.to_bytes()?)?;
+    let mut text = String::new();
     let _ = writeln!(
-        out,
+        text,
         "wrote {} ({} Newton iterations, {}, {:.1} s)",
         args.out.display(),
         report.newton_iterations(),
@@ -174,5 +186,8 @@ pub fn run(args: &Args, out: &mut String) -> Result<ExitCode, CamlocError> {
         },
         start.elapsed().as_secs_f64()
     );
+    out.write(&text)?;
+    out.flush()?;
+    staged.commit()?;
     Ok(ExitCode::SUCCESS)
 }

@@ -22,7 +22,8 @@ use faer::linalg::cholesky::llt::solve::solve_in_place;
 use faer::{MatRef, Par};
 use rayon::prelude::*;
 
-use super::{NewtonProblem, ROWS_PER_TASK, add_ridge_curvature, linear_logits, transpose_product};
+use super::kernels::{add_ridge_curvature, linear_logits, transpose_product};
+use super::{NewtonProblem, ROWS_PER_TASK};
 use crate::hessian::dot;
 
 /// Target relative error of the direction in the Hessian norm.
@@ -37,6 +38,25 @@ const MIN_BUDGET: usize = 10;
 const PRODUCT_COST_WEIGHT: f64 = 2.0;
 /// Products after which the convergence rate is extrapolated to decide whether to go on.
 const RATE_CHECK_AFTER: usize = 4;
+
+/// What [`NewtonProblem::solve_by_cg`] did.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum CgOutcome {
+    /// CG was not attempted (no reusable factor, or another solver): assemble and factorise.
+    NotTried,
+    /// `direction` holds the Newton direction, after `products` Hessian-vector products.
+    Solved {
+        /// Hessian-vector products spent.
+        products: usize,
+    },
+    /// CG gave up after `products` products (budget spent, too slow a rate, or a
+    /// non-positive curvature): `direction` is meaningless, the caller assembles and
+    /// factorises the Hessian instead.
+    GaveUp {
+        /// Hessian-vector products spent.
+        products: usize,
+    },
+}
 
 /// The conjugate-gradient work vectors, `P` entries each.
 #[derive(Debug)]
@@ -128,10 +148,9 @@ impl NewtonProblem {
     }
 
     /// Tries to put the Newton direction into `direction` by preconditioned conjugate
-    /// gradients. Returns the number of Hessian-vector products spent: `Ok` when the
-    /// direction is there, `Err` when CG gave up and the caller must assemble and factorise
-    /// the Hessian instead (`direction` is then meaningless). Needs `factor_ready`.
-    pub(super) fn solve_by_cg(&mut self) -> Result<usize, usize> {
+    /// gradients, saying whether it did and how many Hessian-vector products it spent.
+    /// Needs `factor_ready`.
+    pub(super) fn solve_by_cg(&mut self) -> CgOutcome {
         let budget = self.cg_budget();
         for (r, g) in self.cg.residual.iter_mut().zip(&self.gradient) {
             *r = -g;
@@ -144,13 +163,17 @@ impl NewtonProblem {
         let target = CG_TOLERANCE * CG_TOLERANCE * initial;
         if !(initial > 0.0) {
             // Zero gradient: the zero direction is exact.
-            return if initial == 0.0 { Ok(0) } else { Err(0) };
+            return if initial == 0.0 {
+                CgOutcome::Solved { products: 0 }
+            } else {
+                CgOutcome::GaveUp { products: 0 }
+            };
         }
         for products in 1..=budget {
             self.hessian_times_search();
             let curvature = dot(&self.cg.search, &self.cg.product);
             if !(curvature > 0.0) {
-                return Err(products);
+                return CgOutcome::GaveUp { products };
             }
             let alpha = rz / curvature;
             for (d, &s) in self.direction.iter_mut().zip(&self.cg.search) {
@@ -162,13 +185,13 @@ impl NewtonProblem {
             self.precondition();
             let next = dot(&self.cg.residual, &self.cg.preconditioned);
             if next <= target {
-                return Ok(products);
+                return CgOutcome::Solved { products };
             }
             if products >= RATE_CHECK_AFTER {
                 // Products needed at the rate seen so far.
                 let needed = products as f64 * (target / initial).ln() / (next / initial).ln();
                 if !(next < initial && needed <= budget as f64) {
-                    return Err(products);
+                    return CgOutcome::GaveUp { products };
                 }
             }
             let beta = next / rz;
@@ -177,6 +200,6 @@ impl NewtonProblem {
             }
             rz = next;
         }
-        Err(budget)
+        CgOutcome::GaveUp { products: budget }
     }
 }

@@ -1,0 +1,95 @@
+//! `camloc convert`.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use camloc::PartialPose2;
+use camloc::keypoints::to_camloc_json;
+use clap::ValueEnum;
+
+use super::input::Inputs;
+use super::output::{NpyStage, Staged, check_target};
+use super::stream::Summary;
+use super::{CliError, InputArgs, Out, ProgressArgs, progress};
+
+/// camloc's own keypoint formats.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum Target {
+    /// camloc JSON (docs/keypoints.md): ids kept, every landmark key, null for missing ones.
+    Camloc,
+    /// A (N, 15, 2) float64 .npy array in the camloc15 layout, NaN, NaN for a missing
+    /// landmark; row n is the n-th pose read (ids are not kept).
+    Npy,
+}
+
+/// Arguments of `camloc convert`.
+#[derive(clap::Args)]
+pub struct Args {
+    #[command(flatten)]
+    pub input: InputArgs,
+    /// The format to write.
+    #[arg(long, value_enum, value_name = "FORMAT")]
+    pub to: Target,
+    /// Output file (refuses to overwrite unless --force).
+    #[arg(long, value_name = "FILE")]
+    pub out: PathBuf,
+    /// Overwrite --out if it exists.
+    #[arg(long)]
+    pub force: bool,
+    #[command(flatten)]
+    pub progress: ProgressArgs,
+}
+
+/// Runs `camloc convert`. The landmarks written are the ones read, with the pelvis and neck
+/// derived where the input lacks them (as `localize` sees them). `.npy` output is written as
+/// the poses are read; camloc JSON holds the poses in memory until the end.
+pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
+    check_target(&args.out, args.force)?;
+    let mut inputs = Inputs::open(&args.input)?;
+    let bar = progress::counter(args.progress.quiet, inputs.len_hint(), "convert", "poses");
+    let mut staged = Staged::new(args.force);
+    let mut summary = Summary::default();
+    let mut npy = match args.to {
+        Target::Npy => Some(NpyStage::<PartialPose2>::new(&args.out)?),
+        Target::Camloc => None,
+    };
+    let mut poses: Vec<(String, PartialPose2)> = Vec::new();
+    for item in inputs.by_ref() {
+        bar.inc(1);
+        match item {
+            Ok(record) => {
+                summary.poses += 1;
+                match &mut npy {
+                    Some(npy) => npy.push(Some(&record.pose))?,
+                    None => poses.push((record.id, record.pose)),
+                }
+            }
+            Err(e) => {
+                summary.failed_files += 1;
+                bar.suspend(|| eprintln!("camloc: error: {e}"));
+            }
+        }
+    }
+    bar.finish_and_clear();
+    if summary.poses == 0 && summary.failed_files == 0 {
+        return Err(CliError::NoPoses(inputs.name().to_owned()));
+    }
+    match npy {
+        Some(npy) => npy.finish(&mut staged)?,
+        None => {
+            staged.add(&args.out, to_camloc_json(&poses).as_bytes())?;
+        }
+    }
+    out.write(&format!(
+        "wrote {} ({} poses, {})\n",
+        args.out.display(),
+        summary.poses,
+        match args.to {
+            Target::Camloc => "camloc JSON",
+            Target::Npy => "(N, 15, 2) float64 .npy",
+        }
+    ))?;
+    out.flush()?;
+    staged.commit()?;
+    Ok(summary.exit_code("converted"))
+}

@@ -1,0 +1,87 @@
+//! The keypoint input of a command: a file, a folder or standard input, read as one stream of
+//! records.
+
+use std::path::{Path, PathBuf};
+
+use camloc::keypoints::{
+    KeypointError, KeypointFormat, KeypointRecord, KeypointStream, ReadOptions, keypoint_files,
+    open_keypoints, open_keypoints_reader,
+};
+
+use super::{CliError, InputArgs};
+
+/// The name standard input has in records and messages.
+pub const STDIN_NAME: &str = "standard input";
+
+/// The records of `--input`, one at a time. A file or standard input that cannot be opened is
+/// an error of [`Inputs::open`]; in a folder, each file that cannot be read is an `Err` item and
+/// the next files are still read. A `.npy` array is read pose by pose; other files are parsed
+/// one at a time.
+pub struct Inputs {
+    name: String,
+    current: Option<KeypointStream>,
+    files: std::vec::IntoIter<PathBuf>,
+    format: Option<KeypointFormat>,
+    options: ReadOptions,
+}
+
+impl Inputs {
+    /// Opens the input `args` name.
+    pub fn open(args: &InputArgs) -> Result<Inputs, CliError> {
+        let options = args.options();
+        let mut inputs = Inputs {
+            name: String::new(),
+            current: None,
+            files: Vec::new().into_iter(),
+            format: args.format,
+            options,
+        };
+        if args.input == Path::new("-") {
+            inputs.name = STDIN_NAME.to_owned();
+            let stream =
+                open_keypoints_reader(std::io::stdin(), STDIN_NAME, None, args.format, &options)?;
+            inputs.current = Some(stream);
+        } else if args.input.is_dir() {
+            inputs.name = args.input.display().to_string();
+            inputs.files = keypoint_files(&args.input, args.recursive)?.into_iter();
+        } else {
+            inputs.name = args.input.display().to_string();
+            inputs.current = Some(open_keypoints(&args.input, args.format, &options)?);
+        }
+        Ok(inputs)
+    }
+
+    /// How the input is named in messages (`no poses in NAME`).
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// The number of poses when known in advance (one file), for progress bars.
+    pub fn len_hint(&self) -> Option<u64> {
+        if self.files.len() > 0 {
+            return None;
+        }
+        let stream = self.current.as_ref()?;
+        stream.size_hint().1.map(|n| n as u64)
+    }
+}
+
+impl Iterator for Inputs {
+    type Item = Result<KeypointRecord, KeypointError>;
+
+    fn next(&mut self) -> Option<Self::Item> {
+        loop {
+            if let Some(stream) = &mut self.current {
+                if let Some(item) = stream.next() {
+                    return Some(item);
+                }
+                self.current = None;
+            }
+            let path = self.files.next()?;
+            match open_keypoints(&path, self.format, &self.options) {
+                Ok(stream) => self.current = Some(stream),
+                Err(e) => return Some(Err(e)),
+            }
+        }
+    }
+}

@@ -1,0 +1,275 @@
+//! The batch loop of `localize` and `reconstruct`: read a batch of poses, process it in
+//! parallel, write its results (standard output as text, a JSON array or JSON lines; SVG and
+//! `.npy` files staged), then the next batch. Memory is bounded by the batch, not the input.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use camloc::keypoints::{KeypointRecord, NpyPose};
+use indicatif::ProgressBar;
+use rayon::prelude::*;
+use serde::Serialize;
+
+use super::input::Inputs;
+use super::output::{NpyStage, Out, Staged, check_target};
+use super::{CliError, EXIT_ERROR, numbered_path};
+
+/// Poses per batch: enough to keep both cores busy, small enough to bound memory.
+pub const BATCH: usize = 4096;
+
+/// How results are written to standard output.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    /// Lines of text per pose.
+    Text,
+    /// One JSON array, one object per pose (written as the poses are done).
+    Json,
+    /// One JSON object per line.
+    Jsonl,
+}
+
+impl Format {
+    /// The format `--json` / `--jsonl` ask for (clap keeps them exclusive).
+    pub fn from_flags(json: bool, jsonl: bool) -> Format {
+        match (json, jsonl) {
+            (true, _) => Format::Json,
+            (_, true) => Format::Jsonl,
+            _ => Format::Text,
+        }
+    }
+
+    /// `true` for the JSON formats.
+    pub fn is_json(self) -> bool {
+        self != Format::Text
+    }
+}
+
+/// The result of one pose, made in parallel: its text (lines for [`Format::Text`], one JSON
+/// object without a newline otherwise), its drawing for `--svg`, its row for `--npy`.
+pub struct Done<P> {
+    /// What goes to standard output.
+    pub text: String,
+    /// The SVG drawing, when asked for and possible.
+    pub svg: Option<String>,
+    /// The row of the `.npy` output, when asked for.
+    pub row: Option<P>,
+}
+
+/// The files a run writes besides standard output.
+pub struct Files<P: NpyPose> {
+    /// `--svg`: one drawing per pose (numbered when there are several).
+    pub svg: Option<PathBuf>,
+    /// `--npy`: one row per pose read (NaN for a pose that failed).
+    pub npy: Option<PathBuf>,
+    /// `--force`: replace existing files.
+    pub force: bool,
+    /// The pose type of the `.npy` rows.
+    pub pose: std::marker::PhantomData<fn(&P)>,
+}
+
+/// What a run did.
+#[derive(Debug, Default)]
+pub struct Summary {
+    /// Poses read.
+    pub poses: u64,
+    /// Poses that could not be processed.
+    pub failed_poses: u64,
+    /// Files of a folder (or the rest of a stream) that could not be read.
+    pub failed_files: u64,
+}
+
+impl Summary {
+    /// Reports failures on standard error (`verb`: "localized", ...) and gives the exit code.
+    pub fn exit_code(&self, verb: &str) -> ExitCode {
+        if self.failed_poses > 0 {
+            eprintln!(
+                "camloc: {} of {} poses could not be {verb}",
+                self.failed_poses, self.poses
+            );
+        }
+        if self.failed_files > 0 {
+            eprintln!(
+                "camloc: {} input file(s) could not be read",
+                self.failed_files
+            );
+        }
+        if self.failed_poses > 0 || self.failed_files > 0 {
+            ExitCode::from(EXIT_ERROR)
+        } else {
+            ExitCode::SUCCESS
+        }
+    }
+}
+
+/// An error object of the JSON outputs.
+#[derive(Serialize)]
+struct ErrorJson<'a> {
+    #[serde(skip_serializing_if = "Option::is_none")]
+    id: Option<&'a str>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    source: Option<&'a str>,
+    error: &'a str,
+}
+
+/// Serialises one output object on one line.
+pub fn json_line<T: Serialize>(value: &T) -> String {
+    // Room for a typical object at once (no regrowth while writing it).
+    let mut bytes = Vec::with_capacity(1024);
+    // Serialising plain structs of numbers and strings into memory cannot fail, and
+    // serde_json writes UTF-8; an empty object is the conservative answer if either ever did.
+    match serde_json::to_writer(&mut bytes, value) {
+        Ok(()) => String::from_utf8(bytes).unwrap_or_else(|_| "{}".to_owned()),
+        Err(_) => "{}".to_owned(),
+    }
+}
+
+/// Runs `compute` over every pose of `inputs` in batches and writes the results. A pose for
+/// which `compute` fails (its `Err` is the message) and a file that cannot be read are reported
+/// on standard error (and as `{"error": ..}` objects in JSON) and the run goes on. Files are
+/// moved into place only after standard output was written successfully (all or nothing).
+/// An input without any pose is [`CliError::NoPoses`].
+pub fn run<P, F>(
+    mut inputs: Inputs,
+    out: &mut Out,
+    format: Format,
+    files: &Files<P>,
+    bar: &ProgressBar,
+    compute: F,
+) -> Result<Summary, CliError>
+where
+    P: NpyPose + Send,
+    F: Fn(&KeypointRecord) -> Result<Done<P>, String> + Sync,
+{
+    let svg_single = files.svg.clone();
+    // Refuse existing outputs before any work (checked again when the files are moved in place).
+    if let Some(svg) = &files.svg {
+        check_target(svg, files.force)?;
+        check_target(&numbered_path(svg, 0, 2), files.force)?;
+    }
+    if let Some(npy) = &files.npy {
+        check_target(npy, files.force)?;
+    }
+    let mut staged = Staged::new(files.force);
+    let mut npy = files.npy.as_deref().map(NpyStage::<P>::new).transpose()?;
+    let has_files = files.svg.is_some() || npy.is_some();
+    let mut summary = Summary::default();
+    let mut first_svg = None;
+    let mut written = 0u64;
+    let mut emit = |out: &mut Out, text: &str| -> Result<(), CliError> {
+        match format {
+            Format::Text => out.write(text)?,
+            Format::Json => {
+                out.write(if written == 0 { "[\n" } else { ",\n" })?;
+                out.write(text)?;
+            }
+            Format::Jsonl => {
+                out.write(text)?;
+                out.write("\n")?;
+            }
+        }
+        written += 1;
+        Ok(())
+    };
+    // One thread reads the next batch while the others process this one.
+    let (sender, batches) = std::sync::mpsc::sync_channel(1);
+    let reader = &mut inputs;
+    std::thread::scope(|scope| -> Result<(), CliError> {
+        scope.spawn(move || {
+            loop {
+                let mut batch = Vec::with_capacity(BATCH);
+                batch.extend(reader.by_ref().take(BATCH));
+                // Stop at the end, or when the receiver has stopped (an error, a closed pipe).
+                if batch.is_empty() || sender.send(batch).is_err() {
+                    break;
+                }
+            }
+        });
+        for batch in batches {
+            let results: Vec<Result<Done<P>, String>> = batch
+                .par_iter()
+                .map(|item| match item {
+                    Ok(record) => compute(record),
+                    // Reported below; nothing to compute.
+                    Err(_) => Err(String::new()),
+                })
+                .collect();
+            for (item, result) in batch.iter().zip(results) {
+                let record = match item {
+                    Ok(record) => record,
+                    Err(e) => {
+                        summary.failed_files += 1;
+                        let message = e.to_string();
+                        bar.suspend(|| eprintln!("camloc: error: {message}"));
+                        if format.is_json() {
+                            let object = ErrorJson {
+                                id: None,
+                                source: None,
+                                error: &message,
+                            };
+                            emit(out, &json_line(&object))?;
+                        }
+                        continue;
+                    }
+                };
+                let index = summary.poses;
+                summary.poses += 1;
+                match result {
+                    Ok(done) => {
+                        emit(out, &done.text)?;
+                        if let (Some(svg), Some(drawing)) = (&files.svg, &done.svg) {
+                            let path = numbered_path(svg, index as usize, 2);
+                            let at = staged.add(&path, drawing.as_bytes())?;
+                            if index == 0 {
+                                first_svg = Some(at);
+                            }
+                        }
+                        if let Some(npy) = &mut npy {
+                            npy.push(done.row.as_ref())?;
+                        }
+                    }
+                    Err(message) => {
+                        summary.failed_poses += 1;
+                        bar.suspend(|| {
+                            eprintln!(
+                                "camloc: error: {} ({}): {message}",
+                                record.id, record.source
+                            )
+                        });
+                        if format.is_json() {
+                            let object = ErrorJson {
+                                id: Some(&record.id),
+                                source: Some(&record.source),
+                                error: &message,
+                            };
+                            emit(out, &json_line(&object))?;
+                        }
+                        if let Some(npy) = &mut npy {
+                            npy.push(None)?;
+                        }
+                    }
+                }
+            }
+            bar.inc(batch.len() as u64);
+            if out.closed() && !has_files {
+                break;
+            }
+        }
+        Ok(())
+    })?;
+    bar.finish_and_clear();
+    if summary.poses == 0 && summary.failed_files == 0 {
+        return Err(CliError::NoPoses(inputs.name().to_owned()));
+    }
+    if format == Format::Json {
+        out.write(if written == 0 { "[]\n" } else { "\n]\n" })?;
+    }
+    out.flush()?;
+    if let Some(npy) = npy {
+        npy.finish(&mut staged)?;
+    }
+    if let (Some(at), Some(svg), 1) = (first_svg, &svg_single, summary.poses) {
+        staged.retarget(at, svg);
+    }
+    staged.commit()?;
+    Ok(summary)
+}

@@ -1,0 +1,179 @@
+//! The per-sample kernels of the Newton solver: logits, probabilities and residuals, losses,
+//! the transpose product behind the gradient and Hessian-vector products, and the ridge
+//! terms. Every sum runs in a fixed order so that fits are bit-for-bit reproducible.
+
+use faer::linalg::matmul::matmul;
+use faer::{Accum, MatMut, MatRef, Par};
+use rayon::prelude::*;
+
+use super::ROWS_PER_TASK;
+use crate::Mode;
+use crate::softmax::{log_sum_exp, sigmoid, softmax_in_place, softplus};
+
+/// `totals[b] = sum over tasks of partials[task][b]` (in task order), then plus the ridge
+/// term of each class in its block. Shared by the trial and the update passes so that an
+/// accepted trial objective and the objective recomputed after the update are identical.
+pub(super) fn block_totals(
+    partials: &[f64],
+    mode: Mode,
+    ridges: impl Iterator<Item = f64>,
+    totals: &mut [f64],
+) {
+    totals.fill(0.0);
+    for partial in partials.chunks_exact(totals.len().max(1)) {
+        for (b, &v) in totals.iter_mut().zip(partial) {
+            *b += v;
+        }
+    }
+    for (class, r) in ridges.enumerate() {
+        let block = block_of_class(mode, class);
+        debug_assert!(block < totals.len(), "block {block} of class {class}");
+        totals[block] += r;
+    }
+}
+
+/// Line-search block of a class: 0 for multinomial, the class itself for one-vs-rest.
+#[inline]
+pub(super) fn block_of_class(mode: Mode, class: usize) -> usize {
+    match mode {
+        Mode::Multinomial => 0,
+        Mode::OneVsRest => class,
+    }
+}
+
+/// `lambda * sum w^2` over the weights of one class.
+#[inline]
+pub(super) fn ridge(lambda: f64, weights: impl Iterator<Item = f64>) -> f64 {
+    weights.map(|w| w * w).sum::<f64>() * lambda
+}
+
+/// `out = M X` as a `D x K` class-major matrix (`out[k * D + a] = sum_i m_ki x_ia`) for a
+/// `K x n` matrix `m` and the `n x D` design matrix `x`, in parallel over tasks of rows,
+/// each one sequential GEMM into its `K x D` slot of `partials`, summed in task order.
+pub(super) fn transpose_product(
+    x: &[f64],
+    dim: usize,
+    k: usize,
+    m: &[f64],
+    partials: &mut [f64],
+    out: &mut [f64],
+) {
+    let n = x.len() / dim.max(1);
+    let x = MatRef::from_column_major_slice(x, n, dim);
+    m.par_chunks(ROWS_PER_TASK * k)
+        .zip(partials.par_chunks_mut(k * dim))
+        .enumerate()
+        .for_each(|(task, (m, partial))| {
+            let rows = m.len() / k;
+            matmul(
+                MatMut::from_column_major_slice_mut(partial, k, dim),
+                Accum::Replace,
+                MatRef::from_column_major_slice(m, k, rows),
+                x.subrows(task * ROWS_PER_TASK, rows),
+                1.0,
+                Par::Seq,
+            );
+        });
+    out.fill(0.0);
+    for partial in partials.chunks_exact(k * dim) {
+        for (a, column) in partial.chunks_exact(k).enumerate() {
+            for (class, &v) in column.iter().enumerate() {
+                debug_assert!(class * dim + a < out.len(), "parameter ({class}, {a})");
+                out[class * dim + a] += v;
+            }
+        }
+    }
+}
+
+/// `out += 2 lambda [V; 0]`: the ridge term's gradient at `v` (or, equally, its Hessian
+/// times `v`), biases excluded; `v` and `out` are `D x K` class-major.
+pub(super) fn add_ridge_curvature(lambda: f64, dim: usize, v: &[f64], out: &mut [f64]) {
+    let two_lambda = 2.0 * lambda;
+    for (o, t) in out.chunks_exact_mut(dim).zip(v.chunks_exact(dim)) {
+        for (ov, tv) in o[..dim - 1].iter_mut().zip(&t[..dim - 1]) {
+            *ov += two_lambda * tv;
+        }
+    }
+}
+
+/// `out = params^T X^T` (`K x n`): the logits of every sample for parameters `params`
+/// (`D x K`), computed in parallel over tasks of rows, each one sequential GEMM.
+pub(super) fn linear_logits(x: &[f64], dim: usize, params: &[f64], out: &mut [f64]) {
+    let k = params.len() / dim.max(1);
+    let n = x.len() / dim.max(1);
+    let x = MatRef::from_column_major_slice(x, n, dim);
+    let params = MatRef::from_column_major_slice(params, dim, k);
+    out.par_chunks_mut(ROWS_PER_TASK * k)
+        .enumerate()
+        .for_each(|(task, z)| {
+            let rows = z.len() / k.max(1);
+            matmul(
+                MatMut::from_column_major_slice_mut(z, k, rows),
+                Accum::Replace,
+                params.transpose(),
+                x.subrows(task * ROWS_PER_TASK, rows).transpose(),
+                1.0,
+                Par::Seq,
+            );
+        });
+}
+
+/// Probabilities `p` and residuals `r = p - onehot(y)` of one sample with logits `z`. The
+/// residual of the true class is computed without cancellation: `-sum_{c != y} p_c`
+/// (multinomial) or `-sigmoid(-z_y)` (one-vs-rest), not `p_y - 1`, so the gradient stays
+/// accurate when the model is confident.
+#[inline]
+pub(super) fn residuals_of_row(mode: Mode, y: usize, z: &[f64], p: &mut [f64], r: &mut [f64]) {
+    match mode {
+        Mode::Multinomial => {
+            p.copy_from_slice(z);
+            softmax_in_place(p);
+            r.copy_from_slice(p);
+            let others: f64 = p
+                .iter()
+                .enumerate()
+                .filter(|&(c, _)| c != y)
+                .map(|(_, v)| v)
+                .sum();
+            debug_assert!(y < r.len(), "label {y} of {} classes", r.len());
+            r[y] = -others;
+        }
+        Mode::OneVsRest => {
+            for (c, ((pc, rc), &zc)) in p.iter_mut().zip(r.iter_mut()).zip(z).enumerate() {
+                *pc = sigmoid(zc);
+                *rc = if c == y { -sigmoid(-zc) } else { *pc };
+            }
+        }
+    }
+}
+
+/// `z + s dz`, leaving `z` untouched (even if `dz` is not finite) when `s == 0`.
+#[inline]
+pub(super) fn shifted(z: f64, dz: f64, s: f64) -> f64 {
+    if s == 0.0 { z } else { z + s * dz }
+}
+
+/// Adds the loss of one sample with label `y` and logits `logit(0..k)` to its line-search
+/// block(s): `lse(z) - z_y` (multinomial, block 0) or `softplus(z_c) - [y = c] z_c` for each
+/// class `c` (one-vs-rest, block `c`).
+#[inline]
+pub(crate) fn row_loss(
+    mode: Mode,
+    y: usize,
+    k: usize,
+    logit: impl Fn(usize) -> f64,
+    partial: &mut [f64],
+) {
+    match mode {
+        Mode::Multinomial => {
+            debug_assert!(!partial.is_empty(), "one line-search block");
+            partial[0] += log_sum_exp(k, &logit) - logit(y);
+        }
+        Mode::OneVsRest => {
+            for (c, b) in partial.iter_mut().enumerate() {
+                let z = logit(c);
+                *b += if c == y { softplus(-z) } else { softplus(z) };
+            }
+        }
+    }
+}
