@@ -3,6 +3,7 @@
 use std::path::PathBuf;
 
 use camloc::CameraLocalizer;
+use camloc::store::Persist;
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
@@ -34,7 +35,7 @@ impl Localizer {
     #[staticmethod]
     fn load(path: PathBuf) -> PyResult<Self> {
         Ok(Localizer {
-            inner: CameraLocalizer::load(&path).map_err(to_py_err)?,
+            inner: CameraLocalizer::load(&path).map_err(|e| to_py_err(e.into()))?,
         })
     }
 

@@ -4,6 +4,7 @@ use std::path::PathBuf;
 use std::sync::OnceLock;
 
 use camloc::reconstruct::PoseBasis;
+use camloc::store::Persist;
 use camloc::{CameraLocalizer, CamlocError, ModeKind, PoseReconstructor};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -53,10 +54,7 @@ pub(crate) fn reconstruct<'py>(
     let batch = PoseBatch::new(&points, layout, scores.as_ref(), min_score)?;
     let mut reconstructor = match basis {
         Some(path) => PoseBasis::load(&path)
-            .map_err(|source| CamlocError::Reconstruct {
-                context: path.display().to_string(),
-                source,
-            })
+            .map_err(CamlocError::from)
             .and_then(PoseReconstructor::new)
             .map_err(to_py_err)?
             .with_localizer(CameraLocalizer::default_model().map_err(to_py_err)?),

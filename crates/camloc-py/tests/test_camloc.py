@@ -22,19 +22,27 @@ ROOT = Path(__file__).resolve().parents[3]
 KEYPOINTS = ROOT / "fixtures" / "keypoints"
 SAMPLES = KEYPOINTS / "samples"
 
-# Files the command line reads without options, and whose poses it localizes.
-CLI_FILES = [
-    KEYPOINTS / "example.json",
-    KEYPOINTS / "partial.json",
-    KEYPOINTS / "single_pose.json",
-    KEYPOINTS / "tiny_lsp.csv",
-    KEYPOINTS / "tiny_coco.json",
-    KEYPOINTS / "tiny_coco_results.json",
-    SAMPLES / "camloc15.npy",
-    SAMPLES / "mmpose.json",
-    SAMPLES / "mpii.json",
-    SAMPLES / "openpose_coco18_000000000007_keypoints.json",
-    SAMPLES / "openpose" / "clip_000000000001_keypoints.json",
+# Inputs as (path, command-line options, the same options for read_keypoints).
+CLI_INPUTS = [
+    (KEYPOINTS / "example.json", [], {}),
+    (KEYPOINTS / "partial.json", [], {}),
+    (KEYPOINTS / "single_pose.json", [], {}),
+    (KEYPOINTS / "tiny_lsp.csv", [], {}),
+    (KEYPOINTS / "tiny_lsp.csv", ["--lsp-invisible", "use"], {"lsp_invisible": "use"}),
+    (KEYPOINTS / "tiny_coco.json", [], {}),
+    (KEYPOINTS / "tiny_coco_results.json", [], {}),
+    (SAMPLES / "camloc15.npy", [], {}),
+    (SAMPLES / "h36m17_scores.npy", ["--layout", "h36m17"], {"layout": "h36m17"}),
+    (
+        SAMPLES / "h36m17_scores.npy",
+        ["--layout", "h36m17", "--min-score", "0.1"],
+        {"layout": "h36m17", "min_score": 0.1},
+    ),
+    (SAMPLES / "mmpose.json", [], {}),
+    (SAMPLES / "mpii.json", [], {}),
+    (SAMPLES / "mediapipe.json", ["--image-size", "640,480"], {"image_size": (640, 480)}),
+    (SAMPLES / "openpose_coco18_000000000007_keypoints.json", [], {}),
+    (SAMPLES / "openpose", [], {}),
 ]
 
 
@@ -67,10 +75,14 @@ def example_points():
     return camloc.read_keypoints(KEYPOINTS / "example.json")["points"]
 
 
-@pytest.mark.parametrize("path", CLI_FILES, ids=lambda p: p.name)
-def test_localize_equals_the_command_line(cli, localizer, path):
-    code, expected = cli("localize", "--input", path)
-    read = camloc.read_keypoints(path)
+@pytest.mark.parametrize(
+    "path, options, read_options",
+    CLI_INPUTS,
+    ids=[" ".join([path.name, *options]) for path, options, _ in CLI_INPUTS],
+)
+def test_localize_equals_the_command_line(cli, localizer, path, options, read_options):
+    code, expected = cli("localize", "--input", path, *options)
+    read = camloc.read_keypoints(path, **read_options)
     got = localizer.localize(read["points"])
     assert len(expected) == len(read["ids"]) == len(got["error"]) > 0
     assert code == (1 if any(e is not None for e in got["error"]) else 0)
@@ -108,6 +120,19 @@ def test_reconstruct_equals_the_command_line(cli, camera):
         np.testing.assert_allclose(got["translation"][i], want["camera"]["translation"], atol=1e-9)
         assert got["projection_error"][i] == pytest.approx(want["projection_error"], rel=1e-9)
         assert got["label"][i] == (want["classified_label"] or 0)
+
+
+@pytest.mark.parametrize("min_score", [0.0, 0.1])
+def test_raw_arrays_equal_the_command_line_on_the_same_file(cli, localizer, min_score):
+    path = SAMPLES / "h36m17_scores.npy"
+    _, expected = cli(
+        "localize", "--input", path, "--layout", "h36m17", "--min-score", min_score
+    )
+    got = localizer.localize(np.load(path), layout="h36m17", min_score=min_score)
+    np.testing.assert_array_equal(got["label"], [e["label"] for e in expected])
+    for row, want in zip(got["probabilities"], expected):
+        probabilities = [want["probabilities"][f"{c['label']:02}"] for c in localizer.cameras]
+        np.testing.assert_allclose(row, probabilities, rtol=1e-12)
 
 
 def test_raw_h36m_array_gives_the_labels_of_the_same_poses_in_camloc_json(localizer):
