@@ -7,11 +7,10 @@ use std::time::Instant;
 
 use camloc::features::PaperConfig;
 use camloc::learning::{LogisticRegression, Mode};
-use camloc::store::Persist;
+use camloc::store::{Persist, StagedFiles, check_target};
 use camloc::{CameraLocalizer, Descriptor, LandmarkDropout, TrainOptions};
 use clap::ValueEnum;
 
-use super::output::{Staged, check_target};
 use super::{CliError, Out, load_dataset, progress};
 
 /// Arguments of `camloc train`.
@@ -171,7 +170,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     bar.finish_and_clear();
     let (localizer, report) = trained?;
     // The model is moved into place only after standard output was written.
-    let mut staged = Staged::new(args.force);
+    let mut staged = StagedFiles::new(args.force);
     staged.add(&args.out, &localizer.to_bytes()?)?;
     let mut text = String::new();
     let _ = writeln!(
