@@ -3,17 +3,14 @@
 //! that decodes is used once to build a pose.
 #![no_main]
 use camloc_reconstruct::PoseBasis;
-use camloc_store::{POSE_BASIS_KIND, Persist, envelope};
+use camloc_store::{POSE_BASIS_KIND, Persist};
 use libfuzzer_sys::fuzz_target;
 
+mod common;
+
 fuzz_target!(|data: &[u8]| {
-    let Some((&selector, rest)) = data.split_first() else {
+    let Some(bytes) = common::decoder_input(data, POSE_BASIS_KIND) else {
         return;
-    };
-    let bytes = if selector % 2 == 0 {
-        rest.to_vec()
-    } else {
-        envelope(POSE_BASIS_KIND, rest)
     };
     if let Ok(basis) = PoseBasis::from_bytes(&bytes) {
         let _ = basis.pose(&vec![0.5; basis.n_components()]);

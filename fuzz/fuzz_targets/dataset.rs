@@ -3,17 +3,14 @@
 //! decodes has its per-camera and per-subject summaries computed.
 #![no_main]
 use camloc_dataset::Dataset;
-use camloc_store::{DATASET_KIND, Persist, envelope};
+use camloc_store::{DATASET_KIND, Persist};
 use libfuzzer_sys::fuzz_target;
 
+mod common;
+
 fuzz_target!(|data: &[u8]| {
-    let Some((&selector, rest)) = data.split_first() else {
+    let Some(bytes) = common::decoder_input(data, DATASET_KIND) else {
         return;
-    };
-    let bytes = if selector % 2 == 0 {
-        rest.to_vec()
-    } else {
-        envelope(DATASET_KIND, rest)
     };
     if let Ok(dataset) = Dataset::from_bytes(&bytes) {
         let _ = dataset.samples_per_camera();

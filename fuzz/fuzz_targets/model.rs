@@ -3,18 +3,15 @@
 //! payload wrapped in a valid envelope (so that mutations reach the bincode decoder and the
 //! validation behind the checksum). A model that decodes is used once.
 #![no_main]
-use camloc::store::{MODEL_KIND, Persist, envelope};
+use camloc::store::{MODEL_KIND, Persist};
 use camloc::{CameraLocalizer, Pose2};
 use libfuzzer_sys::fuzz_target;
 
+mod common;
+
 fuzz_target!(|data: &[u8]| {
-    let Some((&selector, rest)) = data.split_first() else {
+    let Some(bytes) = common::decoder_input(data, MODEL_KIND) else {
         return;
-    };
-    let bytes = if selector % 2 == 0 {
-        rest.to_vec()
-    } else {
-        envelope(MODEL_KIND, rest)
     };
     if let Ok(localizer) = CameraLocalizer::from_bytes(&bytes) {
         let mut points = [[0.0; 2]; 15];

@@ -272,11 +272,14 @@ impl Dataset {
     /// Splits by motion category: samples of clips of `category` go to the second dataset,
     /// all others to the first (leave-one-category-out). Both keep the full header.
     pub fn split_by_category(&self, category: MotionCategory) -> (Dataset, Dataset) {
-        let (test, train): (Vec<Sample>, Vec<Sample>) = self
-            .samples
-            .iter()
-            .cloned()
-            .partition(|s| self.category_of(s) == category);
+        self.split_where(|s| self.category_of(s) == category)
+    }
+
+    /// Splits into the samples for which `is_test` is false (first) and true (second), both
+    /// with the full header.
+    fn split_where(&self, is_test: impl Fn(&Sample) -> bool) -> (Dataset, Dataset) {
+        let (test, train): (Vec<Sample>, Vec<Sample>) =
+            self.samples.iter().cloned().partition(|s| is_test(s));
         (
             Dataset {
                 header: self.header.clone(),
@@ -344,21 +347,7 @@ impl Dataset {
     /// Splits by subject: samples whose subject is in `test_subjects` go to the second dataset,
     /// all others to the first. Both keep the full header. Never splits a subject.
     pub fn split_by_subjects(&self, test_subjects: &[String]) -> (Dataset, Dataset) {
-        let (test, train): (Vec<Sample>, Vec<Sample>) = self
-            .samples
-            .iter()
-            .cloned()
-            .partition(|s| test_subjects.iter().any(|t| t == self.subject_of(s)));
-        (
-            Dataset {
-                header: self.header.clone(),
-                samples: train,
-            },
-            Dataset {
-                header: self.header.clone(),
-                samples: test,
-            },
-        )
+        self.split_where(|s| test_subjects.iter().any(|t| t == self.subject_of(s)))
     }
 }
 

@@ -1,11 +1,15 @@
 //! The descriptors and their extraction.
 
-use camloc_skeleton::{LIMBS, Landmark, NUM_LANDMARKS, NUM_LIMBS, PartialPose2, Pose2, TORSO_LIMB};
+use camloc_skeleton::{LIMBS, Landmark, NUM_LANDMARKS, NUM_LIMBS, PartialPose2, Pose2};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::ShapeContextBins;
+
+mod frame;
+
 use crate::quadratic::{pair_count, pairwise_products};
+use frame::TorsoFrame;
 
 /// Why a descriptor could not be computed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -113,20 +117,20 @@ const COORDS: usize = 2 * (NUM_LANDMARKS - 1);
 const DIRECTIONS: usize = 2 * NUM_LIMBS;
 const LENGTHS: usize = NUM_LIMBS - 1;
 /// The 12 limb joints of [`Descriptor::Joints`].
-const JOINTS: [Landmark; 12] = [
-    Landmark::LeftHip,
-    Landmark::LeftKnee,
-    Landmark::LeftAnkle,
-    Landmark::RightHip,
-    Landmark::RightKnee,
-    Landmark::RightAnkle,
-    Landmark::LeftShoulder,
-    Landmark::LeftElbow,
-    Landmark::LeftWrist,
-    Landmark::RightShoulder,
-    Landmark::RightElbow,
-    Landmark::RightWrist,
-];
+const JOINTS: [Landmark; 12] = {
+    // Every landmark but the pelvis, neck and head, in index order.
+    let mut joints = [Landmark::Pelvis; 12];
+    let (mut i, mut n) = (0, 0);
+    while i < NUM_LANDMARKS {
+        let l = Landmark::ALL[i];
+        if !matches!(l, Landmark::Pelvis | Landmark::Neck | Landmark::Head) {
+            joints[n] = l;
+            n += 1;
+        }
+        i += 1;
+    }
+    joints
+};
 /// The 10 segments of [`Descriptor::Joints`].
 const SEGMENTS: [(Landmark, Landmark); 10] = [
     (Landmark::LeftHip, Landmark::RightHip),
@@ -456,117 +460,6 @@ impl Descriptor {
             .enumerate()
             .try_for_each(|(i, (row, pose))| self.extract_into(pose, row).map_err(|e| (i, e)))?;
         Ok(out)
-    }
-}
-
-/// The origin and unit length of a descriptor's 2D frame.
-struct TorsoFrame {
-    origin: [f64; 2],
-    torso: f64,
-}
-
-impl TorsoFrame {
-    /// Pelvis origin, pelvis-to-neck unit.
-    fn new(pose: &Pose2) -> Result<TorsoFrame, FeatureError> {
-        Self::checked(
-            pose,
-            (pose.get(Landmark::Pelvis), "the pelvis"),
-            (pose.get(Landmark::Neck), "the neck"),
-        )
-    }
-
-    /// Mid-hip origin and mid-hip-to-mid-shoulder unit; the pelvis (neck) stands in when a
-    /// hip (shoulder) is missing.
-    fn from_joints(
-        pose: &Pose2,
-        is_present: &dyn Fn(Landmark) -> bool,
-    ) -> Result<TorsoFrame, FeatureError> {
-        let mid_or = |a: Landmark, b: Landmark, fallback: Landmark, names: [&'static str; 2]| {
-            if is_present(a) && is_present(b) {
-                let (p, q) = (pose.get(a), pose.get(b));
-                ([0.5 * (p[0] + q[0]), 0.5 * (p[1] + q[1])], names[0])
-            } else {
-                (pose.get(fallback), names[1])
-            }
-        };
-        let origin = mid_or(
-            Landmark::LeftHip,
-            Landmark::RightHip,
-            Landmark::Pelvis,
-            ["the hip midpoint", "the pelvis"],
-        );
-        let top = mid_or(
-            Landmark::LeftShoulder,
-            Landmark::RightShoulder,
-            Landmark::Neck,
-            ["the shoulder midpoint", "the neck"],
-        );
-        Self::checked(pose, origin, top)
-    }
-
-    /// The frame with `origin` and unit `|top - origin|`, after checking that the pose is
-    /// finite and the unit is not degenerate (the names go into the error).
-    fn checked(
-        pose: &Pose2,
-        (origin, origin_name): ([f64; 2], &'static str),
-        (top, top_name): ([f64; 2], &'static str),
-    ) -> Result<TorsoFrame, FeatureError> {
-        for (i, p) in pose.points.iter().enumerate() {
-            if !(p[0].is_finite() && p[1].is_finite()) {
-                return Err(FeatureError::NonFinite {
-                    landmark: Landmark::ALL[i].name(),
-                });
-            }
-        }
-        let torso = (top[0] - origin[0]).hypot(top[1] - origin[1]);
-        let extent = pose
-            .points
-            .iter()
-            .map(|p| p[0].abs().max(p[1].abs()))
-            .fold(0.0, f64::max);
-        if !(torso > 1e-9 * extent) || torso == 0.0 {
-            return Err(FeatureError::DegenerateTorso {
-                length: if extent > 0.0 { torso / extent } else { 0.0 },
-                origin: origin_name,
-                top: top_name,
-            });
-        }
-        Ok(TorsoFrame { origin, torso })
-    }
-
-    /// Unit direction from `p` to `q`; `(0, 0)` for a (near) zero-length segment, which has
-    /// no direction.
-    fn direction(&self, p: [f64; 2], q: [f64; 2]) -> [f64; 2] {
-        let (du, dv) = (q[0] - p[0], q[1] - p[1]);
-        let n = du.hypot(dv);
-        if n > self.torso * 1e-12 {
-            [du / n, dv / n]
-        } else {
-            [0.0, 0.0]
-        }
-    }
-
-    /// Distance from `p` to `q` in torso units.
-    fn relative(&self, p: [f64; 2], q: [f64; 2]) -> f64 {
-        (q[0] - p[0]).hypot(q[1] - p[1]) / self.torso
-    }
-
-    /// Offset of landmark `i` from the origin, in torso lengths.
-    fn offset(&self, pose: &Pose2, i: usize) -> [f64; 2] {
-        let p = pose.points[i];
-        [
-            (p[0] - self.origin[0]) / self.torso,
-            (p[1] - self.origin[1]) / self.torso,
-        ]
-    }
-
-    /// The 13 non-torso limbs and their lengths divided by the torso length, in [`LIMBS`]
-    /// order.
-    fn relative_lengths<'a>(&'a self, pose: &'a Pose2) -> impl Iterator<Item = (usize, f64)> + 'a {
-        (0..NUM_LIMBS).filter(|&l| l != TORSO_LIMB).map(move |l| {
-            let (a, b) = LIMBS[l];
-            (l, self.relative(pose.get(a), pose.get(b)))
-        })
     }
 }
 

@@ -12,8 +12,8 @@ use serde::de::{self, Deserialize, Deserializer, IgnoredAny, MapAccess, SeqAcces
 use crate::ReadOptions;
 use crate::error::{KeypointError, Location};
 use crate::json::{self, Json, index_path, key_path, number_array, wrong_type};
-use crate::layout::{COCO17, keeps, map_joints};
-use crate::record::{KeypointRecord, finish};
+use crate::layout::{COCO17, keeps};
+use crate::record::{KeypointRecord, from_joints};
 
 /// The 17 COCO keypoints in file order. The first five (nose, eyes, ears) become the camloc head;
 /// the other twelve have camloc landmarks of the same name.
@@ -176,13 +176,12 @@ fn record<'a>(
     let points = values
         .chunks_exact(3)
         .map(|xyv| keeps(xyv[2], options).then_some([xyv[0], xyv[1]]));
-    let (pose, derived) = map_joints(&COCO17, points);
-    let source = format!("{file}: {}", Location::Path(path.to_owned()));
-    Ok(finish(
+    Ok(from_joints(
+        &COCO17,
+        points,
         format!("{image}/{suffix}"),
-        pose,
-        derived,
-        source,
+        file,
+        path,
         options,
     ))
 }

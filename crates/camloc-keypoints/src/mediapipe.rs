@@ -5,8 +5,8 @@ use crate::error::{KeypointError, Location};
 use crate::json::{
     self, Json, array, check_keys, get, index_path, key_path, number, object, required, unit_score,
 };
-use crate::layout::{MEDIAPIPE33, keeps, map_joints};
-use crate::record::{KeypointRecord, finish};
+use crate::layout::{MEDIAPIPE33, keeps};
+use crate::record::{KeypointRecord, from_joints};
 use crate::{ImageSize, ReadOptions};
 
 /// Keys of one landmark object (`presence` is written by MediaPipe's Tasks API).
@@ -89,10 +89,8 @@ fn frame(
         }
         points.push(kept.then_some([x * size.width, y * size.height]));
     }
-    let (pose, derived) = map_joints(&MEDIAPIPE33, points);
-    let source = format!("{file}: {}", Location::Path(path.to_owned()));
     Ok(KeypointRecord {
         frame: Some(index as u64),
-        ..finish(index.to_string(), pose, derived, source, options)
+        ..from_joints(&MEDIAPIPE33, points, index.to_string(), file, path, options)
     })
 }

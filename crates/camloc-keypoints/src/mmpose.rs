@@ -9,8 +9,8 @@ use crate::error::{KeypointError, Location};
 use crate::json::{
     self, Json, array, get, index_path, key_path, number_array, numbers, object, required,
 };
-use crate::layout::{Layout, keeps, map_joints, resolve_layout};
-use crate::record::{KeypointRecord, finish};
+use crate::layout::{Layout, keeps, resolve_layout};
+use crate::record::{KeypointRecord, from_joints};
 
 /// Reads MMPose predictions (BOM already removed, known not to be blank).
 pub(crate) fn parse(
@@ -131,7 +131,12 @@ fn instance_record(
         let kept = scores.as_ref().is_none_or(|s| keeps(s[k], options));
         points.push(kept.then_some(xy));
     }
-    let (pose, derived) = map_joints(layout.joints(), points);
-    let source = format!("{file}: {}", Location::Path(path.to_owned()));
-    Ok(finish(id, pose, derived, source, options))
+    Ok(from_joints(
+        layout.joints(),
+        points,
+        id,
+        file,
+        path,
+        options,
+    ))
 }

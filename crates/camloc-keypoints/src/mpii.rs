@@ -7,8 +7,8 @@ use crate::error::{KeypointError, Location};
 use crate::json::{
     self, Json, array, index_path, key_path, number_array, numbers, object, required,
 };
-use crate::layout::{MPII16, map_joints};
-use crate::record::{KeypointRecord, finish};
+use crate::layout::MPII16;
+use crate::record::{KeypointRecord, from_joints};
 
 /// Reads MPII JSON annotations (BOM already removed, known not to be blank).
 pub(crate) fn parse(
@@ -78,13 +78,12 @@ pub(crate) fn parse(
                 }
                 points.push((flag == 1.0).then_some(xy));
             }
-            let (pose, derived) = map_joints(&MPII16, points);
-            let source = format!("{file}: {}", Location::Path(path));
-            Ok(finish(
+            Ok(from_joints(
+                &MPII16,
+                points,
                 format!("{image}/{i}"),
-                pose,
-                derived,
-                source,
+                file,
+                &path,
                 options,
             ))
         })

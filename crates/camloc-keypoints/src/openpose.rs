@@ -6,8 +6,8 @@ use std::path::Path;
 use crate::ReadOptions;
 use crate::error::{KeypointError, Location};
 use crate::json::{self, Json, array, index_path, key_path, numbers, object, required, unit_score};
-use crate::layout::{COCO18, Joint, Layout, keeps, map_joints};
-use crate::record::{KeypointRecord, finish};
+use crate::layout::{COCO18, Joint, Layout, keeps};
+use crate::record::{KeypointRecord, from_joints};
 
 /// The largest OpenPose frame file read, in bytes (16 MiB): one frame of about 2,000 people
 /// with face and hand keypoints. Larger inputs give
@@ -85,12 +85,17 @@ pub(crate) fn parse(
                 let c = unit_score(xyc[2], "confidence", file, &c_path)?;
                 points.push(keeps(c, options).then_some([xyc[0], xyc[1]]));
             }
-            let (pose, derived) = map_joints(table, points);
-            let source = format!("{file}: {}", Location::Path(path));
             Ok(KeypointRecord {
                 frame,
                 person: Some(p as u64),
-                ..finish(format!("{frame_name}/{p}"), pose, derived, source, options)
+                ..from_joints(
+                    table,
+                    points,
+                    format!("{frame_name}/{p}"),
+                    file,
+                    &path,
+                    options,
+                )
             })
         })
         .collect()

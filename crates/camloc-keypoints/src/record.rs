@@ -4,7 +4,8 @@
 use camloc_skeleton::{Landmark, PartialPose2};
 
 use crate::ReadOptions;
-use crate::error::KeypointError;
+use crate::error::{KeypointError, Location};
+use crate::layout::{Joint, map_joints};
 
 /// One pose read from a keypoint file.
 #[derive(Clone, Debug, PartialEq)]
@@ -84,6 +85,22 @@ pub fn derive_torso(pose: &mut PartialPose2) -> Vec<Landmark> {
         }
     }
     filled
+}
+
+/// The record of one detection read at JSON `path` of `file`: `points` (one per joint of
+/// `table`, `None` for a joint not kept) mapped to camloc's landmarks ([`map_joints`]), then
+/// [`finish`]ed as `id`.
+pub(crate) fn from_joints(
+    table: &[Joint],
+    points: impl IntoIterator<Item = Option<[f64; 2]>>,
+    id: String,
+    file: &str,
+    path: &str,
+    options: &ReadOptions,
+) -> KeypointRecord {
+    let (pose, derived) = map_joints(table, points);
+    let source = format!("{file}: {}", Location::Path(path.to_owned()));
+    finish(id, pose, derived, source, options)
 }
 
 /// Builds a record: applies [`derive_torso`] when `options.derive_torso`, and records what was

@@ -21,9 +21,9 @@
 //! (checksum) and a decoded value that breaks its invariants ([`Validate`]) are refused with
 //! a typed [`StoreError`] that names the file.
 //!
-//! Writing goes through [`write_new`]: a temporary file in the target's folder, renamed into
-//! place, never replacing an existing file unless asked to (see there for links and special
-//! files).
+//! Writing goes through [`write_new`] (one file) or [`StagedFiles`] (several, all or nothing):
+//! temporary files in the targets' folders, renamed into place, never replacing an existing
+//! file unless asked to, under one rule for links and special files ([`check_target`]).
 
 use std::fs;
 use std::io::Read;
@@ -34,7 +34,7 @@ use serde::de::DeserializeOwned;
 
 mod write;
 
-pub use write::write_new;
+pub use write::{StagedFiles, check_target, scratch_beside, write_new};
 
 /// Length of the envelope header in bytes.
 pub const HEADER_LEN: usize = 28;
@@ -67,7 +67,7 @@ pub enum StoreError {
     /// The output path is a symbolic link and overwriting was not requested; camloc never
     /// writes through a link.
     #[error(
-        "{path}: is a symbolic link; camloc does not write through links (pass --force to replace the link itself by a new file; its target is left untouched)"
+        "{path}: already exists as a symbolic link; camloc does not write through links (pass --force to replace the link itself by a new file; its target is left untouched)"
     )]
     Symlink {
         /// The link.

@@ -1,5 +1,6 @@
 use super::*;
 use proptest::prelude::*;
+use std::io::Write;
 
 const KIND: FileKind = FileKind {
     magic: *b"CAMLOCTS",
@@ -296,4 +297,106 @@ fn special_files_are_refused_even_with_force() {
         "{err:?}"
     );
     assert!(fs::symlink_metadata(&fifo).unwrap().file_type().is_fifo());
+}
+
+/// Names in `dir`, sorted.
+fn names_in(dir: &Path) -> Vec<String> {
+    let mut names: Vec<_> = fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}
+
+#[test]
+fn staged_files_are_all_or_nothing_and_never_clobber() {
+    let dir = tempfile::tempdir().unwrap();
+    let (a, b) = (dir.path().join("a.txt"), dir.path().join("b.txt"));
+    // Two files for one target: the second no-clobber rename finds the first in place, fails,
+    // and the first is taken back.
+    let mut staged = StagedFiles::new(false);
+    staged.add(&a, b"one").unwrap();
+    staged.add(&a, b"two").unwrap();
+    assert!(matches!(staged.commit(), Err(StoreError::Exists { .. })));
+    assert!(
+        names_in(dir.path()).is_empty(),
+        "{:?}",
+        names_in(dir.path())
+    );
+    // A file that appears at a target after staging is not replaced.
+    let mut staged = StagedFiles::new(false);
+    staged.add(&a, b"staged").unwrap();
+    staged.add(&b, b"staged").unwrap();
+    fs::write(&b, b"theirs").unwrap();
+    assert!(matches!(staged.commit(), Err(StoreError::Exists { .. })));
+    assert_eq!(names_in(dir.path()), ["b.txt"]);
+    assert_eq!(fs::read(&b).unwrap(), b"theirs");
+    // With overwrite, a failure at the second file puts the replaced first file back.
+    fs::write(&a, b"old a").unwrap();
+    let mut staged = StagedFiles::new(true);
+    staged.add(&a, b"new a").unwrap();
+    let at = staged.add(&b, b"new b").unwrap();
+    staged.retarget(at, &dir.path().join("missing-dir").join("b.txt"));
+    assert!(matches!(staged.commit(), Err(StoreError::Io { .. })));
+    assert_eq!(names_in(dir.path()), ["a.txt", "b.txt"]);
+    assert_eq!(fs::read(&a).unwrap(), b"old a");
+    // And a successful commit replaces both, leaving no temporary or backup.
+    let mut staged = StagedFiles::new(true);
+    staged.add(&a, b"new a").unwrap();
+    staged
+        .add_with(&b, |w| {
+            w.write_all(b"new ").and_then(|()| w.write_all(b"b"))
+        })
+        .unwrap();
+    assert_eq!(staged.commit().unwrap(), [a.clone(), b.clone()]);
+    assert_eq!(names_in(dir.path()), ["a.txt", "b.txt"]);
+    assert_eq!(fs::read(&a).unwrap(), b"new a");
+    assert_eq!(fs::read(&b).unwrap(), b"new b");
+}
+
+#[test]
+fn staged_files_dropped_without_commit_leave_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut staged = StagedFiles::new(false);
+    staged.add(&dir.path().join("a.txt"), b"a").unwrap();
+    staged.add(&dir.path().join("b.txt"), b"b").unwrap();
+    assert_eq!(
+        names_in(dir.path()).len(),
+        2,
+        "two temporaries while staged"
+    );
+    drop(staged);
+    assert!(names_in(dir.path()).is_empty());
+    // Refused targets are refused before anything moves.
+    fs::write(dir.path().join("b.txt"), b"mine").unwrap();
+    let mut staged = StagedFiles::new(false);
+    staged.add(&dir.path().join("a.txt"), b"a").unwrap();
+    staged.add(&dir.path().join("b.txt"), b"b").unwrap();
+    assert!(matches!(staged.commit(), Err(StoreError::Exists { .. })));
+    assert_eq!(names_in(dir.path()), ["b.txt"]);
+    let mut staged = StagedFiles::new(true);
+    staged.add(dir.path(), b"x").unwrap();
+    assert!(matches!(
+        staged.commit(),
+        Err(StoreError::NotRegular {
+            kind: "directory",
+            ..
+        })
+    ));
+    assert_eq!(names_in(dir.path()), ["b.txt"]);
+}
+
+#[test]
+fn scratch_files_leave_nothing_behind() {
+    use std::io::{Read, Seek};
+    let dir = tempfile::tempdir().unwrap();
+    let mut scratch = scratch_beside(&dir.path().join("out.npy")).unwrap();
+    scratch.write_all(b"body").unwrap();
+    scratch.rewind().unwrap();
+    let mut back = String::new();
+    scratch.read_to_string(&mut back).unwrap();
+    assert_eq!(back, "body");
+    drop(scratch);
+    assert!(names_in(dir.path()).is_empty());
 }

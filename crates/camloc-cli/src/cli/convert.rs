@@ -5,10 +5,11 @@ use std::process::ExitCode;
 
 use camloc::PartialPose2;
 use camloc::keypoints::to_camloc_json;
+use camloc::store::{StagedFiles, check_target};
 use clap::ValueEnum;
 
 use super::input::Inputs;
-use super::output::{NpyStage, Staged, check_target};
+use super::output::NpyStage;
 use super::stream::Summary;
 use super::{CliError, InputArgs, Out, ProgressArgs, progress};
 
@@ -47,7 +48,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     check_target(&args.out, args.force)?;
     let mut inputs = Inputs::open(&args.input)?;
     let bar = progress::counter(args.progress.quiet, inputs.len_hint(), "convert", "poses");
-    let mut staged = Staged::new(args.force);
+    let mut staged = StagedFiles::new(args.force);
     let mut summary = Summary::default();
     let mut npy = match args.to {
         Target::Npy => Some(NpyStage::<PartialPose2>::new(&args.out)?),

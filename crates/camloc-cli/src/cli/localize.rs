@@ -12,8 +12,8 @@ use serde::{Serialize, Serializer};
 use crate::svg;
 
 use super::input::Inputs;
-use super::stream::{self, Done, Files, Format};
-use super::{CliError, InputArgs, Out, ProgressArgs, load_model, progress};
+use super::stream::{self, Done, Files};
+use super::{CliError, ForceArgs, FormatArgs, InputArgs, Out, ProgressArgs, load_model, progress};
 
 /// Arguments of `camloc localize`.
 #[derive(clap::Args)]
@@ -23,21 +23,14 @@ pub struct Args {
     pub model: Option<PathBuf>,
     #[command(flatten)]
     pub input: InputArgs,
-    /// Print one JSON array with one object per pose (streamed: written as poses are done).
-    #[arg(long, conflicts_with = "jsonl")]
-    pub json: bool,
-    /// Print one JSON object per line, each as soon as its pose is done (for large inputs).
-    #[arg(long)]
-    pub jsonl: bool,
+    #[command(flatten)]
+    pub format: FormatArgs,
     /// Draw each pose and its predicted viewpoint as SVG to this file (several poses:
     /// FILE-001.svg, FILE-002.svg, ...). All files are written at the end, or none.
     #[arg(long, value_name = "OUT")]
     pub svg: Option<PathBuf>,
-    /// Replace existing output files. A symbolic link at an output path is replaced by the new
-    /// file (never written through; its target is untouched); a directory, device or FIFO is
-    /// refused even with --force.
-    #[arg(long)]
-    pub force: bool,
+    #[command(flatten)]
+    pub force: ForceArgs,
     #[command(flatten)]
     pub progress: ProgressArgs,
 }
@@ -46,11 +39,11 @@ pub struct Args {
 pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     let localizer = load_model(args.model.as_deref())?;
     let inputs = Inputs::open(&args.input)?;
-    let format = Format::from_flags(args.json, args.jsonl);
+    let format = args.format.format();
     let files = Files::<Pose3> {
         svg: args.svg.clone(),
         npy: None,
-        force: args.force,
+        force: args.force.force,
         pose: std::marker::PhantomData,
     };
     let labels: Vec<String> = localizer

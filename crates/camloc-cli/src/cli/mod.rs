@@ -229,6 +229,34 @@ impl InputArgs {
     }
 }
 
+/// `--json` and `--jsonl` of the commands that stream one result per pose.
+#[derive(clap::Args)]
+pub struct FormatArgs {
+    /// Print one JSON array with one object per pose (streamed: written as poses are done).
+    #[arg(long, conflicts_with = "jsonl")]
+    pub json: bool,
+    /// Print one JSON object per line, each as soon as its pose is done (for large inputs).
+    #[arg(long)]
+    pub jsonl: bool,
+}
+
+impl FormatArgs {
+    /// The output format the flags ask for.
+    pub fn format(&self) -> stream::Format {
+        stream::Format::from_flags(self.json, self.jsonl)
+    }
+}
+
+/// `--force` of the commands that write output files.
+#[derive(clap::Args)]
+pub struct ForceArgs {
+    /// Replace existing output files. A symbolic link at an output path is replaced by the new
+    /// file (never written through; its target is untouched); a directory, device or FIFO is
+    /// refused even with --force.
+    #[arg(long)]
+    pub force: bool,
+}
+
 /// Options of the commands that show progress.
 #[derive(clap::Args)]
 pub struct ProgressArgs {

@@ -1,14 +1,14 @@
-//! Where results go: standard output (buffered, a closed pipe is a normal end) and output files
-//! that are all or nothing (staged as temporaries, moved into place at the end of the run).
+//! Where results go: standard output (buffered, a closed pipe is a normal end) and `.npy` arrays
+//! staged in a [`StagedFiles`] (the store's all-or-nothing output files, moved into place at the
+//! end of the run).
 
-use std::fs::{self, File};
-use std::io::{self, BufReader, BufWriter, Read, Write};
+use std::fs::File;
+use std::io::{self, BufReader, BufWriter, Read, Seek, Write};
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicUsize, Ordering};
 
 use camloc::keypoints::{NpyPose, NpyPoseWriter};
 use camloc::skeleton::NUM_LANDMARKS;
-use camloc::store::StoreError;
+use camloc::store::{StagedFiles, StoreError, scratch_beside};
 
 use super::CliError;
 
@@ -63,35 +63,6 @@ impl Out {
     }
 }
 
-/// A distinct number for every temporary file of this process.
-static TEMPORARIES: AtomicUsize = AtomicUsize::new(0);
-
-/// A file being written beside `target` (same folder, so that moving it into place is a
-/// rename), removed when dropped unless moved into place.
-struct Temporary {
-    path: PathBuf,
-    target: PathBuf,
-}
-
-impl Temporary {
-    fn new(target: &Path, tag: &str) -> Temporary {
-        let name = target
-            .file_name()
-            .map_or_else(|| "output".into(), |n| n.to_string_lossy().into_owned());
-        let n = TEMPORARIES.fetch_add(1, Ordering::Relaxed);
-        Temporary {
-            path: target.with_file_name(format!(".{name}.{tag}-{}-{n}", std::process::id())),
-            target: target.to_path_buf(),
-        }
-    }
-}
-
-impl Drop for Temporary {
-    fn drop(&mut self) {
-        let _ = fs::remove_file(&self.path);
-    }
-}
-
 /// An operating-system error on `path`.
 fn io_error(path: &Path) -> impl Fn(io::Error) -> CliError + '_ {
     move |source| {
@@ -103,125 +74,11 @@ fn io_error(path: &Path) -> impl Fn(io::Error) -> CliError + '_ {
     }
 }
 
-/// Checks that `target` may be written: it does not exist, or `force` is given and it is a
-/// regular file or a symbolic link (replaced itself, not followed). A folder, device, pipe or
-/// socket is never replaced.
-pub fn check_target(target: &Path, force: bool) -> Result<(), CliError> {
-    let Ok(meta) = fs::symlink_metadata(target) else {
-        return Ok(());
-    };
-    if !force {
-        return Err(StoreError::Exists {
-            path: target.to_path_buf(),
-        }
-        .into());
-    }
-    if meta.is_file() || meta.is_symlink() {
-        Ok(())
-    } else {
-        Err(io_error(target)(io::Error::new(
-            io::ErrorKind::InvalidInput,
-            "not a regular file; refusing to replace it",
-        )))
-    }
-}
-
-/// The output files of one run, all or nothing: each is written to a temporary beside its
-/// target; [`Staged::commit`] moves them all into place (refusing existing targets without
-/// `force`), and on any failure removes what it moved and puts back what it replaced. Dropped
-/// without a commit, it removes its temporaries.
-pub struct Staged {
-    force: bool,
-    files: Vec<Temporary>,
-}
-
-impl Staged {
-    /// No files yet; `force` allows replacing existing targets.
-    pub fn new(force: bool) -> Staged {
-        Staged {
-            force,
-            files: Vec::new(),
-        }
-    }
-
-    /// Writes `bytes` as the future content of `target`; returns the file's number for
-    /// [`Staged::retarget`].
-    pub fn add(&mut self, target: &Path, bytes: &[u8]) -> Result<usize, CliError> {
-        let tmp = Temporary::new(target, "tmp");
-        fs::write(&tmp.path, bytes).map_err(io_error(target))?;
-        self.files.push(tmp);
-        Ok(self.files.len() - 1)
-    }
-
-    /// Changes the target of staged file `at` to `target`, in the same folder (a single SVG is
-    /// not numbered, which is known only at the end).
-    pub fn retarget(&mut self, at: usize, target: &Path) {
-        if let Some(file) = self.files.get_mut(at) {
-            file.target = target.to_path_buf();
-        }
-    }
-
-    /// Moves every staged file into place: all of them, or (on a failure) none. Returns the
-    /// targets written.
-    pub fn commit(mut self) -> Result<Vec<PathBuf>, CliError> {
-        for file in &self.files {
-            check_target(&file.target, self.force)?;
-        }
-        // (target, the previous file moved aside) for each file moved into place.
-        let mut done: Vec<(PathBuf, Option<Temporary>)> = Vec::new();
-        let mut failure = None;
-        for file in &self.files {
-            match replace(file) {
-                Ok(backup) => done.push((file.target.clone(), backup)),
-                Err(e) => {
-                    failure = Some(e);
-                    break;
-                }
-            }
-        }
-        if let Some(e) = failure {
-            for (target, backup) in done.into_iter().rev() {
-                let _ = fs::remove_file(&target);
-                if let Some(backup) = backup {
-                    let _ = fs::rename(&backup.path, &target);
-                }
-            }
-            return Err(e);
-        }
-        // The moved temporaries are gone; dropping them (and the backups) removes nothing else.
-        let targets = self.files.drain(..).map(|t| t.target.clone()).collect();
-        drop(done);
-        Ok(targets)
-    }
-}
-
-/// Moves `file` onto its target, moving an existing target aside first; returns the moved-aside
-/// file.
-fn replace(file: &Temporary) -> Result<Option<Temporary>, CliError> {
-    let target = &file.target;
-    let backup = match fs::symlink_metadata(target) {
-        Ok(_) => {
-            let backup = Temporary::new(target, "old");
-            fs::rename(target, &backup.path).map_err(io_error(target))?;
-            Some(backup)
-        }
-        Err(_) => None,
-    };
-    if let Err(e) = fs::rename(&file.path, target) {
-        if let Some(backup) = &backup {
-            let _ = fs::rename(&backup.path, target);
-        }
-        return Err(io_error(target)(e));
-    }
-    Ok(backup)
-}
-
 /// A `.npy` array of poses written as they come, whose length is known only at the end: the
-/// numbers go to a temporary body file, and [`NpyStage::finish`] writes the array (header with
-/// N, then the body) into a [`Staged`] file.
+/// numbers go to an anonymous scratch file, and [`NpyStage::finish`] writes the array (header
+/// with N, then the body) into a [`StagedFiles`] file.
 pub struct NpyStage<P: NpyPose> {
     target: PathBuf,
-    body: Temporary,
     writer: BufWriter<File>,
     count: u64,
     _pose: std::marker::PhantomData<fn(&P)>,
@@ -230,11 +87,9 @@ pub struct NpyStage<P: NpyPose> {
 impl<P: NpyPose> NpyStage<P> {
     /// Starts an array for `target`.
     pub fn new(target: &Path) -> Result<NpyStage<P>, CliError> {
-        let body = Temporary::new(target, "body");
-        let writer = BufWriter::new(File::create(&body.path).map_err(io_error(target))?);
+        let writer = BufWriter::new(scratch_beside(target)?);
         Ok(NpyStage {
             target: target.to_path_buf(),
-            body,
             writer,
             count: 0,
             _pose: std::marker::PhantomData,
@@ -258,23 +113,21 @@ impl<P: NpyPose> NpyStage<P> {
     }
 
     /// Writes the whole array into `staged` as the content of the target.
-    pub fn finish(self, staged: &mut Staged) -> Result<(), CliError> {
+    pub fn finish(self, staged: &mut StagedFiles) -> Result<(), CliError> {
         let io = io_error(&self.target);
-        self.writer
-            .into_inner()
-            .map_err(|e| io_error(&self.target)(e.into_error()))?;
-        let tmp = Temporary::new(&self.target, "tmp");
-        let file = File::create(&tmp.path).map_err(&io)?;
-        let mut out =
-            NpyPoseWriter::<_, Row<P>>::new(BufWriter::new(file), self.count).map_err(&io)?;
-        let mut body = BufReader::new(File::open(&self.body.path).map_err(&io)?);
-        let mut row = Row::<P>::new();
-        for _ in 0..self.count {
-            body.read_exact(&mut row.bytes).map_err(&io)?;
-            out.push(&row).map_err(&io)?;
-        }
-        out.finish().map_err(&io)?;
-        staged.files.push(tmp);
+        let mut body = self.writer.into_inner().map_err(|e| io(e.into_error()))?;
+        body.rewind().map_err(&io)?;
+        let mut body = BufReader::new(body);
+        let count = self.count;
+        staged.add_with(&self.target, |file| {
+            let mut out = NpyPoseWriter::<_, Row<P>>::new(file, count)?;
+            let mut row = Row::<P>::new();
+            for _ in 0..count {
+                body.read_exact(&mut row.bytes)?;
+                out.push(&row)?;
+            }
+            out.finish()
+        })?;
         Ok(())
     }
 }

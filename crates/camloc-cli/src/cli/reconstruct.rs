@@ -16,8 +16,11 @@ use serde::{Serialize, Serializer};
 use crate::svg;
 
 use super::input::Inputs;
-use super::stream::{self, Done, Files, Format};
-use super::{CliError, InputArgs, Out, ProgressArgs, load_dataset, load_model, progress};
+use super::stream::{self, Done, Files};
+use super::{
+    CliError, ForceArgs, FormatArgs, InputArgs, Out, ProgressArgs, load_dataset, load_model,
+    progress,
+};
 
 /// The camera modes `reconstruct` offers (the library's [`ModeKind`] without `oracle`, which
 /// needs the true camera), with their help.
@@ -60,12 +63,8 @@ pub struct Args {
           value_parser = clap::builder::PossibleValuesParser::new(camera_modes())
               .try_map(|s| parse_camera(&s)))]
     pub camera: ModeKind,
-    /// Print one JSON array with one object per pose (streamed: written as poses are done).
-    #[arg(long, conflicts_with = "jsonl")]
-    pub json: bool,
-    /// Print one JSON object per line, each as soon as its pose is done (for large inputs).
-    #[arg(long)]
-    pub jsonl: bool,
+    #[command(flatten)]
+    pub format: FormatArgs,
     /// Write the 3D poses as a (N, 15, 3) float64 .npy array in metres (camloc15 layout, the
     /// canonical frame): row n is the n-th pose read, NaN where it could not be reconstructed.
     #[arg(long, value_name = "OUT")]
@@ -74,11 +73,8 @@ pub struct Args {
     /// poses: FILE-001.svg, ...). All files are written at the end, or none.
     #[arg(long, value_name = "OUT")]
     pub svg: Option<PathBuf>,
-    /// Replace existing output files. A symbolic link at an output path is replaced by the new
-    /// file (never written through; its target is untouched); a directory, device or FIFO is
-    /// refused even with --force.
-    #[arg(long)]
-    pub force: bool,
+    #[command(flatten)]
+    pub force: ForceArgs,
     #[command(flatten)]
     pub progress: ProgressArgs,
 }
@@ -125,11 +121,11 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     }
     let reconstructor = reconstructor.with_mode(choice)?;
     let inputs = Inputs::open(&args.input)?;
-    let format = Format::from_flags(args.json, args.jsonl);
+    let format = args.format.format();
     let files = Files::<Pose3> {
         svg: args.svg.clone(),
         npy: args.npy.clone(),
-        force: args.force,
+        force: args.force.force,
         pose: std::marker::PhantomData,
     };
     let bar = progress::counter(

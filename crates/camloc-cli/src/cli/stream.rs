@@ -6,12 +6,13 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use camloc::keypoints::{KeypointRecord, NpyPose};
+use camloc::store::{StagedFiles, check_target};
 use indicatif::ProgressBar;
 use rayon::prelude::*;
 use serde::Serialize;
 
 use super::input::Inputs;
-use super::output::{NpyStage, Out, Staged, check_target};
+use super::output::{NpyStage, Out};
 use super::{CliError, EXIT_ERROR, numbered_path};
 
 /// Poses per batch: enough to keep both cores busy, small enough to bound memory.
@@ -149,7 +150,7 @@ where
     if let Some(npy) = &files.npy {
         check_target(npy, files.force)?;
     }
-    let mut staged = Staged::new(files.force);
+    let mut staged = StagedFiles::new(files.force);
     let mut npy = files.npy.as_deref().map(NpyStage::<P>::new).transpose()?;
     let has_files = files.svg.is_some() || npy.is_some();
     let mut summary = Summary::default();

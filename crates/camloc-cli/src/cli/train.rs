@@ -7,12 +7,11 @@ use std::time::Instant;
 
 use camloc::features::PaperConfig;
 use camloc::learning::{LogisticRegression, Mode};
-use camloc::store::Persist;
+use camloc::store::{Persist, StagedFiles, check_target};
 use camloc::{CameraLocalizer, Descriptor, LandmarkDropout, TrainOptions};
 use clap::ValueEnum;
 
-use super::output::{Staged, check_target};
-use super::{CliError, Out, load_dataset, progress};
+use super::{CliError, ForceArgs, Out, load_dataset, progress};
 
 /// Arguments of `camloc train`.
 #[derive(clap::Args)]
@@ -44,11 +43,8 @@ pub struct Args {
     /// default).
     #[arg(long)]
     pub no_mirror: bool,
-    /// Replace existing output files. A symbolic link at an output path is replaced by the new
-    /// file (never written through; its target is untouched); a directory, device or FIFO is
-    /// refused even with --force.
-    #[arg(long)]
-    pub force: bool,
+    #[command(flatten)]
+    pub force: ForceArgs,
     /// Do not print the Newton iteration log nor the progress spinner.
     #[arg(long, short)]
     pub quiet: bool,
@@ -119,7 +115,7 @@ pub enum ModeArg {
 /// Runs `camloc train`.
 pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     let descriptor = args.descriptor.descriptor();
-    check_target(&args.out, args.force)?;
+    check_target(&args.out, args.force.force)?;
     let mut options = TrainOptions {
         descriptor,
         ..TrainOptions::default()
@@ -171,7 +167,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     bar.finish_and_clear();
     let (localizer, report) = trained?;
     // The model is moved into place only after standard output was written.
-    let mut staged = Staged::new(args.force);
+    let mut staged = StagedFiles::new(args.force.force);
     staged.add(&args.out, &localizer.to_bytes()?)?;
     let mut text = String::new();
     let _ = writeln!(

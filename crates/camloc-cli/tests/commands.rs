@@ -1,0 +1,129 @@
+//! `train`, `evaluate`, `reconstruct` and `evaluate-reconstruction` succeed on fixture data.
+
+use camloc::store::Persist;
+use std::path::Path;
+use std::process::Command;
+
+mod common;
+use common::*;
+
+/// train, evaluate, reconstruct and evaluate-reconstruction succeed on a fixture dataset, and
+/// what they print agrees with the files they read and write.
+#[test]
+fn train_evaluate_and_reconstruct_succeed_on_fixture_data() {
+    let dir = TempDir::new("success");
+    let data = fixture_dataset(&dir);
+    let model = dir.0.join("model.bin");
+    let model = model.to_str().unwrap();
+    let out = camloc(&[
+        "train",
+        "--dataset",
+        &data,
+        "--out",
+        model,
+        "--descriptor",
+        "landmarks",
+        "--lambda",
+        "0.5",
+        "--dropout",
+        "0.5",
+        "--quiet",
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(String::from_utf8_lossy(&out.stdout).starts_with("wrote "));
+    let trained = camloc::CameraLocalizer::load(Path::new(model)).unwrap();
+    assert_eq!(trained.descriptor().name(), "landmarks");
+    assert_eq!(trained.training_info().lambda, 0.5);
+
+    let out = camloc(&["evaluate", "--model", model, "--dataset", &data, "--json"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let e: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let dataset = camloc::dataset::Dataset::load(Path::new(&data)).unwrap();
+    assert_eq!(e["samples"].as_u64(), Some(dataset.samples.len() as u64));
+    let accuracy = e["accuracy"].as_f64().unwrap();
+    assert!((0.0..=1.0).contains(&accuracy));
+    let confusion: u64 = e["confusion"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .flat_map(|row| row.as_array().unwrap())
+        .map(|c| c.as_u64().unwrap())
+        .sum();
+    assert_eq!(confusion, dataset.samples.len() as u64);
+    let text = camloc(&["evaluate", "--model", model, "--dataset", &data]);
+    assert!(text.status.success());
+    assert!(
+        String::from_utf8_lossy(&text.stdout)
+            .contains(&format!("accuracy:         {:.2}%", 100.0 * accuracy))
+    );
+
+    let input = fixture("keypoints/example.json");
+    let input = input.to_str().unwrap();
+    let out = camloc(&[
+        "reconstruct",
+        "--model",
+        model,
+        "--input",
+        input,
+        "--camera",
+        "classified",
+        "--json",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let poses: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let poses = poses.as_array().unwrap();
+    assert_eq!(poses.len(), 3);
+    for p in poses {
+        assert_eq!(p["camera_mode"], "classified");
+        let label = p["classified_label"].as_u64().unwrap();
+        assert!((1..=12).contains(&label));
+        assert_eq!(p["landmarks_m"].as_object().unwrap().len(), 15);
+    }
+
+    let out = camloc(&[
+        "evaluate-reconstruction",
+        "--model",
+        model,
+        "--dataset",
+        &data,
+        "--json",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert!(report.is_object(), "{report}");
+
+    // The model is moved into place only after standard output was written.
+    if let Ok(full) = std::fs::OpenOptions::new().write(true).open("/dev/full") {
+        let second = dir.0.join("second.bin");
+        let out = Command::new(env!("CARGO_BIN_EXE_camloc"))
+            .args([
+                "train",
+                "--dataset",
+                &data,
+                "--out",
+                second.to_str().unwrap(),
+                "--quiet",
+            ])
+            .stdout(full)
+            .output()
+            .unwrap();
+        // (train also reports what it trains on, on standard error.)
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{stderr}");
+        assert!(stderr.contains("camloc: error: cannot write to standard output"));
+        assert!(!second.exists());
+    }
+}

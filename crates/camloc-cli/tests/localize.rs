@@ -1,0 +1,190 @@
+//! `camloc localize`: text, JSON and JSON lines, every input format, standard input, folders
+//! and closed pipes.
+
+use std::process::Command;
+
+mod common;
+use common::*;
+
+#[test]
+fn the_example_is_localized() {
+    let out = camloc(&[
+        "localize",
+        "--input",
+        fixture("keypoints/example.json").to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(stdout.matches("probability").count(), 3, "{stdout}");
+}
+
+#[test]
+fn json_output_has_one_object_per_pose_with_probabilities_summing_to_one() {
+    let dir = TempDir::new("json");
+    let input = dir.file("p.json", FIFTEEN);
+    let out = camloc(&["localize", "--input", &input, "--json"]);
+    assert!(out.status.success());
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let poses = v.as_array().unwrap();
+    assert_eq!(poses.len(), 1);
+    let p = &poses[0];
+    let total: f64 = p["probabilities"]
+        .as_object()
+        .unwrap()
+        .values()
+        .map(|x| x.as_f64().unwrap())
+        .sum();
+    assert!((total - 1.0).abs() < 1e-9);
+    let label = p["label"].as_u64().unwrap();
+    assert!((1..=12).contains(&label));
+    assert_eq!(p["rotation"].as_array().unwrap().len(), 3);
+}
+
+/// `--jsonl` writes one object per line; `--json` one array of the same objects; the text
+/// output the same cameras.
+#[test]
+fn jsonl_and_json_stream_the_same_objects() {
+    let example = fixture("keypoints/example.json");
+    let example = example.to_str().unwrap();
+    let jsonl = success(&camloc(&["localize", "--input", example, "--jsonl"]));
+    let lines: Vec<serde_json::Value> = jsonl
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    let array: serde_json::Value = serde_json::from_str(&success(&camloc(&[
+        "localize", "--input", example, "--json",
+    ])))
+    .unwrap();
+    assert_eq!(array.as_array().unwrap(), &lines);
+    let text = success(&camloc(&["localize", "--input", example]));
+    for line in &lines {
+        let id = line["id"].as_str().unwrap();
+        let header = format!("{id}: camera {:02},", line["label"].as_u64().unwrap());
+        assert!(text.contains(&header), "{header} in {text}");
+    }
+    let usage = camloc(&["localize", "--input", example, "--json", "--jsonl"]);
+    assert_eq!(usage.status.code(), Some(2));
+}
+
+/// Every sample format (made by camloc-keypoints' tests from the poses of example.json) gives
+/// the labels of example.json through the command line, with the options it needs.
+#[test]
+fn every_sample_format_gives_the_example_labels() {
+    let expected = example_labels();
+    let samples = fixture("keypoints/samples");
+    let s = |name: &str| samples.join(name).to_string_lossy().into_owned();
+    let cases: Vec<Vec<String>> = vec![
+        vec![s("camloc15.npy")],
+        vec![s("camloc15.npy"), "--layout".into(), "camloc15".into()],
+        vec![s("h36m17_scores.npy"), "--layout".into(), "h36m17".into()],
+        vec![s("mediapipe.json"), "--image-size".into(), "640,480".into()],
+        vec![s("mmpose.json"), "--format".into(), "mmpose".into()],
+        vec![s("mpii.json")],
+        vec![s("openpose")],
+    ];
+    for case in cases {
+        let mut args = vec!["localize", "--jsonl", "--input"];
+        args.extend(case.iter().map(String::as_str));
+        let labels = jsonl_labels(&success(&camloc(&args)));
+        assert_eq!(labels, expected, "{case:?}");
+    }
+    // MediaPipe without the image size: one clear error.
+    assert_clean_failure(
+        &camloc(&["localize", "--input", &s("mediapipe.json")]),
+        "mediapipe.json",
+    );
+}
+
+/// `-` reads standard input, in any format told from its content (a .npy array included).
+#[test]
+fn standard_input_is_read() {
+    let expected = example_labels();
+    let json = std::fs::read(fixture("keypoints/example.json")).unwrap();
+    let out = camloc_with_stdin(&["localize", "--input", "-", "--jsonl"], &json);
+    assert_eq!(jsonl_labels(&success(&out)), expected);
+    let npy = std::fs::read(fixture("keypoints/samples/camloc15.npy")).unwrap();
+    let out = camloc_with_stdin(&["localize", "--input", "-", "--jsonl"], &npy);
+    assert_eq!(jsonl_labels(&success(&out)), expected);
+    let out = camloc_with_stdin(&["localize", "--input", "-"], b"{\"poses\": []}");
+    assert_clean_failure(&out, "no poses in standard input");
+}
+
+/// A folder is read in natural order, sub-folders only with --recursive; a bad file is
+/// reported, the others are still localized, and the exit code is 1.
+#[test]
+fn folders_are_read_in_order_and_a_bad_file_does_not_stop_the_rest() {
+    let dir = TempDir::new("folder");
+    let example = std::fs::read_to_string(fixture("keypoints/example.json")).unwrap();
+    dir.file("frame_10.json", &example);
+    dir.file("frame_2.json", FIFTEEN);
+    std::fs::create_dir(dir.0.join("sub")).unwrap();
+    std::fs::write(dir.0.join("sub/more.json"), FIFTEEN).unwrap();
+    let folder = dir.0.to_str().unwrap();
+    let flat = success(&camloc(&["localize", "--input", folder, "--jsonl"]));
+    let ids: Vec<String> = flat
+        .lines()
+        .map(|l| serde_json::from_str::<serde_json::Value>(l).unwrap()["source"].to_string())
+        .collect();
+    assert_eq!(ids.len(), 4, "{flat}");
+    assert!(ids[0].contains("frame_2.json"), "{ids:?}");
+    assert!(ids[1].contains("frame_10.json"), "{ids:?}");
+    let deep = success(&camloc(&[
+        "localize",
+        "--input",
+        folder,
+        "--jsonl",
+        "--recursive",
+    ]));
+    assert_eq!(deep.lines().count(), 5);
+    dir.file("frame_5.json", "{\"poses\": [");
+    let out = camloc(&["localize", "--input", folder, "--jsonl"]);
+    assert_clean_failure(&out, "frame_5.json");
+    let lines: Vec<serde_json::Value> = String::from_utf8_lossy(&out.stdout)
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(lines.len(), 5, "four poses and the bad file: {lines:?}");
+    let errors: Vec<&serde_json::Value> =
+        lines.iter().filter(|l| l.get("error").is_some()).collect();
+    assert_eq!(errors.len(), 1);
+    assert!(
+        errors[0]["error"]
+            .as_str()
+            .unwrap()
+            .contains("frame_5.json")
+    );
+    // An empty folder has no poses.
+    let empty = TempDir::new("empty-folder");
+    assert_clean_failure(
+        &camloc(&["localize", "--input", empty.0.to_str().unwrap()]),
+        "no poses in",
+    );
+}
+
+/// A reader that goes away (`camloc ... | head`) ends the run normally.
+#[test]
+fn a_closed_pipe_is_a_normal_end() {
+    let example = fixture("keypoints/example.json");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_camloc"))
+        .args(["localize", "--input", example.to_str().unwrap()])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        out.stderr.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
