@@ -123,6 +123,7 @@ mod mpii;
 mod npy;
 mod openpose;
 mod record;
+mod stream;
 
 use std::fmt;
 use std::io::{self, Read};
@@ -270,6 +271,8 @@ pub struct KeypointStream {
 enum StreamInner {
     Parsed(std::vec::IntoIter<KeypointRecord>),
     Npy(Box<NpyPoses<Box<dyn Read + Send>>>),
+    /// Parsed on a producer thread (camloc JSON longer than [`STREAM_PEEK_BYTES`]).
+    Channel(stream::Received),
 }
 
 impl Iterator for KeypointStream {
@@ -279,14 +282,17 @@ impl Iterator for KeypointStream {
         match &mut self.inner {
             StreamInner::Parsed(records) => records.next().map(Ok),
             StreamInner::Npy(poses) => poses.next(),
+            StreamInner::Channel(received) => received.next_item(),
         }
     }
 
-    /// Exact for text formats; for `.npy` the poses left (fewer if an error stops the stream).
+    /// Exact for text formats read whole; for `.npy` the poses left (fewer if an error stops
+    /// the stream); unknown for streamed camloc JSON.
     fn size_hint(&self) -> (usize, Option<usize>) {
         match &self.inner {
             StreamInner::Parsed(records) => records.size_hint(),
             StreamInner::Npy(poses) => (0, usize::try_from(poses.len()).ok()),
+            StreamInner::Channel(_) => (0, None),
         }
     }
 }
@@ -372,9 +378,29 @@ pub fn open_keypoints_reader(
     if let Some(size) = size.filter(|&size| size > limit) {
         return Err(too_large(size));
     }
+    // Peek at the start: an input that ends within it is parsed whole, a longer camloc JSON
+    // document is streamed.
     let mut bytes = Vec::new();
+    let mut reader = reader;
+    (&mut reader)
+        .take(STREAM_PEEK_BYTES)
+        .read_to_end(&mut bytes)
+        .map_err(io_error)?;
+    if bytes.len() as u64 == STREAM_PEEK_BYTES && bytes.len() as u64 <= limit {
+        if let Some(text) = streamable_start(&bytes, name, format) {
+            let bom = bytes.len() - text.len();
+            bytes.drain(..bom);
+            return stream_camloc(
+                io::Cursor::new(bytes).chain(reader),
+                name,
+                limit,
+                rule,
+                options,
+            );
+        }
+    }
     reader
-        .take(limit.saturating_add(1))
+        .take((limit.saturating_add(1)).saturating_sub(bytes.len() as u64))
         .read_to_end(&mut bytes)
         .map_err(io_error)?;
     if bytes.len() as u64 > limit {
@@ -383,6 +409,76 @@ pub fn open_keypoints_reader(
     let records = parse_keypoints_bytes(&bytes, name, format, options)?;
     Ok(KeypointStream {
         inner: StreamInner::Parsed(records.into_iter()),
+    })
+}
+
+/// Text inputs longer than this many bytes are streamed when they are camloc JSON documents
+/// (format given, or detected from these first bytes); shorter ones, and other text formats,
+/// are read whole.
+pub const STREAM_PEEK_BYTES: u64 = 1 << 16;
+
+/// The start of `bytes` as text without its byte-order mark, when the input is camloc JSON
+/// (`format`, or detected from this start) that begins with an object, so that it can be
+/// streamed. `None` sends the input to the whole-text readers (which also report invalid UTF-8
+/// in the start, and detect formats on the whole text).
+fn streamable_start<'a>(
+    bytes: &'a [u8],
+    name: &str,
+    format: Option<KeypointFormat>,
+) -> Option<&'a str> {
+    let valid = match std::str::from_utf8(bytes) {
+        Ok(text) => text,
+        // Cut inside a character at the end of the peeked bytes: the text up to it.
+        Err(e) if e.error_len().is_none() => std::str::from_utf8(&bytes[..e.valid_up_to()]).ok()?,
+        Err(_) => return None,
+    };
+    let text = valid.strip_prefix('\u{feff}').unwrap_or(valid);
+    let extension = Path::new(name).extension().and_then(|e| e.to_str());
+    let format = format.or_else(|| KeypointFormat::from_extension_and_content(extension, text))?;
+    (format == KeypointFormat::Camloc && text.trim_start().starts_with('{')).then_some(text)
+}
+
+/// Streams the camloc JSON document `reader` (BOM removed) on a producer thread, at most
+/// `limit` bytes of it (`rule` names the limit in the error).
+fn stream_camloc(
+    reader: impl Read + Send + 'static,
+    name: &str,
+    limit: u64,
+    rule: &'static str,
+    options: &ReadOptions,
+) -> Result<KeypointStream, KeypointError> {
+    let file = name.to_owned();
+    let options = *options;
+    let received = stream::spawn(name, move |sender| {
+        let reader = io::BufReader::with_capacity(1 << 16, stream::Capped::new(reader, limit));
+        let outcome = camloc_json::stream(reader, &file, &options, &mut |record| {
+            sender.send(Ok(record))
+        });
+        let error = match outcome {
+            Ok(()) | Err(camloc_json::Stop::Closed) => return,
+            Err(camloc_json::Stop::Invalid(e)) => e,
+            Err(camloc_json::Stop::Io(e)) => {
+                match e
+                    .get_ref()
+                    .and_then(|e| e.downcast_ref::<stream::OverLimit>())
+                {
+                    Some(over) => KeypointError::TooLarge {
+                        file: file.clone(),
+                        bytes: over.read,
+                        limit: over.limit,
+                        rule,
+                    },
+                    None => KeypointError::Io {
+                        file: file.clone(),
+                        source: e,
+                    },
+                }
+            }
+        };
+        sender.send(Err(error));
+    })?;
+    Ok(KeypointStream {
+        inner: StreamInner::Channel(received),
     })
 }
 
