@@ -105,7 +105,10 @@
 //! line and column for syntax errors, or an array element `[pose, joint, channel]`. Messages
 //! quote at most [`MAX_QUOTED_CHARS`] characters of any piece of input. Text inputs longer than
 //! [`ReadOptions::max_bytes`] (one OpenPose frame: [`OPENPOSE_FRAME_MAX_BYTES`]) are refused
-//! before they are parsed; `.npy` arrays are streamed.
+//! (files before they are read, pipes at the limit). `.npy` arrays, and camloc JSON documents
+//! longer than [`STREAM_PEEK_BYTES`], are streamed by [`open_keypoints`]: their records come
+//! one at a time, memory independent of their number, and an error ends the stream after the
+//! records before it.
 
 #![warn(missing_docs)]
 
@@ -225,7 +228,8 @@ pub struct ReadOptions {
     /// The joint layout of `.npy` arrays and MMPose keypoints. `None` (the default): told from
     /// the joint count, with 17 meaning COCO-17 for MMPose and needing a name for `.npy`.
     pub layout: Option<Layout>,
-    /// Largest text input accepted, in bytes; longer inputs give [`KeypointError::TooLarge`].
+    /// Largest text input accepted, in bytes; longer inputs give [`KeypointError::TooLarge`]
+    /// (a streamed camloc JSON document after the records before the limit).
     /// Default [`ReadOptions::DEFAULT_MAX_BYTES`] (1 GiB). One OpenPose frame is also limited
     /// to [`OPENPOSE_FRAME_MAX_BYTES`]; `.npy` arrays are streamed and not limited.
     pub max_bytes: u64,
@@ -260,8 +264,8 @@ impl Default for ReadOptions {
     }
 }
 
-/// The records of one input, produced as they are read: `.npy` arrays pose by pose (memory
-/// independent of N), text formats from the parsed file. Returned by [`open_keypoints`] and
+/// The records of one input, produced as they are read: `.npy` arrays and long camloc JSON
+/// documents pose by pose (memory independent of N), other text formats from the parsed file. Returned by [`open_keypoints`] and
 /// [`open_keypoints_reader`].
 pub struct KeypointStream {
     inner: StreamInner,
@@ -309,7 +313,8 @@ pub fn read_keypoints(
 }
 
 /// Opens a keypoint file and returns its records as a stream: a `.npy` array is read one pose
-/// at a time, other formats are read whole (within their size limit) and parsed. `format: None`
+/// at a time, a camloc JSON document longer than [`STREAM_PEEK_BYTES`] is parsed pose by pose
+/// on a reader thread, other formats are read whole (within their size limit) and parsed. `format: None`
 /// detects the format as [`read_keypoints`] does.
 pub fn open_keypoints(
     path: impl AsRef<Path>,
@@ -336,8 +341,10 @@ pub fn open_keypoints(
 
 /// Reads keypoints from any reader, e.g. standard input: `name` names it in records and errors
 /// (its extension, if any, helps detection), `size` is its length in bytes when known. A `.npy`
-/// array (named by `format`, or recognised by its magic bytes) is streamed; other formats are
-/// read up to their size limit and parsed.
+/// array (named by `format`, or recognised by its magic bytes) and a camloc JSON document longer
+/// than [`STREAM_PEEK_BYTES`] are streamed (at most [`ReadOptions::max_bytes`] of it: past that,
+/// the stream ends with [`KeypointError::TooLarge`]); other formats are read up to their size
+/// limit and parsed.
 pub fn open_keypoints_reader(
     mut reader: impl Read + Send + 'static,
     name: &str,
