@@ -2,9 +2,16 @@
 
 use camloc_skeleton::{Landmark, NUM_LANDMARKS, PartialPose2};
 
+use std::fmt;
+
+use serde::de::{self, DeserializeSeed, Deserializer, MapAccess, SeqAccess, Visitor};
+
 use crate::ReadOptions;
 use crate::error::{KeypointError, Location};
-use crate::json::{self, Json, check_keys, get, index_path, key_path, number_array, wrong_type};
+use crate::json::{
+    self, Json, SkipVisitor, Skipped, check_keys, get, index_path, key_path, number_array,
+    wrong_type,
+};
 use crate::record::{KeypointRecord, finish};
 
 /// The value of the `format` key.
@@ -28,20 +35,44 @@ const DOCUMENT_KEYS: [&str; 3] = ["format", "version", "poses"];
 /// Keys of a pose object.
 const POSE_KEYS: [&str; 2] = ["id", "landmarks"];
 
+/// What a top-level object that is not a document must be.
+const EXPECTED: &str = "an object with \"poses\" (a document) or \"landmarks\" (one pose)";
+
+/// Top-level keys whose value (first occurrence) is kept while streaming: the document's
+/// `format` and `version`, and the keys of a bare pose. Other values are parsed and dropped.
+const KEPT_KEYS: [&str; 4] = ["format", "version", "id", "landmarks"];
+
 /// Reads camloc JSON text (BOM already removed, known not to be blank).
 pub(crate) fn parse(
     text: &str,
     file: &str,
     options: &ReadOptions,
 ) -> Result<Vec<KeypointRecord>, KeypointError> {
-    const EXPECTED: &str = "an object with \"poses\" (a document) or \"landmarks\" (one pose)";
     let root: Json = json::parse(text, file)?;
     let Json::Object(fields) = &root else {
         return Err(wrong_type(file, "", EXPECTED, &root));
     };
-    if get(fields, "poses").is_none() && get(fields, "landmarks").is_some() {
+    if is_bare_pose(fields) {
         return Ok(vec![pose(&root, "", 0, file, options)?]);
     }
+    document_poses(fields, file)?
+        .iter()
+        .enumerate()
+        .map(|(i, value)| pose(value, &index_path("poses", i), i, file, options))
+        .collect()
+}
+
+/// `true` for a top level that is one pose: `landmarks` and no `poses`.
+fn is_bare_pose(fields: &[(String, Json)]) -> bool {
+    get(fields, "poses").is_none() && get(fields, "landmarks").is_some()
+}
+
+/// Checks the top-level keys of a document (known keys, each once; the format tag; the
+/// version; `poses` an array) in this order, and returns the poses.
+fn document_poses<'a>(
+    fields: &'a [(String, Json)],
+    file: &str,
+) -> Result<&'a [Json], KeypointError> {
     check_keys(fields, &DOCUMENT_KEYS, file, "")?;
     let wrong_tag = |tag: &&Json| !matches!(tag, Json::String(s) if s == CAMLOC_FORMAT_TAG);
     if let Some(tag) = get(fields, "format").filter(wrong_tag) {
@@ -61,22 +92,190 @@ pub(crate) fn parse(
             found: json_text(version),
         });
     }
-    let poses = match get(fields, "poses") {
-        Some(Json::Array(poses)) => poses,
-        Some(other) => return Err(wrong_type(file, "poses", "an array of poses", other)),
-        None => {
-            return Err(KeypointError::MissingKey {
-                file: file.to_owned(),
-                at: Location::Path(String::new()),
-                key: "poses",
-            });
-        }
+    match get(fields, "poses") {
+        Some(Json::Array(poses)) => Ok(poses),
+        Some(other) => Err(wrong_type(file, "poses", "an array of poses", other)),
+        None => Err(KeypointError::MissingKey {
+            file: file.to_owned(),
+            at: Location::Path(String::new()),
+            key: "poses",
+        }),
+    }
+}
+
+/// Why [`stream`] stopped before the end of the input.
+pub(crate) enum Stop {
+    /// The input is invalid.
+    Invalid(KeypointError),
+    /// Reading failed (an I/O error of the reader, e.g. its size limit).
+    Io(std::io::Error),
+    /// `emit` returned `false`: nobody wants more records.
+    Closed,
+}
+
+/// Reads a camloc JSON object from `reader` (BOM already removed, starting with `{` after
+/// white space) and gives its records to `emit` one at a time, each as soon as its pose is
+/// parsed: memory is that of one pose, whatever the number of poses.
+///
+/// Errors are those of [`parse`], found in input order: a document-level problem (unknown or
+/// repeated key, format tag, version, `poses` not an array) in the keys before `poses` stops
+/// before any pose (reported as [`parse`] does, after reading the rest); one in the keys after
+/// `poses` is reported after the poses. A bare pose is emitted at the end of the object.
+pub(crate) fn stream<R: std::io::Read>(
+    reader: R,
+    file: &str,
+    options: &ReadOptions,
+    emit: &mut dyn FnMut(KeypointRecord) -> bool,
+) -> Result<(), Stop> {
+    let mut sink = Sink {
+        file,
+        options,
+        emit,
+        stop: None,
     };
-    poses
-        .iter()
-        .enumerate()
-        .map(|(i, value)| pose(value, &index_path("poses", i), i, file, options))
-        .collect()
+    let mut deserializer = serde_json::Deserializer::from_reader(reader);
+    let parsed = deserializer
+        .deserialize_map(DocumentVisitor(&mut sink))
+        .and_then(|()| deserializer.end());
+    match parsed {
+        Ok(()) => Ok(()),
+        Err(e) => Err(match sink.stop {
+            Some(stop) => stop,
+            None if e.is_io() => Stop::Io(e.into()),
+            None => Stop::Invalid(json::syntax_error(&e, file)),
+        }),
+    }
+}
+
+/// Where streamed records go, and why streaming stopped.
+struct Sink<'a> {
+    file: &'a str,
+    options: &'a ReadOptions,
+    emit: &'a mut dyn FnMut(KeypointRecord) -> bool,
+    stop: Option<Stop>,
+}
+
+impl Sink<'_> {
+    /// Gives a record to `emit`, or records why not and returns an error that ends parsing.
+    fn send<E: de::Error>(
+        &mut self,
+        record: Result<KeypointRecord, KeypointError>,
+    ) -> Result<(), E> {
+        let stop = match record {
+            Ok(record) => {
+                if (self.emit)(record) {
+                    return Ok(());
+                }
+                Stop::Closed
+            }
+            Err(e) => Stop::Invalid(e),
+        };
+        self.stop = Some(stop);
+        Err(E::custom("streaming stopped"))
+    }
+}
+
+/// The top-level object of a streamed input.
+struct DocumentVisitor<'s, 'a>(&'s mut Sink<'a>);
+
+impl<'de> Visitor<'de> for DocumentVisitor<'_, '_> {
+    type Value = ();
+
+    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(EXPECTED)
+    }
+
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<(), A::Error> {
+        let sink = self.0;
+        let mut fields: Vec<(String, Json)> = Vec::new();
+        while let Some(key) = map.next_key::<String>()? {
+            let first = get(&fields, &key).is_none();
+            let value = if key == "poses" && first && {
+                // Stream the poses only if the keys so far pass the document checks.
+                fields.push((key.clone(), Json::Array(Vec::new())));
+                let ok = document_poses(&fields, sink.file).is_ok();
+                fields.pop();
+                ok
+            } {
+                map.next_value_seed(PosesSeed(&mut *sink))?
+            } else if first && KEPT_KEYS.contains(&key.as_str()) {
+                map.next_value::<Json>()?
+            } else {
+                map.next_value::<Skipped>()?.0
+            };
+            fields.push((key, value));
+        }
+        if is_bare_pose(&fields) {
+            let root = Json::Object(fields);
+            let record = pose(&root, "", 0, sink.file, sink.options);
+            return sink.send(record);
+        }
+        match document_poses(&fields, sink.file) {
+            Ok(_) => Ok(()),
+            Err(e) => sink.send(Err(e)),
+        }
+    }
+}
+
+/// The value of `poses`: an array is streamed pose by pose (its placeholder is an empty
+/// array), another value skipped (its placeholder has its type).
+struct PosesSeed<'s, 'a>(&'s mut Sink<'a>);
+
+impl<'de> DeserializeSeed<'de> for PosesSeed<'_, '_> {
+    type Value = Json;
+
+    fn deserialize<D: Deserializer<'de>>(self, deserializer: D) -> Result<Json, D::Error> {
+        deserializer.deserialize_any(self)
+    }
+}
+
+impl<'de> Visitor<'de> for PosesSeed<'_, '_> {
+    type Value = Json;
+
+    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("an array of poses")
+    }
+
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Json, A::Error> {
+        let sink = self.0;
+        let mut index = 0;
+        while let Some(value) = seq.next_element::<Json>()? {
+            let path = index_path("poses", index);
+            let record = pose(&value, &path, index, sink.file, sink.options);
+            sink.send(record)?;
+            index += 1;
+        }
+        Ok(Json::Array(Vec::new()))
+    }
+
+    // Any other value is skipped; its placeholder has its type.
+    fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<Json, A::Error> {
+        SkipVisitor.visit_map(map)
+    }
+
+    fn visit_unit<E: de::Error>(self) -> Result<Json, E> {
+        SkipVisitor.visit_unit()
+    }
+
+    fn visit_bool<E: de::Error>(self, v: bool) -> Result<Json, E> {
+        SkipVisitor.visit_bool(v)
+    }
+
+    fn visit_i64<E: de::Error>(self, v: i64) -> Result<Json, E> {
+        SkipVisitor.visit_i64(v)
+    }
+
+    fn visit_u64<E: de::Error>(self, v: u64) -> Result<Json, E> {
+        SkipVisitor.visit_u64(v)
+    }
+
+    fn visit_f64<E: de::Error>(self, v: f64) -> Result<Json, E> {
+        SkipVisitor.visit_f64(v)
+    }
+
+    fn visit_str<E: de::Error>(self, v: &str) -> Result<Json, E> {
+        SkipVisitor.visit_str(v)
+    }
 }
 
 /// The pose object `value` at JSON path `path`, the `index`-th of the input.

@@ -100,17 +100,76 @@ impl<'de> Visitor<'de> for JsonVisitor {
 
 /// Parses `text` as JSON into `T`, turning parser errors into [`KeypointError::Json`].
 pub(crate) fn parse<'a, T: Deserialize<'a>>(text: &'a str, file: &str) -> Result<T, KeypointError> {
-    serde_json::from_str(text).map_err(|e| {
-        let full = e.to_string();
-        let suffix = format!(" at line {} column {}", e.line(), e.column());
-        let message = full.strip_suffix(&suffix).unwrap_or(&full).to_owned();
-        KeypointError::Json {
-            file: file.to_owned(),
-            line: e.line(),
-            column: e.column(),
-            message,
-        }
-    })
+    serde_json::from_str(text).map_err(|e| syntax_error(&e, file))
+}
+
+/// A parser error as [`KeypointError::Json`], its line and column moved out of the message.
+pub(crate) fn syntax_error(e: &serde_json::Error, file: &str) -> KeypointError {
+    let full = e.to_string();
+    let suffix = format!(" at line {} column {}", e.line(), e.column());
+    let message = full.strip_suffix(&suffix).unwrap_or(&full).to_owned();
+    KeypointError::Json {
+        file: file.to_owned(),
+        line: e.line(),
+        column: e.column(),
+        message,
+    }
+}
+
+/// A JSON value parsed (numbers and nesting checked as for [`Json`]) but not kept: only its
+/// type survives, as an empty [`Json`] of the same kind, so that a skipped value still gives
+/// the right [`Json::kind`] in messages.
+pub(crate) struct Skipped(pub(crate) Json);
+
+impl<'de> Deserialize<'de> for Skipped {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        deserializer.deserialize_any(SkipVisitor).map(Skipped)
+    }
+}
+
+/// The visitor of [`Skipped`], for the values other readers skip.
+pub(crate) struct SkipVisitor;
+
+impl<'de> Visitor<'de> for SkipVisitor {
+    type Value = Json;
+
+    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("a JSON value")
+    }
+
+    fn visit_unit<E: de::Error>(self) -> Result<Json, E> {
+        Ok(Json::Null)
+    }
+
+    fn visit_bool<E: de::Error>(self, _: bool) -> Result<Json, E> {
+        Ok(Json::Bool)
+    }
+
+    fn visit_i64<E: de::Error>(self, v: i64) -> Result<Json, E> {
+        JsonVisitor.visit_i64(v)
+    }
+
+    fn visit_u64<E: de::Error>(self, v: u64) -> Result<Json, E> {
+        JsonVisitor.visit_u64(v)
+    }
+
+    fn visit_f64<E: de::Error>(self, v: f64) -> Result<Json, E> {
+        JsonVisitor.visit_f64(v)
+    }
+
+    fn visit_str<E: de::Error>(self, _: &str) -> Result<Json, E> {
+        Ok(Json::String(String::new()))
+    }
+
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Json, A::Error> {
+        while seq.next_element::<Skipped>()?.is_some() {}
+        Ok(Json::Array(Vec::new()))
+    }
+
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Json, A::Error> {
+        while map.next_entry::<de::IgnoredAny, Skipped>()?.is_some() {}
+        Ok(Json::Object(Vec::new()))
+    }
 }
 
 /// Path of key `key` inside the object at `parent`.

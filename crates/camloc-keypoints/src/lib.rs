@@ -105,7 +105,10 @@
 //! line and column for syntax errors, or an array element `[pose, joint, channel]`. Messages
 //! quote at most [`MAX_QUOTED_CHARS`] characters of any piece of input. Text inputs longer than
 //! [`ReadOptions::max_bytes`] (one OpenPose frame: [`OPENPOSE_FRAME_MAX_BYTES`]) are refused
-//! before they are parsed; `.npy` arrays are streamed.
+//! (files before they are read, pipes at the limit). `.npy` arrays, and camloc JSON documents
+//! longer than [`STREAM_PEEK_BYTES`], are streamed by [`open_keypoints`]: their records come
+//! one at a time, memory independent of their number, and an error ends the stream after the
+//! records before it.
 
 #![warn(missing_docs)]
 
@@ -123,6 +126,7 @@ mod mpii;
 mod npy;
 mod openpose;
 mod record;
+mod stream;
 
 use std::fmt;
 use std::io::{self, Read};
@@ -224,7 +228,8 @@ pub struct ReadOptions {
     /// The joint layout of `.npy` arrays and MMPose keypoints. `None` (the default): told from
     /// the joint count, with 17 meaning COCO-17 for MMPose and needing a name for `.npy`.
     pub layout: Option<Layout>,
-    /// Largest text input accepted, in bytes; longer inputs give [`KeypointError::TooLarge`].
+    /// Largest text input accepted, in bytes; longer inputs give [`KeypointError::TooLarge`]
+    /// (a streamed camloc JSON document after the records before the limit).
     /// Default [`ReadOptions::DEFAULT_MAX_BYTES`] (1 GiB). One OpenPose frame is also limited
     /// to [`OPENPOSE_FRAME_MAX_BYTES`]; `.npy` arrays are streamed and not limited.
     pub max_bytes: u64,
@@ -259,8 +264,8 @@ impl Default for ReadOptions {
     }
 }
 
-/// The records of one input, produced as they are read: `.npy` arrays pose by pose (memory
-/// independent of N), text formats from the parsed file. Returned by [`open_keypoints`] and
+/// The records of one input, produced as they are read: `.npy` arrays and long camloc JSON
+/// documents pose by pose (memory independent of N), other text formats from the parsed file. Returned by [`open_keypoints`] and
 /// [`open_keypoints_reader`].
 pub struct KeypointStream {
     inner: StreamInner,
@@ -270,6 +275,8 @@ pub struct KeypointStream {
 enum StreamInner {
     Parsed(std::vec::IntoIter<KeypointRecord>),
     Npy(Box<NpyPoses<Box<dyn Read + Send>>>),
+    /// Parsed on a producer thread (camloc JSON longer than [`STREAM_PEEK_BYTES`]).
+    Channel(stream::Received),
 }
 
 impl Iterator for KeypointStream {
@@ -279,14 +286,17 @@ impl Iterator for KeypointStream {
         match &mut self.inner {
             StreamInner::Parsed(records) => records.next().map(Ok),
             StreamInner::Npy(poses) => poses.next(),
+            StreamInner::Channel(received) => received.next_item(),
         }
     }
 
-    /// Exact for text formats; for `.npy` the poses left (fewer if an error stops the stream).
+    /// Exact for text formats read whole; for `.npy` the poses left (fewer if an error stops
+    /// the stream); unknown for streamed camloc JSON.
     fn size_hint(&self) -> (usize, Option<usize>) {
         match &self.inner {
             StreamInner::Parsed(records) => records.size_hint(),
             StreamInner::Npy(poses) => (0, usize::try_from(poses.len()).ok()),
+            StreamInner::Channel(_) => (0, None),
         }
     }
 }
@@ -303,7 +313,8 @@ pub fn read_keypoints(
 }
 
 /// Opens a keypoint file and returns its records as a stream: a `.npy` array is read one pose
-/// at a time, other formats are read whole (within their size limit) and parsed. `format: None`
+/// at a time, a camloc JSON document longer than [`STREAM_PEEK_BYTES`] is parsed pose by pose
+/// on a reader thread, other formats are read whole (within their size limit) and parsed. `format: None`
 /// detects the format as [`read_keypoints`] does.
 pub fn open_keypoints(
     path: impl AsRef<Path>,
@@ -330,8 +341,10 @@ pub fn open_keypoints(
 
 /// Reads keypoints from any reader, e.g. standard input: `name` names it in records and errors
 /// (its extension, if any, helps detection), `size` is its length in bytes when known. A `.npy`
-/// array (named by `format`, or recognised by its magic bytes) is streamed; other formats are
-/// read up to their size limit and parsed.
+/// array (named by `format`, or recognised by its magic bytes) and a camloc JSON document longer
+/// than [`STREAM_PEEK_BYTES`] are streamed (at most [`ReadOptions::max_bytes`] of it: past that,
+/// the stream ends with [`KeypointError::TooLarge`]); other formats are read up to their size
+/// limit and parsed.
 pub fn open_keypoints_reader(
     mut reader: impl Read + Send + 'static,
     name: &str,
@@ -372,9 +385,29 @@ pub fn open_keypoints_reader(
     if let Some(size) = size.filter(|&size| size > limit) {
         return Err(too_large(size));
     }
+    // Peek at the start: an input that ends within it is parsed whole, a longer camloc JSON
+    // document is streamed.
     let mut bytes = Vec::new();
+    let mut reader = reader;
+    (&mut reader)
+        .take(STREAM_PEEK_BYTES)
+        .read_to_end(&mut bytes)
+        .map_err(io_error)?;
+    if bytes.len() as u64 == STREAM_PEEK_BYTES && bytes.len() as u64 <= limit {
+        if let Some(text) = streamable_start(&bytes, name, format) {
+            let bom = bytes.len() - text.len();
+            bytes.drain(..bom);
+            return stream_camloc(
+                io::Cursor::new(bytes).chain(reader),
+                name,
+                limit,
+                rule,
+                options,
+            );
+        }
+    }
     reader
-        .take(limit.saturating_add(1))
+        .take((limit.saturating_add(1)).saturating_sub(bytes.len() as u64))
         .read_to_end(&mut bytes)
         .map_err(io_error)?;
     if bytes.len() as u64 > limit {
@@ -383,6 +416,76 @@ pub fn open_keypoints_reader(
     let records = parse_keypoints_bytes(&bytes, name, format, options)?;
     Ok(KeypointStream {
         inner: StreamInner::Parsed(records.into_iter()),
+    })
+}
+
+/// Text inputs longer than this many bytes are streamed when they are camloc JSON documents
+/// (format given, or detected from these first bytes); shorter ones, and other text formats,
+/// are read whole.
+pub const STREAM_PEEK_BYTES: u64 = 1 << 16;
+
+/// The start of `bytes` as text without its byte-order mark, when the input is camloc JSON
+/// (`format`, or detected from this start) that begins with an object, so that it can be
+/// streamed. `None` sends the input to the whole-text readers (which also report invalid UTF-8
+/// in the start, and detect formats on the whole text).
+fn streamable_start<'a>(
+    bytes: &'a [u8],
+    name: &str,
+    format: Option<KeypointFormat>,
+) -> Option<&'a str> {
+    let valid = match std::str::from_utf8(bytes) {
+        Ok(text) => text,
+        // Cut inside a character at the end of the peeked bytes: the text up to it.
+        Err(e) if e.error_len().is_none() => std::str::from_utf8(&bytes[..e.valid_up_to()]).ok()?,
+        Err(_) => return None,
+    };
+    let text = valid.strip_prefix('\u{feff}').unwrap_or(valid);
+    let extension = Path::new(name).extension().and_then(|e| e.to_str());
+    let format = format.or_else(|| KeypointFormat::from_extension_and_content(extension, text))?;
+    (format == KeypointFormat::Camloc && text.trim_start().starts_with('{')).then_some(text)
+}
+
+/// Streams the camloc JSON document `reader` (BOM removed) on a producer thread, at most
+/// `limit` bytes of it (`rule` names the limit in the error).
+fn stream_camloc(
+    reader: impl Read + Send + 'static,
+    name: &str,
+    limit: u64,
+    rule: &'static str,
+    options: &ReadOptions,
+) -> Result<KeypointStream, KeypointError> {
+    let file = name.to_owned();
+    let options = *options;
+    let received = stream::spawn(name, move |sender| {
+        let reader = io::BufReader::with_capacity(1 << 16, stream::Capped::new(reader, limit));
+        let outcome = camloc_json::stream(reader, &file, &options, &mut |record| {
+            sender.send(Ok(record))
+        });
+        let error = match outcome {
+            Ok(()) | Err(camloc_json::Stop::Closed) => return,
+            Err(camloc_json::Stop::Invalid(e)) => e,
+            Err(camloc_json::Stop::Io(e)) => {
+                match e
+                    .get_ref()
+                    .and_then(|e| e.downcast_ref::<stream::OverLimit>())
+                {
+                    Some(over) => KeypointError::TooLarge {
+                        file: file.clone(),
+                        bytes: over.read,
+                        limit: over.limit,
+                        rule,
+                    },
+                    None => KeypointError::Io {
+                        file: file.clone(),
+                        source: e,
+                    },
+                }
+            }
+        };
+        sender.send(Err(error));
+    })?;
+    Ok(KeypointStream {
+        inner: StreamInner::Channel(received),
     })
 }
 
