@@ -3,6 +3,7 @@
 
 use std::fmt::Write;
 
+use camloc::SmoothedFrame;
 use camloc::geometry::{CameraLabel, CameraSet, Matrix3, Vector3, look_at_origin, sphere_point};
 use camloc::skeleton::{LIMBS, Landmark, PartialPose2, Pose2, Pose3};
 
@@ -272,6 +273,253 @@ pub fn reconstruction_svg(
         r#"<text x="10" y="{}" fill="{CENTRE}">{}</text>"#,
         h - 8.0,
         escape(caption)
+    );
+    svg.push_str("</svg>\n");
+    svg
+}
+
+/// A timeline of one person's viewpoint: frames on x (in sequence order), the cameras of
+/// `cameras` on y (label 1 at the top), a grey tick per frame at its raw (per-frame) camera
+/// (none for a frame that was not localized) and the smoothed camera as a red step line.
+pub fn timeline_svg(
+    cameras: &CameraSet,
+    raw: &[Option<CameraLabel>],
+    smoothed: &[SmoothedFrame],
+    title: &str,
+) -> String {
+    let (left, top, plot_w, row_h) = (110.0, 40.0, 900.0, 22.0);
+    let k = cameras.len().max(1);
+    let n = raw.len().max(smoothed.len()).max(1);
+    let (w, h) = (left + plot_w + 20.0, top + row_h * k as f64 + 50.0);
+    let dx = plot_w / n as f64;
+    let x_at = |t: usize| left + dx * t as f64;
+    let y_at = |index: usize| top + row_h * (index as f64 + 0.5);
+    let mut svg = begin(w, h);
+    let _ = writeln!(
+        svg,
+        r#"<text x="10" y="20" fill="{CENTRE}">{}</text>"#,
+        escape(title)
+    );
+    for v in cameras.viewpoints() {
+        let y = y_at(usize::from(v.label.saturating_sub(1)));
+        let _ = writeln!(
+            svg,
+            r##"<line x1="{left}" y1="{y:.1}" x2="{:.1}" y2="{y:.1}" stroke="#eeeeee"/><text x="10" y="{:.1}" fill="{CENTRE}">{} {} {}</text>"##,
+            left + plot_w,
+            y + 4.0,
+            v.label_text(),
+            v.level.name(),
+            v.side.name()
+        );
+    }
+    // Raw labels: one short horizontal tick per frame, all in one path.
+    let tick = dx.max(1.0);
+    let mut d = String::new();
+    for (t, label) in raw.iter().enumerate() {
+        if let Some(label) = label {
+            let _ = write!(d, "M{:.1},{:.1}h{tick:.1}", x_at(t), y_at(label.index()));
+        }
+    }
+    let _ = writeln!(
+        svg,
+        r##"<path d="{d}" stroke="#999999" stroke-width="6" fill="none"/>"##
+    );
+    // Smoothed labels: a step line with a point only where the camera changes.
+    let mut d = String::new();
+    let mut previous = None;
+    for (t, s) in smoothed.iter().enumerate() {
+        let y = y_at(s.label.index());
+        match previous {
+            None => {
+                let _ = write!(d, "M{:.1},{y:.1}", x_at(t));
+            }
+            Some(p) if p != y => {
+                let _ = write!(d, "H{:.1}V{y:.1}", x_at(t));
+            }
+            _ => {}
+        }
+        previous = Some(y);
+    }
+    if previous.is_some() {
+        let _ = write!(d, "H{:.1}", x_at(smoothed.len()));
+    }
+    let _ = writeln!(
+        svg,
+        r##"<path d="{d}" stroke="{RIGHT}" stroke-width="2" fill="none"/>"##
+    );
+    let bottom = top + row_h * k as f64;
+    let _ = writeln!(
+        svg,
+        r##"<text x="{left}" y="{:.1}" fill="{CENTRE}">frame 1</text><text x="{:.1}" y="{:.1}" fill="{CENTRE}" text-anchor="end">frame {n}</text>"##,
+        bottom + 18.0,
+        left + plot_w,
+        bottom + 18.0
+    );
+    let _ = writeln!(
+        svg,
+        r##"<text x="{left}" y="{:.1}" fill="#999999">per frame</text><text x="{:.1}" y="{:.1}" fill="{RIGHT}">smoothed</text>"##,
+        bottom + 38.0,
+        left + 80.0,
+        bottom + 38.0
+    );
+    svg.push_str("</svg>\n");
+    svg
+}
+
+/// Fill colour of a cell whose share is `fraction` (0 white to 1 dark blue).
+fn shade(fraction: f64) -> String {
+    let f = if fraction.is_finite() {
+        fraction.clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let channel = |white: f64, dark: f64| (white + (dark - white) * f).round() as u8;
+    format!(
+        "#{:02x}{:02x}{:02x}",
+        channel(255.0, 8.0),
+        channel(255.0, 48.0),
+        channel(255.0, 107.0)
+    )
+}
+
+/// Text colour readable on a cell of share `fraction`.
+fn ink(fraction: f64) -> &'static str {
+    if fraction > 0.55 { "white" } else { CENTRE }
+}
+
+/// The confusion matrix of an evaluation: `confusion[t][p]` samples of true camera index `t`
+/// predicted as `p`, rows labelled with the true camera, columns with the predicted one, each
+/// cell shaded by its share of the row and showing its count.
+pub fn confusion_svg(cameras: &CameraSet, confusion: &[Vec<usize>], title: &str) -> String {
+    let k = confusion.len();
+    let (left, top, cell) = (130.0, 70.0, 40.0);
+    let (w, h) = (left + cell * k as f64 + 20.0, top + cell * k as f64 + 40.0);
+    let mut svg = begin(w, h);
+    let _ = writeln!(
+        svg,
+        r#"<text x="10" y="20" fill="{CENTRE}">{}</text>"#,
+        escape(title)
+    );
+    let _ = writeln!(
+        svg,
+        r#"<text x="{left}" y="45" fill="{CENTRE}">predicted camera</text><text x="10" y="{:.1}" fill="{CENTRE}">true camera</text>"#,
+        top - 8.0
+    );
+    let name = |index: usize| {
+        cameras.viewpoints().get(index).map_or_else(
+            || format!("{:02}", index + 1),
+            |v| format!("{} {} {}", v.label_text(), v.level.name(), v.side.name()),
+        )
+    };
+    for (t, row) in confusion.iter().enumerate() {
+        let y = top + cell * t as f64;
+        let total: usize = row.iter().sum();
+        let _ = writeln!(
+            svg,
+            r#"<text x="10" y="{:.1}" fill="{CENTRE}">{}</text>"#,
+            y + cell / 2.0 + 4.0,
+            name(t)
+        );
+        for (p, &count) in row.iter().enumerate() {
+            let x = left + cell * p as f64;
+            let share = if total > 0 {
+                count as f64 / total as f64
+            } else {
+                0.0
+            };
+            let _ = writeln!(
+                svg,
+                r##"<rect x="{x:.1}" y="{y:.1}" width="{cell}" height="{cell}" fill="{}" stroke="#dddddd"/><text x="{:.1}" y="{:.1}" fill="{}" font-size="10" text-anchor="middle">{count}</text>"##,
+                shade(share),
+                x + cell / 2.0,
+                y + cell / 2.0 + 4.0,
+                ink(share)
+            );
+        }
+    }
+    for p in 0..k {
+        let _ = writeln!(
+            svg,
+            r#"<text x="{:.1}" y="{:.1}" fill="{CENTRE}" text-anchor="middle">{:02}</text>"#,
+            left + cell * (p as f64 + 0.5),
+            top - 8.0,
+            p + 1
+        );
+    }
+    let _ = writeln!(
+        svg,
+        r#"<text x="10" y="{:.1}" fill="{CENTRE}">cells: sample counts, shaded by share of the row</text>"#,
+        h - 12.0
+    );
+    svg.push_str("</svg>\n");
+    svg
+}
+
+/// Where the cameras of a whole input fall: the cameras as a grid of azimuth (columns, in
+/// label order from the front) by elevation (rows, highest at the top), each cell shaded by
+/// its share of the poses and showing its count; `counts[i]` is the number of poses whose
+/// camera has index `i`.
+pub fn summary_svg(cameras: &CameraSet, counts: &[u64], title: &str) -> String {
+    let azimuths = cameras.azimuths().max(1);
+    let rings = cameras.elevations_deg().len().max(1);
+    let (left, top, cw, ch) = (120.0, 50.0, 110.0, 60.0);
+    let (w, h) = (
+        left + cw * azimuths as f64 + 20.0,
+        top + ch * rings as f64 + 50.0,
+    );
+    let total: u64 = counts.iter().sum();
+    let mut svg = begin(w, h);
+    let _ = writeln!(
+        svg,
+        r#"<text x="10" y="20" fill="{CENTRE}">{}</text>"#,
+        escape(title)
+    );
+    for v in cameras.viewpoints() {
+        let index = usize::from(v.label.saturating_sub(1));
+        let (ring, az) = (index / azimuths, index % azimuths);
+        let (x, y) = (left + cw * az as f64, top + ch * (rings - 1 - ring) as f64);
+        let count = counts.get(index).copied().unwrap_or(0);
+        let share = if total > 0 {
+            count as f64 / total as f64
+        } else {
+            0.0
+        };
+        let _ = writeln!(
+            svg,
+            r##"<rect x="{x:.1}" y="{y:.1}" width="{cw}" height="{ch}" fill="{}" stroke="#dddddd"/><text x="{:.1}" y="{:.1}" fill="{ink}" text-anchor="middle">camera {}</text><text x="{:.1}" y="{:.1}" fill="{ink}" text-anchor="middle">{count} ({:.1}%)</text>"##,
+            shade(share),
+            x + cw / 2.0,
+            y + 24.0,
+            v.label_text(),
+            x + cw / 2.0,
+            y + 42.0,
+            100.0 * share,
+            ink = ink(share)
+        );
+        if ring == 0 {
+            let _ = writeln!(
+                svg,
+                r#"<text x="{:.1}" y="{:.1}" fill="{CENTRE}" text-anchor="middle">{} ({:.0} deg)</text>"#,
+                x + cw / 2.0,
+                top + ch * rings as f64 + 18.0,
+                v.side.name(),
+                v.azimuth_deg
+            );
+        }
+        if az == 0 {
+            let _ = writeln!(
+                svg,
+                r#"<text x="10" y="{:.1}" fill="{CENTRE}">{} ({:+.0} deg)</text>"#,
+                y + ch / 2.0 + 4.0,
+                v.level.name(),
+                v.elevation_deg
+            );
+        }
+    }
+    let _ = writeln!(
+        svg,
+        r#"<text x="10" y="{:.1}" fill="{CENTRE}">{total} poses; azimuth by elevation, shaded by share</text>"#,
+        h - 10.0
     );
     svg.push_str("</svg>\n");
     svg

@@ -35,6 +35,7 @@ mod evaluate;
 mod localizer;
 mod reconstruction;
 mod select;
+mod sequence;
 
 pub use camloc_dataset as dataset;
 pub use camloc_features as features;
@@ -54,6 +55,10 @@ pub use error::CamlocError;
 pub use evaluate::{CameraAccuracy, Evaluation, LevelAccuracy, evaluate};
 pub use reconstruction::{PoseReconstruction, PoseReconstructor, default_basis};
 pub use select::{DescriptorCv, cross_validate};
+pub use sequence::{
+    DEFAULT_SWITCH_PROBABILITY, NEIGHBOUR_SHARE, OUTLIER_SHARE, SequenceModel, SmoothedFrame,
+    sequences,
+};
 
 pub use localizer::{
     CameraLocalizer, DEFAULT_LAMBDA, LandmarkDropout, Localization, MAX_DROPOUT_COPIES,

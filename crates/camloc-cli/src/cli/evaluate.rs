@@ -8,6 +8,7 @@ use camloc::store::Persist;
 use camloc::{CameraLocalizer, CamlocError, evaluate};
 
 use super::{CliError, Out, load_dataset};
+use camloc::store::{StagedFiles, check_target};
 
 /// Arguments of `camloc evaluate`.
 #[derive(clap::Args)]
@@ -22,13 +23,34 @@ pub struct Args {
     /// per_camera, confusion).
     #[arg(long)]
     pub json: bool,
+    /// Draw the confusion matrix (rows: true camera, columns: predicted, shaded by the share
+    /// of the row) as SVG to this file, written only when the run succeeds.
+    #[arg(long, value_name = "OUT")]
+    pub svg: Option<PathBuf>,
+    /// Replace an existing SVG file (see `camloc localize --help`).
+    #[arg(long)]
+    pub force: bool,
 }
 
 /// Runs `camloc evaluate`.
 pub fn run(args: &Args, stdout: &mut Out) -> Result<ExitCode, CliError> {
+    if let Some(svg) = &args.svg {
+        check_target(svg, args.force)?;
+    }
     let localizer = CameraLocalizer::load(&args.model)?;
     let dataset = load_dataset(&args.dataset)?;
     let e = evaluate(&localizer, &dataset)?;
+    let mut staged = StagedFiles::new(args.force);
+    if let Some(svg) = &args.svg {
+        let title = format!(
+            "{}: {} samples, accuracy {:.2}%",
+            args.dataset.display(),
+            e.samples,
+            100.0 * e.accuracy
+        );
+        let drawing = crate::svg::confusion_svg(localizer.cameras(), &e.confusion, &title);
+        staged.add(svg, drawing.as_bytes())?;
+    }
     let mut out = String::new();
     if args.json {
         let _ = writeln!(
@@ -41,6 +63,7 @@ pub fn run(args: &Args, stdout: &mut Out) -> Result<ExitCode, CliError> {
         );
         stdout.write(&out)?;
         stdout.flush()?;
+        staged.commit()?;
         return Ok(ExitCode::SUCCESS);
     }
     let _ = writeln!(out, "samples:          {}", e.samples);
@@ -87,5 +110,6 @@ pub fn run(args: &Args, stdout: &mut Out) -> Result<ExitCode, CliError> {
     }
     stdout.write(&out)?;
     stdout.flush()?;
+    staged.commit()?;
     Ok(ExitCode::SUCCESS)
 }

@@ -3,6 +3,8 @@
 use std::fmt::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 use camloc::keypoints::KeypointRecord;
 use camloc::{CameraLabel, CameraLocalizer, Localization, Pose3};
@@ -12,7 +14,8 @@ use serde::{Serialize, Serializer};
 use crate::svg;
 
 use super::input::Inputs;
-use super::stream::{self, Done, Files};
+use super::sequence;
+use super::stream::{self, Done, Files, SummaryDrawing};
 use super::{CliError, ForceArgs, FormatArgs, InputArgs, Out, ProgressArgs, load_model, progress};
 
 /// Arguments of `camloc localize`.
@@ -26,9 +29,20 @@ pub struct Args {
     #[command(flatten)]
     pub format: FormatArgs,
     /// Draw each pose and its predicted viewpoint as SVG to this file (several poses:
-    /// FILE-001.svg, FILE-002.svg, ...). All files are written at the end, or none.
+    /// FILE-001.svg, FILE-002.svg, ...); with --sequence, one timeline per person instead.
+    /// All files are written at the end, or none.
     #[arg(long, value_name = "OUT")]
     pub svg: Option<PathBuf>,
+    /// Treat the input as the frames of a video: group the poses by person, order them by
+    /// frame and smooth the viewpoint over time (a hidden Markov model over the cameras).
+    /// Output (per frame, by person then frame) has the raw and the smoothed camera. Every
+    /// frame's 12 probabilities are kept until the end (not the poses).
+    #[arg(long)]
+    pub sequence: bool,
+    /// Draw where the cameras of the whole input fall (the cameras as an azimuth by
+    /// elevation grid, shaded by the share of poses) as SVG to this file.
+    #[arg(long, value_name = "OUT")]
+    pub summary_svg: Option<PathBuf>,
     #[command(flatten)]
     pub force: ForceArgs,
     #[command(flatten)]
@@ -40,9 +54,28 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     let localizer = load_model(args.model.as_deref())?;
     let inputs = Inputs::open(&args.input)?;
     let format = args.format.format();
+    // Poses per predicted camera, for --summary-svg.
+    let counts: Arc<Vec<AtomicU64>> = Arc::new(
+        (0..localizer.cameras().len())
+            .map(|_| AtomicU64::new(0))
+            .collect(),
+    );
+    let summary = args.summary_svg.clone().map(|path| {
+        let (cameras, counts, name) = (
+            localizer.cameras().clone(),
+            Arc::clone(&counts),
+            inputs.name().to_owned(),
+        );
+        let draw: SummaryDrawing = Box::new(move || {
+            let counts: Vec<u64> = counts.iter().map(|c| c.load(Ordering::Relaxed)).collect();
+            svg::summary_svg(&cameras, &counts, &format!("cameras of {name}"))
+        });
+        (path, draw)
+    });
     let files = Files::<Pose3> {
         svg: args.svg.clone(),
         npy: None,
+        summary,
         force: args.force.force,
         pose: std::marker::PhantomData,
     };
@@ -53,10 +86,25 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         .map(|v| v.label_text())
         .collect();
     let bar = progress::counter(args.progress.quiet, inputs.len_hint(), "localize", "poses");
+    if args.sequence {
+        return sequence::run(
+            &localizer,
+            inputs,
+            out,
+            format,
+            args.svg.as_ref(),
+            args.summary_svg.as_ref(),
+            args.force.force,
+            &bar,
+        );
+    }
     let summary = stream::run(inputs, out, format, &files, &bar, |record| {
         let loc = localizer
             .localize_partial(&record.pose)
             .map_err(|e| e.to_string())?;
+        if let Some(count) = counts.get(loc.label.index()) {
+            count.fetch_add(1, Ordering::Relaxed);
+        }
         let text = if format.is_json() {
             stream::json_line(&localization_json(&labels, record, &loc))
         } else {

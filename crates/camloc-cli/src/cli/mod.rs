@@ -17,6 +17,7 @@ mod localize;
 pub mod output;
 mod progress;
 mod reconstruct;
+mod sequence;
 mod stream;
 mod train;
 

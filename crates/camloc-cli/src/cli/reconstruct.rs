@@ -125,6 +125,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     let files = Files::<Pose3> {
         svg: args.svg.clone(),
         npy: args.npy.clone(),
+        summary: None,
         force: args.force.force,
         pose: std::marker::PhantomData,
     };

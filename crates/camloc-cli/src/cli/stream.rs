@@ -62,11 +62,17 @@ pub struct Files<P: NpyPose> {
     pub svg: Option<PathBuf>,
     /// `--npy`: one row per pose read (NaN for a pose that failed).
     pub npy: Option<PathBuf>,
+    /// `--summary-svg`: a drawing of the whole run, made by the function once every pose is
+    /// done.
+    pub summary: Option<(PathBuf, SummaryDrawing)>,
     /// `--force`: replace existing files.
     pub force: bool,
     /// The pose type of the `.npy` rows.
     pub pose: std::marker::PhantomData<fn(&P)>,
 }
+
+/// Draws the summary of a run (see [`Files::summary`]).
+pub type SummaryDrawing = Box<dyn Fn() -> String>;
 
 /// What a run did.
 #[derive(Debug, Default)]
@@ -104,12 +110,54 @@ impl Summary {
 
 /// An error object of the JSON outputs.
 #[derive(Serialize)]
-struct ErrorJson<'a> {
+pub struct ErrorJson<'a> {
+    /// The pose's id (none for a file that cannot be read).
     #[serde(skip_serializing_if = "Option::is_none")]
-    id: Option<&'a str>,
+    pub id: Option<&'a str>,
+    /// The pose's place in the input.
     #[serde(skip_serializing_if = "Option::is_none")]
-    source: Option<&'a str>,
-    error: &'a str,
+    pub source: Option<&'a str>,
+    /// The message.
+    pub error: &'a str,
+}
+
+/// Writes the results of a run to standard output in its [`Format`]: lines of text, the
+/// objects of one JSON array (opened at the first, closed by [`Emitter::end`]) or JSON lines.
+pub struct Emitter {
+    format: Format,
+    written: u64,
+}
+
+impl Emitter {
+    /// Nothing written yet.
+    pub fn new(format: Format) -> Emitter {
+        Emitter { format, written: 0 }
+    }
+
+    /// Writes one result: lines of text, or one JSON object without a newline.
+    pub fn write(&mut self, out: &mut Out, text: &str) -> Result<(), CliError> {
+        match self.format {
+            Format::Text => out.write(text)?,
+            Format::Json => {
+                out.write(if self.written == 0 { "[\n" } else { ",\n" })?;
+                out.write(text)?;
+            }
+            Format::Jsonl => {
+                out.write(text)?;
+                out.write("\n")?;
+            }
+        }
+        self.written += 1;
+        Ok(())
+    }
+
+    /// Ends the output (closes the JSON array).
+    pub fn end(&self, out: &mut Out) -> Result<(), CliError> {
+        if self.format == Format::Json {
+            out.write(if self.written == 0 { "[]\n" } else { "\n]\n" })?;
+        }
+        Ok(())
+    }
 }
 
 /// Serialises one output object on one line.
@@ -150,27 +198,16 @@ where
     if let Some(npy) = &files.npy {
         check_target(npy, files.force)?;
     }
+    if let Some((summary, _)) = &files.summary {
+        check_target(summary, files.force)?;
+    }
     let mut staged = StagedFiles::new(files.force);
     let mut npy = files.npy.as_deref().map(NpyStage::<P>::new).transpose()?;
-    let has_files = files.svg.is_some() || npy.is_some();
+    let has_files = files.svg.is_some() || npy.is_some() || files.summary.is_some();
     let mut summary = Summary::default();
     let mut first_svg = None;
-    let mut written = 0u64;
-    let mut emit = |out: &mut Out, text: &str| -> Result<(), CliError> {
-        match format {
-            Format::Text => out.write(text)?,
-            Format::Json => {
-                out.write(if written == 0 { "[\n" } else { ",\n" })?;
-                out.write(text)?;
-            }
-            Format::Jsonl => {
-                out.write(text)?;
-                out.write("\n")?;
-            }
-        }
-        written += 1;
-        Ok(())
-    };
+    let mut emitter = Emitter::new(format);
+    let mut emit = |out: &mut Out, text: &str| emitter.write(out, text);
     // One thread reads the next batch while the others process this one.
     let (sender, batches) = std::sync::mpsc::sync_channel(1);
     let reader = &mut inputs;
@@ -261,12 +298,13 @@ where
     if summary.poses == 0 && summary.failed_files == 0 {
         return Err(CliError::NoPoses(inputs.name().to_owned()));
     }
-    if format == Format::Json {
-        out.write(if written == 0 { "[]\n" } else { "\n]\n" })?;
-    }
+    emitter.end(out)?;
     out.flush()?;
     if let Some(npy) = npy {
         npy.finish(&mut staged)?;
+    }
+    if let Some((path, draw)) = &files.summary {
+        staged.add(path, draw().as_bytes())?;
     }
     if let (Some(at), Some(svg), 1) = (first_svg, &svg_single, summary.poses) {
         staged.retarget(at, svg);

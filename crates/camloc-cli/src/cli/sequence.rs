@@ -1,0 +1,212 @@
+//! `camloc localize --sequence`: every pose is localized (in parallel batches), then the frames
+//! of each person are smoothed with [`SequenceModel`] and written in order of person and frame,
+//! with one timeline drawing per person for `--svg` (and the per-frame cameras of the whole
+//! input for `--summary-svg`).
+//!
+//! A sequence needs all its frames before it can be smoothed: the run keeps, per pose, its id,
+//! source, frame, person and the 12 class probabilities (not the poses), so memory grows with
+//! the number of frames (a few hundred bytes each).
+
+use std::fmt::Write;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use camloc::{CameraLabel, CameraLocalizer, SequenceModel, SmoothedFrame, sequences};
+use indicatif::ProgressBar;
+use rayon::prelude::*;
+use serde::Serialize;
+
+use crate::svg;
+
+use super::input::Inputs;
+use super::output::Out;
+use super::stream::{BATCH, Emitter, ErrorJson, Format, Summary, json_line};
+use super::{CliError, numbered_path};
+use camloc::store::{StagedFiles, check_target};
+
+/// One localized (or failed) pose of a sequence: what is kept until the sequence is smoothed.
+struct Frame {
+    id: String,
+    source: String,
+    frame: Option<u64>,
+    person: Option<u64>,
+    /// The most probable camera, its probability and every camera's, or the failure.
+    result: Result<(CameraLabel, f64, Vec<f64>), String>,
+}
+
+/// One frame of `localize --sequence --json` / `--jsonl`.
+#[derive(Serialize)]
+struct FrameJson<'a> {
+    id: &'a str,
+    source: &'a str,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    frame: Option<u64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    person: Option<u64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    label: Option<CameraLabel>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    probability: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    error: Option<&'a str>,
+    smoothed_label: CameraLabel,
+    smoothed_probability: f64,
+}
+
+/// Runs `camloc localize --sequence` (see the module docs); `svg` is the timeline output.
+pub fn run(
+    localizer: &CameraLocalizer,
+    mut inputs: Inputs,
+    out: &mut Out,
+    format: Format,
+    svg_out: Option<&PathBuf>,
+    summary_out: Option<&PathBuf>,
+    force: bool,
+    bar: &ProgressBar,
+) -> Result<ExitCode, CliError> {
+    if let Some(svg) = svg_out {
+        check_target(svg, force)?;
+        check_target(&numbered_path(svg, 0, 2), force)?;
+    }
+    if let Some(summary) = summary_out {
+        check_target(summary, force)?;
+    }
+    let mut emit = Emitter::new(format);
+    let mut summary = Summary::default();
+    let mut frames: Vec<Frame> = Vec::new();
+    loop {
+        let batch: Vec<_> = inputs.by_ref().take(BATCH).collect();
+        if batch.is_empty() {
+            break;
+        }
+        let results: Vec<Option<Frame>> = batch
+            .par_iter()
+            .map(|item| {
+                let record = item.as_ref().ok()?;
+                let result = localizer
+                    .localize_partial(&record.pose)
+                    .map(|loc| (loc.label, loc.probability, loc.probabilities))
+                    .map_err(|e| e.to_string());
+                Some(Frame {
+                    id: record.id.clone(),
+                    source: record.source.clone(),
+                    frame: record.frame,
+                    person: record.person,
+                    result,
+                })
+            })
+            .collect();
+        for (item, frame) in batch.iter().zip(results) {
+            if let Err(e) = item {
+                summary.failed_files += 1;
+                let message = e.to_string();
+                bar.suspend(|| eprintln!("camloc: error: {message}"));
+                if format.is_json() {
+                    let object = ErrorJson {
+                        id: None,
+                        source: None,
+                        error: &message,
+                    };
+                    emit.write(out, &json_line(&object))?;
+                }
+            }
+            if let Some(frame) = frame {
+                if let Err(message) = &frame.result {
+                    summary.failed_poses += 1;
+                    bar.suspend(|| {
+                        eprintln!("camloc: error: {} ({}): {message}", frame.id, frame.source)
+                    });
+                }
+                summary.poses += 1;
+                frames.push(frame);
+            }
+        }
+        bar.inc(batch.len() as u64);
+    }
+    bar.finish_and_clear();
+    if summary.poses == 0 && summary.failed_files == 0 {
+        return Err(CliError::NoPoses(inputs.name().to_owned()));
+    }
+    let model = SequenceModel::with_default_switch(localizer.cameras());
+    let keys: Vec<_> = frames.iter().map(|f| (f.frame, f.person)).collect();
+    let groups = sequences(&keys);
+    let mut staged = StagedFiles::new(force);
+    for (n, (person, members)) in groups.iter().enumerate() {
+        let probabilities: Vec<Option<&[f64]>> = members
+            .iter()
+            .map(|&i| frames[i].result.as_ref().ok().map(|r| &r.2[..]))
+            .collect();
+        let smoothed = model.smooth(&probabilities)?;
+        for (&i, s) in members.iter().zip(&smoothed) {
+            let text = frame_output(format, &frames[i], s);
+            emit.write(out, &text)?;
+        }
+        if let Some(svg) = svg_out {
+            let raw: Vec<Option<CameraLabel>> = members
+                .iter()
+                .map(|&i| frames[i].result.as_ref().ok().map(|r| r.0))
+                .collect();
+            let title = format!(
+                "{}: person {person}, {} frames",
+                inputs.name(),
+                members.len()
+            );
+            let drawing = svg::timeline_svg(localizer.cameras(), &raw, &smoothed, &title);
+            staged.add(&numbered_path(svg, n, groups.len()), drawing.as_bytes())?;
+        }
+    }
+    if let Some(path) = summary_out {
+        let mut counts = vec![0u64; localizer.cameras().len()];
+        for frame in &frames {
+            if let Some(count) = frame
+                .result
+                .as_ref()
+                .ok()
+                .and_then(|r| counts.get_mut(r.0.index()))
+            {
+                *count += 1;
+            }
+        }
+        let title = format!("cameras of {}", inputs.name());
+        let drawing = svg::summary_svg(localizer.cameras(), &counts, &title);
+        staged.add(path, drawing.as_bytes())?;
+    }
+    emit.end(out)?;
+    out.flush()?;
+    staged.commit()?;
+    Ok(summary.exit_code("localized"))
+}
+
+/// The output of one frame: a JSON object (no newline) or a line of text.
+fn frame_output(format: Format, frame: &Frame, s: &SmoothedFrame) -> String {
+    let raw = frame.result.as_ref().ok();
+    if format.is_json() {
+        return json_line(&FrameJson {
+            id: &frame.id,
+            source: &frame.source,
+            frame: frame.frame,
+            person: frame.person,
+            label: raw.map(|r| r.0),
+            probability: raw.map(|r| r.1),
+            error: frame.result.as_ref().err().map(String::as_str),
+            smoothed_label: s.label,
+            smoothed_probability: s.probability,
+        });
+    }
+    let mut text = String::new();
+    let _ = write!(text, "{}", frame.id);
+    if let Some(f) = frame.frame {
+        let _ = write!(text, " frame {f}");
+    }
+    if let Some(p) = frame.person {
+        let _ = write!(text, " person {p}");
+    }
+    match raw {
+        Some((label, p, _)) => {
+            let _ = write!(text, ": camera {label} ({p:.3})");
+        }
+        None => text.push_str(": not localized"),
+    }
+    let _ = writeln!(text, ", smoothed camera {} ({:.3})", s.label, s.probability);
+    text
+}

@@ -1,0 +1,214 @@
+//! `camloc localize --sequence`: a folder of OpenPose frames (made here from the fixture poses)
+//! with a turn and a few corrupted frames is smoothed back to the viewpoint of each part, and
+//! the timeline drawings are written all or nothing.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use serde_json::Value;
+
+fn camloc(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_camloc"))
+        .args(args)
+        .output()
+        .expect("the camloc binary runs")
+}
+
+/// A fresh folder under the system's temporary folder, removed when dropped.
+struct TempDir(PathBuf);
+
+impl TempDir {
+    fn new(name: &str) -> TempDir {
+        let dir = std::env::temp_dir().join(format!("camloc-seq-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        TempDir(dir)
+    }
+    fn path(&self, name: &str) -> String {
+        self.0.join(name).to_string_lossy().into_owned()
+    }
+}
+
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+/// The BODY_25 `pose_keypoints_2d` of the three fixture poses (front standing, left-side
+/// walking, upper front reaching), from the OpenPose samples.
+fn fixture_people() -> Vec<Value> {
+    let dir =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/keypoints/samples/openpose");
+    let mut people = Vec::new();
+    for n in 0..2 {
+        let file = dir.join(format!("clip_00000000000{n}_keypoints.json"));
+        let json: Value = serde_json::from_str(&std::fs::read_to_string(file).unwrap()).unwrap();
+        for person in json["people"].as_array().unwrap() {
+            people.push(person["pose_keypoints_2d"].clone());
+        }
+    }
+    assert_eq!(people.len(), 3);
+    people
+}
+
+/// Writes frame `t` of a video holding the given people's keypoints.
+fn write_frame(dir: &TempDir, t: usize, people: &[&Value]) {
+    let people: Vec<Value> = people
+        .iter()
+        .map(|k| serde_json::json!({ "pose_keypoints_2d": k }))
+        .collect();
+    let json = serde_json::json!({ "version": 1.3, "people": people });
+    std::fs::write(
+        dir.path(&format!("video_{t:012}_keypoints.json")),
+        json.to_string(),
+    )
+    .unwrap();
+}
+
+fn json_lines(out: &Output) -> Vec<Value> {
+    String::from_utf8_lossy(&out.stdout)
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect()
+}
+
+/// The per-pose labels of the three fixture poses, as `camloc localize` gives them.
+fn raw_labels(people: &[Value]) -> Vec<Value> {
+    let dir = TempDir::new("raw");
+    for (t, k) in people.iter().enumerate() {
+        write_frame(&dir, t, &[k]);
+    }
+    let out = camloc(&["localize", "--input", &dir.path(""), "--jsonl"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    json_lines(&out)
+        .iter()
+        .map(|o| o["label"].clone())
+        .collect()
+}
+
+#[test]
+fn a_turn_with_corrupted_frames_is_smoothed() {
+    let people = fixture_people();
+    let labels = raw_labels(&people);
+    // The corrupted frames are the third pose: seen from another camera than both parts.
+    assert_ne!(labels[2], labels[0]);
+    assert_ne!(labels[2], labels[1]);
+    assert_ne!(labels[0], labels[1]);
+    let dir = TempDir::new("turn");
+    let frames = dir.path("frames");
+    std::fs::create_dir(&frames).unwrap();
+    let frames_dir = TempDir(PathBuf::from(&frames));
+    // Frames 0..80 front, 80..200 the person turned to show the left side; isolated frames of
+    // the third pose, and one frame whose pose has no torso (it cannot be localized).
+    let corrupted = [13, 41, 42 + 20, 120, 157];
+    let broken = 99;
+    let mut torso_less = people[1].clone();
+    for joint in [1, 2, 5, 8, 9, 12] {
+        torso_less[joint * 3 + 2] = serde_json::json!(0.0);
+    }
+    for t in 0..200 {
+        let part = usize::from(t >= 80);
+        let k = if corrupted.contains(&t) {
+            &people[2]
+        } else if t == broken {
+            &torso_less
+        } else {
+            &people[part]
+        };
+        write_frame(&frames_dir, t, &[k]);
+    }
+    let svg = dir.path("timeline.svg");
+    let out = camloc(&[
+        "localize",
+        "--input",
+        &frames,
+        "--sequence",
+        "--jsonl",
+        "--svg",
+        &svg,
+        "--quiet",
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    // The torso-less frame is a failed pose: reported, exit 1, the run completes.
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("1 of 200 poses"), "{stderr}");
+    let objects = json_lines(&out);
+    assert_eq!(objects.len(), 200);
+    for (t, o) in objects.iter().enumerate() {
+        assert_eq!(o["frame"].as_u64(), Some(t as u64));
+        let expected = &labels[usize::from(t >= 80)];
+        assert_eq!(&o["smoothed_label"], expected, "frame {t}: {o}");
+        let p = o["smoothed_probability"].as_f64().unwrap();
+        assert!(p > 0.5 && p <= 1.0, "frame {t}: {o}");
+        if corrupted.contains(&t) {
+            assert_eq!(o["label"], labels[2], "frame {t}");
+        } else if t == broken {
+            assert!(o["label"].is_null() && o["error"].is_string(), "{o}");
+        } else {
+            assert_eq!(&o["label"], expected, "frame {t}");
+        }
+    }
+    let drawing = std::fs::read_to_string(&svg).unwrap();
+    assert!(drawing.starts_with("<svg") && drawing.trim_end().ends_with("</svg>"));
+    assert!(drawing.contains("person 0, 200 frames"), "{drawing}");
+    // The timeline exists now: without --force it is refused and left as it is.
+    let again = camloc(&[
+        "localize",
+        "--input",
+        &frames,
+        "--sequence",
+        "--svg",
+        &svg,
+        "--quiet",
+    ]);
+    assert_eq!(again.status.code(), Some(1));
+    assert_eq!(std::fs::read_to_string(&svg).unwrap(), drawing);
+}
+
+#[test]
+fn persons_are_separate_sequences() {
+    let people = fixture_people();
+    let labels = raw_labels(&people);
+    let dir = TempDir::new("persons");
+    let frames = dir.path("frames");
+    std::fs::create_dir(&frames).unwrap();
+    let frames_dir = TempDir(PathBuf::from(&frames));
+    // Person 0 is seen from the front, person 1 from the left, in every frame.
+    for t in 0..30 {
+        write_frame(&frames_dir, t, &[&people[0], &people[1]]);
+    }
+    let svg = dir.path("people.svg");
+    let out = camloc(&[
+        "localize",
+        "--input",
+        &frames,
+        "--sequence",
+        "--json",
+        "--svg",
+        &svg,
+        "--quiet",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let objects: Vec<Value> = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(objects.len(), 60);
+    for (n, o) in objects.iter().enumerate() {
+        let person = n / 30;
+        assert_eq!(o["person"].as_u64(), Some(person as u64), "{o}");
+        assert_eq!(o["frame"].as_u64(), Some((n % 30) as u64), "{o}");
+        assert_eq!(o["smoothed_label"], labels[person]);
+    }
+    for n in 1..=2 {
+        let drawing = std::fs::read_to_string(dir.path(&format!("people-00{n}.svg"))).unwrap();
+        assert!(drawing.contains(&format!("person {}, 30 frames", n - 1)));
+    }
+    assert!(!Path::new(&svg).exists());
+}

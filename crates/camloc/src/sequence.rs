@@ -1,0 +1,398 @@
+//! Smoothing the viewpoint of one person over the frames of a video: a hidden Markov model
+//! whose hidden states are the cameras of a [`CameraSet`] and whose emissions are the
+//! per-frame class probabilities of a [`CameraLocalizer`](crate::CameraLocalizer).
+//!
+//! - **Transitions.** Between two consecutive frames the camera stays with probability
+//!   `1 - switch_probability` ([`DEFAULT_SWITCH_PROBABILITY`] = 0.05: on average a change of
+//!   viewpoint every 20 frames at most). The switching mass goes for the share
+//!   [`NEIGHBOUR_SHARE`] (0.8) to the neighbouring viewpoints (same level and adjacent side,
+//!   or same side and adjacent level), split equally, and the rest equally to every other
+//!   camera: a person turning moves through neighbours, a far jump is possible but costly.
+//! - **Emissions.** A frame's probabilities are mixed with a flat distribution,
+//!   `(1 - OUTLIER_SHARE) p + OUTLIER_SHARE / K` ([`OUTLIER_SHARE`] = 0.1): a single frame,
+//!   however confident, can only outweigh a few transitions, so a few bad frames do not pull
+//!   the sequence away; a frame that could not be localized (`None`) is flat (it carries no
+//!   evidence, the neighbouring frames decide).
+//! - **Results.** [`SequenceModel::smooth`] gives per frame the Viterbi label (the most
+//!   probable sequence of cameras as a whole) and the forward-backward posterior of every
+//!   camera given all frames.
+//!
+//! A frame's probabilities are the classifier's `p(camera | pose)`; with the cameras equally
+//! likely a priori they are proportional to the likelihood `p(pose | camera)` the model needs.
+
+use camloc_geometry::{CameraLabel, CameraSet};
+
+use crate::CamlocError;
+
+/// Default probability that the camera changes between two consecutive frames.
+pub const DEFAULT_SWITCH_PROBABILITY: f64 = 0.05;
+
+/// Share of the switching probability that goes to the neighbouring viewpoints (same level and
+/// adjacent side, same side and adjacent level); the rest goes to the other cameras.
+pub const NEIGHBOUR_SHARE: f64 = 0.8;
+
+/// Weight of the flat distribution mixed into every frame's probabilities (robustness to
+/// confidently wrong frames).
+pub const OUTLIER_SHARE: f64 = 0.1;
+
+/// The smoothed viewpoint of one frame.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SmoothedFrame {
+    /// The camera of this frame on the most probable path (Viterbi).
+    pub label: CameraLabel,
+    /// Posterior probability of `label` at this frame given all frames (forward-backward).
+    pub probability: f64,
+    /// Posterior probability of every camera at this frame, index [`CameraLabel::index`];
+    /// sums to 1.
+    pub probabilities: Vec<f64>,
+}
+
+/// A hidden Markov model over the cameras of a [`CameraSet`] (see the [module](self) docs).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SequenceModel {
+    /// Number of cameras K.
+    cameras: usize,
+    /// Row-stochastic K x K transition matrix, row-major: `transition[i * K + j]` is the
+    /// probability of camera j at frame t + 1 given camera i at frame t.
+    transition: Vec<f64>,
+}
+
+/// The grid neighbours of camera `index` of `cameras`: adjacent azimuth on the same elevation
+/// ring, adjacent ring at the same azimuth (labels run ring by ring, see [`CameraSet`]).
+fn neighbours(cameras: &CameraSet, index: usize) -> Vec<usize> {
+    let azimuths = cameras.azimuths();
+    let rings = cameras.elevations_deg().len();
+    let (ring, az) = (index / azimuths, index % azimuths);
+    let mut out = Vec::with_capacity(4);
+    if azimuths > 1 {
+        out.push(ring * azimuths + (az + 1) % azimuths);
+        out.push(ring * azimuths + (az + azimuths - 1) % azimuths);
+    }
+    if ring > 0 {
+        out.push((ring - 1) * azimuths + az);
+    }
+    if ring + 1 < rings {
+        out.push((ring + 1) * azimuths + az);
+    }
+    out.sort_unstable();
+    out.dedup();
+    out.retain(|&j| j != index);
+    out
+}
+
+impl SequenceModel {
+    /// The model for `cameras` with the given probability (in [0, 1)) that the camera changes
+    /// between consecutive frames.
+    ///
+    /// # Errors
+    /// [`CamlocError::InvalidOption`] when `switch_probability` is not in [0, 1).
+    pub fn new(cameras: &CameraSet, switch_probability: f64) -> Result<SequenceModel, CamlocError> {
+        if !(0.0..1.0).contains(&switch_probability) {
+            return Err(CamlocError::InvalidOption {
+                name: "switch probability",
+                detail: format!("{switch_probability} is not in [0, 1)"),
+            });
+        }
+        let k = cameras.len();
+        let mut transition = vec![0.0; k * k];
+        for i in 0..k {
+            let row = &mut transition[i * k..(i + 1) * k];
+            if k == 1 {
+                row[0] = 1.0;
+                continue;
+            }
+            let near = neighbours(cameras, i);
+            let far = k - 1 - near.len();
+            // Without far cameras (or without neighbours) the whole switching mass goes to the
+            // other group, so every row sums to 1.
+            let (near_mass, far_mass) = match (near.is_empty(), far == 0) {
+                (true, _) => (0.0, switch_probability),
+                (_, true) => (switch_probability, 0.0),
+                _ => (
+                    NEIGHBOUR_SHARE * switch_probability,
+                    (1.0 - NEIGHBOUR_SHARE) * switch_probability,
+                ),
+            };
+            for (j, value) in row.iter_mut().enumerate() {
+                *value = if j == i {
+                    1.0 - switch_probability
+                } else if near.contains(&j) {
+                    near_mass / near.len() as f64
+                } else {
+                    far_mass / far as f64
+                };
+            }
+        }
+        Ok(SequenceModel {
+            cameras: k,
+            transition,
+        })
+    }
+
+    /// The model for `cameras` with [`DEFAULT_SWITCH_PROBABILITY`].
+    pub fn with_default_switch(cameras: &CameraSet) -> SequenceModel {
+        SequenceModel::new(cameras, DEFAULT_SWITCH_PROBABILITY)
+            .unwrap_or_else(|_| unreachable!("the default switch probability is in [0, 1)"))
+    }
+
+    /// Probability of camera index `to` at a frame given camera index `from` at the previous.
+    pub fn transition(&self, from: usize, to: usize) -> f64 {
+        self.transition[from * self.cameras + to]
+    }
+
+    /// The emission weights of one frame: the probabilities mixed with a flat distribution,
+    /// flat for `None`.
+    fn emission(&self, frame: Option<&[f64]>, at: usize) -> Result<Vec<f64>, CamlocError> {
+        let k = self.cameras;
+        let flat = 1.0 / k as f64;
+        match frame {
+            None => Ok(vec![flat; k]),
+            Some(p) => {
+                if p.len() != k {
+                    return Err(CamlocError::Inconsistent {
+                        what: "sequence",
+                        detail: format!("frame {at}: {} probabilities for {k} cameras", p.len()),
+                    });
+                }
+                if let Some(bad) = p.iter().find(|v| !(v.is_finite() && **v >= 0.0)) {
+                    return Err(CamlocError::Inconsistent {
+                        what: "sequence",
+                        detail: format!(
+                            "frame {at}: probability {bad} is not a finite number >= 0"
+                        ),
+                    });
+                }
+                let total: f64 = p.iter().sum();
+                if !(total > 0.0) {
+                    return Ok(vec![flat; k]);
+                }
+                Ok(p.iter()
+                    .map(|v| (1.0 - OUTLIER_SHARE) * v / total + OUTLIER_SHARE * flat)
+                    .collect())
+            }
+        }
+    }
+
+    /// Smooths one person's frames, in order: `frames[t]` is the probability of every camera
+    /// (index [`CameraLabel::index`]) at frame t, `None` for a frame that could not be
+    /// localized. Gives one [`SmoothedFrame`] per frame (none for no frames).
+    ///
+    /// # Errors
+    /// [`CamlocError::Inconsistent`] for a frame whose length is not the number of cameras or
+    /// that holds a negative or non-finite value.
+    pub fn smooth(&self, frames: &[Option<&[f64]>]) -> Result<Vec<SmoothedFrame>, CamlocError> {
+        let k = self.cameras;
+        let n = frames.len();
+        if n == 0 {
+            return Ok(Vec::new());
+        }
+        let emissions = frames
+            .iter()
+            .enumerate()
+            .map(|(t, f)| self.emission(*f, t))
+            .collect::<Result<Vec<_>, _>>()?;
+        // Forward (scaled), backward (scaled with the same factors).
+        let mut alpha = vec![0.0; n * k];
+        for j in 0..k {
+            alpha[j] = emissions[0][j] / k as f64;
+        }
+        normalise(&mut alpha[..k]);
+        for t in 1..n {
+            let (done, rest) = alpha.split_at_mut(t * k);
+            let previous = &done[(t - 1) * k..];
+            let current = &mut rest[..k];
+            for (j, value) in current.iter_mut().enumerate() {
+                let into: f64 = (0..k).map(|i| previous[i] * self.transition(i, j)).sum();
+                *value = into * emissions[t][j];
+            }
+            normalise(current);
+        }
+        let mut beta = vec![1.0; n * k];
+        for t in (0..n - 1).rev() {
+            let (now, next) = beta.split_at_mut((t + 1) * k);
+            let next = &next[..k];
+            let current = &mut now[t * k..];
+            for (i, value) in current.iter_mut().enumerate() {
+                *value = (0..k)
+                    .map(|j| self.transition(i, j) * emissions[t + 1][j] * next[j])
+                    .sum();
+            }
+            normalise(current);
+        }
+        // Viterbi in logarithms.
+        let log_transition: Vec<f64> = self.transition.iter().map(|p| p.ln()).collect();
+        let mut score: Vec<f64> = emissions[0].iter().map(|e| e.ln()).collect();
+        let mut back = vec![0usize; n * k];
+        for t in 1..n {
+            let mut next = vec![f64::NEG_INFINITY; k];
+            for (j, slot) in next.iter_mut().enumerate() {
+                let (best, from) = (0..k)
+                    .map(|i| (score[i] + log_transition[i * k + j], i))
+                    .fold((f64::NEG_INFINITY, 0), |a, b| if b.0 > a.0 { b } else { a });
+                *slot = best + emissions[t][j].ln();
+                back[t * k + j] = from;
+            }
+            score = next;
+        }
+        let mut path = vec![argmax(&score); n];
+        for t in (1..n).rev() {
+            path[t - 1] = back[t * k + path[t]];
+        }
+        path.iter()
+            .enumerate()
+            .map(|(t, &state)| {
+                let mut posterior: Vec<f64> =
+                    (0..k).map(|j| alpha[t * k + j] * beta[t * k + j]).collect();
+                normalise(&mut posterior);
+                Ok(SmoothedFrame {
+                    label: CameraLabel::from_index(state)?,
+                    probability: posterior[state],
+                    probabilities: posterior,
+                })
+            })
+            .collect()
+    }
+}
+
+/// Scales `values` to sum 1 (left alone when they sum to 0).
+fn normalise(values: &mut [f64]) {
+    let total: f64 = values.iter().sum();
+    if total > 0.0 {
+        values.iter_mut().for_each(|v| *v /= total);
+    }
+}
+
+/// Index of the largest value (the first of equal ones).
+fn argmax(values: &[f64]) -> usize {
+    values
+        .iter()
+        .enumerate()
+        .fold((0, f64::NEG_INFINITY), |best, (i, &v)| {
+            if v > best.1 { (i, v) } else { best }
+        })
+        .0
+}
+
+/// The sequences of an input: the positions of the records of each person, ordered by frame.
+///
+/// `keys[n]` is the `(frame, person)` of the n-th record (see
+/// [`KeypointRecord`](crate::keypoints::KeypointRecord)); a record without a frame counts as
+/// frame n, one without a person as person 0 (inputs with one pose per frame). Persons come in
+/// increasing order; records of the same person and frame keep their input order. The person
+/// index is the detector's position of the pose in its frame (OpenPose `people[i]`), not a
+/// tracked identity.
+pub fn sequences(keys: &[(Option<u64>, Option<u64>)]) -> Vec<(u64, Vec<usize>)> {
+    let mut order: Vec<(u64, u64, usize)> = keys
+        .iter()
+        .enumerate()
+        .map(|(n, (frame, person))| (person.unwrap_or(0), frame.unwrap_or(n as u64), n))
+        .collect();
+    order.sort_unstable();
+    let mut out: Vec<(u64, Vec<usize>)> = Vec::new();
+    for (person, _, n) in order {
+        match out.last_mut() {
+            Some((p, list)) if *p == person => list.push(n),
+            _ => out.push((person, vec![n])),
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// Confident probabilities of camera index `c` (0.9 there, the rest shared).
+    fn confident(c: usize) -> Vec<f64> {
+        let mut p = vec![0.1 / 11.0; 12];
+        p[c] = 0.9;
+        p
+    }
+
+    fn smooth(frames: &[Option<Vec<f64>>]) -> Vec<SmoothedFrame> {
+        let model = SequenceModel::with_default_switch(&CameraSet::table1());
+        let views: Vec<Option<&[f64]>> = frames.iter().map(|f| f.as_deref()).collect();
+        model.smooth(&views).unwrap()
+    }
+
+    #[test]
+    fn transitions_prefer_staying_then_neighbours() {
+        let model = SequenceModel::with_default_switch(&CameraSet::table1());
+        for i in 0..12 {
+            let row: f64 = (0..12).map(|j| model.transition(i, j)).sum();
+            assert!((row - 1.0).abs() < 1e-12);
+        }
+        // Camera 05 (index 4, middle front): 06 (middle left) and 01 (lower front) are
+        // neighbours, 07 (middle back) is not.
+        assert!(model.transition(4, 4) > model.transition(4, 5));
+        assert!(model.transition(4, 5) > model.transition(4, 6));
+        assert_eq!(model.transition(4, 5), model.transition(4, 0));
+        assert!(SequenceModel::new(&CameraSet::table1(), 1.0).is_err());
+        assert!(SequenceModel::new(&CameraSet::table1(), f64::NAN).is_err());
+    }
+
+    #[test]
+    fn wrong_lengths_are_errors() {
+        let model = SequenceModel::with_default_switch(&CameraSet::table1());
+        let short = [0.5, 0.5];
+        assert!(model.smooth(&[Some(&short[..])]).is_err());
+        let negative = [-1.0; 12];
+        assert!(model.smooth(&[Some(&negative[..])]).is_err());
+        assert!(model.smooth(&[]).unwrap().is_empty());
+    }
+
+    #[test]
+    fn a_turn_is_followed() {
+        // Front (05) -> left (06) -> back (07), 20 frames each, one bad frame in each part.
+        let mut frames: Vec<Option<Vec<f64>>> =
+            (0..60).map(|t| Some(confident(4 + t / 20))).collect();
+        frames[7] = Some(confident(10));
+        frames[27] = None;
+        frames[47] = Some(confident(0));
+        let smoothed = smooth(&frames);
+        for (t, s) in smoothed.iter().enumerate() {
+            assert_eq!(s.label.index(), 4 + t / 20, "frame {t}");
+            assert!((s.probabilities.iter().sum::<f64>() - 1.0).abs() < 1e-9);
+        }
+    }
+
+    #[test]
+    fn sequences_split_persons_and_order_frames() {
+        let keys = [
+            (Some(3), Some(0)),
+            (Some(3), Some(1)),
+            (Some(1), Some(1)),
+            (Some(1), Some(0)),
+            (Some(2), Some(0)),
+        ];
+        assert_eq!(sequences(&keys), vec![(0, vec![3, 4, 0]), (1, vec![2, 1])]);
+        assert_eq!(
+            sequences(&[(None, None), (None, None)]),
+            vec![(0, vec![0, 1])]
+        );
+    }
+
+    proptest! {
+        /// A constant sequence with a few isolated corrupted frames (confidently another
+        /// camera, or failed) is smoothed back to the constant camera.
+        #[test]
+        fn corrupted_frames_are_smoothed_back(
+            camera in 0usize..12,
+            len in 10usize..80,
+            bad in proptest::collection::vec((0usize..80, 0usize..13), 0..4),
+        ) {
+            let mut frames: Vec<Option<Vec<f64>>> = vec![Some(confident(camera)); len];
+            for (at, what) in bad {
+                // 12 stands for a frame that failed to localize.
+                frames[at % len] = (what < 12).then(|| confident(what));
+            }
+            // Isolated: no two corrupted frames next to each other.
+            let corrupted: Vec<bool> = frames.iter().map(|f| f.as_deref() != Some(&confident(camera)[..])).collect();
+            prop_assume!(corrupted.windows(2).all(|w| !(w[0] && w[1])));
+            for s in smooth(&frames) {
+                prop_assert_eq!(s.label.index(), camera);
+            }
+        }
+    }
+}
