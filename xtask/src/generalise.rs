@@ -263,6 +263,7 @@ pub fn run(args: &Args) -> Result<(), String> {
                 ..Default::default()
             }),
             mirror: true,
+            viewpoint_lambda: None,
         };
         let (localizer, seconds, iterations) = train(&train_set, &options)?;
         let jit = evaluate(&localizer, &test_set).map_err(|e| e.to_string())?;

@@ -121,6 +121,7 @@ pub fn run(args: &Args) -> Result<(), String> {
                 regression: score.config.clone(),
                 dropout: None,
                 mirror: false,
+                viewpoint_lambda: None,
             };
             let label = match descriptor {
                 Descriptor::Paper(c) => format!("paper (sigma {})", c.sigma),

@@ -56,6 +56,6 @@ pub use reconstruction::{PoseReconstruction, PoseReconstructor, default_basis};
 pub use select::{DescriptorCv, cross_validate};
 
 pub use localizer::{
-    CameraLocalizer, DEFAULT_LAMBDA, LandmarkDropout, Localization, MAX_DROPOUT_COPIES,
-    TrainOptions, TrainingInfo,
+    CameraLocalizer, DEFAULT_LAMBDA, DEFAULT_VIEWPOINT_LAMBDA, LandmarkDropout, Localization,
+    MAX_DROPOUT_COPIES, TrainOptions, TrainingInfo,
 };

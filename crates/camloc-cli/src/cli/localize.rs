@@ -121,6 +121,9 @@ fn localization_json(
         "side": loc.side.name(),
         "probability": loc.probability,
         "folded_label": loc.folded_label,
+        "azimuth_deg": loc.azimuth_deg,
+        "elevation_deg": loc.elevation_deg,
+        "uncertainty_deg": loc.uncertainty_deg,
         "rotation": rotation_rows(loc),
         "probabilities": probabilities,
         "missing": loc.missing.iter().map(|l| l.name()).collect::<Vec<_>>(),
@@ -152,6 +155,12 @@ fn print_localization(
     );
     if loc.folded_label != loc.label {
         let _ = writeln!(out, "  mirror-folded camera: {}", loc.folded_label);
+    }
+    if let (Some(a), Some(e), Some(u)) = (loc.azimuth_deg, loc.elevation_deg, loc.uncertainty_deg) {
+        let _ = writeln!(
+            out,
+            "  viewpoint: azimuth {a:.1} deg, elevation {e:.1} deg, +- {u:.1} deg"
+        );
     }
     for row in rotation_rows(loc) {
         let _ = writeln!(
