@@ -221,11 +221,14 @@ pub struct CameraLocalizer {
 
 impl CameraLocalizer {
     /// Trains on every sample of `dataset`. `progress` receives the Newton iteration log.
+    /// With [`TrainOptions::viewpoint_lambda`], the viewpoint heads are then fitted on the
+    /// same samples ([`fit_viewpoint`](Self::fit_viewpoint)).
     ///
     /// # Errors
     /// Invalid options ([`TrainOptions::validate`]); [`CamlocError::Dataset`] for a sample
     /// whose label is not a camera of the dataset or whose clip index is out of range;
-    /// [`CamlocError::Inconsistent`] for an empty dataset; [`CamlocError::Feature`] naming the
+    /// [`CamlocError::Inconsistent`] for an empty dataset, or with viewpoint heads one with a
+    /// camera of no samples; [`CamlocError::Feature`] naming the
     /// first sample whose descriptor fails; [`CamlocError::Learning`] from the solver.
     pub fn train(
         dataset: &Dataset,
@@ -304,8 +307,8 @@ impl CameraLocalizer {
     ///
     /// # Errors
     /// [`CamlocError::InvalidOption`] for a bad `lambda`; [`CamlocError::Inconsistent`] when
-    /// the dataset's cameras are not this model's; dataset, descriptor and solver errors as
-    /// in [`train`](Self::train) (including a class with no samples).
+    /// the dataset's cameras are not this model's or one of them has no samples; dataset,
+    /// descriptor and solver errors as in [`train`](Self::train).
     pub fn fit_viewpoint(&mut self, dataset: &Dataset, lambda: f64) -> Result<(), CamlocError> {
         dataset.validate()?;
         if dataset.header.cameras != self.cameras {
@@ -342,6 +345,15 @@ impl CameraLocalizer {
             .iter()
             .map(|s| usize::from(s.label) - 1)
             .collect();
+        if let Some(k) = (0..self.cameras.len()).find(|k| !classes.contains(k)) {
+            return Err(CamlocError::Inconsistent {
+                what: "viewpoint dataset",
+                detail: format!(
+                    "camera {} has no samples; the viewpoint heads need samples of every camera (or train without heads)",
+                    k + 1
+                ),
+            });
+        }
         let mut heads =
             DirectionHeads::fit(&features, &directions, &classes, self.cameras.len(), lambda)?;
         let mut probabilities = vec![0.0; self.model.n_classes()];
