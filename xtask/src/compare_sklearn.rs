@@ -248,6 +248,15 @@ pub fn run(args: &Args) -> Result<(), String> {
     };
     standardise(&mut problem.x, problem.n_features)?;
     eprintln!("problem: {}", problem.description);
+    println!(
+        "camloc descriptor sizes (values per pose, and weights d x K of a 12-camera model): {}",
+        ["joints", "landmarks", "joints-quadratic", "paper"]
+            .iter()
+            .filter_map(|name| Descriptor::from_name(name).ok())
+            .map(|d| format!("{} {} ({})", d.name(), d.len(), 12 * d.len()))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
 
     let features = Features::new(&problem.x, problem.n_features).map_err(|e| e.to_string())?;
     let estimator = LogisticRegression::default()

@@ -4,6 +4,7 @@
 //! `joints-quadratic`. Prints markdown tables; writes nothing.
 
 use std::collections::BTreeMap;
+use std::fmt::Write;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -12,10 +13,13 @@ use camloc::dataset::{
     Augmentation, Dataset, GenerateConfig, MotionCategory, PoseSequence, Protocol,
     camera_direction_deg, direction_vector, nearest_by_direction,
 };
-use camloc::learning::{DirectionHeads, Features, LogisticRegression, angle_deg};
+use camloc::learning::{LogisticRegression, angle_deg};
 use camloc::{CameraLocalizer, Descriptor, TrainOptions, cross_validate, evaluate};
 
 use crate::gen_dataset::{categorise, load_sequences, project};
+
+/// Held-out subjects of `generalise` (old and new ones), comma-separated.
+pub const TEST_SUBJECTS: &str = "06,09,16,17,35,47,113,127,141";
 
 /// Arguments of `generalise`.
 #[derive(clap::Args)]
@@ -27,11 +31,7 @@ pub struct Args {
     #[arg(long, default_value_t = 150.0, value_name = "MM")]
     pub min_pose_distance: f64,
     /// Held-out subjects (never trained on; old and new ones).
-    #[arg(
-        long,
-        value_delimiter = ',',
-        default_value = "06,09,16,17,35,47,113,127,141"
-    )]
+    #[arg(long, value_delimiter = ',', default_value = TEST_SUBJECTS)]
     pub test_subjects: Vec<String>,
     /// Descriptors compared.
     #[arg(long, value_delimiter = ',', default_value = "joints,joints-quadratic")]
@@ -56,32 +56,6 @@ pub struct Args {
     pub head_lambda: f64,
 }
 
-/// The localizer's descriptor of every sample (complete poses; undefined values imputed as
-/// the localizer does), row-major.
-fn features_of(localizer: &CameraLocalizer, data: &Dataset) -> Result<Vec<f64>, String> {
-    let descriptor = localizer.descriptor();
-    let d = descriptor.len();
-    let mut x = vec![0.0; data.samples.len() * d];
-    let mut undefined = vec![false; d];
-    for (row, s) in x.chunks_exact_mut(d).zip(&data.samples) {
-        let mut pose = PartialPose2::from(s.landmarks);
-        for (i, p) in pose.points.iter_mut().enumerate() {
-            if s.missing_mask & (1 << i) != 0 {
-                *p = None;
-            }
-        }
-        descriptor
-            .extract_partial_into(&pose, row, &mut undefined)
-            .map_err(|e| e.to_string())?;
-        for ((v, u), m) in row.iter_mut().zip(&undefined).zip(localizer.imputation()) {
-            if *u {
-                *v = *m;
-            }
-        }
-    }
-    Ok(x)
-}
-
 fn true_directions(data: &Dataset) -> Vec<[f64; 3]> {
     data.samples
         .iter()
@@ -92,51 +66,72 @@ fn true_directions(data: &Dataset) -> Vec<[f64; 3]> {
         .collect()
 }
 
-/// (class chosen, its probability) for every sample.
-fn chosen(localizer: &CameraLocalizer, data: &Dataset) -> Result<Vec<(usize, f64)>, String> {
+/// Continuous-viewpoint errors of a localizer with viewpoint heads on one test set.
+pub struct ViewpointErrors {
+    /// Median angular error of the heads' direction, degrees.
+    pub median_deg: f64,
+    /// Share of poses whose heads' direction is more than 45 deg off, percent.
+    pub beyond_45: f64,
+    /// Share of poses within the stated uncertainty, percent.
+    pub within_uncertainty: f64,
+    /// Median angular error of the chosen class's centre, degrees.
+    pub centre_median_deg: f64,
+    /// Share of poses whose class centre is more than 45 deg off, percent.
+    pub centre_beyond_45: f64,
+    /// Accuracy of labelling by the camera nearest the heads' direction, percent.
+    pub relabelled: f64,
+}
+
+impl std::fmt::Display for ViewpointErrors {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "heads: median {:.1} deg, {:.2}% beyond 45 deg, {:.1}% within the stated uncertainty; class centre: median {:.1} deg, {:.2}% beyond 45 deg; label = camera nearest the heads' direction: {:.2}% correct",
+            self.median_deg,
+            self.beyond_45,
+            self.within_uncertainty,
+            self.centre_median_deg,
+            self.centre_beyond_45,
+            self.relabelled
+        )
+    }
+}
+
+/// Median error, share beyond 45 deg, share within the stated uncertainty, of the
+/// localizer's continuous viewpoint and of the chosen class centre, on `data`.
+pub fn viewpoint_errors(
+    localizer: &CameraLocalizer,
+    data: &Dataset,
+) -> Result<ViewpointErrors, String> {
+    let truth = true_directions(data);
     let poses: Vec<PartialPose2> = data
         .samples
         .iter()
         .map(|s| PartialPose2::from(s.landmarks))
         .collect();
-    localizer
-        .localize_batch(&poses)
-        .into_iter()
-        .map(|r| {
-            r.map(|l| (l.label.index(), l.probability))
-                .map_err(|e| e.to_string())
-        })
-        .collect()
-}
-
-/// Median error, share beyond 45 deg, share within the stated uncertainty, of the heads and
-/// of the chosen class centre, on `data`.
-fn viewpoint_errors(
-    localizer: &CameraLocalizer,
-    heads: &DirectionHeads,
-    data: &Dataset,
-) -> Result<String, String> {
-    let d = localizer.descriptor().len();
-    let x = features_of(localizer, data)?;
-    let truth = true_directions(data);
-    let picks = chosen(localizer, data)?;
     let mut head_err = Vec::new();
     let mut centre_err = Vec::new();
     let mut covered = 0usize;
     let mut relabelled = 0usize;
-    for (((row, t), &(class, p)), s) in x.chunks_exact(d).zip(&truth).zip(&picks).zip(&data.samples)
+    for ((result, t), s) in localizer
+        .localize_batch(&poses)
+        .into_iter()
+        .zip(&truth)
+        .zip(&data.samples)
     {
-        let u = heads.predict(class, row).map_err(|e| e.to_string())?;
-        let (az, el) = (
-            u[1].atan2(u[0]).to_degrees(),
-            u[2].clamp(-1.0, 1.0).asin().to_degrees(),
-        );
+        let l = result.map_err(|e| e.to_string())?;
+        let (Some(az), Some(el), Some(radius)) =
+            (l.azimuth_deg, l.elevation_deg, l.uncertainty_deg)
+        else {
+            return Err("the localizer has no viewpoint heads".into());
+        };
+        let u = direction_vector(az, el);
         relabelled +=
             usize::from(nearest_by_direction(localizer.cameras(), az, el).label == s.label);
         let e = angle_deg(&u, t);
-        covered += usize::from(e <= heads.uncertainty_deg(p));
+        covered += usize::from(e <= radius);
         head_err.push(e);
-        let v = &localizer.cameras().viewpoints()[class];
+        let v = &localizer.cameras().viewpoints()[l.label.index()];
         centre_err.push(angle_deg(
             &direction_vector(v.azimuth_deg, v.elevation_deg),
             t,
@@ -148,13 +143,16 @@ fn viewpoint_errors(
         let beyond = e.iter().filter(|&&v| v > 45.0).count() as f64 / e.len() as f64;
         (median, 100.0 * beyond)
     };
-    let (hm, hb) = stats(&mut head_err);
-    let (cm, cb) = stats(&mut centre_err);
-    Ok(format!(
-        "heads: median {hm:.1} deg, {hb:.2}% beyond 45 deg, {:.1}% within the stated uncertainty; class centre: median {cm:.1} deg, {cb:.2}% beyond 45 deg; label = camera nearest the heads' direction: {:.2}% correct",
-        100.0 * covered as f64 / head_err.len() as f64,
-        100.0 * relabelled as f64 / head_err.len() as f64
-    ))
+    let (median_deg, beyond_45) = stats(&mut head_err);
+    let (centre_median_deg, centre_beyond_45) = stats(&mut centre_err);
+    Ok(ViewpointErrors {
+        median_deg,
+        beyond_45,
+        within_uncertainty: 100.0 * covered as f64 / head_err.len() as f64,
+        centre_median_deg,
+        centre_beyond_45,
+        relabelled: 100.0 * relabelled as f64 / head_err.len() as f64,
+    })
 }
 
 fn config(protocol: Protocol, seed: u64, args: &Args, augment: bool) -> GenerateConfig {
@@ -192,9 +190,43 @@ fn train(train: &Dataset, options: &TrainOptions) -> Result<(CameraLocalizer, f6
     ))
 }
 
-/// Runs `generalise`.
+/// Runs `generalise`: prints [`measure`]'s tables.
 pub fn run(args: &Args) -> Result<(), String> {
+    print!("{}", measure(args)?.markdown);
+    Ok(())
+}
+
+/// What one descriptor achieved in [`measure`].
+pub struct Outcome {
+    /// Accuracy on the jittered views of the held-out subjects (fraction).
+    pub jittered: f64,
+    /// Per motion category: test samples and accuracy (fraction) on the same views.
+    pub categories: Vec<(MotionCategory, usize, f64)>,
+    /// Accuracy on the sphere views inside the class boxes (fraction).
+    pub sphere_inside: f64,
+    /// Continuous-viewpoint errors on the jittered views.
+    pub viewpoint_jittered: ViewpointErrors,
+    /// Continuous-viewpoint errors on the sphere views.
+    pub viewpoint_sphere: ViewpointErrors,
+}
+
+/// Everything [`measure`] printed, and its key numbers.
+pub struct Measured {
+    /// The markdown tables.
+    pub markdown: String,
+    /// One per descriptor, in order.
+    pub outcomes: Vec<Outcome>,
+    /// Leave-one-category-out accuracy (sample-weighted, fraction) per descriptor; empty
+    /// without `--loco`.
+    pub loco: Vec<f64>,
+}
+
+/// Measures everything `generalise` reports.
+pub fn measure(args: &Args) -> Result<Measured, String> {
+    let mut outcomes = Vec::new();
+    let mut loco = Vec::new();
     let started = Instant::now();
+    let mut md = String::new();
     let (mut sequences, _, _) = load_sequences(&args.mocap)?;
     categorise(&mut sequences, &args.mocap, None);
     let (train_seqs, test_seqs): (Vec<PoseSequence>, Vec<PoseSequence>) = sequences
@@ -206,7 +238,8 @@ pub fn run(args: &Args) -> Result<(), String> {
     )?;
     let test_set = project(&test_seqs, &config(Protocol::Jittered, 2, args, false))?;
     let sphere_set = project(&test_seqs, &config(Protocol::Sphere, 3, args, false))?;
-    println!(
+    let _ = writeln!(
+        md,
         "Training: {} samples of subjects {}; test: {} jittered and {} sphere samples of held-out subjects {}; min pose distance {} mm, augmentation {}, dropout copies {}.\n",
         train_set.samples.len(),
         train_set
@@ -226,10 +259,11 @@ pub fn run(args: &Args) -> Result<(), String> {
     for (c, n) in train_set.samples_per_category() {
         per_cat_train.insert(c, n);
     }
-    println!(
+    let _ = writeln!(
+        md,
         "| descriptor | lambda (CV) | CV accuracy | fit time | iterations | jittered | sphere, all | sphere, inside class boxes | per category (jittered) |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|");
+    let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|");
     let mut chosen_options = Vec::new();
     for name in &args.descriptors {
         let descriptor = Descriptor::from_name(name).map_err(|e| e.to_string())?;
@@ -263,6 +297,7 @@ pub fn run(args: &Args) -> Result<(), String> {
                 ..Default::default()
             }),
             mirror: true,
+            viewpoint_lambda: None,
         };
         let (localizer, seconds, iterations) = train(&train_set, &options)?;
         let jit = evaluate(&localizer, &test_set).map_err(|e| e.to_string())?;
@@ -277,12 +312,14 @@ pub fn run(args: &Args) -> Result<(), String> {
                 .collect(),
         };
         let ins = evaluate(&localizer, &inside).map_err(|e| e.to_string())?;
-        let cats = accuracy_by_category(&localizer, &test_set)?
+        let categories = accuracy_by_category(&localizer, &test_set)?;
+        let cats = categories
             .iter()
             .map(|(c, n, a)| format!("{} {:.2}% ({n})", c.name(), 100.0 * a))
             .collect::<Vec<_>>()
             .join("; ");
-        println!(
+        let _ = writeln!(
+            md,
             "| {name} | {} | {} | {seconds:.1} s | {iterations} | {:.2}% | {:.2}% | {:.2}% ({} samples) | {cats} |",
             options.regression.lambda,
             cv_accuracy.map_or("-".into(), |a| format!("{:.2}%", 100.0 * a)),
@@ -291,7 +328,8 @@ pub fn run(args: &Args) -> Result<(), String> {
             100.0 * ins.accuracy,
             inside.samples.len()
         );
-        println!(
+        let _ = writeln!(
+            md,
             "\n{name}, jittered test: folded (back -> front) {:.2}%; per level, exact camera / right level: {}",
             100.0 * jit.accuracy_folded,
             jit.per_level
@@ -311,36 +349,30 @@ pub fn run(args: &Args) -> Result<(), String> {
             &train_seqs,
             &config(Protocol::Sphere, 4, args, args.augment),
         )?;
-        let xs = features_of(&localizer, &sphere_train)?;
-        let classes: Vec<usize> = sphere_train
-            .samples
-            .iter()
-            .map(|s| usize::from(s.label) - 1)
-            .collect();
-        let d = descriptor.len();
-        let fx = Features::new(&xs, d).map_err(|e| e.to_string())?;
-        let mut heads = DirectionHeads::fit(
-            &fx,
-            &true_directions(&sphere_train),
-            &classes,
-            localizer.cameras().len(),
-            args.head_lambda,
-        )
-        .map_err(|e| e.to_string())?;
-        let picks = chosen(&localizer, &sphere_train)?;
-        heads
-            .calibrate(&fx, &picks, &true_directions(&sphere_train))
+        let mut localizer = localizer;
+        let (jittered, sphere_inside) = (jit.accuracy, ins.accuracy);
+        localizer
+            .fit_viewpoint(&sphere_train, args.head_lambda)
             .map_err(|e| e.to_string())?;
-        println!(
+        let viewpoint_jittered = viewpoint_errors(&localizer, &test_set)?;
+        let viewpoint_sphere = viewpoint_errors(&localizer, &sphere_set)?;
+        let _ = writeln!(
+            md,
             "\n{name}, continuous viewpoint (heads lambda {}): jittered test: {}; sphere test: {}\n",
-            args.head_lambda,
-            viewpoint_errors(&localizer, &heads, &test_set)?,
-            viewpoint_errors(&localizer, &heads, &sphere_set)?
+            args.head_lambda, viewpoint_jittered, viewpoint_sphere
         );
+        outcomes.push(Outcome {
+            jittered,
+            categories,
+            sphere_inside,
+            viewpoint_jittered,
+            viewpoint_sphere,
+        });
         chosen_options.push(options);
     }
     if args.loco {
-        println!(
+        let _ = writeln!(
+            md,
             "\nLeave-one-category-out (all subjects; train without the category, test on it, jittered):\n"
         );
         let all_seqs: Vec<PoseSequence> = train_seqs.iter().chain(&test_seqs).cloned().collect();
@@ -349,11 +381,12 @@ pub fn run(args: &Args) -> Result<(), String> {
             &config(Protocol::Jittered, 1, args, args.augment),
         )?;
         let all_test = project(&all_seqs, &config(Protocol::Jittered, 2, args, false))?;
-        println!(
+        let _ = writeln!(
+            md,
             "| category | test samples | {} |",
             args.descriptors.join(" | ")
         );
-        println!("|---|---|{}", "---|".repeat(args.descriptors.len()));
+        let _ = writeln!(md, "|---|---|{}", "---|".repeat(args.descriptors.len()));
         let mut means = vec![0.0; chosen_options.len()];
         let mut count = 0usize;
         for (category, _) in all_test.samples_per_category() {
@@ -367,14 +400,16 @@ pub fn run(args: &Args) -> Result<(), String> {
                 cells.push(format!("{:.2}%", 100.0 * e.accuracy));
             }
             count += test_part.samples.len();
-            println!(
+            let _ = writeln!(
+                md,
                 "| {} | {} | {} |",
                 category.name(),
                 test_part.samples.len(),
                 cells.join(" | ")
             );
         }
-        println!(
+        let _ = writeln!(
+            md,
             "| all (sample-weighted) | {count} | {} |",
             means
                 .iter()
@@ -382,7 +417,12 @@ pub fn run(args: &Args) -> Result<(), String> {
                 .collect::<Vec<_>>()
                 .join(" | ")
         );
+        loco = means.iter().map(|m| m / count.max(1) as f64).collect();
     }
-    println!("\nTotal {:.0} s.", started.elapsed().as_secs_f64());
-    Ok(())
+    let _ = writeln!(md, "\nTotal {:.0} s.", started.elapsed().as_secs_f64());
+    Ok(Measured {
+        markdown: md,
+        outcomes,
+        loco,
+    })
 }

@@ -4,17 +4,25 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
-use camloc::dataset::{GenerateConfig, Protocol};
+use camloc::dataset::{Augmentation, GenerateConfig, PoseSequence, Protocol};
 use camloc::reconstruct::{BasisConfig, PoseBasis};
 use camloc::store::Persist;
 use camloc::{CameraLocalizer, TrainOptions};
 
-use crate::gen_dataset::{load_sequences, project};
+use crate::gen_dataset::{categorise, load_sequences, project};
 
 /// Seed of the default model's dataset (jitter, noise) and dropout.
 pub const DEFAULT_SEED: u64 = 1;
-/// Frame stride of the default model's dataset.
-pub const DEFAULT_STRIDE: usize = 10;
+/// Seed of the `sphere` views the default model's viewpoint heads are fitted on (another
+/// draw than the classifier's training views).
+pub const VIEWPOINT_SEED: u64 = 4;
+/// Frame stride of the default model's dataset (every frame; selection by pose decides).
+pub const DEFAULT_STRIDE: usize = 1;
+/// Frame selection by pose of the default model's dataset, millimetres of maximum per-joint
+/// distance (issue 11: measured by `cargo xtask generalise`).
+pub const DEFAULT_MIN_POSE_DISTANCE_MM: f64 = 100.0;
+/// Camera roll of the default model's training views, degrees (photos are seldom level).
+pub const DEFAULT_ROLL_DEG: f64 = 15.0;
 
 /// Arguments of `train-default`.
 #[derive(clap::Args)]
@@ -41,21 +49,50 @@ pub struct Args {
     pub force: bool,
 }
 
-/// The training options of the default model (also used for the report's "default" row).
+/// The training options of the default model (also used for the report's "default" row):
+/// [`TrainOptions::default`] with the dropout seeded, and no viewpoint heads fitted on the
+/// training views (they are fitted by [`fit_default_viewpoint`] on `sphere` views).
 pub fn default_options() -> TrainOptions {
-    let mut options = TrainOptions::default();
+    let mut options = TrainOptions {
+        viewpoint_lambda: None,
+        ..TrainOptions::default()
+    };
     if let Some(d) = options.dropout.as_mut() {
         d.seed = DEFAULT_SEED;
     }
     options
 }
 
-/// The dataset settings of the default model: `jittered`, Table-1 cameras.
-pub fn default_dataset_config() -> GenerateConfig {
-    let mut config = GenerateConfig::new(Protocol::Jittered);
-    config.seed = DEFAULT_SEED;
+/// The dataset settings of `protocol` for the default model: Table-1 cameras, every frame,
+/// selection by pose at [`DEFAULT_MIN_POSE_DISTANCE_MM`], training augmentation and camera
+/// roll up to [`DEFAULT_ROLL_DEG`], the given seed.
+fn training_views(protocol: Protocol, seed: u64) -> GenerateConfig {
+    let mut config = GenerateConfig::new(protocol);
+    config.seed = seed;
     config.stride = DEFAULT_STRIDE;
+    config.min_pose_distance_mm = DEFAULT_MIN_POSE_DISTANCE_MM;
+    config.augmentation = Augmentation::TRAINING;
+    config.jitter.roll_deg = DEFAULT_ROLL_DEG;
     config
+}
+
+/// The dataset settings of the default model: `jittered` training views
+/// ([`training_views`]) with [`DEFAULT_SEED`].
+pub fn default_dataset_config() -> GenerateConfig {
+    training_views(Protocol::Jittered, DEFAULT_SEED)
+}
+
+/// Fits the default viewpoint heads of `localizer` ([`camloc::DEFAULT_VIEWPOINT_LAMBDA`])
+/// on `sphere` training views of `sequences` with [`VIEWPOINT_SEED`]; returns their number.
+pub fn fit_default_viewpoint(
+    localizer: &mut CameraLocalizer,
+    sequences: &[PoseSequence],
+) -> Result<usize, String> {
+    let views = project(sequences, &training_views(Protocol::Sphere, VIEWPOINT_SEED))?;
+    localizer
+        .fit_viewpoint(&views, camloc::DEFAULT_VIEWPOINT_LAMBDA)
+        .map_err(|e| e.to_string())?;
+    Ok(views.samples.len())
 }
 
 /// Runs `train-default`.
@@ -71,15 +108,20 @@ pub fn run(args: &Args) -> Result<(), String> {
             ));
         }
     }
-    let (sequences, _, _) = load_sequences(&args.mocap)?;
+    let (mut sequences, _, _) = load_sequences(&args.mocap)?;
+    categorise(&mut sequences, &args.mocap, None);
     let dataset = project(&sequences, &default_dataset_config())?;
+    for (category, n) in dataset.samples_per_category() {
+        eprintln!("  {}: {n} samples", category.name());
+    }
     let options = default_options();
     eprintln!(
         "training the default model on {} samples of {} subjects",
         dataset.samples.len(),
         dataset.subjects().len()
     );
-    let (localizer, report) = CameraLocalizer::train(&dataset, &options, |log| {
+    let fit_start = Instant::now();
+    let (mut localizer, report) = CameraLocalizer::train(&dataset, &options, |log| {
         eprintln!(
             "  newton {:>3}: objective {:.6e}  |grad|_inf {:.3e}  ({})",
             log.iteration,
@@ -92,6 +134,14 @@ pub fn run(args: &Args) -> Result<(), String> {
     if !report.converged {
         return Err("the Newton solver did not converge; the default model was not written".into());
     }
+    let fit_seconds = fit_start.elapsed().as_secs_f64();
+    let head_start = Instant::now();
+    let views = fit_default_viewpoint(&mut localizer, &sequences)?;
+    println!(
+        "classifier fit {fit_seconds:.1} s ({} Newton iterations); viewpoint heads on {views} sphere views {:.1} s",
+        report.newton_iterations(),
+        head_start.elapsed().as_secs_f64()
+    );
     localizer
         .save(&out, args.force)
         .map_err(|e| e.to_string())?;

@@ -42,6 +42,12 @@ fn json_output_has_one_object_per_pose_with_probabilities_summing_to_one() {
     let label = p["label"].as_u64().unwrap();
     assert!((1..=12).contains(&label));
     assert_eq!(p["rotation"].as_array().unwrap().len(), 3);
+    let azimuth = p["azimuth_deg"].as_f64().unwrap();
+    let elevation = p["elevation_deg"].as_f64().unwrap();
+    let uncertainty = p["uncertainty_deg"].as_f64().unwrap();
+    assert!((0.0..360.0).contains(&azimuth), "{azimuth}");
+    assert!((-90.0..=90.0).contains(&elevation), "{elevation}");
+    assert!((0.0..=180.0).contains(&uncertainty), "{uncertainty}");
 }
 
 /// `--jsonl` writes one object per line; `--json` one array of the same objects; the text

@@ -92,6 +92,37 @@ impl RidgeModel {
         })
     }
 
+    /// Checks the invariants of a decoded model: a valid standardiser, at least one output,
+    /// `n_outputs x n_features` weights, all weights and biases finite.
+    ///
+    /// # Errors
+    /// [`LearningError::SizeMismatch`] for inconsistent shapes,
+    /// [`LearningError::InvalidParameter`] for a non-finite coefficient or a bad standardiser.
+    pub fn validate(&self) -> Result<(), LearningError> {
+        self.standardiser.validate()?;
+        let expected = self.n_features().checked_mul(self.n_outputs());
+        if self.n_outputs() == 0 || expected != Some(self.weights.len()) {
+            return Err(LearningError::SizeMismatch {
+                what: "ridge weights (n_outputs >= 1 times n_features)",
+                expected: expected.unwrap_or(usize::MAX),
+                found: self.weights.len(),
+            });
+        }
+        if let Some(v) = self
+            .weights
+            .iter()
+            .chain(&self.biases)
+            .find(|v| !v.is_finite())
+        {
+            return Err(LearningError::InvalidParameter {
+                name: "ridge coefficient",
+                value: v.to_string(),
+                reason: "every weight and bias must be finite",
+            });
+        }
+        Ok(())
+    }
+
     /// Number of input features.
     pub fn n_features(&self) -> usize {
         self.standardiser.n_features()
@@ -239,6 +270,59 @@ impl DirectionHeads {
         Ok(())
     }
 
+    /// Checks the invariants of decoded heads against the classifier they refine: one head
+    /// per class (`n_classes`), each a valid [`RidgeModel`] of `n_features` inputs and 3
+    /// outputs, and one finite uncertainty in `[0, 180]` degrees per probability bin.
+    ///
+    /// # Errors
+    /// [`LearningError::SizeMismatch`] naming the shape that differs,
+    /// [`LearningError::InvalidParameter`] for a bad coefficient or uncertainty.
+    pub fn validate(&self, n_classes: usize, n_features: usize) -> Result<(), LearningError> {
+        if self.heads.len() != n_classes {
+            return Err(LearningError::SizeMismatch {
+                what: "direction heads (one per class)",
+                expected: n_classes,
+                found: self.heads.len(),
+            });
+        }
+        for head in &self.heads {
+            head.validate()?;
+            if head.n_features() != n_features {
+                return Err(LearningError::SizeMismatch {
+                    what: "direction head features",
+                    expected: n_features,
+                    found: head.n_features(),
+                });
+            }
+            if head.n_outputs() != 3 {
+                return Err(LearningError::SizeMismatch {
+                    what: "direction head outputs (x, y, z)",
+                    expected: 3,
+                    found: head.n_outputs(),
+                });
+            }
+        }
+        if self.uncertainty_deg.len() != CONFIDENCE_BINS.len() + 1 {
+            return Err(LearningError::SizeMismatch {
+                what: "uncertainty table (one per probability bin)",
+                expected: CONFIDENCE_BINS.len() + 1,
+                found: self.uncertainty_deg.len(),
+            });
+        }
+        if let Some(v) = self
+            .uncertainty_deg
+            .iter()
+            .find(|v| !(v.is_finite() && (0.0..=180.0).contains(*v)))
+        {
+            return Err(LearningError::InvalidParameter {
+                name: "viewpoint uncertainty",
+                value: v.to_string(),
+                reason: "must be calibrated: finite, in [0, 180] degrees",
+            });
+        }
+        Ok(())
+    }
+
     /// The unit direction predicted by the head of `class` for the raw feature row `x`.
     ///
     /// # Errors
@@ -334,5 +418,14 @@ mod tests {
         let u = heads.predict(0, &[0.1f64.cos(), 0.1f64.sin()]).unwrap();
         assert!(angle_deg(&u, &[0.1f64.cos(), 0.1f64.sin(), 0.0]) < 1e-3);
         assert!(heads.predict(1, &[1.0, 0.0]).is_err());
+        heads.validate(1, 2).unwrap();
+        assert!(heads.validate(2, 2).is_err());
+        assert!(heads.validate(1, 3).is_err());
+        let mut broken = heads.clone();
+        broken.heads[0].weights[0] = f64::NAN;
+        assert!(broken.validate(1, 2).is_err());
+        let mut uncalibrated = heads.clone();
+        uncalibrated.uncertainty_deg[0] = f64::NAN;
+        assert!(uncalibrated.validate(1, 2).is_err());
     }
 }

@@ -181,10 +181,11 @@ pub const DATASET_KIND: FileKind = FileKind {
 };
 
 /// Camera localizer models (`camloc::CameraLocalizer`): up to 64 MiB (a descriptor of
-/// 100,000 values for 64 cameras would still fit; the default model is under 8 KiB).
+/// 10,000 values for 64 cameras, with viewpoint heads, would still fit; the default model is
+/// under 40 KiB). Version 2 added the continuous-viewpoint heads.
 pub const MODEL_KIND: FileKind = FileKind {
     magic: *b"CAMLOCMD",
-    version: 1,
+    version: 2,
     what: "model",
     max_payload: 64 << 20,
 };

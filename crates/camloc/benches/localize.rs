@@ -1,5 +1,5 @@
 //! Per-pose cost of localization with the embedded default model: descriptor extraction alone,
-//! descriptor + prediction for one pose, and a batch of one million poses (descriptors and
+//! descriptor + prediction + continuous viewpoint for one pose, and a batch of one million poses (descriptors and
 //! predictions in parallel on all cores).
 //!
 //! `cargo bench -p camloc --bench localize`
@@ -50,9 +50,13 @@ fn benches(c: &mut Criterion) {
     c.bench_function("descriptor per pose (paper)", |b| {
         b.iter(|| paper.extract_into(black_box(&one), &mut paper_buffer))
     });
-    c.bench_function("localize per pose (descriptor + prediction)", |b| {
-        b.iter(|| localizer.localize(black_box(&one)))
-    });
+    if localizer.viewpoint_heads().is_none() {
+        eprintln!("the default model has no viewpoint heads: 'localize per pose' omits them");
+    }
+    c.bench_function(
+        "localize per pose (descriptor + prediction + viewpoint)",
+        |b| b.iter(|| localizer.localize(black_box(&one))),
+    );
 
     const BATCH: usize = 1_000_000;
     let mut group = c.benchmark_group("batch");

@@ -61,6 +61,6 @@ pub use sequence::{
 };
 
 pub use localizer::{
-    CameraLocalizer, DEFAULT_LAMBDA, LandmarkDropout, Localization, MAX_DROPOUT_COPIES,
-    TrainOptions, TrainingInfo,
+    CameraLocalizer, DEFAULT_LAMBDA, DEFAULT_VIEWPOINT_LAMBDA, LandmarkDropout, Localization,
+    MAX_DROPOUT_COPIES, TrainOptions, TrainingInfo,
 };

@@ -1,9 +1,12 @@
 //! [`CameraLocalizer`]: descriptor + classifier + camera set, trained, saved and used together.
 
 use camloc_dataset::{Dataset, Protocol};
+use camloc_dataset::{camera_direction_deg, direction_vector};
 use camloc_features::Descriptor;
 use camloc_geometry::{CameraLabel, CameraSet, Level, Matrix3, Side};
-use camloc_learning::{Features, FitReport, IterationLog, LogisticModel, LogisticRegression};
+use camloc_learning::{
+    DirectionHeads, Features, FitReport, IterationLog, LogisticModel, LogisticRegression,
+};
 use camloc_skeleton::{Landmark, NUM_LANDMARKS, PartialPose2, Pose2};
 use camloc_store::{FileKind, Persist, Validate};
 use rand::{Rng, SeedableRng};
@@ -78,6 +81,10 @@ impl Default for LandmarkDropout {
 /// cross-validation grouped by subject on the CMU data (docs/RESULTS.md).
 pub const DEFAULT_LAMBDA: f64 = 1.0;
 
+/// Default ridge weight of the continuous-viewpoint heads ([`TrainOptions::viewpoint_lambda`]),
+/// measured by `cargo xtask generalise` (issue 11).
+pub const DEFAULT_VIEWPOINT_LAMBDA: f64 = 1.0;
+
 /// How to train a [`CameraLocalizer`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct TrainOptions {
@@ -91,28 +98,34 @@ pub struct TrainOptions {
     /// (an exact augmentation: the mirrored image is what the mirrored camera sees of the
     /// mirrored person), so that predictions respect the body's symmetry.
     pub mirror: bool,
+    /// Ridge weight of the continuous-viewpoint heads fitted on the training samples (see
+    /// [`CameraLocalizer::fit_viewpoint`]); `None`: no heads, localizations then carry no
+    /// azimuth, elevation or uncertainty.
+    pub viewpoint_lambda: Option<f64>,
 }
 
 impl Default for TrainOptions {
     /// Joints descriptor, multinomial regression with [`DEFAULT_LAMBDA`], dropout with one
-    /// copy, mirror augmentation.
+    /// copy, mirror augmentation, viewpoint heads with [`DEFAULT_VIEWPOINT_LAMBDA`].
     fn default() -> Self {
         TrainOptions {
             descriptor: Descriptor::default(),
             regression: LogisticRegression::default().with_lambda(DEFAULT_LAMBDA),
             dropout: Some(LandmarkDropout::default()),
             mirror: true,
+            viewpoint_lambda: Some(DEFAULT_VIEWPOINT_LAMBDA),
         }
     }
 }
 
 impl TrainOptions {
     /// Checks every setting: the descriptor's, the regression's (lambda finite and >= 0,
-    /// tolerances) and the dropout's ([`LandmarkDropout::validate`]). Training calls it first.
+    /// tolerances), the dropout's ([`LandmarkDropout::validate`]) and the viewpoint heads'
+    /// lambda (finite and >= 0). Training calls it first.
     ///
     /// # Errors
     /// [`CamlocError::Feature`] for descriptor settings, [`CamlocError::Learning`] for
-    /// regression settings, [`CamlocError::InvalidOption`] for dropout settings.
+    /// regression settings, [`CamlocError::InvalidOption`] for dropout and viewpoint settings.
     pub fn validate(&self) -> Result<(), CamlocError> {
         self.descriptor
             .validate()
@@ -124,7 +137,21 @@ impl TrainOptions {
         if let Some(dropout) = &self.dropout {
             dropout.validate()?;
         }
+        if let Some(lambda) = self.viewpoint_lambda {
+            check_viewpoint_lambda(lambda)?;
+        }
         Ok(())
+    }
+}
+
+fn check_viewpoint_lambda(lambda: f64) -> Result<(), CamlocError> {
+    if lambda.is_finite() && lambda >= 0.0 {
+        Ok(())
+    } else {
+        Err(CamlocError::InvalidOption {
+            name: "viewpoint lambda",
+            detail: format!("{lambda}: must be finite and >= 0"),
+        })
     }
 }
 
@@ -166,6 +193,17 @@ pub struct Localization {
     pub folded_label: CameraLabel,
     /// Landmarks that were missing in the input (their descriptor values were imputed).
     pub missing: Vec<Landmark>,
+    /// Continuous camera azimuth in degrees, `[0, 360)`, in the person's canonical frame
+    /// (docs/conventions.md section 2: 180 = in front, 270 = the person's left, 0 = behind,
+    /// 90 = the person's right); `None` when the model has no viewpoint heads.
+    pub azimuth_deg: Option<f64>,
+    /// Continuous camera elevation in degrees, `[-90, 90]`, positive above the person;
+    /// `None` when the model has no viewpoint heads.
+    pub elevation_deg: Option<f64>,
+    /// Angular radius in degrees around (`azimuth_deg`, `elevation_deg`) that held about
+    /// 68% of the true directions of the calibration samples with a class probability like
+    /// this one's; `None` when the model has no viewpoint heads.
+    pub uncertainty_deg: Option<f64>,
 }
 
 /// A trained camera localizer: descriptor, classifier and the camera set it predicts.
@@ -177,15 +215,20 @@ pub struct CameraLocalizer {
     /// Per descriptor value, the training mean used in place of undefined values.
     imputation: Vec<f64>,
     info: TrainingInfo,
+    /// Continuous-viewpoint heads refining the class to a direction (`None`: not fitted).
+    viewpoint: Option<DirectionHeads>,
 }
 
 impl CameraLocalizer {
     /// Trains on every sample of `dataset`. `progress` receives the Newton iteration log.
+    /// With [`TrainOptions::viewpoint_lambda`], the viewpoint heads are then fitted on the
+    /// same samples ([`fit_viewpoint`](Self::fit_viewpoint)).
     ///
     /// # Errors
     /// Invalid options ([`TrainOptions::validate`]); [`CamlocError::Dataset`] for a sample
     /// whose label is not a camera of the dataset or whose clip index is out of range;
-    /// [`CamlocError::Inconsistent`] for an empty dataset; [`CamlocError::Feature`] naming the
+    /// [`CamlocError::Inconsistent`] for an empty dataset, or with viewpoint heads one with a
+    /// camera of no samples; [`CamlocError::Feature`] naming the
     /// first sample whose descriptor fails; [`CamlocError::Learning`] from the solver.
     pub fn train(
         dataset: &Dataset,
@@ -240,14 +283,95 @@ impl CameraLocalizer {
             dropout: options.dropout,
             mirror: options.mirror,
         };
-        let localizer = CameraLocalizer {
+        let mut localizer = CameraLocalizer {
             descriptor,
             cameras: dataset.header.cameras.clone(),
             model,
             imputation,
             info,
+            viewpoint: None,
         };
+        if let Some(lambda) = options.viewpoint_lambda {
+            let n = dataset.samples.len();
+            localizer.fit_viewpoint_rows(&x[..n * d], dataset, lambda)?;
+        }
         Ok((localizer, report))
+    }
+
+    /// Fits (or refits) the continuous-viewpoint heads on `dataset`: per camera class, a
+    /// ridge regression (weight `lambda`) from the descriptor to the unit direction of the
+    /// sample's camera (from its rotation), fitted on the samples labelled with that class;
+    /// then the uncertainty is calibrated on the same samples, by the class this
+    /// localizer chooses and its probability. A dataset whose directions cover the sphere
+    /// band (protocol `sphere`) gives heads that resolve directions between the cameras.
+    ///
+    /// # Errors
+    /// [`CamlocError::InvalidOption`] for a bad `lambda`; [`CamlocError::Inconsistent`] when
+    /// the dataset's cameras are not this model's or one of them has no samples; dataset,
+    /// descriptor and solver errors as in [`train`](Self::train).
+    pub fn fit_viewpoint(&mut self, dataset: &Dataset, lambda: f64) -> Result<(), CamlocError> {
+        dataset.validate()?;
+        if dataset.header.cameras != self.cameras {
+            return Err(CamlocError::Inconsistent {
+                what: "viewpoint dataset",
+                detail: "its cameras are not the model's".into(),
+            });
+        }
+        let poses: Vec<PartialPose2> = dataset.samples.iter().map(sample_pose).collect();
+        let (mut x, undefined) = extract_rows(&self.descriptor, &poses)?;
+        impute_rows(&mut x, &undefined, &self.imputation);
+        self.fit_viewpoint_rows(&x, dataset, lambda)
+    }
+
+    /// [`fit_viewpoint`](Self::fit_viewpoint) on the samples' descriptor rows `x` (imputed).
+    fn fit_viewpoint_rows(
+        &mut self,
+        x: &[f64],
+        dataset: &Dataset,
+        lambda: f64,
+    ) -> Result<(), CamlocError> {
+        check_viewpoint_lambda(lambda)?;
+        let features = Features::new(x, self.descriptor.len())?;
+        let directions: Vec<[f64; 3]> = dataset
+            .samples
+            .iter()
+            .map(|s| {
+                let (azimuth, elevation) = camera_direction_deg(&s.rotation);
+                direction_vector(azimuth, elevation)
+            })
+            .collect();
+        let classes: Vec<usize> = dataset
+            .samples
+            .iter()
+            .map(|s| usize::from(s.label) - 1)
+            .collect();
+        if let Some(k) = (0..self.cameras.len()).find(|k| !classes.contains(k)) {
+            return Err(CamlocError::Inconsistent {
+                what: "viewpoint dataset",
+                detail: format!(
+                    "camera {} has no samples; the viewpoint heads need samples of every camera (or train without heads)",
+                    k + 1
+                ),
+            });
+        }
+        let mut heads =
+            DirectionHeads::fit(&features, &directions, &classes, self.cameras.len(), lambda)?;
+        let mut probabilities = vec![0.0; self.model.n_classes()];
+        let chosen = features
+            .rows()
+            .map(|row| {
+                self.model.predict_proba_into(row, &mut probabilities)?;
+                Ok(most_probable(&probabilities))
+            })
+            .collect::<Result<Vec<_>, CamlocError>>()?;
+        heads.calibrate(&features, &chosen, &directions)?;
+        self.viewpoint = Some(heads);
+        Ok(())
+    }
+
+    /// The continuous-viewpoint heads, if the model has them.
+    pub fn viewpoint_heads(&self) -> Option<&DirectionHeads> {
+        self.viewpoint.as_ref()
     }
 
     /// The descriptor the model was trained with.
@@ -303,7 +427,7 @@ impl CameraLocalizer {
         impute_rows(&mut x, &undefined, &self.imputation);
         let mut probabilities = vec![0.0; self.model.n_classes()];
         self.model.predict_proba_into(&x, &mut probabilities)?;
-        self.localization_from(probabilities, pose.missing().collect())
+        self.localization_from(&x, probabilities, pose.missing().collect())
     }
 
     /// Localizes many poses in parallel; one result per pose, in order.
@@ -313,18 +437,18 @@ impl CameraLocalizer {
 
     fn localization_from(
         &self,
+        x: &[f64],
         probabilities: Vec<f64>,
         missing: Vec<Landmark>,
     ) -> Result<Localization, CamlocError> {
-        let (best, probability) =
-            probabilities
-                .iter()
-                .copied()
-                .enumerate()
-                .fold(
-                    (0, f64::NEG_INFINITY),
-                    |a, (i, p)| if p > a.1 { (i, p) } else { a },
-                );
+        let (best, probability) = most_probable(&probabilities);
+        let (mut azimuth_deg, mut elevation_deg, mut uncertainty_deg) = (None, None, None);
+        if let Some(heads) = &self.viewpoint {
+            let u = heads.predict(best, x)?;
+            azimuth_deg = Some(u[1].atan2(u[0]).to_degrees().rem_euclid(360.0));
+            elevation_deg = Some(u[2].clamp(-1.0, 1.0).asin().to_degrees());
+            uncertainty_deg = Some(heads.uncertainty_deg(probability));
+        }
         let label = CameraLabel::from_index(best)?;
         let view = self.cameras.get(label.get());
         let folded = self.cameras.fold_back_to_front(label.get());
@@ -337,6 +461,9 @@ impl CameraLocalizer {
             probabilities,
             folded_label: CameraLabel::new(folded).unwrap_or(label),
             missing,
+            azimuth_deg,
+            elevation_deg,
+            uncertainty_deg,
         })
     }
 
@@ -392,6 +519,11 @@ impl Validate for CameraLocalizer {
         if !self.imputation.iter().all(|v| v.is_finite()) {
             return Err(inconsistent("non-finite imputation value".into()));
         }
+        if let Some(heads) = &self.viewpoint {
+            heads
+                .validate(self.cameras.len(), d)
+                .map_err(|e| inconsistent(format!("viewpoint heads: {e}")))?;
+        }
         Ok(())
     }
 }
@@ -400,6 +532,18 @@ impl Validate for CameraLocalizer {
 /// [`Persist::load`], write with [`Persist::save`] (no overwrite unless asked).
 impl Persist for CameraLocalizer {
     const KIND: FileKind = camloc_store::MODEL_KIND;
+}
+
+/// The most probable class and its probability (the first on ties).
+fn most_probable(probabilities: &[f64]) -> (usize, f64) {
+    probabilities
+        .iter()
+        .copied()
+        .enumerate()
+        .fold(
+            (0, f64::NEG_INFINITY),
+            |a, (i, p)| if p > a.1 { (i, p) } else { a },
+        )
 }
 
 /// The (possibly partial) 2D pose of a dataset sample.

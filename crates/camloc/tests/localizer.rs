@@ -1,7 +1,10 @@
 //! CameraLocalizer: training on synthetic data, save/load, corruption, missing landmarks, and
 //! the mirror behaviour on real LSP photos (skipped without ../shared/data).
 
-use camloc::dataset::{ClipInfo, GenerateConfig, PoseSequence, Protocol, generate};
+use camloc::dataset::{
+    ClipInfo, GenerateConfig, PoseSequence, Protocol, angle_between_deg, camera_direction_deg,
+    generate,
+};
 use camloc::keypoints::{ReadOptions, read_keypoints};
 use camloc::store::{Persist, StoreError};
 use camloc::{CameraLocalizer, CamlocError, PartialPose2, Pose3, TrainOptions, evaluate};
@@ -63,6 +66,98 @@ fn trains_and_localizes_synthetic_views() {
     assert_eq!(l.probability, l.probabilities[l.label.index()]);
 }
 
+/// The continuous viewpoint: in range, closer to the true camera direction than the chosen
+/// class's centre on the (jittered) training views, and absent without heads.
+#[test]
+fn viewpoint_heads_refine_the_class_centre() {
+    let (localizer, dataset) = trained();
+    let cameras = localizer.cameras().clone();
+    let (mut head_err, mut centre_err) = (Vec::new(), Vec::new());
+    for s in &dataset.samples {
+        let l = localizer.localize(&s.landmarks).unwrap();
+        let (a, e, u) = (
+            l.azimuth_deg.unwrap(),
+            l.elevation_deg.unwrap(),
+            l.uncertainty_deg.unwrap(),
+        );
+        assert!(
+            (0.0..360.0).contains(&a) && (-90.0..=90.0).contains(&e),
+            "{a} {e}"
+        );
+        assert!((0.0..=180.0).contains(&u), "{u}");
+        let truth = camera_direction_deg(&s.rotation);
+        head_err.push(angle_between_deg((a, e), truth));
+        let v = cameras.get(l.label.get()).unwrap();
+        centre_err.push(angle_between_deg((v.azimuth_deg, v.elevation_deg), truth));
+    }
+    let median = |e: &mut Vec<f64>| {
+        e.sort_by(f64::total_cmp);
+        e[e.len() / 2]
+    };
+    let (h, c) = (median(&mut head_err), median(&mut centre_err));
+    assert!(h < c, "heads median {h} deg, class centre median {c} deg");
+
+    let mut config = GenerateConfig::new(Protocol::Jittered);
+    config.seed = 3;
+    let dataset = generate(&sequences(), &config, &|_, _| {}).unwrap();
+    let options = TrainOptions {
+        viewpoint_lambda: None,
+        ..TrainOptions::default()
+    };
+    let (mut plain, _) = CameraLocalizer::train(&dataset, &options, |_| {}).unwrap();
+    let l = plain.localize(&dataset.samples[0].landmarks).unwrap();
+    assert_eq!(
+        (l.azimuth_deg, l.elevation_deg, l.uncertainty_deg),
+        (None, None, None)
+    );
+    assert!(plain.fit_viewpoint(&dataset, f64::NAN).is_err());
+    plain.fit_viewpoint(&dataset, 1.0).unwrap();
+    assert!(
+        plain
+            .localize(&dataset.samples[0].landmarks)
+            .unwrap()
+            .azimuth_deg
+            .is_some()
+    );
+    let bad = TrainOptions {
+        viewpoint_lambda: Some(-1.0),
+        ..TrainOptions::default()
+    };
+    assert!(matches!(
+        bad.validate(),
+        Err(CamlocError::InvalidOption { .. })
+    ));
+}
+
+/// The example poses (fixtures/keypoints/example.json, whose ids name the true camera) get
+/// their true cameras from the embedded default model, and a viewpoint near them.
+#[test]
+fn the_default_model_finds_the_examples_true_cameras() {
+    let file = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../fixtures/keypoints/example.json");
+    let records = read_keypoints(&file, None, &ReadOptions::default()).unwrap();
+    let localizer = CameraLocalizer::default_model().unwrap();
+    // front standing: camera 5 (middle front); left side walking: 6 (middle left); upper
+    // front reaching: 9 (upper front).
+    let expected = [
+        ("frame-0001-front-standing", 5),
+        ("frame-0002-left-side-walking", 6),
+        ("frame-0003-upper-front-reaching", 9),
+    ];
+    assert_eq!(records.len(), expected.len());
+    for (r, (id, label)) in records.iter().zip(expected) {
+        assert_eq!(r.id, id);
+        let l = localizer.localize_partial(&r.pose).unwrap();
+        assert_eq!(l.label.get(), label, "{id}");
+        let v = localizer.cameras().get(label).unwrap();
+        let off = angle_between_deg(
+            (l.azimuth_deg.unwrap(), l.elevation_deg.unwrap()),
+            (v.azimuth_deg, v.elevation_deg),
+        );
+        assert!(off < 30.0, "{id}: viewpoint {off} deg from camera {label}");
+    }
+}
+
 #[test]
 fn save_load_round_trips_byte_for_byte_and_corruption_is_refused() {
     let (localizer, dataset) = trained();
@@ -72,7 +167,7 @@ fn save_load_round_trips_byte_for_byte_and_corruption_is_refused() {
     for s in dataset.samples.iter().step_by(17) {
         let a = localizer.localize(&s.landmarks).unwrap();
         let b = back.localize(&s.landmarks).unwrap();
-        assert_eq!(a.probabilities, b.probabilities);
+        assert_eq!(a, b);
     }
     for pos in [0, 9, bytes.len() / 2, bytes.len() - 1] {
         let mut bad = bytes.clone();
@@ -285,6 +380,21 @@ struct RawLocalizer {
     model: RawModel,
     imputation: Vec<f64>,
     info: camloc::TrainingInfo,
+    viewpoint: Option<RawHeads>,
+}
+
+#[derive(Clone, serde::Serialize, serde::Deserialize)]
+struct RawHeads {
+    heads: Vec<RawRidge>,
+    uncertainty_deg: Vec<f64>,
+}
+
+#[derive(Clone, serde::Serialize, serde::Deserialize)]
+struct RawRidge {
+    means: Vec<f64>,
+    scales: Vec<f64>,
+    weights: Vec<f64>,
+    biases: Vec<f64>,
 }
 
 #[derive(Clone, serde::Serialize, serde::Deserialize)]
@@ -363,6 +473,37 @@ fn inconsistent_models_with_valid_checksums_are_refused_without_panic() {
             Box::new(|r| {
                 r.imputation.pop();
             }),
+        ),
+        (
+            "one viewpoint head short",
+            Box::new(|r| {
+                r.viewpoint.as_mut().unwrap().heads.pop();
+            }),
+        ),
+        (
+            "NaN viewpoint head weight",
+            Box::new(|r| r.viewpoint.as_mut().unwrap().heads[3].weights[2] = f64::NAN),
+        ),
+        (
+            "viewpoint head with 2 outputs",
+            Box::new(|r| {
+                let h = &mut r.viewpoint.as_mut().unwrap().heads[0];
+                h.biases.pop();
+                h.weights.truncate(2 * h.means.len());
+            }),
+        ),
+        (
+            "viewpoint head of one feature fewer",
+            Box::new(|r| {
+                let h = &mut r.viewpoint.as_mut().unwrap().heads[1];
+                h.means.pop();
+                h.scales.pop();
+                h.weights.truncate(3 * h.means.len());
+            }),
+        ),
+        (
+            "uncalibrated viewpoint uncertainty",
+            Box::new(|r| r.viewpoint.as_mut().unwrap().uncertainty_deg[0] = f64::NAN),
         ),
         (
             "no features at all",

@@ -167,6 +167,14 @@ struct LocalizationJson<'a> {
     side: &'static str,
     probability: f64,
     folded_label: CameraLabel,
+    /// The continuous viewpoint (degrees, docs/conventions.md section 2); absent for a model
+    /// trained without direction heads.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    azimuth_deg: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    elevation_deg: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    uncertainty_deg: Option<f64>,
     rotation: [[f64; 3]; 3],
     probabilities: Probabilities<'a>,
     missing: Vec<&'static str>,
@@ -188,6 +196,9 @@ fn localization_json<'a>(
         side: loc.side.name(),
         probability: loc.probability,
         folded_label: loc.folded_label,
+        azimuth_deg: loc.azimuth_deg,
+        elevation_deg: loc.elevation_deg,
+        uncertainty_deg: loc.uncertainty_deg,
         rotation: rotation_rows(loc),
         probabilities: Probabilities(labels, &loc.probabilities),
         missing: loc.missing.iter().map(|l| l.name()).collect(),
@@ -219,6 +230,12 @@ fn localization_text(
     );
     if loc.folded_label != loc.label {
         let _ = writeln!(out, "  mirror-folded camera: {}", loc.folded_label);
+    }
+    if let (Some(a), Some(e), Some(u)) = (loc.azimuth_deg, loc.elevation_deg, loc.uncertainty_deg) {
+        let _ = writeln!(
+            out,
+            "  viewpoint: azimuth {a:.1} deg, elevation {e:.1} deg, +- {u:.1} deg"
+        );
     }
     for row in rotation_rows(loc) {
         let _ = writeln!(
