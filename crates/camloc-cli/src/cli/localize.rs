@@ -87,16 +87,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         .collect();
     let bar = progress::counter(args.progress.quiet, inputs.len_hint(), "localize", "poses");
     if args.sequence {
-        return sequence::run(
-            &localizer,
-            inputs,
-            out,
-            format,
-            args.svg.as_ref(),
-            args.summary_svg.as_ref(),
-            args.force.force,
-            &bar,
-        );
+        return sequence::run(&localizer, inputs, out, format, args, &bar);
     }
     let summary = stream::run(inputs, out, format, &files, &bar, |record| {
         let loc = localizer

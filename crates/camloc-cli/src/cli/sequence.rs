@@ -8,7 +8,6 @@
 //! the number of frames (a few hundred bytes each).
 
 use std::fmt::Write;
-use std::path::PathBuf;
 use std::process::ExitCode;
 
 use camloc::{CameraLabel, CameraLocalizer, SequenceModel, SmoothedFrame, sequences};
@@ -53,17 +52,17 @@ struct FrameJson<'a> {
     smoothed_probability: f64,
 }
 
-/// Runs `camloc localize --sequence` (see the module docs); `svg` is the timeline output.
+/// Runs `camloc localize --sequence` (see the module docs) with the files and `--force` of
+/// `args`.
 pub fn run(
     localizer: &CameraLocalizer,
     mut inputs: Inputs,
     out: &mut Out,
     format: Format,
-    svg_out: Option<&PathBuf>,
-    summary_out: Option<&PathBuf>,
-    force: bool,
+    args: &super::localize::Args,
     bar: &ProgressBar,
 ) -> Result<ExitCode, CliError> {
+    let (svg_out, summary_out, force) = (args.svg.as_ref(), args.summary_svg.as_ref(), args.force.force);
     if let Some(svg) = svg_out {
         check_target(svg, force)?;
         check_target(&numbered_path(svg, 0, 2), force)?;
