@@ -74,8 +74,9 @@ fn json_lines(out: &Output) -> Vec<Value> {
 }
 
 /// The per-pose labels of the three fixture poses, as `camloc localize` gives them.
-fn raw_labels(people: &[Value]) -> Vec<Value> {
-    let dir = TempDir::new("raw");
+/// `name` names the scratch folder (tests run in parallel).
+fn raw_labels(people: &[Value], name: &str) -> Vec<Value> {
+    let dir = TempDir::new(name);
     for (t, k) in people.iter().enumerate() {
         write_frame(&dir, t, &[k]);
     }
@@ -94,7 +95,7 @@ fn raw_labels(people: &[Value]) -> Vec<Value> {
 #[test]
 fn a_turn_with_corrupted_frames_is_smoothed() {
     let people = fixture_people();
-    let labels = raw_labels(&people);
+    let labels = raw_labels(&people, "raw-turn");
     // The corrupted frames are the third pose: seen from another camera than both parts.
     assert_ne!(labels[2], labels[0]);
     assert_ne!(labels[2], labels[1]);
@@ -173,7 +174,7 @@ fn a_turn_with_corrupted_frames_is_smoothed() {
 #[test]
 fn persons_are_separate_sequences() {
     let people = fixture_people();
-    let labels = raw_labels(&people);
+    let labels = raw_labels(&people, "raw-persons");
     let dir = TempDir::new("persons");
     let frames = dir.path("frames");
     std::fs::create_dir(&frames).unwrap();
