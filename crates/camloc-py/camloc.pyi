@@ -81,6 +81,10 @@ class Localizer:
           folded_label (N,) int64: the label with back cameras folded to the front;
           probability (N,) float64: probability of ``label``;
           probabilities (N, 12) float64: probability of each camera (column label - 1);
+          azimuth_deg, elevation_deg (N,) float64: the continuous viewpoint, degrees, in the
+            person's canonical frame (azimuth 180 = front, 270 = left, 0 = back, 90 = right;
+            elevation + above); NaN where the pose failed or the model has no direction heads;
+          uncertainty_deg (N,) float64: angular radius holding about 68% of the viewpoint error;
           error: list of N messages, None where the pose was localized.
 
         Raises ValueError for a wrong shape, an unknown layout or a bad ``min_score``.

@@ -78,49 +78,60 @@ impl Localizer {
         let n = batch.len();
         let k = self.inner.cameras().len();
         let localizer = &self.inner;
-        let (label, folded, probability, probabilities, errors) = py.detach(|| {
+        let (label, folded, probability, probabilities, viewpoint, errors) = py.detach(|| {
             let mut label = vec![0i64; n];
             let mut folded = vec![0i64; n];
             let mut probability = vec![f64::NAN; n];
             let mut probabilities = vec![f64::NAN; n * k];
+            // Per pose: azimuth, elevation, uncertainty (degrees).
+            let mut viewpoint = vec![f64::NAN; n * 3];
             let errors: Vec<(usize, String)> = label
                 .par_chunks_mut(CHUNK)
                 .zip(folded.par_chunks_mut(CHUNK))
                 .zip(probability.par_chunks_mut(CHUNK))
                 .zip(probabilities.par_chunks_mut(CHUNK * k))
+                .zip(viewpoint.par_chunks_mut(CHUNK * 3))
                 .enumerate()
-                .flat_map_iter(|(c, (((label, folded), probability), probabilities))| {
-                    let mut errors = Vec::new();
-                    for (j, row) in probabilities.chunks_exact_mut(k).enumerate() {
-                        let i = c * CHUNK + j;
-                        let result = batch.pose(i).map_err(|e| e.to_string()).and_then(|m| {
-                            localizer
-                                .localize_partial(&m.pose)
-                                .map_err(|e| e.to_string())
-                        });
-                        match result {
-                            Ok(loc) => {
-                                label[j] = i64::from(loc.label.get());
-                                folded[j] = i64::from(loc.folded_label.get());
-                                probability[j] = loc.probability;
-                                row.copy_from_slice(&loc.probabilities);
-                                // The continuous viewpoint (azimuth_deg, elevation_deg,
-                                // uncertainty_deg) of issue 11 goes here once `Localization`
-                                // has it: one more (N,) array each.
+                .flat_map_iter(
+                    |(c, ((((label, folded), probability), probabilities), view))| {
+                        let mut errors = Vec::new();
+                        for (j, row) in probabilities.chunks_exact_mut(k).enumerate() {
+                            let i = c * CHUNK + j;
+                            let result = batch.pose(i).map_err(|e| e.to_string()).and_then(|m| {
+                                localizer
+                                    .localize_partial(&m.pose)
+                                    .map_err(|e| e.to_string())
+                            });
+                            match result {
+                                Ok(loc) => {
+                                    label[j] = i64::from(loc.label.get());
+                                    folded[j] = i64::from(loc.folded_label.get());
+                                    probability[j] = loc.probability;
+                                    row.copy_from_slice(&loc.probabilities);
+                                    let nan = f64::NAN;
+                                    view[3 * j] = loc.azimuth_deg.unwrap_or(nan);
+                                    view[3 * j + 1] = loc.elevation_deg.unwrap_or(nan);
+                                    view[3 * j + 2] = loc.uncertainty_deg.unwrap_or(nan);
+                                }
+                                Err(message) => errors.push((i, message)),
                             }
-                            Err(message) => errors.push((i, message)),
                         }
-                    }
-                    errors
-                })
+                        errors
+                    },
+                )
                 .collect();
-            (label, folded, probability, probabilities, errors)
+            (label, folded, probability, probabilities, viewpoint, errors)
         });
+        let column =
+            |c: usize| -> Vec<f64> { viewpoint.iter().skip(c).step_by(3).copied().collect() };
         let out = Output::new(py, n, batch.single);
         out.array("label", label, &[])?;
         out.array("folded_label", folded, &[])?;
         out.array("probability", probability, &[])?;
         out.array("probabilities", probabilities, &[k])?;
+        out.array("azimuth_deg", column(0), &[])?;
+        out.array("elevation_deg", column(1), &[])?;
+        out.array("uncertainty_deg", column(2), &[])?;
         out.errors(errors)?;
         Ok(out.into_dict())
     }

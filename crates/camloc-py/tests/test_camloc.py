@@ -92,6 +92,7 @@ def test_localize_equals_the_command_line(cli, localizer, path, options, read_op
         if "error" in want:
             assert got["error"][i] == want["error"]
             assert got["label"][i] == 0 and np.isnan(got["probabilities"][i]).all()
+            assert np.isnan(got["azimuth_deg"][i]) and np.isnan(got["uncertainty_deg"][i])
             continue
         assert got["error"][i] is None
         assert got["label"][i] == want["label"]
@@ -99,6 +100,8 @@ def test_localize_equals_the_command_line(cli, localizer, path, options, read_op
         assert got["probability"][i] == pytest.approx(want["probability"], rel=1e-12)
         probabilities = [want["probabilities"][f"{c['label']:02}"] for c in localizer.cameras]
         np.testing.assert_allclose(got["probabilities"][i], probabilities, rtol=1e-12)
+        for key in ("azimuth_deg", "elevation_deg", "uncertainty_deg"):
+            assert got[key][i] == pytest.approx(want[key], rel=1e-12, abs=1e-9), key
         derived = [camloc.LANDMARKS[j] for j in np.flatnonzero(read["derived"][i])]
         assert derived == want["derived"]
         missing = [camloc.LANDMARKS[j] for j in np.flatnonzero(np.isnan(read["points"][i, :, 0]))]
@@ -176,6 +179,10 @@ def test_shapes_and_dtypes(localizer):
     np.testing.assert_allclose(got["probabilities"].sum(axis=1), 1.0, rtol=1e-12)
     np.testing.assert_array_equal(got["probability"], got["probabilities"].max(axis=1))
     np.testing.assert_array_equal(got["label"], got["probabilities"].argmax(axis=1) + 1)
+    for key in ("azimuth_deg", "elevation_deg", "uncertainty_deg"):
+        assert got[key].shape == (3,) and got[key].dtype == np.float64
+    assert ((got["azimuth_deg"] >= 0) & (got["azimuth_deg"] < 360)).all()
+    assert ((got["elevation_deg"] >= -90) & (got["elevation_deg"] <= 90)).all()
     assert isinstance(got["error"], list) and got["error"] == [None] * 3
     assert [c["label"] for c in localizer.cameras] == list(range(1, 13))
     assert localizer.cameras[0]["rotation"].shape == (3, 3)
