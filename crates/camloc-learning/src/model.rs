@@ -110,19 +110,7 @@ impl LogisticModel {
                 reason: "must be finite and >= 0",
             });
         }
-        if let Some(v) = self
-            .weights
-            .iter()
-            .chain(&self.biases)
-            .find(|v| !v.is_finite())
-        {
-            return Err(LearningError::InvalidParameter {
-                name: "model coefficient",
-                value: v.to_string(),
-                reason: "every weight and bias must be finite",
-            });
-        }
-        Ok(())
+        all_finite("model coefficient", &self.weights, &self.biases)
     }
 
     /// Number of raw input features.
@@ -368,4 +356,21 @@ fn argmax(values: &[f64]) -> usize {
             if v > bv { (i, v) } else { (bi, bv) }
         })
         .0
+}
+
+/// Checks that every weight and bias is finite; the error names the parameter `name` and the
+/// first offending value.
+pub(crate) fn all_finite(
+    name: &'static str,
+    weights: &[f64],
+    biases: &[f64],
+) -> Result<(), LearningError> {
+    match weights.iter().chain(biases).find(|v| !v.is_finite()) {
+        Some(v) => Err(LearningError::InvalidParameter {
+            name,
+            value: v.to_string(),
+            reason: "every weight and bias must be finite",
+        }),
+        None => Ok(()),
+    }
 }

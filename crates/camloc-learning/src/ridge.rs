@@ -108,19 +108,7 @@ impl RidgeModel {
                 found: self.weights.len(),
             });
         }
-        if let Some(v) = self
-            .weights
-            .iter()
-            .chain(&self.biases)
-            .find(|v| !v.is_finite())
-        {
-            return Err(LearningError::InvalidParameter {
-                name: "ridge coefficient",
-                value: v.to_string(),
-                reason: "every weight and bias must be finite",
-            });
-        }
-        Ok(())
+        crate::model::all_finite("ridge coefficient", &self.weights, &self.biases)
     }
 
     /// Number of input features.

@@ -19,7 +19,7 @@ use crate::svg;
 
 use super::input::Inputs;
 use super::output::Out;
-use super::stream::{BATCH, Emitter, ErrorJson, Format, Summary, json_line};
+use super::stream::{BATCH, Emitter, Format, Summary, json_line};
 use super::{CliError, numbered_path};
 use camloc::store::{StagedFiles, check_target};
 
@@ -62,7 +62,11 @@ pub fn run(
     args: &super::localize::Args,
     bar: &ProgressBar,
 ) -> Result<ExitCode, CliError> {
-    let (svg_out, summary_out, force) = (args.svg.as_ref(), args.summary_svg.as_ref(), args.force.force);
+    let (svg_out, summary_out, force) = (
+        args.svg.as_ref(),
+        args.summary_svg.as_ref(),
+        args.force.force,
+    );
     if let Some(svg) = svg_out {
         check_target(svg, force)?;
         check_target(&numbered_path(svg, 0, 2), force)?;
@@ -97,17 +101,7 @@ pub fn run(
             .collect();
         for (item, frame) in batch.iter().zip(results) {
             if let Err(e) = item {
-                summary.failed_files += 1;
-                let message = e.to_string();
-                bar.suspend(|| eprintln!("camloc: error: {message}"));
-                if format.is_json() {
-                    let object = ErrorJson {
-                        id: None,
-                        source: None,
-                        error: &message,
-                    };
-                    emit.write(out, &json_line(&object))?;
-                }
+                emit.file_error(out, &mut summary, bar, e)?;
             }
             if let Some(frame) = frame {
                 if let Err(message) = &frame.result {

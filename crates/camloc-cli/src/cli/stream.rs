@@ -151,6 +151,29 @@ impl Emitter {
         Ok(())
     }
 
+    /// Reports an input file that could not be read: counted in `summary`, printed on
+    /// standard error (above the progress bar) and, in JSON output, written as an error object.
+    pub fn file_error(
+        &mut self,
+        out: &mut Out,
+        summary: &mut Summary,
+        bar: &ProgressBar,
+        error: &impl std::fmt::Display,
+    ) -> Result<(), CliError> {
+        summary.failed_files += 1;
+        let message = error.to_string();
+        bar.suspend(|| eprintln!("camloc: error: {message}"));
+        if self.format.is_json() {
+            let object = ErrorJson {
+                id: None,
+                source: None,
+                error: &message,
+            };
+            self.write(out, &json_line(&object))?;
+        }
+        Ok(())
+    }
+
     /// Ends the output (closes the JSON array).
     pub fn end(&self, out: &mut Out) -> Result<(), CliError> {
         if self.format == Format::Json {
@@ -207,7 +230,6 @@ where
     let mut summary = Summary::default();
     let mut first_svg = None;
     let mut emitter = Emitter::new(format);
-    let mut emit = |out: &mut Out, text: &str| emitter.write(out, text);
     // One thread reads the next batch while the others process this one.
     let (sender, batches) = std::sync::mpsc::sync_channel(1);
     let reader = &mut inputs;
@@ -235,17 +257,7 @@ where
                 let record = match item {
                     Ok(record) => record,
                     Err(e) => {
-                        summary.failed_files += 1;
-                        let message = e.to_string();
-                        bar.suspend(|| eprintln!("camloc: error: {message}"));
-                        if format.is_json() {
-                            let object = ErrorJson {
-                                id: None,
-                                source: None,
-                                error: &message,
-                            };
-                            emit(out, &json_line(&object))?;
-                        }
+                        emitter.file_error(out, &mut summary, bar, e)?;
                         continue;
                     }
                 };
@@ -253,7 +265,7 @@ where
                 summary.poses += 1;
                 match result {
                     Ok(done) => {
-                        emit(out, &done.text)?;
+                        emitter.write(out, &done.text)?;
                         if let (Some(svg), Some(drawing)) = (&files.svg, &done.svg) {
                             let path = numbered_path(svg, index as usize, 2);
                             let at = staged.add(&path, drawing.as_bytes())?;
@@ -279,7 +291,7 @@ where
                                 source: Some(&record.source),
                                 error: &message,
                             };
-                            emit(out, &json_line(&object))?;
+                            emitter.write(out, &json_line(&object))?;
                         }
                         if let Some(npy) = &mut npy {
                             npy.push(None)?;
