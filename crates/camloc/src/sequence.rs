@@ -1,24 +1,5 @@
-//! Smoothing the viewpoint of one person over the frames of a video: a hidden Markov model
-//! whose hidden states are the cameras of a [`CameraSet`] and whose emissions are the
-//! per-frame class probabilities of a [`CameraLocalizer`](crate::CameraLocalizer).
-//!
-//! - **Transitions.** Between two consecutive frames the camera stays with probability
-//!   `1 - switch_probability` ([`DEFAULT_SWITCH_PROBABILITY`] = 0.05: on average a change of
-//!   viewpoint every 20 frames at most). The switching mass goes for the share
-//!   [`NEIGHBOUR_SHARE`] (0.8) to the neighbouring viewpoints (same level and adjacent side,
-//!   or same side and adjacent level), split equally, and the rest equally to every other
-//!   camera: a person turning moves through neighbours, a far jump is possible but costly.
-//! - **Emissions.** A frame's probabilities are mixed with a flat distribution,
-//!   `(1 - OUTLIER_SHARE) p + OUTLIER_SHARE / K` ([`OUTLIER_SHARE`] = 0.1): a single frame,
-//!   however confident, can only outweigh a few transitions, so a few bad frames do not pull
-//!   the sequence away; a frame that could not be localized (`None`) is flat (it carries no
-//!   evidence, the neighbouring frames decide).
-//! - **Results.** [`SequenceModel::smooth`] gives per frame the Viterbi label (the most
-//!   probable sequence of cameras as a whole) and the forward-backward posterior of every
-//!   camera given all frames.
-//!
-//! A frame's probabilities are the classifier's `p(camera | pose)`; with the cameras equally
-//! likely a priori they are proportional to the likelihood `p(pose | camera)` the model needs.
+//! Smoothing the viewpoint of one person over the frames of a video: [`SequenceModel`], a hidden
+//! Markov model over the cameras, and [`sequences`], which groups records by person and frame.
 
 use camloc_geometry::{CameraLabel, CameraSet};
 
@@ -47,7 +28,27 @@ pub struct SmoothedFrame {
     pub probabilities: Vec<f64>,
 }
 
-/// A hidden Markov model over the cameras of a [`CameraSet`] (see the [module](self) docs).
+/// A hidden Markov model over the cameras of a [`CameraSet`] that smooths the viewpoint of one
+/// person over the frames of a video: its hidden states are the cameras, its emissions the
+/// per-frame class probabilities of a [`CameraLocalizer`](crate::CameraLocalizer).
+///
+/// - **Transitions.** Between two consecutive frames the camera stays with probability
+///   `1 - switch_probability` ([`DEFAULT_SWITCH_PROBABILITY`] = 0.05: on average a change of
+///   viewpoint every 20 frames at most). The switching mass goes for the share
+///   [`NEIGHBOUR_SHARE`] (0.8) to the neighbouring viewpoints (same level and adjacent side,
+///   or same side and adjacent level), split equally, and the rest equally to every other
+///   camera: a person turning moves through neighbours, a far jump is possible but costly.
+/// - **Emissions.** A frame's probabilities are mixed with a flat distribution,
+///   `(1 - OUTLIER_SHARE) p + OUTLIER_SHARE / K` ([`OUTLIER_SHARE`] = 0.1): a single frame,
+///   however confident, can only outweigh a few transitions, so a few bad frames do not pull
+///   the sequence away; a frame that could not be localized (`None`) is flat (it carries no
+///   evidence, the neighbouring frames decide).
+/// - **Results.** [`SequenceModel::smooth`] gives per frame the Viterbi label (the most
+///   probable sequence of cameras as a whole) and the forward-backward posterior of every
+///   camera given all frames.
+///
+/// A frame's probabilities are the classifier's `p(camera | pose)`; with the cameras equally
+/// likely a priori they are proportional to the likelihood `p(pose | camera)` the model needs.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SequenceModel {
     /// Number of cameras K.
