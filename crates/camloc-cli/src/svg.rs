@@ -88,6 +88,17 @@ fn begin(w: f64, h: f64) -> String {
     svg
 }
 
+/// [`begin`] with `title` written at the top left.
+fn begin_titled(w: f64, h: f64, title: &str) -> String {
+    let mut svg = begin(w, h);
+    let _ = writeln!(
+        svg,
+        r#"<text x="10" y="20" fill="{CENTRE}">{}</text>"#,
+        escape(title)
+    );
+    svg
+}
+
 fn escape(text: &str) -> String {
     text.replace('&', "&amp;")
         .replace('<', "&lt;")
@@ -294,12 +305,7 @@ pub fn timeline_svg(
     let dx = plot_w / n as f64;
     let x_at = |t: usize| left + dx * t as f64;
     let y_at = |index: usize| top + row_h * (index as f64 + 0.5);
-    let mut svg = begin(w, h);
-    let _ = writeln!(
-        svg,
-        r#"<text x="10" y="20" fill="{CENTRE}">{}</text>"#,
-        escape(title)
-    );
+    let mut svg = begin_titled(w, h, title);
     for v in cameras.viewpoints() {
         let y = y_at(usize::from(v.label.saturating_sub(1)));
         let _ = writeln!(
@@ -394,12 +400,7 @@ pub fn confusion_svg(cameras: &CameraSet, confusion: &[Vec<usize>], title: &str)
     let k = confusion.len();
     let (left, top, cell) = (130.0, 70.0, 40.0);
     let (w, h) = (left + cell * k as f64 + 20.0, top + cell * k as f64 + 40.0);
-    let mut svg = begin(w, h);
-    let _ = writeln!(
-        svg,
-        r#"<text x="10" y="20" fill="{CENTRE}">{}</text>"#,
-        escape(title)
-    );
+    let mut svg = begin_titled(w, h, title);
     let _ = writeln!(
         svg,
         r#"<text x="{left}" y="45" fill="{CENTRE}">predicted camera</text><text x="10" y="{:.1}" fill="{CENTRE}">true camera</text>"#,
@@ -468,12 +469,7 @@ pub fn summary_svg(cameras: &CameraSet, counts: &[u64], title: &str) -> String {
         top + ch * rings as f64 + 50.0,
     );
     let total: u64 = counts.iter().sum();
-    let mut svg = begin(w, h);
-    let _ = writeln!(
-        svg,
-        r#"<text x="10" y="20" fill="{CENTRE}">{}</text>"#,
-        escape(title)
-    );
+    let mut svg = begin_titled(w, h, title);
     for v in cameras.viewpoints() {
         let index = usize::from(v.label.saturating_sub(1));
         let (ring, az) = (index / azimuths, index % azimuths);
