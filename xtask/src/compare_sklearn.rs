@@ -21,7 +21,8 @@ use std::time::Instant;
 use camloc::Descriptor;
 use camloc::dataset::{Dataset, Sample};
 use camloc::learning::{
-    DirectionSolver, Features, FitReport, LogisticModel, LogisticRegression, Mode, Standardiser,
+    DirectionSolver, Features, FitReport, LogisticModel, LogisticRegression, Mode,
+    QuadraticExpansion, Standardiser,
 };
 use camloc::store::Persist;
 use rand::SeedableRng;
@@ -248,12 +249,23 @@ pub fn run(args: &Args) -> Result<(), String> {
     };
     standardise(&mut problem.x, problem.n_features)?;
     eprintln!("problem: {}", problem.description);
+    let components = camloc::DEFAULT_QUADRATIC_COMPONENTS;
     println!(
-        "camloc descriptor sizes (values per pose, and weights d x K of a 12-camera model): {}",
-        ["joints", "landmarks", "joints-quadratic", "paper"]
+        "camloc descriptor sizes (features per pose, and weights d x K of a 12-camera model): {}",
+        ["joints", "landmarks", "paper"]
             .iter()
             .filter_map(|name| Descriptor::from_name(name).ok())
-            .map(|d| format!("{} {} ({})", d.name(), d.len(), 12 * d.len()))
+            .flat_map(|d| {
+                let expanded = QuadraticExpansion::output_len(d.len(), components);
+                [
+                    format!("{} {} ({})", d.name(), d.len(), 12 * d.len()),
+                    format!(
+                        "{} + quadratic-{components} {expanded} ({})",
+                        d.name(),
+                        12 * expanded
+                    ),
+                ]
+            })
             .collect::<Vec<_>>()
             .join(", ")
     );

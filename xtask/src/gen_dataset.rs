@@ -43,8 +43,10 @@ pub struct Args {
     /// [default: cmu-mocap-index-text.txt in the first --mocap folder, or in the default one].
     #[arg(long, value_name = "FILE")]
     pub index: Option<PathBuf>,
-    /// Augment each sample: bone lengths scaled by up to +-10% per limb, photo-annotation
-    /// placements of neck, pelvis and head for half of the samples.
+    /// Augment each sample with the training augmentation of the default model
+    /// (docs/conventions.md section 7): bone lengths +-10% per limb, hip and shoulder widths,
+    /// limb rotations up to 25 deg, the upper body of another pose for half of the samples,
+    /// photo-annotation placements of neck, pelvis and head for half of the samples.
     #[arg(long)]
     pub augment: bool,
     /// Camera roll bound about the optical axis, degrees (jittered and sphere) [default: 5].
@@ -302,4 +304,33 @@ pub fn run(args: &Args) -> Result<(), String> {
         println!("{warnings} warning(s) above");
     }
     Ok(())
+}
+
+/// The canonical 3D poses of `sequences` selected by pose at the default distance, with
+/// their subjects.
+pub fn basis_poses(sequences: &[PoseSequence]) -> Vec<(camloc::Pose3, String)> {
+    let mut out = Vec::new();
+    for s in sequences {
+        let poses: Vec<&camloc::Pose3> = s.frames.iter().map(|(_, p)| p).collect();
+        for k in camloc::dataset::select_by_pose(
+            &poses,
+            crate::train_default::DEFAULT_MIN_POSE_DISTANCE_MM,
+        ) {
+            out.push((*poses[k], s.clip.subject.clone()));
+        }
+    }
+    out
+}
+
+/// The clips of `mocap` with their motion categories, split into (training, test) by
+/// subject: the test clips are those of `test_subjects`.
+pub fn load_split(
+    mocap: &[PathBuf],
+    test_subjects: &[String],
+) -> Result<(Vec<PoseSequence>, Vec<PoseSequence>), String> {
+    let (mut sequences, _, _) = load_sequences(mocap)?;
+    categorise(&mut sequences, mocap, None);
+    Ok(sequences
+        .into_iter()
+        .partition(|s| !test_subjects.contains(&s.clip.subject)))
 }

@@ -1,7 +1,7 @@
 //! `cargo xtask generalise`: how the localizer holds on motions and subjects it was not
 //! trained on (issue 11): accuracy per motion category on held-out subjects,
-//! leave-one-category-out, the `sphere` protocol, and the linear `joints` descriptor against
-//! `joints-quadratic`. Prints markdown tables; writes nothing.
+//! leave-one-category-out, the `sphere` protocol, the continuous viewpoint, and each
+//! descriptor with a linear and a quadratic classifier. Prints markdown tables; writes nothing.
 
 use std::collections::BTreeMap;
 use std::fmt::Write;
@@ -14,9 +14,9 @@ use camloc::dataset::{
     camera_direction_deg, direction_vector, nearest_by_direction,
 };
 use camloc::learning::{LogisticRegression, angle_deg};
-use camloc::{CameraLocalizer, Descriptor, TrainOptions, cross_validate, evaluate};
+use camloc::{CameraLocalizer, Capacity, Descriptor, TrainOptions, cross_validate, evaluate};
 
-use crate::gen_dataset::{categorise, load_sequences, project};
+use crate::gen_dataset::{load_split, project};
 
 /// Held-out subjects of `generalise` (old and new ones), comma-separated.
 pub const TEST_SUBJECTS: &str = "06,09,16,17,35,47,113,127,141";
@@ -27,29 +27,39 @@ pub struct Args {
     /// Motion capture folders [default: ../shared/data/cmu].
     #[arg(long = "mocap", value_name = "DIR")]
     pub mocap: Vec<PathBuf>,
-    /// Frame selection by pose, millimetres of maximum per-joint distance.
-    #[arg(long, default_value_t = 150.0, value_name = "MM")]
+    /// Frame selection by pose, millimetres of maximum per-joint distance (the default
+    /// model's).
+    #[arg(long, default_value_t = crate::train_default::DEFAULT_MIN_POSE_DISTANCE_MM, value_name = "MM")]
     pub min_pose_distance: f64,
     /// Held-out subjects (never trained on; old and new ones).
     #[arg(long, value_delimiter = ',', default_value = TEST_SUBJECTS)]
     pub test_subjects: Vec<String>,
-    /// Descriptors compared.
-    #[arg(long, value_delimiter = ',', default_value = "joints,joints-quadratic")]
+    /// Descriptors compared (joints, landmarks, paper).
+    #[arg(long, value_delimiter = ',', default_value = "joints")]
     pub descriptors: Vec<String>,
+    /// Classifier capacities compared with each descriptor: `linear`, or `quadratic-K` (the
+    /// descriptor and the products of its K leading whitened principal components).
+    #[arg(long, value_delimiter = ',', default_value = "linear,quadratic-30",
+          value_parser = str::parse::<Capacity>)]
+    pub capacities: Vec<Capacity>,
     /// Ridge weights tried by cross-validation grouped by subject on the training subjects.
     #[arg(long, value_delimiter = ',', default_value = "1,10,100")]
     pub lambdas: Vec<f64>,
     /// Folds of that cross-validation (0: no cross-validation, the first lambda).
     #[arg(long, default_value_t = 3)]
     pub folds: usize,
-    /// Also run leave-one-category-out.
+    /// Also run leave-one-category-out (with the first descriptor and capacity).
     #[arg(long)]
     pub loco: bool,
-    /// Train with augmentation (bone lengths, photo landmarks, roll up to 15 deg).
-    #[arg(long)]
-    pub augment: bool,
-    /// Add this many copies of landmark dropout in training (0: none).
-    #[arg(long, default_value_t = 0.0)]
+    /// Training augmentation: `none`; `people` (bone lengths and photo landmark
+    /// placements); `training` (those, and new poses: hip and shoulder widths, limb
+    /// rotations, upper bodies of other poses). Any but `none` also rolls the training
+    /// cameras up to 15 deg.
+    #[arg(long, value_enum, default_value = "training")]
+    pub augmentation: AugmentationChoice,
+    /// Add this many copies of landmark dropout in training (0: none; the default model
+    /// has 1).
+    #[arg(long, default_value_t = 1.0)]
     pub dropout: f64,
     /// Ridge weight of the continuous-viewpoint heads.
     #[arg(long, default_value_t = 1.0)]
@@ -155,12 +165,41 @@ pub fn viewpoint_errors(
     })
 }
 
-fn config(protocol: Protocol, seed: u64, args: &Args, augment: bool) -> GenerateConfig {
+/// The training augmentations `generalise` compares.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum AugmentationChoice {
+    /// No augmentation, training cameras rolled as the test ones.
+    None,
+    /// [`Augmentation::PEOPLE`].
+    People,
+    /// [`Augmentation::TRAINING`].
+    Training,
+}
+
+impl AugmentationChoice {
+    /// The dataset augmentation, `None` for [`AugmentationChoice::None`].
+    pub fn augmentation(self) -> Option<Augmentation> {
+        match self {
+            AugmentationChoice::None => None,
+            AugmentationChoice::People => Some(Augmentation::PEOPLE),
+            AugmentationChoice::Training => Some(Augmentation::TRAINING),
+        }
+    }
+}
+
+/// Dataset settings: `protocol`, `seed`, the selection by pose of `args`, and `augmentation`
+/// (with camera roll up to 15 deg) if given.
+fn config(
+    protocol: Protocol,
+    seed: u64,
+    args: &Args,
+    augmentation: Option<Augmentation>,
+) -> GenerateConfig {
     let mut c = GenerateConfig::new(protocol);
     c.seed = seed;
     c.min_pose_distance_mm = args.min_pose_distance;
-    if augment {
-        c.augmentation = Augmentation::TRAINING;
+    if let Some(a) = augmentation {
+        c.augmentation = a;
         c.jitter.roll_deg = 15.0;
     }
     c
@@ -181,8 +220,18 @@ fn accuracy_by_category(
 
 fn train(train: &Dataset, options: &TrainOptions) -> Result<(CameraLocalizer, f64, usize), String> {
     let start = Instant::now();
-    let (localizer, report) =
-        CameraLocalizer::train(train, options, |_| {}).map_err(|e| e.to_string())?;
+    let (localizer, report) = CameraLocalizer::train(train, options, |log| {
+        eprintln!(
+            "  newton {:>3} at {:6.1} s: objective {:.6e}  |grad|_inf {:.3e}  step {:.3}  ({})",
+            log.iteration,
+            start.elapsed().as_secs_f64(),
+            log.objective,
+            log.gradient_norm,
+            log.step,
+            log.direction_summary()
+        )
+    })
+    .map_err(|e| e.to_string())?;
     Ok((
         localizer,
         start.elapsed().as_secs_f64(),
@@ -227,17 +276,18 @@ pub fn measure(args: &Args) -> Result<Measured, String> {
     let mut loco = Vec::new();
     let started = Instant::now();
     let mut md = String::new();
-    let (mut sequences, _, _) = load_sequences(&args.mocap)?;
-    categorise(&mut sequences, &args.mocap, None);
-    let (train_seqs, test_seqs): (Vec<PoseSequence>, Vec<PoseSequence>) = sequences
-        .into_iter()
-        .partition(|s| !args.test_subjects.contains(&s.clip.subject));
+    let (train_seqs, test_seqs) = load_split(&args.mocap, &args.test_subjects)?;
     let train_set = project(
         &train_seqs,
-        &config(Protocol::Jittered, 1, args, args.augment),
+        &config(
+            Protocol::Jittered,
+            1,
+            args,
+            args.augmentation.augmentation(),
+        ),
     )?;
-    let test_set = project(&test_seqs, &config(Protocol::Jittered, 2, args, false))?;
-    let sphere_set = project(&test_seqs, &config(Protocol::Sphere, 3, args, false))?;
+    let test_set = project(&test_seqs, &config(Protocol::Jittered, 2, args, None))?;
+    let sphere_set = project(&test_seqs, &config(Protocol::Sphere, 3, args, None))?;
     let _ = writeln!(
         md,
         "Training: {} samples of subjects {}; test: {} jittered and {} sphere samples of held-out subjects {}; min pose distance {} mm, augmentation {}, dropout copies {}.\n",
@@ -252,7 +302,9 @@ pub fn measure(args: &Args) -> Result<Measured, String> {
         sphere_set.samples.len(),
         args.test_subjects.join(", "),
         args.min_pose_distance,
-        args.augment,
+        args.augmentation
+            .augmentation()
+            .map_or("none".to_string(), |a| format!("{a:?}")),
         args.dropout
     );
     let mut per_cat_train: BTreeMap<MotionCategory, usize> = BTreeMap::new();
@@ -261,12 +313,18 @@ pub fn measure(args: &Args) -> Result<Measured, String> {
     }
     let _ = writeln!(
         md,
-        "| descriptor | lambda (CV) | CV accuracy | fit time | iterations | jittered | sphere, all | sphere, inside class boxes | per category (jittered) |"
+        "| descriptor | capacity | features | lambda (CV) | CV accuracy (linear) | fit time | iterations | jittered | sphere, all | sphere, inside class boxes | per category (jittered) |"
     );
-    let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|");
+    let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|---|---|");
     let mut chosen_options = Vec::new();
-    for name in &args.descriptors {
-        let descriptor = Descriptor::from_name(name).map_err(|e| e.to_string())?;
+    let mut names = Vec::new();
+    let models = args
+        .descriptors
+        .iter()
+        .flat_map(|d| args.capacities.iter().map(move |c| (d, *c)));
+    for (descriptor_name, capacity) in models {
+        let descriptor = Descriptor::from_name(descriptor_name).map_err(|e| e.to_string())?;
+        let name = format!("{descriptor_name}, {}", capacity.name());
         let candidates: Vec<LogisticRegression> = args
             .lambdas
             .iter()
@@ -298,7 +356,9 @@ pub fn measure(args: &Args) -> Result<Measured, String> {
             }),
             mirror: true,
             viewpoint_lambda: None,
-        };
+            ..TrainOptions::default()
+        }
+        .with_capacity(capacity);
         let (localizer, seconds, iterations) = train(&train_set, &options)?;
         let jit = evaluate(&localizer, &test_set).map_err(|e| e.to_string())?;
         let sph = evaluate(&localizer, &sphere_set).map_err(|e| e.to_string())?;
@@ -320,7 +380,9 @@ pub fn measure(args: &Args) -> Result<Measured, String> {
             .join("; ");
         let _ = writeln!(
             md,
-            "| {name} | {} | {} | {seconds:.1} s | {iterations} | {:.2}% | {:.2}% | {:.2}% ({} samples) | {cats} |",
+            "| {descriptor_name} | {} | {} | {} | {} | {seconds:.1} s | {iterations} | {:.2}% | {:.2}% | {:.2}% ({} samples) | {cats} |",
+            capacity.name(),
+            localizer.model().n_features(),
             options.regression.lambda,
             cv_accuracy.map_or("-".into(), |a| format!("{:.2}%", 100.0 * a)),
             100.0 * jit.accuracy,
@@ -347,7 +409,7 @@ pub fn measure(args: &Args) -> Result<Measured, String> {
         // subjects (directions everywhere in the band), calibrated on jittered training views.
         let sphere_train = project(
             &train_seqs,
-            &config(Protocol::Sphere, 4, args, args.augment),
+            &config(Protocol::Sphere, 4, args, args.augmentation.augmentation()),
         )?;
         let mut localizer = localizer;
         let (jittered, sphere_inside) = (jit.accuracy, ins.accuracy);
@@ -369,6 +431,7 @@ pub fn measure(args: &Args) -> Result<Measured, String> {
             viewpoint_sphere,
         });
         chosen_options.push(options);
+        names.push(name);
     }
     if args.loco {
         let _ = writeln!(
@@ -378,15 +441,21 @@ pub fn measure(args: &Args) -> Result<Measured, String> {
         let all_seqs: Vec<PoseSequence> = train_seqs.iter().chain(&test_seqs).cloned().collect();
         let all_train = project(
             &all_seqs,
-            &config(Protocol::Jittered, 1, args, args.augment),
+            &config(
+                Protocol::Jittered,
+                1,
+                args,
+                args.augmentation.augmentation(),
+            ),
         )?;
-        let all_test = project(&all_seqs, &config(Protocol::Jittered, 2, args, false))?;
+        let all_test = project(&all_seqs, &config(Protocol::Jittered, 2, args, None))?;
+        chosen_options.truncate(1);
         let _ = writeln!(
             md,
             "| category | test samples | {} |",
-            args.descriptors.join(" | ")
+            names.first().map_or("", String::as_str)
         );
-        let _ = writeln!(md, "|---|---|{}", "---|".repeat(args.descriptors.len()));
+        let _ = writeln!(md, "|---|---|---|");
         let mut means = vec![0.0; chosen_options.len()];
         let mut count = 0usize;
         for (category, _) in all_test.samples_per_category() {

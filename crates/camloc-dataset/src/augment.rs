@@ -2,14 +2,45 @@
 //! conventions, and the camera direction helpers the `sphere` protocol and the continuous
 //! viewpoint evaluation use.
 
-use camloc_geometry::{CameraSet, Matrix3, Viewpoint};
+use camloc_geometry::{CameraSet, Matrix3, Vector3, Viewpoint, rotation_about_axis};
+use camloc_mocap::canonicalise;
 use camloc_skeleton::{LIMBS, Landmark, NUM_LANDMARKS, Pose3, mirror_landmark_index};
 use rand::Rng;
 use serde::{Deserialize, Serialize};
 
-/// Per-sample changes to the 3D pose before projection (each sample is a new virtual person
-/// and annotation). All zero ([`Augmentation::default`]) changes nothing.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+/// The landmarks of the upper body taken from the donor pose by
+/// [`Augmentation::mix_upper_body`]: neck, head and arms.
+const UPPER_BODY: [Landmark; 8] = [
+    Landmark::Neck,
+    Landmark::Head,
+    Landmark::LeftShoulder,
+    Landmark::LeftElbow,
+    Landmark::LeftWrist,
+    Landmark::RightShoulder,
+    Landmark::RightElbow,
+    Landmark::RightWrist,
+];
+
+/// The distal ends of the 8 limb bones that [`Augmentation::limb_rotation_deg`] turns about
+/// their proximal joint: thighs, shins, upper arms and forearms.
+const ROTATED_BONE_ENDS: [Landmark; 8] = [
+    Landmark::LeftKnee,
+    Landmark::LeftAnkle,
+    Landmark::RightKnee,
+    Landmark::RightAnkle,
+    Landmark::LeftElbow,
+    Landmark::LeftWrist,
+    Landmark::RightElbow,
+    Landmark::RightWrist,
+];
+
+/// Per-sample changes to the 3D pose before projection (each sample is a new virtual person,
+/// pose and annotation). All zero ([`Augmentation::default`]) changes nothing.
+///
+/// Applied in this order: bone lengths, hip and shoulder widths, upper body of a donor pose,
+/// limb rotations, then the pose is canonicalised again (docs/conventions.md section 1: the
+/// changes can turn the body) and, last, the photo landmark placements.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Augmentation {
     /// Bone-length scaling: every limb (the 14 of docs/conventions.md section 3, left and right alike) is
     /// scaled by its own factor drawn from `U(1 - b, 1 + b)`, joints moved along the
@@ -21,19 +52,83 @@ pub struct Augmentation {
     /// the neck-to-head direction to between 0.8 and 1.6 times its distance from the neck
     /// (CMU's head is the top of the neck; annotations mark the head top or the nose).
     pub photo_landmarks: f64,
+    /// Joint-angle variation, degrees: each of the 8 limb bones (thighs, shins, upper arms,
+    /// forearms; left and right independently) is turned about a random axis through its
+    /// proximal joint by an angle drawn from `U(-b, b)`, the bones below it following, so that
+    /// the samples hold poses that no clip has. `0 <= b <= 90`.
+    pub limb_rotation_deg: f64,
+    /// Hip width factor range `(lo, hi)`: both pelvis-to-hip segments are scaled by one
+    /// factor from `U(lo, hi)`, the legs following (skeleton conventions and people differ:
+    /// the hip joints of some CMU BVH skeletons are twice as far apart as the ASF ones).
+    /// `(1, 1)` changes nothing; `0 < lo <= hi <= 3`.
+    pub hip_width: (f64, f64),
+    /// Shoulder width factor range `(lo, hi)`: both neck-to-shoulder segments are scaled by
+    /// one factor from `U(lo, hi)`, the arms following. `(1, 1)` changes nothing;
+    /// `0 < lo <= hi <= 3`.
+    pub shoulder_width: (f64, f64),
+    /// Probability that the upper body (neck, head and arms, relative to the pelvis) is taken
+    /// from another random pose of the generated set (both canonical), making combinations of
+    /// upper and lower body that no clip has. In `[0, 1]`.
+    pub mix_upper_body: f64,
+}
+
+impl Default for Augmentation {
+    /// Nothing changed: no scaling, no photo placements, no limb rotation, widths `(1, 1)`,
+    /// no mixing.
+    fn default() -> Self {
+        Augmentation {
+            bone_scale: 0.0,
+            photo_landmarks: 0.0,
+            limb_rotation_deg: 0.0,
+            hip_width: (1.0, 1.0),
+            shoulder_width: (1.0, 1.0),
+            mix_upper_body: 0.0,
+        }
+    }
 }
 
 impl Augmentation {
-    /// The augmentation recommended for training: 10% bone-length scaling and photo landmark
-    /// placements for half of the samples.
+    /// What differs between people and annotation conventions, without new poses: 10%
+    /// bone-length scaling and photo landmark placements for half of the samples.
+    pub const PEOPLE: Augmentation = Augmentation {
+        bone_scale: 0.1,
+        photo_landmarks: 0.5,
+        limb_rotation_deg: 0.0,
+        hip_width: (1.0, 1.0),
+        shoulder_width: (1.0, 1.0),
+        mix_upper_body: 0.0,
+    };
+
+    /// The augmentation recommended for training (measured by `cargo xtask generalise`,
+    /// docs/RESULTS.md): 10% bone-length scaling, photo landmark placements for half of the
+    /// samples, limb rotations up to 25 deg, hip widths 0.8-1.6 and shoulder widths
+    /// 0.85-1.2, the upper body of another pose for half of the samples.
     pub const TRAINING: Augmentation = Augmentation {
         bone_scale: 0.1,
         photo_landmarks: 0.5,
+        limb_rotation_deg: 25.0,
+        hip_width: (0.8, 1.6),
+        shoulder_width: (0.85, 1.2),
+        mix_upper_body: 0.5,
     };
 
     /// Whether anything is changed.
     pub fn is_active(&self) -> bool {
-        self.bone_scale > 0.0 || self.photo_landmarks > 0.0
+        self.bone_scale > 0.0 || self.photo_landmarks > 0.0 || self.changes_structure()
+    }
+
+    /// Whether the pose itself (not only its landmark placements or bone lengths) changes,
+    /// so that it must be canonicalised again.
+    fn changes_structure(&self) -> bool {
+        self.limb_rotation_deg > 0.0
+            || self.hip_width != (1.0, 1.0)
+            || self.shoulder_width != (1.0, 1.0)
+            || self.mix_upper_body > 0.0
+    }
+
+    /// Whether [`apply`](Self::apply) uses its donor pose.
+    pub fn needs_donor(&self) -> bool {
+        self.mix_upper_body > 0.0
     }
 
     /// An error message when a setting is out of range.
@@ -44,18 +139,37 @@ impl Augmentation {
                 self.bone_scale
             ));
         }
-        if !(0.0..=1.0).contains(&self.photo_landmarks) {
+        for (name, p) in [
+            ("photo landmark", self.photo_landmarks),
+            ("upper-body mixing", self.mix_upper_body),
+        ] {
+            if !(0.0..=1.0).contains(&p) {
+                return Err(format!("{name} probability must be in [0, 1], got {p}"));
+            }
+        }
+        if !(0.0..=90.0).contains(&self.limb_rotation_deg) {
             return Err(format!(
-                "photo landmark probability must be in [0, 1], got {}",
-                self.photo_landmarks
+                "limb rotation bound must be in [0, 90] degrees, got {}",
+                self.limb_rotation_deg
             ));
+        }
+        for (name, (lo, hi)) in [
+            ("hip width", self.hip_width),
+            ("shoulder width", self.shoulder_width),
+        ] {
+            if !(lo > 0.0 && lo <= hi && hi <= 3.0) {
+                return Err(format!(
+                    "{name} factor range must satisfy 0 < lo <= hi <= 3, got {lo}..{hi}"
+                ));
+            }
         }
         Ok(())
     }
 
-    /// `pose` changed as configured, with random draws from `rng`. The pelvis stays at the
-    /// origin unless photo placements move it to the mid-hip point.
-    pub fn apply(&self, pose: &Pose3, rng: &mut impl Rng) -> Pose3 {
+    /// `pose` changed as configured, with random draws from `rng`; `donor` is the pose whose
+    /// upper body [`mix_upper_body`](Self::mix_upper_body) takes (canonical, like `pose`).
+    /// The pelvis stays at the origin unless photo placements move it to the mid-hip point.
+    pub fn apply(&self, pose: &Pose3, donor: &Pose3, rng: &mut impl Rng) -> Pose3 {
         let mut out = *pose;
         if self.bone_scale > 0.0 {
             let mut scale = [1.0; NUM_LANDMARKS];
@@ -77,6 +191,9 @@ impl Augmentation {
                 }
             }
         }
+        if self.changes_structure() {
+            self.change_structure(&mut out, donor, rng);
+        }
         if self.photo_landmarks > 0.0 && rng.random_bool(self.photo_landmarks) {
             let points = out.points;
             let mid = |a: Landmark, b: Landmark| {
@@ -97,6 +214,90 @@ impl Augmentation {
             out.points[Landmark::Pelvis.index()] = mid(Landmark::LeftHip, Landmark::RightHip);
         }
         out
+    }
+
+    /// Widths, donor upper body and limb rotations, then canonicalisation (a pose whose
+    /// lateral direction vanished keeps the frame it had).
+    fn change_structure(&self, out: &mut Pose3, donor: &Pose3, rng: &mut impl Rng) {
+        for ((lo, hi), centre, sides) in [
+            (
+                self.hip_width,
+                Landmark::Pelvis,
+                [Landmark::LeftHip, Landmark::RightHip],
+            ),
+            (
+                self.shoulder_width,
+                Landmark::Neck,
+                [Landmark::LeftShoulder, Landmark::RightShoulder],
+            ),
+        ] {
+            if (lo, hi) != (1.0, 1.0) {
+                let factor = if hi > lo {
+                    rng.random_range(lo..=hi)
+                } else {
+                    lo
+                };
+                let c = out.get(centre);
+                for side in sides {
+                    let s = out.get(side);
+                    let shift: [f64; 3] = std::array::from_fn(|k| (factor - 1.0) * (s[k] - c[k]));
+                    move_subtree(out, side, |p| std::array::from_fn(|k| p[k] + shift[k]));
+                }
+            }
+        }
+        if self.mix_upper_body > 0.0 && rng.random_bool(self.mix_upper_body) {
+            let (pelvis, donor_pelvis) = (out.get(Landmark::Pelvis), donor.get(Landmark::Pelvis));
+            for l in UPPER_BODY {
+                let d = donor.get(l);
+                out.points[l.index()] = std::array::from_fn(|k| pelvis[k] + d[k] - donor_pelvis[k]);
+            }
+        }
+        if self.limb_rotation_deg > 0.0 {
+            let bound = self.limb_rotation_deg.to_radians();
+            for end in ROTATED_BONE_ENDS {
+                let pivot = out.get(parent_of(end));
+                let z: f64 = rng.random_range(-1.0..=1.0);
+                let phi: f64 = rng.random_range(0.0..std::f64::consts::TAU);
+                let r = (1.0 - z * z).max(0.0).sqrt();
+                let axis = Vector3::new(r * phi.cos(), r * phi.sin(), z);
+                let rotation = rotation_about_axis(axis, rng.random_range(-bound..=bound));
+                move_subtree(out, end, |p| {
+                    let v =
+                        rotation * Vector3::new(p[0] - pivot[0], p[1] - pivot[1], p[2] - pivot[2]);
+                    [pivot[0] + v[0], pivot[1] + v[1], pivot[2] + v[2]]
+                });
+            }
+        }
+        if let Ok(canonical) = canonicalise(out) {
+            *out = canonical;
+        }
+    }
+}
+
+/// The parent of `landmark` in the kinematic tree of [`LIMBS`] (the pelvis for the pelvis).
+fn parent_of(landmark: Landmark) -> Landmark {
+    LIMBS
+        .iter()
+        .find(|(_, child)| *child == landmark)
+        .map_or(Landmark::Pelvis, |(parent, _)| *parent)
+}
+
+/// Applies `f` to `root` and every landmark below it in the kinematic tree.
+fn move_subtree(pose: &mut Pose3, root: Landmark, f: impl Fn([f64; 3]) -> [f64; 3]) {
+    for l in Landmark::ALL {
+        let mut a = l;
+        let below = loop {
+            if a == root {
+                break true;
+            }
+            if a == Landmark::Pelvis {
+                break false;
+            }
+            a = parent_of(a);
+        };
+        if below {
+            pose.points[l.index()] = f(pose.points[l.index()]);
+        }
     }
 }
 
@@ -191,10 +392,10 @@ mod tests {
 
         #[test]
         fn bone_scaling_keeps_symmetry_and_bounds(seed in 0u64..1000) {
-            let aug = Augmentation { bone_scale: 0.2, photo_landmarks: 0.0 };
+            let aug = Augmentation { bone_scale: 0.2, ..Augmentation::default() };
             let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
             let p = standing();
-            let q = aug.apply(&p, &mut rng);
+            let q = aug.apply(&p, &p, &mut rng);
             let len = |pose: &Pose3, l: usize| {
                 let (a, b) = LIMBS[l];
                 let (x, y) = (pose.points[a.index()], pose.points[b.index()]);
@@ -213,22 +414,96 @@ mod tests {
         }
     }
 
+    fn lateral_angle_deg(p: &Pose3) -> f64 {
+        let r = |a: Landmark, b: Landmark| {
+            let (x, y) = (p.get(a), p.get(b));
+            [x[0] - y[0], x[1] - y[1]]
+        };
+        let (h, s) = (
+            r(Landmark::RightHip, Landmark::LeftHip),
+            r(Landmark::RightShoulder, Landmark::LeftShoulder),
+        );
+        (h[0] + s[0]).atan2(h[1] + s[1]).to_degrees()
+    }
+
+    proptest! {
+        /// Limb rotations and upper-body mixing keep every bone length (of the pose, or of the
+        /// donor for its upper body) and leave a canonical pose; widths scale only the
+        /// pelvis-hip and neck-shoulder segments, within their ranges.
+        #[test]
+        fn structural_changes_keep_bones_and_the_canonical_frame(seed in 0u64..500,
+                                                                 mix in any::<bool>()) {
+            let aug = Augmentation {
+                limb_rotation_deg: 40.0,
+                hip_width: (0.7, 1.8),
+                shoulder_width: (0.8, 1.3),
+                mix_upper_body: if mix { 1.0 } else { 0.0 },
+                ..Augmentation::default()
+            };
+            let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+            let p = standing();
+            let mut donor = standing();
+            donor.points[11] = [-0.3, -0.25, 0.3];
+            donor.points[14] = [-0.35, 0.2, 0.6];
+            let q = aug.apply(&p, &donor, &mut rng);
+            prop_assert!(q.get(Landmark::Pelvis).iter().all(|c| c.abs() < 1e-12));
+            prop_assert!(lateral_angle_deg(&q).abs() < 1e-6);
+            for (l, (a, b)) in LIMBS.iter().enumerate() {
+                let source = if mix && UPPER_BODY.contains(b) && *a != Landmark::Pelvis { &donor } else { &p };
+                let ratio = q.limb_length(l) / source.limb_length(l);
+                let (lo, hi) = match (a, b) {
+                    (Landmark::Pelvis, Landmark::LeftHip | Landmark::RightHip) => aug.hip_width,
+                    (Landmark::Neck, Landmark::LeftShoulder | Landmark::RightShoulder) if !mix => aug.shoulder_width,
+                    (Landmark::Neck, Landmark::LeftShoulder | Landmark::RightShoulder) => (ratio, ratio),
+                    _ => (1.0, 1.0),
+                };
+                prop_assert!(ratio >= lo - 1e-9 && ratio <= hi + 1e-9, "limb {} ratio {}", l, ratio);
+            }
+        }
+    }
+
+    #[test]
+    fn bad_structural_settings_are_refused() {
+        for bad in [
+            Augmentation {
+                limb_rotation_deg: 91.0,
+                ..Augmentation::default()
+            },
+            Augmentation {
+                hip_width: (1.2, 1.1),
+                ..Augmentation::default()
+            },
+            Augmentation {
+                shoulder_width: (0.0, 1.0),
+                ..Augmentation::default()
+            },
+            Augmentation {
+                mix_upper_body: f64::NAN,
+                ..Augmentation::default()
+            },
+        ] {
+            assert!(bad.check().is_err(), "{bad:?}");
+        }
+        assert!(Augmentation::TRAINING.check().is_ok());
+        assert!(!Augmentation::default().is_active());
+    }
+
     #[test]
     fn photo_placements_put_neck_and_pelvis_between_the_joints() {
         let aug = Augmentation {
-            bone_scale: 0.0,
             photo_landmarks: 1.0,
+            ..Augmentation::default()
         };
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(1);
         let p = standing();
-        let q = aug.apply(&p, &mut rng);
+        let q = aug.apply(&p, &p, &mut rng);
         for k in 0..3 {
             let mid_s = 0.5 * (p.points[9][k] + p.points[12][k]);
             let mid_h = 0.5 * (p.points[1][k] + p.points[4][k]);
             assert!((q.points[7][k] - mid_s).abs() < 1e-12);
             assert!((q.points[0][k] - mid_h).abs() < 1e-12);
         }
-        assert_eq!(Augmentation::default().apply(&p, &mut rng), p);
+        assert_eq!(Augmentation::default().apply(&p, &p, &mut rng), p);
     }
 
     #[test]

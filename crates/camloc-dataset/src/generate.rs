@@ -223,6 +223,16 @@ pub fn generate(
 ) -> Result<Dataset, DatasetError> {
     config.validate()?;
     let done = AtomicUsize::new(0);
+    // Donors of upper-body mixing: every strided frame of every clip.
+    let donors: Vec<&Pose3> = sequences
+        .iter()
+        .flat_map(|s| {
+            s.frames
+                .iter()
+                .filter(|(frame, _)| (*frame as usize).is_multiple_of(config.stride))
+                .map(|(_, p)| p)
+        })
+        .collect();
     let per_clip: Vec<Vec<Sample>> = sequences
         .par_iter()
         .enumerate()
@@ -244,8 +254,8 @@ pub fn generate(
                 let (frame, pose3) = strided[k];
                 for view in config.cameras.viewpoints() {
                     let mut rng = sample_rng(config.seed, clip_index as u32, *frame, view.label);
-                    let mut sample =
-                        project_sample(pose3, view, config, &mut rng).map_err(|e| {
+                    let mut sample = project_sample(pose3, view, config, &donors, &mut rng)
+                        .map_err(|e| {
                             DatasetError::Invalid(format!(
                                 "clip {} frame {frame} camera {:02}: {e}",
                                 seq.clip.name, view.label
@@ -330,18 +340,25 @@ fn perspective_view(
     Ok((camera.project(&pose3.points)?, rotation))
 }
 
-/// One sample: the projection of `pose3` (augmented as configured) by (a jittered version
-/// of) camera `view`, or under `sphere` by a random camera; the caller fills in `clip` and
-/// `frame`.
+/// One sample: the projection of `pose3` (augmented as configured, with a random pose of
+/// `donors` for upper-body mixing) by (a jittered version of) camera `view`, or under
+/// `sphere` by a random camera; the caller fills in `clip` and `frame`.
 fn project_sample(
     pose3: &Pose3,
     view: &Viewpoint,
     config: &GenerateConfig,
+    donors: &[&Pose3],
     rng: &mut ChaCha8Rng,
 ) -> Result<Sample, camloc_geometry::GeometryError> {
     let augmented;
     let pose3 = if config.augmentation.is_active() {
-        augmented = config.augmentation.apply(pose3, &mut augmentation_rng(rng));
+        let mut own = augmentation_rng(rng);
+        let donor = if config.augmentation.needs_donor() && !donors.is_empty() {
+            donors[own.random_range(0..donors.len())]
+        } else {
+            pose3
+        };
+        augmented = config.augmentation.apply(pose3, donor, &mut own);
         &augmented
     } else {
         pose3

@@ -8,7 +8,6 @@ use crate::ShapeContextBins;
 
 mod frame;
 
-use crate::quadratic::{pair_count, pairwise_products};
 use frame::TorsoFrame;
 
 /// Why a descriptor could not be computed.
@@ -52,9 +51,7 @@ pub enum FeatureError {
         landmark: &'static str,
     },
     /// Unknown descriptor name.
-    #[error(
-        "unknown descriptor '{0}' (expected 'landmarks', 'joints', 'joints-quadratic' or 'paper')"
-    )]
+    #[error("unknown descriptor '{0}' (expected 'landmarks', 'joints' or 'paper')")]
     UnknownName(String),
 }
 
@@ -96,11 +93,6 @@ pub enum Descriptor {
     /// 8 limb bones: 54 values. Falls back to the pelvis (neck) when a hip (shoulder) is
     /// missing.
     Joints,
-    /// [`Descriptor::Joints`] followed by the products of every pair (with repetition) of its
-    /// 24 joint coordinates: 54 + 300 = 354 values. A linear model on it is quadratic in the
-    /// joint positions (more capacity with the same learner). A product is undefined when
-    /// either coordinate is.
-    JointsQuadratic,
 }
 
 impl Default for Descriptor {
@@ -154,7 +146,7 @@ const MAX_LEN: usize = COORDS + DIRECTIONS + LENGTHS;
 const _: () = assert!(2 * JOINTS.len() + 3 * SEGMENTS.len() <= MAX_LEN);
 
 impl Descriptor {
-    /// The descriptor called `name`: `landmarks`, `joints`, `joints-quadratic` or `paper`
+    /// The descriptor called `name`: `landmarks`, `joints` or `paper`
     /// (with default settings).
     ///
     /// # Errors
@@ -163,18 +155,16 @@ impl Descriptor {
         match name {
             "landmarks" => Ok(Descriptor::Landmarks),
             "joints" => Ok(Descriptor::Joints),
-            "joints-quadratic" => Ok(Descriptor::JointsQuadratic),
             "paper" => Ok(Descriptor::Paper(PaperConfig::default())),
             other => Err(FeatureError::UnknownName(other.to_string())),
         }
     }
 
-    /// Short name (`"landmarks"`, `"joints"`, `"joints-quadratic"`, `"paper"`).
+    /// Short name (`"landmarks"`, `"joints"`, `"paper"`).
     pub fn name(&self) -> &'static str {
         match self {
             Descriptor::Landmarks => "landmarks",
             Descriptor::Joints => "joints",
-            Descriptor::JointsQuadratic => "joints-quadratic",
             Descriptor::Paper(_) => "paper",
         }
     }
@@ -184,7 +174,6 @@ impl Descriptor {
         match self {
             Descriptor::Landmarks => COORDS + DIRECTIONS + LENGTHS,
             Descriptor::Joints => JOINTS_LEN,
-            Descriptor::JointsQuadratic => JOINTS_LEN + pair_count(2 * JOINTS.len()),
             Descriptor::Paper(c) => LENGTHS + c.bins.len(),
         }
     }
@@ -251,9 +240,7 @@ impl Descriptor {
                 Landmark::RightShoulder,
             ),
         ] {
-            let replaceable = matches!(self, Descriptor::Joints | Descriptor::JointsQuadratic)
-                && has(left)
-                && has(right);
+            let replaceable = matches!(self, Descriptor::Joints) && has(left) && has(right);
             if !has(torso) && !replaceable {
                 return Err(FeatureError::MissingTorso {
                     landmark: torso.name(),
@@ -287,31 +274,6 @@ impl Descriptor {
                 got: out.len(),
             });
         }
-        if let Descriptor::JointsQuadratic = self {
-            let coords = 2 * JOINTS.len();
-            let (linear, products) = out.split_at_mut(JOINTS_LEN);
-            return match undefined {
-                Some(u) if u.len() == self.len() => {
-                    let (u_linear, u_products) = u.split_at_mut(JOINTS_LEN);
-                    Descriptor::Joints.extract_masked(pose, present, linear, Some(u_linear))?;
-                    pairwise_products(
-                        &linear[..coords],
-                        products,
-                        Some((&u_linear[..coords], u_products)),
-                    );
-                    Ok(())
-                }
-                Some(u) => Err(FeatureError::BufferSize {
-                    expected: self.len(),
-                    got: u.len(),
-                }),
-                None => {
-                    Descriptor::Joints.extract_masked(pose, present, linear, None)?;
-                    pairwise_products(&linear[..coords], products, None);
-                    Ok(())
-                }
-            };
-        }
         if let Some(u) = undefined.as_deref_mut() {
             if u.len() != self.len() {
                 return Err(FeatureError::BufferSize {
@@ -331,9 +293,7 @@ impl Descriptor {
         let (scaled, _) = pose.within_safe_range();
         let pose = &scaled;
         let frame = match self {
-            Descriptor::Joints | Descriptor::JointsQuadratic => {
-                TorsoFrame::from_joints(pose, &is_present)?
-            }
+            Descriptor::Joints => TorsoFrame::from_joints(pose, &is_present)?,
             _ => TorsoFrame::new(pose)?,
         };
         // Indices of the values each part fills, to flag undefined ones.
@@ -370,8 +330,6 @@ impl Descriptor {
                     flags[COORDS + DIRECTIONS + k] = !limb_present(limb);
                 }
             }
-            // Handled above by the joints descriptor and its products.
-            Descriptor::JointsQuadratic => {}
             Descriptor::Joints => {
                 let (coords, rest) = out.split_at_mut(2 * JOINTS.len());
                 let (directions, lengths) = rest.split_at_mut(2 * SEGMENTS.len());
@@ -488,11 +446,10 @@ mod tests {
         ])
     }
 
-    fn all() -> [Descriptor; 4] {
+    fn all() -> [Descriptor; 3] {
         [
             Descriptor::Landmarks,
             Descriptor::Joints,
-            Descriptor::JointsQuadratic,
             Descriptor::Paper(PaperConfig::default()),
         ]
     }
@@ -627,9 +584,6 @@ mod tests {
                 // The wrist ends 1 limb (forearm), the knee 2 (thigh, shin): 2 landmarks x 2
                 // coordinates, 3 limbs x 2 direction values, 3 lengths.
                 Descriptor::Landmarks | Descriptor::Joints => assert_eq!(flagged, 4 + 6 + 3),
-                // And the products of the 4 missing coordinates with all 24 (4 * 24 - 6
-                // counted twice among themselves).
-                Descriptor::JointsQuadratic => assert_eq!(flagged, 4 + 6 + 3 + 4 * 24 - 6),
                 // 3 lengths; the histogram counts the 12 present non-pelvis landmarks.
                 Descriptor::Paper(_) => {
                     assert_eq!(flagged, 3);
@@ -644,7 +598,7 @@ mod tests {
                 }
             }
             partial.points[Landmark::Neck.index()] = None;
-            if matches!(d, Descriptor::Joints | Descriptor::JointsQuadratic) {
+            if matches!(d, Descriptor::Joints) {
                 // The shoulders stand in for the neck: nothing changes.
                 d.extract_partial_into(&partial, &mut out, &mut undefined)
                     .unwrap();

@@ -16,15 +16,14 @@
 //!   shoulder line, a photo annotator's above it); the limb joints they place alike, so this
 //!   descriptor transfers to real keypoints.
 //!
-//! * [`Descriptor::JointsQuadratic`]: the joints descriptor and the products of every pair of
-//!   its joint coordinates, for a classifier that is quadratic in the joint positions.
+//! More capacity than a linear model of a descriptor comes from a learned expansion of it
+//! (`camloc_learning::QuadraticExpansion`), not from a descriptor of its own.
 //!
-//! Every descriptor except the two joints descriptors uses the torso (pelvis to neck) as unit and
+//! Every descriptor except the joints descriptor uses the torso (pelvis to neck) as unit and
 //! the pelvis as origin (docs/conventions.md section 3); the joints descriptor departs from that on purpose,
 //! for the reason above.
 
 mod descriptor;
-mod quadratic;
 mod shape_context;
 
 pub use descriptor::{Descriptor, FeatureError, PaperConfig};

@@ -39,6 +39,24 @@ pub enum DirectionSolver {
     /// iterations. The default.
     #[default]
     PreconditionedCg,
+    /// Truncated Newton (Newton-CG) for problems whose Hessian is too costly to assemble from
+    /// every sample (many samples and a large `(d + 1) K`, e.g. after a
+    /// [`QuadraticExpansion`](crate::QuadraticExpansion)). Each Newton system is solved by
+    /// conjugate gradients on exact Hessian-vector products only to the relative residual
+    /// `eta = min(0.5, sqrt(||g|| / ||g_0||))` (Eisenstat and Walker's forcing term, in the
+    /// preconditioner's norm; never below `1e-10`), so that early iterations are cheap and the
+    /// last ones exact, and at most to a trust radius in the preconditioner's norm
+    /// (Steihaug), which shrinks to the part of a direction the line search accepted and
+    /// doubles after a full step on it; the preconditioner is the Cholesky factor of the
+    /// Hessian assembled on `preconditioner_rows` evenly spaced samples (rescaled to all
+    /// samples), assembled afresh when a solve spends its budget of products. Every
+    /// direction is a descent direction, so the line search and the objective behave as with
+    /// the exact solvers.
+    TruncatedCg {
+        /// Samples the preconditioning Hessian is assembled on (all of them when there are
+        /// fewer); at least 1.
+        preconditioner_rows: usize,
+    },
 }
 
 /// L2-regularised logistic regression fitted by Newton's method (docs/conventions.md section 5).
@@ -139,6 +157,16 @@ impl LogisticRegression {
                 name: "lambda",
                 value: self.lambda.to_string(),
                 reason: "must be finite and >= 0",
+            });
+        }
+        if let DirectionSolver::TruncatedCg {
+            preconditioner_rows: 0,
+        } = self.direction_solver
+        {
+            return Err(LearningError::InvalidParameter {
+                name: "preconditioner_rows",
+                value: "0".into(),
+                reason: "must be at least 1",
             });
         }
         if !(self.gradient_tolerance.is_finite() && self.gradient_tolerance >= 0.0) {

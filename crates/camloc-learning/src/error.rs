@@ -90,6 +90,9 @@ pub enum LearningError {
         /// Requested folds.
         folds: usize,
     },
+    /// A numerical routine failed (the text names it).
+    #[error("numerical failure: {0}")]
+    Numerical(&'static str),
     /// Cross-validation was given no candidate configuration.
     #[error("cross-validation needs at least one candidate configuration")]
     NoCandidates,

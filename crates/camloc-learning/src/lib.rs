@@ -12,6 +12,8 @@
 //! * [`RidgeModel`] (multi-output ridge regression) and [`DirectionHeads`] (one ridge
 //!   regression of a unit direction per class, with a calibrated uncertainty) refine a
 //!   class into a continuous direction.
+//! * [`QuadraticExpansion`] maps features to themselves and the pairwise products of their
+//!   leading whitened principal components, so that the same learner fits a quadratic model.
 //! * [`cross_validate_grouped`] selects hyper-parameters by k-fold cross-validation with
 //!   groups (subjects) kept within one fold.
 //!
@@ -44,6 +46,7 @@ mod config;
 mod cv;
 mod data;
 mod error;
+mod expansion;
 mod hessian;
 mod model;
 pub mod newton;
@@ -55,6 +58,7 @@ pub use config::{DirectionSolver, LogisticRegression, Mode};
 pub use cv::{CandidateScore, CvReport, cross_validate_grouped, group_k_fold};
 pub use data::Features;
 pub use error::LearningError;
+pub use expansion::{MAX_EXPANSION_COMPONENTS, QuadraticExpansion};
 pub use model::LogisticModel;
 pub use newton::{FitReport, IterationLog, NewtonProblem, Termination};
 pub use ridge::{CONFIDENCE_BINS, DirectionHeads, RidgeModel, angle_deg};

@@ -41,6 +41,15 @@
 //! than an assembly does it assemble and factorise the Hessian. Near the optimum the
 //! Hessian barely changes, so one factor serves the last few iterations (module `cg`).
 //!
+//! # Truncated Newton
+//!
+//! With [`DirectionSolver::TruncatedCg`] (for many samples and many parameters) every
+//! Newton system is solved by the same preconditioned conjugate gradients, but only to the
+//! forcing term `min(0.5, sqrt(||g|| / ||g_0||))`, and the preconditioner is the Hessian
+//! assembled on a fixed, evenly spaced subset of the samples (rescaled to all of them), so
+//! that an assembly costs `m / n` of a full one. The factor is refreshed when a solve spends
+//! its budget.
+//!
 //! # Where the code is
 //!
 //! This module holds the solver state, the fit loop and the reports; the direction solvers
@@ -103,6 +112,9 @@ pub struct IterationLog {
     /// Hessian-vector products spent by conjugate gradients in this iteration, including
     /// those of an attempt that gave up for an assembly.
     pub cg_products: usize,
+    /// Whether the direction came from truncated CG ([`DirectionSolver::TruncatedCg`]),
+    /// which runs after an assembly too.
+    pub truncated: bool,
 }
 
 impl IterationLog {
@@ -110,6 +122,14 @@ impl IterationLog {
     /// `"start"`, `"Hessian + Cholesky"`, `"CG, 7 products"` or
     /// `"CG gave up after 4 products, Hessian + Cholesky"`.
     pub fn direction_summary(&self) -> String {
+        if self.truncated && self.iteration > 0 {
+            let assembled = if self.hessian_assembled {
+                "preconditioner assembled, "
+            } else {
+                ""
+            };
+            return format!("{assembled}truncated CG, {} products", self.cg_products);
+        }
         match (self.iteration, self.hessian_assembled, self.cg_products) {
             (0, _, _) => "start".to_owned(),
             (_, true, 0) => "Hessian + Cholesky".to_owned(),
@@ -224,6 +244,17 @@ pub struct NewtonProblem {
     partial_losses: Vec<f64>,
     /// Packed Hessian blocks and their work buffers.
     packed: PackedHessian,
+    /// With [`DirectionSolver::TruncatedCg`] on fewer rows than samples: the evenly spaced
+    /// rows the preconditioning Hessian is assembled on (empty: every row).
+    sub_rows: Vec<usize>,
+    /// `m x D` column-major design rows of `sub_rows`.
+    sub_x: Vec<f64>,
+    /// `K x m` probabilities (or logits) of `sub_rows`, gathered before each assembly.
+    sub_per_sample: Vec<f64>,
+    /// `||grad f||_inf` at the starting point (the forcing term's reference).
+    initial_gradient_norm: f64,
+    /// Trust radius of truncated CG in the preconditioner's norm (infinite at the start).
+    trust_radius: f64,
     iteration: usize,
 }
 
@@ -288,6 +319,20 @@ impl NewtonProblem {
             Mode::Multinomial => p,
             Mode::OneVsRest => dim,
         };
+        let sub_rows: Vec<usize> = match config.direction_solver {
+            DirectionSolver::TruncatedCg {
+                preconditioner_rows: m,
+            } if m < n && config.mode == Mode::Multinomial => (0..m).map(|j| j * n / m).collect(),
+            _ => Vec::new(),
+        };
+        let m = sub_rows.len();
+        let mut sub_x = vec![0.0; m * dim];
+        for a in 0..dim {
+            for (j, &i) in sub_rows.iter().enumerate() {
+                sub_x[a * m + j] = design[a * n + i];
+            }
+        }
+        let hessian_rows = if m > 0 { m } else { n };
         let cholesky_scratch = MemBuffer::new(cholesky_in_place_scratch::<f64>(
             max_block,
             Par::rayon(0),
@@ -324,10 +369,16 @@ impl NewtonProblem {
             block_done: vec![false; n_blocks],
             class_steps: vec![0.0; k],
             partial_losses: vec![0.0; n.div_ceil(ROWS_PER_TASK) * n_blocks],
-            packed: PackedHessian::new(n, dim, k, config.mode),
+            packed: PackedHessian::new(hessian_rows, dim, k, config.mode),
+            sub_per_sample: vec![0.0; m * k],
+            sub_rows,
+            sub_x,
+            initial_gradient_norm: 0.0,
+            trust_radius: f64::INFINITY,
             iteration: 0,
         };
         problem.refresh_from_parameters();
+        problem.initial_gradient_norm = problem.gradient_norm();
         Ok(problem)
     }
 
@@ -367,7 +418,8 @@ impl NewtonProblem {
     /// Newton step that assembled one ([`IterationLog::hessian_assembled`]), `P x P`
     /// column-major, without the singular-direction correction of the Newton solve: it is
     /// exactly the second derivative of `f` at the parameters where it was assembled (not
-    /// necessarily the current ones).
+    /// necessarily the current ones), or with [`DirectionSolver::TruncatedCg`] on fewer rows
+    /// than samples its subsampled estimate.
     pub fn hessian(&self) -> &[f64] {
         &self.hessian
     }
@@ -404,7 +456,17 @@ impl NewtonProblem {
     /// `2 n T Q` with `T = D(D+1)/2` (packed symmetric blocks) and `Q = K(K-1)/2`
     /// (multinomial) or `K` (one-vs-rest) weight columns.
     pub fn hessian_flops(&self) -> f64 {
-        self.packed.flops(self.n_samples)
+        self.packed.flops(self.hessian_rows())
+    }
+
+    /// Samples the Hessian is assembled on: all of them, or the preconditioner's rows of
+    /// [`DirectionSolver::TruncatedCg`].
+    pub fn hessian_rows(&self) -> usize {
+        if self.sub_rows.is_empty() {
+            self.n_samples
+        } else {
+            self.sub_rows.len()
+        }
     }
 
     /// Floating-point operations of the textbook assembly of the upper blocks,
@@ -434,6 +496,7 @@ impl NewtonProblem {
             step,
             hessian_assembled,
             cg_products,
+            truncated: self.is_truncated(),
         }
     }
 
@@ -519,31 +582,46 @@ impl NewtonProblem {
     /// # Errors
     /// [`LearningError::Singular`] if the Hessian cannot be factorised even with damping.
     pub fn newton_step(&mut self) -> Result<IterationLog, LearningError> {
-        let reuse = self.direction_solver == DirectionSolver::PreconditionedCg
-            && self.mode == Mode::Multinomial
-            && self.factor_ready;
-        let cg = if reuse {
-            self.solve_by_cg()
-        } else {
-            CgOutcome::NotTried
-        };
-        let (hessian_assembled, cg_products) = match cg {
-            CgOutcome::Solved { products } => (false, products),
-            CgOutcome::NotTried => {
+        let mut truncated = None;
+        let (hessian_assembled, cg_products) = if self.is_truncated() {
+            let assemble = !self.factor_ready;
+            if assemble {
                 self.assemble_hessian();
                 self.solve_newton_system()?;
-                (true, 0)
             }
-            CgOutcome::GaveUp { products } => {
-                self.assemble_hessian();
-                self.solve_newton_system()?;
-                (true, products)
+            let step = self.solve_by_truncated_cg(self.trust_radius);
+            truncated = Some(step);
+            (assemble, step.products)
+        } else {
+            let reuse = self.direction_solver == DirectionSolver::PreconditionedCg
+                && self.mode == Mode::Multinomial
+                && self.factor_ready;
+            let cg = if reuse {
+                self.solve_by_cg()
+            } else {
+                CgOutcome::NotTried
+            };
+            match cg {
+                CgOutcome::Solved { products } => (false, products),
+                CgOutcome::NotTried => {
+                    self.assemble_hessian();
+                    self.solve_newton_system()?;
+                    (true, 0)
+                }
+                CgOutcome::GaveUp { products } => {
+                    self.assemble_hessian();
+                    self.solve_newton_system()?;
+                    (true, products)
+                }
             }
         };
         let dim = self.dim;
         linear_logits(&self.x, dim, &self.direction, &mut self.direction_logits);
         self.line_search();
         let step = self.block_steps.iter().fold(0.0, |m: f64, &s| m.max(s));
+        if let Some(t) = truncated {
+            self.update_trust_radius(step, t);
+        }
         if step > 0.0 {
             for ((t, d), &s) in self
                 .theta
@@ -559,6 +637,28 @@ impl NewtonProblem {
         }
         self.iteration += 1;
         Ok(self.log(step, hessian_assembled, cg_products))
+    }
+
+    /// The trust radius after a truncated step of length `taken.norm` (preconditioner norm)
+    /// of which the line search accepted the fraction `step`: a shortened step shrinks the
+    /// radius to what was accepted (at least a tenth of the direction), a full step on the
+    /// boundary doubles it, a full step inside leaves it.
+    fn update_trust_radius(&mut self, step: f64, taken: cg::TruncatedStep) {
+        if !(taken.norm > 0.0) {
+            return;
+        }
+        if step < 1.0 {
+            self.trust_radius = step.max(0.1) * taken.norm;
+        } else if taken.on_boundary {
+            self.trust_radius = 2.0 * taken.norm;
+        }
+    }
+
+    /// Whether directions come from truncated conjugate gradients
+    /// ([`DirectionSolver::TruncatedCg`], multinomial mode).
+    fn is_truncated(&self) -> bool {
+        matches!(self.direction_solver, DirectionSolver::TruncatedCg { .. })
+            && self.mode == Mode::Multinomial
     }
 
     /// The fitted model: parameters mapped back to per-feature weights and biases, with the

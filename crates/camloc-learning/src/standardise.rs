@@ -121,6 +121,14 @@ impl Standardiser {
         &self.scales
     }
 
+    /// Writes the standardised `row` into `out` (both of length
+    /// [`n_features`](Self::n_features); the caller checks the lengths).
+    pub(crate) fn transform_into(&self, row: &[f64], out: &mut [f64]) {
+        for (((o, &v), &m), &s) in out.iter_mut().zip(row).zip(&self.means).zip(&self.scales) {
+            *o = Self::apply(m, s, v);
+        }
+    }
+
     /// Standardises one raw value with its column's mean and scale. Fitting and prediction
     /// both go through this function so that they round identically.
     #[inline]

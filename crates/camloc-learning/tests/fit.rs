@@ -234,6 +234,11 @@ proptest! {
         separation in 0.0f64..6.0,
         lambda in prop_oneof![Just(0.0), 1e-4f64..10.0],
         one_vs_rest in any::<bool>(),
+        solver in prop_oneof![
+            Just(DirectionSolver::PreconditionedCg),
+            Just(DirectionSolver::Cholesky),
+            (1usize..20).prop_map(|rows| DirectionSolver::TruncatedCg { preconditioner_rows: rows }),
+        ],
     ) {
         let (x, y) = support::gaussian_classes(n, d, k, separation, 1.0, seed);
         let features = Features::new(&x, d).expect("valid");
@@ -241,7 +246,8 @@ proptest! {
         let config = LogisticRegression::default()
             .with_mode(mode)
             .with_lambda(lambda)
-            .with_max_iter(30);
+            .with_max_iter(30)
+            .with_direction_solver(solver);
         let mut problem = NewtonProblem::new(&features, &y, k, &config).expect("valid");
         let mut previous = problem.objective();
         for _ in 0..config.max_iter {
@@ -403,4 +409,48 @@ fn an_unreachable_tolerance_ends_in_no_progress_not_max_iterations() {
             assert!(last.gradient_norm <= 1e-8 * n as f64, "{last:?}");
         }
     }
+}
+
+/// Truncated Newton-CG with a preconditioner assembled on a tenth of the samples: every
+/// step lowers the objective, early steps spend few products, and the fit reaches the
+/// optimum of the exact Newton fit (with and without the ridge).
+#[test]
+fn truncated_cg_on_a_subsampled_preconditioner_reaches_the_exact_optimum() {
+    for (lambda, n, d, k, x, y) in solver_test_problems() {
+        let features = Features::new(&x, d).expect("valid");
+        let exact = LogisticRegression::default()
+            .with_lambda(lambda)
+            .with_gradient_tolerance(1e-9)
+            .with_direction_solver(DirectionSolver::Cholesky);
+        let truncated = exact
+            .clone()
+            .with_direction_solver(DirectionSolver::TruncatedCg {
+                preconditioner_rows: n / 10,
+            });
+        let problem = NewtonProblem::new(&features, &y, k, &truncated).expect("valid");
+        assert_eq!(problem.hessian_rows(), n / 10);
+        let (_, report) = truncated.fit(&features, &y, k).expect("fit");
+        let (_, reference) = exact.fit(&features, &y, k).expect("fit");
+        assert!(report.converged, "lambda {lambda}: {report:?}");
+        for pair in report.iterations.windows(2) {
+            assert!(
+                pair[1].objective <= pair[0].objective,
+                "lambda {lambda}: objective rose at iteration {}",
+                pair[1].iteration
+            );
+        }
+        let (a, b) = (
+            report.iterations.last().expect("log").objective,
+            reference.iterations.last().expect("log").objective,
+        );
+        assert!(
+            (a - b).abs() <= 1e-9 * b,
+            "lambda {lambda}: optimum {a} (truncated) vs {b} (exact)"
+        );
+        assert!(report.hessian_assemblies() >= 1 && report.cg_products() > 0);
+    }
+    let zero = LogisticRegression::default().with_direction_solver(DirectionSolver::TruncatedCg {
+        preconditioner_rows: 0,
+    });
+    assert!(zero.validate().is_err());
 }

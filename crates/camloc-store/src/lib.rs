@@ -172,29 +172,31 @@ pub struct FileKind {
 }
 
 /// Datasets (`camloc_dataset::Dataset`): up to 2 GiB of payload (about 3 million samples of
-/// about 700 bytes).
+/// about 700 bytes). Version 3 added the structural augmentation settings to the header.
 pub const DATASET_KIND: FileKind = FileKind {
     magic: *b"CAMLOCDS",
-    version: 2,
+    version: 3,
     what: "dataset",
     max_payload: 1 << 31,
 };
 
 /// Camera localizer models (`camloc::CameraLocalizer`): up to 64 MiB (a descriptor of
 /// 10,000 values for 64 cameras, with viewpoint heads, would still fit; the default model is
-/// under 40 KiB). Version 2 added the continuous-viewpoint heads.
+/// under 1 MiB). Version 2 added the continuous-viewpoint heads, version 3 the quadratic
+/// feature expansion.
 pub const MODEL_KIND: FileKind = FileKind {
     magic: *b"CAMLOCMD",
-    version: 2,
+    version: 3,
     what: "model",
     max_payload: 64 << 20,
 };
 
 /// PCA pose bases (`camloc_reconstruct::PoseBasis`): up to 1 MiB (a full 45 x 45 basis is
-/// about 17 KiB).
+/// about 17 KiB; a dictionary of the most atoms allowed, 1024, about 370 KiB). Version 2
+/// added the dictionary atoms and the joint-angle limits.
 pub const POSE_BASIS_KIND: FileKind = FileKind {
     magic: *b"CAMLOCPB",
-    version: 1,
+    version: 2,
     what: "pose basis",
     max_payload: 1 << 20,
 };

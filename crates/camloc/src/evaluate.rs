@@ -161,7 +161,10 @@ impl CameraLocalizer {
         let descriptor = self.descriptor();
         let (mut x, undefined) = extract_rows(descriptor, poses)?;
         impute_rows(&mut x, &undefined, self.imputation());
-        let features = Features::new(&x, descriptor.len())?;
+        if let Some(e) = self.expansion() {
+            x = e.expand_rows(&Features::new(&x, descriptor.len())?)?;
+        }
+        let features = Features::new(&x, self.model().n_features())?;
         self.model()
             .predict_batch(&features)?
             .into_iter()

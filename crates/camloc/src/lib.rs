@@ -61,6 +61,7 @@ pub use sequence::{
 };
 
 pub use localizer::{
-    CameraLocalizer, DEFAULT_LAMBDA, DEFAULT_VIEWPOINT_LAMBDA, LandmarkDropout, Localization,
+    CameraLocalizer, Capacity, DEFAULT_LAMBDA, DEFAULT_PRECONDITIONER_ROWS,
+    DEFAULT_QUADRATIC_COMPONENTS, DEFAULT_VIEWPOINT_LAMBDA, LandmarkDropout, Localization,
     MAX_DROPOUT_COPIES, TrainOptions, TrainingInfo,
 };

@@ -5,7 +5,8 @@ use camloc_dataset::{camera_direction_deg, direction_vector};
 use camloc_features::Descriptor;
 use camloc_geometry::{CameraLabel, CameraSet, Level, Matrix3, Side};
 use camloc_learning::{
-    DirectionHeads, Features, FitReport, IterationLog, LogisticModel, LogisticRegression,
+    DirectionHeads, DirectionSolver, Features, FitReport, IterationLog, LogisticModel,
+    LogisticRegression, QuadraticExpansion,
 };
 use camloc_skeleton::{Landmark, NUM_LANDMARKS, PartialPose2, Pose2};
 use camloc_store::{FileKind, Persist, Validate};
@@ -85,11 +86,76 @@ pub const DEFAULT_LAMBDA: f64 = 1.0;
 /// measured by `cargo xtask generalise` (issue 11).
 pub const DEFAULT_VIEWPOINT_LAMBDA: f64 = 1.0;
 
+/// Principal components of the default quadratic expansion ([`Capacity::Quadratic`]),
+/// measured by `cargo xtask generalise` (docs/RESULTS.md).
+pub const DEFAULT_QUADRATIC_COMPONENTS: usize = 30;
+
+/// Samples the preconditioning Hessian of the default quadratic model's Newton solver is
+/// assembled on ([`DirectionSolver::TruncatedCg`]).
+pub const DEFAULT_PRECONDITIONER_ROWS: usize = 40_000;
+
+/// Which features the multinomial regression sees: its capacity.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Capacity {
+    /// The descriptor itself: a linear model of it (the paper's).
+    Linear,
+    /// The descriptor and the pairwise products of its `components` leading whitened
+    /// principal components ([`QuadraticExpansion`], fitted on the training descriptors): a
+    /// quadratic model of the descriptor, still fitted by Newton's method.
+    Quadratic {
+        /// Principal components whose products are added (1 to the descriptor's length, at
+        /// most 64).
+        components: usize,
+    },
+}
+
+impl Capacity {
+    /// Short name: `linear` or `quadratic-<components>`.
+    pub fn name(&self) -> String {
+        match self {
+            Capacity::Linear => "linear".into(),
+            Capacity::Quadratic { components } => format!("quadratic-{components}"),
+        }
+    }
+}
+
+impl std::fmt::Display for Capacity {
+    /// [`Capacity::name`].
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.name())
+    }
+}
+
+impl std::str::FromStr for Capacity {
+    type Err = String;
+
+    /// Parses [`Capacity::name`]: `linear` or `quadratic-K` with `K` from 1 to 64.
+    fn from_str(text: &str) -> Result<Capacity, String> {
+        if text == "linear" {
+            return Ok(Capacity::Linear);
+        }
+        match text.strip_prefix("quadratic-").map(str::parse::<usize>) {
+            Some(Ok(components))
+                if (1..=camloc_learning::MAX_EXPANSION_COMPONENTS).contains(&components) =>
+            {
+                Ok(Capacity::Quadratic { components })
+            }
+            _ => Err(format!(
+                "expected 'linear' or 'quadratic-K' with K from 1 to {}, got '{text}'",
+                camloc_learning::MAX_EXPANSION_COMPONENTS
+            )),
+        }
+    }
+}
+
 /// How to train a [`CameraLocalizer`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct TrainOptions {
     /// The pose descriptor (default: [`Descriptor::Joints`]).
     pub descriptor: Descriptor,
+    /// The features the classifier sees (default: [`Capacity::Linear`]; see
+    /// [`with_capacity`](Self::with_capacity)).
+    pub capacity: Capacity,
     /// The classifier and its Newton solver settings.
     pub regression: LogisticRegression,
     /// Landmark dropout augmentation (`None`: train on the samples as they are).
@@ -105,11 +171,13 @@ pub struct TrainOptions {
 }
 
 impl Default for TrainOptions {
-    /// Joints descriptor, multinomial regression with [`DEFAULT_LAMBDA`], dropout with one
-    /// copy, mirror augmentation, viewpoint heads with [`DEFAULT_VIEWPOINT_LAMBDA`].
+    /// Joints descriptor, linear capacity, multinomial regression with [`DEFAULT_LAMBDA`]
+    /// (Newton, conjugate gradients on the last Cholesky factor), dropout with one copy,
+    /// mirror augmentation, viewpoint heads with [`DEFAULT_VIEWPOINT_LAMBDA`].
     fn default() -> Self {
         TrainOptions {
             descriptor: Descriptor::default(),
+            capacity: Capacity::Linear,
             regression: LogisticRegression::default().with_lambda(DEFAULT_LAMBDA),
             dropout: Some(LandmarkDropout::default()),
             mirror: true,
@@ -119,6 +187,22 @@ impl Default for TrainOptions {
 }
 
 impl TrainOptions {
+    /// `self` with `capacity` and the Newton solver that suits it: for
+    /// [`Capacity::Quadratic`] (hundreds of features, `(d + 1) K` in the thousands) truncated
+    /// Newton-CG on a Hessian of [`DEFAULT_PRECONDITIONER_ROWS`] samples
+    /// ([`DirectionSolver::TruncatedCg`]), whose assemblies cost a fraction of full ones; for
+    /// [`Capacity::Linear`] the exact default ([`DirectionSolver::PreconditionedCg`]).
+    pub fn with_capacity(mut self, capacity: Capacity) -> Self {
+        self.capacity = capacity;
+        self.regression.direction_solver = match capacity {
+            Capacity::Linear => DirectionSolver::PreconditionedCg,
+            Capacity::Quadratic { .. } => DirectionSolver::TruncatedCg {
+                preconditioner_rows: DEFAULT_PRECONDITIONER_ROWS,
+            },
+        };
+        self
+    }
+
     /// Checks every setting: the descriptor's, the regression's (lambda finite and >= 0,
     /// tolerances), the dropout's ([`LandmarkDropout::validate`]) and the viewpoint heads'
     /// lambda (finite and >= 0). Training calls it first.
@@ -139,6 +223,18 @@ impl TrainOptions {
         }
         if let Some(lambda) = self.viewpoint_lambda {
             check_viewpoint_lambda(lambda)?;
+        }
+        if let Capacity::Quadratic { components } = self.capacity {
+            let most = camloc_learning::MAX_EXPANSION_COMPONENTS.min(self.descriptor.len());
+            if components == 0 || components > most {
+                return Err(CamlocError::InvalidOption {
+                    name: "quadratic components",
+                    detail: format!(
+                        "must be from 1 to {most} for the {} descriptor, got {components}",
+                        self.descriptor.name()
+                    ),
+                });
+            }
         }
         Ok(())
     }
@@ -168,6 +264,8 @@ pub struct TrainingInfo {
     pub subjects: Vec<String>,
     /// Regression settings.
     pub lambda: f64,
+    /// The classifier's capacity.
+    pub capacity: Capacity,
     /// Dropout used, if any.
     pub dropout: Option<LandmarkDropout>,
     /// Whether mirror augmentation was used.
@@ -211,6 +309,9 @@ pub struct Localization {
 pub struct CameraLocalizer {
     descriptor: Descriptor,
     cameras: CameraSet,
+    /// The feature expansion between descriptor and classifier ([`Capacity::Quadratic`]);
+    /// `None`: the classifier sees the descriptor.
+    expansion: Option<QuadraticExpansion>,
     model: LogisticModel,
     /// Per descriptor value, the training mean used in place of undefined values.
     imputation: Vec<f64>,
@@ -267,7 +368,19 @@ impl CameraLocalizer {
             x.extend_from_slice(&extra);
             y.extend_from_slice(&labels);
         }
-        let features = Features::new(&x, d)?;
+        // The expansion is fitted on the samples (and mirror images) before dropout.
+        let expansion = match options.capacity {
+            Capacity::Linear => None,
+            Capacity::Quadratic { components } => Some(QuadraticExpansion::fit(
+                &Features::new(&x[..poses.len() * d], d)?,
+                components,
+            )?),
+        };
+        if let Some(e) = &expansion {
+            x = e.expand_rows(&Features::new(&x, d)?)?;
+        }
+        let width = expansion.as_ref().map_or(d, QuadraticExpansion::n_outputs);
+        let features = Features::new(&x, width)?;
         let (model, report) = options.regression.fit_with_progress(
             &features,
             &y,
@@ -280,12 +393,14 @@ impl CameraLocalizer {
             samples: dataset.samples.len(),
             subjects: dataset.subjects().into_iter().map(|(s, _)| s).collect(),
             lambda: options.regression.lambda,
+            capacity: options.capacity,
             dropout: options.dropout,
             mirror: options.mirror,
         };
         let mut localizer = CameraLocalizer {
             descriptor,
             cameras: dataset.header.cameras.clone(),
+            expansion,
             model,
             imputation,
             info,
@@ -293,7 +408,7 @@ impl CameraLocalizer {
         };
         if let Some(lambda) = options.viewpoint_lambda {
             let n = dataset.samples.len();
-            localizer.fit_viewpoint_rows(&x[..n * d], dataset, lambda)?;
+            localizer.fit_viewpoint_rows(&x[..n * width], dataset, lambda)?;
         }
         Ok((localizer, report))
     }
@@ -320,10 +435,22 @@ impl CameraLocalizer {
         let poses: Vec<PartialPose2> = dataset.samples.iter().map(sample_pose).collect();
         let (mut x, undefined) = extract_rows(&self.descriptor, &poses)?;
         impute_rows(&mut x, &undefined, &self.imputation);
+        if let Some(e) = &self.expansion {
+            x = e.expand_rows(&Features::new(&x, self.descriptor.len())?)?;
+        }
         self.fit_viewpoint_rows(&x, dataset, lambda)
     }
 
-    /// [`fit_viewpoint`](Self::fit_viewpoint) on the samples' descriptor rows `x` (imputed).
+    /// The number of features the classifier and the viewpoint heads see: the descriptor's,
+    /// or the expansion's outputs.
+    fn feature_width(&self) -> usize {
+        self.expansion
+            .as_ref()
+            .map_or(self.descriptor.len(), QuadraticExpansion::n_outputs)
+    }
+
+    /// [`fit_viewpoint`](Self::fit_viewpoint) on the samples' feature rows `x` (imputed and
+    /// expanded).
     fn fit_viewpoint_rows(
         &mut self,
         x: &[f64],
@@ -331,7 +458,7 @@ impl CameraLocalizer {
         lambda: f64,
     ) -> Result<(), CamlocError> {
         check_viewpoint_lambda(lambda)?;
-        let features = Features::new(x, self.descriptor.len())?;
+        let features = Features::new(x, self.feature_width())?;
         let directions: Vec<[f64; 3]> = dataset
             .samples
             .iter()
@@ -384,7 +511,13 @@ impl CameraLocalizer {
         &self.cameras
     }
 
-    /// The fitted classifier.
+    /// The feature expansion between descriptor and classifier, if the model has one
+    /// ([`Capacity::Quadratic`]).
+    pub fn expansion(&self) -> Option<&QuadraticExpansion> {
+        self.expansion.as_ref()
+    }
+
+    /// The fitted classifier (on the expanded features when the model has an expansion).
     pub fn model(&self) -> &LogisticModel {
         &self.model
     }
@@ -425,6 +558,11 @@ impl CameraLocalizer {
                 source,
             })?;
         impute_rows(&mut x, &undefined, &self.imputation);
+        if let Some(e) = &self.expansion {
+            let mut expanded = vec![0.0; e.n_outputs()];
+            e.expand_into(&x, &mut expanded)?;
+            x = expanded;
+        }
         let mut probabilities = vec![0.0; self.model.n_classes()];
         self.model.predict_proba_into(&x, &mut probabilities)?;
         self.localization_from(&x, probabilities, pose.missing().collect())
@@ -501,9 +639,21 @@ impl Validate for CameraLocalizer {
             .map_err(|e| inconsistent(format!("camera set: {e}")))?;
         self.model.validate()?;
         let d = self.descriptor.len();
-        if self.model.n_features() != d || self.imputation.len() != d {
+        if let Some(e) = &self.expansion {
+            e.validate()
+                .map_err(|e| inconsistent(format!("feature expansion: {e}")))?;
+            if e.n_inputs() != d {
+                return Err(inconsistent(format!(
+                    "descriptor '{}' has {d} values, the feature expansion expects {}",
+                    self.descriptor.name(),
+                    e.n_inputs()
+                )));
+            }
+        }
+        let width = self.feature_width();
+        if self.model.n_features() != width || self.imputation.len() != d {
             return Err(inconsistent(format!(
-                "descriptor '{}' has {d} values, classifier expects {} and imputation has {}",
+                "descriptor '{}' has {d} values ({width} features), classifier expects {} and imputation has {}",
                 self.descriptor.name(),
                 self.model.n_features(),
                 self.imputation.len()
@@ -521,7 +671,7 @@ impl Validate for CameraLocalizer {
         }
         if let Some(heads) = &self.viewpoint {
             heads
-                .validate(self.cameras.len(), d)
+                .validate(self.cameras.len(), width)
                 .map_err(|e| inconsistent(format!("viewpoint heads: {e}")))?;
         }
         Ok(())

@@ -19,7 +19,8 @@ pub struct DescriptorCv {
 }
 
 /// `folds`-fold cross-validation grouped by subject (no subject in two folds) of every
-/// descriptor with every regression candidate, on `dataset`. Values undefined by missing
+/// descriptor with every regression candidate, on `dataset`, with the linear capacity
+/// ([`Capacity::Linear`](crate::Capacity::Linear): the classifier on the descriptor itself). Values undefined by missing
 /// landmarks are imputed with the dataset's means. Returns one report per descriptor.
 ///
 /// # Errors

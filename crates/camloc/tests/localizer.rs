@@ -7,7 +7,7 @@ use camloc::dataset::{
 };
 use camloc::keypoints::{ReadOptions, read_keypoints};
 use camloc::store::{Persist, StoreError};
-use camloc::{CameraLocalizer, CamlocError, PartialPose2, Pose3, TrainOptions, evaluate};
+use camloc::{CameraLocalizer, CamlocError, Capacity, PartialPose2, Pose3, TrainOptions, evaluate};
 
 /// A canonical standing pose (metres, facing -x, right side on +y), bent by `t`.
 fn pose(t: f64) -> Pose3 {
@@ -64,6 +64,43 @@ fn trains_and_localizes_synthetic_views() {
     let l = localizer.localize(&dataset.samples[0].landmarks).unwrap();
     assert!((l.probabilities.iter().sum::<f64>() - 1.0).abs() < 1e-12);
     assert_eq!(l.probability, l.probabilities[l.label.index()]);
+}
+
+/// The quadratic capacity: the names parse, the expansion is stored with the model, the
+/// truncated-Newton fit converges, and it fits the training views at least as well as the
+/// linear model; invalid sizes are refused.
+#[test]
+fn quadratic_capacity_trains_round_trips_and_fits_at_least_as_well() {
+    assert_eq!("linear".parse::<Capacity>(), Ok(Capacity::Linear));
+    let quadratic: Capacity = "quadratic-6".parse().unwrap();
+    assert_eq!(quadratic, Capacity::Quadratic { components: 6 });
+    assert_eq!(quadratic.to_string(), "quadratic-6");
+    for bad in ["quadratic", "quadratic-0", "quadratic-x", "cubic"] {
+        assert!(bad.parse::<Capacity>().is_err(), "{bad}");
+    }
+    let (linear, dataset) = trained();
+    let options = TrainOptions::default().with_capacity(quadratic);
+    let (model, report) = CameraLocalizer::train(&dataset, &options, |_| {}).unwrap();
+    assert!(report.converged);
+    assert_eq!(model.training_info().capacity, quadratic);
+    let expansion = model.expansion().unwrap();
+    assert_eq!(expansion.n_components(), 6);
+    assert_eq!(model.model().n_features(), expansion.n_outputs());
+    assert!(linear.expansion().is_none());
+    let (lin, quad) = (
+        evaluate(&linear, &dataset).unwrap().accuracy,
+        evaluate(&model, &dataset).unwrap().accuracy,
+    );
+    assert!(quad >= lin - 1e-12, "quadratic {quad}, linear {lin}");
+    let back = CameraLocalizer::from_bytes(&model.to_bytes().unwrap()).unwrap();
+    let pose = &dataset.samples[5].landmarks;
+    assert_eq!(
+        back.localize(pose).unwrap().probabilities,
+        model.localize(pose).unwrap().probabilities
+    );
+    let too_many =
+        TrainOptions::default().with_capacity(Capacity::Quadratic { components: 10_000 });
+    assert!(CameraLocalizer::train(&dataset, &too_many, |_| {}).is_err());
 }
 
 /// The continuous viewpoint: in range, closer to the true camera direction than the chosen
@@ -377,6 +414,7 @@ fn pose_reconstructor_modes() {
 struct RawLocalizer {
     descriptor: camloc::Descriptor,
     cameras: camloc::CameraSet,
+    expansion: Option<camloc::learning::QuadraticExpansion>,
     model: RawModel,
     imputation: Vec<f64>,
     info: camloc::TrainingInfo,

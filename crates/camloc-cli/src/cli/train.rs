@@ -8,7 +8,7 @@ use std::time::Instant;
 use camloc::features::PaperConfig;
 use camloc::learning::{LogisticRegression, Mode};
 use camloc::store::{Persist, StagedFiles, check_target};
-use camloc::{CameraLocalizer, Descriptor, LandmarkDropout, TrainOptions};
+use camloc::{CameraLocalizer, Capacity, Descriptor, LandmarkDropout, TrainOptions};
 use clap::ValueEnum;
 
 use super::{CliError, ForceArgs, Out, load_dataset, progress};
@@ -25,6 +25,13 @@ pub struct Args {
     /// Pose descriptor.
     #[arg(long, value_enum, default_value = "joints", value_name = "NAME")]
     pub descriptor: DescriptorArg,
+    /// Classifier capacity: `linear` (a linear model of the descriptor, the paper's) or
+    /// `quadratic-K` (the descriptor and the products of its K leading whitened principal
+    /// components, K from 1 to the descriptor's length and at most 64; more accurate on
+    /// unfamiliar motion, fitted by truncated Newton-CG, many times slower to train).
+    #[arg(long, default_value_t = TrainOptions::default().capacity, value_name = "CAPACITY",
+          value_parser = str::parse::<Capacity>)]
+    pub capacity: Capacity,
     /// Ridge weight lambda of eq. 11 (on the sum of the per-sample losses; scikit-learn's
     /// C = 1 / (2 lambda)): a finite number >= 0.
     #[arg(long, default_value_t = camloc::DEFAULT_LAMBDA, value_name = "L",
@@ -119,7 +126,8 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     let mut options = TrainOptions {
         descriptor,
         ..TrainOptions::default()
-    };
+    }
+    .with_capacity(args.capacity);
     options.regression = options
         .regression
         .with_lambda(args.lambda)
@@ -136,12 +144,13 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     let start = Instant::now();
     let dataset = load_dataset(&args.dataset)?;
     eprintln!(
-        "training on {} samples of {} subjects ({} protocol, {} cameras), descriptor {}, lambda {}",
+        "training on {} samples of {} subjects ({} protocol, {} cameras), descriptor {}, {} classifier, lambda {}",
         dataset.samples.len(),
         dataset.subjects().len(),
         dataset.header.protocol,
         dataset.header.cameras.len(),
         descriptor.name(),
+        args.capacity.name(),
         args.lambda
     );
     let quiet = args.quiet;

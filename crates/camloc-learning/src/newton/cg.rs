@@ -58,6 +58,17 @@ pub(super) enum CgOutcome {
     },
 }
 
+/// What [`NewtonProblem::solve_by_truncated_cg`] did.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct TruncatedStep {
+    /// Hessian-vector products spent.
+    pub(super) products: usize,
+    /// Norm of the direction in the preconditioner's metric, `sqrt(d^T M d)`.
+    pub(super) norm: f64,
+    /// Whether the direction ends on the trust radius.
+    pub(super) on_boundary: bool,
+}
+
 /// The conjugate-gradient work vectors, `P` entries each.
 #[derive(Debug)]
 pub(super) struct Vectors {
@@ -85,7 +96,7 @@ impl NewtonProblem {
     fn cg_budget(&self) -> usize {
         let n = self.n_samples as f64;
         let p = self.theta.len() as f64;
-        let assembly = self.packed.flops(self.n_samples) + p * p * p / 3.0;
+        let assembly = self.hessian_flops() + p * p * p / 3.0;
         let product = 4.0 * n * self.dim as f64 * self.n_classes as f64 + 2.0 * p * p;
         let budget = assembly / (PRODUCT_COST_WEIGHT * product);
         if budget.is_finite() {
@@ -145,6 +156,97 @@ impl NewtonProblem {
                 }
             }
         }
+    }
+
+    /// The truncated Newton direction of [`DirectionSolver::TruncatedCg`]: preconditioned
+    /// CG from zero until `r^T M^-1 r <= eta^2 r_0^T M^-1 r_0` with the forcing term
+    /// `eta = min(0.5, sqrt(||g|| / ||g_0||))` (at least [`CG_TOLERANCE`]), until the
+    /// iterate reaches the trust radius in the norm of `M` (Steihaug: the direction then ends
+    /// on the boundary), or until the budget is spent, in which case the factor is marked
+    /// stale so that the next iteration assembles a fresh one. Every iterate of CG from zero
+    /// on a positive definite system is a descent direction; should a curvature not be
+    /// positive, the direction is the preconditioned negative gradient `M^-1 (-g)` (descent
+    /// too, `M` being positive definite). Needs `factor_ready`; returns the products spent,
+    /// the direction's `M`-norm and whether it ended on the boundary.
+    ///
+    /// [`DirectionSolver::TruncatedCg`]: crate::DirectionSolver::TruncatedCg
+    pub(super) fn solve_by_truncated_cg(&mut self, radius: f64) -> TruncatedStep {
+        let budget = self.cg_budget();
+        let ratio = self.gradient_norm() / self.initial_gradient_norm;
+        let eta = if ratio.is_finite() {
+            ratio.sqrt().clamp(CG_TOLERANCE, 0.5)
+        } else {
+            0.5
+        };
+        for (r, g) in self.cg.residual.iter_mut().zip(&self.gradient) {
+            *r = -g;
+        }
+        self.direction.fill(0.0);
+        self.precondition();
+        self.cg.search.copy_from_slice(&self.cg.preconditioned);
+        let mut rz = dot(&self.cg.residual, &self.cg.preconditioned);
+        let target = eta * eta * rz;
+        // M-norm recurrences (Steihaug): d^T M d, d^T M p, p^T M p.
+        let (mut dmd, mut dmp, mut pmp) = (0.0, 0.0, rz);
+        let mut step = TruncatedStep {
+            products: 0,
+            norm: 0.0,
+            on_boundary: false,
+        };
+        if !(rz > 0.0) {
+            // Zero gradient: nothing to do.
+            return step;
+        }
+        for products in 1..=budget {
+            step.products = products;
+            self.hessian_times_search();
+            let curvature = dot(&self.cg.search, &self.cg.product);
+            let alpha = rz / curvature;
+            let beyond = dmd + 2.0 * alpha * dmp + alpha * alpha * pmp > radius * radius;
+            if !(curvature > 0.0) || beyond {
+                if curvature > 0.0 || products == 1 {
+                    // To the boundary along the search direction (from the last iterate).
+                    let tau = if radius.is_finite() {
+                        (-dmp + (dmp * dmp + pmp * (radius * radius - dmd)).max(0.0).sqrt()) / pmp
+                    } else {
+                        1.0
+                    };
+                    for (d, &s) in self.direction.iter_mut().zip(&self.cg.search) {
+                        *d += tau * s;
+                    }
+                    dmd += 2.0 * tau * dmp + tau * tau * pmp;
+                }
+                if !(curvature > 0.0) {
+                    self.factor_ready = false;
+                }
+                step.norm = dmd.max(0.0).sqrt();
+                step.on_boundary = beyond;
+                return step;
+            }
+            for (d, &s) in self.direction.iter_mut().zip(&self.cg.search) {
+                *d += alpha * s;
+            }
+            for (r, &q) in self.cg.residual.iter_mut().zip(&self.cg.product) {
+                *r -= alpha * q;
+            }
+            dmd += 2.0 * alpha * dmp + alpha * alpha * pmp;
+            self.precondition();
+            let next = dot(&self.cg.residual, &self.cg.preconditioned);
+            if next <= target {
+                step.norm = dmd.max(0.0).sqrt();
+                return step;
+            }
+            let beta = next / rz;
+            for (s, &z) in self.cg.search.iter_mut().zip(&self.cg.preconditioned) {
+                *s = z + beta * *s;
+            }
+            dmp = beta * (dmp + alpha * pmp);
+            pmp = next + beta * beta * pmp;
+            rz = next;
+        }
+        self.factor_ready = false;
+        step.norm = dmd.max(0.0).sqrt();
+        step
     }
 
     /// Tries to put the Newton direction into `direction` by preconditioned conjugate

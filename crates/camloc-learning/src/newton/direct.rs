@@ -20,12 +20,25 @@ const DAMPING_ATTEMPTS: usize = 8;
 
 impl NewtonProblem {
     /// Assembles the exact Hessian of `f` at the current parameters into
-    /// [`hessian`](Self::hessian). This is the dominant cost of an iteration
-    /// ([`hessian_flops`](Self::hessian_flops) flops).
+    /// [`hessian`](Self::hessian) (with [`DirectionSolver::TruncatedCg`] on fewer rows than
+    /// samples: the Hessian of the loss on those rows scaled by `n / m`, plus the exact ridge
+    /// term, an approximation used only as a preconditioner). This is the dominant cost of an
+    /// iteration ([`hessian_flops`](Self::hessian_flops) flops).
+    ///
+    /// [`DirectionSolver::TruncatedCg`]: crate::DirectionSolver::TruncatedCg
     pub fn assemble_hessian(&mut self) {
-        let per_sample = match self.mode {
+        let k = self.n_classes;
+        let source = match self.mode {
             Mode::Multinomial => &self.probabilities,
             Mode::OneVsRest => &self.logits,
+        };
+        for (out, &i) in self.sub_per_sample.chunks_exact_mut(k).zip(&self.sub_rows) {
+            out.copy_from_slice(&source[i * k..(i + 1) * k]);
+        }
+        let (x, rows, per_sample) = if self.sub_rows.is_empty() {
+            (&self.x, self.n_samples, source)
+        } else {
+            (&self.sub_x, self.sub_rows.len(), &self.sub_per_sample)
         };
         let dim = self.dim;
         let weights_are_zero = self
@@ -35,18 +48,13 @@ impl NewtonProblem {
         match per_sample.get(..self.n_classes) {
             // Same logits for every sample (e.g. the starting point): one Gram matrix.
             Some(shared) if weights_are_zero => {
-                self.packed
-                    .accumulate_uniform(&self.x, self.n_samples, self.mode, shared)
+                self.packed.accumulate_uniform(x, rows, self.mode, shared)
             }
-            _ => self.packed.accumulate(
-                &self.x,
-                self.n_samples,
-                self.n_classes,
-                self.mode,
-                per_sample,
-            ),
+            _ => self
+                .packed
+                .accumulate(x, rows, self.n_classes, self.mode, per_sample),
         }
-        self.unpack_hessian();
+        self.unpack_hessian(self.n_samples as f64 / rows as f64);
     }
 
     /// `direction = -H^-1 grad` (per class block for one-vs-rest), with the singular-direction
@@ -119,7 +127,9 @@ impl NewtonProblem {
                         Par::rayon(0),
                         stack,
                     );
-                    self.factor_ready = self.mode == Mode::Multinomial && damping == 0.0;
+                    // A damped factor is no exact solve, but still serves truncated CG.
+                    self.factor_ready =
+                        self.mode == Mode::Multinomial && (damping == 0.0 || self.is_truncated());
                     break;
                 }
                 if attempt == DAMPING_ATTEMPTS {
@@ -139,9 +149,9 @@ impl NewtonProblem {
         Ok(())
     }
 
-    /// Expands the packed blocks into the full symmetric `P x P` Hessian and adds the ridge
-    /// curvature `2 lambda` on the weight diagonal.
-    fn unpack_hessian(&mut self) {
+    /// Expands the packed blocks, times `scale`, into the full symmetric `P x P` Hessian and
+    /// adds the ridge curvature `2 lambda` on the weight diagonal.
+    fn unpack_hessian(&mut self, scale: f64) {
         let dim = self.dim;
         let p = self.theta.len();
         let class_pairs = &self.packed.class_pairs;
@@ -155,6 +165,7 @@ impl NewtonProblem {
             .zip(self.packed.packed.chunks_exact(class_pairs.len().max(1)))
         {
             for (&g, &(j, l)) in column.iter().zip(class_pairs) {
+                let g = scale * g;
                 if j == l {
                     h[(j * dim + b) * p + j * dim + a] += g;
                 } else {

@@ -1,0 +1,298 @@
+//! The quadratic feature expansion: more capacity for the same linear learner.
+//!
+//! A linear model on `[x, z_a z_b (a <= b)]`, where `z` are the leading whitened principal
+//! components of the standardised `x`, is a quadratic function of `x` restricted to the
+//! directions in which the training data vary most. With `k` components the expansion adds
+//! `k (k + 1) / 2` values to the `d` of `x`; the multinomial regression on top stays the
+//! paper's learner (Newton's method on the expanded features).
+
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use crate::{Features, LearningError, Standardiser};
+
+/// Most principal components a [`QuadraticExpansion`] may keep (its products then number
+/// 2080): the expansion works on the stack without allocating.
+pub const MAX_EXPANSION_COMPONENTS: usize = 64;
+
+/// Eigenvalues at most this fraction of the total variance count as zero: such directions
+/// cannot be whitened.
+const NEGLIGIBLE_VARIANCE: f64 = 1e-12;
+
+/// Rows per parallel task of [`QuadraticExpansion::expand_rows`].
+const ROWS_PER_TASK: usize = 1024;
+
+/// A fitted quadratic expansion `x -> [x, z_a z_b for a <= b]` with
+/// `z = W ((x - mean) / scale)`: `W` holds the `k` leading principal directions of the
+/// standardised training rows, each divided by the square root of its variance (so that `z`
+/// has unit variance on the training rows). Units: `x` as given; `z` is unit-free.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct QuadraticExpansion {
+    standardiser: Standardiser,
+    /// `k x d`, row-major: whitened principal direction `a` in row `a`.
+    projection: Vec<f64>,
+    n_components: usize,
+}
+
+impl QuadraticExpansion {
+    /// Number of values of the expansion of `n_inputs` values with `n_components`
+    /// components: `n_inputs + n_components (n_components + 1) / 2`.
+    pub const fn output_len(n_inputs: usize, n_components: usize) -> usize {
+        n_inputs + n_components * (n_components + 1) / 2
+    }
+
+    /// Fits the standardisation and the `n_components` leading principal directions of the
+    /// rows of `x` (population covariance of the standardised rows; eigenvectors with a fixed
+    /// sign, their largest-magnitude entry positive, so that the fit is deterministic).
+    ///
+    /// # Errors
+    /// [`LearningError::NoSamples`] for no rows; [`LearningError::InvalidParameter`] when
+    /// `n_components` is 0, above [`MAX_EXPANSION_COMPONENTS`] or above the number of
+    /// directions in which the rows vary; [`LearningError::Numerical`] when the
+    /// eigendecomposition fails.
+    pub fn fit(x: &Features<'_>, n_components: usize) -> Result<Self, LearningError> {
+        let (n, d) = (x.n_samples(), x.n_features());
+        if n == 0 {
+            return Err(LearningError::NoSamples);
+        }
+        let invalid = |reason| LearningError::InvalidParameter {
+            name: "expansion components",
+            value: n_components.to_string(),
+            reason,
+        };
+        if n_components == 0 || n_components > MAX_EXPANSION_COMPONENTS.min(d) {
+            return Err(invalid(
+                "must be at least 1 and at most the number of features (and 64)",
+            ));
+        }
+        let standardiser = Standardiser::fit(x);
+        // Covariance of the standardised rows (lower triangle), accumulated per task.
+        let covariance = x
+            .data()
+            .par_chunks(ROWS_PER_TASK * d)
+            .map(|rows| {
+                let mut c = vec![0.0; d * d];
+                let mut z = vec![0.0; d];
+                for row in rows.chunks_exact(d) {
+                    standardiser.transform_into(row, &mut z);
+                    for a in 0..d {
+                        let za = z[a];
+                        for (cell, &zb) in c[a * d..a * d + a + 1].iter_mut().zip(&z) {
+                            *cell += za * zb;
+                        }
+                    }
+                }
+                c
+            })
+            .reduce(
+                || vec![0.0; d * d],
+                |mut a, b| {
+                    a.iter_mut().zip(&b).for_each(|(x, y)| *x += y);
+                    a
+                },
+            );
+        let inv_n = 1.0 / n as f64;
+        let matrix = faer::Mat::<f64>::from_fn(d, d, |r, c| {
+            let (hi, lo) = if r >= c { (r, c) } else { (c, r) };
+            covariance[hi * d + lo] * inv_n
+        });
+        let eigen = matrix.self_adjoint_eigen(faer::Side::Lower).map_err(|_| {
+            LearningError::Numerical("eigendecomposition of the feature covariance")
+        })?;
+        let values = eigen.S().column_vector();
+        let vectors = eigen.U();
+        let total: f64 = (0..d).map(|i| values[i].max(0.0)).sum();
+        let mut projection = Vec::with_capacity(n_components * d);
+        // Eigenvalues come in nondecreasing order: the leading ones are last.
+        for a in 0..n_components {
+            let j = d - 1 - a;
+            let variance = values[j];
+            if !(variance > NEGLIGIBLE_VARIANCE * total) {
+                return Err(invalid(
+                    "exceeds the number of directions in which the training rows vary",
+                ));
+            }
+            let column: Vec<f64> = (0..d).map(|r| vectors[(r, j)]).collect();
+            let largest = column
+                .iter()
+                .copied()
+                .fold(0.0_f64, |m, v| if v.abs() > m.abs() { v } else { m });
+            let sign = if largest < 0.0 { -1.0 } else { 1.0 };
+            let whiten = sign / variance.sqrt();
+            projection.extend(column.iter().map(|v| v * whiten));
+        }
+        Ok(Self {
+            standardiser,
+            projection,
+            n_components,
+        })
+    }
+
+    /// Number of input values `d`.
+    pub fn n_inputs(&self) -> usize {
+        self.standardiser.means().len()
+    }
+
+    /// Number of principal components `k`.
+    pub fn n_components(&self) -> usize {
+        self.n_components
+    }
+
+    /// Number of output values, [`output_len`](Self::output_len) of `d` and `k`.
+    pub fn n_outputs(&self) -> usize {
+        Self::output_len(self.n_inputs(), self.n_components)
+    }
+
+    /// Writes the expansion of `x` (length [`n_inputs`](Self::n_inputs)) into `out` (length
+    /// [`n_outputs`](Self::n_outputs)): `x` itself, then `z_a z_b` for `a <= b` in row-major
+    /// order of the upper triangle. Does not allocate.
+    ///
+    /// # Errors
+    /// [`LearningError::SizeMismatch`] for a wrong length of `x` or `out`.
+    pub fn expand_into(&self, x: &[f64], out: &mut [f64]) -> Result<(), LearningError> {
+        let d = self.n_inputs();
+        if x.len() != d {
+            return Err(LearningError::SizeMismatch {
+                what: "expansion input",
+                expected: d,
+                found: x.len(),
+            });
+        }
+        if out.len() != self.n_outputs() {
+            return Err(LearningError::SizeMismatch {
+                what: "expansion output",
+                expected: self.n_outputs(),
+                found: out.len(),
+            });
+        }
+        let (linear, products) = out.split_at_mut(d);
+        self.standardiser.transform_into(x, linear);
+        let mut z = [0.0; MAX_EXPANSION_COMPONENTS];
+        let z = &mut z[..self.n_components];
+        for (za, w) in z.iter_mut().zip(self.projection.chunks_exact(d)) {
+            *za = w.iter().zip(linear.iter()).map(|(a, b)| a * b).sum();
+        }
+        linear.copy_from_slice(x);
+        let mut k = 0;
+        for a in 0..z.len() {
+            for b in a..z.len() {
+                products[k] = z[a] * z[b];
+                k += 1;
+            }
+        }
+        Ok(())
+    }
+
+    /// The expansions of every row of `x`, row-major (`n x n_outputs`), in parallel.
+    ///
+    /// # Errors
+    /// [`LearningError::SizeMismatch`] when `x` does not have [`n_inputs`](Self::n_inputs)
+    /// features.
+    pub fn expand_rows(&self, x: &Features<'_>) -> Result<Vec<f64>, LearningError> {
+        let (d, m) = (self.n_inputs(), self.n_outputs());
+        if x.n_features() != d {
+            return Err(LearningError::SizeMismatch {
+                what: "expansion input",
+                expected: d,
+                found: x.n_features(),
+            });
+        }
+        let mut out = vec![0.0; x.n_samples() * m];
+        out.par_chunks_mut(m)
+            .zip(x.data().par_chunks(d))
+            .try_for_each(|(o, row)| self.expand_into(row, o))?;
+        Ok(out)
+    }
+
+    /// Checks the stored parts: a valid standardiser, `1 <= k <= min(d, 64)`, a `k x d`
+    /// projection of finite numbers.
+    ///
+    /// # Errors
+    /// [`LearningError::InvalidParameter`] or [`LearningError::SizeMismatch`] naming the part.
+    pub fn validate(&self) -> Result<(), LearningError> {
+        self.standardiser.validate()?;
+        let d = self.n_inputs();
+        if self.n_components == 0 || self.n_components > MAX_EXPANSION_COMPONENTS.min(d) {
+            return Err(LearningError::InvalidParameter {
+                name: "expansion components",
+                value: self.n_components.to_string(),
+                reason: "must be at least 1 and at most the number of features (and 64)",
+            });
+        }
+        if self.projection.len() != self.n_components * d {
+            return Err(LearningError::SizeMismatch {
+                what: "expansion projection",
+                expected: self.n_components * d,
+                found: self.projection.len(),
+            });
+        }
+        if !self.projection.iter().all(|v| v.is_finite()) {
+            return Err(LearningError::InvalidParameter {
+                name: "expansion projection",
+                value: "non-finite".into(),
+                reason: "every entry must be finite",
+            });
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    fn rows(n: usize, d: usize, seed: u64) -> Vec<f64> {
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let mut out = Vec::with_capacity(n * d);
+        for _ in 0..n {
+            let t: f64 = rng.random_range(-1.0..1.0);
+            for j in 0..d {
+                out.push(3.0 * t * (j as f64 + 1.0) + rng.random_range(-0.5..0.5) + 10.0);
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn components_are_white_and_products_follow_them() {
+        let (n, d, k) = (2000, 5, 3);
+        let data = rows(n, d, 1);
+        let x = Features::new(&data, d).unwrap();
+        let e = QuadraticExpansion::fit(&x, k).unwrap();
+        assert_eq!(e.n_outputs(), 5 + 6);
+        let out = e.expand_rows(&x).unwrap();
+        // z_a^2 are the products at positions 0, 3, 5 of the upper triangle: mean 1.
+        for (a, pos) in [0usize, 3, 5].into_iter().enumerate() {
+            let mean: f64 = out.chunks_exact(11).map(|r| r[d + pos]).sum::<f64>() / n as f64;
+            assert!((mean - 1.0).abs() < 1e-9, "component {a}: {mean}");
+        }
+        // The linear part is the input itself.
+        assert_eq!(&out[..d], &data[..d]);
+        // Deterministic: the same fit twice.
+        assert_eq!(QuadraticExpansion::fit(&x, k).unwrap(), e);
+        e.validate().unwrap();
+    }
+
+    #[test]
+    fn bad_sizes_and_settings_are_errors() {
+        let data = rows(50, 4, 2);
+        let x = Features::new(&data, 4).unwrap();
+        assert!(QuadraticExpansion::fit(&x, 0).is_err());
+        assert!(QuadraticExpansion::fit(&x, 5).is_err());
+        let e = QuadraticExpansion::fit(&x, 2).unwrap();
+        let mut out = vec![0.0; e.n_outputs()];
+        assert!(e.expand_into(&[1.0; 3], &mut out).is_err());
+        assert!(e.expand_into(&[1.0; 4], &mut out[1..]).is_err());
+        // A constant column adds no direction of variance.
+        let flat: Vec<f64> = (0..40).flat_map(|i| [i as f64, 1.0]).collect();
+        let x = Features::new(&flat, 2).unwrap();
+        assert!(QuadraticExpansion::fit(&x, 2).is_err());
+        let mut tampered = e.clone();
+        tampered.projection[0] = f64::NAN;
+        assert!(tampered.validate().is_err());
+        tampered.projection.pop();
+        assert!(tampered.validate().is_err());
+    }
+}
