@@ -102,7 +102,7 @@ def reconstruct(
     basis: Optional[_Path] = None,
 ) -> Dict[str, Any]:
     """Reconstructs the 3D pose of every pose (all 15 landmarks needed) by projected matching
-    pursuit on camloc's PCA pose basis.
+    pursuit on camloc's pose basis (principal components and cluster centres).
 
     points, layout, scores, min_score: as for ``Localizer.localize``.
     camera: ``opt`` (Procrustes camera, the default), ``classified`` (the rotation of the

@@ -4,6 +4,7 @@
 //! * `cargo xtask train-default`: train the default model embedded in the `camloc` binary.
 //! * `cargo xtask report`: measure everything and write docs/RESULTS.md.
 //! * `cargo xtask generalise`: accuracy per motion category, leave-one-category-out, sphere.
+//! * `cargo xtask reconstruction`: 3D reconstruction per basis, prior and camera mode.
 //! * `cargo xtask compare-sklearn`: camloc's Newton solver against scikit-learn on one matrix.
 
 use std::process::ExitCode;
@@ -14,6 +15,7 @@ mod compare_sklearn;
 mod gen_dataset;
 mod generalise;
 mod progress;
+mod reconstruction;
 mod report;
 mod train_default;
 
@@ -35,8 +37,12 @@ enum Command {
     /// Measure localization (and reconstruction) and write docs/RESULTS.md.
     Report(report::Args),
     /// Measure generalisation: per motion category, leave-one-category-out, sphere protocol,
-    /// joints against joints-quadratic (issue 11). Prints markdown tables.
+    /// the continuous viewpoint, linear against quadratic classifiers (issue 11). Prints
+    /// markdown tables.
     Generalise(generalise::Args),
+    /// Measure 3D reconstruction on held-out subjects: basis size, dictionary, priors,
+    /// camera modes (issue 12). Prints markdown tables.
+    Reconstruction(reconstruction::Args),
     /// Compare camloc's Newton solver with scikit-learn on the same design matrix.
     CompareSklearn(compare_sklearn::Args),
 }
@@ -49,6 +55,7 @@ fn main() -> ExitCode {
         Command::Report(args) => report::run(&args),
         Command::CompareSklearn(args) => compare_sklearn::run(&args),
         Command::Generalise(args) => generalise::run(&args),
+        Command::Reconstruction(args) => reconstruction::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -9,7 +9,7 @@ use camloc::reconstruct::{BasisConfig, PoseBasis};
 use camloc::store::Persist;
 use camloc::{CameraLocalizer, TrainOptions};
 
-use crate::gen_dataset::{categorise, load_sequences, project};
+use crate::gen_dataset::{basis_poses, categorise, load_sequences, project};
 
 /// Seed of the default model's dataset (jitter, noise) and dropout.
 pub const DEFAULT_SEED: u64 = 1;
@@ -154,7 +154,10 @@ pub fn run(args: &Args) -> Result<(), String> {
         dataset.samples.len(),
         start.elapsed().as_secs_f64()
     );
-    let poses = dataset.unique_poses();
+    let poses: Vec<camloc::Pose3> = basis_poses(&sequences)
+        .into_iter()
+        .map(|(p, _)| p)
+        .collect();
     let basis = PoseBasis::fit(&poses, &BasisConfig::default()).map_err(|e| e.to_string())?;
     basis
         .save(&basis_out, args.force)

@@ -27,6 +27,8 @@ fn train_evaluate_and_reconstruct_succeed_on_fixture_data() {
         "0.5",
         "--dropout",
         "0.5",
+        "--capacity",
+        "quadratic-4",
         "--quiet",
     ]);
     let stderr = String::from_utf8_lossy(&out.stderr);
@@ -35,6 +37,10 @@ fn train_evaluate_and_reconstruct_succeed_on_fixture_data() {
     let trained = camloc::CameraLocalizer::load(Path::new(model)).unwrap();
     assert_eq!(trained.descriptor().name(), "landmarks");
     assert_eq!(trained.training_info().lambda, 0.5);
+    assert_eq!(
+        trained.training_info().capacity,
+        camloc::Capacity::Quadratic { components: 4 }
+    );
 
     let out = camloc(&["evaluate", "--model", model, "--dataset", &data, "--json"]);
     assert!(
@@ -87,7 +93,53 @@ fn train_evaluate_and_reconstruct_succeed_on_fixture_data() {
         let label = p["classified_label"].as_u64().unwrap();
         assert!((1..=12).contains(&label));
         assert_eq!(p["landmarks_m"].as_object().unwrap().len(), 15);
+        assert!(p.get("alternatives").is_none(), "one hypothesis by default");
     }
+
+    // --hypotheses 2: the depth mirror beside the preferred one, both scored; hybrid has 2
+    // solves of 2 each.
+    for (camera, n) in [("opt", 2), ("hybrid", 4)] {
+        let out = camloc(&[
+            "reconstruct",
+            "--input",
+            input,
+            "--camera",
+            camera,
+            "--hypotheses",
+            "4",
+            "--json",
+        ]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let poses: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        for p in poses.as_array().unwrap() {
+            let alternatives = p["alternatives"].as_array().unwrap();
+            assert_eq!(alternatives.len(), n - 1, "{camera}");
+            let reflected = std::iter::once(p)
+                .chain(alternatives)
+                .filter(|h| h["reflected"].as_bool().unwrap())
+                .count();
+            assert_eq!(reflected, n / 2, "{camera}");
+            for h in std::iter::once(p).chain(alternatives) {
+                assert!(h["projection_error"].as_f64().unwrap() >= 0.0);
+                assert!(h["limit_violation_rad"].as_f64().unwrap() >= 0.0);
+                assert_eq!(h["landmarks_m"].as_object().unwrap().len(), 15);
+            }
+        }
+    }
+    let text = camloc(&["reconstruct", "--input", input, "--hypotheses", "2"]);
+    assert!(text.status.success());
+    let text = String::from_utf8_lossy(&text.stdout);
+    assert_eq!(
+        text.matches("  alternative 1; reprojection error").count(),
+        3,
+        "{text}"
+    );
+    let zero = camloc(&["reconstruct", "--input", input, "--hypotheses", "0"]);
+    assert!(!zero.status.success());
 
     let out = camloc(&[
         "evaluate-reconstruction",

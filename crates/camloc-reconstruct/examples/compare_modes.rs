@@ -68,7 +68,13 @@ fn main() -> Result<(), Box<dyn Error>> {
     let step = test.len().div_ceil(max_samples).max(1);
     let test: Vec<Pose3> = test.into_iter().step_by(step).collect();
     println!("{} training poses, {} test poses", train.len(), test.len());
-    let basis = PoseBasis::fit(&train, &BasisConfig { n_components })?;
+    let basis = PoseBasis::fit(
+        &train,
+        &BasisConfig {
+            n_components,
+            ..BasisConfig::default()
+        },
+    )?;
     println!(
         "basis: {} components, {:.2}% of the variance; max_basis {max_basis}",
         basis.n_components(),

@@ -1,10 +1,13 @@
-//! The PCA pose basis: mean pose, principal components, anthropometric target, storage.
+//! The pose basis: mean pose, principal components (and, for a dictionary, cluster-centre
+//! atoms), anthropometric target, joint-angle limits, storage.
 
 use camloc_skeleton::{LIMBS, NUM_LANDMARKS, NUM_LIMBS, Pose3};
 use camloc_store::{FileKind, Persist, Validate};
 use nalgebra::{DMatrix, DVector, SymmetricEigen};
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
+use crate::prior::JointLimits;
 use crate::{ReconstructError, is_positive};
 
 /// Length of a pose vector: 15 landmarks x 3 coordinates, landmark-major
@@ -14,22 +17,54 @@ pub const POSE_DIM: usize = 3 * NUM_LANDMARKS;
 /// Length of a limb-vector stack: 14 limbs x 3 coordinates (child minus parent), metres.
 pub(crate) const LIMB_DIM: usize = 3 * NUM_LIMBS;
 
+/// What the basis poses are.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum BasisKind {
+    /// The leading principal components (orthonormal).
+    Pca,
+    /// An over-complete dictionary for the pursuit to choose from: the principal components
+    /// followed by `atoms` cluster centres of the training poses (k-means, deterministic),
+    /// each as its unit-norm deviation from the mean.
+    Dictionary {
+        /// Number of cluster centres (at least 1, at most the number of training poses).
+        atoms: usize,
+    },
+}
+
 /// Options of [`PoseBasis::fit`].
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct BasisConfig {
     /// Number of principal components kept (at least 1, at most the number of directions with
     /// non-zero variance: 42 for 15 pelvis-centred landmarks, fewer with few training poses).
     pub n_components: usize,
+    /// Principal components only, or a dictionary with cluster centres.
+    pub kind: BasisKind,
+    /// Representative directions per limb bone of the learned joint-angle limits
+    /// ([`JointLimits::fit`]); at least 1.
+    pub limit_directions: usize,
 }
 
+/// Dictionary atoms of [`BasisConfig::default`].
+pub const DEFAULT_ATOMS: usize = 256;
+
 impl Default for BasisConfig {
-    /// 24 components: on the synthetic and CMU walking poses measured for this crate they keep
-    /// well over 99% of the variance while leaving the 2D fit (30 equations, 26 after removing
-    /// translation and scale) overdetermined for `max_basis` up to 24.
+    /// 16 principal components (chosen by cross-validation grouped by subject on the CMU
+    /// data, `cargo xtask reconstruction`) and a dictionary of 256 cluster centres beside
+    /// them (lower error on held-out subjects than PCA alone, docs/RESULTS.md), 256
+    /// directions per bone.
     fn default() -> Self {
-        BasisConfig { n_components: 24 }
+        BasisConfig {
+            n_components: 16,
+            kind: BasisKind::Dictionary {
+                atoms: DEFAULT_ATOMS,
+            },
+            limit_directions: 256,
+        }
     }
 }
+
+/// Lloyd iterations of the dictionary's k-means.
+const KMEANS_ITERATIONS: usize = 20;
 
 /// A linear model of canonical 3D poses, `X = mu + B w` (eq. 5).
 ///
@@ -37,7 +72,9 @@ impl Default for BasisConfig {
 /// -x, right side towards +y, z up), metres. Every training pose is translated so that its pelvis
 /// is at the origin and scaled so that its sum of squared limb lengths equals the training average
 /// (the *anthropometric target*); `mu` is their mean and the columns of `B` are the leading
-/// principal components (orthonormal, unit-free directions in pose space).
+/// principal components (orthonormal, unit-free directions in pose space), followed, for a
+/// dictionary ([`BasisKind::Dictionary`]), by unit-norm cluster-centre deviations. The basis
+/// also holds the joint-angle limits learned from the same poses.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(try_from = "StoredBasis")]
 pub struct PoseBasis {
@@ -47,14 +84,19 @@ pub struct PoseBasis {
     total_variance: f64,
     anthropometric_target: f64,
     n_training: usize,
+    /// Number of leading columns of `components` that are orthonormal principal components.
+    n_principal: usize,
+    limits: JointLimits,
 }
 
 impl PoseBasis {
-    /// Fits the basis to `poses` (canonical frame, metres).
+    /// Fits the basis to `poses` (canonical frame, metres), and the joint-angle limits.
     ///
-    /// Variances are population variances (divided by the number of poses), in m^2.
+    /// Variances are population variances (divided by the number of poses), in m^2 (for a
+    /// dictionary atom: of the poses' projections on it).
     /// Component signs are fixed so that each component's largest-magnitude entry is positive,
-    /// which makes the basis a deterministic function of the training set.
+    /// which makes the basis a deterministic function of the training set (the k-means of a
+    /// dictionary starts from the poses farthest apart, so it is deterministic too).
     ///
     /// # Errors
     /// [`ReconstructError::EmptyTrainingSet`], [`ReconstructError::NonFiniteTrainingPose`],
@@ -118,7 +160,20 @@ impl PoseBasis {
             });
         }
         let k = config.n_components;
-        let mut components = DMatrix::zeros(POSE_DIM, k);
+        let atoms = match config.kind {
+            BasisKind::Pca => Vec::new(),
+            BasisKind::Dictionary { atoms } => {
+                if atoms == 0 || atoms > poses.len() {
+                    return Err(ReconstructError::InvalidConfig {
+                        field: "BasisKind::Dictionary::atoms",
+                        value: atoms.to_string(),
+                        reason: "must be from 1 to the number of training poses",
+                    });
+                }
+                cluster_atoms(&vectors, &mean, atoms)
+            }
+        };
+        let mut components = DMatrix::zeros(POSE_DIM, k + atoms.len());
         let mut variances = Vec::with_capacity(k);
         for (col, &i) in order.iter().take(k).enumerate() {
             let mut v = eig.eigenvectors.column(i).into_owned();
@@ -129,6 +184,16 @@ impl PoseBasis {
             components.set_column(col, &v);
             variances.push(eig.eigenvalues[i]);
         }
+        for (j, atom) in atoms.iter().enumerate() {
+            components.set_column(k + j, atom);
+            let variance = vectors
+                .iter()
+                .map(|v| (v - &mean).dot(atom).powi(2))
+                .sum::<f64>()
+                / n;
+            variances.push(variance);
+        }
+        let limits = JointLimits::fit(poses, config.limit_directions)?;
         Ok(PoseBasis {
             mean,
             components,
@@ -136,7 +201,20 @@ impl PoseBasis {
             total_variance,
             anthropometric_target: target,
             n_training: poses.len(),
+            n_principal: k,
+            limits,
         })
+    }
+
+    /// The joint-angle limits learned from the training poses.
+    pub fn joint_limits(&self) -> &JointLimits {
+        &self.limits
+    }
+
+    /// Number of principal components (the leading, orthonormal columns of
+    /// [`components`](Self::components)); the rest are dictionary atoms.
+    pub fn n_principal(&self) -> usize {
+        self.n_principal
     }
 
     /// The mean pose `mu` (canonical frame, metres).
@@ -149,13 +227,14 @@ impl PoseBasis {
         &self.mean
     }
 
-    /// The components `B` as a [`POSE_DIM`] x `n_components` matrix with orthonormal columns,
-    /// ordered by decreasing variance.
+    /// The components `B` as a [`POSE_DIM`] x `n_components` matrix: the orthonormal
+    /// principal components ordered by decreasing variance, then any dictionary atoms (unit
+    /// norm).
     pub fn components(&self) -> &DMatrix<f64> {
         &self.components
     }
 
-    /// Number of components.
+    /// Number of components (principal components and dictionary atoms).
     pub fn n_components(&self) -> usize {
         self.components.ncols()
     }
@@ -165,10 +244,10 @@ impl PoseBasis {
         &self.variances
     }
 
-    /// Share of the total training variance kept by the components (0..=1).
+    /// Share of the total training variance kept by the principal components (0..=1).
     pub fn explained_variance_ratio(&self) -> f64 {
         if self.total_variance > 0.0 {
-            self.variances.iter().sum::<f64>() / self.total_variance
+            self.variances[..self.n_principal].iter().sum::<f64>() / self.total_variance
         } else {
             0.0
         }
@@ -219,6 +298,8 @@ struct StoredBasis {
     total_variance: f64,
     anthropometric_target: f64,
     n_training: usize,
+    n_principal: usize,
+    limits: JointLimits,
 }
 
 impl TryFrom<StoredBasis> for PoseBasis {
@@ -246,13 +327,15 @@ impl TryFrom<StoredBasis> for PoseBasis {
             total_variance: s.total_variance,
             anthropometric_target: s.anthropometric_target,
             n_training: s.n_training,
+            n_principal: s.n_principal,
+            limits: s.limits,
         })
     }
 }
 
 /// The invariants `fit` establishes, checked after every decode: a 45-entry mean, 1 to 45
-/// orthonormal 45-entry components with one variance each, finite numbers and a positive
-/// anthropometric target.
+/// orthonormal 45-entry principal components and at most [`MAX_ATOMS`] unit-norm atoms, one
+/// variance each, finite numbers, a positive anthropometric target and valid joint limits.
 impl Validate for PoseBasis {
     type Invalid = ReconstructError;
 
@@ -266,9 +349,11 @@ impl Validate for PoseBasis {
                 self.components.nrows()
             )));
         }
-        if k == 0 || k > POSE_DIM || self.variances.len() != k {
+        let p = self.n_principal;
+        if p == 0 || p > POSE_DIM || k < p || k - p > MAX_ATOMS || self.variances.len() != k {
             return Err(invalid(format!(
-                "{k} components (1 to {POSE_DIM} allowed) with {} variances",
+                "{p} principal components (1 to {POSE_DIM} allowed) of {k} columns (at most \
+                 {MAX_ATOMS} atoms) with {} variances",
                 self.variances.len()
             )));
         }
@@ -286,13 +371,21 @@ impl Validate for PoseBasis {
                 self.anthropometric_target
             )));
         }
-        let gram = self.components.transpose() * &self.components;
-        let off = (gram - DMatrix::identity(k, k)).abs().max();
+        let principal = self.components.columns(0, p);
+        let gram = principal.transpose() * principal;
+        let off = (gram - DMatrix::identity(p, p)).abs().max();
         if off > 1e-8 {
             return Err(invalid(format!(
-                "components are not orthonormal (error {off:.3e})"
+                "principal components are not orthonormal (error {off:.3e})"
             )));
         }
+        if let Some(j) = (p..k).find(|&j| (self.components.column(j).norm() - 1.0).abs() > 1e-8) {
+            return Err(invalid(format!(
+                "dictionary atom {} is not of unit norm",
+                j - p
+            )));
+        }
+        self.limits.check().map_err(invalid)?;
         Ok(())
     }
 }
@@ -301,6 +394,73 @@ impl Validate for PoseBasis {
 /// [`Persist::load`], write with [`Persist::save`] (no overwrite unless asked).
 impl Persist for PoseBasis {
     const KIND: FileKind = camloc_store::POSE_BASIS_KIND;
+}
+
+/// Most dictionary atoms a basis file may hold.
+pub const MAX_ATOMS: usize = 1024;
+
+/// `atoms` k-means centres of the (normalised, pelvis-centred) pose vectors, as unit-norm
+/// deviations from `mean`. Starts from the farthest-point sampling of the vectors (from the
+/// one farthest from the mean), then [`KMEANS_ITERATIONS`] Lloyd iterations; an emptied
+/// cluster keeps its centre. Centres equal to the mean are dropped.
+fn cluster_atoms(vectors: &[DVector<f64>], mean: &DVector<f64>, atoms: usize) -> Vec<DVector<f64>> {
+    let distance2 = |a: &DVector<f64>, b: &DVector<f64>| {
+        a.iter()
+            .zip(b.iter())
+            .map(|(x, y)| (x - y) * (x - y))
+            .sum::<f64>()
+    };
+    let first = vectors
+        .iter()
+        .enumerate()
+        .max_by(|a, b| distance2(a.1, mean).total_cmp(&distance2(b.1, mean)))
+        .map_or(0, |(i, _)| i);
+    let mut centres = vec![vectors[first].clone()];
+    let mut nearest: Vec<f64> = vectors.iter().map(|v| distance2(v, &centres[0])).collect();
+    while centres.len() < atoms {
+        let far = nearest
+            .iter()
+            .enumerate()
+            .max_by(|a, b| a.1.total_cmp(b.1))
+            .map_or(0, |(i, _)| i);
+        let new = vectors[far].clone();
+        for (n, v) in nearest.iter_mut().zip(vectors) {
+            *n = n.min(distance2(v, &new));
+        }
+        centres.push(new);
+    }
+    let mut assignment = vec![0usize; vectors.len()];
+    for _ in 0..KMEANS_ITERATIONS {
+        assignment
+            .par_iter_mut()
+            .zip(vectors.par_iter())
+            .for_each(|(a, v)| {
+                *a = centres
+                    .iter()
+                    .enumerate()
+                    .min_by(|x, y| distance2(v, x.1).total_cmp(&distance2(v, y.1)))
+                    .map_or(0, |(i, _)| i);
+            });
+        let mut sums = vec![DVector::zeros(POSE_DIM); centres.len()];
+        let mut counts = vec![0usize; centres.len()];
+        for (&a, v) in assignment.iter().zip(vectors) {
+            sums[a] += v;
+            counts[a] += 1;
+        }
+        for ((c, s), &n) in centres.iter_mut().zip(sums).zip(&counts) {
+            if n > 0 {
+                *c = s / n as f64;
+            }
+        }
+    }
+    centres
+        .into_iter()
+        .filter_map(|c| {
+            let d = c - mean;
+            let norm = d.norm();
+            (norm > 1e-9).then(|| d / norm)
+        })
+        .collect()
 }
 
 /// Sum of the 14 squared limb lengths of `pose`, m^2 (the anthropometric quantity that

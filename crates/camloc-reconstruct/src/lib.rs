@@ -2,15 +2,19 @@
 //! Kanade & Sheikh, "Reconstructing 3D Human Pose from 2D Image Landmarks", ECCV 2012).
 //!
 //! * [`PoseBasis`]: mean pose and PCA components of scale-normalised canonical 3D poses
-//!   (metres, pelvis at the origin, facing -x), with the anthropometric target (the training
-//!   poses' common sum of squared limb lengths); stored as a versioned, checksummed file
-//!   ([`camloc_store::Persist`], validated after every decode).
+//!   (metres, pelvis at the origin, facing -x) and, for a dictionary ([`BasisKind`]), k-means
+//!   cluster centres beside them; the anthropometric target (the training poses' common sum
+//!   of squared limb lengths) and the learned [`JointLimits`]; stored as a versioned,
+//!   checksummed file ([`camloc_store::Persist`], validated after every decode).
 //! * [`Reconstructor::reconstruct`]: projected matching pursuit. The pose `mu + B w` (at most
 //!   `k` components) and a weak-perspective camera minimise the reprojection error (eq. 6)
 //!   subject to the anthropometric constraint, solved exactly per step by
 //!   [`constrained_least_squares`]. The camera comes from a [`CameraMode`]: Procrustes
 //!   (`opt`), a fixed rotation (`classified`, `oracle`) or a fixed start refined by
-//!   Procrustes (`hybrid`). The depth-reflected solution is tried as a second hypothesis.
+//!   Procrustes (`hybrid`). The depth-reflected solution is tried as a second hypothesis;
+//!   [`Reconstructor::reconstruct_hypotheses`] returns them ranked. Priors
+//!   ([`ReconstructConfig`]): a Gaussian on the coefficients, left/right limb symmetry
+//!   ([`symmetrise`]) and the joint-angle limits.
 //! * Metrics: [`mpjpe_after_similarity`] (millimetres, reflection excluded),
 //!   [`projection_error_eq12`] and its bounding-box variant, [`rms_error_in_torsos`].
 //! * [`evaluate`]: compares modes over samples with known truth, in parallel.
@@ -44,12 +48,12 @@
 //!
 //! # Choosing a camera mode
 //!
-//! `opt` needs nothing but the 2D pose and is the default of the `camloc` facade and tool: it
-//! gave the lowest 3D error on held-out CMU subjects when real cameras stand between the
-//! classes (the `jittered` protocol). A fixed class rotation (`classified`) helps only when the
-//! true camera is close to it, as under the `canonical` protocol; `hybrid` starts from the
-//! class rotation and lets Procrustes move away from it, which limits the cost of a wrong or
-//! approximate class. The measurements behind this, per protocol and mode, are in
+//! `opt` needs nothing but the 2D pose, is the fastest, and is the default of the `camloc`
+//! facade and tool. With the default basis and priors, `hybrid` (which starts from the class
+//! rotation and lets Procrustes move away from it, limiting the cost of a wrong or approximate
+//! class) gave the lowest 3D error on held-out CMU subjects under both protocols, at about 3
+//! times the time of `opt`; a fixed class rotation (`classified`) helps only when the true
+//! camera is close to it, as under the `canonical` protocol. The measurements behind this, per protocol and mode, are in
 //! `docs/RESULTS.md` (`cargo xtask report` and the `compare_modes` example).
 
 #![warn(missing_docs)]
@@ -59,17 +63,24 @@ mod error;
 mod eval;
 mod lsq;
 mod metrics;
+mod prior;
 mod pursuit;
 
-pub use basis::{BasisConfig, POSE_DIM, PoseBasis, sum_squared_limb_lengths};
+pub use basis::{
+    BasisConfig, BasisKind, DEFAULT_ATOMS, MAX_ATOMS, POSE_DIM, PoseBasis, sum_squared_limb_lengths,
+};
 pub use error::ReconstructError;
 pub use eval::{EvalReport, EvalSample, ModeKind, ModeReport, evaluate};
-pub use lsq::{ConstrainedSolution, constrained_least_squares};
+pub use lsq::{ConstrainedSolution, QuadraticConstraint, constrained_least_squares};
 pub use metrics::{
     BBOX_FLOOR_IN_TORSOS, align_similarity, bounding_box, mpjpe_after_similarity,
     projection_error_eq12, projection_error_eq12_bbox, rms_error_in_torsos,
 };
-pub use pursuit::{CameraMode, LengthTarget, ReconstructConfig, Reconstruction, Reconstructor};
+pub use prior::{JointLimits, symmetrise};
+pub use pursuit::{
+    CameraMode, DEFAULT_COEFFICIENT_PRIOR, EQUAL_FIT_TOLERANCE, LengthTarget, ReconstructConfig,
+    Reconstruction, Reconstructor,
+};
 
 /// `x > 0`, false for NaN (reads better than a negated comparison at the call sites).
 pub(crate) fn is_positive(x: f64) -> bool {

@@ -47,7 +47,8 @@ const MAX_SECULAR_STEPS: usize = 200;
 /// Solves `min ||A w - b||^2` subject to `w^T Q w + 2 c^T w + e = 0` exactly (see the module
 /// documentation for the method). `A` is `m x n`, `b` has `m` entries, `Q` is `n x n` symmetric
 /// positive definite, `c` has `n` entries. Units are the caller's; the constraint holds to
-/// rounding error of the order of `1e-15 * (|e| + c^T Q^-1 c)`.
+/// rounding error of the order of `1e-15 * (|e| + c^T Q^-1 c)`. Solving several problems
+/// with the same constraint: [`QuadraticConstraint`].
 ///
 /// # Errors
 /// [`ReconstructError::DimensionMismatch`] for inconsistent sizes or `n = 0`,
@@ -61,91 +62,154 @@ pub fn constrained_least_squares(
     c: &DVector<f64>,
     e: f64,
 ) -> Result<ConstrainedSolution, ReconstructError> {
-    let n = q.nrows();
-    let dims = [
-        ("Q columns", n, q.ncols()),
-        ("A columns", n, a.ncols()),
-        ("b length (rows of A)", a.nrows(), b.len()),
-        ("c length", n, c.len()),
-    ];
-    for (what, expected, got) in dims {
-        if expected != got {
+    QuadraticConstraint::new(q, c, e)?.solve(a, b)
+}
+
+/// The constraint `w^T Q w + 2 c^T w + e = 0` of [`constrained_least_squares`], factorised
+/// once (Cholesky factor of `Q`, centre and radius of the sphere it becomes) for many
+/// least-squares problems.
+#[derive(Clone, Debug)]
+pub struct QuadraticConstraint {
+    /// Lower Cholesky factor `L` of `Q`.
+    l: DMatrix<f64>,
+    /// Centre `w_c = -Q^-1 c`.
+    centre: DVector<f64>,
+    /// Radius `rho` of the sphere `|L^T (w - w_c)| = rho`.
+    rho: f64,
+}
+
+impl QuadraticConstraint {
+    /// Factorises the constraint.
+    ///
+    /// # Errors
+    /// As [`constrained_least_squares`], for `Q`, `c` and `e`.
+    pub fn new(q: &DMatrix<f64>, c: &DVector<f64>, e: f64) -> Result<Self, ReconstructError> {
+        let n = q.nrows();
+        for (what, expected, got) in [("Q columns", n, q.ncols()), ("c length", n, c.len())] {
+            if expected != got {
+                return Err(ReconstructError::DimensionMismatch {
+                    what,
+                    expected,
+                    got,
+                });
+            }
+        }
+        if n == 0 {
             return Err(ReconstructError::DimensionMismatch {
-                what,
-                expected,
-                got,
+                what: "number of unknowns",
+                expected: 1,
+                got: 0,
             });
         }
-    }
-    if n == 0 {
-        return Err(ReconstructError::DimensionMismatch {
-            what: "number of unknowns",
-            expected: 1,
-            got: 0,
-        });
-    }
-    let finite = a.iter().chain(b.iter()).chain(q.iter()).chain(c.iter());
-    if !finite.copied().chain([e]).all(f64::is_finite) {
-        return Err(ReconstructError::Numerical(
-            "non-finite input to least squares",
-        ));
-    }
-    let l = q
-        .clone()
-        .cholesky()
-        .ok_or(ReconstructError::NotPositiveDefinite)?
-        .unpack();
-    let lt = l.transpose();
-    let solve_l = |m: &DMatrix<f64>| {
-        l.solve_lower_triangular(m)
-            .ok_or(ReconstructError::NotPositiveDefinite)
-    };
-    let solve_lt = |v: &DVector<f64>| {
-        lt.solve_upper_triangular(v)
-            .ok_or(ReconstructError::NotPositiveDefinite)
-    };
-
-    // Sphere radius: rho^2 = c^T Q^-1 c - e = |L^-1 c|^2 - e.
-    let y = l
-        .solve_lower_triangular(c)
-        .ok_or(ReconstructError::NotPositiveDefinite)?;
-    let y2 = y.norm_squared();
-    let mut radius_sq = y2 - e;
-    if radius_sq < 0.0 {
-        // Accept rounding-level negatives as the single feasible point.
-        if radius_sq < -1e-12 * (y2 + e.abs()) {
-            return Err(ReconstructError::InfeasibleConstraint { radius_sq });
+        if !q
+            .iter()
+            .chain(c.iter())
+            .copied()
+            .chain([e])
+            .all(f64::is_finite)
+        {
+            return Err(ReconstructError::Numerical(
+                "non-finite input to least squares",
+            ));
         }
-        radius_sq = 0.0;
+        let l = q
+            .clone()
+            .cholesky()
+            .ok_or(ReconstructError::NotPositiveDefinite)?
+            .unpack();
+        // Sphere radius: rho^2 = c^T Q^-1 c - e = |L^-1 c|^2 - e.
+        let y = l
+            .solve_lower_triangular(c)
+            .ok_or(ReconstructError::NotPositiveDefinite)?;
+        let y2 = y.norm_squared();
+        let mut radius_sq = y2 - e;
+        if radius_sq < 0.0 {
+            // Accept rounding-level negatives as the single feasible point.
+            if radius_sq < -1e-12 * (y2 + e.abs()) {
+                return Err(ReconstructError::InfeasibleConstraint { radius_sq });
+            }
+            radius_sq = 0.0;
+        }
+        let centre = -l
+            .tr_solve_lower_triangular(&y)
+            .ok_or(ReconstructError::NotPositiveDefinite)?;
+        Ok(QuadraticConstraint {
+            l,
+            centre,
+            rho: radius_sq.sqrt(),
+        })
     }
-    let rho = radius_sq.sqrt();
-    let w_c = -solve_lt(&y)?;
 
-    // Reduced problem min |A~ z - b~|^2, |z| = rho.
-    let a_tilde_t = solve_l(&a.transpose())?; // n x m, = (A L^-T)^T
-    let b_tilde = b - a * &w_c;
-    let h = &a_tilde_t * a_tilde_t.transpose();
-    let g = &a_tilde_t * b_tilde;
-    let eig = SymmetricEigen::try_new(h, f64::EPSILON, 0).ok_or(ReconstructError::Numerical(
-        "eigen-decomposition of A~^T A~ failed",
-    ))?;
-    let d: Vec<f64> = eig.eigenvalues.iter().map(|&v| v.max(0.0)).collect();
-    let g_eig: Vec<f64> = (eig.eigenvectors.transpose() * g).iter().copied().collect();
-    let secular = solve_secular(&d, &g_eig, rho)?;
-    let z = &eig.eigenvectors * DVector::from_vec(secular.coords);
-    let w = w_c + solve_lt(&z)?;
-    if !w.iter().all(|v| v.is_finite()) {
-        return Err(ReconstructError::Numerical(
-            "non-finite constrained least-squares solution",
-        ));
+    /// `min ||A w - b||^2` under this constraint (`A` with as many columns as the constraint
+    /// has unknowns).
+    ///
+    /// # Errors
+    /// As [`constrained_least_squares`], for `A` and `b`.
+    pub fn solve(
+        &self,
+        a: &DMatrix<f64>,
+        b: &DVector<f64>,
+    ) -> Result<ConstrainedSolution, ReconstructError> {
+        let n = self.l.nrows();
+        for (what, expected, got) in [
+            ("A columns", n, a.ncols()),
+            ("b length (rows of A)", a.nrows(), b.len()),
+        ] {
+            if expected != got {
+                return Err(ReconstructError::DimensionMismatch {
+                    what,
+                    expected,
+                    got,
+                });
+            }
+        }
+        if !a.iter().chain(b.iter()).all(|v| v.is_finite()) {
+            return Err(ReconstructError::Numerical(
+                "non-finite input to least squares",
+            ));
+        }
+        // Reduced problem min |A~ z - b~|^2, |z| = rho, with A~ = A L^-T: its normal matrix
+        // H = L^-1 (A^T A) L^-T and g = L^-1 A^T b~ need triangular solves on n columns only.
+        let b_tilde = b - a * &self.centre;
+        let normal = a.tr_mul(a);
+        let half = self
+            .l
+            .solve_lower_triangular(&normal)
+            .ok_or(ReconstructError::NotPositiveDefinite)?; // L^-1 A^T A
+        let h = self
+            .l
+            .solve_lower_triangular(&half.transpose())
+            .ok_or(ReconstructError::NotPositiveDefinite)?;
+        let h = (&h + h.transpose()) * 0.5;
+        let g = self
+            .l
+            .solve_lower_triangular(&a.tr_mul(&b_tilde))
+            .ok_or(ReconstructError::NotPositiveDefinite)?;
+        let eig = SymmetricEigen::try_new(h, f64::EPSILON, 0).ok_or(
+            ReconstructError::Numerical("eigen-decomposition of A~^T A~ failed"),
+        )?;
+        let d: Vec<f64> = eig.eigenvalues.iter().map(|&v| v.max(0.0)).collect();
+        let g_eig: Vec<f64> = (eig.eigenvectors.transpose() * g).iter().copied().collect();
+        let secular = solve_secular(&d, &g_eig, self.rho)?;
+        let z = &eig.eigenvectors * DVector::from_vec(secular.coords);
+        let w = &self.centre
+            + self
+                .l
+                .tr_solve_lower_triangular(&z)
+                .ok_or(ReconstructError::NotPositiveDefinite)?;
+        if !w.iter().all(|v| v.is_finite()) {
+            return Err(ReconstructError::Numerical(
+                "non-finite constrained least-squares solution",
+            ));
+        }
+        let objective = (a * &w - b).norm_squared();
+        Ok(ConstrainedSolution {
+            w,
+            multiplier: secular.lambda,
+            objective,
+            hard_case: secular.hard_case,
+        })
     }
-    let objective = (a * &w - b).norm_squared();
-    Ok(ConstrainedSolution {
-        w,
-        multiplier: secular.lambda,
-        objective,
-        hard_case: secular.hard_case,
-    })
 }
 
 /// Root of the secular equation in eigen-coordinates.

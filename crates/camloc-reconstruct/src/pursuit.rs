@@ -7,7 +7,8 @@ use nalgebra::{DMatrix, DVector};
 use serde::{Deserialize, Serialize};
 
 use crate::basis::{LIMB_DIM, POSE_DIM, limb_vectors, vector_to_pose};
-use crate::lsq::constrained_least_squares;
+use crate::lsq::{QuadraticConstraint, constrained_least_squares};
+use crate::prior::symmetrise;
 use crate::{
     ModeKind, PoseBasis, ReconstructError, check_finite_landmarks, is_positive, is_positive_finite,
 };
@@ -45,12 +46,36 @@ pub struct ReconstructConfig {
     /// fraction; in `[0, 1)`. The first basis pose is always kept (the mean pose alone need
     /// not satisfy the constraint).
     pub min_relative_decrease: f64,
-    /// Also pursue the depth-reflected hypothesis and keep the one with the lower error.
+    /// Also pursue the depth-reflected hypothesis (the pose mirrored in depth fits the 2D
+    /// about as well): see [`Reconstructor::reconstruct_hypotheses`] for how one is chosen.
     pub try_depth_reflection: bool,
+    /// Prior on the coefficients: the pursuit minimises the squared reprojection error (in
+    /// the normalised image units, the 2D input centred and scaled to unit RMS radius) plus
+    /// `coefficient_prior * sum_j w_j^2 / var_j`, `var_j` the training poses' variance along
+    /// basis pose `j` (a Gaussian prior on the coefficients, MAP instead of least squares);
+    /// `>= 0`, 0 is the plain pursuit.
+    pub coefficient_prior: f64,
+    /// Prior: bring left and right limb lengths to their mean after the pursuit
+    /// ([`symmetrise`]), then refit the camera.
+    pub symmetry: bool,
+    /// Prior: turn limb bones outside the basis's learned joint-angle limits onto their border
+    /// after the pursuit ([`JointLimits::project`](crate::JointLimits::project)), then refit
+    /// the camera; and prefer, between hypotheses that fit the 2D about equally, the one the
+    /// limits like better.
+    pub joint_limits: bool,
 }
 
+/// Default [`ReconstructConfig::coefficient_prior`], chosen by cross-validation grouped by
+/// subject on the CMU data (`cargo xtask reconstruction`, docs/RESULTS.md).
+pub const DEFAULT_COEFFICIENT_PRIOR: f64 = 0.01;
+
+/// Two hypotheses fit the 2D "about equally" when their RMS reprojection errors are within
+/// this fraction of each other; the joint-angle prior then chooses between them.
+pub const EQUAL_FIT_TOLERANCE: f64 = 0.1;
+
 impl Default for ReconstructConfig {
-    /// `max_basis` 12 with the training-average length target and depth reflection on.
+    /// `max_basis` 12 with the training-average length target, depth reflection on and both
+    /// priors on (measured by `cargo xtask reconstruction`, docs/RESULTS.md).
     /// Measured on held-out CMU subjects (`examples/compare_modes.rs`), `max_basis` from 8 to 16
     /// changes the mean MPJPE by less than 3 mm, and larger values overfit the 2D noise; the
     /// [`LengthTarget::Mean`] target is 6-16 mm worse there. The alternation and
@@ -59,10 +84,13 @@ impl Default for ReconstructConfig {
         ReconstructConfig {
             max_basis: 12,
             length_target: LengthTarget::TrainingAverage,
-            max_alternations: 30,
+            max_alternations: 10,
             alternation_tolerance: 1e-4,
             min_relative_decrease: 1e-3,
             try_depth_reflection: true,
+            coefficient_prior: DEFAULT_COEFFICIENT_PRIOR,
+            symmetry: true,
+            joint_limits: true,
         }
     }
 }
@@ -129,8 +157,12 @@ pub struct Reconstruction {
     /// Coefficient/camera alternations performed, over every hypothesis tried (both depth
     /// hypotheses; for [`CameraMode::Hybrid`], both solves).
     pub iterations: usize,
-    /// `true` when the depth-reflected hypothesis won.
+    /// `true` when this is the depth-reflected hypothesis.
     pub reflected: bool,
+    /// How far the pursuit's pose lay outside the learned joint-angle limits, before the
+    /// prior's projection: the sum over the 8 limb bones of the angle beyond the limits,
+    /// radians (0: within them).
+    pub limit_violation_rad: f64,
 }
 
 /// Reconstructs 3D poses from 2D landmarks with a [`PoseBasis`].
@@ -144,6 +176,10 @@ pub struct Reconstructor {
     cross: DVector<f64>,
     /// Mean's sum of squared limb lengths minus the target: the constraint's `e`.
     offset: f64,
+    /// Per component, the trace of the 3 x 3 scatter `C_j = sum_i (b_ji - mean_i b_ji)(...)^T`
+    /// of its 15 landmark vectors, and `C_j` itself (`xx, xy, xz, yy, yz, zz`): the squared
+    /// norm of its centred projection by `s [I2 0] R` is `s^2 (tr C_j - r3^T C_j r3)`.
+    scatter: Vec<(f64, [f64; 6])>,
 }
 
 /// How the camera is re-estimated.
@@ -238,11 +274,12 @@ struct Fit {
     iterations: usize,
 }
 
-/// The result of [`Reconstructor::solve`]: the winning hypothesis.
-struct Solved {
+/// One hypothesis of [`Reconstructor::solve`], after the priors.
+struct Candidate {
     fit: Fit,
     reflected: bool,
-    iterations: usize,
+    /// [`Reconstruction::limit_violation_rad`].
+    violation: f64,
 }
 
 impl Reconstructor {
@@ -275,6 +312,13 @@ impl Reconstructor {
                 "at least one alternation is needed",
             ));
         }
+        if !(config.coefficient_prior >= 0.0 && config.coefficient_prior.is_finite()) {
+            return Err(invalid(
+                "ReconstructConfig::coefficient_prior",
+                config.coefficient_prior.to_string(),
+                "must be finite and >= 0",
+            ));
+        }
         for (field, value) in [
             (
                 "ReconstructConfig::alternation_tolerance",
@@ -300,10 +344,39 @@ impl Reconstructor {
             LengthTarget::TrainingAverage => basis.anthropometric_target(),
             LengthTarget::Mean => mean_sum,
         };
+        let scatter = (0..k)
+            .map(|j| {
+                let column = basis.components().column(j);
+                let points: Vec<[f64; 3]> = column
+                    .as_slice()
+                    .chunks_exact(3)
+                    .map(|c| [c[0], c[1], c[2]])
+                    .collect();
+                let n = points.len() as f64;
+                let mean: [f64; 3] =
+                    std::array::from_fn(|a| points.iter().map(|p| p[a]).sum::<f64>() / n);
+                let entry = |a: usize, b: usize| {
+                    points
+                        .iter()
+                        .map(|p| (p[a] - mean[a]) * (p[b] - mean[b]))
+                        .sum::<f64>()
+                };
+                let c = [
+                    entry(0, 0),
+                    entry(0, 1),
+                    entry(0, 2),
+                    entry(1, 1),
+                    entry(1, 2),
+                    entry(2, 2),
+                ];
+                (c[0] + c[3] + c[5], c)
+            })
+            .collect();
         Ok(Reconstructor {
             gram: limbs.transpose() * &limbs,
             cross: limbs.transpose() * mean_limbs,
             offset: mean_sum - target,
+            scatter,
             basis,
             config,
         })
@@ -324,7 +397,23 @@ impl Reconstructor {
         limb_vectors(self.basis.mean_vector()).norm_squared() - self.offset
     }
 
-    /// Reconstructs the 3D pose seen in `pose` (any image units, `v` down) under `mode`.
+    /// Reconstructs the 3D pose seen in `pose` (any image units, `v` down) under `mode`: the
+    /// first of [`reconstruct_hypotheses`](Self::reconstruct_hypotheses).
+    ///
+    /// # Errors
+    /// As [`reconstruct_hypotheses`](Self::reconstruct_hypotheses).
+    pub fn reconstruct(
+        &self,
+        pose: &Pose2,
+        mode: &CameraMode,
+    ) -> Result<Reconstruction, ReconstructError> {
+        let mut all = self.reconstruct_hypotheses(pose, mode, 1)?;
+        all.pop()
+            .ok_or(ReconstructError::Numerical("no hypothesis was solved"))
+    }
+
+    /// Reconstructs the 3D pose seen in `pose` (any image units, `v` down) under `mode`, and
+    /// returns up to `max` hypotheses, the preferred one first.
     ///
     /// Algorithm (projected matching pursuit): start from `mu` and the mode's initial camera;
     /// repeatedly add the component whose projection has the largest normalised correlation
@@ -343,22 +432,28 @@ impl Reconstructor {
     /// projected onto the basis (the same number of components, those with the largest
     /// coefficients of the orthogonal projection, then the constrained 3D least-squares fit)
     /// and the pursuit continues from there with the same camera update (for fixed-rotation
-    /// modes: the reflected pose seen by the same rotation). The hypothesis with the lower
-    /// final reprojection error is kept.
+    /// modes: the reflected pose seen by the same rotation).
     ///
-    /// [`CameraMode::Hybrid`] runs two such solves (see there) and keeps the one with the lower
-    /// error.
+    /// Priors ([`ReconstructConfig::symmetry`], [`ReconstructConfig::joint_limits`]) then
+    /// adjust each hypothesis and its camera is refitted. The hypotheses are ranked by
+    /// reprojection error, except that of two whose RMS errors are within
+    /// [`EQUAL_FIT_TOLERANCE`] of each other the one with the smaller joint-limit violation
+    /// comes first (with the joint-limit prior on).
+    ///
+    /// [`CameraMode::Hybrid`] runs two such solves (see there), and their hypotheses are
+    /// ranked together.
     ///
     /// # Errors
     /// [`ReconstructError::NonFiniteInput`], [`ReconstructError::DegenerateInput`] (zero torso,
     /// coincident landmarks), [`ReconstructError::InvalidRotation`] for a mode rotation that
     /// is not proper, [`ReconstructError::Geometry`] when a camera cannot be estimated (e.g.
     /// collinear 2D landmarks under Procrustes).
-    pub fn reconstruct(
+    pub fn reconstruct_hypotheses(
         &self,
         pose: &Pose2,
         mode: &CameraMode,
-    ) -> Result<Reconstruction, ReconstructError> {
+        max: usize,
+    ) -> Result<Vec<Reconstruction>, ReconstructError> {
         let obs = Observation::new(pose)?;
         let checked = |r: &Matrix3| {
             check_rotation(r, ROTATION_TOLERANCE)
@@ -368,7 +463,7 @@ impl Reconstructor {
                     source,
                 })
         };
-        let outcome = match mode {
+        let mut candidates = match mode {
             CameraMode::Opt => self.solve(
                 &obs,
                 CameraUpdate::Procrustes,
@@ -381,43 +476,83 @@ impl Reconstructor {
             }
             CameraMode::Hybrid(r) => {
                 let fixed = checked(r)?;
-                let refined = self.solve(&obs, fixed, fixed, true)?;
-                let free = self.solve(&obs, fixed, CameraUpdate::Procrustes, false)?;
-                let iterations = refined.iterations + free.iterations;
-                let best = if free.fit.error < refined.fit.error {
-                    free
-                } else {
-                    refined
-                };
-                Solved { iterations, ..best }
+                let mut all = self.solve(&obs, fixed, fixed, true)?;
+                all.extend(self.solve(&obs, fixed, CameraUpdate::Procrustes, false)?);
+                all
             }
         };
-        let Solved {
-            fit,
-            reflected,
-            iterations,
-        } = outcome;
-        Ok(Reconstruction {
-            pose: Pose3 { points: fit.points },
-            camera: obs.denormalise(&fit.camera),
-            projection_error: fit.error.sqrt() * obs.scale,
-            selected: fit.selected,
-            coefficients: fit.coefficients,
-            iterations,
-            reflected,
-        })
+        let iterations = candidates.iter().map(|c| c.fit.iterations).sum();
+        candidates.sort_by(|a, b| self.preference(a, b));
+        Ok(candidates
+            .into_iter()
+            .take(max.max(1))
+            .map(|c| Reconstruction {
+                pose: Pose3 {
+                    points: c.fit.points,
+                },
+                camera: obs.denormalise(&c.fit.camera),
+                projection_error: c.fit.error.sqrt() * obs.scale,
+                selected: c.fit.selected,
+                coefficients: c.fit.coefficients,
+                iterations,
+                reflected: c.reflected,
+                limit_violation_rad: c.violation,
+            })
+            .collect())
+    }
+
+    /// The order of two hypotheses: by error, unless they fit about equally and the
+    /// joint-limit prior is on, then by violation.
+    fn preference(&self, a: &Candidate, b: &Candidate) -> std::cmp::Ordering {
+        let (ea, eb) = (a.fit.error.sqrt(), b.fit.error.sqrt());
+        let close = (ea - eb).abs() <= EQUAL_FIT_TOLERANCE * ea.max(eb);
+        if self.config.joint_limits && close && a.violation != b.violation {
+            a.violation.total_cmp(&b.violation)
+        } else {
+            a.fit.error.total_cmp(&b.fit.error)
+        }
+    }
+
+    /// Applies the configured priors to `fit`'s pose, refits its camera with `update` and
+    /// returns the pose's joint-limit violation before the priors.
+    fn apply_priors(
+        &self,
+        obs: &Observation,
+        fit: &mut Fit,
+        update: CameraUpdate,
+    ) -> Result<f64, ReconstructError> {
+        let limits = self.basis.joint_limits();
+        let mut pose = Pose3 { points: fit.points };
+        let violation = limits.violation(&pose);
+        if !(self.config.symmetry || self.config.joint_limits) {
+            return Ok(violation);
+        }
+        if self.config.symmetry {
+            pose = symmetrise(&pose);
+        }
+        if self.config.joint_limits {
+            pose = limits.project(&pose);
+        }
+        let camera = update
+            .fit(&pose.points, &obs.points)
+            .unwrap_or_else(|_| with_optimal_translation(&fit.camera, &pose.points, &obs.points));
+        fit.error = camera.squared_error(&pose.points, &obs.points)?;
+        fit.camera = camera;
+        fit.points = pose.points;
+        Ok(violation)
     }
 
     /// One full solve: the camera `start` fitted to the mean pose, the pursuit with camera
     /// `update`, the depth-reflected hypothesis if configured, and, if `refine`, a Procrustes
-    /// refinement of each hypothesis; the hypothesis with the lower error wins.
+    /// refinement of each hypothesis; then the priors. Returns the hypotheses (the direct one
+    /// first).
     fn solve(
         &self,
         obs: &Observation,
         start: CameraUpdate,
         update: CameraUpdate,
         refine: bool,
-    ) -> Result<Solved, ReconstructError> {
+    ) -> Result<Vec<Candidate>, ReconstructError> {
         let mean = self.points(&[], &[]);
         let camera = start.fit(&mean, &obs.points)?;
         let initial = Fit {
@@ -437,29 +572,27 @@ impl Reconstructor {
             None
         };
         // The refinement never raises the error.
-        let finish = |mut fit: Fit| -> Result<Fit, ReconstructError> {
+        let last = if refine {
+            CameraUpdate::Procrustes
+        } else {
+            update
+        };
+        let finish = |mut fit: Fit, reflected: bool| -> Result<Candidate, ReconstructError> {
             if refine {
                 self.alternate(obs, &mut fit, CameraUpdate::Procrustes)?;
             }
-            Ok(fit)
+            let violation = self.apply_priors(obs, &mut fit, last)?;
+            Ok(Candidate {
+                fit,
+                reflected,
+                violation,
+            })
         };
-        let primary = finish(primary)?;
-        Ok(match other.map(finish).transpose()? {
-            Some(other) => {
-                let iterations = primary.iterations + other.iterations;
-                let reflected = other.error < primary.error;
-                Solved {
-                    fit: if reflected { other } else { primary },
-                    reflected,
-                    iterations,
-                }
-            }
-            None => Solved {
-                iterations: primary.iterations,
-                fit: primary,
-                reflected: false,
-            },
-        })
+        let mut out = vec![finish(primary, false)?];
+        if let Some(other) = other {
+            out.push(finish(other, true)?);
+        }
+        Ok(out)
     }
 
     /// The greedy loop: add components while they help.
@@ -492,23 +625,47 @@ impl Reconstructor {
     /// The unselected component whose centred projection has the largest normalised
     /// correlation `|a_j . r| / |a_j|` with the residual `r`; `None` when every component is
     /// selected (or projects to nothing).
+    ///
+    /// With the centred residual `r` (the camera's translation is optimal), `a_j . r =
+    /// s b_j . w` where `w_i = r1 r_ui + r2 r_vi` (rows `r1`, `r2` of the rotation): one
+    /// product `B^T w` for all components, and `|a_j|^2 = s^2 (tr C_j - r3^T C_j r3)` from the
+    /// precomputed scatter.
     fn best_component(&self, obs: &Observation, fit: &Fit) -> Option<usize> {
         let projected = fit.camera.project(&fit.points);
-        let residual = DVector::from_iterator(
-            IMAGE_DIM,
-            obs.points
-                .iter()
-                .zip(&projected)
-                .flat_map(|(l, p)| [l[0] - p[0], l[1] - p[1]]),
+        let n = NUM_LANDMARKS as f64;
+        let mut residual = [[0.0; 2]; NUM_LANDMARKS];
+        let mut mean = [0.0; 2];
+        for ((r, l), p) in residual.iter_mut().zip(&obs.points).zip(&projected) {
+            *r = [l[0] - p[0], l[1] - p[1]];
+            mean[0] += r[0] / n;
+            mean[1] += r[1] / n;
+        }
+        let rot = &fit.camera.rotation;
+        let w = DVector::from_iterator(
+            POSE_DIM,
+            residual.iter().flat_map(|r| {
+                let (u, v) = (r[0] - mean[0], r[1] - mean[1]);
+                (0..3).map(move |c| rot[(0, c)] * u + rot[(1, c)] * v)
+            }),
         );
+        let dots = self.basis.components().tr_mul(&w);
+        let axis = [rot[(2, 0)], rot[(2, 1)], rot[(2, 2)]];
         let mut best: Option<(usize, f64)> = None;
-        for j in (0..self.basis.n_components()).filter(|j| !fit.selected.contains(j)) {
-            let a = self.project_centred(&fit.camera, self.component(j));
-            let norm = a.norm();
-            if !is_positive(norm) {
+        for (j, (&(trace, c), dot)) in self.scatter.iter().zip(dots.iter()).enumerate() {
+            if fit.selected.contains(&j) {
                 continue;
             }
-            let score = a.dot(&residual).abs() / norm;
+            let [x, y, z] = axis;
+            let along = c[0] * x * x
+                + c[3] * y * y
+                + c[5] * z * z
+                + 2.0 * (c[1] * x * y + c[2] * x * z + c[4] * y * z);
+            let norm2 = trace - along;
+            if !is_positive(norm2) {
+                continue;
+            }
+            // The common factor s drops out of the comparison.
+            let score = dot.abs() / norm2.sqrt();
             if best.is_none_or(|(_, s)| score > s) {
                 best = Some((j, score));
             }
@@ -525,9 +682,11 @@ impl Reconstructor {
         update: CameraUpdate,
     ) -> Result<(), ReconstructError> {
         let target = obs.vector();
+        let constraint = self.constraint(&fit.selected)?;
         let mut previous = f64::INFINITY;
         for _ in 0..self.config.max_alternations {
-            let coefficients = self.solve_coefficients(&target, &fit.camera, &fit.selected)?;
+            let coefficients =
+                self.solve_coefficients(&target, &fit.camera, &fit.selected, &constraint)?;
             let points = self.points(&fit.selected, &coefficients);
             let kept = with_optimal_translation(&fit.camera, &points, &obs.points);
             let kept_error = kept.squared_error(&points, &obs.points)?;
@@ -553,23 +712,45 @@ impl Reconstructor {
         Ok(())
     }
 
-    /// Exact constrained least squares for the coefficients of `selected` with the camera's
-    /// scale and rotation fixed and the translation eliminated by centring.
+    /// The anthropometric constraint on the coefficients of `selected`, factorised.
+    fn constraint(&self, selected: &[usize]) -> Result<QuadraticConstraint, ReconstructError> {
+        let m = selected.len();
+        let q = DMatrix::from_fn(m, m, |r, c| self.gram[(selected[r], selected[c])]);
+        let c = DVector::from_fn(m, |r, _| self.cross[selected[r]]);
+        QuadraticConstraint::new(&q, &c, self.offset)
+    }
+
+    /// Exact constrained least squares for the coefficients of `selected` (whose constraint
+    /// is `constraint`) with the camera's scale and rotation fixed and the translation
+    /// eliminated by centring.
     fn solve_coefficients(
         &self,
         target: &DVector<f64>,
         camera: &WeakPerspective,
         selected: &[usize],
+        constraint: &QuadraticConstraint,
     ) -> Result<Vec<f64>, ReconstructError> {
         let m = selected.len();
-        let mut a = DMatrix::zeros(IMAGE_DIM, m);
+        // The prior's rows under the image rows: sqrt(prior / var_j) w_j = 0.
+        let prior_rows = if self.config.coefficient_prior > 0.0 {
+            m
+        } else {
+            0
+        };
+        let mut a = DMatrix::zeros(IMAGE_DIM + prior_rows, m);
         for (col, &j) in selected.iter().enumerate() {
-            a.set_column(col, &self.project_centred(camera, self.component(j)));
+            a.view_mut((0, col), (IMAGE_DIM, 1))
+                .copy_from(&self.project_centred(camera, self.component(j)));
+            if prior_rows > 0 {
+                let variance = self.basis.explained_variance()[j].max(f64::MIN_POSITIVE);
+                a[(IMAGE_DIM + col, col)] = (self.config.coefficient_prior / variance).sqrt();
+            }
         }
-        let b = target - self.project_centred(camera, self.basis.mean_vector().as_slice());
-        let q = DMatrix::from_fn(m, m, |r, c| self.gram[(selected[r], selected[c])]);
-        let c = DVector::from_fn(m, |r, _| self.cross[selected[r]]);
-        let solution = constrained_least_squares(&a, &b, &q, &c, self.offset)?;
+        let mut b = DVector::zeros(IMAGE_DIM + prior_rows);
+        b.rows_mut(0, IMAGE_DIM).copy_from(
+            &(target - self.project_centred(camera, self.basis.mean_vector().as_slice())),
+        );
+        let solution = constraint.solve(&a, &b)?;
         Ok(solution.w.iter().copied().collect())
     }
 

@@ -3,7 +3,8 @@
 mod common;
 
 use camloc_reconstruct::{
-    BasisConfig, POSE_DIM, PoseBasis, ReconstructError, sum_squared_limb_lengths,
+    BasisConfig, BasisKind, JointLimits, POSE_DIM, PoseBasis, ReconstructError,
+    sum_squared_limb_lengths,
 };
 use camloc_skeleton::Pose3;
 use camloc_store::{Persist, StoreError};
@@ -12,7 +13,11 @@ use nalgebra::{DMatrix, DVector};
 fn fit(n: usize, seed: u64, k: usize) -> PoseBasis {
     PoseBasis::fit(
         &common::training_set(n, seed),
-        &BasisConfig { n_components: k },
+        &BasisConfig {
+            n_components: k,
+            kind: BasisKind::Pca,
+            ..BasisConfig::default()
+        },
     )
     .unwrap()
 }
@@ -20,7 +25,15 @@ fn fit(n: usize, seed: u64, k: usize) -> PoseBasis {
 #[test]
 fn basis_invariants() {
     let poses = common::training_set(1500, 11);
-    let basis = PoseBasis::fit(&poses, &BasisConfig { n_components: 20 }).unwrap();
+    let basis = PoseBasis::fit(
+        &poses,
+        &BasisConfig {
+            n_components: 20,
+            kind: BasisKind::Pca,
+            ..BasisConfig::default()
+        },
+    )
+    .unwrap();
     assert_eq!(basis.n_components(), 20);
     assert_eq!(basis.n_training(), 1500);
     // The target is the average raw sum of squared limb lengths.
@@ -75,7 +88,11 @@ fn translation_of_training_poses_does_not_change_the_basis() {
         .enumerate()
         .map(|(i, p)| Pose3::new(p.points.map(|q| [q[0] + i as f64, q[1] - 2.0, q[2] + 0.5])))
         .collect();
-    let config = BasisConfig { n_components: 10 };
+    let config = BasisConfig {
+        n_components: 10,
+        kind: BasisKind::Pca,
+        ..BasisConfig::default()
+    };
     let a = PoseBasis::fit(&poses, &config).unwrap();
     let b = PoseBasis::fit(&shifted, &config).unwrap();
     assert!((a.mean_vector() - b.mean_vector()).abs().max() < 1e-9);
@@ -85,13 +102,23 @@ fn translation_of_training_poses_does_not_change_the_basis() {
 #[test]
 fn fit_errors_are_typed() {
     let poses = common::training_set(50, 2);
-    let config = BasisConfig::default();
+    let config = BasisConfig {
+        kind: BasisKind::Pca,
+        ..BasisConfig::default()
+    };
     assert!(matches!(
         PoseBasis::fit(&[], &config),
         Err(ReconstructError::EmptyTrainingSet)
     ));
     assert!(matches!(
-        PoseBasis::fit(&poses, &BasisConfig { n_components: 0 }),
+        PoseBasis::fit(
+            &poses,
+            &BasisConfig {
+                n_components: 0,
+                kind: BasisKind::Pca,
+                ..BasisConfig::default()
+            }
+        ),
         Err(ReconstructError::InvalidConfig { .. })
     ));
     let mut nan = poses.clone();
@@ -108,11 +135,18 @@ fn fit_errors_are_typed() {
     ));
     // 42 directions at most (the pelvis is fixed), at most n - 1 with n poses.
     assert!(matches!(
-        PoseBasis::fit(&poses, &BasisConfig { n_components: 43 }),
+        PoseBasis::fit(&poses, &BasisConfig { n_components: 43, kind: BasisKind::Pca, ..BasisConfig::default() }),
         Err(ReconstructError::TooManyComponents { available, .. }) if available <= 42
     ));
     assert!(matches!(
-        PoseBasis::fit(&poses[..5], &BasisConfig { n_components: 5 }),
+        PoseBasis::fit(
+            &poses[..5],
+            &BasisConfig {
+                n_components: 5,
+                kind: BasisKind::Pca,
+                ..BasisConfig::default()
+            }
+        ),
         Err(ReconstructError::TooManyComponents { available: 4, .. })
     ));
 }
@@ -180,17 +214,22 @@ struct RawBasis {
     total_variance: f64,
     anthropometric_target: f64,
     n_training: usize,
+    n_principal: usize,
+    limits: JointLimits,
 }
 
 #[test]
 fn inconsistent_content_is_refused() {
+    let limits = fit(200, 8, 6).joint_limits().clone();
     let good = RawBasis {
         mean: DVector::zeros(POSE_DIM),
-        components: DMatrix::identity(POSE_DIM, 2),
-        variances: vec![2.0, 1.0],
+        components: DMatrix::identity(POSE_DIM, 3),
+        variances: vec![2.0, 1.0, 0.5],
         total_variance: 3.0,
         anthropometric_target: 2.0,
         n_training: 10,
+        n_principal: 2,
+        limits,
     };
     let decode = |raw: &RawBasis| {
         PoseBasis::from_bytes(&camloc_store::encode(camloc_store::POSE_BASIS_KIND, raw).unwrap())
@@ -215,6 +254,22 @@ fn inconsistent_content_is_refused() {
         },
         RawBasis {
             total_variance: f64::NAN,
+            ..clone(&good)
+        },
+        RawBasis {
+            n_principal: 0,
+            ..clone(&good)
+        },
+        RawBasis {
+            n_principal: 4,
+            ..clone(&good)
+        },
+        RawBasis {
+            components: {
+                let mut c = DMatrix::identity(POSE_DIM, 3);
+                c[(0, 2)] = 0.5;
+                c
+            },
             ..clone(&good)
         },
     ];
@@ -242,10 +297,13 @@ struct ShapedBasis {
     total_variance: f64,
     anthropometric_target: f64,
     n_training: usize,
+    n_principal: usize,
+    limits: JointLimits,
 }
 
 #[test]
 fn hostile_shapes_are_errors_not_panics() {
+    let limits = fit(200, 8, 6).joint_limits().clone();
     let shaped = |mean_rows: usize, rows: usize, cols: usize, data: usize| ShapedBasis {
         mean: (vec![0.0; POSE_DIM], mean_rows, ()),
         components: (vec![0.0; data], rows, cols),
@@ -253,6 +311,8 @@ fn hostile_shapes_are_errors_not_panics() {
         total_variance: 1.0,
         anthropometric_target: 1.0,
         n_training: 1,
+        n_principal: 1,
+        limits: limits.clone(),
     };
     let cases = [
         shaped(POSE_DIM, 1 << 32, 1 << 32, 0), // rows x columns overflows
@@ -300,5 +360,51 @@ fn clone(raw: &RawBasis) -> RawBasis {
         total_variance: raw.total_variance,
         anthropometric_target: raw.anthropometric_target,
         n_training: raw.n_training,
+        n_principal: raw.n_principal,
+        limits: raw.limits.clone(),
+    }
+}
+
+#[test]
+fn dictionary_appends_unit_cluster_centres_to_the_principal_components() {
+    let poses = common::training_set(400, 5);
+    let config = |atoms| BasisConfig {
+        n_components: 10,
+        kind: BasisKind::Dictionary { atoms },
+        ..BasisConfig::default()
+    };
+    let basis = PoseBasis::fit(&poses, &config(30)).unwrap();
+    let pca = fit(400, 5, 10);
+    assert_eq!(basis.n_principal(), 10);
+    assert_eq!(basis.n_components(), 40);
+    assert_eq!(basis.explained_variance().len(), 40);
+    // The principal part is the PCA basis; the ratio counts it only.
+    let b = basis.components();
+    assert!((b.columns(0, 10) - pca.components()).abs().max() < 1e-9);
+    assert!((basis.explained_variance_ratio() - pca.explained_variance_ratio()).abs() < 1e-12);
+    // Atoms: unit norm, pelvis-free, distinct, with positive variance along them.
+    for j in 10..40 {
+        assert!((b.column(j).norm() - 1.0).abs() < 1e-9);
+        assert!((0..3).all(|r| b[(r, j)].abs() < 1e-9));
+        assert!(basis.explained_variance()[j] > 0.0);
+        for k in 10..j {
+            assert!(
+                b.column(j).dot(&b.column(k)) < 1.0 - 1e-6,
+                "atoms {j} and {k}"
+            );
+        }
+    }
+    // Deterministic, and it survives storage.
+    let again = PoseBasis::fit(&poses, &config(30)).unwrap();
+    assert_eq!(basis.to_bytes().unwrap(), again.to_bytes().unwrap());
+    let back = PoseBasis::from_bytes(&basis.to_bytes().unwrap()).unwrap();
+    assert_eq!(back.n_principal(), 10);
+    assert_eq!(back.components(), basis.components());
+    // More atoms than poses, or none, is a typed error.
+    for atoms in [0, 401] {
+        assert!(matches!(
+            PoseBasis::fit(&poses, &config(atoms)),
+            Err(ReconstructError::InvalidConfig { .. })
+        ));
     }
 }

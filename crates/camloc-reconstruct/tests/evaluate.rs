@@ -4,7 +4,8 @@ mod common;
 
 use camloc_geometry::WeakPerspective;
 use camloc_reconstruct::{
-    BasisConfig, EvalSample, ModeKind, PoseBasis, ReconstructConfig, Reconstructor, evaluate,
+    BasisConfig, BasisKind, EvalSample, ModeKind, PoseBasis, ReconstructConfig, Reconstructor,
+    evaluate,
 };
 use camloc_skeleton::Pose2;
 
@@ -13,7 +14,11 @@ use camloc_skeleton::Pose2;
 fn setup() -> (Reconstructor, Vec<EvalSample>) {
     let basis = PoseBasis::fit(
         &common::training_set(1500, 21),
-        &BasisConfig { n_components: 10 },
+        &BasisConfig {
+            n_components: 10,
+            kind: BasisKind::Pca,
+            ..BasisConfig::default()
+        },
     )
     .unwrap();
     let mut rng = common::rng(5);
@@ -45,7 +50,7 @@ fn setup() -> (Reconstructor, Vec<EvalSample>) {
             min_relative_decrease: 0.0,
             alternation_tolerance: 0.0,
             max_alternations: 500,
-            ..ReconstructConfig::default()
+            ..common::without_priors()
         },
     )
     .unwrap();

@@ -6,8 +6,9 @@ use std::sync::OnceLock;
 
 use camloc_geometry::{Matrix3, Vector3, WeakPerspective, check_rotation};
 use camloc_reconstruct::{
-    BBOX_FLOOR_IN_TORSOS, BasisConfig, CameraMode, LengthTarget, PoseBasis, ReconstructConfig,
-    ReconstructError, Reconstructor, projection_error_eq12_bbox, sum_squared_limb_lengths,
+    BBOX_FLOOR_IN_TORSOS, BasisConfig, BasisKind, CameraMode, EQUAL_FIT_TOLERANCE, LengthTarget,
+    PoseBasis, ReconstructConfig, ReconstructError, Reconstructor, projection_error_eq12_bbox,
+    sum_squared_limb_lengths,
 };
 use camloc_skeleton::{Pose2, Pose3};
 use proptest::prelude::*;
@@ -18,7 +19,11 @@ fn basis() -> &'static PoseBasis {
     BASIS.get_or_init(|| {
         PoseBasis::fit(
             &common::training_set(2000, 7),
-            &BasisConfig { n_components: 12 },
+            &BasisConfig {
+                n_components: 12,
+                kind: BasisKind::Pca,
+                ..BasisConfig::default()
+            },
         )
         .unwrap()
     })
@@ -70,7 +75,7 @@ proptest! {
             min_relative_decrease: 0.0,
             alternation_tolerance: 0.0,
             max_alternations: 500,
-            ..ReconstructConfig::default()
+            ..common::without_priors()
         });
         let out = rec.reconstruct(&project(&truth, rotation), &CameraMode::Oracle(rotation)).unwrap();
         let mirrored = Pose3::new(truth.points.map(|p| {
@@ -95,7 +100,7 @@ proptest! {
         let config = ReconstructConfig {
             max_basis: 7,
             length_target: if mean_target { LengthTarget::Mean } else { LengthTarget::TrainingAverage },
-            ..ReconstructConfig::default()
+            ..common::without_priors()
         };
         let rec = reconstructor(config);
         let expected_sum = if mean_target {
@@ -140,8 +145,8 @@ proptest! {
         let rotation = common::random_rotation(&mut rng, 45.0);
         let classified = common::random_rotation(&mut rng, 45.0);
         let pose2 = project(&truth, rotation);
-        let with = reconstructor(ReconstructConfig::default());
-        let without = reconstructor(ReconstructConfig { try_depth_reflection: false, ..ReconstructConfig::default() });
+        let with = reconstructor(common::without_priors());
+        let without = reconstructor(ReconstructConfig { try_depth_reflection: false, ..common::without_priors() });
         for mode in all_modes(rotation, classified) {
             let a = with.reconstruct(&pose2, &mode).unwrap();
             let b = without.reconstruct(&pose2, &mode).unwrap();
@@ -167,7 +172,7 @@ proptest! {
         let rotation = common::random_rotation(&mut rng, 45.0);
         let pose2 = project(&truth, rotation);
         let moved = Pose2::new(pose2.points.map(|p| [a * p[0] + tx, a * p[1] + ty]));
-        let rec = reconstructor(ReconstructConfig::default());
+        let rec = reconstructor(common::without_priors());
         for mode in [CameraMode::Opt, CameraMode::Oracle(rotation)] {
             let x = rec.reconstruct(&pose2, &mode).unwrap();
             let y = rec.reconstruct(&moved, &mode).unwrap();
@@ -180,7 +185,7 @@ proptest! {
 
 #[test]
 fn bad_input_is_a_typed_error() {
-    let rec = reconstructor(ReconstructConfig::default());
+    let rec = reconstructor(common::without_priors());
     let mut rng = common::rng(3);
     let truth = common::random_pose(&mut rng);
     let rotation = common::random_rotation(&mut rng, 45.0);
@@ -227,19 +232,19 @@ fn invalid_configs_are_refused() {
     let bad = [
         ReconstructConfig {
             max_basis: 0,
-            ..ReconstructConfig::default()
+            ..common::without_priors()
         },
         ReconstructConfig {
             max_alternations: 0,
-            ..ReconstructConfig::default()
+            ..common::without_priors()
         },
         ReconstructConfig {
             alternation_tolerance: 1.0,
-            ..ReconstructConfig::default()
+            ..common::without_priors()
         },
         ReconstructConfig {
             min_relative_decrease: f64::NAN,
-            ..ReconstructConfig::default()
+            ..common::without_priors()
         },
     ];
     for config in bad {
@@ -252,7 +257,7 @@ fn invalid_configs_are_refused() {
 
 #[test]
 fn extreme_scales_reconstruct_like_ordinary_ones() {
-    let rec = reconstructor(ReconstructConfig::default());
+    let rec = reconstructor(common::without_priors());
     let mut rng = common::rng(11);
     let truth = common::random_pose(&mut rng);
     let rotation = common::random_rotation(&mut rng, 45.0);
@@ -293,7 +298,7 @@ fn extreme_scales_reconstruct_like_ordinary_ones() {
 
 #[test]
 fn eq12_is_bounded_for_an_edge_on_pose() {
-    let rec = reconstructor(ReconstructConfig::default());
+    let rec = reconstructor(common::without_priors());
     let mut rng = common::rng(5);
     let truth = common::random_pose(&mut rng);
     let rotation = common::random_rotation(&mut rng, 30.0);
@@ -326,4 +331,44 @@ fn eq12_is_bounded_for_an_edge_on_pose() {
     let mut no_torso = flat;
     no_torso.points[7] = no_torso.points[0];
     assert!(projection_error_eq12_bbox(&no_torso, &recon).is_err());
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(24))]
+
+    /// `reconstruct_hypotheses` keeps at most `max`, puts `reconstruct`'s answer first, and
+    /// orders them by projection error except where two fit within
+    /// `EQUAL_FIT_TOLERANCE` of each other, where the smaller joint-limit violation wins.
+    #[test]
+    fn hypotheses_are_ranked_by_fit_then_by_the_joint_limit_prior(seed in 0u64..1_000_000) {
+        let mut rng = common::rng(seed);
+        let truth = common::random_pose(&mut rng);
+        let rotation = common::random_rotation(&mut rng, 45.0);
+        let pose2 = project(&truth, rotation);
+        let rec = reconstructor(ReconstructConfig::default());
+        for mode in [CameraMode::Opt, CameraMode::Hybrid(rotation)] {
+            let all = rec.reconstruct_hypotheses(&pose2, &mode, 8).unwrap();
+            let expected = if matches!(mode, CameraMode::Hybrid(_)) { 4 } else { 2 };
+            prop_assert_eq!(all.len(), expected);
+            prop_assert_eq!(all.iter().filter(|h| h.reflected).count(), expected / 2);
+            let one = rec.reconstruct_hypotheses(&pose2, &mode, 1).unwrap();
+            prop_assert_eq!(one.len(), 1);
+            prop_assert_eq!(&one[0].pose.points, &all[0].pose.points);
+            let best = rec.reconstruct(&pose2, &mode).unwrap();
+            prop_assert_eq!(&best.pose.points, &all[0].pose.points);
+            for pair in all.windows(2) {
+                let (a, b) = (pair[0].projection_error, pair[1].projection_error);
+                let close = (a - b).abs() <= EQUAL_FIT_TOLERANCE * a.max(b);
+                if close {
+                    prop_assert!(
+                        pair[0].limit_violation_rad <= pair[1].limit_violation_rad
+                            || a <= b,
+                        "{} before {}", a, b
+                    );
+                } else {
+                    prop_assert!(a < b, "{} before {}", a, b);
+                }
+            }
+        }
+    }
 }

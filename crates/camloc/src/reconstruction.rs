@@ -16,14 +16,18 @@ use crate::{CameraLocalizer, CamlocError, Localization};
 #[derive(Clone, Debug)]
 pub struct PoseReconstruction {
     /// The reconstruction: 3D pose (metres, canonical body frame), weak-perspective camera,
-    /// reprojection error.
+    /// reprojection error. The preferred hypothesis.
     pub reconstruction: Reconstruction,
+    /// The other hypotheses asked for ([`PoseReconstructor::reconstruct_hypotheses`]), in
+    /// order of preference (e.g. the depth mirror of `reconstruction`); empty from
+    /// [`PoseReconstructor::reconstruct`].
+    pub alternatives: Vec<Reconstruction>,
     /// The camera localization, when the mode used one.
     pub localization: Option<Localization>,
 }
 
-/// The default basis embedded in this build (PCA of all CMU poses, `cargo xtask
-/// train-default`).
+/// The default basis embedded in this build (16 principal components and 256 cluster
+/// centres of the CMU poses of every subject, selected by pose; `cargo xtask train-default`).
 ///
 /// # Errors
 /// [`CamlocError::NoDefault`] when the build embedded none; decoding errors otherwise.
@@ -38,7 +42,7 @@ pub fn default_basis() -> Result<PoseBasis, CamlocError> {
     )?)
 }
 
-/// 3D reconstruction of 2D poses: a PCA pose basis, the pursuit settings, the camera mode, and
+/// 3D reconstruction of 2D poses: a pose basis, the pursuit settings, the camera mode, and
 /// (for the `classified` and `hybrid` modes) the camera localizer that classifies the camera.
 ///
 /// ```
@@ -95,10 +99,10 @@ impl PoseReconstructor {
         self
     }
 
-    /// Sets the camera mode: [`ModeKind::Opt`] (the default: Procrustes camera, lowest 3D
-    /// error when real cameras stand between the classes, docs/RESULTS.md),
+    /// Sets the camera mode: [`ModeKind::Opt`] (the default: Procrustes camera, the fastest),
     /// [`ModeKind::Classified`] (the rotation of the classified camera, the paper's section
-    /// 8.2) or [`ModeKind::Hybrid`] (the classified rotation refined by Procrustes).
+    /// 8.2) or [`ModeKind::Hybrid`] (the classified rotation refined by Procrustes: the lowest
+    /// 3D error on held-out subjects, about 3 times the time of `opt`; docs/RESULTS.md).
     ///
     /// # Errors
     /// [`CamlocError::InvalidOption`] for [`ModeKind::Oracle`] (it needs the true camera,
@@ -144,6 +148,23 @@ impl PoseReconstructor {
     /// [`CamlocError::InvalidOption`] when landmarks are missing; localization errors for
     /// `classified` and `hybrid`; [`CamlocError::Reconstruct`] for a degenerate pose.
     pub fn reconstruct(&self, pose: &PartialPose2) -> Result<PoseReconstruction, CamlocError> {
+        self.reconstruct_hypotheses(pose, 1)
+    }
+
+    /// Reconstructs one 2D pose like [`PoseReconstructor::reconstruct`], keeping up to `max`
+    /// hypotheses (at least one): where the 2D fits two poses about equally (the mirror in
+    /// depth), the one the joint-angle prior likes comes first and the other is in
+    /// [`PoseReconstruction::alternatives`], each with its reprojection error and limit
+    /// violation. Hypotheses: 2 per solve (as found and depth-reflected), and `hybrid` runs
+    /// two solves.
+    ///
+    /// # Errors
+    /// As [`PoseReconstructor::reconstruct`].
+    pub fn reconstruct_hypotheses(
+        &self,
+        pose: &PartialPose2,
+        max: usize,
+    ) -> Result<PoseReconstruction, CamlocError> {
         let Some(complete) = pose.complete() else {
             let missing: Vec<&str> = pose.missing().map(|l| l.name()).collect();
             return Err(CamlocError::InvalidOption {
@@ -169,15 +190,21 @@ impl PoseReconstructor {
             (Some(l), _) => CameraMode::Classified(l.rotation),
             (None, _) => CameraMode::Opt,
         };
-        let reconstruction =
-            self.reconstructor
-                .reconstruct(&complete, &mode)
-                .map_err(|source| CamlocError::Reconstruct {
-                    context: "input pose".into(),
-                    source,
-                })?;
+        let mut hypotheses = self
+            .reconstructor
+            .reconstruct_hypotheses(&complete, &mode, max)
+            .map_err(|source| CamlocError::Reconstruct {
+                context: "input pose".into(),
+                source,
+            })?
+            .into_iter();
+        let reconstruction = hypotheses.next().ok_or(CamlocError::Reconstruct {
+            context: "input pose".into(),
+            source: camloc_reconstruct::ReconstructError::Numerical("no hypothesis was solved"),
+        })?;
         Ok(PoseReconstruction {
             reconstruction,
+            alternatives: hypotheses.collect(),
             localization,
         })
     }

@@ -66,7 +66,7 @@ enum Command {
     /// with the input; use --jsonl for one JSON object per line.
     #[command(after_help = EXIT_CODES)]
     Localize(localize::Args),
-    /// Reconstruct the 3D poses of a keypoint input with a PCA basis and projected matching
+    /// Reconstruct the 3D poses of a keypoint input with a pose basis and projected matching
     /// pursuit, using the Procrustes camera (opt, default) or the classified one (classified, hybrid).
     ///
     /// Poses are read, reconstructed (in parallel) and written in batches.

@@ -27,15 +27,17 @@ use super::{
 fn camera_modes() -> [PossibleValue; 3] {
     [
         PossibleValue::new("opt").help(
-            "Procrustes camera re-estimated at every step (Ramakrishna et al.); default: lowest \
-             3D error when cameras stand anywhere (jittered protocol, docs/RESULTS.md)",
+            "Procrustes camera re-estimated at every step (Ramakrishna et al.); default: the \
+             fastest, under 1 ms per pose (docs/RESULTS.md)",
         ),
         PossibleValue::new("classified").help(
             "Rotation fixed to the classified Table-1 camera (the paper's section 8.2); best \
              when the camera is one of the 12 viewpoints",
         ),
-        PossibleValue::new("hybrid")
-            .help("Classified rotation as the start, refined by Procrustes"),
+        PossibleValue::new("hybrid").help(
+            "Classified rotation as the start, refined by Procrustes: the lowest 3D error \
+             measured (docs/RESULTS.md), about 3 times the time of opt",
+        ),
     ]
 }
 
@@ -63,6 +65,14 @@ pub struct Args {
           value_parser = clap::builder::PossibleValuesParser::new(camera_modes())
               .try_map(|s| parse_camera(&s)))]
     pub camera: ModeKind,
+    /// Keep up to N hypotheses per pose. Where the 2D fits two poses about equally (the
+    /// mirror in depth), the one within the learned joint-angle limits comes first; the
+    /// others follow in the text output and under "alternatives" in JSON, each with its
+    /// reprojection error and limit violation. Each solve has 2 (as found and
+    /// depth-reflected); hybrid runs 2 solves. The .npy and SVG outputs hold the first.
+    #[arg(long, default_value_t = 1, value_name = "N",
+          value_parser = clap::value_parser!(u8).range(1..=4))]
+    pub hypotheses: u8,
     #[command(flatten)]
     pub format: FormatArgs,
     /// Write the 3D poses as a (N, 15, 3) float64 .npy array in metres (camloc15 layout, the
@@ -137,7 +147,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     );
     let summary = stream::run(inputs, out, format, &files, &bar, |record| {
         let result = reconstructor
-            .reconstruct(&record.pose)
+            .reconstruct_hypotheses(&record.pose, usize::from(args.hypotheses))
             .map_err(|e| e.to_string())?;
         let r = &result.reconstruction;
         let camera_text = match &result.localization {
@@ -151,9 +161,6 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
             ),
             None => choice.name().to_string(),
         };
-        let rot = &r.camera.rotation;
-        let rotation: [[f64; 3]; 3] =
-            std::array::from_fn(|i| [rot[(i, 0)], rot[(i, 1)], rot[(i, 2)]]);
         let text = if format.is_json() {
             stream::json_line(&ReconstructionJson {
                 id: &record.id,
@@ -162,16 +169,22 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
                 person: record.person,
                 camera_mode: choice.name(),
                 classified_label: result.localization.as_ref().map(|l| l.label),
-                camera: CameraJson {
-                    rotation,
-                    scale: r.camera.scale,
-                    translation: r.camera.translation,
-                },
-                projection_error: r.projection_error,
-                landmarks_m: Landmarks(&r.pose),
+                best: HypothesisJson::new(r),
+                alternatives: result
+                    .alternatives
+                    .iter()
+                    .map(HypothesisJson::new)
+                    .collect(),
             })
         } else {
-            reconstruction_text(&record.id, &camera_text, r, &rotation)
+            let mut text = reconstruction_text(&format!("{}: camera {camera_text}", record.id), r);
+            for (k, alternative) in result.alternatives.iter().enumerate() {
+                text.push_str(&reconstruction_text(
+                    &format!("  alternative {}", k + 1),
+                    alternative,
+                ));
+            }
+            text
         };
         let svg = match (&files.svg, record.pose.complete()) {
             (Some(_), Some(input)) => {
@@ -203,6 +216,38 @@ struct CameraJson {
     translation: [f64; 2],
 }
 
+/// The rotation of `r`'s camera as rows.
+fn rotation_rows(r: &Reconstruction) -> [[f64; 3]; 3] {
+    let rot = &r.camera.rotation;
+    std::array::from_fn(|i| [rot[(i, 0)], rot[(i, 1)], rot[(i, 2)]])
+}
+
+/// One hypothesis of `reconstruct --json`: camera, scores and 3D landmarks.
+#[derive(Serialize)]
+struct HypothesisJson<'a> {
+    camera: CameraJson,
+    projection_error: f64,
+    reflected: bool,
+    limit_violation_rad: f64,
+    landmarks_m: Landmarks<'a>,
+}
+
+impl<'a> HypothesisJson<'a> {
+    fn new(r: &'a Reconstruction) -> Self {
+        HypothesisJson {
+            camera: CameraJson {
+                rotation: rotation_rows(r),
+                scale: r.camera.scale,
+                translation: r.camera.translation,
+            },
+            projection_error: r.projection_error,
+            reflected: r.reflected,
+            limit_violation_rad: r.limit_violation_rad,
+            landmarks_m: Landmarks(&r.pose),
+        }
+    }
+}
+
 /// The 3D landmarks as a map from landmark name to `[x, y, z]` in metres.
 struct Landmarks<'a>(&'a Pose3);
 
@@ -227,24 +272,28 @@ struct ReconstructionJson<'a> {
     person: Option<u64>,
     camera_mode: &'static str,
     classified_label: Option<CameraLabel>,
-    camera: CameraJson,
-    projection_error: f64,
-    landmarks_m: Landmarks<'a>,
+    #[serde(flatten)]
+    best: HypothesisJson<'a>,
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    alternatives: Vec<HypothesisJson<'a>>,
 }
 
-fn reconstruction_text(
-    id: &str,
-    camera_text: &str,
-    r: &Reconstruction,
-    rotation: &[[f64; 3]; 3],
-) -> String {
+/// One hypothesis as text: `heading` with its scores, the camera rotation, the 3D landmarks.
+fn reconstruction_text(heading: &str, r: &Reconstruction) -> String {
     let mut out = String::new();
     let _ = writeln!(
         out,
-        "{id}: camera {camera_text}; reprojection error {:.3} (image units, eq. 6)",
-        r.projection_error
+        "{heading}; reprojection error {:.3} (image units, eq. 6); joint-limit violation \
+         {:.3} rad{}",
+        r.projection_error,
+        r.limit_violation_rad,
+        if r.reflected {
+            " (depth-reflected)"
+        } else {
+            ""
+        }
     );
-    for row in rotation {
+    for row in rotation_rows(r) {
         let _ = writeln!(
             out,
             "  R = [{:>7.4} {:>7.4} {:>7.4}]",

@@ -7,7 +7,7 @@
 #![allow(dead_code)] // Each test binary uses a different part of this module.
 
 use camloc_geometry::{Matrix3, Vector3, look_at_origin, rotation_about_axis, sphere_point};
-use camloc_reconstruct::{PoseBasis, sum_squared_limb_lengths};
+use camloc_reconstruct::{PoseBasis, ReconstructConfig, sum_squared_limb_lengths};
 use camloc_skeleton::{NUM_LANDMARKS, Pose3};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -254,4 +254,15 @@ pub fn pose_in_span(
     let t = (-qb + disc.sqrt()) / (2.0 * qa);
     let w: Vec<f64> = w.iter().map(|x| x * t).collect();
     (basis.pose(&w).unwrap(), w)
+}
+
+/// The default pursuit without its priors (coefficient prior, limb symmetry, joint limits):
+/// the plain projected matching pursuit whose exact properties the tests check.
+pub fn without_priors() -> ReconstructConfig {
+    ReconstructConfig {
+        coefficient_prior: 0.0,
+        symmetry: false,
+        joint_limits: false,
+        ..ReconstructConfig::default()
+    }
 }
