@@ -255,7 +255,7 @@ impl Augmentation {
         if self.limb_rotation_deg > 0.0 {
             let bound = self.limb_rotation_deg.to_radians();
             for end in ROTATED_BONE_ENDS {
-                let pivot = out.get(parent_of(end));
+                let pivot = out.get(end.parent().unwrap_or(Landmark::Pelvis));
                 let z: f64 = rng.random_range(-1.0..=1.0);
                 let phi: f64 = rng.random_range(0.0..std::f64::consts::TAU);
                 let r = (1.0 - z * z).max(0.0).sqrt();
@@ -274,30 +274,10 @@ impl Augmentation {
     }
 }
 
-/// The parent of `landmark` in the kinematic tree of [`LIMBS`] (the pelvis for the pelvis).
-fn parent_of(landmark: Landmark) -> Landmark {
-    LIMBS
-        .iter()
-        .find(|(_, child)| *child == landmark)
-        .map_or(Landmark::Pelvis, |(parent, _)| *parent)
-}
-
 /// Applies `f` to `root` and every landmark below it in the kinematic tree.
 fn move_subtree(pose: &mut Pose3, root: Landmark, f: impl Fn([f64; 3]) -> [f64; 3]) {
-    for l in Landmark::ALL {
-        let mut a = l;
-        let below = loop {
-            if a == root {
-                break true;
-            }
-            if a == Landmark::Pelvis {
-                break false;
-            }
-            a = parent_of(a);
-        };
-        if below {
-            pose.points[l.index()] = f(pose.points[l.index()]);
-        }
+    for l in root.subtree() {
+        pose.points[l.index()] = f(pose.points[l.index()]);
     }
 }
 

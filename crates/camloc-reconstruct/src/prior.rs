@@ -220,37 +220,6 @@ fn angle(a: &Vector3<f64>, b: &[f64; 3]) -> f64 {
     a.cross(&b).norm().atan2(a.dot(&b))
 }
 
-/// The landmarks at and below `root` in the kinematic tree of the limbs.
-fn below(root: Landmark) -> &'static [Landmark] {
-    match root {
-        Landmark::LeftKnee => &[Landmark::LeftKnee, Landmark::LeftAnkle],
-        Landmark::RightKnee => &[Landmark::RightKnee, Landmark::RightAnkle],
-        Landmark::LeftElbow => &[Landmark::LeftElbow, Landmark::LeftWrist],
-        Landmark::RightElbow => &[Landmark::RightElbow, Landmark::RightWrist],
-        Landmark::LeftHip => &[Landmark::LeftHip, Landmark::LeftKnee, Landmark::LeftAnkle],
-        Landmark::RightHip => &[
-            Landmark::RightHip,
-            Landmark::RightKnee,
-            Landmark::RightAnkle,
-        ],
-        Landmark::LeftShoulder => &[
-            Landmark::LeftShoulder,
-            Landmark::LeftElbow,
-            Landmark::LeftWrist,
-        ],
-        Landmark::RightShoulder => &[
-            Landmark::RightShoulder,
-            Landmark::RightElbow,
-            Landmark::RightWrist,
-        ],
-        Landmark::LeftAnkle => &[Landmark::LeftAnkle],
-        Landmark::RightAnkle => &[Landmark::RightAnkle],
-        Landmark::LeftWrist => &[Landmark::LeftWrist],
-        Landmark::RightWrist => &[Landmark::RightWrist],
-        _ => &[],
-    }
-}
-
 impl JointLimits {
     /// Learns the limits from training poses: per bone kind, up to `per_bone` representative
     /// directions by farthest-point sampling, and the radius that covers 99.5% of the
@@ -371,8 +340,8 @@ impl JointLimits {
                 continue;
             };
             let pivot = point(&out, b.from);
-            for l in below(b.to) {
-                let p = point(&out, *l) - pivot;
+            for l in b.to.subtree() {
+                let p = point(&out, l) - pivot;
                 out.points[l.index()] = (pivot + rotation * p).into();
             }
         }
@@ -420,8 +389,8 @@ pub fn symmetrise(pose: &Pose3) -> Pose3 {
                 continue;
             }
             let shift = v * (mean / n - 1.0);
-            for m in below(b) {
-                out.points[m.index()] = (point(&out, *m) + shift).into();
+            for m in b.subtree() {
+                out.points[m.index()] = (point(&out, m) + shift).into();
             }
         }
     }

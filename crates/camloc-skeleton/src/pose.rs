@@ -121,6 +121,31 @@ impl Landmark {
     }
 }
 
+impl Landmark {
+    /// The parent of this landmark in the kinematic tree of [`LIMBS`] (rooted at the
+    /// pelvis); `None` for the pelvis.
+    pub fn parent(self) -> Option<Landmark> {
+        LIMBS
+            .iter()
+            .find(|(_, child)| *child == self)
+            .map(|(parent, _)| *parent)
+    }
+
+    /// This landmark and every landmark below it in the kinematic tree of [`LIMBS`], in
+    /// index order (the pelvis: all 15).
+    pub fn subtree(self) -> impl Iterator<Item = Landmark> {
+        // LIMBS lists every parent before its children, so one pass finds them all.
+        let mut inside = [false; NUM_LANDMARKS];
+        inside[self.index()] = true;
+        for (parent, child) in LIMBS {
+            if inside[parent.index()] {
+                inside[child.index()] = true;
+            }
+        }
+        Landmark::ALL.into_iter().filter(move |l| inside[l.index()])
+    }
+}
+
 /// Index of the left/right counterpart of landmark `index` (see [`Landmark::mirrored`]).
 ///
 /// Returns `index` itself for the central landmarks and for out-of-range indices.
@@ -397,6 +422,46 @@ mod tests {
         assert_eq!(parents[0], 0);
         assert!(parents[1..].iter().all(|&n| n == 1));
         assert_eq!(LIMBS[TORSO_LIMB], (Landmark::Pelvis, Landmark::Neck));
+        // Parents come before their children (what Landmark::subtree relies on).
+        for (k, (parent, _)) in LIMBS.iter().enumerate() {
+            assert!(
+                *parent == Landmark::Pelvis || LIMBS[..k].iter().any(|(_, c)| c == parent),
+                "limb {k}"
+            );
+        }
+    }
+
+    #[test]
+    fn parents_and_subtrees_follow_the_limbs() {
+        assert_eq!(Landmark::Pelvis.parent(), None);
+        for (parent, child) in LIMBS {
+            assert_eq!(child.parent(), Some(parent));
+        }
+        assert_eq!(Landmark::Pelvis.subtree().count(), NUM_LANDMARKS);
+        assert_eq!(
+            Landmark::LeftHip.subtree().collect::<Vec<_>>(),
+            [Landmark::LeftHip, Landmark::LeftKnee, Landmark::LeftAnkle]
+        );
+        assert_eq!(
+            Landmark::RightElbow.subtree().collect::<Vec<_>>(),
+            [Landmark::RightElbow, Landmark::RightWrist]
+        );
+        assert_eq!(Landmark::Neck.subtree().count(), 8);
+        assert_eq!(
+            Landmark::Head.subtree().collect::<Vec<_>>(),
+            [Landmark::Head]
+        );
+        // Every landmark is in the subtree of each of its ancestors.
+        for l in Landmark::ALL {
+            let mut a = Some(l);
+            while let Some(ancestor) = a {
+                assert!(
+                    ancestor.subtree().any(|m| m == l),
+                    "{l:?} under {ancestor:?}"
+                );
+                a = ancestor.parent();
+            }
+        }
     }
 
     #[test]
