@@ -7,7 +7,7 @@ use nalgebra::{DMatrix, DVector};
 use serde::{Deserialize, Serialize};
 
 use crate::basis::{LIMB_DIM, POSE_DIM, limb_vectors, vector_to_pose};
-use crate::lsq::{QuadraticConstraint, constrained_least_squares};
+use crate::lsq::QuadraticConstraint;
 use crate::prior::symmetrise;
 use crate::{
     ModeKind, PoseBasis, ReconstructError, check_finite_landmarks, is_positive, is_positive_finite,
@@ -808,11 +808,7 @@ impl Reconstructor {
         let a = DMatrix::from_fn(POSE_DIM, selected.len(), |r, c| {
             self.basis.components()[(r, selected[c])]
         });
-        let q = DMatrix::from_fn(selected.len(), selected.len(), |r, c| {
-            self.gram[(selected[r], selected[c])]
-        });
-        let c = DVector::from_fn(selected.len(), |r, _| self.cross[selected[r]]);
-        let solution = constrained_least_squares(&a, &residual, &q, &c, self.offset)?;
+        let solution = self.constraint(&selected)?.solve(&a, &residual)?;
         let coefficients: Vec<f64> = solution.w.iter().copied().collect();
         let points = self.points(&selected, &coefficients);
         let camera = update.fit(&points, &obs.points)?;
