@@ -7,7 +7,7 @@ use camloc_skeleton::PartialPose2;
 use camloc_store::Validate;
 use serde::Serialize;
 
-use crate::localizer::{extract_rows, impute_rows, sample_pose};
+use crate::localizer::sample_pose;
 use crate::{CameraLocalizer, CamlocError};
 
 /// Accuracy of one camera (by true label).
@@ -158,12 +158,7 @@ impl CameraLocalizer {
     /// # Errors
     /// Descriptor errors naming the sample; prediction errors.
     pub fn predict_labels(&self, poses: &[PartialPose2]) -> Result<Vec<CameraLabel>, CamlocError> {
-        let descriptor = self.descriptor();
-        let (mut x, undefined) = extract_rows(descriptor, poses)?;
-        impute_rows(&mut x, &undefined, self.imputation());
-        if let Some(e) = self.expansion() {
-            x = e.expand_rows(&Features::new(&x, descriptor.len())?)?;
-        }
+        let x = self.feature_rows(poses)?;
         let features = Features::new(&x, self.model().n_features())?;
         self.model()
             .predict_batch(&features)?

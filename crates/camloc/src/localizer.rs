@@ -433,12 +433,20 @@ impl CameraLocalizer {
             });
         }
         let poses: Vec<PartialPose2> = dataset.samples.iter().map(sample_pose).collect();
-        let (mut x, undefined) = extract_rows(&self.descriptor, &poses)?;
+        let x = self.feature_rows(&poses)?;
+        self.fit_viewpoint_rows(&x, dataset, lambda)
+    }
+
+    /// The classifier's feature rows of `poses` (row-major, [`feature_width`](Self::feature_width)
+    /// wide): descriptors in parallel, undefined values imputed, expanded if the model has an
+    /// expansion.
+    pub(crate) fn feature_rows(&self, poses: &[PartialPose2]) -> Result<Vec<f64>, CamlocError> {
+        let (mut x, undefined) = extract_rows(&self.descriptor, poses)?;
         impute_rows(&mut x, &undefined, &self.imputation);
         if let Some(e) = &self.expansion {
             x = e.expand_rows(&Features::new(&x, self.descriptor.len())?)?;
         }
-        self.fit_viewpoint_rows(&x, dataset, lambda)
+        Ok(x)
     }
 
     /// The number of features the classifier and the viewpoint heads see: the descriptor's,
