@@ -227,15 +227,19 @@ pub fn measure(args: &Args) -> Result<Measured, String> {
     Ok(Measured { markdown: md })
 }
 
+/// The camera mode with the lowest mean 3D error in `report` other than `oracle` (which
+/// needs the true camera), with that error in mm.
+pub fn best_without_truth(report: &EvalReport) -> Option<(ModeKind, f64)> {
+    report
+        .modes
+        .iter()
+        .filter(|m| m.mode != ModeKind::Oracle)
+        .filter_map(|m| m.mean_mpjpe_mm.map(|e| (m.mode, e)))
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+}
+
 /// The issue-12 targets against the shipped defaults' `walking` and `diverse` reports.
 fn targets(md: &mut String, walking: &EvalReport, diverse: &EvalReport) {
-    let best = |r: &EvalReport| {
-        r.modes
-            .iter()
-            .filter(|m| m.mode != ModeKind::Oracle)
-            .filter_map(|m| m.mean_mpjpe_mm.map(|e| (m.mode.name(), e)))
-            .min_by(|a, b| a.1.total_cmp(&b.1))
-    };
     let met = |ok: bool| if ok { "met" } else { "NOT met" };
     let _ = writeln!(
         md,
@@ -246,11 +250,12 @@ fn targets(md: &mut String, walking: &EvalReport, diverse: &EvalReport) {
         ("diverse held-out subjects", diverse, 80.0),
         ("walking held-out subjects", walking, 55.0),
     ] {
-        if let Some((mode, e)) = best(report) {
+        if let Some((mode, e)) = best_without_truth(report) {
             let _ = writeln!(
                 md,
-                "- {what}: best non-oracle mode `{mode}` {e:.1} mm, goal <= {goal} mm ({}); \
+                "- {what}: best non-oracle mode `{}` {e:.1} mm, goal <= {goal} mm ({}); \
                  `opt` (the default camera) {}",
+                mode.name(),
                 met(e <= goal),
                 cell(report, ModeKind::Opt)
             );

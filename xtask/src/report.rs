@@ -516,16 +516,11 @@ fn reconstruction_section(
     }
     let _ = writeln!(md);
     for (protocol, _, report, _) in rows {
-        let best = report
-            .modes
-            .iter()
-            .filter(|m| m.mode.name() != "oracle")
-            .filter_map(|m| m.mean_mpjpe_mm.map(|e| (m.mode.name(), e)))
-            .min_by(|a, b| a.1.total_cmp(&b.1));
-        if let Some((name, error)) = best {
+        if let Some((mode, error)) = reconstruction::best_without_truth(report) {
             let _ = writeln!(
                 md,
-                "- `{protocol}`: lowest mean 3D error without the true camera: `{name}` ({error:.1} mm)."
+                "- `{protocol}`: lowest mean 3D error without the true camera: `{}` ({error:.1} mm).",
+                mode.name()
             );
         }
     }
@@ -533,11 +528,8 @@ fn reconstruction_section(
     // `camloc reconstruct` defaults to `opt`; say whether this run agrees, from the numbers.
     let jittered_best = rows
         .iter()
-        .filter(|(p, ..)| *p == Protocol::Jittered)
-        .flat_map(|(_, _, r, _)| &r.modes)
-        .filter(|m| m.mode != camloc::ModeKind::Oracle)
-        .filter_map(|m| m.mean_mpjpe_mm.map(|e| (m.mode, e)))
-        .min_by(|a, b| a.1.total_cmp(&b.1));
+        .find(|(p, ..)| *p == Protocol::Jittered)
+        .and_then(|(_, _, r, _)| reconstruction::best_without_truth(r));
     if let Some((mode, _)) = jittered_best {
         let verdict = if mode == camloc::ModeKind::Opt {
             "agrees with"
