@@ -158,6 +158,39 @@ impl NewtonProblem {
         }
     }
 
+    /// Starts preconditioned CG from the zero direction on `H d = -g`: residual `-g`, its
+    /// preconditioned copy as the first search direction; returns `r^T M^-1 r`.
+    fn start_cg(&mut self) -> f64 {
+        for (r, g) in self.cg.residual.iter_mut().zip(&self.gradient) {
+            *r = -g;
+        }
+        self.direction.fill(0.0);
+        self.precondition();
+        self.cg.search.copy_from_slice(&self.cg.preconditioned);
+        dot(&self.cg.residual, &self.cg.preconditioned)
+    }
+
+    /// One CG step of length `alpha` along the search direction (whose Hessian product is
+    /// in `product`): updates direction and residual, preconditions the residual; returns the
+    /// new `r^T M^-1 r`.
+    fn cg_step(&mut self, alpha: f64) -> f64 {
+        for (d, &s) in self.direction.iter_mut().zip(&self.cg.search) {
+            *d += alpha * s;
+        }
+        for (r, &q) in self.cg.residual.iter_mut().zip(&self.cg.product) {
+            *r -= alpha * q;
+        }
+        self.precondition();
+        dot(&self.cg.residual, &self.cg.preconditioned)
+    }
+
+    /// The next search direction `M^-1 r + beta p`.
+    fn next_search(&mut self, beta: f64) {
+        for (s, &z) in self.cg.search.iter_mut().zip(&self.cg.preconditioned) {
+            *s = z + beta * *s;
+        }
+    }
+
     /// The truncated Newton direction of [`DirectionSolver::TruncatedCg`]: preconditioned
     /// CG from zero until `r^T M^-1 r <= eta^2 r_0^T M^-1 r_0` with the forcing term
     /// `eta = min(0.5, sqrt(||g|| / ||g_0||))` (at least [`CG_TOLERANCE`]), until the
@@ -178,13 +211,7 @@ impl NewtonProblem {
         } else {
             0.5
         };
-        for (r, g) in self.cg.residual.iter_mut().zip(&self.gradient) {
-            *r = -g;
-        }
-        self.direction.fill(0.0);
-        self.precondition();
-        self.cg.search.copy_from_slice(&self.cg.preconditioned);
-        let mut rz = dot(&self.cg.residual, &self.cg.preconditioned);
+        let mut rz = self.start_cg();
         let target = eta * eta * rz;
         // M-norm recurrences (Steihaug): d^T M d, d^T M p, p^T M p.
         let (mut dmd, mut dmp, mut pmp) = (0.0, 0.0, rz);
@@ -223,23 +250,14 @@ impl NewtonProblem {
                 step.on_boundary = beyond;
                 return step;
             }
-            for (d, &s) in self.direction.iter_mut().zip(&self.cg.search) {
-                *d += alpha * s;
-            }
-            for (r, &q) in self.cg.residual.iter_mut().zip(&self.cg.product) {
-                *r -= alpha * q;
-            }
             dmd += 2.0 * alpha * dmp + alpha * alpha * pmp;
-            self.precondition();
-            let next = dot(&self.cg.residual, &self.cg.preconditioned);
+            let next = self.cg_step(alpha);
             if next <= target {
                 step.norm = dmd.max(0.0).sqrt();
                 return step;
             }
             let beta = next / rz;
-            for (s, &z) in self.cg.search.iter_mut().zip(&self.cg.preconditioned) {
-                *s = z + beta * *s;
-            }
+            self.next_search(beta);
             dmp = beta * (dmp + alpha * pmp);
             pmp = next + beta * beta * pmp;
             rz = next;
@@ -254,13 +272,7 @@ impl NewtonProblem {
     /// Needs `factor_ready`.
     pub(super) fn solve_by_cg(&mut self) -> CgOutcome {
         let budget = self.cg_budget();
-        for (r, g) in self.cg.residual.iter_mut().zip(&self.gradient) {
-            *r = -g;
-        }
-        self.direction.fill(0.0);
-        self.precondition();
-        self.cg.search.copy_from_slice(&self.cg.preconditioned);
-        let mut rz = dot(&self.cg.residual, &self.cg.preconditioned);
+        let mut rz = self.start_cg();
         let initial = rz;
         let target = CG_TOLERANCE * CG_TOLERANCE * initial;
         if !(initial > 0.0) {
@@ -278,14 +290,7 @@ impl NewtonProblem {
                 return CgOutcome::GaveUp { products };
             }
             let alpha = rz / curvature;
-            for (d, &s) in self.direction.iter_mut().zip(&self.cg.search) {
-                *d += alpha * s;
-            }
-            for (r, &q) in self.cg.residual.iter_mut().zip(&self.cg.product) {
-                *r -= alpha * q;
-            }
-            self.precondition();
-            let next = dot(&self.cg.residual, &self.cg.preconditioned);
+            let next = self.cg_step(alpha);
             if next <= target {
                 return CgOutcome::Solved { products };
             }
@@ -297,9 +302,7 @@ impl NewtonProblem {
                 }
             }
             let beta = next / rz;
-            for (s, &z) in self.cg.search.iter_mut().zip(&self.cg.preconditioned) {
-                *s = z + beta * *s;
-            }
+            self.next_search(beta);
             rz = next;
         }
         CgOutcome::GaveUp { products: budget }
