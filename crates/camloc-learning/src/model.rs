@@ -6,7 +6,7 @@ use serde::{Deserialize, Serialize};
 use crate::data::{check_finite_row, check_labels};
 use crate::newton::row_loss;
 use crate::softmax::{one_vs_rest_in_place, softmax_in_place};
-use crate::standardise::Standardiser;
+use crate::standardise::{RawLinear, Standardiser};
 use crate::{Features, LearningError, Mode};
 use camloc_store::Validate;
 
@@ -16,8 +16,16 @@ use camloc_store::Validate;
 /// Self-contained: it keeps the standardiser fitted on the training data, so every method
 /// takes raw features (the same units the training features had). Logits are
 /// `z_k = b_k + sum_j W[j][k] (x_j - mean_j) / scale_j`.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct LogisticModel {
+    parameters: Parameters,
+    /// The logits on raw features (standardisation folded in), derived from `parameters`.
+    raw: RawLinear,
+}
+
+/// What a [`LogisticModel`] stores; the rest is derived from it on decoding.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+struct Parameters {
     mode: Mode,
     lambda: f64,
     standardiser: Standardiser,
@@ -25,6 +33,18 @@ pub struct LogisticModel {
     /// Feature-major `n_features x n_classes`: `weights[j * n_classes + k]`.
     weights: Vec<f64>,
     biases: Vec<f64>,
+}
+
+impl Serialize for LogisticModel {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        self.parameters.serialize(serializer)
+    }
+}
+
+impl<'de> Deserialize<'de> for LogisticModel {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        Parameters::deserialize(deserializer).map(LogisticModel::from_parameters)
+    }
 }
 
 impl LogisticModel {
@@ -60,14 +80,32 @@ impl LogisticModel {
         weights: Vec<f64>,
         biases: Vec<f64>,
     ) -> Self {
-        Self {
+        Self::from_parameters(Parameters {
             mode,
             lambda,
             standardiser,
             n_classes: biases.len(),
             weights,
             biases,
-        }
+        })
+    }
+
+    /// The model of `parameters`, with the logits on raw features derived from them.
+    fn from_parameters(parameters: Parameters) -> Self {
+        let p = &parameters;
+        let raw = Self::fold(&p.standardiser, &p.weights, &p.biases);
+        LogisticModel { parameters, raw }
+    }
+
+    /// The logits on raw features: feature-major `weights` on standardised features with the
+    /// standardisation folded in.
+    fn fold(standardiser: &Standardiser, weights: &[f64], biases: &[f64]) -> RawLinear {
+        let k = biases.len();
+        RawLinear::fold(
+            standardiser,
+            |j, c| weights.get(j * k + c).copied().unwrap_or(0.0),
+            biases,
+        )
     }
 
     /// Checks every invariant (sizes, finite values, a valid standardiser): used by
@@ -78,75 +116,79 @@ impl LogisticModel {
     /// The first violated invariant, as in [`new`](Self::new), and
     /// [`LearningError::NoFeatures`] for a model of zero features.
     pub fn validate(&self) -> Result<(), LearningError> {
-        self.standardiser.validate()?;
+        self.parameters.standardiser.validate()?;
         if self.n_features() == 0 {
             return Err(LearningError::NoFeatures);
         }
-        if self.n_classes < 2 {
+        if self.parameters.n_classes < 2 {
             return Err(LearningError::TooFewClasses {
-                n_classes: self.n_classes,
+                n_classes: self.parameters.n_classes,
             });
         }
-        if self.biases.len() != self.n_classes {
+        if self.parameters.biases.len() != self.parameters.n_classes {
             return Err(LearningError::SizeMismatch {
                 what: "model biases (one per class)",
-                expected: self.n_classes,
-                found: self.biases.len(),
+                expected: self.parameters.n_classes,
+                found: self.parameters.biases.len(),
             });
         }
-        let expected = self.n_features().checked_mul(self.n_classes);
-        if expected != Some(self.weights.len()) {
+        let expected = self.n_features().checked_mul(self.parameters.n_classes);
+        if expected != Some(self.parameters.weights.len()) {
             let expected = expected.unwrap_or(usize::MAX);
             return Err(LearningError::SizeMismatch {
                 what: "model weights (n_features * n_classes)",
                 expected,
-                found: self.weights.len(),
+                found: self.parameters.weights.len(),
             });
         }
-        if !(self.lambda.is_finite() && self.lambda >= 0.0) {
+        if !(self.parameters.lambda.is_finite() && self.parameters.lambda >= 0.0) {
             return Err(LearningError::InvalidParameter {
                 name: "lambda",
-                value: self.lambda.to_string(),
+                value: self.parameters.lambda.to_string(),
                 reason: "must be finite and >= 0",
             });
         }
-        all_finite("model coefficient", &self.weights, &self.biases)
+        all_finite(
+            "model coefficient",
+            &self.parameters.weights,
+            &self.parameters.biases,
+        )
     }
 
     /// Number of raw input features.
     pub fn n_features(&self) -> usize {
-        self.standardiser.n_features()
+        self.parameters.standardiser.n_features()
     }
 
     /// Number of classes.
     pub fn n_classes(&self) -> usize {
-        self.n_classes
+        self.parameters.n_classes
     }
 
     /// Multinomial or one-vs-rest.
     pub fn mode(&self) -> Mode {
-        self.mode
+        self.parameters.mode
     }
 
     /// Ridge weight the model was fitted with.
     pub fn lambda(&self) -> f64 {
-        self.lambda
+        self.parameters.lambda
     }
 
     /// The feature standardiser applied before the linear part.
     pub fn standardiser(&self) -> &Standardiser {
-        &self.standardiser
+        &self.parameters.standardiser
     }
 
     /// Weights on the standardised features, feature-major:
     /// `weights()[j * n_classes() + k]` is feature `j`, class `k`.
     pub fn weights(&self) -> &[f64] {
-        &self.weights
+        &self.parameters.weights
     }
 
     /// One bias per class.
     pub fn biases(&self) -> &[f64] {
-        &self.biases
+        &self.parameters.biases
     }
 
     /// Checks that `x` has `n_features` finite values.
@@ -163,10 +205,10 @@ impl LogisticModel {
 
     /// Checks that an output slice has one entry per class.
     fn check_output(&self, out: &[f64]) -> Result<(), LearningError> {
-        if out.len() != self.n_classes {
+        if out.len() != self.parameters.n_classes {
             return Err(LearningError::SizeMismatch {
                 what: "output length (one per class)",
-                expected: self.n_classes,
+                expected: self.parameters.n_classes,
                 found: out.len(),
             });
         }
@@ -189,18 +231,7 @@ impl LogisticModel {
     /// Logits of a sample whose sizes have been checked.
     #[inline]
     fn logits_unchecked(&self, x: &[f64], out: &mut [f64]) {
-        out.copy_from_slice(&self.biases);
-        for (((&raw, &mean), &scale), w) in x
-            .iter()
-            .zip(self.standardiser.means())
-            .zip(self.standardiser.scales())
-            .zip(self.weights.chunks_exact(self.n_classes))
-        {
-            let v = Standardiser::apply(mean, scale, raw);
-            for (o, &wk) in out.iter_mut().zip(w) {
-                *o += wk * v;
-            }
-        }
+        self.raw.apply_into(x, out);
     }
 
     /// Logits of one raw sample (see [`decision_function_into`](Self::decision_function_into)).
@@ -208,7 +239,7 @@ impl LogisticModel {
     /// # Errors
     /// As [`decision_function_into`](Self::decision_function_into).
     pub fn decision_function(&self, x: &[f64]) -> Result<Vec<f64>, LearningError> {
-        let mut out = vec![0.0; self.n_classes];
+        let mut out = vec![0.0; self.parameters.n_classes];
         self.decision_function_into(x, &mut out)?;
         Ok(out)
     }
@@ -224,7 +255,7 @@ impl LogisticModel {
         if let Some(class) = out.iter().position(|z| z.is_nan()) {
             return Err(LearningError::NanLogit { class });
         }
-        match self.mode {
+        match self.parameters.mode {
             Mode::Multinomial => softmax_in_place(out),
             Mode::OneVsRest => one_vs_rest_in_place(out),
         }
@@ -236,7 +267,7 @@ impl LogisticModel {
     /// # Errors
     /// As [`predict_proba_into`](Self::predict_proba_into).
     pub fn predict_proba(&self, x: &[f64]) -> Result<Vec<f64>, LearningError> {
-        let mut out = vec![0.0; self.n_classes];
+        let mut out = vec![0.0; self.parameters.n_classes];
         self.predict_proba_into(x, &mut out)?;
         Ok(out)
     }
@@ -264,8 +295,8 @@ impl LogisticModel {
                 found: x.n_features(),
             });
         }
-        let mut out = vec![0.0; x.n_samples() * self.n_classes];
-        out.par_chunks_mut(self.n_classes)
+        let mut out = vec![0.0; x.n_samples() * self.parameters.n_classes];
+        out.par_chunks_mut(self.parameters.n_classes)
             .zip(x.data().par_chunks(x.n_features()))
             .try_for_each(|(o, row)| self.predict_proba_into(row, o))?;
         Ok(out)
@@ -278,7 +309,7 @@ impl LogisticModel {
     pub fn predict_batch(&self, x: &Features<'_>) -> Result<Vec<usize>, LearningError> {
         Ok(self
             .predict_proba_batch(x)?
-            .chunks_exact(self.n_classes)
+            .chunks_exact(self.parameters.n_classes)
             .map(argmax)
             .collect())
     }
@@ -290,7 +321,7 @@ impl LogisticModel {
     /// As [`predict_proba_batch`](Self::predict_proba_batch), plus label errors as in
     /// [`LogisticRegression::fit`](crate::LogisticRegression::fit).
     pub fn accuracy(&self, x: &Features<'_>, y: &[usize]) -> Result<f64, LearningError> {
-        check_labels(y, x.n_samples(), self.n_classes)?;
+        check_labels(y, x.n_samples(), self.parameters.n_classes)?;
         let predicted = self.predict_batch(x)?;
         let correct = predicted.iter().zip(y).filter(|(p, t)| p == t).count();
         Ok(if y.is_empty() {
@@ -308,7 +339,7 @@ impl LogisticModel {
     /// # Errors
     /// As [`accuracy`](Self::accuracy).
     pub fn objective(&self, x: &Features<'_>, y: &[usize]) -> Result<f64, LearningError> {
-        check_labels(y, x.n_samples(), self.n_classes)?;
+        check_labels(y, x.n_samples(), self.parameters.n_classes)?;
         if x.n_features() != self.n_features() {
             return Err(LearningError::SizeMismatch {
                 what: "number of feature columns",
@@ -316,23 +347,24 @@ impl LogisticModel {
                 found: x.n_features(),
             });
         }
-        let n_blocks = match self.mode {
+        let n_blocks = match self.parameters.mode {
             Mode::Multinomial => 1,
-            Mode::OneVsRest => self.n_classes,
+            Mode::OneVsRest => self.parameters.n_classes,
         };
-        let mut logits = vec![0.0; self.n_classes];
+        let mut logits = vec![0.0; self.parameters.n_classes];
         let mut partial = vec![0.0; n_blocks];
         for (row, &label) in x.rows().zip(y) {
             self.logits_unchecked(row, &mut logits);
             row_loss(
-                self.mode,
+                self.parameters.mode,
                 label,
-                self.n_classes,
+                self.parameters.n_classes,
                 |c| logits[c],
                 &mut partial,
             );
         }
-        let ridge: f64 = self.weights.iter().map(|w| w * w).sum::<f64>() * self.lambda;
+        let ridge: f64 =
+            self.parameters.weights.iter().map(|w| w * w).sum::<f64>() * self.parameters.lambda;
         Ok(partial.iter().sum::<f64>() + ridge)
     }
 }

@@ -6,15 +6,36 @@ use faer::linalg::solvers::Solve;
 use faer::{Mat, Side};
 use serde::{Deserialize, Serialize};
 
+use crate::standardise::RawLinear;
 use crate::{Features, LearningError, Standardiser};
 
 /// A fitted multi-output ridge regression `y = W ((x - mean) / scale) + b`.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct RidgeModel {
+    parameters: RidgeParameters,
+    /// The map on raw features (standardisation folded in), derived from `parameters`.
+    raw: RawLinear,
+}
+
+/// What a [`RidgeModel`] stores; the rest is derived from it on decoding.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+struct RidgeParameters {
     standardiser: Standardiser,
     /// `n_outputs x d`, row-major.
     weights: Vec<f64>,
     biases: Vec<f64>,
+}
+
+impl Serialize for RidgeModel {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        self.parameters.serialize(serializer)
+    }
+}
+
+impl<'de> Deserialize<'de> for RidgeModel {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        RidgeParameters::deserialize(deserializer).map(RidgeModel::from_parameters)
+    }
 }
 
 impl RidgeModel {
@@ -85,11 +106,24 @@ impl RidgeModel {
             .flat_map(|k| (0..d).map(move |j| (k, j)))
             .map(|(k, j)| w[(j, k)])
             .collect();
-        Ok(RidgeModel {
+        Ok(RidgeModel::from_parameters(RidgeParameters {
             standardiser,
             weights,
             biases: y_mean,
-        })
+        }))
+    }
+
+    /// The model of `parameters`, with the map on raw features derived from them (sizes are
+    /// checked by [`validate`](Self::validate)).
+    fn from_parameters(parameters: RidgeParameters) -> Self {
+        let p = &parameters;
+        let d = p.standardiser.n_features();
+        let raw = RawLinear::fold(
+            &p.standardiser,
+            |j, k| p.weights.get(k * d + j).copied().unwrap_or(0.0),
+            &p.biases,
+        );
+        RidgeModel { parameters, raw }
     }
 
     /// Checks the invariants of a decoded model: a valid standardiser, at least one output,
@@ -99,26 +133,30 @@ impl RidgeModel {
     /// [`LearningError::SizeMismatch`] for inconsistent shapes,
     /// [`LearningError::InvalidParameter`] for a non-finite coefficient or a bad standardiser.
     pub fn validate(&self) -> Result<(), LearningError> {
-        self.standardiser.validate()?;
+        self.parameters.standardiser.validate()?;
         let expected = self.n_features().checked_mul(self.n_outputs());
-        if self.n_outputs() == 0 || expected != Some(self.weights.len()) {
+        if self.n_outputs() == 0 || expected != Some(self.parameters.weights.len()) {
             return Err(LearningError::SizeMismatch {
                 what: "ridge weights (n_outputs >= 1 times n_features)",
                 expected: expected.unwrap_or(usize::MAX),
-                found: self.weights.len(),
+                found: self.parameters.weights.len(),
             });
         }
-        crate::model::all_finite("ridge coefficient", &self.weights, &self.biases)
+        crate::model::all_finite(
+            "ridge coefficient",
+            &self.parameters.weights,
+            &self.parameters.biases,
+        )
     }
 
     /// Number of input features.
     pub fn n_features(&self) -> usize {
-        self.standardiser.n_features()
+        self.parameters.standardiser.n_features()
     }
 
     /// Number of outputs.
     pub fn n_outputs(&self) -> usize {
-        self.biases.len()
+        self.parameters.biases.len()
     }
 
     /// Predicts the outputs of one raw feature row `x` into `out` (length
@@ -142,19 +180,7 @@ impl RidgeModel {
                 found: out.len(),
             });
         }
-        let (means, scales) = (self.standardiser.means(), self.standardiser.scales());
-        for ((o, w), b) in out
-            .iter_mut()
-            .zip(self.weights.chunks_exact(d))
-            .zip(&self.biases)
-        {
-            *o = b + x
-                .iter()
-                .zip(w)
-                .zip(means.iter().zip(scales))
-                .map(|((v, w), (m, s))| w * (v - m) / s)
-                .sum::<f64>();
-        }
+        self.raw.apply_into(x, out);
         Ok(())
     }
 }
@@ -410,7 +436,7 @@ mod tests {
         assert!(heads.validate(2, 2).is_err());
         assert!(heads.validate(1, 3).is_err());
         let mut broken = heads.clone();
-        broken.heads[0].weights[0] = f64::NAN;
+        broken.heads[0].parameters.weights[0] = f64::NAN;
         assert!(broken.validate(1, 2).is_err());
         let mut uncalibrated = heads.clone();
         uncalibrated.uncertainty_deg[0] = f64::NAN;

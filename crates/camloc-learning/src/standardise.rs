@@ -129,10 +129,97 @@ impl Standardiser {
         }
     }
 
-    /// Standardises one raw value with its column's mean and scale. Fitting and prediction
-    /// both go through this function so that they round identically.
+    /// Standardises one raw value with its column's mean and scale (fitting goes through this
+    /// function; prediction uses the same map folded into the weights, [`RawLinear`]).
     #[inline]
     pub(crate) fn apply(mean: f64, scale: f64, raw: f64) -> f64 {
         (raw - mean) / scale
+    }
+}
+
+/// A linear map on standardised features, `y_k = b_k + sum_j W[j][k] (x_j - mean_j) / scale_j`,
+/// re-expressed on raw features as `y_k = c_k + sum_j V[j][k] x_j` with `V[j][k] =
+/// W[j][k] / scale_j` and `c_k = b_k - sum_j V[j][k] mean_j`. It is what prediction runs:
+/// one multiply-add per weight, no division. It is derived from the stored model, never
+/// stored itself, and equals the standardised form up to rounding.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub(crate) struct RawLinear {
+    /// Blocks of [`BLOCK`] outputs (the last one padded with zero weights), each block
+    /// feature-major: the weight of feature `j` for output `BLOCK * b + i` is at
+    /// `weights[(b * n_features + j) * BLOCK + i]`, so that one feature's weights for a block
+    /// are contiguous.
+    weights: Vec<f64>,
+    biases: Vec<f64>,
+}
+
+/// Outputs [`RawLinear`] computes side by side.
+const BLOCK: usize = 4;
+
+impl RawLinear {
+    /// Folds `standardiser` into the map whose weight of standardised feature `j` for output
+    /// `k` is `weight(j, k)` and whose biases are `biases` (one per output). Sizes are not
+    /// checked here: the models validate theirs, and a mismatch only truncates the fold.
+    pub(crate) fn fold(
+        standardiser: &Standardiser,
+        weight: impl Fn(usize, usize) -> f64,
+        biases: &[f64],
+    ) -> Self {
+        let (d, m) = (standardiser.n_features(), biases.len());
+        let blocks = m.div_ceil(BLOCK);
+        let mut weights = vec![0.0; blocks * d * BLOCK];
+        let mut folded_biases = biases.to_vec();
+        for (k, c) in folded_biases.iter_mut().enumerate() {
+            let (b, i) = (k / BLOCK, k % BLOCK);
+            for (j, (&mean, &scale)) in standardiser
+                .means
+                .iter()
+                .zip(&standardiser.scales)
+                .enumerate()
+            {
+                let v = weight(j, k) / scale;
+                weights[(b * d + j) * BLOCK + i] = v;
+                *c -= v * mean;
+            }
+        }
+        RawLinear {
+            weights,
+            biases: folded_biases,
+        }
+    }
+
+    /// Writes the outputs for the raw feature row `x` into `out` (one per output; the caller
+    /// checks both lengths). Each block of outputs keeps its partial sums in two sets (even
+    /// and odd features), summed in a fixed order.
+    #[inline]
+    pub(crate) fn apply_into(&self, x: &[f64], out: &mut [f64]) {
+        let d = x.len();
+        let block_len = (d * BLOCK).max(1);
+        for ((o, c), w) in out.chunks_mut(BLOCK).zip(self.biases.chunks(BLOCK)).zip(
+            self.weights
+                .chunks_exact(block_len)
+                .chain(std::iter::repeat(&[][..])),
+        ) {
+            let mut pairs = w.chunks_exact(2 * BLOCK);
+            // Partial sums passed by value, so that they stay in registers.
+            let (mut even, odd) = x.chunks_exact(2).zip(&mut pairs).fold(
+                ([0.0; BLOCK], [0.0; BLOCK]),
+                |(mut even, mut odd), (xs, ws)| {
+                    for i in 0..BLOCK {
+                        even[i] += ws[i] * xs[0];
+                        odd[i] += ws[BLOCK + i] * xs[1];
+                    }
+                    (even, odd)
+                },
+            );
+            // An odd feature count leaves the last feature's weights as the remainder.
+            if let Some(&last) = x.get(2 * (d / 2)) {
+                for (e, &wi) in even.iter_mut().zip(pairs.remainder()) {
+                    *e += wi * last;
+                }
+            }
+            for ((o, &c), (e, q)) in o.iter_mut().zip(c).zip(even.iter().zip(&odd)) {
+                *o = c + (e + q);
+            }
+        }
     }
 }
