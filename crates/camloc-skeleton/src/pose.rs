@@ -193,8 +193,10 @@ pub const LIMB_NAMES: [&str; NUM_LIMBS] = [
 ];
 
 /// Largest coordinate magnitude, as a power of two, that [`Pose2::within_safe_range`] leaves
-/// as it is.
-pub const SAFE_EXPONENT: i32 = 500;
+/// as it is. At 250, squares of coordinate differences stay normal numbers down to
+/// differences of 2^-510 (2^-260 of the smallest extent left as it is), far below any
+/// difference a descriptor still resolves.
+pub const SAFE_EXPONENT: i32 = 250;
 
 /// A 2D pose: the 15 landmarks in image coordinates `(u, v)`, `v` growing downwards.
 ///
@@ -231,11 +233,11 @@ impl Pose2 {
 
     /// The pose multiplied by an exact power of two `f` that brings its largest coordinate
     /// magnitude into `[1, 2)`, and `f`, when that magnitude lies outside
-    /// `2^-SAFE_EXPONENT..=2^SAFE_EXPONENT` (e.g. coordinates of 1e308 or 1e-200); otherwise,
+    /// `2^-SAFE_EXPONENT..=2^SAFE_EXPONENT` (e.g. coordinates of 1e308 or 1e-100); otherwise,
     /// and for non-finite or all-zero poses, the pose unchanged and `f = 1`.
     ///
-    /// Within the safe range, differences, midpoints and squares of coordinates neither
-    /// overflow nor underflow. Multiplying by a power of two is exact (barring subnormal
+    /// Within the safe range, differences, midpoints and squares of coordinates and of their
+    /// differences neither overflow nor underflow (see [`SAFE_EXPONENT`]). Multiplying by a power of two is exact (barring subnormal
     /// results), so scale-invariant computations give the same bits on the rescaled pose;
     /// poses already in range are not touched at all.
     pub fn within_safe_range(&self) -> (Pose2, f64) {
@@ -245,6 +247,11 @@ impl Pose2 {
             .map(|p| p[0].abs().max(p[1].abs()))
             .fold(0.0, f64::max);
         if !extent.is_finite() || extent == 0.0 {
+            return (*self, 1.0);
+        }
+        // The common case, without a logarithm: 2^-SAFE <= extent < 2^(SAFE + 1).
+        let (low, high) = (2f64.powi(-SAFE_EXPONENT), 2f64.powi(SAFE_EXPONENT + 1));
+        if (low..high).contains(&extent) {
             return (*self, 1.0);
         }
         let exponent = extent.log2().floor() as i32;

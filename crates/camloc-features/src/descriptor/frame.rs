@@ -8,6 +8,15 @@ use super::FeatureError;
 pub(super) struct TorsoFrame {
     origin: [f64; 2],
     torso: f64,
+    /// `1 / torso`: offsets and lengths are multiplied by it.
+    inv_torso: f64,
+}
+
+/// Length of the vector `(du, dv)`. Descriptors are computed on poses within
+/// [`Pose2::within_safe_range`], where squares of coordinate differences neither overflow nor
+/// underflow, so the plain formula is exact enough and much cheaper than `hypot`.
+fn length(du: f64, dv: f64) -> f64 {
+    (du * du + dv * dv).sqrt()
 }
 
 impl TorsoFrame {
@@ -63,7 +72,7 @@ impl TorsoFrame {
                 });
             }
         }
-        let torso = (top[0] - origin[0]).hypot(top[1] - origin[1]);
+        let torso = length(top[0] - origin[0], top[1] - origin[1]);
         let extent = pose
             .points
             .iter()
@@ -76,16 +85,21 @@ impl TorsoFrame {
                 top: top_name,
             });
         }
-        Ok(TorsoFrame { origin, torso })
+        Ok(TorsoFrame {
+            origin,
+            torso,
+            inv_torso: 1.0 / torso,
+        })
     }
 
     /// Unit direction from `p` to `q`; `(0, 0)` for a (near) zero-length segment, which has
     /// no direction.
     pub(super) fn direction(&self, p: [f64; 2], q: [f64; 2]) -> [f64; 2] {
         let (du, dv) = (q[0] - p[0], q[1] - p[1]);
-        let n = du.hypot(dv);
+        let n = length(du, dv);
         if n > self.torso * 1e-12 {
-            [du / n, dv / n]
+            let inv = 1.0 / n;
+            [du * inv, dv * inv]
         } else {
             [0.0, 0.0]
         }
@@ -93,15 +107,15 @@ impl TorsoFrame {
 
     /// Distance from `p` to `q` in torso units.
     pub(super) fn relative(&self, p: [f64; 2], q: [f64; 2]) -> f64 {
-        (q[0] - p[0]).hypot(q[1] - p[1]) / self.torso
+        length(q[0] - p[0], q[1] - p[1]) * self.inv_torso
     }
 
     /// Offset of landmark `i` from the origin, in torso lengths.
     pub(super) fn offset(&self, pose: &Pose2, i: usize) -> [f64; 2] {
         let p = pose.points[i];
         [
-            (p[0] - self.origin[0]) / self.torso,
-            (p[1] - self.origin[1]) / self.torso,
+            (p[0] - self.origin[0]) * self.inv_torso,
+            (p[1] - self.origin[1]) * self.inv_torso,
         ]
     }
 
