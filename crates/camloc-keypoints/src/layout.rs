@@ -481,8 +481,8 @@ pub fn pose_from_array(
             values: values.len(),
         });
     }
-    let mut points = [None; 33];
-    for (joint, (row, point)) in values.chunks_exact(channels).zip(&mut points).enumerate() {
+    // Every joint is checked first, so that mapping (which reads the rows again) cannot fail.
+    for (joint, row) in values.chunks_exact(channels).enumerate() {
         for (channel, &value) in row.iter().enumerate() {
             if value.is_infinite() || (channel == 2 && value.is_nan()) {
                 return Err(ArrayPoseError::NonFinite {
@@ -498,13 +498,14 @@ pub fn pose_from_array(
             }
             _ => {}
         }
-        *point = match (row[0].is_nan(), row[1].is_nan()) {
-            (true, true) => None,
-            (false, false) => Some([row[0], row[1]]),
-            _ => return Err(ArrayPoseError::HalfMissing { joint }),
+        if row[0].is_nan() != row[1].is_nan() {
+            return Err(ArrayPoseError::HalfMissing { joint });
         }
-        .filter(|_| row.get(2).is_none_or(|&score| keeps(score, options)));
     }
+    let points = values.chunks_exact(channels).map(|row| {
+        let kept = !row[0].is_nan() && row.get(2).is_none_or(|&score| keeps(score, options));
+        kept.then_some([row[0], row[1]])
+    });
     let (mut pose, mut derived) = map_joints(layout.joints(), points);
     if options.derive_torso {
         derived.extend(derive_torso(&mut pose));
