@@ -556,24 +556,34 @@ impl CameraLocalizer {
     /// [`CamlocError::Feature`] when the pelvis or neck is missing, for non-finite landmarks
     /// or a degenerate torso.
     pub fn localize_partial(&self, pose: &PartialPose2) -> Result<Localization, CamlocError> {
-        let d = self.descriptor.len();
-        let mut x = vec![0.0; d];
-        let mut undefined = vec![false; d];
-        self.descriptor
-            .extract_partial_into(pose, &mut x, &mut undefined)
-            .map_err(|source| CamlocError::Feature {
-                context: "input pose".into(),
-                source,
-            })?;
-        impute_rows(&mut x, &undefined, &self.imputation);
-        if let Some(e) = &self.expansion {
-            let mut expanded = vec![0.0; e.n_outputs()];
-            e.expand_into(&x, &mut expanded)?;
-            x = expanded;
-        }
-        let mut probabilities = vec![0.0; self.model.n_classes()];
-        self.model.predict_proba_into(&x, &mut probabilities)?;
-        self.localization_from(&x, probabilities, pose.missing().collect())
+        ROW_BUFFERS.with_borrow_mut(|buffers| {
+            let RowBuffers {
+                descriptor,
+                undefined,
+                expanded,
+            } = buffers;
+            let d = self.descriptor.len();
+            descriptor.resize(d, 0.0);
+            undefined.resize(d, false);
+            self.descriptor
+                .extract_partial_into(pose, descriptor, undefined)
+                .map_err(|source| CamlocError::Feature {
+                    context: "input pose".into(),
+                    source,
+                })?;
+            impute_rows(descriptor, undefined, &self.imputation);
+            let x: &[f64] = match &self.expansion {
+                Some(e) => {
+                    expanded.resize(e.n_outputs(), 0.0);
+                    e.expand_into(descriptor, expanded)?;
+                    expanded
+                }
+                None => descriptor,
+            };
+            let mut probabilities = vec![0.0; self.model.n_classes()];
+            self.model.predict_proba_into(x, &mut probabilities)?;
+            self.localization_from(x, probabilities, pose.missing().collect())
+        })
     }
 
     /// Localizes many poses in parallel; one result per pose, in order.
@@ -754,6 +764,23 @@ pub(crate) fn column_means(x: &[f64], undefined: &[bool], d: usize) -> Vec<f64> 
         .zip(&counts)
         .map(|(s, &n)| if n > 0 { s / n as f64 } else { 0.0 })
         .collect()
+}
+
+/// The feature rows of one pose that [`CameraLocalizer::localize_partial`] fills: kept per
+/// thread and reused, so that localizing a pose allocates only its result. Every call sizes
+/// and overwrites them.
+#[derive(Default)]
+struct RowBuffers {
+    /// The descriptor, then imputed.
+    descriptor: Vec<f64>,
+    /// Which descriptor values depend on a missing landmark.
+    undefined: Vec<bool>,
+    /// The expanded row, for a model with an expansion.
+    expanded: Vec<f64>,
+}
+
+thread_local! {
+    static ROW_BUFFERS: std::cell::RefCell<RowBuffers> = std::cell::RefCell::default();
 }
 
 /// Replaces undefined values by the imputation values (rows of `imputation.len()`).
