@@ -223,3 +223,38 @@ impl RawLinear {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// The folded map gives the standardised map's outputs (up to rounding) for every
+        /// feature count (odd ones leave a remainder) and output count (partial blocks).
+        #[test]
+        fn folded_map_equals_the_standardised_one(
+            d in 1usize..12,
+            m in 1usize..10,
+            seed in prop::collection::vec(-3.0f64..3.0, 4 * 12 * 10),
+        ) {
+            let at = |k: usize| seed[k % seed.len()];
+            let means: Vec<f64> = (0..d).map(|j| 10.0 * at(j)).collect();
+            let scales: Vec<f64> = (0..d).map(|j| 0.1 + at(d + j).abs()).collect();
+            let standardiser = Standardiser::from_parts(means.clone(), scales.clone()).unwrap();
+            let weight = |j: usize, k: usize| at(2 * d + j * m + k);
+            let biases: Vec<f64> = (0..m).map(|k| at(3 * d + d * m + k)).collect();
+            let x: Vec<f64> = (0..d).map(|j| 5.0 * at(7 * j + 1) + means[j]).collect();
+            let folded = RawLinear::fold(&standardiser, weight, &biases);
+            let mut out = vec![f64::NAN; m];
+            folded.apply_into(&x, &mut out);
+            for (k, o) in out.iter().enumerate() {
+                let direct = biases[k]
+                    + (0..d)
+                        .map(|j| weight(j, k) * Standardiser::apply(means[j], scales[j], x[j]))
+                        .sum::<f64>();
+                prop_assert!((o - direct).abs() <= 1e-10 * (1.0 + direct.abs()), "output {k}: {o} vs {direct}");
+            }
+        }
+    }
+}
