@@ -429,8 +429,10 @@ impl Reconstructor {
     /// `r3`, `X' = (I - 2 r3 r3^T) X`. The same camera sees `X'` exactly as it sees `X` (the
     /// reflection only negates depth), and the camera stays a proper rotation; only the pose
     /// changes handedness, so `X'` is generally not in the basis span. `X'` is therefore
-    /// projected onto the basis (the same number of components, those with the largest
-    /// coefficients of the orthogonal projection, then the constrained 3D least-squares fit)
+    /// projected onto the basis (the same number of components, those whose unit columns
+    /// correlate most with `X'` minus the mean — for a PCA basis the largest coefficients of
+    /// the orthogonal projection; dictionary atoms are not orthogonal, so for them it is only
+    /// a correlation — then the constrained 3D least-squares fit on those components)
     /// and the pursuit continues from there with the same camera update (for fixed-rotation
     /// modes: the reflected pose seen by the same rotation).
     ///
