@@ -153,6 +153,17 @@ fn point(pose: &Pose3, l: Landmark) -> Vector3<f64> {
     Vector3::from(pose.points[l.index()])
 }
 
+/// The unit part of `v` orthogonal to the unit vector `axis`, `None` when (nearly) zero.
+fn orthogonal_unit(v: Vector3<f64>, axis: &Vector3<f64>) -> Option<Vector3<f64>> {
+    (v - axis * axis.dot(&v)).try_normalize(1e-12)
+}
+
+/// The right-handed frame (rows: x, y = z x x, z) of the orthonormal axes `x` and `z`.
+fn frame_rows(x: Vector3<f64>, z: Vector3<f64>) -> Matrix3<f64> {
+    let y = z.cross(&x);
+    Matrix3::from_rows(&[x.transpose(), y.transpose(), z.transpose()])
+}
+
 /// The body frame (rows: x, y, z axes) of the hips or shoulders of `pose`, `None` when
 /// degenerate.
 fn body_frame(pose: &Pose3, upper: bool) -> Option<Matrix3<f64>> {
@@ -163,13 +174,8 @@ fn body_frame(pose: &Pose3, upper: bool) -> Option<Matrix3<f64>> {
     };
     let x = (point(pose, right) - point(pose, left)).try_normalize(1e-12)?;
     let up = point(pose, Landmark::Neck) - point(pose, Landmark::Pelvis);
-    let z = (up - x * x.dot(&up)).try_normalize(1e-12)?;
-    let y = z.cross(&x);
-    Some(Matrix3::from_rows(&[
-        x.transpose(),
-        y.transpose(),
-        z.transpose(),
-    ]))
+    let z = orthogonal_unit(up, &x)?;
+    Some(frame_rows(x, z))
 }
 
 /// The frame (rows) in which `bone`'s direction is measured, for the current `pose`.
@@ -179,26 +185,11 @@ fn parent_frame(pose: &Pose3, b: &LimitedBone) -> Option<Matrix3<f64>> {
     match b.bone {
         Bone::Thigh | Bone::UpperArm => Some(body),
         Bone::Shin | Bone::Forearm => {
-            let parent_from = if upper {
-                if b.left {
-                    Landmark::LeftShoulder
-                } else {
-                    Landmark::RightShoulder
-                }
-            } else if b.left {
-                Landmark::LeftHip
-            } else {
-                Landmark::RightHip
-            };
+            // The parent bone: hip to knee, or shoulder to elbow.
+            let parent_from = b.from.parent()?;
             let z = (point(pose, b.from) - point(pose, parent_from)).try_normalize(1e-12)?;
-            let lateral: Vector3<f64> = body.row(0).transpose();
-            let x = (lateral - z * z.dot(&lateral)).try_normalize(1e-12)?;
-            let y = z.cross(&x);
-            Some(Matrix3::from_rows(&[
-                x.transpose(),
-                y.transpose(),
-                z.transpose(),
-            ]))
+            let x = orthogonal_unit(body.row(0).transpose(), &z)?;
+            Some(frame_rows(x, z))
         }
     }
 }
