@@ -8,19 +8,6 @@ use camloc_skeleton::{LIMBS, Landmark, NUM_LANDMARKS, Pose3, mirror_landmark_ind
 use rand::Rng;
 use serde::{Deserialize, Serialize};
 
-/// The landmarks of the upper body taken from the donor pose by
-/// [`Augmentation::mix_upper_body`]: neck, head and arms.
-const UPPER_BODY: [Landmark; 8] = [
-    Landmark::Neck,
-    Landmark::Head,
-    Landmark::LeftShoulder,
-    Landmark::LeftElbow,
-    Landmark::LeftWrist,
-    Landmark::RightShoulder,
-    Landmark::RightElbow,
-    Landmark::RightWrist,
-];
-
 /// The distal ends of the 8 limb bones that [`Augmentation::limb_rotation_deg`] turns about
 /// their proximal joint: thighs, shins, upper arms and forearms.
 const ROTATED_BONE_ENDS: [Landmark; 8] = [
@@ -100,16 +87,16 @@ impl Augmentation {
     };
 
     /// The augmentation recommended for training (measured by `cargo xtask generalise`,
-    /// docs/RESULTS.md): 10% bone-length scaling, photo landmark placements for half of the
-    /// samples, limb rotations up to 25 deg, hip widths 0.8-1.6 and shoulder widths
-    /// 0.85-1.2, the upper body of another pose for half of the samples.
+    /// docs/RESULTS.md): [`PEOPLE`](Self::PEOPLE) (10% bone-length scaling, photo landmark
+    /// placements for half of the samples) and limb rotations up to 25 deg, hip widths
+    /// 0.8-1.6 and shoulder widths 0.85-1.2, the upper body of another pose for half of the
+    /// samples.
     pub const TRAINING: Augmentation = Augmentation {
-        bone_scale: 0.1,
-        photo_landmarks: 0.5,
         limb_rotation_deg: 25.0,
         hip_width: (0.8, 1.6),
         shoulder_width: (0.85, 1.2),
         mix_upper_body: 0.5,
+        ..Self::PEOPLE
     };
 
     /// Whether anything is changed.
@@ -247,7 +234,8 @@ impl Augmentation {
         }
         if self.mix_upper_body > 0.0 && rng.random_bool(self.mix_upper_body) {
             let (pelvis, donor_pelvis) = (out.get(Landmark::Pelvis), donor.get(Landmark::Pelvis));
-            for l in UPPER_BODY {
+            // The upper body: the neck and everything below it (head and arms).
+            for l in Landmark::Neck.subtree() {
                 let d = donor.get(l);
                 out.points[l.index()] = std::array::from_fn(|k| pelvis[k] + d[k] - donor_pelvis[k]);
             }
@@ -429,7 +417,7 @@ mod tests {
             prop_assert!(q.get(Landmark::Pelvis).iter().all(|c| c.abs() < 1e-12));
             prop_assert!(lateral_angle_deg(&q).abs() < 1e-6);
             for (l, (a, b)) in LIMBS.iter().enumerate() {
-                let source = if mix && UPPER_BODY.contains(b) && *a != Landmark::Pelvis { &donor } else { &p };
+                let source = if mix && Landmark::Neck.subtree().any(|u| u == *b) && *a != Landmark::Pelvis { &donor } else { &p };
                 let ratio = q.limb_length(l) / source.limb_length(l);
                 let (lo, hi) = match (a, b) {
                     (Landmark::Pelvis, Landmark::LeftHip | Landmark::RightHip) => aug.hip_width,
