@@ -142,7 +142,7 @@ impl Standardiser {
 /// W[j][k] / scale_j` and `c_k = b_k - sum_j V[j][k] mean_j`. It is what prediction runs:
 /// one multiply-add per weight, no division. It is derived from the stored model, never
 /// stored itself, and equals the standardised form up to rounding.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub(crate) struct RawLinear {
     /// Blocks of [`BLOCK`] outputs (the last one padded with zero weights), each block
     /// feature-major: the weight of feature `j` for output `BLOCK * b + i` is at
