@@ -31,9 +31,7 @@ fn train_evaluate_and_reconstruct_succeed_on_fixture_data() {
         "quadratic-4",
         "--quiet",
     ]);
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(out.status.success(), "{stderr}");
-    assert!(String::from_utf8_lossy(&out.stdout).starts_with("wrote "));
+    assert!(success(&out).starts_with("wrote "));
     let trained = camloc::CameraLocalizer::load(Path::new(model)).unwrap();
     assert_eq!(trained.descriptor().name(), "landmarks");
     assert_eq!(trained.training_info().lambda, 0.5);
@@ -43,12 +41,7 @@ fn train_evaluate_and_reconstruct_succeed_on_fixture_data() {
     );
 
     let out = camloc(&["evaluate", "--model", model, "--dataset", &data, "--json"]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let e: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let e: serde_json::Value = serde_json::from_str(&success(&out)).unwrap();
     let dataset = camloc::dataset::Dataset::load(Path::new(&data)).unwrap();
     assert_eq!(e["samples"].as_u64(), Some(dataset.samples.len() as u64));
     let accuracy = e["accuracy"].as_f64().unwrap();
@@ -80,12 +73,7 @@ fn train_evaluate_and_reconstruct_succeed_on_fixture_data() {
         "classified",
         "--json",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let poses: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let poses: serde_json::Value = serde_json::from_str(&success(&out)).unwrap();
     let poses = poses.as_array().unwrap();
     assert_eq!(poses.len(), 3);
     for p in poses {
@@ -109,12 +97,7 @@ fn train_evaluate_and_reconstruct_succeed_on_fixture_data() {
             "4",
             "--json",
         ]);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        let poses: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        let poses: serde_json::Value = serde_json::from_str(&success(&out)).unwrap();
         for p in poses.as_array().unwrap() {
             let alternatives = p["alternatives"].as_array().unwrap();
             assert_eq!(alternatives.len(), n - 1, "{camera}");
@@ -149,12 +132,7 @@ fn train_evaluate_and_reconstruct_succeed_on_fixture_data() {
         &data,
         "--json",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let report: serde_json::Value = serde_json::from_str(&success(&out)).unwrap();
     assert!(report.is_object(), "{report}");
 
     // The model is moved into place only after standard output was written.
