@@ -237,9 +237,9 @@ impl Pose2 {
     /// and for non-finite or all-zero poses, the pose unchanged and `f = 1`.
     ///
     /// Within the safe range, differences, midpoints and squares of coordinates and of their
-    /// differences neither overflow nor underflow (see [`SAFE_EXPONENT`]). Multiplying by a power of two is exact (barring subnormal
-    /// results), so scale-invariant computations give the same bits on the rescaled pose;
-    /// poses already in range are not touched at all.
+    /// differences neither overflow nor underflow (see [`SAFE_EXPONENT`]). Multiplying by a
+    /// power of two is exact (barring subnormal results), so scale-invariant computations give
+    /// the same bits on the rescaled pose; poses already in range are not touched at all.
     pub fn within_safe_range(&self) -> (Pose2, f64) {
         let extent = self
             .points
@@ -249,15 +249,13 @@ impl Pose2 {
         if !extent.is_finite() || extent == 0.0 {
             return (*self, 1.0);
         }
-        // The common case, without a logarithm: 2^-SAFE <= extent < 2^(SAFE + 1).
+        // In range: 2^-SAFE <= extent < 2^(SAFE + 1), i.e. |floor(log2 extent)| <= SAFE,
+        // checked without a logarithm.
         let (low, high) = (2f64.powi(-SAFE_EXPONENT), 2f64.powi(SAFE_EXPONENT + 1));
         if (low..high).contains(&extent) {
             return (*self, 1.0);
         }
         let exponent = extent.log2().floor() as i32;
-        if exponent.abs() <= SAFE_EXPONENT {
-            return (*self, 1.0);
-        }
         // 2^-exponent in two exact factors (one could overflow for tiny poses).
         let (a, b) = (
             2f64.powi(-exponent / 2),
