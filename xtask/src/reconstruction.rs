@@ -7,12 +7,12 @@ use std::fmt::Write;
 use std::path::PathBuf;
 use std::time::Instant;
 
-use camloc::dataset::{Dataset, GenerateConfig, MotionCategory, PoseSequence, Protocol};
+use camloc::dataset::{GenerateConfig, MotionCategory, PoseSequence, Protocol};
 use camloc::reconstruct::{
     BasisConfig, BasisKind, EvalReport, EvalSample, ModeKind, PoseBasis, ReconstructConfig,
     Reconstructor, evaluate,
 };
-use camloc::{CameraLocalizer, Pose3, TrainOptions};
+use camloc::{CameraLocalizer, Pose3, TrainOptions, evaluation_samples};
 
 use crate::gen_dataset::{basis_poses, load_split, project};
 use crate::generalise::TEST_SUBJECTS;
@@ -46,29 +46,6 @@ pub struct Args {
     /// Only these variants (by their position in the table, from 0); all when empty.
     #[arg(long, value_delimiter = ',')]
     pub only: Vec<usize>,
-}
-
-/// Evaluation samples of `data` (complete poses), the classified rotation from `localizer`.
-fn eval_samples(data: &Dataset, localizer: &CameraLocalizer) -> Result<Vec<EvalSample>, String> {
-    let poses: Vec<camloc::PartialPose2> = data
-        .samples
-        .iter()
-        .map(|s| camloc::PartialPose2::from(s.landmarks))
-        .collect();
-    let labels = localizer
-        .predict_labels(&poses)
-        .map_err(|e| e.to_string())?;
-    Ok(data
-        .samples
-        .iter()
-        .zip(labels)
-        .map(|(s, l)| EvalSample {
-            pose2: s.landmarks,
-            truth: s.pose3,
-            true_rotation: s.rotation,
-            classified_rotation: localizer.cameras().get(l.get()).map(|v| v.rotation),
-        })
-        .collect())
 }
 
 /// Mean MPJPE of `mode` in `report`, formatted, "-" when none.
@@ -119,11 +96,14 @@ pub fn measure(args: &Args) -> Result<Measured, String> {
     let test = project(&test_seqs, &config)?;
     let every = args.every.max(1);
     let (mut walking, mut diverse) = (Vec::new(), Vec::new());
-    for (i, s) in eval_samples(&test, &localizer)?.into_iter().enumerate() {
+    // evaluation_samples keeps the complete samples, in order.
+    let complete = test.samples.iter().filter(|s| s.missing_mask == 0);
+    let samples = evaluation_samples(&test, &localizer).map_err(|e| e.to_string())?;
+    for (i, (s, sample)) in samples.into_iter().zip(complete).enumerate() {
         if i % every != 0 {
             continue;
         }
-        if test.category_of(&test.samples[i]) == MotionCategory::Walk {
+        if test.category_of(sample) == MotionCategory::Walk {
             walking.push(s);
         } else {
             diverse.push(s);

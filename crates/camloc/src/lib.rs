@@ -53,7 +53,9 @@ pub use camloc_reconstruct::ModeKind;
 pub use camloc_skeleton::{Landmark, PartialPose2, Pose2, Pose3};
 pub use error::CamlocError;
 pub use evaluate::{CameraAccuracy, Evaluation, LevelAccuracy, evaluate};
-pub use reconstruction::{PoseReconstruction, PoseReconstructor, default_basis};
+pub use reconstruction::{
+    PoseReconstruction, PoseReconstructor, default_basis, evaluation_samples,
+};
 pub use select::{DescriptorCv, cross_validate};
 pub use sequence::{
     DEFAULT_SWITCH_PROBABILITY, NEIGHBOUR_SHARE, OUTLIER_SHARE, SequenceModel, SmoothedFrame,

@@ -224,25 +224,38 @@ impl PoseReconstructor {
                 detail: "evaluating the classified and hybrid modes needs a localizer".into(),
             });
         };
-        dataset.validate()?;
-        let poses: Vec<PartialPose2> = dataset.samples.iter().map(sample_pose).collect();
-        let labels = localizer.predict_labels(&poses)?;
-        let samples: Vec<EvalSample> = dataset
-            .samples
-            .iter()
-            .zip(&labels)
-            .filter(|(s, _)| s.missing_mask == 0)
-            .map(|(s, label)| EvalSample {
-                pose2: s.landmarks,
-                truth: s.pose3,
-                true_rotation: s.rotation,
-                classified_rotation: localizer.cameras().get(label.get()).map(|v| v.rotation),
-            })
-            .collect();
+        let samples = evaluation_samples(dataset, localizer)?;
         Ok(camloc_reconstruct::evaluate(
             &samples,
             &self.reconstructor,
             &ModeKind::ALL,
         ))
     }
+}
+
+/// The complete samples of `dataset` (no missing landmark), in order, as reconstruction
+/// evaluation samples: 2D landmarks, true 3D pose and rotation, and the rotation of the
+/// camera `localizer` classifies each one as.
+///
+/// # Errors
+/// [`CamlocError::Dataset`] for an invalid dataset; localization errors naming the sample.
+pub fn evaluation_samples(
+    dataset: &Dataset,
+    localizer: &CameraLocalizer,
+) -> Result<Vec<EvalSample>, CamlocError> {
+    dataset.validate()?;
+    let poses: Vec<PartialPose2> = dataset.samples.iter().map(sample_pose).collect();
+    let labels = localizer.predict_labels(&poses)?;
+    Ok(dataset
+        .samples
+        .iter()
+        .zip(&labels)
+        .filter(|(s, _)| s.missing_mask == 0)
+        .map(|(s, label)| EvalSample {
+            pose2: s.landmarks,
+            truth: s.pose3,
+            true_rotation: s.rotation,
+            classified_rotation: localizer.cameras().get(label.get()).map(|v| v.rotation),
+        })
+        .collect())
 }
