@@ -63,27 +63,27 @@ impl Default for Augmentation {
     /// Nothing changed: no scaling, no photo placements, no limb rotation, widths `(1, 1)`,
     /// no mixing.
     fn default() -> Self {
-        Augmentation {
-            bone_scale: 0.0,
-            photo_landmarks: 0.0,
-            limb_rotation_deg: 0.0,
-            hip_width: (1.0, 1.0),
-            shoulder_width: (1.0, 1.0),
-            mix_upper_body: 0.0,
-        }
+        Self::NONE
     }
 }
 
 impl Augmentation {
+    /// Nothing changed ([`Augmentation::default`], usable in constants).
+    const NONE: Augmentation = Augmentation {
+        bone_scale: 0.0,
+        photo_landmarks: 0.0,
+        limb_rotation_deg: 0.0,
+        hip_width: (1.0, 1.0),
+        shoulder_width: (1.0, 1.0),
+        mix_upper_body: 0.0,
+    };
+
     /// What differs between people and annotation conventions, without new poses: 10%
     /// bone-length scaling and photo landmark placements for half of the samples.
     pub const PEOPLE: Augmentation = Augmentation {
         bone_scale: 0.1,
         photo_landmarks: 0.5,
-        limb_rotation_deg: 0.0,
-        hip_width: (1.0, 1.0),
-        shoulder_width: (1.0, 1.0),
-        mix_upper_body: 0.0,
+        ..Self::NONE
     };
 
     /// The augmentation recommended for training (measured by `cargo xtask generalise`,
