@@ -62,11 +62,14 @@ impl WeakPerspective {
     }
 
     /// Least-squares scale and translation for a fixed `rotation`: the camera the paper's
-    /// section 8.2 uses when the rotation comes from the classifier.
+    /// section 8.2 uses when the rotation comes from the classifier. The scale is positive:
+    /// a negative one would turn the image by 180 degrees, i.e. change the rotation.
     ///
     /// # Errors
     /// [`GeometryError::Size`] on mismatched or empty input, [`GeometryError::NonFinite`] for
-    /// NaN/inf, [`GeometryError::Degenerate`] when the rotated points all project to one point.
+    /// NaN/inf, [`GeometryError::Degenerate`] when the rotated points all project to one point
+    /// or when no positive scale fits (their centred projection is anti-correlated with the
+    /// centred image points).
     pub fn fit_with_rotation(
         rotation: Matrix3,
         points3: &[[f64; 3]],
@@ -94,6 +97,11 @@ impl WeakPerspective {
             ));
         }
         let scale = num / den;
+        if !(scale > 0.0) {
+            return Err(GeometryError::Degenerate(
+                "no positive scale fits: the rotated 3D points project anti-correlated with the image points",
+            ));
+        }
         Ok(WeakPerspective {
             scale,
             rotation,
@@ -260,6 +268,21 @@ mod tests {
         assert!(matches!(
             behind.project(&[[-1.0, 0.0, 0.0]]),
             Err(GeometryError::BehindCamera { index: 0, .. })
+        ));
+    }
+
+    #[test]
+    fn an_image_turned_by_half_a_turn_has_no_positive_scale() {
+        let r = look_at_origin(sphere_point(200.0, -30.0, 1.0)).unwrap();
+        let cam = WeakPerspective {
+            scale: 3.0,
+            rotation: r,
+            translation: [1.0, 2.0],
+        };
+        let turned = cam.project(&cloud()).map(|p| [-p[0], -p[1]]);
+        assert!(matches!(
+            WeakPerspective::fit_with_rotation(r, &cloud(), &turned),
+            Err(GeometryError::Degenerate(_))
         ));
     }
 

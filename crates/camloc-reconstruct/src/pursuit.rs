@@ -192,6 +192,31 @@ enum CameraUpdate {
 }
 
 impl CameraUpdate {
+    /// The camera the pursuit starts from for the mean pose `points3`: this update's fit or,
+    /// when a fixed rotation admits no positive least-squares scale (the input seen turned
+    /// against the mean pose), that rotation with the scale that matches the two poses' RMS
+    /// radii and the least-squares translation.
+    fn start(
+        self,
+        points3: &[[f64; 3]; NUM_LANDMARKS],
+        points2: &[[f64; 2]; NUM_LANDMARKS],
+    ) -> Result<WeakPerspective, GeometryError> {
+        match (self.fit(points3, points2), self) {
+            (Err(GeometryError::Degenerate(_)), CameraUpdate::Fixed(rotation)) => {
+                let flat = WeakPerspective::orthographic(rotation);
+                let scale = rms_radius(points2) / rms_radius(&flat.project(points3));
+                if !is_positive_finite(scale) {
+                    return Err(GeometryError::Degenerate(
+                        "the rotated 3D points project to a single image point",
+                    ));
+                }
+                let camera = WeakPerspective { scale, ..flat };
+                Ok(with_optimal_translation(&camera, points3, points2))
+            }
+            (fitted, _) => fitted,
+        }
+    }
+
     fn fit(
         self,
         points3: &[[f64; 3]; NUM_LANDMARKS],
@@ -219,15 +244,11 @@ impl Observation {
         // power of two `factor` (1 for ordinary poses), so that the squares below neither
         // overflow nor underflow; centroid and scale are mapped back at the end.
         let (pose, factor) = pose.within_safe_range();
-        let n = NUM_LANDMARKS as f64;
-        let centroid = pose
-            .points
-            .iter()
-            .fold([0.0; 2], |a, p| [a[0] + p[0] / n, a[1] + p[1] / n]);
+        let centroid = centroid(&pose.points);
         let centred = pose
             .points
             .map(|p| [p[0] - centroid[0], p[1] - centroid[1]]);
-        let scale = (centred.iter().flatten().map(|c| c * c).sum::<f64>() / n).sqrt();
+        let scale = rms_radius(&pose.points);
         if !is_positive_finite(scale) {
             return Err(ReconstructError::DegenerateInput("all landmarks coincide"));
         }
@@ -556,7 +577,7 @@ impl Reconstructor {
         refine: bool,
     ) -> Result<Vec<Candidate>, ReconstructError> {
         let mean = self.points(&[], &[]);
-        let camera = start.fit(&mean, &obs.points)?;
+        let camera = start.start(&mean, &obs.points)?;
         let initial = Fit {
             selected: Vec::new(),
             coefficients: Vec::new(),
@@ -813,7 +834,10 @@ impl Reconstructor {
         let solution = self.constraint(&selected)?.solve(&a, &residual)?;
         let coefficients: Vec<f64> = solution.w.iter().copied().collect();
         let points = self.points(&selected, &coefficients);
-        let camera = update.fit(&points, &obs.points)?;
+        // As in `alternate`, a camera update that fails keeps the current camera.
+        let camera = update
+            .fit(&points, &obs.points)
+            .unwrap_or_else(|_| with_optimal_translation(&fit.camera, &points, &obs.points));
         Ok(Fit {
             error: camera.squared_error(&points, &obs.points)?,
             selected,
@@ -823,6 +847,25 @@ impl Reconstructor {
             iterations: 0,
         })
     }
+}
+
+/// The mean of `points` (their units).
+fn centroid(points: &[[f64; 2]; NUM_LANDMARKS]) -> [f64; 2] {
+    let n = NUM_LANDMARKS as f64;
+    points
+        .iter()
+        .fold([0.0; 2], |a, p| [a[0] + p[0] / n, a[1] + p[1] / n])
+}
+
+/// Root-mean-square distance of `points` from their centroid (their units).
+fn rms_radius(points: &[[f64; 2]; NUM_LANDMARKS]) -> f64 {
+    let n = NUM_LANDMARKS as f64;
+    let centre = centroid(points);
+    let sum: f64 = points
+        .iter()
+        .map(|p| (p[0] - centre[0]).powi(2) + (p[1] - centre[1]).powi(2))
+        .sum();
+    (sum / n).sqrt()
 }
 
 /// The camera with the same scale and rotation and the least-squares translation for

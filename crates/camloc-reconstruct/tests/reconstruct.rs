@@ -60,6 +60,57 @@ fn all_modes(rotation: Matrix3, other: Matrix3) -> [CameraMode; 4] {
     ]
 }
 
+/// The check of `oracle_recovers_a_pose_in_the_span` for one seed. The alternation converges
+/// linearly, slowly for some poses: 2,000 alternations per added component bring the worst of
+/// 20,000 seeds to 1e-12 m (500 left seed 4424 at 8e-7 m).
+fn check_oracle_recovery(seed: u64) -> Result<(), TestCaseError> {
+    let mut rng = common::rng(seed);
+    let (truth, _) = common::pose_in_span(
+        basis(),
+        &mut rng,
+        basis().n_components(),
+        basis().anthropometric_target(),
+    );
+    let rotation = common::random_rotation(&mut rng, 60.0);
+    let rec = reconstructor(ReconstructConfig {
+        max_basis: basis().n_components(),
+        min_relative_decrease: 0.0,
+        alternation_tolerance: 0.0,
+        max_alternations: 2000,
+        ..common::without_priors()
+    });
+    let out = rec
+        .reconstruct(&project(&truth, rotation), &CameraMode::Oracle(rotation))
+        .unwrap();
+    let mirrored = Pose3::new(truth.points.map(|p| {
+        let x = Vector3::from(p);
+        let axis: Vector3 = rotation.row(2).transpose();
+        (x - axis * (2.0 * axis.dot(&x))).into()
+    }));
+    let error = max_distance(&out.pose, &truth).min(max_distance(&out.pose, &mirrored));
+    prop_assert!(
+        error < 1e-6,
+        "seed {seed}: joint error {error} m, projection error {}",
+        out.projection_error
+    );
+    prop_assert!(
+        (out.camera.scale - 250.0).abs() < 1e-4,
+        "seed {seed}: scale {}",
+        out.camera.scale
+    );
+    Ok(())
+}
+
+/// Seeds that once failed the property: 4424 converged slowly; 9282 and 19148 took a
+/// negative scale (the image turned by 180 degrees) before fixed-rotation fits were kept
+/// positive.
+#[test]
+fn oracle_recovers_the_poses_that_once_failed() {
+    for seed in [4424, 9282, 19148] {
+        check_oracle_recovery(seed).unwrap();
+    }
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(12))]
 
@@ -67,25 +118,7 @@ proptest! {
     /// projection: the pose comes back, up to the depth reflection.
     #[test]
     fn oracle_recovers_a_pose_in_the_span(seed in 0u64..1_000_000) {
-        let mut rng = common::rng(seed);
-        let (truth, _) = common::pose_in_span(basis(), &mut rng, basis().n_components(), basis().anthropometric_target());
-        let rotation = common::random_rotation(&mut rng, 60.0);
-        let rec = reconstructor(ReconstructConfig {
-            max_basis: basis().n_components(),
-            min_relative_decrease: 0.0,
-            alternation_tolerance: 0.0,
-            max_alternations: 500,
-            ..common::without_priors()
-        });
-        let out = rec.reconstruct(&project(&truth, rotation), &CameraMode::Oracle(rotation)).unwrap();
-        let mirrored = Pose3::new(truth.points.map(|p| {
-            let x = Vector3::from(p);
-            let axis: Vector3 = rotation.row(2).transpose();
-            (x - axis * (2.0 * axis.dot(&x))).into()
-        }));
-        let error = max_distance(&out.pose, &truth).min(max_distance(&out.pose, &mirrored));
-        prop_assert!(error < 1e-6, "joint error {error} m, projection error {}", out.projection_error);
-        prop_assert!((out.camera.scale - 250.0).abs() < 1e-4);
+        check_oracle_recovery(seed)?;
     }
 
     /// Every mode: the anthropometric constraint holds to 1e-9, the reported projection error is
