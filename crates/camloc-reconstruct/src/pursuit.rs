@@ -195,26 +195,25 @@ impl CameraUpdate {
     /// The camera the pursuit starts from for the mean pose `points3`: this update's fit or,
     /// when a fixed rotation admits no positive least-squares scale (the input seen turned
     /// against the mean pose), that rotation with the scale that matches the two poses' RMS
-    /// radii and the least-squares translation.
+    /// radii and the least-squares translation. Fails with the fit's error when no such
+    /// scale exists either.
     fn start(
         self,
         points3: &[[f64; 3]; NUM_LANDMARKS],
         points2: &[[f64; 2]; NUM_LANDMARKS],
     ) -> Result<WeakPerspective, GeometryError> {
-        match (self.fit(points3, points2), self) {
-            (Err(GeometryError::Degenerate(_)), CameraUpdate::Fixed(rotation)) => {
-                let flat = WeakPerspective::orthographic(rotation);
-                let scale = rms_radius(points2) / rms_radius(&flat.project(points3));
-                if !is_positive_finite(scale) {
-                    return Err(GeometryError::Degenerate(
-                        "the rotated 3D points project to a single image point",
-                    ));
-                }
-                let camera = WeakPerspective { scale, ..flat };
-                Ok(with_optimal_translation(&camera, points3, points2))
-            }
-            (fitted, _) => fitted,
+        let fitted = self.fit(points3, points2);
+        let (Err(GeometryError::Degenerate(_)), CameraUpdate::Fixed(rotation)) = (&fitted, self)
+        else {
+            return fitted;
+        };
+        let flat = WeakPerspective::orthographic(rotation);
+        let scale = rms_radius(points2) / rms_radius(&flat.project(points3));
+        if !is_positive_finite(scale) {
+            return fitted;
         }
+        let camera = WeakPerspective { scale, ..flat };
+        Ok(with_optimal_translation(&camera, points3, points2))
     }
 
     fn fit(
