@@ -216,6 +216,18 @@ impl CameraUpdate {
         Ok(with_optimal_translation(&camera, points3, points2))
     }
 
+    /// This update's fit or, where it fails (a degenerate pose, no positive scale), `current`
+    /// with the least-squares translation: as in `alternate`, a failed update keeps the camera.
+    fn fit_or_keep(
+        self,
+        current: &WeakPerspective,
+        points3: &[[f64; 3]; NUM_LANDMARKS],
+        points2: &[[f64; 2]; NUM_LANDMARKS],
+    ) -> WeakPerspective {
+        self.fit(points3, points2)
+            .unwrap_or_else(|_| with_optimal_translation(current, points3, points2))
+    }
+
     fn fit(
         self,
         points3: &[[f64; 3]; NUM_LANDMARKS],
@@ -555,9 +567,7 @@ impl Reconstructor {
         if self.config.joint_limits {
             pose = limits.project(&pose);
         }
-        let camera = update
-            .fit(&pose.points, &obs.points)
-            .unwrap_or_else(|_| with_optimal_translation(&fit.camera, &pose.points, &obs.points));
+        let camera = update.fit_or_keep(&fit.camera, &pose.points, &obs.points);
         fit.error = camera.squared_error(&pose.points, &obs.points)?;
         fit.camera = camera;
         fit.points = pose.points;
@@ -833,10 +843,7 @@ impl Reconstructor {
         let solution = self.constraint(&selected)?.solve(&a, &residual)?;
         let coefficients: Vec<f64> = solution.w.iter().copied().collect();
         let points = self.points(&selected, &coefficients);
-        // As in `alternate`, a camera update that fails keeps the current camera.
-        let camera = update
-            .fit(&points, &obs.points)
-            .unwrap_or_else(|_| with_optimal_translation(&fit.camera, &points, &obs.points));
+        let camera = update.fit_or_keep(&fit.camera, &points, &obs.points);
         Ok(Fit {
             error: camera.squared_error(&points, &obs.points)?,
             selected,
