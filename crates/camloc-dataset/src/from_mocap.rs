@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-use camloc_mocap::{self as mocap, MocapSource};
+use camloc_mocap::{self as mocap, MocapIndex, MocapSource};
 
 use crate::{ClipInfo, DatasetError, PoseSequence};
 
@@ -95,4 +95,24 @@ fn natural_key(id: &str) -> (u8, u64, &str) {
         Ok(n) => (0, n, id),
         Err(_) => (1, 0, id),
     }
+}
+
+/// Sets the category of every sequence's clip from `index` ([`MocapIndex::category`]).
+/// Returns one message per subject none of whose clips the index describes (neither trial
+/// nor subject description found), whose clips are [`MotionCategory::Other`](crate::MotionCategory::Other).
+pub fn assign_categories(sequences: &mut [PoseSequence], index: &MocapIndex) -> Vec<String> {
+    let mut unknown: Vec<String> = Vec::new();
+    for seq in sequences.iter_mut() {
+        let (category, _) = index.category(&seq.clip.subject, &seq.clip.name);
+        seq.clip.category = category;
+        let described = index.trial_description(&seq.clip.name).is_some()
+            || index.subject_description(&seq.clip.subject).is_some();
+        if !described && !unknown.contains(&seq.clip.subject) {
+            unknown.push(seq.clip.subject.clone());
+        }
+    }
+    unknown
+        .into_iter()
+        .map(|s| format!("subject {s} is not in the CMU index: its clips are category 'other'"))
+        .collect()
 }

@@ -21,7 +21,6 @@
 //! and head placements of photo annotations.
 
 mod augment;
-mod category;
 mod dataset;
 mod from_mocap;
 mod generate;
@@ -31,10 +30,10 @@ pub use augment::{
     Augmentation, angle_between_deg, camera_direction_deg, direction_vector, in_class_box,
     nearest_by_direction,
 };
-pub use category::{CATEGORY_RULES, CategorySource, MocapIndex, MotionCategory, assign_categories};
+pub use camloc_mocap::{CATEGORY_RULES, CategorySource, MocapIndex, MotionCategory};
 pub use dataset::{
     CameraCount, ClipInfo, Dataset, DatasetError, DatasetHeader, Sample, default_test_subjects,
 };
-pub use from_mocap::{MocapSummary, load_mocap_folders};
+pub use from_mocap::{MocapSummary, assign_categories, load_mocap_folders};
 pub use generate::{GenerateConfig, Jitter, PoseSequence, Protocol, SPHERE_BAND_DEG, generate};
 pub use select::{DEFAULT_MIN_POSE_DISTANCE_MM, max_joint_distance_mm, select_by_pose};

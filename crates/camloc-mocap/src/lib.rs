@@ -41,6 +41,7 @@ mod amc;
 mod asf;
 mod bvh;
 mod canonical;
+mod category;
 mod discover;
 mod error;
 mod rotation;
@@ -52,6 +53,7 @@ pub use amc::{parse_amc, read_amc};
 pub use asf::{AsfSkeleton, parse_asf, read_asf};
 pub use bvh::{parse_bvh, read_bvh};
 pub use canonical::canonicalise;
+pub use category::{CATEGORY_RULES, CategorySource, MocapIndex, MotionCategory};
 pub use discover::{MocapSource, discover};
 pub use error::{CanonicaliseError, MocapError, ParseProblem};
 

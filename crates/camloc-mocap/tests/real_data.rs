@@ -1,11 +1,16 @@
 //! Every CMU file in the shared data folder parses to plausible human poses.
 //! Skipped (with a message) when the data folder is absent; `CAMLOC_DATA` overrides its path.
+//!
+//! Nothing here assumes which folder holds which motion: files are counted over the whole
+//! tree, and what a clip shows (a walk, a sit, ...) comes from the CMU index text beside them.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 use std::time::Instant;
 
-use camloc_mocap::{CanonicaliseError, MocapClip, MocapSource, canonicalise, discover};
+use camloc_mocap::{
+    CanonicaliseError, MocapClip, MocapIndex, MocapSource, MotionCategory, canonicalise, discover,
+};
 use camloc_skeleton::{LIMB_NAMES, LIMBS, Landmark, NUM_LIMBS};
 
 /// The CMU folder; `None` (and a visible `SKIPPED` line naming `test`) when it is absent.
@@ -44,27 +49,49 @@ fn is_bvh(source: &MocapSource) -> bool {
     matches!(source, MocapSource::Bvh { .. })
 }
 
+/// The clips' categories from the CMU index beside them: `None` (and a visible `SKIPPED` line
+/// naming `test`) when the index is absent.
+fn categories(test: &str) -> Option<Vec<MotionCategory>> {
+    let index_path =
+        camloc_skeleton::data::data_path_or_skip("cmu/cmu-mocap-index-text.txt", test)?;
+    let index = MocapIndex::load(&index_path).unwrap();
+    let clips = clips(test)?;
+    Some(
+        clips
+            .iter()
+            .map(|(_, c)| index.category(&c.subject, &c.clip).0)
+            .collect(),
+    )
+}
+
+/// Files under `dir` (recursively, every folder) whose extension is `ext`, ignoring ASCII
+/// case; counted here independently of [`discover`].
+fn count_files(dir: &Path, ext: &str) -> usize {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .map(|path| {
+            if path.is_dir() {
+                count_files(&path, ext)
+            } else {
+                usize::from(
+                    path.extension()
+                        .is_some_and(|x| x.eq_ignore_ascii_case(ext)),
+                )
+            }
+        })
+        .sum()
+}
+
 #[test]
 fn every_bvh_and_amc_file_is_found_and_parses() {
     let Some(clips) = clips("camloc-mocap::every_bvh_and_amc_file_is_found_and_parses") else {
         return;
     };
     let dir = cmu_dir("camloc-mocap::every_bvh_and_amc_file_is_found_and_parses").unwrap();
-    let count = |sub: &str, ext: &str| {
-        std::fs::read_dir(dir.join(sub))
-            .unwrap()
-            .filter(|e| {
-                e.as_ref()
-                    .unwrap()
-                    .path()
-                    .extension()
-                    .is_some_and(|x| x == ext)
-            })
-            .count()
-    };
     let bvh = clips.iter().filter(|(s, _)| is_bvh(s)).count();
-    assert_eq!(bvh, count("bvh", "bvh"));
-    assert_eq!(clips.len() - bvh, count("asfamc", "amc"));
+    assert_eq!(bvh, count_files(&dir, "bvh"));
+    assert_eq!(clips.len() - bvh, count_files(&dir, "amc"));
     for (source, clip) in clips {
         assert!(!clip.frames.is_empty(), "{}", clip.clip);
         assert!(clip.frame_time_s > 0.0 && clip.frame_time_s < 0.1);
@@ -127,22 +154,22 @@ fn bone_lengths_are_constant_and_human() {
     }
 }
 
-/// Share of frames (over all clips) whose head is above the pelvis, and the BVH clips (all
-/// walking, per the data README) one by one: every frame of a walk is upright.
+/// Share of frames (over all clips) whose head is above the pelvis, and the clips the CMU index
+/// calls walks one by one: every frame of a walk is upright.
 #[test]
 fn real_motion_is_mostly_upright_and_walks_are_always_upright() {
-    let Some(clips) =
-        clips("camloc-mocap::real_motion_is_mostly_upright_and_walks_are_always_upright")
-    else {
+    let test = "camloc-mocap::real_motion_is_mostly_upright_and_walks_are_always_upright";
+    let (Some(clips), Some(categories)) = (clips(test), categories(test)) else {
         return;
     };
     let z = |f: &camloc_skeleton::Pose3, l: Landmark| f.get(l)[2];
-    let (mut frames, mut head_up) = (0usize, 0usize);
-    for (source, clip) in clips {
+    let (mut frames, mut head_up, mut walks) = (0usize, 0usize, 0usize);
+    for ((_, clip), category) in clips.iter().zip(&categories) {
+        walks += usize::from(*category == MotionCategory::Walk);
         for f in &clip.frames {
             frames += 1;
             head_up += usize::from(z(f, Landmark::Head) > z(f, Landmark::Pelvis));
-            if is_bvh(source) {
+            if *category == MotionCategory::Walk {
                 let ankle = z(f, Landmark::LeftAnkle).min(z(f, Landmark::RightAnkle));
                 assert!(
                     z(f, Landmark::Head) > z(f, Landmark::Pelvis) + 0.3
@@ -155,9 +182,10 @@ fn real_motion_is_mostly_upright_and_walks_are_always_upright() {
     }
     let share = head_up as f64 / frames as f64;
     eprintln!(
-        "head above pelvis in {head_up} of {frames} frames ({:.2}%)",
+        "head above pelvis in {head_up} of {frames} frames ({:.2}%); {walks} walks upright",
         100.0 * share
     );
+    assert!(walks > 0, "the index calls no clip a walk");
     // Dives, rolls and handstand-like moves turn a few frames upside down; most motion is upright.
     assert!(
         share > 0.95,
@@ -169,17 +197,17 @@ fn real_motion_is_mostly_upright_and_walks_are_always_upright() {
 /// Every frame that can be canonicalised satisfies the canonical frame's definition: pelvis at
 /// the origin, the horizontal lateral direction (hips plus shoulders) along +y, heights above
 /// the pelvis and limb lengths kept; the others have no horizontal lateral direction. Over the
-/// walking (BVH) clips, the body faces -x: knees, which only bend forwards, lie ahead.
+/// clips the CMU index calls walks, the body faces -x: knees, which only bend forwards, lie
+/// ahead.
 #[test]
 fn canonical_frames_satisfy_the_definition_and_walks_face_minus_x() {
-    let Some(clips) =
-        clips("camloc-mocap::canonical_frames_satisfy_the_definition_and_walks_face_minus_x")
-    else {
+    let test = "camloc-mocap::canonical_frames_satisfy_the_definition_and_walks_face_minus_x";
+    let (Some(clips), Some(categories)) = (clips(test), categories(test)) else {
         return;
     };
     let (mut frames, mut degenerate) = (0usize, 0usize);
     let (mut knee_forward, mut walk_frames) = (0.0, 0usize);
-    for (source, clip) in clips {
+    for ((_, clip), category) in clips.iter().zip(&categories) {
         for pose in &clip.frames {
             frames += 1;
             let c = match canonicalise(pose) {
@@ -213,7 +241,7 @@ fn canonical_frames_satisfy_the_definition_and_walks_face_minus_x() {
             for limb in 0..LIMBS.len() {
                 assert!((c.limb_length(limb) - pose.limb_length(limb)).abs() < 1e-9);
             }
-            if is_bvh(source) {
+            if *category == MotionCategory::Walk {
                 walk_frames += 1;
                 for (hip, knee, ankle) in [
                     (Landmark::LeftHip, Landmark::LeftKnee, Landmark::LeftAnkle),

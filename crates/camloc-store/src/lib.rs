@@ -172,10 +172,11 @@ pub struct FileKind {
 }
 
 /// Datasets (`camloc_dataset::Dataset`): up to 2 GiB of payload (about 3 million samples of
-/// about 700 bytes). Version 3 added the structural augmentation settings to the header.
+/// about 700 bytes). Version 3 added the structural augmentation settings to the header,
+/// version 4 the posture categories of clips (sit, squat, kneel, crawl).
 pub const DATASET_KIND: FileKind = FileKind {
     magic: *b"CAMLOCDS",
-    version: 3,
+    version: 4,
     what: "dataset",
     max_payload: 1 << 31,
 };

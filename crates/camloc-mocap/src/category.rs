@@ -12,7 +12,7 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use crate::{DatasetError, PoseSequence};
+use crate::MocapError;
 
 /// What a clip's person is doing, coarsely: the unit of the per-category and
 /// leave-one-category-out evaluations.
@@ -37,9 +37,17 @@ pub enum MotionCategory {
     /// Gestures and pantomime (signals, directing traffic, nursery rhymes, animal imitations,
     /// bows).
     Gesture,
-    /// Everyday actions and exercise (washing, mopping, drinking, sitting down, bending,
-    /// squats, stretches, jumping jacks).
+    /// Everyday actions and exercise (washing, mopping, drinking, bending, standing up,
+    /// exercise squats among jumping jacks and stretches).
     Everyday,
+    /// Sitting: on a chair, a stool or the ground, sitting down and getting up.
+    Sit,
+    /// Squatting and crouching.
+    Squat,
+    /// Kneeling.
+    Kneel,
+    /// Crawling and lying on the floor.
+    Crawl,
     /// Anything the index does not describe or the rules do not recognise.
     #[default]
     Other,
@@ -47,7 +55,7 @@ pub enum MotionCategory {
 
 impl MotionCategory {
     /// Every category, in a fixed order.
-    pub const ALL: [MotionCategory; 10] = [
+    pub const ALL: [MotionCategory; 14] = [
         MotionCategory::Walk,
         MotionCategory::Run,
         MotionCategory::Jump,
@@ -57,8 +65,26 @@ impl MotionCategory {
         MotionCategory::Acrobatics,
         MotionCategory::Gesture,
         MotionCategory::Everyday,
+        MotionCategory::Sit,
+        MotionCategory::Squat,
+        MotionCategory::Kneel,
+        MotionCategory::Crawl,
         MotionCategory::Other,
     ];
+
+    /// The postures: categories whose body is low or seated rather than upright (sit, squat,
+    /// kneel, crawl).
+    pub const POSTURES: [MotionCategory; 4] = [
+        MotionCategory::Sit,
+        MotionCategory::Squat,
+        MotionCategory::Kneel,
+        MotionCategory::Crawl,
+    ];
+
+    /// Whether this is one of the [`POSTURES`](Self::POSTURES).
+    pub fn is_posture(self) -> bool {
+        Self::POSTURES.contains(&self)
+    }
 
     /// Lower-case name (`"walk"`, `"run"`, ...).
     pub const fn name(self) -> &'static str {
@@ -72,6 +98,10 @@ impl MotionCategory {
             MotionCategory::Acrobatics => "acrobatics",
             MotionCategory::Gesture => "gesture",
             MotionCategory::Everyday => "everyday",
+            MotionCategory::Sit => "sit",
+            MotionCategory::Squat => "squat",
+            MotionCategory::Kneel => "kneel",
+            MotionCategory::Crawl => "crawl",
             MotionCategory::Other => "other",
         }
     }
@@ -123,7 +153,9 @@ impl std::str::FromStr for MotionCategory {
 /// consecutive words) decides. The order settles mixed descriptions: "run dive over roll" is
 /// acrobatics, "basketball signals" a gesture, "run jump over" a jump, "walk to run" a run,
 /// "jumping jacks, jog, squats" everyday exercise, "soccer - kick ball" a sport and not a
-/// fight, "climb 3 steps" a walk but "climb ladder" acrobatics.
+/// fight, "climb 3 steps" a walk but "climb ladder" acrobatics. The postures come before jumps,
+/// runs and walks, so that a clip that walks to a chair and sits ("walking, sitting, stand up")
+/// is a sit and "walk, crawl" a crawl, and sitting before kneeling and squatting.
 pub const CATEGORY_RULES: &[(MotionCategory, &[&str])] = &[
     (
         MotionCategory::Dance,
@@ -216,7 +248,35 @@ pub const CATEGORY_RULES: &[(MotionCategory, &[&str])] = &[
     ),
     (
         MotionCategory::Everyday,
-        &["jumping jacks", "squat", "squats", "stretch", "stretches"],
+        &["jumping jacks", "stretch", "stretches"],
+    ),
+    (
+        MotionCategory::Sit,
+        &[
+            "sit", "sits", "sitting", "seated", "chair", "sofa", "couch", "bench",
+        ],
+    ),
+    (
+        MotionCategory::Kneel,
+        &["kneel", "kneels", "kneeling", "knelt"],
+    ),
+    (
+        MotionCategory::Squat,
+        &[
+            "squat",
+            "squats",
+            "squatting",
+            "crouch",
+            "crouches",
+            "crouching",
+            "crouched",
+        ],
+    ),
+    (
+        MotionCategory::Crawl,
+        &[
+            "crawl", "crawls", "crawling", "lie", "lies", "lying", "prone", "creep",
+        ],
     ),
     (
         MotionCategory::Jump,
@@ -241,7 +301,6 @@ pub const CATEGORY_RULES: &[(MotionCategory, &[&str])] = &[
             "wash",
             "mop",
             "drink",
-            "sit",
             "stand",
             "bend",
             "scoop",
@@ -250,14 +309,10 @@ pub const CATEGORY_RULES: &[(MotionCategory, &[&str])] = &[
             "laugh",
             "range of motion",
             "bottlecap",
-            "stool",
-            "stepstool",
-            "chair",
             "reach",
             "pick",
             "clean",
             "cook",
-            "lie",
             "exercise",
         ],
     ),
@@ -318,10 +373,12 @@ impl MocapIndex {
     /// Reads and parses the index file at `path`.
     ///
     /// # Errors
-    /// [`DatasetError::Invalid`] naming the file when it cannot be read.
-    pub fn load(path: &Path) -> Result<MocapIndex, DatasetError> {
-        let bytes = std::fs::read(path)
-            .map_err(|e| DatasetError::Invalid(format!("{}: {e}", path.display())))?;
+    /// [`MocapError::Io`] naming the file when it cannot be read.
+    pub fn load(path: &Path) -> Result<MocapIndex, MocapError> {
+        let bytes = std::fs::read(path).map_err(|source| MocapError::Io {
+            path: path.to_owned(),
+            source,
+        })?;
         Ok(MocapIndex::parse(&String::from_utf8_lossy(&bytes)))
     }
 
@@ -362,26 +419,6 @@ impl MocapIndex {
     }
 }
 
-/// Sets the category of every sequence's clip from `index` ([`MocapIndex::category`]).
-/// Returns one message per subject none of whose clips the index describes (neither trial
-/// nor subject description found), whose clips are [`MotionCategory::Other`].
-pub fn assign_categories(sequences: &mut [PoseSequence], index: &MocapIndex) -> Vec<String> {
-    let mut unknown: Vec<String> = Vec::new();
-    for seq in sequences.iter_mut() {
-        let (category, _) = index.category(&seq.clip.subject, &seq.clip.name);
-        seq.clip.category = category;
-        let described = index.trial_description(&seq.clip.name).is_some()
-            || index.subject_description(&seq.clip.subject).is_some();
-        if !described && !unknown.contains(&seq.clip.subject) {
-            unknown.push(seq.clip.subject.clone());
-        }
-    }
-    unknown
-        .into_iter()
-        .map(|s| format!("subject {s} is not in the CMU index: its clips are category 'other'"))
-        .collect()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -391,7 +428,9 @@ mod tests {
 Subject #64 (golf)\n\n64_01\tSwing\n\nSubject #127 (Action Adventure Obstacles, running, jumping, ducking, rolling)\n\n\
 127_07\tRun Dive Over Roll Run\n127_10\tRun Jump Over\n127_20\tWalk to Run\n\
 Subject #14 (various everyday behaviors, dance moves)\n14_01\tboxing\n14_02\tjumping jacks, jog, squats, side twists, stretches\n\
-14_09\tsit on stepstool, stand up\n10_01\tsoccer - kick ball\n29_05\tdog (human subject)\n29_01\tbasketball signals\n14_20\tclimb 3 steps\n14_21\tclimb ladder\n";
+14_09\tsit on stepstool, stand up\n86_09\twalking, sitting, looking, stand up\n133_01\tWalk Crawl\n\
+69_70\twalk up to object, squat, pick up object\n22_03\tA sits, holds face in hands; B kneels, comforts A\n\
+114_04\tGetting up from chair\n22_14\talternating squats\n77_02\tkneeling, praying\n10_01\tsoccer - kick ball\n29_05\tdog (human subject)\n29_01\tbasketball signals\n14_20\tclimb 3 steps\n14_21\tclimb ladder\n";
 
     #[test]
     fn trial_rules_in_order_then_subject_then_other() {
@@ -416,9 +455,18 @@ Subject #14 (various everyday behaviors, dance moves)\n14_01\tboxing\n14_02\tjum
         assert_eq!(cat("14", "14_02").0, MotionCategory::Everyday);
         assert_eq!(
             cat("14", "14_09").0,
-            MotionCategory::Everyday,
+            MotionCategory::Sit,
             "stepstool is no step"
         );
+        // Postures before walks; sitting before kneeling; exercise squats stay everyday.
+        assert_eq!(cat("86", "86_09").0, MotionCategory::Sit);
+        assert_eq!(cat("133", "133_01").0, MotionCategory::Crawl);
+        assert_eq!(cat("69", "69_70").0, MotionCategory::Squat);
+        assert_eq!(cat("22", "22_03").0, MotionCategory::Sit);
+        assert_eq!(cat("114", "114_04").0, MotionCategory::Sit);
+        assert_eq!(cat("22", "22_14").0, MotionCategory::Squat);
+        assert_eq!(cat("77", "77_02").0, MotionCategory::Kneel);
+        assert!(MotionCategory::Kneel.is_posture() && !MotionCategory::Walk.is_posture());
         assert_eq!(cat("10", "10_01").0, MotionCategory::Sport);
         assert_eq!(cat("29", "29_05").0, MotionCategory::Gesture);
         assert_eq!(cat("29", "29_01").0, MotionCategory::Gesture);
