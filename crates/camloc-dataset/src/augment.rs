@@ -8,6 +8,8 @@ use camloc_skeleton::{LIMBS, Landmark, NUM_LANDMARKS, Pose3, mirror_landmark_ind
 use rand::Rng;
 use serde::{Deserialize, Serialize};
 
+use crate::posture::{PostureKind, PostureLimits, make_posture};
+
 /// The distal ends of the 8 limb bones that [`Augmentation::limb_rotation_deg`] turns about
 /// their proximal joint: thighs, shins, upper arms and forearms.
 const ROTATED_BONE_ENDS: [Landmark; 8] = [
@@ -25,8 +27,9 @@ const ROTATED_BONE_ENDS: [Landmark; 8] = [
 /// pose and annotation). All zero ([`Augmentation::default`]) changes nothing.
 ///
 /// Applied in this order: bone lengths, hip and shoulder widths, upper body of a donor pose,
-/// limb rotations, then the pose is canonicalised again (docs/conventions.md section 1: the
-/// changes can turn the body) and, last, the photo landmark placements.
+/// limb rotations, a posture (seated, squatting, kneeling, sitting on the floor), then the
+/// pose is canonicalised again (docs/conventions.md section 1: the changes can turn the body)
+/// and, last, the photo landmark placements.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Augmentation {
     /// Bone-length scaling: every limb (the 14 of docs/conventions.md section 3, left and right alike) is
@@ -57,6 +60,12 @@ pub struct Augmentation {
     /// from another random pose of the generated set (both canonical), making combinations of
     /// upper and lower body that no clip has. In `[0, 1]`.
     pub mix_upper_body: f64,
+    /// Probability that the body is put in a posture ([`make_posture`]): seated on a chair,
+    /// squatting, kneeling on one or both knees, sitting on the floor with legs forward or
+    /// crossed ([`PostureKind::MIX`]), thighs, shins and torso pitch drawn within the
+    /// joint-angle limits learned from the poses being generated, the upper body kept
+    /// relative to the torso. In `[0, 1]`.
+    pub posture: f64,
 }
 
 impl Default for Augmentation {
@@ -76,6 +85,7 @@ impl Augmentation {
         hip_width: (1.0, 1.0),
         shoulder_width: (1.0, 1.0),
         mix_upper_body: 0.0,
+        posture: 0.0,
     };
 
     /// What differs between people and annotation conventions, without new poses: 10%
@@ -111,6 +121,7 @@ impl Augmentation {
             || self.hip_width != (1.0, 1.0)
             || self.shoulder_width != (1.0, 1.0)
             || self.mix_upper_body > 0.0
+            || self.posture > 0.0
     }
 
     /// Whether [`apply`](Self::apply) uses its donor pose.
@@ -129,6 +140,7 @@ impl Augmentation {
         for (name, p) in [
             ("photo landmark", self.photo_landmarks),
             ("upper-body mixing", self.mix_upper_body),
+            ("posture", self.posture),
         ] {
             if !(0.0..=1.0).contains(&p) {
                 return Err(format!("{name} probability must be in [0, 1], got {p}"));
@@ -154,9 +166,16 @@ impl Augmentation {
     }
 
     /// `pose` changed as configured, with random draws from `rng`; `donor` is the pose whose
-    /// upper body [`mix_upper_body`](Self::mix_upper_body) takes (canonical, like `pose`).
+    /// upper body [`mix_upper_body`](Self::mix_upper_body) takes (canonical, like `pose`),
+    /// `limits` the joint-angle limits of [`posture`](Self::posture).
     /// The pelvis stays at the origin unless photo placements move it to the mid-hip point.
-    pub fn apply(&self, pose: &Pose3, donor: &Pose3, rng: &mut impl Rng) -> Pose3 {
+    pub fn apply(
+        &self,
+        pose: &Pose3,
+        donor: &Pose3,
+        limits: &PostureLimits,
+        rng: &mut impl Rng,
+    ) -> Pose3 {
         let mut out = *pose;
         if self.bone_scale > 0.0 {
             let mut scale = [1.0; NUM_LANDMARKS];
@@ -179,7 +198,7 @@ impl Augmentation {
             }
         }
         if self.changes_structure() {
-            self.change_structure(&mut out, donor, rng);
+            self.change_structure(&mut out, donor, limits, rng);
         }
         if self.photo_landmarks > 0.0 && rng.random_bool(self.photo_landmarks) {
             let points = out.points;
@@ -203,9 +222,15 @@ impl Augmentation {
         out
     }
 
-    /// Widths, donor upper body and limb rotations, then canonicalisation (a pose whose
-    /// lateral direction vanished keeps the frame it had).
-    fn change_structure(&self, out: &mut Pose3, donor: &Pose3, rng: &mut impl Rng) {
+    /// Widths, donor upper body, limb rotations and posture, then canonicalisation (a pose
+    /// whose lateral direction vanished keeps the frame it had).
+    fn change_structure(
+        &self,
+        out: &mut Pose3,
+        donor: &Pose3,
+        limits: &PostureLimits,
+        rng: &mut impl Rng,
+    ) {
         for ((lo, hi), centre, sides) in [
             (
                 self.hip_width,
@@ -255,6 +280,9 @@ impl Augmentation {
                     [pivot[0] + v[0], pivot[1] + v[1], pivot[2] + v[2]]
                 });
             }
+        }
+        if self.posture > 0.0 && rng.random_bool(self.posture) {
+            *out = make_posture(out, PostureKind::draw(rng), limits, rng);
         }
         if let Ok(canonical) = canonicalise(out) {
             *out = canonical;
@@ -340,6 +368,7 @@ pub fn in_class_box(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::posture::tests::LIMITS;
     use camloc_geometry::{look_at_origin, roll_about_optical_axis, sphere_point};
     use proptest::prelude::*;
     use rand::SeedableRng;
@@ -363,7 +392,7 @@ mod tests {
             let aug = Augmentation { bone_scale: 0.2, ..Augmentation::default() };
             let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
             let p = standing();
-            let q = aug.apply(&p, &p, &mut rng);
+            let q = aug.apply(&p, &p, &LIMITS, &mut rng);
             let len = |pose: &Pose3, l: usize| {
                 let (a, b) = LIMBS[l];
                 let (x, y) = (pose.points[a.index()], pose.points[b.index()]);
@@ -413,7 +442,7 @@ mod tests {
             let mut donor = standing();
             donor.points[11] = [-0.3, -0.25, 0.3];
             donor.points[14] = [-0.35, 0.2, 0.6];
-            let q = aug.apply(&p, &donor, &mut rng);
+            let q = aug.apply(&p, &donor, &LIMITS, &mut rng);
             prop_assert!(q.get(Landmark::Pelvis).iter().all(|c| c.abs() < 1e-12));
             prop_assert!(lateral_angle_deg(&q).abs() < 1e-6);
             for (l, (a, b)) in LIMBS.iter().enumerate() {
@@ -464,14 +493,14 @@ mod tests {
         };
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(1);
         let p = standing();
-        let q = aug.apply(&p, &p, &mut rng);
+        let q = aug.apply(&p, &p, &LIMITS, &mut rng);
         for k in 0..3 {
             let mid_s = 0.5 * (p.points[9][k] + p.points[12][k]);
             let mid_h = 0.5 * (p.points[1][k] + p.points[4][k]);
             assert!((q.points[7][k] - mid_s).abs() < 1e-12);
             assert!((q.points[0][k] - mid_h).abs() < 1e-12);
         }
-        assert_eq!(Augmentation::default().apply(&p, &p, &mut rng), p);
+        assert_eq!(Augmentation::default().apply(&p, &p, &LIMITS, &mut rng), p);
     }
 
     #[test]

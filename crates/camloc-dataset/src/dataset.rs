@@ -7,7 +7,7 @@ use camloc_skeleton::{NUM_LANDMARKS, Pose2, Pose3};
 use camloc_store::{FileKind, Persist, StoreError, Validate};
 use serde::{Deserialize, Serialize};
 
-use crate::{Augmentation, Jitter, MotionCategory, Protocol};
+use crate::{Augmentation, Jitter, MotionCategory, Protocol, Rig};
 
 /// Errors of dataset handling.
 #[derive(Debug, thiserror::Error)]
@@ -114,6 +114,8 @@ pub struct DatasetHeader {
     pub augmentation: Augmentation,
     /// Camera jitter, roll and distance of the perspective protocols.
     pub jitter: Jitter,
+    /// The studio of the `rig` protocol.
+    pub rig: Rig,
     /// 2D noise standard deviation as a fraction of the 2D torso length (0 for none).
     pub noise_fraction: f64,
     /// Clips the samples come from, indexed by [`Sample::clip`].
@@ -124,7 +126,8 @@ pub struct DatasetHeader {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Sample {
     /// Projected landmarks: orthographic metres for `canonical`, focal-length-scaled image
-    /// units (v down) for `jittered`.
+    /// units (v down) for the perspective protocols (`rig`: pixels from the principal point,
+    /// distorted).
     pub landmarks: Pose2,
     /// Bit `i` set when landmark `i` was dropped (treat as missing); 0 for complete poses.
     pub missing_mask: u16,
@@ -135,7 +138,8 @@ pub struct Sample {
     /// within the jitter bounds of its centre): always under `canonical` and `jittered`.
     pub in_class_box: bool,
     /// The exact camera rotation used (rows: camera axes in world coordinates); equals the
-    /// class rotation under `canonical`, a jittered one otherwise.
+    /// class rotation under `canonical`, a jittered one otherwise; under `rig`, the camera
+    /// seen from the person (looking from its centre at the pelvis, [`crate::RigView`]).
     pub rotation: Matrix3,
     /// Index into [`DatasetHeader::clips`].
     pub clip: u32,

@@ -15,7 +15,10 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::augment::{camera_direction_deg, in_class_box, nearest_by_direction};
-use crate::{Augmentation, ClipInfo, Dataset, DatasetError, DatasetHeader, Sample, select_by_pose};
+use crate::posture::PostureLimits;
+use crate::{
+    Augmentation, ClipInfo, Dataset, DatasetError, DatasetHeader, Rig, Sample, select_by_pose,
+};
 
 /// The elevation band of the `sphere` protocol, degrees: camera directions are drawn
 /// uniformly (by area) over `|elevation| <= SPHERE_BAND_DEG`, the band the 12 Table-1 cameras
@@ -38,6 +41,14 @@ pub enum Protocol {
     /// [`Sample::in_class_box`] records whether the direction lies in that camera's jittered
     /// class box.
     Sphere,
+    /// A studio or a room filmed from tripods ([`Rig`]): cameras fixed in the world 1.0-2.2 m
+    /// above the floor and 2.5-7 m from the centre of a capture area, aimed at that centre; the
+    /// person on the floor within 2 m of it, seen from an azimuth within half a camera spacing
+    /// of the class's (the elevation follows from the heights); perspective with focal
+    /// lengths of 500-2000 px and radial distortion; detector-like noise. The truth is the
+    /// direction from the pelvis to the camera centre, the label the camera of the set
+    /// nearest to it, [`Sample::in_class_box`] as under `sphere`.
+    Rig,
 }
 
 impl Protocol {
@@ -47,14 +58,16 @@ impl Protocol {
             Protocol::Canonical => "canonical",
             Protocol::Jittered => "jittered",
             Protocol::Sphere => "sphere",
+            Protocol::Rig => "rig",
         }
     }
 
-    /// Default 2D noise, as a fraction of the 2D torso length: 0 for canonical, 3% for
-    /// jittered and sphere.
+    /// Default 2D Gaussian noise, as a fraction of the 2D torso length: 0 for canonical, 3%
+    /// for jittered and sphere, 0 for rig (whose noise is its detector model,
+    /// [`Rig::noise`]).
     pub const fn default_noise_fraction(self) -> f64 {
         match self {
-            Protocol::Canonical => 0.0,
+            Protocol::Canonical | Protocol::Rig => 0.0,
             Protocol::Jittered | Protocol::Sphere => 0.03,
         }
     }
@@ -67,8 +80,9 @@ impl std::str::FromStr for Protocol {
             "canonical" => Ok(Protocol::Canonical),
             "jittered" => Ok(Protocol::Jittered),
             "sphere" => Ok(Protocol::Sphere),
+            "rig" => Ok(Protocol::Rig),
             other => Err(format!(
-                "unknown protocol '{other}' (expected canonical, jittered or sphere)"
+                "unknown protocol '{other}' (expected canonical, jittered, sphere or rig)"
             )),
         }
     }
@@ -134,6 +148,8 @@ pub struct GenerateConfig {
     pub jitter: Jitter,
     /// Number of random non-torso landmarks to mark missing per sample (0..=13).
     pub drop_landmarks: usize,
+    /// The studio of [`Protocol::Rig`].
+    pub rig: Rig,
 }
 
 impl GenerateConfig {
@@ -151,6 +167,7 @@ impl GenerateConfig {
             seed: 0,
             jitter: Jitter::default(),
             drop_landmarks: 0,
+            rig: Rig::default(),
         }
     }
 
@@ -172,6 +189,7 @@ impl GenerateConfig {
             ));
         }
         self.augmentation.check().or_else(bad)?;
+        self.rig.check().or_else(bad)?;
         if self.drop_landmarks > NUM_LANDMARKS - 2 {
             return bad(format!(
                 "can drop at most {} non-torso landmarks, asked for {}",
@@ -233,6 +251,7 @@ pub fn generate(
                 .map(|(_, p)| p)
         })
         .collect();
+    let limits = PostureLimits::learn(donors.iter().copied());
     let per_clip: Vec<Vec<Sample>> = sequences
         .par_iter()
         .enumerate()
@@ -254,13 +273,15 @@ pub fn generate(
                 let (frame, pose3) = strided[k];
                 for view in config.cameras.viewpoints() {
                     let mut rng = sample_rng(config.seed, clip_index as u32, *frame, view.label);
-                    let mut sample = project_sample(pose3, view, config, &donors, &mut rng)
-                        .map_err(|e| {
-                            DatasetError::Invalid(format!(
-                                "clip {} frame {frame} camera {:02}: {e}",
-                                seq.clip.name, view.label
-                            ))
-                        })?;
+                    let mut sample = project_sample(
+                        pose3, view, config, &donors, &limits, &mut rng,
+                    )
+                    .map_err(|e| {
+                        DatasetError::Invalid(format!(
+                            "clip {} frame {frame} camera {:02}: {e}",
+                            seq.clip.name, view.label
+                        ))
+                    })?;
                     sample.clip = clip_index as u32;
                     sample.frame = *frame;
                     out.push(sample);
@@ -280,6 +301,7 @@ pub fn generate(
             min_pose_distance_mm: config.min_pose_distance_mm,
             augmentation: config.augmentation,
             jitter: config.jitter,
+            rig: config.rig,
             noise_fraction: config.noise_fraction,
             clips: sequences.iter().map(|s| s.clip.clone()).collect(),
         },
@@ -341,13 +363,15 @@ fn perspective_view(
 }
 
 /// One sample: the projection of `pose3` (augmented as configured, with a random pose of
-/// `donors` for upper-body mixing) by (a jittered version of) camera `view`, or under
-/// `sphere` by a random camera; the caller fills in `clip` and `frame`.
+/// `donors` for upper-body mixing and postures within `limits`) by (a jittered version of)
+/// camera `view`, under `sphere` by a random camera, under `rig` by a studio camera on
+/// `view`'s side; the caller fills in `clip` and `frame`.
 fn project_sample(
     pose3: &Pose3,
     view: &Viewpoint,
     config: &GenerateConfig,
     donors: &[&Pose3],
+    limits: &PostureLimits,
     rng: &mut ChaCha8Rng,
 ) -> Result<Sample, camloc_geometry::GeometryError> {
     let augmented;
@@ -358,13 +382,11 @@ fn project_sample(
         } else {
             pose3
         };
-        augmented = config.augmentation.apply(pose3, donor, &mut own);
+        augmented = config.augmentation.apply(pose3, donor, limits, &mut own);
         &augmented
     } else {
         pose3
     };
-    let mut label = view.label;
-    let mut inside = true;
     let (points, rotation) = match config.protocol {
         Protocol::Canonical => (
             WeakPerspective::orthographic(view.rotation).project(&pose3.points),
@@ -382,15 +404,29 @@ fn project_sample(
             let azimuth = rng.random_range(0.0..360.0);
             let band = SPHERE_BAND_DEG.to_radians().sin();
             let elevation = rng.random_range(-band..=band).asin().to_degrees();
-            let (points, rotation) = perspective_view(pose3, azimuth, elevation, j, rng)?;
-            let (azimuth, elevation) = camera_direction_deg(&rotation);
-            let nearest = nearest_by_direction(&config.cameras, azimuth, elevation);
-            label = nearest.label;
-            inside = in_class_box(nearest, azimuth, elevation, j.azimuth_deg, j.elevation_deg);
-            (points, rotation)
+            perspective_view(pose3, azimuth, elevation, j, rng)?
+        }
+        Protocol::Rig => {
+            let half_spacing = 180.0 / config.cameras.azimuths() as f64;
+            let azimuth = view.azimuth_deg + symmetric(rng, half_spacing);
+            let seen = config.rig.view(pose3, azimuth, rng)?;
+            (seen.points, seen.rotation)
         }
     };
+    let (label, inside) = if matches!(config.protocol, Protocol::Sphere | Protocol::Rig) {
+        let j = &config.jitter;
+        let (azimuth, elevation) = camera_direction_deg(&rotation);
+        let nearest = nearest_by_direction(&config.cameras, azimuth, elevation);
+        let inside = in_class_box(nearest, azimuth, elevation, j.azimuth_deg, j.elevation_deg);
+        (nearest.label, inside)
+    } else {
+        (view.label, true)
+    };
     let mut landmarks = Pose2::new(points);
+    if config.protocol == Protocol::Rig {
+        let torso = landmarks.torso_length();
+        config.rig.noise.apply(&mut landmarks.points, torso, rng);
+    }
     let sigma = config.noise_fraction * landmarks.torso_length();
     if sigma > 0.0 {
         if let Ok(normal) = Normal::new(0.0, sigma) {
@@ -529,6 +565,54 @@ pub(crate) mod tests {
         }
         // The boxes cover 3 x 30 deg of the 135 deg band (less by area): some, not all.
         assert!(inside > 0 && inside < d.samples.len(), "{inside}");
+    }
+
+    #[test]
+    fn rig_views_are_labelled_by_direction_and_mostly_middle_ring() {
+        let mut config = GenerateConfig::new(Protocol::Rig);
+        config.seed = 9;
+        config.augmentation = Augmentation {
+            posture: 1.0,
+            ..Augmentation::default()
+        };
+        // Postures are made within the limits learned from the poses: a clip of every kind of
+        // posture beside the standing ones allows them.
+        let mut seqs = sequences();
+        let mut rng = ChaCha8Rng::seed_from_u64(1);
+        let seated = (0..24u32)
+            .map(|f| {
+                let kind = crate::PostureKind::draw(&mut rng);
+                let limits = crate::posture::tests::LIMITS;
+                (f, crate::make_posture(&standing(), kind, &limits, &mut rng))
+            })
+            .collect();
+        seqs.push(PoseSequence {
+            clip: ClipInfo::new("3", "3_01"),
+            frames: seated,
+        });
+        let a = generate(&seqs, &config, &|_, _| {}).unwrap();
+        let again = generate(&seqs, &config, &|_, _| {}).unwrap();
+        assert_eq!(a.to_bytes().unwrap(), again.to_bytes().unwrap());
+        let mut middle = 0;
+        for s in &a.samples {
+            let (az, el) = camera_direction_deg(&s.rotation);
+            assert_eq!(
+                nearest_by_direction(&a.header.cameras, az, el).label,
+                s.label
+            );
+            middle += usize::from((5..=8).contains(&s.label));
+            // Every sample is seated, squatting, kneeling or sitting on the floor, whose
+            // pelvis is lower than a standing one's.
+            assert!(crate::pelvis_height_m(&s.pose3) < 0.8, "{:?}", s.pose3);
+        }
+        // Tripod cameras 1.0-2.2 m high see a low pelvis from middle-ring elevations, and
+        // some from above 22.5 deg when close.
+        assert!(
+            middle * 10 >= a.samples.len() * 7,
+            "{middle} of {}",
+            a.samples.len()
+        );
+        assert!(a.samples.iter().all(|s| !(1..=4).contains(&s.label)));
     }
 
     #[test]
