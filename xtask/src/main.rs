@@ -6,6 +6,7 @@
 //! * `cargo xtask generalise`: accuracy per motion category, leave-one-category-out, sphere.
 //! * `cargo xtask reconstruction`: 3D reconstruction per basis, prior and camera mode.
 //! * `cargo xtask compare-sklearn`: camloc's Newton solver against scikit-learn on one matrix.
+//! * `cargo xtask postures`: seated and low postures and studio cameras (`rig`).
 
 use std::process::ExitCode;
 
@@ -14,10 +15,12 @@ use clap::{Parser, Subcommand};
 mod compare_sklearn;
 mod gen_dataset;
 mod generalise;
+mod postures;
 mod progress;
 mod reconstruction;
 mod report;
 mod train_default;
+mod view_scores;
 
 /// camloc project automation.
 #[derive(Parser)]
@@ -45,6 +48,10 @@ enum Command {
     Reconstruction(reconstruction::Args),
     /// Compare camloc's Newton solver with scikit-learn on the same design matrix.
     CompareSklearn(compare_sklearn::Args),
+    /// Measure seated and low postures and studio cameras (the `rig` protocol): training
+    /// recipes on held-out subjects, posture clips left out by subject, leave-posture-out
+    /// (issue 21). Prints markdown tables.
+    Postures(postures::Args),
 }
 
 fn main() -> ExitCode {
@@ -56,6 +63,7 @@ fn main() -> ExitCode {
         Command::CompareSklearn(args) => compare_sklearn::run(&args),
         Command::Generalise(args) => generalise::run(&args),
         Command::Reconstruction(args) => reconstruction::run(&args),
+        Command::Postures(args) => postures::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

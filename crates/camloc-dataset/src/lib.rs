@@ -39,8 +39,8 @@ pub use dataset::{
 pub use from_mocap::{MocapSummary, assign_categories, load_mocap_folders};
 pub use generate::{GenerateConfig, Jitter, PoseSequence, Protocol, SPHERE_BAND_DEG, generate};
 pub use posture::{
-    BodyAngles, FLOOR_CLEARANCE_M, LIMIT_COVERAGE, PostureKind, PostureLimits, body_angles,
-    is_low_posture, make_posture, pelvis_height_m,
+    BodyAngles, FLOOR_CLEARANCE_M, LIMIT_COVERAGE, LOW_PELVIS_SHARE, PostureGroup, PostureKind,
+    PostureLimits, body_angles, is_low_posture, make_posture, pelvis_height_m,
 };
 pub use rig::{DetectorNoise, Rig, RigView};
 pub use select::{DEFAULT_MIN_POSE_DISTANCE_MM, max_joint_distance_mm, select_by_pose};

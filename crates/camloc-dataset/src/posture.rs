@@ -123,6 +123,64 @@ pub fn is_low_posture(pose: &Pose3) -> bool {
         .any(|&a| a > 60.0)
 }
 
+/// A coarse posture: the sub-classes of a localizer that classifies (posture, camera) pairs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum PostureGroup {
+    /// Standing, walking, running: the pelvis at least [`LOW_PELVIS_SHARE`] of the leg length
+    /// above the floor, the torso within 45 deg of the vertical.
+    Upright,
+    /// Seated, squatting, kneeling, sitting on the floor: the pelvis lower than that.
+    Low,
+    /// Bent over, crawling, lying, upside down: the torso more than 45 deg from the vertical.
+    Bent,
+}
+
+/// The pelvis height above the floor, as a share of the mean leg length (hip to knee to
+/// ankle), below which a body with an upright torso is [`PostureGroup::Low`]; standing it
+/// is about 1.08 (the ankle joints stand [`FLOOR_CLEARANCE_M`] above the floor), seated on a
+/// chair about 0.6.
+pub const LOW_PELVIS_SHARE: f64 = 0.9;
+
+impl PostureGroup {
+    /// Every group, in the order of [`index`](Self::index).
+    pub const ALL: [PostureGroup; 3] =
+        [PostureGroup::Upright, PostureGroup::Low, PostureGroup::Bent];
+
+    /// The group of a canonical pose.
+    pub fn of(pose: &Pose3) -> PostureGroup {
+        if body_angles(pose).torso_pitch_deg.abs() > 45.0 {
+            return PostureGroup::Bent;
+        }
+        let legs: f64 = LEGS
+            .iter()
+            .map(|[hip, knee, ankle]| {
+                norm(sub(pose.get(*knee), pose.get(*hip)))
+                    + norm(sub(pose.get(*ankle), pose.get(*knee)))
+            })
+            .sum::<f64>()
+            / 2.0;
+        if pelvis_height_m(pose) < LOW_PELVIS_SHARE * legs {
+            PostureGroup::Low
+        } else {
+            PostureGroup::Upright
+        }
+    }
+
+    /// Position in [`ALL`](Self::ALL).
+    pub fn index(self) -> usize {
+        self as usize
+    }
+
+    /// Lower-case name (`"upright"`, `"low"`, `"bent"`).
+    pub fn name(self) -> &'static str {
+        match self {
+            PostureGroup::Upright => "upright",
+            PostureGroup::Low => "low",
+            PostureGroup::Bent => "bent",
+        }
+    }
+}
+
 /// The joint-angle limits postures are made within, degrees: learned from motion capture
 /// ([`PostureLimits::learn`]).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -282,7 +340,7 @@ fn draw_targets(kind: PostureKind, rng: &mut impl Rng) -> (f64, [LegTarget; 2]) 
                 rng,
                 (-5.0, 35.0),
                 (0.0, 15.0),
-                (-100.0, -75.0),
+                (-100.0, -85.0),
                 (-10.0, 10.0),
             ),
         ),
@@ -292,7 +350,7 @@ fn draw_targets(kind: PostureKind, rng: &mut impl Rng) -> (f64, [LegTarget; 2]) 
                 rng,
                 (-5.0, 35.0),
                 (0.0, 15.0),
-                (-100.0, -75.0),
+                (-100.0, -85.0),
                 (-10.0, 10.0),
             );
             let standing = leg(
@@ -386,22 +444,39 @@ pub fn make_posture(
     let pelvis = pose.get(Landmark::Pelvis);
     let current = body_angles(pose).torso_pitch_deg;
     pitch_about(&mut out, Landmark::Neck.subtree(), pelvis, pitch - current);
-    for ((side, [hip, knee, ankle]), target) in [-1.0, 1.0].into_iter().zip(LEGS).zip(legs) {
+    // A leg's knee and ankle for a target, with its own bone lengths.
+    let place = |k: usize, target: &LegTarget| {
+        let [hip, knee, ankle] = LEGS[k];
+        let side = if k == 0 { -1.0 } else { 1.0 };
         let thigh_len = norm(sub(pose.get(knee), pose.get(hip)));
         let shin_len = norm(sub(pose.get(ankle), pose.get(knee)));
         let thigh = leg_direction(target.thigh, target.spread, side);
         let mut shin = leg_direction(target.shin, target.shin_spread, side);
         // Knee flexion within the limit: turn the shin towards the thigh's direction.
-        let knee_max = limits.knee_flexion_max_deg;
         for _ in 0..32 {
-            if angle_deg(thigh, shin) <= knee_max {
+            if angle_deg(thigh, shin) <= limits.knee_flexion_max_deg {
                 break;
             }
             shin = unit(add(scale(shin, 0.9), scale(thigh, 0.1))).unwrap_or(thigh);
         }
-        let k = add(out.get(hip), scale(thigh, thigh_len));
+        let k = add(pose.get(hip), scale(thigh, thigh_len));
+        (k, add(k, scale(shin, shin_len)))
+    };
+    let mut placed = [place(0, &legs[0]), place(1, &legs[1])];
+    if kind == PostureKind::HalfKneel {
+        // The front foot stands on the floor the other knee kneels on: raise its thigh (within
+        // the hip limit) until its ankle is no lower than that knee.
+        let kneeling = usize::from(legs[1].shin < legs[0].shin);
+        let front = 1 - kneeling;
+        let floor = placed[kneeling].0[2];
+        while placed[front].1[2] < floor - 0.03 && legs[front].thigh + pitch < hip_max {
+            legs[front].thigh += 2.0;
+            placed[front] = place(front, &legs[front]);
+        }
+    }
+    for ([_, knee, ankle], (k, a)) in LEGS.into_iter().zip(placed) {
         out.points[knee.index()] = k;
-        out.points[ankle.index()] = add(k, scale(shin, shin_len));
+        out.points[ankle.index()] = a;
     }
     out
 }
@@ -432,6 +507,7 @@ pub(crate) mod tests {
             assert!(a.knee_flexion_deg[k] < 15.0, "{a:?}");
         }
         assert!(!is_low_posture(&standing()));
+        assert_eq!(PostureGroup::of(&standing()), PostureGroup::Upright);
         // Pelvis 0.9 m above the ankles, ankles 7 cm above the floor.
         assert!((pelvis_height_m(&standing()) - 0.97).abs() < 1e-12);
     }
@@ -462,6 +538,9 @@ pub(crate) mod tests {
                 (dot(d, up), d[1])
             };
             prop_assert!((rel(&q).0 - rel(&p).0).abs() < 1e-9 && (rel(&q).1 - rel(&p).1).abs() < 1e-9);
+            // Every posture lowers the pelvis; a torso pitched beyond 45 deg counts as bent.
+            let group = PostureGroup::of(&q);
+            prop_assert!(group == PostureGroup::Low || (group == PostureGroup::Bent && a.torso_pitch_deg.abs() > 45.0), "{:?} {:?} {:?} {}", kind, group, a, pelvis_height_m(&q));
             if !matches!(kind, PostureKind::Kneel | PostureKind::HalfKneel) {
                 prop_assert!(a.thigh_from_vertical_deg.iter().any(|&t| t > 45.0), "{:?} {:?}", kind, a);
             }

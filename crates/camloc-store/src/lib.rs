@@ -184,10 +184,10 @@ pub const DATASET_KIND: FileKind = FileKind {
 /// Camera localizer models (`camloc::CameraLocalizer`): up to 64 MiB (a descriptor of
 /// 10,000 values for 64 cameras, with viewpoint heads, would still fit; the default model is
 /// under 1 MiB). Version 2 added the continuous-viewpoint heads, version 3 the quadratic
-/// feature expansion.
+/// feature expansion, version 4 the posture groups of (posture, camera) classes.
 pub const MODEL_KIND: FileKind = FileKind {
     magic: *b"CAMLOCMD",
-    version: 3,
+    version: 4,
     what: "model",
     max_payload: 64 << 20,
 };

@@ -7,7 +7,9 @@ use camloc_skeleton::PartialPose2;
 use camloc_store::Validate;
 use serde::Serialize;
 
-use crate::localizer::sample_pose;
+use rayon::prelude::*;
+
+use crate::localizer::{most_probable, sample_pose};
 use crate::{CameraLocalizer, CamlocError};
 
 /// Accuracy of one camera (by true label).
@@ -160,10 +162,22 @@ impl CameraLocalizer {
     pub fn predict_labels(&self, poses: &[PartialPose2]) -> Result<Vec<CameraLabel>, CamlocError> {
         let x = self.feature_rows(poses)?;
         let features = Features::new(&x, self.model().n_features())?;
-        self.model()
-            .predict_batch(&features)?
-            .into_iter()
-            .map(|c| Ok(CameraLabel::from_index(c)?))
+        if self.posture_groups() == 1 {
+            return self
+                .model()
+                .predict_batch(&features)?
+                .into_iter()
+                .map(|c| Ok(CameraLabel::from_index(c)?))
+                .collect();
+        }
+        let cameras = self.cameras().len();
+        x.par_chunks(features.n_features())
+            .map(|row| {
+                let mut classes = vec![0.0; self.model().n_classes()];
+                let mut probabilities = vec![0.0; cameras];
+                self.camera_probabilities_into(row, &mut classes, &mut probabilities)?;
+                Ok(CameraLabel::from_index(most_probable(&probabilities).0)?)
+            })
             .collect()
     }
 }

@@ -1,6 +1,6 @@
 //! [`CameraLocalizer`]: descriptor + classifier + camera set, trained, saved and used together.
 
-use camloc_dataset::{Dataset, Protocol};
+use camloc_dataset::{Dataset, PostureGroup, Protocol};
 use camloc_dataset::{camera_direction_deg, direction_vector};
 use camloc_features::Descriptor;
 use camloc_geometry::{CameraLabel, CameraSet, Level, Matrix3, Side};
@@ -168,6 +168,11 @@ pub struct TrainOptions {
     /// [`CameraLocalizer::fit_viewpoint`]); `None`: no heads, localizations then carry no
     /// azimuth, elevation or uncertainty.
     pub viewpoint_lambda: Option<f64>,
+    /// Classify (posture, camera) pairs: the coarse [`PostureGroup`] of each training
+    /// sample's 3D pose (upright, low, bent) times the cameras, one multinomial model whose
+    /// probabilities are summed over the postures to the cameras' (docs/conventions.md
+    /// section 5). Each camera then has a linear template per posture.
+    pub posture_classes: bool,
 }
 
 impl Default for TrainOptions {
@@ -182,6 +187,7 @@ impl Default for TrainOptions {
             dropout: Some(LandmarkDropout::default()),
             mirror: true,
             viewpoint_lambda: Some(DEFAULT_VIEWPOINT_LAMBDA),
+            posture_classes: false,
         }
     }
 }
@@ -270,6 +276,9 @@ pub struct TrainingInfo {
     pub dropout: Option<LandmarkDropout>,
     /// Whether mirror augmentation was used.
     pub mirror: bool,
+    /// Whether the classifier classifies (posture, camera) pairs
+    /// ([`TrainOptions::posture_classes`]).
+    pub posture_classes: bool,
 }
 
 /// Where the camera stood, as localized from one 2D pose.
@@ -312,7 +321,12 @@ pub struct CameraLocalizer {
     /// The feature expansion between descriptor and classifier ([`Capacity::Quadratic`]);
     /// `None`: the classifier sees the descriptor.
     expansion: Option<QuadraticExpansion>,
+    /// The classifier: `cameras.len() * posture_groups` classes, class `g * cameras + c` being
+    /// camera `c` (0-based) seen on a body of posture group `g`.
     model: LogisticModel,
+    /// Posture groups the classifier's classes are split into (1: none; see
+    /// [`TrainOptions::posture_classes`]).
+    posture_groups: usize,
     /// Per descriptor value, the training mean used in place of undefined values.
     imputation: Vec<f64>,
     info: TrainingInfo,
@@ -347,8 +361,24 @@ impl CameraLocalizer {
         }
         let d = descriptor.len();
         let cameras = &dataset.header.cameras;
+        let posture_groups = if options.posture_classes {
+            PostureGroup::ALL.len()
+        } else {
+            1
+        };
         let mut poses: Vec<PartialPose2> = dataset.samples.iter().map(sample_pose).collect();
         let mut labels: Vec<u16> = dataset.samples.iter().map(|s| s.label).collect();
+        let mut groups: Vec<usize> = dataset
+            .samples
+            .iter()
+            .map(|s| {
+                if options.posture_classes {
+                    PostureGroup::of(&s.pose3).index()
+                } else {
+                    0
+                }
+            })
+            .collect();
         if options.mirror {
             poses.extend(poses.iter().map(PartialPose2::mirrored).collect::<Vec<_>>());
             labels.extend(
@@ -357,12 +387,18 @@ impl CameraLocalizer {
                     .map(|&l| cameras.mirror_left_right(l))
                     .collect::<Vec<_>>(),
             );
+            // A mirrored body keeps its posture.
+            groups.extend_from_within(..);
         }
         let (mut x, undefined) = extract_rows(&descriptor, &poses)?;
         let imputation = column_means(&x, &undefined, d);
         impute_rows(&mut x, &undefined, &imputation);
         // Labels are 1..=cameras (checked by `dataset.validate()`), mirroring keeps them so.
-        let mut y: Vec<usize> = labels.iter().map(|&l| usize::from(l) - 1).collect();
+        let mut y: Vec<usize> = labels
+            .iter()
+            .zip(&groups)
+            .map(|(&l, g)| g * cameras.len() + usize::from(l) - 1)
+            .collect();
         if let Some(dropout) = options.dropout {
             let (extra, labels) = augment(&descriptor, &poses, &y, &dropout, &imputation)?;
             x.extend_from_slice(&extra);
@@ -384,7 +420,7 @@ impl CameraLocalizer {
         let (model, report) = options.regression.fit_with_progress(
             &features,
             &y,
-            dataset.header.cameras.len(),
+            dataset.header.cameras.len() * posture_groups,
             progress,
         )?;
         let info = TrainingInfo {
@@ -396,12 +432,14 @@ impl CameraLocalizer {
             capacity: options.capacity,
             dropout: options.dropout,
             mirror: options.mirror,
+            posture_classes: options.posture_classes,
         };
         let mut localizer = CameraLocalizer {
             descriptor,
             cameras: dataset.header.cameras.clone(),
             expansion,
             model,
+            posture_groups,
             imputation,
             info,
             viewpoint: None,
@@ -491,17 +529,43 @@ impl CameraLocalizer {
         }
         let mut heads =
             DirectionHeads::fit(&features, &directions, &classes, self.cameras.len(), lambda)?;
-        let mut probabilities = vec![0.0; self.model.n_classes()];
+        let mut classes = vec![0.0; self.model.n_classes()];
+        let mut probabilities = vec![0.0; self.cameras.len()];
         let chosen = features
             .rows()
             .map(|row| {
-                self.model.predict_proba_into(row, &mut probabilities)?;
+                self.camera_probabilities_into(row, &mut classes, &mut probabilities)?;
                 Ok(most_probable(&probabilities))
             })
             .collect::<Result<Vec<_>, CamlocError>>()?;
         heads.calibrate(&features, &chosen, &directions)?;
         self.viewpoint = Some(heads);
         Ok(())
+    }
+
+    /// The probability of every camera for the feature row `x` into `out` (one per
+    /// camera): the classifier's class probabilities (into `classes`, one per class) summed
+    /// over the posture groups.
+    pub(crate) fn camera_probabilities_into(
+        &self,
+        x: &[f64],
+        classes: &mut [f64],
+        out: &mut [f64],
+    ) -> Result<(), CamlocError> {
+        self.model.predict_proba_into(x, classes)?;
+        out.fill(0.0);
+        for group in classes.chunks_exact(out.len()) {
+            for (o, p) in out.iter_mut().zip(group) {
+                *o += p;
+            }
+        }
+        Ok(())
+    }
+
+    /// Posture groups the classifier's classes are split into (1 unless trained with
+    /// [`TrainOptions::posture_classes`]).
+    pub fn posture_groups(&self) -> usize {
+        self.posture_groups
     }
 
     /// The continuous-viewpoint heads, if the model has them.
@@ -561,6 +625,7 @@ impl CameraLocalizer {
                 descriptor,
                 undefined,
                 expanded,
+                classes,
             } = buffers;
             let d = self.descriptor.len();
             descriptor.resize(d, 0.0);
@@ -580,8 +645,9 @@ impl CameraLocalizer {
                 }
                 None => descriptor,
             };
-            let mut probabilities = vec![0.0; self.model.n_classes()];
-            self.model.predict_proba_into(x, &mut probabilities)?;
+            classes.resize(self.model.n_classes(), 0.0);
+            let mut probabilities = vec![0.0; self.cameras.len()];
+            self.camera_probabilities_into(x, classes, &mut probabilities)?;
             self.localization_from(x, probabilities, pose.missing().collect())
         })
     }
@@ -677,11 +743,14 @@ impl Validate for CameraLocalizer {
                 self.imputation.len()
             )));
         }
-        if self.model.n_classes() != self.cameras.len() {
+        if !(1..=PostureGroup::ALL.len()).contains(&self.posture_groups)
+            || self.model.n_classes() != self.cameras.len() * self.posture_groups
+        {
             return Err(inconsistent(format!(
-                "classifier has {} classes for {} cameras",
+                "classifier has {} classes for {} cameras in {} posture groups",
                 self.model.n_classes(),
-                self.cameras.len()
+                self.cameras.len(),
+                self.posture_groups
             )));
         }
         if !self.imputation.iter().all(|v| v.is_finite()) {
@@ -703,7 +772,7 @@ impl Persist for CameraLocalizer {
 }
 
 /// The most probable class and its probability (the first on ties).
-fn most_probable(probabilities: &[f64]) -> (usize, f64) {
+pub(crate) fn most_probable(probabilities: &[f64]) -> (usize, f64) {
     probabilities
         .iter()
         .copied()
@@ -777,6 +846,8 @@ struct RowBuffers {
     undefined: Vec<bool>,
     /// The expanded row, for a model with an expansion.
     expanded: Vec<f64>,
+    /// The classifier's class probabilities, before they are summed over postures.
+    classes: Vec<f64>,
 }
 
 thread_local! {
