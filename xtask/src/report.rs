@@ -130,6 +130,7 @@ pub fn run(args: &Args) -> Result<(), String> {
                 dropout: None,
                 mirror: false,
                 viewpoint_lambda: None,
+                posture_classes: false,
             };
             let label = match descriptor {
                 Descriptor::Paper(c) => format!("paper (sigma {})", c.sigma),
