@@ -7,7 +7,7 @@ use camloc_skeleton::PartialPose2;
 use camloc_store::Validate;
 use serde::Serialize;
 
-use crate::localizer::sample_pose;
+use crate::rows::sample_pose;
 use crate::{CameraLocalizer, CamlocError};
 
 /// Accuracy of one camera (by true label).
