@@ -14,6 +14,7 @@ use clap::{Parser, Subcommand};
 mod compare_sklearn;
 mod gen_dataset;
 mod generalise;
+mod mocap_data;
 mod progress;
 mod reconstruction;
 mod report;
