@@ -23,18 +23,22 @@
 mod augment;
 mod category;
 mod dataset;
+mod error;
 mod from_mocap;
 mod generate;
+mod protocol;
 mod select;
+#[cfg(test)]
+mod test_poses;
 
 pub use augment::{
     Augmentation, angle_between_deg, camera_direction_deg, direction_vector, in_class_box,
     nearest_by_direction,
 };
 pub use category::{CATEGORY_RULES, CategorySource, MocapIndex, MotionCategory, assign_categories};
-pub use dataset::{
-    CameraCount, ClipInfo, Dataset, DatasetError, DatasetHeader, Sample, default_test_subjects,
-};
+pub use dataset::{CameraCount, ClipInfo, Dataset, DatasetHeader, Sample, default_test_subjects};
+pub use error::DatasetError;
 pub use from_mocap::{MocapSummary, load_mocap_folders};
-pub use generate::{GenerateConfig, Jitter, PoseSequence, Protocol, SPHERE_BAND_DEG, generate};
+pub use generate::{GenerateConfig, PoseSequence, generate};
+pub use protocol::{Jitter, Protocol, SPHERE_BAND_DEG};
 pub use select::{DEFAULT_MIN_POSE_DISTANCE_MM, max_joint_distance_mm, select_by_pose};
