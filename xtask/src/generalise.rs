@@ -16,7 +16,7 @@ use camloc::dataset::{
 use camloc::learning::{LogisticRegression, angle_deg};
 use camloc::{CameraLocalizer, Capacity, Descriptor, TrainOptions, cross_validate, evaluate};
 
-use crate::gen_dataset::{load_split, project};
+use crate::mocap_data::{load_split, project};
 
 /// Held-out subjects of `generalise` (old and new ones), comma-separated.
 pub const TEST_SUBJECTS: &str = "06,09,16,17,35,47,113,127,141";

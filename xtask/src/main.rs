@@ -15,6 +15,7 @@ use clap::{Parser, Subcommand};
 mod compare_sklearn;
 mod gen_dataset;
 mod generalise;
+mod mocap_data;
 mod postures;
 mod progress;
 mod reconstruction;

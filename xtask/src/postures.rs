@@ -16,7 +16,7 @@ use camloc::dataset::{
 };
 use camloc::{CameraLocalizer, Capacity, TrainOptions};
 
-use crate::gen_dataset::{load_split, project};
+use crate::mocap_data::{load_split, project};
 use crate::view_scores::{Summary, ViewOutcome, categories_in, outcomes};
 
 /// A way of training the localizer that `postures` compares.

@@ -14,8 +14,8 @@ use camloc::reconstruct::{
 };
 use camloc::{CameraLocalizer, Pose3, TrainOptions, evaluation_samples};
 
-use crate::gen_dataset::{basis_poses, load_split, project};
 use crate::generalise::TEST_SUBJECTS;
+use crate::mocap_data::{basis_poses, load_split, project};
 use crate::train_default::{DEFAULT_MIN_POSE_DISTANCE_MM, default_dataset_config, default_options};
 
 /// Arguments of `reconstruction`.
@@ -75,7 +75,7 @@ pub fn measure(args: &Args) -> Result<Measured, String> {
     let started = Instant::now();
     let mut md = String::new();
     let (train_seqs, test_seqs) = load_split(&args.mocap, &args.test_subjects)?;
-    let training = basis_poses(&train_seqs);
+    let training = basis_poses(&train_seqs, DEFAULT_MIN_POSE_DISTANCE_MM);
     let poses: Vec<Pose3> = training.iter().map(|(p, _)| *p).collect();
     let groups: Vec<&str> = training.iter().map(|(_, s)| s.as_str()).collect();
 

@@ -12,8 +12,8 @@ use camloc::keypoints::{ReadOptions, read_keypoints};
 use camloc::learning::LogisticRegression;
 use camloc::{CameraLocalizer, Capacity, Descriptor, TrainOptions, cross_validate, evaluate};
 
-use crate::gen_dataset::{load_sequences, project};
 use crate::generalise::{self, AugmentationChoice, Measured};
+use crate::mocap_data::{load_sequences, project};
 use crate::reconstruction;
 use crate::train_default::{DEFAULT_MIN_POSE_DISTANCE_MM, DEFAULT_SEED, default_options};
 

@@ -9,7 +9,7 @@ use camloc::reconstruct::{BasisConfig, PoseBasis};
 use camloc::store::Persist;
 use camloc::{CameraLocalizer, TrainOptions};
 
-use crate::gen_dataset::{basis_poses, categorise, load_sequences, project};
+use crate::mocap_data::{basis_poses, categorise, load_sequences, project};
 
 /// Seed of the default model's dataset (jitter, noise) and dropout.
 pub const DEFAULT_SEED: u64 = 1;
@@ -154,7 +154,7 @@ pub fn run(args: &Args) -> Result<(), String> {
         dataset.samples.len(),
         start.elapsed().as_secs_f64()
     );
-    let poses: Vec<camloc::Pose3> = basis_poses(&sequences)
+    let poses: Vec<camloc::Pose3> = basis_poses(&sequences, DEFAULT_MIN_POSE_DISTANCE_MM)
         .into_iter()
         .map(|(p, _)| p)
         .collect();

@@ -373,9 +373,7 @@ mod tests {
     use proptest::prelude::*;
     use rand::SeedableRng;
 
-    fn standing() -> Pose3 {
-        crate::generate::tests::standing()
-    }
+    use crate::test_poses::standing;
 
     proptest! {
         #[test]

@@ -22,25 +22,29 @@
 
 mod augment;
 mod dataset;
+mod error;
 mod from_mocap;
 mod generate;
 mod posture;
+mod protocol;
 mod rig;
 mod select;
+#[cfg(test)]
+mod test_poses;
 
 pub use augment::{
     Augmentation, angle_between_deg, camera_direction_deg, direction_vector, in_class_box,
     nearest_by_direction,
 };
 pub use camloc_mocap::{CATEGORY_RULES, CategorySource, MocapIndex, MotionCategory};
-pub use dataset::{
-    CameraCount, ClipInfo, Dataset, DatasetError, DatasetHeader, Sample, default_test_subjects,
-};
+pub use dataset::{CameraCount, ClipInfo, Dataset, DatasetHeader, Sample, default_test_subjects};
+pub use error::DatasetError;
 pub use from_mocap::{MocapSummary, assign_categories, load_mocap_folders};
-pub use generate::{GenerateConfig, Jitter, PoseSequence, Protocol, SPHERE_BAND_DEG, generate};
+pub use generate::{GenerateConfig, PoseSequence, generate};
 pub use posture::{
     BodyAngles, FLOOR_CLEARANCE_M, LIMIT_COVERAGE, LOW_PELVIS_SHARE, PostureGroup, PostureKind,
     PostureLimits, body_angles, is_low_posture, make_posture, pelvis_height_m,
 };
+pub use protocol::{Jitter, Protocol, SPHERE_BAND_DEG};
 pub use rig::{DetectorNoise, Rig, RigView};
 pub use select::{DEFAULT_MIN_POSE_DISTANCE_MM, max_joint_distance_mm, select_by_pose};

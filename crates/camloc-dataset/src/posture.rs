@@ -487,9 +487,7 @@ pub(crate) mod tests {
     use proptest::prelude::*;
     use rand::SeedableRng;
 
-    fn standing() -> Pose3 {
-        crate::generate::tests::standing()
-    }
+    use crate::test_poses::standing;
 
     /// Limits like those learned from the CMU data, for tests.
     pub(crate) const LIMITS: PostureLimits = PostureLimits {

@@ -283,7 +283,7 @@ impl Rig {
 mod tests {
     use super::*;
     use crate::augment::camera_direction_deg;
-    use crate::generate::tests::standing;
+    use crate::test_poses::standing;
     use camloc_geometry::check_rotation;
     use proptest::prelude::*;
     use rand::SeedableRng;

@@ -24,7 +24,9 @@
 //! for the reason above.
 
 mod descriptor;
+mod error;
 mod shape_context;
 
-pub use descriptor::{Descriptor, FeatureError, PaperConfig};
+pub use descriptor::{Descriptor, PaperConfig};
+pub use error::FeatureError;
 pub use shape_context::ShapeContextBins;

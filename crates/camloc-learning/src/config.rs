@@ -1,9 +1,8 @@
-//! The estimator configuration ([`LogisticRegression`]) and its `fit`.
+//! The estimator configuration ([`LogisticRegression`]); fitting is in `fit.rs`.
 
 use serde::{Deserialize, Serialize};
 
-use crate::newton::{FitReport, IterationLog, NewtonProblem, Termination};
-use crate::{Features, LearningError, LogisticModel};
+use crate::LearningError;
 
 /// How the classes are modelled.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -177,65 +176,5 @@ impl LogisticRegression {
             });
         }
         Ok(())
-    }
-
-    /// Fits the model on `x` (one row per sample) with labels `y` in `0..n_classes`.
-    ///
-    /// # Errors
-    /// Invalid hyper-parameters, zero samples, a label count different from the sample
-    /// count, a label `>= n_classes`, fewer than 2 classes, or a Hessian that cannot be
-    /// factorised even with damping ([`LearningError::Singular`]). Not converging within
-    /// `max_iter` is not an error: see [`FitReport::converged`].
-    pub fn fit(
-        &self,
-        x: &Features<'_>,
-        y: &[usize],
-        n_classes: usize,
-    ) -> Result<(LogisticModel, FitReport), LearningError> {
-        self.fit_with_progress(x, y, n_classes, |_| {})
-    }
-
-    /// Like [`fit`](Self::fit), calling `progress` with the log of the starting point and of
-    /// every Newton iteration as soon as it is done.
-    ///
-    /// # Errors
-    /// As [`fit`](Self::fit).
-    pub fn fit_with_progress(
-        &self,
-        x: &Features<'_>,
-        y: &[usize],
-        n_classes: usize,
-        mut progress: impl FnMut(&IterationLog),
-    ) -> Result<(LogisticModel, FitReport), LearningError> {
-        let mut problem = NewtonProblem::new(x, y, n_classes, self)?;
-        let threshold = self.gradient_tolerance * x.n_samples() as f64;
-        let start = problem.log(0.0, false, 0);
-        progress(&start);
-        let mut iterations = vec![start];
-        let termination = loop {
-            if problem.gradient_norm() <= threshold {
-                break Termination::Converged;
-            }
-            if problem.iteration() >= self.max_iter {
-                break Termination::MaxIterations;
-            }
-            let before = problem.objective();
-            let log = problem.newton_step()?;
-            progress(&log);
-            // No decrease found, or a shortened step that left the objective unchanged: the
-            // line search is deciding on rounding noise, and further iterations would only
-            // repeat that (up to max_iter of them).
-            let stalled = log.step == 0.0 || (log.step < 1.0 && log.objective >= before);
-            iterations.push(log);
-            if stalled {
-                break Termination::NoProgress;
-            }
-        };
-        let report = FitReport {
-            iterations,
-            converged: termination == Termination::Converged,
-            termination,
-        };
-        Ok((problem.into_model(), report))
     }
 }

@@ -47,6 +47,7 @@ mod cv;
 mod data;
 mod error;
 mod expansion;
+mod fit;
 mod hessian;
 mod model;
 pub mod newton;

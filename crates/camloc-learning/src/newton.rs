@@ -79,19 +79,17 @@ use crate::standardise::Standardiser;
 use crate::{DirectionSolver, Features, LearningError, LogisticModel, LogisticRegression, Mode};
 
 mod cg;
+mod cg_outcome;
 mod direct;
 mod kernels;
 mod line_search;
 
-use cg::CgOutcome;
+use cg_outcome::{CgOutcome, TruncatedStep};
 pub(crate) use kernels::row_loss;
 use kernels::{
-    add_ridge_curvature, block_totals, linear_logits, residuals_of_row, ridge, shifted,
-    transpose_product,
+    ROWS_PER_TASK, add_ridge_curvature, block_totals, linear_logits, residuals_of_row, ridge,
+    shifted, transpose_product,
 };
-
-/// Rows per task in the parallel passes over samples (probabilities, losses).
-const ROWS_PER_TASK: usize = 2048;
 
 /// What happened in one Newton iteration (or at the starting point, iteration 0).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -643,7 +641,7 @@ impl NewtonProblem {
     /// of which the line search accepted the fraction `step`: a shortened step shrinks the
     /// radius to what was accepted (at least a tenth of the direction), a full step on the
     /// boundary doubles it, a full step inside leaves it.
-    fn update_trust_radius(&mut self, step: f64, taken: cg::TruncatedStep) {
+    fn update_trust_radius(&mut self, step: f64, taken: TruncatedStep) {
         if !(taken.norm > 0.0) {
             return;
         }

@@ -8,7 +8,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::{
-    CameraMode, ReconstructError, Reconstructor, mpjpe_after_similarity,
+    CameraMode, ModeKind, ReconstructError, Reconstructor, mpjpe_after_similarity,
     projection_error_eq12_bbox, rms_error_in_torsos,
 };
 
@@ -25,38 +25,7 @@ pub struct EvalSample {
     pub classified_rotation: Option<Matrix3>,
 }
 
-/// A camera mode to evaluate, resolved per sample into a [`CameraMode`].
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
-pub enum ModeKind {
-    /// [`CameraMode::Opt`].
-    Opt,
-    /// [`CameraMode::Classified`] with the sample's classified rotation.
-    Classified,
-    /// [`CameraMode::Oracle`] with the sample's true rotation.
-    Oracle,
-    /// [`CameraMode::Hybrid`] with the sample's classified rotation.
-    Hybrid,
-}
-
 impl ModeKind {
-    /// Every mode, baseline first.
-    pub const ALL: [ModeKind; 4] = [
-        ModeKind::Opt,
-        ModeKind::Classified,
-        ModeKind::Oracle,
-        ModeKind::Hybrid,
-    ];
-
-    /// Lower-case name (`opt`, `classified`, `oracle`, `hybrid`).
-    pub fn name(self) -> &'static str {
-        match self {
-            ModeKind::Opt => "opt",
-            ModeKind::Classified => "classified",
-            ModeKind::Oracle => "oracle",
-            ModeKind::Hybrid => "hybrid",
-        }
-    }
-
     /// The camera mode for `sample`; `None` when the sample has no classified rotation and
     /// the mode needs one.
     pub fn camera_mode(self, sample: &EvalSample) -> Option<CameraMode> {

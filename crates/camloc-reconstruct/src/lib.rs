@@ -70,7 +70,7 @@ pub use basis::{
     BasisConfig, BasisKind, DEFAULT_ATOMS, MAX_ATOMS, POSE_DIM, PoseBasis, sum_squared_limb_lengths,
 };
 pub use error::ReconstructError;
-pub use eval::{EvalReport, EvalSample, ModeKind, ModeReport, evaluate};
+pub use eval::{EvalReport, EvalSample, ModeReport, evaluate};
 pub use lsq::{ConstrainedSolution, QuadraticConstraint, constrained_least_squares};
 pub use metrics::{
     BBOX_FLOOR_IN_TORSOS, align_similarity, bounding_box, mpjpe_after_similarity,
@@ -78,8 +78,8 @@ pub use metrics::{
 };
 pub use prior::{JointLimits, symmetrise};
 pub use pursuit::{
-    CameraMode, DEFAULT_COEFFICIENT_PRIOR, EQUAL_FIT_TOLERANCE, LengthTarget, ReconstructConfig,
-    Reconstruction, Reconstructor,
+    CameraMode, DEFAULT_COEFFICIENT_PRIOR, EQUAL_FIT_TOLERANCE, LengthTarget, ModeKind,
+    ReconstructConfig, Reconstruction, Reconstructor,
 };
 
 /// `x > 0`, false for NaN (reads better than a negated comparison at the call sites).

@@ -9,7 +9,8 @@ use serde::Serialize;
 
 use rayon::prelude::*;
 
-use crate::localizer::{most_probable, sample_pose};
+use crate::localizer::most_probable;
+use crate::rows::sample_pose;
 use crate::{CameraLocalizer, CamlocError};
 
 /// Accuracy of one camera (by true label).

@@ -34,8 +34,11 @@ mod error;
 mod evaluate;
 mod localizer;
 mod reconstruction;
+mod rows;
 mod select;
 mod sequence;
+mod train;
+mod train_options;
 
 pub use camloc_dataset as dataset;
 pub use camloc_features as features;
@@ -62,8 +65,8 @@ pub use sequence::{
     sequences,
 };
 
-pub use localizer::{
-    CameraLocalizer, Capacity, DEFAULT_LAMBDA, DEFAULT_PRECONDITIONER_ROWS,
-    DEFAULT_QUADRATIC_COMPONENTS, DEFAULT_VIEWPOINT_LAMBDA, LandmarkDropout, Localization,
-    MAX_DROPOUT_COPIES, TrainOptions, TrainingInfo,
+pub use localizer::{CameraLocalizer, Localization};
+pub use train_options::{
+    Capacity, DEFAULT_LAMBDA, DEFAULT_PRECONDITIONER_ROWS, DEFAULT_QUADRATIC_COMPONENTS,
+    DEFAULT_VIEWPOINT_LAMBDA, LandmarkDropout, MAX_DROPOUT_COPIES, TrainOptions, TrainingInfo,
 };

@@ -9,7 +9,7 @@ use camloc_skeleton::PartialPose2;
 use camloc_store::Persist;
 use camloc_store::Validate;
 
-use crate::localizer::sample_pose;
+use crate::rows::sample_pose;
 use crate::{CameraLocalizer, CamlocError, Localization};
 
 /// A reconstructed pose and the camera localization it used (none for `opt`).

@@ -7,7 +7,7 @@ use camloc_skeleton::PartialPose2;
 use camloc_store::Validate;
 
 use crate::CamlocError;
-use crate::localizer::{extract_rows, impute_rows, sample_pose};
+use crate::rows::{extract_rows, impute_rows, sample_pose};
 
 /// Cross-validation of one descriptor over several regression settings.
 #[derive(Clone, Debug)]
@@ -49,7 +49,7 @@ pub fn cross_validate(
         .iter()
         .map(|descriptor| {
             let (mut x, undefined) = extract_rows(descriptor, &poses)?;
-            let means = crate::localizer::column_means(&x, &undefined, descriptor.len());
+            let means = crate::rows::column_means(&x, &undefined, descriptor.len());
             impute_rows(&mut x, &undefined, &means);
             let features = Features::new(&x, descriptor.len())?;
             let report = cross_validate_grouped(

@@ -2,7 +2,7 @@
 
 use camloc_skeleton::{LIMBS, Landmark, NUM_LIMBS, Pose2, TORSO_LIMB};
 
-use super::FeatureError;
+use crate::FeatureError;
 
 /// The origin and unit length of a descriptor's 2D frame.
 pub(super) struct TorsoFrame {

@@ -22,8 +22,9 @@ use faer::linalg::cholesky::llt::solve::solve_in_place;
 use faer::{MatRef, Par};
 use rayon::prelude::*;
 
-use super::kernels::{add_ridge_curvature, linear_logits, transpose_product};
-use super::{NewtonProblem, ROWS_PER_TASK};
+use super::NewtonProblem;
+use super::cg_outcome::{CgOutcome, TruncatedStep};
+use super::kernels::{ROWS_PER_TASK, add_ridge_curvature, linear_logits, transpose_product};
 use crate::hessian::dot;
 
 /// Target relative error of the direction in the Hessian norm.
@@ -38,36 +39,6 @@ const MIN_BUDGET: usize = 10;
 const PRODUCT_COST_WEIGHT: f64 = 2.0;
 /// Products after which the convergence rate is extrapolated to decide whether to go on.
 const RATE_CHECK_AFTER: usize = 4;
-
-/// What [`NewtonProblem::solve_by_cg`] did.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(super) enum CgOutcome {
-    /// CG was not attempted (no reusable factor, or another solver): assemble and factorise.
-    NotTried,
-    /// `direction` holds the Newton direction, after `products` Hessian-vector products.
-    Solved {
-        /// Hessian-vector products spent.
-        products: usize,
-    },
-    /// CG gave up after `products` products (budget spent, too slow a rate, or a
-    /// non-positive curvature): `direction` is meaningless, the caller assembles and
-    /// factorises the Hessian instead.
-    GaveUp {
-        /// Hessian-vector products spent.
-        products: usize,
-    },
-}
-
-/// What [`NewtonProblem::solve_by_truncated_cg`] did.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(super) struct TruncatedStep {
-    /// Hessian-vector products spent.
-    pub(super) products: usize,
-    /// Norm of the direction in the preconditioner's metric, `sqrt(d^T M d)`.
-    pub(super) norm: f64,
-    /// Whether the direction ends on the trust radius.
-    pub(super) on_boundary: bool,
-}
 
 /// The conjugate-gradient work vectors, `P` entries each.
 #[derive(Debug)]

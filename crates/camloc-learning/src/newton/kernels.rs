@@ -6,9 +6,11 @@ use faer::linalg::matmul::matmul;
 use faer::{Accum, MatMut, MatRef, Par};
 use rayon::prelude::*;
 
-use super::ROWS_PER_TASK;
 use crate::Mode;
 use crate::softmax::{log_sum_exp, sigmoid, softmax_in_place, softplus};
+
+/// Rows per task in the parallel passes over samples (probabilities, losses).
+pub(super) const ROWS_PER_TASK: usize = 2048;
 
 /// `totals[b] = sum over tasks of partials[task][b]` (in task order), then plus the ridge
 /// term of each class in its block. Shared by the trial and the update passes so that an

@@ -3,8 +3,8 @@
 
 use rayon::prelude::*;
 
-use super::kernels::{block_of_class, block_totals, ridge, row_loss, shifted};
-use super::{NewtonProblem, ROWS_PER_TASK};
+use super::NewtonProblem;
+use super::kernels::{ROWS_PER_TASK, block_of_class, block_totals, ridge, row_loss, shifted};
 
 /// Sufficient-decrease constant of the Armijo condition `f(t) <= f(0) + c t g.d`.
 const ARMIJO_C1: f64 = 1e-4;

@@ -3,7 +3,7 @@
 
 use std::collections::HashMap;
 
-use super::{AsfSkeleton, Bone, LANDMARK_BONES, Root, RootDof};
+use super::skeleton::{AsfSkeleton, Bone, LANDMARK_BONES, Root, RootDof};
 use crate::error::{MocapError, ParseProblem};
 use crate::rotation::{Axis, Rot3};
 use crate::text::Source;

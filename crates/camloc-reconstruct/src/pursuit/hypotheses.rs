@@ -1,0 +1,263 @@
+//! One reconstruction: the solves a [`CameraMode`] asks for, each with its depth-reflected
+//! hypothesis and the priors, ranked.
+
+use camloc_geometry::{Matrix3, WeakPerspective, check_rotation};
+use camloc_skeleton::{Pose2, Pose3};
+
+use super::camera_update::CameraUpdate;
+use super::config::EQUAL_FIT_TOLERANCE;
+use super::greedy::Fit;
+use super::mode::CameraMode;
+use super::observation::Observation;
+use super::reconstructor::Reconstructor;
+use crate::ReconstructError;
+use crate::prior::symmetrise;
+
+/// Tolerance of the rotation check applied to rotations given in a [`CameraMode`].
+const ROTATION_TOLERANCE: f64 = 1e-6;
+
+/// A reconstructed 3D pose and the camera that projects it onto the input.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Reconstruction {
+    /// The pose `mu + B w`, metres, in the basis's canonical body frame (pelvis at the origin;
+    /// the frame in which the training poses face -x). The camera rotation maps this frame to
+    /// the camera; with a fixed class rotation the pose is therefore oriented as a canonical
+    /// pose seen from that class, with Procrustes modes its facing is whatever the estimated
+    /// camera implies. Its size is the training average (the anthropometric target), not the
+    /// subject's.
+    pub pose: Pose3,
+    /// Weak-perspective camera in the input's image units: `L = s [I2 0] R X + t`.
+    pub camera: WeakPerspective,
+    /// Eq. 6 at the solution: the Euclidean norm of the 30-vector of reprojection residuals,
+    /// in the input's image units.
+    pub projection_error: f64,
+    /// Indices of the selected basis components, in order of selection (at most
+    /// [`ReconstructConfig::max_basis`]).
+    ///
+    /// [`ReconstructConfig::max_basis`]: crate::ReconstructConfig::max_basis
+    pub selected: Vec<usize>,
+    /// Coefficients of the selected components, parallel to `selected` (metres).
+    pub coefficients: Vec<f64>,
+    /// Coefficient/camera alternations performed, over every hypothesis tried (both depth
+    /// hypotheses; for [`CameraMode::Hybrid`], both solves).
+    pub iterations: usize,
+    /// `true` when this is the depth-reflected hypothesis.
+    pub reflected: bool,
+    /// How far the pursuit's pose lay outside the learned joint-angle limits, before the
+    /// prior's projection: the sum over the 8 limb bones of the angle beyond the limits,
+    /// radians (0: within them).
+    pub limit_violation_rad: f64,
+}
+
+/// One hypothesis of [`Reconstructor::solve`], after the priors.
+struct Candidate {
+    fit: Fit,
+    reflected: bool,
+    /// [`Reconstruction::limit_violation_rad`].
+    violation: f64,
+}
+
+impl Reconstructor {
+    /// Reconstructs the 3D pose seen in `pose` (any image units, `v` down) under `mode`: the
+    /// first of [`reconstruct_hypotheses`](Self::reconstruct_hypotheses).
+    ///
+    /// # Errors
+    /// As [`reconstruct_hypotheses`](Self::reconstruct_hypotheses).
+    pub fn reconstruct(
+        &self,
+        pose: &Pose2,
+        mode: &CameraMode,
+    ) -> Result<Reconstruction, ReconstructError> {
+        let mut all = self.reconstruct_hypotheses(pose, mode, 1)?;
+        all.pop()
+            .ok_or(ReconstructError::Numerical("no hypothesis was solved"))
+    }
+
+    /// Reconstructs the 3D pose seen in `pose` (any image units, `v` down) under `mode`, and
+    /// returns up to `max` hypotheses, the preferred one first.
+    ///
+    /// Algorithm (projected matching pursuit): start from `mu` and the mode's initial camera;
+    /// repeatedly add the component whose projection has the largest normalised correlation
+    /// with the current residual, then alternate an exact constrained least-squares solve of
+    /// the selected coefficients (translation eliminated) with a camera update (Procrustes, or
+    /// scale and translation for a fixed rotation), keeping whichever camera gives the lower
+    /// error; stop when a new component lowers the error by less than
+    /// [`ReconstructConfig::min_relative_decrease`] (it is then discarded) or `max_basis` is
+    /// reached.
+    ///
+    /// Depth reflection (when [`ReconstructConfig::try_depth_reflection`]): the solution `X`
+    /// is reflected in the plane through the pelvis orthogonal to the camera's optical axis
+    /// `r3`, `X' = (I - 2 r3 r3^T) X`. The same camera sees `X'` exactly as it sees `X` (the
+    /// reflection only negates depth), and the camera stays a proper rotation; only the pose
+    /// changes handedness, so `X'` is generally not in the basis span. `X'` is therefore
+    /// projected onto the basis (the same number of components, those whose unit columns
+    /// correlate most with `X'` minus the mean — for a PCA basis the largest coefficients of
+    /// the orthogonal projection; dictionary atoms are not orthogonal, so for them it is only
+    /// a correlation — then the constrained 3D least-squares fit on those components)
+    /// and the pursuit continues from there with the same camera update (for fixed-rotation
+    /// modes: the reflected pose seen by the same rotation).
+    ///
+    /// Priors ([`ReconstructConfig::symmetry`], [`ReconstructConfig::joint_limits`]) then
+    /// adjust each hypothesis and its camera is refitted. The hypotheses are ranked by
+    /// reprojection error, except that of two whose RMS errors are within
+    /// [`EQUAL_FIT_TOLERANCE`] of each other the one with the smaller joint-limit violation
+    /// comes first (with the joint-limit prior on).
+    ///
+    /// [`CameraMode::Hybrid`] runs two such solves (see there), and their hypotheses are
+    /// ranked together.
+    ///
+    /// # Errors
+    /// [`ReconstructError::NonFiniteInput`], [`ReconstructError::DegenerateInput`] (zero torso,
+    /// coincident landmarks), [`ReconstructError::InvalidRotation`] for a mode rotation that
+    /// is not proper, [`ReconstructError::Geometry`] when a camera cannot be estimated (e.g.
+    /// collinear 2D landmarks under Procrustes).
+    ///
+    /// [`ReconstructConfig::min_relative_decrease`]: crate::ReconstructConfig::min_relative_decrease
+    /// [`ReconstructConfig::try_depth_reflection`]: crate::ReconstructConfig::try_depth_reflection
+    /// [`ReconstructConfig::symmetry`]: crate::ReconstructConfig::symmetry
+    /// [`ReconstructConfig::joint_limits`]: crate::ReconstructConfig::joint_limits
+    pub fn reconstruct_hypotheses(
+        &self,
+        pose: &Pose2,
+        mode: &CameraMode,
+        max: usize,
+    ) -> Result<Vec<Reconstruction>, ReconstructError> {
+        let obs = Observation::new(pose)?;
+        let checked = |r: &Matrix3| {
+            check_rotation(r, ROTATION_TOLERANCE)
+                .map(|()| CameraUpdate::Fixed(*r))
+                .map_err(|source| ReconstructError::InvalidRotation {
+                    mode: mode.name(),
+                    source,
+                })
+        };
+        let mut candidates = match mode {
+            CameraMode::Opt => self.solve(
+                &obs,
+                CameraUpdate::Procrustes,
+                CameraUpdate::Procrustes,
+                false,
+            )?,
+            CameraMode::Classified(r) | CameraMode::Oracle(r) => {
+                let fixed = checked(r)?;
+                self.solve(&obs, fixed, fixed, false)?
+            }
+            CameraMode::Hybrid(r) => {
+                let fixed = checked(r)?;
+                let mut all = self.solve(&obs, fixed, fixed, true)?;
+                all.extend(self.solve(&obs, fixed, CameraUpdate::Procrustes, false)?);
+                all
+            }
+        };
+        let iterations = candidates.iter().map(|c| c.fit.iterations).sum();
+        candidates.sort_by(|a, b| self.preference(a, b));
+        Ok(candidates
+            .into_iter()
+            .take(max.max(1))
+            .map(|c| Reconstruction {
+                pose: Pose3 {
+                    points: c.fit.points,
+                },
+                camera: obs.denormalise(&c.fit.camera),
+                projection_error: c.fit.error.sqrt() * obs.scale,
+                selected: c.fit.selected,
+                coefficients: c.fit.coefficients,
+                iterations,
+                reflected: c.reflected,
+                limit_violation_rad: c.violation,
+            })
+            .collect())
+    }
+
+    /// The order of two hypotheses: by error, unless they fit about equally and the
+    /// joint-limit prior is on, then by violation.
+    fn preference(&self, a: &Candidate, b: &Candidate) -> std::cmp::Ordering {
+        let (ea, eb) = (a.fit.error.sqrt(), b.fit.error.sqrt());
+        let close = (ea - eb).abs() <= EQUAL_FIT_TOLERANCE * ea.max(eb);
+        if self.config.joint_limits && close && a.violation != b.violation {
+            a.violation.total_cmp(&b.violation)
+        } else {
+            a.fit.error.total_cmp(&b.fit.error)
+        }
+    }
+
+    /// Applies the configured priors to `fit`'s pose, refits its camera with `update` and
+    /// returns the pose's joint-limit violation before the priors.
+    fn apply_priors(
+        &self,
+        obs: &Observation,
+        fit: &mut Fit,
+        update: CameraUpdate,
+    ) -> Result<f64, ReconstructError> {
+        let limits = self.basis.joint_limits();
+        let mut pose = Pose3 { points: fit.points };
+        let violation = limits.violation(&pose);
+        if !(self.config.symmetry || self.config.joint_limits) {
+            return Ok(violation);
+        }
+        if self.config.symmetry {
+            pose = symmetrise(&pose);
+        }
+        if self.config.joint_limits {
+            pose = limits.project(&pose);
+        }
+        let camera = update.fit_or_keep(&fit.camera, &pose.points, &obs.points);
+        fit.error = camera.squared_error(&pose.points, &obs.points)?;
+        fit.camera = camera;
+        fit.points = pose.points;
+        Ok(violation)
+    }
+
+    /// One full solve: the camera `start` fitted to the mean pose, the pursuit with camera
+    /// `update`, the depth-reflected hypothesis if configured, and, if `refine`, a Procrustes
+    /// refinement of each hypothesis; then the priors. Returns the hypotheses (the direct one
+    /// first).
+    fn solve(
+        &self,
+        obs: &Observation,
+        start: CameraUpdate,
+        update: CameraUpdate,
+        refine: bool,
+    ) -> Result<Vec<Candidate>, ReconstructError> {
+        let mean = self.points(&[], &[]);
+        let camera = start.start(&mean, &obs.points)?;
+        let initial = Fit {
+            selected: Vec::new(),
+            coefficients: Vec::new(),
+            points: mean,
+            error: camera.squared_error(&mean, &obs.points)?,
+            camera,
+            iterations: 0,
+        };
+        let primary = self.pursue(obs, initial, update)?;
+        let other = if self.config.try_depth_reflection {
+            let mut other = self.reflected_start(obs, &primary, update)?;
+            self.alternate(obs, &mut other, update)?;
+            Some(self.pursue(obs, other, update)?)
+        } else {
+            None
+        };
+        // The refinement never raises the error.
+        let last = if refine {
+            CameraUpdate::Procrustes
+        } else {
+            update
+        };
+        let finish = |mut fit: Fit, reflected: bool| -> Result<Candidate, ReconstructError> {
+            if refine {
+                self.alternate(obs, &mut fit, CameraUpdate::Procrustes)?;
+            }
+            let violation = self.apply_priors(obs, &mut fit, last)?;
+            Ok(Candidate {
+                fit,
+                reflected,
+                violation,
+            })
+        };
+        let mut out = vec![finish(primary, false)?];
+        if let Some(other) = other {
+            out.push(finish(other, true)?);
+        }
+        Ok(out)
+    }
+}

@@ -1,0 +1,83 @@
+//! The 2D input normalised for the pursuit.
+
+use camloc_geometry::WeakPerspective;
+use camloc_skeleton::{NUM_LANDMARKS, Pose2};
+use nalgebra::DVector;
+
+use crate::{ReconstructError, check_finite_landmarks, is_positive_finite};
+
+/// Number of image coordinates of a pose (15 landmarks x 2).
+pub(super) const IMAGE_DIM: usize = 2 * NUM_LANDMARKS;
+
+/// The 2D input, centred on its centroid and divided by its RMS radius, so that every
+/// tolerance is unit-free.
+pub(super) struct Observation {
+    pub(super) points: [[f64; 2]; NUM_LANDMARKS],
+    centroid: [f64; 2],
+    pub(super) scale: f64,
+}
+
+impl Observation {
+    pub(super) fn new(pose: &Pose2) -> Result<Observation, ReconstructError> {
+        check_finite_landmarks(pose)?;
+        // Extreme magnitudes (1e154, 1e-200, ...) are first brought into range by an exact
+        // power of two `factor` (1 for ordinary poses), so that the squares below neither
+        // overflow nor underflow; centroid and scale are mapped back at the end.
+        let (pose, factor) = pose.within_safe_range();
+        let centroid = centroid(&pose.points);
+        let centred = pose
+            .points
+            .map(|p| [p[0] - centroid[0], p[1] - centroid[1]]);
+        let scale = rms_radius(&pose.points);
+        if !is_positive_finite(scale) {
+            return Err(ReconstructError::DegenerateInput("all landmarks coincide"));
+        }
+        let has_torso = pose.torso_length() > 1e-9 * scale;
+        if !has_torso {
+            return Err(ReconstructError::DegenerateInput(
+                "the torso (pelvis to neck) has zero length",
+            ));
+        }
+        Ok(Observation {
+            points: centred.map(|p| [p[0] / scale, p[1] / scale]),
+            centroid: [centroid[0] / factor, centroid[1] / factor],
+            scale: scale / factor,
+        })
+    }
+
+    /// The normalised points as a 30-vector.
+    pub(super) fn vector(&self) -> DVector<f64> {
+        DVector::from_iterator(IMAGE_DIM, self.points.iter().flatten().copied())
+    }
+
+    /// A camera fitted to the normalised points, expressed in the input's image units.
+    pub(super) fn denormalise(&self, camera: &WeakPerspective) -> WeakPerspective {
+        WeakPerspective {
+            scale: camera.scale * self.scale,
+            rotation: camera.rotation,
+            translation: [
+                camera.translation[0] * self.scale + self.centroid[0],
+                camera.translation[1] * self.scale + self.centroid[1],
+            ],
+        }
+    }
+}
+
+/// The mean of `points` (their units).
+fn centroid(points: &[[f64; 2]; NUM_LANDMARKS]) -> [f64; 2] {
+    let n = NUM_LANDMARKS as f64;
+    points
+        .iter()
+        .fold([0.0; 2], |a, p| [a[0] + p[0] / n, a[1] + p[1] / n])
+}
+
+/// Root-mean-square distance of `points` from their centroid (their units).
+pub(super) fn rms_radius(points: &[[f64; 2]; NUM_LANDMARKS]) -> f64 {
+    let n = NUM_LANDMARKS as f64;
+    let centre = centroid(points);
+    let sum: f64 = points
+        .iter()
+        .map(|p| (p[0] - centre[0]).powi(2) + (p[1] - centre[1]).powi(2))
+        .sum();
+    (sum / n).sqrt()
+}

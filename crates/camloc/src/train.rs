@@ -1,0 +1,239 @@
+//! Training a [`CameraLocalizer`]: descriptors of the (mirrored, landmark-dropped) samples,
+//! the multinomial classifier and the continuous-viewpoint heads.
+
+use camloc_dataset::{Dataset, PostureGroup, camera_direction_deg, direction_vector};
+use camloc_features::Descriptor;
+use camloc_learning::{DirectionHeads, Features, FitReport, IterationLog, QuadraticExpansion};
+use camloc_skeleton::{Landmark, NUM_LANDMARKS, PartialPose2};
+use camloc_store::Validate;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+use crate::localizer::most_probable;
+use crate::rows::{column_means, extract_rows, impute_rows, sample_pose};
+use crate::train_options::check_viewpoint_lambda;
+use crate::{CameraLocalizer, CamlocError, Capacity, LandmarkDropout, TrainOptions, TrainingInfo};
+
+impl CameraLocalizer {
+    /// Trains on every sample of `dataset`. `progress` receives the Newton iteration log.
+    /// With [`TrainOptions::viewpoint_lambda`], the viewpoint heads are then fitted on the
+    /// same samples ([`fit_viewpoint`](Self::fit_viewpoint)).
+    ///
+    /// # Errors
+    /// Invalid options ([`TrainOptions::validate`]); [`CamlocError::Dataset`] for a sample
+    /// whose label is not a camera of the dataset or whose clip index is out of range;
+    /// [`CamlocError::Inconsistent`] for an empty dataset, or with viewpoint heads one with a
+    /// camera of no samples; [`CamlocError::Feature`] naming the
+    /// first sample whose descriptor fails; [`CamlocError::Learning`] from the solver.
+    pub fn train(
+        dataset: &Dataset,
+        options: &TrainOptions,
+        progress: impl FnMut(&IterationLog),
+    ) -> Result<(CameraLocalizer, FitReport), CamlocError> {
+        options.validate()?;
+        dataset.validate()?;
+        let descriptor = options.descriptor;
+        if dataset.samples.is_empty() {
+            return Err(CamlocError::Inconsistent {
+                what: "dataset",
+                detail: "no samples to train on".into(),
+            });
+        }
+        let d = descriptor.len();
+        let cameras = &dataset.header.cameras;
+        let posture_groups = if options.posture_classes {
+            PostureGroup::ALL.len()
+        } else {
+            1
+        };
+        let mut poses: Vec<PartialPose2> = dataset.samples.iter().map(sample_pose).collect();
+        let mut labels: Vec<u16> = dataset.samples.iter().map(|s| s.label).collect();
+        let mut groups: Vec<usize> = dataset
+            .samples
+            .iter()
+            .map(|s| {
+                if options.posture_classes {
+                    PostureGroup::of(&s.pose3).index()
+                } else {
+                    0
+                }
+            })
+            .collect();
+        if options.mirror {
+            poses.extend(poses.iter().map(PartialPose2::mirrored).collect::<Vec<_>>());
+            labels.extend(
+                labels
+                    .iter()
+                    .map(|&l| cameras.mirror_left_right(l))
+                    .collect::<Vec<_>>(),
+            );
+            // A mirrored body keeps its posture.
+            groups.extend_from_within(..);
+        }
+        let (mut x, undefined) = extract_rows(&descriptor, &poses)?;
+        let imputation = column_means(&x, &undefined, d);
+        impute_rows(&mut x, &undefined, &imputation);
+        // Labels are 1..=cameras (checked by `dataset.validate()`), mirroring keeps them so.
+        let mut y: Vec<usize> = labels
+            .iter()
+            .zip(&groups)
+            .map(|(&l, g)| g * cameras.len() + usize::from(l) - 1)
+            .collect();
+        if let Some(dropout) = options.dropout {
+            let (extra, labels) = augment(&descriptor, &poses, &y, &dropout, &imputation)?;
+            x.extend_from_slice(&extra);
+            y.extend_from_slice(&labels);
+        }
+        // The expansion is fitted on the samples (and mirror images) before dropout.
+        let expansion = match options.capacity {
+            Capacity::Linear => None,
+            Capacity::Quadratic { components } => Some(QuadraticExpansion::fit(
+                &Features::new(&x[..poses.len() * d], d)?,
+                components,
+            )?),
+        };
+        if let Some(e) = &expansion {
+            x = e.expand_rows(&Features::new(&x, d)?)?;
+        }
+        let width = expansion.as_ref().map_or(d, QuadraticExpansion::n_outputs);
+        let features = Features::new(&x, width)?;
+        let (model, report) = options.regression.fit_with_progress(
+            &features,
+            &y,
+            dataset.header.cameras.len() * posture_groups,
+            progress,
+        )?;
+        let info = TrainingInfo {
+            camloc_version: env!("CARGO_PKG_VERSION").to_string(),
+            protocol: dataset.header.protocol,
+            samples: dataset.samples.len(),
+            subjects: dataset.subjects().into_iter().map(|(s, _)| s).collect(),
+            lambda: options.regression.lambda,
+            capacity: options.capacity,
+            dropout: options.dropout,
+            mirror: options.mirror,
+            posture_classes: options.posture_classes,
+        };
+        let mut localizer = CameraLocalizer {
+            descriptor,
+            cameras: dataset.header.cameras.clone(),
+            expansion,
+            model,
+            posture_groups,
+            imputation,
+            info,
+            viewpoint: None,
+        };
+        if let Some(lambda) = options.viewpoint_lambda {
+            let n = dataset.samples.len();
+            localizer.fit_viewpoint_rows(&x[..n * width], dataset, lambda)?;
+        }
+        Ok((localizer, report))
+    }
+
+    /// Fits (or refits) the continuous-viewpoint heads on `dataset`: per camera class, a
+    /// ridge regression (weight `lambda`) from the descriptor to the unit direction of the
+    /// sample's camera (from its rotation), fitted on the samples labelled with that class;
+    /// then the uncertainty is calibrated on the same samples, by the class this
+    /// localizer chooses and its probability. A dataset whose directions cover the sphere
+    /// band (protocol `sphere`) gives heads that resolve directions between the cameras.
+    ///
+    /// # Errors
+    /// [`CamlocError::InvalidOption`] for a bad `lambda`; [`CamlocError::Inconsistent`] when
+    /// the dataset's cameras are not this model's or one of them has no samples; dataset,
+    /// descriptor and solver errors as in [`train`](Self::train).
+    pub fn fit_viewpoint(&mut self, dataset: &Dataset, lambda: f64) -> Result<(), CamlocError> {
+        dataset.validate()?;
+        if dataset.header.cameras != self.cameras {
+            return Err(CamlocError::Inconsistent {
+                what: "viewpoint dataset",
+                detail: "its cameras are not the model's".into(),
+            });
+        }
+        let poses: Vec<PartialPose2> = dataset.samples.iter().map(sample_pose).collect();
+        let x = self.feature_rows(&poses)?;
+        self.fit_viewpoint_rows(&x, dataset, lambda)
+    }
+
+    /// [`fit_viewpoint`](Self::fit_viewpoint) on the samples' feature rows `x` (imputed and
+    /// expanded).
+    fn fit_viewpoint_rows(
+        &mut self,
+        x: &[f64],
+        dataset: &Dataset,
+        lambda: f64,
+    ) -> Result<(), CamlocError> {
+        check_viewpoint_lambda(lambda)?;
+        let features = Features::new(x, self.feature_width())?;
+        let directions: Vec<[f64; 3]> = dataset
+            .samples
+            .iter()
+            .map(|s| {
+                let (azimuth, elevation) = camera_direction_deg(&s.rotation);
+                direction_vector(azimuth, elevation)
+            })
+            .collect();
+        let classes: Vec<usize> = dataset
+            .samples
+            .iter()
+            .map(|s| usize::from(s.label) - 1)
+            .collect();
+        if let Some(k) = (0..self.cameras.len()).find(|k| !classes.contains(k)) {
+            return Err(CamlocError::Inconsistent {
+                what: "viewpoint dataset",
+                detail: format!(
+                    "camera {} has no samples; the viewpoint heads need samples of every camera (or train without heads)",
+                    k + 1
+                ),
+            });
+        }
+        let mut heads =
+            DirectionHeads::fit(&features, &directions, &classes, self.cameras.len(), lambda)?;
+        let mut classes = vec![0.0; self.model.n_classes()];
+        let mut probabilities = vec![0.0; self.cameras.len()];
+        let chosen = features
+            .rows()
+            .map(|row| {
+                self.camera_probabilities_into(row, &mut classes, &mut probabilities)?;
+                Ok(most_probable(&probabilities))
+            })
+            .collect::<Result<Vec<_>, CamlocError>>()?;
+        heads.calibrate(&features, &chosen, &directions)?;
+        self.viewpoint = Some(heads);
+        Ok(())
+    }
+}
+
+/// Augmented copies of the training poses with random non-torso landmarks dropped.
+fn augment(
+    descriptor: &Descriptor,
+    poses: &[PartialPose2],
+    labels: &[usize],
+    dropout: &LandmarkDropout,
+    imputation: &[f64],
+) -> Result<(Vec<f64>, Vec<usize>), CamlocError> {
+    dropout.validate()?;
+    let mut rng = ChaCha8Rng::seed_from_u64(dropout.seed);
+    let droppable: Vec<usize> = (0..NUM_LANDMARKS)
+        .filter(|&i| i != Landmark::Pelvis.index() && i != Landmark::Neck.index())
+        .collect();
+    let whole = dropout.copies.floor() as usize;
+    let mut chosen: Vec<usize> = (0..whole).flat_map(|_| 0..poses.len()).collect();
+    let part = dropout.copies - whole as f64;
+    chosen.extend((0..poses.len()).filter(|_| rng.random_bool(part.clamp(0.0, 1.0))));
+    let dropped: Vec<PartialPose2> = chosen
+        .iter()
+        .map(|&i| {
+            let mut pose = poses[i];
+            let mut candidates = droppable.clone();
+            for _ in 0..rng.random_range(1..=dropout.max_missing) {
+                let k = rng.random_range(0..candidates.len());
+                pose.points[candidates.swap_remove(k)] = None;
+            }
+            pose
+        })
+        .collect();
+    let (mut x, undefined) = extract_rows(descriptor, &dropped)?;
+    impute_rows(&mut x, &undefined, imputation);
+    Ok((x, chosen.iter().map(|&i| labels[i]).collect()))
+}

@@ -1,0 +1,280 @@
+//! How to train a [`CameraLocalizer`](crate::CameraLocalizer) ([`TrainOptions`]: descriptor,
+//! capacity, regression, augmentation, viewpoint heads) and what a model was trained on
+//! ([`TrainingInfo`]).
+
+use camloc_dataset::Protocol;
+use camloc_features::Descriptor;
+use camloc_learning::{DirectionSolver, LogisticRegression};
+use camloc_skeleton::NUM_LANDMARKS;
+use serde::{Deserialize, Serialize};
+
+use crate::CamlocError;
+
+/// Largest number of dropout copies [`TrainOptions::validate`] accepts: each copy adds as many
+/// descriptor rows as the training set has samples (with mirroring, twice that), so the bound
+/// keeps memory within about eleven times that of the plain training set.
+pub const MAX_DROPOUT_COPIES: f64 = 10.0;
+
+/// Random landmark dropout used in training so that localization copes with missing
+/// landmarks: `copies` augmented copies of the training set are appended, in each of which
+/// every sample loses between 1 and `max_missing` random non-torso landmarks (whose descriptor
+/// values are imputed, as at prediction time).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct LandmarkDropout {
+    /// Number of augmented copies of the training set, 0 to [`MAX_DROPOUT_COPIES`]
+    /// (fractions allowed: 0.5 = half of the samples, chosen at random).
+    pub copies: f64,
+    /// Most landmarks dropped from one sample (1..=13).
+    pub max_missing: usize,
+    /// Random seed.
+    pub seed: u64,
+}
+
+impl LandmarkDropout {
+    /// Checks the settings: `copies` finite in `0..=MAX_DROPOUT_COPIES`, `max_missing` in
+    /// `1..=13` (every landmark but the pelvis and neck).
+    ///
+    /// # Errors
+    /// [`CamlocError::InvalidOption`] naming the setting.
+    pub fn validate(&self) -> Result<(), CamlocError> {
+        if !(self.copies >= 0.0 && self.copies <= MAX_DROPOUT_COPIES) {
+            return Err(CamlocError::InvalidOption {
+                name: "dropout copies",
+                detail: format!(
+                    "must be a number from 0 to {MAX_DROPOUT_COPIES}, got {}",
+                    self.copies
+                ),
+            });
+        }
+        if self.max_missing == 0 || self.max_missing > NUM_LANDMARKS - 2 {
+            return Err(CamlocError::InvalidOption {
+                name: "dropout max_missing",
+                detail: format!(
+                    "must be from 1 to {}, got {}",
+                    NUM_LANDMARKS - 2,
+                    self.max_missing
+                ),
+            });
+        }
+        Ok(())
+    }
+}
+
+impl Default for LandmarkDropout {
+    /// One augmented copy with up to 3 missing landmarks, seed 0.
+    fn default() -> Self {
+        LandmarkDropout {
+            copies: 1.0,
+            max_missing: 3,
+            seed: 0,
+        }
+    }
+}
+
+/// Default ridge weight lambda of the localizer (on the sum of per-sample losses), chosen by
+/// cross-validation grouped by subject on the CMU data (docs/RESULTS.md).
+pub const DEFAULT_LAMBDA: f64 = 1.0;
+
+/// Default ridge weight of the continuous-viewpoint heads ([`TrainOptions::viewpoint_lambda`]),
+/// measured by `cargo xtask generalise` (issue 11).
+pub const DEFAULT_VIEWPOINT_LAMBDA: f64 = 1.0;
+
+/// Principal components of the default quadratic expansion ([`Capacity::Quadratic`]),
+/// measured by `cargo xtask generalise` (docs/RESULTS.md).
+pub const DEFAULT_QUADRATIC_COMPONENTS: usize = 30;
+
+/// Samples the preconditioning Hessian of the default quadratic model's Newton solver is
+/// assembled on ([`DirectionSolver::TruncatedCg`]).
+pub const DEFAULT_PRECONDITIONER_ROWS: usize = 40_000;
+
+/// Which features the multinomial regression sees: its capacity.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Capacity {
+    /// The descriptor itself: a linear model of it (the paper's).
+    Linear,
+    /// The descriptor and the pairwise products of its `components` leading whitened
+    /// principal components ([`QuadraticExpansion`](camloc_learning::QuadraticExpansion),
+    /// fitted on the training descriptors): a quadratic model of the descriptor, still fitted
+    /// by Newton's method.
+    Quadratic {
+        /// Principal components whose products are added (1 to the descriptor's length, at
+        /// most 64).
+        components: usize,
+    },
+}
+
+impl Capacity {
+    /// Short name: `linear` or `quadratic-<components>`.
+    pub fn name(&self) -> String {
+        match self {
+            Capacity::Linear => "linear".into(),
+            Capacity::Quadratic { components } => format!("quadratic-{components}"),
+        }
+    }
+}
+
+impl std::fmt::Display for Capacity {
+    /// [`Capacity::name`].
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.name())
+    }
+}
+
+impl std::str::FromStr for Capacity {
+    type Err = String;
+
+    /// Parses [`Capacity::name`]: `linear` or `quadratic-K` with `K` from 1 to 64.
+    fn from_str(text: &str) -> Result<Capacity, String> {
+        if text == "linear" {
+            return Ok(Capacity::Linear);
+        }
+        match text.strip_prefix("quadratic-").map(str::parse::<usize>) {
+            Some(Ok(components))
+                if (1..=camloc_learning::MAX_EXPANSION_COMPONENTS).contains(&components) =>
+            {
+                Ok(Capacity::Quadratic { components })
+            }
+            _ => Err(format!(
+                "expected 'linear' or 'quadratic-K' with K from 1 to {}, got '{text}'",
+                camloc_learning::MAX_EXPANSION_COMPONENTS
+            )),
+        }
+    }
+}
+
+/// How to train a [`CameraLocalizer`](crate::CameraLocalizer).
+#[derive(Clone, Debug, PartialEq)]
+pub struct TrainOptions {
+    /// The pose descriptor (default: [`Descriptor::Joints`]).
+    pub descriptor: Descriptor,
+    /// The features the classifier sees (default: [`Capacity::Linear`]; see
+    /// [`with_capacity`](Self::with_capacity)).
+    pub capacity: Capacity,
+    /// The classifier and its Newton solver settings.
+    pub regression: LogisticRegression,
+    /// Landmark dropout augmentation (`None`: train on the samples as they are).
+    pub dropout: Option<LandmarkDropout>,
+    /// Add the left-right mirror image of every sample, labelled with the mirrored camera
+    /// (an exact augmentation: the mirrored image is what the mirrored camera sees of the
+    /// mirrored person), so that predictions respect the body's symmetry.
+    pub mirror: bool,
+    /// Ridge weight of the continuous-viewpoint heads fitted on the training samples (see
+    /// [`CameraLocalizer::fit_viewpoint`](crate::CameraLocalizer::fit_viewpoint)); `None`: no
+    /// heads, localizations then carry no azimuth, elevation or uncertainty.
+    pub viewpoint_lambda: Option<f64>,
+    /// Classify (posture, camera) pairs: the coarse [`PostureGroup`] of each training
+    /// sample's 3D pose (upright, low, bent) times the cameras, one multinomial model whose
+    /// probabilities are summed over the postures to the cameras' (docs/conventions.md
+    /// section 5). Each camera then has a linear template per posture.
+    ///
+    /// [`PostureGroup`]: camloc_dataset::PostureGroup
+    pub posture_classes: bool,
+}
+
+impl Default for TrainOptions {
+    /// Joints descriptor, linear capacity, multinomial regression with [`DEFAULT_LAMBDA`]
+    /// (Newton, conjugate gradients on the last Cholesky factor), dropout with one copy,
+    /// mirror augmentation, viewpoint heads with [`DEFAULT_VIEWPOINT_LAMBDA`].
+    fn default() -> Self {
+        TrainOptions {
+            descriptor: Descriptor::default(),
+            capacity: Capacity::Linear,
+            regression: LogisticRegression::default().with_lambda(DEFAULT_LAMBDA),
+            dropout: Some(LandmarkDropout::default()),
+            mirror: true,
+            viewpoint_lambda: Some(DEFAULT_VIEWPOINT_LAMBDA),
+            posture_classes: false,
+        }
+    }
+}
+
+impl TrainOptions {
+    /// `self` with `capacity` and the Newton solver that suits it: for
+    /// [`Capacity::Quadratic`] (hundreds of features, `(d + 1) K` in the thousands) truncated
+    /// Newton-CG on a Hessian of [`DEFAULT_PRECONDITIONER_ROWS`] samples
+    /// ([`DirectionSolver::TruncatedCg`]), whose assemblies cost a fraction of full ones; for
+    /// [`Capacity::Linear`] the exact default ([`DirectionSolver::PreconditionedCg`]).
+    pub fn with_capacity(mut self, capacity: Capacity) -> Self {
+        self.capacity = capacity;
+        self.regression.direction_solver = match capacity {
+            Capacity::Linear => DirectionSolver::PreconditionedCg,
+            Capacity::Quadratic { .. } => DirectionSolver::TruncatedCg {
+                preconditioner_rows: DEFAULT_PRECONDITIONER_ROWS,
+            },
+        };
+        self
+    }
+
+    /// Checks every setting: the descriptor's, the regression's (lambda finite and >= 0,
+    /// tolerances), the dropout's ([`LandmarkDropout::validate`]) and the viewpoint heads'
+    /// lambda (finite and >= 0). Training calls it first.
+    ///
+    /// # Errors
+    /// [`CamlocError::Feature`] for descriptor settings, [`CamlocError::Learning`] for
+    /// regression settings, [`CamlocError::InvalidOption`] for dropout and viewpoint settings.
+    pub fn validate(&self) -> Result<(), CamlocError> {
+        self.descriptor
+            .validate()
+            .map_err(|source| CamlocError::Feature {
+                context: "descriptor settings".into(),
+                source,
+            })?;
+        self.regression.validate()?;
+        if let Some(dropout) = &self.dropout {
+            dropout.validate()?;
+        }
+        if let Some(lambda) = self.viewpoint_lambda {
+            check_viewpoint_lambda(lambda)?;
+        }
+        if let Capacity::Quadratic { components } = self.capacity {
+            let most = camloc_learning::MAX_EXPANSION_COMPONENTS.min(self.descriptor.len());
+            if components == 0 || components > most {
+                return Err(CamlocError::InvalidOption {
+                    name: "quadratic components",
+                    detail: format!(
+                        "must be from 1 to {most} for the {} descriptor, got {components}",
+                        self.descriptor.name()
+                    ),
+                });
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Checks a [`TrainOptions::viewpoint_lambda`]: finite and >= 0, else
+/// [`CamlocError::InvalidOption`].
+pub(crate) fn check_viewpoint_lambda(lambda: f64) -> Result<(), CamlocError> {
+    if lambda.is_finite() && lambda >= 0.0 {
+        Ok(())
+    } else {
+        Err(CamlocError::InvalidOption {
+            name: "viewpoint lambda",
+            detail: format!("{lambda}: must be finite and >= 0"),
+        })
+    }
+}
+
+/// What a model was trained on (kept in the model file for `camloc` to report).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TrainingInfo {
+    /// camloc version that trained the model.
+    pub camloc_version: String,
+    /// Protocol of the training dataset.
+    pub protocol: Protocol,
+    /// Training samples (before augmentation).
+    pub samples: usize,
+    /// Training subjects.
+    pub subjects: Vec<String>,
+    /// Regression settings.
+    pub lambda: f64,
+    /// The classifier's capacity.
+    pub capacity: Capacity,
+    /// Dropout used, if any.
+    pub dropout: Option<LandmarkDropout>,
+    /// Whether mirror augmentation was used.
+    pub mirror: bool,
+    /// Whether the classifier classifies (posture, camera) pairs
+    /// ([`TrainOptions::posture_classes`]).
+    pub posture_classes: bool,
+}
