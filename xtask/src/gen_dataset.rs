@@ -26,8 +26,10 @@ pub struct Args {
     #[arg(long, value_name = "FILE")]
     pub out: PathBuf,
     /// Projection protocol: canonical (Table-1 cameras exactly, orthographic), jittered
-    /// (jittered cameras, perspective from 3-8 m, 2D noise) or sphere (camera directions
-    /// uniform over |elevation| <= 67.5 deg, labelled with the nearest camera).
+    /// (jittered cameras, perspective from 3-8 m, 2D noise), sphere (camera directions
+    /// uniform over |elevation| <= 67.5 deg, labelled with the nearest camera) or rig (tripod
+    /// cameras 1.0-2.2 m high around a capture area, aimed at its centre, lens distortion,
+    /// detector-like noise; labelled with the camera nearest the pelvis-to-camera direction).
     #[arg(long, default_value = "canonical", value_parser = parse_protocol)]
     pub protocol: Protocol,
     /// Consider every N-th mocap frame only (before selection by pose).
@@ -48,6 +50,11 @@ pub struct Args {
     /// photo-annotation placements of neck, pelvis and head for half of the samples.
     #[arg(long)]
     pub augment: bool,
+    /// Put this share of the samples in a posture (seated, squatting, kneeling, sitting on
+    /// the floor) within joint-angle limits learned from the poses (docs/conventions.md
+    /// section 7) [default: the training augmentation's with --augment, else 0].
+    #[arg(long, value_name = "P")]
+    pub posture: Option<f64>,
     /// Camera roll bound about the optical axis, degrees (jittered and sphere) [default: 5].
     #[arg(long, value_name = "DEG")]
     pub roll: Option<f64>,
@@ -128,6 +135,9 @@ pub fn run(args: &Args) -> Result<(), String> {
     config.min_pose_distance_mm = args.min_pose_distance;
     if args.augment {
         config.augmentation = Augmentation::TRAINING;
+    }
+    if let Some(posture) = args.posture {
+        config.augmentation.posture = posture;
     }
     if let Some(roll) = args.roll {
         config.jitter.roll_deg = roll;
@@ -219,6 +229,13 @@ pub fn run(args: &Args) -> Result<(), String> {
         println!(
             "inside the class boxes: {inside} of {} samples",
             dataset.samples.len()
+        );
+    }
+    if config.augmentation.posture > 0.0 {
+        let l = &dataset.header.posture_limits;
+        println!(
+            "posture limits learned from the poses: hip flexion <= {:.1} deg, knee flexion <= {:.1} deg, torso pitch {:.1} to {:.1} deg",
+            l.hip_flexion_max_deg, l.knee_flexion_max_deg, l.torso_pitch_deg.0, l.torso_pitch_deg.1
         );
     }
     println!("samples per camera:");

@@ -30,6 +30,10 @@ pub enum Recipe {
     /// Posture augmentation, and `rig` views of every other frame beside the `jittered`
     /// ones (classifier and viewpoint heads).
     PostureRig,
+    /// `posture-rig` classifying (posture, camera) pairs ([`TrainOptions::posture_classes`]).
+    PostureRigClasses,
+    /// `posture-rig` with the quadratic-30 capacity.
+    PostureRigQuadratic,
 }
 
 impl Recipe {
@@ -37,15 +41,30 @@ impl Recipe {
     fn posture(self) -> f64 {
         match self {
             Recipe::Jittered => 0.0,
-            Recipe::Posture | Recipe::PostureRig => 0.25,
+            _ => 0.25,
         }
     }
 
     /// The frame stride of the added `rig` views (`None`: none).
     fn rig_stride(self) -> Option<usize> {
         match self {
-            Recipe::PostureRig => Some(2),
             Recipe::Jittered | Recipe::Posture => None,
+            _ => Some(2),
+        }
+    }
+
+    /// The training options: the default model's, with this recipe's capacity and classes.
+    fn options(self) -> TrainOptions {
+        let options = TrainOptions {
+            viewpoint_lambda: None,
+            posture_classes: self == Recipe::PostureRigClasses,
+            ..crate::train_default::default_options()
+        };
+        match self {
+            Recipe::PostureRigQuadratic => options.with_capacity(Capacity::Quadratic {
+                components: camloc::DEFAULT_QUADRATIC_COMPONENTS,
+            }),
+            _ => options,
         }
     }
 }
@@ -73,9 +92,6 @@ pub struct Args {
     /// Skip the leave-posture-out part.
     #[arg(long)]
     pub no_leave_posture_out: bool,
-    /// The classifier's capacity for every recipe: `linear` or `quadratic-K`.
-    #[arg(long, default_value = "linear", value_parser = str::parse::<Capacity>)]
-    pub capacity: Capacity,
     /// Frame selection by pose, millimetres (the default model's).
     #[arg(long, default_value_t = crate::train_default::DEFAULT_MIN_POSE_DISTANCE_MM, value_name = "MM")]
     pub min_pose_distance: f64,
@@ -124,10 +140,7 @@ fn train(
         rig.seed = 7;
         heads = append(heads, project(sequences, &rig)?)?;
     }
-    let options = TrainOptions {
-        viewpoint_lambda: None,
-        ..crate::train_default::default_options()
-    };
+    let options = recipe.options();
     let (mut localizer, report) =
         CameraLocalizer::train(&training, &options, |_| {}).map_err(|e| e.to_string())?;
     localizer
@@ -159,16 +172,18 @@ fn rows(md: &mut String, title: &str, results: &[(Recipe, Vec<ViewOutcome>)]) {
     };
     let categories = categories_in(first);
     let _ = writeln!(md, "\n{title}\n");
-    let mut header = "| recipe | all | postures | sit | low frames |".to_string();
+    let mut header =
+        "| recipe | all | inside the class boxes | postures | sit | low frames |".to_string();
     for c in &categories {
         let _ = write!(header, " {} |", c.name());
     }
     let _ = writeln!(md, "{header}");
-    let _ = writeln!(md, "|{}", "---|".repeat(5 + categories.len()));
+    let _ = writeln!(md, "|{}", "---|".repeat(6 + categories.len()));
     for (recipe, out) in results {
         let mut line = format!(
-            "| {recipe:?} | {} | {} | {} | {} |",
+            "| {recipe:?} | {} | {} | {} | {} | {} |",
             Summary::of(out, |_| true).cell(),
+            Summary::of(out, |o| o.inside).cell(),
             Summary::of(out, |o| o.category.is_posture()).cell(),
             Summary::of(out, |o| o.category == MotionCategory::Sit).cell(),
             Summary::of(out, |o| o.low).cell()

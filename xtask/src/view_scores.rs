@@ -15,6 +15,9 @@ pub struct ViewOutcome {
     pub category: MotionCategory,
     /// Whether the 3D pose is seated or low (a thigh more than 60 deg from the vertical).
     pub low: bool,
+    /// Whether the camera direction lies in its class's box (always under `canonical` and
+    /// `jittered`).
+    pub inside: bool,
     /// Whether the camera class is right.
     pub correct: bool,
     /// Whether the level (lower, middle, upper) is right.
@@ -50,6 +53,7 @@ pub fn outcomes(localizer: &CameraLocalizer, data: &Dataset) -> Result<Vec<ViewO
             Ok(ViewOutcome {
                 category: data.category_of(s),
                 low: is_low_posture(&s.pose3),
+                inside: s.in_class_box,
                 correct: l.label.get() == s.label,
                 level_correct: Some(l.level) == truth_level,
                 angle_deg: angle_deg(

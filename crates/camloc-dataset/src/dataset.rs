@@ -7,7 +7,7 @@ use camloc_skeleton::{NUM_LANDMARKS, Pose2, Pose3};
 use camloc_store::{FileKind, Persist, Validate};
 use serde::{Deserialize, Serialize};
 
-use crate::{Augmentation, DatasetError, Jitter, MotionCategory, Protocol, Rig};
+use crate::{Augmentation, DatasetError, Jitter, MotionCategory, PostureLimits, Protocol, Rig};
 
 /// One clip of motion capture that samples were drawn from.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -54,6 +54,9 @@ pub struct DatasetHeader {
     pub jitter: Jitter,
     /// The studio of the `rig` protocol.
     pub rig: Rig,
+    /// The joint-angle limits [`Augmentation::posture`] drew within, learned from the poses
+    /// the dataset was made from.
+    pub posture_limits: PostureLimits,
     /// 2D noise standard deviation as a fraction of the 2D torso length (0 for none).
     pub noise_fraction: f64,
     /// Clips the samples come from, indexed by [`Sample::clip`].

@@ -199,6 +199,7 @@ pub fn generate(
             augmentation: config.augmentation,
             jitter: config.jitter,
             rig: config.rig,
+            posture_limits: limits,
             noise_fraction: config.noise_fraction,
             clips: sequences.iter().map(|s| s.clip.clone()).collect(),
         },

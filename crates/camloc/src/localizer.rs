@@ -58,7 +58,8 @@ pub struct CameraLocalizer {
     /// The classifier: `cameras.len() * posture_groups` classes, class `g * cameras + c` being
     /// camera `c` (0-based) seen on a body of posture group `g`.
     pub(crate) model: LogisticModel,
-    /// Posture groups the classifier's classes are split into (1: none; see
+    /// Posture groups the classifier's classes are split into: those present in the
+    /// training data (1: none; see
     /// [`TrainOptions::posture_classes`](crate::TrainOptions::posture_classes)).
     pub(crate) posture_groups: usize,
     /// Per descriptor value, the training mean used in place of undefined values.

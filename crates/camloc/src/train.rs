@@ -41,13 +41,8 @@ impl CameraLocalizer {
         }
         let d = descriptor.len();
         let cameras = &dataset.header.cameras;
-        let posture_groups = if options.posture_classes {
-            PostureGroup::ALL.len()
-        } else {
-            1
-        };
-        let mut poses: Vec<PartialPose2> = dataset.samples.iter().map(sample_pose).collect();
-        let mut labels: Vec<u16> = dataset.samples.iter().map(|s| s.label).collect();
+        // The posture group of every sample, numbered over the groups present (a group no
+        // sample has would leave classes without samples, whose biases have no optimum).
         let mut groups: Vec<usize> = dataset
             .samples
             .iter()
@@ -59,6 +54,15 @@ impl CameraLocalizer {
                 }
             })
             .collect();
+        let present: Vec<usize> = (0..PostureGroup::ALL.len())
+            .filter(|g| groups.contains(g))
+            .collect();
+        for g in &mut groups {
+            *g = present.iter().position(|p| p == g).unwrap_or(0);
+        }
+        let posture_groups = present.len().max(1);
+        let mut poses: Vec<PartialPose2> = dataset.samples.iter().map(sample_pose).collect();
+        let mut labels: Vec<u16> = dataset.samples.iter().map(|s| s.label).collect();
         if options.mirror {
             poses.extend(poses.iter().map(PartialPose2::mirrored).collect::<Vec<_>>());
             labels.extend(

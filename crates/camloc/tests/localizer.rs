@@ -105,6 +105,65 @@ fn quadratic_capacity_trains_round_trips_and_fits_at_least_as_well() {
 
 /// The continuous viewpoint: in range, closer to the true camera direction than the chosen
 /// class's centre on the (jittered) training views, and absent without heads.
+/// Posture classes: the samples' (posture, camera) pairs are classified, the model has one
+/// class per camera and posture group present, localizations still give one probability per
+/// camera (their sums over the groups), the file round-trips, and the pairs fit a mixture of
+/// upright and seated bodies at least as well as one linear template per camera.
+#[test]
+fn posture_classes_split_cameras_by_posture_and_sum_back() {
+    use camloc::dataset::{PostureGroup, PostureKind, PostureLimits, make_posture};
+    use rand::SeedableRng;
+    let limits = PostureLimits {
+        hip_flexion_max_deg: 120.0,
+        knee_flexion_max_deg: 150.0,
+        torso_pitch_deg: (-30.0, 60.0),
+    };
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
+    let mut seqs = sequences();
+    for seq in &mut seqs[..2] {
+        for (_, p) in &mut seq.frames {
+            *p = make_posture(p, PostureKind::Chair, &limits, &mut rng);
+            assert_eq!(PostureGroup::of(p), PostureGroup::Low);
+        }
+    }
+    let mut config = GenerateConfig::new(Protocol::Jittered);
+    config.seed = 5;
+    let dataset = generate(&seqs, &config, &|_, _| {}).unwrap();
+    let classes = TrainOptions {
+        posture_classes: true,
+        ..TrainOptions::default()
+    };
+    let (paired, report) = CameraLocalizer::train(&dataset, &classes, |_| {}).unwrap();
+    assert!(report.converged);
+    // Upright and low bodies: two groups of 12 cameras; no bent body, no bent classes.
+    assert_eq!(paired.posture_groups(), 2);
+    assert_eq!(paired.model().n_classes(), 24);
+    assert!(paired.training_info().posture_classes);
+    let l = paired.localize(&dataset.samples[0].landmarks).unwrap();
+    assert_eq!(l.probabilities.len(), 12);
+    assert!((l.probabilities.iter().sum::<f64>() - 1.0).abs() < 1e-12);
+    let back = CameraLocalizer::from_bytes(&paired.to_bytes().unwrap()).unwrap();
+    assert_eq!(back, paired);
+    let (single, _) = CameraLocalizer::train(&dataset, &TrainOptions::default(), |_| {}).unwrap();
+    assert_eq!(single.posture_groups(), 1);
+    let (a, b) = (
+        evaluate(&paired, &dataset).unwrap().accuracy,
+        evaluate(&single, &dataset).unwrap().accuracy,
+    );
+    assert!(a >= b, "pairs {a}, one template per camera {b}");
+    // Batch prediction sums over the groups as single poses do.
+    let poses: Vec<PartialPose2> = dataset
+        .samples
+        .iter()
+        .take(40)
+        .map(|s| PartialPose2::from(s.landmarks))
+        .collect();
+    let batch = paired.predict_labels(&poses).unwrap();
+    for (pose, label) in poses.iter().zip(batch) {
+        assert_eq!(paired.localize_partial(pose).unwrap().label, label);
+    }
+}
+
 #[test]
 fn viewpoint_heads_refine_the_class_centre() {
     let (localizer, dataset) = trained();
@@ -416,6 +475,7 @@ struct RawLocalizer {
     cameras: camloc::CameraSet,
     expansion: Option<camloc::learning::QuadraticExpansion>,
     model: RawModel,
+    posture_groups: usize,
     imputation: Vec<f64>,
     info: camloc::TrainingInfo,
     viewpoint: Option<RawHeads>,
@@ -505,6 +565,11 @@ fn inconsistent_models_with_valid_checksums_are_refused_without_panic() {
                 r.model.biases.truncate(11);
                 r.model.weights = vec![0.0; 11 * d];
             }),
+        ),
+        ("no posture group", Box::new(|r| r.posture_groups = 0)),
+        (
+            "3 posture groups for 12 classes",
+            Box::new(|r| r.posture_groups = 3),
         ),
         (
             "imputation one short",
