@@ -225,6 +225,7 @@ pub fn run(args: &Args) -> Result<(), String> {
     {
         rows(&mut md, &format!("Held-out subjects, `{name}`:"), results);
     }
+    flush(&mut md);
     let all: Vec<PoseSequence> = train_seqs.into_iter().chain(test_seqs).collect();
     // 2. Posture clips, leave-subject-out in folds.
     if args.folds > 0 {
@@ -232,6 +233,7 @@ pub fn run(args: &Args) -> Result<(), String> {
             .into_iter()
             .map(|s| s.clip.subject)
             .collect();
+        subjects.sort();
         subjects.dedup();
         let folds: Vec<Vec<String>> = (0..args.folds.min(subjects.len()))
             .map(|f| {
@@ -275,6 +277,7 @@ pub fn run(args: &Args) -> Result<(), String> {
                 r,
             );
         }
+        flush(&mut md);
     }
     // 3. Leave-posture-out.
     if !args.no_leave_posture_out {
@@ -304,6 +307,13 @@ pub fn run(args: &Args) -> Result<(), String> {
         }
     }
     let _ = writeln!(md, "\nTotal {:.0} s.", started.elapsed().as_secs_f64());
-    print!("{md}");
+    flush(&mut md);
     Ok(())
+}
+
+/// Prints what `md` holds so far (a long run shows each part as it ends) and empties it.
+fn flush(md: &mut String) {
+    print!("{md}");
+    let _ = std::io::Write::flush(&mut std::io::stdout());
+    md.clear();
 }
