@@ -127,6 +127,7 @@ mod npy;
 mod openpose;
 mod record;
 mod stream;
+mod torso;
 
 use std::fmt;
 use std::io::{self, Read};
@@ -143,7 +144,8 @@ pub use layout::{ArrayPoseError, Layout, MappedPose, UnknownLayoutName, pose_fro
 pub use lsp::LSP_JOINTS;
 pub use npy::{NPY_MAX_HEADER_BYTES, NpyPose, NpyPoseWriter, NpyPoses, read_npy_poses3, write_npy};
 pub use openpose::{OPENPOSE_FRAME_MAX_BYTES, frame_index};
-pub use record::{KeypointRecord, derive_torso};
+pub use record::KeypointRecord;
+pub use torso::derive_torso;
 
 /// What to do with LSP joints marked `visible = 0`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]

@@ -5,7 +5,8 @@ use std::collections::HashMap;
 use camloc_skeleton::{Landmark, PartialPose2};
 
 use crate::error::{KeypointError, Location};
-use crate::record::{KeypointRecord, derive_torso, finish};
+use crate::record::{KeypointRecord, finish};
+use crate::torso::derive_torso;
 use crate::{Invisible, ReadOptions};
 
 /// The 14 LSP joints and the camloc landmark each one becomes (`head_top` is read as the head;
