@@ -87,7 +87,12 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         .collect();
     let bar = progress::counter(args.progress.quiet, inputs.len_hint(), "localize", "poses");
     if args.sequence {
-        return sequence::run(&localizer, inputs, out, format, args, &bar);
+        let files = sequence::SequenceFiles {
+            svg: args.svg.as_deref(),
+            summary: args.summary_svg.as_deref(),
+            force: args.force.force,
+        };
+        return sequence::run(&localizer, inputs, out, format, &files, &bar);
     }
     let summary = stream::run(inputs, out, format, &files, &bar, |record| {
         let loc = localizer

@@ -8,6 +8,7 @@
 //! the number of frames (a few hundred bytes each).
 
 use std::fmt::Write;
+use std::path::Path;
 use std::process::ExitCode;
 
 use camloc::{CameraLabel, CameraLocalizer, SequenceModel, SmoothedFrame, sequences};
@@ -52,21 +53,27 @@ struct FrameJson<'a> {
     smoothed_probability: f64,
 }
 
-/// Runs `camloc localize --sequence` (see the module docs) with the files and `--force` of
-/// `args`.
+/// The output files of a sequence run: `--svg` (one timeline per person), `--summary-svg`
+/// and `--force`.
+pub struct SequenceFiles<'a> {
+    /// `--svg`: the timelines (numbered when there are several people).
+    pub svg: Option<&'a Path>,
+    /// `--summary-svg`: the per-frame cameras of the whole input.
+    pub summary: Option<&'a Path>,
+    /// `--force`: replace existing files.
+    pub force: bool,
+}
+
+/// Runs `camloc localize --sequence` (see the module docs), writing `files`.
 pub fn run(
     localizer: &CameraLocalizer,
     mut inputs: Inputs,
     out: &mut Out,
     format: Format,
-    args: &super::localize::Args,
+    files: &SequenceFiles,
     bar: &ProgressBar,
 ) -> Result<ExitCode, CliError> {
-    let (svg_out, summary_out, force) = (
-        args.svg.as_ref(),
-        args.summary_svg.as_ref(),
-        args.force.force,
-    );
+    let (svg_out, summary_out, force) = (files.svg, files.summary, files.force);
     if let Some(svg) = svg_out {
         check_target(svg, force)?;
         check_target(&numbered_path(svg, 0, 2), force)?;
