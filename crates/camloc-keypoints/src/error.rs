@@ -262,7 +262,7 @@ pub enum KeypointError {
     },
     /// A camloc JSON document has a `version` this reader does not understand.
     #[error(
-        "{file}: {at}: unsupported camloc-keypoints version {} (this reader reads version 1)",
+        "{file}: {at}: unsupported camloc-keypoints version {} (this reader reads version 1, a number)",
         clip(found)
     )]
     UnsupportedVersion {
@@ -270,7 +270,7 @@ pub enum KeypointError {
         file: String,
         /// Path of the `version` key.
         at: Location,
-        /// The version as found.
+        /// The version as found: a number, `"text" (a string)`, or the JSON type.
         found: String,
     },
     /// A keypoint score outside the range its format defines (OpenPose confidences and

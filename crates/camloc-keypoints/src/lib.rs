@@ -114,6 +114,7 @@
 
 mod camloc_json;
 mod coco;
+mod emit;
 mod error;
 mod folder;
 mod format;
@@ -396,14 +397,13 @@ pub fn open_keypoints_reader(
         .read_to_end(&mut bytes)
         .map_err(io_error)?;
     if bytes.len() as u64 == STREAM_PEEK_BYTES && bytes.len() as u64 <= limit {
-        if let Some(text) = streamable_start(&bytes, name, format) {
-            let bom = bytes.len() - text.len();
+        if let Some((format, bom)) = streamable_start(&bytes, name, format) {
             bytes.drain(..bom);
-            return stream_camloc(
+            return stream_json(
                 io::Cursor::new(bytes).chain(reader),
                 name,
-                limit,
-                rule,
+                format,
+                options.byte_limit(Some(format)),
                 options,
             );
         }
@@ -426,15 +426,15 @@ pub fn open_keypoints_reader(
 /// are read whole.
 pub const STREAM_PEEK_BYTES: u64 = 1 << 16;
 
-/// The start of `bytes` as text without its byte-order mark, when the input is camloc JSON
-/// (`format`, or detected from this start) that begins with an object, so that it can be
-/// streamed. `None` sends the input to the whole-text readers (which also report invalid UTF-8
-/// in the start, and detect formats on the whole text).
-fn streamable_start<'a>(
-    bytes: &'a [u8],
+/// The JSON format of an input that starts with `bytes`, when it can be streamed: the format
+/// given, or the one detected from this start, if it is a JSON format; with the length of the
+/// byte-order mark to drop. `None` sends the input to the whole-text readers (which also report
+/// invalid UTF-8 in the start, and detect formats on the whole text).
+fn streamable_start(
+    bytes: &[u8],
     name: &str,
     format: Option<KeypointFormat>,
-) -> Option<&'a str> {
+) -> Option<(KeypointFormat, usize)> {
     let valid = match std::str::from_utf8(bytes) {
         Ok(text) => text,
         // Cut inside a character at the end of the peeked bytes: the text up to it.
@@ -444,29 +444,31 @@ fn streamable_start<'a>(
     let text = valid.strip_prefix('\u{feff}').unwrap_or(valid);
     let extension = Path::new(name).extension().and_then(|e| e.to_str());
     let format = format.or_else(|| KeypointFormat::from_extension_and_content(extension, text))?;
-    (format == KeypointFormat::Camloc && text.trim_start().starts_with('{')).then_some(text)
+    let json = !matches!(format, KeypointFormat::Lsp | KeypointFormat::Npy);
+    json.then_some((format, valid.len() - text.len()))
 }
 
-/// Streams the camloc JSON document `reader` (BOM removed) on a producer thread, at most
+/// Streams the JSON document `reader` (BOM removed) in `format` on a producer thread, at most
 /// `limit` bytes of it (`rule` names the limit in the error).
-fn stream_camloc(
+fn stream_json(
     reader: impl Read + Send + 'static,
     name: &str,
-    limit: u64,
-    rule: &'static str,
+    format: KeypointFormat,
+    (limit, rule): (u64, &'static str),
     options: &ReadOptions,
 ) -> Result<KeypointStream, KeypointError> {
     let file = name.to_owned();
     let options = *options;
     let received = stream::spawn(name, move |sender| {
         let reader = io::BufReader::with_capacity(1 << 16, stream::Capped::new(reader, limit));
-        let outcome = camloc_json::stream(reader, &file, &options, &mut |record| {
+        let read = serde_json::de::IoRead::new(reader);
+        let outcome = json_records(format, read, &file, &options, &mut |record| {
             sender.send(Ok(record))
         });
         let error = match outcome {
-            Ok(()) | Err(camloc_json::Stop::Closed) => return,
-            Err(camloc_json::Stop::Invalid(e)) => e,
-            Err(camloc_json::Stop::Io(e)) => {
+            Some(Ok(()) | Err(emit::Stop::Closed)) => return,
+            Some(Err(emit::Stop::Invalid(e))) => e,
+            Some(Err(emit::Stop::Io(e))) => {
                 match e
                     .get_ref()
                     .and_then(|e| e.downcast_ref::<stream::OverLimit>())
@@ -483,11 +485,33 @@ fn stream_camloc(
                     },
                 }
             }
+            // Not a JSON format: not streamed (see `streamable_start`).
+            None => return,
         };
         sender.send(Err(error));
     })?;
     Ok(KeypointStream {
         inner: StreamInner::Channel(received),
+    })
+}
+
+/// Reads the JSON document `read` in `format` and gives its records to `emit` (see
+/// [`emit::drive`]); `None` for the formats that are not JSON.
+fn json_records<'de, R: serde_json::de::Read<'de>>(
+    format: KeypointFormat,
+    read: R,
+    file: &str,
+    options: &ReadOptions,
+    emit: &mut dyn FnMut(KeypointRecord) -> bool,
+) -> Option<Result<(), emit::Stop>> {
+    Some(match format {
+        KeypointFormat::Camloc => emit::drive(read, file, options, emit, camloc_json::Document),
+        KeypointFormat::Coco => emit::drive(read, file, options, emit, coco::Input),
+        KeypointFormat::OpenPose => emit::drive(read, file, options, emit, openpose::Frame),
+        KeypointFormat::MmPose => emit::drive(read, file, options, emit, mmpose::Predictions),
+        KeypointFormat::MediaPipe => emit::drive(read, file, options, emit, mediapipe::Frames),
+        KeypointFormat::Mpii => emit::drive(read, file, options, emit, mpii::Annotations),
+        KeypointFormat::Lsp | KeypointFormat::Npy => return None,
     })
 }
 
@@ -565,16 +589,14 @@ pub fn parse_keypoints(
         return Err(too_large((limit, rule)));
     }
     match format {
-        KeypointFormat::Camloc => camloc_json::parse(text, file, options),
         KeypointFormat::Lsp => lsp::parse(text, file, options),
-        KeypointFormat::Coco => coco::parse(text, file, options),
-        KeypointFormat::OpenPose => openpose::parse(text, file, options),
-        KeypointFormat::MmPose => mmpose::parse(text, file, options),
-        KeypointFormat::MediaPipe => mediapipe::parse(text, file, options),
-        KeypointFormat::Mpii => mpii::parse(text, file, options),
         KeypointFormat::Npy => {
             let size = Some(text.len() as u64);
             NpyPoses::new(text.as_bytes(), file, size, options)?.collect()
         }
+        json => emit::collect(file, |emit| {
+            let read = serde_json::de::StrRead::new(text);
+            json_records(json, read, file, options, emit).unwrap_or(Ok(()))
+        }),
     }
 }
