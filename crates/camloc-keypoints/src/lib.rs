@@ -126,6 +126,7 @@ mod mmpose;
 mod mpii;
 mod npy;
 mod openpose;
+mod peek;
 mod record;
 mod stream;
 mod torso;
@@ -388,26 +389,37 @@ pub fn open_keypoints_reader(
     if let Some(size) = size.filter(|&size| size > limit) {
         return Err(too_large(size));
     }
-    // Peek at the start: an input that ends within it is parsed whole, a longer camloc JSON
-    // document is streamed.
-    let mut bytes = Vec::new();
+    // Peek at the start (past a blank lead): input that is not text, or whose format nothing
+    // can match, is refused at once; an input that ends within it is parsed whole, a longer
+    // JSON document is streamed.
     let mut reader = reader;
-    (&mut reader)
-        .take(STREAM_PEEK_BYTES)
-        .read_to_end(&mut bytes)
-        .map_err(io_error)?;
-    if bytes.len() as u64 == STREAM_PEEK_BYTES && bytes.len() as u64 <= limit {
-        if let Some((format, bom)) = streamable_start(&bytes, name, format) {
-            bytes.drain(..bom);
-            return stream_json(
-                io::Cursor::new(bytes).chain(reader),
-                name,
-                format,
-                options.byte_limit(Some(format)),
-                options,
-            );
-        }
+    let start = peek::Start::read(&mut reader, limit).map_err(io_error)?;
+    if start.len() > limit {
+        return Err(too_large(start.len()));
     }
+    if let Some(e) = start.utf8_error(name) {
+        return Err(e);
+    }
+    let extension = Path::new(name).extension().and_then(|e| e.to_str());
+    let text = start.text();
+    let detected = format.or_else(|| KeypointFormat::from_extension_and_content(extension, text));
+    if detected.is_none() && !text.starts_with(['{', '[']) && !text.is_empty() {
+        return Err(unknown_format(name, extension));
+    }
+    let json = detected.filter(|f| !matches!(f, KeypointFormat::Lsp | KeypointFormat::Npy));
+    if let (Some(json), false) = (json, start.ended) {
+        let (lead, content) = (start.lead(false), start.content);
+        return stream_json(
+            lead.chain(io::Cursor::new(content)).chain(reader),
+            name,
+            json,
+            options.byte_limit(Some(json)),
+            options,
+        );
+    }
+    let mut bytes = Vec::new();
+    start.lead(true).read_to_end(&mut bytes).map_err(io_error)?;
+    bytes.extend_from_slice(&start.content);
     reader
         .take((limit.saturating_add(1)).saturating_sub(bytes.len() as u64))
         .read_to_end(&mut bytes)
@@ -421,32 +433,21 @@ pub fn open_keypoints_reader(
     })
 }
 
+/// [`KeypointError::UnknownFormat`] for input `file` with `extension`.
+fn unknown_format(file: &str, extension: Option<&str>) -> KeypointError {
+    KeypointError::UnknownFormat {
+        file: file.to_owned(),
+        reason: match extension {
+            Some(ext) => format!("extension \".{ext}\" and content match none"),
+            None => "no extension, and the content matches none".to_owned(),
+        },
+    }
+}
+
 /// Text inputs longer than this many bytes are streamed when they are camloc JSON documents
 /// (format given, or detected from these first bytes); shorter ones, and other text formats,
 /// are read whole.
 pub const STREAM_PEEK_BYTES: u64 = 1 << 16;
-
-/// The JSON format of an input that starts with `bytes`, when it can be streamed: the format
-/// given, or the one detected from this start, if it is a JSON format; with the length of the
-/// byte-order mark to drop. `None` sends the input to the whole-text readers (which also report
-/// invalid UTF-8 in the start, and detect formats on the whole text).
-fn streamable_start(
-    bytes: &[u8],
-    name: &str,
-    format: Option<KeypointFormat>,
-) -> Option<(KeypointFormat, usize)> {
-    let valid = match std::str::from_utf8(bytes) {
-        Ok(text) => text,
-        // Cut inside a character at the end of the peeked bytes: the text up to it.
-        Err(e) if e.error_len().is_none() => std::str::from_utf8(&bytes[..e.valid_up_to()]).ok()?,
-        Err(_) => return None,
-    };
-    let text = valid.strip_prefix('\u{feff}').unwrap_or(valid);
-    let extension = Path::new(name).extension().and_then(|e| e.to_str());
-    let format = format.or_else(|| KeypointFormat::from_extension_and_content(extension, text))?;
-    let json = !matches!(format, KeypointFormat::Lsp | KeypointFormat::Npy);
-    json.then_some((format, valid.len() - text.len()))
-}
 
 /// Streams the JSON document `reader` (BOM removed) in `format` on a producer thread, at most
 /// `limit` bytes of it (`rule` names the limit in the error).
@@ -574,15 +575,8 @@ pub fn parse_keypoints(
     let extension = Path::new(source_name).extension().and_then(|e| e.to_str());
     let format = match format {
         Some(format) => format,
-        None => KeypointFormat::from_extension_and_content(extension, text).ok_or_else(|| {
-            KeypointError::UnknownFormat {
-                file: file.to_owned(),
-                reason: match extension {
-                    Some(ext) => format!("extension \".{ext}\" and content match none"),
-                    None => "no extension, and the content matches none".to_owned(),
-                },
-            }
-        })?,
+        None => KeypointFormat::from_extension_and_content(extension, text)
+            .ok_or_else(|| unknown_format(file, extension))?,
     };
     let (limit, rule) = options.byte_limit(Some(format));
     if text.len() as u64 > limit {

@@ -131,13 +131,7 @@ fn one_endless_keypoint_list_is_refused_after_a_bounded_read() {
             "1,",
         ),
     ] {
-        let given = Arc::new(AtomicU64::new(0));
-        let reader = Endless {
-            head: head.as_bytes().to_vec(),
-            unit: unit.as_bytes().to_vec(),
-            at: 0,
-            given: Arc::clone(&given),
-        };
+        let (reader, given) = endless(head.as_bytes(), unit.as_bytes());
         let result = open_keypoints_reader(reader, "endless", None, Some(format), &options)
             .and_then(|stream| stream.collect::<Result<Vec<_>, _>>());
         let e = result.unwrap_err();
@@ -172,4 +166,84 @@ fn an_mmpose_frame_id_must_be_a_frame_number() {
     );
     let records = parse_keypoints(&text, "t.json", None, &ReadOptions::default()).unwrap();
     assert_eq!((records[0].frame, records[0].id.as_str()), (Some(7), "7/0"));
+}
+
+/// An [`Endless`] reader of `head` then `unit`, and its count of bytes given.
+fn endless(head: &[u8], unit: &[u8]) -> (Endless, Arc<AtomicU64>) {
+    let given = Arc::new(AtomicU64::new(0));
+    let reader = Endless {
+        head: head.to_vec(),
+        unit: unit.to_vec(),
+        at: 0,
+        given: Arc::clone(&given),
+    };
+    (reader, given)
+}
+
+#[test]
+fn input_that_is_not_text_or_no_format_is_refused_from_its_start() {
+    let options = ReadOptions {
+        max_bytes: 64 << 20,
+        ..ReadOptions::default()
+    };
+    // Random bytes on standard input, and endless text that no format matches.
+    for (unit, format) in [
+        (&b"\xff\xfe\x00\x93"[..], None),
+        (b"\xff", Some(KeypointFormat::Camloc)),
+        (b"abc ", None),
+    ] {
+        let (reader, given) = endless(b"", unit);
+        let e = open_keypoints_reader(reader, "-", None, format, &options)
+            .err()
+            .unwrap();
+        assert!(
+            matches!(
+                e,
+                KeypointError::NotUtf8 {
+                    line: 1,
+                    offset: 0,
+                    ..
+                } | KeypointError::UnknownFormat { .. }
+            ),
+            "{e:?}"
+        );
+        let given = given.load(Ordering::Relaxed);
+        assert!(given < 1 << 20, "{given} bytes read");
+    }
+}
+
+#[test]
+fn a_blank_lead_does_not_stop_a_document_from_streaming() {
+    let pose = r#"{"landmarks": {"pelvis": [1, 2], "neck": [1, 1]}}"#;
+    let poses = vec![pose; 2_000].join(", ");
+    let lead = "\n".repeat(70_000) + &" ".repeat(10_000);
+    for format in [None, Some(KeypointFormat::Camloc)] {
+        let text = format!(r#"{lead}{{"poses": [{poses}]}}"#);
+        let stream = open_keypoints_reader(
+            std::io::Cursor::new(text.into_bytes()),
+            "padded.json",
+            None,
+            format,
+            &ReadOptions::default(),
+        )
+        .unwrap();
+        // Streamed records have no known count.
+        assert_eq!(stream.size_hint(), (0, None), "{format:?}");
+        assert_eq!(stream.count(), 2_000);
+    }
+    // Errors after the lead keep their line and column.
+    let text = format!("{lead}{{\"poses\": [{poses},]}}");
+    let stream = open_keypoints_reader(
+        std::io::Cursor::new(text.into_bytes()),
+        "padded.json",
+        None,
+        None,
+        &ReadOptions::default(),
+    )
+    .unwrap();
+    let e = stream.last().unwrap().unwrap_err();
+    assert!(
+        matches!(e, KeypointError::Json { line: 70_001, .. }),
+        "{e:?}"
+    );
 }
