@@ -427,6 +427,9 @@ pub fn open_keypoints_reader(
     if bytes.len() as u64 > limit {
         return Err(too_large(bytes.len() as u64));
     }
+    if detected == Some(KeypointFormat::Lsp) && !start.ended {
+        return stream_lsp(bytes, name, options);
+    }
     let records = parse_keypoints_bytes(&bytes, name, format, options)?;
     Ok(KeypointStream {
         inner: StreamInner::Parsed(records.into_iter()),
@@ -496,6 +499,42 @@ fn stream_json(
     })
 }
 
+/// Reads the LSP CSV text `bytes` on a producer thread and streams its records (the text and
+/// about 24 bytes per row are held, not the records).
+fn stream_lsp(
+    bytes: Vec<u8>,
+    name: &str,
+    options: &ReadOptions,
+) -> Result<KeypointStream, KeypointError> {
+    let file = name.to_owned();
+    let options = *options;
+    let received = stream::spawn(name, move |sender| {
+        let outcome = utf8_text(&bytes, &file).and_then(|text| {
+            let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+            lsp::read(text, &file, &options, &mut |record| sender.send(Ok(record)))
+        });
+        if let Err(e) = outcome {
+            sender.send(Err(e));
+        }
+    })?;
+    Ok(KeypointStream {
+        inner: StreamInner::Channel(received),
+    })
+}
+
+/// `bytes` as UTF-8 text, or [`KeypointError::NotUtf8`] naming the first invalid byte.
+fn utf8_text<'a>(bytes: &'a [u8], file: &str) -> Result<&'a str, KeypointError> {
+    std::str::from_utf8(bytes).map_err(|e| {
+        let offset = e.valid_up_to();
+        let line = 1 + bytes[..offset].iter().filter(|&&b| b == b'\n').count();
+        KeypointError::NotUtf8 {
+            file: file.to_owned(),
+            line,
+            offset,
+        }
+    })
+}
+
 /// Reads the JSON document `read` in `format` and gives its records to `emit` (see
 /// [`emit::drive`]); `None` for the formats that are not JSON.
 fn json_records<'de, R: serde_json::de::Read<'de>>(
@@ -532,18 +571,7 @@ pub fn parse_keypoints_bytes(
         let size = Some(bytes.len() as u64);
         return NpyPoses::new(bytes, source_name, size, options)?.collect();
     }
-    match std::str::from_utf8(bytes) {
-        Ok(text) => parse_keypoints(text, source_name, format, options),
-        Err(e) => {
-            let offset = e.valid_up_to();
-            let line = 1 + bytes[..offset].iter().filter(|&&b| b == b'\n').count();
-            Err(KeypointError::NotUtf8 {
-                file: source_name.to_owned(),
-                line,
-                offset,
-            })
-        }
-    }
+    parse_keypoints(utf8_text(bytes, source_name)?, source_name, format, options)
 }
 
 /// Parses keypoint text. `source_name` names the input in record sources and errors, and its

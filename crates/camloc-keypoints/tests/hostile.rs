@@ -247,3 +247,28 @@ fn a_blank_lead_does_not_stop_a_document_from_streaming() {
         "{e:?}"
     );
 }
+
+#[test]
+fn a_long_lsp_file_gives_its_records_one_at_a_time() {
+    let mut text = String::from("image,joint,x,y,visible\n");
+    for i in 0..10_000 {
+        text.push_str(&format!("im{i},neck,{i},1,1\n"));
+    }
+    // An image whose rows are apart still comes at the place of its first row.
+    text.push_str("im0,head_top,5,6,1\n");
+    let stream = open_keypoints_reader(
+        std::io::Cursor::new(text.into_bytes()),
+        "long.csv",
+        None,
+        None,
+        &ReadOptions::default(),
+    )
+    .unwrap();
+    assert_eq!(stream.size_hint(), (0, None));
+    let records: Vec<_> = stream.collect::<Result<_, _>>().unwrap();
+    assert_eq!(records.len(), 10_000);
+    assert_eq!(records[0].id, "im0");
+    assert_eq!(records[0].source, "long.csv: line 2");
+    assert!(records[0].pose.points[camloc_keypoints::Landmark::Head.index()].is_some());
+    assert_eq!(records[9_999].id, "im9999");
+}
