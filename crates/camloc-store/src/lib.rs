@@ -36,7 +36,7 @@ mod quote;
 mod write;
 
 pub use quote::{MAX_QUOTED_CHARS, MAX_QUOTED_PATH_CHARS, escaped, quoted, quoted_path};
-pub use write::{StagedFiles, check_target, scratch_beside, write_new};
+pub use write::{StagedFiles, check_target, file_type_name, scratch_beside, write_new};
 
 /// Length of the envelope header in bytes.
 pub const HEADER_LEN: usize = 28;
