@@ -139,8 +139,10 @@ use std::str::FromStr;
 pub use camloc_json::{CAMLOC_FORMAT_TAG, CAMLOC_FORMAT_VERSION, to_camloc_json};
 pub use camloc_skeleton::{Landmark, PartialPose2, Pose3};
 pub use coco::COCO_KEYPOINTS;
-pub use error::{KeypointError, Location, MAX_QUOTED_CHARS, MAX_QUOTED_ITEMS};
-pub use folder::{FolderRecords, keypoint_files, read_folder};
+pub use error::{
+    KeypointError, Location, MAX_QUOTED_CHARS, MAX_QUOTED_ITEMS, MAX_QUOTED_PATH_CHARS,
+};
+pub use folder::{FolderRecords, keypoint_files, open_folder_file, read_folder};
 pub use format::{KeypointFormat, UnknownFormatName};
 pub use layout::{ArrayPoseError, Layout, MappedPose, UnknownLayoutName, pose_from_array};
 pub use lsp::LSP_JOINTS;

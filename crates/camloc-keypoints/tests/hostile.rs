@@ -272,3 +272,15 @@ fn a_long_lsp_file_gives_its_records_one_at_a_time() {
     assert!(records[0].pose.points[camloc_keypoints::Landmark::Head.index()].is_some());
     assert_eq!(records[9_999].id, "im9999");
 }
+
+#[test]
+fn an_npy_header_with_another_key_is_refused() {
+    let header = "{'descr': '<f8', 'fortran_order': False, 'shape': (0, 15, 2), 'extra': 1, }";
+    let mut npy = b"\x93NUMPY\x01\x00".to_vec();
+    let padded = format!("{header:<117}\n");
+    npy.extend_from_slice(&(padded.len() as u16).to_le_bytes());
+    npy.extend_from_slice(padded.as_bytes());
+    let e = camloc_keypoints::parse_keypoints_bytes(&npy, "x.npy", None, &ReadOptions::default())
+        .unwrap_err();
+    assert!(e.to_string().contains("no other key"), "{e}");
+}

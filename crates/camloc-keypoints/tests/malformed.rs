@@ -6,6 +6,7 @@ use camloc_keypoints::{
     ImageSize, KeypointError, KeypointFormat, Layout, Location, ReadOptions, parse_keypoints,
     parse_keypoints_bytes, read_keypoints,
 };
+use camloc_store::quoted_path;
 use common::fixture;
 
 fn read_bad(name: &str, format: Option<KeypointFormat>) -> KeypointError {
@@ -13,9 +14,9 @@ fn read_bad(name: &str, format: Option<KeypointFormat>) -> KeypointError {
     match read_keypoints(&path, format, &ReadOptions::default()) {
         Ok(records) => panic!("{name}: expected an error, read {} records", records.len()),
         Err(e) => {
-            // Every message starts with the file it is about.
+            // Every message starts with the file it is about (as messages quote file names).
             assert!(
-                e.to_string().starts_with(&path.display().to_string()),
+                e.to_string().starts_with(&quoted_path(&path)),
                 "{name}: {e}"
             );
             e
@@ -418,14 +419,12 @@ fn read_bad_with(name: &str, format: Option<KeypointFormat>, options: &ReadOptio
         Ok(records) => panic!("{name}: expected an error, read {} records", records.len()),
         Err(e) => {
             let message = e.to_string();
-            assert!(
-                message.starts_with(&path.display().to_string()),
-                "{name}: {message}"
-            );
+            let file = quoted_path(&path);
+            assert!(message.starts_with(&file), "{name}: {message}");
             assert!(!message.contains('\n'), "{name}: {message}");
-            let after_file = message.len() - path.display().to_string().len();
+            let after_file = message.len() - file.len();
             assert!(after_file < 240, "{name}: {message}");
-            message[path.display().to_string().len()..].to_owned()
+            message[file.len()..].to_owned()
         }
     }
 }
