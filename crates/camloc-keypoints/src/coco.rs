@@ -9,7 +9,7 @@ use std::fmt;
 
 use serde::de::{self, Deserialize, Deserializer, IgnoredAny, MapAccess, SeqAccess, Visitor};
 
-use crate::emit::{ListReader, ListSeed, Sink, TopLevel};
+use crate::emit::{self, ListReader, Sink, TopLevel};
 
 use crate::ReadOptions;
 use crate::error::{KeypointError, Location};
@@ -84,30 +84,9 @@ impl TopLevel for Input {
         Annotations("").read(seq, sink)
     }
 
-    fn object<'de, A: MapAccess<'de>>(self, mut map: A, sink: &mut Sink) -> Result<(), A::Error> {
-        let mut annotations = None;
-        while let Some(key) = map.next_key::<String>()? {
-            if key != "annotations" {
-                map.next_value::<IgnoredAny>()?;
-            } else if annotations.is_some() {
-                let at = Location::Path(key);
-                let file = sink.file.to_owned();
-                return Err(sink.fail(KeypointError::DuplicateKey { file, at }));
-            } else {
-                annotations =
-                    Some(map.next_value_seed(ListSeed(Annotations("annotations"), &mut *sink))?);
-            }
-        }
-        let error = match annotations {
-            Some(Json::Array(_)) => return Ok(()),
-            Some(other) => wrong_type(sink.file, "annotations", "a list of annotations", &other),
-            None => KeypointError::MissingKey {
-                file: sink.file.to_owned(),
-                at: Location::Path(String::new()),
-                key: "annotations",
-            },
-        };
-        Err(sink.fail(error))
+    fn object<'de, A: MapAccess<'de>>(self, map: A, sink: &mut Sink) -> Result<(), A::Error> {
+        const KEY: &str = "annotations";
+        emit::object_with_list(map, sink, KEY, "a list of annotations", Annotations(KEY))
     }
 }
 
@@ -193,26 +172,18 @@ mod tests {
         let ok = format!(
             r#"{{"images": [{{"id": 1}}], "annotations": [{{"segmentation": [[1,2,3]], "image_id": 1, "keypoints": {kp}}}]}}"#
         );
-        let records = crate::parse_keypoints(
-            &ok,
-            "c.json",
-            Some(crate::KeypointFormat::Coco),
-            &ReadOptions::default(),
-        )
-        .unwrap();
+        let parse = |text: &str| {
+            let options = ReadOptions::default();
+            crate::parse_keypoints(text, "c.json", Some(crate::KeypointFormat::Coco), &options)
+        };
+        let records = parse(&ok).unwrap();
         assert_eq!(records[0].id, "1/0");
         assert_eq!(
             records[0].pose.points[Landmark::LeftShoulder.index()],
             Some([7.0, 8.0])
         );
         let twice = format!(r#"[{{"image_id": 1, "keypoints": {kp}, "keypoints": {kp}}}]"#);
-        let err = crate::parse_keypoints(
-            &twice,
-            "c.json",
-            Some(crate::KeypointFormat::Coco),
-            &ReadOptions::default(),
-        )
-        .unwrap_err();
+        let err = parse(&twice).unwrap_err();
         assert!(matches!(err, KeypointError::Json { .. }), "{err:?}");
     }
 }

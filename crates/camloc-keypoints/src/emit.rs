@@ -1,6 +1,6 @@
 //! The common driver of the JSON readers: the top level is parsed as it is read, and every
 //! entry of its lists (a pose, an instance, a frame, an annotation, a person) is parsed on its
-//! own (at most [`MAX_ENTRY_VALUES`](crate::json::MAX_ENTRY_VALUES) values), turned into its
+//! own (at most [`MAX_ENTRY_VALUES`](crate::MAX_ENTRY_VALUES) values), turned into its
 //! records and handed to a callback at once. Memory is that of one entry, whatever the number of
 //! entries: the same code reads text in memory ([`collect`]) and streams
 //! ([`KeypointStream`](crate::KeypointStream)).
@@ -11,8 +11,8 @@ use std::io;
 use serde::de::{self, DeserializeSeed, Deserializer, MapAccess, SeqAccess, Visitor};
 
 use crate::ReadOptions;
-use crate::error::KeypointError;
-use crate::json::{self, Json, SkipVisitor, wrong_type};
+use crate::error::{KeypointError, Location};
+use crate::json::{self, Json, SkipVisitor, Skipped, wrong_type};
 use crate::record::KeypointRecord;
 
 /// Why a reader stopped before the end of its input.
@@ -225,6 +225,40 @@ impl<'de, L: ListReader> Visitor<'de> for ListSeed<'_, '_, L> {
     fn visit_str<E: de::Error>(self, v: &str) -> Result<Json, E> {
         SkipVisitor.visit_str(v)
     }
+}
+
+/// Reads the top-level object `map` whose list under `key` (`what` names its type for the
+/// error) is read by `list` as it is parsed; other keys are skipped. The key given twice, missing
+/// or not holding an array is an error.
+pub(crate) fn object_with_list<'de, A: MapAccess<'de>>(
+    mut map: A,
+    sink: &mut Sink,
+    key: &'static str,
+    what: &'static str,
+    list: impl ListReader,
+) -> Result<(), A::Error> {
+    let mut list = Some(list);
+    let mut found = None;
+    while let Some(name) = map.next_key::<String>()? {
+        if name != key {
+            map.next_value::<Skipped>()?;
+        } else if let Some(list) = list.take() {
+            found = Some(map.next_value_seed(ListSeed(list, &mut *sink))?);
+        } else {
+            let (file, at) = (sink.file.to_owned(), Location::Path(name));
+            return Err(sink.fail(KeypointError::DuplicateKey { file, at }));
+        }
+    }
+    let error = match found {
+        Some(Json::Array(_)) => return Ok(()),
+        Some(other) => wrong_type(sink.file, key, what, &other),
+        None => KeypointError::MissingKey {
+            file: sink.file.to_owned(),
+            at: Location::Path(String::new()),
+            key,
+        },
+    };
+    Err(sink.fail(error))
 }
 
 /// The top-level visitor: arrays and objects to the format, other values refused.

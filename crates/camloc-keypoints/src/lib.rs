@@ -105,10 +105,11 @@
 //! line and column for syntax errors, or an array element `[pose, joint, channel]`. Messages
 //! quote at most [`MAX_QUOTED_CHARS`] characters of any piece of input. Text inputs longer than
 //! [`ReadOptions::max_bytes`] (one OpenPose frame: [`OPENPOSE_FRAME_MAX_BYTES`]) are refused
-//! (files before they are read, pipes at the limit). `.npy` arrays, and camloc JSON documents
-//! longer than [`STREAM_PEEK_BYTES`], are streamed by [`open_keypoints`]: their records come
-//! one at a time, memory independent of their number, and an error ends the stream after the
-//! records before it.
+//! (files before they are read, pipes at the limit). JSON inputs are parsed entry by entry, each
+//! entry at most [`MAX_ENTRY_VALUES`] values. `.npy` arrays, and JSON and LSP inputs longer
+//! than [`STREAM_PEEK_BYTES`], are streamed by [`open_keypoints`]: their records come one at a
+//! time, memory independent of their number, and an error ends the stream after the records
+//! before it.
 
 #![warn(missing_docs)]
 
@@ -144,6 +145,7 @@ pub use error::{
 };
 pub use folder::{FolderRecords, keypoint_files, open_folder_file, read_folder};
 pub use format::{KeypointFormat, UnknownFormatName};
+pub use json::MAX_ENTRY_VALUES;
 pub use layout::{ArrayPoseError, Layout, MappedPose, UnknownLayoutName, pose_from_array};
 pub use lsp::LSP_JOINTS;
 pub use npy::{NPY_MAX_HEADER_BYTES, NpyPose, NpyPoseWriter, NpyPoses, read_npy_poses3, write_npy};
@@ -235,7 +237,7 @@ pub struct ReadOptions {
     /// the joint count, with 17 meaning COCO-17 for MMPose and needing a name for `.npy`.
     pub layout: Option<Layout>,
     /// Largest text input accepted, in bytes; longer inputs give [`KeypointError::TooLarge`]
-    /// (a streamed camloc JSON document after the records before the limit).
+    /// (a streamed input after the records before the limit).
     /// Default [`ReadOptions::DEFAULT_MAX_BYTES`] (1 GiB). One OpenPose frame is also limited
     /// to [`OPENPOSE_FRAME_MAX_BYTES`]; `.npy` arrays are streamed and not limited.
     pub max_bytes: u64,
@@ -270,9 +272,9 @@ impl Default for ReadOptions {
     }
 }
 
-/// The records of one input, produced as they are read: `.npy` arrays and long camloc JSON
-/// documents pose by pose (memory independent of N), other text formats from the parsed file. Returned by [`open_keypoints`] and
-/// [`open_keypoints_reader`].
+/// The records of one input, produced as they are read: `.npy` arrays pose by pose, long JSON
+/// and LSP inputs on a reader thread (memory independent of N), short inputs from the parsed
+/// text. Returned by [`open_keypoints`] and [`open_keypoints_reader`].
 pub struct KeypointStream {
     inner: StreamInner,
 }
@@ -281,7 +283,7 @@ pub struct KeypointStream {
 enum StreamInner {
     Parsed(std::vec::IntoIter<KeypointRecord>),
     Npy(Box<NpyPoses<Box<dyn Read + Send>>>),
-    /// Parsed on a producer thread (camloc JSON longer than [`STREAM_PEEK_BYTES`]).
+    /// Parsed on a producer thread (JSON and LSP longer than [`STREAM_PEEK_BYTES`]).
     Channel(stream::Received),
 }
 
@@ -296,8 +298,8 @@ impl Iterator for KeypointStream {
         }
     }
 
-    /// Exact for text formats read whole; for `.npy` the poses left (fewer if an error stops
-    /// the stream); unknown for streamed camloc JSON.
+    /// Exact for text inputs read whole; for `.npy` the poses left (fewer if an error stops
+    /// the stream); unknown for streamed JSON and LSP.
     fn size_hint(&self) -> (usize, Option<usize>) {
         match &self.inner {
             StreamInner::Parsed(records) => records.size_hint(),
@@ -319,9 +321,10 @@ pub fn read_keypoints(
 }
 
 /// Opens a keypoint file and returns its records as a stream: a `.npy` array is read one pose
-/// at a time, a camloc JSON document longer than [`STREAM_PEEK_BYTES`] is parsed pose by pose
-/// on a reader thread, other formats are read whole (within their size limit) and parsed. `format: None`
-/// detects the format as [`read_keypoints`] does.
+/// at a time, a JSON input longer than [`STREAM_PEEK_BYTES`] is parsed entry by entry on a
+/// reader thread, a longer LSP file read whole and parsed there, shorter inputs read whole
+/// (within their size limit) and parsed. `format: None` detects the format as
+/// [`read_keypoints`] does.
 pub fn open_keypoints(
     path: impl AsRef<Path>,
     format: Option<KeypointFormat>,
@@ -347,10 +350,11 @@ pub fn open_keypoints(
 
 /// Reads keypoints from any reader, e.g. standard input: `name` names it in records and errors
 /// (its extension, if any, helps detection), `size` is its length in bytes when known. A `.npy`
-/// array (named by `format`, or recognised by its magic bytes) and a camloc JSON document longer
+/// array (named by `format`, or recognised by its magic bytes) and a JSON or LSP input longer
 /// than [`STREAM_PEEK_BYTES`] are streamed (at most [`ReadOptions::max_bytes`] of it: past that,
-/// the stream ends with [`KeypointError::TooLarge`]); other formats are read up to their size
-/// limit and parsed.
+/// the stream ends with [`KeypointError::TooLarge`]); shorter inputs are read and parsed. The
+/// start of the input is looked at first (its blank lead skipped): content that is not UTF-8,
+/// or that no format matches, is refused there.
 pub fn open_keypoints_reader(
     mut reader: impl Read + Send + 'static,
     name: &str,
@@ -449,8 +453,8 @@ fn unknown_format(file: &str, extension: Option<&str>) -> KeypointError {
     }
 }
 
-/// Text inputs longer than this many bytes are streamed when they are camloc JSON documents
-/// (format given, or detected from these first bytes); shorter ones, and other text formats,
+/// Text inputs longer than this many bytes (past their blank lead) are streamed when they are
+/// JSON (format given, or detected from these first bytes of content) or LSP CSV; shorter ones
 /// are read whole.
 pub const STREAM_PEEK_BYTES: u64 = 1 << 16;
 

@@ -7,11 +7,10 @@
 use serde::de::{MapAccess, SeqAccess};
 
 use crate::ReadOptions;
-use crate::emit::{self, ListReader, ListSeed, Sink, TopLevel};
+use crate::emit::{self, ListReader, Sink, TopLevel};
 use crate::error::{KeypointError, Location};
 use crate::json::{
-    self, Json, Skipped, array, index_path, key_path, number_array, numbers, object, optional,
-    required,
+    self, Json, array, index_path, key_path, number_array, numbers, object, optional, required,
 };
 use crate::layout::{Layout, keeps, resolve_layout};
 use crate::record::{KeypointRecord, from_joints};
@@ -28,32 +27,15 @@ impl TopLevel for Predictions {
         Entries("").read(seq, sink)
     }
 
-    fn object<'de, A: MapAccess<'de>>(self, mut map: A, sink: &mut Sink) -> Result<(), A::Error> {
+    fn object<'de, A: MapAccess<'de>>(self, map: A, sink: &mut Sink) -> Result<(), A::Error> {
         const KEY: &str = "instance_info";
-        let mut list = None;
-        while let Some(key) = map.next_key::<String>()? {
-            if key != KEY {
-                map.next_value::<Skipped>()?;
-            } else if list.is_some() {
-                let at = Location::Path(key);
-                let file = sink.file.to_owned();
-                return Err(sink.fail(KeypointError::DuplicateKey { file, at }));
-            } else {
-                list = Some(map.next_value_seed(ListSeed(Entries(KEY), &mut *sink))?);
-            }
-        }
-        let error = match list {
-            Some(Json::Array(_)) => return Ok(()),
-            Some(other) => {
-                json::wrong_type(sink.file, KEY, "a list of instances or frames", &other)
-            }
-            None => KeypointError::MissingKey {
-                file: sink.file.to_owned(),
-                at: Location::Path(String::new()),
-                key: KEY,
-            },
-        };
-        Err(sink.fail(error))
+        emit::object_with_list(
+            map,
+            sink,
+            KEY,
+            "a list of instances or frames",
+            Entries(KEY),
+        )
     }
 }
 

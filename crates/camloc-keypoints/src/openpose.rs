@@ -6,11 +6,9 @@ use std::path::Path;
 use serde::de::{MapAccess, SeqAccess};
 
 use crate::ReadOptions;
-use crate::emit::{self, ListReader, ListSeed, Sink, TopLevel};
+use crate::emit::{self, ListReader, Sink, TopLevel};
 use crate::error::{KeypointError, Location};
-use crate::json::{
-    self, Json, Skipped, index_path, key_path, numbers, object, required, unit_score,
-};
+use crate::json::{Json, index_path, key_path, numbers, object, required, unit_score};
 use crate::layout::{COCO18, Joint, Layout, keeps};
 use crate::record::{KeypointRecord, from_joints};
 
@@ -42,29 +40,8 @@ pub(crate) struct Frame;
 impl TopLevel for Frame {
     const EXPECTED: &'static str = "an object with \"people\"";
 
-    fn object<'de, A: MapAccess<'de>>(self, mut map: A, sink: &mut Sink) -> Result<(), A::Error> {
-        let mut people = None;
-        while let Some(key) = map.next_key::<String>()? {
-            if key != "people" {
-                map.next_value::<Skipped>()?;
-            } else if people.is_some() {
-                let at = Location::Path(key);
-                let file = sink.file.to_owned();
-                return Err(sink.fail(KeypointError::DuplicateKey { file, at }));
-            } else {
-                people = Some(map.next_value_seed(ListSeed(People, &mut *sink))?);
-            }
-        }
-        let error = match people {
-            Some(Json::Array(_)) => return Ok(()),
-            Some(other) => json::wrong_type(sink.file, "people", "an array of people", &other),
-            None => KeypointError::MissingKey {
-                file: sink.file.to_owned(),
-                at: Location::Path(String::new()),
-                key: "people",
-            },
-        };
-        Err(sink.fail(error))
+    fn object<'de, A: MapAccess<'de>>(self, map: A, sink: &mut Sink) -> Result<(), A::Error> {
+        emit::object_with_list(map, sink, "people", "an array of people", People)
     }
 }
 

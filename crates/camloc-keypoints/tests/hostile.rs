@@ -7,7 +7,8 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use camloc_keypoints::{
-    KeypointError, KeypointFormat, ReadOptions, open_keypoints_reader, parse_keypoints,
+    KeypointError, KeypointFormat, KeypointStream, ReadOptions, open_keypoints_reader,
+    parse_keypoints,
 };
 
 /// Parses `text` as `format` with default options.
@@ -168,6 +169,12 @@ fn an_mmpose_frame_id_must_be_a_frame_number() {
     assert_eq!((records[0].frame, records[0].id.as_str()), (Some(7), "7/0"));
 }
 
+/// The records of `text` named `name`, as `open_keypoints_reader` streams them.
+fn open_text(text: String, name: &str, format: Option<KeypointFormat>) -> KeypointStream {
+    let reader = std::io::Cursor::new(text.into_bytes());
+    open_keypoints_reader(reader, name, None, format, &ReadOptions::default()).unwrap()
+}
+
 /// An [`Endless`] reader of `head` then `unit`, and its count of bytes given.
 fn endless(head: &[u8], unit: &[u8]) -> (Endless, Arc<AtomicU64>) {
     let given = Arc::new(AtomicU64::new(0));
@@ -219,28 +226,14 @@ fn a_blank_lead_does_not_stop_a_document_from_streaming() {
     let lead = "\n".repeat(70_000) + &" ".repeat(10_000);
     for format in [None, Some(KeypointFormat::Camloc)] {
         let text = format!(r#"{lead}{{"poses": [{poses}]}}"#);
-        let stream = open_keypoints_reader(
-            std::io::Cursor::new(text.into_bytes()),
-            "padded.json",
-            None,
-            format,
-            &ReadOptions::default(),
-        )
-        .unwrap();
+        let stream = open_text(text, "padded.json", format);
         // Streamed records have no known count.
         assert_eq!(stream.size_hint(), (0, None), "{format:?}");
         assert_eq!(stream.count(), 2_000);
     }
     // Errors after the lead keep their line and column.
     let text = format!("{lead}{{\"poses\": [{poses},]}}");
-    let stream = open_keypoints_reader(
-        std::io::Cursor::new(text.into_bytes()),
-        "padded.json",
-        None,
-        None,
-        &ReadOptions::default(),
-    )
-    .unwrap();
+    let stream = open_text(text, "padded.json", None);
     let e = stream.last().unwrap().unwrap_err();
     assert!(
         matches!(e, KeypointError::Json { line: 70_001, .. }),
@@ -256,14 +249,7 @@ fn a_long_lsp_file_gives_its_records_one_at_a_time() {
     }
     // An image whose rows are apart still comes at the place of its first row.
     text.push_str("im0,head_top,5,6,1\n");
-    let stream = open_keypoints_reader(
-        std::io::Cursor::new(text.into_bytes()),
-        "long.csv",
-        None,
-        None,
-        &ReadOptions::default(),
-    )
-    .unwrap();
+    let stream = open_text(text, "long.csv", None);
     assert_eq!(stream.size_hint(), (0, None));
     let records: Vec<_> = stream.collect::<Result<_, _>>().unwrap();
     assert_eq!(records.len(), 10_000);
