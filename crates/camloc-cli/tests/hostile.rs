@@ -28,6 +28,14 @@ fn short_clean_lines(out: &Output) -> String {
     text
 }
 
+/// Runs `script` with `sh -c`, the camloc binary as `$0`.
+fn shell(script: &str) -> Output {
+    Command::new("sh")
+        .args(["-c", script, env!("CARGO_BIN_EXE_camloc")])
+        .output()
+        .unwrap()
+}
+
 /// A camloc JSON document of one pose with `id` and the 15 landmarks of [`FIFTEEN`].
 fn pose_with_id(id: &str) -> String {
     let id = serde_json::to_string(id).unwrap();
@@ -62,13 +70,7 @@ fn ids_names_and_shapes_are_quoted_short_and_escaped() {
     // An .npy header of 2,000 dimensions.
     let shape = vec!["1"; 2_000].join(", ");
     let header = format!("{{'descr': '<f8', 'fortran_order': False, 'shape': ({shape}), }}");
-    let mut npy = b"\x93NUMPY\x01\x00".to_vec();
-    let padded = format!(
-        "{header:<width$}\n",
-        width = (header.len() + 11) / 64 * 64 + 53
-    );
-    npy.extend_from_slice(&(padded.len() as u16).to_le_bytes());
-    npy.extend_from_slice(padded.as_bytes());
+    let npy = npy_head(&header);
     let npy_path = dir.0.join("shape.npy");
     std::fs::write(&npy_path, npy).unwrap();
     inputs.push(npy_path.to_string_lossy().into_owned());
@@ -211,10 +213,7 @@ fn thousands_of_drawings_need_few_open_files() {
         "ulimit -n 64 && exec \"$0\" localize --input '{input}' --svg '{}' -q",
         svg.display()
     );
-    let out = Command::new("sh")
-        .args(["-c", &script, env!("CARGO_BIN_EXE_camloc")])
-        .output()
-        .unwrap();
+    let out = shell(&script);
     assert!(out.status.success(), "{}", stderr(&out));
     assert!(dir.0.join("many-300.svg").exists());
 }
@@ -248,31 +247,21 @@ fn a_folder_reports_entries_it_cannot_read() {
 fn a_closed_standard_output_is_an_error() {
     let input = fixture("keypoints/example.json");
     let script = format!("exec \"$0\" localize --input '{}' >&-", input.display());
-    let out = Command::new("sh")
-        .args(["-c", &script, env!("CARGO_BIN_EXE_camloc")])
-        .output()
-        .unwrap();
+    let out = shell(&script);
     assert_clean_failure(&out, "standard output");
     // Writing to /dev/null on purpose is fine.
     let script = format!(
         "exec \"$0\" localize --input '{}' >/dev/null",
         input.display()
     );
-    let out = Command::new("sh")
-        .args(["-c", &script, env!("CARGO_BIN_EXE_camloc")])
-        .output()
-        .unwrap();
+    let out = shell(&script);
     assert!(out.status.success(), "{}", stderr(&out));
 }
 
 #[test]
 fn converting_poses_without_any_landmark_says_so() {
     let dir = TempDir::new("hostile-nan");
-    let mut npy = b"\x93NUMPY\x01\x00".to_vec();
-    let header = "{'descr': '<f8', 'fortran_order': False, 'shape': (2, 15, 2), }";
-    let padded = format!("{header:<117}\n");
-    npy.extend_from_slice(&(padded.len() as u16).to_le_bytes());
-    npy.extend_from_slice(padded.as_bytes());
+    let mut npy = npy_head("{'descr': '<f8', 'fortran_order': False, 'shape': (2, 15, 2), }");
     for _ in 0..2 * 15 * 2 {
         npy.extend_from_slice(&f64::NAN.to_le_bytes());
     }
@@ -310,23 +299,12 @@ fn a_sequence_longer_than_its_cap_is_refused() {
         "empty.json",
         &format!(r#"{{"poses": [{}]}}"#, vec![pose; 5].join(",")),
     );
-    let out = camloc(&[
-        "localize",
-        "--input",
-        &input,
-        "--sequence",
-        "--sequence-max-poses",
-        "4",
-    ]);
-    assert_clean_failure(&out, "more than 4 poses for --sequence");
-    let out = camloc(&[
-        "localize",
-        "--input",
-        &input,
-        "--sequence",
-        "--sequence-max-poses",
-        "5",
-    ]);
+    let run = |cap: &str| {
+        let args = ["localize", "--input", &input, "--sequence"];
+        camloc(&[&args[..], &["--sequence-max-poses", cap]].concat())
+    };
+    assert_clean_failure(&run("4"), "more than 4 poses for --sequence");
+    let out = run("5");
     let text = short_clean_lines(&out);
     assert!(
         text.contains("5 of 5 poses could not be localized"),

@@ -43,8 +43,8 @@ pub struct Args {
     /// frame's 12 probabilities are kept until the end (not the poses).
     #[arg(long)]
     pub sequence: bool,
-    /// With --sequence: refuse an input of more than N poses (each is kept until the end,
-    /// about 250 bytes).
+    /// With --sequence: refuse an input of more than N poses (each is kept until the end:
+    /// about 600 to 700 bytes a pose, docs/cli.md).
     #[arg(long, value_name = "N", default_value_t = 1_000_000)]
     pub sequence_max_poses: u64,
     /// Draw where the cameras of the whole input fall (the cameras as an azimuth by

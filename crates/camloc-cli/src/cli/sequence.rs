@@ -5,8 +5,9 @@
 //!
 //! A sequence needs all its frames before it can be smoothed: the run keeps, per pose, its id,
 //! source, frame, person and the 12 class probabilities (not the poses; a failure keeps the
-//! number of its message, each distinct message once), about 250 bytes each, and refuses an
-//! input of more than `--sequence-max-poses` poses (1,000,000 by default) when it gets there.
+//! number of its message, each distinct message once), and refuses an input of more than
+//! `--sequence-max-poses` poses (1,000,000 by default) when it gets there; with the smoothing,
+//! about 600 to 700 bytes a pose (docs/cli.md).
 
 use std::collections::HashMap;
 use std::fmt::Write;
@@ -27,7 +28,7 @@ use super::{CliError, numbered_path};
 use camloc::store::{StagedFiles, check_target, escaped};
 
 /// One localized (or failed) pose of a sequence: what is kept until the sequence is smoothed
-/// (96 bytes, with the id, source and probabilities on the heap).
+/// (at most 96 bytes, with the id, source and probabilities on the heap).
 struct Frame {
     id: Box<str>,
     source: Box<str>,
@@ -246,4 +247,14 @@ fn frame_output(format: Format, frame: &Frame, s: &SmoothedFrame, failures: &Fai
     }
     let _ = writeln!(text, ", smoothed camera {} ({:.3})", s.label, s.probability);
     text
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_kept_frame_is_small() {
+        assert!(std::mem::size_of::<Frame>() <= 96);
+    }
 }
