@@ -297,7 +297,7 @@ fn a_sequence_longer_than_its_cap_is_refused() {
     let pose = r#"{"landmarks": {}}"#;
     let input = dir.file(
         "empty.json",
-        &format!(r#"{{"poses": [{}]}}"#, vec![pose; 5].join(",")),
+        &format!(r#"{{"poses": [{}]}}"#, [pose; 5].join(",")),
     );
     let run = |cap: &str| {
         let args = ["localize", "--input", &input, "--sequence"];

@@ -196,8 +196,8 @@ impl SequenceModel {
         let emission = |t: usize| &emissions[t * k..(t + 1) * k];
         // Forward (scaled).
         let mut alpha = vec![0.0; n * k];
-        for j in 0..k {
-            alpha[j] = emission(0)[j] / k as f64;
+        for (value, e) in alpha.iter_mut().zip(emission(0)) {
+            *value = e / k as f64;
         }
         normalise(&mut alpha[..k]);
         for t in 1..n {
