@@ -150,6 +150,7 @@ pub use layout::{ArrayPoseError, Layout, MappedPose, UnknownLayoutName, pose_fro
 pub use lsp::LSP_JOINTS;
 pub use npy::{NPY_MAX_HEADER_BYTES, NpyPose, NpyPoseWriter, NpyPoses, read_npy_poses3, write_npy};
 pub use openpose::{OPENPOSE_FRAME_MAX_BYTES, frame_index};
+pub use peek::STREAM_PEEK_BYTES;
 pub use record::KeypointRecord;
 pub use torso::derive_torso;
 
@@ -452,11 +453,6 @@ fn unknown_format(file: &str, extension: Option<&str>) -> KeypointError {
         },
     }
 }
-
-/// Text inputs longer than this many bytes (past their blank lead) are streamed when they are
-/// JSON (format given, or detected from these first bytes of content) or LSP CSV; shorter ones
-/// are read whole.
-pub const STREAM_PEEK_BYTES: u64 = 1 << 16;
 
 /// Streams the JSON document `reader` (BOM removed) in `format` on a producer thread, at most
 /// `limit` bytes of it (`rule` names the limit in the error).

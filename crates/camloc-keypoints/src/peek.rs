@@ -5,8 +5,12 @@
 
 use std::io::{self, Read};
 
-use crate::STREAM_PEEK_BYTES;
 use crate::error::KeypointError;
+
+/// Text inputs longer than this many bytes (past their blank lead) are streamed when they are
+/// JSON (format given, or detected from these first bytes of content) or LSP CSV; shorter ones
+/// are read whole.
+pub const STREAM_PEEK_BYTES: u64 = 1 << 16;
 
 /// UTF-8's byte-order mark.
 const BOM: &[u8] = b"\xEF\xBB\xBF";
