@@ -323,8 +323,9 @@ pub fn read_keypoints(
 
 /// Opens a keypoint file and returns its records as a stream: a `.npy` array is read one pose
 /// at a time, a JSON input longer than [`STREAM_PEEK_BYTES`] is parsed entry by entry on a
-/// reader thread, a longer LSP file read whole and parsed there, shorter inputs read whole
-/// (within their size limit) and parsed. `format: None` detects the format as
+/// reader thread (from memory, after reading it whole, when only the whole text tells its
+/// format), a longer LSP file read whole and parsed there, shorter inputs read whole (within
+/// their size limit) and parsed. `format: None` detects the format as
 /// [`read_keypoints`] does.
 pub fn open_keypoints(
     path: impl AsRef<Path>,
@@ -434,8 +435,8 @@ pub fn open_keypoints_reader(
     if bytes.len() as u64 > limit {
         return Err(too_large(bytes.len() as u64));
     }
-    if detected == Some(KeypointFormat::Lsp) && !start.ended {
-        return stream_lsp(bytes, name, options);
+    if !start.ended {
+        return stream_text(bytes, name, detected, options);
     }
     let records = parse_keypoints_bytes(&bytes, name, format, options)?;
     Ok(KeypointStream {
@@ -499,6 +500,41 @@ fn stream_json(
     Ok(KeypointStream {
         inner: StreamInner::Channel(received),
     })
+}
+
+/// Streams a long text input that was read whole (LSP CSV, or JSON whose format its first
+/// 64 KiB did not tell) from a reader thread, so that the text is held but not its records.
+fn stream_text(
+    mut bytes: Vec<u8>,
+    name: &str,
+    format: Option<KeypointFormat>,
+    options: &ReadOptions,
+) -> Result<KeypointStream, KeypointError> {
+    let text = utf8_text(&bytes, name)?;
+    let bom = if text.starts_with('\u{feff}') {
+        '\u{feff}'.len_utf8()
+    } else {
+        0
+    };
+    let extension = Path::new(name).extension().and_then(|e| e.to_str());
+    let format = match format {
+        Some(format) => format,
+        None => KeypointFormat::from_extension_and_content(extension, &text[bom..])
+            .ok_or_else(|| unknown_format(name, extension))?,
+    };
+    match format {
+        KeypointFormat::Lsp => stream_lsp(bytes, name, options),
+        KeypointFormat::Npy => Ok(KeypointStream {
+            inner: StreamInner::Parsed(
+                parse_keypoints_bytes(&bytes, name, Some(format), options)?.into_iter(),
+            ),
+        }),
+        json => {
+            bytes.drain(..bom);
+            let limit = options.byte_limit(Some(json));
+            stream_json(io::Cursor::new(bytes), name, json, limit, options)
+        }
+    }
 }
 
 /// Reads the LSP CSV text `bytes` on a producer thread and streams its records (the text and

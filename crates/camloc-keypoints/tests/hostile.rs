@@ -270,3 +270,14 @@ fn an_npy_header_with_another_key_is_refused() {
         .unwrap_err();
     assert!(e.to_string().contains("no other key"), "{e}");
 }
+
+#[test]
+fn a_document_whose_format_comes_late_is_still_given_one_record_at_a_time() {
+    let pose = r#"{"landmarks": {"pelvis": [1, 2], "neck": [1, 1]}}"#;
+    let poses = vec![pose; 100].join(", ");
+    let padding = " ".repeat(70_000);
+    let text = format!(r#"{{"format": "camloc-keypoints",{padding}"poses": [{poses}]}}"#);
+    let stream = open_text(text, "late.json", None);
+    assert_eq!(stream.size_hint(), (0, None));
+    assert_eq!(stream.count(), 100);
+}
