@@ -99,8 +99,11 @@ fn begin_titled(w: f64, h: f64, title: &str) -> String {
     svg
 }
 
+/// `text` for an SVG text element: control characters escaped as messages escape them (XML
+/// cannot hold most of them, even as references), then `&`, `<` and `>`.
 fn escape(text: &str) -> String {
-    text.replace('&', "&amp;")
+    camloc::store::escaped(text)
+        .replace('&', "&amp;")
         .replace('<', "&lt;")
         .replace('>', "&gt;")
 }

@@ -101,6 +101,30 @@ const MAX_LEN: usize = COORDS + DIRECTIONS + LENGTHS;
 const _: () = assert!(2 * JOINTS.len() + 3 * SEGMENTS.len() <= MAX_LEN);
 
 impl Descriptor {
+    /// Checks that this descriptor can be computed for the complete pose `pose`: finite
+    /// coordinates and a torso (pelvis to neck, or for [`Descriptor::Joints`] hip midpoint to
+    /// shoulder midpoint) longer than a billionth of the pose's extent. The same check the
+    /// localizer makes, for callers that use the pose otherwise (3D reconstruction).
+    ///
+    /// # Errors
+    /// [`FeatureError::NonFinite`] or [`FeatureError::DegenerateTorso`].
+    pub fn check_scale(&self, pose: &Pose2) -> Result<(), FeatureError> {
+        let (scaled, _) = pose.within_safe_range();
+        self.frame(&scaled, &|_| true).map(|_| ())
+    }
+
+    /// The 2D frame of `pose` (within the safe range) with the landmarks `is_present` has.
+    fn frame(
+        &self,
+        pose: &Pose2,
+        is_present: &dyn Fn(Landmark) -> bool,
+    ) -> Result<TorsoFrame, FeatureError> {
+        match self {
+            Descriptor::Joints => TorsoFrame::from_joints(pose, is_present),
+            _ => TorsoFrame::new(pose),
+        }
+    }
+
     /// The descriptor called `name`: `landmarks`, `joints` or `paper`
     /// (with default settings).
     ///
@@ -247,10 +271,7 @@ impl Descriptor {
         // (exactly, by a power of two).
         let (scaled, _) = pose.within_safe_range();
         let pose = &scaled;
-        let frame = match self {
-            Descriptor::Joints => TorsoFrame::from_joints(pose, &is_present)?,
-            _ => TorsoFrame::new(pose)?,
-        };
+        let frame = self.frame(pose, &is_present)?;
         // Indices of the values each part fills, to flag undefined ones.
         let mut flags: [bool; MAX_LEN] = [false; MAX_LEN];
         match self {

@@ -2,16 +2,12 @@
 
 use camloc_skeleton::{Landmark, NUM_LANDMARKS, PartialPose2};
 
-use std::fmt;
-
-use serde::de::{self, DeserializeSeed, Deserializer, MapAccess, SeqAccess, Visitor};
+use serde::de::{MapAccess, SeqAccess};
 
 use crate::ReadOptions;
+use crate::emit::{self, ListReader, ListSeed, Sink, TopLevel};
 use crate::error::{KeypointError, Location};
-use crate::json::{
-    self, Json, SkipVisitor, Skipped, check_keys, get, index_path, key_path, number_array,
-    wrong_type,
-};
+use crate::json::{Json, Skipped, check_keys, get, index_path, key_path, number_array, wrong_type};
 use crate::record::{KeypointRecord, finish};
 
 /// The value of the `format` key.
@@ -42,26 +38,6 @@ const EXPECTED: &str = "an object with \"poses\" (a document) or \"landmarks\" (
 /// `format` and `version`, and the keys of a bare pose. Other values are parsed and dropped.
 const KEPT_KEYS: [&str; 4] = ["format", "version", "id", "landmarks"];
 
-/// Reads camloc JSON text (BOM already removed, known not to be blank).
-pub(crate) fn parse(
-    text: &str,
-    file: &str,
-    options: &ReadOptions,
-) -> Result<Vec<KeypointRecord>, KeypointError> {
-    let root: Json = json::parse(text, file)?;
-    let Json::Object(fields) = &root else {
-        return Err(wrong_type(file, "", EXPECTED, &root));
-    };
-    if is_bare_pose(fields) {
-        return Ok(vec![pose(&root, "", 0, file, options)?]);
-    }
-    document_poses(fields, file)?
-        .iter()
-        .enumerate()
-        .map(|(i, value)| pose(value, &index_path("poses", i), i, file, options))
-        .collect()
-}
-
 /// `true` for a top level that is one pose: `landmarks` and no `poses`.
 fn is_bare_pose(fields: &[(String, Json)]) -> bool {
     get(fields, "poses").is_none() && get(fields, "landmarks").is_some()
@@ -86,10 +62,14 @@ fn document_poses<'a>(
     }
     let wrong_version = |version: &&Json| !matches!(version, Json::Number(n) if n.as_u64() == Some(CAMLOC_FORMAT_VERSION));
     if let Some(version) = get(fields, "version").filter(wrong_version) {
+        let found = match version {
+            Json::String(text) => format!("\"{text}\" (a string)"),
+            other => json_text(other),
+        };
         return Err(KeypointError::UnsupportedVersion {
             file: file.to_owned(),
             at: Location::Path("version".to_owned()),
-            found: json_text(version),
+            found,
         });
     }
     match get(fields, "poses") {
@@ -103,90 +83,18 @@ fn document_poses<'a>(
     }
 }
 
-/// Why [`stream`] stopped before the end of the input.
-pub(crate) enum Stop {
-    /// The input is invalid.
-    Invalid(KeypointError),
-    /// Reading failed (an I/O error of the reader, e.g. its size limit).
-    Io(std::io::Error),
-    /// `emit` returned `false`: nobody wants more records.
-    Closed,
-}
-
-/// Reads a camloc JSON object from `reader` (BOM already removed, starting with `{` after
-/// white space) and gives its records to `emit` one at a time, each as soon as its pose is
-/// parsed: memory is that of one pose, whatever the number of poses.
+/// camloc JSON: a document, whose poses are read one at a time, or one bare pose.
 ///
-/// Errors are those of [`parse`], found in input order: a document-level problem (unknown or
-/// repeated key, format tag, version, `poses` not an array) in the keys before `poses` stops
-/// before any pose (reported as [`parse`] does, after reading the rest); one in the keys after
-/// `poses` is reported after the poses. A bare pose is emitted at the end of the object.
-pub(crate) fn stream<R: std::io::Read>(
-    reader: R,
-    file: &str,
-    options: &ReadOptions,
-    emit: &mut dyn FnMut(KeypointRecord) -> bool,
-) -> Result<(), Stop> {
-    let mut sink = Sink {
-        file,
-        options,
-        emit,
-        stop: None,
-    };
-    let mut deserializer = serde_json::Deserializer::from_reader(reader);
-    let parsed = deserializer
-        .deserialize_map(DocumentVisitor(&mut sink))
-        .and_then(|()| deserializer.end());
-    match parsed {
-        Ok(()) => Ok(()),
-        Err(e) => Err(match sink.stop {
-            Some(stop) => stop,
-            None if e.is_io() => Stop::Io(e.into()),
-            None => Stop::Invalid(json::syntax_error(&e, file)),
-        }),
-    }
-}
+/// Errors come in input order: a document-level problem (unknown or repeated key, format tag,
+/// version, `poses` not an array) in the keys before `poses` stops before any pose (after
+/// reading the rest, for the full list of unknown keys); one in the keys after `poses` is
+/// reported after the poses. A bare pose is read at the end of the object.
+pub(crate) struct Document;
 
-/// Where streamed records go, and why streaming stopped.
-struct Sink<'a> {
-    file: &'a str,
-    options: &'a ReadOptions,
-    emit: &'a mut dyn FnMut(KeypointRecord) -> bool,
-    stop: Option<Stop>,
-}
+impl TopLevel for Document {
+    const EXPECTED: &'static str = EXPECTED;
 
-impl Sink<'_> {
-    /// Gives a record to `emit`, or records why not and returns an error that ends parsing.
-    fn send<E: de::Error>(
-        &mut self,
-        record: Result<KeypointRecord, KeypointError>,
-    ) -> Result<(), E> {
-        let stop = match record {
-            Ok(record) => {
-                if (self.emit)(record) {
-                    return Ok(());
-                }
-                Stop::Closed
-            }
-            Err(e) => Stop::Invalid(e),
-        };
-        self.stop = Some(stop);
-        Err(E::custom("streaming stopped"))
-    }
-}
-
-/// The top-level object of a streamed input.
-struct DocumentVisitor<'s, 'a>(&'s mut Sink<'a>);
-
-impl<'de> Visitor<'de> for DocumentVisitor<'_, '_> {
-    type Value = ();
-
-    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(EXPECTED)
-    }
-
-    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<(), A::Error> {
-        let sink = self.0;
+    fn object<'de, A: MapAccess<'de>>(self, mut map: A, sink: &mut Sink) -> Result<(), A::Error> {
         let mut fields: Vec<(String, Json)> = Vec::new();
         while let Some(key) = map.next_key::<String>()? {
             let first = get(&fields, &key).is_none();
@@ -197,7 +105,7 @@ impl<'de> Visitor<'de> for DocumentVisitor<'_, '_> {
                 fields.pop();
                 ok
             } {
-                map.next_value_seed(PosesSeed(&mut *sink))?
+                map.next_value_seed(ListSeed(Poses, &mut *sink))?
             } else if first && KEPT_KEYS.contains(&key.as_str()) {
                 map.next_value::<Json>()?
             } else {
@@ -212,69 +120,20 @@ impl<'de> Visitor<'de> for DocumentVisitor<'_, '_> {
         }
         match document_poses(&fields, sink.file) {
             Ok(_) => Ok(()),
-            Err(e) => sink.send(Err(e)),
+            Err(e) => Err(sink.fail(e)),
         }
     }
 }
 
-/// The value of `poses`: an array is streamed pose by pose (its placeholder is an empty
-/// array), another value skipped (its placeholder has its type).
-struct PosesSeed<'s, 'a>(&'s mut Sink<'a>);
+/// The value of `poses`, read pose by pose.
+struct Poses;
 
-impl<'de> DeserializeSeed<'de> for PosesSeed<'_, '_> {
-    type Value = Json;
-
-    fn deserialize<D: Deserializer<'de>>(self, deserializer: D) -> Result<Json, D::Error> {
-        deserializer.deserialize_any(self)
-    }
-}
-
-impl<'de> Visitor<'de> for PosesSeed<'_, '_> {
-    type Value = Json;
-
-    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str("an array of poses")
-    }
-
-    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Json, A::Error> {
-        let sink = self.0;
-        let mut index = 0;
-        while let Some(value) = seq.next_element::<Json>()? {
-            let path = index_path("poses", index);
-            let record = pose(&value, &path, index, sink.file, sink.options);
-            sink.send(record)?;
-            index += 1;
-        }
-        Ok(Json::Array(Vec::new()))
-    }
-
-    // Any other value is skipped; its placeholder has its type.
-    fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<Json, A::Error> {
-        SkipVisitor.visit_map(map)
-    }
-
-    fn visit_unit<E: de::Error>(self) -> Result<Json, E> {
-        SkipVisitor.visit_unit()
-    }
-
-    fn visit_bool<E: de::Error>(self, v: bool) -> Result<Json, E> {
-        SkipVisitor.visit_bool(v)
-    }
-
-    fn visit_i64<E: de::Error>(self, v: i64) -> Result<Json, E> {
-        SkipVisitor.visit_i64(v)
-    }
-
-    fn visit_u64<E: de::Error>(self, v: u64) -> Result<Json, E> {
-        SkipVisitor.visit_u64(v)
-    }
-
-    fn visit_f64<E: de::Error>(self, v: f64) -> Result<Json, E> {
-        SkipVisitor.visit_f64(v)
-    }
-
-    fn visit_str<E: de::Error>(self, v: &str) -> Result<Json, E> {
-        SkipVisitor.visit_str(v)
+impl ListReader for Poses {
+    fn read<'de, A: SeqAccess<'de>>(self, seq: A, sink: &mut Sink) -> Result<(), A::Error> {
+        let (file, options) = (sink.file, sink.options);
+        emit::entries(seq, sink, |value, index| {
+            pose(&value, &index_path("poses", index), index, file, options).map(Some)
+        })
     }
 }
 
@@ -415,7 +274,7 @@ mod tests {
         let root: serde_json::Value = serde_json::from_str(&text).unwrap();
         assert_eq!(root["poses"], serde_json::json!([]));
         assert!(
-            parse(&text, "e.json", &ReadOptions::default())
+            crate::parse_keypoints(&text, "e.json", None, &ReadOptions::default())
                 .unwrap()
                 .is_empty()
         );

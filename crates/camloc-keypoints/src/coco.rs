@@ -9,9 +9,11 @@ use std::fmt;
 
 use serde::de::{self, Deserialize, Deserializer, IgnoredAny, MapAccess, SeqAccess, Visitor};
 
+use crate::emit::{self, ListReader, Sink, TopLevel};
+
 use crate::ReadOptions;
 use crate::error::{KeypointError, Location};
-use crate::json::{self, Json, index_path, key_path, number_array, wrong_type};
+use crate::json::{Json, index_path, key_path, number_array, wrong_type};
 use crate::layout::{COCO17, keeps};
 use crate::record::{KeypointRecord, from_joints};
 
@@ -71,75 +73,37 @@ impl<'de> Visitor<'de> for AnnotationVisitor {
     }
 }
 
-/// A whole COCO input.
-enum CocoInput {
-    /// A dataset object; `None` when it has no `annotations` key.
-    Dataset(Option<Vec<Annotation>>),
-    /// A results list.
-    Results(Vec<Annotation>),
-}
+/// COCO keypoints: a results list, or a dataset object whose `annotations` are read one at a
+/// time (other keys skipped).
+pub(crate) struct Input;
 
-impl<'de> Deserialize<'de> for CocoInput {
-    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
-        deserializer.deserialize_any(InputVisitor)
+impl TopLevel for Input {
+    const EXPECTED: &'static str = "a COCO dataset object or a list of COCO results";
+
+    fn list<'de, A: SeqAccess<'de>>(self, seq: A, sink: &mut Sink) -> Result<(), A::Error> {
+        Annotations("").read(seq, sink)
+    }
+
+    fn object<'de, A: MapAccess<'de>>(self, map: A, sink: &mut Sink) -> Result<(), A::Error> {
+        const KEY: &str = "annotations";
+        emit::object_with_list(map, sink, KEY, "a list of annotations", Annotations(KEY))
     }
 }
 
-struct InputVisitor;
+/// A list of annotations at the given JSON path, read one at a time.
+struct Annotations(&'static str);
 
-impl<'de> Visitor<'de> for InputVisitor {
-    type Value = CocoInput;
-
-    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str("a COCO dataset object or a list of COCO results")
-    }
-
-    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<CocoInput, A::Error> {
-        let mut results = Vec::new();
-        while let Some(annotation) = seq.next_element()? {
-            results.push(annotation);
+impl ListReader for Annotations {
+    fn read<'de, A: SeqAccess<'de>>(self, mut seq: A, sink: &mut Sink) -> Result<(), A::Error> {
+        let mut index = 0;
+        while let Some(annotation) = seq.next_element::<Annotation>()? {
+            let path = index_path(self.0, index);
+            let record = record(&annotation, &path, index, sink.file, sink.options);
+            sink.send(record)?;
+            index += 1;
         }
-        Ok(CocoInput::Results(results))
+        Ok(())
     }
-
-    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<CocoInput, A::Error> {
-        let mut annotations = None;
-        while let Some(key) = map.next_key::<String>()? {
-            if key == "annotations" {
-                if annotations.is_some() {
-                    return Err(de::Error::duplicate_field("annotations"));
-                }
-                annotations = Some(map.next_value()?);
-            } else {
-                map.next_value::<IgnoredAny>()?;
-            }
-        }
-        Ok(CocoInput::Dataset(annotations))
-    }
-}
-
-/// Reads COCO text (BOM already removed, known not to be blank).
-pub(crate) fn parse(
-    text: &str,
-    file: &str,
-    options: &ReadOptions,
-) -> Result<Vec<KeypointRecord>, KeypointError> {
-    let (annotations, list_path) = match json::parse(text, file)? {
-        CocoInput::Results(results) => (results, ""),
-        CocoInput::Dataset(Some(annotations)) => (annotations, "annotations"),
-        CocoInput::Dataset(None) => {
-            return Err(KeypointError::MissingKey {
-                file: file.to_owned(),
-                at: Location::Path(String::new()),
-                key: "annotations",
-            });
-        }
-    };
-    annotations
-        .iter()
-        .enumerate()
-        .map(|(i, annotation)| record(annotation, &index_path(list_path, i), i, file, options))
-        .collect()
 }
 
 /// One annotation at JSON path `path` (the `index`-th of its list) as a record.
@@ -208,14 +172,18 @@ mod tests {
         let ok = format!(
             r#"{{"images": [{{"id": 1}}], "annotations": [{{"segmentation": [[1,2,3]], "image_id": 1, "keypoints": {kp}}}]}}"#
         );
-        let records = parse(&ok, "c.json", &ReadOptions::default()).unwrap();
+        let parse = |text: &str| {
+            let options = ReadOptions::default();
+            crate::parse_keypoints(text, "c.json", Some(crate::KeypointFormat::Coco), &options)
+        };
+        let records = parse(&ok).unwrap();
         assert_eq!(records[0].id, "1/0");
         assert_eq!(
             records[0].pose.points[Landmark::LeftShoulder.index()],
             Some([7.0, 8.0])
         );
         let twice = format!(r#"[{{"image_id": 1, "keypoints": {kp}, "keypoints": {kp}}}]"#);
-        let err = parse(&twice, "c.json", &ReadOptions::default()).unwrap_err();
+        let err = parse(&twice).unwrap_err();
         assert!(matches!(err, KeypointError::Json { .. }), "{err:?}");
     }
 }

@@ -40,7 +40,8 @@ impl fmt::Display for Location {
 #[non_exhaustive]
 pub enum KeypointError {
     /// The file could not be opened or read (missing, a directory, no permission, ...).
-    #[error("{file}: cannot read the file: {source}")]
+    #[error("{}: cannot read the file: {source}",
+        file_name(.file))]
     Io {
         /// The path as given.
         file: String,
@@ -49,7 +50,8 @@ pub enum KeypointError {
         source: std::io::Error,
     },
     /// The input holds nothing but white space.
-    #[error("{file}: the input is empty")]
+    #[error("{}: the input is empty",
+        file_name(.file))]
     Empty {
         /// Name of the input.
         file: String,
@@ -57,7 +59,8 @@ pub enum KeypointError {
     /// The input is longer than the limit for its format: [`ReadOptions::max_bytes`](crate::ReadOptions::max_bytes), and for one OpenPose frame also
     /// [`OPENPOSE_FRAME_MAX_BYTES`](crate::OPENPOSE_FRAME_MAX_BYTES).
     #[error(
-        "{file}: the input has at least {bytes} bytes, more than the limit of {limit} bytes ({rule})"
+        "{}: the input has at least {bytes} bytes, more than the limit of {limit} bytes ({rule})",
+        file_name(.file)
     )]
     TooLarge {
         /// Name of the input.
@@ -69,8 +72,21 @@ pub enum KeypointError {
         /// Which limit: `ReadOptions::max_bytes` or `OPENPOSE_FRAME_MAX_BYTES, one frame`.
         rule: &'static str,
     },
+    /// A file of a folder listing that is not a regular file once links are followed (read
+    /// only when named as the input itself).
+    #[error(
+        "{}: is a {kind}, not a regular file (a folder's files must be regular files)",
+        file_name(.file)
+    )]
+    NotRegular {
+        /// Name of the file.
+        file: String,
+        /// What it is: `dangling symbolic link`, `FIFO`, `character device`, ...
+        kind: &'static str,
+    },
     /// The input is not valid UTF-8.
-    #[error("{file}: line {line}: not valid UTF-8 (invalid byte at offset {offset})")]
+    #[error("{}: line {line}: not valid UTF-8 (invalid byte at offset {offset})",
+        file_name(.file))]
     NotUtf8 {
         /// Name of the input.
         file: String,
@@ -81,7 +97,8 @@ pub enum KeypointError {
     },
     /// No format was given and none could be told from the extension and the content.
     #[error(
-        "{file}: cannot tell the keypoint format ({}); name it: {}",
+        "{}: cannot tell the keypoint format ({}); name it: {}",
+        file_name(.file),
         clip(reason),
         crate::KeypointFormat::NAMES
     )]
@@ -93,7 +110,8 @@ pub enum KeypointError {
     },
     /// The text is not JSON, or a value has a type a COCO reader cannot take (reported by the
     /// JSON parser, with line and column).
-    #[error("{file}: line {line}, column {column}: {}", clip(message))]
+    #[error("{}: line {line}, column {column}: {}",
+        file_name(.file), clip(message))]
     Json {
         /// Name of the input.
         file: String,
@@ -106,8 +124,9 @@ pub enum KeypointError {
     },
     /// The CSV header does not name exactly the columns `image,joint,x,y,visible`.
     #[error(
-        "{file}: line {line}: the header must name the columns image,joint,x,y,visible \
+        "{}: line {line}: the header must name the columns image,joint,x,y,visible \
          (found \"{}\"; missing: {}; unknown or repeated: {})",
+        file_name(.file),
         clip(header),
         list_or_none(missing),
         list_or_none(extra)
@@ -126,7 +145,8 @@ pub enum KeypointError {
     },
     /// A CSV row has a different number of fields than the header.
     #[error(
-        "{file}: line {line}: expected {expected} comma-separated fields (as in the header), found {found}"
+        "{}: line {line}: expected {expected} comma-separated fields (as in the header), found {found}",
+        file_name(.file)
     )]
     CsvFieldCount {
         /// Name of the input.
@@ -140,7 +160,8 @@ pub enum KeypointError {
     },
     /// A CSV row names a joint the format does not have.
     #[error(
-        "{file}: {at}: unknown joint \"{}\" (expected one of: {expected})",
+        "{}: {at}: unknown joint \"{}\" (expected one of: {expected})",
+        file_name(.file),
         clip(name)
     )]
     UnknownJoint {
@@ -155,7 +176,8 @@ pub enum KeypointError {
     },
     /// A joint is given twice for the same image.
     #[error(
-        "{file}: {at}: joint \"{}\" of image \"{}\" given twice (first at {first})",
+        "{}: {at}: joint \"{}\" of image \"{}\" given twice (first at {first})",
+        file_name(.file),
         clip(joint),
         clip(image)
     )]
@@ -173,8 +195,10 @@ pub enum KeypointError {
     },
     /// A JSON object has keys the format does not define (all of them are listed).
     #[error(
-        "{file}: {at}: unknown key(s) {} (allowed: {allowed})",
-        quoted_list(keys)
+        "{}: {at}: unknown key(s) {} (allowed: {})",
+        file_name(.file),
+        quoted_list(keys),
+        clip(allowed)
     )]
     UnknownKeys {
         /// Name of the input.
@@ -187,7 +211,8 @@ pub enum KeypointError {
         allowed: String,
     },
     /// A JSON object has the same key twice.
-    #[error("{file}: {at}: key given twice")]
+    #[error("{}: {at}: key given twice",
+        file_name(.file))]
     DuplicateKey {
         /// Name of the input.
         file: String,
@@ -195,7 +220,8 @@ pub enum KeypointError {
         at: Location,
     },
     /// A required JSON key is absent.
-    #[error("{file}: {at}: missing required key \"{key}\"")]
+    #[error("{}: {at}: missing required key \"{key}\"",
+        file_name(.file))]
     MissingKey {
         /// Name of the input.
         file: String,
@@ -205,7 +231,8 @@ pub enum KeypointError {
         key: &'static str,
     },
     /// A JSON value has the wrong type.
-    #[error("{file}: {at}: expected {expected}, found {found}")]
+    #[error("{}: {at}: expected {expected}, found {found}",
+        file_name(.file))]
     WrongType {
         /// Name of the input.
         file: String,
@@ -218,7 +245,8 @@ pub enum KeypointError {
     },
     /// A JSON array has the wrong number of elements (a landmark not `[u, v]`, COCO keypoints
     /// not 51 numbers, a MediaPipe frame not 33 landmarks).
-    #[error("{file}: {at}: expected {expected} {items} ({what}), found {found}")]
+    #[error("{}: {at}: expected {expected} {items} ({what}), found {found}",
+        file_name(.file))]
     WrongLength {
         /// Name of the input.
         file: String,
@@ -235,7 +263,8 @@ pub enum KeypointError {
     },
     /// A field does not hold what it must (a coordinate that is not a number, a visibility flag
     /// other than 0 or 1, an empty image name, a wrong format tag).
-    #[error("{file}: {at}: {field} \"{}\" is not {expected}", clip(text))]
+    #[error("{}: {at}: {field} \"{}\" is not {expected}",
+        file_name(.file), clip(text))]
     InvalidValue {
         /// Name of the input.
         file: String,
@@ -249,7 +278,8 @@ pub enum KeypointError {
         expected: &'static str,
     },
     /// A coordinate is NaN or infinite.
-    #[error("{file}: {at}: {field} \"{}\" is not a finite number", clip(text))]
+    #[error("{}: {at}: {field} \"{}\" is not a finite number",
+        file_name(.file), clip(text))]
     NonFinite {
         /// Name of the input.
         file: String,
@@ -262,7 +292,8 @@ pub enum KeypointError {
     },
     /// A camloc JSON document has a `version` this reader does not understand.
     #[error(
-        "{file}: {at}: unsupported camloc-keypoints version {} (this reader reads version 1)",
+        "{}: {at}: unsupported camloc-keypoints version {} (this reader reads version 1, a number)",
+        file_name(.file),
         clip(found)
     )]
     UnsupportedVersion {
@@ -270,12 +301,12 @@ pub enum KeypointError {
         file: String,
         /// Path of the `version` key.
         at: Location,
-        /// The version as found.
+        /// The version as found: a number, `"text" (a string)`, or the JSON type.
         found: String,
     },
     /// A keypoint score outside the range its format defines (OpenPose confidences and
     /// MediaPipe visibilities are in [0, 1], as are the scores of `(N, J, 3)` arrays).
-    #[error("{file}: {at}: {what} {score} is outside [0, 1]{hint}")]
+    #[error("{}: {at}: {what} {score} is outside [0, 1]{hint}", file_name(.file))]
     ScoreOutOfRange {
         /// Name of the input.
         file: String,
@@ -289,7 +320,8 @@ pub enum KeypointError {
         hint: &'static str,
     },
     /// A pose has a number of joints that the layout does not have.
-    #[error("{file}: {at}: {found} joints: {what}")]
+    #[error("{}: {at}: {found} joints: {what}",
+        file_name(.file))]
     JointCount {
         /// Name of the input.
         file: String,
@@ -302,7 +334,8 @@ pub enum KeypointError {
     },
     /// A joint has one coordinate NaN and the other not (both NaN marks a missing joint).
     #[error(
-        "{file}: {at}: one coordinate is NaN and the other is not (NaN, NaN marks a missing joint)"
+        "{}: {at}: one coordinate is NaN and the other is not (NaN, NaN marks a missing joint)",
+        file_name(.file)
     )]
     HalfMissing {
         /// Name of the input.
@@ -312,8 +345,9 @@ pub enum KeypointError {
     },
     /// The input has normalised coordinates and no image size was given.
     #[error(
-        "{file}: {format} coordinates are normalised to [0, 1]: give the image size in pixels \
-         (ReadOptions::image_size, --image-size W,H)"
+        "{}: {format} coordinates are normalised to [0, 1]: give the image size in pixels \
+         (ReadOptions::image_size, --image-size W,H)",
+        file_name(.file)
     )]
     ImageSizeNeeded {
         /// Name of the input.
@@ -322,7 +356,8 @@ pub enum KeypointError {
         format: &'static str,
     },
     /// A `.npy` file whose header, type, shape or length cannot be read as keypoints.
-    #[error("{file}: {problem}")]
+    #[error("{}: {problem}",
+        file_name(.file))]
     Npy {
         /// Name of the input.
         file: String,
@@ -332,8 +367,9 @@ pub enum KeypointError {
     /// Returned by [`KeypointRecord::require_torso`](crate::KeypointRecord::require_torso): the
     /// pose lacks the pelvis or the neck, and neither file nor derivation supplied it.
     #[error(
-        "{origin}: pose \"{}\" has no {} (and it could not be derived from the hips/shoulders); \
+        "{}: pose \"{}\" has no {} (and it could not be derived from the hips/shoulders); \
          the torso is needed",
+        file_name(origin),
         clip(id),
         landmark_list(missing)
     )]
@@ -347,43 +383,40 @@ pub enum KeypointError {
     },
 }
 
-/// The most characters of one piece of input (a key, a field, a header, an id) that an error
-/// message quotes; longer text is cut there and ends with `…`, so that a 50 MB key or line gives
-/// a short message.
-pub const MAX_QUOTED_CHARS: usize = 80;
+pub use camloc_store::{MAX_QUOTED_CHARS, MAX_QUOTED_PATH_CHARS};
 
 /// The most items of a list of input pieces (unknown keys, header columns) that an error message
-/// names; the rest are counted (`… and 999 more`).
+/// names; the rest are counted (`… and 999 more`). The names shown take at most
+/// [`MAX_QUOTED_CHARS`] characters in all.
 pub const MAX_QUOTED_ITEMS: usize = 8;
 
-/// Input text as an error message quotes it: at most [`MAX_QUOTED_CHARS`] characters (then `…`),
-/// control characters escaped so that the message stays on one line.
+/// Input text as an error message quotes it (the shared rule, [`camloc_store::quoted`]): at
+/// most [`MAX_QUOTED_CHARS`] characters (then `…`), control characters escaped.
 pub(crate) fn clip(text: &str) -> String {
-    let mut out = String::new();
-    for (n, c) in text.chars().enumerate() {
-        if n == MAX_QUOTED_CHARS {
-            out.push('…');
-            break;
-        }
-        if c.is_control() {
-            out.extend(c.escape_default());
-        } else {
-            out.push(c);
-        }
-    }
-    out
+    camloc_store::quoted(text)
 }
 
-/// At most [`MAX_QUOTED_ITEMS`] items, each [`clip`]ped and formatted by `item`, separated by
+/// The name of an input as messages give it ([`camloc_store::quoted_path`]).
+pub(crate) fn file_name(file: &str) -> String {
+    camloc_store::quoted_path(std::path::Path::new(file))
+}
+
+/// At most [`MAX_QUOTED_ITEMS`] items (fewer when they would take more than
+/// [`MAX_QUOTED_CHARS`] characters), each [`clip`]ped and formatted by `item`, separated by
 /// commas, then `… and N more`.
 fn capped_list(items: &[String], item: impl Fn(String) -> String) -> String {
-    let mut shown: Vec<String> = items
-        .iter()
-        .take(MAX_QUOTED_ITEMS)
-        .map(|i| item(clip(i)))
-        .collect();
-    if items.len() > MAX_QUOTED_ITEMS {
-        shown.push(format!("… and {} more", items.len() - MAX_QUOTED_ITEMS));
+    let mut shown: Vec<String> = Vec::new();
+    let mut length = 0;
+    for text in items.iter().take(MAX_QUOTED_ITEMS) {
+        let text = item(clip(text));
+        length += text.chars().count();
+        if !shown.is_empty() && length > MAX_QUOTED_CHARS {
+            break;
+        }
+        shown.push(text);
+    }
+    if items.len() > shown.len() {
+        shown.push(format!("… and {} more", items.len() - shown.len()));
     }
     shown.join(", ")
 }

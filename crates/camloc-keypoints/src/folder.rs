@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 
 use crate::error::KeypointError;
 use crate::record::KeypointRecord;
-use crate::{KeypointFormat, ReadOptions, read_keypoints};
+use crate::{KeypointFormat, KeypointStream, ReadOptions, open_keypoints};
 
 /// Extensions of the files a folder is read for (any case).
 const EXTENSIONS: [&str; 3] = ["json", "csv", "npy"];
@@ -14,7 +14,9 @@ const EXTENSIONS: [&str; 3] = ["json", "csv", "npy"];
 /// The keypoint files (`.json`, `.csv`, `.npy`, any case) in `dir`, in natural order of their
 /// paths (digit runs compare as numbers: `frame_2` before `frame_10`), files of sub-folders too
 /// when `recursive`. Names starting with `.` are skipped, and symbolic links to folders are not
-/// followed (no cycles).
+/// followed (no cycles). Entries with these extensions that are not regular files (a dangling
+/// link, a link to a device, a FIFO) are listed too: [`open_folder_file`] refuses them, so that
+/// they are reported rather than skipped in silence.
 pub fn keypoint_files(dir: &Path, recursive: bool) -> Result<Vec<PathBuf>, KeypointError> {
     let mut files = Vec::new();
     let mut pending = vec![dir.to_path_buf()];
@@ -34,7 +36,7 @@ pub fn keypoint_files(dir: &Path, recursive: bool) -> Result<Vec<PathBuf>, Keypo
                 if recursive {
                     pending.push(path);
                 }
-            } else if path.is_file()
+            } else if !path.is_dir()
                 && path
                     .extension()
                     .and_then(|e| e.to_str())
@@ -105,7 +107,8 @@ impl Iterator for FolderRecords {
 
     fn next(&mut self) -> Option<Self::Item> {
         let path = self.files.next()?;
-        let records = read_keypoints(&path, self.format, &self.options);
+        let records = open_folder_file(&path, self.format, &self.options)
+            .and_then(|records| records.collect());
         Some((path, records))
     }
 
@@ -114,8 +117,34 @@ impl Iterator for FolderRecords {
     }
 }
 
+/// Opens the file `path` of a folder listing ([`keypoint_files`]) with
+/// [`open_keypoints`](crate::open_keypoints), unless it is not a regular file once links are
+/// followed: a dangling link, a FIFO (which would wait for a writer) or a device (`/dev/zero`
+/// never ends) is [`KeypointError::NotRegular`] instead.
+pub fn open_folder_file(
+    path: &Path,
+    format: Option<KeypointFormat>,
+    options: &ReadOptions,
+) -> Result<KeypointStream, KeypointError> {
+    let kind = match std::fs::metadata(path) {
+        Ok(meta) if meta.is_file() => return open_keypoints(path, format, options),
+        Ok(meta) => camloc_store::file_type_name(&meta.file_type()),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => "dangling symbolic link",
+        Err(source) => {
+            return Err(KeypointError::Io {
+                file: path.display().to_string(),
+                source,
+            });
+        }
+    };
+    Err(KeypointError::NotRegular {
+        file: path.display().to_string(),
+        kind,
+    })
+}
+
 /// Reads the keypoint files of `dir` ([`keypoint_files`]) in order, each with
-/// [`read_keypoints`]; `format: None` detects each file's format. Only listing the folder can
+/// [`open_folder_file`]; `format: None` detects each file's format. Only listing the folder can
 /// fail here; each file's error comes with it from the iterator. OpenPose files get their
 /// frame index from their names ([`frame_index`](crate::frame_index)).
 pub fn read_folder(

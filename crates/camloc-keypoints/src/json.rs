@@ -2,9 +2,10 @@
 //! twice is an error rather than silently overwritten), and helpers that report problems with
 //! their JSON path.
 
+use std::cell::Cell;
 use std::fmt;
 
-use serde::de::{self, Deserialize, Deserializer, MapAccess, SeqAccess, Visitor};
+use serde::de::{self, Deserialize, DeserializeSeed, Deserializer, MapAccess, SeqAccess, Visitor};
 
 use crate::error::{KeypointError, Location};
 
@@ -36,15 +37,47 @@ impl Json {
     }
 }
 
+/// The most JSON values (numbers, strings, `null`s, arrays, objects, counted with everything
+/// they hold) that one entry of an input may have: a pose, an instance, a frame, an annotation,
+/// a person. Reading stops with an error at the next value, so that one hostile keypoint list
+/// of millions of numbers is refused after about 4 MiB rather than held.
+pub const MAX_ENTRY_VALUES: usize = 1 << 16;
+
 impl<'de> Deserialize<'de> for Json {
+    /// Parses one entry: at most [`MAX_ENTRY_VALUES`] values.
     fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
-        deserializer.deserialize_any(JsonVisitor)
+        let budget = Cell::new(MAX_ENTRY_VALUES);
+        Bounded(&budget).deserialize(deserializer)
     }
 }
 
-struct JsonVisitor;
+/// Parses a [`Json`] value, taking one from the budget for each value.
+struct Bounded<'b>(&'b Cell<usize>);
 
-impl<'de> Visitor<'de> for JsonVisitor {
+impl Bounded<'_> {
+    /// Counts one value, or fails once the budget is spent.
+    fn take<E: de::Error>(&self) -> Result<(), E> {
+        match self.0.get().checked_sub(1) {
+            Some(left) => {
+                self.0.set(left);
+                Ok(())
+            }
+            None => Err(E::custom(format_args!(
+                "more than {MAX_ENTRY_VALUES} values in one entry (MAX_ENTRY_VALUES)"
+            ))),
+        }
+    }
+}
+
+impl<'de> DeserializeSeed<'de> for Bounded<'_> {
+    type Value = Json;
+
+    fn deserialize<D: Deserializer<'de>>(self, deserializer: D) -> Result<Json, D::Error> {
+        deserializer.deserialize_any(self)
+    }
+}
+
+impl<'de> Visitor<'de> for Bounded<'_> {
     type Value = Json;
 
     fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -52,55 +85,62 @@ impl<'de> Visitor<'de> for JsonVisitor {
     }
 
     fn visit_unit<E: de::Error>(self) -> Result<Json, E> {
+        self.take()?;
         Ok(Json::Null)
     }
 
     fn visit_bool<E: de::Error>(self, _: bool) -> Result<Json, E> {
+        self.take()?;
         Ok(Json::Bool)
     }
 
     fn visit_i64<E: de::Error>(self, v: i64) -> Result<Json, E> {
+        self.take()?;
         Ok(Json::Number(v.into()))
     }
 
     fn visit_u64<E: de::Error>(self, v: u64) -> Result<Json, E> {
+        self.take()?;
         Ok(Json::Number(v.into()))
     }
 
     fn visit_f64<E: de::Error>(self, v: f64) -> Result<Json, E> {
-        serde_json::Number::from_f64(v)
-            .map(Json::Number)
-            .ok_or_else(|| E::custom("number is not finite"))
+        self.take()?;
+        finite(v).map(Json::Number)
     }
 
     fn visit_str<E: de::Error>(self, v: &str) -> Result<Json, E> {
+        self.take()?;
         Ok(Json::String(v.to_owned()))
     }
 
     fn visit_string<E: de::Error>(self, v: String) -> Result<Json, E> {
+        self.take()?;
         Ok(Json::String(v))
     }
 
     fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Json, A::Error> {
+        self.take()?;
         let mut items = Vec::new();
-        while let Some(item) = seq.next_element()? {
+        while let Some(item) = seq.next_element_seed(Bounded(self.0))? {
             items.push(item);
         }
         Ok(Json::Array(items))
     }
 
     fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Json, A::Error> {
+        self.take()?;
         let mut fields = Vec::new();
-        while let Some(entry) = map.next_entry::<String, Json>()? {
-            fields.push(entry);
+        while let Some(key) = map.next_key::<String>()? {
+            fields.push((key, map.next_value_seed(Bounded(self.0))?));
         }
         Ok(Json::Object(fields))
     }
 }
 
-/// Parses `text` as JSON into `T`, turning parser errors into [`KeypointError::Json`].
-pub(crate) fn parse<'a, T: Deserialize<'a>>(text: &'a str, file: &str) -> Result<T, KeypointError> {
-    serde_json::from_str(text).map_err(|e| syntax_error(&e, file))
+/// A finite `f64` as a JSON number (serde_json never gives others; refused all the same).
+fn finite<E: de::Error>(v: f64) -> Result<serde_json::Number, E> {
+    serde_json::Number::from_f64(v).ok_or_else(|| E::custom("number is not finite"))
 }
 
 /// A parser error as [`KeypointError::Json`], its line and column moved out of the message.
@@ -146,15 +186,15 @@ impl<'de> Visitor<'de> for SkipVisitor {
     }
 
     fn visit_i64<E: de::Error>(self, v: i64) -> Result<Json, E> {
-        JsonVisitor.visit_i64(v)
+        Ok(Json::Number(v.into()))
     }
 
     fn visit_u64<E: de::Error>(self, v: u64) -> Result<Json, E> {
-        JsonVisitor.visit_u64(v)
+        Ok(Json::Number(v.into()))
     }
 
     fn visit_f64<E: de::Error>(self, v: f64) -> Result<Json, E> {
-        JsonVisitor.visit_f64(v)
+        finite(v).map(Json::Number)
     }
 
     fn visit_str<E: de::Error>(self, _: &str) -> Result<Json, E> {
@@ -225,6 +265,26 @@ pub(crate) fn get<'a>(fields: &'a [(String, Json)], key: &str) -> Option<&'a Jso
     fields.iter().find(|(k, _)| k == key).map(|(_, v)| v)
 }
 
+/// The value of `key` in the object at `path`, if present; a key given twice is
+/// [`KeypointError::DuplicateKey`] (no first-one-wins), for objects whose other keys are not
+/// checked.
+pub(crate) fn optional<'a>(
+    fields: &'a [(String, Json)],
+    key: &str,
+    file: &str,
+    path: &str,
+) -> Result<Option<&'a Json>, KeypointError> {
+    let mut found = fields.iter().filter(|(k, _)| k == key).map(|(_, v)| v);
+    let first = found.next();
+    if found.next().is_some() {
+        return Err(KeypointError::DuplicateKey {
+            file: file.to_owned(),
+            at: Location::Path(key_path(path, key)),
+        });
+    }
+    Ok(first)
+}
+
 /// A [`KeypointError::WrongType`] for `found` at `path`.
 pub(crate) fn wrong_type(
     file: &str,
@@ -291,14 +351,14 @@ pub(crate) fn object<'a>(
     }
 }
 
-/// The value of the required key `key` of the object at `path`.
+/// The value of the required key `key` of the object at `path`, given once.
 pub(crate) fn required<'a>(
     fields: &'a [(String, Json)],
     key: &'static str,
     file: &str,
     path: &str,
 ) -> Result<&'a Json, KeypointError> {
-    get(fields, key).ok_or_else(|| KeypointError::MissingKey {
+    optional(fields, key, file, path)?.ok_or_else(|| KeypointError::MissingKey {
         file: file.to_owned(),
         at: Location::Path(path.to_owned()),
         key,
@@ -363,11 +423,9 @@ mod tests {
 
     #[test]
     fn keeps_duplicate_keys_and_integer_ids() {
-        let v: Json = parse(
-            r#"{"a": 1, "a": [2.5, null], "b": 18446744073709551615}"#,
-            "t",
-        )
-        .unwrap();
+        let v: Json =
+            serde_json::from_str(r#"{"a": 1, "a": [2.5, null], "b": 18446744073709551615}"#)
+                .unwrap();
         let Json::Object(fields) = &v else {
             panic!("{v:?}")
         };
@@ -386,7 +444,8 @@ mod tests {
 
     #[test]
     fn json_errors_carry_line_and_column_once() {
-        let err = parse::<Json>("{\n  \"a\": [1,\n}", "f.json").unwrap_err();
+        let err = serde_json::from_str::<Json>("{\n  \"a\": [1,\n}").unwrap_err();
+        let err = syntax_error(&err, "f.json");
         let KeypointError::Json { line, message, .. } = &err else {
             panic!("{err:?}")
         };

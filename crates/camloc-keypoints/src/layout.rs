@@ -7,7 +7,7 @@ use std::str::FromStr;
 use camloc_skeleton::{Landmark, PartialPose2};
 
 use crate::ReadOptions;
-use crate::record::derive_torso;
+use crate::torso::derive_torso;
 
 /// What one joint of a layout becomes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -105,15 +105,17 @@
 //! line and column for syntax errors, or an array element `[pose, joint, channel]`. Messages
 //! quote at most [`MAX_QUOTED_CHARS`] characters of any piece of input. Text inputs longer than
 //! [`ReadOptions::max_bytes`] (one OpenPose frame: [`OPENPOSE_FRAME_MAX_BYTES`]) are refused
-//! (files before they are read, pipes at the limit). `.npy` arrays, and camloc JSON documents
-//! longer than [`STREAM_PEEK_BYTES`], are streamed by [`open_keypoints`]: their records come
-//! one at a time, memory independent of their number, and an error ends the stream after the
-//! records before it.
+//! (files before they are read, pipes at the limit). JSON inputs are parsed entry by entry, each
+//! entry at most [`MAX_ENTRY_VALUES`] values. `.npy` arrays, and JSON and LSP inputs longer
+//! than [`STREAM_PEEK_BYTES`], are streamed by [`open_keypoints`]: their records come one at a
+//! time, memory independent of their number, and an error ends the stream after the records
+//! before it.
 
 #![warn(missing_docs)]
 
 mod camloc_json;
 mod coco;
+mod emit;
 mod error;
 mod folder;
 mod format;
@@ -125,8 +127,10 @@ mod mmpose;
 mod mpii;
 mod npy;
 mod openpose;
+mod peek;
 mod record;
 mod stream;
+mod torso;
 
 use std::fmt;
 use std::io::{self, Read};
@@ -136,14 +140,19 @@ use std::str::FromStr;
 pub use camloc_json::{CAMLOC_FORMAT_TAG, CAMLOC_FORMAT_VERSION, to_camloc_json};
 pub use camloc_skeleton::{Landmark, PartialPose2, Pose3};
 pub use coco::COCO_KEYPOINTS;
-pub use error::{KeypointError, Location, MAX_QUOTED_CHARS, MAX_QUOTED_ITEMS};
-pub use folder::{FolderRecords, keypoint_files, read_folder};
+pub use error::{
+    KeypointError, Location, MAX_QUOTED_CHARS, MAX_QUOTED_ITEMS, MAX_QUOTED_PATH_CHARS,
+};
+pub use folder::{FolderRecords, keypoint_files, open_folder_file, read_folder};
 pub use format::{KeypointFormat, UnknownFormatName};
+pub use json::MAX_ENTRY_VALUES;
 pub use layout::{ArrayPoseError, Layout, MappedPose, UnknownLayoutName, pose_from_array};
 pub use lsp::LSP_JOINTS;
 pub use npy::{NPY_MAX_HEADER_BYTES, NpyPose, NpyPoseWriter, NpyPoses, read_npy_poses3, write_npy};
 pub use openpose::{OPENPOSE_FRAME_MAX_BYTES, frame_index};
-pub use record::{KeypointRecord, derive_torso};
+pub use peek::STREAM_PEEK_BYTES;
+pub use record::KeypointRecord;
+pub use torso::derive_torso;
 
 /// What to do with LSP joints marked `visible = 0`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -229,7 +238,7 @@ pub struct ReadOptions {
     /// the joint count, with 17 meaning COCO-17 for MMPose and needing a name for `.npy`.
     pub layout: Option<Layout>,
     /// Largest text input accepted, in bytes; longer inputs give [`KeypointError::TooLarge`]
-    /// (a streamed camloc JSON document after the records before the limit).
+    /// (a streamed input after the records before the limit).
     /// Default [`ReadOptions::DEFAULT_MAX_BYTES`] (1 GiB). One OpenPose frame is also limited
     /// to [`OPENPOSE_FRAME_MAX_BYTES`]; `.npy` arrays are streamed and not limited.
     pub max_bytes: u64,
@@ -264,9 +273,9 @@ impl Default for ReadOptions {
     }
 }
 
-/// The records of one input, produced as they are read: `.npy` arrays and long camloc JSON
-/// documents pose by pose (memory independent of N), other text formats from the parsed file. Returned by [`open_keypoints`] and
-/// [`open_keypoints_reader`].
+/// The records of one input, produced as they are read: `.npy` arrays pose by pose, long JSON
+/// and LSP inputs on a reader thread (memory independent of N), short inputs from the parsed
+/// text. Returned by [`open_keypoints`] and [`open_keypoints_reader`].
 pub struct KeypointStream {
     inner: StreamInner,
 }
@@ -275,7 +284,7 @@ pub struct KeypointStream {
 enum StreamInner {
     Parsed(std::vec::IntoIter<KeypointRecord>),
     Npy(Box<NpyPoses<Box<dyn Read + Send>>>),
-    /// Parsed on a producer thread (camloc JSON longer than [`STREAM_PEEK_BYTES`]).
+    /// Parsed on a producer thread (JSON and LSP longer than [`STREAM_PEEK_BYTES`]).
     Channel(stream::Received),
 }
 
@@ -290,8 +299,8 @@ impl Iterator for KeypointStream {
         }
     }
 
-    /// Exact for text formats read whole; for `.npy` the poses left (fewer if an error stops
-    /// the stream); unknown for streamed camloc JSON.
+    /// Exact for text inputs read whole; for `.npy` the poses left (fewer if an error stops
+    /// the stream); unknown for streamed JSON and LSP.
     fn size_hint(&self) -> (usize, Option<usize>) {
         match &self.inner {
             StreamInner::Parsed(records) => records.size_hint(),
@@ -313,9 +322,11 @@ pub fn read_keypoints(
 }
 
 /// Opens a keypoint file and returns its records as a stream: a `.npy` array is read one pose
-/// at a time, a camloc JSON document longer than [`STREAM_PEEK_BYTES`] is parsed pose by pose
-/// on a reader thread, other formats are read whole (within their size limit) and parsed. `format: None`
-/// detects the format as [`read_keypoints`] does.
+/// at a time, a JSON input longer than [`STREAM_PEEK_BYTES`] is parsed entry by entry on a
+/// reader thread (from memory, after reading it whole, when only the whole text tells its
+/// format), a longer LSP file read whole and parsed there, shorter inputs read whole (within
+/// their size limit) and parsed. `format: None` detects the format as
+/// [`read_keypoints`] does.
 pub fn open_keypoints(
     path: impl AsRef<Path>,
     format: Option<KeypointFormat>,
@@ -341,10 +352,11 @@ pub fn open_keypoints(
 
 /// Reads keypoints from any reader, e.g. standard input: `name` names it in records and errors
 /// (its extension, if any, helps detection), `size` is its length in bytes when known. A `.npy`
-/// array (named by `format`, or recognised by its magic bytes) and a camloc JSON document longer
+/// array (named by `format`, or recognised by its magic bytes) and a JSON or LSP input longer
 /// than [`STREAM_PEEK_BYTES`] are streamed (at most [`ReadOptions::max_bytes`] of it: past that,
-/// the stream ends with [`KeypointError::TooLarge`]); other formats are read up to their size
-/// limit and parsed.
+/// the stream ends with [`KeypointError::TooLarge`]); shorter inputs are read and parsed. The
+/// start of the input is looked at first (its blank lead skipped): content that is not UTF-8,
+/// or that no format matches, is refused there.
 pub fn open_keypoints_reader(
     mut reader: impl Read + Send + 'static,
     name: &str,
@@ -385,27 +397,37 @@ pub fn open_keypoints_reader(
     if let Some(size) = size.filter(|&size| size > limit) {
         return Err(too_large(size));
     }
-    // Peek at the start: an input that ends within it is parsed whole, a longer camloc JSON
-    // document is streamed.
-    let mut bytes = Vec::new();
+    // Peek at the start (past a blank lead): input that is not text, or whose format nothing
+    // can match, is refused at once; an input that ends within it is parsed whole, a longer
+    // JSON document is streamed.
     let mut reader = reader;
-    (&mut reader)
-        .take(STREAM_PEEK_BYTES)
-        .read_to_end(&mut bytes)
-        .map_err(io_error)?;
-    if bytes.len() as u64 == STREAM_PEEK_BYTES && bytes.len() as u64 <= limit {
-        if let Some(text) = streamable_start(&bytes, name, format) {
-            let bom = bytes.len() - text.len();
-            bytes.drain(..bom);
-            return stream_camloc(
-                io::Cursor::new(bytes).chain(reader),
-                name,
-                limit,
-                rule,
-                options,
-            );
-        }
+    let start = peek::Start::read(&mut reader, limit).map_err(io_error)?;
+    if start.len() > limit {
+        return Err(too_large(start.len()));
     }
+    if let Some(e) = start.utf8_error(name) {
+        return Err(e);
+    }
+    let extension = Path::new(name).extension().and_then(|e| e.to_str());
+    let text = start.text();
+    let detected = format.or_else(|| KeypointFormat::from_extension_and_content(extension, text));
+    if detected.is_none() && !text.starts_with(['{', '[']) && !text.is_empty() {
+        return Err(unknown_format(name, extension));
+    }
+    let json = detected.filter(|f| !matches!(f, KeypointFormat::Lsp | KeypointFormat::Npy));
+    if let (Some(json), false) = (json, start.ended) {
+        let (lead, content) = (start.lead(false), start.content);
+        return stream_json(
+            lead.chain(io::Cursor::new(content)).chain(reader),
+            name,
+            json,
+            options.byte_limit(Some(json)),
+            options,
+        );
+    }
+    let mut bytes = Vec::new();
+    start.lead(true).read_to_end(&mut bytes).map_err(io_error)?;
+    bytes.extend_from_slice(&start.content);
     reader
         .take((limit.saturating_add(1)).saturating_sub(bytes.len() as u64))
         .read_to_end(&mut bytes)
@@ -413,58 +435,47 @@ pub fn open_keypoints_reader(
     if bytes.len() as u64 > limit {
         return Err(too_large(bytes.len() as u64));
     }
+    if !start.ended {
+        return stream_text(bytes, name, detected, options);
+    }
     let records = parse_keypoints_bytes(&bytes, name, format, options)?;
     Ok(KeypointStream {
         inner: StreamInner::Parsed(records.into_iter()),
     })
 }
 
-/// Text inputs longer than this many bytes are streamed when they are camloc JSON documents
-/// (format given, or detected from these first bytes); shorter ones, and other text formats,
-/// are read whole.
-pub const STREAM_PEEK_BYTES: u64 = 1 << 16;
-
-/// The start of `bytes` as text without its byte-order mark, when the input is camloc JSON
-/// (`format`, or detected from this start) that begins with an object, so that it can be
-/// streamed. `None` sends the input to the whole-text readers (which also report invalid UTF-8
-/// in the start, and detect formats on the whole text).
-fn streamable_start<'a>(
-    bytes: &'a [u8],
-    name: &str,
-    format: Option<KeypointFormat>,
-) -> Option<&'a str> {
-    let valid = match std::str::from_utf8(bytes) {
-        Ok(text) => text,
-        // Cut inside a character at the end of the peeked bytes: the text up to it.
-        Err(e) if e.error_len().is_none() => std::str::from_utf8(&bytes[..e.valid_up_to()]).ok()?,
-        Err(_) => return None,
-    };
-    let text = valid.strip_prefix('\u{feff}').unwrap_or(valid);
-    let extension = Path::new(name).extension().and_then(|e| e.to_str());
-    let format = format.or_else(|| KeypointFormat::from_extension_and_content(extension, text))?;
-    (format == KeypointFormat::Camloc && text.trim_start().starts_with('{')).then_some(text)
+/// [`KeypointError::UnknownFormat`] for input `file` with `extension`.
+fn unknown_format(file: &str, extension: Option<&str>) -> KeypointError {
+    KeypointError::UnknownFormat {
+        file: file.to_owned(),
+        reason: match extension {
+            Some(ext) => format!("extension \".{ext}\" and content match none"),
+            None => "no extension, and the content matches none".to_owned(),
+        },
+    }
 }
 
-/// Streams the camloc JSON document `reader` (BOM removed) on a producer thread, at most
+/// Streams the JSON document `reader` (BOM removed) in `format` on a producer thread, at most
 /// `limit` bytes of it (`rule` names the limit in the error).
-fn stream_camloc(
+fn stream_json(
     reader: impl Read + Send + 'static,
     name: &str,
-    limit: u64,
-    rule: &'static str,
+    format: KeypointFormat,
+    (limit, rule): (u64, &'static str),
     options: &ReadOptions,
 ) -> Result<KeypointStream, KeypointError> {
     let file = name.to_owned();
     let options = *options;
     let received = stream::spawn(name, move |sender| {
         let reader = io::BufReader::with_capacity(1 << 16, stream::Capped::new(reader, limit));
-        let outcome = camloc_json::stream(reader, &file, &options, &mut |record| {
+        let read = serde_json::de::IoRead::new(reader);
+        let outcome = json_records(format, read, &file, &options, &mut |record| {
             sender.send(Ok(record))
         });
         let error = match outcome {
-            Ok(()) | Err(camloc_json::Stop::Closed) => return,
-            Err(camloc_json::Stop::Invalid(e)) => e,
-            Err(camloc_json::Stop::Io(e)) => {
+            Some(Ok(()) | Err(emit::Stop::Closed)) => return,
+            Some(Err(emit::Stop::Invalid(e))) => e,
+            Some(Err(emit::Stop::Io(e))) => {
                 match e
                     .get_ref()
                     .and_then(|e| e.downcast_ref::<stream::OverLimit>())
@@ -481,11 +492,104 @@ fn stream_camloc(
                     },
                 }
             }
+            // Not a JSON format: not streamed (see `streamable_start`).
+            None => return,
         };
         sender.send(Err(error));
     })?;
     Ok(KeypointStream {
         inner: StreamInner::Channel(received),
+    })
+}
+
+/// Streams a long text input that was read whole (LSP CSV, or JSON whose format its first
+/// 64 KiB did not tell) from a reader thread, so that the text is held but not its records.
+fn stream_text(
+    mut bytes: Vec<u8>,
+    name: &str,
+    format: Option<KeypointFormat>,
+    options: &ReadOptions,
+) -> Result<KeypointStream, KeypointError> {
+    let text = utf8_text(&bytes, name)?;
+    let bom = if text.starts_with('\u{feff}') {
+        '\u{feff}'.len_utf8()
+    } else {
+        0
+    };
+    let extension = Path::new(name).extension().and_then(|e| e.to_str());
+    let format = match format {
+        Some(format) => format,
+        None => KeypointFormat::from_extension_and_content(extension, &text[bom..])
+            .ok_or_else(|| unknown_format(name, extension))?,
+    };
+    match format {
+        KeypointFormat::Lsp => stream_lsp(bytes, name, options),
+        KeypointFormat::Npy => Ok(KeypointStream {
+            inner: StreamInner::Parsed(
+                parse_keypoints_bytes(&bytes, name, Some(format), options)?.into_iter(),
+            ),
+        }),
+        json => {
+            bytes.drain(..bom);
+            let limit = options.byte_limit(Some(json));
+            stream_json(io::Cursor::new(bytes), name, json, limit, options)
+        }
+    }
+}
+
+/// Reads the LSP CSV text `bytes` on a producer thread and streams its records (the text and
+/// about 24 bytes per row are held, not the records).
+fn stream_lsp(
+    bytes: Vec<u8>,
+    name: &str,
+    options: &ReadOptions,
+) -> Result<KeypointStream, KeypointError> {
+    let file = name.to_owned();
+    let options = *options;
+    let received = stream::spawn(name, move |sender| {
+        let outcome = utf8_text(&bytes, &file).and_then(|text| {
+            let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+            lsp::read(text, &file, &options, &mut |record| sender.send(Ok(record)))
+        });
+        if let Err(e) = outcome {
+            sender.send(Err(e));
+        }
+    })?;
+    Ok(KeypointStream {
+        inner: StreamInner::Channel(received),
+    })
+}
+
+/// `bytes` as UTF-8 text, or [`KeypointError::NotUtf8`] naming the first invalid byte.
+fn utf8_text<'a>(bytes: &'a [u8], file: &str) -> Result<&'a str, KeypointError> {
+    std::str::from_utf8(bytes).map_err(|e| {
+        let offset = e.valid_up_to();
+        let line = 1 + bytes[..offset].iter().filter(|&&b| b == b'\n').count();
+        KeypointError::NotUtf8 {
+            file: file.to_owned(),
+            line,
+            offset,
+        }
+    })
+}
+
+/// Reads the JSON document `read` in `format` and gives its records to `emit` (see
+/// [`emit::drive`]); `None` for the formats that are not JSON.
+fn json_records<'de, R: serde_json::de::Read<'de>>(
+    format: KeypointFormat,
+    read: R,
+    file: &str,
+    options: &ReadOptions,
+    emit: &mut dyn FnMut(KeypointRecord) -> bool,
+) -> Option<Result<(), emit::Stop>> {
+    Some(match format {
+        KeypointFormat::Camloc => emit::drive(read, file, options, emit, camloc_json::Document),
+        KeypointFormat::Coco => emit::drive(read, file, options, emit, coco::Input),
+        KeypointFormat::OpenPose => emit::drive(read, file, options, emit, openpose::Frame),
+        KeypointFormat::MmPose => emit::drive(read, file, options, emit, mmpose::Predictions),
+        KeypointFormat::MediaPipe => emit::drive(read, file, options, emit, mediapipe::Frames),
+        KeypointFormat::Mpii => emit::drive(read, file, options, emit, mpii::Annotations),
+        KeypointFormat::Lsp | KeypointFormat::Npy => return None,
     })
 }
 
@@ -505,18 +609,7 @@ pub fn parse_keypoints_bytes(
         let size = Some(bytes.len() as u64);
         return NpyPoses::new(bytes, source_name, size, options)?.collect();
     }
-    match std::str::from_utf8(bytes) {
-        Ok(text) => parse_keypoints(text, source_name, format, options),
-        Err(e) => {
-            let offset = e.valid_up_to();
-            let line = 1 + bytes[..offset].iter().filter(|&&b| b == b'\n').count();
-            Err(KeypointError::NotUtf8 {
-                file: source_name.to_owned(),
-                line,
-                offset,
-            })
-        }
-    }
+    parse_keypoints(utf8_text(bytes, source_name)?, source_name, format, options)
 }
 
 /// Parses keypoint text. `source_name` names the input in record sources and errors, and its
@@ -548,31 +641,22 @@ pub fn parse_keypoints(
     let extension = Path::new(source_name).extension().and_then(|e| e.to_str());
     let format = match format {
         Some(format) => format,
-        None => KeypointFormat::from_extension_and_content(extension, text).ok_or_else(|| {
-            KeypointError::UnknownFormat {
-                file: file.to_owned(),
-                reason: match extension {
-                    Some(ext) => format!("extension \".{ext}\" and content match none"),
-                    None => "no extension, and the content matches none".to_owned(),
-                },
-            }
-        })?,
+        None => KeypointFormat::from_extension_and_content(extension, text)
+            .ok_or_else(|| unknown_format(file, extension))?,
     };
     let (limit, rule) = options.byte_limit(Some(format));
     if text.len() as u64 > limit {
         return Err(too_large((limit, rule)));
     }
     match format {
-        KeypointFormat::Camloc => camloc_json::parse(text, file, options),
         KeypointFormat::Lsp => lsp::parse(text, file, options),
-        KeypointFormat::Coco => coco::parse(text, file, options),
-        KeypointFormat::OpenPose => openpose::parse(text, file, options),
-        KeypointFormat::MmPose => mmpose::parse(text, file, options),
-        KeypointFormat::MediaPipe => mediapipe::parse(text, file, options),
-        KeypointFormat::Mpii => mpii::parse(text, file, options),
         KeypointFormat::Npy => {
             let size = Some(text.len() as u64);
             NpyPoses::new(text.as_bytes(), file, size, options)?.collect()
         }
+        json => emit::collect(file, |emit| {
+            let read = serde_json::de::StrRead::new(text);
+            json_records(json, read, file, options, emit).unwrap_or(Ok(()))
+        }),
     }
 }

@@ -5,7 +5,8 @@ use std::collections::HashMap;
 use camloc_skeleton::{Landmark, PartialPose2};
 
 use crate::error::{KeypointError, Location};
-use crate::record::{KeypointRecord, derive_torso, finish};
+use crate::record::{KeypointRecord, finish};
+use crate::torso::derive_torso;
 use crate::{Invisible, ReadOptions};
 
 /// The 14 LSP joints and the camloc landmark each one becomes (`head_top` is read as the head;
@@ -40,19 +41,22 @@ struct Header {
     width: usize,
 }
 
-/// One joint of one image.
-#[derive(Clone, Copy)]
-struct Joint {
-    point: [f64; 2],
+/// One joint row, parsed (24 bytes: rows are held until the end of the input, since an image's
+/// rows need not be contiguous).
+struct Row {
+    /// The image's index, in order of first appearance.
+    image: u32,
+    /// The joint's index in [`LSP_JOINTS`].
+    slot: u8,
     visible: bool,
-    line: usize,
+    point: [f64; 2],
 }
 
-/// The rows of one image.
+/// One image: its name, the line of its first row, and the joints seen so far.
 struct Image<'a> {
     name: &'a str,
     first_line: usize,
-    joints: [Option<Joint>; 14],
+    seen: u16,
 }
 
 /// Reads LSP CSV text (BOM already removed, known not to be blank).
@@ -61,11 +65,24 @@ pub(crate) fn parse(
     file: &str,
     options: &ReadOptions,
 ) -> Result<Vec<KeypointRecord>, KeypointError> {
-    let mut lines = text
-        .split('\n')
-        .enumerate()
-        .map(|(i, l)| (i + 1, l.strip_suffix('\r').unwrap_or(l)))
-        .filter(|(_, l)| !l.trim().is_empty());
+    let mut records = Vec::new();
+    read(text, file, options, &mut |r| {
+        records.push(r);
+        true
+    })?;
+    Ok(records)
+}
+
+/// Reads LSP CSV text (BOM already removed, known not to be blank) and gives the records, in
+/// order of the images' first rows, to `emit` (which returns `false` to stop). Every row is
+/// checked before the first record; memory is about 24 bytes per row and 70 per image.
+pub(crate) fn read(
+    text: &str,
+    file: &str,
+    options: &ReadOptions,
+    emit: &mut dyn FnMut(KeypointRecord) -> bool,
+) -> Result<(), KeypointError> {
+    let mut lines = rows(text);
     let Some((header_line, header_text)) = lines.next() else {
         return Err(KeypointError::Empty {
             file: file.to_owned(),
@@ -74,7 +91,8 @@ pub(crate) fn parse(
     let header = parse_header(header_text, header_line, file)?;
 
     let mut images: Vec<Image> = Vec::new();
-    let mut by_name: HashMap<&str, usize> = HashMap::new();
+    let mut by_name: HashMap<&str, u32> = HashMap::new();
+    let mut rows_read: Vec<Row> = Vec::new();
     let mut fields = Vec::with_capacity(header.width);
     for (line, row) in lines {
         fields.clear();
@@ -93,15 +111,12 @@ pub(crate) fn parse(
             return Err(invalid(file, at(), "image", name, "a non-empty image name"));
         }
         let joint_name = fields[header.joint];
-        let slot = LSP_JOINTS
-            .iter()
-            .position(|(n, _)| *n == joint_name)
-            .ok_or_else(|| KeypointError::UnknownJoint {
-                file: file.to_owned(),
-                at: at(),
-                name: joint_name.to_owned(),
-                expected: LSP_JOINTS.map(|(n, _)| n).join(", "),
-            })?;
+        let slot = joint_slot(joint_name).ok_or_else(|| KeypointError::UnknownJoint {
+            file: file.to_owned(),
+            at: at(),
+            name: joint_name.to_owned(),
+            expected: LSP_JOINTS.map(|(n, _)| n).join(", "),
+        })?;
         let point = [
             coordinate(fields[header.x], "x", file, line)?,
             coordinate(fields[header.y], "y", file, line)?,
@@ -111,62 +126,109 @@ pub(crate) fn parse(
             "0" => false,
             other => return Err(invalid(file, at(), "visible", other, "0 or 1")),
         };
-
-        let index = *by_name.entry(name).or_insert_with(|| {
-            images.push(Image {
-                name,
-                first_line: line,
-                joints: [None; 14],
-            });
-            images.len() - 1
-        });
-        let image = &mut images[index];
-        if let Some(first) = image.joints[slot] {
+        let index = match by_name.get(name) {
+            Some(&index) => index,
+            None => {
+                let index = u32::try_from(images.len()).map_err(|_| {
+                    invalid(file, at(), "image", name, "one of at most 2^32 images")
+                })?;
+                images.push(Image {
+                    name,
+                    first_line: line,
+                    seen: 0,
+                });
+                by_name.insert(name, index);
+                index
+            }
+        };
+        let image = &mut images[index as usize];
+        if image.seen & (1 << slot) != 0 {
             return Err(KeypointError::DuplicateJoint {
                 file: file.to_owned(),
                 at: at(),
-                first: Location::Line(first.line),
+                first: Location::Line(first_row(text, &header, name, joint_name)),
                 image: name.to_owned(),
                 joint: joint_name.to_owned(),
             });
         }
-        image.joints[slot] = Some(Joint {
-            point,
+        image.seen |= 1 << slot;
+        rows_read.push(Row {
+            image: index,
+            slot,
             visible,
-            line,
+            point,
         });
     }
+    drop(by_name);
+    // The rows of each image together, images in order of first appearance.
+    rows_read.sort_unstable_by_key(|r| r.image);
+    for (image, joints) in images
+        .iter()
+        .zip(rows_read.chunk_by(|a, b| a.image == b.image))
+    {
+        if !emit(record(image, joints, file, options)) {
+            break;
+        }
+    }
+    Ok(())
+}
 
-    Ok(images
-        .into_iter()
-        .map(|image| {
-            let mut pose = PartialPose2::empty();
-            let mut annotated = PartialPose2::empty();
-            for ((_, landmark), joint) in LSP_JOINTS.iter().zip(&image.joints) {
-                let kept = joint.filter(|j| j.visible || options.lsp.invisible == Invisible::Use);
-                pose.points[landmark.index()] = kept.map(|j| j.point);
-                annotated.points[landmark.index()] = joint.map(|j| j.point);
-            }
-            // The torso is the unit of scale and LSP annotates hidden joints too: a pelvis or
-            // neck that the visible joints cannot give comes from the annotated (invisible)
-            // hips, shoulders or neck, and is recorded as derived.
-            let mut derived = Vec::new();
-            if options.derive_torso {
-                derive_torso(&mut annotated);
-                let mut visible_only = pose;
-                derive_torso(&mut visible_only);
-                for torso in [Landmark::Pelvis, Landmark::Neck] {
-                    let t = torso.index();
-                    if visible_only.points[t].is_none() && annotated.points[t].is_some() {
-                        pose.points[t] = annotated.points[t];
-                        derived.push(torso);
-                    }
-                }
-            }
-            let source = format!("{file}: {}", Location::Line(image.first_line));
-            finish(image.name.to_owned(), pose, derived, source, options)
+/// The non-blank lines of `text` with their 1-based numbers, without line ends.
+fn rows(text: &str) -> impl Iterator<Item = (usize, &str)> {
+    text.split('\n')
+        .enumerate()
+        .map(|(i, l)| (i + 1, l.strip_suffix('\r').unwrap_or(l)))
+        .filter(|(_, l)| !l.trim().is_empty())
+}
+
+/// The index of joint `name` in [`LSP_JOINTS`].
+fn joint_slot(name: &str) -> Option<u8> {
+    (0u8..)
+        .zip(LSP_JOINTS)
+        .find(|(_, (n, _))| *n == name)
+        .map(|(i, _)| i)
+}
+
+/// The line of the first row of joint `joint` of image `image` (for the error on a second).
+fn first_row(text: &str, header: &Header, image: &str, joint: &str) -> usize {
+    rows(text)
+        .skip(1)
+        .find(|(_, row)| {
+            let fields: Vec<&str> = row.split(',').map(str::trim).collect();
+            fields.get(header.image) == Some(&image) && fields.get(header.joint) == Some(&joint)
         })
-        .collect())
+        .map_or(0, |(line, _)| line)
+}
+
+/// The record of `image` from its rows.
+fn record(image: &Image, joints: &[Row], file: &str, options: &ReadOptions) -> KeypointRecord {
+    let mut pose = PartialPose2::empty();
+    let mut annotated = PartialPose2::empty();
+    for joint in joints {
+        let landmark = LSP_JOINTS[usize::from(joint.slot)].1.index();
+        if joint.visible || options.lsp.invisible == Invisible::Use {
+            pose.points[landmark] = Some(joint.point);
+        }
+        annotated.points[landmark] = Some(joint.point);
+    }
+    // The torso is the unit of scale and LSP annotates hidden joints too: a pelvis or neck that
+    // the visible joints cannot give comes from the annotated (invisible) hips, shoulders or
+    // neck, and is recorded as derived.
+    let mut derived = Vec::new();
+    if options.derive_torso {
+        derive_torso(&mut annotated);
+        let mut visible_only = pose;
+        derive_torso(&mut visible_only);
+        for torso in [Landmark::Pelvis, Landmark::Neck] {
+            let t = torso.index();
+            if visible_only.points[t].is_none() && annotated.points[t].is_some() {
+                pose.points[t] = annotated.points[t];
+                derived.push(torso);
+            }
+        }
+    }
+    let source = format!("{file}: {}", Location::Line(image.first_line));
+    finish(image.name.to_owned(), pose, derived, source, options)
 }
 
 /// Finds the five columns in the header, in any order (names compared ignoring ASCII case).

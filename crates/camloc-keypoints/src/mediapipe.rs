@@ -1,9 +1,12 @@
 //! MediaPipe Pose: a list of frames, each a list of 33 landmarks `{x, y, z, visibility}` with
 //! `x`, `y` normalised to [0, 1] by the image width and height.
 
+use serde::de::SeqAccess;
+
+use crate::emit::{Sink, TopLevel};
 use crate::error::{KeypointError, Location};
 use crate::json::{
-    self, Json, array, check_keys, get, index_path, key_path, number, object, required, unit_score,
+    Json, array, check_keys, get, index_path, key_path, number, object, required, unit_score,
 };
 use crate::layout::{MEDIAPIPE33, keeps};
 use crate::record::{KeypointRecord, from_joints};
@@ -12,51 +15,72 @@ use crate::{ImageSize, ReadOptions};
 /// Keys of one landmark object (`presence` is written by MediaPipe's Tasks API).
 const LANDMARK_KEYS: [&str; 5] = ["x", "y", "z", "visibility", "presence"];
 
-/// Reads MediaPipe Pose landmarks (BOM already removed, known not to be blank).
-pub(crate) fn parse(
-    text: &str,
-    file: &str,
-    options: &ReadOptions,
-) -> Result<Vec<KeypointRecord>, KeypointError> {
-    let root: Json = json::parse(text, file)?;
-    let Some(size) = options.image_size else {
-        return Err(KeypointError::ImageSizeNeeded {
-            file: file.to_owned(),
-            format: "MediaPipe",
-        });
-    };
-    let items = array(&root, "a list of frames (lists of 33 landmarks)", file, "")?;
-    // A bare list of landmark objects is one frame.
-    if matches!(items.first(), Some(Json::Object(_))) {
-        return Ok(vec![frame(items, "", 0, size, file, options)?]);
+/// MediaPipe Pose: a list of frames (each a list of 33 landmarks, or `null`), read one frame at
+/// a time, or one bare frame (a list of landmark objects).
+pub(crate) struct Frames;
+
+impl TopLevel for Frames {
+    const EXPECTED: &'static str = "a list of frames (lists of 33 landmarks)";
+
+    fn list<'de, A: SeqAccess<'de>>(self, mut seq: A, sink: &mut Sink) -> Result<(), A::Error> {
+        let (file, options) = (sink.file, sink.options);
+        let Some(size) = options.image_size else {
+            let format = "MediaPipe";
+            let file = file.to_owned();
+            return Err(sink.fail(KeypointError::ImageSizeNeeded { file, format }));
+        };
+        let Some(first) = seq.next_element::<Json>()? else {
+            return Ok(());
+        };
+        if let Json::Object(_) = first {
+            // A bare list of landmark objects is one frame: keep one more landmark than a frame
+            // has (for the error), count the rest.
+            let mut landmarks = vec![first];
+            let mut found = 1;
+            while let Some(landmark) = seq.next_element::<Json>()? {
+                if landmarks.len() <= MEDIAPIPE33.len() {
+                    landmarks.push(landmark);
+                }
+                found += 1;
+            }
+            let record = frame(&landmarks, found, "", 0, size, file, options);
+            return sink.send(record);
+        }
+        let (mut value, mut i) = (first, 0);
+        loop {
+            if !matches!(value, Json::Null) {
+                let path = index_path("", i);
+                let record = array(&value, "a list of 33 landmarks, or null", file, &path)
+                    .and_then(|landmarks| {
+                        frame(landmarks, landmarks.len(), &path, i, size, file, options)
+                    });
+                sink.send(record)?;
+            }
+            i += 1;
+            match seq.next_element::<Json>()? {
+                Some(next) => value = next,
+                None => return Ok(()),
+            }
+        }
     }
-    items
-        .iter()
-        .enumerate()
-        .filter(|(_, f)| !matches!(f, Json::Null))
-        .map(|(i, f)| {
-            let path = index_path("", i);
-            let landmarks = array(f, "a list of 33 landmarks, or null", file, &path)?;
-            frame(landmarks, &path, i, size, file, options)
-        })
-        .collect()
 }
 
-/// The frame `index` at `path`.
+/// The frame `index` at `path`, of `found` landmarks (the first of which are `landmarks`).
 fn frame(
     landmarks: &[Json],
+    found: usize,
     path: &str,
     index: usize,
     size: ImageSize,
     file: &str,
     options: &ReadOptions,
 ) -> Result<KeypointRecord, KeypointError> {
-    if landmarks.len() != MEDIAPIPE33.len() {
+    if found != MEDIAPIPE33.len() {
         return Err(KeypointError::WrongLength {
             file: file.to_owned(),
             at: Location::Path(path.to_owned()),
             expected: MEDIAPIPE33.len(),
-            found: landmarks.len(),
+            found,
             items: "landmarks",
             what: "MediaPipe Pose, or null for a frame without a person",
         });

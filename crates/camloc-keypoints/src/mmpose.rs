@@ -4,82 +4,101 @@
 //! `{"frame_id": n, "instances": [...]}` (video), or either under `"instance_info"` of an object
 //! (`--save-predictions` of the demos; `meta_info` and other keys are skipped).
 
+use serde::de::{MapAccess, SeqAccess};
+
 use crate::ReadOptions;
+use crate::emit::{self, ListReader, Sink, TopLevel};
 use crate::error::{KeypointError, Location};
 use crate::json::{
-    self, Json, array, get, index_path, key_path, number_array, numbers, object, required,
+    self, Json, array, index_path, key_path, number_array, numbers, object, optional, required,
 };
 use crate::layout::{Layout, keeps, resolve_layout};
 use crate::record::{KeypointRecord, from_joints};
 
-/// Reads MMPose predictions (BOM already removed, known not to be blank).
-pub(crate) fn parse(
-    text: &str,
+/// MMPose predictions: a list of instances or frames, or an object with `instance_info` (other
+/// keys skipped); the list is read one entry at a time.
+pub(crate) struct Predictions;
+
+impl TopLevel for Predictions {
+    const EXPECTED: &'static str =
+        "a list of instances or frames, or an object with \"instance_info\"";
+
+    fn list<'de, A: SeqAccess<'de>>(self, seq: A, sink: &mut Sink) -> Result<(), A::Error> {
+        Entries("").read(seq, sink)
+    }
+
+    fn object<'de, A: MapAccess<'de>>(self, map: A, sink: &mut Sink) -> Result<(), A::Error> {
+        const KEY: &str = "instance_info";
+        emit::object_with_list(
+            map,
+            sink,
+            KEY,
+            "a list of instances or frames",
+            Entries(KEY),
+        )
+    }
+}
+
+/// The list of instances or frames at the given JSON path, one entry at a time.
+struct Entries(&'static str);
+
+impl ListReader for Entries {
+    fn read<'de, A: SeqAccess<'de>>(self, seq: A, sink: &mut Sink) -> Result<(), A::Error> {
+        let (file, options) = (sink.file, sink.options);
+        emit::entries(seq, sink, |entry, i| {
+            entry_records(&entry, &index_path(self.0, i), i, file, options)
+        })
+    }
+}
+
+/// The records of entry `i` at `path`: an instance, or a frame `{"frame_id", "instances"}`.
+fn entry_records(
+    entry: &Json,
+    path: &str,
+    i: usize,
     file: &str,
     options: &ReadOptions,
 ) -> Result<Vec<KeypointRecord>, KeypointError> {
-    const EXPECTED: &str = "a list of instances or frames, or an object with \"instance_info\"";
-    let root: Json = json::parse(text, file)?;
-    let (list, list_path) = match &root {
-        Json::Array(items) => (&items[..], String::new()),
-        Json::Object(fields) => (
-            array(
-                required(fields, "instance_info", file, "")?,
-                "a list of instances or frames",
-                file,
-                "instance_info",
-            )?,
-            "instance_info".to_owned(),
-        ),
-        other => return Err(json::wrong_type(file, "", EXPECTED, other)),
+    let fields = object(entry, "an instance or frame object", file, path)?;
+    let Some(instances) = optional(fields, "instances", file, path)? else {
+        let record = instance_record(entry, path, i.to_string(), file, options)?;
+        return Ok(vec![KeypointRecord {
+            person: Some(i as u64),
+            ..record
+        }]);
     };
-    let mut records = Vec::new();
-    for (i, entry) in list.iter().enumerate() {
-        let path = index_path(&list_path, i);
-        let fields = object(entry, "an instance or frame object", file, &path)?;
-        match get(fields, "instances") {
-            Some(instances) => {
-                let frame_id = match get(fields, "frame_id") {
-                    Some(Json::Number(n)) => Some(n.clone()),
-                    Some(other) => {
-                        return Err(json::wrong_type(
-                            file,
-                            &key_path(&path, "frame_id"),
-                            "an integer",
-                            other,
-                        ));
-                    }
-                    None => None,
-                };
-                let frame = frame_id.as_ref().and_then(serde_json::Number::as_u64);
-                let frame_name = frame_id.map_or_else(|| i.to_string(), |n| n.to_string());
-                let instances_path = key_path(&path, "instances");
-                let instances = array(instances, "a list of instances", file, &instances_path)?;
-                for (n, instance) in instances.iter().enumerate() {
-                    let record = instance_record(
-                        instance,
-                        &index_path(&instances_path, n),
-                        format!("{frame_name}/{n}"),
-                        file,
-                        options,
-                    )?;
-                    records.push(KeypointRecord {
-                        frame: frame.or(Some(i as u64)),
-                        person: Some(n as u64),
-                        ..record
-                    });
-                }
-            }
-            None => {
-                let record = instance_record(entry, &path, i.to_string(), file, options)?;
-                records.push(KeypointRecord {
-                    person: Some(i as u64),
-                    ..record
-                });
-            }
-        }
-    }
-    Ok(records)
+    let frame_path = key_path(path, "frame_id");
+    let frame = match optional(fields, "frame_id", file, path)? {
+        Some(Json::Number(n)) => n.as_u64().ok_or_else(|| KeypointError::InvalidValue {
+            file: file.to_owned(),
+            at: Location::Path(frame_path),
+            field: "frame_id",
+            text: n.to_string(),
+            expected: "a frame number (an integer of at least 0)",
+        })?,
+        Some(other) => return Err(json::wrong_type(file, &frame_path, "an integer", other)),
+        None => i as u64,
+    };
+    let instances_path = key_path(path, "instances");
+    let instances = array(instances, "a list of instances", file, &instances_path)?;
+    instances
+        .iter()
+        .enumerate()
+        .map(|(n, instance)| {
+            let record = instance_record(
+                instance,
+                &index_path(&instances_path, n),
+                format!("{frame}/{n}"),
+                file,
+                options,
+            )?;
+            Ok(KeypointRecord {
+                frame: Some(frame),
+                person: Some(n as u64),
+                ..record
+            })
+        })
+        .collect()
 }
 
 /// One instance at `path`.
@@ -107,7 +126,7 @@ fn instance_record(
                 what,
             }
         })?;
-    let scores = match get(fields, "keypoint_scores") {
+    let scores = match optional(fields, "keypoint_scores", file, path)? {
         Some(value) => {
             let scores_path = key_path(path, "keypoint_scores");
             let scores = numbers(value, "a list of numbers", file, &scores_path)?;

@@ -254,7 +254,7 @@ fn pose_error(file: &str, pose: u64, error: ArrayPoseError) -> KeypointError {
 /// `(4, 15, 2)`.
 fn shape_text(shape: &[u64]) -> String {
     let dims: Vec<String> = shape.iter().map(u64::to_string).collect();
-    format!("({})", dims.join(", "))
+    crate::error::clip(&format!("({})", dims.join(", ")))
 }
 
 /// Reads the magic, version, header length and header, checks them (see the module
@@ -312,6 +312,13 @@ fn check_header(text: &[u8]) -> Result<(), String> {
             .find(|(k, _)| k.as_string().is_some_and(|k| k == key))
             .map(|(_, v)| v)
     };
+    let known = |k: &py_literal::Value| {
+        k.as_string()
+            .is_some_and(|k| ["descr", "fortran_order", "shape"].contains(&k.as_str()))
+    };
+    if dict.len() != 3 || !dict.iter().all(|(k, _)| known(k)) {
+        return Err(format!("{} (and no other key)", bad()));
+    }
     if !get("descr").is_some_and(py_literal::Value::is_string)
         || !matches!(get("fortran_order"), Some(py_literal::Value::Boolean(_)))
     {

@@ -3,9 +3,12 @@
 
 use std::path::Path;
 
+use serde::de::{MapAccess, SeqAccess};
+
 use crate::ReadOptions;
+use crate::emit::{self, ListReader, Sink, TopLevel};
 use crate::error::{KeypointError, Location};
-use crate::json::{self, Json, array, index_path, key_path, numbers, object, required, unit_score};
+use crate::json::{Json, index_path, key_path, numbers, object, required, unit_score};
 use crate::layout::{COCO18, Joint, Layout, keeps};
 use crate::record::{KeypointRecord, from_joints};
 
@@ -31,74 +34,85 @@ fn strip_suffix_ignore_case<'a>(text: &'a str, suffix: &str) -> Option<&'a str> 
     (text.is_char_boundary(cut) && text[cut..].eq_ignore_ascii_case(suffix)).then(|| &text[..cut])
 }
 
-/// Reads one OpenPose frame (BOM already removed, known not to be blank).
-pub(crate) fn parse(
-    text: &str,
+/// One OpenPose frame: an object whose `people` are read one at a time (other keys skipped).
+pub(crate) struct Frame;
+
+impl TopLevel for Frame {
+    const EXPECTED: &'static str = "an object with \"people\"";
+
+    fn object<'de, A: MapAccess<'de>>(self, map: A, sink: &mut Sink) -> Result<(), A::Error> {
+        emit::object_with_list(map, sink, "people", "an array of people", People)
+    }
+}
+
+/// The `people` of a frame, one person at a time.
+struct People;
+
+impl ListReader for People {
+    fn read<'de, A: SeqAccess<'de>>(self, seq: A, sink: &mut Sink) -> Result<(), A::Error> {
+        let (file, options) = (sink.file, sink.options);
+        let frame = frame_index(file);
+        let frame_name = match frame {
+            Some(frame) => frame.to_string(),
+            None => Path::new(file)
+                .file_stem()
+                .map_or_else(|| file.to_owned(), |s| s.to_string_lossy().into_owned()),
+        };
+        emit::entries(seq, sink, |person, p| {
+            let record = person_record(&person, p, &frame_name, file, options)?;
+            Ok(Some(KeypointRecord { frame, ..record }))
+        })
+    }
+}
+
+/// Person `p` of the frame named `frame_name`.
+fn person_record(
+    person: &Json,
+    p: usize,
+    frame_name: &str,
     file: &str,
     options: &ReadOptions,
-) -> Result<Vec<KeypointRecord>, KeypointError> {
-    let root: Json = json::parse(text, file)?;
-    let fields = object(&root, "an object with \"people\"", file, "")?;
-    let people = array(
-        required(fields, "people", file, "")?,
-        "an array of people",
+) -> Result<KeypointRecord, KeypointError> {
+    let path = index_path("people", p);
+    let fields = object(person, "a person object", file, &path)?;
+    let kp_path = key_path(&path, "pose_keypoints_2d");
+    let values = numbers(
+        required(fields, "pose_keypoints_2d", file, &path)?,
+        "an array of x, y, c numbers",
         file,
-        "people",
+        &kp_path,
     )?;
-    let frame = frame_index(file);
-    let frame_name = match frame {
-        Some(frame) => frame.to_string(),
-        None => Path::new(file)
-            .file_stem()
-            .map_or_else(|| file.to_owned(), |s| s.to_string_lossy().into_owned()),
+    let table: &[Joint] = match values.len() {
+        75 => Layout::Body25.joints(),
+        54 => &COCO18,
+        found => {
+            return Err(KeypointError::WrongLength {
+                file: file.to_owned(),
+                at: Location::Path(kp_path),
+                expected: 75,
+                found,
+                items: "numbers",
+                what: "BODY_25 x, y, c triples, or 54 for COCO-18",
+            });
+        }
     };
-    people
-        .iter()
-        .enumerate()
-        .map(|(p, person)| {
-            let path = index_path("people", p);
-            let fields = object(person, "a person object", file, &path)?;
-            let kp_path = key_path(&path, "pose_keypoints_2d");
-            let values = numbers(
-                required(fields, "pose_keypoints_2d", file, &path)?,
-                "an array of x, y, c numbers",
-                file,
-                &kp_path,
-            )?;
-            let table: &[Joint] = match values.len() {
-                75 => Layout::Body25.joints(),
-                54 => &COCO18,
-                found => {
-                    return Err(KeypointError::WrongLength {
-                        file: file.to_owned(),
-                        at: Location::Path(kp_path),
-                        expected: 75,
-                        found,
-                        items: "numbers",
-                        what: "BODY_25 x, y, c triples, or 54 for COCO-18",
-                    });
-                }
-            };
-            let mut points = Vec::with_capacity(table.len());
-            for (k, xyc) in values.chunks_exact(3).enumerate() {
-                let c_path = index_path(&kp_path, 3 * k + 2);
-                let c = unit_score(xyc[2], "confidence", file, &c_path)?;
-                points.push(keeps(c, options).then_some([xyc[0], xyc[1]]));
-            }
-            Ok(KeypointRecord {
-                frame,
-                person: Some(p as u64),
-                ..from_joints(
-                    table,
-                    points,
-                    format!("{frame_name}/{p}"),
-                    file,
-                    &path,
-                    options,
-                )
-            })
-        })
-        .collect()
+    let mut points = Vec::with_capacity(table.len());
+    for (k, xyc) in values.chunks_exact(3).enumerate() {
+        let c_path = index_path(&kp_path, 3 * k + 2);
+        let c = unit_score(xyc[2], "confidence", file, &c_path)?;
+        points.push(keeps(c, options).then_some([xyc[0], xyc[1]]));
+    }
+    Ok(KeypointRecord {
+        person: Some(p as u64),
+        ..from_joints(
+            table,
+            points,
+            format!("{frame_name}/{p}"),
+            file,
+            &path,
+            options,
+        )
+    })
 }
 
 #[cfg(test)]

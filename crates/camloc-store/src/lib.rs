@@ -32,9 +32,11 @@ use std::path::{Path, PathBuf};
 use serde::Serialize;
 use serde::de::DeserializeOwned;
 
+mod quote;
 mod write;
 
-pub use write::{StagedFiles, check_target, scratch_beside, write_new};
+pub use quote::{MAX_QUOTED_CHARS, MAX_QUOTED_PATH_CHARS, escaped, quoted, quoted_path};
+pub use write::{StagedFiles, check_target, file_type_name, scratch_beside, write_new};
 
 /// Length of the envelope header in bytes.
 pub const HEADER_LEN: usize = 28;
@@ -51,7 +53,7 @@ pub const MEMORY_ORIGIN: &str = "<memory>";
 #[derive(Debug, thiserror::Error)]
 pub enum StoreError {
     /// Operating-system error on `path`.
-    #[error("{path}: {source}")]
+    #[error("{}: {source}", crate::quoted_path(.path))]
     Io {
         /// File concerned.
         path: PathBuf,
@@ -59,7 +61,7 @@ pub enum StoreError {
         source: std::io::Error,
     },
     /// The output exists and overwriting was not requested.
-    #[error("{path}: already exists (pass --force to overwrite it)")]
+    #[error("{}: already exists (pass --force to overwrite it)", crate::quoted_path(.path))]
     Exists {
         /// File that exists.
         path: PathBuf,
@@ -67,7 +69,8 @@ pub enum StoreError {
     /// The output path is a symbolic link and overwriting was not requested; camloc never
     /// writes through a link.
     #[error(
-        "{path}: already exists as a symbolic link; camloc does not write through links (pass --force to replace the link itself by a new file; its target is left untouched)"
+        "{}: already exists as a symbolic link, which camloc never writes through (--force replaces the link itself by a new file, not its target)",
+        crate::quoted_path(.path)
     )]
     Symlink {
         /// The link.
@@ -76,7 +79,8 @@ pub enum StoreError {
     /// The output path is neither a regular file nor a symbolic link (a directory, device,
     /// FIFO or socket); refused even with `--force`.
     #[error(
-        "{path}: is a {kind}, not a regular file; camloc writes only regular files and never replaces or writes into a {kind}, even with --force"
+        "{}: is a {kind}, not a regular file: camloc writes only regular files and never replaces a {kind}, even with --force",
+        crate::quoted_path(.path)
     )]
     NotRegular {
         /// The path.
@@ -85,7 +89,7 @@ pub enum StoreError {
         kind: &'static str,
     },
     /// The bytes are not a file of the expected kind.
-    #[error("{origin}: not a camloc {what} file (magic bytes \"{found}\"{})",
+    #[error("{}: not a camloc {what} file (magic bytes \"{found}\"{})", crate::quoted_path(std::path::Path::new(.origin)),
         .other.map_or(String::new(), |o| format!(": this is a {o}")))]
     WrongKind {
         /// File (or origin) read.
@@ -99,7 +103,7 @@ pub enum StoreError {
     },
     /// The file is of the right kind but another format version.
     #[error(
-        "{origin}: camloc {what} file has format version {found}, this build reads version {expected}; regenerate it with this version of camloc"
+        "{}: camloc {what} file has format version {found}, this build reads version {expected}; regenerate it with this version of camloc", crate::quoted_path(std::path::Path::new(.origin))
     )]
     Version {
         /// File (or origin) read.
@@ -113,7 +117,7 @@ pub enum StoreError {
     },
     /// The header declares a payload larger than any valid file of this kind.
     #[error(
-        "{origin}: camloc {what} file declares a payload of {declared} bytes, more than the {max} bytes a {what} file may hold"
+        "{}: camloc {what} file declares a payload of {declared} bytes, more than the {max} bytes a {what} file may hold", crate::quoted_path(std::path::Path::new(.origin))
     )]
     TooLarge {
         /// File (or origin) read.
@@ -126,7 +130,7 @@ pub enum StoreError {
         max: u64,
     },
     /// The file is damaged: truncated, padded, checksum mismatch, or undecodable payload.
-    #[error("{origin}: camloc {what} file is corrupt: {detail}")]
+    #[error("{}: camloc {what} file is corrupt: {detail}", crate::quoted_path(std::path::Path::new(.origin)))]
     Corrupt {
         /// File (or origin) read.
         origin: String,
@@ -137,7 +141,7 @@ pub enum StoreError {
     },
     /// The file decoded but its content breaks the invariants of the value
     /// ([`Validate::validate`]).
-    #[error("{origin}: invalid camloc {what} file: {source}")]
+    #[error("{}: invalid camloc {what} file: {source}", crate::quoted_path(std::path::Path::new(.origin)))]
     Invalid {
         /// File (or origin) read.
         origin: String,

@@ -6,7 +6,7 @@ use std::fs::{self, File};
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
 
-use tempfile::{NamedTempFile, TempPath};
+use tempfile::TempPath;
 
 use crate::StoreError;
 
@@ -36,7 +36,7 @@ pub fn check_target(path: &Path, overwrite: bool) -> Result<(), StoreError> {
     if !kind.is_symlink() && !kind.is_file() {
         Err(StoreError::NotRegular {
             path,
-            kind: describe(&kind),
+            kind: file_type_name(&kind),
         })
     } else if overwrite {
         Ok(())
@@ -78,7 +78,8 @@ pub fn scratch_beside(target: &Path) -> Result<File, StoreError> {
 }
 
 /// The output files of one run, all or nothing. Each is written at once to a temporary file
-/// (`tempfile::NamedTempFile`) beside its target; [`StagedFiles::commit`] moves them all into
+/// (`tempfile::NamedTempFile`) beside its target, and closed (only its name is kept, so that
+/// thousands of staged files hold no open file descriptor); [`StagedFiles::commit`] moves them all into
 /// place, and on any failure removes what it moved and puts back what it replaced. Dropped
 /// without a commit (or after a failed one), it removes its temporaries.
 ///
@@ -89,7 +90,7 @@ pub fn scratch_beside(target: &Path) -> Result<File, StoreError> {
 #[derive(Debug)]
 pub struct StagedFiles {
     overwrite: bool,
-    files: Vec<(NamedTempFile, PathBuf)>,
+    files: Vec<(TempPath, PathBuf)>,
 }
 
 impl StagedFiles {
@@ -167,11 +168,7 @@ impl StagedFiles {
 
 /// Moves `tmp` onto `target`, moving what is there aside first with `overwrite`; returns
 /// what was moved aside. On failure `target` is as it was.
-fn place(
-    tmp: NamedTempFile,
-    target: &Path,
-    overwrite: bool,
-) -> Result<Option<TempPath>, StoreError> {
+fn place(tmp: TempPath, target: &Path, overwrite: bool) -> Result<Option<TempPath>, StoreError> {
     let backup = if overwrite { move_aside(target)? } else { None };
     match persist(tmp, target, overwrite) {
         Ok(()) => Ok(backup),
@@ -208,11 +205,11 @@ fn move_aside(target: &Path) -> Result<Option<TempPath>, StoreError> {
     Ok(Some(backup))
 }
 
-/// A temporary file beside `target` holding what `write` wrote, flushed to disk.
+/// A temporary file beside `target` holding what `write` wrote, flushed to disk and closed.
 fn temporary(
     target: &Path,
     write: impl FnOnce(&mut BufWriter<&File>) -> io::Result<()>,
-) -> Result<NamedTempFile, StoreError> {
+) -> Result<TempPath, StoreError> {
     let io = |e| io_error(target, e);
     let prefix = hidden_prefix(target);
     let mut builder = tempfile::Builder::new();
@@ -226,19 +223,19 @@ fn temporary(
     write(&mut out).map_err(io)?;
     out.into_inner().map_err(|e| io(e.into_error()))?;
     tmp.as_file().sync_all().map_err(io)?;
-    Ok(tmp)
+    Ok(tmp.into_temp_path())
 }
 
 /// Renames `tmp` onto `target`: replacing what is there with `overwrite`, otherwise only if
 /// nothing is there (no-clobber). On failure `tmp` is removed.
-fn persist(tmp: NamedTempFile, target: &Path, overwrite: bool) -> Result<(), StoreError> {
+fn persist(tmp: TempPath, target: &Path, overwrite: bool) -> Result<(), StoreError> {
     let persisted = if overwrite {
         tmp.persist(target)
     } else {
         tmp.persist_noclobber(target)
     };
     // On failure the temporary file is dropped with the error, which deletes it.
-    persisted.map(|_| ()).map_err(|e| {
+    persisted.map_err(|e| {
         if e.error.kind() == io::ErrorKind::AlreadyExists {
             StoreError::Exists {
                 path: target.to_path_buf(),
@@ -274,8 +271,9 @@ fn io_error(path: &Path, source: io::Error) -> StoreError {
     }
 }
 
-/// Human name of a non-regular, non-link file type.
-fn describe(kind: &fs::FileType) -> &'static str {
+/// Human name of a non-regular, non-link file type: `directory`, `FIFO`, `character device`,
+/// `block device`, `socket` or `special file`.
+pub fn file_type_name(kind: &fs::FileType) -> &'static str {
     if kind.is_dir() {
         return "directory";
     }

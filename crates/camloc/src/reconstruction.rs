@@ -145,8 +145,10 @@ impl PoseReconstructor {
     /// the localization used (none for `opt`).
     ///
     /// # Errors
-    /// [`CamlocError::InvalidOption`] when landmarks are missing; localization errors for
-    /// `classified` and `hybrid`; [`CamlocError::Reconstruct`] for a degenerate pose.
+    /// [`CamlocError::InvalidOption`] when landmarks are missing; [`CamlocError::Feature`] for
+    /// a pose whose scale localization refuses too (`Descriptor::check_scale` of the
+    /// localizer's descriptor, or of the default one); localization errors for `classified`
+    /// and `hybrid`; [`CamlocError::Reconstruct`] for a degenerate pose.
     pub fn reconstruct(&self, pose: &PartialPose2) -> Result<PoseReconstruction, CamlocError> {
         self.reconstruct_hypotheses(pose, 1)
     }
@@ -175,6 +177,17 @@ impl PoseReconstructor {
                 ),
             });
         };
+        // The scale check of localization (the localizer's descriptor, or the default one), so
+        // that a pose localize refuses (a pelvis at 1e8 beside a body 100 px tall) is refused
+        // here too rather than answered with a plausible pose.
+        let descriptor = self.localizer.as_ref().map(|l| *l.descriptor());
+        descriptor
+            .unwrap_or_default()
+            .check_scale(&complete)
+            .map_err(|source| CamlocError::Feature {
+                context: "input pose".into(),
+                source,
+            })?;
         let localization = match (self.mode, &self.localizer) {
             (ModeKind::Opt, _) => None,
             (_, Some(localizer)) => Some(localizer.localize(&complete)?),

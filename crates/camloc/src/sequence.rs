@@ -187,15 +187,17 @@ impl SequenceModel {
         if n == 0 {
             return Ok(Vec::new());
         }
-        let emissions = frames
-            .iter()
-            .enumerate()
-            .map(|(t, f)| self.emission(*f, t))
-            .collect::<Result<Vec<_>, _>>()?;
-        // Forward (scaled), backward (scaled with the same factors).
+        // Memory per frame: the emissions, the scaled forward probabilities and the Viterbi
+        // back-pointers (12 + 12 numbers and 12 small indices for 12 cameras), and the output.
+        let mut emissions = Vec::with_capacity(n * k);
+        for (t, frame) in frames.iter().enumerate() {
+            emissions.extend(self.emission(*frame, t)?);
+        }
+        let emission = |t: usize| &emissions[t * k..(t + 1) * k];
+        // Forward (scaled).
         let mut alpha = vec![0.0; n * k];
-        for j in 0..k {
-            alpha[j] = emissions[0][j] / k as f64;
+        for (value, e) in alpha.iter_mut().zip(emission(0)) {
+            *value = e / k as f64;
         }
         normalise(&mut alpha[..k]);
         for t in 1..n {
@@ -204,54 +206,51 @@ impl SequenceModel {
             let current = &mut rest[..k];
             for (j, value) in current.iter_mut().enumerate() {
                 let into: f64 = (0..k).map(|i| previous[i] * self.transition(i, j)).sum();
-                *value = into * emissions[t][j];
+                *value = into * emission(t)[j];
             }
             normalise(current);
         }
-        let mut beta = vec![1.0; n * k];
-        for t in (0..n - 1).rev() {
-            let (now, next) = beta.split_at_mut((t + 1) * k);
-            let next = &next[..k];
-            let current = &mut now[t * k..];
-            for (i, value) in current.iter_mut().enumerate() {
-                *value = (0..k)
-                    .map(|j| self.transition(i, j) * emissions[t + 1][j] * next[j])
-                    .sum();
-            }
-            normalise(current);
-        }
-        // Viterbi in logarithms.
+        // Viterbi in logarithms (camera indices fit 16 bits: labels are 16-bit numbers).
         let log_transition: Vec<f64> = self.transition.iter().map(|p| p.ln()).collect();
-        let mut score: Vec<f64> = emissions[0].iter().map(|e| e.ln()).collect();
-        let mut back = vec![0usize; n * k];
+        let mut score: Vec<f64> = emission(0).iter().map(|e| e.ln()).collect();
+        let mut back = vec![0u16; n * k];
         for t in 1..n {
             let mut next = vec![f64::NEG_INFINITY; k];
             for (j, slot) in next.iter_mut().enumerate() {
                 let (best, from) = (0..k)
                     .map(|i| (score[i] + log_transition[i * k + j], i))
                     .fold((f64::NEG_INFINITY, 0), |a, b| if b.0 > a.0 { b } else { a });
-                *slot = best + emissions[t][j].ln();
-                back[t * k + j] = from;
+                *slot = best + emission(t)[j].ln();
+                back[t * k + j] = u16::try_from(from).unwrap_or(u16::MAX);
             }
             score = next;
         }
-        let mut path = vec![argmax(&score); n];
-        for t in (1..n).rev() {
-            path[t - 1] = back[t * k + path[t]];
+        let mut state = argmax(&score);
+        // Backward (scaled with the same factors), one step held at a time, each frame's
+        // posterior and Viterbi state made as it comes; the frames come out last first.
+        let mut beta = vec![1.0; k];
+        let mut smoothed = Vec::with_capacity(n);
+        for t in (0..n).rev() {
+            if t + 1 < n {
+                let next = std::mem::replace(&mut beta, vec![0.0; k]);
+                for (i, value) in beta.iter_mut().enumerate() {
+                    *value = (0..k)
+                        .map(|j| self.transition(i, j) * emission(t + 1)[j] * next[j])
+                        .sum();
+                }
+                normalise(&mut beta);
+                state = usize::from(back[(t + 1) * k + state]);
+            }
+            let mut posterior: Vec<f64> = (0..k).map(|j| alpha[t * k + j] * beta[j]).collect();
+            normalise(&mut posterior);
+            smoothed.push(SmoothedFrame {
+                label: CameraLabel::from_index(state)?,
+                probability: posterior.get(state).copied().unwrap_or(0.0),
+                probabilities: posterior,
+            });
         }
-        path.iter()
-            .enumerate()
-            .map(|(t, &state)| {
-                let mut posterior: Vec<f64> =
-                    (0..k).map(|j| alpha[t * k + j] * beta[t * k + j]).collect();
-                normalise(&mut posterior);
-                Ok(SmoothedFrame {
-                    label: CameraLabel::from_index(state)?,
-                    probability: posterior[state],
-                    probabilities: posterior,
-                })
-            })
-            .collect()
+        smoothed.reverse();
+        Ok(smoothed)
     }
 }
 

@@ -5,13 +5,13 @@ use std::process::ExitCode;
 
 use camloc::PartialPose2;
 use camloc::keypoints::to_camloc_json;
-use camloc::store::{StagedFiles, check_target};
+use camloc::store::{StagedFiles, check_target, escaped};
 use clap::ValueEnum;
 
 use super::input::Inputs;
 use super::output::NpyStage;
-use super::stream::Summary;
-use super::{CliError, InputArgs, Out, ProgressArgs, progress};
+use super::stream::{Summary, report_pose_error};
+use super::{CliError, EXIT_ERROR, InputArgs, Out, ProgressArgs, progress};
 
 /// camloc's own keypoint formats.
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -55,11 +55,17 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         Target::Camloc => None,
     };
     let mut poses: Vec<(String, PartialPose2)> = Vec::new();
+    let mut empty = 0u64;
     for item in inputs.by_ref() {
         bar.inc(1);
         match item {
             Ok(record) => {
                 summary.poses += 1;
+                if record.pose.points.iter().all(Option::is_none) {
+                    empty += 1;
+                    let message = "no landmark (every joint missing); written as such";
+                    report_pose_error(&bar, &record.id, &record.source, message);
+                }
                 match &mut npy {
                     Some(npy) => npy.push(Some(&record.pose))?,
                     None => poses.push((record.id, record.pose)),
@@ -83,7 +89,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     }
     out.write(&format!(
         "wrote {} ({} poses, {})\n",
-        args.out.display(),
+        escaped(&args.out.display().to_string()),
         summary.poses,
         match args.to {
             Target::Camloc => "camloc JSON",
@@ -92,5 +98,13 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     ))?;
     out.flush()?;
     staged.commit()?;
-    Ok(summary.exit_code("converted"))
+    let code = summary.exit_code("converted");
+    if empty > 0 {
+        eprintln!(
+            "camloc: {empty} of {} poses have no landmark",
+            summary.poses
+        );
+        return Ok(ExitCode::from(EXIT_ERROR));
+    }
+    Ok(code)
 }

@@ -4,18 +4,17 @@ use std::fmt::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use camloc::store::Persist;
-use camloc::{CameraLocalizer, CamlocError, evaluate};
+use camloc::{CamlocError, evaluate};
 
-use super::{CliError, Out, load_dataset};
+use super::{CliError, Out, load_dataset, load_model};
 use camloc::store::{StagedFiles, check_target};
 
 /// Arguments of `camloc evaluate`.
 #[derive(clap::Args)]
 pub struct Args {
-    /// Model file (from `camloc train`).
+    /// Model file (from `camloc train`) [default: the model embedded in this binary].
     #[arg(long, value_name = "MODEL")]
-    pub model: PathBuf,
+    pub model: Option<PathBuf>,
     /// Labelled dataset (from `cargo xtask gen-dataset`).
     #[arg(long, value_name = "FILE")]
     pub dataset: PathBuf,
@@ -37,7 +36,7 @@ pub fn run(args: &Args, stdout: &mut Out) -> Result<ExitCode, CliError> {
     if let Some(svg) = &args.svg {
         check_target(svg, args.force)?;
     }
-    let localizer = CameraLocalizer::load(&args.model)?;
+    let localizer = load_model(args.model.as_deref())?;
     let dataset = load_dataset(&args.dataset)?;
     let e = evaluate(&localizer, &dataset)?;
     let mut staged = StagedFiles::new(args.force);

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use camloc::keypoints::{
     KeypointError, KeypointFormat, KeypointRecord, KeypointStream, ReadOptions, keypoint_files,
-    open_keypoints, open_keypoints_reader,
+    open_folder_file, open_keypoints, open_keypoints_reader,
 };
 
 use super::{CliError, InputArgs};
@@ -78,7 +78,7 @@ impl Iterator for Inputs {
                 self.current = None;
             }
             let path = self.files.next()?;
-            match open_keypoints(&path, self.format, &self.options) {
+            match open_folder_file(&path, self.format, &self.options) {
                 Ok(stream) => self.current = Some(stream),
                 Err(e) => return Some(Err(e)),
             }

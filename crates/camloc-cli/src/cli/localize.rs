@@ -11,12 +11,16 @@ use camloc::{CameraLabel, CameraLocalizer, Localization, Pose3};
 use serde::ser::SerializeMap;
 use serde::{Serialize, Serializer};
 
+use camloc::store::escaped;
+
 use crate::svg;
 
 use super::input::Inputs;
 use super::sequence;
 use super::stream::{self, Done, Files, SummaryDrawing};
-use super::{CliError, ForceArgs, FormatArgs, InputArgs, Out, ProgressArgs, load_model, progress};
+use super::{
+    CliError, ForceArgs, FormatArgs, InputArgs, Out, ProgressArgs, load_model, progress, targets,
+};
 
 /// Arguments of `camloc localize`.
 #[derive(clap::Args)]
@@ -39,6 +43,10 @@ pub struct Args {
     /// frame's 12 probabilities are kept until the end (not the poses).
     #[arg(long)]
     pub sequence: bool,
+    /// With --sequence: refuse an input of more than N poses (each is kept until the end:
+    /// about 600 to 700 bytes a pose, docs/cli.md).
+    #[arg(long, value_name = "N", default_value_t = 1_000_000)]
+    pub sequence_max_poses: u64,
     /// Draw where the cameras of the whole input fall (the cameras as an azimuth by
     /// elevation grid, shaded by the share of poses) as SVG to this file.
     #[arg(long, value_name = "OUT")]
@@ -51,6 +59,11 @@ pub struct Args {
 
 /// Runs `camloc localize`.
 pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
+    let outputs = [
+        (args.svg.as_deref(), "--svg", true),
+        (args.summary_svg.as_deref(), "--summary-svg", false),
+    ];
+    targets::check_distinct(&targets::outputs(outputs))?;
     let localizer = load_model(args.model.as_deref())?;
     let inputs = Inputs::open(&args.input)?;
     let format = args.format.format();
@@ -87,7 +100,13 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         .collect();
     let bar = progress::counter(args.progress.quiet, inputs.len_hint(), "localize", "poses");
     if args.sequence {
-        return sequence::run(&localizer, inputs, out, format, args, &bar);
+        let files = sequence::SequenceOptions {
+            svg: args.svg.as_deref(),
+            summary: args.summary_svg.as_deref(),
+            force: args.force.force,
+            max_poses: args.sequence_max_poses,
+        };
+        return sequence::run(&localizer, inputs, out, format, &files, &bar);
     }
     let summary = stream::run(inputs, out, format, &files, &bar, |record| {
         let loc = localizer
@@ -213,7 +232,7 @@ fn localization_text(
     let _ = writeln!(
         out,
         "{}: camera {}, {} level, {} side{where_}, probability {:.3}",
-        record.id,
+        escaped(&record.id),
         loc.label,
         loc.level.name(),
         loc.side.name(),

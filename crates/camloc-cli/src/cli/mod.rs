@@ -19,6 +19,7 @@ mod progress;
 mod reconstruct;
 mod sequence;
 mod stream;
+mod targets;
 mod train;
 
 pub use output::Out;
@@ -26,12 +27,16 @@ pub use output::Out;
 /// Exit code for a failure (bad input, unreadable or invalid file, failed pose).
 pub const EXIT_ERROR: u8 = 1;
 
+/// Exit code for a usage error (clap's, and [`CliError::Usage`]).
+pub const EXIT_USAGE: u8 = 2;
+
 const EXIT_CODES: &str = "Exit codes:
   0  success
   1  error: unreadable, malformed or invalid input, an input without any pose, an output
      that exists without --force, a failed write to standard output, or (localize,
      reconstruct, convert) at least one pose or file of a folder that could not be processed
-  2  usage error: unknown subcommand or option, missing or invalid argument
+  2  usage error: unknown subcommand or option, missing or invalid argument, two
+     outputs at one file
 
 An input with no pose at all (an empty pose list, a header-only CSV, an empty .npy array, a
 folder without poses, a dataset without samples) is an error: \"no poses in INPUT\", exit 1.";
@@ -91,8 +96,18 @@ pub enum CliError {
     /// Standard output could not be written (other than a closed pipe).
     #[error("cannot write to standard output: {0}")]
     Stdout(#[source] std::io::Error),
+    /// The arguments cannot work together (exit code 2, as clap's usage errors), e.g. two
+    /// outputs at one file.
+    #[error("{0}")]
+    Usage(String),
+    /// `localize --sequence` met more poses than it may keep.
+    #[error(
+        "more than {0} poses for --sequence, which keeps every pose until the end: split the \
+         input or raise --sequence-max-poses"
+    )]
+    TooManyPoses(u64),
     /// The input holds no pose at all (the rule for empty inputs, see `camloc --help`).
-    #[error("no poses in {0}")]
+    #[error("no poses in {}", camloc::store::quoted_path(Path::new(.0)))]
     NoPoses(String),
 }
 

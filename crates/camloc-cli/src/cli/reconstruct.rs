@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use camloc::reconstruct::{PoseBasis, Reconstruction};
-use camloc::store::Persist;
+use camloc::store::{Persist, escaped};
 use camloc::{
     CameraLabel, CamlocError, Landmark, ModeKind, Pose2, Pose3, PoseReconstructor, default_basis,
 };
@@ -19,7 +19,7 @@ use super::input::Inputs;
 use super::stream::{self, Done, Files};
 use super::{
     CliError, ForceArgs, FormatArgs, InputArgs, Out, ProgressArgs, load_dataset, load_model,
-    progress,
+    progress, targets,
 };
 
 /// The camera modes `reconstruct` offers (the library's [`ModeKind`] without `oracle`, which
@@ -124,6 +124,11 @@ fn to_json<T: serde::Serialize>(value: &T) -> Result<String, CamlocError> {
 
 /// Runs `camloc reconstruct`.
 pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
+    let outputs = [
+        (args.npy.as_deref(), "--npy", false),
+        (args.svg.as_deref(), "--svg", true),
+    ];
+    targets::check_distinct(&targets::outputs(outputs))?;
     let choice = args.camera;
     let mut reconstructor = PoseReconstructor::new(load_basis(args.basis.as_deref())?)?;
     if choice != ModeKind::Opt || args.model.is_some() {
@@ -177,7 +182,8 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
                     .collect(),
             })
         } else {
-            let mut text = reconstruction_text(&format!("{}: camera {camera_text}", record.id), r);
+            let id = escaped(&record.id);
+            let mut text = reconstruction_text(&format!("{id}: camera {camera_text}"), r);
             for (k, alternative) in result.alternatives.iter().enumerate() {
                 text.push_str(&reconstruction_text(
                     &format!("  alternative {}", k + 1),

@@ -4,10 +4,14 @@
 //! input for `--summary-svg`).
 //!
 //! A sequence needs all its frames before it can be smoothed: the run keeps, per pose, its id,
-//! source, frame, person and the 12 class probabilities (not the poses), so memory grows with
-//! the number of frames (a few hundred bytes each).
+//! source, frame, person and the 12 class probabilities (not the poses; a failure keeps the
+//! number of its message, each distinct message once), and refuses an input of more than
+//! `--sequence-max-poses` poses (1,000,000 by default) when it gets there; with the smoothing,
+//! about 600 to 700 bytes a pose (docs/cli.md).
 
+use std::collections::HashMap;
 use std::fmt::Write;
+use std::path::Path;
 use std::process::ExitCode;
 
 use camloc::{CameraLabel, CameraLocalizer, SequenceModel, SmoothedFrame, sequences};
@@ -19,18 +23,53 @@ use crate::svg;
 
 use super::input::Inputs;
 use super::output::Out;
-use super::stream::{BATCH, Emitter, Format, Summary, json_line};
+use super::stream::{BATCH, Emitter, Format, Summary, json_line, report_pose_error};
 use super::{CliError, numbered_path};
-use camloc::store::{StagedFiles, check_target};
+use camloc::store::{StagedFiles, check_target, escaped};
 
-/// One localized (or failed) pose of a sequence: what is kept until the sequence is smoothed.
+/// One localized (or failed) pose of a sequence: what is kept until the sequence is smoothed
+/// (at most 96 bytes, with the id, source and probabilities on the heap).
 struct Frame {
-    id: String,
-    source: String,
+    id: Box<str>,
+    source: Box<str>,
     frame: Option<u64>,
     person: Option<u64>,
-    /// The most probable camera, its probability and every camera's, or the failure.
-    result: Result<(CameraLabel, f64, Vec<f64>), String>,
+    /// The most probable camera and every camera's probability, or the number of the failure's
+    /// message in [`Failures`].
+    result: Result<(CameraLabel, Box<[f64]>), u32>,
+}
+
+impl Frame {
+    /// The most probable camera and its probability.
+    fn best(&self) -> Option<(CameraLabel, f64)> {
+        let (label, p) = self.result.as_ref().ok()?;
+        Some((*label, p.get(label.index()).copied().unwrap_or(f64::NAN)))
+    }
+}
+
+/// The distinct failure messages of a run (thousands of poses without a torso share one).
+#[derive(Default)]
+struct Failures {
+    messages: Vec<String>,
+    numbers: HashMap<String, u32>,
+}
+
+impl Failures {
+    /// The number of `message`.
+    fn number(&mut self, message: String) -> u32 {
+        if let Some(&n) = self.numbers.get(&message) {
+            return n;
+        }
+        let n = u32::try_from(self.messages.len()).unwrap_or(u32::MAX);
+        self.messages.push(message.clone());
+        self.numbers.insert(message, n);
+        n
+    }
+
+    /// The message numbered `n`.
+    fn message(&self, n: u32) -> &str {
+        self.messages.get(n as usize).map_or("", String::as_str)
+    }
 }
 
 /// One frame of `localize --sequence --json` / `--jsonl`.
@@ -52,21 +91,29 @@ struct FrameJson<'a> {
     smoothed_probability: f64,
 }
 
-/// Runs `camloc localize --sequence` (see the module docs) with the files and `--force` of
-/// `args`.
+/// The options of a sequence run: `--svg` (one timeline per person), `--summary-svg`,
+/// `--force` and `--sequence-max-poses`.
+pub struct SequenceOptions<'a> {
+    /// `--svg`: the timelines (numbered when there are several people).
+    pub svg: Option<&'a Path>,
+    /// `--summary-svg`: the per-frame cameras of the whole input.
+    pub summary: Option<&'a Path>,
+    /// `--force`: replace existing files.
+    pub force: bool,
+    /// `--sequence-max-poses`: the most poses kept.
+    pub max_poses: u64,
+}
+
+/// Runs `camloc localize --sequence` (see the module docs), writing `files`.
 pub fn run(
     localizer: &CameraLocalizer,
     mut inputs: Inputs,
     out: &mut Out,
     format: Format,
-    args: &super::localize::Args,
+    files: &SequenceOptions,
     bar: &ProgressBar,
 ) -> Result<ExitCode, CliError> {
-    let (svg_out, summary_out, force) = (
-        args.svg.as_ref(),
-        args.summary_svg.as_ref(),
-        args.force.force,
-    );
+    let (svg_out, summary_out, force) = (files.svg, files.summary, files.force);
     if let Some(svg) = svg_out {
         check_target(svg, force)?;
         check_target(&numbered_path(svg, 0, 2), force)?;
@@ -77,41 +124,44 @@ pub fn run(
     let mut emit = Emitter::new(format);
     let mut summary = Summary::default();
     let mut frames: Vec<Frame> = Vec::new();
+    let mut failures = Failures::default();
     loop {
         let batch: Vec<_> = inputs.by_ref().take(BATCH).collect();
         if batch.is_empty() {
             break;
         }
-        let results: Vec<Option<Frame>> = batch
+        let results: Vec<_> = batch
             .par_iter()
             .map(|item| {
                 let record = item.as_ref().ok()?;
                 let result = localizer
                     .localize_partial(&record.pose)
-                    .map(|loc| (loc.label, loc.probability, loc.probabilities))
+                    .map(|loc| (loc.label, loc.probabilities.into_boxed_slice()))
                     .map_err(|e| e.to_string());
-                Some(Frame {
-                    id: record.id.clone(),
-                    source: record.source.clone(),
-                    frame: record.frame,
-                    person: record.person,
-                    result,
-                })
+                Some((record, result))
             })
             .collect();
         for (item, frame) in batch.iter().zip(results) {
             if let Err(e) = item {
                 emit.file_error(out, &mut summary, bar, e)?;
             }
-            if let Some(frame) = frame {
-                if let Err(message) = &frame.result {
-                    summary.failed_poses += 1;
-                    bar.suspend(|| {
-                        eprintln!("camloc: error: {} ({}): {message}", frame.id, frame.source)
-                    });
+            if let Some((record, result)) = frame {
+                if summary.poses == files.max_poses {
+                    return Err(CliError::TooManyPoses(files.max_poses));
                 }
+                let result = result.map_err(|message| {
+                    summary.failed_poses += 1;
+                    report_pose_error(bar, &record.id, &record.source, &message);
+                    failures.number(message)
+                });
                 summary.poses += 1;
-                frames.push(frame);
+                frames.push(Frame {
+                    id: record.id.as_str().into(),
+                    source: record.source.as_str().into(),
+                    frame: record.frame,
+                    person: record.person,
+                    result,
+                });
             }
         }
         bar.inc(batch.len() as u64);
@@ -127,17 +177,17 @@ pub fn run(
     for (n, (person, members)) in groups.iter().enumerate() {
         let probabilities: Vec<Option<&[f64]>> = members
             .iter()
-            .map(|&i| frames[i].result.as_ref().ok().map(|r| &r.2[..]))
+            .map(|&i| frames[i].result.as_ref().ok().map(|r| &r.1[..]))
             .collect();
         let smoothed = model.smooth(&probabilities)?;
         for (&i, s) in members.iter().zip(&smoothed) {
-            let text = frame_output(format, &frames[i], s);
+            let text = frame_output(format, &frames[i], s, &failures);
             emit.write(out, &text)?;
         }
         if let Some(svg) = svg_out {
             let raw: Vec<Option<CameraLabel>> = members
                 .iter()
-                .map(|&i| frames[i].result.as_ref().ok().map(|r| r.0))
+                .map(|&i| frames[i].best().map(|b| b.0))
                 .collect();
             let title = format!(
                 "{}: person {person}, {} frames",
@@ -151,12 +201,7 @@ pub fn run(
     if let Some(path) = summary_out {
         let mut counts = vec![0u64; localizer.cameras().len()];
         for frame in &frames {
-            if let Some(count) = frame
-                .result
-                .as_ref()
-                .ok()
-                .and_then(|r| counts.get_mut(r.0.index()))
-            {
+            if let Some(count) = frame.best().and_then(|b| counts.get_mut(b.0.index())) {
                 *count += 1;
             }
         }
@@ -171,8 +216,8 @@ pub fn run(
 }
 
 /// The output of one frame: a JSON object (no newline) or a line of text.
-fn frame_output(format: Format, frame: &Frame, s: &SmoothedFrame) -> String {
-    let raw = frame.result.as_ref().ok();
+fn frame_output(format: Format, frame: &Frame, s: &SmoothedFrame, failures: &Failures) -> String {
+    let raw = frame.best();
     if format.is_json() {
         return json_line(&FrameJson {
             id: &frame.id,
@@ -181,13 +226,13 @@ fn frame_output(format: Format, frame: &Frame, s: &SmoothedFrame) -> String {
             person: frame.person,
             label: raw.map(|r| r.0),
             probability: raw.map(|r| r.1),
-            error: frame.result.as_ref().err().map(String::as_str),
+            error: frame.result.as_ref().err().map(|&n| failures.message(n)),
             smoothed_label: s.label,
             smoothed_probability: s.probability,
         });
     }
     let mut text = String::new();
-    let _ = write!(text, "{}", frame.id);
+    let _ = write!(text, "{}", escaped(&frame.id));
     if let Some(f) = frame.frame {
         let _ = write!(text, " frame {f}");
     }
@@ -195,11 +240,21 @@ fn frame_output(format: Format, frame: &Frame, s: &SmoothedFrame) -> String {
         let _ = write!(text, " person {p}");
     }
     match raw {
-        Some((label, p, _)) => {
+        Some((label, p)) => {
             let _ = write!(text, ": camera {label} ({p:.3})");
         }
         None => text.push_str(": not localized"),
     }
     let _ = writeln!(text, ", smoothed camera {} ({:.3})", s.label, s.probability);
     text
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_kept_frame_is_small() {
+        assert!(std::mem::size_of::<Frame>() <= 96);
+    }
 }

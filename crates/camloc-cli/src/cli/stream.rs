@@ -2,11 +2,11 @@
 //! parallel, write its results (standard output as text, a JSON array or JSON lines; SVG and
 //! `.npy` files staged), then the next batch. Memory is bounded by the batch, not the input.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use camloc::keypoints::{KeypointRecord, NpyPose};
-use camloc::store::{StagedFiles, check_target};
+use camloc::store::{StagedFiles, check_target, escaped, quoted, quoted_path};
 use indicatif::ProgressBar;
 use rayon::prelude::*;
 use serde::Serialize;
@@ -183,6 +183,14 @@ impl Emitter {
     }
 }
 
+/// Prints that the pose `id` (at `source`) failed with `message` on standard error, above the
+/// progress bar: one line, the id and source quoted as messages quote user text.
+pub fn report_pose_error(bar: &ProgressBar, id: &str, source: &str, message: &str) {
+    let (id, source) = (quoted(id), quoted_path(Path::new(source)));
+    let message = escaped(message);
+    bar.suspend(|| eprintln!("camloc: error: {id} ({source}): {message}"));
+}
+
 /// Serialises one output object on one line.
 pub fn json_line<T: Serialize>(value: &T) -> String {
     // Room for a typical object at once (no regrowth while writing it).
@@ -279,12 +287,7 @@ where
                     }
                     Err(message) => {
                         summary.failed_poses += 1;
-                        bar.suspend(|| {
-                            eprintln!(
-                                "camloc: error: {} ({}): {message}",
-                                record.id, record.source
-                            )
-                        });
+                        report_pose_error(bar, &record.id, &record.source, &message);
                         if format.is_json() {
                             let object = ErrorJson {
                                 id: Some(&record.id),

@@ -182,7 +182,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     let _ = writeln!(
         text,
         "wrote {} ({} Newton iterations, {}, {:.1} s)",
-        args.out.display(),
+        camloc::store::escaped(&args.out.display().to_string()),
         report.newton_iterations(),
         if report.converged {
             "converged"

@@ -136,7 +136,11 @@ pub fn example_labels() -> Vec<u64> {
 
 /// A (0, 15, 2) float64 .npy array.
 pub fn empty_npy() -> Vec<u8> {
-    let header = "{'descr': '<f8', 'fortran_order': False, 'shape': (0, 15, 2), }";
+    npy_head("{'descr': '<f8', 'fortran_order': False, 'shape': (0, 15, 2), }")
+}
+
+/// The magic, version, length and `header` (padded as NumPy pads it) of a version 1 .npy file.
+pub fn npy_head(header: &str) -> Vec<u8> {
     let mut header = header.to_owned();
     while !(10 + header.len() + 1).is_multiple_of(64) {
         header.push(' ');

@@ -1,0 +1,313 @@
+//! Regression tests of issue 22 ("hostile inputs round 2") through the binary: each failed
+//! before its fix.
+
+mod common;
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+use common::*;
+
+/// Standard error as text.
+fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+/// Asserts that every line of standard error is shorter than 300 characters and holds no
+/// control character, and returns standard error.
+fn short_clean_lines(out: &Output) -> String {
+    let text = stderr(out);
+    for line in text.lines() {
+        assert!(
+            line.chars().count() < 300,
+            "{} chars: {line:.400}",
+            line.len()
+        );
+        assert!(!line.chars().any(char::is_control), "{line:?}");
+    }
+    text
+}
+
+/// Runs `script` with `sh -c`, the camloc binary as `$0`.
+fn shell(script: &str) -> Output {
+    Command::new("sh")
+        .args(["-c", script, env!("CARGO_BIN_EXE_camloc")])
+        .output()
+        .unwrap()
+}
+
+/// A camloc JSON document of one pose with `id` and the 15 landmarks of [`FIFTEEN`].
+fn pose_with_id(id: &str) -> String {
+    let id = serde_json::to_string(id).unwrap();
+    FIFTEEN.replace(r#""id": "p""#, &format!(r#""id": {id}"#))
+}
+
+#[test]
+fn ids_names_and_shapes_are_quoted_short_and_escaped() {
+    let dir = TempDir::new("hostile-quote");
+    let long = "x".repeat(100_000);
+    let no_torso = |id: &str| {
+        let id = serde_json::to_string(id).unwrap();
+        format!(r#"{{"poses": [{{"id": {id}, "landmarks": {{"head": [1, 2]}}}}]}}"#)
+    };
+    let mut inputs = vec![
+        dir.file("long_id.json", &no_torso(&long)),
+        dir.file("escape_id.json", &no_torso("a\u{1b}[31m\nb")),
+        dir.file(
+            "mpii.json",
+            &format!(
+                r#"[{{"image": "{long}", "joints": {}, "joints_vis": {}}}]"#,
+                serde_json::to_string(&vec![[1.0, 2.0]; 16]).unwrap(),
+                serde_json::to_string(&vec![0; 16]).unwrap()
+            ),
+        ),
+        dir.file(
+            "lsp.csv",
+            &format!("image,joint,x,y,visible\n{long},head_top,1,2,1\n"),
+        ),
+        dir.file("bad\u{1b}[31m\nname.json", "{"),
+    ];
+    // An .npy header of 2,000 dimensions.
+    let shape = vec!["1"; 2_000].join(", ");
+    let header = format!("{{'descr': '<f8', 'fortran_order': False, 'shape': ({shape}), }}");
+    let npy = npy_head(&header);
+    let npy_path = dir.0.join("shape.npy");
+    std::fs::write(&npy_path, npy).unwrap();
+    inputs.push(npy_path.to_string_lossy().into_owned());
+    for input in &inputs {
+        let out = camloc(&["localize", "--input", input, "--layout", "coco17"]);
+        assert_eq!(out.status.code(), Some(1), "{input:.80}: {}", stderr(&out));
+        let text = short_clean_lines(&out);
+        assert!(text.contains("camloc: error: "), "{text}");
+    }
+    // Text output escapes an id's control characters too.
+    let input = dir.file("ok.json", &pose_with_id("a\u{1b}b"));
+    let out = success(&camloc(&["localize", "--input", &input]));
+    assert!(out.contains("a\\u{1b}b: camera"), "{out}");
+    assert!(!out.contains('\u{1b}'), "{out:?}");
+}
+
+#[test]
+fn drawings_of_ids_with_control_characters_are_valid_xml() {
+    let dir = TempDir::new("hostile-svg-escape");
+    let input = dir.file("p.json", &pose_with_id("p\u{1b}[31m\u{7}"));
+    let svg = dir.0.join("p.svg");
+    success(&camloc(&[
+        "localize",
+        "--input",
+        &input,
+        "--svg",
+        svg.to_str().unwrap(),
+    ]));
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert!(
+        !text
+            .chars()
+            .any(|c| c.is_control() && !"\n\r\t".contains(c)),
+        "{text}"
+    );
+    assert!(text.contains("p\\u{1b}[31m\\u{7}"), "{text}");
+}
+
+#[test]
+fn two_outputs_at_one_file_are_refused_before_any_work() {
+    let dir = TempDir::new("hostile-same-output");
+    let input = dir.file("p.json", FIFTEEN);
+    std::fs::create_dir(dir.0.join("sub")).unwrap();
+    let at = |name: &str| dir.0.join(name).to_string_lossy().into_owned();
+    std::fs::write(at("target.svg"), "old").unwrap();
+    std::os::unix::fs::symlink(at("target.svg"), at("link.svg")).unwrap();
+    std::fs::hard_link(at("target.svg"), at("hard.svg")).unwrap();
+    let cases: Vec<Vec<String>> = vec![
+        vec![
+            "localize".into(),
+            "--svg".into(),
+            at("s.svg"),
+            "--summary-svg".into(),
+            at("s.svg"),
+        ],
+        vec![
+            "localize".into(),
+            "--svg".into(),
+            at("s.svg"),
+            "--summary-svg".into(),
+            at("sub/../s.svg"),
+        ],
+        vec![
+            "localize".into(),
+            "--svg".into(),
+            at("s.svg"),
+            "--summary-svg".into(),
+            at("s-002.svg"),
+        ],
+        vec![
+            "localize".into(),
+            "--svg".into(),
+            at("link.svg"),
+            "--summary-svg".into(),
+            at("target.svg"),
+        ],
+        vec![
+            "localize".into(),
+            "--svg".into(),
+            at("hard.svg"),
+            "--summary-svg".into(),
+            at("target.svg"),
+        ],
+        vec![
+            "reconstruct".into(),
+            "--npy".into(),
+            at("x"),
+            "--svg".into(),
+            at("x"),
+        ],
+    ];
+    for case in cases {
+        for force in [true, false] {
+            let mut args = case.clone();
+            args.extend(["--input".to_owned(), input.clone()]);
+            if force {
+                args.push("--force".to_owned());
+            }
+            let args: Vec<&str> = args.iter().map(String::as_str).collect();
+            let out = camloc(&args);
+            let text = short_clean_lines(&out);
+            assert_eq!(out.status.code(), Some(2), "{args:?}: {text}");
+            assert!(text.contains("name the same file"), "{text}");
+            assert!(!text.contains("already exists"), "{text}");
+            assert!(!Path::new(&at("s.svg")).exists() && !Path::new(&at("x")).exists());
+            assert_eq!(std::fs::read_to_string(at("target.svg")).unwrap(), "old");
+        }
+    }
+}
+
+#[test]
+fn reconstruct_refuses_the_scale_localize_refuses() {
+    let dir = TempDir::new("hostile-far");
+    for far in ["1e12", "1e300"] {
+        let input = dir.file(
+            "far.json",
+            &FIFTEEN.replace("[100, 200]", &format!("[{far}, 200]")),
+        );
+        let localized = camloc(&["localize", "--input", &input]);
+        assert_clean_failure(&localized, "degenerate torso");
+        let out = camloc(&["reconstruct", "--input", &input]);
+        assert_clean_failure(&out, "degenerate torso");
+        assert!(
+            out.stdout.is_empty(),
+            "{}",
+            String::from_utf8_lossy(&out.stdout)
+        );
+    }
+}
+
+#[test]
+fn thousands_of_drawings_need_few_open_files() {
+    let dir = TempDir::new("hostile-many-svg");
+    let pose = &FIFTEEN[r#"{"poses": ["#.len()..FIFTEEN.len() - 2];
+    let poses = vec![pose; 300].join(", ");
+    let input = dir.file("many.json", &format!(r#"{{"poses": [{poses}]}}"#));
+    let svg = dir.0.join("many.svg");
+    // At most 64 open files, far fewer than the drawings.
+    let script = format!(
+        "ulimit -n 64 && exec \"$0\" localize --input '{input}' --svg '{}' -q",
+        svg.display()
+    );
+    let out = shell(&script);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(dir.0.join("many-300.svg").exists());
+}
+
+#[test]
+fn a_folder_reports_entries_it_cannot_read() {
+    let dir = TempDir::new("hostile-folder");
+    dir.file("a.json", FIFTEEN);
+    let at = |name: &str| dir.0.join(name);
+    std::os::unix::fs::symlink(at("absent.json"), at("dangling.json")).unwrap();
+    std::os::unix::fs::symlink("/dev/zero", at("zero.json")).unwrap();
+    let fifo = Command::new("mkfifo")
+        .arg(at("fifo.json"))
+        .status()
+        .unwrap();
+    assert!(fifo.success());
+    let out = camloc(&["localize", "--input", dir.0.to_str().unwrap()]);
+    let text = short_clean_lines(&out);
+    assert_eq!(out.status.code(), Some(1), "{text}");
+    for (name, kind) in [
+        ("dangling.json", "dangling symbolic link"),
+        ("zero.json", "character device"),
+        ("fifo.json", "FIFO"),
+    ] {
+        assert!(text.contains(name) && text.contains(kind), "{name}: {text}");
+    }
+    assert!(String::from_utf8_lossy(&out.stdout).contains("p: camera"));
+}
+
+#[test]
+fn a_closed_standard_output_is_an_error() {
+    let input = fixture("keypoints/example.json");
+    let script = format!("exec \"$0\" localize --input '{}' >&-", input.display());
+    let out = shell(&script);
+    assert_clean_failure(&out, "standard output");
+    // Writing to /dev/null on purpose is fine.
+    let script = format!(
+        "exec \"$0\" localize --input '{}' >/dev/null",
+        input.display()
+    );
+    let out = shell(&script);
+    assert!(out.status.success(), "{}", stderr(&out));
+}
+
+#[test]
+fn converting_poses_without_any_landmark_says_so() {
+    let dir = TempDir::new("hostile-nan");
+    let mut npy = npy_head("{'descr': '<f8', 'fortran_order': False, 'shape': (2, 15, 2), }");
+    for _ in 0..2 * 15 * 2 {
+        npy.extend_from_slice(&f64::NAN.to_le_bytes());
+    }
+    let input = dir.0.join("nan.npy");
+    std::fs::write(&input, npy).unwrap();
+    let output = dir.0.join("out.json");
+    let out = camloc(&[
+        "convert",
+        "--input",
+        input.to_str().unwrap(),
+        "--layout",
+        "camloc15",
+        "--to",
+        "camloc",
+        "--out",
+        output.to_str().unwrap(),
+    ]);
+    assert_clean_failure(&out, "2 of 2 poses have no landmark");
+}
+
+#[test]
+fn evaluate_uses_the_embedded_model_by_default() {
+    let dir = TempDir::new("hostile-evaluate");
+    let dataset = fixture_dataset(&dir);
+    let out = success(&camloc(&["evaluate", "--dataset", &dataset, "--json"]));
+    let report: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert!(report["samples"].as_u64().unwrap() >= 24, "{out}");
+}
+
+#[test]
+fn a_sequence_longer_than_its_cap_is_refused() {
+    let dir = TempDir::new("hostile-sequence-cap");
+    let pose = r#"{"landmarks": {}}"#;
+    let input = dir.file(
+        "empty.json",
+        &format!(r#"{{"poses": [{}]}}"#, [pose; 5].join(",")),
+    );
+    let run = |cap: &str| {
+        let args = ["localize", "--input", &input, "--sequence"];
+        camloc(&[&args[..], &["--sequence-max-poses", cap]].concat())
+    };
+    assert_clean_failure(&run("4"), "more than 4 poses for --sequence");
+    let out = run("5");
+    let text = short_clean_lines(&out);
+    assert!(
+        text.contains("5 of 5 poses could not be localized"),
+        "{text}"
+    );
+}

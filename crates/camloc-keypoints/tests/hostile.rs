@@ -1,0 +1,283 @@
+//! Regression tests of issue 22 ("hostile inputs round 2"): each failed before its fix.
+
+mod common;
+
+use std::io::Read;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use camloc_keypoints::{
+    KeypointError, KeypointFormat, KeypointStream, ReadOptions, open_keypoints_reader,
+    parse_keypoints,
+};
+
+/// Parses `text` as `format` with default options.
+fn parse(text: &str, format: KeypointFormat) -> Result<usize, KeypointError> {
+    parse_keypoints(text, "t.json", Some(format), &ReadOptions::default()).map(|r| r.len())
+}
+
+/// A COCO-17-sized MMPose keypoint list and its scores.
+fn mmpose_instance(extra: &str) -> String {
+    let points = vec!["[1.0, 2.0]"; 17].join(", ");
+    let scores = vec!["0.9"; 17].join(", ");
+    format!(r#"{{"keypoints": [{points}], "keypoint_scores": [{scores}]{extra}}}"#)
+}
+
+#[test]
+fn openpose_and_mmpose_refuse_repeated_keys() {
+    let keypoints = vec!["1.0"; 75].join(", ");
+    let person = format!(r#"{{"pose_keypoints_2d": [{keypoints}]}}"#);
+    let twice_in_person = format!(
+        r#"{{"people": [{{"pose_keypoints_2d": [{keypoints}], "pose_keypoints_2d": []}}]}}"#
+    );
+    let people_twice = format!(r#"{{"people": [{person}], "people": []}}"#);
+    for text in [twice_in_person, people_twice] {
+        let e = parse(&text, KeypointFormat::OpenPose).unwrap_err();
+        assert!(matches!(e, KeypointError::DuplicateKey { .. }), "{e:?}");
+    }
+    let instance = mmpose_instance(r#", "keypoints": []"#);
+    let frames = format!(
+        r#"[{{"frame_id": 1, "frame_id": 2, "instances": [{}]}}]"#,
+        mmpose_instance("")
+    );
+    let info = format!(
+        r#"{{"instance_info": [{}], "instance_info": []}}"#,
+        mmpose_instance("")
+    );
+    for text in [format!("[{instance}]"), frames, info] {
+        let e = parse(&text, KeypointFormat::MmPose).unwrap_err();
+        assert!(
+            matches!(e, KeypointError::DuplicateKey { .. }),
+            "{text}: {e:?}"
+        );
+    }
+    // Other keys (bbox, meta_info) may still appear once each.
+    let fine = format!(
+        r#"{{"meta_info": {{}}, "instance_info": [{}]}}"#,
+        mmpose_instance(r#", "bbox": [[1, 2, 3, 4]]"#)
+    );
+    assert_eq!(parse(&fine, KeypointFormat::MmPose).unwrap(), 1);
+}
+
+#[test]
+fn a_version_given_as_text_says_so() {
+    let e = parse(r#"{"version": "1", "poses": []}"#, KeypointFormat::Camloc).unwrap_err();
+    let message = e.to_string();
+    assert!(
+        matches!(e, KeypointError::UnsupportedVersion { .. }),
+        "{e:?}"
+    );
+    assert!(message.contains("\"1\" (a string)"), "{message}");
+    let e = parse(r#"{"version": 2, "poses": []}"#, KeypointFormat::Camloc).unwrap_err();
+    assert!(e.to_string().contains("version 2 "), "{e}");
+}
+
+/// A reader that gives `head` and then `unit` over and over, counting the bytes it gave.
+struct Endless {
+    head: Vec<u8>,
+    unit: Vec<u8>,
+    at: usize,
+    given: Arc<AtomicU64>,
+}
+
+impl Read for Endless {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let mut n = 0;
+        while n < buf.len() {
+            let source = if self.at < self.head.len() {
+                &self.head[self.at..]
+            } else {
+                let k = (self.at - self.head.len()) % self.unit.len();
+                &self.unit[k..]
+            };
+            let m = source.len().min(buf.len() - n);
+            buf[n..n + m].copy_from_slice(&source[..m]);
+            n += m;
+            self.at += m;
+        }
+        self.given.fetch_add(n as u64, Ordering::Relaxed);
+        Ok(n)
+    }
+}
+
+#[test]
+fn one_endless_keypoint_list_is_refused_after_a_bounded_read() {
+    let options = ReadOptions {
+        image_size: Some("640,480".parse().unwrap()),
+        // Far more than the readers may take before refusing one entry.
+        max_bytes: 64 << 20,
+        ..ReadOptions::default()
+    };
+    for (format, head, unit) in [
+        (KeypointFormat::MmPose, r#"[{"keypoints": ["#, "[1, 2],"),
+        (
+            KeypointFormat::Mpii,
+            r#"[{"image": "a", "joints": ["#,
+            "[1, 2],",
+        ),
+        (
+            KeypointFormat::Coco,
+            r#"[{"image_id": 1, "keypoints": ["#,
+            "1,",
+        ),
+        (KeypointFormat::MediaPipe, "[[", r#"{"x": 0.5, "y": 0.5},"#),
+        (
+            KeypointFormat::OpenPose,
+            r#"{"people": [{"pose_keypoints_2d": ["#,
+            "1,",
+        ),
+        (
+            KeypointFormat::Camloc,
+            r#"{"poses": [{"landmarks": {"neck": ["#,
+            "1,",
+        ),
+    ] {
+        let (reader, given) = endless(head.as_bytes(), unit.as_bytes());
+        let result = open_keypoints_reader(reader, "endless", None, Some(format), &options)
+            .and_then(|stream| stream.collect::<Result<Vec<_>, _>>());
+        let e = result.unwrap_err();
+        assert!(e.to_string().contains("MAX_ENTRY_VALUES"), "{format}: {e}");
+        let given = given.load(Ordering::Relaxed);
+        assert!(given < 4 << 20, "{format}: {given} bytes read");
+    }
+}
+
+#[test]
+fn an_mmpose_frame_id_must_be_a_frame_number() {
+    for frame_id in ["-1", "1.5", "1e30"] {
+        let text = format!(
+            r#"[{{"frame_id": {frame_id}, "instances": [{}]}}]"#,
+            mmpose_instance("")
+        );
+        let e = parse(&text, KeypointFormat::MmPose).unwrap_err();
+        assert!(
+            matches!(
+                &e,
+                KeypointError::InvalidValue {
+                    field: "frame_id",
+                    ..
+                }
+            ),
+            "{frame_id}: {e:?}"
+        );
+    }
+    let text = format!(
+        r#"[{{"frame_id": 7, "instances": [{}]}}]"#,
+        mmpose_instance("")
+    );
+    let records = parse_keypoints(&text, "t.json", None, &ReadOptions::default()).unwrap();
+    assert_eq!((records[0].frame, records[0].id.as_str()), (Some(7), "7/0"));
+}
+
+/// The records of `text` named `name`, as `open_keypoints_reader` streams them.
+fn open_text(text: String, name: &str, format: Option<KeypointFormat>) -> KeypointStream {
+    let reader = std::io::Cursor::new(text.into_bytes());
+    open_keypoints_reader(reader, name, None, format, &ReadOptions::default()).unwrap()
+}
+
+/// An [`Endless`] reader of `head` then `unit`, and its count of bytes given.
+fn endless(head: &[u8], unit: &[u8]) -> (Endless, Arc<AtomicU64>) {
+    let given = Arc::new(AtomicU64::new(0));
+    let reader = Endless {
+        head: head.to_vec(),
+        unit: unit.to_vec(),
+        at: 0,
+        given: Arc::clone(&given),
+    };
+    (reader, given)
+}
+
+#[test]
+fn input_that_is_not_text_or_no_format_is_refused_from_its_start() {
+    let options = ReadOptions {
+        max_bytes: 64 << 20,
+        ..ReadOptions::default()
+    };
+    // Random bytes on standard input, and endless text that no format matches.
+    for (unit, format) in [
+        (&b"\xff\xfe\x00\x93"[..], None),
+        (b"\xff", Some(KeypointFormat::Camloc)),
+        (b"abc ", None),
+    ] {
+        let (reader, given) = endless(b"", unit);
+        let e = open_keypoints_reader(reader, "-", None, format, &options)
+            .err()
+            .unwrap();
+        assert!(
+            matches!(
+                e,
+                KeypointError::NotUtf8 {
+                    line: 1,
+                    offset: 0,
+                    ..
+                } | KeypointError::UnknownFormat { .. }
+            ),
+            "{e:?}"
+        );
+        let given = given.load(Ordering::Relaxed);
+        assert!(given < 1 << 20, "{given} bytes read");
+    }
+}
+
+#[test]
+fn a_blank_lead_does_not_stop_a_document_from_streaming() {
+    let pose = r#"{"landmarks": {"pelvis": [1, 2], "neck": [1, 1]}}"#;
+    let poses = vec![pose; 2_000].join(", ");
+    let lead = "\n".repeat(70_000) + &" ".repeat(10_000);
+    for format in [None, Some(KeypointFormat::Camloc)] {
+        let text = format!(r#"{lead}{{"poses": [{poses}]}}"#);
+        let stream = open_text(text, "padded.json", format);
+        // Streamed records have no known count.
+        assert_eq!(stream.size_hint(), (0, None), "{format:?}");
+        assert_eq!(stream.count(), 2_000);
+    }
+    // Errors after the lead keep their line and column.
+    let text = format!("{lead}{{\"poses\": [{poses},]}}");
+    let stream = open_text(text, "padded.json", None);
+    let e = stream.last().unwrap().unwrap_err();
+    assert!(
+        matches!(e, KeypointError::Json { line: 70_001, .. }),
+        "{e:?}"
+    );
+}
+
+#[test]
+fn a_long_lsp_file_gives_its_records_one_at_a_time() {
+    let mut text = String::from("image,joint,x,y,visible\n");
+    for i in 0..10_000 {
+        text.push_str(&format!("im{i},neck,{i},1,1\n"));
+    }
+    // An image whose rows are apart still comes at the place of its first row.
+    text.push_str("im0,head_top,5,6,1\n");
+    let stream = open_text(text, "long.csv", None);
+    assert_eq!(stream.size_hint(), (0, None));
+    let records: Vec<_> = stream.collect::<Result<_, _>>().unwrap();
+    assert_eq!(records.len(), 10_000);
+    assert_eq!(records[0].id, "im0");
+    assert_eq!(records[0].source, "long.csv: line 2");
+    assert!(records[0].pose.points[camloc_keypoints::Landmark::Head.index()].is_some());
+    assert_eq!(records[9_999].id, "im9999");
+}
+
+#[test]
+fn an_npy_header_with_another_key_is_refused() {
+    let header = "{'descr': '<f8', 'fortran_order': False, 'shape': (0, 15, 2), 'extra': 1, }";
+    let mut npy = b"\x93NUMPY\x01\x00".to_vec();
+    let padded = format!("{header:<117}\n");
+    npy.extend_from_slice(&(padded.len() as u16).to_le_bytes());
+    npy.extend_from_slice(padded.as_bytes());
+    let e = camloc_keypoints::parse_keypoints_bytes(&npy, "x.npy", None, &ReadOptions::default())
+        .unwrap_err();
+    assert!(e.to_string().contains("no other key"), "{e}");
+}
+
+#[test]
+fn a_document_whose_format_comes_late_is_still_given_one_record_at_a_time() {
+    let pose = r#"{"landmarks": {"pelvis": [1, 2], "neck": [1, 1]}}"#;
+    let poses = vec![pose; 100].join(", ");
+    let padding = " ".repeat(70_000);
+    let text = format!(r#"{{"format": "camloc-keypoints",{padding}"poses": [{poses}]}}"#);
+    let stream = open_text(text, "late.json", None);
+    assert_eq!(stream.size_hint(), (0, None));
+    assert_eq!(stream.count(), 100);
+}

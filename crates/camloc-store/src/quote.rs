@@ -1,0 +1,90 @@
+//! How messages quote text that came from the user (pose ids, image names, keys, file names,
+//! array shapes): control characters escaped, so that nothing reaches a terminal or a drawing
+//! raw, and cut to a bounded length, so that a message stays one short line whatever the input.
+
+use std::borrow::Cow;
+use std::fmt::Write;
+use std::path::Path;
+
+/// The most characters of one piece of input (a key, a field, a header, an id) that a message
+/// quotes; longer text is cut there and ends with `…`.
+pub const MAX_QUOTED_CHARS: usize = 80;
+
+/// The most characters of a file name a message quotes; a longer one keeps its start and its
+/// end (the file's own name) around a `…`.
+pub const MAX_QUOTED_PATH_CHARS: usize = 100;
+
+/// `text` with its control characters escaped (`\n`, `\u{1b}`, ...), nothing cut: for output
+/// that shows user text whole (ids in text output, drawing captions).
+pub fn escaped(text: &str) -> Cow<'_, str> {
+    if text.chars().any(char::is_control) {
+        Cow::Owned(cut(text, usize::MAX, 0))
+    } else {
+        Cow::Borrowed(text)
+    }
+}
+
+/// `text` as a message quotes it: control characters escaped, at most [`MAX_QUOTED_CHARS`]
+/// characters of it (then `…`).
+pub fn quoted(text: &str) -> String {
+    cut(text, MAX_QUOTED_CHARS, 0)
+}
+
+/// A file name as a message quotes it: control characters escaped, at most
+/// [`MAX_QUOTED_PATH_CHARS`] characters (the start and the end of a longer one, around `…`).
+pub fn quoted_path(path: &Path) -> String {
+    let text = path.to_string_lossy();
+    let tail = MAX_QUOTED_PATH_CHARS / 2;
+    cut(&text, MAX_QUOTED_PATH_CHARS - tail, tail)
+}
+
+/// Escapes `text` and keeps at most its first `head` and last `tail` characters of a longer
+/// text, with `…` between (or at the end when `tail` is 0).
+fn cut(text: &str, head: usize, tail: usize) -> String {
+    let mut out = String::new();
+    let count = text.chars().count();
+    let keep = |n: usize| n < head || count <= head.saturating_add(tail) || n >= count - tail;
+    let mut marked = false;
+    for (n, c) in text.chars().enumerate() {
+        if !keep(n) {
+            if !marked {
+                out.push('…');
+                marked = true;
+            }
+            if tail == 0 {
+                break;
+            }
+            continue;
+        }
+        if c.is_control() {
+            let _ = write!(out, "{}", c.escape_default());
+        } else {
+            out.push(c);
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn control_characters_are_escaped_and_long_text_cut() {
+        assert_eq!(escaped("a\u{1b}[31mb\n"), "a\\u{1b}[31mb\\n");
+        assert!(matches!(escaped("plain"), Cow::Borrowed("plain")));
+        let long = "x".repeat(100_000);
+        let q = quoted(&long);
+        assert_eq!(q.chars().count(), MAX_QUOTED_CHARS + 1);
+        assert!(q.ends_with('…'));
+        assert_eq!(quoted("short"), "short");
+        let path = format!("/{}/frame_7.json", "d".repeat(5_000));
+        let q = quoted_path(Path::new(&path));
+        assert_eq!(q.chars().count(), MAX_QUOTED_PATH_CHARS + 1);
+        assert!(
+            q.starts_with("/ddd") && q.ends_with("d/frame_7.json"),
+            "{q}"
+        );
+        assert_eq!(quoted_path(Path::new("a\nb.json")), "a\\nb.json");
+    }
+}
