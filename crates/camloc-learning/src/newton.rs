@@ -82,6 +82,7 @@ mod cg;
 mod direct;
 mod kernels;
 mod line_search;
+mod product;
 
 use cg::CgOutcome;
 pub(crate) use kernels::row_loss;

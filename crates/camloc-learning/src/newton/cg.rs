@@ -20,10 +20,8 @@ use faer::MatMut;
 use faer::dyn_stack::MemStack;
 use faer::linalg::cholesky::llt::solve::solve_in_place;
 use faer::{MatRef, Par};
-use rayon::prelude::*;
 
-use super::kernels::{add_ridge_curvature, linear_logits, transpose_product};
-use super::{NewtonProblem, ROWS_PER_TASK};
+use super::NewtonProblem;
 use crate::hessian::dot;
 
 /// Target relative error of the direction in the Hessian norm.
@@ -74,8 +72,10 @@ pub(super) struct TruncatedStep {
 pub(super) struct Vectors {
     residual: Vec<f64>,
     preconditioned: Vec<f64>,
-    search: Vec<f64>,
-    product: Vec<f64>,
+    /// The search direction `v` of the next Hessian-vector product.
+    pub(super) search: Vec<f64>,
+    /// The product `H v` (module `product`), then `(H + S) v`.
+    pub(super) product: Vec<f64>,
 }
 
 impl Vectors {
@@ -120,33 +120,11 @@ impl NewtonProblem {
     }
 
     /// `cg.product = (H + S) cg.search` with the exact Hessian `H` at the current
-    /// parameters. Uses `direction_logits` and `gradient_partials` as scratch.
+    /// parameters and `S` the singular-direction shift recorded with the factor.
     fn hessian_times_search(&mut self) {
-        let (dim, k) = (self.dim, self.n_classes);
-        let v = &self.cg.search;
-        // s_i = V^T x_i, then t_i = diag(p_i) s_i - p_i (p_i . s_i).
-        linear_logits(&self.x, dim, v, &mut self.direction_logits);
-        self.direction_logits
-            .par_chunks_mut(ROWS_PER_TASK * k)
-            .zip(self.probabilities.par_chunks(ROWS_PER_TASK * k))
-            .for_each(|(s, p)| {
-                for (s, p) in s.chunks_exact_mut(k).zip(p.chunks_exact(k)) {
-                    let mean = dot(s, p);
-                    for (sc, &pc) in s.iter_mut().zip(p) {
-                        *sc = pc * (*sc - mean);
-                    }
-                }
-            });
-        let product = &mut self.cg.product;
-        transpose_product(
-            &self.x,
-            dim,
-            k,
-            &self.direction_logits,
-            &mut self.gradient_partials,
-            product,
-        );
-        add_ridge_curvature(self.lambda, dim, v, product);
+        self.multiply_by_hessian();
+        let dim = self.dim;
+        let (v, product) = (&self.cg.search, &mut self.cg.product);
         // S v: c_a times the sum over classes of v's entries for column a, in every class.
         for (a, &c) in self.null_shifts.iter().enumerate() {
             if c != 0.0 {
