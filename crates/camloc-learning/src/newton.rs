@@ -78,18 +78,17 @@ use crate::hessian::PackedHessian;
 use crate::standardise::Standardiser;
 use crate::{DirectionSolver, Features, LearningError, LogisticModel, LogisticRegression, Mode};
 
+mod blocked;
 mod cg;
 mod direct;
 mod kernels;
 mod line_search;
 mod product;
 
+use blocked::BlockedProducts;
 use cg::CgOutcome;
 pub(crate) use kernels::row_loss;
-use kernels::{
-    add_ridge_curvature, block_totals, linear_logits, residuals_of_row, ridge, shifted,
-    transpose_product,
-};
+use kernels::{add_ridge_curvature, block_totals, residuals_of_row, ridge, shifted};
 
 /// Rows per task in the parallel passes over samples (probabilities, losses).
 const ROWS_PER_TASK: usize = 2048;
@@ -214,8 +213,8 @@ pub struct NewtonProblem {
     direction_logits: Vec<f64>,
     /// `D x K` gradient.
     gradient: Vec<f64>,
-    /// `tasks x (K x D)` per-task partial gradients (`K x D` column-major each).
-    gradient_partials: Vec<f64>,
+    /// Buffers of the products with `X` (logits, gradient, Hessian-vector products).
+    blocked: BlockedProducts,
     /// `D x K` Newton direction.
     direction: Vec<f64>,
     /// `P x P` Hessian (full, symmetric).
@@ -355,7 +354,7 @@ impl NewtonProblem {
             residuals: vec![0.0; k * n],
             direction_logits: vec![0.0; k * n],
             gradient: vec![0.0; p],
-            gradient_partials: vec![0.0; n.div_ceil(ROWS_PER_TASK) * p],
+            blocked: BlockedProducts::new(n, dim, k),
             direction: vec![0.0; p],
             hessian: vec![0.0; p * p],
             factor: vec![0.0; max_block * max_block],
@@ -503,7 +502,7 @@ impl NewtonProblem {
 
     /// Logits, losses, probabilities, residuals, objective and gradient from `theta`.
     fn refresh_from_parameters(&mut self) {
-        linear_logits(&self.x, self.dim, &self.theta, &mut self.logits);
+        self.blocked.logits(&self.x, &self.theta, &mut self.logits);
         self.class_steps.fill(0.0);
         self.update_pass(false);
     }
@@ -564,14 +563,8 @@ impl NewtonProblem {
 
     /// `grad f = X^T R^T + 2 lambda [W; 0]`.
     fn compute_gradient(&mut self) {
-        transpose_product(
-            &self.x,
-            self.dim,
-            self.n_classes,
-            &self.residuals,
-            &mut self.gradient_partials,
-            &mut self.gradient,
-        );
+        self.blocked
+            .transpose_product(&self.x, &self.residuals, &mut self.gradient);
         add_ridge_curvature(self.lambda, self.dim, &self.theta, &mut self.gradient);
     }
 
@@ -617,7 +610,8 @@ impl NewtonProblem {
             }
         };
         let dim = self.dim;
-        linear_logits(&self.x, dim, &self.direction, &mut self.direction_logits);
+        self.blocked
+            .logits(&self.x, &self.direction, &mut self.direction_logits);
         self.line_search();
         let step = self.block_steps.iter().fold(0.0, |m: f64, &s| m.max(s));
         if let Some(t) = truncated {

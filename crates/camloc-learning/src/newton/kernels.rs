@@ -1,12 +1,7 @@
-//! The per-sample kernels of the Newton solver: logits, probabilities and residuals, losses,
-//! the transpose product behind the gradient and Hessian-vector products, and the ridge
-//! terms. Every sum runs in a fixed order so that fits are bit-for-bit reproducible.
+//! The per-sample kernels of the Newton solver: probabilities and residuals, losses, and the
+//! ridge terms (the products with the design matrix are in module `blocked`). Every sum
+//! runs in a fixed order so that fits are bit-for-bit reproducible.
 
-use faer::linalg::matmul::matmul;
-use faer::{Accum, MatMut, MatRef, Par};
-use rayon::prelude::*;
-
-use super::ROWS_PER_TASK;
 use crate::Mode;
 use crate::softmax::{log_sum_exp, sigmoid, softmax_in_place, softplus};
 
@@ -47,44 +42,6 @@ pub(super) fn ridge(lambda: f64, weights: impl Iterator<Item = f64>) -> f64 {
     weights.map(|w| w * w).sum::<f64>() * lambda
 }
 
-/// `out = M X` as a `D x K` class-major matrix (`out[k * D + a] = sum_i m_ki x_ia`) for a
-/// `K x n` matrix `m` and the `n x D` design matrix `x`, in parallel over tasks of rows,
-/// each one sequential GEMM into its `K x D` slot of `partials`, summed in task order.
-pub(super) fn transpose_product(
-    x: &[f64],
-    dim: usize,
-    k: usize,
-    m: &[f64],
-    partials: &mut [f64],
-    out: &mut [f64],
-) {
-    let n = x.len() / dim.max(1);
-    let x = MatRef::from_column_major_slice(x, n, dim);
-    m.par_chunks(ROWS_PER_TASK * k)
-        .zip(partials.par_chunks_mut(k * dim))
-        .enumerate()
-        .for_each(|(task, (m, partial))| {
-            let rows = m.len() / k;
-            matmul(
-                MatMut::from_column_major_slice_mut(partial, k, dim),
-                Accum::Replace,
-                MatRef::from_column_major_slice(m, k, rows),
-                x.subrows(task * ROWS_PER_TASK, rows),
-                1.0,
-                Par::Seq,
-            );
-        });
-    out.fill(0.0);
-    for partial in partials.chunks_exact(k * dim) {
-        for (a, column) in partial.chunks_exact(k).enumerate() {
-            for (class, &v) in column.iter().enumerate() {
-                debug_assert!(class * dim + a < out.len(), "parameter ({class}, {a})");
-                out[class * dim + a] += v;
-            }
-        }
-    }
-}
-
 /// `out += 2 lambda [V; 0]`: the ridge term's gradient at `v` (or, equally, its Hessian
 /// times `v`), biases excluded; `v` and `out` are `D x K` class-major.
 pub(super) fn add_ridge_curvature(lambda: f64, dim: usize, v: &[f64], out: &mut [f64]) {
@@ -94,28 +51,6 @@ pub(super) fn add_ridge_curvature(lambda: f64, dim: usize, v: &[f64], out: &mut 
             *ov += two_lambda * tv;
         }
     }
-}
-
-/// `out = params^T X^T` (`K x n`): the logits of every sample for parameters `params`
-/// (`D x K`), computed in parallel over tasks of rows, each one sequential GEMM.
-pub(super) fn linear_logits(x: &[f64], dim: usize, params: &[f64], out: &mut [f64]) {
-    let k = params.len() / dim.max(1);
-    let n = x.len() / dim.max(1);
-    let x = MatRef::from_column_major_slice(x, n, dim);
-    let params = MatRef::from_column_major_slice(params, dim, k);
-    out.par_chunks_mut(ROWS_PER_TASK * k)
-        .enumerate()
-        .for_each(|(task, z)| {
-            let rows = z.len() / k.max(1);
-            matmul(
-                MatMut::from_column_major_slice_mut(z, k, rows),
-                Accum::Replace,
-                params.transpose(),
-                x.subrows(task * ROWS_PER_TASK, rows).transpose(),
-                1.0,
-                Par::Seq,
-            );
-        });
 }
 
 /// Probabilities `p` and residuals `r = p - onehot(y)` of one sample with logits `z`. The

@@ -4,12 +4,11 @@
 //! `H v = X^T [J_i V^T x_i]_i + 2 lambda [V; 0]` with `J_i` the Jacobian of sample `i`'s
 //! probabilities with respect to its logits: `diag(p_i) - p_i p_i^T` (multinomial) or
 //! `diag(sigma'(z_i))` (one-vs-rest). That is two products with the design matrix `X`
-//! (`n x D` times `D x K`, then `D x n` times `n x K`), `4 n D K` flops.
+//! (`n x D` times `D x K`, then `D x n` times `n x K`), `4 n D K` flops, fused per chunk of
+//! samples so that `X` is read once (module `blocked`).
 
-use rayon::prelude::*;
-
-use super::kernels::{add_ridge_curvature, linear_logits, transpose_product};
-use super::{NewtonProblem, ROWS_PER_TASK};
+use super::NewtonProblem;
+use super::kernels::add_ridge_curvature;
 use crate::hessian::dot;
 use crate::softmax::sigmoid_curvature;
 use crate::{LearningError, Mode};
@@ -55,36 +54,21 @@ impl NewtonProblem {
         4.0 * self.n_samples as f64 * self.dim as f64 * self.n_classes as f64
     }
 
-    /// `cg.product = H cg.search`, the exact Hessian at the current parameters. Uses
-    /// `direction_logits` and `gradient_partials` as scratch.
+    /// `cg.product = H cg.search`, the exact Hessian at the current parameters: one fused
+    /// pass over the samples (module `blocked`).
     pub(super) fn multiply_by_hessian(&mut self) {
-        let (dim, k) = (self.dim, self.n_classes);
-        let v = &self.cg.search;
+        let k = self.n_classes;
         let mode = self.mode;
-        // s_i = V^T x_i, then t_i = J_i s_i.
-        linear_logits(&self.x, dim, v, &mut self.direction_logits);
         let per_sample = match mode {
             Mode::Multinomial => &self.probabilities,
             Mode::OneVsRest => &self.logits,
         };
-        self.direction_logits
-            .par_chunks_mut(ROWS_PER_TASK * k)
-            .zip(per_sample.par_chunks(ROWS_PER_TASK * k))
-            .for_each(|(s, p)| {
-                for (s, p) in s.chunks_exact_mut(k).zip(p.chunks_exact(k)) {
-                    apply_jacobian(mode, p, s);
-                }
-            });
-        let product = &mut self.cg.product;
-        transpose_product(
-            &self.x,
-            dim,
-            k,
-            &self.direction_logits,
-            &mut self.gradient_partials,
-            product,
-        );
-        add_ridge_curvature(self.lambda, dim, v, product);
+        let jacobian = |i: usize, s: &mut [f64]| {
+            apply_jacobian(mode, &per_sample[i * k..(i + 1) * k], s);
+        };
+        let (v, product) = (&self.cg.search, &mut self.cg.product);
+        self.blocked.hessian_product(&self.x, v, jacobian, product);
+        add_ridge_curvature(self.lambda, self.dim, v, product);
     }
 }
 
