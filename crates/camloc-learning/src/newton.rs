@@ -54,8 +54,19 @@
 //!
 //! This module holds the solver state, the fit loop and the reports; the direction solvers
 //! are in `direct` (Hessian assembly and Cholesky solve) and `cg` (conjugate gradients
-//! preconditioned by the last factor), the Armijo backtracking in `line_search`, and the
-//! per-sample passes and reductions they share in `kernels`.
+//! preconditioned by the last factor, on the Hessian-vector products of `product`), the
+//! Armijo backtracking in `line_search`, the products of the design matrix with thin
+//! matrices (logits, gradients, Hessian-vector products) in `blocked`, and the per-sample
+//! kernels and reductions in `kernels`.
+//!
+//! # Evaluations
+//!
+//! A line-search trial evaluates every sample at the trial logits `z + t dz` (`dz = X d`,
+//! computed once per direction) in one pass: loss, probabilities and residuals share one
+//! exponential per class and are kept. When the trial is accepted (in practice nearly
+//! always the unit step) it becomes the new state as it is, and only the gradient is left
+//! to compute: an iteration evaluates the objective once, not once for the line search and
+//! again for the update.
 //!
 //! # Singular directions
 //!
@@ -71,7 +82,6 @@
 use faer::Par;
 use faer::dyn_stack::MemBuffer;
 use faer::linalg::cholesky::llt::factor::cholesky_in_place_scratch;
-use rayon::prelude::*;
 
 use crate::data::check_labels;
 use crate::hessian::PackedHessian;
@@ -87,8 +97,8 @@ mod product;
 
 use blocked::BlockedProducts;
 use cg::CgOutcome;
+use kernels::add_ridge_curvature;
 pub(crate) use kernels::row_loss;
-use kernels::{add_ridge_curvature, block_totals, residuals_of_row, ridge, shifted};
 
 /// Rows per task in the parallel passes over samples (probabilities, losses).
 const ROWS_PER_TASK: usize = 2048;
@@ -211,6 +221,8 @@ pub struct NewtonProblem {
     residuals: Vec<f64>,
     /// `K x n` change of the logits along the Newton direction.
     direction_logits: Vec<f64>,
+    /// `K x n` logits of the last line-search trial.
+    trial_logits: Vec<f64>,
     /// `D x K` gradient.
     gradient: Vec<f64>,
     /// Buffers of the products with `X` (logits, gradient, Hessian-vector products).
@@ -353,6 +365,7 @@ impl NewtonProblem {
             probabilities: vec![0.0; k * n],
             residuals: vec![0.0; k * n],
             direction_logits: vec![0.0; k * n],
+            trial_logits: vec![0.0; k * n],
             gradient: vec![0.0; p],
             blocked: BlockedProducts::new(n, dim, k),
             direction: vec![0.0; p],
@@ -504,61 +517,8 @@ impl NewtonProblem {
     fn refresh_from_parameters(&mut self) {
         self.blocked.logits(&self.x, &self.theta, &mut self.logits);
         self.class_steps.fill(0.0);
-        self.update_pass(false);
-    }
-
-    /// One pass over the samples: optionally moves the logits by `class_steps` along
-    /// `direction_logits`, then recomputes probabilities, residuals and losses; then the
-    /// block objectives (with the ridge term of the current `theta`) and the gradient.
-    fn update_pass(&mut self, move_logits: bool) {
-        let k = self.n_classes;
-        let mode = self.mode;
-        let n_blocks = self.block_objectives.len();
-        let steps = &self.class_steps;
-        self.logits
-            .par_chunks_mut(ROWS_PER_TASK * k)
-            .zip(self.probabilities.par_chunks_mut(ROWS_PER_TASK * k))
-            .zip(self.residuals.par_chunks_mut(ROWS_PER_TASK * k))
-            .zip(self.direction_logits.par_chunks(ROWS_PER_TASK * k))
-            .zip(self.labels.par_chunks(ROWS_PER_TASK))
-            .zip(self.partial_losses.par_chunks_mut(n_blocks))
-            .for_each(|(((((z, p), r), dz), labels), partial)| {
-                partial.fill(0.0);
-                for ((((z, p), r), dz), &y) in z
-                    .chunks_exact_mut(k)
-                    .zip(p.chunks_exact_mut(k))
-                    .zip(r.chunks_exact_mut(k))
-                    .zip(dz.chunks_exact(k))
-                    .zip(labels)
-                {
-                    if move_logits {
-                        for ((zc, &dc), &s) in z.iter_mut().zip(dz).zip(steps) {
-                            *zc = shifted(*zc, dc, s);
-                        }
-                    }
-                    row_loss(mode, y, k, |c| z[c], partial);
-                    residuals_of_row(mode, y, z, p, r);
-                }
-            });
-        self.finish_objectives();
-        self.compute_gradient();
-    }
-
-    /// Block objectives = sums of the task partials (in task order) plus the ridge terms of
-    /// the current `theta`.
-    fn finish_objectives(&mut self) {
-        let dim = self.dim;
-        let lambda = self.lambda;
-        let ridges = self
-            .theta
-            .chunks_exact(dim)
-            .map(|params| ridge(lambda, params[..dim - 1].iter().copied()));
-        block_totals(
-            &self.partial_losses,
-            self.mode,
-            ridges,
-            &mut self.block_objectives,
-        );
+        self.evaluate_trial();
+        self.accept_trial();
     }
 
     /// `grad f = X^T R^T + 2 lambda [W; 0]`.
@@ -609,27 +569,20 @@ impl NewtonProblem {
                 }
             }
         };
-        let dim = self.dim;
         self.blocked
             .logits(&self.x, &self.direction, &mut self.direction_logits);
-        self.line_search();
+        let evaluated = self.line_search();
         let step = self.block_steps.iter().fold(0.0, |m: f64, &s| m.max(s));
         if let Some(t) = truncated {
             self.update_trust_radius(step, t);
         }
-        if step > 0.0 {
-            for ((t, d), &s) in self
-                .theta
-                .chunks_exact_mut(dim)
-                .zip(self.direction.chunks_exact(dim))
-                .zip(&self.class_steps)
-            {
-                for (tv, &dv) in t.iter_mut().zip(d) {
-                    *tv = shifted(*tv, dv, s);
-                }
-            }
-            self.update_pass(true);
+        // The trials overwrote probabilities and residuals: take the last one if it is at
+        // the final steps, else evaluate those (all zero when nothing was accepted: the
+        // state as it was, recomputed to the same numbers).
+        if !evaluated {
+            self.evaluate_trial();
         }
+        self.accept_trial();
         self.iteration += 1;
         Ok(self.log(step, hessian_assembled, cg_products))
     }

@@ -6,8 +6,7 @@ use crate::Mode;
 use crate::softmax::{log_sum_exp, sigmoid, softmax_in_place, softplus};
 
 /// `totals[b] = sum over tasks of partials[task][b]` (in task order), then plus the ridge
-/// term of each class in its block. Shared by the trial and the update passes so that an
-/// accepted trial objective and the objective recomputed after the update are identical.
+/// term of each class in its block.
 pub(super) fn block_totals(
     partials: &[f64],
     mode: Mode,
@@ -58,20 +57,12 @@ pub(super) fn add_ridge_curvature(lambda: f64, dim: usize, v: &[f64], out: &mut 
 /// (multinomial) or `-sigmoid(-z_y)` (one-vs-rest), not `p_y - 1`, so the gradient stays
 /// accurate when the model is confident.
 #[inline]
-pub(super) fn residuals_of_row(mode: Mode, y: usize, z: &[f64], p: &mut [f64], r: &mut [f64]) {
+fn residuals_of_row(mode: Mode, y: usize, z: &[f64], p: &mut [f64], r: &mut [f64]) {
     match mode {
         Mode::Multinomial => {
             p.copy_from_slice(z);
             softmax_in_place(p);
-            r.copy_from_slice(p);
-            let others: f64 = p
-                .iter()
-                .enumerate()
-                .filter(|&(c, _)| c != y)
-                .map(|(_, v)| v)
-                .sum();
-            debug_assert!(y < r.len(), "label {y} of {} classes", r.len());
-            r[y] = -others;
+            multinomial_residuals(y, p, r);
         }
         Mode::OneVsRest => {
             for (c, ((pc, rc), &zc)) in p.iter_mut().zip(r.iter_mut()).zip(z).enumerate() {
@@ -80,6 +71,67 @@ pub(super) fn residuals_of_row(mode: Mode, y: usize, z: &[f64], p: &mut [f64], r
             }
         }
     }
+}
+
+/// Multinomial residuals `r = p - onehot(y)` from the probabilities `p`, the true class's as
+/// `-sum_{c != y} p_c`.
+#[inline]
+fn multinomial_residuals(y: usize, p: &[f64], r: &mut [f64]) {
+    r.copy_from_slice(p);
+    let others: f64 = p
+        .iter()
+        .enumerate()
+        .filter(|&(c, _)| c != y)
+        .map(|(_, v)| v)
+        .sum();
+    debug_assert!(y < r.len(), "label {y} of {} classes", r.len());
+    r[y] = -others;
+}
+
+/// Where [`evaluate_row`] writes one sample's trial logits, probabilities and residuals
+/// (`K` values each).
+pub(super) struct RowOutput<'a> {
+    pub(super) trial: &'a mut [f64],
+    pub(super) p: &'a mut [f64],
+    pub(super) r: &'a mut [f64],
+}
+
+/// One sample with label `y` and logits `z` at the trial logits `z + s_c dz` (`s_c` =
+/// `steps[c]`, see [`shifted`]): writes them, the probabilities and the residuals to `out`,
+/// and adds the loss to `partial` as [`row_loss`] does. In multinomial mode the loss and the
+/// softmax share one exponential per class (the numbers are those of [`row_loss`] and
+/// [`softmax_in_place`], which handle non-finite logits).
+#[inline]
+pub(super) fn evaluate_row(
+    mode: Mode,
+    y: usize,
+    (z, dz): (&[f64], &[f64]),
+    steps: &[f64],
+    out: RowOutput<'_>,
+    partial: &mut [f64],
+) {
+    let RowOutput { trial, p, r } = out;
+    for (((t, &zc), &dc), &s) in trial.iter_mut().zip(z).zip(dz).zip(steps) {
+        *t = shifted(zc, dc, s);
+    }
+    if mode == Mode::Multinomial {
+        let max = trial.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        if max.is_finite() && !trial.iter().any(|v| v.is_nan()) {
+            let mut sum = 0.0;
+            for (pc, &tc) in p.iter_mut().zip(trial.iter()) {
+                *pc = (tc - max).exp();
+                sum += *pc;
+            }
+            debug_assert!(!partial.is_empty(), "one line-search block");
+            partial[0] += max + sum.ln() - trial[y];
+            let inv = 1.0 / sum;
+            p.iter_mut().for_each(|v| *v *= inv);
+            multinomial_residuals(y, p, r);
+            return;
+        }
+    }
+    row_loss(mode, y, trial.len(), |c| trial[c], partial);
+    residuals_of_row(mode, y, trial, p, r);
 }
 
 /// `z + s dz`, leaving `z` untouched (even if `dz` is not finite) when `s == 0`.
