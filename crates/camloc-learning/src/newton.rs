@@ -32,23 +32,16 @@
 //! Actual multiply-adds per Hessian: `n * D(D+1)/2 * Q` with `Q = K(K-1)/2` (multinomial)
 //! or `K` (one-vs-rest); see [`NewtonProblem::hessian_flops`].
 //!
-//! # Reusing a factor
-//!
-//! With [`DirectionSolver::PreconditionedCg`] (the default, multinomial mode), an iteration
-//! first tries to solve its Newton system by conjugate gradients on exact Hessian-vector
-//! products (`4 n D K` flops each), preconditioned by the Cholesky factor of the last
-//! assembled Hessian, to the accuracy of the direct solve; only if that would take longer
-//! than an assembly does it assemble and factorise the Hessian. Near the optimum the
-//! Hessian barely changes, so one factor serves the last few iterations (module `cg`).
-//!
 //! # Truncated Newton
 //!
-//! With [`DirectionSolver::TruncatedCg`] (for many samples and many parameters) every
-//! Newton system is solved by the same preconditioned conjugate gradients, but only to the
-//! forcing term `min(0.5, sqrt(||g|| / ||g_0||))`, and the preconditioner is the Hessian
-//! assembled on a fixed, evenly spaced subset of the samples (rescaled to all of them), so
-//! that an assembly costs `m / n` of a full one. The factor is refreshed when a solve spends
-//! its budget.
+//! With [`DirectionSolver::PreconditionedCg`] (the default) and
+//! [`DirectionSolver::TruncatedCg`] (multinomial mode) every Newton system is solved by
+//! conjugate gradients on exact Hessian-vector products (`4 n D K` flops each, module
+//! `product`), only to the forcing term `min(0.5, sqrt(||g|| / ||g_0||))` or until the
+//! residual is well inside the convergence threshold, preconditioned by the Cholesky factor
+//! of the Hessian assembled on a fixed, evenly spaced subset of the samples (rescaled to all
+//! of them), so that an assembly costs `m / n` of a full one. The factor is refreshed when a
+//! solve spends its budget (module `cg`).
 //!
 //! # Where the code is
 //!
@@ -96,7 +89,6 @@ mod line_search;
 mod product;
 
 use blocked::BlockedProducts;
-use cg::CgOutcome;
 use kernels::add_ridge_curvature;
 pub(crate) use kernels::row_loss;
 
@@ -115,36 +107,34 @@ pub struct IterationLog {
     /// Step length taken along the Newton direction (1 is the full step; 0 means no
     /// decrease could be found). For one-vs-rest, the largest of the per-class steps.
     pub step: f64,
-    /// Whether the Hessian was assembled and factorised in this iteration (false at the
-    /// starting point and when conjugate gradients solved the Newton system with an earlier
-    /// factor, see [`DirectionSolver`]).
+    /// Whether the Hessian (or the preconditioner's subsampled Hessian) was assembled and
+    /// factorised in this iteration (false at the starting point and when conjugate
+    /// gradients solved the Newton system with an earlier factor, see [`DirectionSolver`]).
     pub hessian_assembled: bool,
-    /// Hessian-vector products spent by conjugate gradients in this iteration, including
-    /// those of an attempt that gave up for an assembly.
+    /// Hessian-vector products spent by conjugate gradients in this iteration.
     pub cg_products: usize,
-    /// Whether the direction came from truncated CG ([`DirectionSolver::TruncatedCg`]),
-    /// which runs after an assembly too.
+    /// Whether the direction came from truncated CG ([`DirectionSolver::PreconditionedCg`]
+    /// or [`DirectionSolver::TruncatedCg`]), which runs after an assembly too.
     pub truncated: bool,
 }
 
 impl IterationLog {
     /// How the Newton direction of this iteration was found, in words for logs:
-    /// `"start"`, `"Hessian + Cholesky"`, `"CG, 7 products"` or
-    /// `"CG gave up after 4 products, Hessian + Cholesky"`.
+    /// `"start"`, `"Hessian + Cholesky"`, `"truncated CG, 7 products"` or
+    /// `"preconditioner assembled, truncated CG, 4 products"`.
     pub fn direction_summary(&self) -> String {
-        if self.truncated && self.iteration > 0 {
-            let assembled = if self.hessian_assembled {
-                "preconditioner assembled, "
-            } else {
-                ""
-            };
-            return format!("{assembled}truncated CG, {} products", self.cg_products);
-        }
-        match (self.iteration, self.hessian_assembled, self.cg_products) {
+        match (self.iteration, self.truncated, self.hessian_assembled) {
             (0, _, _) => "start".to_owned(),
-            (_, true, 0) => "Hessian + Cholesky".to_owned(),
-            (_, true, c) => format!("CG gave up after {c} products, Hessian + Cholesky"),
-            (_, false, c) => format!("CG, {c} products"),
+            (_, false, _) => "Hessian + Cholesky".to_owned(),
+            (_, true, assembled) => format!(
+                "{}truncated CG, {} products",
+                if assembled {
+                    "preconditioner assembled, "
+                } else {
+                    ""
+                },
+                self.cg_products
+            ),
         }
     }
 }
@@ -265,6 +255,8 @@ pub struct NewtonProblem {
     sub_per_sample: Vec<f64>,
     /// `||grad f||_inf` at the starting point (the forcing term's reference).
     initial_gradient_norm: f64,
+    /// The fit's convergence threshold on `||grad f||_inf` (`gradient_tolerance * n`).
+    gradient_threshold: f64,
     /// Trust radius of truncated CG in the preconditioner's norm (infinite at the start).
     trust_radius: f64,
     iteration: usize,
@@ -331,10 +323,8 @@ impl NewtonProblem {
             Mode::Multinomial => p,
             Mode::OneVsRest => dim,
         };
-        let sub_rows: Vec<usize> = match config.direction_solver {
-            DirectionSolver::TruncatedCg {
-                preconditioner_rows: m,
-            } if m < n && config.mode == Mode::Multinomial => (0..m).map(|j| j * n / m).collect(),
+        let sub_rows: Vec<usize> = match config.direction_solver.preconditioner_rows(n, p) {
+            m if m < n && config.mode == Mode::Multinomial => (0..m).map(|j| j * n / m).collect(),
             _ => Vec::new(),
         };
         let m = sub_rows.len();
@@ -387,6 +377,7 @@ impl NewtonProblem {
             sub_rows,
             sub_x,
             initial_gradient_norm: 0.0,
+            gradient_threshold: config.gradient_tolerance * n as f64,
             trust_radius: f64::INFINITY,
             iteration: 0,
         };
@@ -547,27 +538,9 @@ impl NewtonProblem {
             truncated = Some(step);
             (assemble, step.products)
         } else {
-            let reuse = self.direction_solver == DirectionSolver::PreconditionedCg
-                && self.mode == Mode::Multinomial
-                && self.factor_ready;
-            let cg = if reuse {
-                self.solve_by_cg()
-            } else {
-                CgOutcome::NotTried
-            };
-            match cg {
-                CgOutcome::Solved { products } => (false, products),
-                CgOutcome::NotTried => {
-                    self.assemble_hessian();
-                    self.solve_newton_system()?;
-                    (true, 0)
-                }
-                CgOutcome::GaveUp { products } => {
-                    self.assemble_hessian();
-                    self.solve_newton_system()?;
-                    (true, products)
-                }
-            }
+            self.assemble_hessian();
+            self.solve_newton_system()?;
+            (true, 0)
         };
         self.blocked
             .logits(&self.x, &self.direction, &mut self.direction_logits);
@@ -603,10 +576,10 @@ impl NewtonProblem {
     }
 
     /// Whether directions come from truncated conjugate gradients
-    /// ([`DirectionSolver::TruncatedCg`], multinomial mode).
+    /// ([`DirectionSolver::PreconditionedCg`] or [`DirectionSolver::TruncatedCg`],
+    /// multinomial mode).
     fn is_truncated(&self) -> bool {
-        matches!(self.direction_solver, DirectionSolver::TruncatedCg { .. })
-            && self.mode == Mode::Multinomial
+        self.direction_solver != DirectionSolver::Cholesky && self.mode == Mode::Multinomial
     }
 
     /// The fitted model: parameters mapped back to per-feature weights and biases, with the
