@@ -100,7 +100,8 @@ impl BlockedProducts {
         let k = params.len() / dim.max(1);
         let n = x.len() / dim.max(1);
         self.load_weights(dim, params);
-        let (arch, padded, weights) = (self.arch, self.padded, &self.weights);
+        let (padded, weights) = (self.padded, &self.weights);
+        let kernels = self.kernels(x, n);
         out.par_chunks_mut(ROWS_PER_TASK * k)
             .zip(self.chunks.par_chunks_mut(CHUNK_ROWS * padded))
             .enumerate()
@@ -109,18 +110,7 @@ impl BlockedProducts {
                     let rows = out.len() / k;
                     let first = task * ROWS_PER_TASK + c * CHUNK_ROWS;
                     let chunk = &mut chunk[..rows * padded];
-                    let rows = Rows {
-                        x,
-                        n,
-                        first,
-                        count: rows,
-                    };
-                    arch.dispatch(TimesWeights {
-                        rows,
-                        weights,
-                        padded,
-                        out: chunk,
-                    });
+                    kernels.times_weights(first, weights, chunk);
                     for (o, s) in out.chunks_exact_mut(k).zip(chunk.chunks_exact(padded)) {
                         o.copy_from_slice(&s[..k]);
                     }
@@ -135,7 +125,8 @@ impl BlockedProducts {
         let dim = self.weights.len() / self.padded;
         let k = out.len() / dim.max(1);
         let n = x.len() / dim.max(1);
-        let (arch, padded) = (self.arch, self.padded);
+        let padded = self.padded;
+        let kernels = self.kernels(x, n);
         m.par_chunks(ROWS_PER_TASK * k)
             .zip(self.chunks.par_chunks_mut(CHUNK_ROWS * padded))
             .zip(self.partials.par_chunks_mut(dim * padded))
@@ -150,19 +141,7 @@ impl BlockedProducts {
                         s[..k].copy_from_slice(r);
                         s[k..].fill(0.0);
                     }
-                    let rows = Rows {
-                        x,
-                        n,
-                        first,
-                        count: rows,
-                    };
-                    let sums = &mut *partial;
-                    arch.dispatch(AccumulateTransposed {
-                        rows,
-                        m: chunk,
-                        padded,
-                        sums,
-                    });
+                    kernels.accumulate_transposed(first, chunk, &mut *partial);
                 }
             });
         self.sum_partials(dim, k, out);
@@ -183,7 +162,8 @@ impl BlockedProducts {
         let k = v.len() / dim.max(1);
         let n = x.len() / dim.max(1);
         self.load_weights(dim, v);
-        let (arch, padded, weights) = (self.arch, self.padded, &self.weights);
+        let (padded, weights) = (self.padded, &self.weights);
+        let kernels = self.kernels(x, n);
         self.chunks
             .par_chunks_mut(CHUNK_ROWS * padded)
             .zip(self.partials.par_chunks_mut(dim * padded))
@@ -194,31 +174,24 @@ impl BlockedProducts {
                 for first in (task * ROWS_PER_TASK..end).step_by(CHUNK_ROWS) {
                     let rows = CHUNK_ROWS.min(end - first);
                     let chunk = &mut chunk[..rows * padded];
-                    let rows = Rows {
-                        x,
-                        n,
-                        first,
-                        count: rows,
-                    };
-                    arch.dispatch(TimesWeights {
-                        rows,
-                        weights,
-                        padded,
-                        out: &mut *chunk,
-                    });
+                    kernels.times_weights(first, weights, &mut *chunk);
                     for (i, s) in chunk.chunks_exact_mut(padded).enumerate() {
                         jacobian(first + i, &mut s[..k]);
                     }
-                    let sums = &mut *partial;
-                    arch.dispatch(AccumulateTransposed {
-                        rows,
-                        m: chunk,
-                        padded,
-                        sums,
-                    });
+                    kernels.accumulate_transposed(first, chunk, &mut *partial);
                 }
             });
         self.sum_partials(dim, k, out);
+    }
+
+    /// The kernels on the `n x D` column-major design matrix `x`.
+    fn kernels<'a>(&self, x: &'a [f64], n: usize) -> Kernels<'a> {
+        Kernels {
+            arch: self.arch,
+            x,
+            n,
+            padded: self.padded,
+        }
     }
 
     /// `out[k * D + a] = sum over tasks of partial[a][k]`, in task order.
@@ -252,86 +225,175 @@ impl<'a> Rows<'a> {
     }
 }
 
-/// `out = X_rows W`: `out` row-major with `padded` columns (one row per row of `rows`),
-/// `W` the `D x padded` row-major weights.
-struct TimesWeights<'a> {
+/// The two products on one design matrix, with the instruction set and the class padding.
+#[derive(Clone, Copy)]
+struct Kernels<'a> {
+    arch: Arch,
+    /// `n x D` column-major design matrix.
+    x: &'a [f64],
+    n: usize,
+    padded: usize,
+}
+
+impl Kernels<'_> {
+    /// `out = X_rows W` for the rows from `first` ([`Kind::TimesWeights`]).
+    fn times_weights(self, first: usize, weights: &[f64], out: &mut [f64]) {
+        let rows = (self.x, self.n, first);
+        let product = Product::new(Kind::TimesWeights, rows, weights, self.padded, out);
+        self.arch.dispatch(product);
+    }
+
+    /// `sums += X_rows^T M` for the rows from `first` ([`Kind::AccumulateTransposed`]).
+    fn accumulate_transposed(self, first: usize, m: &[f64], sums: &mut [f64]) {
+        let rows = (self.x, self.n, first);
+        let product = Product::new(Kind::AccumulateTransposed, rows, m, self.padded, sums);
+        self.arch.dispatch(product);
+    }
+}
+
+/// Which product a [`Product`] computes.
+#[derive(Clone, Copy)]
+enum Kind {
+    /// `out = X_rows W`: `out` row-major with `padded` columns (one row per row of `rows`),
+    /// the operand `W` the `D x padded` row-major weights.
+    TimesWeights,
+    /// `out += X_rows^T M`: the operand `M` row-major with `padded` columns (one row per row
+    /// of `rows`), `out` the `D x padded` row-major partial sums.
+    AccumulateTransposed,
+}
+
+/// One blocked product of rows of `X` with a thin matrix, run with the instruction set
+/// `pulp` chose.
+struct Product<'a> {
+    kind: Kind,
     rows: Rows<'a>,
-    weights: &'a [f64],
+    operand: &'a [f64],
     padded: usize,
     out: &'a mut [f64],
 }
 
-impl WithSimd for TimesWeights<'_> {
+impl<'a> Product<'a> {
+    /// The product `kind` of the rows from `first` of the `n x D` column-major design
+    /// matrix `x` with `operand`, into `out` (both with `padded` columns; the number of rows
+    /// is that of `out` or of `operand`, whichever has one row per sample).
+    fn new(
+        kind: Kind,
+        (x, n, first): (&'a [f64], usize, usize),
+        operand: &'a [f64],
+        padded: usize,
+        out: &'a mut [f64],
+    ) -> Self {
+        let per_sample = match kind {
+            Kind::TimesWeights => out.len(),
+            Kind::AccumulateTransposed => operand.len(),
+        };
+        let count = per_sample / padded.max(1);
+        let rows = Rows { x, n, first, count };
+        Self {
+            kind,
+            rows,
+            operand,
+            padded,
+            out,
+        }
+    }
+}
+
+impl WithSimd for Product<'_> {
     type Output = ();
 
     #[inline(always)]
     fn with_simd<S: Simd>(self, simd: S) {
         let Self {
+            kind,
             rows,
-            weights,
+            operand,
             padded,
             out,
         } = self;
         let vectors = padded / S::F64_LANES;
-        let dim = weights.len() / padded.max(1);
-        let weights = S::as_simd_f64s(weights).0;
+        let operand = S::as_simd_f64s(operand).0;
         let out = S::as_mut_simd_f64s(out).0;
-        for start in (0..dim).step_by(PANEL_COLUMNS) {
-            let columns = start..(start + PANEL_COLUMNS).min(dim);
-            let mut first_vector = 0;
-            while first_vector < vectors {
-                let tile = Tile {
-                    simd,
-                    vectors,
-                    first_vector,
+        match kind {
+            Kind::TimesWeights => {
+                let dim = operand.len() / vectors.max(1);
+                for start in (0..dim).step_by(PANEL_COLUMNS) {
+                    let columns = start..(start + PANEL_COLUMNS).min(dim);
+                    let out = &mut *out;
+                    let mut panel = Panel {
+                        rows,
+                        columns,
+                        weights: operand,
+                        out,
+                    };
+                    over_tile_columns(simd, vectors, &mut panel);
+                }
+            }
+            Kind::AccumulateTransposed => {
+                let mut sums = Sums {
+                    rows,
+                    m: operand,
+                    sums: out,
                 };
-                let (columns, out) = (columns.clone(), &mut *out);
-                first_vector += match vectors - first_vector {
-                    1 => tile.times_weights::<1>(rows, columns, weights, out),
-                    2 => tile.times_weights::<2>(rows, columns, weights, out),
-                    _ => tile.times_weights::<TILE_VECTORS>(rows, columns, weights, out),
-                };
+                over_tile_columns(simd, vectors, &mut sums);
             }
         }
     }
 }
 
-/// `sums += X_rows^T M`: `m` row-major with `padded` columns (one row per row of `rows`),
-/// `sums` the `D x padded` row-major partial sums.
-struct AccumulateTransposed<'a> {
+/// `X V` on one panel of columns of `X` (see [`Tile::times_weights`]).
+struct Panel<'a, 'b, S: Simd> {
     rows: Rows<'a>,
-    m: &'a [f64],
-    padded: usize,
-    sums: &'a mut [f64],
+    columns: Range<usize>,
+    weights: &'a [S::f64s],
+    out: &'b mut [S::f64s],
 }
 
-impl WithSimd for AccumulateTransposed<'_> {
-    type Output = ();
-
+impl<S: Simd> TileColumn<S> for Panel<'_, '_, S> {
     #[inline(always)]
-    fn with_simd<S: Simd>(self, simd: S) {
-        let Self {
-            rows,
-            m,
-            padded,
-            sums,
-        } = self;
-        let vectors = padded / S::F64_LANES;
-        let m = S::as_simd_f64s(m).0;
-        let sums = S::as_mut_simd_f64s(sums).0;
-        let mut first_vector = 0;
-        while first_vector < vectors {
-            let tile = Tile {
-                simd,
-                vectors,
-                first_vector,
-            };
-            first_vector += match vectors - first_vector {
-                1 => tile.accumulate::<1>(rows, m, sums),
-                2 => tile.accumulate::<2>(rows, m, sums),
-                _ => tile.accumulate::<TILE_VECTORS>(rows, m, sums),
-            };
+    fn run<const VB: usize>(&mut self, tile: Tile<S>) {
+        tile.times_weights::<VB>(self.rows, self.columns.clone(), self.weights, self.out);
+    }
+}
+
+/// `X^T M` into the partial sums (see [`Tile::accumulate`]).
+struct Sums<'a, 'b, S: Simd> {
+    rows: Rows<'a>,
+    m: &'a [S::f64s],
+    sums: &'b mut [S::f64s],
+}
+
+impl<S: Simd> TileColumn<S> for Sums<'_, '_, S> {
+    #[inline(always)]
+    fn run<const VB: usize>(&mut self, tile: Tile<S>) {
+        tile.accumulate::<VB>(self.rows, self.m, self.sums);
+    }
+}
+
+/// A kernel that runs one column of register tiles at a time.
+trait TileColumn<S: Simd> {
+    /// Runs the tiles of `VB` SIMD vectors of classes from `tile.first_vector`.
+    fn run<const VB: usize>(&mut self, tile: Tile<S>);
+}
+
+/// Runs `kernel` over rows of `vectors` SIMD vectors of classes, [`TILE_VECTORS`] at a time
+/// (fewer for the last column).
+#[inline(always)]
+fn over_tile_columns<S: Simd>(simd: S, vectors: usize, kernel: &mut impl TileColumn<S>) {
+    let mut first_vector = 0;
+    while first_vector < vectors {
+        let tile = Tile {
+            simd,
+            vectors,
+            first_vector,
+        };
+        let width = (vectors - first_vector).min(TILE_VECTORS);
+        match width {
+            1 => kernel.run::<1>(tile),
+            2 => kernel.run::<2>(tile),
+            _ => kernel.run::<TILE_VECTORS>(tile),
         }
+        first_vector += width;
     }
 }
 
@@ -346,7 +408,7 @@ struct Tile<S> {
 
 impl<S: Simd> Tile<S> {
     /// `X V` on the columns `columns` of `X` (the first panel overwrites `out`, later ones
-    /// add to it), `TILE_ROWS` rows at a time; returns `VB`.
+    /// add to it), `TILE_ROWS` rows at a time.
     #[inline(always)]
     fn times_weights<const VB: usize>(
         self,
@@ -354,7 +416,7 @@ impl<S: Simd> Tile<S> {
         columns: Range<usize>,
         weights: &[S::f64s],
         out: &mut [S::f64s],
-    ) -> usize {
+    ) {
         let mut r = 0;
         while r + TILE_ROWS <= rows.count {
             self.times_weights_block::<TILE_ROWS, VB>(rows, &columns, r, weights, out);
@@ -364,7 +426,6 @@ impl<S: Simd> Tile<S> {
             self.times_weights_block::<1, VB>(rows, &columns, r, weights, out);
             r += 1;
         }
-        VB
     }
 
     /// One `RB x VB` tile of `X V`: rows `r..r + RB` of `rows`.
@@ -400,14 +461,9 @@ impl<S: Simd> Tile<S> {
         }
     }
 
-    /// `sums += X^T M` over `rows`, `TILE_ROWS` features at a time; returns `VB`.
+    /// `sums += X^T M` over `rows`, `TILE_ROWS` features at a time.
     #[inline(always)]
-    fn accumulate<const VB: usize>(
-        self,
-        rows: Rows<'_>,
-        m: &[S::f64s],
-        sums: &mut [S::f64s],
-    ) -> usize {
+    fn accumulate<const VB: usize>(self, rows: Rows<'_>, m: &[S::f64s], sums: &mut [S::f64s]) {
         let dim = sums.len() / self.vectors.max(1);
         let mut a = 0;
         while a + TILE_ROWS <= dim {
@@ -418,7 +474,6 @@ impl<S: Simd> Tile<S> {
             self.accumulate_block::<1, VB>(rows, a, m, sums);
             a += 1;
         }
-        VB
     }
 
     /// One `RB x VB` tile of `X^T M`: features `a..a + RB`, summed over `rows` in
