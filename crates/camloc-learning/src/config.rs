@@ -34,8 +34,10 @@ pub enum DirectionSolver {
     /// `O(n d^2 K^2)` for an assembly) only as far as the iteration needs, preconditioned by
     /// the Cholesky factor of a Hessian assembled on an evenly spaced subset of the samples
     /// ([`PRECONDITIONER_ROWS_PER_PARAMETER`] per parameter, at least
-    /// [`MIN_PRECONDITIONER_ROWS`]; see [`preconditioner_rows`](Self::preconditioner_rows)).
-    /// The same solver as [`TruncatedCg`](Self::TruncatedCg) with that number of rows.
+    /// [`MIN_PRECONDITIONER_ROWS`]; see [`preconditioner_rows`](Self::preconditioner_rows)),
+    /// doubled each time a solve spends its budget of products (the subsample was too small
+    /// to precondition this problem well). Otherwise the same solver as
+    /// [`TruncatedCg`](Self::TruncatedCg).
     #[default]
     PreconditionedCg,
     /// Truncated Newton (Newton-CG) with a preconditioner assembled on `preconditioner_rows`

@@ -41,7 +41,8 @@
 //! residual is well inside the convergence threshold, preconditioned by the Cholesky factor
 //! of the Hessian assembled on a fixed, evenly spaced subset of the samples (rescaled to all
 //! of them), so that an assembly costs `m / n` of a full one. The factor is refreshed when a
-//! solve spends its budget (module `cg`).
+//! solve spends its budget (module `cg`); with the default solver the subsample then also
+//! doubles.
 //!
 //! # Where the code is
 //!
@@ -323,18 +324,6 @@ impl NewtonProblem {
             Mode::Multinomial => p,
             Mode::OneVsRest => dim,
         };
-        let sub_rows: Vec<usize> = match config.direction_solver.preconditioner_rows(n, p) {
-            m if m < n && config.mode == Mode::Multinomial => (0..m).map(|j| j * n / m).collect(),
-            _ => Vec::new(),
-        };
-        let m = sub_rows.len();
-        let mut sub_x = vec![0.0; m * dim];
-        for a in 0..dim {
-            for (j, &i) in sub_rows.iter().enumerate() {
-                sub_x[a * m + j] = design[a * n + i];
-            }
-        }
-        let hessian_rows = if m > 0 { m } else { n };
         let cholesky_scratch = MemBuffer::new(cholesky_in_place_scratch::<f64>(
             max_block,
             Par::rayon(0),
@@ -372,18 +361,53 @@ impl NewtonProblem {
             block_done: vec![false; n_blocks],
             class_steps: vec![0.0; k],
             partial_losses: vec![0.0; n.div_ceil(ROWS_PER_TASK) * n_blocks],
-            packed: PackedHessian::new(hessian_rows, dim, k, config.mode),
-            sub_per_sample: vec![0.0; m * k],
-            sub_rows,
-            sub_x,
+            packed: PackedHessian::new(0, dim, k, config.mode),
+            sub_per_sample: Vec::new(),
+            sub_rows: Vec::new(),
+            sub_x: Vec::new(),
             initial_gradient_norm: 0.0,
             gradient_threshold: config.gradient_tolerance * n as f64,
             trust_radius: f64::INFINITY,
             iteration: 0,
         };
+        problem.use_preconditioner_rows(config.direction_solver.preconditioner_rows(n, p));
         problem.refresh_from_parameters();
         problem.initial_gradient_norm = problem.gradient_norm();
         Ok(problem)
+    }
+
+    /// Assembles later Hessians on `m` evenly spaced rows `j n / m` (all rows when `m >= n`,
+    /// and in one-vs-rest mode): gathers their design rows and sizes the buffers.
+    fn use_preconditioner_rows(&mut self, m: usize) {
+        let (n, dim, k) = (self.n_samples, self.dim, self.n_classes);
+        self.sub_rows = if m < n && self.mode == Mode::Multinomial {
+            (0..m).map(|j| j * n / m).collect()
+        } else {
+            Vec::new()
+        };
+        let m = self.sub_rows.len();
+        self.sub_x = vec![0.0; m * dim];
+        for (column, sub) in self
+            .x
+            .chunks_exact(n)
+            .zip(self.sub_x.chunks_exact_mut(m.max(1)))
+        {
+            for (s, &i) in sub.iter_mut().zip(&self.sub_rows) {
+                *s = column[i];
+            }
+        }
+        self.sub_per_sample = vec![0.0; m * k];
+        self.packed = PackedHessian::new(self.hessian_rows(), dim, k, self.mode);
+    }
+
+    /// With [`DirectionSolver::PreconditionedCg`] on fewer rows than samples: doubles the
+    /// preconditioner's rows (at most all of them), for a CG solve that spent its budget
+    /// with the current ones.
+    pub(super) fn grow_preconditioner(&mut self) {
+        let m = self.sub_rows.len();
+        if self.direction_solver == DirectionSolver::PreconditionedCg && m > 0 {
+            self.use_preconditioner_rows(m.saturating_mul(2));
+        }
     }
 
     /// Number of parameters `P = (d + 1) K`.

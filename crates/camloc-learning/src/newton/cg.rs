@@ -229,6 +229,7 @@ impl NewtonProblem {
             rz = next;
         }
         self.factor_ready = false;
+        self.grow_preconditioner();
         step.norm = dmd.max(0.0).sqrt();
         step
     }
