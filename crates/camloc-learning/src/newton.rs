@@ -247,8 +247,8 @@ pub struct NewtonProblem {
     partial_losses: Vec<f64>,
     /// Packed Hessian blocks and their work buffers.
     packed: PackedHessian,
-    /// With [`DirectionSolver::TruncatedCg`] on fewer rows than samples: the evenly spaced
-    /// rows the preconditioning Hessian is assembled on (empty: every row).
+    /// With a preconditioner on fewer rows than samples ([`DirectionSolver::preconditioner_rows`]):
+    /// the evenly spaced rows the preconditioning Hessian is assembled on (empty: every row).
     sub_rows: Vec<usize>,
     /// `m x D` column-major design rows of `sub_rows`.
     sub_x: Vec<f64>,
@@ -446,8 +446,8 @@ impl NewtonProblem {
     /// Newton step that assembled one ([`IterationLog::hessian_assembled`]), `P x P`
     /// column-major, without the singular-direction correction of the Newton solve: it is
     /// exactly the second derivative of `f` at the parameters where it was assembled (not
-    /// necessarily the current ones), or with [`DirectionSolver::TruncatedCg`] on fewer rows
-    /// than samples its subsampled estimate.
+    /// necessarily the current ones), or with a preconditioner on fewer rows than samples
+    /// ([`hessian_rows`](Self::hessian_rows)) its subsampled estimate.
     pub fn hessian(&self) -> &[f64] {
         &self.hessian
     }
@@ -487,8 +487,9 @@ impl NewtonProblem {
         self.packed.flops(self.hessian_rows())
     }
 
-    /// Samples the Hessian is assembled on: all of them, or the preconditioner's rows of
-    /// [`DirectionSolver::TruncatedCg`].
+    /// Samples the Hessian is assembled on: all of them, or the preconditioner's rows
+    /// ([`DirectionSolver::preconditioner_rows`], doubled by the default solver when its
+    /// solves spend their budget).
     pub fn hessian_rows(&self) -> usize {
         if self.sub_rows.is_empty() {
             self.n_samples
