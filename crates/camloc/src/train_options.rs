@@ -173,7 +173,8 @@ pub struct TrainOptions {
 
 impl Default for TrainOptions {
     /// Joints descriptor, linear capacity, multinomial regression with [`DEFAULT_LAMBDA`]
-    /// (Newton, conjugate gradients on the last Cholesky factor), dropout with one copy,
+    /// (truncated Newton: conjugate gradients on Hessian-vector products, preconditioned by a
+    /// subsampled Hessian; [`DirectionSolver::PreconditionedCg`]), dropout with one copy,
     /// mirror augmentation, viewpoint heads with [`DEFAULT_VIEWPOINT_LAMBDA`].
     fn default() -> Self {
         TrainOptions {
@@ -193,7 +194,8 @@ impl TrainOptions {
     /// [`Capacity::Quadratic`] (hundreds of features, `(d + 1) K` in the thousands) truncated
     /// Newton-CG on a Hessian of [`DEFAULT_PRECONDITIONER_ROWS`] samples
     /// ([`DirectionSolver::TruncatedCg`]), whose assemblies cost a fraction of full ones; for
-    /// [`Capacity::Linear`] the exact default ([`DirectionSolver::PreconditionedCg`]).
+    /// [`Capacity::Linear`] the default ([`DirectionSolver::PreconditionedCg`]), whose
+    /// preconditioner is sized to the problem.
     pub fn with_capacity(mut self, capacity: Capacity) -> Self {
         self.capacity = capacity;
         self.regression.direction_solver = match capacity {
