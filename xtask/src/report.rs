@@ -131,6 +131,7 @@ pub fn run(args: &Args) -> Result<(), String> {
                 mirror: false,
                 viewpoint_lambda: None,
                 posture_classes: false,
+                balance_cameras: false,
             };
             let label = match descriptor {
                 Descriptor::Paper(c) => format!("paper (sigma {})", c.sigma),

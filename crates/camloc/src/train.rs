@@ -101,12 +101,15 @@ impl CameraLocalizer {
         }
         let width = expansion.as_ref().map_or(d, QuadraticExpansion::n_outputs);
         let features = Features::new(&x, width)?;
-        let (model, report) = options.regression.fit_with_progress(
+        let (mut model, report) = options.regression.fit_with_progress(
             &features,
             &y,
             dataset.header.cameras.len() * posture_groups,
             progress,
         )?;
+        if options.balance_cameras {
+            model = model.with_bias_shift(&balancing_shift(&y, cameras.len(), posture_groups))?;
+        }
         let info = TrainingInfo {
             camloc_version: env!("CARGO_PKG_VERSION").to_string(),
             protocol: dataset.header.protocol,
@@ -117,6 +120,7 @@ impl CameraLocalizer {
             dropout: options.dropout,
             mirror: options.mirror,
             posture_classes: options.posture_classes,
+            balance_cameras: options.balance_cameras,
         };
         let mut localizer = CameraLocalizer {
             descriptor,
@@ -240,4 +244,22 @@ fn augment(
     let (mut x, undefined) = extract_rows(descriptor, &dropped)?;
     impute_rows(&mut x, &undefined, imputation);
     Ok((x, chosen.iter().map(|&i| labels[i]).collect()))
+}
+
+/// The bias shift that makes the cameras equally likely a priori: for class `g * cameras + c`,
+/// minus the log of camera `c`'s share of the rows `y` relative to an even share (0 for a
+/// camera without rows, whose classes the fit already drove down).
+fn balancing_shift(y: &[usize], cameras: usize, groups: usize) -> Vec<f64> {
+    let mut counts = vec![0usize; cameras];
+    for &class in y {
+        counts[class % cameras] += 1;
+    }
+    let even = y.len() as f64 / cameras as f64;
+    let per_camera: Vec<f64> = counts
+        .iter()
+        .map(|&n| if n > 0 { -(n as f64 / even).ln() } else { 0.0 })
+        .collect();
+    (0..groups)
+        .flat_map(|_| per_camera.iter().copied())
+        .collect()
 }

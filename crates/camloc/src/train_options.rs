@@ -169,13 +169,19 @@ pub struct TrainOptions {
     ///
     /// [`PostureGroup`]: camloc_dataset::PostureGroup
     pub posture_classes: bool,
+    /// Make every camera equally likely a priori, whatever mix of views the training data
+    /// holds: after the fit, each class's bias is lowered by the log of its camera's share of
+    /// the training rows (relative to an even share). Training views of studio cameras, nearly
+    /// all in the middle ring, would otherwise tilt every prediction towards that ring.
+    pub balance_cameras: bool,
 }
 
 impl Default for TrainOptions {
     /// Joints descriptor, linear capacity, multinomial regression with [`DEFAULT_LAMBDA`]
     /// (truncated Newton: conjugate gradients on Hessian-vector products, preconditioned by a
     /// subsampled Hessian; [`DirectionSolver::PreconditionedCg`]), dropout with one copy,
-    /// mirror augmentation, viewpoint heads with [`DEFAULT_VIEWPOINT_LAMBDA`].
+    /// mirror augmentation, viewpoint heads with [`DEFAULT_VIEWPOINT_LAMBDA`], cameras
+    /// balanced a priori, no posture classes.
     fn default() -> Self {
         TrainOptions {
             descriptor: Descriptor::default(),
@@ -185,6 +191,7 @@ impl Default for TrainOptions {
             mirror: true,
             viewpoint_lambda: Some(DEFAULT_VIEWPOINT_LAMBDA),
             posture_classes: false,
+            balance_cameras: true,
         }
     }
 }
@@ -279,4 +286,6 @@ pub struct TrainingInfo {
     /// Whether the classifier classifies (posture, camera) pairs
     /// ([`TrainOptions::posture_classes`]).
     pub posture_classes: bool,
+    /// Whether the cameras were balanced a priori ([`TrainOptions::balance_cameras`]).
+    pub balance_cameras: bool,
 }

@@ -164,6 +164,46 @@ fn posture_classes_split_cameras_by_posture_and_sum_back() {
     }
 }
 
+/// Balanced cameras: with three times the views of camera 06, balancing (the default)
+/// lowers camera 06's bias by the log of its share of the rows relative to an even share
+/// (3 in 14 against 1 in 12) and raises the others' (1 in 14 against 1 in 12), over the same fit.
+#[test]
+fn balanced_cameras_do_not_favour_the_cameras_with_more_views() {
+    let mut config = GenerateConfig::new(Protocol::Jittered);
+    config.seed = 8;
+    let mut dataset = generate(&sequences(), &config, &|_, _| {}).unwrap();
+    let extra: Vec<_> = dataset
+        .samples
+        .iter()
+        .filter(|s| s.label == 6)
+        .cloned()
+        .collect();
+    dataset.samples.extend(extra.iter().cloned());
+    dataset.samples.extend(extra);
+    let biases = |balance_cameras: bool| {
+        let options = TrainOptions {
+            balance_cameras,
+            dropout: None,
+            mirror: false,
+            ..TrainOptions::default()
+        };
+        let (localizer, _) = CameraLocalizer::train(&dataset, &options, |_| {}).unwrap();
+        assert_eq!(localizer.training_info().balance_cameras, balance_cameras);
+        localizer.model().biases().to_vec()
+    };
+    let (balanced, tilted) = (biases(true), biases(false));
+    for (k, (b, t)) in balanced.iter().zip(&tilted).enumerate() {
+        let share = if k == 5 { 3.0 / 14.0 } else { 1.0 / 14.0 };
+        let expected = -(share * 12.0f64).ln();
+        assert!(
+            (b - t - expected).abs() < 1e-9,
+            "camera {}: {} vs {expected}",
+            k + 1,
+            b - t
+        );
+    }
+}
+
 #[test]
 fn viewpoint_heads_refine_the_class_centre() {
     let (localizer, dataset) = trained();
