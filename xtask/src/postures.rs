@@ -34,6 +34,8 @@ pub enum Recipe {
     PostureRigClasses,
     /// `posture-rig` with the quadratic-30 capacity.
     PostureRigQuadratic,
+    /// `posture-rig` with viewpoint heads of their own quadratic-30 capacity.
+    PostureRigHeads,
 }
 
 impl Recipe {
@@ -55,15 +57,21 @@ impl Recipe {
 
     /// The training options: the default model's, with this recipe's capacity and classes.
     fn options(self) -> TrainOptions {
+        let quadratic = Capacity::Quadratic {
+            components: camloc::DEFAULT_QUADRATIC_COMPONENTS,
+        };
         let options = TrainOptions {
             viewpoint_lambda: None,
             posture_classes: self == Recipe::PostureRigClasses,
+            viewpoint_capacity: if self == Recipe::PostureRigHeads {
+                quadratic
+            } else {
+                Capacity::Linear
+            },
             ..crate::train_default::default_options()
         };
         match self {
-            Recipe::PostureRigQuadratic => options.with_capacity(Capacity::Quadratic {
-                components: camloc::DEFAULT_QUADRATIC_COMPONENTS,
-            }),
+            Recipe::PostureRigQuadratic => options.with_capacity(quadratic),
             _ => options,
         }
     }
@@ -144,7 +152,11 @@ fn train(
     let (mut localizer, report) =
         CameraLocalizer::train(&training, &options, |_| {}).map_err(|e| e.to_string())?;
     localizer
-        .fit_viewpoint(&heads, camloc::DEFAULT_VIEWPOINT_LAMBDA)
+        .fit_viewpoint_with_capacity(
+            &heads,
+            camloc::DEFAULT_VIEWPOINT_LAMBDA,
+            options.viewpoint_capacity,
+        )
         .map_err(|e| e.to_string())?;
     eprintln!(
         "  {recipe:?}: {} training views, {} Newton iterations, {:.1} s",

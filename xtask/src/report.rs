@@ -132,6 +132,7 @@ pub fn run(args: &Args) -> Result<(), String> {
                 viewpoint_lambda: None,
                 posture_classes: false,
                 balance_cameras: false,
+                viewpoint_capacity: Capacity::Linear,
             };
             let label = match descriptor {
                 Descriptor::Paper(c) => format!("paper (sigma {})", c.sigma),

@@ -131,10 +131,16 @@ impl CameraLocalizer {
             imputation,
             info,
             viewpoint: None,
+            viewpoint_expansion: None,
         };
         if let Some(lambda) = options.viewpoint_lambda {
-            let n = dataset.samples.len();
-            localizer.fit_viewpoint_rows(&x[..n * width], dataset, lambda)?;
+            match options.viewpoint_capacity {
+                Capacity::Linear => {
+                    let rows = &x[..dataset.samples.len() * width];
+                    localizer.fit_viewpoint_rows(rows, rows, dataset, lambda)?;
+                }
+                capacity => localizer.fit_viewpoint_with_capacity(dataset, lambda, capacity)?,
+            }
         }
         Ok((localizer, report))
     }
@@ -151,7 +157,26 @@ impl CameraLocalizer {
     /// the dataset's cameras are not this model's or one of them has no samples; dataset,
     /// descriptor and solver errors as in [`train`](Self::train).
     pub fn fit_viewpoint(&mut self, dataset: &Dataset, lambda: f64) -> Result<(), CamlocError> {
+        self.fit_viewpoint_with_capacity(dataset, lambda, Capacity::Linear)
+    }
+
+    /// [`fit_viewpoint`](Self::fit_viewpoint) with heads of their own `capacity`:
+    /// [`Capacity::Linear`], the classifier's features; [`Capacity::Quadratic`], the
+    /// descriptor and the products of its leading whitened principal components, an
+    /// expansion fitted on the dataset's descriptors (a quadratic regression of the
+    /// direction, whatever the classifier's capacity).
+    ///
+    /// # Errors
+    /// As [`fit_viewpoint`](Self::fit_viewpoint); expansion errors for a bad number of
+    /// components.
+    pub fn fit_viewpoint_with_capacity(
+        &mut self,
+        dataset: &Dataset,
+        lambda: f64,
+        capacity: Capacity,
+    ) -> Result<(), CamlocError> {
         dataset.validate()?;
+        check_viewpoint_lambda(lambda)?;
         if dataset.header.cameras != self.cameras {
             return Err(CamlocError::Inconsistent {
                 what: "viewpoint dataset",
@@ -159,20 +184,37 @@ impl CameraLocalizer {
             });
         }
         let poses: Vec<PartialPose2> = dataset.samples.iter().map(sample_pose).collect();
-        let x = self.feature_rows(&poses)?;
-        self.fit_viewpoint_rows(&x, dataset, lambda)
+        let descriptors = self.descriptor_rows(&poses)?;
+        let d = self.descriptor.len();
+        self.viewpoint_expansion = match capacity {
+            Capacity::Linear => None,
+            Capacity::Quadratic { components } => Some(QuadraticExpansion::fit(
+                &Features::new(&descriptors, d)?,
+                components,
+            )?),
+        };
+        let heads_x = match &self.viewpoint_expansion {
+            Some(e) => Some(e.expand_rows(&Features::new(&descriptors, d)?)?),
+            None => None,
+        };
+        let classifier_x = self.classifier_rows(descriptors)?;
+        let heads_x = heads_x.as_deref().unwrap_or(&classifier_x);
+        self.fit_viewpoint_rows(&classifier_x, heads_x, dataset, lambda)
     }
 
-    /// [`fit_viewpoint`](Self::fit_viewpoint) on the samples' feature rows `x` (imputed and
+    /// The viewpoint heads fitted on the samples' heads features `heads_x` and calibrated by
+    /// the classes their classifier features `classifier_x` choose (rows imputed and
     /// expanded).
     fn fit_viewpoint_rows(
         &mut self,
-        x: &[f64],
+        classifier_x: &[f64],
+        heads_x: &[f64],
         dataset: &Dataset,
         lambda: f64,
     ) -> Result<(), CamlocError> {
         check_viewpoint_lambda(lambda)?;
-        let features = Features::new(x, self.feature_width())?;
+        let classifier = Features::new(classifier_x, self.feature_width())?;
+        let features = Features::new(heads_x, self.head_width())?;
         let directions: Vec<[f64; 3]> = dataset
             .samples
             .iter()
@@ -199,7 +241,7 @@ impl CameraLocalizer {
             DirectionHeads::fit(&features, &directions, &classes, self.cameras.len(), lambda)?;
         let mut classes = vec![0.0; self.model.n_classes()];
         let mut probabilities = vec![0.0; self.cameras.len()];
-        let chosen = features
+        let chosen = classifier
             .rows()
             .map(|row| {
                 self.camera_probabilities_into(row, &mut classes, &mut probabilities)?;

@@ -174,6 +174,12 @@ pub struct TrainOptions {
     /// the training rows (relative to an even share). Training views of studio cameras, nearly
     /// all in the middle ring, would otherwise tilt every prediction towards that ring.
     pub balance_cameras: bool,
+    /// What the viewpoint heads see when training fits them: [`Capacity::Linear`], the
+    /// classifier's features; [`Capacity::Quadratic`], their own quadratic expansion of the
+    /// descriptor ([`CameraLocalizer::fit_viewpoint_with_capacity`]).
+    ///
+    /// [`CameraLocalizer::fit_viewpoint_with_capacity`]: crate::CameraLocalizer::fit_viewpoint_with_capacity
+    pub viewpoint_capacity: Capacity,
 }
 
 impl Default for TrainOptions {
@@ -192,6 +198,7 @@ impl Default for TrainOptions {
             viewpoint_lambda: Some(DEFAULT_VIEWPOINT_LAMBDA),
             posture_classes: false,
             balance_cameras: true,
+            viewpoint_capacity: Capacity::Linear,
         }
     }
 }
@@ -235,16 +242,21 @@ impl TrainOptions {
         if let Some(lambda) = self.viewpoint_lambda {
             check_viewpoint_lambda(lambda)?;
         }
-        if let Capacity::Quadratic { components } = self.capacity {
-            let most = camloc_learning::MAX_EXPANSION_COMPONENTS.min(self.descriptor.len());
-            if components == 0 || components > most {
-                return Err(CamlocError::InvalidOption {
-                    name: "quadratic components",
-                    detail: format!(
-                        "must be from 1 to {most} for the {} descriptor, got {components}",
-                        self.descriptor.name()
-                    ),
-                });
+        for (name, capacity) in [
+            ("quadratic components", self.capacity),
+            ("viewpoint quadratic components", self.viewpoint_capacity),
+        ] {
+            if let Capacity::Quadratic { components } = capacity {
+                let most = camloc_learning::MAX_EXPANSION_COMPONENTS.min(self.descriptor.len());
+                if components == 0 || components > most {
+                    return Err(CamlocError::InvalidOption {
+                        name,
+                        detail: format!(
+                            "must be from 1 to {most} for the {} descriptor, got {components}",
+                            self.descriptor.name()
+                        ),
+                    });
+                }
             }
         }
         Ok(())

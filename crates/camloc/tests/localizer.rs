@@ -255,6 +255,36 @@ fn viewpoint_heads_refine_the_class_centre() {
             .azimuth_deg
             .is_some()
     );
+    // Heads of their own quadratic capacity: stored with the model, and on their training
+    // views at least as close to the truth as linear heads.
+    let training_median = |l: &CameraLocalizer| {
+        let mut e: Vec<f64> = dataset
+            .samples
+            .iter()
+            .map(|s| {
+                let v = l.localize(&s.landmarks).unwrap();
+                let truth = camera_direction_deg(&s.rotation);
+                angle_between_deg((v.azimuth_deg.unwrap(), v.elevation_deg.unwrap()), truth)
+            })
+            .collect();
+        median(&mut e)
+    };
+    let linear = training_median(&plain);
+    assert!(plain.viewpoint_expansion().is_none());
+    plain
+        .fit_viewpoint_with_capacity(&dataset, 1.0, Capacity::Quadratic { components: 6 })
+        .unwrap();
+    assert_eq!(
+        plain.viewpoint_expansion().unwrap().n_outputs(),
+        plain.descriptor().len() + 21
+    );
+    let quadratic = training_median(&plain);
+    assert!(
+        quadratic <= linear,
+        "quadratic {quadratic} deg, linear {linear} deg"
+    );
+    let back = CameraLocalizer::from_bytes(&plain.to_bytes().unwrap()).unwrap();
+    assert_eq!(back, plain);
     let bad = TrainOptions {
         viewpoint_lambda: Some(-1.0),
         ..TrainOptions::default()
@@ -519,6 +549,7 @@ struct RawLocalizer {
     imputation: Vec<f64>,
     info: camloc::TrainingInfo,
     viewpoint: Option<RawHeads>,
+    viewpoint_expansion: Option<camloc::learning::QuadraticExpansion>,
 }
 
 #[derive(Clone, serde::Serialize, serde::Deserialize)]
