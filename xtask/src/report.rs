@@ -131,7 +131,7 @@ pub fn run(args: &Args) -> Result<(), String> {
                 mirror: false,
                 viewpoint_lambda: None,
                 posture_classes: false,
-                balance_cameras: false,
+                camera_balance: 0.0,
                 viewpoint_capacity: Capacity::Linear,
             };
             let label = match descriptor {

@@ -107,8 +107,9 @@ impl CameraLocalizer {
             dataset.header.cameras.len() * posture_groups,
             progress,
         )?;
-        if options.balance_cameras {
-            model = model.with_bias_shift(&balancing_shift(&y, cameras.len(), posture_groups))?;
+        if options.camera_balance > 0.0 {
+            let shift = balancing_shift(&y, cameras.len(), posture_groups, options.camera_balance);
+            model = model.with_bias_shift(&shift)?;
         }
         let info = TrainingInfo {
             camloc_version: env!("CARGO_PKG_VERSION").to_string(),
@@ -120,7 +121,7 @@ impl CameraLocalizer {
             dropout: options.dropout,
             mirror: options.mirror,
             posture_classes: options.posture_classes,
-            balance_cameras: options.balance_cameras,
+            camera_balance: options.camera_balance,
         };
         let mut localizer = CameraLocalizer {
             descriptor,
@@ -288,10 +289,11 @@ fn augment(
     Ok((x, chosen.iter().map(|&i| labels[i]).collect()))
 }
 
-/// The bias shift that makes the cameras equally likely a priori: for class `g * cameras + c`,
-/// minus the log of camera `c`'s share of the rows `y` relative to an even share (0 for a
-/// camera without rows, whose classes the fit already drove down).
-fn balancing_shift(y: &[usize], cameras: usize, groups: usize) -> Vec<f64> {
+/// The bias shift that moves the camera priors `strength` of the way to even ones: for class
+/// `g * cameras + c`, minus `strength` times the log of camera `c`'s share of the rows `y`
+/// relative to an even share (0 for a camera without rows, whose classes the fit already
+/// drove down).
+fn balancing_shift(y: &[usize], cameras: usize, groups: usize, strength: f64) -> Vec<f64> {
     let mut counts = vec![0usize; cameras];
     for &class in y {
         counts[class % cameras] += 1;
@@ -299,7 +301,13 @@ fn balancing_shift(y: &[usize], cameras: usize, groups: usize) -> Vec<f64> {
     let even = y.len() as f64 / cameras as f64;
     let per_camera: Vec<f64> = counts
         .iter()
-        .map(|&n| if n > 0 { -(n as f64 / even).ln() } else { 0.0 })
+        .map(|&n| {
+            if n > 0 {
+                -strength * (n as f64 / even).ln()
+            } else {
+                0.0
+            }
+        })
         .collect();
     (0..groups)
         .flat_map(|_| per_camera.iter().copied())

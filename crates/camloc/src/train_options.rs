@@ -169,11 +169,12 @@ pub struct TrainOptions {
     ///
     /// [`PostureGroup`]: camloc_dataset::PostureGroup
     pub posture_classes: bool,
-    /// Make every camera equally likely a priori, whatever mix of views the training data
-    /// holds: after the fit, each class's bias is lowered by the log of its camera's share of
-    /// the training rows (relative to an even share). Training views of studio cameras, nearly
-    /// all in the middle ring, would otherwise tilt every prediction towards that ring.
-    pub balance_cameras: bool,
+    /// How far the camera priors move from the training data's towards even ones, from 0
+    /// (as the training views are spread) to 1 (every camera equally likely a priori): after
+    /// the fit, each class's bias is lowered by this times the log of its camera's share of
+    /// the training rows relative to an even share. Training views of studio cameras, nearly
+    /// all in the middle ring, tilt predictions towards that ring unless balanced.
+    pub camera_balance: f64,
     /// What the viewpoint heads see when training fits them: [`Capacity::Linear`], the
     /// classifier's features; [`Capacity::Quadratic`], their own quadratic expansion of the
     /// descriptor ([`CameraLocalizer::fit_viewpoint_with_capacity`]).
@@ -197,7 +198,7 @@ impl Default for TrainOptions {
             mirror: true,
             viewpoint_lambda: Some(DEFAULT_VIEWPOINT_LAMBDA),
             posture_classes: false,
-            balance_cameras: true,
+            camera_balance: 1.0,
             viewpoint_capacity: Capacity::Linear,
         }
     }
@@ -241,6 +242,12 @@ impl TrainOptions {
         }
         if let Some(lambda) = self.viewpoint_lambda {
             check_viewpoint_lambda(lambda)?;
+        }
+        if !(0.0..=1.0).contains(&self.camera_balance) {
+            return Err(CamlocError::InvalidOption {
+                name: "camera balance",
+                detail: format!("must be from 0 to 1, got {}", self.camera_balance),
+            });
         }
         for (name, capacity) in [
             ("quadratic components", self.capacity),
@@ -298,6 +305,6 @@ pub struct TrainingInfo {
     /// Whether the classifier classifies (posture, camera) pairs
     /// ([`TrainOptions::posture_classes`]).
     pub posture_classes: bool,
-    /// Whether the cameras were balanced a priori ([`TrainOptions::balance_cameras`]).
-    pub balance_cameras: bool,
+    /// How far the camera priors were balanced ([`TrainOptions::camera_balance`]).
+    pub camera_balance: f64,
 }

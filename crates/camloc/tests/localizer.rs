@@ -180,18 +180,18 @@ fn balanced_cameras_do_not_favour_the_cameras_with_more_views() {
         .collect();
     dataset.samples.extend(extra.iter().cloned());
     dataset.samples.extend(extra);
-    let biases = |balance_cameras: bool| {
+    let biases = |camera_balance: f64| {
         let options = TrainOptions {
-            balance_cameras,
+            camera_balance,
             dropout: None,
             mirror: false,
             ..TrainOptions::default()
         };
         let (localizer, _) = CameraLocalizer::train(&dataset, &options, |_| {}).unwrap();
-        assert_eq!(localizer.training_info().balance_cameras, balance_cameras);
+        assert_eq!(localizer.training_info().camera_balance, camera_balance);
         localizer.model().biases().to_vec()
     };
-    let (balanced, tilted) = (biases(true), biases(false));
+    let (balanced, tilted) = (biases(1.0), biases(0.0));
     for (k, (b, t)) in balanced.iter().zip(&tilted).enumerate() {
         let share = if k == 5 { 3.0 / 14.0 } else { 1.0 / 14.0 };
         let expected = -(share * 12.0f64).ln();
