@@ -29,7 +29,7 @@ pub struct Args {
     pub mocap: Vec<PathBuf>,
     /// Frame selection by pose, millimetres of maximum per-joint distance (the default
     /// model's).
-    #[arg(long, default_value_t = crate::train_default::DEFAULT_MIN_POSE_DISTANCE_MM, value_name = "MM")]
+    #[arg(long, default_value_t = crate::recipe::DEFAULT_MIN_POSE_DISTANCE_MM, value_name = "MM")]
     pub min_pose_distance: f64,
     /// Held-out subjects (never trained on; old and new ones).
     #[arg(long, value_delimiter = ',', default_value = TEST_SUBJECTS)]

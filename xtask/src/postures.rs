@@ -11,76 +11,12 @@ use std::fmt::Write;
 use std::path::PathBuf;
 use std::time::Instant;
 
-use camloc::dataset::{
-    Augmentation, Dataset, GenerateConfig, MotionCategory, PoseSequence, Protocol,
-};
-use camloc::{CameraLocalizer, Capacity, TrainOptions};
+use camloc::CameraLocalizer;
+use camloc::dataset::{GenerateConfig, MotionCategory, PoseSequence, Protocol};
 
 use crate::mocap_data::{load_split, project};
+use crate::recipe::Recipe;
 use crate::view_scores::{Summary, ViewOutcome, categories_in, outcomes};
-
-/// A way of training the localizer that `postures` compares, written as `+`-joined parts:
-/// `jittered` (the default model's recipe before issue 21: `jittered` views with the
-/// training augmentation, viewpoint heads on `sphere` views), `posture[=P]` (put a share
-/// `P` of the samples in a posture, 0.25 by default), `rig[=S]` (add `rig` views of every
-/// `S`-th frame, 2 by default, to the classifier's and the heads' views), `balance=B` (the
-/// camera priors' balance, 1 by default), `quadratic[-K]` (the classifier's capacity),
-/// `heads=quadratic-K` (the heads' own capacity), `classes` ((posture, camera) classes).
-#[derive(Clone, Debug, PartialEq)]
-pub struct Recipe {
-    /// The text it was parsed from, its name in the tables.
-    name: String,
-    /// The share of samples put in a posture.
-    posture: f64,
-    /// The frame stride of the added `rig` views (`None`: none).
-    rig_stride: Option<usize>,
-    /// The training options.
-    options: TrainOptions,
-}
-
-impl std::str::FromStr for Recipe {
-    type Err = String;
-
-    fn from_str(text: &str) -> Result<Recipe, String> {
-        let mut recipe = Recipe {
-            name: text.to_string(),
-            posture: 0.0,
-            rig_stride: None,
-            options: TrainOptions {
-                viewpoint_lambda: None,
-                ..crate::train_default::default_options()
-            },
-        };
-        let number = |v: &str| {
-            v.parse::<f64>()
-                .map_err(|_| format!("'{v}' is not a number in recipe '{text}'"))
-        };
-        for part in text.split('+') {
-            let (key, value) = part
-                .split_once('=')
-                .map_or((part, None), |(k, v)| (k, Some(v)));
-            match (key, value) {
-                ("jittered", None) => {}
-                ("posture", v) => recipe.posture = v.map_or(Ok(0.25), number)?,
-                ("rig", v) => recipe.rig_stride = Some(v.map_or(Ok(2.0), number)? as usize),
-                ("balance", Some(v)) => recipe.options.camera_balance = number(v)?,
-                ("classes", None) => recipe.options.posture_classes = true,
-                ("heads", Some(v)) => recipe.options.viewpoint_capacity = v.parse()?,
-                ("quadratic", None) => {
-                    recipe.options = recipe.options.clone().with_capacity(Capacity::Quadratic {
-                        components: camloc::DEFAULT_QUADRATIC_COMPONENTS,
-                    })
-                }
-                (k, None) if k.starts_with("quadratic-") => {
-                    recipe.options = recipe.options.clone().with_capacity(k.parse()?)
-                }
-                _ => return Err(format!("unknown part '{part}' in recipe '{text}'")),
-            }
-        }
-        recipe.options.validate().map_err(|e| e.to_string())?;
-        Ok(recipe)
-    }
-}
 
 /// Arguments of `postures`.
 #[derive(clap::Args)]
@@ -91,8 +27,9 @@ pub struct Args {
     /// Held-out subjects of the protocol comparison.
     #[arg(long, value_delimiter = ',', default_value = crate::generalise::TEST_SUBJECTS)]
     pub test_subjects: Vec<String>,
-    /// Recipes compared (see `Recipe`: `+`-joined parts such as
-    /// `posture+rig+heads=quadratic-30`).
+    /// Recipes compared, each `+`-joined parts: `jittered` (the recipe before issue 21),
+    /// `posture[=SHARE]` (0.25), `rig[=STRIDE]` (2), `balance=B` (1), `quadratic[-K]`,
+    /// `heads=quadratic-K`, `classes`; e.g. `posture+rig+balance=0.5`.
     #[arg(
         long,
         value_delimiter = ',',
@@ -106,71 +43,34 @@ pub struct Args {
     #[arg(long)]
     pub no_leave_posture_out: bool,
     /// Frame selection by pose, millimetres (the default model's).
-    #[arg(long, default_value_t = crate::train_default::DEFAULT_MIN_POSE_DISTANCE_MM, value_name = "MM")]
+    #[arg(long, default_value_t = crate::recipe::DEFAULT_MIN_POSE_DISTANCE_MM, value_name = "MM")]
     pub min_pose_distance: f64,
 }
 
-/// Dataset settings: `protocol`, `seed`, selection by pose, and with `augment` the training
-/// augmentation with `posture` and camera roll up to 15 deg (as the default model's).
-fn views(protocol: Protocol, seed: u64, args: &Args, augment: Option<f64>) -> GenerateConfig {
+/// Test views: `protocol`, `seed`, selection by pose, no augmentation.
+fn views(protocol: Protocol, seed: u64, args: &Args) -> GenerateConfig {
     let mut c = GenerateConfig::new(protocol);
     c.seed = seed;
     c.min_pose_distance_mm = args.min_pose_distance;
-    if let Some(posture) = augment {
-        c.augmentation = Augmentation {
-            posture,
-            ..Augmentation::TRAINING
-        };
-        c.jitter.roll_deg = crate::train_default::DEFAULT_ROLL_DEG;
-    }
     c
 }
 
-/// `a` with the samples of `b` appended (both made from the same sequences).
-fn append(mut a: Dataset, b: Dataset) -> Result<Dataset, String> {
-    if a.header.clips != b.header.clips || a.header.cameras != b.header.cameras {
-        return Err("cannot append views of other clips or cameras".into());
-    }
-    a.samples.extend(b.samples);
-    Ok(a)
-}
-
-/// Trains `recipe` on `sequences`: the classifier on its training views, then the viewpoint
-/// heads on its head views.
+/// Trains `recipe` on `sequences`, saying how long it took on standard error.
 fn train(
     sequences: &[PoseSequence],
     recipe: &Recipe,
     args: &Args,
 ) -> Result<(CameraLocalizer, f64), String> {
     let start = Instant::now();
-    let posture = Some(recipe.posture);
-    let mut training = project(sequences, &views(Protocol::Jittered, 1, args, posture))?;
-    let mut heads = project(sequences, &views(Protocol::Sphere, 4, args, posture))?;
-    if let Some(stride) = recipe.rig_stride {
-        let mut rig = views(Protocol::Rig, 6, args, posture);
-        rig.stride = stride;
-        training = append(training, project(sequences, &rig)?)?;
-        rig.seed = 7;
-        heads = append(heads, project(sequences, &rig)?)?;
-    }
-    let options = &recipe.options;
-    let (mut localizer, report) =
-        CameraLocalizer::train(&training, options, |_| {}).map_err(|e| e.to_string())?;
-    localizer
-        .fit_viewpoint_with_capacity(
-            &heads,
-            camloc::DEFAULT_VIEWPOINT_LAMBDA,
-            options.viewpoint_capacity,
-        )
-        .map_err(|e| e.to_string())?;
+    let trained = recipe.train(sequences, args.min_pose_distance, |_| {})?;
     eprintln!(
         "  {}: {} training views, {} Newton iterations, {:.1} s",
         recipe.name,
-        training.samples.len(),
-        report.newton_iterations(),
+        trained.training_views,
+        trained.report.newton_iterations(),
         start.elapsed().as_secs_f64()
     );
-    Ok((localizer, start.elapsed().as_secs_f64()))
+    Ok((trained.localizer, start.elapsed().as_secs_f64()))
 }
 
 /// The sequences of posture clips (sit, squat, kneel, crawl) among `sequences`.
@@ -214,8 +114,16 @@ fn rows(md: &mut String, title: &str, results: &[(&Recipe, Vec<ViewOutcome>)]) {
     }
 }
 
-/// Runs `postures`.
+/// Runs `postures`: prints each part's tables as it ends.
 pub fn run(args: &Args) -> Result<(), String> {
+    measure(args, &mut |part| {
+        print!("{part}");
+        let _ = std::io::Write::flush(&mut std::io::stdout());
+    })
+}
+
+/// Measures what `postures` measures, handing `emit` the markdown of each part as it ends.
+pub fn measure(args: &Args, emit: &mut dyn FnMut(&str)) -> Result<(), String> {
     let started = Instant::now();
     let mut md = String::new();
     let (train_seqs, test_seqs) = load_split(&args.mocap, &args.test_subjects)?;
@@ -226,10 +134,10 @@ pub fn run(args: &Args) -> Result<(), String> {
         args.min_pose_distance
     );
     // 1. Held-out subjects under three protocols.
-    let jittered = project(&test_seqs, &views(Protocol::Jittered, 2, args, None))?;
-    let mut sphere = project(&test_seqs, &views(Protocol::Sphere, 3, args, None))?;
+    let jittered = project(&test_seqs, &views(Protocol::Jittered, 2, args))?;
+    let mut sphere = project(&test_seqs, &views(Protocol::Sphere, 3, args))?;
     sphere.samples.retain(|s| s.in_class_box);
-    let rig = project(&test_seqs, &views(Protocol::Rig, 5, args, None))?;
+    let rig = project(&test_seqs, &views(Protocol::Rig, 5, args))?;
     let mut per_protocol: Vec<Vec<(&Recipe, Vec<ViewOutcome>)>> = vec![Vec::new(); 3];
     for recipe in &args.recipes {
         let (localizer, seconds) = train(&train_seqs, recipe, args)?;
@@ -244,7 +152,7 @@ pub fn run(args: &Args) -> Result<(), String> {
     {
         rows(&mut md, &format!("Held-out subjects, `{name}`:"), results);
     }
-    flush(&mut md);
+    emit(&std::mem::take(&mut md));
     let all: Vec<PoseSequence> = train_seqs.into_iter().chain(test_seqs).collect();
     // 2. Posture clips, leave-subject-out in folds.
     if args.folds > 0 {
@@ -275,7 +183,7 @@ pub fn run(args: &Args) -> Result<(), String> {
                 let test_part = posture_clips(&test_part);
                 let (localizer, _) = train(&train_part, recipe, args)?;
                 for (k, protocol) in [Protocol::Jittered, Protocol::Rig].into_iter().enumerate() {
-                    let test = project(&test_part, &views(protocol, 2 + 3 * k as u64, args, None))?;
+                    let test = project(&test_part, &views(protocol, 2 + 3 * k as u64, args))?;
                     pooled[k].extend(outcomes(&localizer, &test)?);
                 }
             }
@@ -296,7 +204,7 @@ pub fn run(args: &Args) -> Result<(), String> {
                 r,
             );
         }
-        flush(&mut md);
+        emit(&std::mem::take(&mut md));
     }
     // 3. Leave-posture-out.
     if !args.no_leave_posture_out {
@@ -308,7 +216,7 @@ pub fn run(args: &Args) -> Result<(), String> {
         for recipe in &args.recipes {
             let (localizer, _) = train(&train_part, recipe, args)?;
             for (k, protocol) in [Protocol::Jittered, Protocol::Rig].into_iter().enumerate() {
-                let test = project(&test_part, &views(protocol, 2 + 3 * k as u64, args, None))?;
+                let test = project(&test_part, &views(protocol, 2 + 3 * k as u64, args))?;
                 results[k].push((recipe, outcomes(&localizer, &test)?));
             }
         }
@@ -326,13 +234,44 @@ pub fn run(args: &Args) -> Result<(), String> {
         }
     }
     let _ = writeln!(md, "\nTotal {:.0} s.", started.elapsed().as_secs_f64());
-    flush(&mut md);
+    emit(&std::mem::take(&mut md));
     Ok(())
 }
 
-/// Prints what `md` holds so far (a long run shows each part as it ends) and empties it.
-fn flush(md: &mut String) {
-    print!("{md}");
-    let _ = std::io::Write::flush(&mut std::io::stdout());
-    md.clear();
+/// The `report` section of issue 21: `postures` with the recipe before issue 21 (`jittered`)
+/// and the default model's ([`crate::recipe::DEFAULT_RECIPE`]), on the generalisation split,
+/// leave-subject-out in `folds` and leave-posture-out.
+pub fn report_section(mocap: &[PathBuf], folds: usize) -> Result<String, String> {
+    eprintln!("postures: the recipe before issue 21 against the default model's");
+    let args = Args {
+        mocap: mocap.to_vec(),
+        test_subjects: crate::generalise::TEST_SUBJECTS
+            .split(',')
+            .map(String::from)
+            .collect(),
+        recipes: vec!["jittered".parse()?, Recipe::default_model()],
+        folds,
+        no_leave_posture_out: false,
+        min_pose_distance: crate::recipe::DEFAULT_MIN_POSE_DISTANCE_MM,
+    };
+    let mut md = format!(
+        "## Seated and low postures, studio cameras\n\nOutput of `cargo xtask postures \
+         --recipes jittered,{} --folds {folds}` (the same code). `jittered` is the default \
+         model's recipe before issue 21 (`jittered` views only); `{}` is today's \
+         ([conventions.md](conventions.md) sections 5 and 7): a tenth of the samples put in a \
+         posture, `rig` views of every other frame added to the classifier's and the viewpoint \
+         heads' views, the camera priors balanced halfway, viewpoint heads of their own \
+         quadratic capacity. `rig` = cameras fixed in a room at 1.0-2.2 m, aimed at its centre, \
+         the person walking within 2 m of it; its truth is the camera's direction, so views \
+         near a class boundary count; `inside the class boxes` keeps the views whose direction \
+         lies in the Table-1 box of its class. `low frames` = pelvis below 0.9 leg lengths.\n\n",
+        crate::recipe::DEFAULT_RECIPE,
+        crate::recipe::DEFAULT_RECIPE
+    );
+    measure(&args, &mut |part| {
+        eprint!(".");
+        md.push_str(part);
+    })?;
+    md.push('\n');
+    Ok(md)
 }

@@ -12,11 +12,11 @@ use camloc::reconstruct::{
     BasisConfig, BasisKind, EvalReport, EvalSample, ModeKind, PoseBasis, ReconstructConfig,
     Reconstructor, evaluate,
 };
-use camloc::{CameraLocalizer, Pose3, TrainOptions, evaluation_samples};
+use camloc::{Pose3, evaluation_samples};
 
 use crate::generalise::TEST_SUBJECTS;
 use crate::mocap_data::{basis_poses, load_split, project};
-use crate::train_default::{DEFAULT_MIN_POSE_DISTANCE_MM, default_dataset_config, default_options};
+use crate::recipe::{DEFAULT_MIN_POSE_DISTANCE_MM, Recipe};
 
 /// Arguments of `reconstruction`.
 #[derive(clap::Args)]
@@ -82,13 +82,9 @@ pub fn measure(args: &Args) -> Result<Measured, String> {
     // The localizer of the classified and hybrid modes: the default training on the
     // training subjects.
     eprintln!("reconstruction: training the localizer on the training subjects");
-    let train_views = project(&train_seqs, &default_dataset_config())?;
-    let options = TrainOptions {
-        viewpoint_lambda: None,
-        ..default_options()
-    };
-    let (localizer, _) =
-        CameraLocalizer::train(&train_views, &options, |_| {}).map_err(|e| e.to_string())?;
+    let localizer = Recipe::default_model()
+        .train(&train_seqs, DEFAULT_MIN_POSE_DISTANCE_MM, |_| {})?
+        .localizer;
 
     let mut config = GenerateConfig::new(Protocol::Jittered);
     config.seed = 2;

@@ -14,8 +14,8 @@ use camloc::{CameraLocalizer, Capacity, Descriptor, TrainOptions, cross_validate
 
 use crate::generalise::{self, AugmentationChoice, Measured};
 use crate::mocap_data::{load_sequences, project};
+use crate::recipe::{DEFAULT_MIN_POSE_DISTANCE_MM, DEFAULT_SEED, default_options};
 use crate::reconstruction;
-use crate::train_default::{DEFAULT_MIN_POSE_DISTANCE_MM, DEFAULT_SEED, default_options};
 
 /// Frame stride of the report's descriptor comparison (the paper-style rows), kept from the
 /// earlier default model so that those rows stay reproducible.
@@ -182,6 +182,7 @@ pub fn run(args: &Args) -> Result<(), String> {
     }
 
     let generalisation = generalisation_section(args)?;
+    let postures_md = crate::postures::report_section(&args.mocap, args.folds)?;
     let _ = writeln!(md, "# camloc results\n");
     let _ = writeln!(
         md,
@@ -236,6 +237,7 @@ pub fn run(args: &Args) -> Result<(), String> {
     md.push_str(&reconstruction_issue_section(args)?);
     lsp_section(&mut md, args)?;
     md.push_str(&generalisation);
+    md.push_str(&postures_md);
     let out = root.join(&args.out);
     // The performance section comes from other commands (benches, compare-sklearn), whose
     // output is pasted there with the command that printed it: keep it.

@@ -11,8 +11,8 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, StandardNormal};
 
-use crate::mocap_data::{categorise, load_sequences, project};
-use crate::train_default::{default_dataset_config, default_options};
+use crate::mocap_data::{categorise, load_sequences};
+use crate::recipe::{DEFAULT_MIN_POSE_DISTANCE_MM, Recipe};
 
 /// Standard deviation of each coordinate of a synthetic class mean, in units of the
 /// within-class standard deviation: small enough that the classes overlap (about 80%
@@ -74,16 +74,17 @@ pub fn from_dataset(path: &Path) -> Result<Problem, String> {
 
 /// The descriptors of the default model and the 0-based camera labels of the complete poses
 /// of its training set: the dataset that `cargo xtask train-default` generates (with its
-/// settings, [`default_dataset_config`]) from the motion capture under `mocap` (default:
+/// recipe, [`Recipe::classifier_views`]) from the motion capture under `mocap` (default:
 /// the CMU data beside the workspace). The classifier itself is fitted on these samples with
 /// their mirror images and dropout copies added (four times as many rows).
 pub fn default_training_set(mocap: &[PathBuf]) -> Result<Problem, String> {
     let (mut sequences, _, _) = load_sequences(mocap)?;
     categorise(&mut sequences, mocap, None);
-    let dataset = project(&sequences, &default_dataset_config())?;
+    let recipe = Recipe::default_model();
+    let dataset = recipe.classifier_views(&sequences, DEFAULT_MIN_POSE_DISTANCE_MM)?;
     complete_poses(
         &dataset,
-        default_options().descriptor,
+        recipe.options.descriptor,
         "the default model's training set (cargo xtask train-default)",
     )
 }

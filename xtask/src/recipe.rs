@@ -1,0 +1,263 @@
+//! Training recipes: which views of the motion capture the localizer is trained on and with
+//! which options. The default model's recipe ([`DEFAULT_RECIPE`]) is one of them, so that
+//! `train-default`, `postures`, `report` and `compare-sklearn` train it the same way.
+
+use camloc::dataset::{Augmentation, Dataset, GenerateConfig, PoseSequence, Protocol};
+use camloc::learning::{DirectionSolver, FitReport, IterationLog};
+use camloc::{CameraLocalizer, Capacity, TrainOptions};
+
+use crate::mocap_data::project;
+
+/// Seed of the default model's dataset (jitter, noise) and dropout.
+pub const DEFAULT_SEED: u64 = 1;
+/// Seed of the `sphere` views the default model's viewpoint heads are fitted on (another
+/// draw than the classifier's training views).
+pub const VIEWPOINT_SEED: u64 = 4;
+/// Seeds of the `rig` views added to the classifier's and to the heads' training views.
+const RIG_SEEDS: [u64; 2] = [6, 7];
+/// Frame selection by pose of the default model's dataset, millimetres of maximum per-joint
+/// distance (issue 11: measured by `cargo xtask generalise`).
+pub const DEFAULT_MIN_POSE_DISTANCE_MM: f64 = 100.0;
+/// Camera roll of the default model's training views, degrees (photos are seldom level).
+pub const DEFAULT_ROLL_DEG: f64 = 15.0;
+/// The default model's recipe (issue 21: chosen by `cargo xtask postures`, docs/RESULTS.md).
+pub const DEFAULT_RECIPE: &str = "posture=0.1+rig+balance=0.5+heads=quadratic-30";
+
+/// The training options of the default model: [`TrainOptions::default`] with the dropout
+/// seeded, and no viewpoint heads fitted on the training views (a recipe fits them on its
+/// own views).
+pub fn default_options() -> TrainOptions {
+    let mut options = TrainOptions {
+        viewpoint_lambda: None,
+        ..TrainOptions::default()
+    };
+    if let Some(d) = options.dropout.as_mut() {
+        d.seed = DEFAULT_SEED;
+    }
+    options
+}
+
+/// Training views of `protocol`: Table-1 cameras, every frame, selection by pose at
+/// `min_pose_distance_mm`, the training augmentation with a share `posture` of the samples
+/// put in a posture, camera roll up to [`DEFAULT_ROLL_DEG`], the given seed.
+pub fn training_views(
+    protocol: Protocol,
+    seed: u64,
+    posture: f64,
+    min_pose_distance_mm: f64,
+) -> GenerateConfig {
+    let mut config = GenerateConfig::new(protocol);
+    config.seed = seed;
+    config.stride = 1;
+    config.min_pose_distance_mm = min_pose_distance_mm;
+    config.augmentation = Augmentation {
+        posture,
+        ..Augmentation::TRAINING
+    };
+    config.jitter.roll_deg = DEFAULT_ROLL_DEG;
+    config
+}
+
+/// A way of training the localizer, written as `+`-joined parts: `jittered` (`jittered`
+/// views with the training augmentation, viewpoint heads on `sphere` views: the default
+/// model's recipe before issue 21), `posture[=P]` (put a share `P` of the samples in a
+/// posture, 0.25 by default), `rig[=S]` (add `rig` views of every `S`-th frame, 2 by default,
+/// to the classifier's and the heads' views), `balance=B` (the camera priors' balance, 1 by
+/// default), `quadratic[-K]` (the classifier's capacity), `heads=quadratic-K` (the heads' own
+/// capacity), `classes` ((posture, camera) classes), `precond=N` (truncated Newton-CG
+/// preconditioned on `N` samples).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Recipe {
+    /// The text it was parsed from, its name in tables.
+    pub name: String,
+    /// The share of samples put in a posture.
+    posture: f64,
+    /// The frame stride of the added `rig` views (`None`: none).
+    rig_stride: Option<usize>,
+    /// The training options.
+    pub options: TrainOptions,
+}
+
+impl std::str::FromStr for Recipe {
+    type Err = String;
+
+    fn from_str(text: &str) -> Result<Recipe, String> {
+        let mut recipe = Recipe {
+            name: text.to_string(),
+            posture: 0.0,
+            rig_stride: None,
+            options: default_options(),
+        };
+        let number = |v: &str| {
+            v.parse::<f64>()
+                .map_err(|_| format!("'{v}' is not a number in recipe '{text}'"))
+        };
+        for part in text.split('+') {
+            let (key, value) = part
+                .split_once('=')
+                .map_or((part, None), |(k, v)| (k, Some(v)));
+            match (key, value) {
+                ("jittered", None) => {}
+                ("posture", v) => recipe.posture = v.map_or(Ok(0.25), number)?,
+                ("rig", v) => {
+                    let stride = v.map_or(Ok(2.0), number)?;
+                    if !(stride >= 1.0 && stride.fract() == 0.0) {
+                        return Err(format!("rig stride {stride} is not a whole number >= 1"));
+                    }
+                    recipe.rig_stride = Some(stride as usize);
+                }
+                ("balance", Some(v)) => recipe.options.camera_balance = number(v)?,
+                ("classes", None) => recipe.options.posture_classes = true,
+                ("heads", Some(v)) => recipe.options.viewpoint_capacity = v.parse()?,
+                ("quadratic", None) => {
+                    recipe.options = recipe.options.clone().with_capacity(Capacity::Quadratic {
+                        components: camloc::DEFAULT_QUADRATIC_COMPONENTS,
+                    })
+                }
+                (k, None) if k.starts_with("quadratic-") => {
+                    recipe.options = recipe.options.clone().with_capacity(k.parse()?)
+                }
+                ("precond", Some(v)) => {
+                    recipe.options.regression.direction_solver = DirectionSolver::TruncatedCg {
+                        preconditioner_rows: number(v)? as usize,
+                    }
+                }
+                _ => return Err(format!("unknown part '{part}' in recipe '{text}'")),
+            }
+        }
+        recipe.options.validate().map_err(|e| e.to_string())?;
+        Ok(recipe)
+    }
+}
+
+/// A localizer a [`Recipe`] trained, with what its fit reported.
+pub struct Trained {
+    /// The localizer, viewpoint heads fitted.
+    pub localizer: CameraLocalizer,
+    /// The classifier's fit.
+    pub report: FitReport,
+    /// Views the classifier was trained on.
+    pub training_views: usize,
+    /// Views the viewpoint heads were fitted on.
+    pub head_views: usize,
+    /// Seconds of the classifier's fit alone.
+    pub fit_seconds: f64,
+}
+
+impl Recipe {
+    /// The default model's recipe, [`DEFAULT_RECIPE`].
+    pub fn default_model() -> Recipe {
+        DEFAULT_RECIPE
+            .parse()
+            .expect("the default recipe parses (checked by a test)")
+    }
+
+    /// The classifier's training views of `sequences`: `jittered` views with
+    /// [`DEFAULT_SEED`], and the recipe's `rig` views appended.
+    pub fn classifier_views(
+        &self,
+        sequences: &[PoseSequence],
+        min_pose_distance_mm: f64,
+    ) -> Result<Dataset, String> {
+        self.views(
+            sequences,
+            Protocol::Jittered,
+            DEFAULT_SEED,
+            RIG_SEEDS[0],
+            min_pose_distance_mm,
+        )
+    }
+
+    /// `protocol` views with `seed`, and with `rig_seed` the recipe's `rig` views appended.
+    fn views(
+        &self,
+        sequences: &[PoseSequence],
+        protocol: Protocol,
+        seed: u64,
+        rig_seed: u64,
+        min_pose_distance_mm: f64,
+    ) -> Result<Dataset, String> {
+        let config = training_views(protocol, seed, self.posture, min_pose_distance_mm);
+        let mut views = project(sequences, &config)?;
+        if let Some(stride) = self.rig_stride {
+            let mut rig =
+                training_views(Protocol::Rig, rig_seed, self.posture, min_pose_distance_mm);
+            rig.stride = stride;
+            let rig = project(sequences, &rig)?;
+            if views.header.clips != rig.header.clips || views.header.cameras != rig.header.cameras
+            {
+                return Err("the rig views are of other clips or cameras".into());
+            }
+            views.samples.extend(rig.samples);
+        }
+        Ok(views)
+    }
+
+    /// Trains the localizer on `sequences` with this recipe: the classifier on
+    /// [`Recipe::classifier_views`], then the viewpoint heads on `sphere` views
+    /// ([`VIEWPOINT_SEED`]) and the recipe's `rig` views, at the heads' capacity. `log` sees
+    /// every Newton iteration.
+    pub fn train(
+        &self,
+        sequences: &[PoseSequence],
+        min_pose_distance_mm: f64,
+        log: impl FnMut(&IterationLog),
+    ) -> Result<Trained, String> {
+        let training = self.classifier_views(sequences, min_pose_distance_mm)?;
+        let start = std::time::Instant::now();
+        let (mut localizer, report) =
+            CameraLocalizer::train(&training, &self.options, log).map_err(|e| e.to_string())?;
+        let fit_seconds = start.elapsed().as_secs_f64();
+        let heads = self.views(
+            sequences,
+            Protocol::Sphere,
+            VIEWPOINT_SEED,
+            RIG_SEEDS[1],
+            min_pose_distance_mm,
+        )?;
+        localizer
+            .fit_viewpoint_with_capacity(
+                &heads,
+                camloc::DEFAULT_VIEWPOINT_LAMBDA,
+                self.options.viewpoint_capacity,
+            )
+            .map_err(|e| e.to_string())?;
+        Ok(Trained {
+            localizer,
+            report,
+            training_views: training.samples.len(),
+            head_views: heads.samples.len(),
+            fit_seconds,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_default_recipe_parses_and_bad_parts_are_refused() {
+        let recipe = Recipe::default_model();
+        assert_eq!(recipe.name, DEFAULT_RECIPE);
+        for bad in [
+            "posture=x",
+            "rig=0",
+            "rig=1.5",
+            "balance=2",
+            "sideways",
+            "heads=cubic",
+        ] {
+            assert!(bad.parse::<Recipe>().is_err(), "{bad} parsed");
+        }
+        let r: Recipe = "posture=0.3+rig=3+balance=0.5+heads=quadratic-10"
+            .parse()
+            .unwrap();
+        assert_eq!((r.posture, r.rig_stride), (0.3, Some(3)));
+        assert_eq!(r.options.camera_balance, 0.5);
+        assert_eq!(
+            r.options.viewpoint_capacity,
+            Capacity::Quadratic { components: 10 }
+        );
+    }
+}
