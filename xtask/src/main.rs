@@ -18,6 +18,7 @@ mod generalise;
 mod mocap_data;
 mod postures;
 mod progress;
+mod proportions;
 mod reconstruction;
 mod report;
 mod train_default;

@@ -409,6 +409,11 @@ fn reconstruction_issue_section(args: &Args) -> Result<String, String> {
         priors: vec![0.0, 0.01, 0.03],
         atoms: vec![camloc::reconstruct::DEFAULT_ATOMS],
         only: Vec::new(),
+        proportions_only: false,
+        no_hybrid: false,
+        proportions_every: 2,
+        window: 60,
+        windows_per_clip: 2,
     })?;
     let mut md = String::new();
     let _ = writeln!(

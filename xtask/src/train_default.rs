@@ -47,6 +47,9 @@ pub struct Args {
     /// Overwrite the output if it exists.
     #[arg(long)]
     pub force: bool,
+    /// Only the reconstruction basis (the model is left as it is).
+    #[arg(long)]
+    pub basis_only: bool,
 }
 
 /// The training options of the default model (also used for the report's "default" row):
@@ -100,7 +103,12 @@ pub fn run(args: &Args) -> Result<(), String> {
     let start = Instant::now();
     let out = crate::workspace_root().join(&args.out);
     let basis_out = crate::workspace_root().join(&args.basis_out);
-    for path in [&out, &basis_out] {
+    let written: &[&PathBuf] = if args.basis_only {
+        &[&basis_out]
+    } else {
+        &[&out, &basis_out]
+    };
+    for path in written {
         if path.exists() && !args.force {
             return Err(format!(
                 "{}: already exists (pass --force to replace the defaults)",
@@ -110,6 +118,32 @@ pub fn run(args: &Args) -> Result<(), String> {
     }
     let (mut sequences, _, _) = load_sequences(&args.mocap)?;
     categorise(&mut sequences, &args.mocap, None);
+    if !args.basis_only {
+        train_model(args, &sequences, &out)?;
+    }
+    let poses: Vec<camloc::Pose3> = basis_poses(&sequences, DEFAULT_MIN_POSE_DISTANCE_MM)
+        .into_iter()
+        .map(|(p, _)| p)
+        .collect();
+    let basis = PoseBasis::fit(&poses, &BasisConfig::default()).map_err(|e| e.to_string())?;
+    basis
+        .save(&basis_out, args.force)
+        .map_err(|e| e.to_string())?;
+    println!(
+        "wrote {} ({} components explaining {:.1}% of the variance of {} poses) in {:.1} s",
+        basis_out.display(),
+        basis.n_components(),
+        100.0 * basis.explained_variance_ratio(),
+        poses.len(),
+        start.elapsed().as_secs_f64()
+    );
+    println!("rebuild the binary (cargo build --release -p camloc-cli) to embed it");
+    Ok(())
+}
+
+/// Trains the default model on `sequences` and writes it to `out`.
+fn train_model(args: &Args, sequences: &[PoseSequence], out: &PathBuf) -> Result<(), String> {
+    let start = Instant::now();
     let dataset = project(&sequences, &default_dataset_config())?;
     for (category, n) in dataset.samples_per_category() {
         eprintln!("  {}: {n} samples", category.name());
@@ -136,15 +170,13 @@ pub fn run(args: &Args) -> Result<(), String> {
     }
     let fit_seconds = fit_start.elapsed().as_secs_f64();
     let head_start = Instant::now();
-    let views = fit_default_viewpoint(&mut localizer, &sequences)?;
+    let views = fit_default_viewpoint(&mut localizer, sequences)?;
     println!(
         "classifier fit {fit_seconds:.1} s ({} Newton iterations); viewpoint heads on {views} sphere views {:.1} s",
         report.newton_iterations(),
         head_start.elapsed().as_secs_f64()
     );
-    localizer
-        .save(&out, args.force)
-        .map_err(|e| e.to_string())?;
+    localizer.save(out, args.force).map_err(|e| e.to_string())?;
     println!(
         "wrote {} ({} bytes, descriptor {}, lambda {}, {} samples) in {:.1} s",
         out.display(),
@@ -154,21 +186,5 @@ pub fn run(args: &Args) -> Result<(), String> {
         dataset.samples.len(),
         start.elapsed().as_secs_f64()
     );
-    let poses: Vec<camloc::Pose3> = basis_poses(&sequences, DEFAULT_MIN_POSE_DISTANCE_MM)
-        .into_iter()
-        .map(|(p, _)| p)
-        .collect();
-    let basis = PoseBasis::fit(&poses, &BasisConfig::default()).map_err(|e| e.to_string())?;
-    basis
-        .save(&basis_out, args.force)
-        .map_err(|e| e.to_string())?;
-    println!(
-        "wrote {} ({} components explaining {:.1}% of the variance of {} poses)",
-        basis_out.display(),
-        basis.n_components(),
-        100.0 * basis.explained_variance_ratio(),
-        poses.len()
-    );
-    println!("rebuild the binary (cargo build --release -p camloc-cli) to embed it");
     Ok(())
 }
