@@ -108,6 +108,10 @@ pub(crate) fn refine(
     settings: &Refinement,
     sequence: bool,
 ) -> Result<(Vec<RefinedFrame>, BoneLengths), ReconstructError> {
+    let given = match &lengths {
+        LengthInput::Given(given) => Some(*given),
+        LengthInput::Estimated { .. } => None,
+    };
     let (mut log_lengths, unknowns) = match lengths {
         LengthInput::Given(given) => (given.as_array().map(f64::ln), None),
         LengthInput::Estimated {
@@ -140,8 +144,13 @@ pub(crate) fn refine(
         iterations: settings.iterations,
     };
     problem.solve(&mut states, &mut log_lengths);
-    let lengths = BoneLengths::from_array(log_lengths.map(f64::exp))
-        .map_err(|_| ReconstructError::Numerical("the estimated bone lengths are implausible"))?;
+    // Given lengths stay exactly as given (not through their logarithms).
+    let lengths = match given {
+        Some(given) => given,
+        None => BoneLengths::from_array(log_lengths.map(f64::exp)).map_err(|_| {
+            ReconstructError::Numerical("the estimated bone lengths are implausible")
+        })?,
+    };
     let metres = lengths.as_array();
     let refined = data
         .iter()
