@@ -59,11 +59,31 @@ struct Scores {
     mpjpe: [(f64, usize); 2],
     /// Per item: mean and largest absolute relative length error (after one common scale).
     length_errors: Vec<(f64, f64)>,
+    /// Per limb: the sum over items of the absolute relative length error.
+    limb_errors: [f64; NUM_LIMBS],
     failures: usize,
     seconds: f64,
 }
 
 impl Scores {
+    /// Each limb's mean absolute relative length error over the items.
+    fn limb_means(&self) -> [f64; NUM_LIMBS] {
+        let n = self.length_errors.len().max(1) as f64;
+        self.limb_errors.map(|e| e / n)
+    }
+
+    /// The share of items whose every limb is within 5%.
+    fn within_5(&self) -> f64 {
+        let n = self.length_errors.len().max(1) as f64;
+        self.length_errors.iter().filter(|e| e.1 <= 0.05).count() as f64 / n
+    }
+
+    /// The mean over items of the mean absolute relative length error.
+    fn mean_length_error(&self) -> f64 {
+        let n = self.length_errors.len().max(1) as f64;
+        self.length_errors.iter().map(|e| e.0).sum::<f64>() / n
+    }
+
     fn mean_mpjpe(&self) -> Option<f64> {
         let (sum, n) = (
             self.mpjpe[0].0 + self.mpjpe[1].0,
@@ -81,9 +101,9 @@ impl Scores {
             }
         };
         let n = self.length_errors.len().max(1) as f64;
-        let mean = 100.0 * self.length_errors.iter().map(|e| e.0).sum::<f64>() / n;
+        let mean = 100.0 * self.mean_length_error();
         let worst = 100.0 * self.length_errors.iter().map(|e| e.1).sum::<f64>() / n;
-        let within = 100.0 * self.length_errors.iter().filter(|e| e.1 <= 0.05).count() as f64 / n;
+        let within = 100.0 * self.within_5();
         let frames = self.mpjpe[0].1 + self.mpjpe[1].1;
         format!(
             "{} | {} | {} | {mean:.1}% | {worst:.1}% | {within:.0}% | {} | {:.2} ms",
@@ -98,20 +118,7 @@ impl Scores {
 
 /// The variants of single frames and of sequences.
 fn variants() -> (Vec<Variant>, Vec<Variant>) {
-    let mut base = ReconstructConfig::default();
-    let dev = |name: &str| std::env::var(name).ok().and_then(|v| v.parse::<f64>().ok());
-    if let Some(v) = dev("DEV_SD") {
-        base.refinement.direction_sigma = v;
-    }
-    if let Some(v) = dev("DEV_SI") {
-        base.refinement.image_sigma = v;
-    }
-    if let Some(v) = dev("DEV_SS") {
-        base.refinement.smoothness = v;
-    }
-    if let Some(v) = dev("DEV_IT") {
-        base.refinement.iterations = v as usize;
-    }
+    let base = ReconstructConfig::default();
     let with = |f: &dyn Fn(&mut ReconstructConfig)| {
         let mut c = base.clone();
         f(&mut c);
@@ -320,18 +327,7 @@ fn run(
         seconds: started.elapsed().as_secs_f64(),
         ..Scores::default()
     };
-    let mut dev_bias = [0.0; NUM_LIMBS];
-    let mut dev_abs = [0.0; NUM_LIMBS];
-    let mut dev_n = 0.0;
     for (item, (errors, lengths)) in items.iter().zip(results) {
-        if let Some(l) = &lengths {
-            let e = l.relative_errors(&item.lengths);
-            for b in 0..NUM_LIMBS {
-                dev_bias[b] += e[b];
-                dev_abs[b] += e[b].abs();
-            }
-            dev_n += 1.0;
-        }
         for e in errors {
             match e {
                 Some(e) if e.is_finite() => {
@@ -344,47 +340,83 @@ fn run(
         }
         if let Some(l) = lengths {
             let errors = l.relative_errors(&item.lengths).map(f64::abs);
+            for (sum, e) in scores.limb_errors.iter_mut().zip(errors) {
+                *sum += e;
+            }
             let mean = errors.iter().sum::<f64>() / NUM_LIMBS as f64;
             scores
                 .length_errors
                 .push((mean, errors.iter().copied().fold(0.0, f64::max)));
         }
     }
-    if std::env::var("CAMLOC_DEV_LIMBS").is_ok() {
-        eprintln!(
-            "  bias {:?}",
-            dev_bias.map(|v| (1000.0 * v / dev_n).round() / 10.0)
-        );
-        eprintln!(
-            "  abs  {:?}",
-            dev_abs.map(|v| (1000.0 * v / dev_n).round() / 10.0)
-        );
-    }
     Ok(scores)
 }
 
-/// The template's length errors over `items`: (mean, mean largest) absolute relative error.
-fn template_errors(basis: &PoseBasis, items: &[Filmed]) -> Result<(f64, f64), String> {
+/// The template's length errors over `items`: (mean, mean largest) absolute relative error,
+/// and each limb's mean absolute relative error.
+fn template_errors(
+    basis: &PoseBasis,
+    items: &[Filmed],
+) -> Result<(f64, f64, [f64; NUM_LIMBS]), String> {
     let template = basis.length_prior().template().map_err(|e| e.to_string())?;
     let n = items.len().max(1) as f64;
     let (mut mean, mut worst) = (0.0, 0.0);
-    let mut dev_bias = [0.0; NUM_LIMBS];
+    let mut limbs = [0.0; NUM_LIMBS];
     for item in items {
-        let signed = template.relative_errors(&item.lengths);
-        for b in 0..NUM_LIMBS {
-            dev_bias[b] += signed[b] / n;
+        let e = template.relative_errors(&item.lengths).map(f64::abs);
+        for (sum, e) in limbs.iter_mut().zip(e) {
+            *sum += e / n;
         }
-        let e = signed.map(f64::abs);
         mean += e.iter().sum::<f64>() / NUM_LIMBS as f64 / n;
         worst += e.iter().copied().fold(0.0, f64::max) / n;
     }
-    if std::env::var("CAMLOC_DEV_LIMBS").is_ok() {
-        eprintln!(
-            "  template bias {:?}",
-            dev_bias.map(|v| (1000.0 * v).round() / 10.0)
-        );
-    }
-    Ok((mean, worst))
+    Ok((mean, worst, limbs))
+}
+
+/// One row of the per-limb table: `name` and each limb's mean absolute error, %.
+fn limb_row(name: &str, errors: &[f64; NUM_LIMBS]) -> String {
+    let cells: Vec<String> = errors.iter().map(|e| format!("{:.1}", 100.0 * e)).collect();
+    format!("| {name} | {} |\n", cells.join(" | "))
+}
+
+/// Issue 23's targets for a shipped variant: sequences, every limb within 5%; single frames,
+/// half the template's mean length error (`template`); PA-MPJPE within 10% of the same
+/// subjects unscaled (`unscaled`).
+fn target_line(
+    name: &str,
+    kind: ModeKind,
+    sequence: bool,
+    scaled: &Scores,
+    unscaled: &Scores,
+    template: f64,
+) -> String {
+    let mark = |ok: bool| if ok { "met" } else { "not met" };
+    let lengths = if sequence {
+        format!(
+            "every limb within 5% in {:.0}% of the windows (target: all): {}",
+            100.0 * scaled.within_5(),
+            mark(scaled.within_5() >= 1.0)
+        )
+    } else {
+        let e = scaled.mean_length_error();
+        format!(
+            "mean length error {:.1}% against the template's {:.1}% (target: half): {}",
+            100.0 * e,
+            100.0 * template,
+            mark(e <= 0.5 * template)
+        )
+    };
+    let ratio = match (scaled.mean_mpjpe(), unscaled.mean_mpjpe()) {
+        (Some(a), Some(b)) if b > 0.0 => a / b,
+        _ => f64::NAN,
+    };
+    format!(
+        "- {name}, {}: {lengths}; PA-MPJPE {:.0}% of the unscaled subjects' (target: at most \
+         110%): {}\n",
+        kind.name(),
+        100.0 * ratio,
+        mark(ratio <= 1.1)
+    )
 }
 
 /// Measures the proportions test on the held-out `test` clips with `basis` (and `localizer`
@@ -428,15 +460,13 @@ pub fn measure(
         kinds.push(ModeKind::Hybrid);
     }
     for studio in [Studio::Jittered, Studio::Rig] {
-        if std::env::var("DEV_STUDIO").is_ok_and(|v| v != studio.name()) {
-            continue;
-        }
         eprintln!("proportions: {} views", studio.name());
         let single_scaled = film_all(&singles, studio, true, options.seed)?;
         let single_plain = film_all(&singles, studio, false, options.seed)?;
         let seq_scaled = film_all(&sequences, studio, true, options.seed)?;
         let seq_plain = film_all(&sequences, studio, false, options.seed)?;
-        let (tm, tw) = template_errors(basis, &seq_scaled)?;
+        let (tm, tw, template_limbs) = template_errors(basis, &seq_scaled)?;
+        let (single_tm, _, _) = template_errors(basis, &single_scaled)?;
         let _ = writeln!(
             md,
             "`{}` (template lengths against the rescaled people: mean error {:.1}%, largest \
@@ -446,16 +476,13 @@ pub fn measure(
             100.0 * tm,
             100.0 * tw
         );
+        let mut limbs = limb_row("template (windows)", &template_limbs);
+        let mut checks = String::new();
         for (variants, scaled, plain, sequence) in [
             (&single_variants, &single_scaled, &single_plain, false),
             (&sequence_variants, &seq_scaled, &seq_plain, true),
         ] {
             for variant in variants {
-                if let Ok(only) = std::env::var("DEV_ONLY") {
-                    if !only.split('|').any(|o| variant.name.contains(o)) {
-                        continue;
-                    }
-                }
                 for &kind in &kinds {
                     eprintln!(
                         "proportions: {} {} {}",
@@ -465,24 +492,37 @@ pub fn measure(
                     );
                     let s = run(basis, variant, kind, localizer, scaled, sequence)?;
                     let _ = writeln!(md, "| {} | {} | {} |", variant.name, kind.name(), s.cells());
-                    if std::env::var("DEV_NOPLAIN").is_err()
-                        && !variant.lengths
+                    let shipped = !variant.lengths
                         && !variant.focal
-                        && variant.config == ReconstructConfig::default()
-                    {
-                        let u = run(basis, variant, kind, localizer, plain, sequence)?;
-                        let _ = writeln!(
-                            md,
-                            "| {}, same subjects unscaled | {} | {} |",
-                            variant.name,
-                            kind.name(),
-                            u.cells()
-                        );
+                        && variant.config == ReconstructConfig::default();
+                    if !shipped {
+                        continue;
                     }
+                    let u = run(basis, variant, kind, localizer, plain, sequence)?;
+                    let _ = writeln!(
+                        md,
+                        "| {}, same subjects unscaled | {} | {} |",
+                        variant.name,
+                        kind.name(),
+                        u.cells()
+                    );
+                    limbs.push_str(&limb_row(
+                        &format!("{}, {}", variant.name, kind.name()),
+                        &s.limb_means(),
+                    ));
+                    let template = if sequence { tm } else { single_tm };
+                    checks.push_str(&target_line(variant.name, kind, sequence, &s, &u, template));
                 }
             }
         }
-        md.push('\n');
+        let _ = writeln!(
+            md,
+            "\nMean absolute length error of each limb (%, after one common scale):\n\n| \
+             variant | {} |\n|---|{}\n{limbs}\nIssue 23's targets (`{}`):\n\n{checks}",
+            camloc::reconstruct::BONE_KEYS.join(" | "),
+            "---|".repeat(NUM_LIMBS),
+            studio.name()
+        );
     }
     Ok(md)
 }

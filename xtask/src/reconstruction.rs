@@ -46,8 +46,8 @@ pub struct Args {
     /// Only these variants (by their position in the table, from 0); all when empty.
     #[arg(long, value_delimiter = ',')]
     pub only: Vec<usize>,
-    /// Only the proportions test (issue 23): rescaled held-out people, single frames and
-    /// sequences.
+    /// Only the proportions test (issue 23: rescaled held-out people, single frames and
+    /// sequences), which otherwise ends the run.
     #[arg(long)]
     pub proportions_only: bool,
     /// The proportions test without `hybrid` (no localizer is trained).
@@ -227,6 +227,12 @@ pub fn measure(args: &Args) -> Result<Measured, String> {
     if let Some((walking, diverse)) = &shipped {
         targets(&mut md, walking, diverse);
     }
+    let basis = PoseBasis::fit(&poses, &BasisConfig::default()).map_err(|e| e.to_string())?;
+    let _ = writeln!(
+        md,
+        "\n{}",
+        proportions_section(&basis, Some(&localizer), &test_seqs, args)?
+    );
     let _ = writeln!(md, "\nTotal {:.0} s.", started.elapsed().as_secs_f64());
     Ok(Measured { markdown: md })
 }

@@ -396,7 +396,8 @@ fn targets(md: &mut String, m: &Measured) {
 
 /// `cargo xtask reconstruction` (the same code) on the generalisation split: basis size and
 /// coefficient prior by grouped cross-validation, the dictionary and each prior against plain
-/// PCA, the camera modes on walking and diverse held-out subjects; then the issue-12 targets.
+/// PCA, the camera modes on walking and diverse held-out subjects; then the issue-12 targets
+/// and issue 23's proportions test.
 fn reconstruction_issue_section(args: &Args) -> Result<String, String> {
     eprintln!("reconstruction: basis, dictionary, priors and camera modes on held-out subjects");
     let measured = reconstruction::measure(&reconstruction::Args {
@@ -429,7 +430,9 @@ fn reconstruction_issue_section(args: &Args) -> Result<String, String> {
          projects each limb bone into the directions seen in the mocap, the coefficient prior \
          is a Gaussian on the coefficients (variance of the training poses along each \
          component). Timings are one pose at a time on one core of the machine above (wall \
-         time; the criterion numbers are in the Performance section).\n",
+         time; the criterion numbers are in the Performance section). The section ends with \
+         issue 23's test of the person's own proportions (bone lengths given or estimated, \
+         sequences, a known focal length) on rescaled held-out people.\n",
         camloc::reconstruct::DEFAULT_ATOMS
     );
     md.push_str(&measured.markdown);
