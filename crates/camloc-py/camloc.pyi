@@ -97,7 +97,7 @@ class Localizer:
 def reconstruct(
     points: npt.ArrayLike,
     layout: str = "camloc15",
-    camera: str = "opt",
+    camera: Optional[str] = None,
     scores: Optional[npt.ArrayLike] = None,
     min_score: float = 0.0,
     localizer: Optional[Localizer] = None,
@@ -112,8 +112,9 @@ def reconstruct(
     each pose with the person's own bone lengths (docs/cli.md, "The person's proportions").
 
     points, layout, scores, min_score: as for ``Localizer.localize``.
-    camera: ``opt`` (Procrustes camera, the default), ``classified`` (the rotation of the
-    classified camera) or ``hybrid`` (classified rotation refined by Procrustes).
+    camera: ``opt`` (Procrustes camera), ``classified`` (the rotation of the classified
+    camera) or ``hybrid`` (classified rotation refined by Procrustes); default ``opt``, with
+    ``sequence`` ``hybrid`` (as the command line).
     localizer: the model that classifies the camera (default: the embedded one).
     basis: a pose basis file (default: the embedded one).
     bone_lengths: the person's 14 limb lengths in metres, as a mapping of ``BONE_KEYS``, 14

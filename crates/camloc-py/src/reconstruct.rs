@@ -64,13 +64,13 @@ fn bone_lengths(value: &Bound<'_, PyAny>) -> PyResult<BoneLengths> {
 
 /// Reconstructs the 3D pose of every pose; see `camloc.pyi`.
 #[pyfunction]
-#[pyo3(signature = (points, layout = "camloc15", camera = "opt", scores = None, min_score = 0.0, localizer = None, basis = None, bone_lengths = None, focal_px = None, principal_point = None, sequence = false))]
+#[pyo3(signature = (points, layout = "camloc15", camera = None, scores = None, min_score = 0.0, localizer = None, basis = None, bone_lengths = None, focal_px = None, principal_point = None, sequence = false))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn reconstruct<'py>(
     py: Python<'py>,
     points: ArrayArg<'py>,
     layout: &str,
-    camera: &str,
+    camera: Option<&str>,
     scores: Option<ArrayArg<'py>>,
     min_score: f64,
     localizer: Option<PyRef<'py, Localizer>>,
@@ -80,6 +80,8 @@ pub(crate) fn reconstruct<'py>(
     principal_point: Option<(f64, f64)>,
     sequence: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
+    // The command line's default: hybrid for sequences, opt for single poses.
+    let camera = camera.unwrap_or(if sequence { "hybrid" } else { "opt" });
     let mode = ModeKind::ALL
         .into_iter()
         .find(|m| m.name() == camera && *m != ModeKind::Oracle)

@@ -22,8 +22,9 @@ use super::{
 fn camera_modes() -> [PossibleValue; 3] {
     [
         PossibleValue::new("opt").help(
-            "Procrustes camera re-estimated at every step (Ramakrishna et al.); default: the \
-             fastest, under 1 ms per pose (docs/RESULTS.md)",
+            "Procrustes camera re-estimated at every step (Ramakrishna et al.); the default for \
+             single poses: the fastest, and as accurate as hybrid on the rig protocol \
+             (docs/RESULTS.md)",
         ),
         PossibleValue::new("classified").help(
             "Rotation fixed to the classified Table-1 camera (the paper's section 8.2); best \
@@ -31,9 +32,22 @@ fn camera_modes() -> [PossibleValue; 3] {
         ),
         PossibleValue::new("hybrid").help(
             "Classified rotation as the start, refined by Procrustes: the lowest 3D error \
-             measured (docs/RESULTS.md), about 3 times the time of opt",
+             measured (docs/RESULTS.md), about twice the time of opt; the default with \
+             --sequence",
         ),
     ]
+}
+
+/// The camera mode of a run: `--camera`, else `hybrid` for `--sequence` (the lower 3D error
+/// on sequences of both protocols of `cargo xtask reconstruction`, docs/RESULTS.md) and
+/// `opt` for single poses (the fastest; hybrid's gain there is small and not on both
+/// protocols).
+fn camera_of(args: &Args) -> ModeKind {
+    args.camera.unwrap_or(if args.sequence {
+        ModeKind::Hybrid
+    } else {
+        ModeKind::Opt
+    })
 }
 
 /// Parses `--camera` (clap has already checked the name against [`camera_modes`]).
@@ -55,11 +69,11 @@ pub struct Args {
     pub basis: Option<PathBuf>,
     #[command(flatten)]
     pub input: InputArgs,
-    /// Which camera to reconstruct with.
-    #[arg(long, default_value = "opt", value_name = "MODE",
+    /// Which camera to reconstruct with [default: opt; with --sequence, hybrid].
+    #[arg(long, value_name = "MODE",
           value_parser = clap::builder::PossibleValuesParser::new(camera_modes())
               .try_map(|s| parse_camera(&s)))]
-    pub camera: ModeKind,
+    pub camera: Option<ModeKind>,
     /// Keep up to N hypotheses per pose. Where the 2D fits two poses about equally (the
     /// mirror in depth), the one within the learned joint-angle limits comes first; the
     /// others follow in the text output and under "alternatives" in JSON, each with its
@@ -173,7 +187,7 @@ fn parse_point(text: &str) -> Result<[f64; 2], String> {
 /// The reconstructor `args` ask for: basis, camera mode, localizer, given bone lengths and
 /// intrinsics.
 fn reconstructor(args: &Args) -> Result<PoseReconstructor, CliError> {
-    let choice = args.camera;
+    let choice = camera_of(args);
     let mut reconstructor = PoseReconstructor::new(load_basis(args.basis.as_deref())?)?;
     if choice != ModeKind::Opt || args.model.is_some() {
         reconstructor = reconstructor.with_localizer(load_model(args.model.as_deref())?);
@@ -207,7 +221,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         (args.bone_lengths_out.as_deref(), "--bone-lengths-out", true),
     ];
     targets::check_distinct(&targets::outputs(outputs))?;
-    let choice = args.camera;
+    let choice = camera_of(args);
     let reconstructor = reconstructor(args)?;
     let inputs = Inputs::open(&args.input)?;
     let format = args.format.format();
