@@ -287,7 +287,7 @@ fn run(
                     .views
                     .iter()
                     .zip(&modes)
-                    .map(|(v, m)| (v.pose2, m.clone().unwrap_or(CameraMode::Opt)))
+                    .map(|(v, m)| (v.pose2, m.unwrap_or(CameraMode::Opt)))
                     .collect();
                 match reconstructor.reconstruct_sequence(&frames, &given(item, &item.views[0])) {
                     Ok(seq) => (

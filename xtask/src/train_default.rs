@@ -144,7 +144,7 @@ pub fn run(args: &Args) -> Result<(), String> {
 /// Trains the default model on `sequences` and writes it to `out`.
 fn train_model(args: &Args, sequences: &[PoseSequence], out: &PathBuf) -> Result<(), String> {
     let start = Instant::now();
-    let dataset = project(&sequences, &default_dataset_config())?;
+    let dataset = project(sequences, &default_dataset_config())?;
     for (category, n) in dataset.samples_per_category() {
         eprintln!("  {}: {n} samples", category.name());
     }
@@ -180,7 +180,7 @@ fn train_model(args: &Args, sequences: &[PoseSequence], out: &PathBuf) -> Result
     println!(
         "wrote {} ({} bytes, descriptor {}, lambda {}, {} samples) in {:.1} s",
         out.display(),
-        std::fs::metadata(&out).map(|m| m.len()).unwrap_or(0),
+        std::fs::metadata(out).map(|m| m.len()).unwrap_or(0),
         localizer.descriptor().name(),
         options.regression.lambda,
         dataset.samples.len(),

@@ -125,12 +125,16 @@ pub struct Intrinsics {
 }
 
 impl Intrinsics {
-    /// An error when the focal length is not finite and positive or the principal point is
-    /// not finite.
-    pub(crate) fn check(&self) -> Result<(), ReconstructError> {
-        if !(self.focal_px.is_finite() && self.focal_px > 0.0)
-            || !self.principal_point.iter().flatten().all(|c| c.is_finite())
-        {
+    /// Checks the intrinsics.
+    ///
+    /// # Errors
+    /// [`ReconstructError::InvalidConfig`] when the focal length is not finite and positive
+    /// or the principal point is not finite.
+    pub fn check(&self) -> Result<(), ReconstructError> {
+        let valid = self.focal_px.is_finite()
+            && self.focal_px > 0.0
+            && self.principal_point.iter().flatten().all(|c| c.is_finite());
+        if !valid {
             return Err(ReconstructError::InvalidConfig {
                 field: "Intrinsics",
                 value: format!("{:?}", self),

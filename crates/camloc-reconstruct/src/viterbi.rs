@@ -24,8 +24,8 @@ pub(crate) fn cheapest_path(
             state = back[t].get(state).copied().unwrap_or(0);
         }
     };
-    for t in 0..n {
-        if costs[t].is_empty() {
+    for (t, step) in costs.iter().enumerate() {
+        if step.is_empty() {
             finish_run(t, &total, &back, &mut path);
             back.push(Vec::new());
             total.clear();
@@ -33,13 +33,13 @@ pub(crate) fn cheapest_path(
             continue;
         }
         if t == run_start {
-            total = costs[t].clone();
-            back.push(vec![0; costs[t].len()]);
+            total = step.clone();
+            back.push(vec![0; step.len()]);
             continue;
         }
-        let mut next = Vec::with_capacity(costs[t].len());
-        let mut pointers = Vec::with_capacity(costs[t].len());
-        for (to, cost) in costs[t].iter().enumerate() {
+        let mut next = Vec::with_capacity(step.len());
+        let mut pointers = Vec::with_capacity(step.len());
+        for (to, cost) in step.iter().enumerate() {
             let (best, from) = total
                 .iter()
                 .enumerate()

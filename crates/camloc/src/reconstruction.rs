@@ -123,21 +123,10 @@ impl PoseReconstructor {
         mut self,
         intrinsics: Intrinsics,
     ) -> Result<PoseReconstructor, CamlocError> {
-        let valid = intrinsics.focal_px.is_finite()
-            && intrinsics.focal_px > 0.0
-            && intrinsics
-                .principal_point
-                .iter()
-                .flatten()
-                .all(|c| c.is_finite());
-        if !valid {
+        if let Err(e) = intrinsics.check() {
             return Err(CamlocError::InvalidOption {
                 name: "intrinsics",
-                detail: format!(
-                    "focal length {} px, principal point {:?}: the focal length must be finite \
-                     and > 0, the principal point finite",
-                    intrinsics.focal_px, intrinsics.principal_point
-                ),
+                detail: e.to_string(),
             });
         }
         self.given.intrinsics = Some(intrinsics);
@@ -254,7 +243,7 @@ impl PoseReconstructor {
         &self,
         poses: &[PartialPose2],
     ) -> Result<PoseSequenceReconstruction, CamlocError> {
-        let prepared: Vec<Result<(Pose2, Option<Localization>, CameraMode), CamlocError>> =
+        let prepared: Vec<Result<Prepared, CamlocError>> =
             poses.iter().map(|p| self.prepare(p)).collect();
         let frames: Vec<(Pose2, CameraMode)> = prepared
             .iter()
@@ -291,10 +280,7 @@ impl PoseReconstructor {
 
     /// What a reconstruction of `pose` needs: the complete 2D pose (after the scale check of
     /// localization), the localization (none for `opt`) and the camera mode.
-    fn prepare(
-        &self,
-        pose: &PartialPose2,
-    ) -> Result<(Pose2, Option<Localization>, CameraMode), CamlocError> {
+    fn prepare(&self, pose: &PartialPose2) -> Result<Prepared, CamlocError> {
         let Some(complete) = pose.complete() else {
             let missing: Vec<&str> = pose.missing().map(|l| l.name()).collect();
             return Err(CamlocError::InvalidOption {
@@ -357,6 +343,10 @@ impl PoseReconstructor {
         ))
     }
 }
+
+/// What a reconstruction of one pose needs ([`PoseReconstructor::prepare`]): the complete 2D
+/// pose, its localization (none for `opt`) and the camera mode.
+type Prepared = (Pose2, Option<Localization>, CameraMode);
 
 /// A reconstruction error of the input pose.
 fn pose_error(source: ReconstructError) -> CamlocError {
