@@ -1,62 +1,23 @@
 //! `camloc reconstruct` in the person's own proportions: `--bone-lengths`, `--sequence` with
 //! `--bone-lengths-out`, `--focal-px`, and their refusals.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
 
+use camloc::reconstruct::BONE_KEYS as KEYS;
 use serde_json::Value;
 
-fn camloc(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_camloc"))
-        .args(args)
-        .output()
-        .expect("the camloc binary runs")
-}
+use common::{TempDir, camloc, fixture};
 
-/// A fresh folder under the system's temporary folder, removed when dropped.
-struct TempDir(PathBuf);
-
-impl TempDir {
-    fn new(name: &str) -> TempDir {
-        let dir = std::env::temp_dir().join(format!("camloc-prop-{name}-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).unwrap();
-        TempDir(dir)
-    }
-    fn path(&self, name: &str) -> String {
-        self.0.join(name).to_string_lossy().into_owned()
-    }
-}
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
+/// The path of `name` in `dir` (not created).
+fn path(dir: &TempDir, name: &str) -> String {
+    dir.0.join(name).to_string_lossy().into_owned()
 }
 
 fn example() -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../fixtures/keypoints/example.json")
+    fixture("keypoints/example.json")
         .to_string_lossy()
         .into_owned()
 }
-
-const KEYS: [&str; 14] = [
-    "left_pelvis_hip",
-    "left_thigh",
-    "left_shin",
-    "right_pelvis_hip",
-    "right_thigh",
-    "right_shin",
-    "torso",
-    "neck_head",
-    "left_collar",
-    "left_upper_arm",
-    "left_forearm",
-    "right_collar",
-    "right_upper_arm",
-    "right_forearm",
-];
 
 const LENGTHS: [f64; 14] = [
     0.11, 0.44, 0.41, 0.11, 0.44, 0.41, 0.52, 0.16, 0.19, 0.30, 0.27, 0.19, 0.30, 0.27,
@@ -88,9 +49,8 @@ fn lengths_of(stdout: &[u8]) -> Vec<Vec<f64>> {
 
 #[test]
 fn given_bone_lengths_are_what_every_pose_has() {
-    let dir = TempDir::new("given");
-    let file = dir.path("lengths.json");
-    std::fs::write(&file, document(&LENGTHS)).unwrap();
+    let dir = TempDir::new("prop-given");
+    let file = dir.file("lengths.json", &document(&LENGTHS));
     let out = camloc(&[
         "reconstruct",
         "--input",
@@ -120,8 +80,8 @@ fn given_bone_lengths_are_what_every_pose_has() {
 
 #[test]
 fn a_sequence_shares_one_set_of_lengths_and_writes_them() {
-    let dir = TempDir::new("sequence");
-    let (lengths_out, npy) = (dir.path("person.json"), dir.path("poses.npy"));
+    let dir = TempDir::new("prop-sequence");
+    let (lengths_out, npy) = (path(&dir, "person.json"), path(&dir, "poses.npy"));
     let args = [
         "reconstruct",
         "--input",
@@ -211,7 +171,7 @@ fn a_focal_length_adds_the_perspective_camera() {
 
 #[test]
 fn bad_bone_lengths_files_are_refused_with_what_and_where() {
-    let dir = TempDir::new("bad");
+    let dir = TempDir::new("prop-bad");
     let mut centimetres = LENGTHS;
     centimetres[6] = 52.0;
     let missing = document(&LENGTHS).replace("\"torso\"", "\"trunk\"");
@@ -226,8 +186,7 @@ fn bad_bone_lengths_files_are_refused_with_what_and_where() {
         ("x".repeat(70_000), "larger than"),
     ];
     for (n, (text, named)) in cases.iter().enumerate() {
-        let file = dir.path(&format!("bad-{n}.json"));
-        std::fs::write(&file, text).unwrap();
+        let file = dir.file(&format!("bad-{n}.json"), text);
         let out = camloc(&[
             "reconstruct",
             "--input",
@@ -245,7 +204,7 @@ fn bad_bone_lengths_files_are_refused_with_what_and_where() {
         "--input",
         &example(),
         "--bone-lengths",
-        &dir.path("absent.json"),
+        &path(&dir, "absent.json"),
     ]);
     assert!(!out.status.success());
 }

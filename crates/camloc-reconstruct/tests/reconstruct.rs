@@ -2,31 +2,17 @@
 
 mod common;
 
-use std::sync::OnceLock;
-
 use camloc_geometry::{Matrix3, Vector3, WeakPerspective, check_rotation};
 use camloc_reconstruct::{
-    BBOX_FLOOR_IN_TORSOS, BasisConfig, BasisKind, CameraMode, EQUAL_FIT_TOLERANCE, LengthTarget,
-    PoseBasis, ReconstructConfig, ReconstructError, Reconstructor, projection_error_eq12_bbox,
+    BBOX_FLOOR_IN_TORSOS, CameraMode, EQUAL_FIT_TOLERANCE, LengthTarget, PoseBasis,
+    ReconstructConfig, ReconstructError, Reconstructor, projection_error_eq12_bbox,
     sum_squared_limb_lengths,
 };
 use camloc_skeleton::{Pose2, Pose3};
 use proptest::prelude::*;
 
-/// 12 components: small enough that a pose on the first few is recovered exactly.
 fn basis() -> &'static PoseBasis {
-    static BASIS: OnceLock<PoseBasis> = OnceLock::new();
-    BASIS.get_or_init(|| {
-        PoseBasis::fit(
-            &common::training_set(2000, 7),
-            &BasisConfig {
-                n_components: 12,
-                kind: BasisKind::Pca,
-                ..BasisConfig::default()
-            },
-        )
-        .unwrap()
-    })
+    common::small_basis()
 }
 
 fn reconstructor(config: ReconstructConfig) -> Reconstructor {

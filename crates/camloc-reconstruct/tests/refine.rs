@@ -2,29 +2,16 @@
 
 mod common;
 
-use std::sync::OnceLock;
-
 use camloc_geometry::{Perspective, Vector3, WeakPerspective, look_at_origin, sphere_point};
 use camloc_reconstruct::{
-    BasisConfig, BasisKind, BoneLengths, CameraMode, Given, Intrinsics, PoseBasis,
-    ReconstructConfig, ReconstructError, Reconstructor, mpjpe_after_similarity,
+    BoneLengths, CameraMode, Given, Intrinsics, PoseBasis, ReconstructConfig, ReconstructError,
+    Reconstructor, mpjpe_after_similarity,
 };
 use camloc_skeleton::{LIMBS, NUM_LIMBS, Pose2, Pose3};
 use rand::Rng;
 
 fn basis() -> &'static PoseBasis {
-    static BASIS: OnceLock<PoseBasis> = OnceLock::new();
-    BASIS.get_or_init(|| {
-        PoseBasis::fit(
-            &common::training_set(2000, 7),
-            &BasisConfig {
-                n_components: 12,
-                kind: BasisKind::Pca,
-                ..BasisConfig::default()
-            },
-        )
-        .unwrap()
-    })
+    common::small_basis()
 }
 
 fn reconstructor() -> Reconstructor {

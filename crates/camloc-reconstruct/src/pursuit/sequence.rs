@@ -2,7 +2,7 @@
 //! time, and one refinement with shared bone lengths and smoothness
 //! ([`Reconstructor::reconstruct_sequence`]).
 
-use camloc_skeleton::{NUM_LANDMARKS, Pose2, Pose3};
+use camloc_skeleton::{Pose2, Pose3};
 use nalgebra::Vector3;
 use rayon::prelude::*;
 
@@ -112,39 +112,15 @@ impl Reconstructor {
             return vec![0; ranked.len()];
         }
         let image = 0.5 / (settings.image_sigma * settings.image_sigma);
-        let costs: Vec<Vec<f64>> = ranked
-            .iter()
-            .map(|r| {
-                r.as_ref().map_or_else(
-                    |_| Vec::new(),
-                    |r| {
-                        r.candidates
-                            .iter()
-                            .map(|c| c.fit.error * image + c.violation / VIOLATION_UNIT_RAD)
-                            .collect()
-                    },
-                )
-            })
-            .collect();
+        let costs = per_hypothesis(ranked, |c| {
+            c.fit.error * image + c.violation / VIOLATION_UNIT_RAD
+        });
         // Camera-oriented landmarks of every hypothesis.
-        let seen: Vec<Vec<[Vector3<f64>; NUM_LANDMARKS]>> = ranked
-            .iter()
-            .map(|r| {
-                r.as_ref().map_or_else(
-                    |_| Vec::new(),
-                    |r| {
-                        r.candidates
-                            .iter()
-                            .map(|c| {
-                                c.fit
-                                    .points
-                                    .map(|p| c.fit.camera.rotation * Vector3::from(p))
-                            })
-                            .collect()
-                    },
-                )
-            })
-            .collect();
+        let seen = per_hypothesis(ranked, |c| {
+            c.fit
+                .points
+                .map(|p| c.fit.camera.rotation * Vector3::from(p))
+        });
         let motion = 0.5 / (settings.motion_m * settings.motion_m);
         // A failed frame breaks the path, so that a transition is always from the frame
         // before.
@@ -157,4 +133,18 @@ impl Reconstructor {
                     .sum::<f64>()
         })
     }
+}
+
+/// `f` of every hypothesis of every frame (none for a failed frame).
+fn per_hypothesis<T>(
+    ranked: &[Result<Ranked, ReconstructError>],
+    f: impl Fn(&Candidate) -> T,
+) -> Vec<Vec<T>> {
+    ranked
+        .iter()
+        .map(|r| {
+            r.as_ref()
+                .map_or_else(|_| Vec::new(), |r| r.candidates.iter().map(&f).collect())
+        })
+        .collect()
 }
