@@ -25,7 +25,7 @@ leading N axis is left out of every array and ``error`` is a single value.
 """
 
 from os import PathLike
-from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -37,6 +37,8 @@ FORMATS: List[str]
 """The keypoint file formats ``read_keypoints`` reads."""
 LANDMARKS: List[str]
 """camloc's 15 landmarks, in the order of the ``camloc15`` layout and of every output."""
+BONE_KEYS: List[str]
+"""The 14 limbs (pelvis to left hip, left thigh, ...), in the order of ``bone_lengths``."""
 
 class CamlocError(Exception):
     """An error of camloc's Rust library (malformed file, unusable model, ...), with its message."""
@@ -95,34 +97,56 @@ class Localizer:
 def reconstruct(
     points: npt.ArrayLike,
     layout: str = "camloc15",
-    camera: str = "opt",
+    camera: Optional[str] = None,
     scores: Optional[npt.ArrayLike] = None,
     min_score: float = 0.0,
     localizer: Optional[Localizer] = None,
     basis: Optional[_Path] = None,
+    bone_lengths: Optional[Union[Mapping[str, float], Sequence[float], _Path]] = None,
+    focal_px: Optional[float] = None,
+    principal_point: Optional[Tuple[float, float]] = None,
+    sequence: bool = False,
 ) -> Dict[str, Any]:
     """Reconstructs the 3D pose of every pose (all 15 landmarks needed) by projected matching
-    pursuit on camloc's pose basis (principal components and cluster centres).
+    pursuit on camloc's pose basis (principal components and cluster centres), then rebuilds
+    each pose with the person's own bone lengths (docs/cli.md, "The person's proportions").
 
     points, layout, scores, min_score: as for ``Localizer.localize``.
-    camera: ``opt`` (Procrustes camera, the default), ``classified`` (the rotation of the
-    classified camera) or ``hybrid`` (classified rotation refined by Procrustes).
+    camera: ``opt`` (Procrustes camera), ``classified`` (the rotation of the classified
+    camera) or ``hybrid`` (classified rotation refined by Procrustes); default ``opt``, with
+    ``sequence`` ``hybrid`` (as the command line).
     localizer: the model that classifies the camera (default: the embedded one).
     basis: a pose basis file (default: the embedded one).
+    bone_lengths: the person's 14 limb lengths in metres, as a mapping of ``BONE_KEYS``, 14
+      numbers in ``BONE_KEYS`` order, or the path of a bone lengths JSON file (docs/cli.md);
+      every pose then has exactly these. Default: estimated from the 2D under a prior learned
+      from motion capture (proportions only; the size is the prior's).
+    focal_px, principal_point: the camera's focal length and principal point (pixels; the
+      principal point defaults to the centre of each pose's 2D bounding box): a final
+      full-perspective refinement.
+    sequence: the poses are the frames of one person, in time order: one set of bone lengths
+      for all of them, depths chosen consistently over time, temporal smoothness.
 
     Returns a dict:
-      points3d (N, 15, 3) float64: the 3D landmarks in metres at the training-average body
-        size, in the basis's canonical body frame (pelvis at the origin, z up; see
+      points3d (N, 15, 3) float64: the 3D landmarks in metres (the given bone lengths, else
+        the estimated ones at the prior's size), in the basis's canonical body frame (pelvis at the origin, z up; see
         docs/conventions.md), ``LANDMARKS`` order;
       rotation (N, 3, 3), scale (N,) (image units per metre), translation (N, 2) (image units):
         the weak-perspective camera, image = scale * rotation[:2] @ X + translation;
       projection_error (N,): norm of the reprojection residuals, image units;
       label (N,) int64: the classified camera (0 for ``opt`` and failed poses);
+      bone_lengths (N, 14): each pose's limb lengths in metres, ``BONE_KEYS`` order;
+      translation_m (N, 3): with ``focal_px``, the pelvis in the perspective camera's frame in
+        metres (absolute only with given ``bone_lengths``), else NaN;
+      person_bone_lengths (14,): with ``sequence``, the person's lengths (given or estimated);
       camera: the mode used;
       error: list of N messages, None where the pose was reconstructed.
 
-    Raises ValueError for a wrong shape, layout or camera mode; OSError / CamlocError for an
-    unreadable or invalid basis.
+    Raises ValueError for a wrong shape, layout or camera mode, bone lengths that are refused
+    (a missing or unknown key, not 14 numbers, a length outside 0.01-1.5 m, a bone lengths file
+    that cannot be read or is malformed), a focal length that is not finite and positive, or a
+    principal point without a focal length; OSError / CamlocError for an unreadable or invalid
+    basis.
     """
 
 def read_keypoints(

@@ -18,6 +18,7 @@ mod generalise;
 mod mocap_data;
 mod postures;
 mod progress;
+mod proportions;
 mod recipe;
 mod reconstruction;
 mod report;

@@ -12,7 +12,7 @@ use camloc::reconstruct::{
     BasisConfig, BasisKind, EvalReport, EvalSample, ModeKind, PoseBasis, ReconstructConfig,
     Reconstructor, evaluate,
 };
-use camloc::{Pose3, evaluation_samples};
+use camloc::{CameraLocalizer, Pose3, evaluation_samples};
 
 use crate::generalise::TEST_SUBJECTS;
 use crate::mocap_data::{basis_poses, load_split, project};
@@ -46,6 +46,22 @@ pub struct Args {
     /// Only these variants (by their position in the table, from 0); all when empty.
     #[arg(long, value_delimiter = ',')]
     pub only: Vec<usize>,
+    /// Only the proportions test (issue 23: rescaled held-out people, single frames and
+    /// sequences), which otherwise ends the run.
+    #[arg(long)]
+    pub proportions_only: bool,
+    /// The proportions test without `hybrid` (no localizer is trained).
+    #[arg(long)]
+    pub no_hybrid: bool,
+    /// Proportions test: every n-th held-out pose is a single-frame sample.
+    #[arg(long, default_value_t = 2, value_name = "N")]
+    pub proportions_every: usize,
+    /// Proportions test: frames per window of a sequence.
+    #[arg(long, default_value_t = 60, value_name = "FRAMES")]
+    pub window: usize,
+    /// Proportions test: most windows per clip.
+    #[arg(long, default_value_t = 2, value_name = "N")]
+    pub windows_per_clip: usize,
 }
 
 /// Mean MPJPE of `mode` in `report`, formatted, "-" when none.
@@ -78,13 +94,25 @@ pub fn measure(args: &Args) -> Result<Measured, String> {
     let training = basis_poses(&train_seqs, DEFAULT_MIN_POSE_DISTANCE_MM);
     let poses: Vec<Pose3> = training.iter().map(|(p, _)| *p).collect();
     let groups: Vec<&str> = training.iter().map(|(_, s)| s.as_str()).collect();
+    if args.proportions_only {
+        let localizer = if args.no_hybrid {
+            None
+        } else {
+            Some(train_localizer(&train_seqs)?)
+        };
+        let basis = PoseBasis::fit(&poses, &BasisConfig::default()).map_err(|e| e.to_string())?;
+        let _ = writeln!(
+            md,
+            "{}",
+            proportions_section(&basis, localizer.as_ref(), &test_seqs, args)?
+        );
+        let _ = writeln!(md, "\nTotal {:.0} s.", started.elapsed().as_secs_f64());
+        return Ok(Measured { markdown: md });
+    }
 
     // The localizer of the classified and hybrid modes: the default training on the
     // training subjects.
-    eprintln!("reconstruction: training the localizer on the training subjects");
-    let localizer = Recipe::default_model()
-        .train(&train_seqs, DEFAULT_MIN_POSE_DISTANCE_MM, |_| {})?
-        .localizer;
+    let localizer = train_localizer(&train_seqs)?;
 
     let mut config = GenerateConfig::new(Protocol::Jittered);
     config.seed = 2;
@@ -199,8 +227,41 @@ pub fn measure(args: &Args) -> Result<Measured, String> {
     if let Some((walking, diverse)) = &shipped {
         targets(&mut md, walking, diverse);
     }
+    let basis = PoseBasis::fit(&poses, &BasisConfig::default()).map_err(|e| e.to_string())?;
+    let _ = writeln!(
+        md,
+        "\n{}",
+        proportions_section(&basis, Some(&localizer), &test_seqs, args)?
+    );
     let _ = writeln!(md, "\nTotal {:.0} s.", started.elapsed().as_secs_f64());
     Ok(Measured { markdown: md })
+}
+
+/// The default localizer's training on the training subjects' clips `train_seqs`.
+fn train_localizer(train_seqs: &[PoseSequence]) -> Result<CameraLocalizer, String> {
+    eprintln!("reconstruction: training the localizer on the training subjects");
+    Ok(Recipe::default_model()
+        .train(train_seqs, DEFAULT_MIN_POSE_DISTANCE_MM, |_| {})?
+        .localizer)
+}
+
+/// The proportions test (issue 23) with its heading.
+fn proportions_section(
+    basis: &PoseBasis,
+    localizer: Option<&CameraLocalizer>,
+    test_seqs: &[PoseSequence],
+    args: &Args,
+) -> Result<String, String> {
+    let options = crate::proportions::Options {
+        every: args.proportions_every,
+        window: args.window,
+        per_clip: args.windows_per_clip,
+        seed: 23,
+    };
+    Ok(format!(
+        "### 3D in the person's own proportions, and from video\n\n{}",
+        crate::proportions::measure(basis, localizer, test_seqs, &options)?
+    ))
 }
 
 /// The camera mode with the lowest mean 3D error in `report` other than `oracle` (which

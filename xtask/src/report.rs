@@ -398,7 +398,8 @@ fn targets(md: &mut String, m: &Measured) {
 
 /// `cargo xtask reconstruction` (the same code) on the generalisation split: basis size and
 /// coefficient prior by grouped cross-validation, the dictionary and each prior against plain
-/// PCA, the camera modes on walking and diverse held-out subjects; then the issue-12 targets.
+/// PCA, the camera modes on walking and diverse held-out subjects; then the issue-12 targets
+/// and issue 23's proportions test.
 fn reconstruction_issue_section(args: &Args) -> Result<String, String> {
     eprintln!("reconstruction: basis, dictionary, priors and camera modes on held-out subjects");
     let measured = reconstruction::measure(&reconstruction::Args {
@@ -413,6 +414,11 @@ fn reconstruction_issue_section(args: &Args) -> Result<String, String> {
         priors: vec![0.0, 0.01, 0.03],
         atoms: vec![camloc::reconstruct::DEFAULT_ATOMS],
         only: Vec::new(),
+        proportions_only: false,
+        no_hybrid: false,
+        proportions_every: 2,
+        window: 60,
+        windows_per_clip: 2,
     })?;
     let mut md = String::new();
     let _ = writeln!(
@@ -426,7 +432,9 @@ fn reconstruction_issue_section(args: &Args) -> Result<String, String> {
          projects each limb bone into the directions seen in the mocap, the coefficient prior \
          is a Gaussian on the coefficients (variance of the training poses along each \
          component). Timings are one pose at a time on one core of the machine above (wall \
-         time; the criterion numbers are in the Performance section).\n",
+         time; the criterion numbers are in the Performance section). The section ends with \
+         issue 23's test of the person's own proportions (bone lengths given or estimated, \
+         sequences, a known focal length) on rescaled held-out people.\n",
         camloc::reconstruct::DEFAULT_ATOMS
     );
     md.push_str(&measured.markdown);

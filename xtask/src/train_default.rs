@@ -1,9 +1,10 @@
 //! `cargo xtask train-default`: the default model and reconstruction basis embedded in the
 //! `camloc` binary.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use camloc::dataset::PoseSequence;
 use camloc::reconstruct::{BasisConfig, PoseBasis};
 use camloc::store::Persist;
 
@@ -33,6 +34,9 @@ pub struct Args {
     /// Overwrite the output if it exists.
     #[arg(long)]
     pub force: bool,
+    /// Only the reconstruction basis (the model is left as it is).
+    #[arg(long)]
+    pub basis_only: bool,
 }
 
 /// Runs `train-default`.
@@ -50,6 +54,32 @@ pub fn run(args: &Args) -> Result<(), String> {
     }
     let (mut sequences, _, _) = load_sequences(&args.mocap)?;
     categorise(&mut sequences, &args.mocap, None);
+    if !args.basis_only {
+        train_model(args, &sequences, &out)?;
+    }
+    let poses: Vec<camloc::Pose3> = basis_poses(&sequences, DEFAULT_MIN_POSE_DISTANCE_MM)
+        .into_iter()
+        .map(|(p, _)| p)
+        .collect();
+    let basis = PoseBasis::fit(&poses, &BasisConfig::default()).map_err(|e| e.to_string())?;
+    basis
+        .save(&basis_out, args.force)
+        .map_err(|e| e.to_string())?;
+    println!(
+        "wrote {} ({} components explaining {:.1}% of the variance of {} poses) in {:.1} s",
+        basis_out.display(),
+        basis.n_components(),
+        100.0 * basis.explained_variance_ratio(),
+        poses.len(),
+        start.elapsed().as_secs_f64()
+    );
+    println!("rebuild the binary (cargo build --release -p camloc-cli) to embed it");
+    Ok(())
+}
+
+/// Trains the default model ([`Recipe::default_model`]) on `sequences` and writes it to `out`.
+fn train_model(args: &Args, sequences: &[PoseSequence], out: &Path) -> Result<(), String> {
+    let start = Instant::now();
     let recipe = Recipe::default_model();
     eprintln!(
         "training the default model (recipe {}) on {} subjects",
@@ -60,7 +90,7 @@ pub fn run(args: &Args) -> Result<(), String> {
             .collect::<std::collections::BTreeSet<_>>()
             .len()
     );
-    let trained = recipe.train(&sequences, DEFAULT_MIN_POSE_DISTANCE_MM, |log| {
+    let trained = recipe.train(sequences, DEFAULT_MIN_POSE_DISTANCE_MM, |log| {
         eprintln!(
             "  newton {:>3}: objective {:.6e}  |grad|_inf {:.3e}  ({})",
             log.iteration,
@@ -80,32 +110,14 @@ pub fn run(args: &Args) -> Result<(), String> {
         trained.training_views,
         trained.head_views
     );
-    localizer
-        .save(&out, args.force)
-        .map_err(|e| e.to_string())?;
+    localizer.save(out, args.force).map_err(|e| e.to_string())?;
     println!(
         "wrote {} ({} bytes, descriptor {}, lambda {}) in {:.1} s",
         out.display(),
-        std::fs::metadata(&out).map(|m| m.len()).unwrap_or(0),
+        std::fs::metadata(out).map(|m| m.len()).unwrap_or(0),
         localizer.descriptor().name(),
         recipe.options.regression.lambda,
         start.elapsed().as_secs_f64()
     );
-    let poses: Vec<camloc::Pose3> = basis_poses(&sequences, DEFAULT_MIN_POSE_DISTANCE_MM)
-        .into_iter()
-        .map(|(p, _)| p)
-        .collect();
-    let basis = PoseBasis::fit(&poses, &BasisConfig::default()).map_err(|e| e.to_string())?;
-    basis
-        .save(&basis_out, args.force)
-        .map_err(|e| e.to_string())?;
-    println!(
-        "wrote {} ({} components explaining {:.1}% of the variance of {} poses)",
-        basis_out.display(),
-        basis.n_components(),
-        100.0 * basis.explained_variance_ratio(),
-        poses.len()
-    );
-    println!("rebuild the binary (cargo build --release -p camloc-cli) to embed it");
     Ok(())
 }

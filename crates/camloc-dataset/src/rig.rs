@@ -167,6 +167,9 @@ pub struct RigView {
     pub camera_rotation: Matrix3,
     /// The camera centre relative to the pelvis, canonical frame, metres.
     pub centre: Vector3,
+    /// The focal length drawn, pixels (the principal point is the image origin of
+    /// `points`).
+    pub focal: f64,
 }
 
 impl Rig {
@@ -268,6 +271,7 @@ impl Rig {
                 rotation: roll_about_optical_axis(&seen, angle),
                 camera_rotation,
                 centre,
+                focal,
             };
             if inside {
                 return Ok(view);

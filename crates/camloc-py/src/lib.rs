@@ -61,6 +61,7 @@ fn camloc_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
         "LANDMARKS",
         camloc::Landmark::ALL.map(|l| l.name()).to_vec(),
     )?;
+    m.add("BONE_KEYS", camloc::reconstruct::BONE_KEYS.to_vec())?;
     m.add_class::<localize::Localizer>()?;
     m.add_function(wrap_pyfunction!(reconstruct::reconstruct, m)?)?;
     m.add_function(wrap_pyfunction!(read::read_keypoints, m)?)?;

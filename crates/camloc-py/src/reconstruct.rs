@@ -1,13 +1,15 @@
 //! `camloc.reconstruct`: 3D poses of a NumPy batch.
 
+use std::collections::HashMap;
 use std::path::PathBuf;
 use std::sync::OnceLock;
 
-use camloc::reconstruct::PoseBasis;
+use camloc::reconstruct::{BONE_KEYS, BoneLengths, Intrinsics, PoseBasis};
+use camloc::skeleton::NUM_LIMBS;
 use camloc::store::Persist;
-use camloc::{CameraLocalizer, CamlocError, ModeKind, PoseReconstructor};
+use camloc::{CameraLocalizer, CamlocError, ModeKind, PoseReconstruction, PoseReconstructor};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PyMapping};
 use rayon::prelude::*;
 
 use crate::arrays::{ArrayArg, Output, PoseBatch};
@@ -29,20 +31,57 @@ fn default_reconstructor() -> PyResult<&'static PoseReconstructor> {
         .map_err(|message| crate::CamlocError::new_err(message.clone()))
 }
 
+/// The `bone_lengths` argument: a mapping of the 14 JSON keys, 14 numbers in the library's
+/// limb order, or the path of a bone lengths JSON file.
+fn bone_lengths(value: &Bound<'_, PyAny>) -> PyResult<BoneLengths> {
+    let invalid = |e: camloc::reconstruct::BoneLengthError| value_error(e.to_string());
+    if let Ok(mapping) = value.cast::<PyMapping>() {
+        let named: HashMap<String, f64> = mapping.extract()?;
+        if let Some(unknown) = named.keys().find(|k| !BONE_KEYS.contains(&k.as_str())) {
+            return Err(value_error(format!(
+                "bone_lengths: unknown key {unknown:?} (expected the 14 keys of BONE_KEYS)"
+            )));
+        }
+        let mut lengths = [0.0; NUM_LIMBS];
+        for (out, key) in lengths.iter_mut().zip(BONE_KEYS) {
+            *out = *named
+                .get(key)
+                .ok_or_else(|| value_error(format!("bone_lengths: missing key {key:?}")))?;
+        }
+        return BoneLengths::from_array(lengths).map_err(invalid);
+    }
+    if let Ok(path) = value.extract::<PathBuf>() {
+        return BoneLengths::read_json(&path).map_err(invalid);
+    }
+    let numbers: Vec<f64> = value.extract().map_err(|_| {
+        value_error("bone_lengths: expected a mapping of BONE_KEYS, 14 numbers or a file path")
+    })?;
+    let lengths: [f64; NUM_LIMBS] = numbers.try_into().map_err(|v: Vec<f64>| {
+        value_error(format!("bone_lengths: {} numbers, expected 14", v.len()))
+    })?;
+    BoneLengths::from_array(lengths).map_err(invalid)
+}
+
 /// Reconstructs the 3D pose of every pose; see `camloc.pyi`.
 #[pyfunction]
-#[pyo3(signature = (points, layout = "camloc15", camera = "opt", scores = None, min_score = 0.0, localizer = None, basis = None))]
+#[pyo3(signature = (points, layout = "camloc15", camera = None, scores = None, min_score = 0.0, localizer = None, basis = None, bone_lengths = None, focal_px = None, principal_point = None, sequence = false))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn reconstruct<'py>(
     py: Python<'py>,
     points: ArrayArg<'py>,
     layout: &str,
-    camera: &str,
+    camera: Option<&str>,
     scores: Option<ArrayArg<'py>>,
     min_score: f64,
     localizer: Option<PyRef<'py, Localizer>>,
     basis: Option<PathBuf>,
+    bone_lengths: Option<Bound<'py, PyAny>>,
+    focal_px: Option<f64>,
+    principal_point: Option<(f64, f64)>,
+    sequence: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
+    // The command line's default: hybrid for sequences, opt for single poses.
+    let camera = camera.unwrap_or(if sequence { "hybrid" } else { "opt" });
     let mode = ModeKind::ALL
         .into_iter()
         .find(|m| m.name() == camera && *m != ModeKind::Oracle)
@@ -63,28 +102,61 @@ pub(crate) fn reconstruct<'py>(
     if let Some(localizer) = localizer {
         reconstructor = reconstructor.with_localizer(localizer.inner.clone());
     }
-    let reconstructor = reconstructor
+    let mut reconstructor = reconstructor
         .with_mode(mode)
         .map_err(|e| value_error(e.to_string()))?;
-    let n = batch.len();
-    let results = py.detach(|| {
-        (0..n)
-            .into_par_iter()
-            .with_max_len(8)
-            .map(|i| {
-                let mapped = batch.pose(i).map_err(|e| e.to_string())?;
-                reconstructor
-                    .reconstruct(&mapped.pose)
-                    .map_err(|e| e.to_string())
+    if let Some(value) = &bone_lengths {
+        reconstructor = reconstructor.with_bone_lengths(self::bone_lengths(value)?);
+    }
+    if principal_point.is_some() && focal_px.is_none() {
+        return Err(value_error("principal_point needs focal_px"));
+    }
+    if let Some(focal_px) = focal_px {
+        reconstructor = reconstructor
+            .with_intrinsics(Intrinsics {
+                focal_px,
+                principal_point: principal_point.map(|(u, v)| [u, v]),
             })
-            .collect::<Vec<_>>()
-    });
+            .map_err(|e| value_error(e.to_string()))?;
+    }
+    let n = batch.len();
+    let (results, person_lengths) = if sequence {
+        let poses = (0..n)
+            .map(|i| batch.pose(i).map(|m| m.pose))
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(|e| value_error(e.to_string()))?;
+        let solved = py
+            .detach(|| reconstructor.reconstruct_sequence(&poses))
+            .map_err(to_py_err)?;
+        let frames: Vec<Result<PoseReconstruction, String>> = solved
+            .frames
+            .into_iter()
+            .map(|f| f.map_err(|e| e.to_string()))
+            .collect();
+        (frames, Some(solved.lengths))
+    } else {
+        let frames = py.detach(|| {
+            (0..n)
+                .into_par_iter()
+                .with_max_len(8)
+                .map(|i| {
+                    let mapped = batch.pose(i).map_err(|e| e.to_string())?;
+                    reconstructor
+                        .reconstruct(&mapped.pose)
+                        .map_err(|e| e.to_string())
+                })
+                .collect::<Vec<_>>()
+        });
+        (frames, None)
+    };
     let mut points3d = vec![f64::NAN; n * 45];
     let mut rotation = vec![f64::NAN; n * 9];
     let mut scale = vec![f64::NAN; n];
     let mut translation = vec![f64::NAN; n * 2];
     let mut projection_error = vec![f64::NAN; n];
     let mut label = vec![0i64; n];
+    let mut lengths = vec![f64::NAN; n * NUM_LIMBS];
+    let mut translation_m = vec![f64::NAN; n * 3];
     let mut errors = Vec::new();
     for (i, result) in results.into_iter().enumerate() {
         let r = match result {
@@ -107,6 +179,12 @@ pub(crate) fn reconstruct<'py>(
         scale[i] = rec.camera.scale;
         translation[i * 2..(i + 1) * 2].copy_from_slice(&rec.camera.translation);
         projection_error[i] = rec.projection_error;
+        if let Ok(l) = BoneLengths::of_pose(&rec.pose) {
+            lengths[i * NUM_LIMBS..(i + 1) * NUM_LIMBS].copy_from_slice(&l.as_array());
+        }
+        if let Some(p) = &rec.perspective {
+            translation_m[i * 3..(i + 1) * 3].copy_from_slice(&p.translation);
+        }
         label[i] = r
             .localization
             .as_ref()
@@ -119,6 +197,12 @@ pub(crate) fn reconstruct<'py>(
     out.array("translation", translation, &[2])?;
     out.array("projection_error", projection_error, &[])?;
     out.array("label", label, &[])?;
+    out.array("bone_lengths", lengths, &[NUM_LIMBS])?;
+    out.array("translation_m", translation_m, &[3])?;
+    if let Some(l) = person_lengths {
+        let array = numpy::PyArray1::from_vec(py, l.as_array().to_vec());
+        out.set("person_bone_lengths", array)?;
+    }
     out.errors(errors)?;
     out.set("camera", mode.name())?;
     Ok(out.into_dict())

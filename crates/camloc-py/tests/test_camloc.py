@@ -125,6 +125,56 @@ def test_reconstruct_equals_the_command_line(cli, camera):
         assert got["label"][i] == (want["classified_label"] or 0)
 
 
+LENGTHS = [0.11, 0.44, 0.41, 0.11, 0.44, 0.41, 0.52, 0.16, 0.19, 0.30, 0.27, 0.19, 0.30, 0.27]
+
+
+def test_proportions_options_equal_the_command_line(cli, tmp_path):
+    """Given bone lengths (as a mapping, a list or a file), a focal length and a sequence give
+    what the command line gives."""
+    path = KEYPOINTS / "example.json"
+    lengths_file = tmp_path / "lengths.json"
+    named = dict(zip(camloc.BONE_KEYS, LENGTHS))
+    lengths_file.write_text(json.dumps({"lengths": named}))
+    options = ["--bone-lengths", lengths_file, "--focal-px", "900", "--principal-point", "320,240"]
+    _, expected = cli("reconstruct", "--input", path, *options)
+    for given in [named, LENGTHS, lengths_file, str(lengths_file)]:
+        got = camloc.reconstruct(
+            example_points(), bone_lengths=given, focal_px=900.0, principal_point=(320, 240)
+        )
+        for i, want in enumerate(expected):
+            landmarks = [want["landmarks_m"][name] for name in camloc.LANDMARKS]
+            np.testing.assert_allclose(got["points3d"][i], landmarks, rtol=1e-9, atol=1e-12)
+            np.testing.assert_allclose(got["bone_lengths"][i], LENGTHS, rtol=1e-9)
+            np.testing.assert_allclose(
+                got["translation_m"][i], want["perspective"]["translation_m"], rtol=1e-9
+            )
+    _, expected = cli("reconstruct", "--input", path, "--sequence")
+    got = camloc.reconstruct(example_points(), sequence=True)
+    assert got["person_bone_lengths"].shape == (14,)
+    for i, want in enumerate(expected):
+        landmarks = [want["landmarks_m"][name] for name in camloc.LANDMARKS]
+        np.testing.assert_allclose(got["points3d"][i], landmarks, rtol=1e-9, atol=1e-12)
+        np.testing.assert_allclose(got["bone_lengths"][i], got["person_bone_lengths"], rtol=1e-9)
+    assert np.isnan(got["translation_m"]).all()
+
+
+@pytest.mark.parametrize(
+    "options",
+    [
+        {"bone_lengths": LENGTHS[:13]},
+        {"bone_lengths": [45.0] * 14},
+        {"bone_lengths": {"torso": 0.5}},
+        {"bone_lengths": {**dict(zip(["a"], [1.0]))}},
+        {"focal_px": -1.0},
+        {"focal_px": float("nan")},
+        {"principal_point": (1.0, 2.0)},
+    ],
+)
+def test_bad_proportions_options_are_value_errors(options):
+    with pytest.raises(ValueError):
+        camloc.reconstruct(example_points(), **options)
+
+
 @pytest.mark.parametrize("min_score", [0.0, 0.1])
 def test_raw_arrays_equal_the_command_line_on_the_same_file(cli, localizer, min_score):
     path = SAMPLES / "h36m17_scores.npy"

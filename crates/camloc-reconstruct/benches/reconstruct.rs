@@ -1,7 +1,8 @@
-//! Time to reconstruct one pose per camera mode (goal: < 5 ms per pose in release).
+//! Time to reconstruct one pose per camera mode (goal: < 5 ms per pose in release; `opt` <= 1
+//! ms, issue 23), and `opt` without the skeleton refinement (the pursuit alone).
 //!
 //! Basis: 24 components from 4000 synthetic poses; default configuration (`max_basis` 12, depth
-//! reflection on). The true camera is 20 degrees of azimuth and 10 of elevation away from the
+//! reflection on, bone lengths estimated). The true camera is 20 degrees of azimuth and 10 of elevation away from the
 //! Table-1 front camera (05) that `classified` and `hybrid` are given.
 
 #[path = "../tests/common/mod.rs"]
@@ -41,6 +42,13 @@ fn bench(c: &mut Criterion) {
             b.iter(|| reconstructor.reconstruct(black_box(&pose2), black_box(mode)))
         });
     }
+    let mut config = ReconstructConfig::default();
+    config.refinement.estimate_lengths = false;
+    let pursuit =
+        Reconstructor::new(reconstructor.basis().clone(), config).expect("default config is valid");
+    group.bench_function("opt without the refinement", |b| {
+        b.iter(|| pursuit.reconstruct(black_box(&pose2), black_box(&CameraMode::Opt)))
+    });
     group.finish();
 }
 

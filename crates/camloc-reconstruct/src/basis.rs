@@ -7,6 +7,7 @@ use nalgebra::{DMatrix, DVector, SymmetricEigen};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
+use crate::length_prior::LengthPrior;
 use crate::prior::JointLimits;
 use crate::{ReconstructError, is_positive};
 
@@ -74,7 +75,8 @@ const KMEANS_ITERATIONS: usize = 20;
 /// (the *anthropometric target*); `mu` is their mean and the columns of `B` are the leading
 /// principal components (orthonormal, unit-free directions in pose space), followed, for a
 /// dictionary ([`BasisKind::Dictionary`]), by unit-norm cluster-centre deviations. The basis
-/// also holds the joint-angle limits learned from the same poses.
+/// also holds the joint-angle limits and the prior on limb lengths ([`LengthPrior`], from the
+/// poses before their scaling) learned from the same poses.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(try_from = "StoredBasis")]
 pub struct PoseBasis {
@@ -87,6 +89,7 @@ pub struct PoseBasis {
     /// Number of leading columns of `components` that are orthonormal principal components.
     n_principal: usize,
     limits: JointLimits,
+    lengths: LengthPrior,
 }
 
 impl PoseBasis {
@@ -194,6 +197,7 @@ impl PoseBasis {
             variances.push(variance);
         }
         let limits = JointLimits::fit(poses, config.limit_directions)?;
+        let lengths = LengthPrior::fit(poses)?;
         Ok(PoseBasis {
             mean,
             components,
@@ -203,12 +207,18 @@ impl PoseBasis {
             n_training: poses.len(),
             n_principal: k,
             limits,
+            lengths,
         })
     }
 
     /// The joint-angle limits learned from the training poses.
     pub fn joint_limits(&self) -> &JointLimits {
         &self.limits
+    }
+
+    /// The prior on limb lengths learned from the training poses (before their scaling).
+    pub fn length_prior(&self) -> &LengthPrior {
+        &self.lengths
     }
 
     /// Number of principal components (the leading, orthonormal columns of
@@ -300,6 +310,7 @@ struct StoredBasis {
     n_training: usize,
     n_principal: usize,
     limits: JointLimits,
+    lengths: LengthPrior,
 }
 
 impl TryFrom<StoredBasis> for PoseBasis {
@@ -329,13 +340,15 @@ impl TryFrom<StoredBasis> for PoseBasis {
             n_training: s.n_training,
             n_principal: s.n_principal,
             limits: s.limits,
+            lengths: s.lengths,
         })
     }
 }
 
 /// The invariants `fit` establishes, checked after every decode: a 45-entry mean, 1 to 45
 /// orthonormal 45-entry principal components and at most [`MAX_ATOMS`] unit-norm atoms, one
-/// variance each, finite numbers, a positive anthropometric target and valid joint limits.
+/// variance each, finite numbers, a positive anthropometric target, valid joint limits and a
+/// valid length prior.
 impl Validate for PoseBasis {
     type Invalid = ReconstructError;
 
@@ -386,6 +399,7 @@ impl Validate for PoseBasis {
             )));
         }
         self.limits.check().map_err(invalid)?;
+        self.lengths.check().map_err(invalid)?;
         Ok(())
     }
 }

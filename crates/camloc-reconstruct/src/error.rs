@@ -97,4 +97,7 @@ pub enum ReconstructError {
     /// A camera estimate failed.
     #[error("camera estimation failed: {0}")]
     Geometry(#[from] GeometryError),
+    /// Bone lengths were refused.
+    #[error(transparent)]
+    BoneLengths(#[from] crate::BoneLengthError),
 }

@@ -61,16 +61,25 @@
 mod basis;
 mod error;
 mod eval;
+mod length_prior;
+mod lengths;
 mod lsq;
 mod metrics;
 mod prior;
 mod pursuit;
+mod refine;
+mod viterbi;
 
 pub use basis::{
     BasisConfig, BasisKind, DEFAULT_ATOMS, MAX_ATOMS, POSE_DIM, PoseBasis, sum_squared_limb_lengths,
 };
 pub use error::ReconstructError;
 pub use eval::{EvalReport, EvalSample, ModeReport, evaluate};
+pub use length_prior::{LengthPrior, LengthWidening};
+pub use lengths::{
+    BONE_KEYS, BONE_LENGTHS_FORMAT, BONE_LENGTHS_VERSION, BoneLengthError, BoneLengths,
+    MAX_BONE_LENGTH_M, MAX_BONE_LENGTHS_FILE_BYTES, MIN_BONE_LENGTH_M,
+};
 pub use lsq::{ConstrainedSolution, QuadraticConstraint, constrained_least_squares};
 pub use metrics::{
     BBOX_FLOOR_IN_TORSOS, align_similarity, bounding_box, mpjpe_after_similarity,
@@ -79,8 +88,9 @@ pub use metrics::{
 pub use prior::{JointLimits, symmetrise};
 pub use pursuit::{
     CameraMode, DEFAULT_COEFFICIENT_PRIOR, EQUAL_FIT_TOLERANCE, LengthTarget, ModeKind,
-    ReconstructConfig, Reconstruction, Reconstructor,
+    ReconstructConfig, Reconstruction, Reconstructor, SequenceReconstruction,
 };
+pub use refine::{Given, Intrinsics, PerspectiveCamera, Refinement};
 
 /// `x > 0`, false for NaN (reads better than a negated comparison at the call sites).
 pub(crate) fn is_positive(x: f64) -> bool {

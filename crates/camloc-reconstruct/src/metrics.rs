@@ -261,6 +261,7 @@ mod tests {
             iterations: 0,
             reflected: false,
             limit_violation_rad: 0.0,
+            perspective: None,
         };
         let e = projection_error_eq12(&pose2, &recon, 640.0, 480.0).unwrap();
         assert!((e - 5.0 / (640.0 * 480.0)).abs() < 1e-15);

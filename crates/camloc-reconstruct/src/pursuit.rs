@@ -5,7 +5,9 @@
 //! `observation` (the normalised 2D input), `camera_update` (how the camera is re-fitted),
 //! `reconstructor` (the [`Reconstructor`] and its precomputed constraint), `greedy` (the
 //! pursuit loop), `reflection` (the depth-reflected start), `hypotheses` (the solves of a
-//! mode, the priors and the ranking).
+//! mode, the priors and the ranking), `refined` (each hypothesis refined with the person's
+//! own bone lengths, [`crate::refine`]) and `sequence` (the frames of one person: depths
+//! chosen over time, one refinement with shared lengths).
 
 mod camera_update;
 mod config;
@@ -14,7 +16,9 @@ mod hypotheses;
 mod mode;
 mod observation;
 mod reconstructor;
+mod refined;
 mod reflection;
+mod sequence;
 #[cfg(test)]
 mod tests;
 
@@ -22,3 +26,4 @@ pub use config::{DEFAULT_COEFFICIENT_PRIOR, EQUAL_FIT_TOLERANCE, LengthTarget, R
 pub use hypotheses::Reconstruction;
 pub use mode::{CameraMode, ModeKind};
 pub use reconstructor::Reconstructor;
+pub use sequence::SequenceReconstruction;

@@ -216,6 +216,26 @@ struct RawBasis {
     n_training: usize,
     n_principal: usize,
     limits: JointLimits,
+    lengths: RawPrior,
+}
+
+/// Same serde layout as `LengthPrior`.
+#[derive(serde::Serialize, Clone)]
+struct RawPrior {
+    mean_log: [f64; 14],
+    covariance: [[f64; 14]; 14],
+}
+
+/// A valid prior: every limb 0.3 m, log deviation 0.1, no correlation.
+fn prior() -> RawPrior {
+    let mut covariance = [[0.0; 14]; 14];
+    for (i, row) in covariance.iter_mut().enumerate() {
+        row[i] = 0.01;
+    }
+    RawPrior {
+        mean_log: [0.3f64.ln(); 14],
+        covariance,
+    }
 }
 
 #[test]
@@ -230,6 +250,7 @@ fn inconsistent_content_is_refused() {
         n_training: 10,
         n_principal: 2,
         limits,
+        lengths: prior(),
     };
     let decode = |raw: &RawBasis| {
         PoseBasis::from_bytes(&camloc_store::encode(camloc_store::POSE_BASIS_KIND, raw).unwrap())
@@ -272,6 +293,36 @@ fn inconsistent_content_is_refused() {
             },
             ..clone(&good)
         },
+        RawBasis {
+            lengths: RawPrior {
+                mean_log: [f64::NAN; 14],
+                ..prior()
+            },
+            ..clone(&good)
+        },
+        RawBasis {
+            lengths: RawPrior {
+                mean_log: [5f64.ln(); 14],
+                ..prior()
+            },
+            ..clone(&good)
+        },
+        RawBasis {
+            lengths: {
+                let mut p = prior();
+                p.covariance[0][1] = 0.005;
+                p
+            },
+            ..clone(&good)
+        },
+        RawBasis {
+            lengths: {
+                let mut p = prior();
+                p.covariance[3][3] = -0.01;
+                p
+            },
+            ..clone(&good)
+        },
     ];
     for raw in &cases {
         let err = decode(raw).unwrap_err();
@@ -299,6 +350,7 @@ struct ShapedBasis {
     n_training: usize,
     n_principal: usize,
     limits: JointLimits,
+    lengths: RawPrior,
 }
 
 #[test]
@@ -313,6 +365,7 @@ fn hostile_shapes_are_errors_not_panics() {
         n_training: 1,
         n_principal: 1,
         limits: limits.clone(),
+        lengths: prior(),
     };
     let cases = [
         shaped(POSE_DIM, 1 << 32, 1 << 32, 0), // rows x columns overflows
@@ -362,6 +415,7 @@ fn clone(raw: &RawBasis) -> RawBasis {
         n_training: raw.n_training,
         n_principal: raw.n_principal,
         limits: raw.limits.clone(),
+        lengths: raw.lengths.clone(),
     }
 }
 

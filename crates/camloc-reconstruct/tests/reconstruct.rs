@@ -2,31 +2,17 @@
 
 mod common;
 
-use std::sync::OnceLock;
-
 use camloc_geometry::{Matrix3, Vector3, WeakPerspective, check_rotation};
 use camloc_reconstruct::{
-    BBOX_FLOOR_IN_TORSOS, BasisConfig, BasisKind, CameraMode, EQUAL_FIT_TOLERANCE, LengthTarget,
-    PoseBasis, ReconstructConfig, ReconstructError, Reconstructor, projection_error_eq12_bbox,
+    BBOX_FLOOR_IN_TORSOS, CameraMode, EQUAL_FIT_TOLERANCE, LengthTarget, PoseBasis,
+    ReconstructConfig, ReconstructError, Reconstructor, projection_error_eq12_bbox,
     sum_squared_limb_lengths,
 };
 use camloc_skeleton::{Pose2, Pose3};
 use proptest::prelude::*;
 
-/// 12 components: small enough that a pose on the first few is recovered exactly.
 fn basis() -> &'static PoseBasis {
-    static BASIS: OnceLock<PoseBasis> = OnceLock::new();
-    BASIS.get_or_init(|| {
-        PoseBasis::fit(
-            &common::training_set(2000, 7),
-            &BasisConfig {
-                n_components: 12,
-                kind: BasisKind::Pca,
-                ..BasisConfig::default()
-            },
-        )
-        .unwrap()
-    })
+    common::small_basis()
 }
 
 fn reconstructor(config: ReconstructConfig) -> Reconstructor {
@@ -370,15 +356,19 @@ proptest! {
     #![proptest_config(ProptestConfig::with_cases(24))]
 
     /// `reconstruct_hypotheses` keeps at most `max`, puts `reconstruct`'s answer first, and
-    /// orders them by projection error except where two fit within
-    /// `EQUAL_FIT_TOLERANCE` of each other, where the smaller joint-limit violation wins.
+    /// orders them by the pursuit's projection error except where two fit within
+    /// `EQUAL_FIT_TOLERANCE` of each other, where the smaller joint-limit violation wins
+    /// (the refinement, which keeps that order, is off so that the errors are the
+    /// pursuit's).
     #[test]
     fn hypotheses_are_ranked_by_fit_then_by_the_joint_limit_prior(seed in 0u64..1_000_000) {
         let mut rng = common::rng(seed);
         let truth = common::random_pose(&mut rng);
         let rotation = common::random_rotation(&mut rng, 45.0);
         let pose2 = project(&truth, rotation);
-        let rec = reconstructor(ReconstructConfig::default());
+        let mut config = ReconstructConfig::default();
+        config.refinement.estimate_lengths = false;
+        let rec = reconstructor(config);
         for mode in [CameraMode::Opt, CameraMode::Hybrid(rotation)] {
             let all = rec.reconstruct_hypotheses(&pose2, &mode, 8).unwrap();
             let expected = if matches!(mode, CameraMode::Hybrid(_)) { 4 } else { 2 };

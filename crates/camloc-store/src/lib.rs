@@ -198,10 +198,11 @@ pub const MODEL_KIND: FileKind = FileKind {
 
 /// PCA pose bases (`camloc_reconstruct::PoseBasis`): up to 1 MiB (a full 45 x 45 basis is
 /// about 17 KiB; a dictionary of the most atoms allowed, 1024, about 370 KiB). Version 2
-/// added the dictionary atoms and the joint-angle limits.
+/// added the dictionary atoms and the joint-angle limits, version 3 the prior on limb
+/// lengths.
 pub const POSE_BASIS_KIND: FileKind = FileKind {
     magic: *b"CAMLOCPB",
-    version: 2,
+    version: 3,
     what: "pose basis",
     max_payload: 1 << 20,
 };

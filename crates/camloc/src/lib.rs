@@ -57,7 +57,8 @@ pub use camloc_skeleton::{Landmark, PartialPose2, Pose2, Pose3};
 pub use error::CamlocError;
 pub use evaluate::{CameraAccuracy, Evaluation, LevelAccuracy, evaluate};
 pub use reconstruction::{
-    PoseReconstruction, PoseReconstructor, default_basis, evaluation_samples,
+    PoseReconstruction, PoseReconstructor, PoseSequenceReconstruction, default_basis,
+    evaluation_samples,
 };
 pub use select::{DescriptorCv, cross_validate};
 pub use sequence::{

@@ -2,10 +2,10 @@
 
 use camloc_dataset::Dataset;
 use camloc_reconstruct::{
-    CameraMode, EvalReport, EvalSample, ModeKind, PoseBasis, ReconstructConfig, Reconstruction,
-    Reconstructor,
+    BoneLengths, CameraMode, EvalReport, EvalSample, Given, Intrinsics, ModeKind, PoseBasis,
+    ReconstructConfig, ReconstructError, Reconstruction, Reconstructor,
 };
-use camloc_skeleton::PartialPose2;
+use camloc_skeleton::{PartialPose2, Pose2};
 use camloc_store::Persist;
 use camloc_store::Validate;
 
@@ -59,6 +59,18 @@ pub struct PoseReconstructor {
     reconstructor: Reconstructor,
     mode: ModeKind,
     localizer: Option<CameraLocalizer>,
+    given: Given,
+}
+
+/// The reconstruction of one person's frames ([`PoseReconstructor::reconstruct_sequence`]).
+#[derive(Debug)]
+pub struct PoseSequenceReconstruction {
+    /// Per frame, in the order given: its reconstruction (no alternatives), or why it has
+    /// none.
+    pub frames: Vec<Result<PoseReconstruction, CamlocError>>,
+    /// The person's bone lengths, which every reconstructed frame has (metres): the given
+    /// ones, or those estimated from all the frames.
+    pub lengths: BoneLengths,
 }
 
 impl PoseReconstructor {
@@ -89,7 +101,41 @@ impl PoseReconstructor {
             reconstructor,
             mode: ModeKind::Opt,
             localizer: None,
+            given: Given::default(),
         })
+    }
+
+    /// Reconstructs with the person's own bone lengths `lengths` (metres): every
+    /// reconstruction then has exactly these (docs/conventions.md section 6).
+    pub fn with_bone_lengths(mut self, lengths: BoneLengths) -> PoseReconstructor {
+        self.given.lengths = Some(lengths);
+        self
+    }
+
+    /// Reconstructs with a known camera: a final full-perspective refinement with these
+    /// intrinsics (pixels, in the input's image coordinates; without a principal point, the
+    /// centre of each pose's 2D bounding box).
+    ///
+    /// # Errors
+    /// [`CamlocError::InvalidOption`] for a focal length that is not finite and positive or
+    /// a principal point that is not finite.
+    pub fn with_intrinsics(
+        mut self,
+        intrinsics: Intrinsics,
+    ) -> Result<PoseReconstructor, CamlocError> {
+        if let Err(e) = intrinsics.check() {
+            return Err(CamlocError::InvalidOption {
+                name: "intrinsics",
+                detail: e.to_string(),
+            });
+        }
+        self.given.intrinsics = Some(intrinsics);
+        Ok(self)
+    }
+
+    /// What the reconstructions are given: bone lengths and intrinsics.
+    pub fn given(&self) -> &Given {
+        &self.given
     }
 
     /// Uses `localizer` to classify the camera (needed by the `classified` and `hybrid` modes
@@ -167,6 +213,74 @@ impl PoseReconstructor {
         pose: &PartialPose2,
         max: usize,
     ) -> Result<PoseReconstruction, CamlocError> {
+        let (complete, localization, mode) = self.prepare(pose)?;
+        let mut hypotheses = self
+            .reconstructor
+            .reconstruct_with(&complete, &mode, max, &self.given)
+            .map_err(pose_error)?
+            .into_iter();
+        let reconstruction = hypotheses
+            .next()
+            .ok_or_else(|| pose_error(ReconstructError::Numerical("no hypothesis was solved")))?;
+        Ok(PoseReconstruction {
+            reconstruction,
+            alternatives: hypotheses.collect(),
+            localization,
+        })
+    }
+
+    /// Reconstructs the frames of one person, in time order, with one set of bone lengths
+    /// (the given ones, or estimated from all frames), the depth of each frame chosen
+    /// consistently over time and temporal smoothness
+    /// ([`Reconstructor::reconstruct_sequence`]). A frame that cannot be reconstructed
+    /// (missing landmarks, a degenerate pose, a failed localization) gets its error and
+    /// the others are still reconstructed.
+    ///
+    /// # Errors
+    /// [`CamlocError::Reconstruct`] when the estimated lengths leave the plausible range;
+    /// errors of single frames are in [`PoseSequenceReconstruction::frames`].
+    pub fn reconstruct_sequence(
+        &self,
+        poses: &[PartialPose2],
+    ) -> Result<PoseSequenceReconstruction, CamlocError> {
+        let prepared: Vec<Result<Prepared, CamlocError>> =
+            poses.iter().map(|p| self.prepare(p)).collect();
+        let frames: Vec<(Pose2, CameraMode)> = prepared
+            .iter()
+            .filter_map(|p| p.as_ref().ok().map(|(pose, _, mode)| (*pose, *mode)))
+            .collect();
+        let sequence = self
+            .reconstructor
+            .reconstruct_sequence(&frames, &self.given)
+            .map_err(|source| CamlocError::Reconstruct {
+                context: "sequence".into(),
+                source,
+            })?;
+        let mut solved = sequence.frames.into_iter();
+        let frames = prepared
+            .into_iter()
+            .map(|p| {
+                let (_, localization, _) = p?;
+                let reconstruction = solved
+                    .next()
+                    .unwrap_or(Err(ReconstructError::Numerical("no hypothesis was solved")))
+                    .map_err(pose_error)?;
+                Ok(PoseReconstruction {
+                    reconstruction,
+                    alternatives: Vec::new(),
+                    localization,
+                })
+            })
+            .collect();
+        Ok(PoseSequenceReconstruction {
+            frames,
+            lengths: sequence.lengths,
+        })
+    }
+
+    /// What a reconstruction of `pose` needs: the complete 2D pose (after the scale check of
+    /// localization), the localization (none for `opt`) and the camera mode.
+    fn prepare(&self, pose: &PartialPose2) -> Result<Prepared, CamlocError> {
         let Some(complete) = pose.complete() else {
             let missing: Vec<&str> = pose.missing().map(|l| l.name()).collect();
             return Err(CamlocError::InvalidOption {
@@ -203,23 +317,7 @@ impl PoseReconstructor {
             (Some(l), _) => CameraMode::Classified(l.rotation),
             (None, _) => CameraMode::Opt,
         };
-        let mut hypotheses = self
-            .reconstructor
-            .reconstruct_hypotheses(&complete, &mode, max)
-            .map_err(|source| CamlocError::Reconstruct {
-                context: "input pose".into(),
-                source,
-            })?
-            .into_iter();
-        let reconstruction = hypotheses.next().ok_or(CamlocError::Reconstruct {
-            context: "input pose".into(),
-            source: camloc_reconstruct::ReconstructError::Numerical("no hypothesis was solved"),
-        })?;
-        Ok(PoseReconstruction {
-            reconstruction,
-            alternatives: hypotheses.collect(),
-            localization,
-        })
+        Ok((complete, localization, mode))
     }
 
     /// Reconstructs every complete sample of `dataset` with every camera mode (`opt`,
@@ -243,6 +341,18 @@ impl PoseReconstructor {
             &self.reconstructor,
             &ModeKind::ALL,
         ))
+    }
+}
+
+/// What a reconstruction of one pose needs ([`PoseReconstructor::prepare`]): the complete 2D
+/// pose, its localization (none for `opt`) and the camera mode.
+type Prepared = (Pose2, Option<Localization>, CameraMode);
+
+/// A reconstruction error of the input pose.
+fn pose_error(source: ReconstructError) -> CamlocError {
+    CamlocError::Reconstruct {
+        context: "input pose".into(),
+        source,
     }
 }
 

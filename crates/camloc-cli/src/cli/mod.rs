@@ -17,6 +17,8 @@ mod localize;
 pub mod output;
 mod progress;
 mod reconstruct;
+mod reconstruct_output;
+mod reconstruct_sequence;
 mod sequence;
 mod stream;
 mod targets;

@@ -1,21 +1,16 @@
 //! `camloc reconstruct` and `camloc evaluate-reconstruction`.
 
-use std::fmt::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use camloc::reconstruct::{PoseBasis, Reconstruction};
-use camloc::store::{Persist, escaped};
-use camloc::{
-    CameraLabel, CamlocError, Landmark, ModeKind, Pose2, Pose3, PoseReconstructor, default_basis,
-};
+use camloc::reconstruct::{BoneLengths, Intrinsics, PoseBasis};
+use camloc::store::Persist;
+use camloc::{CamlocError, ModeKind, Pose3, PoseReconstructor, default_basis};
 use clap::builder::{PossibleValue, TypedValueParser};
-use serde::ser::SerializeMap;
-use serde::{Serialize, Serializer};
-
-use crate::svg;
 
 use super::input::Inputs;
+use super::reconstruct_output::{PoseMeta, pose_output, pose_svg};
+use super::reconstruct_sequence;
 use super::stream::{self, Done, Files};
 use super::{
     CliError, ForceArgs, FormatArgs, InputArgs, Out, ProgressArgs, load_dataset, load_model,
@@ -27,8 +22,9 @@ use super::{
 fn camera_modes() -> [PossibleValue; 3] {
     [
         PossibleValue::new("opt").help(
-            "Procrustes camera re-estimated at every step (Ramakrishna et al.); default: the \
-             fastest, under 1 ms per pose (docs/RESULTS.md)",
+            "Procrustes camera re-estimated at every step (Ramakrishna et al.); the default for \
+             single poses: the fastest, and as accurate as hybrid on the rig protocol \
+             (docs/RESULTS.md)",
         ),
         PossibleValue::new("classified").help(
             "Rotation fixed to the classified Table-1 camera (the paper's section 8.2); best \
@@ -36,9 +32,22 @@ fn camera_modes() -> [PossibleValue; 3] {
         ),
         PossibleValue::new("hybrid").help(
             "Classified rotation as the start, refined by Procrustes: the lowest 3D error \
-             measured (docs/RESULTS.md), about 3 times the time of opt",
+             measured (docs/RESULTS.md), about twice the time of opt; the default with \
+             --sequence",
         ),
     ]
+}
+
+/// The camera mode of a run: `--camera`, else `hybrid` for `--sequence` (the lower 3D error
+/// on sequences of both protocols of `cargo xtask reconstruction`, docs/RESULTS.md) and
+/// `opt` for single poses (the fastest; hybrid's gain there is small and not on both
+/// protocols).
+fn camera_of(args: &Args) -> ModeKind {
+    args.camera.unwrap_or(if args.sequence {
+        ModeKind::Hybrid
+    } else {
+        ModeKind::Opt
+    })
 }
 
 /// Parses `--camera` (clap has already checked the name against [`camera_modes`]).
@@ -60,11 +69,11 @@ pub struct Args {
     pub basis: Option<PathBuf>,
     #[command(flatten)]
     pub input: InputArgs,
-    /// Which camera to reconstruct with.
-    #[arg(long, default_value = "opt", value_name = "MODE",
+    /// Which camera to reconstruct with [default: opt; with --sequence, hybrid].
+    #[arg(long, value_name = "MODE",
           value_parser = clap::builder::PossibleValuesParser::new(camera_modes())
               .try_map(|s| parse_camera(&s)))]
-    pub camera: ModeKind,
+    pub camera: Option<ModeKind>,
     /// Keep up to N hypotheses per pose. Where the 2D fits two poses about equally (the
     /// mirror in depth), the one within the learned joint-angle limits comes first; the
     /// others follow in the text output and under "alternatives" in JSON, each with its
@@ -73,6 +82,34 @@ pub struct Args {
     #[arg(long, default_value_t = 1, value_name = "N",
           value_parser = clap::value_parser!(u8).range(1..=4))]
     pub hypotheses: u8,
+    /// The person's bone lengths, metres (a JSON file: docs/cli.md): every pose is
+    /// reconstructed with exactly these. Without it the lengths are estimated from the 2D
+    /// under a prior learned from motion capture (with --sequence, one set per person).
+    #[arg(long, value_name = "FILE")]
+    pub bone_lengths: Option<PathBuf>,
+    /// The camera's focal length in pixels: a final full-perspective refinement (close
+    /// cameras, wide lenses). The JSON output then has the perspective camera.
+    #[arg(long, value_name = "F", value_parser = parse_focal)]
+    pub focal_px: Option<f64>,
+    /// With --focal-px: the principal point in pixels [default: the centre of --image-size
+    /// if given, else of each pose's 2D bounding box].
+    #[arg(long, value_name = "U,V", requires = "focal_px", value_parser = parse_point,
+          allow_hyphen_values = true)]
+    pub principal_point: Option<[f64; 2]>,
+    /// Treat the input as the frames of a video: group the poses by person, order them by
+    /// frame, and reconstruct each person's frames together: one set of bone lengths per
+    /// person, the depths chosen consistently over time, temporal smoothness. Output (per
+    /// frame, by person then frame) as without it; the .npy rows stay in input order. Every
+    /// pose is kept until its person is done (about 500 bytes a pose).
+    #[arg(long, conflicts_with = "hypotheses")]
+    pub sequence: bool,
+    /// With --sequence: refuse an input of more than N poses.
+    #[arg(long, value_name = "N", default_value_t = 1_000_000)]
+    pub sequence_max_poses: u64,
+    /// With --sequence: write each person's bone lengths (given or estimated; the JSON form
+    /// of --bone-lengths) to this file (several people: FILE-001.json, ...).
+    #[arg(long, value_name = "OUT", requires = "sequence")]
+    pub bone_lengths_out: Option<PathBuf>,
     #[command(flatten)]
     pub format: FormatArgs,
     /// Write the 3D poses as a (N, 15, 3) float64 .npy array in metres (camloc15 layout, the
@@ -115,6 +152,7 @@ fn load_basis(path: Option<&std::path::Path>) -> Result<PoseBasis, CamlocError> 
     }
 }
 
+/// Any value as pretty JSON.
 fn to_json<T: serde::Serialize>(value: &T) -> Result<String, CamlocError> {
     serde_json::to_string_pretty(value).map_err(|e| CamlocError::InvalidOption {
         name: "json",
@@ -122,21 +160,88 @@ fn to_json<T: serde::Serialize>(value: &T) -> Result<String, CamlocError> {
     })
 }
 
+/// Parses `--focal-px`: a finite number > 0.
+fn parse_focal(text: &str) -> Result<f64, String> {
+    text.trim()
+        .parse::<f64>()
+        .ok()
+        .filter(|f| f.is_finite() && *f > 0.0)
+        .ok_or_else(|| format!("not a finite number of pixels > 0: {text:?}"))
+}
+
+/// Parses `--principal-point`: `U,V`, two finite numbers.
+fn parse_point(text: &str) -> Result<[f64; 2], String> {
+    let numbers: Vec<f64> = text
+        .split(',')
+        .filter_map(|t| t.trim().parse::<f64>().ok())
+        .filter(|v| v.is_finite())
+        .collect();
+    match (numbers.as_slice(), text.split(',').count()) {
+        (&[u, v], 2) => Ok([u, v]),
+        _ => Err(format!(
+            "not U,V with two finite numbers of pixels: {text:?}"
+        )),
+    }
+}
+
+/// The reconstructor `args` ask for: basis, camera mode, localizer, given bone lengths and
+/// intrinsics.
+fn reconstructor(args: &Args) -> Result<PoseReconstructor, CliError> {
+    let choice = camera_of(args);
+    let mut reconstructor = PoseReconstructor::new(load_basis(args.basis.as_deref())?)?;
+    if choice != ModeKind::Opt || args.model.is_some() {
+        reconstructor = reconstructor.with_localizer(load_model(args.model.as_deref())?);
+    }
+    let mut reconstructor = reconstructor.with_mode(choice)?;
+    if let Some(path) = &args.bone_lengths {
+        let lengths = BoneLengths::read_json(path).map_err(|e| CamlocError::Reconstruct {
+            context: "--bone-lengths".into(),
+            source: e.into(),
+        })?;
+        reconstructor = reconstructor.with_bone_lengths(lengths);
+    }
+    if let Some(focal_px) = args.focal_px {
+        let centre = args
+            .input
+            .image_size
+            .map(|size| [0.5 * size.width, 0.5 * size.height]);
+        reconstructor = reconstructor.with_intrinsics(Intrinsics {
+            focal_px,
+            principal_point: args.principal_point.or(centre),
+        })?;
+    }
+    Ok(reconstructor)
+}
+
 /// Runs `camloc reconstruct`.
 pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     let outputs = [
         (args.npy.as_deref(), "--npy", false),
         (args.svg.as_deref(), "--svg", true),
+        (args.bone_lengths_out.as_deref(), "--bone-lengths-out", true),
     ];
     targets::check_distinct(&targets::outputs(outputs))?;
-    let choice = args.camera;
-    let mut reconstructor = PoseReconstructor::new(load_basis(args.basis.as_deref())?)?;
-    if choice != ModeKind::Opt || args.model.is_some() {
-        reconstructor = reconstructor.with_localizer(load_model(args.model.as_deref())?);
-    }
-    let reconstructor = reconstructor.with_mode(choice)?;
+    let choice = camera_of(args);
+    let reconstructor = reconstructor(args)?;
     let inputs = Inputs::open(&args.input)?;
     let format = args.format.format();
+    let bar = progress::counter(
+        args.progress.quiet,
+        inputs.len_hint(),
+        "reconstruct",
+        "poses",
+    );
+    if args.sequence {
+        let options = reconstruct_sequence::Options {
+            choice,
+            svg: args.svg.as_deref(),
+            npy: args.npy.as_deref(),
+            lengths_out: args.bone_lengths_out.as_deref(),
+            force: args.force.force,
+            max_poses: args.sequence_max_poses,
+        };
+        return reconstruct_sequence::run(&reconstructor, inputs, out, format, &options, &bar);
+    }
     let files = Files::<Pose3> {
         svg: args.svg.clone(),
         npy: args.npy.clone(),
@@ -144,184 +249,26 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         force: args.force.force,
         pose: std::marker::PhantomData,
     };
-    let bar = progress::counter(
-        args.progress.quiet,
-        inputs.len_hint(),
-        "reconstruct",
-        "poses",
-    );
     let summary = stream::run(inputs, out, format, &files, &bar, |record| {
         let result = reconstructor
             .reconstruct_hypotheses(&record.pose, usize::from(args.hypotheses))
             .map_err(|e| e.to_string())?;
-        let r = &result.reconstruction;
-        let camera_text = match &result.localization {
-            Some(l) => format!(
-                "{} (classified camera {}, {} {}, p = {:.3})",
-                choice.name(),
-                l.label,
-                l.level.name(),
-                l.side.name(),
-                l.probability
-            ),
-            None => choice.name().to_string(),
-        };
-        let text = if format.is_json() {
-            stream::json_line(&ReconstructionJson {
-                id: &record.id,
-                source: &record.source,
-                frame: record.frame,
-                person: record.person,
-                camera_mode: choice.name(),
-                classified_label: result.localization.as_ref().map(|l| l.label),
-                best: HypothesisJson::new(r),
-                alternatives: result
-                    .alternatives
-                    .iter()
-                    .map(HypothesisJson::new)
-                    .collect(),
-            })
-        } else {
-            let id = escaped(&record.id);
-            let mut text = reconstruction_text(&format!("{id}: camera {camera_text}"), r);
-            for (k, alternative) in result.alternatives.iter().enumerate() {
-                text.push_str(&reconstruction_text(
-                    &format!("  alternative {}", k + 1),
-                    alternative,
-                ));
-            }
-            text
-        };
-        let svg = match (&files.svg, record.pose.complete()) {
-            (Some(_), Some(input)) => {
-                let reprojection = Pose2::new(r.camera.project(&r.pose.points));
-                let caption = format!("{}: camera {camera_text}", record.id);
-                Some(svg::reconstruction_svg(
-                    &input,
-                    &reprojection,
-                    &r.pose,
-                    &caption,
-                ))
-            }
-            _ => None,
+        let meta = PoseMeta {
+            id: &record.id,
+            source: &record.source,
+            frame: record.frame,
+            person: record.person,
         };
         Ok(Done {
-            text,
-            svg,
-            row: files.npy.as_ref().map(|_| r.pose),
+            text: pose_output(format, &meta, choice, &result),
+            svg: files
+                .svg
+                .as_ref()
+                .and_then(|_| pose_svg(&record.pose, &record.id, choice, &result)),
+            row: files.npy.as_ref().map(|_| result.reconstruction.pose),
         })
     })?;
     Ok(summary.exit_code("reconstructed"))
-}
-
-/// The camera of one pose of `reconstruct --json`.
-#[derive(Serialize)]
-struct CameraJson {
-    rotation: [[f64; 3]; 3],
-    scale: f64,
-    translation: [f64; 2],
-}
-
-/// The rotation of `r`'s camera as rows.
-fn rotation_rows(r: &Reconstruction) -> [[f64; 3]; 3] {
-    let rot = &r.camera.rotation;
-    std::array::from_fn(|i| [rot[(i, 0)], rot[(i, 1)], rot[(i, 2)]])
-}
-
-/// One hypothesis of `reconstruct --json`: camera, scores and 3D landmarks.
-#[derive(Serialize)]
-struct HypothesisJson<'a> {
-    camera: CameraJson,
-    projection_error: f64,
-    reflected: bool,
-    limit_violation_rad: f64,
-    landmarks_m: Landmarks<'a>,
-}
-
-impl<'a> HypothesisJson<'a> {
-    fn new(r: &'a Reconstruction) -> Self {
-        HypothesisJson {
-            camera: CameraJson {
-                rotation: rotation_rows(r),
-                scale: r.camera.scale,
-                translation: r.camera.translation,
-            },
-            projection_error: r.projection_error,
-            reflected: r.reflected,
-            limit_violation_rad: r.limit_violation_rad,
-            landmarks_m: Landmarks(&r.pose),
-        }
-    }
-}
-
-/// The 3D landmarks as a map from landmark name to `[x, y, z]` in metres.
-struct Landmarks<'a>(&'a Pose3);
-
-impl Serialize for Landmarks<'_> {
-    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
-        let mut map = serializer.serialize_map(Some(Landmark::ALL.len()))?;
-        for l in Landmark::ALL {
-            map.serialize_entry(l.name(), &self.0.points[l.index()])?;
-        }
-        map.end()
-    }
-}
-
-/// One pose of `reconstruct --json` / `--jsonl`.
-#[derive(Serialize)]
-struct ReconstructionJson<'a> {
-    id: &'a str,
-    source: &'a str,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    frame: Option<u64>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    person: Option<u64>,
-    camera_mode: &'static str,
-    classified_label: Option<CameraLabel>,
-    #[serde(flatten)]
-    best: HypothesisJson<'a>,
-    #[serde(skip_serializing_if = "Vec::is_empty")]
-    alternatives: Vec<HypothesisJson<'a>>,
-}
-
-/// One hypothesis as text: `heading` with its scores, the camera rotation, the 3D landmarks.
-fn reconstruction_text(heading: &str, r: &Reconstruction) -> String {
-    let mut out = String::new();
-    let _ = writeln!(
-        out,
-        "{heading}; reprojection error {:.3} (image units, eq. 6); joint-limit violation \
-         {:.3} rad{}",
-        r.projection_error,
-        r.limit_violation_rad,
-        if r.reflected {
-            " (depth-reflected)"
-        } else {
-            ""
-        }
-    );
-    for row in rotation_rows(r) {
-        let _ = writeln!(
-            out,
-            "  R = [{:>7.4} {:>7.4} {:>7.4}]",
-            row[0], row[1], row[2]
-        );
-    }
-    let _ = writeln!(
-        out,
-        "  3D landmarks (metres, canonical frame: facing -x, z up):"
-    );
-    for l in Landmark::ALL {
-        let p = r.pose.points[l.index()];
-        let _ = writeln!(
-            out,
-            "    {:<15} {:>8.4} {:>8.4} {:>8.4}",
-            l.name(),
-            p[0],
-            p[1],
-            p[2]
-        );
-    }
-    out
 }
 
 /// Runs `camloc evaluate-reconstruction`.

@@ -2,6 +2,8 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::Refinement;
+
 /// Which sum of squared limb lengths the reconstructed pose must have.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub enum LengthTarget {
@@ -50,6 +52,11 @@ pub struct ReconstructConfig {
     /// the camera; and prefer, between hypotheses that fit the 2D about equally, the one the
     /// limits like better.
     pub joint_limits: bool,
+    /// The final skeleton refinement: the pose rebuilt with the person's own bone lengths
+    /// (given, or estimated under the length prior) and fitted to the 2D again, in sequences
+    /// with shared lengths, smoothness and depths chosen consistently over time (see
+    /// [`Refinement`]).
+    pub refinement: Refinement,
 }
 
 /// Default [`ReconstructConfig::coefficient_prior`], chosen by cross-validation grouped by
@@ -61,8 +68,9 @@ pub const DEFAULT_COEFFICIENT_PRIOR: f64 = 0.01;
 pub const EQUAL_FIT_TOLERANCE: f64 = 0.1;
 
 impl Default for ReconstructConfig {
-    /// `max_basis` 12 with the training-average length target, depth reflection on and both
-    /// priors on (measured by `cargo xtask reconstruction`, docs/RESULTS.md).
+    /// `max_basis` 12 with the training-average length target, depth reflection on, both
+    /// priors on and the default [`Refinement`] (measured by `cargo xtask reconstruction`,
+    /// docs/RESULTS.md).
     /// Measured on held-out CMU subjects (`examples/compare_modes.rs`), `max_basis` from 8 to 16
     /// changes the mean MPJPE by less than 3 mm, and larger values overfit the 2D noise; the
     /// [`LengthTarget::Mean`] target is 6-16 mm worse there. The alternation and
@@ -78,6 +86,7 @@ impl Default for ReconstructConfig {
             coefficient_prior: DEFAULT_COEFFICIENT_PRIOR,
             symmetry: true,
             joint_limits: true,
+            refinement: Refinement::default(),
         }
     }
 }

@@ -10,8 +10,8 @@ use super::greedy::Fit;
 use super::mode::CameraMode;
 use super::observation::Observation;
 use super::reconstructor::Reconstructor;
-use crate::ReconstructError;
 use crate::prior::symmetrise;
+use crate::{Given, PerspectiveCamera, ReconstructError};
 
 /// Tolerance of the rotation check applied to rotations given in a [`CameraMode`].
 const ROTATION_TOLERANCE: f64 = 1e-6;
@@ -19,24 +19,29 @@ const ROTATION_TOLERANCE: f64 = 1e-6;
 /// A reconstructed 3D pose and the camera that projects it onto the input.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Reconstruction {
-    /// The pose `mu + B w`, metres, in the basis's canonical body frame (pelvis at the origin;
-    /// the frame in which the training poses face -x). The camera rotation maps this frame to
-    /// the camera; with a fixed class rotation the pose is therefore oriented as a canonical
-    /// pose seen from that class, with Procrustes modes its facing is whatever the estimated
-    /// camera implies. Its size is the training average (the anthropometric target), not the
-    /// subject's.
+    /// The 3D pose, metres, in the basis's canonical body frame (pelvis at the origin; the
+    /// frame in which the training poses face -x). The camera rotation maps this frame to the
+    /// camera; with a fixed class rotation the pose is therefore oriented as a canonical pose
+    /// seen from that class, with Procrustes modes its facing is whatever the estimated
+    /// camera implies. With the refinement ([`ReconstructConfig::refinement`]) it has the
+    /// given bone lengths, or the estimated ones (proportions from the 2D and the length
+    /// prior, size from the prior: a size cannot be told from one camera); without it, the
+    /// pursuit's `mu + B w` at the training-average size.
+    ///
+    /// [`ReconstructConfig::refinement`]: crate::ReconstructConfig::refinement
     pub pose: Pose3,
     /// Weak-perspective camera in the input's image units: `L = s [I2 0] R X + t`.
     pub camera: WeakPerspective,
     /// Eq. 6 at the solution: the Euclidean norm of the 30-vector of reprojection residuals,
     /// in the input's image units.
     pub projection_error: f64,
-    /// Indices of the selected basis components, in order of selection (at most
+    /// Indices of the pursuit's selected basis components, in order of selection (at most
     /// [`ReconstructConfig::max_basis`]).
     ///
     /// [`ReconstructConfig::max_basis`]: crate::ReconstructConfig::max_basis
     pub selected: Vec<usize>,
-    /// Coefficients of the selected components, parallel to `selected` (metres).
+    /// Coefficients of the selected components, parallel to `selected` (metres), before the
+    /// refinement.
     pub coefficients: Vec<f64>,
     /// Coefficient/camera alternations performed, over every hypothesis tried (both depth
     /// hypotheses; for [`CameraMode::Hybrid`], both solves).
@@ -47,14 +52,27 @@ pub struct Reconstruction {
     /// prior's projection: the sum over the 8 limb bones of the angle beyond the limits,
     /// radians (0: within them).
     pub limit_violation_rad: f64,
+    /// With known intrinsics ([`Given::intrinsics`]): the full perspective camera of the
+    /// final refinement (`camera` is then its weak-perspective approximation at the pelvis).
+    pub perspective: Option<PerspectiveCamera>,
 }
 
 /// One hypothesis of [`Reconstructor::solve`], after the priors.
-struct Candidate {
-    fit: Fit,
-    reflected: bool,
+pub(super) struct Candidate {
+    pub(super) fit: Fit,
+    pub(super) reflected: bool,
     /// [`Reconstruction::limit_violation_rad`].
-    violation: f64,
+    pub(super) violation: f64,
+}
+
+/// The hypotheses of one pose, preferred first ([`Reconstructor::ranked`]).
+pub(super) struct Ranked {
+    /// The normalised 2D input.
+    pub(super) obs: Observation,
+    /// The hypotheses after the priors, preferred first.
+    pub(super) candidates: Vec<Candidate>,
+    /// Alternations performed over all of them.
+    pub(super) iterations: usize,
 }
 
 impl Reconstructor {
@@ -122,6 +140,17 @@ impl Reconstructor {
         mode: &CameraMode,
         max: usize,
     ) -> Result<Vec<Reconstruction>, ReconstructError> {
+        self.reconstruct_with(pose, mode, max, &Given::default())
+    }
+
+    /// The pursuit's hypotheses for `pose` under `mode` after the priors, preferred first
+    /// (see [`reconstruct_hypotheses`](Self::reconstruct_hypotheses)), with the normalised
+    /// input and the alternations performed over all of them.
+    pub(super) fn ranked(
+        &self,
+        pose: &Pose2,
+        mode: &CameraMode,
+    ) -> Result<Ranked, ReconstructError> {
         let obs = Observation::new(pose)?;
         let checked = |r: &Matrix3| {
             check_rotation(r, ROTATION_TOLERANCE)
@@ -151,22 +180,11 @@ impl Reconstructor {
         };
         let iterations = candidates.iter().map(|c| c.fit.iterations).sum();
         candidates.sort_by(|a, b| self.preference(a, b));
-        Ok(candidates
-            .into_iter()
-            .take(max.max(1))
-            .map(|c| Reconstruction {
-                pose: Pose3 {
-                    points: c.fit.points,
-                },
-                camera: obs.denormalise(&c.fit.camera),
-                projection_error: c.fit.error.sqrt() * obs.scale,
-                selected: c.fit.selected,
-                coefficients: c.fit.coefficients,
-                iterations,
-                reflected: c.reflected,
-                limit_violation_rad: c.violation,
-            })
-            .collect())
+        Ok(Ranked {
+            obs,
+            candidates,
+            iterations,
+        })
     }
 
     /// The order of two hypotheses: by error, unless they fit about equally and the

@@ -4,7 +4,7 @@ use camloc_geometry::WeakPerspective;
 use camloc_skeleton::{NUM_LANDMARKS, Pose2};
 use nalgebra::DVector;
 
-use crate::{ReconstructError, check_finite_landmarks, is_positive_finite};
+use crate::{Intrinsics, ReconstructError, check_finite_landmarks, is_positive_finite};
 
 /// Number of image coordinates of a pose (15 landmarks x 2).
 pub(super) const IMAGE_DIM: usize = 2 * NUM_LANDMARKS;
@@ -48,6 +48,35 @@ impl Observation {
     /// The normalised points as a 30-vector.
     pub(super) fn vector(&self) -> DVector<f64> {
         DVector::from_iterator(IMAGE_DIM, self.points.iter().flatten().copied())
+    }
+
+    /// Intrinsics in the normalised units: the focal length and the principal point (the
+    /// centre of the points' bounding box when the intrinsics have none).
+    pub(super) fn normalise_intrinsics(&self, intrinsics: &Intrinsics) -> (f64, [f64; 2]) {
+        let principal = match intrinsics.principal_point {
+            Some(c) => [
+                (c[0] - self.centroid[0]) / self.scale,
+                (c[1] - self.centroid[1]) / self.scale,
+            ],
+            None => std::array::from_fn(|k| {
+                let (lo, hi) = self
+                    .points
+                    .iter()
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                        (lo.min(p[k]), hi.max(p[k]))
+                    });
+                0.5 * (lo + hi)
+            }),
+        };
+        (intrinsics.focal_px / self.scale, principal)
+    }
+
+    /// A normalised image point in the input's image units.
+    pub(super) fn denormalise_point(&self, p: [f64; 2]) -> [f64; 2] {
+        [
+            p[0] * self.scale + self.centroid[0],
+            p[1] * self.scale + self.centroid[1],
+        ]
     }
 
     /// A camera fitted to the normalised points, expressed in the input's image units.

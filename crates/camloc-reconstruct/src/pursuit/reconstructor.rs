@@ -5,7 +5,8 @@ use nalgebra::{DMatrix, DVector};
 
 use super::config::{LengthTarget, ReconstructConfig};
 use crate::basis::{LIMB_DIM, limb_vectors};
-use crate::{PoseBasis, ReconstructError};
+use crate::length_prior::LimbMatrix;
+use crate::{BoneLengths, PoseBasis, ReconstructError};
 
 /// Reconstructs 3D poses from 2D landmarks with a [`PoseBasis`].
 #[derive(Clone, Debug)]
@@ -22,6 +23,9 @@ pub struct Reconstructor {
     /// of its 15 landmark vectors, and `C_j` itself (`xx, xy, xz, yy, yz, zz`): the squared
     /// norm of its centred projection by `s [I2 0] R` is `s^2 (tr C_j - r3^T C_j r3)`.
     pub(super) scatter: Vec<(f64, [f64; 6])>,
+    /// The whitening matrix of the basis's length prior widened by the refinement's
+    /// widening.
+    pub(super) whitening: LimbMatrix,
 }
 
 impl Reconstructor {
@@ -29,8 +33,9 @@ impl Reconstructor {
     /// coordinates).
     ///
     /// # Errors
-    /// [`ReconstructError::InvalidConfig`] for `max_basis = 0`, `max_alternations = 0` or a
-    /// tolerance outside `[0, 1)`.
+    /// [`ReconstructError::InvalidConfig`] for `max_basis = 0`, `max_alternations = 0`, a
+    /// tolerance outside `[0, 1)` or a refinement setting out of range;
+    /// [`ReconstructError::Numerical`] when the widened length prior has no inverse.
     pub fn new(
         basis: PoseBasis,
         config: ReconstructConfig,
@@ -75,6 +80,10 @@ impl Reconstructor {
                 return Err(invalid(field, value.to_string(), "must lie in [0, 1)"));
             }
         }
+        config.refinement.check()?;
+        let whitening = basis
+            .length_prior()
+            .whitening(&config.refinement.widening)?;
         let k = basis.n_components();
         let mut limbs = DMatrix::zeros(LIMB_DIM, k);
         for j in 0..k {
@@ -119,6 +128,7 @@ impl Reconstructor {
             cross: limbs.transpose() * mean_limbs,
             offset: mean_sum - target,
             scatter,
+            whitening,
             basis,
             config,
         })
@@ -134,7 +144,17 @@ impl Reconstructor {
         &self.config
     }
 
-    /// The sum of squared limb lengths every reconstruction has, m^2.
+    /// The bone lengths a reconstruction has without given or estimated lengths: the length
+    /// prior's template (the geometric mean of the training skeletons, metres).
+    ///
+    /// # Errors
+    /// As [`LengthPrior::template`](crate::LengthPrior::template).
+    pub fn template_lengths(&self) -> Result<BoneLengths, ReconstructError> {
+        self.basis.length_prior().template()
+    }
+
+    /// The sum of squared limb lengths every pursuit pose has, m^2 (the refinement then
+    /// gives the pose its own lengths).
     pub fn length_target(&self) -> f64 {
         limb_vectors(self.basis.mean_vector()).norm_squared() - self.offset
     }

@@ -6,8 +6,12 @@
 
 #![allow(dead_code)] // Each test binary uses a different part of this module.
 
+use std::sync::OnceLock;
+
 use camloc_geometry::{Matrix3, Vector3, look_at_origin, rotation_about_axis, sphere_point};
-use camloc_reconstruct::{PoseBasis, ReconstructConfig, sum_squared_limb_lengths};
+use camloc_reconstruct::{
+    BasisConfig, BasisKind, PoseBasis, ReconstructConfig, Refinement, sum_squared_limb_lengths,
+};
 use camloc_skeleton::{NUM_LANDMARKS, Pose3};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -256,13 +260,35 @@ pub fn pose_in_span(
     (basis.pose(&w).unwrap(), w)
 }
 
-/// The default pursuit without its priors (coefficient prior, limb symmetry, joint limits):
-/// the plain projected matching pursuit whose exact properties the tests check.
+/// The default pursuit without its priors (coefficient prior, limb symmetry, joint limits)
+/// and without the skeleton refinement (its length prior): the plain projected matching
+/// pursuit whose exact properties the tests check.
 pub fn without_priors() -> ReconstructConfig {
     ReconstructConfig {
         coefficient_prior: 0.0,
         symmetry: false,
         joint_limits: false,
+        refinement: Refinement {
+            estimate_lengths: false,
+            ..Refinement::default()
+        },
         ..ReconstructConfig::default()
     }
+}
+
+/// 12 principal components of 2000 synthetic poses (seed 7), fitted once: small enough that a
+/// pose on the first few is recovered exactly.
+pub fn small_basis() -> &'static PoseBasis {
+    static BASIS: OnceLock<PoseBasis> = OnceLock::new();
+    BASIS.get_or_init(|| {
+        PoseBasis::fit(
+            &training_set(2000, 7),
+            &BasisConfig {
+                n_components: 12,
+                kind: BasisKind::Pca,
+                ..BasisConfig::default()
+            },
+        )
+        .unwrap()
+    })
 }

@@ -1,0 +1,192 @@
+//! `camloc reconstruct --sequence`: every pose is read and kept (its id, source, frame,
+//! person and 2D landmarks), grouped by person and ordered by frame as `localize --sequence`
+//! groups them ([`sequences`]), and each person's frames are reconstructed together
+//! ([`PoseReconstructor::reconstruct_sequence`]: shared bone lengths, depths chosen over
+//! time, smoothness). Frames are written by person then frame; `.npy` rows stay in input
+//! order; `--bone-lengths-out` gets each person's lengths.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use camloc::reconstruct::BoneLengths;
+use camloc::store::{StagedFiles, check_target};
+use camloc::{ModeKind, PartialPose2, Pose3, PoseReconstructor, sequences};
+use indicatif::ProgressBar;
+
+use super::input::Inputs;
+use super::output::{NpyStage, Out};
+use super::reconstruct_output::{PoseMeta, lengths_text, pose_output, pose_svg};
+use super::stream::{Emitter, ErrorJson, Format, Summary, json_line, report_pose_error};
+use super::{CliError, numbered_path};
+
+/// One pose kept until its person is reconstructed.
+struct Kept {
+    id: Box<str>,
+    source: Box<str>,
+    frame: Option<u64>,
+    person: Option<u64>,
+    pose: PartialPose2,
+}
+
+/// The options of a sequence run.
+pub struct Options<'a> {
+    /// `--camera`.
+    pub choice: ModeKind,
+    /// `--svg`: one drawing per frame (numbered in output order when there are several).
+    pub svg: Option<&'a Path>,
+    /// `--npy`: one row per pose read, in input order.
+    pub npy: Option<&'a Path>,
+    /// `--bone-lengths-out`: each person's lengths.
+    pub lengths_out: Option<&'a Path>,
+    /// `--force`.
+    pub force: bool,
+    /// `--sequence-max-poses`.
+    pub max_poses: u64,
+}
+
+/// The numbered names of `--bone-lengths-out` take `.json` when the name has no extension.
+fn lengths_path(out: &Path, index: usize, count: usize) -> PathBuf {
+    let base = if out.extension().is_none() && count > 1 {
+        out.with_extension("json")
+    } else {
+        out.to_path_buf()
+    };
+    numbered_path(&base, index, count)
+}
+
+/// Runs `camloc reconstruct --sequence` (see the module docs).
+pub fn run(
+    reconstructor: &PoseReconstructor,
+    mut inputs: Inputs,
+    out: &mut Out,
+    format: Format,
+    options: &Options,
+    bar: &ProgressBar,
+) -> Result<ExitCode, CliError> {
+    if let Some(svg) = options.svg {
+        check_target(svg, options.force)?;
+        check_target(&numbered_path(svg, 0, 2), options.force)?;
+    }
+    if let Some(path) = options.npy {
+        check_target(path, options.force)?;
+    }
+    if let Some(path) = options.lengths_out {
+        check_target(path, options.force)?;
+        check_target(&lengths_path(path, 0, 2), options.force)?;
+    }
+    let mut emit = Emitter::new(format);
+    let mut summary = Summary::default();
+    let mut kept: Vec<Kept> = Vec::new();
+    for item in inputs.by_ref() {
+        match item {
+            Err(e) => emit.file_error(out, &mut summary, bar, &e)?,
+            Ok(record) => {
+                if summary.poses == options.max_poses {
+                    return Err(CliError::TooManyPoses(options.max_poses));
+                }
+                summary.poses += 1;
+                kept.push(Kept {
+                    id: record.id.as_str().into(),
+                    source: record.source.as_str().into(),
+                    frame: record.frame,
+                    person: record.person,
+                    pose: record.pose,
+                });
+                bar.inc(1);
+            }
+        }
+    }
+    bar.finish_and_clear();
+    if summary.poses == 0 && summary.failed_files == 0 {
+        return Err(CliError::NoPoses(inputs.name().to_owned()));
+    }
+    let keys: Vec<_> = kept.iter().map(|k| (k.frame, k.person)).collect();
+    let groups = sequences(&keys);
+    let mut staged = StagedFiles::new(options.force);
+    let mut rows: Vec<Option<Pose3>> =
+        vec![None; if options.npy.is_some() { kept.len() } else { 0 }];
+    // The staged drawings: (number, staged file).
+    let mut drawn: Vec<(usize, usize)> = Vec::new();
+    for (n, (person, members)) in groups.iter().enumerate() {
+        let poses: Vec<PartialPose2> = members.iter().map(|&i| kept[i].pose).collect();
+        let result = reconstructor.reconstruct_sequence(&poses);
+        let (frames, lengths): (Vec<Result<_, String>>, Option<BoneLengths>) = match result {
+            Ok(r) => (
+                r.frames
+                    .into_iter()
+                    .map(|f| f.map_err(|e| e.to_string()))
+                    .collect(),
+                Some(r.lengths),
+            ),
+            Err(e) => (members.iter().map(|_| Err(e.to_string())).collect(), None),
+        };
+        for (&i, frame) in members.iter().zip(frames) {
+            let k = &kept[i];
+            match frame {
+                Ok(r) => {
+                    let meta = PoseMeta {
+                        id: &k.id,
+                        source: &k.source,
+                        frame: k.frame,
+                        person: k.person,
+                    };
+                    emit.write(out, &pose_output(format, &meta, options.choice, &r))?;
+                    if let Some(svg) = options.svg {
+                        if let Some(drawing) = pose_svg(&k.pose, &k.id, options.choice, &r) {
+                            // Numbered as if there were several; a single one is renamed.
+                            let path = numbered_path(svg, drawn.len(), 2);
+                            drawn.push((drawn.len(), staged.add(&path, drawing.as_bytes())?));
+                        }
+                    }
+                    if let Some(row) = rows.get_mut(i) {
+                        *row = Some(r.reconstruction.pose);
+                    }
+                }
+                Err(message) => {
+                    summary.failed_poses += 1;
+                    report_pose_error(bar, &k.id, &k.source, &message);
+                    if format.is_json() {
+                        let object = ErrorJson {
+                            id: Some(&k.id),
+                            source: Some(&k.source),
+                            error: &message,
+                        };
+                        emit.write(out, &json_line(&object))?;
+                    }
+                }
+            }
+        }
+        if let Some(lengths) = lengths {
+            if format == Format::Text {
+                emit.write(
+                    out,
+                    &format!(
+                        "person {person} ({} frames): bone lengths (m): {}\n",
+                        members.len(),
+                        lengths_text(&lengths)
+                    ),
+                )?;
+            }
+            if let Some(path) = options.lengths_out {
+                staged.add(
+                    &lengths_path(path, n, groups.len()),
+                    lengths.to_json_string().as_bytes(),
+                )?;
+            }
+        }
+    }
+    emit.end(out)?;
+    out.flush()?;
+    if let Some(path) = options.npy {
+        let mut npy = NpyStage::<Pose3>::new(path)?;
+        for row in &rows {
+            npy.push(row.as_ref())?;
+        }
+        npy.finish(&mut staged)?;
+    }
+    if let (Some(svg), Some(&(0, at)), 1) = (options.svg, drawn.first(), drawn.len()) {
+        staged.retarget(at, svg);
+    }
+    staged.commit()?;
+    Ok(summary.exit_code("reconstructed"))
+}

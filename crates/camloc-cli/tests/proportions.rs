@@ -1,0 +1,210 @@
+//! `camloc reconstruct` in the person's own proportions: `--bone-lengths`, `--sequence` with
+//! `--bone-lengths-out`, `--focal-px`, and their refusals.
+
+mod common;
+
+use camloc::reconstruct::BONE_KEYS as KEYS;
+use serde_json::Value;
+
+use common::{TempDir, camloc, fixture};
+
+/// The path of `name` in `dir` (not created).
+fn path(dir: &TempDir, name: &str) -> String {
+    dir.0.join(name).to_string_lossy().into_owned()
+}
+
+fn example() -> String {
+    fixture("keypoints/example.json")
+        .to_string_lossy()
+        .into_owned()
+}
+
+const LENGTHS: [f64; 14] = [
+    0.11, 0.44, 0.41, 0.11, 0.44, 0.41, 0.52, 0.16, 0.19, 0.30, 0.27, 0.19, 0.30, 0.27,
+];
+
+/// A bone lengths document with `lengths` (and the header).
+fn document(lengths: &[f64]) -> String {
+    let named: serde_json::Map<String, Value> = KEYS
+        .iter()
+        .zip(lengths)
+        .map(|(k, l)| (k.to_string(), Value::from(*l)))
+        .collect();
+    serde_json::json!({"format": "camloc-bone-lengths", "version": 1, "unit": "m", "lengths": named})
+        .to_string()
+}
+
+/// The `bone_lengths_m` of every pose of a JSON Lines output, in [`KEYS`] order.
+fn lengths_of(stdout: &[u8]) -> Vec<Vec<f64>> {
+    String::from_utf8_lossy(stdout)
+        .lines()
+        .map(|line| {
+            let v: Value = serde_json::from_str(line).unwrap();
+            KEYS.iter()
+                .map(|k| v["bone_lengths_m"][k].as_f64().unwrap())
+                .collect()
+        })
+        .collect()
+}
+
+#[test]
+fn given_bone_lengths_are_what_every_pose_has() {
+    let dir = TempDir::new("prop-given");
+    let file = dir.file("lengths.json", &document(&LENGTHS));
+    let out = camloc(&[
+        "reconstruct",
+        "--input",
+        &example(),
+        "--bone-lengths",
+        &file,
+        "--jsonl",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let poses = lengths_of(&out.stdout);
+    assert_eq!(poses.len(), 3);
+    for pose in &poses {
+        for (got, want) in pose.iter().zip(LENGTHS) {
+            assert!((got - want).abs() < 1e-9, "{got} vs {want}");
+        }
+    }
+    // Estimated lengths differ from pose to pose (no shared person without --sequence).
+    let free = camloc(&["reconstruct", "--input", &example(), "--jsonl"]);
+    assert!(free.status.success());
+    let free = lengths_of(&free.stdout);
+    assert_ne!(free[0], free[1]);
+}
+
+#[test]
+fn a_sequence_shares_one_set_of_lengths_and_writes_them() {
+    let dir = TempDir::new("prop-sequence");
+    let (lengths_out, npy) = (path(&dir, "person.json"), path(&dir, "poses.npy"));
+    let args = [
+        "reconstruct",
+        "--input",
+        &example(),
+        "--sequence",
+        "--jsonl",
+        "--bone-lengths-out",
+        &lengths_out,
+        "--npy",
+        &npy,
+    ];
+    let out = camloc(&args);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let poses = lengths_of(&out.stdout);
+    assert_eq!(poses.len(), 3);
+    let written: Value =
+        serde_json::from_str(&std::fs::read_to_string(&lengths_out).unwrap()).unwrap();
+    assert_eq!(written["format"], "camloc-bone-lengths");
+    for pose in &poses {
+        for (got, key) in pose.iter().zip(KEYS) {
+            let want = written["lengths"][key].as_f64().unwrap();
+            assert!((got - want).abs() < 1e-9, "{key}: {got} vs {want}");
+        }
+    }
+    // (3, 15, 3) float64: the header and 3 * 45 numbers.
+    let bytes = std::fs::read(&npy).unwrap();
+    assert!(bytes.len() > 3 * 45 * 8 && bytes.len() < 3 * 45 * 8 + 256);
+    // Nothing is overwritten without --force; the written lengths read back as input.
+    let again = camloc(&args);
+    assert!(!again.status.success());
+    let reread = camloc(&[
+        "reconstruct",
+        "--input",
+        &example(),
+        "--bone-lengths",
+        &lengths_out,
+    ]);
+    assert!(
+        reread.status.success(),
+        "{}",
+        String::from_utf8_lossy(&reread.stderr)
+    );
+}
+
+#[test]
+fn a_focal_length_adds_the_perspective_camera() {
+    let out = camloc(&[
+        "reconstruct",
+        "--input",
+        &example(),
+        "--focal-px",
+        "800",
+        "--principal-point",
+        "320,240",
+        "--jsonl",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    for line in String::from_utf8_lossy(&out.stdout).lines() {
+        let v: Value = serde_json::from_str(line).unwrap();
+        assert_eq!(v["perspective"]["focal_px"], 800.0);
+        assert!(v["perspective"]["translation_m"][2].as_f64().unwrap() > 0.0);
+    }
+    for bad in ["0", "-5", "nan", "inf", "x"] {
+        let out = camloc(&["reconstruct", "--input", &example(), "--focal-px", bad]);
+        assert!(!out.status.success(), "--focal-px {bad} accepted");
+    }
+    let out = camloc(&[
+        "reconstruct",
+        "--input",
+        &example(),
+        "--principal-point",
+        "1,2",
+    ]);
+    assert!(
+        !out.status.success(),
+        "--principal-point without --focal-px"
+    );
+}
+
+#[test]
+fn bad_bone_lengths_files_are_refused_with_what_and_where() {
+    let dir = TempDir::new("prop-bad");
+    let mut centimetres = LENGTHS;
+    centimetres[6] = 52.0;
+    let missing = document(&LENGTHS).replace("\"torso\"", "\"trunk\"");
+    let cases = [
+        (document(&centimetres), "torso"),
+        (missing, "trunk"),
+        ("{\"lengths\": ".to_string(), "line 1"),
+        (
+            document(&LENGTHS).replace("\"unit\":\"m\"", "\"unit\":\"mm\""),
+            "unit",
+        ),
+        ("x".repeat(70_000), "larger than"),
+    ];
+    for (n, (text, named)) in cases.iter().enumerate() {
+        let file = dir.file(&format!("bad-{n}.json"), text);
+        let out = camloc(&[
+            "reconstruct",
+            "--input",
+            &example(),
+            "--bone-lengths",
+            &file,
+        ]);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "case {n} accepted");
+        assert!(stderr.contains(named), "case {n}: {stderr}");
+        assert!(stderr.contains("bad-"), "case {n} names no file: {stderr}");
+    }
+    let out = camloc(&[
+        "reconstruct",
+        "--input",
+        &example(),
+        "--bone-lengths",
+        &path(&dir, "absent.json"),
+    ]);
+    assert!(!out.status.success());
+}

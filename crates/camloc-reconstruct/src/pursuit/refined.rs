@@ -1,0 +1,156 @@
+//! The pursuit's hypotheses refined into the person's own proportions
+//! ([`Reconstructor::reconstruct_with`]) and turned into [`Reconstruction`]s.
+
+use camloc_skeleton::{Pose2, Pose3};
+
+use super::hypotheses::{Candidate, Ranked, Reconstruction};
+use super::mode::CameraMode;
+use super::observation::Observation;
+use super::reconstructor::Reconstructor;
+use crate::refine::{LengthInput, RefineFrame, RefinedFrame, refine};
+use crate::{BoneLengths, Given, PerspectiveCamera, ReconstructError};
+
+impl Reconstructor {
+    /// Reconstructs the 3D pose seen in `pose` like
+    /// [`reconstruct_hypotheses`](Self::reconstruct_hypotheses), with what is `given` of the
+    /// person and the camera: each of the (up to `max`) hypotheses is refined
+    /// ([`ReconstructConfig::refinement`](crate::ReconstructConfig::refinement)) with the
+    /// given bone lengths or, without them, with the lengths as unknowns under the length
+    /// prior; with given intrinsics, under full perspective. The hypotheses keep the
+    /// pursuit's order.
+    ///
+    /// # Errors
+    /// As [`reconstruct_hypotheses`](Self::reconstruct_hypotheses);
+    /// [`ReconstructError::InvalidConfig`] for intrinsics that are not finite or a focal
+    /// length that is not positive; [`ReconstructError::Numerical`] when the estimated
+    /// lengths leave the plausible range.
+    pub fn reconstruct_with(
+        &self,
+        pose: &Pose2,
+        mode: &CameraMode,
+        max: usize,
+        given: &Given,
+    ) -> Result<Vec<Reconstruction>, ReconstructError> {
+        if let Some(intrinsics) = &given.intrinsics {
+            intrinsics.check()?;
+        }
+        let Ranked {
+            obs,
+            candidates,
+            iterations,
+        } = self.ranked(pose, mode)?;
+        candidates
+            .into_iter()
+            .take(max.max(1))
+            .map(|c| {
+                let refined = if self.refines(given) {
+                    let frame = self.refine_frame(&obs, &c, given);
+                    let (mut out, _) = refine(
+                        &[frame],
+                        self.length_input(given),
+                        &self.config.refinement,
+                        false,
+                    )?;
+                    out.pop()
+                } else {
+                    None
+                };
+                Ok(self.reconstruction(&obs, c, refined, given, iterations))
+            })
+            .collect()
+    }
+
+    /// Whether the refinement runs: lengths or intrinsics given, or lengths to estimate.
+    pub(super) fn refines(&self, given: &Given) -> bool {
+        self.config.refinement.estimate_lengths
+            || given.lengths.is_some()
+            || given.intrinsics.is_some()
+    }
+
+    /// The refinement's lengths: the given ones, else unknowns under the length prior.
+    pub(super) fn length_input(&self, given: &Given) -> LengthInput<'_> {
+        match given.lengths {
+            Some(lengths) => LengthInput::Given(lengths),
+            None => LengthInput::Estimated {
+                whitening: &self.whitening,
+                mean_log: self.basis.length_prior().mean_log(),
+            },
+        }
+    }
+
+    /// The lengths a reconstruction has without the refinement: the given ones, else those
+    /// of the pursuit's `poses` on average.
+    pub(super) fn unrefined_lengths(
+        &self,
+        given: &Given,
+        poses: &[Pose3],
+    ) -> Result<BoneLengths, ReconstructError> {
+        match given.lengths {
+            Some(lengths) => Ok(lengths),
+            None if poses.is_empty() => self.template_lengths(),
+            None => Ok(BoneLengths::mean_of(poses)?),
+        }
+    }
+
+    /// What the refinement starts `candidate` from.
+    pub(super) fn refine_frame(
+        &self,
+        obs: &Observation,
+        candidate: &Candidate,
+        given: &Given,
+    ) -> RefineFrame {
+        RefineFrame {
+            observed: obs.points,
+            pose: Pose3 {
+                points: candidate.fit.points,
+            },
+            camera: candidate.fit.camera,
+            intrinsics: given.intrinsics.map(|i| obs.normalise_intrinsics(&i)),
+        }
+    }
+
+    /// The reconstruction of `candidate`, `refined` or as the pursuit left it, in the input's
+    /// image units.
+    pub(super) fn reconstruction(
+        &self,
+        obs: &Observation,
+        candidate: Candidate,
+        refined: Option<RefinedFrame>,
+        given: &Given,
+        iterations: usize,
+    ) -> Reconstruction {
+        let (pose, camera, error, perspective) = match refined {
+            Some(r) => {
+                let perspective =
+                    r.perspective
+                        .zip(given.intrinsics)
+                        .map(|((t, c), intrinsics)| PerspectiveCamera {
+                            rotation: r.camera.rotation,
+                            translation: t,
+                            focal_px: intrinsics.focal_px,
+                            principal_point: obs.denormalise_point(c),
+                        });
+                (r.pose, r.camera, r.squared_error, perspective)
+            }
+            None => (
+                Pose3 {
+                    points: candidate.fit.points,
+                },
+                candidate.fit.camera,
+                candidate.fit.error,
+                None,
+            ),
+        };
+        Reconstruction {
+            pose,
+            camera: obs.denormalise(&camera),
+            projection_error: error.sqrt() * obs.scale,
+            selected: candidate.fit.selected,
+            coefficients: candidate.fit.coefficients,
+            iterations,
+            reflected: candidate.reflected,
+            limit_violation_rad: candidate.violation,
+            perspective,
+        }
+    }
+}

@@ -1,0 +1,150 @@
+//! The frames of one person: each frame's hypotheses, the depths chosen consistently over
+//! time, and one refinement with shared bone lengths and smoothness
+//! ([`Reconstructor::reconstruct_sequence`]).
+
+use camloc_skeleton::{Pose2, Pose3};
+use nalgebra::Vector3;
+use rayon::prelude::*;
+
+use super::hypotheses::{Candidate, Ranked, Reconstruction};
+use super::mode::CameraMode;
+use super::reconstructor::Reconstructor;
+use crate::refine::{RefinedFrame, refine};
+use crate::viterbi::cheapest_path;
+use crate::{BoneLengths, Given, ReconstructError};
+
+/// The reconstruction of one person's frames.
+#[derive(Debug)]
+pub struct SequenceReconstruction {
+    /// Per frame, in the order given: its reconstruction, or why it has none.
+    pub frames: Vec<Result<Reconstruction, ReconstructError>>,
+    /// The person's bone lengths, which every reconstructed frame has: the given ones, or
+    /// those estimated from all frames (metres; size from the length prior).
+    pub lengths: BoneLengths,
+}
+
+/// The Viterbi cost of a joint-limit violation: one unit per this many radians.
+const VIOLATION_UNIT_RAD: f64 = 0.2;
+
+impl Reconstructor {
+    /// Reconstructs the frames of one person, in time order: each frame's pursuit
+    /// hypotheses (with its own [`CameraMode`]); then, with
+    /// [`Refinement::consistent_depth`](crate::Refinement::consistent_depth), the hypothesis
+    /// of every frame on the path that minimises the frames' reprojection errors and
+    /// joint-limit violations plus the camera-oriented motion between consecutive frames
+    /// (Viterbi), else each frame's preferred one; then one refinement of all frames with
+    /// shared bone lengths (given, or unknowns under the length prior) and the smoothness of
+    /// [`Refinement::smoothness`](crate::Refinement::smoothness). A frame whose pursuit
+    /// fails (a degenerate pose) is reported and left out: it breaks the Viterbi path, and
+    /// its neighbours become consecutive in the smoothness.
+    ///
+    /// # Errors
+    /// [`ReconstructError::InvalidConfig`] for invalid intrinsics;
+    /// [`ReconstructError::Numerical`] when the estimated lengths leave the plausible range.
+    /// Errors of single frames are in [`SequenceReconstruction::frames`].
+    pub fn reconstruct_sequence(
+        &self,
+        frames: &[(Pose2, CameraMode)],
+        given: &Given,
+    ) -> Result<SequenceReconstruction, ReconstructError> {
+        if let Some(intrinsics) = &given.intrinsics {
+            intrinsics.check()?;
+        }
+        let ranked: Vec<Result<Ranked, ReconstructError>> = frames
+            .par_iter()
+            .with_max_len(8)
+            .map(|(pose, mode)| self.ranked(pose, mode))
+            .collect();
+        let choice = self.choose(&ranked);
+        // Every frame's result; the successful ones are filled in at the end.
+        let mut out: Vec<Result<Reconstruction, ReconstructError>> =
+            Vec::with_capacity(frames.len());
+        let mut chosen: Vec<(usize, Ranked, Candidate)> = Vec::new();
+        for (t, (r, h)) in ranked.into_iter().zip(choice).enumerate() {
+            match r {
+                Ok(mut r) if h < r.candidates.len() => {
+                    let candidate = r.candidates.swap_remove(h);
+                    chosen.push((t, r, candidate));
+                    out.push(Err(ReconstructError::Numerical("no hypothesis was solved")));
+                }
+                Ok(_) => out.push(Err(ReconstructError::Numerical("no hypothesis was solved"))),
+                Err(e) => out.push(Err(e)),
+            }
+        }
+        let (refined, lengths): (Vec<Option<RefinedFrame>>, BoneLengths) = if self.refines(given) {
+            let inputs: Vec<_> = chosen
+                .iter()
+                .map(|(_, r, c)| self.refine_frame(&r.obs, c, given))
+                .collect();
+            let (refined, lengths) = refine(
+                &inputs,
+                self.length_input(given),
+                &self.config.refinement,
+                true,
+            )?;
+            (refined.into_iter().map(Some).collect(), lengths)
+        } else {
+            let poses: Vec<Pose3> = chosen
+                .iter()
+                .map(|(_, _, c)| Pose3 {
+                    points: c.fit.points,
+                })
+                .collect();
+            (
+                chosen.iter().map(|_| None).collect(),
+                self.unrefined_lengths(given, &poses)?,
+            )
+        };
+        for ((t, r, candidate), refined) in chosen.into_iter().zip(refined) {
+            out[t] = Ok(self.reconstruction(&r.obs, candidate, refined, given, r.iterations));
+        }
+        Ok(SequenceReconstruction {
+            frames: out,
+            lengths,
+        })
+    }
+
+    /// The hypothesis of each frame (0 for a failed frame): the Viterbi path when depths are
+    /// chosen consistently, else each frame's preferred one.
+    fn choose(&self, ranked: &[Result<Ranked, ReconstructError>]) -> Vec<usize> {
+        let settings = &self.config.refinement;
+        if !settings.consistent_depth {
+            return vec![0; ranked.len()];
+        }
+        let image = 0.5 / (settings.image_sigma * settings.image_sigma);
+        let costs = per_hypothesis(ranked, |c| {
+            c.fit.error * image + c.violation / VIOLATION_UNIT_RAD
+        });
+        // Camera-oriented landmarks of every hypothesis.
+        let seen = per_hypothesis(ranked, |c| {
+            c.fit
+                .points
+                .map(|p| c.fit.camera.rotation * Vector3::from(p))
+        });
+        let motion = 0.5 / (settings.motion_m * settings.motion_m);
+        // A failed frame breaks the path, so that a transition is always from the frame
+        // before.
+        cheapest_path(&costs, |t, from, to| {
+            let (a, b) = (&seen[t - 1][from], &seen[t][to]);
+            motion
+                * a.iter()
+                    .zip(b)
+                    .map(|(x, y)| (x - y).norm_squared())
+                    .sum::<f64>()
+        })
+    }
+}
+
+/// `f` of every hypothesis of every frame (none for a failed frame).
+fn per_hypothesis<T>(
+    ranked: &[Result<Ranked, ReconstructError>],
+    f: impl Fn(&Candidate) -> T,
+) -> Vec<Vec<T>> {
+    ranked
+        .iter()
+        .map(|r| {
+            r.as_ref()
+                .map_or_else(|_| Vec::new(), |r| r.candidates.iter().map(&f).collect())
+        })
+        .collect()
+}

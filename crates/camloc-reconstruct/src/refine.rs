@@ -1,0 +1,194 @@
+//! The skeleton refinement: the pursuit's pose rebuilt with a person's own bone lengths and
+//! fitted again to the 2D (docs/conventions.md section 6).
+//!
+//! The pose is a skeleton of 14 bones from the pelvis, each a unit direction times a length.
+//! Starting from the pursuit's pose (its bone directions) and camera, Levenberg-Marquardt
+//! minimises the robust reprojection error (Huber) plus, as priors, each bone direction's
+//! distance from the pursuit's (which keeps the pursuit's choice of depths and its learned
+//! pose where the 2D says nothing) and, when the lengths are unknowns, a Gaussian on the log
+//! lengths ([`LengthPrior`](crate::LengthPrior), widened by [`LengthWidening`]). Over the
+//! frames of one person (a sequence) the lengths are shared and each bone's direction in the
+//! camera's orientation is held near the mean of its neighbouring frames'. With known
+//! intrinsics the camera is a full perspective one.
+//!
+//! Layers: `kinematics` (bones to landmarks), `problem` (one frame's cost and normal
+//! equations), `solve` (the steps over all frames), `run` (from pursuit results to refined
+//! poses).
+
+mod kinematics;
+mod problem;
+mod run;
+mod solve;
+
+use camloc_geometry::Matrix3;
+use serde::{Deserialize, Serialize};
+
+use crate::length_prior::LengthWidening;
+use crate::{BoneLengths, ReconstructError};
+
+pub(crate) use run::{LengthInput, RefineFrame, RefinedFrame, refine};
+
+/// Settings of the skeleton refinement ([`ReconstructConfig::refinement`]).
+///
+/// [`ReconstructConfig::refinement`]: crate::ReconstructConfig::refinement
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Refinement {
+    /// Without given lengths: refine with the lengths as unknowns under the length prior
+    /// (`true`), or keep the pursuit's pose with the training-average proportions (`false`,
+    /// no refinement). Given lengths or intrinsics are always refined with.
+    pub estimate_lengths: bool,
+    /// Deviation of the 2D landmarks, in units of the input's RMS radius about its centroid
+    /// (the 2D input is normalised so; a torso is about 1.1 of them); > 0.
+    pub image_sigma: f64,
+    /// Huber threshold of a landmark's reprojection error, in `image_sigma`s; > 0.
+    pub huber: f64,
+    /// Deviation of each bone's unit direction from the pursuit's; > 0.
+    pub direction_sigma: f64,
+    /// The length prior's widening for other skeletons and detectors.
+    pub widening: LengthWidening,
+    /// Most Levenberg-Marquardt steps (at least 1).
+    pub iterations: usize,
+    /// Sequences: deviation of each bone's unit direction in the camera's orientation from
+    /// the mean of the frames before and after it; 0 turns the smoothness off.
+    pub smoothness: f64,
+    /// Sequences: choose each frame's depth hypothesis by the Viterbi path that fits the 2D
+    /// and moves least between frames (`true`), or take each frame's preferred one.
+    pub consistent_depth: bool,
+    /// Sequences: deviation of the camera-oriented landmarks between consecutive frames in
+    /// the Viterbi path's cost (metres, at the training-average size); > 0.
+    pub motion_m: f64,
+}
+
+impl Default for Refinement {
+    /// Lengths estimated; image deviation 0.04 (about 4% of a torso), Huber at 2.5
+    /// deviations, direction deviation 0.15, the default widening, 10 steps; in sequences
+    /// smoothness 0.1, the Viterbi choice of depths with motion deviation 0.1 m.
+    fn default() -> Self {
+        Refinement {
+            estimate_lengths: true,
+            image_sigma: 0.04,
+            huber: 2.5,
+            direction_sigma: 0.15,
+            widening: LengthWidening::default(),
+            iterations: 10,
+            smoothness: 0.1,
+            consistent_depth: true,
+            motion_m: 0.1,
+        }
+    }
+}
+
+impl Refinement {
+    /// An error naming the first setting out of range.
+    pub(crate) fn check(&self) -> Result<(), ReconstructError> {
+        let invalid = |field, value: f64, reason| ReconstructError::InvalidConfig {
+            field,
+            value: value.to_string(),
+            reason,
+        };
+        for (field, value) in [
+            ("Refinement::image_sigma", self.image_sigma),
+            ("Refinement::huber", self.huber),
+            ("Refinement::direction_sigma", self.direction_sigma),
+            ("Refinement::motion_m", self.motion_m),
+        ] {
+            if !(value.is_finite() && value > 0.0) {
+                return Err(invalid(field, value, "must be finite and > 0"));
+            }
+        }
+        if !(self.smoothness.is_finite() && self.smoothness >= 0.0) {
+            return Err(invalid(
+                "Refinement::smoothness",
+                self.smoothness,
+                "must be finite and >= 0",
+            ));
+        }
+        if self.iterations == 0 {
+            return Err(invalid(
+                "Refinement::iterations",
+                0.0,
+                "at least one step is needed",
+            ));
+        }
+        self.widening.check()
+    }
+}
+
+/// A pinhole camera's intrinsics, in the input's image units (pixels).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Intrinsics {
+    /// Focal length, pixels; finite and > 0.
+    pub focal_px: f64,
+    /// Principal point `(u, v)`, pixels (`u` right, `v` down, as the input); `None`: the
+    /// centre of each pose's 2D bounding box (the person taken to be near the image centre).
+    pub principal_point: Option<[f64; 2]>,
+}
+
+impl Intrinsics {
+    /// Checks the intrinsics.
+    ///
+    /// # Errors
+    /// [`ReconstructError::InvalidConfig`] when the focal length is not finite and positive
+    /// or the principal point is not finite.
+    pub fn check(&self) -> Result<(), ReconstructError> {
+        let valid = self.focal_px.is_finite()
+            && self.focal_px > 0.0
+            && self.principal_point.iter().flatten().all(|c| c.is_finite());
+        if !valid {
+            return Err(ReconstructError::InvalidConfig {
+                field: "Intrinsics",
+                value: format!("{:?}", self),
+                reason: "the focal length must be finite and > 0, the principal point finite",
+            });
+        }
+        Ok(())
+    }
+}
+
+/// A full perspective camera fitted with known [`Intrinsics`]: a body-frame point `X`
+/// (metres, the reconstruction's frame) is at `Y = R X + T` in the camera frame and seen at
+/// `u = f Y_x / Y_z + c_u`, `v = f Y_y / Y_z + c_v` (pixels).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PerspectiveCamera {
+    /// `R`: rows are the camera's axes in the body frame (row 3 the optical axis).
+    pub rotation: Matrix3,
+    /// `T`: the pelvis in the camera frame, metres (`T_z` its depth). Absolute only when the
+    /// bone lengths were given: with estimated lengths the size, hence the depth, is the
+    /// length prior's.
+    pub translation: [f64; 3],
+    /// The focal length `f`, pixels.
+    pub focal_px: f64,
+    /// The principal point `(c_u, c_v)` used, pixels.
+    pub principal_point: [f64; 2],
+}
+
+impl PerspectiveCamera {
+    /// The image points of `points` (body frame, metres); `None` when one is not in front
+    /// of the camera.
+    pub fn project<const N: usize>(&self, points: &[[f64; 3]; N]) -> Option<[[f64; 2]; N]> {
+        let mut out = [[0.0; 2]; N];
+        for (o, x) in out.iter_mut().zip(points) {
+            let y = self.rotation * camloc_geometry::Vector3::from(*x);
+            let z = y.z + self.translation[2];
+            if !(z > 0.0) {
+                return None;
+            }
+            let f = self.focal_px / z;
+            *o = [
+                f * (y.x + self.translation[0]) + self.principal_point[0],
+                f * (y.y + self.translation[1]) + self.principal_point[1],
+            ];
+        }
+        Some(out)
+    }
+}
+
+/// What is known of the person and the camera besides the 2D: the person's bone lengths and
+/// the camera's intrinsics, each optional.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Given {
+    /// The person's bone lengths: the reconstruction has exactly these (metres).
+    pub lengths: Option<BoneLengths>,
+    /// The camera's intrinsics: a final full perspective refinement.
+    pub intrinsics: Option<Intrinsics>,
+}

@@ -1,0 +1,271 @@
+//! Levenberg-Marquardt over the frames of one person with shared bone lengths: each frame's
+//! parameters are eliminated (Schur complement), the 14 log lengths solved, the frames'
+//! steps recovered. A frame's normal equations are kept between the two passes for short
+//! problems and made again for long ones, so that memory does not grow with the frames.
+
+use camloc_skeleton::NUM_LIMBS;
+use nalgebra::{SMatrix, SVector, Vector3};
+use rayon::prelude::*;
+
+use super::problem::{FRAME, FrameData, FrameState, Gradient, Hessian, Weights, evaluate};
+use crate::length_prior::LimbMatrix;
+
+/// Frames whose normal equations are kept between the two passes of a step.
+const KEPT_FRAMES: usize = 64;
+
+/// Frames below which the frames are processed on one thread.
+const PARALLEL_FRAMES: usize = 16;
+
+/// Initial, smallest and largest Marquardt damping.
+const DAMPING: (f64, f64, f64) = (1e-3, 1e-9, 1e8);
+
+/// The prior on the shared log lengths when they are unknowns: `|W (l - mean)|^2 / 2`.
+pub(super) struct LengthUnknowns<'a> {
+    pub(super) whitening: &'a LimbMatrix,
+    pub(super) mean_log: [f64; NUM_LIMBS],
+}
+
+/// What the solver works on.
+pub(super) struct Problem<'a> {
+    pub(super) frames: &'a [FrameData],
+    pub(super) weights: Weights,
+    /// `None`: the lengths are given and stay.
+    pub(super) lengths: Option<LengthUnknowns<'a>>,
+    /// Most Levenberg-Marquardt steps.
+    pub(super) iterations: usize,
+}
+
+/// One frame's damped normal equations, factorised: `(A + damping)^-1 B` and
+/// `(A + damping)^-1 g`, with `B^T` and the lengths' own block.
+struct Eliminated {
+    solve_b: SMatrix<f64, FRAME, NUM_LIMBS>,
+    solve_g: SVector<f64, FRAME>,
+    b: SMatrix<f64, FRAME, NUM_LIMBS>,
+    d: SMatrix<f64, NUM_LIMBS, NUM_LIMBS>,
+    g_lengths: SVector<f64, NUM_LIMBS>,
+}
+
+impl Problem<'_> {
+    fn free(&self) -> bool {
+        self.lengths.is_some()
+    }
+
+    /// Each frame's smoothness target: the mean camera-oriented bone directions of the
+    /// frames before and after it.
+    fn targets(&self, states: &[FrameState]) -> Option<Vec<[Vector3<f64>; NUM_LIMBS]>> {
+        if !(self.weights.smooth > 0.0) || states.len() < 2 {
+            return None;
+        }
+        let seen: Vec<_> = states.iter().map(FrameState::camera_directions).collect();
+        Some(
+            (0..states.len())
+                .map(|t| {
+                    let neighbours: Vec<&[Vector3<f64>; NUM_LIMBS]> =
+                        [t.checked_sub(1), Some(t + 1)]
+                            .into_iter()
+                            .flatten()
+                            .filter_map(|n| seen.get(n))
+                            .collect();
+                    let k = neighbours.len() as f64;
+                    std::array::from_fn(|i| {
+                        neighbours.iter().map(|p| p[i]).sum::<Vector3<f64>>() / k
+                    })
+                })
+                .collect(),
+        )
+    }
+
+    /// The cost of the frames (none behind a camera) plus the length prior.
+    fn cost(
+        &self,
+        states: &[FrameState],
+        log_lengths: &[f64; NUM_LIMBS],
+        targets: Option<&[[Vector3<f64>; NUM_LIMBS]]>,
+    ) -> f64 {
+        let lengths = log_lengths.map(f64::exp);
+        let one = |t: usize| {
+            evaluate(
+                &self.frames[t],
+                &states[t],
+                &lengths,
+                targets.map(|all| &all[t]),
+                &self.weights,
+                None,
+                false,
+            )
+            .unwrap_or(f64::INFINITY)
+        };
+        let frames: f64 = if states.len() < PARALLEL_FRAMES {
+            (0..states.len()).map(one).sum()
+        } else {
+            (0..states.len()).into_par_iter().map(one).sum()
+        };
+        frames + self.prior_cost(log_lengths)
+    }
+
+    fn prior_cost(&self, log_lengths: &[f64; NUM_LIMBS]) -> f64 {
+        self.lengths.as_ref().map_or(0.0, |u| {
+            let r = u.whitening
+                * SVector::<f64, NUM_LIMBS>::from_fn(|b, _| log_lengths[b] - u.mean_log[b]);
+            0.5 * r.norm_squared()
+        })
+    }
+
+    /// Frame `t`'s normal equations, damped by `damping` and factorised; `None` when the
+    /// frame cannot be linearised or factorised.
+    fn eliminate(
+        &self,
+        t: usize,
+        state: &FrameState,
+        lengths: &[f64; NUM_LIMBS],
+        target: Option<&[Vector3<f64>; NUM_LIMBS]>,
+        damping: f64,
+    ) -> Option<Eliminated> {
+        let mut h = Hessian::zeros();
+        let mut g = Gradient::zeros();
+        evaluate(
+            &self.frames[t],
+            state,
+            lengths,
+            target,
+            &self.weights,
+            Some((&mut h, &mut g)),
+            self.free(),
+        )?;
+        let mut a = h.fixed_view::<FRAME, FRAME>(0, 0).into_owned();
+        for i in 0..FRAME {
+            a[(i, i)] += damping * (a[(i, i)] + 1e-9);
+        }
+        let cholesky = a.cholesky()?;
+        let b = h.fixed_view::<FRAME, NUM_LIMBS>(0, FRAME).into_owned();
+        let g_frame = g.fixed_rows::<FRAME>(0).into_owned();
+        Some(Eliminated {
+            solve_b: if self.free() {
+                cholesky.solve(&b)
+            } else {
+                SMatrix::zeros()
+            },
+            solve_g: cholesky.solve(&g_frame),
+            b,
+            d: h.fixed_view::<NUM_LIMBS, NUM_LIMBS>(FRAME, FRAME)
+                .into_owned(),
+            g_lengths: g.fixed_rows::<NUM_LIMBS>(FRAME).into_owned(),
+        })
+    }
+
+    /// One damped Gauss-Newton step from `states`, `log_lengths`: the trial states and log
+    /// lengths, `None` when a system cannot be solved.
+    fn step(
+        &self,
+        states: &[FrameState],
+        log_lengths: &[f64; NUM_LIMBS],
+        targets: Option<&[[Vector3<f64>; NUM_LIMBS]]>,
+        damping: f64,
+    ) -> Option<(Vec<FrameState>, [f64; NUM_LIMBS])> {
+        let lengths = log_lengths.map(f64::exp);
+        let eliminate =
+            |t: usize| self.eliminate(t, &states[t], &lengths, targets.map(|all| &all[t]), damping);
+        let kept: Option<Vec<Eliminated>> = if states.len() <= KEPT_FRAMES {
+            (0..states.len())
+                .map(eliminate)
+                .collect::<Option<Vec<_>>>()
+                .map(Some)?
+        } else {
+            None
+        };
+        let mut dl = SVector::<f64, NUM_LIMBS>::zeros();
+        if let Some(unknowns) = &self.lengths {
+            let schur = |e: &Eliminated| {
+                (
+                    e.d - e.b.transpose() * e.solve_b,
+                    e.g_lengths - e.b.transpose() * e.solve_g,
+                )
+            };
+            let zero = (
+                SMatrix::<f64, NUM_LIMBS, NUM_LIMBS>::zeros(),
+                SVector::<f64, NUM_LIMBS>::zeros(),
+            );
+            let add =
+                |a: (SMatrix<f64, NUM_LIMBS, NUM_LIMBS>, SVector<f64, NUM_LIMBS>),
+                 b: (SMatrix<f64, NUM_LIMBS, NUM_LIMBS>, SVector<f64, NUM_LIMBS>)| {
+                    (a.0 + b.0, a.1 + b.1)
+                };
+            let (mut s, mut r) = match &kept {
+                Some(all) => all.iter().map(schur).fold(zero, add),
+                None => (0..states.len())
+                    .into_par_iter()
+                    .map(|t| eliminate(t).map(|e| schur(&e)))
+                    .collect::<Option<Vec<_>>>()?
+                    .into_iter()
+                    .fold(zero, add),
+            };
+            let w = unknowns.whitening;
+            let prior_h = w.transpose() * w;
+            let residual = w * SVector::<f64, NUM_LIMBS>::from_fn(|b, _| {
+                log_lengths[b] - unknowns.mean_log[b]
+            });
+            s += prior_h;
+            r += w.transpose() * residual;
+            for i in 0..NUM_LIMBS {
+                s[(i, i)] += damping * (s[(i, i)] + 1e-9);
+            }
+            dl = -s.cholesky()?.solve(&r);
+        }
+        let move_frame = |t: usize, e: &Eliminated| -> FrameState {
+            let step = -(e.solve_g + e.solve_b * dl);
+            states[t].stepped(self.frames[t].projection, &step)
+        };
+        let trial: Vec<FrameState> = match &kept {
+            Some(all) => all
+                .iter()
+                .enumerate()
+                .map(|(t, e)| move_frame(t, e))
+                .collect(),
+            None => (0..states.len())
+                .into_par_iter()
+                .map(|t| eliminate(t).map(|e| move_frame(t, &e)))
+                .collect::<Option<Vec<_>>>()?,
+        };
+        let trial_lengths = std::array::from_fn(|b| log_lengths[b] + dl[b]);
+        Some((trial, trial_lengths))
+    }
+
+    /// Minimises the cost from `states` and `log_lengths` (both updated in place); returns
+    /// the number of steps taken.
+    pub(super) fn solve(
+        &self,
+        states: &mut Vec<FrameState>,
+        log_lengths: &mut [f64; NUM_LIMBS],
+    ) -> usize {
+        let mut damping = DAMPING.0;
+        let mut steps = 0;
+        for _ in 0..self.iterations {
+            let targets = self.targets(states);
+            let current = self.cost(states, log_lengths, targets.as_deref());
+            let mut accepted = None;
+            while damping <= DAMPING.2 {
+                if let Some((trial, trial_lengths)) =
+                    self.step(states, log_lengths, targets.as_deref(), damping)
+                {
+                    let cost = self.cost(&trial, &trial_lengths, targets.as_deref());
+                    if cost < current {
+                        accepted = Some((trial, trial_lengths, cost));
+                        damping = (damping / 3.0).max(DAMPING.1);
+                        break;
+                    }
+                }
+                damping *= 5.0;
+            }
+            let Some((trial, trial_lengths, cost)) = accepted else {
+                break;
+            };
+            *states = trial;
+            *log_lengths = trial_lengths;
+            steps += 1;
+            if current - cost <= 1e-6 * current {
+                break;
+            }
+        }
+        steps
+    }
+}

@@ -1,0 +1,234 @@
+//! The skeleton refinement: given and estimated bone lengths, sequences, full perspective.
+
+mod common;
+
+use camloc_geometry::{Perspective, Vector3, WeakPerspective, look_at_origin, sphere_point};
+use camloc_reconstruct::{
+    BoneLengths, CameraMode, Given, Intrinsics, PoseBasis, ReconstructConfig, ReconstructError,
+    Reconstructor, mpjpe_after_similarity,
+};
+use camloc_skeleton::{LIMBS, NUM_LIMBS, Pose2, Pose3};
+use rand::Rng;
+
+fn basis() -> &'static PoseBasis {
+    common::small_basis()
+}
+
+fn reconstructor() -> Reconstructor {
+    Reconstructor::new(basis().clone(), ReconstructConfig::default()).unwrap()
+}
+
+/// The unit direction of each limb of `pose`.
+fn directions(pose: &Pose3) -> [Vector3; NUM_LIMBS] {
+    std::array::from_fn(|b| {
+        let (p, c) = LIMBS[b];
+        (Vector3::from(pose.get(c)) - Vector3::from(pose.get(p))).normalize()
+    })
+}
+
+/// The skeleton with limb `lengths` along `directions`, pelvis at the origin.
+fn build(lengths: &BoneLengths, directions: &[Vector3; NUM_LIMBS]) -> Pose3 {
+    let mut points = [[0.0; 3]; 15];
+    for (b, (parent, child)) in LIMBS.iter().enumerate() {
+        let end = Vector3::from(points[parent.index()]) + directions[b] * lengths.as_array()[b];
+        points[child.index()] = end.into();
+    }
+    Pose3::new(points)
+}
+
+/// The template's lengths, each limb type scaled by a factor in 0.8..1.2 (left and right
+/// alike), drawn from `seed`.
+fn person(seed: u64) -> BoneLengths {
+    let mut rng = common::rng(seed);
+    let types: [f64; 8] = std::array::from_fn(|_| rng.random_range(0.8..1.2));
+    let kind = [0, 1, 2, 0, 1, 2, 3, 4, 5, 6, 7, 5, 6, 7];
+    let template = reconstructor().template_lengths().unwrap().as_array();
+    BoneLengths::from_array(std::array::from_fn(|b| template[b] * types[kind[b]])).unwrap()
+}
+
+/// `frames` poses of a smooth motion (bone directions turning from one random pose's to
+/// another's) of the person with `lengths`.
+fn motion(lengths: &BoneLengths, frames: usize, seed: u64) -> Vec<Pose3> {
+    let mut rng = common::rng(seed);
+    let (a, b) = (
+        directions(&common::random_pose(&mut rng)),
+        directions(&common::random_pose(&mut rng)),
+    );
+    (0..frames)
+        .map(|t| {
+            let s = t as f64 / (frames - 1) as f64;
+            let d = std::array::from_fn(|k| (a[k] * (1.0 - s) + b[k] * s).normalize());
+            build(lengths, &d)
+        })
+        .collect()
+}
+
+/// `pose` seen by a weak-perspective camera at `rotation`, 250 image units a metre.
+fn seen(pose: &Pose3, rotation: camloc_geometry::Matrix3) -> Pose2 {
+    let camera = WeakPerspective {
+        scale: 250.0,
+        rotation,
+        translation: [320.0, 240.0],
+    };
+    Pose2::new(camera.project(&pose.points))
+}
+
+#[test]
+fn given_lengths_are_what_every_reconstruction_has() {
+    let lengths = person(1);
+    let rotation = look_at_origin(sphere_point(200.0, 10.0, 1.0)).unwrap();
+    let poses = motion(&lengths, 12, 2);
+    let rec = reconstructor();
+    let given = Given {
+        lengths: Some(lengths),
+        intrinsics: None,
+    };
+    let one = rec
+        .reconstruct_with(&seen(&poses[0], rotation), &CameraMode::Opt, 2, &given)
+        .unwrap();
+    assert_eq!(one.len(), 2);
+    let frames: Vec<_> = poses
+        .iter()
+        .map(|p| (seen(p, rotation), CameraMode::Opt))
+        .collect();
+    let sequence = rec.reconstruct_sequence(&frames, &given).unwrap();
+    assert_eq!(sequence.lengths, lengths);
+    let all = one
+        .iter()
+        .chain(sequence.frames.iter().map(|f| f.as_ref().unwrap()));
+    for r in all {
+        let got = BoneLengths::of_pose(&r.pose).unwrap().as_array();
+        for (g, l) in got.iter().zip(lengths.as_array()) {
+            assert!((g - l).abs() < 1e-9 * l, "{g} vs {l}");
+        }
+        assert!(r.projection_error.is_finite());
+    }
+}
+
+#[test]
+fn a_sequence_recovers_proportions_the_template_does_not_have() {
+    let rec = reconstructor();
+    let template = rec.template_lengths().unwrap();
+    let mean_error = |estimate: &BoneLengths, truth: &BoneLengths| {
+        estimate
+            .relative_errors(truth)
+            .iter()
+            .map(|e| e.abs())
+            .sum::<f64>()
+            / NUM_LIMBS as f64
+    };
+    let (mut template_error, mut estimated_error) = (0.0, 0.0);
+    for seed in 0..3 {
+        let truth = person(10 + seed);
+        let poses = motion(&truth, 40, 20 + seed);
+        let rotation = look_at_origin(sphere_point(30.0 + 100.0 * seed as f64, 5.0, 1.0)).unwrap();
+        let frames: Vec<_> = poses
+            .iter()
+            .map(|p| (seen(p, rotation), CameraMode::Opt))
+            .collect();
+        let sequence = rec
+            .reconstruct_sequence(&frames, &Given::default())
+            .unwrap();
+        assert!(sequence.frames.iter().all(Result::is_ok));
+        template_error += mean_error(&template, &truth) / 3.0;
+        estimated_error += mean_error(&sequence.lengths, &truth) / 3.0;
+        for (r, p) in sequence.frames.iter().zip(&poses) {
+            let r = r.as_ref().unwrap();
+            // Every frame has the person's estimated lengths.
+            let got = BoneLengths::of_pose(&r.pose).unwrap();
+            assert!(mean_error(&got, &sequence.lengths) < 1e-9);
+            assert!(mpjpe_after_similarity(&r.pose, p).is_finite());
+        }
+    }
+    assert!(
+        estimated_error < 0.75 * template_error,
+        "estimated {estimated_error}, template {template_error}"
+    );
+}
+
+#[test]
+fn a_known_focal_length_fits_a_close_camera_in_full_perspective() {
+    // A pose the basis spans, with its own lengths given.
+    let mut rng = common::rng(3);
+    let (pose, _) = common::pose_in_span(basis(), &mut rng, 6, basis().anthropometric_target());
+    let lengths = BoneLengths::of_pose(&pose).unwrap();
+    // 2.2 m away with a wide lens: strong perspective.
+    let centre = sphere_point(160.0, 15.0, 2.2);
+    let camera = Perspective {
+        rotation: look_at_origin(centre).unwrap(),
+        centre,
+        focal: 600.0,
+    };
+    let mut points = camera.project(&pose.points).unwrap();
+    for p in &mut points {
+        p[0] += 320.0;
+        p[1] += 240.0;
+    }
+    let pose2 = Pose2::new(points);
+    let rec = reconstructor();
+    let weak = Given {
+        lengths: Some(lengths),
+        intrinsics: None,
+    };
+    let full = Given {
+        intrinsics: Some(Intrinsics {
+            focal_px: 600.0,
+            principal_point: Some([320.0, 240.0]),
+        }),
+        ..weak
+    };
+    let a = &rec
+        .reconstruct_with(&pose2, &CameraMode::Opt, 1, &weak)
+        .unwrap()[0];
+    let b = &rec
+        .reconstruct_with(&pose2, &CameraMode::Opt, 1, &full)
+        .unwrap()[0];
+    assert!(a.perspective.is_none());
+    let perspective = b.perspective.as_ref().unwrap();
+    assert!(b.projection_error < a.projection_error, "{b:?} {a:?}");
+    // The projection error is that of the perspective camera.
+    let projected = perspective.project(&b.pose.points).unwrap();
+    let error: f64 = projected
+        .iter()
+        .zip(&points)
+        .map(|(p, q)| (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2))
+        .sum::<f64>()
+        .sqrt();
+    assert!((error - b.projection_error).abs() < 1e-6 * (1.0 + error));
+    // With the true lengths the depth is absolute: the pelvis is about 2.2 m away.
+    let depth = perspective.translation[2];
+    assert!((depth - 2.2).abs() < 0.25, "depth {depth}");
+    let bad = Given {
+        intrinsics: Some(Intrinsics {
+            focal_px: -1.0,
+            principal_point: None,
+        }),
+        ..weak
+    };
+    assert!(matches!(
+        rec.reconstruct_with(&pose2, &CameraMode::Opt, 1, &bad),
+        Err(ReconstructError::InvalidConfig { .. })
+    ));
+}
+
+#[test]
+fn a_failed_frame_is_reported_and_the_others_are_reconstructed() {
+    let lengths = person(5);
+    let rotation = look_at_origin(sphere_point(90.0, 0.0, 1.0)).unwrap();
+    let mut frames: Vec<_> = motion(&lengths, 8, 6)
+        .iter()
+        .map(|p| (seen(p, rotation), CameraMode::Opt))
+        .collect();
+    frames[3].0.points[4][1] = f64::NAN;
+    let sequence = reconstructor()
+        .reconstruct_sequence(&frames, &Given::default())
+        .unwrap();
+    assert_eq!(sequence.frames.len(), 8);
+    for (t, f) in sequence.frames.iter().enumerate() {
+        assert_eq!(f.is_err(), t == 3, "frame {t}: {f:?}");
+    }
+    let empty = reconstructor()
+        .reconstruct_sequence(&[], &Given::default())
+        .unwrap();
+    assert!(empty.frames.is_empty());
+}

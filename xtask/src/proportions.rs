@@ -1,0 +1,528 @@
+//! Issue 23, the test that cannot flatter itself: held-out subjects whose limbs are rescaled
+//! by known random factors (each limb type +-20%, hip and shoulder widths among them, the
+//! head point moved as detectors place it), filmed under `jittered` and `rig`, single poses
+//! and windows of consecutive frames; recovered bone lengths and PA-MPJPE with and without
+//! each part of the skeleton refinement. Part of `cargo xtask reconstruction`.
+
+mod people;
+mod views;
+
+use std::fmt::Write;
+use std::time::Instant;
+
+use camloc::dataset::{MotionCategory, PoseSequence};
+use camloc::reconstruct::{
+    BoneLengths, CameraMode, Given, Intrinsics, ModeKind, PoseBasis, ReconstructConfig,
+    Reconstructor, mpjpe_after_similarity,
+};
+use camloc::skeleton::NUM_LIMBS;
+use camloc::{CameraLocalizer, Pose2, Pose3};
+use rayon::prelude::*;
+
+use people::{Frames, HEAD_FACTOR, LIMB_FACTOR, factors, rescale, single_poses, windows};
+use views::{Studio, View, film};
+
+/// What the proportions test measures.
+pub struct Options {
+    /// Every n-th held-out pose (selected by pose at 100 mm) is a single-frame sample.
+    pub every: usize,
+    /// Frames per window of a sequence (about 30 frames a second).
+    pub window: usize,
+    /// Most windows per clip.
+    pub per_clip: usize,
+    /// Seed of the rescaling, cameras and noise.
+    pub seed: u64,
+}
+
+/// A variant of the reconstruction: its settings and what it is given.
+struct Variant {
+    name: &'static str,
+    config: ReconstructConfig,
+    /// The true bone lengths are given.
+    lengths: bool,
+    /// The focal length is given (full perspective refinement).
+    focal: bool,
+}
+
+/// A test item filmed: the truth and the views.
+struct Filmed {
+    truth: Vec<Pose3>,
+    lengths: BoneLengths,
+    views: Vec<View>,
+    walking: bool,
+}
+
+/// What a variant achieved over a set of items.
+#[derive(Default)]
+struct Scores {
+    /// PA-MPJPE sum (mm) and frames, walking and other motions.
+    mpjpe: [(f64, usize); 2],
+    /// Per item: mean and largest absolute relative length error (after one common scale).
+    length_errors: Vec<(f64, f64)>,
+    /// Per limb: the sum over items of the absolute relative length error.
+    limb_errors: [f64; NUM_LIMBS],
+    failures: usize,
+    seconds: f64,
+}
+
+impl Scores {
+    /// Each limb's mean absolute relative length error over the items.
+    fn limb_means(&self) -> [f64; NUM_LIMBS] {
+        let n = self.length_errors.len().max(1) as f64;
+        self.limb_errors.map(|e| e / n)
+    }
+
+    /// The share of items whose every limb is within 5%.
+    fn within_5(&self) -> f64 {
+        let n = self.length_errors.len().max(1) as f64;
+        self.length_errors.iter().filter(|e| e.1 <= 0.05).count() as f64 / n
+    }
+
+    /// The mean over items of the mean absolute relative length error.
+    fn mean_length_error(&self) -> f64 {
+        let n = self.length_errors.len().max(1) as f64;
+        self.length_errors.iter().map(|e| e.0).sum::<f64>() / n
+    }
+
+    fn mean_mpjpe(&self) -> Option<f64> {
+        let (sum, n) = (
+            self.mpjpe[0].0 + self.mpjpe[1].0,
+            self.mpjpe[0].1 + self.mpjpe[1].1,
+        );
+        (n > 0).then(|| sum / n as f64)
+    }
+
+    fn cells(&self) -> String {
+        let mm = |(s, n): (f64, usize)| {
+            if n > 0 {
+                format!("{:.1}", s / n as f64)
+            } else {
+                "-".into()
+            }
+        };
+        let n = self.length_errors.len().max(1) as f64;
+        let mean = 100.0 * self.mean_length_error();
+        let worst = 100.0 * self.length_errors.iter().map(|e| e.1).sum::<f64>() / n;
+        let within = 100.0 * self.within_5();
+        let frames = self.mpjpe[0].1 + self.mpjpe[1].1;
+        format!(
+            "{} | {} | {} | {mean:.1}% | {worst:.1}% | {within:.0}% | {} | {:.2} ms",
+            frames,
+            self.mean_mpjpe().map_or("-".into(), |v| format!("{v:.1}")),
+            format_args!("{} / {}", mm(self.mpjpe[0]), mm(self.mpjpe[1])),
+            self.failures,
+            1000.0 * self.seconds / frames.max(1) as f64
+        )
+    }
+}
+
+/// The variants of single frames and of sequences.
+fn variants() -> (Vec<Variant>, Vec<Variant>) {
+    let base = ReconstructConfig::default();
+    let with = |f: &dyn Fn(&mut ReconstructConfig)| {
+        let mut c = base.clone();
+        f(&mut c);
+        c
+    };
+    let template = with(&|c| c.refinement.estimate_lengths = false);
+    let single = vec![
+        Variant {
+            name: "template proportions (no refinement)",
+            config: template.clone(),
+            lengths: false,
+            focal: false,
+        },
+        Variant {
+            name: "lengths estimated (the default)",
+            config: base.clone(),
+            lengths: false,
+            focal: false,
+        },
+        Variant {
+            name: "lengths estimated, focal length known",
+            config: base.clone(),
+            lengths: false,
+            focal: true,
+        },
+        Variant {
+            name: "true lengths given",
+            config: base.clone(),
+            lengths: true,
+            focal: false,
+        },
+        Variant {
+            name: "true lengths and focal length given",
+            config: base.clone(),
+            lengths: true,
+            focal: true,
+        },
+    ];
+    let plain = with(&|c| {
+        c.refinement.smoothness = 0.0;
+        c.refinement.consistent_depth = false;
+    });
+    let sequence = vec![
+        Variant {
+            name: "sequence: template proportions",
+            config: with(&|c| {
+                c.refinement.estimate_lengths = false;
+            }),
+            lengths: false,
+            focal: false,
+        },
+        Variant {
+            name: "sequence: shared lengths only",
+            config: plain.clone(),
+            lengths: false,
+            focal: false,
+        },
+        Variant {
+            name: "sequence: + depths by Viterbi",
+            config: with(&|c| c.refinement.smoothness = 0.0),
+            lengths: false,
+            focal: false,
+        },
+        Variant {
+            name: "sequence: + smoothness (the default)",
+            config: base.clone(),
+            lengths: false,
+            focal: false,
+        },
+        Variant {
+            name: "sequence, focal length known",
+            config: base.clone(),
+            lengths: false,
+            focal: true,
+        },
+        Variant {
+            name: "sequence, true lengths given",
+            config: base,
+            lengths: true,
+            focal: false,
+        },
+    ];
+    (single, sequence)
+}
+
+/// Films every item of `items` under `studio` (rescaled by each subject's factors when
+/// `scaled`).
+fn film_all(
+    items: &[Frames],
+    studio: Studio,
+    scaled: bool,
+    seed: u64,
+) -> Result<Vec<Filmed>, String> {
+    items
+        .par_iter()
+        .enumerate()
+        .map(|(i, item)| {
+            let f = factors(&item.subject, seed);
+            let truth: Vec<Pose3> = item
+                .poses
+                .iter()
+                .map(|p| if scaled { rescale(p, &f) } else { *p })
+                .collect();
+            let lengths = BoneLengths::of_pose(&truth[0]).map_err(|e| e.to_string())?;
+            let views = film(
+                &truth,
+                studio,
+                seed.wrapping_mul(1_000_003).wrapping_add(i as u64),
+            )?;
+            Ok(Filmed {
+                truth,
+                lengths,
+                views,
+                walking: item.category == MotionCategory::Walk,
+            })
+        })
+        .collect()
+}
+
+/// The camera mode of `pose2` under `kind` (the localizer's class for `hybrid`).
+fn mode_of(
+    kind: ModeKind,
+    pose2: &Pose2,
+    localizer: Option<&CameraLocalizer>,
+) -> Option<CameraMode> {
+    match kind {
+        ModeKind::Opt => Some(CameraMode::Opt),
+        ModeKind::Hybrid => Some(CameraMode::Hybrid(
+            localizer?.localize(pose2).ok()?.rotation,
+        )),
+        _ => None,
+    }
+}
+
+/// Runs `variant` with camera `kind` on every item: each frame alone, or each item as one
+/// sequence.
+fn run(
+    basis: &PoseBasis,
+    variant: &Variant,
+    kind: ModeKind,
+    localizer: Option<&CameraLocalizer>,
+    items: &[Filmed],
+    sequence: bool,
+) -> Result<Scores, String> {
+    let reconstructor =
+        Reconstructor::new(basis.clone(), variant.config.clone()).map_err(|e| e.to_string())?;
+    let given = |item: &Filmed, view: &View| Given {
+        lengths: variant.lengths.then_some(item.lengths),
+        intrinsics: variant.focal.then_some(Intrinsics {
+            focal_px: view.focal,
+            principal_point: Some([0.0, 0.0]),
+        }),
+    };
+    let started = Instant::now();
+    // Per item: per-frame PA-MPJPE (None: failed) and the lengths of the answer.
+    let results: Vec<(Vec<Option<f64>>, Option<BoneLengths>)> = items
+        .par_iter()
+        .map(|item| {
+            let modes: Vec<Option<CameraMode>> = item
+                .views
+                .iter()
+                .map(|v| mode_of(kind, &v.pose2, localizer))
+                .collect();
+            if sequence {
+                let frames: Vec<(Pose2, CameraMode)> = item
+                    .views
+                    .iter()
+                    .zip(&modes)
+                    .map(|(v, m)| (v.pose2, m.unwrap_or(CameraMode::Opt)))
+                    .collect();
+                match reconstructor.reconstruct_sequence(&frames, &given(item, &item.views[0])) {
+                    Ok(seq) => (
+                        seq.frames
+                            .iter()
+                            .zip(&item.truth)
+                            .map(|(r, t)| {
+                                r.as_ref().ok().map(|r| mpjpe_after_similarity(&r.pose, t))
+                            })
+                            .collect(),
+                        Some(seq.lengths),
+                    ),
+                    Err(_) => (vec![None; item.views.len()], None),
+                }
+            } else {
+                let mut lengths = None;
+                let errors = item
+                    .views
+                    .iter()
+                    .zip(&modes)
+                    .zip(&item.truth)
+                    .map(|((v, m), t)| {
+                        let r = reconstructor
+                            .reconstruct_with(&v.pose2, m.as_ref()?, 1, &given(item, v))
+                            .ok()?
+                            .into_iter()
+                            .next()?;
+                        lengths = BoneLengths::of_pose(&r.pose).ok();
+                        Some(mpjpe_after_similarity(&r.pose, t))
+                    })
+                    .collect();
+                (errors, lengths)
+            }
+        })
+        .collect();
+    let mut scores = Scores {
+        seconds: started.elapsed().as_secs_f64(),
+        ..Scores::default()
+    };
+    for (item, (errors, lengths)) in items.iter().zip(results) {
+        for e in errors {
+            match e {
+                Some(e) if e.is_finite() => {
+                    let slot = &mut scores.mpjpe[usize::from(!item.walking)];
+                    slot.0 += e;
+                    slot.1 += 1;
+                }
+                _ => scores.failures += 1,
+            }
+        }
+        if let Some(l) = lengths {
+            let errors = l.relative_errors(&item.lengths).map(f64::abs);
+            for (sum, e) in scores.limb_errors.iter_mut().zip(errors) {
+                *sum += e;
+            }
+            let mean = errors.iter().sum::<f64>() / NUM_LIMBS as f64;
+            scores
+                .length_errors
+                .push((mean, errors.iter().copied().fold(0.0, f64::max)));
+        }
+    }
+    Ok(scores)
+}
+
+/// The template's length errors over `items`: (mean, mean largest) absolute relative error,
+/// and each limb's mean absolute relative error.
+fn template_errors(
+    basis: &PoseBasis,
+    items: &[Filmed],
+) -> Result<(f64, f64, [f64; NUM_LIMBS]), String> {
+    let template = basis.length_prior().template().map_err(|e| e.to_string())?;
+    let n = items.len().max(1) as f64;
+    let (mut mean, mut worst) = (0.0, 0.0);
+    let mut limbs = [0.0; NUM_LIMBS];
+    for item in items {
+        let e = template.relative_errors(&item.lengths).map(f64::abs);
+        for (sum, e) in limbs.iter_mut().zip(e) {
+            *sum += e / n;
+        }
+        mean += e.iter().sum::<f64>() / NUM_LIMBS as f64 / n;
+        worst += e.iter().copied().fold(0.0, f64::max) / n;
+    }
+    Ok((mean, worst, limbs))
+}
+
+/// One row of the per-limb table: `name` and each limb's mean absolute error, %.
+fn limb_row(name: &str, errors: &[f64; NUM_LIMBS]) -> String {
+    let cells: Vec<String> = errors.iter().map(|e| format!("{:.1}", 100.0 * e)).collect();
+    format!("| {name} | {} |\n", cells.join(" | "))
+}
+
+/// Issue 23's targets for a shipped variant: sequences, every limb within 5%; single frames,
+/// half the template's mean length error (`template`); PA-MPJPE within 10% of the same
+/// subjects unscaled (`unscaled`).
+fn target_line(
+    name: &str,
+    kind: ModeKind,
+    sequence: bool,
+    scaled: &Scores,
+    unscaled: &Scores,
+    template: f64,
+) -> String {
+    let mark = |ok: bool| if ok { "met" } else { "not met" };
+    let lengths = if sequence {
+        format!(
+            "every limb within 5% in {:.0}% of the windows (target: all): {}",
+            100.0 * scaled.within_5(),
+            mark(scaled.within_5() >= 1.0)
+        )
+    } else {
+        let e = scaled.mean_length_error();
+        format!(
+            "mean length error {:.1}% against the template's {:.1}% (target: half): {}",
+            100.0 * e,
+            100.0 * template,
+            mark(e <= 0.5 * template)
+        )
+    };
+    let ratio = match (scaled.mean_mpjpe(), unscaled.mean_mpjpe()) {
+        (Some(a), Some(b)) if b > 0.0 => a / b,
+        _ => f64::NAN,
+    };
+    format!(
+        "- {name}, {}: {lengths}; PA-MPJPE {:.0}% of the unscaled subjects' (target: at most \
+         110%): {}\n",
+        kind.name(),
+        100.0 * ratio,
+        mark(ratio <= 1.1)
+    )
+}
+
+/// Measures the proportions test on the held-out `test` clips with `basis` (and `localizer`
+/// for `hybrid`, when given); returns the markdown.
+pub fn measure(
+    basis: &PoseBasis,
+    localizer: Option<&CameraLocalizer>,
+    test: &[PoseSequence],
+    options: &Options,
+) -> Result<String, String> {
+    let mut md = String::new();
+    let singles = single_poses(test, 100.0, options.every);
+    let sequences = windows(test, options.window, options.per_clip);
+    let _ = writeln!(
+        md,
+        "Held-out subjects rescaled by known factors, one draw per subject: each limb type \
+         (hip width, thigh, shin, torso, shoulder width, upper arm, forearm; left and right \
+         alike) x U({}, {}), the neck-to-head distance x U({}, {}) (where detectors put the \
+         head). {} single poses (every {}th selected by pose at 100 mm) and {} windows of {} \
+         consecutive frames (about 30 frames a second) of their clips, each filmed by one \
+         camera: `jittered` (near a random Table-1 viewpoint, 3-8 m, f = 1000 px, 3% noise) or \
+         `rig` (a tripod camera of the studio, distortion, detector noise), noise drawn per \
+         frame. PA-MPJPE = MPJPE after similarity alignment, mm, all / walking / other motions; \
+         length errors are each limb's relative error after one common scale (sizes cannot be \
+         told from one camera), the mean over limbs and the largest limb, averaged over \
+         persons (single poses: over poses; sequences: over windows); \"within 5%\": the \
+         share whose every limb is within 5%. Time: wall time per frame on the machine's \
+         cores.\n",
+        LIMB_FACTOR.0,
+        LIMB_FACTOR.1,
+        HEAD_FACTOR.0,
+        HEAD_FACTOR.1,
+        singles.len(),
+        options.every,
+        sequences.len(),
+        options.window
+    );
+    let (single_variants, sequence_variants) = variants();
+    let mut kinds = vec![ModeKind::Opt];
+    if localizer.is_some() {
+        kinds.push(ModeKind::Hybrid);
+    }
+    for studio in [Studio::Jittered, Studio::Rig] {
+        eprintln!("proportions: {} views", studio.name());
+        let single_scaled = film_all(&singles, studio, true, options.seed)?;
+        let single_plain = film_all(&singles, studio, false, options.seed)?;
+        let seq_scaled = film_all(&sequences, studio, true, options.seed)?;
+        let seq_plain = film_all(&sequences, studio, false, options.seed)?;
+        let (tm, tw, template_limbs) = template_errors(basis, &seq_scaled)?;
+        let (single_tm, _, _) = template_errors(basis, &single_scaled)?;
+        let _ = writeln!(
+            md,
+            "`{}` (template lengths against the rescaled people: mean error {:.1}%, largest \
+             limb {:.1}%):\n\n| variant | camera | frames | PA-MPJPE | walking / other | length \
+             error | largest limb | within 5% | failed | time per frame |\n|---|---|---|---|---|---|---|---|---|---|",
+            studio.name(),
+            100.0 * tm,
+            100.0 * tw
+        );
+        let mut limbs = limb_row("template (windows)", &template_limbs);
+        let mut checks = String::new();
+        for (variants, scaled, plain, sequence) in [
+            (&single_variants, &single_scaled, &single_plain, false),
+            (&sequence_variants, &seq_scaled, &seq_plain, true),
+        ] {
+            for variant in variants {
+                for &kind in &kinds {
+                    eprintln!(
+                        "proportions: {} {} {}",
+                        studio.name(),
+                        variant.name,
+                        kind.name()
+                    );
+                    let s = run(basis, variant, kind, localizer, scaled, sequence)?;
+                    let _ = writeln!(md, "| {} | {} | {} |", variant.name, kind.name(), s.cells());
+                    let shipped = !variant.lengths
+                        && !variant.focal
+                        && variant.config == ReconstructConfig::default();
+                    if !shipped {
+                        continue;
+                    }
+                    let u = run(basis, variant, kind, localizer, plain, sequence)?;
+                    let _ = writeln!(
+                        md,
+                        "| {}, same subjects unscaled | {} | {} |",
+                        variant.name,
+                        kind.name(),
+                        u.cells()
+                    );
+                    limbs.push_str(&limb_row(
+                        &format!("{}, {}", variant.name, kind.name()),
+                        &s.limb_means(),
+                    ));
+                    let template = if sequence { tm } else { single_tm };
+                    checks.push_str(&target_line(variant.name, kind, sequence, &s, &u, template));
+                }
+            }
+        }
+        let _ = writeln!(
+            md,
+            "\nMean absolute length error of each limb (%, after one common scale):\n\n| \
+             variant | {} |\n|---|{}\n{limbs}\nIssue 23's targets (`{}`):\n\n{checks}",
+            camloc::reconstruct::BONE_KEYS.join(" | "),
+            "---|".repeat(NUM_LIMBS),
+            studio.name()
+        );
+    }
+    Ok(md)
+}
