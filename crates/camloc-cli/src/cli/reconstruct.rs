@@ -7,16 +7,19 @@ use std::process::ExitCode;
 use camloc::reconstruct::{PoseBasis, Reconstruction};
 use camloc::store::{Persist, escaped};
 use camloc::{
-    CameraLabel, CamlocError, Landmark, ModeKind, Pose2, Pose3, PoseReconstructor, default_basis,
+    CameraLabel, CameraLocalizer, CamlocError, Landmark, ModeKind, Pose2, Pose3, PoseReconstructor,
+    default_basis,
 };
 use clap::builder::{PossibleValue, TypedValueParser};
 use serde::ser::SerializeMap;
 use serde::{Serialize, Serializer};
 
+use crate::html::ViewFrame;
 use crate::svg;
 
+use super::export::{self, Kept};
 use super::input::Inputs;
-use super::stream::{self, Done, Files};
+use super::stream::{self, Done, Failed, Files};
 use super::{
     CliError, ForceArgs, FormatArgs, InputArgs, Out, ProgressArgs, load_dataset, load_model,
     progress, targets,
@@ -83,6 +86,27 @@ pub struct Args {
     /// poses: FILE-001.svg, ...). All files are written at the end, or none.
     #[arg(long, value_name = "OUT")]
     pub svg: Option<PathBuf>,
+    /// Write the 3D poses as a BVH animation (centimetres, y up; Blender: import with scale
+    /// 0.01) for Blender, MotionBuilder and other 3D packages: one file per pose
+    /// (FILE-001.bvh, ... when there are several), or with --sequence one per person. Bone
+    /// lengths are the mean limb lengths of the file's poses; each frame keeps its limb
+    /// directions. A frame that could not be reconstructed holds the previous one.
+    #[arg(long, value_name = "OUT")]
+    pub bvh: Option<PathBuf>,
+    /// Write one self-contained interactive page (no network needed): per pose the 2D input
+    /// and reprojection, the 3D skeleton (drag to turn, wheel to zoom) and the camera sphere
+    /// with the 12 probabilities and the continuous direction (from the localizer: --model),
+    /// with a timeline to play and scrub.
+    #[arg(long, value_name = "OUT")]
+    pub html: Option<PathBuf>,
+    /// Treat the input as the frames of a video: --bvh and --html are made per person (the
+    /// poses grouped by person and ordered by frame, as `localize --sequence` groups them).
+    /// Standard output, --npy and --svg are per pose, as without it.
+    #[arg(long)]
+    pub sequence: bool,
+    /// Frames per second of the input video: the BVH frame time and the page's play rate.
+    #[arg(long, value_name = "FPS", default_value = "30", value_parser = export::parse_fps)]
+    pub fps: f64,
     #[command(flatten)]
     pub force: ForceArgs,
     #[command(flatten)]
@@ -127,6 +151,8 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     let outputs = [
         (args.npy.as_deref(), "--npy", false),
         (args.svg.as_deref(), "--svg", true),
+        (args.bvh.as_deref(), "--bvh", true),
+        (args.html.as_deref(), "--html", false),
     ];
     targets::check_distinct(&targets::outputs(outputs))?;
     let choice = args.camera;
@@ -135,14 +161,29 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         reconstructor = reconstructor.with_localizer(load_model(args.model.as_deref())?);
     }
     let reconstructor = reconstructor.with_mode(choice)?;
+    // The page shows the cameras' probabilities: the localizer of every pose.
+    let page_localizer = match &args.html {
+        Some(_) => Some(load_model(args.model.as_deref())?),
+        None => None,
+    };
     let inputs = Inputs::open(&args.input)?;
     let format = args.format.format();
-    let files = Files::<Pose3> {
+    let files = Files::<Pose3, Kept> {
         svg: args.svg.clone(),
         npy: args.npy.clone(),
         summary: None,
+        finish: finish(args, &inputs, page_localizer.as_ref()),
         force: args.force.force,
         pose: std::marker::PhantomData,
+    };
+    let keep = args.bvh.is_some() || args.html.is_some();
+    let view = |record: &camloc::keypoints::KeypointRecord,
+                r: Option<&Reconstruction>,
+                error: Option<String>| {
+        page_localizer.as_ref().map(|localizer| {
+            let localization = localizer.localize_partial(&record.pose).ok();
+            ViewFrame::new(record, localization.as_ref(), r, error)
+        })
     };
     let bar = progress::counter(
         args.progress.quiet,
@@ -150,10 +191,20 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         "reconstruct",
         "poses",
     );
-    let summary = stream::run(inputs, out, format, &files, &bar, |record| {
+    let summary = stream::run(inputs, out, format, files, &bar, |record| {
         let result = reconstructor
             .reconstruct_hypotheses(&record.pose, usize::from(args.hypotheses))
-            .map_err(|e| e.to_string())?;
+            .map_err(|e| {
+                let message = e.to_string();
+                Failed {
+                    keep: keep.then(|| Kept {
+                        key: (record.frame, record.person),
+                        pose: None,
+                        view: view(record, None, Some(message.clone())),
+                    }),
+                    message,
+                }
+            })?;
         let r = &result.reconstruction;
         let camera_text = match &result.localization {
             Some(l) => format!(
@@ -192,7 +243,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
             }
             text
         };
-        let svg = match (&files.svg, record.pose.complete()) {
+        let svg = match (&args.svg, record.pose.complete()) {
             (Some(_), Some(input)) => {
                 let reprojection = Pose2::new(r.camera.project(&r.pose.points));
                 let caption = format!("{}: camera {camera_text}", record.id);
@@ -208,10 +259,50 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         Ok(Done {
             text,
             svg,
-            row: files.npy.as_ref().map(|_| r.pose),
+            row: args.npy.as_ref().map(|_| r.pose),
+            keep: keep.then(|| Kept {
+                key: (record.frame, record.person),
+                pose: Some(r.pose),
+                view: view(record, Some(r), None),
+            }),
         })
     })?;
     Ok(summary.exit_code("reconstructed"))
+}
+
+/// The `--bvh` and `--html` files of a run, made from what it kept of every pose.
+fn finish(
+    args: &Args,
+    inputs: &Inputs,
+    page_localizer: Option<&CameraLocalizer>,
+) -> Option<(Vec<PathBuf>, stream::Finish<Kept>)> {
+    if args.bvh.is_none() && args.html.is_none() {
+        return None;
+    }
+    let mut paths = Vec::new();
+    if let Some(bvh) = &args.bvh {
+        paths.push(bvh.clone());
+        paths.push(super::numbered_path(bvh, 0, 2));
+    }
+    paths.extend(args.html.clone());
+    let (bvh, html, sequence, fps) = (args.bvh.clone(), args.html.clone(), args.sequence, args.fps);
+    let cameras = page_localizer.map(|l| l.cameras().clone());
+    let title = format!("camloc reconstruct: {}", inputs.name());
+    let make: stream::Finish<Kept> = Box::new(move |kept: Vec<Kept>| {
+        let mut files = Vec::new();
+        if let Some(bvh) = &bvh {
+            files.extend(export::bvh_files(bvh, &kept, sequence, fps)?);
+        }
+        if let (Some(html), Some(cameras)) = (&html, &cameras) {
+            let keys: Vec<_> = kept.iter().map(|k| k.key).collect();
+            let views: Vec<ViewFrame> = kept.into_iter().filter_map(|k| k.view).collect();
+            files.push(export::html_file(
+                html, &title, cameras, &views, &keys, sequence, fps,
+            ));
+        }
+        Ok(files)
+    });
+    Some((paths, make))
 }
 
 /// The camera of one pose of `reconstruct --json`.
