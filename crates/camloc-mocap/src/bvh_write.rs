@@ -165,6 +165,25 @@ pub fn write_bvh(
     Ok(text)
 }
 
+/// `frames` with each missing frame (`None`, a pose that could not be found) holding the
+/// nearest earlier pose, and those before the first pose holding it: the frames a BVH file,
+/// which has a value for every frame at a fixed frame time, can show. `None` when there is
+/// no pose at all.
+pub fn hold_missing_frames(frames: &[Option<Pose3>]) -> Option<Vec<Pose3>> {
+    let mut last = *frames.iter().flatten().next()?;
+    Some(
+        frames
+            .iter()
+            .map(|p| {
+                if let Some(p) = p {
+                    last = *p;
+                }
+                last
+            })
+            .collect(),
+    )
+}
+
 /// The `HIERARCHY` section for limb lengths in file units.
 fn hierarchy(lengths: &[f64; NUM_LIMBS], metres_per_unit: f64) -> String {
     let mut text = String::from("HIERARCHY\n");
@@ -213,4 +232,20 @@ fn hierarchy(lengths: &[f64; NUM_LIMBS], metres_per_unit: f64) -> String {
     }
     close_to(&mut text, &mut open, None);
     text
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn missing_frames_hold_the_previous_pose_and_the_first_before_it() {
+        let a = Pose3::new([[1.0; 3]; 15]);
+        let b = Pose3::new([[2.0; 3]; 15]);
+        assert_eq!(
+            hold_missing_frames(&[None, Some(a), None, Some(b), None]),
+            Some(vec![a, a, a, b, b])
+        );
+        assert_eq!(hold_missing_frames(&[None, None]), None);
+    }
 }

@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use camloc::geometry::CameraSet;
-use camloc::mocap::{BvhOptions, write_bvh};
+use camloc::mocap::{BvhOptions, hold_missing_frames, write_bvh};
 use camloc::skeleton::mean_limb_lengths;
 use camloc::{Pose3, sequences};
 
@@ -65,7 +65,7 @@ pub fn bvh_files(
     let mut files = Vec::new();
     for (n, (name, members)) in groups.iter().enumerate() {
         let poses: Vec<Option<Pose3>> = members.iter().map(|&i| kept[i].pose).collect();
-        let Some(frames) = fill_gaps(&poses) else {
+        let Some(frames) = hold_missing_frames(&poses) else {
             if sequence {
                 eprintln!("camloc: no BVH for {name}: none of its poses was reconstructed");
             }
@@ -78,23 +78,6 @@ pub fn bvh_files(
         files.push((numbered_path(&base, n, groups.len()), text.into_bytes()));
     }
     Ok(files)
-}
-
-/// `poses` with each `None` replaced by the nearest earlier pose (the first pose for those
-/// before it); `None` when there is no pose at all.
-fn fill_gaps(poses: &[Option<Pose3>]) -> Option<Vec<Pose3>> {
-    let mut last = *poses.iter().flatten().next()?;
-    Some(
-        poses
-            .iter()
-            .map(|p| {
-                if let Some(p) = p {
-                    last = *p;
-                }
-                last
-            })
-            .collect(),
-    )
 }
 
 /// `out`, or `out` with `extension` when it has none (so that numbered names keep it).
@@ -137,17 +120,6 @@ pub fn parse_fps(text: &str) -> Result<f64, String> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn gaps_hold_the_previous_pose_and_the_first_before_it() {
-        let a = Pose3::new([[1.0; 3]; 15]);
-        let b = Pose3::new([[2.0; 3]; 15]);
-        assert_eq!(
-            fill_gaps(&[None, Some(a), None, Some(b), None]),
-            Some(vec![a, a, a, b, b])
-        );
-        assert_eq!(fill_gaps(&[None, None]), None);
-    }
 
     #[test]
     fn groups_are_persons_poses_or_everything() {
