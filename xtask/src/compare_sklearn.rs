@@ -2,7 +2,8 @@
 //! `newton-cholesky` and `lbfgs` solvers on the same design matrix.
 //!
 //! The command builds a problem (overlapping Gaussian classes of the paper's size by default,
-//! or the landmark descriptors of a camloc dataset file), standardises it once (column mean 0,
+//! the landmark descriptors of a camloc dataset file, or the default model's real training
+//! problem), standardises it once (column mean 0,
 //! population standard deviation 1; constant columns are only centred) and fits camloc on
 //! it with camloc's own standardisation switched off, so that both libraries solve exactly
 //! the same problem. It then writes the matrix, the labels and camloc's coefficients as
@@ -14,32 +15,23 @@
 //! table) and by numpy (a cross-check of the definition, printed below the table).
 
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
+use std::path::PathBuf;
 use std::time::Instant;
 
 use camloc::Descriptor;
-use camloc::dataset::{Dataset, Sample};
 use camloc::learning::{
     DirectionSolver, Features, FitReport, LogisticModel, LogisticRegression, Mode,
     QuadraticExpansion, Standardiser,
 };
-use camloc::store::Persist;
-use rand::SeedableRng;
-use rand_chacha::ChaCha8Rng;
-use rand_distr::{Distribution, StandardNormal};
-use serde::Deserialize;
+
+mod problem;
+mod python;
+
+use problem::Problem;
+use python::{SklearnFit, SklearnReport, THREAD_VARIABLES, TempDir};
 
 /// The scikit-learn solvers compared with camloc, in table order.
-const SKLEARN_SOLVERS: [&str; 2] = ["newton-cholesky", "lbfgs"];
-/// Standard deviation of each coordinate of a synthetic class mean, in units of the
-/// within-class standard deviation: small enough that the classes overlap (about 80%
-/// training accuracy), so that Newton's method needs several iterations.
-const CLASS_SEPARATION: f64 = 0.3;
-/// Environment variables that set the thread count of the BLAS and OpenMP runtimes
-/// numpy and scikit-learn may use.
-const THREAD_VARIABLES: [&str; 3] = ["OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"];
-
+pub const SKLEARN_SOLVERS: [&str; 2] = ["newton-cholesky", "lbfgs"];
 /// Arguments of `compare-sklearn`.
 #[derive(clap::Args)]
 pub struct Args {
@@ -59,6 +51,16 @@ pub struct Args {
     /// (labels = camera label - 1) instead of synthetic data.
     #[arg(long, value_name = "FILE", conflicts_with_all = ["n", "d", "k", "seed"])]
     pub dataset: Option<PathBuf>,
+    /// Use the default model's real training problem instead of synthetic data: the
+    /// descriptors (joints) and camera labels of the complete poses of the dataset
+    /// `cargo xtask train-default` generates, built by the same code from the motion
+    /// capture (see --mocap).
+    #[arg(long, conflicts_with_all = ["n", "d", "k", "seed", "dataset"])]
+    pub default_training_set: bool,
+    /// Motion capture folders of --default-training-set [default: $CAMLOC_DATA/cmu, else
+    /// ../shared/data/cmu].
+    #[arg(long = "mocap", value_name = "DIR", requires = "default_training_set")]
+    pub mocap: Vec<PathBuf>,
     /// Ridge weight lambda on the squared weights (scikit-learn's C = 1 / (2 lambda)).
     #[arg(long, default_value_t = 1.0)]
     pub lambda: f64,
@@ -84,53 +86,6 @@ pub struct Args {
     pub markdown: bool,
 }
 
-/// A classification problem with standardised features.
-struct Problem {
-    /// Row-major `n x n_features` features, every column standardised.
-    x: Vec<f64>,
-    /// Labels in `0..n_classes`.
-    y: Vec<usize>,
-    n_features: usize,
-    n_classes: usize,
-    /// Where the data come from, for the output.
-    description: String,
-}
-
-/// What the Python script prints (see its docstring).
-#[derive(Deserialize)]
-struct SklearnReport {
-    python: String,
-    numpy: String,
-    sklearn: String,
-    blas: Vec<BlasPool>,
-    /// Objective of camloc's coefficients, evaluated by numpy.
-    camloc_objective: f64,
-    solvers: Vec<SklearnFit>,
-}
-
-/// One thread pool found by threadpoolctl.
-#[derive(Deserialize)]
-struct BlasPool {
-    internal_api: Option<String>,
-    version: Option<String>,
-    num_threads: Option<usize>,
-}
-
-/// One scikit-learn solver's fits.
-#[derive(Deserialize)]
-struct SklearnFit {
-    solver: String,
-    /// Wall time of every repeat of `.fit`, seconds.
-    wall_s: Vec<f64>,
-    n_iter: usize,
-    /// Objective evaluated by numpy (not done for the direct-solver row).
-    objective: f64,
-    /// `K x d`, class-major.
-    coef: Vec<Vec<f64>>,
-    intercept: Vec<f64>,
-    warnings: Vec<String>,
-}
-
 /// camloc's fits of the problem with one solver configuration.
 struct CamlocFits {
     /// Wall time of every fit, seconds.
@@ -141,12 +96,13 @@ struct CamlocFits {
 }
 
 impl CamlocFits {
-    /// `"6 (2 Hessians assembled)"`.
+    /// `"7 (2 Hessians assembled, 31 CG products)"`.
     fn iterations_cell(&self) -> String {
         format!(
-            "{} ({} Hessians assembled)",
+            "{} ({} Hessians assembled, {} CG products)",
             self.report.newton_iterations(),
-            self.report.hessian_assemblies()
+            self.report.hessian_assemblies(),
+            self.report.cg_products()
         )
     }
 }
@@ -205,16 +161,6 @@ struct Row {
     objective_numpy: Option<f64>,
 }
 
-/// Deletes a folder (and its content) when dropped.
-struct TempDir(PathBuf);
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        // Best effort: a leftover folder in the system temp dir is harmless.
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
-
 /// Runs `compare-sklearn`.
 pub fn run(args: &Args) -> Result<(), String> {
     if args.repeats == 0 {
@@ -241,13 +187,14 @@ pub fn run(args: &Args) -> Result<(), String> {
     if !script.is_file() {
         return Err(format!("{}: script not found", script.display()));
     }
-    let python = sklearn_python(&root)?;
+    let python = python::sklearn_python(&root)?;
 
     let mut problem = match &args.dataset {
-        Some(path) => from_dataset(path)?,
-        None => synthetic(args.n, args.d, args.k, args.seed)?,
+        _ if args.default_training_set => problem::default_training_set(&args.mocap)?,
+        Some(path) => problem::from_dataset(path)?,
+        None => problem::synthetic(args.n, args.d, args.k, args.seed)?,
     };
-    standardise(&mut problem.x, problem.n_features)?;
+    problem::standardise(&mut problem.x, problem.n_features)?;
     eprintln!("problem: {}", problem.description);
     let components = camloc::DEFAULT_QUADRATIC_COMPONENTS;
     println!(
@@ -294,17 +241,17 @@ pub fn run(args: &Args) -> Result<(), String> {
         std::env::temp_dir().join(format!("camloc-compare-sklearn-{}", std::process::id())),
     );
     std::fs::create_dir_all(&folder.0).map_err(|e| format!("{}: {e}", folder.0.display()))?;
-    write_inputs(&folder.0, &problem, model)?;
+    python::write_inputs(&folder.0, &problem, model)?;
     eprintln!(
         "fitting scikit-learn {} ({} times each, {threads} BLAS/OpenMP threads)",
         SKLEARN_SOLVERS.join(", "),
         args.repeats
     );
-    let sklearn = run_sklearn(&python, &script, &folder.0, args, threads)?;
+    let sklearn = python::run_sklearn(&python, &script, &folder.0, args, threads)?;
 
     let mut rows = vec![
         Row {
-            solver: "camloc (Newton; CG on the last Cholesky factor, default)".into(),
+            solver: "camloc (truncated Newton-CG, subsampled preconditioner, default)".into(),
             wall_s: fastest(&camloc.times),
             iterations: camloc.iterations_cell(),
             objective: camloc_objective,
@@ -347,241 +294,6 @@ pub fn run(args: &Args) -> Result<(), String> {
         render(&rows, &problem, args, threads, &sklearn, &notes)
     );
     Ok(())
-}
-
-/// `n` samples of `d` features in `k` overlapping Gaussian classes, deterministic for a
-/// seed: class means drawn from `N(0, CLASS_SEPARATION^2 I)`, samples `mean + N(0, I)`,
-/// balanced labels `i mod k`.
-fn synthetic(n: usize, d: usize, k: usize, seed: u64) -> Result<Problem, String> {
-    if d == 0 || k < 2 || n < k {
-        return Err(format!(
-            "synthetic problem needs d >= 1, k >= 2 and n >= k (every class present), got \
-             n = {n}, d = {d}, k = {k}"
-        ));
-    }
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let mut gaussian = move || -> f64 { StandardNormal.sample(&mut rng) };
-    let means: Vec<f64> = (0..k * d).map(|_| CLASS_SEPARATION * gaussian()).collect();
-    let y: Vec<usize> = (0..n).map(|i| i % k).collect();
-    let x = y
-        .iter()
-        .flat_map(|&label| &means[label * d..(label + 1) * d])
-        .map(|mean| mean + gaussian())
-        .collect();
-    Ok(Problem {
-        x,
-        y,
-        n_features: d,
-        n_classes: k,
-        description: format!(
-            "synthetic Gaussian classes, n = {n}, d = {d}, K = {k}, class-mean spread \
-             {CLASS_SEPARATION}, seed {seed}"
-        ),
-    })
-}
-
-/// The landmark descriptors and 0-based camera labels of the complete poses (no dropped
-/// landmark) of the dataset file at `path`.
-fn from_dataset(path: &Path) -> Result<Problem, String> {
-    // Store errors (validation included) name the file.
-    let dataset = Dataset::load(path).map_err(|e| e.to_string())?;
-    let complete: Vec<(usize, &Sample)> = dataset
-        .samples
-        .iter()
-        .enumerate()
-        .filter(|(_, s)| s.missing_mask == 0)
-        .collect();
-    let y = complete
-        .iter()
-        .map(|(i, s)| {
-            usize::from(s.label)
-                .checked_sub(1)
-                .ok_or_else(|| format!("{}: sample {i} has label 0", path.display()))
-        })
-        .collect::<Result<Vec<_>, _>>()?;
-    let poses: Vec<_> = complete.iter().map(|(_, s)| s.landmarks).collect();
-    let descriptor = Descriptor::Landmarks;
-    let x = descriptor.extract_batch(&poses).map_err(|(i, e)| {
-        let sample = complete.get(i).map_or(i, |(original, _)| *original);
-        format!("{}: sample {sample}: {e}", path.display())
-    })?;
-    let n_classes = dataset.header.cameras.len();
-    Ok(Problem {
-        description: format!(
-            "{}: '{}' descriptors of {} complete poses ({} with dropped landmarks left \
-             out), d = {}, K = {n_classes}",
-            path.display(),
-            descriptor.name(),
-            y.len(),
-            dataset.samples.len() - y.len(),
-            descriptor.len()
-        ),
-        x,
-        y,
-        n_features: descriptor.len(),
-        n_classes,
-    })
-}
-
-/// Standardises every column of the row-major `x` (`d` columns) in place with camloc's own
-/// [`Standardiser`] (column mean 0, population standard deviation 1; a constant column is
-/// only centred).
-fn standardise(x: &mut [f64], d: usize) -> Result<(), String> {
-    let standardiser = Standardiser::fit(&Features::new(x, d).map_err(|e| e.to_string())?);
-    for row in x.chunks_exact_mut(d) {
-        for ((v, m), s) in row
-            .iter_mut()
-            .zip(standardiser.means())
-            .zip(standardiser.scales())
-        {
-            *v = (*v - m) / s;
-        }
-    }
-    Ok(())
-}
-
-/// The Python of the virtual environment `target/sklearn-venv`, created with
-/// `python3 -m venv` and filled by `pip install numpy scikit-learn` when needed.
-fn sklearn_python(root: &Path) -> Result<PathBuf, String> {
-    let venv = root.join("target").join("sklearn-venv");
-    let python = venv.join("bin").join("python");
-    if !python.exists() {
-        eprintln!(
-            "creating a Python virtual environment: python3 -m venv {}",
-            venv.display()
-        );
-        run_logged(
-            Command::new("python3").args(["-m", "venv"]).arg(&venv),
-            "python3 -m venv",
-        )
-        .map_err(|e| format!("{e} (is python3 with its venv module installed?)"))?;
-    }
-    let ready = Command::new(&python)
-        .args(["-c", "import numpy, sklearn, threadpoolctl"])
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .status()
-        .is_ok_and(|s| s.success());
-    if !ready {
-        eprintln!(
-            "installing numpy and scikit-learn from PyPI: {} -m pip install numpy scikit-learn",
-            python.display()
-        );
-        run_logged(
-            Command::new(&python).args(["-m", "pip", "install", "numpy", "scikit-learn"]),
-            "pip install numpy scikit-learn",
-        )
-        .map_err(|e| {
-            format!(
-                "{e}: could not install numpy and scikit-learn (is https://pypi.org reachable \
-                 from this machine?); delete {} to start over",
-                venv.display()
-            )
-        })?;
-    }
-    Ok(python)
-}
-
-/// Runs `command`, its output going to stderr (stdout is kept for the table).
-fn run_logged(command: &mut Command, what: &str) -> Result<(), String> {
-    let status = command
-        .stdout(Stdio::from(std::io::stderr()))
-        .status()
-        .map_err(|e| format!("{what}: cannot start: {e}"))?;
-    if status.success() {
-        Ok(())
-    } else {
-        Err(format!("{what}: failed ({status})"))
-    }
-}
-
-/// Writes `x.npy` (`n x d`, f64), `y.npy` (`n`, i64) and camloc's coefficients
-/// `camloc_w.npy` (`d x K`, feature-major) and `camloc_b.npy` (`K`) into `folder`.
-fn write_inputs(folder: &Path, problem: &Problem, model: &LogisticModel) -> Result<(), String> {
-    let n = problem.y.len();
-    let labels = problem
-        .y
-        .iter()
-        .map(|&label| i64::try_from(label).map(i64::to_le_bytes))
-        .collect::<Result<Vec<_>, _>>()
-        .map_err(|e| format!("label does not fit in i64: {e}"))?
-        .concat();
-    write_npy(
-        &folder.join("x.npy"),
-        "<f8",
-        &[n, problem.n_features],
-        &f64_bytes(&problem.x),
-    )?;
-    write_npy(&folder.join("y.npy"), "<i8", &[n], &labels)?;
-    write_npy(
-        &folder.join("camloc_w.npy"),
-        "<f8",
-        &[problem.n_features, problem.n_classes],
-        &f64_bytes(model.weights()),
-    )?;
-    write_npy(
-        &folder.join("camloc_b.npy"),
-        "<f8",
-        &[problem.n_classes],
-        &f64_bytes(model.biases()),
-    )
-}
-
-/// Little-endian bytes of `values`.
-fn f64_bytes(values: &[f64]) -> Vec<u8> {
-    values.iter().flat_map(|v| v.to_le_bytes()).collect()
-}
-
-/// Writes a C-order array in NPY format version 1.0: magic, version, header length, a
-/// Python-dict header padded with spaces to a multiple of 64 bytes and ended by a newline,
-/// then the raw elements. `descr` is the NumPy type string (`<f8`, `<i8`), `payload` the
-/// little-endian elements.
-fn write_npy(path: &Path, descr: &str, shape: &[usize], payload: &[u8]) -> Result<(), String> {
-    let dims: Vec<String> = shape.iter().map(usize::to_string).collect();
-    let shape = match dims.as_slice() {
-        [single] => format!("({single},)"),
-        _ => format!("({})", dims.join(", ")),
-    };
-    let mut header = format!("{{'descr': '{descr}', 'fortran_order': False, 'shape': {shape}, }}");
-    let unpadded = 10 + header.len() + 1;
-    header.push_str(&" ".repeat(unpadded.next_multiple_of(64) - unpadded));
-    header.push('\n');
-    let header_len = u16::try_from(header.len())
-        .map_err(|_| format!("{}: NPY header too long", path.display()))?;
-    let mut bytes = Vec::with_capacity(10 + header.len() + payload.len());
-    bytes.extend_from_slice(b"\x93NUMPY\x01\x00");
-    bytes.extend_from_slice(&header_len.to_le_bytes());
-    bytes.extend_from_slice(header.as_bytes());
-    bytes.extend_from_slice(payload);
-    std::fs::write(path, bytes).map_err(|e| format!("{}: {e}", path.display()))
-}
-
-/// Runs the Python script on the files in `folder` with `threads` BLAS/OpenMP threads.
-fn run_sklearn(
-    python: &Path,
-    script: &Path,
-    folder: &Path,
-    args: &Args,
-    threads: usize,
-) -> Result<SklearnReport, String> {
-    let output = Command::new(python)
-        .arg(script)
-        .arg("--dir")
-        .arg(folder)
-        .args(["--lambda", &args.lambda.to_string()])
-        .args(["--tol", &args.tol.to_string()])
-        .args(["--max-iter", &args.max_iter.to_string()])
-        .args(["--repeats", &args.repeats.to_string()])
-        .args(["--solvers", &SKLEARN_SOLVERS.join(",")])
-        .envs(THREAD_VARIABLES.map(|v| (v, threads.to_string())))
-        .stderr(Stdio::inherit())
-        .output()
-        .map_err(|e| format!("{}: cannot start: {e}", python.display()))?;
-    if !output.status.success() {
-        return Err(format!("{}: failed ({})", script.display(), output.status));
-    }
-    serde_json::from_slice(&output.stdout)
-        .map_err(|e| format!("{}: cannot parse its JSON output: {e}", script.display()))
 }
 
 /// Objective of a scikit-learn fit's coefficients, evaluated by camloc.

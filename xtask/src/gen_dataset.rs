@@ -231,6 +231,12 @@ pub fn run(args: &Args) -> Result<(), String> {
             dataset.samples.len()
         );
     }
+    if dataset.header.undescribable_views > 0 {
+        println!(
+            "left out {} views that no descriptor can describe (a degenerate 2D torso)",
+            dataset.header.undescribable_views
+        );
+    }
     if config.augmentation.posture > 0.0 {
         let l = &dataset.header.posture_limits;
         println!(

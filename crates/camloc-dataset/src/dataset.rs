@@ -57,6 +57,10 @@ pub struct DatasetHeader {
     /// The joint-angle limits [`Augmentation::posture`] drew within, learned from the poses
     /// the dataset was made from.
     pub posture_limits: PostureLimits,
+    /// Views left out because no descriptor could describe them: their 2D torso (hip to
+    /// shoulder midpoints, or pelvis to neck) is degenerate, as when a camera looks along it
+    /// (`camloc_features::Descriptor::describable_by_all`).
+    pub undescribable_views: usize,
     /// 2D noise standard deviation as a fraction of the 2D torso length (0 for none).
     pub noise_fraction: f64,
     /// Clips the samples come from, indexed by [`Sample::clip`].

@@ -3,6 +3,7 @@
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 
+use camloc_features::Descriptor;
 use camloc_geometry::{
     CameraSet, Perspective, Viewpoint, WeakPerspective, look_at_origin, roll_about_optical_axis,
     sphere_point,
@@ -126,7 +127,9 @@ pub struct PoseSequence {
 /// configured protocol (under `sphere`: through as many random directions as the set has
 /// cameras). Deterministic for a given seed and input (each sample draws from
 /// its own random stream keyed by clip, frame and camera, so parallelism does not change the
-/// result). `progress(done, total)` is called as sequences finish.
+/// result). `progress(done, total)` is called as sequences finish. Views that no descriptor
+/// can describe (a degenerate 2D torso) are left out and counted in
+/// [`DatasetHeader::undescribable_views`].
 ///
 /// # Errors
 /// [`DatasetError::Invalid`] for invalid settings, non-finite poses, or a pose that reaches
@@ -149,6 +152,7 @@ pub fn generate(
         })
         .collect();
     let limits = PostureLimits::learn(donors.iter().copied());
+    let undescribable = AtomicUsize::new(0);
     let per_clip: Vec<Vec<Sample>> = sequences
         .par_iter()
         .enumerate()
@@ -179,6 +183,12 @@ pub fn generate(
                             seq.clip.name, view.label
                         ))
                     })?;
+                    // One rule for every dataset: a view no descriptor can describe (its 2D
+                    // torso is degenerate) is left out and counted, so that any model trains.
+                    if !Descriptor::describable_by_all(&sample.landmarks) {
+                        undescribable.fetch_add(1, Ordering::Relaxed);
+                        continue;
+                    }
                     sample.clip = clip_index as u32;
                     sample.frame = *frame;
                     out.push(sample);
@@ -200,6 +210,7 @@ pub fn generate(
             jitter: config.jitter,
             rig: config.rig,
             posture_limits: limits,
+            undescribable_views: undescribable.into_inner(),
             noise_fraction: config.noise_fraction,
             clips: sequences.iter().map(|s| s.clip.clone()).collect(),
         },

@@ -113,6 +113,17 @@ impl Descriptor {
         self.frame(&scaled, &|_| true).map(|_| ())
     }
 
+    /// Whether every descriptor can describe the complete pose `pose` ([`check_scale`] of the
+    /// joints' hip-to-shoulder torso and of the pelvis-to-neck torso the others use): the
+    /// rule by which dataset generation leaves out views no model could train on.
+    ///
+    /// [`check_scale`]: Self::check_scale
+    pub fn describable_by_all(pose: &Pose2) -> bool {
+        [Descriptor::Joints, Descriptor::Landmarks]
+            .iter()
+            .all(|d| d.check_scale(pose).is_ok())
+    }
+
     /// The 2D frame of `pose` (within the safe range) with the landmarks `is_present` has.
     fn frame(
         &self,

@@ -5,6 +5,9 @@
 //! Besides criterion's times, GFLOP/s figures are printed to stderr, from the fastest
 //! iteration criterion measured:
 //! * GEMM peak: `2 m^3` flops for an `m x m` product;
+//! * Hessian-vector product: `4 n D K` (`NewtonProblem::hessian_vector_product_flops`: the
+//!   two products with the `n x D` design matrix), also as a share of the 2-core GEMM peak
+//!   when the `gemm_peak` group ran in the same invocation;
 //! * Hessian assembly, as actually computed: `2 n T Q` with `T = D(D+1)/2`, `Q = K(K-1)/2`,
 //!   `D = d + 1` (`NewtonProblem::hessian_flops`), and the textbook-equivalent count
 //!   `2 n D^2 K(K+1)/2` of assembling every upper block as a full GEMM
@@ -18,6 +21,7 @@
 mod support;
 
 use std::hint::black_box;
+use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
 use camloc_learning::{DirectionSolver, Features, LogisticRegression, NewtonProblem};
@@ -33,6 +37,9 @@ const PAPER_N: usize = 43_188;
 const SEPARATION: f64 = 0.3;
 /// Fixed seed of the synthetic data.
 const SEED: u64 = 2024;
+
+/// The 2-core GEMM rate measured by the `gemm_peak` group of this run, GFLOP/s.
+static GEMM_PEAK_GFLOPS: Mutex<Option<f64>> = Mutex::new(None);
 
 /// Data and a Newton problem in a typical mid-fit state (after one iteration from zero),
 /// with the direct solver, so that every timed iteration assembles and factorises the
@@ -128,10 +135,13 @@ fn gemm_peak(c: &mut Criterion) {
             );
         });
         if best < Duration::MAX {
-            eprintln!(
-                "GEMM {m}x{m}x{m} {name}: {:.1} GFLOP/s (fastest iteration)",
-                gflops(flops, best)
-            );
+            let rate = gflops(flops, best);
+            eprintln!("GEMM {m}x{m}x{m} {name}: {rate:.1} GFLOP/s (fastest iteration)");
+            if name == "rayon" {
+                *GEMM_PEAK_GFLOPS
+                    .lock()
+                    .unwrap_or_else(std::sync::PoisonError::into_inner) = Some(rate);
+            }
         }
     }
     group.finish();
@@ -166,6 +176,47 @@ fn newton_benches(c: &mut Criterion, label: &str, n: usize) {
             s.problem.hessian_flops(),
             gflops(s.problem.hessian_flops_textbook(), best),
             s.problem.hessian_flops_textbook(),
+        );
+    }
+
+    let mut best = Duration::MAX;
+    let mut product_input = Vec::new();
+    group.bench_function("hessian_vector_product", |bench| {
+        let s = setup.get_or_insert_with(|| Setup::new(n));
+        s.problem
+            .set_parameters(&s.theta)
+            .expect("valid parameters");
+        // Any vector of the right size: the product's cost does not depend on its values.
+        product_input = s.theta.iter().map(|t| 1.0 - t).collect();
+        let mut out = vec![0.0; product_input.len()];
+        timed(
+            bench,
+            &mut s.problem,
+            &mut best,
+            |_| {},
+            |p| {
+                p.hessian_vector_product(&product_input, &mut out)
+                    .expect("sizes match");
+                black_box(&out);
+            },
+        );
+    });
+    if let Some(s) = setup.as_ref().filter(|_| best < Duration::MAX) {
+        let rate = gflops(s.problem.hessian_vector_product_flops(), best);
+        let peak = *GEMM_PEAK_GFLOPS
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        let share = peak.map_or_else(String::new, |peak| {
+            format!(
+                ", {:.0}% of the 2-core GEMM peak {peak:.1} GFLOP/s",
+                100.0 * rate / peak
+            )
+        });
+        eprintln!(
+            "{label}: Hessian-vector product {:.3} ms (fastest): {rate:.1} GFLOP/s ({:.3e} \
+             flops){share}",
+            best.as_secs_f64() * 1e3,
+            s.problem.hessian_vector_product_flops(),
         );
     }
 

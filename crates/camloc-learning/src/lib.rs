@@ -55,7 +55,10 @@ mod ridge;
 mod softmax;
 mod standardise;
 
-pub use config::{DirectionSolver, LogisticRegression, Mode};
+pub use config::{
+    DirectionSolver, LogisticRegression, MIN_PRECONDITIONER_ROWS, Mode,
+    PRECONDITIONER_ROWS_PER_PARAMETER,
+};
 pub use cv::{CandidateScore, CvReport, cross_validate_grouped, group_k_fold};
 pub use data::Features;
 pub use error::LearningError;

@@ -32,30 +32,35 @@
 //! Actual multiply-adds per Hessian: `n * D(D+1)/2 * Q` with `Q = K(K-1)/2` (multinomial)
 //! or `K` (one-vs-rest); see [`NewtonProblem::hessian_flops`].
 //!
-//! # Reusing a factor
-//!
-//! With [`DirectionSolver::PreconditionedCg`] (the default, multinomial mode), an iteration
-//! first tries to solve its Newton system by conjugate gradients on exact Hessian-vector
-//! products (`4 n D K` flops each), preconditioned by the Cholesky factor of the last
-//! assembled Hessian, to the accuracy of the direct solve; only if that would take longer
-//! than an assembly does it assemble and factorise the Hessian. Near the optimum the
-//! Hessian barely changes, so one factor serves the last few iterations (module `cg`).
-//!
 //! # Truncated Newton
 //!
-//! With [`DirectionSolver::TruncatedCg`] (for many samples and many parameters) every
-//! Newton system is solved by the same preconditioned conjugate gradients, but only to the
-//! forcing term `min(0.5, sqrt(||g|| / ||g_0||))`, and the preconditioner is the Hessian
-//! assembled on a fixed, evenly spaced subset of the samples (rescaled to all of them), so
-//! that an assembly costs `m / n` of a full one. The factor is refreshed when a solve spends
-//! its budget.
+//! With [`DirectionSolver::PreconditionedCg`] (the default) and
+//! [`DirectionSolver::TruncatedCg`] (multinomial mode) every Newton system is solved by
+//! conjugate gradients on exact Hessian-vector products (`4 n D K` flops each, module
+//! `product`), only to the forcing term `min(0.5, sqrt(||g|| / ||g_0||))` or until the
+//! residual is well inside the convergence threshold, preconditioned by the Cholesky factor
+//! of the Hessian assembled on a fixed, evenly spaced subset of the samples (rescaled to all
+//! of them), so that an assembly costs `m / n` of a full one. The factor is refreshed when a
+//! solve spends its budget (module `cg`); with the default solver the subsample then also
+//! doubles.
 //!
 //! # Where the code is
 //!
 //! This module holds the solver state, the fit loop and the reports; the direction solvers
 //! are in `direct` (Hessian assembly and Cholesky solve) and `cg` (conjugate gradients
-//! preconditioned by the last factor), the Armijo backtracking in `line_search`, and the
-//! per-sample passes and reductions they share in `kernels`.
+//! preconditioned by the last factor, on the Hessian-vector products of `product`), the
+//! Armijo backtracking in `line_search`, the products of the design matrix with thin
+//! matrices (logits, gradients, Hessian-vector products) in `blocked`, and the per-sample
+//! kernels and reductions in `kernels`.
+//!
+//! # Evaluations
+//!
+//! A line-search trial evaluates every sample at the trial logits `z + t dz` (`dz = X d`,
+//! computed once per direction) in one pass: loss, probabilities and residuals share one
+//! exponential per class and are kept. When the trial is accepted (in practice nearly
+//! always the unit step) it becomes the new state as it is, and only the gradient is left
+//! to compute: an iteration evaluates the objective once, not once for the line search and
+//! again for the update.
 //!
 //! # Singular directions
 //!
@@ -71,25 +76,22 @@
 use faer::Par;
 use faer::dyn_stack::MemBuffer;
 use faer::linalg::cholesky::llt::factor::cholesky_in_place_scratch;
-use rayon::prelude::*;
 
 use crate::data::check_labels;
 use crate::hessian::PackedHessian;
 use crate::standardise::Standardiser;
 use crate::{DirectionSolver, Features, LearningError, LogisticModel, LogisticRegression, Mode};
 
+mod blocked;
 mod cg;
-mod cg_outcome;
 mod direct;
 mod kernels;
 mod line_search;
+mod product;
 
-use cg_outcome::{CgOutcome, TruncatedStep};
+use blocked::BlockedProducts;
 pub(crate) use kernels::row_loss;
-use kernels::{
-    ROWS_PER_TASK, add_ridge_curvature, block_totals, linear_logits, residuals_of_row, ridge,
-    shifted, transpose_product,
-};
+use kernels::{ROWS_PER_TASK, add_ridge_curvature};
 
 /// What happened in one Newton iteration (or at the starting point, iteration 0).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -103,36 +105,34 @@ pub struct IterationLog {
     /// Step length taken along the Newton direction (1 is the full step; 0 means no
     /// decrease could be found). For one-vs-rest, the largest of the per-class steps.
     pub step: f64,
-    /// Whether the Hessian was assembled and factorised in this iteration (false at the
-    /// starting point and when conjugate gradients solved the Newton system with an earlier
-    /// factor, see [`DirectionSolver`]).
+    /// Whether the Hessian (or the preconditioner's subsampled Hessian) was assembled and
+    /// factorised in this iteration (false at the starting point and when conjugate
+    /// gradients solved the Newton system with an earlier factor, see [`DirectionSolver`]).
     pub hessian_assembled: bool,
-    /// Hessian-vector products spent by conjugate gradients in this iteration, including
-    /// those of an attempt that gave up for an assembly.
+    /// Hessian-vector products spent by conjugate gradients in this iteration.
     pub cg_products: usize,
-    /// Whether the direction came from truncated CG ([`DirectionSolver::TruncatedCg`]),
-    /// which runs after an assembly too.
+    /// Whether the direction came from truncated CG ([`DirectionSolver::PreconditionedCg`]
+    /// or [`DirectionSolver::TruncatedCg`]), which runs after an assembly too.
     pub truncated: bool,
 }
 
 impl IterationLog {
     /// How the Newton direction of this iteration was found, in words for logs:
-    /// `"start"`, `"Hessian + Cholesky"`, `"CG, 7 products"` or
-    /// `"CG gave up after 4 products, Hessian + Cholesky"`.
+    /// `"start"`, `"Hessian + Cholesky"`, `"truncated CG, 7 products"` or
+    /// `"preconditioner assembled, truncated CG, 4 products"`.
     pub fn direction_summary(&self) -> String {
-        if self.truncated && self.iteration > 0 {
-            let assembled = if self.hessian_assembled {
-                "preconditioner assembled, "
-            } else {
-                ""
-            };
-            return format!("{assembled}truncated CG, {} products", self.cg_products);
-        }
-        match (self.iteration, self.hessian_assembled, self.cg_products) {
+        match (self.iteration, self.truncated, self.hessian_assembled) {
             (0, _, _) => "start".to_owned(),
-            (_, true, 0) => "Hessian + Cholesky".to_owned(),
-            (_, true, c) => format!("CG gave up after {c} products, Hessian + Cholesky"),
-            (_, false, c) => format!("CG, {c} products"),
+            (_, false, _) => "Hessian + Cholesky".to_owned(),
+            (_, true, assembled) => format!(
+                "{}truncated CG, {} products",
+                if assembled {
+                    "preconditioner assembled, "
+                } else {
+                    ""
+                },
+                self.cg_products
+            ),
         }
     }
 }
@@ -209,10 +209,12 @@ pub struct NewtonProblem {
     residuals: Vec<f64>,
     /// `K x n` change of the logits along the Newton direction.
     direction_logits: Vec<f64>,
+    /// `K x n` logits of the last line-search trial.
+    trial_logits: Vec<f64>,
     /// `D x K` gradient.
     gradient: Vec<f64>,
-    /// `tasks x (K x D)` per-task partial gradients (`K x D` column-major each).
-    gradient_partials: Vec<f64>,
+    /// Buffers of the products with `X` (logits, gradient, Hessian-vector products).
+    blocked: BlockedProducts,
     /// `D x K` Newton direction.
     direction: Vec<f64>,
     /// `P x P` Hessian (full, symmetric).
@@ -242,8 +244,8 @@ pub struct NewtonProblem {
     partial_losses: Vec<f64>,
     /// Packed Hessian blocks and their work buffers.
     packed: PackedHessian,
-    /// With [`DirectionSolver::TruncatedCg`] on fewer rows than samples: the evenly spaced
-    /// rows the preconditioning Hessian is assembled on (empty: every row).
+    /// With a preconditioner on fewer rows than samples ([`DirectionSolver::preconditioner_rows`]):
+    /// the evenly spaced rows the preconditioning Hessian is assembled on (empty: every row).
     sub_rows: Vec<usize>,
     /// `m x D` column-major design rows of `sub_rows`.
     sub_x: Vec<f64>,
@@ -251,6 +253,8 @@ pub struct NewtonProblem {
     sub_per_sample: Vec<f64>,
     /// `||grad f||_inf` at the starting point (the forcing term's reference).
     initial_gradient_norm: f64,
+    /// The fit's convergence threshold on `||grad f||_inf` (`gradient_tolerance * n`).
+    gradient_threshold: f64,
     /// Trust radius of truncated CG in the preconditioner's norm (infinite at the start).
     trust_radius: f64,
     iteration: usize,
@@ -317,20 +321,6 @@ impl NewtonProblem {
             Mode::Multinomial => p,
             Mode::OneVsRest => dim,
         };
-        let sub_rows: Vec<usize> = match config.direction_solver {
-            DirectionSolver::TruncatedCg {
-                preconditioner_rows: m,
-            } if m < n && config.mode == Mode::Multinomial => (0..m).map(|j| j * n / m).collect(),
-            _ => Vec::new(),
-        };
-        let m = sub_rows.len();
-        let mut sub_x = vec![0.0; m * dim];
-        for a in 0..dim {
-            for (j, &i) in sub_rows.iter().enumerate() {
-                sub_x[a * m + j] = design[a * n + i];
-            }
-        }
-        let hessian_rows = if m > 0 { m } else { n };
         let cholesky_scratch = MemBuffer::new(cholesky_in_place_scratch::<f64>(
             max_block,
             Par::rayon(0),
@@ -351,8 +341,9 @@ impl NewtonProblem {
             probabilities: vec![0.0; k * n],
             residuals: vec![0.0; k * n],
             direction_logits: vec![0.0; k * n],
+            trial_logits: vec![0.0; k * n],
             gradient: vec![0.0; p],
-            gradient_partials: vec![0.0; n.div_ceil(ROWS_PER_TASK) * p],
+            blocked: BlockedProducts::new(n, dim, k),
             direction: vec![0.0; p],
             hessian: vec![0.0; p * p],
             factor: vec![0.0; max_block * max_block],
@@ -367,17 +358,53 @@ impl NewtonProblem {
             block_done: vec![false; n_blocks],
             class_steps: vec![0.0; k],
             partial_losses: vec![0.0; n.div_ceil(ROWS_PER_TASK) * n_blocks],
-            packed: PackedHessian::new(hessian_rows, dim, k, config.mode),
-            sub_per_sample: vec![0.0; m * k],
-            sub_rows,
-            sub_x,
+            packed: PackedHessian::new(0, dim, k, config.mode),
+            sub_per_sample: Vec::new(),
+            sub_rows: Vec::new(),
+            sub_x: Vec::new(),
             initial_gradient_norm: 0.0,
+            gradient_threshold: config.gradient_tolerance * n as f64,
             trust_radius: f64::INFINITY,
             iteration: 0,
         };
+        problem.use_preconditioner_rows(config.direction_solver.preconditioner_rows(n, p));
         problem.refresh_from_parameters();
         problem.initial_gradient_norm = problem.gradient_norm();
         Ok(problem)
+    }
+
+    /// Assembles later Hessians on `m` evenly spaced rows `j n / m` (all rows when `m >= n`,
+    /// and in one-vs-rest mode): gathers their design rows and sizes the buffers.
+    fn use_preconditioner_rows(&mut self, m: usize) {
+        let (n, dim, k) = (self.n_samples, self.dim, self.n_classes);
+        self.sub_rows = if m < n && self.mode == Mode::Multinomial {
+            (0..m).map(|j| j * n / m).collect()
+        } else {
+            Vec::new()
+        };
+        let m = self.sub_rows.len();
+        self.sub_x = vec![0.0; m * dim];
+        for (column, sub) in self
+            .x
+            .chunks_exact(n)
+            .zip(self.sub_x.chunks_exact_mut(m.max(1)))
+        {
+            for (s, &i) in sub.iter_mut().zip(&self.sub_rows) {
+                *s = column[i];
+            }
+        }
+        self.sub_per_sample = vec![0.0; m * k];
+        self.packed = PackedHessian::new(self.hessian_rows(), dim, k, self.mode);
+    }
+
+    /// With [`DirectionSolver::PreconditionedCg`] on fewer rows than samples: doubles the
+    /// preconditioner's rows (at most all of them), for a CG solve that spent its budget
+    /// with the current ones.
+    pub(super) fn grow_preconditioner(&mut self) {
+        let m = self.sub_rows.len();
+        if self.direction_solver == DirectionSolver::PreconditionedCg && m > 0 {
+            self.use_preconditioner_rows(m.saturating_mul(2));
+        }
     }
 
     /// Number of parameters `P = (d + 1) K`.
@@ -416,8 +443,8 @@ impl NewtonProblem {
     /// Newton step that assembled one ([`IterationLog::hessian_assembled`]), `P x P`
     /// column-major, without the singular-direction correction of the Newton solve: it is
     /// exactly the second derivative of `f` at the parameters where it was assembled (not
-    /// necessarily the current ones), or with [`DirectionSolver::TruncatedCg`] on fewer rows
-    /// than samples its subsampled estimate.
+    /// necessarily the current ones), or with a preconditioner on fewer rows than samples
+    /// ([`hessian_rows`](Self::hessian_rows)) its subsampled estimate.
     pub fn hessian(&self) -> &[f64] {
         &self.hessian
     }
@@ -457,8 +484,9 @@ impl NewtonProblem {
         self.packed.flops(self.hessian_rows())
     }
 
-    /// Samples the Hessian is assembled on: all of them, or the preconditioner's rows of
-    /// [`DirectionSolver::TruncatedCg`].
+    /// Samples the Hessian is assembled on: all of them, or the preconditioner's rows
+    /// ([`DirectionSolver::preconditioner_rows`], doubled by the default solver when its
+    /// solves spend their budget).
     pub fn hessian_rows(&self) -> usize {
         if self.sub_rows.is_empty() {
             self.n_samples
@@ -500,75 +528,16 @@ impl NewtonProblem {
 
     /// Logits, losses, probabilities, residuals, objective and gradient from `theta`.
     fn refresh_from_parameters(&mut self) {
-        linear_logits(&self.x, self.dim, &self.theta, &mut self.logits);
+        self.blocked.logits(&self.x, &self.theta, &mut self.logits);
         self.class_steps.fill(0.0);
-        self.update_pass(false);
-    }
-
-    /// One pass over the samples: optionally moves the logits by `class_steps` along
-    /// `direction_logits`, then recomputes probabilities, residuals and losses; then the
-    /// block objectives (with the ridge term of the current `theta`) and the gradient.
-    fn update_pass(&mut self, move_logits: bool) {
-        let k = self.n_classes;
-        let mode = self.mode;
-        let n_blocks = self.block_objectives.len();
-        let steps = &self.class_steps;
-        self.logits
-            .par_chunks_mut(ROWS_PER_TASK * k)
-            .zip(self.probabilities.par_chunks_mut(ROWS_PER_TASK * k))
-            .zip(self.residuals.par_chunks_mut(ROWS_PER_TASK * k))
-            .zip(self.direction_logits.par_chunks(ROWS_PER_TASK * k))
-            .zip(self.labels.par_chunks(ROWS_PER_TASK))
-            .zip(self.partial_losses.par_chunks_mut(n_blocks))
-            .for_each(|(((((z, p), r), dz), labels), partial)| {
-                partial.fill(0.0);
-                for ((((z, p), r), dz), &y) in z
-                    .chunks_exact_mut(k)
-                    .zip(p.chunks_exact_mut(k))
-                    .zip(r.chunks_exact_mut(k))
-                    .zip(dz.chunks_exact(k))
-                    .zip(labels)
-                {
-                    if move_logits {
-                        for ((zc, &dc), &s) in z.iter_mut().zip(dz).zip(steps) {
-                            *zc = shifted(*zc, dc, s);
-                        }
-                    }
-                    row_loss(mode, y, k, |c| z[c], partial);
-                    residuals_of_row(mode, y, z, p, r);
-                }
-            });
-        self.finish_objectives();
-        self.compute_gradient();
-    }
-
-    /// Block objectives = sums of the task partials (in task order) plus the ridge terms of
-    /// the current `theta`.
-    fn finish_objectives(&mut self) {
-        let dim = self.dim;
-        let lambda = self.lambda;
-        let ridges = self
-            .theta
-            .chunks_exact(dim)
-            .map(|params| ridge(lambda, params[..dim - 1].iter().copied()));
-        block_totals(
-            &self.partial_losses,
-            self.mode,
-            ridges,
-            &mut self.block_objectives,
-        );
+        self.evaluate_trial();
+        self.accept_trial();
     }
 
     /// `grad f = X^T R^T + 2 lambda [W; 0]`.
     fn compute_gradient(&mut self) {
-        transpose_product(
-            &self.x,
-            self.dim,
-            self.n_classes,
-            &self.residuals,
-            &mut self.gradient_partials,
-            &mut self.gradient,
-        );
+        self.blocked
+            .transpose_product(&self.x, &self.residuals, &mut self.gradient);
         add_ridge_curvature(self.lambda, self.dim, &self.theta, &mut self.gradient);
     }
 
@@ -591,48 +560,24 @@ impl NewtonProblem {
             truncated = Some(step);
             (assemble, step.products)
         } else {
-            let reuse = self.direction_solver == DirectionSolver::PreconditionedCg
-                && self.mode == Mode::Multinomial
-                && self.factor_ready;
-            let cg = if reuse {
-                self.solve_by_cg()
-            } else {
-                CgOutcome::NotTried
-            };
-            match cg {
-                CgOutcome::Solved { products } => (false, products),
-                CgOutcome::NotTried => {
-                    self.assemble_hessian();
-                    self.solve_newton_system()?;
-                    (true, 0)
-                }
-                CgOutcome::GaveUp { products } => {
-                    self.assemble_hessian();
-                    self.solve_newton_system()?;
-                    (true, products)
-                }
-            }
+            self.assemble_hessian();
+            self.solve_newton_system()?;
+            (true, 0)
         };
-        let dim = self.dim;
-        linear_logits(&self.x, dim, &self.direction, &mut self.direction_logits);
-        self.line_search();
+        self.blocked
+            .logits(&self.x, &self.direction, &mut self.direction_logits);
+        let evaluated = self.line_search();
         let step = self.block_steps.iter().fold(0.0, |m: f64, &s| m.max(s));
         if let Some(t) = truncated {
             self.update_trust_radius(step, t);
         }
-        if step > 0.0 {
-            for ((t, d), &s) in self
-                .theta
-                .chunks_exact_mut(dim)
-                .zip(self.direction.chunks_exact(dim))
-                .zip(&self.class_steps)
-            {
-                for (tv, &dv) in t.iter_mut().zip(d) {
-                    *tv = shifted(*tv, dv, s);
-                }
-            }
-            self.update_pass(true);
+        // The trials overwrote probabilities and residuals: take the last one if it is at
+        // the final steps, else evaluate those (all zero when nothing was accepted: the
+        // state as it was, recomputed to the same numbers).
+        if !evaluated {
+            self.evaluate_trial();
         }
+        self.accept_trial();
         self.iteration += 1;
         Ok(self.log(step, hessian_assembled, cg_products))
     }
@@ -641,7 +586,7 @@ impl NewtonProblem {
     /// of which the line search accepted the fraction `step`: a shortened step shrinks the
     /// radius to what was accepted (at least a tenth of the direction), a full step on the
     /// boundary doubles it, a full step inside leaves it.
-    fn update_trust_radius(&mut self, step: f64, taken: TruncatedStep) {
+    fn update_trust_radius(&mut self, step: f64, taken: cg::TruncatedStep) {
         if !(taken.norm > 0.0) {
             return;
         }
@@ -653,10 +598,10 @@ impl NewtonProblem {
     }
 
     /// Whether directions come from truncated conjugate gradients
-    /// ([`DirectionSolver::TruncatedCg`], multinomial mode).
+    /// ([`DirectionSolver::PreconditionedCg`] or [`DirectionSolver::TruncatedCg`],
+    /// multinomial mode).
     fn is_truncated(&self) -> bool {
-        matches!(self.direction_solver, DirectionSolver::TruncatedCg { .. })
-            && self.mode == Mode::Multinomial
+        self.direction_solver != DirectionSolver::Cholesky && self.mode == Mode::Multinomial
     }
 
     /// The fitted model: parameters mapped back to per-feature weights and biases, with the

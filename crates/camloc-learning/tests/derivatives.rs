@@ -3,7 +3,7 @@
 
 mod support;
 
-use camloc_learning::{Features, LogisticRegression, Mode, NewtonProblem};
+use camloc_learning::{DirectionSolver, Features, LogisticRegression, Mode, NewtonProblem};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -178,4 +178,50 @@ fn objective_matches_direct_formula() {
         (got - expected).abs() <= 1e-10 * expected.abs(),
         "objective {got} vs direct {expected}"
     );
+}
+
+/// Hessian-vector products computed from the data equal the assembled Hessian times the
+/// vector, for both modes, on enough samples to span several row tasks and a partial
+/// last chunk; a vector of the wrong size is an error.
+#[test]
+fn hessian_vector_products_match_the_assembled_hessian() {
+    let (n, d, k) = (5003, 6, 5);
+    let (x, y) = support::gaussian_classes(n, d, k, 1.0, 2.0, 17);
+    let features = Features::new(&x, d).expect("valid features");
+    let mut rng = ChaCha8Rng::seed_from_u64(23);
+    for mode in [Mode::Multinomial, Mode::OneVsRest] {
+        // The direct solver assembles the Hessian on every sample.
+        let config = LogisticRegression::default()
+            .with_mode(mode)
+            .with_lambda(0.3)
+            .with_direction_solver(DirectionSolver::Cholesky);
+        let mut problem = NewtonProblem::new(&features, &y, k, &config).expect("valid problem");
+        let p = problem.n_parameters();
+        let theta: Vec<f64> = (0..p).map(|_| rng.random_range(-0.5..0.5)).collect();
+        problem.set_parameters(&theta).expect("finite parameters");
+        problem.assemble_hessian();
+        let hessian = problem.hessian().to_vec();
+        for _ in 0..3 {
+            let v: Vec<f64> = (0..p).map(|_| rng.random_range(-1.0..1.0)).collect();
+            let mut product = vec![0.0; p];
+            problem
+                .hessian_vector_product(&v, &mut product)
+                .expect("sizes match");
+            let scale = product.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            for (i, &got) in product.iter().enumerate() {
+                let expected: f64 = (0..p).map(|j| hessian[j * p + i] * v[j]).sum();
+                assert!(
+                    (got - expected).abs() <= 1e-12 * scale,
+                    "{mode:?}: (H v)[{i}] = {got}, assembled {expected}"
+                );
+            }
+        }
+        let mut short = vec![0.0; p - 1];
+        assert!(problem.hessian_vector_product(&theta, &mut short).is_err());
+        assert!(
+            problem
+                .hessian_vector_product(&short, &mut vec![0.0; p])
+                .is_err()
+        );
+    }
 }

@@ -1,52 +1,57 @@
-//! The Newton direction by conjugate gradients on exact Hessian-vector products,
-//! preconditioned by the Cholesky factor of an earlier Hessian
-//! ([`DirectionSolver::PreconditionedCg`](crate::DirectionSolver::PreconditionedCg)).
+//! The truncated Newton direction by conjugate gradients on exact Hessian-vector products
+//! (module `product`), preconditioned by the Cholesky factor of an earlier, subsampled
+//! Hessian ([`DirectionSolver::PreconditionedCg`](crate::DirectionSolver::PreconditionedCg)
+//! and [`DirectionSolver::TruncatedCg`](crate::DirectionSolver::TruncatedCg)).
 //!
 //! The system is the one the direct solve factorises, `(H + S) d = -g`, `S` the
 //! singular-direction shift recorded with the factor (the gradient is orthogonal to the
-//! null space of `H`, so `S` does not change the solution). A product
-//! `H v = X^T [(diag p_i - p_i p_i^T) V^T x_i]_i + 2 lambda [V; 0]` costs two passes over
+//! null space of `H`, so `S` does not change the solution). A product costs one pass over
 //! `X` (`4 n D K` flops) instead of the `2 n T Q` of an assembly.
 //!
-//! Stopping: `r^T M^-1 r <= CG_TOLERANCE^2 r_0^T M^-1 r_0`, with `M` the preconditioner.
-//! When `M` is close to `H + S` (the only case where CG is kept), `r^T M^-1 r` is close
-//! to the squared error of `d` in the `H + S` norm, so the direction is exact to about
-//! `CG_TOLERANCE` relative in the norm that governs the Newton step, about the accuracy of
-//! the direct solve. CG gives up (and the caller assembles a fresh Hessian) when the
-//! budget of products is spent, when the convergence rate seen so far would need more
-//! than the budget, or when a curvature `p^T A p` is not positive.
+//! Stopping: at the forcing term, `r^T M^-1 r <= eta^2 r_0^T M^-1 r_0` with `M` the
+//! preconditioner; when the residual `r = -g - (H + S) d` (the gradient that the quadratic
+//! model predicts after the step) is a quarter of the fit's convergence threshold in the
+//! infinity norm; at the trust radius; or when the budget of products (about the cost of an
+//! assembly) is spent, in which case the factor is marked stale.
 
 use faer::MatMut;
 use faer::dyn_stack::MemStack;
 use faer::linalg::cholesky::llt::solve::solve_in_place;
 use faer::{MatRef, Par};
-use rayon::prelude::*;
 
 use super::NewtonProblem;
-use super::cg_outcome::{CgOutcome, TruncatedStep};
-use super::kernels::{ROWS_PER_TASK, add_ridge_curvature, linear_logits, transpose_product};
 use crate::hessian::dot;
 
-/// Target relative error of the direction in the Hessian norm.
+/// Smallest forcing term: the relative accuracy of a direct solve.
 const CG_TOLERANCE: f64 = 1e-10;
 /// Fewest products CG may spend, whatever the cost model says (small problems).
 const MIN_BUDGET: usize = 10;
 /// How many times the flops of a Hessian-vector product cost, in time, relative to the
-/// flops of an assembly (the products are thin GEMMs bound by reading `X`, the assembly
-/// runs at GEMM speed). At the paper's size on a 2-core AVX2 machine a product took about
-/// 5 ms against 200 ms for an assembly (2.6 times the flop rate); 2 lets CG run a little
-/// longer than break-even, and the rate check stops it early when it converges slowly.
+/// flops of an assembly, for the budget. The blocked products run at about 0.8 of the
+/// assembly's flop rate (module `blocked`); 2 lets a solve spend about half the time of an
+/// assembly before the factor is refreshed.
 const PRODUCT_COST_WEIGHT: f64 = 2.0;
-/// Products after which the convergence rate is extrapolated to decide whether to go on.
-const RATE_CHECK_AFTER: usize = 4;
+
+/// What [`NewtonProblem::solve_by_truncated_cg`] did.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct TruncatedStep {
+    /// Hessian-vector products spent.
+    pub(super) products: usize,
+    /// Norm of the direction in the preconditioner's metric, `sqrt(d^T M d)`.
+    pub(super) norm: f64,
+    /// Whether the direction ends on the trust radius.
+    pub(super) on_boundary: bool,
+}
 
 /// The conjugate-gradient work vectors, `P` entries each.
 #[derive(Debug)]
 pub(super) struct Vectors {
     residual: Vec<f64>,
     preconditioned: Vec<f64>,
-    search: Vec<f64>,
-    product: Vec<f64>,
+    /// The search direction `v` of the next Hessian-vector product.
+    pub(super) search: Vec<f64>,
+    /// The product `H v` (module `product`), then `(H + S) v`.
+    pub(super) product: Vec<f64>,
 }
 
 impl Vectors {
@@ -65,10 +70,9 @@ impl NewtonProblem {
     /// Most products one CG solve may spend: the time of an assembly and factorisation,
     /// by the flop counts and [`PRODUCT_COST_WEIGHT`], at least [`MIN_BUDGET`].
     fn cg_budget(&self) -> usize {
-        let n = self.n_samples as f64;
         let p = self.theta.len() as f64;
         let assembly = self.hessian_flops() + p * p * p / 3.0;
-        let product = 4.0 * n * self.dim as f64 * self.n_classes as f64 + 2.0 * p * p;
+        let product = self.hessian_vector_product_flops() + 2.0 * p * p;
         let budget = assembly / (PRODUCT_COST_WEIGHT * product);
         if budget.is_finite() {
             (budget as usize).max(MIN_BUDGET)
@@ -91,33 +95,11 @@ impl NewtonProblem {
     }
 
     /// `cg.product = (H + S) cg.search` with the exact Hessian `H` at the current
-    /// parameters. Uses `direction_logits` and `gradient_partials` as scratch.
+    /// parameters and `S` the singular-direction shift recorded with the factor.
     fn hessian_times_search(&mut self) {
-        let (dim, k) = (self.dim, self.n_classes);
-        let v = &self.cg.search;
-        // s_i = V^T x_i, then t_i = diag(p_i) s_i - p_i (p_i . s_i).
-        linear_logits(&self.x, dim, v, &mut self.direction_logits);
-        self.direction_logits
-            .par_chunks_mut(ROWS_PER_TASK * k)
-            .zip(self.probabilities.par_chunks(ROWS_PER_TASK * k))
-            .for_each(|(s, p)| {
-                for (s, p) in s.chunks_exact_mut(k).zip(p.chunks_exact(k)) {
-                    let mean = dot(s, p);
-                    for (sc, &pc) in s.iter_mut().zip(p) {
-                        *sc = pc * (*sc - mean);
-                    }
-                }
-            });
-        let product = &mut self.cg.product;
-        transpose_product(
-            &self.x,
-            dim,
-            k,
-            &self.direction_logits,
-            &mut self.gradient_partials,
-            product,
-        );
-        add_ridge_curvature(self.lambda, dim, v, product);
+        self.multiply_by_hessian();
+        let dim = self.dim;
+        let (v, product) = (&self.cg.search, &mut self.cg.product);
         // S v: c_a times the sum over classes of v's entries for column a, in every class.
         for (a, &c) in self.null_shifts.iter().enumerate() {
             if c != 0.0 {
@@ -153,6 +135,19 @@ impl NewtonProblem {
         }
         self.precondition();
         dot(&self.cg.residual, &self.cg.preconditioned)
+    }
+
+    /// Whether the CG residual `r = -g - H d`, which is the gradient the quadratic model
+    /// predicts after the step, is already well inside the fit's convergence threshold
+    /// (a quarter of it, in the infinity norm): solving further would not change whether
+    /// the next iterate converges.
+    fn residual_meets_tolerance(&self) -> bool {
+        let largest = self
+            .cg
+            .residual
+            .iter()
+            .fold(0.0, |m: f64, r| m.max(r.abs()));
+        largest <= 0.25 * self.gradient_threshold
     }
 
     /// The next search direction `M^-1 r + beta p`.
@@ -223,7 +218,7 @@ impl NewtonProblem {
             }
             dmd += 2.0 * alpha * dmp + alpha * alpha * pmp;
             let next = self.cg_step(alpha);
-            if next <= target {
+            if next <= target || self.residual_meets_tolerance() {
                 step.norm = dmd.max(0.0).sqrt();
                 return step;
             }
@@ -234,48 +229,8 @@ impl NewtonProblem {
             rz = next;
         }
         self.factor_ready = false;
+        self.grow_preconditioner();
         step.norm = dmd.max(0.0).sqrt();
         step
-    }
-
-    /// Tries to put the Newton direction into `direction` by preconditioned conjugate
-    /// gradients, saying whether it did and how many Hessian-vector products it spent.
-    /// Needs `factor_ready`.
-    pub(super) fn solve_by_cg(&mut self) -> CgOutcome {
-        let budget = self.cg_budget();
-        let mut rz = self.start_cg();
-        let initial = rz;
-        let target = CG_TOLERANCE * CG_TOLERANCE * initial;
-        if !(initial > 0.0) {
-            // Zero gradient: the zero direction is exact.
-            return if initial == 0.0 {
-                CgOutcome::Solved { products: 0 }
-            } else {
-                CgOutcome::GaveUp { products: 0 }
-            };
-        }
-        for products in 1..=budget {
-            self.hessian_times_search();
-            let curvature = dot(&self.cg.search, &self.cg.product);
-            if !(curvature > 0.0) {
-                return CgOutcome::GaveUp { products };
-            }
-            let alpha = rz / curvature;
-            let next = self.cg_step(alpha);
-            if next <= target {
-                return CgOutcome::Solved { products };
-            }
-            if products >= RATE_CHECK_AFTER {
-                // Products needed at the rate seen so far.
-                let needed = products as f64 * (target / initial).ln() / (next / initial).ln();
-                if !(next < initial && needed <= budget as f64) {
-                    return CgOutcome::GaveUp { products };
-                }
-            }
-            let beta = next / rz;
-            self.next_search(beta);
-            rz = next;
-        }
-        CgOutcome::GaveUp { products: budget }
     }
 }

@@ -20,12 +20,11 @@ const DAMPING_ATTEMPTS: usize = 8;
 
 impl NewtonProblem {
     /// Assembles the exact Hessian of `f` at the current parameters into
-    /// [`hessian`](Self::hessian) (with [`DirectionSolver::TruncatedCg`] on fewer rows than
-    /// samples: the Hessian of the loss on those rows scaled by `n / m`, plus the exact ridge
-    /// term, an approximation used only as a preconditioner). This is the dominant cost of an
-    /// iteration ([`hessian_flops`](Self::hessian_flops) flops).
-    ///
-    /// [`DirectionSolver::TruncatedCg`]: crate::DirectionSolver::TruncatedCg
+    /// [`hessian`](Self::hessian) (with a preconditioner on `m` rows, fewer than the
+    /// samples, see [`hessian_rows`](Self::hessian_rows): the Hessian of the loss on those
+    /// rows scaled by `n / m`, plus the exact ridge term, an approximation used only as a
+    /// preconditioner). This is the costliest step of an iteration
+    /// ([`hessian_flops`](Self::hessian_flops) flops).
     pub fn assemble_hessian(&mut self) {
         let k = self.n_classes;
         let source = match self.mode {

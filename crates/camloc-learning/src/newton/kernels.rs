@@ -1,20 +1,15 @@
-//! The per-sample kernels of the Newton solver: logits, probabilities and residuals, losses,
-//! the transpose product behind the gradient and Hessian-vector products, and the ridge
-//! terms. Every sum runs in a fixed order so that fits are bit-for-bit reproducible.
-
-use faer::linalg::matmul::matmul;
-use faer::{Accum, MatMut, MatRef, Par};
-use rayon::prelude::*;
+//! The per-sample kernels of the Newton solver: probabilities and residuals, losses, and the
+//! ridge terms (the products with the design matrix are in module `blocked`). Every sum
+//! runs in a fixed order so that fits are bit-for-bit reproducible.
 
 use crate::Mode;
 use crate::softmax::{log_sum_exp, sigmoid, softmax_in_place, softplus};
 
-/// Rows per task in the parallel passes over samples (probabilities, losses).
+/// Rows per task in the parallel passes over samples (probabilities, losses, products).
 pub(super) const ROWS_PER_TASK: usize = 2048;
 
 /// `totals[b] = sum over tasks of partials[task][b]` (in task order), then plus the ridge
-/// term of each class in its block. Shared by the trial and the update passes so that an
-/// accepted trial objective and the objective recomputed after the update are identical.
+/// term of each class in its block.
 pub(super) fn block_totals(
     partials: &[f64],
     mode: Mode,
@@ -49,44 +44,6 @@ pub(super) fn ridge(lambda: f64, weights: impl Iterator<Item = f64>) -> f64 {
     weights.map(|w| w * w).sum::<f64>() * lambda
 }
 
-/// `out = M X` as a `D x K` class-major matrix (`out[k * D + a] = sum_i m_ki x_ia`) for a
-/// `K x n` matrix `m` and the `n x D` design matrix `x`, in parallel over tasks of rows,
-/// each one sequential GEMM into its `K x D` slot of `partials`, summed in task order.
-pub(super) fn transpose_product(
-    x: &[f64],
-    dim: usize,
-    k: usize,
-    m: &[f64],
-    partials: &mut [f64],
-    out: &mut [f64],
-) {
-    let n = x.len() / dim.max(1);
-    let x = MatRef::from_column_major_slice(x, n, dim);
-    m.par_chunks(ROWS_PER_TASK * k)
-        .zip(partials.par_chunks_mut(k * dim))
-        .enumerate()
-        .for_each(|(task, (m, partial))| {
-            let rows = m.len() / k;
-            matmul(
-                MatMut::from_column_major_slice_mut(partial, k, dim),
-                Accum::Replace,
-                MatRef::from_column_major_slice(m, k, rows),
-                x.subrows(task * ROWS_PER_TASK, rows),
-                1.0,
-                Par::Seq,
-            );
-        });
-    out.fill(0.0);
-    for partial in partials.chunks_exact(k * dim) {
-        for (a, column) in partial.chunks_exact(k).enumerate() {
-            for (class, &v) in column.iter().enumerate() {
-                debug_assert!(class * dim + a < out.len(), "parameter ({class}, {a})");
-                out[class * dim + a] += v;
-            }
-        }
-    }
-}
-
 /// `out += 2 lambda [V; 0]`: the ridge term's gradient at `v` (or, equally, its Hessian
 /// times `v`), biases excluded; `v` and `out` are `D x K` class-major.
 pub(super) fn add_ridge_curvature(lambda: f64, dim: usize, v: &[f64], out: &mut [f64]) {
@@ -98,47 +55,17 @@ pub(super) fn add_ridge_curvature(lambda: f64, dim: usize, v: &[f64], out: &mut 
     }
 }
 
-/// `out = params^T X^T` (`K x n`): the logits of every sample for parameters `params`
-/// (`D x K`), computed in parallel over tasks of rows, each one sequential GEMM.
-pub(super) fn linear_logits(x: &[f64], dim: usize, params: &[f64], out: &mut [f64]) {
-    let k = params.len() / dim.max(1);
-    let n = x.len() / dim.max(1);
-    let x = MatRef::from_column_major_slice(x, n, dim);
-    let params = MatRef::from_column_major_slice(params, dim, k);
-    out.par_chunks_mut(ROWS_PER_TASK * k)
-        .enumerate()
-        .for_each(|(task, z)| {
-            let rows = z.len() / k.max(1);
-            matmul(
-                MatMut::from_column_major_slice_mut(z, k, rows),
-                Accum::Replace,
-                params.transpose(),
-                x.subrows(task * ROWS_PER_TASK, rows).transpose(),
-                1.0,
-                Par::Seq,
-            );
-        });
-}
-
 /// Probabilities `p` and residuals `r = p - onehot(y)` of one sample with logits `z`. The
 /// residual of the true class is computed without cancellation: `-sum_{c != y} p_c`
 /// (multinomial) or `-sigmoid(-z_y)` (one-vs-rest), not `p_y - 1`, so the gradient stays
 /// accurate when the model is confident.
 #[inline]
-pub(super) fn residuals_of_row(mode: Mode, y: usize, z: &[f64], p: &mut [f64], r: &mut [f64]) {
+fn residuals_of_row(mode: Mode, y: usize, z: &[f64], p: &mut [f64], r: &mut [f64]) {
     match mode {
         Mode::Multinomial => {
             p.copy_from_slice(z);
             softmax_in_place(p);
-            r.copy_from_slice(p);
-            let others: f64 = p
-                .iter()
-                .enumerate()
-                .filter(|&(c, _)| c != y)
-                .map(|(_, v)| v)
-                .sum();
-            debug_assert!(y < r.len(), "label {y} of {} classes", r.len());
-            r[y] = -others;
+            multinomial_residuals(y, p, r);
         }
         Mode::OneVsRest => {
             for (c, ((pc, rc), &zc)) in p.iter_mut().zip(r.iter_mut()).zip(z).enumerate() {
@@ -147,6 +74,67 @@ pub(super) fn residuals_of_row(mode: Mode, y: usize, z: &[f64], p: &mut [f64], r
             }
         }
     }
+}
+
+/// Multinomial residuals `r = p - onehot(y)` from the probabilities `p`, the true class's as
+/// `-sum_{c != y} p_c`.
+#[inline]
+fn multinomial_residuals(y: usize, p: &[f64], r: &mut [f64]) {
+    r.copy_from_slice(p);
+    let others: f64 = p
+        .iter()
+        .enumerate()
+        .filter(|&(c, _)| c != y)
+        .map(|(_, v)| v)
+        .sum();
+    debug_assert!(y < r.len(), "label {y} of {} classes", r.len());
+    r[y] = -others;
+}
+
+/// Where [`evaluate_row`] writes one sample's trial logits, probabilities and residuals
+/// (`K` values each).
+pub(super) struct RowOutput<'a> {
+    pub(super) trial: &'a mut [f64],
+    pub(super) p: &'a mut [f64],
+    pub(super) r: &'a mut [f64],
+}
+
+/// One sample with label `y` and logits `z` at the trial logits `z + s_c dz` (`s_c` =
+/// `steps[c]`, see [`shifted`]): writes them, the probabilities and the residuals to `out`,
+/// and adds the loss to `partial` as [`row_loss`] does. In multinomial mode the loss and the
+/// softmax share one exponential per class (the numbers are those of [`row_loss`] and
+/// [`softmax_in_place`], which handle non-finite logits).
+#[inline]
+pub(super) fn evaluate_row(
+    mode: Mode,
+    y: usize,
+    (z, dz): (&[f64], &[f64]),
+    steps: &[f64],
+    out: RowOutput<'_>,
+    partial: &mut [f64],
+) {
+    let RowOutput { trial, p, r } = out;
+    for (((t, &zc), &dc), &s) in trial.iter_mut().zip(z).zip(dz).zip(steps) {
+        *t = shifted(zc, dc, s);
+    }
+    if mode == Mode::Multinomial {
+        let max = trial.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        if max.is_finite() && !trial.iter().any(|v| v.is_nan()) {
+            let mut sum = 0.0;
+            for (pc, &tc) in p.iter_mut().zip(trial.iter()) {
+                *pc = (tc - max).exp();
+                sum += *pc;
+            }
+            debug_assert!(!partial.is_empty(), "one line-search block");
+            partial[0] += max + sum.ln() - trial[y];
+            let inv = 1.0 / sum;
+            p.iter_mut().for_each(|v| *v *= inv);
+            multinomial_residuals(y, p, r);
+            return;
+        }
+    }
+    row_loss(mode, y, trial.len(), |c| trial[c], partial);
+    residuals_of_row(mode, y, trial, p, r);
 }
 
 /// `z + s dz`, leaving `z` untouched (even if `dz` is not finite) when `s == 0`.

@@ -4,7 +4,9 @@
 use rayon::prelude::*;
 
 use super::NewtonProblem;
-use super::kernels::{ROWS_PER_TASK, block_of_class, block_totals, ridge, row_loss, shifted};
+use super::kernels::{
+    ROWS_PER_TASK, RowOutput, block_of_class, block_totals, evaluate_row, ridge, shifted,
+};
 
 /// Sufficient-decrease constant of the Armijo condition `f(t) <= f(0) + c t g.d`.
 const ARMIJO_C1: f64 = 1e-4;
@@ -15,8 +17,11 @@ impl NewtonProblem {
     /// Backtracking line search along `direction`, one step length per block, halving from
     /// 1 until the Armijo condition holds. Blocks whose direction is not a descent direction
     /// or that find no decrease get step 0. Leaves the result in `block_steps` and
-    /// `class_steps`.
-    pub(super) fn line_search(&mut self) {
+    /// `class_steps`, and the state of the last trial (module docs of
+    /// [`newton`](super)) in place; returns whether that trial was at the final steps, so
+    /// that it can be accepted as it is (always when the unit step, or any step of every
+    /// block, is accepted).
+    pub(super) fn line_search(&mut self) -> bool {
         let dim = self.dim;
         self.directional_derivatives.fill(0.0);
         for (class, (g, d)) in self
@@ -43,7 +48,7 @@ impl NewtonProblem {
         }
         for _ in 0..=MAX_HALVINGS {
             self.sync_class_steps();
-            self.trial_pass();
+            self.evaluate_trial();
             let mut all_done = true;
             for (((step, done), &trial), (&f0, &dd)) in self
                 .block_steps
@@ -70,12 +75,15 @@ impl NewtonProblem {
                 break;
             }
         }
+        let mut evaluated = true;
         for (step, &done) in self.block_steps.iter_mut().zip(&self.block_done) {
-            if !done {
+            if !done && *step != 0.0 {
                 *step = 0.0;
+                evaluated = false;
             }
         }
         self.sync_class_steps();
+        evaluated
     }
 
     /// `class_steps[c] = block_steps[block of c]`.
@@ -88,22 +96,36 @@ impl NewtonProblem {
         }
     }
 
-    /// Objective of every block at `theta + class_steps * direction`, into
-    /// `trial_objectives`, without changing the state.
-    fn trial_pass(&mut self) {
+    /// Evaluates every sample at `theta + class_steps * direction` (the trial logits
+    /// `z + s dz` into `trial_logits`, their probabilities and residuals into
+    /// `probabilities` and `residuals`) and the objective of every block into
+    /// `trial_objectives`; `logits`, `theta` and `block_objectives` are left as they were.
+    pub(super) fn evaluate_trial(&mut self) {
         let k = self.n_classes;
         let mode = self.mode;
         let n_blocks = self.block_objectives.len();
         let steps = &self.class_steps;
+        let rows = ROWS_PER_TASK * k;
         self.logits
-            .par_chunks(ROWS_PER_TASK * k)
-            .zip(self.direction_logits.par_chunks(ROWS_PER_TASK * k))
+            .par_chunks(rows)
+            .zip(self.direction_logits.par_chunks(rows))
+            .zip(self.trial_logits.par_chunks_mut(rows))
+            .zip(self.probabilities.par_chunks_mut(rows))
+            .zip(self.residuals.par_chunks_mut(rows))
             .zip(self.labels.par_chunks(ROWS_PER_TASK))
             .zip(self.partial_losses.par_chunks_mut(n_blocks))
-            .for_each(|(((z, dz), labels), partial)| {
+            .for_each(|((((((z, dz), trial), p), r), labels), partial)| {
                 partial.fill(0.0);
-                for ((z, dz), &y) in z.chunks_exact(k).zip(dz.chunks_exact(k)).zip(labels) {
-                    row_loss(mode, y, k, |c| shifted(z[c], dz[c], steps[c]), partial);
+                for (((((z, dz), trial), p), r), &y) in z
+                    .chunks_exact(k)
+                    .zip(dz.chunks_exact(k))
+                    .zip(trial.chunks_exact_mut(k))
+                    .zip(p.chunks_exact_mut(k))
+                    .zip(r.chunks_exact_mut(k))
+                    .zip(labels)
+                {
+                    let out = RowOutput { trial, p, r };
+                    evaluate_row(mode, y, (z, dz), steps, out, partial);
                 }
             });
         let dim = self.dim;
@@ -128,5 +150,26 @@ impl NewtonProblem {
             ridges,
             &mut self.trial_objectives,
         );
+    }
+
+    /// Makes the last [`evaluate_trial`](Self::evaluate_trial) the current state: moves
+    /// `theta` by `class_steps` along `direction`, takes the trial logits and objectives, and
+    /// computes the gradient there.
+    pub(super) fn accept_trial(&mut self) {
+        let dim = self.dim;
+        for ((t, d), &s) in self
+            .theta
+            .chunks_exact_mut(dim)
+            .zip(self.direction.chunks_exact(dim))
+            .zip(&self.class_steps)
+        {
+            for (tv, &dv) in t.iter_mut().zip(d) {
+                *tv = shifted(*tv, dv, s);
+            }
+        }
+        std::mem::swap(&mut self.logits, &mut self.trial_logits);
+        self.block_objectives
+            .copy_from_slice(&self.trial_objectives);
+        self.compute_gradient();
     }
 }
