@@ -5,7 +5,7 @@
 
 use std::fmt::Write;
 
-use camloc_skeleton::{LIMB_NAMES, LIMBS, Landmark, NUM_LIMBS, Pose3};
+use camloc_skeleton::{LIMB_NAMES, LIMBS, Landmark, NUM_LIMBS, Pose3, mean_limb_lengths};
 use thiserror::Error;
 
 use super::bvh_skeleton::{JOINTS, JointRole, end_site_offset, joint_offset};
@@ -165,11 +165,37 @@ pub fn write_bvh(
     Ok(text)
 }
 
-/// `frames` with each missing frame (`None`, a pose that could not be found) holding the
-/// nearest earlier pose, and those before the first pose holding it: the frames a BVH file,
-/// which has a value for every frame at a fixed frame time, can show. `None` when there is
-/// no pose at all.
-pub fn hold_missing_frames(frames: &[Option<Pose3>]) -> Option<Vec<Pose3>> {
+/// Writes one person's animation: `frames` (metres, z-up world frame, in time order) as
+/// [`write_bvh`] does, where a frame may be missing (`None`: a pose that could not be
+/// reconstructed). A missing frame holds the nearest earlier pose (those before the first
+/// pose hold it), so that the file keeps the frames' timing.
+///
+/// The bone lengths are `limb_lengths` (metres, `LIMBS` order) when given: the person's own
+/// lengths where the caller knows them. Without them, the mean length of each limb over the
+/// person's poses ([`mean_limb_lengths`]).
+///
+/// # Errors
+///
+/// As [`write_bvh`]; [`BvhWriteError::NoFrames`] also when every frame is missing.
+pub fn write_person_bvh(
+    frames: &[Option<Pose3>],
+    limb_lengths: Option<&[f64; NUM_LIMBS]>,
+    options: &BvhOptions,
+) -> Result<String, BvhWriteError> {
+    let held = hold_missing_frames(frames).ok_or(BvhWriteError::NoFrames)?;
+    let lengths = match limb_lengths {
+        Some(given) => *given,
+        None => {
+            let poses: Vec<Pose3> = frames.iter().flatten().copied().collect();
+            mean_limb_lengths(&poses).ok_or(BvhWriteError::NoFrames)?
+        }
+    };
+    write_bvh(&held, &lengths, options)
+}
+
+/// `frames` with each missing frame (`None`) holding the nearest earlier pose, and those
+/// before the first pose holding it; `None` when there is no pose at all.
+fn hold_missing_frames(frames: &[Option<Pose3>]) -> Option<Vec<Pose3>> {
     let mut last = *frames.iter().flatten().next()?;
     Some(
         frames

@@ -5,8 +5,9 @@ use std::path::Path;
 
 use camloc_mocap::{
     BVH_CENTIMETRE, BvhOptions, BvhWriteError, parse_bvh_with_unit, read_bvh, write_bvh,
+    write_person_bvh,
 };
-use camloc_skeleton::{LIMBS, Landmark, NUM_LIMBS, Pose3};
+use camloc_skeleton::{LIMBS, Landmark, NUM_LIMBS, Pose3, mean_limb_lengths};
 use proptest::prelude::*;
 
 /// Largest distance between corresponding landmarks, metres.
@@ -59,6 +60,30 @@ fn a_pose_with_the_given_lengths_reads_back_as_itself() {
     let pose = fixture_frames()[0];
     let back = round_trip(&[pose], &pose.limb_lengths(), 30.0);
     assert!(max_distance(&back, &[pose]) < 1e-6);
+}
+
+#[test]
+fn a_person_missing_frames_hold_the_previous_pose_with_the_given_or_mean_lengths() {
+    let frames = fixture_frames();
+    let (a, b) = (frames[0], frames[frames.len() - 1]);
+    let options = BvhOptions::at_fps(30.0);
+    let gappy = [None, Some(a), None, Some(b), None];
+    let held = [a, a, a, b, b];
+    let given = a.limb_lengths().map(|l| 1.1 * l);
+    assert_eq!(
+        write_person_bvh(&gappy, Some(&given), &options),
+        write_bvh(&held, &given, &options)
+    );
+    // Without lengths: the mean over the poses present (a and b once each, not as held).
+    let mean = mean_limb_lengths(&[a, b]).unwrap();
+    assert_eq!(
+        write_person_bvh(&gappy, None, &options),
+        write_bvh(&held, &mean, &options)
+    );
+    assert_eq!(
+        write_person_bvh(&[None, None], None, &options),
+        Err(BvhWriteError::NoFrames)
+    );
 }
 
 /// `pose` turned about the vertical by `yaw` radians around its pelvis and moved by `shift`.

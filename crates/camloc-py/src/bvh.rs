@@ -3,8 +3,8 @@
 use std::path::PathBuf;
 
 use camloc::Pose3;
-use camloc::mocap::{BvhOptions, CMU_UNIT_M, hold_missing_frames, read_bvh_with_unit, write_bvh};
-use camloc::skeleton::{NUM_LIMBS, mean_limb_lengths};
+use camloc::mocap::{BvhOptions, BvhWriteError, CMU_UNIT_M, read_bvh_with_unit, write_person_bvh};
+use camloc::skeleton::NUM_LIMBS;
 use numpy::PyUntypedArrayMethods;
 use pyo3::exceptions::PyOSError;
 use pyo3::prelude::*;
@@ -69,26 +69,24 @@ pub(crate) fn to_bvh(
     let fps = positive(fps, "fps")?;
     let unit_m = positive(unit_m, "unit_m")?;
     let frames = frames(&points3d)?;
-    let Some(held) = hold_missing_frames(&frames) else {
-        return Err(value_error("points3d has no frame that is not all NaN"));
-    };
-    let lengths: [f64; NUM_LIMBS] = match limb_lengths {
-        Some(given) => given.try_into().map_err(|given: Vec<f64>| {
-            value_error(format!(
-                "limb_lengths must have 14 values (metres, LIMBS order), got {}",
-                given.len()
-            ))
-        })?,
-        None => {
-            let found: Vec<Pose3> = frames.iter().flatten().copied().collect();
-            mean_limb_lengths(&found).unwrap_or_default()
-        }
-    };
+    let lengths: Option<[f64; NUM_LIMBS]> = limb_lengths
+        .map(|given| {
+            given.try_into().map_err(|given: Vec<f64>| {
+                value_error(format!(
+                    "limb_lengths must have 14 values (metres, LIMBS order), got {}",
+                    given.len()
+                ))
+            })
+        })
+        .transpose()?;
     let options = BvhOptions {
         frame_time_s: 1.0 / fps,
         metres_per_unit: unit_m,
     };
-    write_bvh(&held, &lengths, &options).map_err(|e| value_error(e.to_string()))
+    write_person_bvh(&frames, lengths.as_ref(), &options).map_err(|e| match e {
+        BvhWriteError::NoFrames => value_error("points3d has no frame that is not all NaN"),
+        other => value_error(other.to_string()),
+    })
 }
 
 /// A BVH file's 15 landmarks; see `camloc.pyi`.

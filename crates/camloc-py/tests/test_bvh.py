@@ -139,5 +139,5 @@ def test_a_held_out_cmu_walk_goes_from_2d_keypoints_to_a_bvh_both_readers_read_b
     expected = with_lengths(points3d, mean_lengths(points3d))
     ours, theirs = assert_both_readers_give(path, expected, 120)
     moved = np.linalg.norm(expected - points3d, axis=2).max()
-    print(f"{clip.name}: read back within {ours * 1e3:.4f} mm (camloc), {theirs * 1e3:.4f} mm "
+    print(f"{clip.name}: read back within {ours * 1e3:.6f} mm (camloc), {theirs * 1e3:.6f} mm "
           f"(bvhio); the shared lengths move landmarks by up to {moved * 1e3:.1f} mm")

@@ -8,7 +8,7 @@ use std::path::Path;
 
 use camloc::mocap::{
     BVH_CENTIMETRE, BvhOptions, MocapIndex, MotionCategory, canonicalise, discover,
-    parse_bvh_with_unit, write_bvh,
+    parse_bvh_with_unit, write_person_bvh,
 };
 use camloc::reconstruct::{BasisConfig, BasisKind, PoseBasis};
 use camloc::skeleton::{Pose2, mean_limb_lengths};
@@ -118,8 +118,10 @@ fn a_held_out_cmu_walk_goes_from_2d_keypoints_to_a_bvh_that_reads_back_within_1_
             found.reconstruction.pose
         })
         .collect();
+    // The lengths `reconstruct --bvh` and `camloc.to_bvh` take by default.
+    let frames: Vec<Option<Pose3>> = poses.iter().copied().map(Some).collect();
+    let text = write_person_bvh(&frames, None, &BvhOptions::at_fps(120.0)).unwrap();
     let lengths = mean_limb_lengths(&poses).unwrap();
-    let text = write_bvh(&poses, &lengths, &BvhOptions::at_fps(120.0)).unwrap();
     let read = parse_bvh_with_unit(&text, "walk.bvh", BVH_CENTIMETRE).unwrap();
     assert_eq!(read.frames.len(), FRAMES);
     // Each frame keeps its limb directions with the sequence's mean limb lengths.

@@ -4,8 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use camloc::geometry::CameraSet;
-use camloc::mocap::{BvhOptions, hold_missing_frames, write_bvh};
-use camloc::skeleton::mean_limb_lengths;
+use camloc::mocap::{BvhOptions, BvhWriteError, write_person_bvh};
 use camloc::{Pose3, sequences};
 
 use crate::html::{self, Group, ViewFrame};
@@ -49,10 +48,9 @@ pub fn groups(
 
 /// The BVH files of `kept` at `out` (numbered as `--svg` drawings when there are several:
 /// per person with `sequence`, else per pose by its position in the input): each group's
-/// frames, a frame that could not be reconstructed holding the previous one (the first
-/// reconstructed one at the start), with the mean limb lengths of the group's reconstructed
-/// frames. A group without any is left out, with a message on standard error (the run has
-/// already failed for those poses).
+/// frames as [`write_person_bvh`] writes them (a frame that could not be reconstructed holds
+/// the previous one). A group without any reconstructed frame is left out, with a message on
+/// standard error (the run has already failed for those poses).
 pub fn bvh_files(
     out: &Path,
     kept: &[Kept],
@@ -65,16 +63,17 @@ pub fn bvh_files(
     let mut files = Vec::new();
     for (n, (name, members)) in groups.iter().enumerate() {
         let poses: Vec<Option<Pose3>> = members.iter().map(|&i| kept[i].pose).collect();
-        let Some(frames) = hold_missing_frames(&poses) else {
-            if sequence {
-                eprintln!("camloc: no BVH for {name}: none of its poses was reconstructed");
+        // The bone lengths: `None` takes the mean limb lengths of the group's poses.
+        let text = match write_person_bvh(&poses, None, &BvhOptions::at_fps(fps)) {
+            Ok(text) => text,
+            Err(BvhWriteError::NoFrames) => {
+                if sequence {
+                    eprintln!("camloc: no BVH for {name}: none of its poses was reconstructed");
+                }
+                continue;
             }
-            continue;
+            Err(e) => return Err(CliError::Export(format!("{name}: {e}"))),
         };
-        let reconstructed: Vec<Pose3> = poses.iter().flatten().copied().collect();
-        let lengths = mean_limb_lengths(&reconstructed).unwrap_or_default();
-        let text = write_bvh(&frames, &lengths, &BvhOptions::at_fps(fps))
-            .map_err(|e| CliError::Export(format!("{name}: {e}")))?;
         files.push((numbered_path(&base, n, groups.len()), text.into_bytes()));
     }
     Ok(files)
