@@ -170,6 +170,10 @@ function drawSphere(f) {
         d[i] * Math.cos(u) + (across[i] * Math.cos(phi) + up[i] * Math.sin(phi)) * Math.sin(u))));
     }
     ctx.fill();
+    // Its outline too: a circle seen edge-on has no area to shade.
+    ctx.globalAlpha = 0.8;
+    ctx.lineWidth = 1;
+    ctx.stroke();
     ctx.globalAlpha = 1;
     ctx.lineWidth = 2;
     ctx.beginPath();
