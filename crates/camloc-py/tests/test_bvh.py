@@ -120,7 +120,8 @@ def test_a_held_out_cmu_walk_goes_from_2d_keypoints_to_a_bvh_both_readers_read_b
     clip = held_out_walk()
     truth = camloc.read_bvh(clip)["points3d"][:200]
     assert truth.shape == (200, 15, 3)
-    # Seen from 30 degrees off the front, 10 degrees above, 4 m away, 1000 px focal length.
+    # One fixed camera: 4 m from the mean pelvis, 10 degrees above it, at 200 degrees of azimuth
+    # in the clip's ground plane (the walker's facing is the clip's own), 1000 px focal length.
     a, e = np.radians(200.0), np.radians(10.0)
     towards = np.array([np.cos(e) * np.cos(a), np.cos(e) * np.sin(a), np.sin(e)])
     z = -towards

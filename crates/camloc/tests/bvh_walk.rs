@@ -20,12 +20,12 @@ const HELD_OUT: [&str; 9] = ["06", "09", "16", "17", "35", "47", "113", "127", "
 /// Frames of the walk.
 const FRAMES: usize = 200;
 
-/// The 2D keypoints of `poses` seen from 30 degrees off the front (the body faces +z in CMU
-/// files, -y once read), 10 degrees above, 4 m away, with a 1000 px focal length.
+/// The 2D keypoints of `poses` seen by one fixed camera: 4 m from their mean pelvis, 10
+/// degrees above it, at 200 degrees of azimuth (from +x, docs/conventions.md section 2) in the
+/// clip's ground plane (where the walker faces is the clip's own), with a 1000 px focal length.
 fn project(poses: &[Pose3]) -> Vec<Pose2> {
     let (a, e) = (200f64.to_radians(), 10f64.to_radians());
-    // Azimuth measured from the body's front: the files' walkers face -y.
-    let towards = [e.cos() * a.sin(), e.cos() * a.cos(), e.sin()];
+    let towards = [e.cos() * a.cos(), e.cos() * a.sin(), e.sin()];
     let z = towards.map(|c| -c);
     let x = {
         let v = [z[1], -z[0], 0.0];
