@@ -1,9 +1,11 @@
 """BVH export from Python: `camloc.to_bvh` files read back, by camloc's own reader
 (`camloc.read_bvh`) and by a third-party parser (bvhio, with its own forward kinematics), to
 the reconstructed landmarks within 1 mm: the fixture poses, and 200 frames of a CMU walk of a
-held-out subject taken from 2D keypoints (skipped, with the reason, without the data).
+held-out subject taken from 2D keypoints, through Python and through `camloc reconstruct
+--sequence --bvh` (skipped, with the reason, without the data).
 """
 
+import json
 import os
 from pathlib import Path
 
@@ -116,12 +118,14 @@ def held_out_walk():
     pytest.skip("no walk of a held-out subject in the CMU folder")
 
 
-def test_a_held_out_cmu_walk_goes_from_2d_keypoints_to_a_bvh_both_readers_read_back(tmp_path):
+@pytest.fixture(scope="module")
+def walk_keypoints():
+    """(clip name, (200, 15, 2) keypoints) of a held-out CMU walk seen by one fixed camera: 4 m
+    from the mean pelvis, 10 degrees above it, at 200 degrees of azimuth in the clip's ground
+    plane (the walker's facing is the clip's own), 1000 px focal length."""
     clip = held_out_walk()
     truth = camloc.read_bvh(clip)["points3d"][:200]
     assert truth.shape == (200, 15, 3)
-    # One fixed camera: 4 m from the mean pelvis, 10 degrees above it, at 200 degrees of azimuth
-    # in the clip's ground plane (the walker's facing is the clip's own), 1000 px focal length.
     a, e = np.radians(200.0), np.radians(10.0)
     towards = np.array([np.cos(e) * np.cos(a), np.cos(e) * np.sin(a), np.sin(e)])
     z = -towards
@@ -130,15 +134,43 @@ def test_a_held_out_cmu_walk_goes_from_2d_keypoints_to_a_bvh_both_readers_read_b
     y = np.cross(z, x)
     centre = truth[:, 0].mean(axis=0) + 4.0 * towards
     local = (truth - centre) @ np.stack([x, y, z]).T
-    points2d = 1000.0 * local[..., :2] / local[..., 2:] + [960.0, 540.0]
-    rec = camloc.reconstruct(points2d)
-    assert all(error is None for error in rec["error"])
-    points3d = rec["points3d"]
-    path = tmp_path / "walk.bvh"
-    path.write_text(camloc.to_bvh(points3d, fps=120))
-    # The BVH holds each frame's limb directions with the mean limb lengths of the frames.
+    return clip.name, 1000.0 * local[..., :2] / local[..., 2:] + [960.0, 540.0]
+
+
+def assert_walk_reads_back(name, path, points3d, how):
+    """The walk's BVH at `path` reads back (both readers) to each frame's limb directions with
+    the mean limb lengths of the frames; prints the errors."""
     expected = with_lengths(points3d, mean_lengths(points3d))
     ours, theirs = assert_both_readers_give(path, expected, 120)
     moved = np.linalg.norm(expected - points3d, axis=2).max()
-    print(f"{clip.name}: read back within {ours * 1e3:.6f} mm (camloc), {theirs * 1e3:.6f} mm "
-          f"(bvhio); the shared lengths move landmarks by up to {moved * 1e3:.1f} mm")
+    print(f"{name} ({how}): read back within {ours * 1e3:.6f} mm (camloc), {theirs * 1e3:.6f} "
+          f"mm (bvhio); the shared lengths move landmarks by up to {moved * 1e3:.1f} mm")
+
+
+def test_a_held_out_cmu_walk_goes_from_2d_keypoints_to_a_bvh_both_readers_read_back(
+    tmp_path, walk_keypoints
+):
+    name, points2d = walk_keypoints
+    rec = camloc.reconstruct(points2d)
+    assert all(error is None for error in rec["error"])
+    path = tmp_path / "walk.bvh"
+    path.write_text(camloc.to_bvh(rec["points3d"], fps=120))
+    assert_walk_reads_back(name, path, rec["points3d"], "camloc.to_bvh")
+
+
+def test_the_command_line_makes_the_walk_bvh_both_readers_read_back(
+    tmp_path, walk_keypoints, cli
+):
+    name, points2d = walk_keypoints
+    poses = [
+        {"id": f"frame-{t:04d}", "landmarks": dict(zip(camloc.LANDMARKS, pose.tolist()))}
+        for t, pose in enumerate(points2d)
+    ]
+    keypoints = tmp_path / "walk.json"
+    keypoints.write_text(json.dumps({"format": "camloc-keypoints", "version": 1, "poses": poses}))
+    path = tmp_path / "walk.bvh"
+    code, objects = cli("reconstruct", "--input", keypoints, "--sequence", "--fps", "120",
+                        "--bvh", path)
+    assert code == 0 and len(objects) == 200
+    points3d = np.array([[o["landmarks_m"][n] for n in camloc.LANDMARKS] for o in objects])
+    assert_walk_reads_back(name, path, points3d, "camloc reconstruct --sequence --bvh")
