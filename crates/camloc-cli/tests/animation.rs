@@ -76,6 +76,20 @@ fn each_pose_is_a_bvh_that_reads_back_to_its_landmarks() {
         bvh.to_str().unwrap(),
     ]);
     assert_clean_failure(&again, "pose-001.bvh");
+    // Also when OUT has no extension (the files take .bvh): refused before any pose is done.
+    let bare = camloc(&[
+        "reconstruct",
+        "--input",
+        input.to_str().unwrap(),
+        "--bvh",
+        dir.0.join("pose").to_str().unwrap(),
+    ]);
+    assert_clean_failure(&bare, "pose-001.bvh");
+    assert!(
+        bare.stdout.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&bare.stdout)
+    );
     let same = camloc(&[
         "reconstruct",
         "--input",

@@ -57,7 +57,7 @@ pub fn bvh_files(
     sequence: bool,
     fps: f64,
 ) -> Result<Vec<(PathBuf, Vec<u8>)>, CliError> {
-    let base = with_default_extension(out, "bvh");
+    let base = bvh_base(out);
     let keys: Vec<_> = kept.iter().map(|k| k.key).collect();
     let groups = groups(&keys, sequence, true);
     let mut files = Vec::new();
@@ -79,12 +79,13 @@ pub fn bvh_files(
     Ok(files)
 }
 
-/// `out`, or `out` with `extension` when it has none (so that numbered names keep it).
-fn with_default_extension(out: &Path, extension: &str) -> PathBuf {
+/// The path the `--bvh OUT` files are named after: `OUT`, with the extension `.bvh` when it
+/// has none (so that numbered names keep it).
+pub fn bvh_base(out: &Path) -> PathBuf {
     if out.extension().is_some() {
         out.to_path_buf()
     } else {
-        out.with_extension(extension)
+        out.with_extension("bvh")
     }
 }
 

@@ -281,8 +281,9 @@ fn finish(
     }
     let mut paths = Vec::new();
     if let Some(bvh) = &args.bvh {
-        paths.push(bvh.clone());
-        paths.push(super::numbered_path(bvh, 0, 2));
+        let base = export::bvh_base(bvh);
+        paths.push(super::numbered_path(&base, 0, 2));
+        paths.push(base);
     }
     paths.extend(args.html.clone());
     let (bvh, html, sequence, fps) = (args.bvh.clone(), args.html.clone(), args.sequence, args.fps);
