@@ -625,3 +625,57 @@ pub fn summary_svg(cameras: &CameraSet, counts: &[u64], title: &str) -> String {
     svg.push_str("</svg>\n");
     svg
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The `(cx, cy)` texts of the circles of `fill` with radius `r` in `svg`.
+    fn circles(svg: &str, r: &str, fill: &str) -> Vec<String> {
+        let tail = format!(r#"" r="{r}" fill="{fill}"/>"#);
+        svg.lines()
+            .filter_map(|line| line.split("<circle cx=\"").nth(1))
+            .filter(|rest| rest.contains(&tail))
+            .map(|rest| rest.split(&tail).next().unwrap_or("").to_owned())
+            .collect()
+    }
+
+    /// Width of the bounding box of the uncertainty path (the path in the direction colour).
+    fn uncertainty_width(svg: &str) -> f64 {
+        let line = svg
+            .lines()
+            .find(|l| l.starts_with("<path") && l.contains(DIRECTION))
+            .unwrap_or("");
+        let d = line.split("d=\"").nth(1).and_then(|r| r.split('"').next());
+        let xs: Vec<f64> = d
+            .unwrap_or("")
+            .split_whitespace()
+            .filter_map(|p| p.trim_start_matches(['M', 'L']).split(',').next())
+            .filter_map(|x| x.parse().ok())
+            .collect();
+        assert_eq!(xs.len(), 49, "{line}");
+        xs.iter().copied().fold(f64::MIN, f64::max) - xs.iter().copied().fold(f64::MAX, f64::min)
+    }
+
+    #[test]
+    fn the_sphere_draws_the_direction_at_its_point_with_its_uncertainty() {
+        let pose = PartialPose2::from(Pose2::new([[0.0; 2]; 15]));
+        let cameras = CameraSet::table1();
+        let label = CameraLabel::new(5).unwrap();
+        let front = |uncertainty_deg| Direction {
+            azimuth_deg: 180.0,
+            elevation_deg: 0.0,
+            uncertainty_deg,
+        };
+        let svg = localization_svg(&pose, &cameras, label, Some(front(10.0)), "c");
+        // Camera 5 is the middle front camera: the direction's dot is drawn on it.
+        let chosen = circles(&svg, "7", RIGHT);
+        assert_eq!(chosen.len(), 1);
+        assert_eq!(circles(&svg, "4.5", DIRECTION), chosen);
+        assert!(svg.contains("direction: azimuth 180, elevation 0, +- 10 deg"));
+        let wider = localization_svg(&pose, &cameras, label, Some(front(30.0)), "c");
+        assert!(uncertainty_width(&wider) > 2.0 * uncertainty_width(&svg));
+        let without = localization_svg(&pose, &cameras, label, None, "c");
+        assert!(!without.contains(DIRECTION));
+    }
+}
