@@ -10,6 +10,7 @@ use std::path::Path;
 use std::process::Command;
 
 use camloc::Pose3;
+use camloc::dataset::max_joint_distance_mm;
 use camloc::mocap::{BVH_CENTIMETRE, read_bvh_with_unit};
 use camloc::skeleton::{Landmark, mean_limb_lengths};
 use common::{TempDir, assert_clean_failure, camloc, fixture};
@@ -21,15 +22,6 @@ fn landmarks(object: &Value) -> Pose3 {
         let p = &object["landmarks_m"][Landmark::ALL[i].name()];
         std::array::from_fn(|k| p[k].as_f64().unwrap())
     }))
-}
-
-/// Largest landmark distance between two poses, metres.
-fn distance(a: &Pose3, b: &Pose3) -> f64 {
-    a.points
-        .iter()
-        .zip(&b.points)
-        .map(|(p, q)| (0..3).map(|k| (p[k] - q[k]).powi(2)).sum::<f64>().sqrt())
-        .fold(0.0, f64::max)
 }
 
 fn success(out: &std::process::Output) -> Vec<Value> {
@@ -63,7 +55,7 @@ fn each_pose_is_a_bvh_that_reads_back_to_its_landmarks() {
             .unwrap();
         assert_eq!(clip.frames.len(), 1);
         assert!((clip.frame_time_s - 0.04).abs() < 1e-9);
-        let error = distance(&clip.frames[0], &landmarks(object));
+        let error = max_joint_distance_mm(&clip.frames[0], &landmarks(object)) / 1000.0;
         assert!(error < 1e-3, "pose {n}: {error} m");
     }
     assert!(!bvh.exists());
@@ -177,7 +169,7 @@ fn a_sequence_is_one_bvh_per_person_with_shared_lengths() {
         assert_eq!(clip.frames.len(), 12);
         for (t, (read, pose)) in clip.frames.iter().zip(&poses).enumerate() {
             let expected = pose.with_limb_lengths(&lengths).unwrap();
-            let error = distance(read, &expected);
+            let error = max_joint_distance_mm(read, &expected) / 1000.0;
             assert!(error < 1e-3, "person {person} frame {t}: {error} m");
         }
     }
