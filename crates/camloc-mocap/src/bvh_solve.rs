@@ -172,8 +172,8 @@ mod tests {
         ] {
             let f = body_frame(up, &laterals);
             let y = unit(up).unwrap_or_default();
-            for k in 0..3 {
-                assert!((f.0[k][1] - y[k]).abs() < 1e-12);
+            for (row, y) in f.0.iter().zip(y) {
+                assert!((row[1] - y).abs() < 1e-12);
             }
             let ftf = f.transpose().mul(&f);
             assert!(angle_between(&ftf, &Rot3::IDENTITY) < 1e-9);

@@ -151,7 +151,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         let loc = localizer.localize_partial(&record.pose).map_err(|e| {
             let message = e.to_string();
             Failed {
-                keep: view(record, None, Some(message.clone())),
+                keep: view(record, None, Some(message.clone())).map(Box::new),
                 message,
             }
         })?;

@@ -197,10 +197,12 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
             .map_err(|e| {
                 let message = e.to_string();
                 Failed {
-                    keep: keep.then(|| Kept {
-                        key: (record.frame, record.person),
-                        pose: None,
-                        view: view(record, None, Some(message.clone())),
+                    keep: keep.then(|| {
+                        Box::new(Kept {
+                            key: (record.frame, record.person),
+                            pose: None,
+                            view: view(record, None, Some(message.clone())),
+                        })
                     }),
                     message,
                 }

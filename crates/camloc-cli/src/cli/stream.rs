@@ -63,8 +63,9 @@ pub struct Done<P, K> {
 pub struct Failed<K> {
     /// Why it failed.
     pub message: String,
-    /// What [`Files::finish`] gets of this pose, when asked for.
-    pub keep: Option<K>,
+    /// What [`Files::finish`] gets of this pose, when asked for (boxed: the error side of a
+    /// result stays small).
+    pub keep: Option<Box<K>>,
 }
 
 impl<K> From<String> for Failed<K> {
@@ -330,7 +331,7 @@ where
                         kept.extend(done.keep);
                     }
                     Err(Failed { message, keep }) => {
-                        kept.extend(keep);
+                        kept.extend(keep.map(|k| *k));
                         summary.failed_poses += 1;
                         report_pose_error(bar, &record.id, &record.source, &message);
                         if format.is_json() {
