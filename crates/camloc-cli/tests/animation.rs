@@ -92,6 +92,25 @@ fn each_pose_is_a_bvh_that_reads_back_to_its_landmarks() {
         dir.0.join("pose-002.bvh").to_str().unwrap(),
     ]);
     assert_eq!(same.status.code(), Some(2));
+    // An input of one pose: one file of one frame at OUT itself (.bvh added to a bare name).
+    let one = dir.0.join("one.json");
+    let text = std::fs::read_to_string(&input).unwrap();
+    let mut json: Value = serde_json::from_str(&text).unwrap();
+    json["poses"].as_array_mut().unwrap().truncate(1);
+    std::fs::write(&one, json.to_string()).unwrap();
+    let single = dir.0.join("single");
+    let out = camloc(&[
+        "reconstruct",
+        "--input",
+        one.to_str().unwrap(),
+        "--json",
+        "--bvh",
+        single.to_str().unwrap(),
+    ]);
+    let objects = success(&out);
+    let clip = read_bvh_with_unit(single.with_extension("bvh"), BVH_CENTIMETRE).unwrap();
+    assert_eq!(clip.frames.len(), 1);
+    assert!(max_joint_distance_mm(&clip.frames[0], &landmarks(&objects[0])) < 1.0);
 }
 
 /// A folder of OpenPose frames: `frames` frames of two people (the first two fixture poses,
