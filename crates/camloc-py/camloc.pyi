@@ -182,3 +182,45 @@ def read_keypoints(
     Raises OSError if the file cannot be read, CamlocError if it is malformed (the message
     names the file and place), ValueError for bad options.
     """
+
+def to_bvh(
+    points3d: npt.ArrayLike,
+    fps: float = 30.0,
+    limb_lengths: Optional[Sequence[float]] = None,
+    unit_m: float = 0.01,
+) -> str:
+    """The 3D poses as the text of a BVH animation file, for Blender, MotionBuilder and other
+    3D packages (the writer of ``camloc reconstruct --bvh``; docs/cli.md).
+
+    points3d: (N, 15, 3) frames (or one pose (15, 3)) in metres, z up, ``LANDMARKS`` order, as
+      ``reconstruct`` returns them; a frame that is all NaN (a pose that could not be
+      reconstructed) holds the previous frame (the first complete one at the start).
+    fps: frames per second (``Frame Time`` = 1 / fps).
+    limb_lengths: the 14 bone lengths in metres (limb order of docs/conventions.md section 3);
+      default: the mean of each limb over the complete frames.
+    unit_m: metres per file unit (0.01: centimetres; Blender imports them with scale 0.01).
+
+    The skeleton is a T-pose in MotionBuilder naming (``Hips``, ``LeftUpLeg``, ``LeftLeg``,
+    ``LeftFoot``, ``Neck``, ``Head``, ``LeftArm``, ``LeftForeArm``, ``LeftHand``, ...) whose
+    joint origins are the 15 landmarks; each frame keeps its limb directions, with the given
+    lengths, and the root follows the pelvis. The file is y up: a point (x, y, z) is
+    (x, z, -y) / unit_m in it.
+
+    Raises ValueError for a wrong shape, a frame with some (not all) NaN, no complete frame, a
+    limb without direction, or a non-positive fps, unit or length.
+    """
+
+def read_bvh(path: _Path, unit_m: float = 0.0254 / 0.45) -> Dict[str, Any]:
+    """The 15 landmarks of every frame of a BVH file (camloc's reader: CMU or MotionBuilder
+    joint names, docs/conventions.md section 3).
+
+    unit_m: metres per file unit (default: CMU's unit, 1/0.45 inch; 0.01 for the files
+      ``to_bvh`` and ``camloc reconstruct --bvh`` write).
+
+    Returns a dict:
+      points3d (N, 15, 3) float64: metres, z up (a file point (x, y, z) is (x, -z, y) * unit_m);
+      frame_time_s: seconds between frames.
+
+    Raises OSError if the file cannot be read, CamlocError if it is malformed (the message names
+    the line), ValueError for a non-positive unit.
+    """

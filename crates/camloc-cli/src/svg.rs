@@ -3,9 +3,9 @@
 
 use std::fmt::Write;
 
-use camloc::SmoothedFrame;
 use camloc::geometry::{CameraLabel, CameraSet, Matrix3, Vector3, look_at_origin, sphere_point};
 use camloc::skeleton::{LIMBS, Landmark, PartialPose2, Pose2, Pose3};
+use camloc::{Localization, SmoothedFrame};
 
 const LEFT: &str = "#1f77b4";
 const RIGHT: &str = "#d62728";
@@ -108,7 +108,31 @@ fn escape(text: &str) -> String {
         .replace('>', "&gt;")
 }
 
-/// A 2D pose (left) and the camera sphere (right) with the predicted viewpoint highlighted.
+/// The continuous viewpoint of a localization (docs/conventions.md section 2): the direction
+/// from the body to the camera and the angular radius of its uncertainty, degrees.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Direction {
+    /// Azimuth, degrees (180 = in front of the body, 270 = its left).
+    pub azimuth_deg: f64,
+    /// Elevation above the horizontal plane, degrees.
+    pub elevation_deg: f64,
+    /// Angular radius holding about 68% of the direction errors, degrees.
+    pub uncertainty_deg: f64,
+}
+
+impl Direction {
+    /// The continuous viewpoint of `loc`, when its model predicts one.
+    pub fn of(loc: &Localization) -> Option<Direction> {
+        Some(Direction {
+            azimuth_deg: loc.azimuth_deg?,
+            elevation_deg: loc.elevation_deg?,
+            uncertainty_deg: loc.uncertainty_deg?,
+        })
+    }
+}
+
+/// A 2D pose (left) and the camera sphere (right) with the predicted viewpoint highlighted and,
+/// when known, the continuous direction with its uncertainty.
 ///
 /// `pose` is in image coordinates (v down); missing landmarks are left out. `label` is the
 /// predicted camera of `cameras`, `caption` a line of text shown under the drawing.
@@ -116,6 +140,7 @@ pub fn localization_svg(
     pose: &PartialPose2,
     cameras: &CameraSet,
     label: CameraLabel,
+    direction: Option<Direction>,
     caption: &str,
 ) -> String {
     let (w, h) = (640.0, 360.0);
@@ -123,7 +148,10 @@ pub fn localization_svg(
     let present: Vec<[f64; 2]> = pose.points.iter().flatten().copied().collect();
     let map = fit_box(&present, 10.0, 10.0, 300.0, 310.0);
     draw_skeleton(&mut svg, &pose.points.map(|p| p.map(&map)), false, 3.0);
-    draw_sphere(&mut svg, cameras, label.get(), 330.0, 10.0, 300.0, 310.0);
+    let sphere = draw_sphere(&mut svg, cameras, label.get(), 330.0, 10.0, 300.0, 310.0);
+    if let Some(direction) = direction {
+        draw_direction(&mut svg, &sphere, direction);
+    }
     let _ = writeln!(
         svg,
         r#"<text x="10" y="{}" fill="{CENTRE}">{}</text>"#,
@@ -138,9 +166,80 @@ pub fn localization_svg(
     svg
 }
 
+/// Where [`draw_sphere`] put the sphere: its viewing rotation, centre and radius in the drawing.
+struct SphereView {
+    view: Matrix3,
+    centre: [f64; 2],
+    radius: f64,
+}
+
+impl SphereView {
+    /// Drawing coordinates of a point of the sphere (unit radius) or inside it.
+    fn to_svg(&self, p: Vector3) -> [f64; 2] {
+        let q = self.view * p;
+        [
+            self.centre[0] + self.radius * q.x,
+            self.centre[1] + self.radius * q.y,
+        ]
+    }
+}
+
+/// Orange of the continuous direction.
+const DIRECTION: &str = "#e6730f";
+
+/// The continuous direction on the sphere: a line from the body to the predicted point, and
+/// the uncertainty as the circle of directions at its angular radius around it (shaded).
+fn draw_direction(svg: &mut String, sphere: &SphereView, d: Direction) {
+    let centre = sphere_point(d.azimuth_deg, d.elevation_deg, 1.0);
+    // Two unit vectors across the direction: the azimuth and elevation tangents.
+    let across = sphere_point(d.azimuth_deg + 90.0, 0.0, 1.0);
+    let up = centre.cross(&across);
+    let u = d.uncertainty_deg.clamp(0.0, 180.0).to_radians();
+    let mut path = String::new();
+    for k in 0..=48 {
+        let phi = k as f64 * std::f64::consts::TAU / 48.0;
+        let p = centre * u.cos() + (across * phi.cos() + up * phi.sin()) * u.sin();
+        let q = sphere.to_svg(p);
+        let _ = write!(
+            path,
+            "{}{:.1},{:.1} ",
+            if k == 0 { "M" } else { "L" },
+            q[0],
+            q[1]
+        );
+    }
+    let _ = writeln!(
+        svg,
+        r#"<path d="{path}Z" fill="{DIRECTION}" fill-opacity="0.2" stroke="{DIRECTION}" stroke-dasharray="3 2"/>"#
+    );
+    let (o, p) = (sphere.to_svg(Vector3::zeros()), sphere.to_svg(centre));
+    let _ = writeln!(
+        svg,
+        r#"<line x1="{:.1}" y1="{:.1}" x2="{:.1}" y2="{:.1}" stroke="{DIRECTION}" stroke-width="2"/><circle cx="{:.1}" cy="{:.1}" r="4.5" fill="{DIRECTION}"/>"#,
+        o[0], o[1], p[0], p[1], p[0], p[1]
+    );
+    let _ = writeln!(
+        svg,
+        r#"<text x="{:.1}" y="{:.1}" fill="{DIRECTION}">direction: azimuth {:.0}, elevation {:.0}, +- {:.0} deg</text>"#,
+        sphere.centre[0] - sphere.radius,
+        sphere.centre[1] + sphere.radius + 14.0,
+        d.azimuth_deg,
+        d.elevation_deg,
+        d.uncertainty_deg
+    );
+}
+
 /// The camera sphere seen obliquely: rings at each elevation, a small body at the centre
-/// facing -x, a dot per camera and the `label` camera highlighted.
-fn draw_sphere(svg: &mut String, cameras: &CameraSet, label: u16, x: f64, y: f64, w: f64, h: f64) {
+/// facing -x, a dot per camera and the `label` camera highlighted. Returns where it is.
+fn draw_sphere(
+    svg: &mut String,
+    cameras: &CameraSet,
+    label: u16,
+    x: f64,
+    y: f64,
+    w: f64,
+    h: f64,
+) -> SphereView {
     // View the sphere from azimuth 215 deg (front-left), elevation 20 deg.
     let view = match look_at_origin(sphere_point(215.0, 20.0, 1.0)) {
         Ok(r) => r,
@@ -148,10 +247,12 @@ fn draw_sphere(svg: &mut String, cameras: &CameraSet, label: u16, x: f64, y: f64
     };
     let radius = 0.42 * w.min(h);
     let (cx, cy) = (x + w / 2.0, y + h / 2.0);
-    let to_svg = |p: Vector3| {
-        let q = view * p;
-        [cx + radius * q.x, cy + radius * q.y]
+    let sphere = SphereView {
+        view,
+        centre: [cx, cy],
+        radius,
     };
+    let to_svg = |p: Vector3| sphere.to_svg(p);
     let _ = writeln!(
         svg,
         r##"<circle cx="{cx:.1}" cy="{cy:.1}" r="{radius:.1}" fill="none" stroke="#bbbbbb"/>"##
@@ -207,6 +308,7 @@ fn draw_sphere(svg: &mut String, cameras: &CameraSet, label: u16, x: f64, y: f64
             );
         }
     }
+    sphere
 }
 
 /// Orthographic view of a 3D point (metres) onto drawing coordinates (v down).
@@ -522,4 +624,58 @@ pub fn summary_svg(cameras: &CameraSet, counts: &[u64], title: &str) -> String {
     );
     svg.push_str("</svg>\n");
     svg
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The `(cx, cy)` texts of the circles of `fill` with radius `r` in `svg`.
+    fn circles(svg: &str, r: &str, fill: &str) -> Vec<String> {
+        let tail = format!(r#"" r="{r}" fill="{fill}"/>"#);
+        svg.lines()
+            .filter_map(|line| line.split("<circle cx=\"").nth(1))
+            .filter(|rest| rest.contains(&tail))
+            .map(|rest| rest.split(&tail).next().unwrap_or("").to_owned())
+            .collect()
+    }
+
+    /// Width of the bounding box of the uncertainty path (the path in the direction colour).
+    fn uncertainty_width(svg: &str) -> f64 {
+        let line = svg
+            .lines()
+            .find(|l| l.starts_with("<path") && l.contains(DIRECTION))
+            .unwrap_or("");
+        let d = line.split("d=\"").nth(1).and_then(|r| r.split('"').next());
+        let xs: Vec<f64> = d
+            .unwrap_or("")
+            .split_whitespace()
+            .filter_map(|p| p.trim_start_matches(['M', 'L']).split(',').next())
+            .filter_map(|x| x.parse().ok())
+            .collect();
+        assert_eq!(xs.len(), 49, "{line}");
+        xs.iter().copied().fold(f64::MIN, f64::max) - xs.iter().copied().fold(f64::MAX, f64::min)
+    }
+
+    #[test]
+    fn the_sphere_draws_the_direction_at_its_point_with_its_uncertainty() {
+        let pose = PartialPose2::from(Pose2::new([[0.0; 2]; 15]));
+        let cameras = CameraSet::table1();
+        let label = CameraLabel::new(5).unwrap();
+        let front = |uncertainty_deg| Direction {
+            azimuth_deg: 180.0,
+            elevation_deg: 0.0,
+            uncertainty_deg,
+        };
+        let svg = localization_svg(&pose, &cameras, label, Some(front(10.0)), "c");
+        // Camera 5 is the middle front camera: the direction's dot is drawn on it.
+        let chosen = circles(&svg, "7", RIGHT);
+        assert_eq!(chosen.len(), 1);
+        assert_eq!(circles(&svg, "4.5", DIRECTION), chosen);
+        assert!(svg.contains("direction: azimuth 180, elevation 0, +- 10 deg"));
+        let wider = localization_svg(&pose, &cameras, label, Some(front(30.0)), "c");
+        assert!(uncertainty_width(&wider) > 2.0 * uncertainty_width(&svg));
+        let without = localization_svg(&pose, &cameras, label, None, "c");
+        assert!(!without.contains(DIRECTION));
+    }
 }

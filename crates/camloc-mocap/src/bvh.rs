@@ -15,8 +15,25 @@ use camloc_skeleton::{Landmark, NUM_LANDMARKS, Pose3};
 ///
 /// [`MocapError::Io`] when the file cannot be read, otherwise as [`parse_bvh`].
 pub fn read_bvh(path: impl AsRef<Path>) -> Result<MocapClip, MocapError> {
+    read_bvh_with_unit(path, CMU_UNIT_M)
+}
+
+/// Reads a BVH file whose coordinates are in units of `metres_per_unit` metres (0.01 for the
+/// centimetres [`write_bvh`](crate::write_bvh) writes by default); otherwise as [`read_bvh`].
+///
+/// # Errors
+///
+/// As [`read_bvh`].
+pub fn read_bvh_with_unit(
+    path: impl AsRef<Path>,
+    metres_per_unit: f64,
+) -> Result<MocapClip, MocapError> {
     let path = path.as_ref();
-    parse_bvh(&read_file(path)?, &path.display().to_string())
+    parse_bvh_with_unit(
+        &read_file(path)?,
+        &path.display().to_string(),
+        metres_per_unit,
+    )
 }
 
 /// Parses BVH text (as `&str` or raw bytes) into a clip of 15-landmark poses.
@@ -53,7 +70,7 @@ pub fn read_bvh(path: impl AsRef<Path>) -> Result<MocapClip, MocapError> {
 /// | head | `Head` | `Head` |
 /// | shoulder, elbow, wrist | `LeftShoulder`, `LeftElbow`, `LeftWrist` | `LeftArm`, `LeftForeArm`, `LeftHand` |
 ///
-/// (right side likewise). Coordinates are CMU units ([`CMU_UNIT_M`] metres) in a y-up frame;
+/// (right side likewise). Coordinates are CMU units ([`CMU_UNIT_M`] metres; [`parse_bvh_with_unit`] takes another unit) in a y-up frame;
 /// the poses are returned in metres, z up.
 ///
 /// # Errors
@@ -66,6 +83,21 @@ pub fn read_bvh(path: impl AsRef<Path>) -> Result<MocapClip, MocapError> {
 pub fn parse_bvh<B: AsRef<[u8]> + ?Sized>(
     input: &B,
     source_name: &str,
+) -> Result<MocapClip, MocapError> {
+    parse_bvh_with_unit(input, source_name, CMU_UNIT_M)
+}
+
+/// Parses BVH text whose coordinates are in units of `metres_per_unit` metres (0.01 for the
+/// centimetres [`write_bvh`](crate::write_bvh) writes by default); otherwise as
+/// [`parse_bvh`], which is this function with [`CMU_UNIT_M`].
+///
+/// # Errors
+///
+/// As [`parse_bvh`].
+pub fn parse_bvh_with_unit<B: AsRef<[u8]> + ?Sized>(
+    input: &B,
+    source_name: &str,
+    metres_per_unit: f64,
 ) -> Result<MocapClip, MocapError> {
     let source = Source { name: source_name };
     let text = decode(input.as_ref(), source)?;
@@ -87,7 +119,14 @@ pub fn parse_bvh<B: AsRef<[u8]> + ?Sized>(
     // A frame line needs at least 2 bytes per value: never trust `declared` for the allocation.
     let max_frames = text.len() / (2 * hierarchy.channel_count);
     let capacity = declared.min(max_frames);
-    let frames = parse_frames(lines, &hierarchy, &landmarks, declared, capacity, source)?;
+    let frames = parse_frames(
+        lines,
+        &hierarchy,
+        &landmarks,
+        (declared, capacity),
+        metres_per_unit,
+        source,
+    )?;
     let (subject, clip) = subject_and_clip(source_name);
     Ok(MocapClip {
         subject,
@@ -480,8 +519,8 @@ fn parse_frames(
     mut lines: Lines<'_>,
     hierarchy: &Hierarchy<'_>,
     landmarks: &[usize; NUM_LANDMARKS],
-    declared: usize,
-    capacity: usize,
+    (declared, capacity): (usize, usize),
+    metres_per_unit: f64,
     source: Source<'_>,
 ) -> Result<Vec<Pose3>, MocapError> {
     let n = hierarchy.channel_count;
@@ -513,7 +552,7 @@ fn parse_frames(
                 },
             ));
         }
-        let pose = kinematics.pose(&hierarchy.joints, &values, landmarks);
+        let pose = kinematics.pose(&hierarchy.joints, &values, landmarks, metres_per_unit);
         frames.push(source.finite_pose(pose, number, frame)?);
     }
     if frames.len() < declared {
@@ -548,6 +587,7 @@ impl Kinematics {
         joints: &[Joint<'_>],
         values: &[f64],
         landmarks: &[usize; NUM_LANDMARKS],
+        metres_per_unit: f64,
     ) -> Pose3 {
         for (j, joint) in joints.iter().enumerate() {
             let mut translation = joint.offset;
@@ -576,7 +616,7 @@ impl Kinematics {
         Pose3::new(landmarks.map(|j| {
             y_up_to_z_up(
                 self.positions.get(j).copied().unwrap_or_default(),
-                CMU_UNIT_M,
+                metres_per_unit,
             )
         }))
     }

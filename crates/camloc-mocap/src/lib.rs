@@ -40,10 +40,14 @@
 mod amc;
 mod asf;
 mod bvh;
+mod bvh_skeleton;
+mod bvh_solve;
+mod bvh_write;
 mod canonical;
 mod category;
 mod discover;
 mod error;
+mod euler;
 mod rotation;
 mod text;
 
@@ -51,7 +55,8 @@ use std::path::Path;
 
 pub use amc::{parse_amc, read_amc};
 pub use asf::{AsfSkeleton, parse_asf, read_asf};
-pub use bvh::{parse_bvh, read_bvh};
+pub use bvh::{parse_bvh, parse_bvh_with_unit, read_bvh, read_bvh_with_unit};
+pub use bvh_write::{BVH_CENTIMETRE, BvhOptions, BvhWriteError, write_bvh, write_person_bvh};
 pub use canonical::canonicalise;
 pub use category::{CATEGORY_RULES, CategorySource, MocapIndex, MotionCategory};
 pub use discover::{MocapSource, discover};

@@ -81,9 +81,84 @@ impl Rot3 {
     }
 }
 
+impl Rot3 {
+    /// The rotation whose columns are `x`, `y` and `z` (it maps the unit axes onto them).
+    pub(crate) fn from_columns(x: [f64; 3], y: [f64; 3], z: [f64; 3]) -> Rot3 {
+        Rot3([[x[0], y[0], z[0]], [x[1], y[1], z[1]], [x[2], y[2], z[2]]])
+    }
+
+    /// Right-handed rotation by `angle_rad` about the unit vector `axis` (Rodrigues).
+    pub(crate) fn about_unit(axis: [f64; 3], angle_rad: f64) -> Rot3 {
+        let (s, c) = angle_rad.sin_cos();
+        let [x, y, z] = axis;
+        let t = 1.0 - c;
+        Rot3([
+            [c + t * x * x, t * x * y - s * z, t * x * z + s * y],
+            [t * x * y + s * z, c + t * y * y, t * y * z - s * x],
+            [t * x * z - s * y, t * y * z + s * x, c + t * z * z],
+        ])
+    }
+
+    /// The smallest rotation that turns the unit vector `from` onto the unit vector `to`
+    /// (about their common normal); a half turn about an axis normal to `from` when they are
+    /// opposite.
+    pub(crate) fn swing(from: [f64; 3], to: [f64; 3]) -> Rot3 {
+        let axis = cross(from, to);
+        let (sin, cos) = (norm(axis), dot(from, to));
+        if sin < 1e-12 && cos < 0.0 {
+            // Opposite: any normal works; take the one from the axis `from` is least along.
+            let k = (0..3)
+                .min_by(|&a, &b| from[a].abs().total_cmp(&from[b].abs()))
+                .unwrap_or(0);
+            let mut e = [0.0; 3];
+            e[k] = 1.0;
+            return Rot3::about_unit(unit(cross(from, e)).unwrap_or(e), std::f64::consts::PI);
+        }
+        match unit(axis) {
+            Some(axis) => Rot3::about_unit(axis, sin.atan2(cos)),
+            None => Rot3::IDENTITY,
+        }
+    }
+
+    /// `trace(self)`.
+    pub(crate) fn trace(&self) -> f64 {
+        self.0[0][0] + self.0[1][1] + self.0[2][2]
+    }
+}
+
 /// `a + b`.
 pub(crate) fn add(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
+}
+
+/// `a - b`.
+pub(crate) fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+/// `a . b`.
+pub(crate) fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// `a x b`.
+pub(crate) fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+/// Euclidean norm.
+pub(crate) fn norm(a: [f64; 3]) -> f64 {
+    dot(a, a).sqrt()
+}
+
+/// `a / |a|`, `None` when `a` has no direction (zero or not finite).
+pub(crate) fn unit(a: [f64; 3]) -> Option<[f64; 3]> {
+    let n = norm(a);
+    (n > 0.0 && n.is_finite()).then(|| a.map(|c| c / n))
 }
 
 /// Maps a point of a y-up mocap file, in file units, to the z-up world in metres
@@ -93,6 +168,16 @@ pub(crate) fn y_up_to_z_up(v: [f64; 3], metres_per_unit: f64) -> [f64; 3] {
         v[0] * metres_per_unit,
         -v[2] * metres_per_unit,
         v[1] * metres_per_unit,
+    ]
+}
+
+/// Maps a z-up world point in metres to a y-up mocap file point in file units: the inverse
+/// of [`y_up_to_z_up`], `(x, y, z) / scale -> (x, z, -y) / scale`.
+pub(crate) fn z_up_to_y_up(v: [f64; 3], metres_per_unit: f64) -> [f64; 3] {
+    [
+        v[0] / metres_per_unit,
+        v[2] / metres_per_unit,
+        -v[1] / metres_per_unit,
     ]
 }
 
@@ -134,6 +219,35 @@ mod tests {
     }
 
     #[test]
+    fn swing_turns_one_unit_vector_onto_another_by_the_smallest_angle() {
+        let dirs = [
+            [1.0, 0.0, 0.0],
+            [0.0, -1.0, 0.0],
+            unit([0.3, -0.8, 0.5]).unwrap(),
+            unit([-0.3, 0.8, -0.5]).unwrap(),
+            [-1.0, 0.0, 0.0],
+        ];
+        for a in dirs {
+            for b in dirs {
+                let r = Rot3::swing(a, b);
+                assert!(close(r.apply(a), b), "{a:?} -> {b:?}");
+                let angle = ((r.trace() - 1.0) / 2.0).clamp(-1.0, 1.0).acos();
+                assert!((angle - dot(a, b).clamp(-1.0, 1.0).acos()).abs() < 1e-6);
+                let rtr = r.transpose().mul(&r);
+                for (i, row) in rtr.0.iter().enumerate() {
+                    assert!(close(*row, Rot3::IDENTITY.0[i]));
+                }
+            }
+        }
+        // About an axis, as `about` for the coordinate axes.
+        let q = 0.7;
+        assert!(close(
+            Rot3::about_unit([0.0, 0.0, 1.0], q).apply([1.0, 2.0, 3.0]),
+            Rot3::about(Axis::Z, q).apply([1.0, 2.0, 3.0])
+        ));
+    }
+
+    #[test]
     fn y_up_maps_to_z_up_as_a_proper_rotation() {
         // x stays, file up (y) becomes z, file forward (z) becomes -y.
         assert_eq!(y_up_to_z_up([1.0, 2.0, 3.0], 2.0), [2.0, -6.0, 4.0]);
@@ -148,5 +262,6 @@ mod tests {
             x[0] * y[1] - x[1] * y[0],
         ];
         assert_eq!(cross, y_up_to_z_up([0.0, 0.0, 1.0], 1.0));
+        assert_eq!(z_up_to_y_up([2.0, -6.0, 4.0], 2.0), [1.0, 2.0, 3.0]);
     }
 }

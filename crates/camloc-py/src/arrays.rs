@@ -18,7 +18,7 @@ pub(crate) type ArrayArg<'py> = PyArrayLikeDyn<'py, f64, AllowTypeChange>;
 
 /// The numbers of an array in C order, borrowed when the array is C-contiguous (`as_slice`
 /// alone also accepts Fortran order, whose memory order is not C's).
-fn c_order<'a>(array: &'a ArrayArg<'_>) -> Cow<'a, [f64]> {
+pub(crate) fn c_order<'a>(array: &'a ArrayArg<'_>) -> Cow<'a, [f64]> {
     match array.as_slice() {
         Ok(slice) if array.is_c_contiguous() => Cow::Borrowed(slice),
         _ => Cow::Owned(array.as_array().iter().copied().collect()),

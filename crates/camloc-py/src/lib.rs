@@ -2,7 +2,8 @@
 //!
 //! Thin over the Rust crates: joint layouts come from [`camloc::keypoints::pose_from_array`],
 //! localization from [`camloc::CameraLocalizer`], reconstruction from [`camloc::PoseReconstructor`],
-//! files from [`camloc::keypoints::read_keypoints`]. This crate only converts arrays, releases
+//! files from [`camloc::keypoints::read_keypoints`], BVH from [`camloc::mocap::write_bvh`] and
+//! [`camloc::mocap::read_bvh_with_unit`]. This crate only converts arrays, releases
 //! the GIL around batch work and runs batches on rayon's thread pool. The Python API is
 //! documented in `camloc.pyi` beside this crate's Cargo.toml.
 
@@ -11,6 +12,7 @@ use pyo3::exceptions::{PyException, PyOSError, PyValueError};
 use pyo3::prelude::*;
 
 mod arrays;
+mod bvh;
 mod localize;
 mod read;
 mod reconstruct;
@@ -65,5 +67,7 @@ fn camloc_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<localize::Localizer>()?;
     m.add_function(wrap_pyfunction!(reconstruct::reconstruct, m)?)?;
     m.add_function(wrap_pyfunction!(read::read_keypoints, m)?)?;
+    m.add_function(wrap_pyfunction!(bvh::to_bvh, m)?)?;
+    m.add_function(wrap_pyfunction!(bvh::read_bvh, m)?)?;
     Ok(())
 }

@@ -1,15 +1,10 @@
 """Tests of the camloc Python package: answers equal the `camloc` command line's on the
 fixtures, shapes and dtypes, missing joints, bad input, a 100k-pose batch.
 
-The command-line comparisons run the `camloc` binary named by the environment variable
-CAMLOC_BIN (.ci/run sets it), else `target/debug/camloc` of the repository; without either they
-are skipped with a visible reason.
+The command-line comparisons run the `camloc` binary of the `cli` fixture (conftest.py).
 """
 
-import json
-import os
 import shutil
-import subprocess
 import threading
 from pathlib import Path
 
@@ -44,26 +39,6 @@ CLI_INPUTS = [
     (SAMPLES / "openpose_coco18_000000000007_keypoints.json", [], {}),
     (SAMPLES / "openpose", [], {}),
 ]
-
-
-@pytest.fixture(scope="module")
-def cli():
-    """Runs `camloc ARGS... --json` and returns (exit code, parsed standard output)."""
-    given = os.environ.get("CAMLOC_BIN")
-    binary = Path(given) if given else ROOT / "target" / "debug" / "camloc"
-    if not binary.is_file():
-        if given:
-            pytest.fail(f"CAMLOC_BIN={given} is not a file")
-        pytest.skip(f"no camloc binary at {binary} (build it with `cargo build -p camloc-cli`)")
-
-    def run(*args):
-        done = subprocess.run(
-            [str(binary), *map(str, args), "--json"], capture_output=True, text=True, check=False
-        )
-        assert done.returncode in (0, 1), done.stderr
-        return done.returncode, json.loads(done.stdout)
-
-    return run
 
 
 @pytest.fixture(scope="module")

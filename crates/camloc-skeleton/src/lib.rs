@@ -13,5 +13,5 @@ mod pose;
 
 pub use pose::{
     LIMB_NAMES, LIMBS, Landmark, NUM_LANDMARKS, NUM_LIMBS, PartialPose2, Pose2, Pose3,
-    SAFE_EXPONENT, TORSO_LIMB, mirror_landmark_index,
+    SAFE_EXPONENT, TORSO_LIMB, mean_limb_lengths, mirror_landmark_index,
 };

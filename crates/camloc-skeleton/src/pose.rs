@@ -312,6 +312,48 @@ impl Pose3 {
     pub fn is_finite(&self) -> bool {
         self.points.iter().flatten().all(|c| c.is_finite())
     }
+
+    /// The lengths of the 14 limbs, in metres, in [`LIMBS`] order.
+    pub fn limb_lengths(&self) -> [f64; NUM_LIMBS] {
+        std::array::from_fn(|limb| self.limb_length(limb))
+    }
+
+    /// This pose with each limb brought to `lengths[limb]` (metres, [`LIMBS`] order) along its
+    /// own direction: the pelvis stays, and each landmark is placed from its parent's new
+    /// position, so every limb keeps its direction and the landmarks below it follow.
+    ///
+    /// `None` when a limb of this pose has no direction (zero or non-finite length) or a
+    /// length is not finite.
+    pub fn with_limb_lengths(&self, lengths: &[f64; NUM_LIMBS]) -> Option<Pose3> {
+        let mut out = *self;
+        // LIMBS lists every parent before its children: each parent is already in place.
+        for ((parent, child), &length) in LIMBS.iter().zip(lengths) {
+            let (p, c) = (self.get(*parent), self.get(*child));
+            let d = [c[0] - p[0], c[1] - p[1], c[2] - p[2]];
+            let norm = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+            if !(norm > 0.0 && norm.is_finite() && length.is_finite()) {
+                return None;
+            }
+            let base = out.get(*parent);
+            out.points[child.index()] = std::array::from_fn(|k| base[k] + d[k] * (length / norm));
+        }
+        Some(out)
+    }
+}
+
+/// The mean length of each limb over `poses` (metres, [`LIMBS`] order); `None` for no poses.
+pub fn mean_limb_lengths(poses: &[Pose3]) -> Option<[f64; NUM_LIMBS]> {
+    if poses.is_empty() {
+        return None;
+    }
+    let n = poses.len() as f64;
+    let mut mean = [0.0; NUM_LIMBS];
+    for pose in poses {
+        for (m, length) in mean.iter_mut().zip(pose.limb_lengths()) {
+            *m += length / n;
+        }
+    }
+    Some(mean)
 }
 
 /// A 2D pose whose landmarks may be missing (`None`): what keypoint files and detectors give.
@@ -375,6 +417,61 @@ impl From<Pose2> for PartialPose2 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A pose whose every landmark is somewhere different (no zero-length limb).
+    fn spread_pose() -> Pose3 {
+        Pose3::new(std::array::from_fn(|i| {
+            let t = i as f64;
+            [0.1 * t.sin() + 0.01 * t, 0.2 * t.cos(), 0.05 * t * t - 0.3]
+        }))
+    }
+
+    #[test]
+    fn with_limb_lengths_sets_lengths_and_keeps_directions() {
+        let pose = spread_pose();
+        let lengths: [f64; NUM_LIMBS] = std::array::from_fn(|k| 0.1 + 0.03 * k as f64);
+        let out = pose.with_limb_lengths(&lengths).unwrap();
+        assert_eq!(out.get(Landmark::Pelvis), pose.get(Landmark::Pelvis));
+        for (k, (a, b)) in LIMBS.iter().enumerate() {
+            assert!((out.limb_length(k) - lengths[k]).abs() < 1e-12);
+            let (u, v) = (pose.get(*b), out.get(*b));
+            let (pu, pv) = (pose.get(*a), out.get(*a));
+            let du: Vec<f64> = (0..3)
+                .map(|i| (u[i] - pu[i]) / pose.limb_length(k))
+                .collect();
+            let dv: Vec<f64> = (0..3).map(|i| (v[i] - pv[i]) / lengths[k]).collect();
+            for i in 0..3 {
+                assert!((du[i] - dv[i]).abs() < 1e-12, "limb {k} turned");
+            }
+        }
+        // Its own lengths give the pose back; a zero-length limb has no direction.
+        let same = pose.with_limb_lengths(&pose.limb_lengths()).unwrap();
+        for (p, q) in same
+            .points
+            .iter()
+            .flatten()
+            .zip(pose.points.iter().flatten())
+        {
+            assert!((p - q).abs() < 1e-12);
+        }
+        let mut flat = pose;
+        flat.points[Landmark::Head.index()] = flat.get(Landmark::Neck);
+        assert_eq!(flat.with_limb_lengths(&lengths), None);
+        let mut bad = lengths;
+        bad[3] = f64::NAN;
+        assert_eq!(pose.with_limb_lengths(&bad), None);
+    }
+
+    #[test]
+    fn mean_limb_lengths_averages_each_limb() {
+        let pose = spread_pose();
+        let twice = Pose3::new(pose.points.map(|p| p.map(|c| 2.0 * c)));
+        let mean = mean_limb_lengths(&[pose, twice]).unwrap();
+        for (k, m) in mean.iter().enumerate() {
+            assert!((m - 1.5 * pose.limb_length(k)).abs() < 1e-12);
+        }
+        assert_eq!(mean_limb_lengths(&[]), None);
+    }
 
     #[test]
     fn within_safe_range_rescales_only_extreme_poses_and_exactly() {

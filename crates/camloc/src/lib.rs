@@ -27,7 +27,8 @@
 //! measures one, [`PoseReconstructor`] reconstructs 3D poses with a chosen [`ModeKind`].
 //! Cameras are named by [`CameraLabel`] (Table 1 numbering). The layers below are
 //! re-exported: [`geometry`] (camera sphere, projection, Procrustes), [`skeleton`]
-//! (landmarks, limbs, pose types), [`dataset`], [`features`], [`learning`], [`keypoints`] and
+//! (landmarks, limbs, pose types), [`mocap`] (BVH and ASF/AMC readers, the BVH writer),
+//! [`dataset`], [`features`], [`learning`], [`keypoints`] and
 //! [`reconstruct`](mod@reconstruct).
 
 mod error;
@@ -45,6 +46,7 @@ pub use camloc_features as features;
 pub use camloc_geometry as geometry;
 pub use camloc_keypoints as keypoints;
 pub use camloc_learning as learning;
+pub use camloc_mocap as mocap;
 pub use camloc_reconstruct as reconstruct;
 pub use camloc_skeleton as skeleton;
 pub use camloc_store as store;

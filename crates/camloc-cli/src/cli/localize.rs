@@ -7,17 +7,19 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use camloc::keypoints::KeypointRecord;
-use camloc::{CameraLabel, CameraLocalizer, Localization, Pose3};
+use camloc::{CameraLabel, CameraLocalizer, Localization, Pose3, PoseReconstructor, default_basis};
 use serde::ser::SerializeMap;
 use serde::{Serialize, Serializer};
 
 use camloc::store::escaped;
 
+use crate::html::ViewFrame;
 use crate::svg;
 
+use super::export;
 use super::input::Inputs;
 use super::sequence;
-use super::stream::{self, Done, Files, SummaryDrawing};
+use super::stream::{self, Done, Failed, Files, SummaryDrawing};
 use super::{
     CliError, ForceArgs, FormatArgs, InputArgs, Out, ProgressArgs, load_model, progress, targets,
 };
@@ -51,6 +53,16 @@ pub struct Args {
     /// elevation grid, shaded by the share of poses) as SVG to this file.
     #[arg(long, value_name = "OUT")]
     pub summary_svg: Option<PathBuf>,
+    /// Write one self-contained interactive page (no network needed): per pose the 2D input,
+    /// the camera sphere with the 12 probabilities and the continuous direction with its
+    /// uncertainty, and the 3D skeleton reconstructed with the embedded basis (drag to turn,
+    /// wheel to zoom) with its reprojection; a timeline to play and scrub (with --sequence,
+    /// per person, with the smoothed camera).
+    #[arg(long, value_name = "OUT")]
+    pub html: Option<PathBuf>,
+    /// With --html: the page's play rate, frames per second.
+    #[arg(long, value_name = "FPS", default_value = "30", value_parser = export::parse_fps)]
+    pub fps: f64,
     #[command(flatten)]
     pub force: ForceArgs,
     #[command(flatten)]
@@ -62,6 +74,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     let outputs = [
         (args.svg.as_deref(), "--svg", true),
         (args.summary_svg.as_deref(), "--summary-svg", false),
+        (args.html.as_deref(), "--html", false),
     ];
     targets::check_distinct(&targets::outputs(outputs))?;
     let localizer = load_model(args.model.as_deref())?;
@@ -85,10 +98,35 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         });
         (path, draw)
     });
-    let files = Files::<Pose3> {
+    // The page's 3D skeletons: the embedded basis, Procrustes camera.
+    let page_reconstructor = match &args.html {
+        Some(_) => Some(PoseReconstructor::new(default_basis()?)?),
+        None => None,
+    };
+    let view = |record: &KeypointRecord, loc: Option<&Localization>, error: Option<String>| {
+        page_reconstructor.as_ref().map(|r| {
+            let found = r.reconstruct(&record.pose);
+            let error = error.or_else(|| found.as_ref().err().map(|e| format!("3D: {e}")));
+            let reconstruction = found.ok().map(|f| f.reconstruction);
+            ViewFrame::new(record, loc, reconstruction.as_ref(), error)
+        })
+    };
+    let finish = args.html.clone().map(|html| {
+        let (cameras, fps) = (localizer.cameras().clone(), args.fps);
+        let title = format!("camloc localize: {}", inputs.name());
+        let make: stream::Finish<ViewFrame> = Box::new(move |views: Vec<ViewFrame>| {
+            let keys = vec![(None, None); views.len()];
+            Ok(vec![export::html_file(
+                &html, &title, &cameras, &views, &keys, false, fps,
+            )])
+        });
+        (vec![args.html.clone().unwrap_or_default()], make)
+    });
+    let files = Files::<Pose3, ViewFrame> {
         svg: args.svg.clone(),
         npy: None,
         summary,
+        finish,
         force: args.force.force,
         pose: std::marker::PhantomData,
     };
@@ -105,13 +143,18 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
             summary: args.summary_svg.as_deref(),
             force: args.force.force,
             max_poses: args.sequence_max_poses,
+            html: args.html.as_deref().map(|path| (path, args.fps)),
         };
-        return sequence::run(&localizer, inputs, out, format, &files, &bar);
+        return sequence::run(&localizer, inputs, out, format, &files, &bar, &view);
     }
-    let summary = stream::run(inputs, out, format, &files, &bar, |record| {
-        let loc = localizer
-            .localize_partial(&record.pose)
-            .map_err(|e| e.to_string())?;
+    let summary = stream::run(inputs, out, format, files, &bar, |record| {
+        let loc = localizer.localize_partial(&record.pose).map_err(|e| {
+            let message = e.to_string();
+            Failed {
+                keep: view(record, None, Some(message.clone())).map(Box::new),
+                message,
+            }
+        })?;
         if let Some(count) = counts.get(loc.label.index()) {
             count.fetch_add(1, Ordering::Relaxed);
         }
@@ -120,7 +163,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         } else {
             localization_text(&localizer, record, &loc)
         };
-        let svg = files.svg.as_ref().map(|_| {
+        let svg = args.svg.as_ref().map(|_| {
             let caption = format!(
                 "{}: camera {} ({} {}), p = {:.2}",
                 record.id,
@@ -129,12 +172,19 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
                 loc.side.name(),
                 loc.probability
             );
-            svg::localization_svg(&record.pose, localizer.cameras(), loc.label, &caption)
+            svg::localization_svg(
+                &record.pose,
+                localizer.cameras(),
+                loc.label,
+                svg::Direction::of(&loc),
+                &caption,
+            )
         });
         Ok(Done {
             text,
             svg,
             row: None,
+            keep: view(record, Some(&loc), None),
         })
     })?;
     Ok(summary.exit_code("localized"))

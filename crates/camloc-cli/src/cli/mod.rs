@@ -12,6 +12,7 @@ use clap::{Parser, Subcommand, ValueEnum};
 
 mod convert;
 mod evaluate;
+mod export;
 mod input;
 mod localize;
 pub mod output;
@@ -108,6 +109,15 @@ pub enum CliError {
          input or raise --sequence-max-poses"
     )]
     TooManyPoses(u64),
+    /// `--bvh` or `--html` met more poses than they may keep.
+    #[error(
+        "more than {0} poses for --bvh or --html, which keep every pose until the end: split \
+         the input"
+    )]
+    TooManyKept(u64),
+    /// A file made at the end of a run (`--bvh`) could not be made.
+    #[error("{0}")]
+    Export(String),
     /// The input holds no pose at all (the rule for empty inputs, see `camloc --help`).
     #[error("no poses in {}", camloc::store::quoted_path(Path::new(.0)))]
     NoPoses(String),

@@ -3,19 +3,22 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use camloc::reconstruct::{BoneLengths, Intrinsics, PoseBasis};
+use camloc::keypoints::KeypointRecord;
+use camloc::reconstruct::{BoneLengths, Intrinsics, PoseBasis, Reconstruction};
 use camloc::store::Persist;
-use camloc::{CamlocError, ModeKind, Pose3, PoseReconstructor, default_basis};
+use camloc::{CameraLocalizer, CamlocError, ModeKind, Pose3, PoseReconstructor, default_basis};
 use clap::builder::{PossibleValue, TypedValueParser};
 
+use super::export::{self, Kept};
 use super::input::Inputs;
 use super::reconstruct_output::{PoseMeta, pose_output, pose_svg};
 use super::reconstruct_sequence;
-use super::stream::{self, Done, Files};
+use super::stream::{self, Done, Failed, Files};
 use super::{
     CliError, ForceArgs, FormatArgs, InputArgs, Out, ProgressArgs, load_dataset, load_model,
     progress, targets,
 };
+use crate::html::ViewFrame;
 
 /// The camera modes `reconstruct` offers (the library's [`ModeKind`] without `oracle`, which
 /// needs the true camera), with their help.
@@ -120,6 +123,23 @@ pub struct Args {
     /// poses: FILE-001.svg, ...). All files are written at the end, or none.
     #[arg(long, value_name = "OUT")]
     pub svg: Option<PathBuf>,
+    /// Write the 3D poses as a BVH animation (centimetres, y up; Blender: import with scale
+    /// 0.01) for Blender, MotionBuilder and other 3D packages: one file per pose
+    /// (FILE-001.bvh, ... when there are several), or with --sequence one per person. Bone
+    /// lengths are the mean limb lengths of the file's poses (with --sequence: the person's
+    /// shared lengths, given or estimated); each frame keeps its limb directions. A frame that
+    /// could not be reconstructed holds the previous one.
+    #[arg(long, value_name = "OUT")]
+    pub bvh: Option<PathBuf>,
+    /// Write one self-contained interactive page (no network needed): per pose the 2D input
+    /// and reprojection, the 3D skeleton (drag to turn, wheel to zoom) and the camera sphere
+    /// with the 12 probabilities and the continuous direction (from the localizer: --model),
+    /// with a timeline to play and scrub.
+    #[arg(long, value_name = "OUT")]
+    pub html: Option<PathBuf>,
+    /// Frames per second of the input video: the BVH frame time and the page's play rate.
+    #[arg(long, value_name = "FPS", default_value = "30", value_parser = export::parse_fps)]
+    pub fps: f64,
     #[command(flatten)]
     pub force: ForceArgs,
     #[command(flatten)]
@@ -219,12 +239,26 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         (args.npy.as_deref(), "--npy", false),
         (args.svg.as_deref(), "--svg", true),
         (args.bone_lengths_out.as_deref(), "--bone-lengths-out", true),
+        (args.bvh.as_deref(), "--bvh", true),
+        (args.html.as_deref(), "--html", false),
     ];
     targets::check_distinct(&targets::outputs(outputs))?;
     let choice = camera_of(args);
     let reconstructor = reconstructor(args)?;
+    // The page shows the cameras' probabilities: the localizer of every pose.
+    let page_localizer = match &args.html {
+        Some(_) => Some(load_model(args.model.as_deref())?),
+        None => None,
+    };
     let inputs = Inputs::open(&args.input)?;
     let format = args.format.format();
+    let finish = finish(args, &inputs, page_localizer.as_ref());
+    let view = |record: &KeypointRecord, r: Option<&Reconstruction>, error: Option<String>| {
+        page_localizer.as_ref().map(|localizer| {
+            let localization = localizer.localize_partial(&record.pose).ok();
+            ViewFrame::new(record, localization.as_ref(), r, error)
+        })
+    };
     let bar = progress::counter(
         args.progress.quiet,
         inputs.len_hint(),
@@ -239,36 +273,94 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
             lengths_out: args.bone_lengths_out.as_deref(),
             force: args.force.force,
             max_poses: args.sequence_max_poses,
+            finish,
+            view: &view,
         };
-        return reconstruct_sequence::run(&reconstructor, inputs, out, format, &options, &bar);
+        return reconstruct_sequence::run(&reconstructor, inputs, out, format, options, &bar);
     }
-    let files = Files::<Pose3> {
+    let files = Files::<Pose3, Kept> {
         svg: args.svg.clone(),
         npy: args.npy.clone(),
         summary: None,
+        finish,
         force: args.force.force,
         pose: std::marker::PhantomData,
     };
-    let summary = stream::run(inputs, out, format, &files, &bar, |record| {
+    let keep = args.bvh.is_some() || args.html.is_some();
+    let summary = stream::run(inputs, out, format, files, &bar, |record| {
         let result = reconstructor
             .reconstruct_hypotheses(&record.pose, usize::from(args.hypotheses))
-            .map_err(|e| e.to_string())?;
+            .map_err(|e| {
+                let message = e.to_string();
+                Failed {
+                    keep: keep.then(|| {
+                        Box::new(Kept {
+                            key: (record.frame, record.person),
+                            pose: None,
+                            view: view(record, None, Some(message.clone())),
+                        })
+                    }),
+                    message,
+                }
+            })?;
         let meta = PoseMeta {
             id: &record.id,
             source: &record.source,
             frame: record.frame,
             person: record.person,
         };
+        let r = &result.reconstruction;
         Ok(Done {
             text: pose_output(format, &meta, choice, &result),
-            svg: files
+            svg: args
                 .svg
                 .as_ref()
                 .and_then(|_| pose_svg(&record.pose, &record.id, choice, &result)),
-            row: files.npy.as_ref().map(|_| result.reconstruction.pose),
+            row: args.npy.as_ref().map(|_| r.pose),
+            keep: keep.then(|| Kept {
+                key: (record.frame, record.person),
+                pose: Some(r.pose),
+                view: view(record, Some(r), None),
+            }),
         })
     })?;
     Ok(summary.exit_code("reconstructed"))
+}
+
+/// The `--bvh` and `--html` files of a run, made from what it kept of every pose.
+fn finish(
+    args: &Args,
+    inputs: &Inputs,
+    page_localizer: Option<&CameraLocalizer>,
+) -> Option<(Vec<PathBuf>, stream::Finish<Kept>)> {
+    if args.bvh.is_none() && args.html.is_none() {
+        return None;
+    }
+    let mut paths = Vec::new();
+    if let Some(bvh) = &args.bvh {
+        let base = export::bvh_base(bvh);
+        paths.push(super::numbered_path(&base, 0, 2));
+        paths.push(base);
+    }
+    paths.extend(args.html.clone());
+    let (bvh, html, sequence, fps) = (args.bvh.clone(), args.html.clone(), args.sequence, args.fps);
+    let cameras = page_localizer.map(|l| l.cameras().clone());
+    let title = format!("camloc reconstruct: {}", inputs.name());
+    let make: stream::Finish<Kept> = Box::new(move |kept: Vec<Kept>| {
+        let mut files = Vec::new();
+        if let Some(bvh) = &bvh {
+            files.extend(export::bvh_files(bvh, &kept, sequence, fps)?);
+        }
+        if let (Some(html), Some(cameras)) = (&html, &cameras) {
+            let keys: Vec<_> = kept.iter().map(|k| k.key).collect();
+            let views: Vec<ViewFrame> = kept.into_iter().filter_map(|k| k.view).collect();
+            files.push(export::html_file(
+                html, &title, cameras, &views, &keys, sequence, fps,
+            ));
+        }
+        Ok(files)
+    });
+    Some((paths, make))
 }
 
 /// Runs `camloc evaluate-reconstruction`.

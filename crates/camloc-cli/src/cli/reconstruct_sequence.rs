@@ -3,30 +3,30 @@
 //! groups them ([`sequences`]), and each person's frames are reconstructed together
 //! ([`PoseReconstructor::reconstruct_sequence`]: shared bone lengths, depths chosen over
 //! time, smoothness). Frames are written by person then frame; `.npy` rows stay in input
-//! order; `--bone-lengths-out` gets each person's lengths.
+//! order; `--bone-lengths-out` gets each person's lengths; `--bvh` one animation per person
+//! (its frames have the person's shared lengths) and `--html` one page.
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use camloc::reconstruct::BoneLengths;
+use camloc::keypoints::KeypointRecord;
+use camloc::reconstruct::{BoneLengths, Reconstruction};
 use camloc::store::{StagedFiles, check_target};
 use camloc::{ModeKind, PartialPose2, Pose3, PoseReconstructor, sequences};
 use indicatif::ProgressBar;
 
+use crate::html::ViewFrame;
+
+use super::export::Kept;
 use super::input::Inputs;
 use super::output::{NpyStage, Out};
 use super::reconstruct_output::{PoseMeta, lengths_text, pose_output, pose_svg};
-use super::stream::{Emitter, ErrorJson, Format, Summary, json_line, report_pose_error};
+use super::stream::{Emitter, ErrorJson, Finish, Format, Summary, json_line, report_pose_error};
 use super::{CliError, numbered_path};
 
-/// One pose kept until its person is reconstructed.
-struct Kept {
-    id: Box<str>,
-    source: Box<str>,
-    frame: Option<u64>,
-    person: Option<u64>,
-    pose: PartialPose2,
-}
+/// What the `--html` page shows of one frame: its record, its reconstruction or the error.
+pub type ViewOf<'a> =
+    &'a dyn Fn(&KeypointRecord, Option<&Reconstruction>, Option<String>) -> Option<ViewFrame>;
 
 /// The options of a sequence run.
 pub struct Options<'a> {
@@ -42,6 +42,11 @@ pub struct Options<'a> {
     pub force: bool,
     /// `--sequence-max-poses`.
     pub max_poses: u64,
+    /// The `--bvh` and `--html` files: the paths they may take and how they are made from
+    /// every frame.
+    pub finish: Option<(Vec<PathBuf>, Finish<Kept>)>,
+    /// The page's record of a frame.
+    pub view: ViewOf<'a>,
 }
 
 /// The numbered names of `--bone-lengths-out` take `.json` when the name has no extension.
@@ -60,7 +65,7 @@ pub fn run(
     mut inputs: Inputs,
     out: &mut Out,
     format: Format,
-    options: &Options,
+    options: Options,
     bar: &ProgressBar,
 ) -> Result<ExitCode, CliError> {
     if let Some(svg) = options.svg {
@@ -74,9 +79,12 @@ pub fn run(
         check_target(path, options.force)?;
         check_target(&lengths_path(path, 0, 2), options.force)?;
     }
+    for path in options.finish.iter().flat_map(|(paths, _)| paths) {
+        check_target(path, options.force)?;
+    }
     let mut emit = Emitter::new(format);
     let mut summary = Summary::default();
-    let mut kept: Vec<Kept> = Vec::new();
+    let mut kept: Vec<KeypointRecord> = Vec::new();
     for item in inputs.by_ref() {
         match item {
             Err(e) => emit.file_error(out, &mut summary, bar, &e)?,
@@ -85,13 +93,7 @@ pub fn run(
                     return Err(CliError::TooManyPoses(options.max_poses));
                 }
                 summary.poses += 1;
-                kept.push(Kept {
-                    id: record.id.as_str().into(),
-                    source: record.source.as_str().into(),
-                    frame: record.frame,
-                    person: record.person,
-                    pose: record.pose,
-                });
+                kept.push(record);
                 bar.inc(1);
             }
         }
@@ -105,6 +107,7 @@ pub fn run(
     let mut staged = StagedFiles::new(options.force);
     let mut rows: Vec<Option<Pose3>> =
         vec![None; if options.npy.is_some() { kept.len() } else { 0 }];
+    let mut exported: Vec<Kept> = Vec::new();
     // The staged drawings: (number, staged file).
     let mut drawn: Vec<(usize, usize)> = Vec::new();
     for (n, (person, members)) in groups.iter().enumerate() {
@@ -122,6 +125,17 @@ pub fn run(
         };
         for (&i, frame) in members.iter().zip(frames) {
             let k = &kept[i];
+            if options.finish.is_some() {
+                let (r, error) = match &frame {
+                    Ok(r) => (Some(&r.reconstruction), None),
+                    Err(message) => (None, Some(message.clone())),
+                };
+                exported.push(Kept {
+                    key: (k.frame, k.person),
+                    pose: r.map(|r| r.pose),
+                    view: (options.view)(k, r, error),
+                });
+            }
             match frame {
                 Ok(r) => {
                     let meta = PoseMeta {
@@ -186,6 +200,11 @@ pub fn run(
     }
     if let (Some(svg), Some(&(0, at)), 1) = (options.svg, drawn.first(), drawn.len()) {
         staged.retarget(at, svg);
+    }
+    if let Some((_, finish)) = options.finish {
+        for (path, bytes) in finish(exported)? {
+            staged.add(&path, &bytes)?;
+        }
     }
     staged.commit()?;
     Ok(summary.exit_code("reconstructed"))

@@ -14,13 +14,16 @@ use std::fmt::Write;
 use std::path::Path;
 use std::process::ExitCode;
 
-use camloc::{CameraLabel, CameraLocalizer, SequenceModel, SmoothedFrame, sequences};
+use camloc::keypoints::KeypointRecord;
+use camloc::{CameraLabel, CameraLocalizer, Localization, SequenceModel, SmoothedFrame, sequences};
 use indicatif::ProgressBar;
 use rayon::prelude::*;
 use serde::Serialize;
 
+use crate::html::ViewFrame;
 use crate::svg;
 
+use super::export;
 use super::input::Inputs;
 use super::output::Out;
 use super::stream::{BATCH, Emitter, Format, Summary, json_line, report_pose_error};
@@ -102,7 +105,13 @@ pub struct SequenceOptions<'a> {
     pub force: bool,
     /// `--sequence-max-poses`: the most poses kept.
     pub max_poses: u64,
+    /// `--html` and its play rate: one page, one timeline per person.
+    pub html: Option<(&'a Path, f64)>,
 }
+
+/// The page's record of a pose from its localization or failure (`None` without `--html`).
+pub type PageFrame<'a> =
+    dyn Fn(&KeypointRecord, Option<&Localization>, Option<String>) -> Option<ViewFrame> + Sync + 'a;
 
 /// Runs `camloc localize --sequence` (see the module docs), writing `files`.
 pub fn run(
@@ -112,8 +121,13 @@ pub fn run(
     format: Format,
     files: &SequenceOptions,
     bar: &ProgressBar,
+    page: &PageFrame,
 ) -> Result<ExitCode, CliError> {
     let (svg_out, summary_out, force) = (files.svg, files.summary, files.force);
+    if let Some((html, _)) = files.html {
+        check_target(html, force)?;
+    }
+    let mut views: Vec<ViewFrame> = Vec::new();
     if let Some(svg) = svg_out {
         check_target(svg, force)?;
         check_target(&numbered_path(svg, 0, 2), force)?;
@@ -134,18 +148,23 @@ pub fn run(
             .par_iter()
             .map(|item| {
                 let record = item.as_ref().ok()?;
-                let result = localizer
-                    .localize_partial(&record.pose)
+                let found = localizer.localize_partial(&record.pose);
+                let view = match &found {
+                    Ok(loc) => page(record, Some(loc), None),
+                    Err(e) => page(record, None, Some(e.to_string())),
+                };
+                let result = found
                     .map(|loc| (loc.label, loc.probabilities.into_boxed_slice()))
                     .map_err(|e| e.to_string());
-                Some((record, result))
+                Some((record, result, view))
             })
             .collect();
         for (item, frame) in batch.iter().zip(results) {
             if let Err(e) = item {
                 emit.file_error(out, &mut summary, bar, e)?;
             }
-            if let Some((record, result)) = frame {
+            if let Some((record, result, view)) = frame {
+                views.extend(view);
                 if summary.poses == files.max_poses {
                     return Err(CliError::TooManyPoses(files.max_poses));
                 }
@@ -183,6 +202,9 @@ pub fn run(
         for (&i, s) in members.iter().zip(&smoothed) {
             let text = frame_output(format, &frames[i], s, &failures);
             emit.write(out, &text)?;
+            if let Some(view) = views.get_mut(i) {
+                view.set_smoothed(s.label);
+            }
         }
         if let Some(svg) = svg_out {
             let raw: Vec<Option<CameraLabel>> = members
@@ -208,6 +230,12 @@ pub fn run(
         let title = format!("cameras of {}", inputs.name());
         let drawing = svg::summary_svg(localizer.cameras(), &counts, &title);
         staged.add(path, drawing.as_bytes())?;
+    }
+    if let Some((html, fps)) = files.html {
+        let title = format!("camloc localize --sequence: {}", inputs.name());
+        let (path, bytes) =
+            export::html_file(html, &title, localizer.cameras(), &views, &keys, true, fps);
+        staged.add(&path, &bytes)?;
     }
     emit.end(out)?;
     out.flush()?;

@@ -46,18 +46,46 @@ impl Format {
 }
 
 /// The result of one pose, made in parallel: its text (lines for [`Format::Text`], one JSON
-/// object without a newline otherwise), its drawing for `--svg`, its row for `--npy`.
-pub struct Done<P> {
+/// object without a newline otherwise), its drawing for `--svg`, its row for `--npy`, and what
+/// the run keeps of it until the end (for `--bvh` and `--html`).
+pub struct Done<P, K> {
     /// What goes to standard output.
     pub text: String,
     /// The SVG drawing, when asked for and possible.
     pub svg: Option<String>,
     /// The row of the `.npy` output, when asked for.
     pub row: Option<P>,
+    /// What [`Files::finish`] gets of this pose, when asked for.
+    pub keep: Option<K>,
 }
 
+/// A pose that could not be processed: its message, and what the run keeps of it.
+pub struct Failed<K> {
+    /// Why it failed.
+    pub message: String,
+    /// What [`Files::finish`] gets of this pose, when asked for (boxed: the error side of a
+    /// result stays small).
+    pub keep: Option<Box<K>>,
+}
+
+impl<K> From<String> for Failed<K> {
+    fn from(message: String) -> Self {
+        Failed {
+            message,
+            keep: None,
+        }
+    }
+}
+
+/// Most poses a run keeps until the end for [`Files::finish`] (`--bvh`, `--html`).
+pub const KEEP_MAX_POSES: u64 = 100_000;
+
+/// Makes files, once every pose is done, from what the run kept of each (in input order):
+/// `(path, content)` pairs, written with the run's other files (all or nothing).
+pub type Finish<K> = Box<dyn FnOnce(Vec<K>) -> Result<Vec<(PathBuf, Vec<u8>)>, CliError>>;
+
 /// The files a run writes besides standard output.
-pub struct Files<P: NpyPose> {
+pub struct Files<P: NpyPose, K> {
     /// `--svg`: one drawing per pose (numbered when there are several).
     pub svg: Option<PathBuf>,
     /// `--npy`: one row per pose read (NaN for a pose that failed).
@@ -65,6 +93,9 @@ pub struct Files<P: NpyPose> {
     /// `--summary-svg`: a drawing of the whole run, made by the function once every pose is
     /// done.
     pub summary: Option<(PathBuf, SummaryDrawing)>,
+    /// Files made from what the run keeps of every pose (`--bvh`, `--html`): the paths to
+    /// check before any work, and the function that makes them at the end.
+    pub finish: Option<(Vec<PathBuf>, Finish<K>)>,
     /// `--force`: replace existing files.
     pub force: bool,
     /// The pose type of the `.npy` rows.
@@ -208,17 +239,18 @@ pub fn json_line<T: Serialize>(value: &T) -> String {
 /// on standard error (and as `{"error": ..}` objects in JSON) and the run goes on. Files are
 /// moved into place only after standard output was written successfully (all or nothing).
 /// An input without any pose is [`CliError::NoPoses`].
-pub fn run<P, F>(
+pub fn run<P, K, F>(
     mut inputs: Inputs,
     out: &mut Out,
     format: Format,
-    files: &Files<P>,
+    files: Files<P, K>,
     bar: &ProgressBar,
     compute: F,
 ) -> Result<Summary, CliError>
 where
     P: NpyPose + Send,
-    F: Fn(&KeypointRecord) -> Result<Done<P>, String> + Sync,
+    K: Send,
+    F: Fn(&KeypointRecord) -> Result<Done<P, K>, Failed<K>> + Sync,
 {
     let svg_single = files.svg.clone();
     // Refuse existing outputs before any work (checked again when the files are moved in place).
@@ -232,9 +264,14 @@ where
     if let Some((summary, _)) = &files.summary {
         check_target(summary, files.force)?;
     }
+    for path in files.finish.iter().flat_map(|(paths, _)| paths) {
+        check_target(path, files.force)?;
+    }
+    let mut kept = Vec::new();
     let mut staged = StagedFiles::new(files.force);
     let mut npy = files.npy.as_deref().map(NpyStage::<P>::new).transpose()?;
-    let has_files = files.svg.is_some() || npy.is_some() || files.summary.is_some();
+    let has_files =
+        files.svg.is_some() || npy.is_some() || files.summary.is_some() || files.finish.is_some();
     let mut summary = Summary::default();
     let mut first_svg = None;
     let mut emitter = Emitter::new(format);
@@ -253,12 +290,12 @@ where
             }
         });
         for batch in batches {
-            let results: Vec<Result<Done<P>, String>> = batch
+            let results: Vec<Result<Done<P, K>, Failed<K>>> = batch
                 .par_iter()
                 .map(|item| match item {
                     Ok(record) => compute(record),
                     // Reported below; nothing to compute.
-                    Err(_) => Err(String::new()),
+                    Err(_) => Err(Failed::from(String::new())),
                 })
                 .collect();
             for (item, result) in batch.iter().zip(results) {
@@ -271,6 +308,13 @@ where
                 };
                 let index = summary.poses;
                 summary.poses += 1;
+                let keep = match &result {
+                    Ok(done) => done.keep.is_some(),
+                    Err(failed) => failed.keep.is_some(),
+                };
+                if keep && kept.len() as u64 == KEEP_MAX_POSES {
+                    return Err(CliError::TooManyKept(KEEP_MAX_POSES));
+                }
                 match result {
                     Ok(done) => {
                         emitter.write(out, &done.text)?;
@@ -284,8 +328,10 @@ where
                         if let Some(npy) = &mut npy {
                             npy.push(done.row.as_ref())?;
                         }
+                        kept.extend(done.keep);
                     }
-                    Err(message) => {
+                    Err(Failed { message, keep }) => {
+                        kept.extend(keep.map(|k| *k));
                         summary.failed_poses += 1;
                         report_pose_error(bar, &record.id, &record.source, &message);
                         if format.is_json() {
@@ -323,6 +369,11 @@ where
     }
     if let (Some(at), Some(svg), 1) = (first_svg, &svg_single, summary.poses) {
         staged.retarget(at, svg);
+    }
+    if let Some((_, finish)) = files.finish {
+        for (path, bytes) in finish(kept)? {
+            staged.add(&path, &bytes)?;
+        }
     }
     staged.commit()?;
     Ok(summary)

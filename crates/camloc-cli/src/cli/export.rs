@@ -1,0 +1,138 @@
+//! The files made once every pose of a run is done: `reconstruct --bvh` (one animation per
+//! pose, or per person with `--sequence`) and `--html` (one page).
+
+use std::path::{Path, PathBuf};
+
+use camloc::geometry::CameraSet;
+use camloc::mocap::{BvhOptions, BvhWriteError, write_person_bvh};
+use camloc::{Pose3, sequences};
+
+use crate::html::{self, Group, ViewFrame};
+
+use super::{CliError, numbered_path};
+
+/// What `reconstruct` keeps of a pose for `--bvh` and `--html`.
+pub struct Kept {
+    /// The pose's video frame and person (for `--sequence`).
+    pub key: (Option<u64>, Option<u64>),
+    /// Its 3D pose (`--bvh`), `None` where it could not be reconstructed.
+    pub pose: Option<Pose3>,
+    /// Its record of the page (`--html`).
+    pub view: Option<ViewFrame>,
+}
+
+/// The groups of poses a run's outputs are made of: with `sequence`, each person's poses in
+/// frame order ([`sequences`]); without, `each` makes one group per pose, else one group of
+/// every pose in input order. Each group has its name.
+pub fn groups(
+    keys: &[(Option<u64>, Option<u64>)],
+    sequence: bool,
+    each: bool,
+) -> Vec<(String, Vec<usize>)> {
+    if sequence {
+        sequences(keys)
+            .into_iter()
+            .map(|(person, members)| (format!("person {person}"), members))
+            .collect()
+    } else if each {
+        (0..keys.len())
+            .map(|n| (format!("pose {}", n + 1), vec![n]))
+            .collect()
+    } else {
+        vec![(
+            format!("all {} poses", keys.len()),
+            (0..keys.len()).collect(),
+        )]
+    }
+}
+
+/// The BVH files of `kept` at `out` (numbered as `--svg` drawings when there are several:
+/// per person with `sequence`, else per pose by its position in the input): each group's
+/// frames as [`write_person_bvh`] writes them (a frame that could not be reconstructed holds
+/// the previous one). A group without any reconstructed frame is left out, with a message on
+/// standard error (the run has already failed for those poses).
+pub fn bvh_files(
+    out: &Path,
+    kept: &[Kept],
+    sequence: bool,
+    fps: f64,
+) -> Result<Vec<(PathBuf, Vec<u8>)>, CliError> {
+    let base = bvh_base(out);
+    let keys: Vec<_> = kept.iter().map(|k| k.key).collect();
+    let groups = groups(&keys, sequence, true);
+    let mut files = Vec::new();
+    for (n, (name, members)) in groups.iter().enumerate() {
+        let poses: Vec<Option<Pose3>> = members.iter().map(|&i| kept[i].pose).collect();
+        // The bone lengths: `None` takes the mean limb lengths of the group's poses.
+        let text = match write_person_bvh(&poses, None, &BvhOptions::at_fps(fps)) {
+            Ok(text) => text,
+            Err(BvhWriteError::NoFrames) => {
+                if sequence {
+                    eprintln!("camloc: no BVH for {name}: none of its poses was reconstructed");
+                }
+                continue;
+            }
+            Err(e) => return Err(CliError::Export(format!("{name}: {e}"))),
+        };
+        files.push((numbered_path(&base, n, groups.len()), text.into_bytes()));
+    }
+    Ok(files)
+}
+
+/// The path the `--bvh OUT` files are named after: `OUT`, with the extension `.bvh` when it
+/// has none (so that numbered names keep it).
+pub fn bvh_base(out: &Path) -> PathBuf {
+    if out.extension().is_some() {
+        out.to_path_buf()
+    } else {
+        out.with_extension("bvh")
+    }
+}
+
+/// The `--html` page of `views` (with `sequence`, one timeline per person), titled `title`,
+/// playing at `fps`.
+pub fn html_file(
+    out: &Path,
+    title: &str,
+    cameras: &CameraSet,
+    views: &[ViewFrame],
+    keys: &[(Option<u64>, Option<u64>)],
+    sequence: bool,
+    fps: f64,
+) -> (PathBuf, Vec<u8>) {
+    let groups: Vec<Group> = groups(keys, sequence, false)
+        .into_iter()
+        .map(|(name, frames)| Group { name, frames })
+        .collect();
+    let page = html::page(title, cameras, views, &groups, fps);
+    (out.to_path_buf(), page.into_bytes())
+}
+
+/// Parses `--fps`: a positive finite number.
+pub fn parse_fps(text: &str) -> Result<f64, String> {
+    text.trim()
+        .parse::<f64>()
+        .ok()
+        .filter(|f| f.is_finite() && *f > 0.0)
+        .ok_or_else(|| format!("not a positive number: {text:?}"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn groups_are_persons_poses_or_everything() {
+        let keys = [(Some(2), Some(1)), (Some(1), Some(1)), (Some(1), Some(0))];
+        let names =
+            |g: Vec<(String, Vec<usize>)>| g.into_iter().map(|(_, m)| m).collect::<Vec<_>>();
+        assert_eq!(names(groups(&keys, true, true)), vec![vec![2], vec![1, 0]]);
+        assert_eq!(
+            names(groups(&keys, false, true)),
+            vec![vec![0], vec![1], vec![2]]
+        );
+        assert_eq!(names(groups(&keys, false, false)), vec![vec![0, 1, 2]]);
+        assert_eq!(parse_fps("25"), Ok(25.0));
+        assert!(parse_fps("0").is_err() && parse_fps("nan").is_err());
+    }
+}

@@ -1,0 +1,297 @@
+//! `reconstruct --bvh` and `--html`: the BVH files read back (camloc's reader) to the
+//! reconstructed landmarks within 1 mm, one file per pose or per person with `--sequence`; the
+//! page loads in a real headless browser without script errors and draws the skeleton (skipped,
+//! visibly, without Chromium).
+
+mod common;
+
+use std::io::Write;
+use std::path::Path;
+use std::process::Command;
+
+use camloc::Pose3;
+use camloc::dataset::max_joint_distance_mm;
+use camloc::mocap::{BVH_CENTIMETRE, read_bvh_with_unit};
+use camloc::skeleton::{Landmark, mean_limb_lengths};
+use common::{TempDir, assert_clean_failure, camloc, fixture};
+use serde_json::Value;
+
+/// The 3D pose of one `reconstruct --json` object.
+fn landmarks(object: &Value) -> Pose3 {
+    Pose3::new(std::array::from_fn(|i| {
+        let p = &object["landmarks_m"][Landmark::ALL[i].name()];
+        std::array::from_fn(|k| p[k].as_f64().unwrap())
+    }))
+}
+
+fn success(out: &std::process::Output) -> Vec<Value> {
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
+#[test]
+fn each_pose_is_a_bvh_that_reads_back_to_its_landmarks() {
+    let dir = TempDir::new("bvh-poses");
+    let bvh = dir.0.join("pose.bvh");
+    let input = fixture("keypoints/example.json");
+    let out = camloc(&[
+        "reconstruct",
+        "--input",
+        input.to_str().unwrap(),
+        "--json",
+        "--bvh",
+        bvh.to_str().unwrap(),
+        "--fps",
+        "25",
+    ]);
+    let objects = success(&out);
+    assert_eq!(objects.len(), 3);
+    for (n, object) in objects.iter().enumerate() {
+        let clip = read_bvh_with_unit(dir.0.join(format!("pose-00{}.bvh", n + 1)), BVH_CENTIMETRE)
+            .unwrap();
+        assert_eq!(clip.frames.len(), 1);
+        assert!((clip.frame_time_s - 0.04).abs() < 1e-9);
+        let error = max_joint_distance_mm(&clip.frames[0], &landmarks(object)) / 1000.0;
+        assert!(error < 1e-3, "pose {n}: {error} m");
+    }
+    assert!(!bvh.exists());
+    // The files exist now: without --force the run is refused before any work.
+    let again = camloc(&[
+        "reconstruct",
+        "--input",
+        input.to_str().unwrap(),
+        "--bvh",
+        bvh.to_str().unwrap(),
+    ]);
+    assert_clean_failure(&again, "pose-001.bvh");
+    // Also when OUT has no extension (the files take .bvh): refused before any pose is done.
+    let bare = camloc(&[
+        "reconstruct",
+        "--input",
+        input.to_str().unwrap(),
+        "--bvh",
+        dir.0.join("pose").to_str().unwrap(),
+    ]);
+    assert_clean_failure(&bare, "pose-001.bvh");
+    assert!(
+        bare.stdout.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&bare.stdout)
+    );
+    let same = camloc(&[
+        "reconstruct",
+        "--input",
+        input.to_str().unwrap(),
+        "--bvh",
+        bvh.to_str().unwrap(),
+        "--html",
+        dir.0.join("pose-002.bvh").to_str().unwrap(),
+    ]);
+    assert_eq!(same.status.code(), Some(2));
+    // An input of one pose: one file of one frame at OUT itself (.bvh added to a bare name).
+    let one = dir.0.join("one.json");
+    let text = std::fs::read_to_string(&input).unwrap();
+    let mut json: Value = serde_json::from_str(&text).unwrap();
+    json["poses"].as_array_mut().unwrap().truncate(1);
+    std::fs::write(&one, json.to_string()).unwrap();
+    let single = dir.0.join("single");
+    let out = camloc(&[
+        "reconstruct",
+        "--input",
+        one.to_str().unwrap(),
+        "--json",
+        "--bvh",
+        single.to_str().unwrap(),
+    ]);
+    let objects = success(&out);
+    let clip = read_bvh_with_unit(single.with_extension("bvh"), BVH_CENTIMETRE).unwrap();
+    assert_eq!(clip.frames.len(), 1);
+    assert!(max_joint_distance_mm(&clip.frames[0], &landmarks(&objects[0])) < 1.0);
+}
+
+/// A folder of OpenPose frames: `frames` frames of two people (the first two fixture poses,
+/// each frame's keypoints moved a little so that the frames differ).
+fn video(dir: &TempDir, frames: usize) -> String {
+    let samples = fixture("keypoints/samples/openpose");
+    let mut people = Vec::new();
+    for n in 0..2 {
+        let file = samples.join(format!("clip_00000000000{n}_keypoints.json"));
+        let json: Value = serde_json::from_str(&std::fs::read_to_string(file).unwrap()).unwrap();
+        people.extend(json["people"].as_array().unwrap().iter().cloned());
+    }
+    let folder = dir.0.join("video");
+    std::fs::create_dir(&folder).unwrap();
+    for t in 0..frames {
+        let moved: Vec<Value> = people[..2]
+            .iter()
+            .map(|p| {
+                let k: Vec<Value> = p["pose_keypoints_2d"]
+                    .as_array()
+                    .unwrap()
+                    .iter()
+                    .enumerate()
+                    .map(|(i, v)| {
+                        let v = v.as_f64().unwrap();
+                        // x and y move, scores stay.
+                        let wobble = if i % 3 == 2 {
+                            0.0
+                        } else {
+                            3.0 * ((t + i) as f64).sin()
+                        };
+                        Value::from(v + if v > 0.0 { wobble } else { 0.0 })
+                    })
+                    .collect();
+                serde_json::json!({ "pose_keypoints_2d": k })
+            })
+            .collect();
+        let json = serde_json::json!({ "version": 1.3, "people": moved });
+        std::fs::write(
+            folder.join(format!("v_{t:012}_keypoints.json")),
+            json.to_string(),
+        )
+        .unwrap();
+    }
+    folder.to_string_lossy().into_owned()
+}
+
+#[test]
+fn a_sequence_is_one_bvh_per_person_with_shared_lengths() {
+    let dir = TempDir::new("bvh-sequence");
+    let folder = video(&dir, 12);
+    let bvh = dir.0.join("people.bvh");
+    let out = camloc(&[
+        "reconstruct",
+        "--input",
+        &folder,
+        "--json",
+        "--sequence",
+        "--bvh",
+        bvh.to_str().unwrap(),
+        "--quiet",
+    ]);
+    let objects = success(&out);
+    assert_eq!(objects.len(), 24);
+    for person in 0..2u64 {
+        let mut mine: Vec<&Value> = objects
+            .iter()
+            .filter(|o| o["person"].as_u64() == Some(person))
+            .collect();
+        mine.sort_by_key(|o| o["frame"].as_u64());
+        let poses: Vec<Pose3> = mine.iter().map(|o| landmarks(o)).collect();
+        let lengths = mean_limb_lengths(&poses).unwrap();
+        let file = dir.0.join(format!("people-00{}.bvh", person + 1));
+        let clip = read_bvh_with_unit(&file, BVH_CENTIMETRE).unwrap();
+        assert_eq!(clip.frames.len(), 12);
+        for (t, (read, pose)) in clip.frames.iter().zip(&poses).enumerate() {
+            let expected = pose.with_limb_lengths(&lengths).unwrap();
+            let error = max_joint_distance_mm(read, &expected) / 1000.0;
+            assert!(error < 1e-3, "person {person} frame {t}: {error} m");
+        }
+    }
+}
+
+/// Chromium's command, when installed.
+fn chromium() -> Option<&'static str> {
+    ["chromium", "chromium-browser"].into_iter().find(|name| {
+        Command::new(name)
+            .arg("--version")
+            .output()
+            .is_ok_and(|o| o.status.success())
+    })
+}
+
+/// The page's `<body ...>` tag after its script ran in headless Chromium.
+fn body_after_load(browser: &str, page: &Path, dir: &TempDir) -> String {
+    let out = Command::new(browser)
+        .args([
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--disable-quic",
+            "--no-first-run",
+            "--disable-background-networking",
+            "--disable-component-update",
+            "--disable-sync",
+            &format!("--user-data-dir={}", dir.0.join("profile").display()),
+            "--dump-dom",
+            &format!("file://{}", page.display()),
+        ])
+        .output()
+        .unwrap();
+    let dom = String::from_utf8_lossy(&out.stdout).into_owned();
+    let start = dom.find("<body").unwrap_or(0);
+    let end = start + dom[start..].find('>').unwrap_or(0);
+    let errors = dom
+        .split("<pre id=\"errors\">")
+        .nth(1)
+        .and_then(|rest| rest.split("</pre>").next())
+        .unwrap_or("");
+    assert!(errors.is_empty(), "script errors: {errors}");
+    dom[start..=end].to_owned()
+}
+
+#[test]
+fn the_pages_load_in_a_browser_and_draw_the_skeleton() {
+    let dir = TempDir::new("html");
+    let folder = video(&dir, 6);
+    let pages = [
+        ("reconstruct", vec!["--sequence"], "sequence.html"),
+        ("localize", vec!["--sequence"], "localize-sequence.html"),
+        ("localize", vec![], "localize.html"),
+    ];
+    for (command, extra, name) in &pages {
+        let page = dir.0.join(name);
+        let mut args = vec![*command, "--input", &folder, "--quiet", "--html"];
+        let page_arg = page.to_string_lossy().into_owned();
+        args.push(&page_arg);
+        args.extend(extra.iter().copied());
+        let out = camloc(&args);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let html = std::fs::read_to_string(&page).unwrap();
+        // Self-contained: no address to fetch anything from.
+        assert!(
+            !html.contains("http://") && !html.contains("https://"),
+            "{name}"
+        );
+        let start = html.find(r#"id="data">"#).unwrap() + 10;
+        let end = start + html[start..].find("</script>").unwrap();
+        let data: Value = serde_json::from_str(&html[start..end]).unwrap();
+        assert_eq!(data["frames"].as_array().unwrap().len(), 12, "{name}");
+        let groups = data["groups"].as_array().unwrap().len();
+        assert_eq!(groups, if extra.is_empty() { 1 } else { 2 }, "{name}");
+        let frame = &data["frames"][0];
+        assert!(
+            frame["pose"].is_array() && frame["probabilities"].is_array(),
+            "{name}"
+        );
+        assert!(frame["direction"].is_array(), "{name}");
+    }
+    let Some(browser) = chromium() else {
+        let _ = std::io::stderr().lock().write_all(
+            b"\nSKIPPED: the --html browser test: chromium not found (apt-get install chromium)\n",
+        );
+        return;
+    };
+    // Every page runs the same script on data of the same shape (checked above for each): one
+    // load (a browser start takes seconds) of the page that uses the most of it (two persons,
+    // smoothed cameras).
+    let name = "localize-sequence.html";
+    let body = body_after_load(browser, &dir.0.join(name), &dir);
+    assert!(body.contains(r#"data-status="ready""#), "{name}: {body}");
+    let pixels: u64 = body
+        .split("data-skeleton-pixels=\"")
+        .nth(1)
+        .and_then(|rest| rest.split('"').next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or(0);
+    // A skeleton of 4-pixel lines some 300 pixels tall: well over 500 limb pixels.
+    assert!(pixels > 500, "{name}: {pixels} skeleton pixels");
+}

@@ -1,0 +1,115 @@
+//! `camloc.to_bvh` and `camloc.read_bvh`: 3D poses to BVH text, and a BVH file's 15 landmarks.
+
+use std::path::PathBuf;
+
+use camloc::Pose3;
+use camloc::mocap::{BvhOptions, BvhWriteError, CMU_UNIT_M, read_bvh_with_unit, write_person_bvh};
+use camloc::skeleton::NUM_LIMBS;
+use numpy::PyUntypedArrayMethods;
+use pyo3::exceptions::PyOSError;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::arrays::{ArrayArg, Output, c_order};
+use crate::value_error;
+
+/// A positive finite number, or a `ValueError` naming `what`.
+fn positive(value: f64, what: &str) -> PyResult<f64> {
+    if value > 0.0 && value.is_finite() {
+        Ok(value)
+    } else {
+        Err(value_error(format!(
+            "{what} must be a positive finite number, got {value}"
+        )))
+    }
+}
+
+/// The frames of `points3d` ((N, 15, 3) or (15, 3) metres): `None` for an all-NaN frame (a
+/// pose `reconstruct` could not reconstruct).
+fn frames(points3d: &ArrayArg<'_>) -> PyResult<Vec<Option<Pose3>>> {
+    let shape = points3d.shape();
+    let ok = match shape.len() {
+        3 => shape[1..] == [15, 3],
+        2 => shape == [15, 3],
+        _ => false,
+    };
+    if !ok {
+        return Err(value_error(format!(
+            "points3d must have shape (N, 15, 3) or (15, 3), got {shape:?}"
+        )));
+    }
+    let values = c_order(points3d);
+    let mut out = Vec::with_capacity(values.len() / 45);
+    for (n, chunk) in values.chunks_exact(45).enumerate() {
+        if chunk.iter().all(|v| v.is_nan()) {
+            out.push(None);
+            continue;
+        }
+        if !chunk.iter().all(|v| v.is_finite()) {
+            return Err(value_error(format!(
+                "points3d[{n}] has a NaN or infinite coordinate (a frame is either complete or all NaN)"
+            )));
+        }
+        out.push(Some(Pose3::new(std::array::from_fn(|i| {
+            std::array::from_fn(|k| chunk[3 * i + k])
+        }))));
+    }
+    Ok(out)
+}
+
+/// The 3D poses as BVH text; see `camloc.pyi`.
+#[pyfunction]
+#[pyo3(signature = (points3d, fps = 30.0, limb_lengths = None, unit_m = 0.01))]
+pub(crate) fn to_bvh(
+    points3d: ArrayArg<'_>,
+    fps: f64,
+    limb_lengths: Option<Vec<f64>>,
+    unit_m: f64,
+) -> PyResult<String> {
+    let fps = positive(fps, "fps")?;
+    let unit_m = positive(unit_m, "unit_m")?;
+    let frames = frames(&points3d)?;
+    let lengths: Option<[f64; NUM_LIMBS]> = limb_lengths
+        .map(|given| {
+            given.try_into().map_err(|given: Vec<f64>| {
+                value_error(format!(
+                    "limb_lengths must have 14 values (metres, LIMBS order), got {}",
+                    given.len()
+                ))
+            })
+        })
+        .transpose()?;
+    let options = BvhOptions {
+        frame_time_s: 1.0 / fps,
+        metres_per_unit: unit_m,
+    };
+    write_person_bvh(&frames, lengths.as_ref(), &options).map_err(|e| match e {
+        BvhWriteError::NoFrames => value_error("points3d has no frame that is not all NaN"),
+        other => value_error(other.to_string()),
+    })
+}
+
+/// A BVH file's 15 landmarks; see `camloc.pyi`.
+#[pyfunction]
+#[pyo3(signature = (path, unit_m = CMU_UNIT_M))]
+pub(crate) fn read_bvh<'py>(
+    py: Python<'py>,
+    path: PathBuf,
+    unit_m: f64,
+) -> PyResult<Bound<'py, PyDict>> {
+    let unit_m = positive(unit_m, "unit_m")?;
+    let clip = read_bvh_with_unit(&path, unit_m).map_err(|e| match e {
+        camloc::mocap::MocapError::Io { .. } => PyOSError::new_err(e.to_string()),
+        other => crate::CamlocError::new_err(other.to_string()),
+    })?;
+    let n = clip.frames.len();
+    let points: Vec<f64> = clip
+        .frames
+        .iter()
+        .flat_map(|p| p.points.iter().flatten().copied())
+        .collect();
+    let out = Output::new(py, n, false);
+    out.array("points3d", points, &[15, 3])?;
+    out.set("frame_time_s", clip.frame_time_s)?;
+    Ok(out.into_dict())
+}
