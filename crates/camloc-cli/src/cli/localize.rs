@@ -7,15 +7,14 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use camloc::keypoints::KeypointRecord;
-use camloc::{CameraLabel, CameraLocalizer, Localization, Pose3};
-use serde::ser::SerializeMap;
-use serde::{Serialize, Serializer};
+use camloc::{CameraLocalizer, Localization, Pose3};
 
 use camloc::store::escaped;
 
 use crate::svg;
 
 use super::input::Inputs;
+use super::localize_json::localization_json;
 use super::sequence;
 use super::stream::{self, Done, Files, SummaryDrawing};
 use super::{
@@ -116,7 +115,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
             count.fetch_add(1, Ordering::Relaxed);
         }
         let text = if format.is_json() {
-            stream::json_line(&localization_json(&labels, record, &loc))
+            localization_json(&labels, record, &loc)
         } else {
             localization_text(&localizer, record, &loc)
         };
@@ -147,73 +146,6 @@ fn rotation_rows(loc: &Localization) -> [[f64; 3]; 3] {
         [r[(1, 0)], r[(1, 1)], r[(1, 2)]],
         [r[(2, 0)], r[(2, 1)], r[(2, 2)]],
     ]
-}
-
-/// The probabilities as a map from camera label ("01".."12", the labels' texts in camera
-/// order) to probability.
-struct Probabilities<'a>(&'a [String], &'a [f64]);
-
-impl Serialize for Probabilities<'_> {
-    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
-        let mut map = serializer.serialize_map(Some(self.1.len()))?;
-        for (label, p) in self.0.iter().zip(self.1) {
-            map.serialize_entry(label, p)?;
-        }
-        map.end()
-    }
-}
-
-/// One pose of `localize --json` / `--jsonl`.
-#[derive(Serialize)]
-struct LocalizationJson<'a> {
-    id: &'a str,
-    source: &'a str,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    frame: Option<u64>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    person: Option<u64>,
-    label: CameraLabel,
-    level: &'static str,
-    side: &'static str,
-    probability: f64,
-    folded_label: CameraLabel,
-    /// The continuous viewpoint (degrees, docs/conventions.md section 2); absent for a model
-    /// trained without direction heads.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    azimuth_deg: Option<f64>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    elevation_deg: Option<f64>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    uncertainty_deg: Option<f64>,
-    rotation: [[f64; 3]; 3],
-    probabilities: Probabilities<'a>,
-    missing: Vec<&'static str>,
-    derived: Vec<&'static str>,
-}
-
-fn localization_json<'a>(
-    labels: &'a [String],
-    record: &'a KeypointRecord,
-    loc: &'a Localization,
-) -> LocalizationJson<'a> {
-    LocalizationJson {
-        id: &record.id,
-        source: &record.source,
-        frame: record.frame,
-        person: record.person,
-        label: loc.label,
-        level: loc.level.name(),
-        side: loc.side.name(),
-        probability: loc.probability,
-        folded_label: loc.folded_label,
-        azimuth_deg: loc.azimuth_deg,
-        elevation_deg: loc.elevation_deg,
-        uncertainty_deg: loc.uncertainty_deg,
-        rotation: rotation_rows(loc),
-        probabilities: Probabilities(labels, &loc.probabilities),
-        missing: loc.missing.iter().map(|l| l.name()).collect(),
-        derived: record.derived.iter().map(|l| l.name()).collect(),
-    }
 }
 
 fn localization_text(

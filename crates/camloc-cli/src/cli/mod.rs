@@ -14,6 +14,7 @@ mod convert;
 mod evaluate;
 mod input;
 mod localize;
+mod localize_json;
 pub mod output;
 mod progress;
 mod reconstruct;
