@@ -7,7 +7,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use camloc::keypoints::KeypointRecord;
-use camloc::{CameraLocalizer, Localization, Pose3};
+use camloc::{CameraLocalizer, Localization};
 
 use camloc::store::escaped;
 
@@ -15,6 +15,7 @@ use crate::svg;
 
 use super::input::Inputs;
 use super::localize_json::localization_json;
+use super::localize_npz::LocalizationArrays;
 use super::sequence;
 use super::stream::{self, Done, Files, SummaryDrawing};
 use super::{
@@ -50,6 +51,13 @@ pub struct Args {
     /// elevation grid, shaded by the share of poses) as SVG to this file.
     #[arg(long, value_name = "OUT")]
     pub summary_svg: Option<PathBuf>,
+    /// Write the results as NumPy arrays to this .npz archive (numpy.load reads it without
+    /// pickle), row n for the n-th pose read: label, folded_label, probabilities, azimuth_deg,
+    /// elevation_deg, uncertainty_deg, failed, missing, derived, frame, person, and the ids as
+    /// id_utf8 and id_end (docs/cli.md gives their types and shapes). Written at the end of the
+    /// run, or not at all. Nothing is printed per pose unless --json or --jsonl asks for it.
+    #[arg(long, value_name = "OUT", conflicts_with = "sequence")]
+    pub npz: Option<PathBuf>,
     #[command(flatten)]
     pub force: ForceArgs,
     #[command(flatten)]
@@ -61,6 +69,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     let outputs = [
         (args.svg.as_deref(), "--svg", true),
         (args.summary_svg.as_deref(), "--summary-svg", false),
+        (args.npz.as_deref(), "--npz", false),
     ];
     targets::check_distinct(&targets::outputs(outputs))?;
     let localizer = load_model(args.model.as_deref())?;
@@ -84,13 +93,18 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         });
         (path, draw)
     });
-    let files = Files::<Pose3> {
+    let rows = match &args.npz {
+        Some(npz) => Some(Box::new(LocalizationArrays::new(npz, localizer.cameras().len())?) as _),
+        None => None,
+    };
+    let files = Files::<Localization> {
         svg: args.svg.clone(),
-        npy: None,
+        rows,
         summary,
         force: args.force.force,
-        pose: std::marker::PhantomData,
     };
+    // Text per pose, unless --npz is the output and no JSON was asked for.
+    let print = format.is_json() || args.npz.is_none();
     let labels: Vec<String> = localizer
         .cameras()
         .viewpoints()
@@ -107,19 +121,21 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         };
         return sequence::run(&localizer, inputs, out, format, &files, &bar);
     }
-    let summary = stream::run(inputs, out, format, &files, &bar, |record| {
+    let summary = stream::run(inputs, out, format, files, &bar, |record| {
         let loc = localizer
             .localize_partial(&record.pose)
             .map_err(|e| e.to_string())?;
         if let Some(count) = counts.get(loc.label.index()) {
             count.fetch_add(1, Ordering::Relaxed);
         }
-        let text = if format.is_json() {
+        let text = if !print {
+            String::new()
+        } else if format.is_json() {
             localization_json(&labels, record, &loc)
         } else {
             localization_text(&localizer, record, &loc)
         };
-        let svg = files.svg.as_ref().map(|_| {
+        let svg = args.svg.as_ref().map(|_| {
             let caption = format!(
                 "{}: camera {} ({} {}), p = {:.2}",
                 record.id,
@@ -133,7 +149,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         Ok(Done {
             text,
             svg,
-            row: None,
+            row: args.npz.as_ref().map(|_| loc),
         })
     })?;
     Ok(summary.exit_code("localized"))

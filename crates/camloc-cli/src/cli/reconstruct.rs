@@ -16,6 +16,7 @@ use serde::{Serialize, Serializer};
 use crate::svg;
 
 use super::input::Inputs;
+use super::output::NpyStage;
 use super::stream::{self, Done, Files};
 use super::{
     CliError, ForceArgs, FormatArgs, InputArgs, Out, ProgressArgs, load_dataset, load_model,
@@ -139,10 +140,9 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     let format = args.format.format();
     let files = Files::<Pose3> {
         svg: args.svg.clone(),
-        npy: args.npy.clone(),
+        rows: NpyStage::boxed(args.npy.as_deref())?,
         summary: None,
         force: args.force.force,
-        pose: std::marker::PhantomData,
     };
     let bar = progress::counter(
         args.progress.quiet,
@@ -150,7 +150,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         "reconstruct",
         "poses",
     );
-    let summary = stream::run(inputs, out, format, &files, &bar, |record| {
+    let summary = stream::run(inputs, out, format, files, &bar, |record| {
         let result = reconstructor
             .reconstruct_hypotheses(&record.pose, usize::from(args.hypotheses))
             .map_err(|e| e.to_string())?;
@@ -192,7 +192,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
             }
             text
         };
-        let svg = match (&files.svg, record.pose.complete()) {
+        let svg = match (&args.svg, record.pose.complete()) {
             (Some(_), Some(input)) => {
                 let reprojection = Pose2::new(r.camera.project(&r.pose.points));
                 let caption = format!("{}: camera {camera_text}", record.id);
@@ -208,7 +208,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         Ok(Done {
             text,
             svg,
-            row: files.npy.as_ref().map(|_| r.pose),
+            row: args.npy.as_ref().map(|_| r.pose),
         })
     })?;
     Ok(summary.exit_code("reconstructed"))

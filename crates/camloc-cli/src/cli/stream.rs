@@ -1,18 +1,19 @@
 //! The batch loop of `localize` and `reconstruct`: read a batch of poses, process it in
-//! parallel, write its results (standard output as text, a JSON array or JSON lines; SVG and
-//! `.npy` files staged), then the next batch. Memory is bounded by the batch, not the input.
+//! parallel, write its results (standard output as text, a JSON array or JSON lines; SVG files
+//! and the file of one row per pose staged), then the next batch. Memory is bounded by the
+//! batch, not the input.
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use camloc::keypoints::{KeypointRecord, NpyPose};
+use camloc::keypoints::KeypointRecord;
 use camloc::store::{StagedFiles, check_target, escaped, quoted, quoted_path};
 use indicatif::ProgressBar;
 use rayon::prelude::*;
 use serde::Serialize;
 
 use super::input::Inputs;
-use super::output::{NpyStage, Out};
+use super::output::{Out, RowFile};
 use super::{CliError, EXIT_ERROR, numbered_path};
 
 /// Poses per batch: enough to keep both cores busy, small enough to bound memory.
@@ -46,29 +47,29 @@ impl Format {
 }
 
 /// The result of one pose, made in parallel: its text (lines for [`Format::Text`], one JSON
-/// object without a newline otherwise), its drawing for `--svg`, its row for `--npy`.
+/// object without a newline otherwise), its drawing for `--svg`, its row for `--npy` or
+/// `--npz`.
 pub struct Done<P> {
     /// What goes to standard output.
     pub text: String,
     /// The SVG drawing, when asked for and possible.
     pub svg: Option<String>,
-    /// The row of the `.npy` output, when asked for.
+    /// The row of the [`Files::rows`] file, when asked for.
     pub row: Option<P>,
 }
 
 /// The files a run writes besides standard output.
-pub struct Files<P: NpyPose> {
+pub struct Files<P> {
     /// `--svg`: one drawing per pose (numbered when there are several).
     pub svg: Option<PathBuf>,
-    /// `--npy`: one row per pose read (NaN for a pose that failed).
-    pub npy: Option<PathBuf>,
+    /// `--npy` or `--npz`: one row per pose read (a pose that failed is marked so in its row),
+    /// started before the run.
+    pub rows: Option<Box<dyn RowFile<P>>>,
     /// `--summary-svg`: a drawing of the whole run, made by the function once every pose is
     /// done.
     pub summary: Option<(PathBuf, SummaryDrawing)>,
     /// `--force`: replace existing files.
     pub force: bool,
-    /// The pose type of the `.npy` rows.
-    pub pose: std::marker::PhantomData<fn(&P)>,
 }
 
 /// Draws the summary of a run (see [`Files::summary`]).
@@ -212,12 +213,12 @@ pub fn run<P, F>(
     mut inputs: Inputs,
     out: &mut Out,
     format: Format,
-    files: &Files<P>,
+    files: Files<P>,
     bar: &ProgressBar,
     compute: F,
 ) -> Result<Summary, CliError>
 where
-    P: NpyPose + Send,
+    P: Send,
     F: Fn(&KeypointRecord) -> Result<Done<P>, String> + Sync,
 {
     let svg_single = files.svg.clone();
@@ -226,15 +227,15 @@ where
         check_target(svg, files.force)?;
         check_target(&numbered_path(svg, 0, 2), files.force)?;
     }
-    if let Some(npy) = &files.npy {
-        check_target(npy, files.force)?;
+    if let Some(rows) = &files.rows {
+        check_target(rows.target(), files.force)?;
     }
     if let Some((summary, _)) = &files.summary {
         check_target(summary, files.force)?;
     }
     let mut staged = StagedFiles::new(files.force);
-    let mut npy = files.npy.as_deref().map(NpyStage::<P>::new).transpose()?;
-    let has_files = files.svg.is_some() || npy.is_some() || files.summary.is_some();
+    let mut rows = files.rows;
+    let has_files = files.svg.is_some() || rows.is_some() || files.summary.is_some();
     let mut summary = Summary::default();
     let mut first_svg = None;
     let mut emitter = Emitter::new(format);
@@ -281,8 +282,8 @@ where
                                 first_svg = Some(at);
                             }
                         }
-                        if let Some(npy) = &mut npy {
-                            npy.push(done.row.as_ref())?;
+                        if let Some(rows) = &mut rows {
+                            rows.push(record, done.row.as_ref())?;
                         }
                     }
                     Err(message) => {
@@ -296,8 +297,8 @@ where
                             };
                             emitter.write(out, &json_line(&object))?;
                         }
-                        if let Some(npy) = &mut npy {
-                            npy.push(None)?;
+                        if let Some(rows) = &mut rows {
+                            rows.push(record, None)?;
                         }
                     }
                 }
@@ -315,8 +316,8 @@ where
     }
     emitter.end(out)?;
     out.flush()?;
-    if let Some(npy) = npy {
-        npy.finish(&mut staged)?;
+    if let Some(rows) = rows {
+        rows.finish(&mut staged)?;
     }
     if let Some((path, draw)) = &files.summary {
         staged.add(path, draw().as_bytes())?;
