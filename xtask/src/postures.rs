@@ -19,53 +19,66 @@ use camloc::{CameraLocalizer, Capacity, TrainOptions};
 use crate::mocap_data::{load_split, project};
 use crate::view_scores::{Summary, ViewOutcome, categories_in, outcomes};
 
-/// A way of training the localizer that `postures` compares.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub enum Recipe {
-    /// The default model's recipe before issue 21: `jittered` views with the training
-    /// augmentation, viewpoint heads on `sphere` views.
-    Jittered,
-    /// The same with posture augmentation for a quarter of the samples.
-    Posture,
-    /// Posture augmentation, and `rig` views of every other frame beside the `jittered`
-    /// ones (classifier and viewpoint heads).
-    PostureRig,
-    /// `posture-rig` classifying (posture, camera) pairs ([`TrainOptions::posture_classes`]).
-    PostureRigClasses,
-    /// `posture-rig` with the quadratic-30 capacity.
-    PostureRigQuadratic,
+/// A way of training the localizer that `postures` compares, written as `+`-joined parts:
+/// `jittered` (the default model's recipe before issue 21: `jittered` views with the
+/// training augmentation, viewpoint heads on `sphere` views), `posture[=P]` (put a share
+/// `P` of the samples in a posture, 0.25 by default), `rig[=S]` (add `rig` views of every
+/// `S`-th frame, 2 by default, to the classifier's and the heads' views), `balance=B` (the
+/// camera priors' balance, 1 by default), `quadratic[-K]` (the classifier's capacity),
+/// `heads=quadratic-K` (the heads' own capacity), `classes` ((posture, camera) classes).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Recipe {
+    /// The text it was parsed from, its name in the tables.
+    name: String,
+    /// The share of samples put in a posture.
+    posture: f64,
+    /// The frame stride of the added `rig` views (`None`: none).
+    rig_stride: Option<usize>,
+    /// The training options.
+    options: TrainOptions,
 }
 
-impl Recipe {
-    /// The share of samples put in a posture.
-    fn posture(self) -> f64 {
-        match self {
-            Recipe::Jittered => 0.0,
-            _ => 0.25,
-        }
-    }
+impl std::str::FromStr for Recipe {
+    type Err = String;
 
-    /// The frame stride of the added `rig` views (`None`: none).
-    fn rig_stride(self) -> Option<usize> {
-        match self {
-            Recipe::Jittered | Recipe::Posture => None,
-            _ => Some(2),
-        }
-    }
-
-    /// The training options: the default model's, with this recipe's capacity and classes.
-    fn options(self) -> TrainOptions {
-        let options = TrainOptions {
-            viewpoint_lambda: None,
-            posture_classes: self == Recipe::PostureRigClasses,
-            ..crate::train_default::default_options()
+    fn from_str(text: &str) -> Result<Recipe, String> {
+        let mut recipe = Recipe {
+            name: text.to_string(),
+            posture: 0.0,
+            rig_stride: None,
+            options: TrainOptions {
+                viewpoint_lambda: None,
+                ..crate::train_default::default_options()
+            },
         };
-        match self {
-            Recipe::PostureRigQuadratic => options.with_capacity(Capacity::Quadratic {
-                components: camloc::DEFAULT_QUADRATIC_COMPONENTS,
-            }),
-            _ => options,
+        let number = |v: &str| {
+            v.parse::<f64>()
+                .map_err(|_| format!("'{v}' is not a number in recipe '{text}'"))
+        };
+        for part in text.split('+') {
+            let (key, value) = part
+                .split_once('=')
+                .map_or((part, None), |(k, v)| (k, Some(v)));
+            match (key, value) {
+                ("jittered", None) => {}
+                ("posture", v) => recipe.posture = v.map_or(Ok(0.25), number)?,
+                ("rig", v) => recipe.rig_stride = Some(v.map_or(Ok(2.0), number)? as usize),
+                ("balance", Some(v)) => recipe.options.camera_balance = number(v)?,
+                ("classes", None) => recipe.options.posture_classes = true,
+                ("heads", Some(v)) => recipe.options.viewpoint_capacity = v.parse()?,
+                ("quadratic", None) => {
+                    recipe.options = recipe.options.clone().with_capacity(Capacity::Quadratic {
+                        components: camloc::DEFAULT_QUADRATIC_COMPONENTS,
+                    })
+                }
+                (k, None) if k.starts_with("quadratic-") => {
+                    recipe.options = recipe.options.clone().with_capacity(k.parse()?)
+                }
+                _ => return Err(format!("unknown part '{part}' in recipe '{text}'")),
+            }
         }
+        recipe.options.validate().map_err(|e| e.to_string())?;
+        Ok(recipe)
     }
 }
 
@@ -78,12 +91,12 @@ pub struct Args {
     /// Held-out subjects of the protocol comparison.
     #[arg(long, value_delimiter = ',', default_value = crate::generalise::TEST_SUBJECTS)]
     pub test_subjects: Vec<String>,
-    /// Recipes compared.
+    /// Recipes compared (see `Recipe`: `+`-joined parts such as
+    /// `posture+rig+heads=quadratic-30`).
     #[arg(
         long,
         value_delimiter = ',',
-        value_enum,
-        default_value = "jittered,posture,posture-rig"
+        default_value = "jittered,posture,posture+rig"
     )]
     pub recipes: Vec<Recipe>,
     /// Folds of the leave-subject-out over the subjects with posture clips (0: skip it).
@@ -126,28 +139,33 @@ fn append(mut a: Dataset, b: Dataset) -> Result<Dataset, String> {
 /// heads on its head views.
 fn train(
     sequences: &[PoseSequence],
-    recipe: Recipe,
+    recipe: &Recipe,
     args: &Args,
 ) -> Result<(CameraLocalizer, f64), String> {
     let start = Instant::now();
-    let posture = Some(recipe.posture());
+    let posture = Some(recipe.posture);
     let mut training = project(sequences, &views(Protocol::Jittered, 1, args, posture))?;
     let mut heads = project(sequences, &views(Protocol::Sphere, 4, args, posture))?;
-    if let Some(stride) = recipe.rig_stride() {
+    if let Some(stride) = recipe.rig_stride {
         let mut rig = views(Protocol::Rig, 6, args, posture);
         rig.stride = stride;
         training = append(training, project(sequences, &rig)?)?;
         rig.seed = 7;
         heads = append(heads, project(sequences, &rig)?)?;
     }
-    let options = recipe.options();
+    let options = &recipe.options;
     let (mut localizer, report) =
-        CameraLocalizer::train(&training, &options, |_| {}).map_err(|e| e.to_string())?;
+        CameraLocalizer::train(&training, options, |_| {}).map_err(|e| e.to_string())?;
     localizer
-        .fit_viewpoint(&heads, camloc::DEFAULT_VIEWPOINT_LAMBDA)
+        .fit_viewpoint_with_capacity(
+            &heads,
+            camloc::DEFAULT_VIEWPOINT_LAMBDA,
+            options.viewpoint_capacity,
+        )
         .map_err(|e| e.to_string())?;
     eprintln!(
-        "  {recipe:?}: {} training views, {} Newton iterations, {:.1} s",
+        "  {}: {} training views, {} Newton iterations, {:.1} s",
+        recipe.name,
         training.samples.len(),
         report.newton_iterations(),
         start.elapsed().as_secs_f64()
@@ -166,7 +184,7 @@ fn posture_clips(sequences: &[PoseSequence]) -> Vec<PoseSequence> {
 
 /// Table rows of `outcomes` per recipe: all, the posture categories together, seated
 /// (category sit), low frames, then each category.
-fn rows(md: &mut String, title: &str, results: &[(Recipe, Vec<ViewOutcome>)]) {
+fn rows(md: &mut String, title: &str, results: &[(&Recipe, Vec<ViewOutcome>)]) {
     let Some((_, first)) = results.first() else {
         return;
     };
@@ -181,7 +199,8 @@ fn rows(md: &mut String, title: &str, results: &[(Recipe, Vec<ViewOutcome>)]) {
     let _ = writeln!(md, "|{}", "---|".repeat(6 + categories.len()));
     for (recipe, out) in results {
         let mut line = format!(
-            "| {recipe:?} | {} | {} | {} | {} | {} |",
+            "| {} | {} | {} | {} | {} | {} |",
+            recipe.name,
             Summary::of(out, |_| true).cell(),
             Summary::of(out, |o| o.inside).cell(),
             Summary::of(out, |o| o.category.is_posture()).cell(),
@@ -211,10 +230,10 @@ pub fn run(args: &Args) -> Result<(), String> {
     let mut sphere = project(&test_seqs, &views(Protocol::Sphere, 3, args, None))?;
     sphere.samples.retain(|s| s.in_class_box);
     let rig = project(&test_seqs, &views(Protocol::Rig, 5, args, None))?;
-    let mut per_protocol: Vec<Vec<(Recipe, Vec<ViewOutcome>)>> = vec![Vec::new(); 3];
-    for &recipe in &args.recipes {
+    let mut per_protocol: Vec<Vec<(&Recipe, Vec<ViewOutcome>)>> = vec![Vec::new(); 3];
+    for recipe in &args.recipes {
         let (localizer, seconds) = train(&train_seqs, recipe, args)?;
-        let _ = writeln!(md, "\n{recipe:?}: trained in {seconds:.1} s.");
+        let _ = writeln!(md, "\n{}: trained in {seconds:.1} s.", recipe.name);
         for (k, test) in [&jittered, &sphere, &rig].into_iter().enumerate() {
             per_protocol[k].push((recipe, outcomes(&localizer, test)?));
         }
@@ -245,8 +264,8 @@ pub fn run(args: &Args) -> Result<(), String> {
                     .collect()
             })
             .collect();
-        let mut results: [Vec<(Recipe, Vec<ViewOutcome>)>; 2] = Default::default();
-        for &recipe in &args.recipes {
+        let mut results: [Vec<(&Recipe, Vec<ViewOutcome>)>; 2] = Default::default();
+        for recipe in &args.recipes {
             let mut pooled: [Vec<ViewOutcome>; 2] = Default::default();
             for held in &folds {
                 let (train_part, test_part): (Vec<PoseSequence>, Vec<PoseSequence>) = all
@@ -285,8 +304,8 @@ pub fn run(args: &Args) -> Result<(), String> {
             .iter()
             .cloned()
             .partition(|s| !s.clip.category.is_posture());
-        let mut results: [Vec<(Recipe, Vec<ViewOutcome>)>; 2] = Default::default();
-        for &recipe in &args.recipes {
+        let mut results: [Vec<(&Recipe, Vec<ViewOutcome>)>; 2] = Default::default();
+        for recipe in &args.recipes {
             let (localizer, _) = train(&train_part, recipe, args)?;
             for (k, protocol) in [Protocol::Jittered, Protocol::Rig].into_iter().enumerate() {
                 let test = project(&test_part, &views(protocol, 2 + 3 * k as u64, args, None))?;

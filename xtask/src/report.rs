@@ -131,6 +131,8 @@ pub fn run(args: &Args) -> Result<(), String> {
                 mirror: false,
                 viewpoint_lambda: None,
                 posture_classes: false,
+                camera_balance: 0.0,
+                viewpoint_capacity: Capacity::Linear,
             };
             let label = match descriptor {
                 Descriptor::Paper(c) => format!("paper (sigma {})", c.sigma),

@@ -108,6 +108,28 @@ impl LogisticModel {
         )
     }
 
+    /// This model with `shift[k]` added to the bias (logit) of every class `k`: a change of
+    /// the class priors, `p(k | x)` reweighted by `exp(shift[k])` and renormalised.
+    ///
+    /// # Errors
+    /// [`LearningError::SizeMismatch`] unless `shift` has one entry per class,
+    /// [`LearningError::InvalidParameter`] for a non-finite shifted bias.
+    pub fn with_bias_shift(mut self, shift: &[f64]) -> Result<Self, LearningError> {
+        if shift.len() != self.parameters.n_classes {
+            return Err(LearningError::SizeMismatch {
+                what: "bias shift (one per class)",
+                expected: self.parameters.n_classes,
+                found: shift.len(),
+            });
+        }
+        for (b, s) in self.parameters.biases.iter_mut().zip(shift) {
+            *b += s;
+        }
+        let model = Self::from_parameters(self.parameters);
+        model.validate()?;
+        Ok(model)
+    }
+
     /// Checks every invariant (sizes, finite values, a valid standardiser): used by
     /// [`new`](Self::new) and, through [`Validate`], after decoding a stored model (also one
     /// nested in another file).

@@ -269,3 +269,26 @@ fn model_constructor_checks_its_parts() {
     ));
     assert!(Standardiser::from_parts(vec![0.0], vec![0.0]).is_err());
 }
+
+/// A bias shift reweights the multinomial probabilities by `exp(shift)` and renormalises;
+/// a shift of the wrong length or to a non-finite bias is refused.
+#[test]
+fn a_bias_shift_changes_the_class_priors() {
+    let (model, x, _) = fitted(Mode::Multinomial);
+    let shift = [0.7, -0.3, 0.0];
+    let shifted = model.clone().with_bias_shift(&shift).unwrap();
+    for row in x.chunks_exact(4).take(20) {
+        let p = model.predict_proba(row).unwrap();
+        let q = shifted.predict_proba(row).unwrap();
+        let weighted: Vec<f64> = p.iter().zip(&shift).map(|(p, s)| p * s.exp()).collect();
+        let total: f64 = weighted.iter().sum();
+        for (w, q) in weighted.iter().zip(&q) {
+            assert!((w / total - q).abs() < 1e-12, "{w} {q}");
+        }
+    }
+    assert!(matches!(
+        model.clone().with_bias_shift(&[0.0; 2]),
+        Err(LearningError::SizeMismatch { .. })
+    ));
+    assert!(model.with_bias_shift(&[f64::NAN, 0.0, 0.0]).is_err());
+}

@@ -67,6 +67,10 @@ pub struct CameraLocalizer {
     pub(crate) info: TrainingInfo,
     /// Continuous-viewpoint heads refining the class to a direction (`None`: not fitted).
     pub(crate) viewpoint: Option<DirectionHeads>,
+    /// What the viewpoint heads see: `None`, the classifier's features; else the descriptor
+    /// expanded by this quadratic expansion of their own
+    /// ([`CameraLocalizer::fit_viewpoint_with_capacity`]).
+    pub(crate) viewpoint_expansion: Option<QuadraticExpansion>,
 }
 
 impl CameraLocalizer {
@@ -74,16 +78,41 @@ impl CameraLocalizer {
     /// wide): descriptors in parallel, undefined values imputed, expanded if the model has an
     /// expansion.
     pub(crate) fn feature_rows(&self, poses: &[PartialPose2]) -> Result<Vec<f64>, CamlocError> {
+        let x = self.descriptor_rows(poses)?;
+        self.classifier_rows(x)
+    }
+
+    /// The descriptor rows of `poses` (row-major), in parallel, undefined values imputed.
+    pub(crate) fn descriptor_rows(&self, poses: &[PartialPose2]) -> Result<Vec<f64>, CamlocError> {
         let (mut x, undefined) = extract_rows(&self.descriptor, poses)?;
         impute_rows(&mut x, &undefined, &self.imputation);
-        if let Some(e) = &self.expansion {
-            x = e.expand_rows(&Features::new(&x, self.descriptor.len())?)?;
-        }
         Ok(x)
     }
 
-    /// The number of features the classifier and the viewpoint heads see: the descriptor's,
-    /// or the expansion's outputs.
+    /// The classifier's feature rows of the descriptor rows `x`: expanded if the model has an
+    /// expansion, else `x` itself.
+    pub(crate) fn classifier_rows(&self, x: Vec<f64>) -> Result<Vec<f64>, CamlocError> {
+        match &self.expansion {
+            Some(e) => Ok(e.expand_rows(&Features::new(&x, self.descriptor.len())?)?),
+            None => Ok(x),
+        }
+    }
+
+    /// The number of features the viewpoint heads see.
+    pub(crate) fn head_width(&self) -> usize {
+        self.viewpoint_expansion
+            .as_ref()
+            .map_or(self.feature_width(), QuadraticExpansion::n_outputs)
+    }
+
+    /// The quadratic expansion of the descriptor the viewpoint heads see, if they have their
+    /// own (else they see the classifier's features).
+    pub fn viewpoint_expansion(&self) -> Option<&QuadraticExpansion> {
+        self.viewpoint_expansion.as_ref()
+    }
+
+    /// The number of features the classifier sees: the descriptor's, or the expansion's
+    /// outputs.
     pub(crate) fn feature_width(&self) -> usize {
         self.expansion
             .as_ref()
@@ -174,6 +203,7 @@ impl CameraLocalizer {
                 descriptor,
                 undefined,
                 expanded,
+                head_row,
                 classes,
             } = buffers;
             let d = self.descriptor.len();
@@ -197,7 +227,15 @@ impl CameraLocalizer {
             classes.resize(self.model.n_classes(), 0.0);
             let mut probabilities = vec![0.0; self.cameras.len()];
             self.camera_probabilities_into(x, classes, &mut probabilities)?;
-            self.localization_from(x, probabilities, pose.missing().collect())
+            let heads_x: &[f64] = match &self.viewpoint_expansion {
+                Some(e) => {
+                    head_row.resize(e.n_outputs(), 0.0);
+                    e.expand_into(descriptor, head_row)?;
+                    head_row
+                }
+                None => x,
+            };
+            self.localization_from(heads_x, probabilities, pose.missing().collect())
         })
     }
 
@@ -206,16 +244,18 @@ impl CameraLocalizer {
         poses.par_iter().map(|p| self.localize_partial(p)).collect()
     }
 
+    /// The localization of a pose whose camera probabilities are `probabilities` and whose
+    /// viewpoint heads' features are `heads_x`.
     fn localization_from(
         &self,
-        x: &[f64],
+        heads_x: &[f64],
         probabilities: Vec<f64>,
         missing: Vec<Landmark>,
     ) -> Result<Localization, CamlocError> {
         let (best, probability) = most_probable(&probabilities);
         let (mut azimuth_deg, mut elevation_deg, mut uncertainty_deg) = (None, None, None);
         if let Some(heads) = &self.viewpoint {
-            let u = heads.predict(best, x)?;
+            let u = heads.predict(best, heads_x)?;
             azimuth_deg = Some(u[1].atan2(u[0]).to_degrees().rem_euclid(360.0));
             elevation_deg = Some(u[2].clamp(-1.0, 1.0).asin().to_degrees());
             uncertainty_deg = Some(heads.uncertainty_deg(probability));
@@ -305,9 +345,20 @@ impl Validate for CameraLocalizer {
         if !self.imputation.iter().all(|v| v.is_finite()) {
             return Err(inconsistent("non-finite imputation value".into()));
         }
+        if let Some(e) = &self.viewpoint_expansion {
+            e.validate()
+                .map_err(|e| inconsistent(format!("viewpoint feature expansion: {e}")))?;
+            if e.n_inputs() != d {
+                return Err(inconsistent(format!(
+                    "descriptor '{}' has {d} values, the viewpoint feature expansion expects {}",
+                    self.descriptor.name(),
+                    e.n_inputs()
+                )));
+            }
+        }
         if let Some(heads) = &self.viewpoint {
             heads
-                .validate(self.cameras.len(), width)
+                .validate(self.cameras.len(), self.head_width())
                 .map_err(|e| inconsistent(format!("viewpoint heads: {e}")))?;
         }
         Ok(())
@@ -343,6 +394,8 @@ struct RowBuffers {
     undefined: Vec<bool>,
     /// The expanded row, for a model with an expansion.
     expanded: Vec<f64>,
+    /// The viewpoint heads' expanded row, for heads with their own expansion.
+    head_row: Vec<f64>,
     /// The classifier's class probabilities, before they are summed over postures.
     classes: Vec<f64>,
 }

@@ -101,12 +101,16 @@ impl CameraLocalizer {
         }
         let width = expansion.as_ref().map_or(d, QuadraticExpansion::n_outputs);
         let features = Features::new(&x, width)?;
-        let (model, report) = options.regression.fit_with_progress(
+        let (mut model, report) = options.regression.fit_with_progress(
             &features,
             &y,
             dataset.header.cameras.len() * posture_groups,
             progress,
         )?;
+        if options.camera_balance > 0.0 {
+            let shift = balancing_shift(&y, cameras.len(), posture_groups, options.camera_balance);
+            model = model.with_bias_shift(&shift)?;
+        }
         let info = TrainingInfo {
             camloc_version: env!("CARGO_PKG_VERSION").to_string(),
             protocol: dataset.header.protocol,
@@ -117,6 +121,7 @@ impl CameraLocalizer {
             dropout: options.dropout,
             mirror: options.mirror,
             posture_classes: options.posture_classes,
+            camera_balance: options.camera_balance,
         };
         let mut localizer = CameraLocalizer {
             descriptor,
@@ -127,10 +132,16 @@ impl CameraLocalizer {
             imputation,
             info,
             viewpoint: None,
+            viewpoint_expansion: None,
         };
         if let Some(lambda) = options.viewpoint_lambda {
-            let n = dataset.samples.len();
-            localizer.fit_viewpoint_rows(&x[..n * width], dataset, lambda)?;
+            match options.viewpoint_capacity {
+                Capacity::Linear => {
+                    let rows = &x[..dataset.samples.len() * width];
+                    localizer.fit_viewpoint_rows(rows, rows, dataset, lambda)?;
+                }
+                capacity => localizer.fit_viewpoint_with_capacity(dataset, lambda, capacity)?,
+            }
         }
         Ok((localizer, report))
     }
@@ -147,7 +158,26 @@ impl CameraLocalizer {
     /// the dataset's cameras are not this model's or one of them has no samples; dataset,
     /// descriptor and solver errors as in [`train`](Self::train).
     pub fn fit_viewpoint(&mut self, dataset: &Dataset, lambda: f64) -> Result<(), CamlocError> {
+        self.fit_viewpoint_with_capacity(dataset, lambda, Capacity::Linear)
+    }
+
+    /// [`fit_viewpoint`](Self::fit_viewpoint) with heads of their own `capacity`:
+    /// [`Capacity::Linear`], the classifier's features; [`Capacity::Quadratic`], the
+    /// descriptor and the products of its leading whitened principal components, an
+    /// expansion fitted on the dataset's descriptors (a quadratic regression of the
+    /// direction, whatever the classifier's capacity).
+    ///
+    /// # Errors
+    /// As [`fit_viewpoint`](Self::fit_viewpoint); expansion errors for a bad number of
+    /// components.
+    pub fn fit_viewpoint_with_capacity(
+        &mut self,
+        dataset: &Dataset,
+        lambda: f64,
+        capacity: Capacity,
+    ) -> Result<(), CamlocError> {
         dataset.validate()?;
+        check_viewpoint_lambda(lambda)?;
         if dataset.header.cameras != self.cameras {
             return Err(CamlocError::Inconsistent {
                 what: "viewpoint dataset",
@@ -155,20 +185,37 @@ impl CameraLocalizer {
             });
         }
         let poses: Vec<PartialPose2> = dataset.samples.iter().map(sample_pose).collect();
-        let x = self.feature_rows(&poses)?;
-        self.fit_viewpoint_rows(&x, dataset, lambda)
+        let descriptors = self.descriptor_rows(&poses)?;
+        let d = self.descriptor.len();
+        self.viewpoint_expansion = match capacity {
+            Capacity::Linear => None,
+            Capacity::Quadratic { components } => Some(QuadraticExpansion::fit(
+                &Features::new(&descriptors, d)?,
+                components,
+            )?),
+        };
+        let heads_x = match &self.viewpoint_expansion {
+            Some(e) => Some(e.expand_rows(&Features::new(&descriptors, d)?)?),
+            None => None,
+        };
+        let classifier_x = self.classifier_rows(descriptors)?;
+        let heads_x = heads_x.as_deref().unwrap_or(&classifier_x);
+        self.fit_viewpoint_rows(&classifier_x, heads_x, dataset, lambda)
     }
 
-    /// [`fit_viewpoint`](Self::fit_viewpoint) on the samples' feature rows `x` (imputed and
+    /// The viewpoint heads fitted on the samples' heads features `heads_x` and calibrated by
+    /// the classes their classifier features `classifier_x` choose (rows imputed and
     /// expanded).
     fn fit_viewpoint_rows(
         &mut self,
-        x: &[f64],
+        classifier_x: &[f64],
+        heads_x: &[f64],
         dataset: &Dataset,
         lambda: f64,
     ) -> Result<(), CamlocError> {
         check_viewpoint_lambda(lambda)?;
-        let features = Features::new(x, self.feature_width())?;
+        let classifier = Features::new(classifier_x, self.feature_width())?;
+        let features = Features::new(heads_x, self.head_width())?;
         let directions: Vec<[f64; 3]> = dataset
             .samples
             .iter()
@@ -195,7 +242,7 @@ impl CameraLocalizer {
             DirectionHeads::fit(&features, &directions, &classes, self.cameras.len(), lambda)?;
         let mut classes = vec![0.0; self.model.n_classes()];
         let mut probabilities = vec![0.0; self.cameras.len()];
-        let chosen = features
+        let chosen = classifier
             .rows()
             .map(|row| {
                 self.camera_probabilities_into(row, &mut classes, &mut probabilities)?;
@@ -240,4 +287,29 @@ fn augment(
     let (mut x, undefined) = extract_rows(descriptor, &dropped)?;
     impute_rows(&mut x, &undefined, imputation);
     Ok((x, chosen.iter().map(|&i| labels[i]).collect()))
+}
+
+/// The bias shift that moves the camera priors `strength` of the way to even ones: for class
+/// `g * cameras + c`, minus `strength` times the log of camera `c`'s share of the rows `y`
+/// relative to an even share (0 for a camera without rows, whose classes the fit already
+/// drove down).
+fn balancing_shift(y: &[usize], cameras: usize, groups: usize, strength: f64) -> Vec<f64> {
+    let mut counts = vec![0usize; cameras];
+    for &class in y {
+        counts[class % cameras] += 1;
+    }
+    let even = y.len() as f64 / cameras as f64;
+    let per_camera: Vec<f64> = counts
+        .iter()
+        .map(|&n| {
+            if n > 0 {
+                -strength * (n as f64 / even).ln()
+            } else {
+                0.0
+            }
+        })
+        .collect();
+    (0..groups)
+        .flat_map(|_| per_camera.iter().copied())
+        .collect()
 }

@@ -169,13 +169,26 @@ pub struct TrainOptions {
     ///
     /// [`PostureGroup`]: camloc_dataset::PostureGroup
     pub posture_classes: bool,
+    /// How far the camera priors move from the training data's towards even ones, from 0
+    /// (as the training views are spread) to 1 (every camera equally likely a priori): after
+    /// the fit, each class's bias is lowered by this times the log of its camera's share of
+    /// the training rows relative to an even share. Training views of studio cameras, nearly
+    /// all in the middle ring, tilt predictions towards that ring unless balanced.
+    pub camera_balance: f64,
+    /// What the viewpoint heads see when training fits them: [`Capacity::Linear`], the
+    /// classifier's features; [`Capacity::Quadratic`], their own quadratic expansion of the
+    /// descriptor ([`CameraLocalizer::fit_viewpoint_with_capacity`]).
+    ///
+    /// [`CameraLocalizer::fit_viewpoint_with_capacity`]: crate::CameraLocalizer::fit_viewpoint_with_capacity
+    pub viewpoint_capacity: Capacity,
 }
 
 impl Default for TrainOptions {
     /// Joints descriptor, linear capacity, multinomial regression with [`DEFAULT_LAMBDA`]
     /// (truncated Newton: conjugate gradients on Hessian-vector products, preconditioned by a
     /// subsampled Hessian; [`DirectionSolver::PreconditionedCg`]), dropout with one copy,
-    /// mirror augmentation, viewpoint heads with [`DEFAULT_VIEWPOINT_LAMBDA`].
+    /// mirror augmentation, viewpoint heads with [`DEFAULT_VIEWPOINT_LAMBDA`], cameras
+    /// balanced a priori, no posture classes.
     fn default() -> Self {
         TrainOptions {
             descriptor: Descriptor::default(),
@@ -185,6 +198,8 @@ impl Default for TrainOptions {
             mirror: true,
             viewpoint_lambda: Some(DEFAULT_VIEWPOINT_LAMBDA),
             posture_classes: false,
+            camera_balance: 1.0,
+            viewpoint_capacity: Capacity::Linear,
         }
     }
 }
@@ -228,16 +243,27 @@ impl TrainOptions {
         if let Some(lambda) = self.viewpoint_lambda {
             check_viewpoint_lambda(lambda)?;
         }
-        if let Capacity::Quadratic { components } = self.capacity {
-            let most = camloc_learning::MAX_EXPANSION_COMPONENTS.min(self.descriptor.len());
-            if components == 0 || components > most {
-                return Err(CamlocError::InvalidOption {
-                    name: "quadratic components",
-                    detail: format!(
-                        "must be from 1 to {most} for the {} descriptor, got {components}",
-                        self.descriptor.name()
-                    ),
-                });
+        if !(0.0..=1.0).contains(&self.camera_balance) {
+            return Err(CamlocError::InvalidOption {
+                name: "camera balance",
+                detail: format!("must be from 0 to 1, got {}", self.camera_balance),
+            });
+        }
+        for (name, capacity) in [
+            ("quadratic components", self.capacity),
+            ("viewpoint quadratic components", self.viewpoint_capacity),
+        ] {
+            if let Capacity::Quadratic { components } = capacity {
+                let most = camloc_learning::MAX_EXPANSION_COMPONENTS.min(self.descriptor.len());
+                if components == 0 || components > most {
+                    return Err(CamlocError::InvalidOption {
+                        name,
+                        detail: format!(
+                            "must be from 1 to {most} for the {} descriptor, got {components}",
+                            self.descriptor.name()
+                        ),
+                    });
+                }
             }
         }
         Ok(())
@@ -279,4 +305,6 @@ pub struct TrainingInfo {
     /// Whether the classifier classifies (posture, camera) pairs
     /// ([`TrainOptions::posture_classes`]).
     pub posture_classes: bool,
+    /// How far the camera priors were balanced ([`TrainOptions::camera_balance`]).
+    pub camera_balance: f64,
 }

@@ -164,6 +164,46 @@ fn posture_classes_split_cameras_by_posture_and_sum_back() {
     }
 }
 
+/// Balanced cameras: with three times the views of camera 06, balancing (the default)
+/// lowers camera 06's bias by the log of its share of the rows relative to an even share
+/// (3 in 14 against 1 in 12) and raises the others' (1 in 14 against 1 in 12), over the same fit.
+#[test]
+fn balanced_cameras_do_not_favour_the_cameras_with_more_views() {
+    let mut config = GenerateConfig::new(Protocol::Jittered);
+    config.seed = 8;
+    let mut dataset = generate(&sequences(), &config, &|_, _| {}).unwrap();
+    let extra: Vec<_> = dataset
+        .samples
+        .iter()
+        .filter(|s| s.label == 6)
+        .cloned()
+        .collect();
+    dataset.samples.extend(extra.iter().cloned());
+    dataset.samples.extend(extra);
+    let biases = |camera_balance: f64| {
+        let options = TrainOptions {
+            camera_balance,
+            dropout: None,
+            mirror: false,
+            ..TrainOptions::default()
+        };
+        let (localizer, _) = CameraLocalizer::train(&dataset, &options, |_| {}).unwrap();
+        assert_eq!(localizer.training_info().camera_balance, camera_balance);
+        localizer.model().biases().to_vec()
+    };
+    let (balanced, tilted) = (biases(1.0), biases(0.0));
+    for (k, (b, t)) in balanced.iter().zip(&tilted).enumerate() {
+        let share = if k == 5 { 3.0 / 14.0 } else { 1.0 / 14.0 };
+        let expected = -(share * 12.0f64).ln();
+        assert!(
+            (b - t - expected).abs() < 1e-9,
+            "camera {}: {} vs {expected}",
+            k + 1,
+            b - t
+        );
+    }
+}
+
 #[test]
 fn viewpoint_heads_refine_the_class_centre() {
     let (localizer, dataset) = trained();
@@ -215,6 +255,36 @@ fn viewpoint_heads_refine_the_class_centre() {
             .azimuth_deg
             .is_some()
     );
+    // Heads of their own quadratic capacity: stored with the model, and on their training
+    // views at least as close to the truth as linear heads.
+    let training_median = |l: &CameraLocalizer| {
+        let mut e: Vec<f64> = dataset
+            .samples
+            .iter()
+            .map(|s| {
+                let v = l.localize(&s.landmarks).unwrap();
+                let truth = camera_direction_deg(&s.rotation);
+                angle_between_deg((v.azimuth_deg.unwrap(), v.elevation_deg.unwrap()), truth)
+            })
+            .collect();
+        median(&mut e)
+    };
+    let linear = training_median(&plain);
+    assert!(plain.viewpoint_expansion().is_none());
+    plain
+        .fit_viewpoint_with_capacity(&dataset, 1.0, Capacity::Quadratic { components: 6 })
+        .unwrap();
+    assert_eq!(
+        plain.viewpoint_expansion().unwrap().n_outputs(),
+        plain.descriptor().len() + 21
+    );
+    let quadratic = training_median(&plain);
+    assert!(
+        quadratic <= linear,
+        "quadratic {quadratic} deg, linear {linear} deg"
+    );
+    let back = CameraLocalizer::from_bytes(&plain.to_bytes().unwrap()).unwrap();
+    assert_eq!(back, plain);
     let bad = TrainOptions {
         viewpoint_lambda: Some(-1.0),
         ..TrainOptions::default()
@@ -479,6 +549,7 @@ struct RawLocalizer {
     imputation: Vec<f64>,
     info: camloc::TrainingInfo,
     viewpoint: Option<RawHeads>,
+    viewpoint_expansion: Option<camloc::learning::QuadraticExpansion>,
 }
 
 #[derive(Clone, serde::Serialize, serde::Deserialize)]
