@@ -14,7 +14,7 @@ use camloc::store::escaped;
 use crate::svg;
 
 use super::input::Inputs;
-use super::localize_json::localization_json;
+use super::localize_json::LocalizationJson;
 use super::localize_npz::LocalizationArrays;
 use super::sequence;
 use super::stream::{self, Done, Files, SummaryDrawing};
@@ -105,12 +105,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     };
     // Text per pose, unless --npz is the output and no JSON was asked for.
     let print = format.is_json() || args.npz.is_none();
-    let labels: Vec<String> = localizer
-        .cameras()
-        .viewpoints()
-        .iter()
-        .map(|v| v.label_text())
-        .collect();
+    let objects = LocalizationJson::new(localizer.cameras());
     let bar = progress::counter(args.progress.quiet, inputs.len_hint(), "localize", "poses");
     if args.sequence {
         let files = sequence::SequenceOptions {
@@ -131,7 +126,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         let text = if !print {
             String::new()
         } else if format.is_json() {
-            localization_json(&labels, record, &loc)
+            objects.object(record, &loc)
         } else {
             localization_text(&localizer, record, &loc)
         };

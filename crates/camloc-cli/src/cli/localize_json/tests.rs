@@ -23,9 +23,9 @@ impl Serialize for Probabilities<'_> {
     }
 }
 
-/// The object as serde_json wrote it before [`localization_json`] (its reference).
+/// The object as serde_json wrote it before [`LocalizationJson`] (its reference).
 #[derive(Serialize)]
-struct LocalizationJson<'a> {
+struct BySerde<'a> {
     id: &'a str,
     source: &'a str,
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -51,7 +51,7 @@ struct LocalizationJson<'a> {
 
 fn by_serde(labels: &[String], record: &KeypointRecord, loc: &Localization) -> String {
     let r = &loc.rotation;
-    json_line(&LocalizationJson {
+    json_line(&BySerde {
         id: &record.id,
         source: &record.source,
         frame: record.frame,
@@ -105,6 +105,7 @@ fn records() -> Vec<KeypointRecord> {
 #[test]
 fn every_object_is_byte_for_byte_what_serde_json_wrote() {
     let localizer = load_model(None).unwrap();
+    let objects = LocalizationJson::new(localizer.cameras());
     let labels: Vec<String> = localizer
         .cameras()
         .viewpoints()
@@ -116,7 +117,7 @@ fn every_object_is_byte_for_byte_what_serde_json_wrote() {
         let Ok(loc) = localizer.localize_partial(&record.pose) else {
             continue;
         };
-        let ours = localization_json(&labels, &record, &loc);
+        let ours = objects.object(&record, &loc);
         assert_eq!(ours, by_serde(&labels, &record, &loc));
         compared += 1;
     }
@@ -129,6 +130,7 @@ fn every_object_is_byte_for_byte_what_serde_json_wrote() {
 #[test]
 fn escapes_absent_fields_and_special_numbers_are_written_as_serde_json_wrote_them() {
     let localizer = load_model(None).unwrap();
+    let objects = LocalizationJson::new(localizer.cameras());
     let labels: Vec<String> = localizer
         .cameras()
         .viewpoints()
@@ -171,7 +173,7 @@ fn escapes_absent_fields_and_special_numbers_are_written_as_serde_json_wrote_the
             loc.elevation_deg = (n % 3 != 1).then_some(-x);
             loc.uncertainty_deg = (n % 2 == 0).then_some(x);
             loc.missing = Landmark::ALL[..n % 4].to_vec();
-            let ours = localization_json(&labels, &record, &loc);
+            let ours = objects.object(&record, &loc);
             assert_eq!(ours, by_serde(&labels, &record, &loc), "id {id:?}, {x}");
         }
     }
