@@ -3,43 +3,45 @@
 
 use std::io::Cursor;
 
-use camloc_keypoints::{KeypointRecord, ReadOptions, open_keypoints_reader};
+use camloc_keypoints::{
+    KeypointRecord, PartialPose2, ReadOptions, open_keypoints_reader, write_npy,
+};
 
-/// Two poses of 15 joints (x, y), numbers a `float32` holds exactly, joint 3 of pose 1 missing
-/// (NaN, NaN).
-fn values() -> Vec<f64> {
-    let mut values: Vec<f64> = (0..60).map(|k| 100.0 + k as f64 * 2.5).collect();
-    values[30 + 6] = f64::NAN;
-    values[30 + 7] = f64::NAN;
-    values
+/// Two poses with numbers a `float32` holds exactly, joint 3 of the second one missing.
+fn poses() -> Vec<PartialPose2> {
+    let pose = |first: f64| PartialPose2 {
+        points: std::array::from_fn(|j| {
+            Some([first + j as f64 * 5.0, first + 2.5 + j as f64 * 5.0])
+        }),
+    };
+    let mut second = pose(250.0);
+    second.points[3] = None;
+    vec![pose(100.0), second]
 }
 
-/// An array of shape (N, 15, 2) with `descr`, its numbers written by `bytes`.
-fn npy(descr: &str, values: &[f64], bytes: impl Fn(f64) -> Vec<u8>) -> Vec<u8> {
-    let n = values.len() / 30;
-    let mut header =
-        format!("{{'descr': '{descr}', 'fortran_order': False, 'shape': ({n}, 15, 2), }}");
-    while !(10 + header.len() + 1).is_multiple_of(64) {
-        header.push(' ');
-    }
-    header.push('\n');
-    let mut out = b"\x93NUMPY\x01\x00".to_vec();
-    out.extend_from_slice(&(header.len() as u16).to_le_bytes());
-    out.extend_from_slice(header.as_bytes());
-    for &v in values {
-        out.extend_from_slice(&bytes(v));
-    }
-    out
-}
-
-/// Every dtype the reader takes, as (descr, the array of `values`).
-fn arrays(values: &[f64]) -> Vec<(&'static str, Vec<u8>)> {
-    let f32 = |v: f64| v as f32;
+/// Every dtype the reader takes, as (descr, the array of [`poses`]): the crate's own `<f8`
+/// array, its header given another descr of the same length and its numbers re-encoded.
+fn arrays() -> Vec<(&'static str, Vec<u8>)> {
+    let mut le = Vec::new();
+    write_npy(&mut le, &poses()).unwrap();
+    let body_at = 10 + usize::from(u16::from_le_bytes([le[8], le[9]]));
+    let (head, body) = le.split_at(body_at);
+    let numbers: Vec<f64> = body
+        .chunks_exact(8)
+        .map(|b| f64::from_le_bytes(b.try_into().unwrap()))
+        .collect();
+    let array = |descr: &'static str, encode: fn(f64) -> Vec<u8>| {
+        let mut bytes = head.to_vec();
+        let at = head.windows(5).position(|w| w == b"'<f8'").unwrap();
+        bytes[at + 1..at + 4].copy_from_slice(descr.as_bytes());
+        bytes.extend(numbers.iter().flat_map(|&v| encode(v)));
+        (descr, bytes)
+    };
     vec![
-        ("<f8", npy("<f8", values, |v| v.to_le_bytes().to_vec())),
-        (">f8", npy(">f8", values, |v| v.to_be_bytes().to_vec())),
-        ("<f4", npy("<f4", values, |v| f32(v).to_le_bytes().to_vec())),
-        (">f4", npy(">f4", values, |v| f32(v).to_be_bytes().to_vec())),
+        array("<f8", |v| v.to_le_bytes().to_vec()),
+        array(">f8", |v| v.to_be_bytes().to_vec()),
+        array("<f4", |v| (v as f32).to_le_bytes().to_vec()),
+        array(">f4", |v| (v as f32).to_be_bytes().to_vec()),
     ]
 }
 
@@ -54,22 +56,20 @@ fn read(bytes: &[u8]) -> Result<Vec<KeypointRecord>, String> {
 
 #[test]
 fn every_float_dtype_and_byte_order_gives_the_same_records() {
-    let values = values();
-    let reference = read(&arrays(&values)[0].1).unwrap();
-    assert_eq!(reference.len(), 2);
-    assert_eq!(reference[0].pose.points[1], Some([105.0, 107.5]));
-    assert_eq!(reference[1].pose.points[3], None);
-    for (descr, bytes) in arrays(&values) {
+    let arrays = arrays();
+    let reference = read(&arrays[0].1).unwrap();
+    let poses: Vec<PartialPose2> = reference.iter().map(|r| r.pose).collect();
+    assert_eq!(poses, self::poses());
+    for (descr, bytes) in arrays {
         assert_eq!(read(&bytes).unwrap(), reference, "{descr}");
     }
 }
 
 #[test]
 fn a_truncated_stream_fails_at_the_same_pose_in_every_dtype() {
-    for (descr, bytes) in arrays(&values()) {
-        // The second pose loses its last number but one byte.
-        let cut = &bytes[..bytes.len() - 1];
-        let e = read(cut).unwrap_err();
+    for (descr, bytes) in arrays() {
+        // The second pose loses one byte of its last number.
+        let e = read(&bytes[..bytes.len() - 1]).unwrap_err();
         assert_eq!(
             e, "a.npy: [1]: the data end inside pose 1 of 2 (truncated?)",
             "{descr}"

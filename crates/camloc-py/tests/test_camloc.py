@@ -108,18 +108,14 @@ def test_localize_equals_the_command_line(cli, localizer, path, options, read_op
         assert missing == want["missing"]
 
 
+# The arrays of `localize --npz`: name, dtype and number of dimensions (docs/cli.md).
 NPZ_ARRAYS = {
-    "label": (np.uint16, 1),
-    "folded_label": (np.uint16, 1),
+    **dict.fromkeys(["label", "folded_label"], (np.uint16, 1)),
     "probabilities": (np.float64, 2),
-    "azimuth_deg": (np.float64, 1),
-    "elevation_deg": (np.float64, 1),
-    "uncertainty_deg": (np.float64, 1),
+    **dict.fromkeys(["azimuth_deg", "elevation_deg", "uncertainty_deg"], (np.float64, 1)),
     "failed": (np.bool_, 1),
-    "missing": (np.bool_, 2),
-    "derived": (np.bool_, 2),
-    "frame": (np.int64, 1),
-    "person": (np.int64, 1),
+    **dict.fromkeys(["missing", "derived"], (np.bool_, 2)),
+    **dict.fromkeys(["frame", "person"], (np.int64, 1)),
     "id_utf8": (np.uint8, 1),
     "id_end": (np.uint64, 1),
 }

@@ -134,21 +134,12 @@ impl RowFile<Localization> for LocalizationArrays {
 
     fn finish(self: Box<Self>, staged: &mut StagedFiles) -> Result<(), CliError> {
         let a = *self;
-        let entries = [
-            a.label.entry(),
-            a.folded_label.entry(),
-            a.probabilities.entry(),
-            a.azimuth_deg.entry(),
-            a.elevation_deg.entry(),
-            a.uncertainty_deg.entry(),
-            a.failed.entry(),
-            a.missing.entry(),
-            a.derived.entry(),
-            a.frame.entry(),
-            a.person.entry(),
-            a.id_utf8.entry(),
-            a.id_end.entry(),
-        ]
+        // The entries in the order of the fields.
+        macro_rules! entries {
+            ($($column:ident)*) => { [$(a.$column.entry()),*] };
+        }
+        let entries = entries!(label folded_label probabilities azimuth_deg elevation_deg
+            uncertainty_deg failed missing derived frame person id_utf8 id_end)
         .into_iter()
         .collect::<io::Result<Vec<_>>>()
         .map_err(io_error(&a.target))?;

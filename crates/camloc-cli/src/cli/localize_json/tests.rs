@@ -1,6 +1,6 @@
 use std::path::Path;
 
-use camloc::CameraLabel;
+use camloc::CameraLocalizer;
 use camloc::keypoints::{KeypointFormat, ReadOptions, open_keypoints};
 use camloc::skeleton::Landmark;
 use serde::ser::SerializeMap;
@@ -23,52 +23,69 @@ impl Serialize for Probabilities<'_> {
     }
 }
 
-/// The object as serde_json wrote it before [`LocalizationJson`] (its reference).
-#[derive(Serialize)]
+/// What serde_json wrote for a localization before [`LocalizationJson`] (its reference): the
+/// same keys in the same order, each value serialised by serde.
 struct BySerde<'a> {
-    id: &'a str,
-    source: &'a str,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    frame: Option<u64>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    person: Option<u64>,
-    label: CameraLabel,
-    level: &'static str,
-    side: &'static str,
-    probability: f64,
-    folded_label: CameraLabel,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    azimuth_deg: Option<f64>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    elevation_deg: Option<f64>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    uncertainty_deg: Option<f64>,
-    rotation: [[f64; 3]; 3],
-    probabilities: Probabilities<'a>,
-    missing: Vec<&'static str>,
-    derived: Vec<&'static str>,
+    labels: &'a [String],
+    record: &'a KeypointRecord,
+    loc: &'a Localization,
+}
+
+impl Serialize for BySerde<'_> {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        let (record, loc) = (self.record, self.loc);
+        let names = |landmarks: &[Landmark]| landmarks.iter().map(|l| l.name()).collect::<Vec<_>>();
+        let r = &loc.rotation;
+        let mut map = serializer.serialize_map(None)?;
+        map.serialize_entry("id", &record.id)?;
+        map.serialize_entry("source", &record.source)?;
+        for (key, place) in [("frame", record.frame), ("person", record.person)] {
+            if let Some(place) = place {
+                map.serialize_entry(key, &place)?;
+            }
+        }
+        map.serialize_entry("label", &loc.label)?;
+        map.serialize_entry("level", loc.level.name())?;
+        map.serialize_entry("side", loc.side.name())?;
+        map.serialize_entry("probability", &loc.probability)?;
+        map.serialize_entry("folded_label", &loc.folded_label)?;
+        let direction = [
+            ("azimuth_deg", loc.azimuth_deg),
+            ("elevation_deg", loc.elevation_deg),
+            ("uncertainty_deg", loc.uncertainty_deg),
+        ];
+        for (key, degrees) in direction.iter().filter_map(|&(key, d)| Some((key, d?))) {
+            map.serialize_entry(key, &degrees)?;
+        }
+        let rows = [0, 1, 2].map(|i| [r[(i, 0)], r[(i, 1)], r[(i, 2)]]);
+        map.serialize_entry("rotation", &rows)?;
+        let probabilities = Probabilities(self.labels, &loc.probabilities);
+        map.serialize_entry("probabilities", &probabilities)?;
+        map.serialize_entry("missing", &names(&loc.missing))?;
+        map.serialize_entry("derived", &names(&record.derived))?;
+        map.end()
+    }
 }
 
 fn by_serde(labels: &[String], record: &KeypointRecord, loc: &Localization) -> String {
-    let r = &loc.rotation;
     json_line(&BySerde {
-        id: &record.id,
-        source: &record.source,
-        frame: record.frame,
-        person: record.person,
-        label: loc.label,
-        level: loc.level.name(),
-        side: loc.side.name(),
-        probability: loc.probability,
-        folded_label: loc.folded_label,
-        azimuth_deg: loc.azimuth_deg,
-        elevation_deg: loc.elevation_deg,
-        uncertainty_deg: loc.uncertainty_deg,
-        rotation: [0, 1, 2].map(|i| [r[(i, 0)], r[(i, 1)], r[(i, 2)]]),
-        probabilities: Probabilities(labels, &loc.probabilities),
-        missing: loc.missing.iter().map(|l| l.name()).collect(),
-        derived: record.derived.iter().map(|l| l.name()).collect(),
+        labels,
+        record,
+        loc,
     })
+}
+
+/// The default model, its JSON writer and its camera label texts (camera order).
+fn setup() -> (CameraLocalizer, LocalizationJson, Vec<String>) {
+    let localizer = load_model(None).unwrap();
+    let objects = LocalizationJson::new(localizer.cameras());
+    let labels = localizer
+        .cameras()
+        .viewpoints()
+        .iter()
+        .map(|v| v.label_text())
+        .collect();
+    (localizer, objects, labels)
 }
 
 /// The fixture poses of `fixtures/keypoints/example.json`, each also moved by a few pixels and
@@ -104,14 +121,7 @@ fn records() -> Vec<KeypointRecord> {
 
 #[test]
 fn every_object_is_byte_for_byte_what_serde_json_wrote() {
-    let localizer = load_model(None).unwrap();
-    let objects = LocalizationJson::new(localizer.cameras());
-    let labels: Vec<String> = localizer
-        .cameras()
-        .viewpoints()
-        .iter()
-        .map(|v| v.label_text())
-        .collect();
+    let (localizer, objects, labels) = setup();
     let mut compared = 0;
     for record in records() {
         let Ok(loc) = localizer.localize_partial(&record.pose) else {
@@ -129,14 +139,7 @@ fn every_object_is_byte_for_byte_what_serde_json_wrote() {
 /// negative zero, the smallest and largest, exponents).
 #[test]
 fn escapes_absent_fields_and_special_numbers_are_written_as_serde_json_wrote_them() {
-    let localizer = load_model(None).unwrap();
-    let objects = LocalizationJson::new(localizer.cameras());
-    let labels: Vec<String> = localizer
-        .cameras()
-        .viewpoints()
-        .iter()
-        .map(|v| v.label_text())
-        .collect();
+    let (localizer, objects, labels) = setup();
     let mut record = records().remove(0);
     let loc = localizer.localize_partial(&record.pose).unwrap();
     let ids = [
