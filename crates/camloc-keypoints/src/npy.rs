@@ -26,18 +26,72 @@ const MAX_HEADER_DEPTH: usize = 8;
 /// The input after its header: the header bytes read ahead, then the rest, buffered.
 type Buffered<R> = io::BufReader<io::Chain<io::Cursor<Vec<u8>>, R>>;
 
-/// The numbers of an array, in `f64` or `f32`.
-enum Values<R: Read> {
-    F64(npyz::NpyReader<f64, R>),
-    F32(npyz::NpyReader<f32, R>),
+/// Bytes read from the input at a time.
+const READ_BUFFER: usize = 1 << 16;
+
+/// The numbers of an array after its header, `float64` or `float32` in the file's byte order,
+/// read a pose at a time: one copy of the pose's bytes, then decoded as `npyz` decodes them
+/// (`<` little-endian, `>` big-endian; `npyz` refuses `|` for floats, the machine's order here).
+struct Values<R: Read> {
+    reader: R,
+    /// 8 for `float64`, 4 for `float32`.
+    size: usize,
+    order: npyz::Endianness,
+    /// The bytes of the last pose read.
+    bytes: Vec<u8>,
 }
 
 impl<R: Read> Values<R> {
-    fn next(&mut self) -> Option<io::Result<f64>> {
-        match self {
-            Values::F64(values) => values.next(),
-            Values::F32(values) => values.next().map(|v| v.map(f64::from)),
+    /// The numbers of `npy`'s array, `None` when its dtype is neither `float64` nor `float32`
+    /// (any byte order), the dtypes `npyz` reads as `f64` or `f32`.
+    fn new(npy: npyz::NpyFile<R>) -> Option<Values<R>> {
+        let dtype = npy.dtype();
+        let size = if <f64 as npyz::Deserialize>::reader(&dtype).is_ok() {
+            8
+        } else if <f32 as npyz::Deserialize>::reader(&dtype).is_ok() {
+            4
+        } else {
+            return None;
+        };
+        let npyz::DType::Plain(type_str) = dtype else {
+            return None;
+        };
+        Some(Values {
+            reader: npy.into_inner(),
+            size,
+            order: type_str.endianness(),
+            bytes: Vec::new(),
+        })
+    }
+
+    /// Reads the next `count` numbers into `row` (replacing what it held).
+    fn read_into(&mut self, count: usize, row: &mut Vec<f64>) -> io::Result<()> {
+        self.bytes.resize(count * self.size, 0);
+        self.reader.read_exact(&mut self.bytes)?;
+        let order = self.order;
+        row.clear();
+        if self.size == 8 {
+            row.extend(self.bytes.chunks_exact(8).map(|b| {
+                let mut bytes = [0; 8];
+                bytes.copy_from_slice(b);
+                match order {
+                    npyz::Endianness::Little => f64::from_le_bytes(bytes),
+                    npyz::Endianness::Big => f64::from_be_bytes(bytes),
+                    npyz::Endianness::Irrelevant => f64::from_ne_bytes(bytes),
+                }
+            }));
+        } else {
+            row.extend(self.bytes.chunks_exact(4).map(|b| {
+                let mut bytes = [0; 4];
+                bytes.copy_from_slice(b);
+                f64::from(match order {
+                    npyz::Endianness::Little => f32::from_le_bytes(bytes),
+                    npyz::Endianness::Big => f32::from_be_bytes(bytes),
+                    npyz::Endianness::Irrelevant => f32::from_ne_bytes(bytes),
+                })
+            }));
         }
+        Ok(())
     }
 }
 
@@ -50,7 +104,7 @@ impl<R: Read> Values<R> {
 /// Iteration stops after the first error.
 pub struct NpyPoses<R: Read> {
     file: String,
-    /// Buffered here (whatever `R` is) so that reading one number is a copy from the buffer.
+    /// Buffered here (whatever `R` is) so that reading one pose is a copy from the buffer.
     values: Option<Values<Buffered<R>>>,
     count: u64,
     channels: usize,
@@ -79,7 +133,9 @@ impl<R: Read> NpyPoses<R> {
         };
         let head = read_head(&mut reader).map_err(problem)?;
         let head_len = head.len() as u64;
-        let npy = npyz::NpyFile::new(io::BufReader::new(io::Cursor::new(head).chain(reader)))
+        let buffered =
+            io::BufReader::with_capacity(READ_BUFFER, io::Cursor::new(head).chain(reader));
+        let npy = npyz::NpyFile::new(buffered)
             .map_err(|e| problem(format!("not a readable .npy header: {e}")))?;
         let shape = npy.shape().to_vec();
         if npy.order() != npyz::Order::C {
@@ -88,15 +144,10 @@ impl<R: Read> NpyPoses<R> {
             ));
         }
         let dtype = crate::error::clip(npy.dtype().descr().trim_matches('\''));
-        let (values, item_bytes) = match npy.try_data::<f64>() {
-            Ok(values) => (Values::F64(values), 8),
-            Err(npy) => match npy.try_data::<f32>() {
-                Ok(values) => (Values::F32(values), 4),
-                Err(_) => {
-                    return Err(problem(format!("dtype {dtype} is not float64 or float32")));
-                }
-            },
+        let Some(values) = Values::new(npy) else {
+            return Err(problem(format!("dtype {dtype} is not float64 or float32")));
         };
+        let item_bytes = values.size as u64;
         let (count, joints, channels) = match shape[..] {
             [n, j, c @ (2 | 3)] => (n, j, c as usize),
             _ => {
@@ -176,21 +227,16 @@ impl<R: Read> NpyPoses<R> {
         if n == self.count {
             return None;
         }
-        self.row.clear();
-        for _ in 0..self.layout.joint_count() * self.channels {
-            match values.next() {
-                Some(Ok(value)) => self.row.push(value),
-                Some(Err(e)) if e.kind() == io::ErrorKind::UnexpectedEof => {
-                    return Some(Err(problem(format!(
-                        "[{n}]: the data end inside pose {n} of {} (truncated?)",
-                        self.count
-                    ))));
-                }
-                Some(Err(e)) => {
-                    return Some(Err(problem(format!("[{n}]: cannot read: {e}"))));
-                }
-                None => return None,
-            }
+        if let Err(e) = values.read_into(self.layout.joint_count() * self.channels, &mut self.row) {
+            let what = if e.kind() == io::ErrorKind::UnexpectedEof {
+                format!(
+                    "the data end inside pose {n} of {} (truncated?)",
+                    self.count
+                )
+            } else {
+                format!("cannot read: {e}")
+            };
+            return Some(Err(problem(format!("[{n}]: {what}"))));
         }
         self.next += 1;
         let mapped = pose_from_array(self.layout, &self.row, self.channels, &self.options)
@@ -433,22 +479,22 @@ pub fn read_npy_poses3(reader: impl Read, file: &str) -> Result<Vec<Pose3>, Keyp
         return Ok(Vec::new());
     };
     let mut out = Vec::new();
+    let mut row = Vec::with_capacity(NUM_LANDMARKS * 3);
     for n in 0..poses.count {
+        values
+            .read_into(NUM_LANDMARKS * 3, &mut row)
+            .map_err(|e| problem(format!("[{n}]: cannot read: {e}")))?;
         let mut pose = Pose3::new([[0.0; 3]; NUM_LANDMARKS]);
-        for (k, v) in pose.points.iter_mut().flatten().enumerate() {
-            *v = match values.next() {
-                Some(Ok(v)) if v.is_finite() => v,
-                Some(Ok(v)) => {
-                    return Err(KeypointError::NonFinite {
-                        file: file.to_owned(),
-                        at: Location::Array(Box::new([n, k as u64 / 3, k as u64 % 3])),
-                        field: "coordinate",
-                        text: v.to_string(),
-                    });
-                }
-                Some(Err(e)) => return Err(problem(format!("[{n}]: cannot read: {e}"))),
-                None => return Err(problem(format!("[{n}]: the data end early"))),
-            };
+        for (k, (v, &read)) in pose.points.iter_mut().flatten().zip(&row).enumerate() {
+            if !read.is_finite() {
+                return Err(KeypointError::NonFinite {
+                    file: file.to_owned(),
+                    at: Location::Array(Box::new([n, k as u64 / 3, k as u64 % 3])),
+                    field: "coordinate",
+                    text: read.to_string(),
+                });
+            }
+            *v = read;
         }
         out.push(pose);
     }

@@ -83,6 +83,73 @@ def test_localize_equals_the_command_line(cli, localizer, path, options, read_op
         assert missing == want["missing"]
 
 
+# The arrays of `localize --npz`: name, dtype and number of dimensions (docs/cli.md).
+NPZ_ARRAYS = {
+    **dict.fromkeys(["label", "folded_label"], (np.uint16, 1)),
+    "probabilities": (np.float64, 2),
+    **dict.fromkeys(["azimuth_deg", "elevation_deg", "uncertainty_deg"], (np.float64, 1)),
+    "failed": (np.bool_, 1),
+    **dict.fromkeys(["missing", "derived"], (np.bool_, 2)),
+    **dict.fromkeys(["frame", "person"], (np.int64, 1)),
+    "id_utf8": (np.uint8, 1),
+    "id_end": (np.uint64, 1),
+}
+
+
+def mixed_poses(folder):
+    """The example poses, one without its head under an id JSON escapes, one without a torso."""
+    doc = json.loads((KEYPOINTS / "example.json").read_text())
+    headless = dict(doc["poses"][1], id='é "quoted" \\ 人 🙂')
+    headless["landmarks"] = {k: v for k, v in headless["landmarks"].items() if k != "head"}
+    doc["poses"] += [headless, {"id": "no torso", "landmarks": {"head": [10.0, 20.0]}}]
+    path = folder / "mixed.json"
+    path.write_text(json.dumps(doc))
+    return path
+
+
+@pytest.mark.parametrize("input_name", ["mixed", "openpose", "camloc15.npy"])
+def test_localize_npz_loads_without_pickle_and_equals_the_json_of_the_same_run(
+    cli, tmp_path, input_name
+):
+    path = mixed_poses(tmp_path) if input_name == "mixed" else SAMPLES / input_name
+    out = tmp_path / "views.npz"
+    _, expected = cli("localize", "--input", path, "--npz", out)
+    with np.load(out, allow_pickle=False) as npz:
+        got = dict(npz)
+    n = len(expected)
+    assert set(got) == set(NPZ_ARRAYS)
+    for name, (dtype, ndim) in NPZ_ARRAYS.items():
+        assert got[name].dtype == dtype and got[name].ndim == ndim, name
+        assert name == "id_utf8" or got[name].shape[0] == n, name
+    assert got["probabilities"].shape == (n, 12) and got["missing"].shape == (n, 15)
+    # The ids as docs/cli.md decodes them.
+    end = got["id_end"]
+    raw = got["id_utf8"].tobytes()
+    ids = [raw[a:b].decode() for a, b in zip(np.r_[0, end[:-1]], end)]
+    assert ids == [want["id"] for want in expected]
+    failures = 0
+    for i, want in enumerate(expected):
+        assert got["frame"][i] == want.get("frame", -1)
+        assert got["person"][i] == want.get("person", -1)
+        if "error" in want:
+            failures += 1
+            assert got["failed"][i] and got["label"][i] == 0 and got["folded_label"][i] == 0
+            assert np.isnan(got["probabilities"][i]).all() and np.isnan(got["azimuth_deg"][i])
+            continue
+        assert not got["failed"][i]
+        assert got["label"][i] == want["label"]
+        assert got["folded_label"][i] == want["folded_label"]
+        # Python parses JSON numbers correctly rounded: the values are equal, not close.
+        probabilities = [want["probabilities"][f"{k:02}"] for k in range(1, 13)]
+        np.testing.assert_array_equal(got["probabilities"][i], probabilities)
+        assert got["probabilities"][i].max() == want["probability"]
+        for key in ("azimuth_deg", "elevation_deg", "uncertainty_deg"):
+            assert got[key][i] == want[key], key
+        for key in ("missing", "derived"):
+            assert [camloc.LANDMARKS[j] for j in np.flatnonzero(got[key][i])] == want[key], key
+    assert failures == (1 if input_name == "mixed" else 0)
+
+
 @pytest.mark.parametrize("camera", ["opt", "classified"])
 def test_reconstruct_equals_the_command_line(cli, camera):
     path = KEYPOINTS / "example.json"

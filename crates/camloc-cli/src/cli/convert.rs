@@ -9,7 +9,7 @@ use camloc::store::{StagedFiles, check_target, escaped};
 use clap::ValueEnum;
 
 use super::input::Inputs;
-use super::output::NpyStage;
+use super::output::{NpyStage, RowFile};
 use super::stream::{Summary, report_pose_error};
 use super::{CliError, EXIT_ERROR, InputArgs, Out, ProgressArgs, progress};
 
@@ -51,7 +51,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     let mut staged = StagedFiles::new(args.force);
     let mut summary = Summary::default();
     let mut npy = match args.to {
-        Target::Npy => Some(NpyStage::<PartialPose2>::new(&args.out)?),
+        Target::Npy => Some(Box::new(NpyStage::<PartialPose2>::new(&args.out)?)),
         Target::Camloc => None,
     };
     let mut poses: Vec<(String, PartialPose2)> = Vec::new();
@@ -67,7 +67,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
                     report_pose_error(&bar, &record.id, &record.source, message);
                 }
                 match &mut npy {
-                    Some(npy) => npy.push(Some(&record.pose))?,
+                    Some(npy) => npy.push(&record, Some(&record.pose))?,
                     None => poses.push((record.id, record.pose)),
                 }
             }

@@ -7,9 +7,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use camloc::keypoints::KeypointRecord;
-use camloc::{CameraLabel, CameraLocalizer, Localization, Pose3, PoseReconstructor, default_basis};
-use serde::ser::SerializeMap;
-use serde::{Serialize, Serializer};
+use camloc::{CameraLocalizer, Localization, PoseReconstructor, default_basis};
 
 use camloc::store::escaped;
 
@@ -18,6 +16,8 @@ use crate::svg;
 
 use super::export;
 use super::input::Inputs;
+use super::localize_json::LocalizationJson;
+use super::localize_npz::LocalizationArrays;
 use super::sequence;
 use super::stream::{self, Done, Failed, Files, SummaryDrawing};
 use super::{
@@ -63,6 +63,13 @@ pub struct Args {
     /// With --html: the page's play rate, frames per second.
     #[arg(long, value_name = "FPS", default_value = "30", value_parser = export::parse_fps)]
     pub fps: f64,
+    /// Write the results as NumPy arrays to this .npz archive (numpy.load reads it without
+    /// pickle), row n for the n-th pose read: label, folded_label, probabilities, azimuth_deg,
+    /// elevation_deg, uncertainty_deg, failed, missing, derived, frame, person, and the ids as
+    /// id_utf8 and id_end (docs/cli.md gives their types and shapes). Written at the end of the
+    /// run, or not at all. Nothing is printed per pose unless --json or --jsonl asks for it.
+    #[arg(long, value_name = "OUT", conflicts_with = "sequence")]
+    pub npz: Option<PathBuf>,
     #[command(flatten)]
     pub force: ForceArgs,
     #[command(flatten)]
@@ -75,6 +82,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         (args.svg.as_deref(), "--svg", true),
         (args.summary_svg.as_deref(), "--summary-svg", false),
         (args.html.as_deref(), "--html", false),
+        (args.npz.as_deref(), "--npz", false),
     ];
     targets::check_distinct(&targets::outputs(outputs))?;
     let localizer = load_model(args.model.as_deref())?;
@@ -122,20 +130,20 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         });
         (vec![args.html.clone().unwrap_or_default()], make)
     });
-    let files = Files::<Pose3, ViewFrame> {
+    let rows = match &args.npz {
+        Some(npz) => Some(Box::new(LocalizationArrays::new(npz, localizer.cameras().len())?) as _),
+        None => None,
+    };
+    let files = Files::<Localization, ViewFrame> {
         svg: args.svg.clone(),
-        npy: None,
+        rows,
         summary,
         finish,
         force: args.force.force,
-        pose: std::marker::PhantomData,
     };
-    let labels: Vec<String> = localizer
-        .cameras()
-        .viewpoints()
-        .iter()
-        .map(|v| v.label_text())
-        .collect();
+    // Text per pose, unless --npz is the output and no JSON was asked for.
+    let print = format.is_json() || args.npz.is_none();
+    let objects = LocalizationJson::new(localizer.cameras());
     let bar = progress::counter(args.progress.quiet, inputs.len_hint(), "localize", "poses");
     if args.sequence {
         let files = sequence::SequenceOptions {
@@ -158,8 +166,10 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         if let Some(count) = counts.get(loc.label.index()) {
             count.fetch_add(1, Ordering::Relaxed);
         }
-        let text = if format.is_json() {
-            stream::json_line(&localization_json(&labels, record, &loc))
+        let text = if !print {
+            String::new()
+        } else if format.is_json() {
+            objects.object(record, &loc)
         } else {
             localization_text(&localizer, record, &loc)
         };
@@ -183,8 +193,8 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         Ok(Done {
             text,
             svg,
-            row: None,
             keep: view(record, Some(&loc), None),
+            row: args.npz.as_ref().map(|_| loc),
         })
     })?;
     Ok(summary.exit_code("localized"))
@@ -197,73 +207,6 @@ fn rotation_rows(loc: &Localization) -> [[f64; 3]; 3] {
         [r[(1, 0)], r[(1, 1)], r[(1, 2)]],
         [r[(2, 0)], r[(2, 1)], r[(2, 2)]],
     ]
-}
-
-/// The probabilities as a map from camera label ("01".."12", the labels' texts in camera
-/// order) to probability.
-struct Probabilities<'a>(&'a [String], &'a [f64]);
-
-impl Serialize for Probabilities<'_> {
-    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
-        let mut map = serializer.serialize_map(Some(self.1.len()))?;
-        for (label, p) in self.0.iter().zip(self.1) {
-            map.serialize_entry(label, p)?;
-        }
-        map.end()
-    }
-}
-
-/// One pose of `localize --json` / `--jsonl`.
-#[derive(Serialize)]
-struct LocalizationJson<'a> {
-    id: &'a str,
-    source: &'a str,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    frame: Option<u64>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    person: Option<u64>,
-    label: CameraLabel,
-    level: &'static str,
-    side: &'static str,
-    probability: f64,
-    folded_label: CameraLabel,
-    /// The continuous viewpoint (degrees, docs/conventions.md section 2); absent for a model
-    /// trained without direction heads.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    azimuth_deg: Option<f64>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    elevation_deg: Option<f64>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    uncertainty_deg: Option<f64>,
-    rotation: [[f64; 3]; 3],
-    probabilities: Probabilities<'a>,
-    missing: Vec<&'static str>,
-    derived: Vec<&'static str>,
-}
-
-fn localization_json<'a>(
-    labels: &'a [String],
-    record: &'a KeypointRecord,
-    loc: &'a Localization,
-) -> LocalizationJson<'a> {
-    LocalizationJson {
-        id: &record.id,
-        source: &record.source,
-        frame: record.frame,
-        person: record.person,
-        label: loc.label,
-        level: loc.level.name(),
-        side: loc.side.name(),
-        probability: loc.probability,
-        folded_label: loc.folded_label,
-        azimuth_deg: loc.azimuth_deg,
-        elevation_deg: loc.elevation_deg,
-        uncertainty_deg: loc.uncertainty_deg,
-        rotation: rotation_rows(loc),
-        probabilities: Probabilities(labels, &loc.probabilities),
-        missing: loc.missing.iter().map(|l| l.name()).collect(),
-        derived: record.derived.iter().map(|l| l.name()).collect(),
-    }
 }
 
 fn localization_text(

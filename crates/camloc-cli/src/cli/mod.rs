@@ -15,6 +15,9 @@ mod evaluate;
 mod export;
 mod input;
 mod localize;
+mod localize_json;
+mod localize_npz;
+mod npz;
 pub mod output;
 mod progress;
 mod reconstruct;
@@ -71,7 +74,7 @@ enum Command {
     /// torso cannot be derived is reported as an error and the others are still localized.
     ///
     /// Poses are read, localized (in parallel) and written in batches, so memory does not grow
-    /// with the input; use --jsonl for one JSON object per line.
+    /// with the input; use --jsonl for one JSON object per line, --npz for NumPy arrays.
     #[command(after_help = EXIT_CODES)]
     Localize(localize::Args),
     /// Reconstruct the 3D poses of a keypoint input with a pose basis and projected matching

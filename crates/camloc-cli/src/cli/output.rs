@@ -1,12 +1,13 @@
-//! Where results go: standard output (buffered, a closed pipe is a normal end) and `.npy` arrays
-//! staged in a [`StagedFiles`] (the store's all-or-nothing output files, moved into place at the
-//! end of the run).
+//! Where results go: standard output (buffered, a closed pipe is a normal end) and files of one
+//! row per pose ([`RowFile`]: `.npy` arrays here, `.npz` archives in `localize_npz`) staged in a
+//! [`StagedFiles`] (the store's all-or-nothing output files, moved into place at the end of the
+//! run).
 
 use std::fs::File;
 use std::io::{self, BufReader, BufWriter, Read, Seek, Write};
 use std::path::{Path, PathBuf};
 
-use camloc::keypoints::{NpyPose, NpyPoseWriter};
+use camloc::keypoints::{KeypointRecord, NpyPose, NpyPoseWriter};
 use camloc::skeleton::NUM_LANDMARKS;
 use camloc::store::{StagedFiles, StoreError, scratch_beside};
 
@@ -63,8 +64,28 @@ impl Out {
     }
 }
 
+/// A file of one row per pose read, in input order, written as the poses are done and staged
+/// at the end of the run: `--npy` ([`NpyStage`]), `localize --npz`.
+pub trait RowFile<P> {
+    /// Where the file goes.
+    fn target(&self) -> &Path;
+
+    /// Appends the row of the pose `record`: `row`, or the file's mark of a failed pose for
+    /// `None`.
+    ///
+    /// # Errors
+    /// A failed write of the file's scratch data.
+    fn push(&mut self, record: &KeypointRecord, row: Option<&P>) -> Result<(), CliError>;
+
+    /// Writes the whole file into `staged` as the content of its target.
+    ///
+    /// # Errors
+    /// A failed read of the scratch data or write of the staged file.
+    fn finish(self: Box<Self>, staged: &mut StagedFiles) -> Result<(), CliError>;
+}
+
 /// An operating-system error on `path`.
-fn io_error(path: &Path) -> impl Fn(io::Error) -> CliError + '_ {
+pub fn io_error(path: &Path) -> impl Fn(io::Error) -> CliError + '_ {
     move |source| {
         StoreError::Io {
             path: path.to_path_buf(),
@@ -75,7 +96,7 @@ fn io_error(path: &Path) -> impl Fn(io::Error) -> CliError + '_ {
 }
 
 /// A `.npy` array of poses written as they come, whose length is known only at the end: the
-/// numbers go to an anonymous scratch file, and [`NpyStage::finish`] writes the array (header
+/// numbers go to an anonymous scratch file, and [`RowFile::finish`] writes the array (header
 /// with N, then the body) into a [`StagedFiles`] file.
 pub struct NpyStage<P: NpyPose> {
     target: PathBuf,
@@ -86,6 +107,9 @@ pub struct NpyStage<P: NpyPose> {
 
 impl<P: NpyPose> NpyStage<P> {
     /// Starts an array for `target`.
+    ///
+    /// # Errors
+    /// When the scratch file cannot be made beside `target`.
     pub fn new(target: &Path) -> Result<NpyStage<P>, CliError> {
         let writer = BufWriter::new(scratch_beside(target)?);
         Ok(NpyStage {
@@ -96,8 +120,28 @@ impl<P: NpyPose> NpyStage<P> {
         })
     }
 
+    /// [`NpyStage::new`] as the row file of a run, or `None` without `target`.
+    ///
+    /// # Errors
+    /// As [`NpyStage::new`].
+    pub fn boxed(target: Option<&Path>) -> Result<Option<Box<dyn RowFile<P>>>, CliError>
+    where
+        P: 'static,
+    {
+        Ok(match target {
+            Some(target) => Some(Box::new(NpyStage::<P>::new(target)?)),
+            None => None,
+        })
+    }
+}
+
+impl<P: NpyPose> RowFile<P> for NpyStage<P> {
+    fn target(&self) -> &Path {
+        &self.target
+    }
+
     /// Appends one pose, or a row of NaN for `None`.
-    pub fn push(&mut self, pose: Option<&P>) -> Result<(), CliError> {
+    fn push(&mut self, _record: &KeypointRecord, pose: Option<&P>) -> Result<(), CliError> {
         let mut result = Ok(());
         let mut write = |v: f64| {
             if result.is_ok() {
@@ -113,13 +157,14 @@ impl<P: NpyPose> NpyStage<P> {
     }
 
     /// Writes the whole array into `staged` as the content of the target.
-    pub fn finish(self, staged: &mut StagedFiles) -> Result<(), CliError> {
-        let io = io_error(&self.target);
-        let mut body = self.writer.into_inner().map_err(|e| io(e.into_error()))?;
+    fn finish(self: Box<Self>, staged: &mut StagedFiles) -> Result<(), CliError> {
+        let this = *self;
+        let io = io_error(&this.target);
+        let mut body = this.writer.into_inner().map_err(|e| io(e.into_error()))?;
         body.rewind().map_err(&io)?;
         let mut body = BufReader::new(body);
-        let count = self.count;
-        staged.add_with(&self.target, |file| {
+        let count = this.count;
+        staged.add_with(&this.target, |file| {
             let mut out = NpyPoseWriter::<_, Row<P>>::new(file, count)?;
             let mut row = Row::<P>::new();
             for _ in 0..count {
@@ -132,7 +177,7 @@ impl<P: NpyPose> NpyStage<P> {
     }
 }
 
-/// One pose as the little-endian bytes [`NpyStage::push`] wrote.
+/// One pose as the little-endian bytes [`NpyStage`] wrote.
 struct Row<P> {
     bytes: Vec<u8>,
     _pose: std::marker::PhantomData<fn(&P)>,

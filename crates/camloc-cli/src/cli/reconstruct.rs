@@ -11,6 +11,7 @@ use clap::builder::{PossibleValue, TypedValueParser};
 
 use super::export::{self, Kept};
 use super::input::Inputs;
+use super::output::NpyStage;
 use super::reconstruct_output::{PoseMeta, pose_output, pose_svg};
 use super::reconstruct_sequence;
 use super::stream::{self, Done, Failed, Files};
@@ -280,11 +281,10 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     }
     let files = Files::<Pose3, Kept> {
         svg: args.svg.clone(),
-        npy: args.npy.clone(),
+        rows: NpyStage::boxed(args.npy.as_deref())?,
         summary: None,
         finish,
         force: args.force.force,
-        pose: std::marker::PhantomData,
     };
     let keep = args.bvh.is_some() || args.html.is_some();
     let summary = stream::run(inputs, out, format, files, &bar, |record| {

@@ -191,10 +191,9 @@ pub fn run(
     }
     emit.end(out)?;
     out.flush()?;
-    if let Some(path) = options.npy {
-        let mut npy = NpyStage::<Pose3>::new(path)?;
-        for row in &rows {
-            npy.push(row.as_ref())?;
+    if let Some(mut npy) = NpyStage::<Pose3>::boxed(options.npy)? {
+        for (record, row) in kept.iter().zip(&rows) {
+            npy.push(record, row.as_ref())?;
         }
         npy.finish(&mut staged)?;
     }

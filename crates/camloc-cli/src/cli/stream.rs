@@ -1,18 +1,19 @@
 //! The batch loop of `localize` and `reconstruct`: read a batch of poses, process it in
-//! parallel, write its results (standard output as text, a JSON array or JSON lines; SVG and
-//! `.npy` files staged), then the next batch. Memory is bounded by the batch, not the input.
+//! parallel, write its results (standard output as text, a JSON array or JSON lines; SVG files
+//! and the file of one row per pose staged), then the next batch. Memory is bounded by the
+//! batch, not the input.
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use camloc::keypoints::{KeypointRecord, NpyPose};
+use camloc::keypoints::KeypointRecord;
 use camloc::store::{StagedFiles, check_target, escaped, quoted, quoted_path};
 use indicatif::ProgressBar;
 use rayon::prelude::*;
 use serde::Serialize;
 
 use super::input::Inputs;
-use super::output::{NpyStage, Out};
+use super::output::{Out, RowFile};
 use super::{CliError, EXIT_ERROR, numbered_path};
 
 /// Poses per batch: enough to keep both cores busy, small enough to bound memory.
@@ -46,14 +47,14 @@ impl Format {
 }
 
 /// The result of one pose, made in parallel: its text (lines for [`Format::Text`], one JSON
-/// object without a newline otherwise), its drawing for `--svg`, its row for `--npy`, and what
-/// the run keeps of it until the end (for `--bvh` and `--html`).
+/// object without a newline otherwise), its drawing for `--svg`, its row for `--npy` or
+/// `--npz`, and what the run keeps of it until the end (for `--bvh` and `--html`).
 pub struct Done<P, K> {
     /// What goes to standard output.
     pub text: String,
     /// The SVG drawing, when asked for and possible.
     pub svg: Option<String>,
-    /// The row of the `.npy` output, when asked for.
+    /// The row of the [`Files::rows`] file, when asked for.
     pub row: Option<P>,
     /// What [`Files::finish`] gets of this pose, when asked for.
     pub keep: Option<K>,
@@ -85,11 +86,12 @@ pub const KEEP_MAX_POSES: u64 = 100_000;
 pub type Finish<K> = Box<dyn FnOnce(Vec<K>) -> Result<Vec<(PathBuf, Vec<u8>)>, CliError>>;
 
 /// The files a run writes besides standard output.
-pub struct Files<P: NpyPose, K> {
+pub struct Files<P, K> {
     /// `--svg`: one drawing per pose (numbered when there are several).
     pub svg: Option<PathBuf>,
-    /// `--npy`: one row per pose read (NaN for a pose that failed).
-    pub npy: Option<PathBuf>,
+    /// `--npy` or `--npz`: one row per pose read (a pose that failed is marked so in its row),
+    /// started before the run.
+    pub rows: Option<Box<dyn RowFile<P>>>,
     /// `--summary-svg`: a drawing of the whole run, made by the function once every pose is
     /// done.
     pub summary: Option<(PathBuf, SummaryDrawing)>,
@@ -98,8 +100,6 @@ pub struct Files<P: NpyPose, K> {
     pub finish: Option<(Vec<PathBuf>, Finish<K>)>,
     /// `--force`: replace existing files.
     pub force: bool,
-    /// The pose type of the `.npy` rows.
-    pub pose: std::marker::PhantomData<fn(&P)>,
 }
 
 /// Draws the summary of a run (see [`Files::summary`]).
@@ -248,7 +248,7 @@ pub fn run<P, K, F>(
     compute: F,
 ) -> Result<Summary, CliError>
 where
-    P: NpyPose + Send,
+    P: Send,
     K: Send,
     F: Fn(&KeypointRecord) -> Result<Done<P, K>, Failed<K>> + Sync,
 {
@@ -258,8 +258,8 @@ where
         check_target(svg, files.force)?;
         check_target(&numbered_path(svg, 0, 2), files.force)?;
     }
-    if let Some(npy) = &files.npy {
-        check_target(npy, files.force)?;
+    if let Some(rows) = &files.rows {
+        check_target(rows.target(), files.force)?;
     }
     if let Some((summary, _)) = &files.summary {
         check_target(summary, files.force)?;
@@ -269,9 +269,9 @@ where
     }
     let mut kept = Vec::new();
     let mut staged = StagedFiles::new(files.force);
-    let mut npy = files.npy.as_deref().map(NpyStage::<P>::new).transpose()?;
+    let mut rows = files.rows;
     let has_files =
-        files.svg.is_some() || npy.is_some() || files.summary.is_some() || files.finish.is_some();
+        files.svg.is_some() || rows.is_some() || files.summary.is_some() || files.finish.is_some();
     let mut summary = Summary::default();
     let mut first_svg = None;
     let mut emitter = Emitter::new(format);
@@ -325,8 +325,8 @@ where
                                 first_svg = Some(at);
                             }
                         }
-                        if let Some(npy) = &mut npy {
-                            npy.push(done.row.as_ref())?;
+                        if let Some(rows) = &mut rows {
+                            rows.push(record, done.row.as_ref())?;
                         }
                         kept.extend(done.keep);
                     }
@@ -342,8 +342,8 @@ where
                             };
                             emitter.write(out, &json_line(&object))?;
                         }
-                        if let Some(npy) = &mut npy {
-                            npy.push(None)?;
+                        if let Some(rows) = &mut rows {
+                            rows.push(record, None)?;
                         }
                     }
                 }
@@ -361,8 +361,8 @@ where
     }
     emitter.end(out)?;
     out.flush()?;
-    if let Some(npy) = npy {
-        npy.finish(&mut staged)?;
+    if let Some(rows) = rows {
+        rows.finish(&mut staged)?;
     }
     if let Some((path, draw)) = &files.summary {
         staged.add(path, draw().as_bytes())?;

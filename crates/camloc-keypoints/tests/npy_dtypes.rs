@@ -1,0 +1,78 @@
+//! `.npy` keypoint arrays in every dtype the reader takes (`float64` and `float32`, little- or
+//! big-endian) give the same records, and a truncated stream fails at the same pose in each.
+
+use std::io::Cursor;
+
+use camloc_keypoints::{
+    KeypointRecord, PartialPose2, ReadOptions, open_keypoints_reader, write_npy,
+};
+
+/// Two poses with numbers a `float32` holds exactly, joint 3 of the second one missing.
+fn poses() -> Vec<PartialPose2> {
+    let pose = |first: f64| PartialPose2 {
+        points: std::array::from_fn(|j| {
+            Some([first + j as f64 * 5.0, first + 2.5 + j as f64 * 5.0])
+        }),
+    };
+    let mut second = pose(250.0);
+    second.points[3] = None;
+    vec![pose(100.0), second]
+}
+
+/// Every dtype the reader takes, as (descr, the array of [`poses`]): the crate's own `<f8`
+/// array, its header given another descr of the same length and its numbers re-encoded.
+fn arrays() -> Vec<(&'static str, Vec<u8>)> {
+    let mut le = Vec::new();
+    write_npy(&mut le, &poses()).unwrap();
+    let body_at = 10 + usize::from(u16::from_le_bytes([le[8], le[9]]));
+    let (head, body) = le.split_at(body_at);
+    let numbers: Vec<f64> = body
+        .chunks_exact(8)
+        .map(|b| f64::from_le_bytes(b.try_into().unwrap()))
+        .collect();
+    let array = |descr: &'static str, encode: fn(f64) -> Vec<u8>| {
+        let mut bytes = head.to_vec();
+        let at = head.windows(5).position(|w| w == b"'<f8'").unwrap();
+        bytes[at + 1..at + 4].copy_from_slice(descr.as_bytes());
+        bytes.extend(numbers.iter().flat_map(|&v| encode(v)));
+        (descr, bytes)
+    };
+    vec![
+        array("<f8", |v| v.to_le_bytes().to_vec()),
+        array(">f8", |v| v.to_be_bytes().to_vec()),
+        array("<f4", |v| (v as f32).to_le_bytes().to_vec()),
+        array(">f4", |v| (v as f32).to_be_bytes().to_vec()),
+    ]
+}
+
+/// The records read from `bytes` as a stream of unknown size (a pipe), or the first error.
+fn read(bytes: &[u8]) -> Result<Vec<KeypointRecord>, String> {
+    let options = ReadOptions::default();
+    open_keypoints_reader(Cursor::new(bytes.to_vec()), "a.npy", None, None, &options)
+        .map_err(|e| e.to_string())?
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(|e| e.to_string())
+}
+
+#[test]
+fn every_float_dtype_and_byte_order_gives_the_same_records() {
+    let arrays = arrays();
+    let reference = read(&arrays[0].1).unwrap();
+    let poses: Vec<PartialPose2> = reference.iter().map(|r| r.pose).collect();
+    assert_eq!(poses, self::poses());
+    for (descr, bytes) in arrays {
+        assert_eq!(read(&bytes).unwrap(), reference, "{descr}");
+    }
+}
+
+#[test]
+fn a_truncated_stream_fails_at_the_same_pose_in_every_dtype() {
+    for (descr, bytes) in arrays() {
+        // The second pose loses one byte of its last number.
+        let e = read(&bytes[..bytes.len() - 1]).unwrap_err();
+        assert_eq!(
+            e, "a.npy: [1]: the data end inside pose 1 of 2 (truncated?)",
+            "{descr}"
+        );
+    }
+}
