@@ -4,6 +4,7 @@ fixtures, shapes and dtypes, missing joints, bad input, a 100k-pose batch.
 The command-line comparisons run the `camloc` binary of the `cli` fixture (conftest.py).
 """
 
+import json
 import shutil
 import threading
 from pathlib import Path
