@@ -246,16 +246,22 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     targets::check_distinct(&targets::outputs(outputs))?;
     let choice = camera_of(args);
     let reconstructor = reconstructor(args)?;
-    // The page shows the cameras' probabilities: the localizer of every pose.
-    let page_localizer = match &args.html {
-        Some(_) => Some(load_model(args.model.as_deref())?),
-        None => None,
+    // The page shows the cameras' probabilities: the localizer of every pose (the
+    // reconstructor's when it has one, else the model loaded for the page alone).
+    let loaded;
+    let page_localizer = match (&args.html, reconstructor.localizer()) {
+        (None, _) => None,
+        (Some(_), Some(localizer)) => Some(localizer),
+        (Some(_), None) => {
+            loaded = load_model(args.model.as_deref())?;
+            Some(&loaded)
+        }
     };
     let inputs = Inputs::open(&args.input)?;
     let format = args.format.format();
-    let finish = finish(args, &inputs, page_localizer.as_ref());
+    let finish = finish(args, &inputs, page_localizer);
     let view = |record: &KeypointRecord, r: Option<&Reconstruction>, error: Option<String>| {
-        page_localizer.as_ref().map(|localizer| {
+        page_localizer.map(|localizer| {
             let localization = localizer.localize_partial(&record.pose).ok();
             ViewFrame::new(record, localization.as_ref(), r, error)
         })
