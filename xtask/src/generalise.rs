@@ -17,6 +17,7 @@ use camloc::learning::{LogisticRegression, angle_deg};
 use camloc::{CameraLocalizer, Capacity, Descriptor, TrainOptions, cross_validate, evaluate};
 
 use crate::mocap_data::{load_split, project};
+use crate::progress::newton_line;
 
 /// Held-out subjects of `generalise` (old and new ones), comma-separated.
 pub const TEST_SUBJECTS: &str = "06,09,16,17,35,47,113,127,141";
@@ -221,15 +222,7 @@ fn accuracy_by_category(
 fn train(train: &Dataset, options: &TrainOptions) -> Result<(CameraLocalizer, f64, usize), String> {
     let start = Instant::now();
     let (localizer, report) = CameraLocalizer::train(train, options, |log| {
-        eprintln!(
-            "  newton {:>3} at {:6.1} s: objective {:.6e}  |grad|_inf {:.3e}  step {:.3}  ({})",
-            log.iteration,
-            start.elapsed().as_secs_f64(),
-            log.objective,
-            log.gradient_norm,
-            log.step,
-            log.direction_summary()
-        )
+        eprintln!("{}", newton_line(log, start.elapsed().as_secs_f64()))
     })
     .map_err(|e| e.to_string())?;
     Ok((
@@ -347,9 +340,9 @@ pub fn measure(args: &Args) -> Result<Measured, String> {
         } else {
             (candidates[0].clone(), None)
         };
-        let options = TrainOptions {
+        let mut options = TrainOptions {
             descriptor,
-            regression,
+            regression: regression.clone(),
             dropout: (args.dropout > 0.0).then(|| camloc::LandmarkDropout {
                 copies: args.dropout,
                 ..Default::default()
@@ -359,6 +352,10 @@ pub fn measure(args: &Args) -> Result<Measured, String> {
             ..TrainOptions::default()
         }
         .with_capacity(capacity);
+        // The lambdas are cross-validated on the linear model; a quadratic one keeps its own.
+        if capacity == Capacity::Linear {
+            options.regression = regression;
+        }
         let (localizer, seconds, iterations) = train(&train_set, &options)?;
         let jit = evaluate(&localizer, &test_set).map_err(|e| e.to_string())?;
         let sph = evaluate(&localizer, &sphere_set).map_err(|e| e.to_string())?;

@@ -15,6 +15,7 @@ use camloc::CameraLocalizer;
 use camloc::dataset::{GenerateConfig, MotionCategory, PoseSequence, Protocol};
 
 use crate::mocap_data::{load_split, project};
+use crate::progress::newton_line;
 use crate::recipe::Recipe;
 use crate::view_scores::{Summary, ViewOutcome, categories_in, outcomes};
 
@@ -27,6 +28,11 @@ pub struct Args {
     /// Held-out subjects of the protocol comparison.
     #[arg(long, value_delimiter = ',', default_value = crate::generalise::TEST_SUBJECTS)]
     pub test_subjects: Vec<String>,
+    /// Subjects left out of everything (neither trained nor tested on): with the real
+    /// held-out subjects here and some training subjects as `--test-subjects`, recipes are
+    /// compared on validation subjects without looking at the test subjects.
+    #[arg(long, value_delimiter = ',', value_name = "SUBJECTS")]
+    pub exclude_subjects: Vec<String>,
     /// Recipes compared, each `+`-joined parts: `jittered` (the recipe before issue 21),
     /// `posture[=SHARE]` (0.25), `rig[=STRIDE]` (2), `balance=B` (1), `quadratic[-K]`,
     /// `heads=quadratic-K`, `classes`; e.g. `posture+rig+balance=0.5`.
@@ -42,6 +48,9 @@ pub struct Args {
     /// Skip the leave-posture-out part.
     #[arg(long)]
     pub no_leave_posture_out: bool,
+    /// Print every Newton iteration of every fit on standard error.
+    #[arg(long)]
+    pub log_iterations: bool,
     /// Frame selection by pose, millimetres (the default model's).
     #[arg(long, default_value_t = crate::recipe::DEFAULT_MIN_POSE_DISTANCE_MM, value_name = "MM")]
     pub min_pose_distance: f64,
@@ -62,7 +71,11 @@ fn train(
     args: &Args,
 ) -> Result<(CameraLocalizer, f64), String> {
     let start = Instant::now();
-    let trained = recipe.train(sequences, args.min_pose_distance, |_| {})?;
+    let trained = recipe.train(sequences, args.min_pose_distance, |log| {
+        if args.log_iterations {
+            eprintln!("{}", newton_line(log, start.elapsed().as_secs_f64()));
+        }
+    })?;
     eprintln!(
         "  {}: {} training views, {} Newton iterations, {:.1} s",
         recipe.name,
@@ -126,7 +139,8 @@ pub fn run(args: &Args) -> Result<(), String> {
 pub fn measure(args: &Args, emit: &mut dyn FnMut(&str)) -> Result<(), String> {
     let started = Instant::now();
     let mut md = String::new();
-    let (train_seqs, test_seqs) = load_split(&args.mocap, &args.test_subjects)?;
+    let (mut train_seqs, test_seqs) = load_split(&args.mocap, &args.test_subjects)?;
+    train_seqs.retain(|s| !args.exclude_subjects.contains(&s.clip.subject));
     let _ = writeln!(
         md,
         "Cells: 12-class accuracy (level accuracy, median viewpoint error, mean signed elevation error, views). Held-out subjects {}; selection by pose at {} mm.",
@@ -252,6 +266,8 @@ pub fn report_section(mocap: &[PathBuf], folds: usize) -> Result<String, String>
         recipes: vec!["jittered".parse()?, Recipe::default_model()],
         folds,
         no_leave_posture_out: false,
+        log_iterations: false,
+        exclude_subjects: Vec::new(),
         min_pose_distance: crate::recipe::DEFAULT_MIN_POSE_DISTANCE_MM,
     };
     let mut md = format!(

@@ -38,3 +38,16 @@ impl Progress {
         let _ = err.flush();
     }
 }
+
+/// One Newton iteration of a fit as a line for standard error: its number, the seconds since
+/// the fit started, objective, gradient norm, step and how its direction was found.
+pub fn newton_line(log: &camloc::learning::IterationLog, seconds: f64) -> String {
+    format!(
+        "  newton {:>3} at {seconds:6.1} s: objective {:.6e}  |grad|_inf {:.3e}  step {:.3}  ({})",
+        log.iteration,
+        log.objective,
+        log.gradient_norm,
+        log.step,
+        log.direction_summary()
+    )
+}

@@ -21,7 +21,7 @@ pub const DEFAULT_MIN_POSE_DISTANCE_MM: f64 = 100.0;
 /// Camera roll of the default model's training views, degrees (photos are seldom level).
 pub const DEFAULT_ROLL_DEG: f64 = 15.0;
 /// The default model's recipe (issue 21: chosen by `cargo xtask postures`, docs/RESULTS.md).
-pub const DEFAULT_RECIPE: &str = "posture=0.1+rig+balance=0.5+heads=quadratic-30";
+pub const DEFAULT_RECIPE: &str = "posture=0.1+rig+balance=0.5+quadratic";
 
 /// The training options of the default model: [`TrainOptions::default`] with the dropout
 /// seeded, and no viewpoint heads fitted on the training views (a recipe fits them on its
@@ -65,7 +65,8 @@ pub fn training_views(
 /// to the classifier's and the heads' views), `balance=B` (the camera priors' balance, 1 by
 /// default), `quadratic[-K]` (the classifier's capacity), `heads=quadratic-K` (the heads' own
 /// capacity), `classes` ((posture, camera) classes), `precond=N` (truncated Newton-CG
-/// preconditioned on `N` samples).
+/// preconditioned on `N` samples), `lambda=L` (the classifier's ridge weight), `tol=T` (its
+/// per-sample gradient tolerance).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Recipe {
     /// The text it was parsed from, its name in tables.
@@ -107,6 +108,8 @@ impl std::str::FromStr for Recipe {
                     recipe.rig_stride = Some(stride as usize);
                 }
                 ("balance", Some(v)) => recipe.options.camera_balance = number(v)?,
+                ("lambda", Some(v)) => recipe.options.regression.lambda = number(v)?,
+                ("tol", Some(v)) => recipe.options.regression.gradient_tolerance = number(v)?,
                 ("classes", None) => recipe.options.posture_classes = true,
                 ("heads", Some(v)) => recipe.options.viewpoint_capacity = v.parse()?,
                 ("quadratic", None) => {

@@ -9,6 +9,7 @@ use camloc::reconstruct::{BasisConfig, PoseBasis};
 use camloc::store::Persist;
 
 use crate::mocap_data::{basis_poses, categorise, load_sequences};
+use crate::progress::newton_line;
 use crate::recipe::{DEFAULT_MIN_POSE_DISTANCE_MM, Recipe};
 
 /// Arguments of `train-default`.
@@ -91,13 +92,7 @@ fn train_model(args: &Args, sequences: &[PoseSequence], out: &Path) -> Result<()
             .len()
     );
     let trained = recipe.train(sequences, DEFAULT_MIN_POSE_DISTANCE_MM, |log| {
-        eprintln!(
-            "  newton {:>3}: objective {:.6e}  |grad|_inf {:.3e}  ({})",
-            log.iteration,
-            log.objective,
-            log.gradient_norm,
-            log.direction_summary()
-        );
+        eprintln!("{}", newton_line(log, start.elapsed().as_secs_f64()));
     })?;
     if !trained.report.converged {
         return Err("the Newton solver did not converge; the default model was not written".into());

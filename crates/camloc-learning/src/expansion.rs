@@ -19,13 +19,22 @@ pub const MAX_EXPANSION_COMPONENTS: usize = 64;
 /// cannot be whitened.
 const NEGLIGIBLE_VARIANCE: f64 = 1e-12;
 
+/// Largest magnitude of a whitened component before the products are taken, in standard
+/// deviations of the training rows: a component beyond it is clamped to it. Without the
+/// clamp a few atypical views (a component 10 standard deviations out gives a product of 100)
+/// dominate the products; the Newton solver's quadratic model could not follow them and the
+/// default quadratic fit did not converge in 100 iterations (issue 21; with the clamp it
+/// converges in about 20, docs/RESULTS.md).
+pub const COMPONENT_LIMIT: f64 = 3.0;
+
 /// Rows per parallel task of [`QuadraticExpansion::expand_rows`].
 const ROWS_PER_TASK: usize = 1024;
 
 /// A fitted quadratic expansion `x -> [x, z_a z_b for a <= b]` with
-/// `z = W ((x - mean) / scale)`: `W` holds the `k` leading principal directions of the
-/// standardised training rows, each divided by the square root of its variance (so that `z`
-/// has unit variance on the training rows). Units: `x` as given; `z` is unit-free.
+/// `z = clamp(W ((x - mean) / scale), -c, c)`: `W` holds the `k` leading principal directions
+/// of the standardised training rows, each divided by the square root of its variance (so
+/// that `z` has unit variance on the training rows before the clamp), and `c` is
+/// [`COMPONENT_LIMIT`]. Units: `x` as given; `z` is unit-free.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct QuadraticExpansion {
     standardiser: Standardiser,
@@ -145,7 +154,8 @@ impl QuadraticExpansion {
 
     /// Writes the expansion of `x` (length [`n_inputs`](Self::n_inputs)) into `out` (length
     /// [`n_outputs`](Self::n_outputs)): `x` itself, then `z_a z_b` for `a <= b` in row-major
-    /// order of the upper triangle. Does not allocate.
+    /// order of the upper triangle, each component clamped to +-[`COMPONENT_LIMIT`]. Does not
+    /// allocate.
     ///
     /// # Errors
     /// [`LearningError::SizeMismatch`] for a wrong length of `x` or `out`.
@@ -170,7 +180,8 @@ impl QuadraticExpansion {
         let mut z = [0.0; MAX_EXPANSION_COMPONENTS];
         let z = &mut z[..self.n_components];
         for (za, w) in z.iter_mut().zip(self.projection.chunks_exact(d)) {
-            *za = w.iter().zip(linear.iter()).map(|(a, b)| a * b).sum();
+            let projected: f64 = w.iter().zip(linear.iter()).map(|(a, b)| a * b).sum();
+            *za = projected.clamp(-COMPONENT_LIMIT, COMPONENT_LIMIT);
         }
         linear.copy_from_slice(x);
         let mut k = 0;
@@ -273,6 +284,25 @@ mod tests {
         // Deterministic: the same fit twice.
         assert_eq!(QuadraticExpansion::fit(&x, k).unwrap(), e);
         e.validate().unwrap();
+    }
+
+    #[test]
+    fn an_atypical_row_gives_bounded_products() {
+        let (n, d, k) = (2000, 5, 3);
+        let data = rows(n, d, 3);
+        let x = Features::new(&data, d).unwrap();
+        let e = QuadraticExpansion::fit(&x, k).unwrap();
+        // A row far outside the training rows: its components are many deviations out.
+        let far = [1000.0, -500.0, 800.0, 0.0, 300.0];
+        let mut out = vec![0.0; e.n_outputs()];
+        e.expand_into(&far, &mut out).unwrap();
+        let limit = COMPONENT_LIMIT * COMPONENT_LIMIT;
+        assert!(out[d..].iter().all(|v| v.abs() <= limit), "{:?}", &out[d..]);
+        assert!(
+            out[d..].iter().any(|v| v.abs() == limit),
+            "no component was clamped"
+        );
+        assert_eq!(&out[..d], &far);
     }
 
     #[test]

@@ -62,7 +62,7 @@ pub use config::{
 pub use cv::{CandidateScore, CvReport, cross_validate_grouped, group_k_fold};
 pub use data::Features;
 pub use error::LearningError;
-pub use expansion::{MAX_EXPANSION_COMPONENTS, QuadraticExpansion};
+pub use expansion::{COMPONENT_LIMIT, MAX_EXPANSION_COMPONENTS, QuadraticExpansion};
 pub use model::LogisticModel;
 pub use newton::{FitReport, IterationLog, NewtonProblem, Termination};
 pub use ridge::{CONFIDENCE_BINS, DirectionHeads, RidgeModel, angle_deg};

@@ -188,10 +188,11 @@ pub const DATASET_KIND: FileKind = FileKind {
 /// Camera localizer models (`camloc::CameraLocalizer`): up to 64 MiB (a descriptor of
 /// 10,000 values for 64 cameras, with viewpoint heads, would still fit; the default model is
 /// under 1 MiB). Version 2 added the continuous-viewpoint heads, version 3 the quadratic
-/// feature expansion, version 4 the posture groups of (posture, camera) classes.
+/// feature expansion, version 4 the posture groups of (posture, camera) classes, version 5
+/// the viewpoint heads' own expansion and the clamped components of quadratic expansions.
 pub const MODEL_KIND: FileKind = FileKind {
     magic: *b"CAMLOCMD",
-    version: 4,
+    version: 5,
     what: "model",
     max_payload: 64 << 20,
 };

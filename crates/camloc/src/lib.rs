@@ -71,5 +71,6 @@ pub use sequence::{
 pub use localizer::{CameraLocalizer, Localization};
 pub use train_options::{
     Capacity, DEFAULT_LAMBDA, DEFAULT_PRECONDITIONER_ROWS, DEFAULT_QUADRATIC_COMPONENTS,
-    DEFAULT_VIEWPOINT_LAMBDA, LandmarkDropout, MAX_DROPOUT_COPIES, TrainOptions, TrainingInfo,
+    DEFAULT_QUADRATIC_LAMBDA, DEFAULT_VIEWPOINT_LAMBDA, LandmarkDropout, MAX_DROPOUT_COPIES,
+    QUADRATIC_GRADIENT_TOLERANCE, TrainOptions, TrainingInfo,
 };

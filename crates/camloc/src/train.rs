@@ -165,7 +165,9 @@ impl CameraLocalizer {
     /// [`Capacity::Linear`], the classifier's features; [`Capacity::Quadratic`], the
     /// descriptor and the products of its leading whitened principal components, an
     /// expansion fitted on the dataset's descriptors (a quadratic regression of the
-    /// direction, whatever the classifier's capacity).
+    /// direction, whatever the classifier's capacity), or the classifier's own expansion when
+    /// it has that many components (the heads then read the classifier's rows: one expansion
+    /// per pose instead of two).
     ///
     /// # Errors
     /// As [`fit_viewpoint`](Self::fit_viewpoint); expansion errors for a bad number of
@@ -187,9 +189,11 @@ impl CameraLocalizer {
         let poses: Vec<PartialPose2> = dataset.samples.iter().map(sample_pose).collect();
         let descriptors = self.descriptor_rows(&poses)?;
         let d = self.descriptor.len();
-        self.viewpoint_expansion = match capacity {
-            Capacity::Linear => None,
-            Capacity::Quadratic { components } => Some(QuadraticExpansion::fit(
+        self.viewpoint_expansion = match (capacity, &self.expansion) {
+            (Capacity::Linear, _) => None,
+            // The classifier's expansion already has that capacity: the heads read its rows.
+            (Capacity::Quadratic { components }, Some(e)) if e.n_components() == components => None,
+            (Capacity::Quadratic { components }, _) => Some(QuadraticExpansion::fit(
                 &Features::new(&descriptors, d)?,
                 components,
             )?),

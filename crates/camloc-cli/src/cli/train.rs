@@ -33,10 +33,10 @@ pub struct Args {
           value_parser = str::parse::<Capacity>)]
     pub capacity: Capacity,
     /// Ridge weight lambda of eq. 11 (on the sum of the per-sample losses; scikit-learn's
-    /// C = 1 / (2 lambda)): a finite number >= 0.
-    #[arg(long, default_value_t = camloc::DEFAULT_LAMBDA, value_name = "L",
-          value_parser = parse_lambda, allow_hyphen_values = true)]
-    pub lambda: f64,
+    /// C = 1 / (2 lambda)): a finite number >= 0 [default: 1 for a linear classifier, 100
+    /// for a quadratic one].
+    #[arg(long, value_name = "L", value_parser = parse_lambda, allow_hyphen_values = true)]
+    pub lambda: Option<f64>,
     /// Classifier: multinomial softmax (eq. 8) or one-vs-rest (eq. 9).
     #[arg(long, value_enum, default_value = "multinomial")]
     pub mode: ModeArg,
@@ -128,13 +128,13 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         ..TrainOptions::default()
     }
     .with_capacity(args.capacity);
-    options.regression = options
-        .regression
-        .with_lambda(args.lambda)
-        .with_mode(match args.mode {
-            ModeArg::Multinomial => Mode::Multinomial,
-            ModeArg::OneVsRest => Mode::OneVsRest,
-        });
+    if let Some(lambda) = args.lambda {
+        options.regression.lambda = lambda;
+    }
+    options.regression = options.regression.with_mode(match args.mode {
+        ModeArg::Multinomial => Mode::Multinomial,
+        ModeArg::OneVsRest => Mode::OneVsRest,
+    });
     options.mirror = !args.no_mirror;
     options.dropout = (args.dropout > 0.0).then_some(LandmarkDropout {
         copies: args.dropout,
@@ -151,7 +151,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         dataset.header.cameras.len(),
         descriptor.name(),
         args.capacity.name(),
-        args.lambda
+        options.regression.lambda
     );
     let quiet = args.quiet;
     let bar = progress::spinner(quiet, "training: descriptors and Newton iterations");
