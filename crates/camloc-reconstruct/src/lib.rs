@@ -59,6 +59,7 @@
 #![warn(missing_docs)]
 
 mod basis;
+mod dense;
 mod error;
 mod eval;
 mod length_prior;

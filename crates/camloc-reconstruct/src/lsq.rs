@@ -27,7 +27,6 @@
 //! `A^T A` and `A^T b`, so the pursuit, which solves many small problems, hands those in with
 //! reusable buffers ([`QuadraticConstraint::solve_normal`]) and allocates nothing per solve.
 
-mod dense;
 mod eigen;
 mod newton;
 #[cfg(test)]
@@ -35,8 +34,8 @@ mod tests;
 
 use nalgebra::{DMatrix, DVector};
 
+use crate::dense::{forward_solve, norm_squared, transposed_back_solve};
 use crate::{ReconstructError, is_positive_finite};
-use dense::{forward_solve, norm_squared, transposed_back_solve};
 
 /// Solution of [`constrained_least_squares`].
 #[derive(Clone, Debug, PartialEq)]

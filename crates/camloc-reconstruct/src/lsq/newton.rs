@@ -14,7 +14,7 @@
 //! singular along the solution, or no convergence.
 
 use super::MAX_SECULAR_STEPS;
-use super::dense::{cholesky_in_place, forward_solve, norm_squared, transposed_back_solve};
+use crate::dense::{cholesky_in_place, forward_solve, norm_squared, transposed_back_solve};
 
 /// Largest `(|lambda| + max_i H_ii) z^T (H + lambda I)^-1 z / |z|^2` (a lower bound on the
 /// condition number of `H + lambda I` along the solution) accepted from this path.

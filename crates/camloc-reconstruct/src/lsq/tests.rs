@@ -1,7 +1,7 @@
 //! Tests of the constrained least squares against brute force and of its two secular paths.
 
-use super::dense::norm_squared;
 use super::*;
+use crate::dense::norm_squared;
 use proptest::prelude::*;
 
 /// Value of the constraint `w^T Q w + 2 c^T w + e`.

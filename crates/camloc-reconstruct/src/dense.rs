@@ -1,6 +1,7 @@
 //! Small dense kernels on column-major `n x n` matrices held in slices (entry `(i, j)` at
-//! `i + j n`), for the few unknowns of one least-squares step: no allocation, no generic
-//! dispatch.
+//! `i + j n`; nalgebra's storage order), for the small systems solved many times per pose
+//! (the pursuit's coefficient steps, the refinement's frame blocks): no allocation, no
+//! generic dispatch.
 
 /// Factorises the symmetric `a` (its lower triangle is read) in place into its lower
 /// Cholesky factor `L` (`a = L L^T`; the strict upper triangle is left as it was). `false`
@@ -9,7 +10,7 @@
 /// Left-looking by columns: column `j` is updated by the columns before it in order, each
 /// update a contiguous `axpy`, so that entry `(i, j)` is `a_ij - sum_k L_ik L_jk` summed in
 /// increasing `k`.
-pub(super) fn cholesky_in_place(a: &mut [f64], n: usize) -> bool {
+pub(crate) fn cholesky_in_place(a: &mut [f64], n: usize) -> bool {
     for j in 0..n {
         let (done, rest) = a.split_at_mut(j * n);
         let column = &mut rest[j..n];
@@ -35,7 +36,7 @@ pub(super) fn cholesky_in_place(a: &mut [f64], n: usize) -> bool {
 
 /// Solves `L x = b` in place (`x` holds `b` on entry, `n` entries), `L` the lower triangle of
 /// `l`.
-pub(super) fn forward_solve(l: &[f64], n: usize, x: &mut [f64]) {
+pub(crate) fn forward_solve(l: &[f64], n: usize, x: &mut [f64]) {
     for j in 0..n {
         let column = &l[j * n + j..(j + 1) * n];
         let (head, tail) = x[j..n].split_at_mut(1);
@@ -49,7 +50,7 @@ pub(super) fn forward_solve(l: &[f64], n: usize, x: &mut [f64]) {
 
 /// Solves `L^T x = b` in place (`x` holds `b` on entry, `n` entries), `L` the lower triangle
 /// of `l`.
-pub(super) fn transposed_back_solve(l: &[f64], n: usize, x: &mut [f64]) {
+pub(crate) fn transposed_back_solve(l: &[f64], n: usize, x: &mut [f64]) {
     for j in (0..n).rev() {
         let column = &l[j * n + j..(j + 1) * n];
         let below: f64 = x[j + 1..n]
@@ -62,7 +63,7 @@ pub(super) fn transposed_back_solve(l: &[f64], n: usize, x: &mut [f64]) {
 }
 
 /// The sum of squares of `x`.
-pub(super) fn norm_squared(x: &[f64]) -> f64 {
+pub(crate) fn norm_squared(x: &[f64]) -> f64 {
     x.iter().map(|v| v * v).sum()
 }
 
