@@ -227,8 +227,12 @@ impl QuadraticConstraint {
         let centre = self.centre.as_slice();
         // g = L^-1 A^T b~ = L^-1 (A^T b - A^T A w_c).
         out.g.clear();
+        // Row i of the symmetric A^T A is its column i.
         out.g.extend(
-            (0..n).map(|i| rhs[i] - (0..n).map(|j| normal[i + j * n] * centre[j]).sum::<f64>()),
+            normal
+                .chunks_exact(n)
+                .zip(rhs)
+                .map(|(row, r)| r - row.iter().zip(centre).map(|(a, c)| a * c).sum::<f64>()),
         );
         forward_solve(l, n, &mut out.g);
         // H = L^-1 (A^T A) L^-T: L^-1 on the columns, transpose, L^-1 again; symmetrised.

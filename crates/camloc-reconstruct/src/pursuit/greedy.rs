@@ -81,27 +81,25 @@ impl Reconstructor {
         );
         let dots = self.basis.components().tr_mul(&w);
         let axis = [rot[(2, 0)], rot[(2, 1)], rot[(2, 2)]];
-        let mut best: Option<(usize, f64)> = None;
+        // The best so far as (j, |a_j . r|^2 / s^2, |a_j|^2 / s^2) (the common factor s drops
+        // out); scores compared without roots or divisions.
+        let mut best: Option<(usize, f64, f64)> = None;
+        let [x, y, z] = axis;
         for (j, (&(trace, c), dot)) in self.scatter.iter().zip(dots.iter()).enumerate() {
-            if fit.selected.contains(&j) {
-                continue;
-            }
-            let [x, y, z] = axis;
             let along = c[0] * x * x
                 + c[3] * y * y
                 + c[5] * z * z
                 + 2.0 * (c[1] * x * y + c[2] * x * z + c[4] * y * z);
             let norm2 = trace - along;
-            if !is_positive(norm2) {
+            if !is_positive(norm2) || fit.selected.contains(&j) {
                 continue;
             }
-            // The common factor s drops out of the comparison.
-            let score = dot.abs() / norm2.sqrt();
-            if best.is_none_or(|(_, s)| score > s) {
-                best = Some((j, score));
+            let dot2 = dot * dot;
+            if best.is_none_or(|(_, d, n)| dot2 * n > d * norm2) {
+                best = Some((j, dot2, norm2));
             }
         }
-        best.map(|(j, _)| j)
+        best.map(|(j, _, _)| j)
     }
 
     /// Alternates coefficient solves and camera updates on the selected set until the error
@@ -160,16 +158,16 @@ impl Reconstructor {
         selected: &[usize],
         coefficients: &[f64],
     ) -> [[f64; 3]; NUM_LANDMARKS] {
-        let mean = self.basis.mean_vector().as_slice();
-        let mut points = [[0.0; 3]; NUM_LANDMARKS];
-        for (i, point) in points.iter_mut().enumerate() {
-            for (c, x) in point.iter_mut().enumerate() {
-                let k = 3 * i + c;
-                *x = mean[k];
-                for (&j, &w) in selected.iter().zip(coefficients) {
-                    *x += w * self.component(j)[k];
-                }
+        let mut flat = [0.0; POSE_DIM];
+        flat.copy_from_slice(self.basis.mean_vector().as_slice());
+        for (&j, &w) in selected.iter().zip(coefficients) {
+            for (x, b) in flat.iter_mut().zip(self.component(j)) {
+                *x += w * b;
             }
+        }
+        let mut points = [[0.0; 3]; NUM_LANDMARKS];
+        for (point, xyz) in points.iter_mut().zip(flat.chunks_exact(3)) {
+            point.copy_from_slice(xyz);
         }
         points
     }
