@@ -104,6 +104,21 @@ pub(crate) struct NormalSolve {
     lambda: Option<f64>,
 }
 
+impl NormalSolve {
+    /// Buffers whose first solve starts its Newton iteration at `lambda`.
+    pub(crate) fn starting_from(lambda: Option<f64>) -> NormalSolve {
+        NormalSolve {
+            lambda,
+            ..NormalSolve::default()
+        }
+    }
+
+    /// The multiplier of the last solve (or the start given).
+    pub(crate) fn multiplier(&self) -> Option<f64> {
+        self.lambda
+    }
+}
+
 impl QuadraticConstraint {
     /// Factorises the constraint.
     ///

@@ -25,6 +25,19 @@ pub(super) struct CoefficientStep {
 }
 
 impl CoefficientStep {
+    /// Buffers whose first solve starts its Newton iteration at `multiplier`.
+    pub(super) fn starting_from(multiplier: Option<f64>) -> CoefficientStep {
+        CoefficientStep {
+            solve: NormalSolve::starting_from(multiplier),
+            ..CoefficientStep::default()
+        }
+    }
+
+    /// The constraint's multiplier in the last step.
+    pub(super) fn multiplier(&self) -> Option<f64> {
+        self.solve.multiplier()
+    }
+
     /// The coefficients of the last step.
     pub(super) fn coefficients(&self) -> &[f64] {
         &self.solve.w

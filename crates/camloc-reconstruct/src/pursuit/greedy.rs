@@ -23,6 +23,10 @@ pub(super) struct Fit {
     /// Squared reprojection error in normalised image units.
     pub(super) error: f64,
     pub(super) iterations: usize,
+    /// The constraint's multiplier in the last coefficient step: where the next one's
+    /// Newton iteration starts (the root does not depend on the start; a near one saves
+    /// steps).
+    pub(super) multiplier: Option<f64>,
 }
 
 impl Reconstructor {
@@ -111,7 +115,7 @@ impl Reconstructor {
         update: CameraUpdate,
     ) -> Result<(), ReconstructError> {
         let constraint = self.constraint(&fit.selected)?;
-        let mut step = CoefficientStep::default();
+        let mut step = CoefficientStep::starting_from(fit.multiplier);
         let mut previous = f64::INFINITY;
         for _ in 0..self.config.max_alternations {
             self.solve_coefficients(obs, &fit.camera, &fit.selected, &constraint, &mut step)?;
@@ -132,6 +136,7 @@ impl Reconstructor {
             fit.camera = camera;
             fit.error = error;
             fit.iterations += 1;
+            fit.multiplier = step.multiplier();
             let improved = error < previous * (1.0 - self.config.alternation_tolerance);
             if !improved {
                 break;
