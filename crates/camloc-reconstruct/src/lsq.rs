@@ -311,6 +311,53 @@ impl QuadraticConstraint {
     }
 }
 
+/// The bracket `(lo, hi]` of the secular equation's root and the safeguarded Newton
+/// iteration on `psi(lambda) = 1/|z(lambda)| - 1/rho` (increasing and concave, so Newton's
+/// steps from below approach the root monotonically), shared by both solution paths.
+struct Bracket {
+    lo: f64,
+    hi: f64,
+}
+
+impl Bracket {
+    /// Narrows the bracket with the sign of `psi(lambda)`, `n2 = |z(lambda)|^2`, and returns
+    /// the next multiplier: the Newton step (`psi'` from `n3 = z^T (H + lambda I)^-1 z`) when
+    /// it falls inside the bracket, else the midpoint; `None` when the iteration stops
+    /// (`|z| = rho` to rounding, no progress, or the bracket exhausted).
+    fn step(&mut self, lambda: f64, n2: f64, n3: f64, rho: f64) -> Option<f64> {
+        let norm = n2.sqrt();
+        if (norm - rho).abs() <= 4.0 * f64::EPSILON * rho {
+            return None;
+        }
+        let psi = 1.0 / norm - 1.0 / rho;
+        if psi < 0.0 {
+            self.lo = lambda;
+        } else {
+            self.hi = lambda;
+        }
+        let dpsi = n3 / (n2 * norm);
+        let newton = lambda - psi / dpsi;
+        let next = if newton > self.lo && newton < self.hi && newton.is_finite() {
+            newton
+        } else {
+            0.5 * (self.lo + self.hi)
+        };
+        self.unless_done(lambda, next)
+    }
+
+    /// `lambda` lies below the root (`H + lambda I` is not positive definite): the bracket's
+    /// midpoint above it, `None` when the bracket is exhausted.
+    fn below(&mut self, lambda: f64) -> Option<f64> {
+        self.lo = lambda;
+        self.unless_done(lambda, 0.5 * (self.lo + self.hi))
+    }
+
+    fn unless_done(&self, lambda: f64, next: f64) -> Option<f64> {
+        let exhausted = self.hi - self.lo <= 2.0 * f64::EPSILON * (self.lo.abs() + self.hi.abs());
+        (next != lambda && !exhausted).then_some(next)
+    }
+}
+
 /// Transposes the column-major `n x n` matrix `a` in place.
 fn transpose_in_place(a: &mut [f64], n: usize) {
     for j in 0..n {

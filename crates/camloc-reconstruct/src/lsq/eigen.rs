@@ -3,7 +3,7 @@
 
 use nalgebra::{DMatrix, DVector, SymmetricEigen};
 
-use super::MAX_SECULAR_STEPS;
+use super::{Bracket, MAX_SECULAR_STEPS};
 use crate::ReconstructError;
 
 /// Root of the secular equation.
@@ -84,32 +84,17 @@ fn solve_secular(
         }
         (n2, n3)
     };
-    let mut lo = -d_min;
-    let mut hi = g_norm_sq.sqrt() / rho - d_min;
-    let mut lambda = hi;
+    let mut bracket = Bracket {
+        lo: -d_min,
+        hi: g_norm_sq.sqrt() / rho - d_min,
+    };
+    let mut lambda = bracket.hi;
     for _ in 0..MAX_SECULAR_STEPS {
         let (n2, n3) = norms(lambda);
-        let norm = n2.sqrt();
-        let psi = 1.0 / norm - 1.0 / rho;
-        if (norm - rho).abs() <= 4.0 * f64::EPSILON * rho {
-            break;
+        match bracket.step(lambda, n2, n3, rho) {
+            Some(next) => lambda = next,
+            None => break,
         }
-        if psi < 0.0 {
-            lo = lambda;
-        } else {
-            hi = lambda;
-        }
-        let dpsi = n3 / (n2 * norm);
-        let newton = lambda - psi / dpsi;
-        let next = if newton > lo && newton < hi && newton.is_finite() {
-            newton
-        } else {
-            0.5 * (lo + hi)
-        };
-        if next == lambda || hi - lo <= 2.0 * f64::EPSILON * (lo.abs() + hi.abs()) {
-            break;
-        }
-        lambda = next;
     }
     let coords: Vec<f64> = d.iter().zip(g).map(|(di, gi)| gi / (di + lambda)).collect();
     Ok((coords, lambda, false))

@@ -13,7 +13,7 @@
 //! `lambda` falls to `-d_min`), a root so close to `-d_min` that `H + lambda I` is nearly
 //! singular along the solution, or no convergence.
 
-use super::MAX_SECULAR_STEPS;
+use super::{Bracket, MAX_SECULAR_STEPS};
 use crate::dense::{cholesky_in_place, forward_solve, norm_squared, transposed_back_solve};
 
 /// Largest `(|lambda| + max_i H_ii) z^T (H + lambda I)^-1 z / |z|^2` (a lower bound on the
@@ -49,11 +49,13 @@ pub(super) fn solve(
     let min_diagonal = diagonal.clone().fold(f64::INFINITY, f64::min);
     let max_diagonal = diagonal.fold(0.0, f64::max);
     // -d_min >= -min_i H_ii, and |z| <= |g| / (d_min + lambda) <= rho at |g| / rho.
-    let mut lo = -min_diagonal;
-    let mut hi = g_norm / rho;
+    let mut bracket = Bracket {
+        lo: -min_diagonal,
+        hi: g_norm / rho,
+    };
     let mut lambda = match warm {
-        Some(w) if w > lo && w < hi => w,
-        _ => hi,
+        Some(w) if w > bracket.lo && w < bracket.hi => w,
+        _ => bracket.hi,
     };
     let NewtonBuffers { factor, q } = buffers;
     let mut condition = f64::INFINITY;
@@ -66,13 +68,11 @@ pub(super) fn solve(
         }
         if !cholesky_in_place(factor, n) {
             // lambda <= -d_min (to rounding): the root is above.
-            lo = lambda;
             norm = 0.0;
-            let next = 0.5 * (lo + hi);
-            if next == lambda || hi - lo <= 2.0 * f64::EPSILON * (lo.abs() + hi.abs()) {
-                break;
+            match bracket.below(lambda) {
+                Some(next) => lambda = next,
+                None => break,
             }
-            lambda = next;
             continue;
         }
         z.clear();
@@ -86,26 +86,10 @@ pub(super) fn solve(
         forward_solve(factor, n, q);
         let n3 = norm_squared(q);
         condition = (lambda.abs() + max_diagonal) * n3 / n2;
-        if (norm - rho).abs() <= 4.0 * f64::EPSILON * rho {
-            break;
+        match bracket.step(lambda, n2, n3, rho) {
+            Some(next) => lambda = next,
+            None => break,
         }
-        let psi = 1.0 / norm - 1.0 / rho;
-        if psi < 0.0 {
-            lo = lambda;
-        } else {
-            hi = lambda;
-        }
-        let dpsi = n3 / (n2 * norm);
-        let newton = lambda - psi / dpsi;
-        let next = if newton > lo && newton < hi && newton.is_finite() {
-            newton
-        } else {
-            0.5 * (lo + hi)
-        };
-        if next == lambda || hi - lo <= 2.0 * f64::EPSILON * (lo.abs() + hi.abs()) {
-            break;
-        }
-        lambda = next;
     }
     let converged = (norm - rho).abs() <= 1e-10 * rho;
     (converged && condition <= MAX_CONDITION).then_some(lambda)
