@@ -51,14 +51,16 @@
 //! `opt` needs nothing but the 2D pose, is the fastest, and is the default of the `camloc`
 //! facade and tool. With the default basis and priors, `hybrid` (which starts from the class
 //! rotation and lets Procrustes move away from it, limiting the cost of a wrong or approximate
-//! class) gave the lowest 3D error on held-out CMU subjects under both protocols, at about 3
-//! times the time of `opt`; a fixed class rotation (`classified`) helps only when the true
-//! camera is close to it, as under the `canonical` protocol. The measurements behind this, per protocol and mode, are in
+//! class) gave the lowest 3D error on held-out CMU subjects under both protocols, at about
+//! twice the time of `opt` (`cargo bench -p camloc --bench reconstruct`); a fixed class
+//! rotation (`classified`) helps only when the true camera is close to it, as under the
+//! `canonical` protocol. The measurements behind this, per protocol and mode, are in
 //! `docs/RESULTS.md` (`cargo xtask report` and the `compare_modes` example).
 
 #![warn(missing_docs)]
 
 mod basis;
+mod dense;
 mod error;
 mod eval;
 mod length_prior;

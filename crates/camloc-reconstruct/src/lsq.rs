@@ -20,9 +20,21 @@
 //! the solution is shorter than `rho` (the "hard case"), `lambda = -d_min` and the missing
 //! length is added along that eigenspace. The multiplier is the same `lambda` that makes
 //! `(A^T A + lambda Q) w = A^T b - lambda c`.
+//!
+//! Computation. The same Newton iteration runs on Cholesky factorisations of `H + lambda I`
+//! (`newton`), with no eigen-decomposition; the eigenbasis (`eigen`) is used only where that
+//! path declines: `g = 0`, the hard case and roots next to `-d_min`. `H` and `g` need only
+//! `A^T A` and `A^T b`, so the pursuit, which solves many small problems, hands those in with
+//! reusable buffers ([`QuadraticConstraint::solve_normal`]) and allocates nothing per solve.
 
-use nalgebra::{DMatrix, DVector, SymmetricEigen};
+mod eigen;
+mod newton;
+#[cfg(test)]
+mod tests;
 
+use nalgebra::{DMatrix, DVector};
+
+use crate::dense::{forward_solve, norm_squared, transposed_back_solve};
 use crate::{ReconstructError, is_positive_finite};
 
 /// Solution of [`constrained_least_squares`].
@@ -76,6 +88,35 @@ pub struct QuadraticConstraint {
     centre: DVector<f64>,
     /// Radius `rho` of the sphere `|L^T (w - w_c)| = rho`.
     rho: f64,
+}
+
+/// Buffers of [`QuadraticConstraint::solve_normal`], reused between solves, and its result.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct NormalSolve {
+    h: Vec<f64>,
+    g: Vec<f64>,
+    z: Vec<f64>,
+    newton: newton::NewtonBuffers,
+    /// The last solution `w`.
+    pub(crate) w: Vec<f64>,
+    /// The last multiplier: the next solve starts its Newton iteration there (the same root
+    /// is reached from any start; a nearby one saves steps).
+    lambda: Option<f64>,
+}
+
+impl NormalSolve {
+    /// Buffers whose first solve starts its Newton iteration at `lambda`.
+    pub(crate) fn starting_from(lambda: Option<f64>) -> NormalSolve {
+        NormalSolve {
+            lambda,
+            ..NormalSolve::default()
+        }
+    }
+
+    /// The multiplier of the last solve (or the start given).
+    pub(crate) fn multiplier(&self) -> Option<f64> {
+        self.lambda
+    }
 }
 
 impl QuadraticConstraint {
@@ -168,348 +209,160 @@ impl QuadraticConstraint {
                 "non-finite input to least squares",
             ));
         }
-        // Reduced problem min |A~ z - b~|^2, |z| = rho, with A~ = A L^-T: its normal matrix
-        // H = L^-1 (A^T A) L^-T and g = L^-1 A^T b~ need triangular solves on n columns only.
-        let b_tilde = b - a * &self.centre;
-        let normal = a.tr_mul(a);
-        let half = self
-            .l
-            .solve_lower_triangular(&normal)
-            .ok_or(ReconstructError::NotPositiveDefinite)?; // L^-1 A^T A
-        let h = self
-            .l
-            .solve_lower_triangular(&half.transpose())
-            .ok_or(ReconstructError::NotPositiveDefinite)?;
-        let h = (&h + h.transpose()) * 0.5;
-        let g = self
-            .l
-            .solve_lower_triangular(&a.tr_mul(&b_tilde))
-            .ok_or(ReconstructError::NotPositiveDefinite)?;
-        let eig = SymmetricEigen::try_new(h, f64::EPSILON, 0).ok_or(
-            ReconstructError::Numerical("eigen-decomposition of A~^T A~ failed"),
-        )?;
-        let d: Vec<f64> = eig.eigenvalues.iter().map(|&v| v.max(0.0)).collect();
-        let g_eig: Vec<f64> = (eig.eigenvectors.transpose() * g).iter().copied().collect();
-        let secular = solve_secular(&d, &g_eig, self.rho)?;
-        let z = &eig.eigenvectors * DVector::from_vec(secular.coords);
-        let w = &self.centre
-            + self
-                .l
-                .tr_solve_lower_triangular(&z)
-                .ok_or(ReconstructError::NotPositiveDefinite)?;
-        if !w.iter().all(|v| v.is_finite()) {
+        let mut solve = NormalSolve::default();
+        let hard_case =
+            self.solve_normal(a.tr_mul(a).as_slice(), a.tr_mul(b).as_slice(), &mut solve)?;
+        let w = DVector::from_column_slice(&solve.w);
+        let objective = (a * &w - b).norm_squared();
+        Ok(ConstrainedSolution {
+            w,
+            multiplier: solve.lambda.unwrap_or(0.0),
+            objective,
+            hard_case,
+        })
+    }
+
+    /// `min ||A w - b||^2` under this constraint from the normal matrix `A^T A` (column-major
+    /// `n x n`) and `A^T b` (`n`, finite; `n` the constraint's unknowns): the solution in
+    /// `out.w`, the multiplier kept in `out` (and started from by the next solve with the same
+    /// `out`); returns whether the hard case applied. Allocates nothing once `out` has held a
+    /// solve of this size.
+    ///
+    /// # Errors
+    /// [`ReconstructError::Numerical`] when the solution is not finite or the
+    /// eigen-decomposition fails.
+    pub(crate) fn solve_normal(
+        &self,
+        normal: &[f64],
+        rhs: &[f64],
+        out: &mut NormalSolve,
+    ) -> Result<bool, ReconstructError> {
+        let n = self.l.nrows();
+        let l = self.l.as_slice();
+        let centre = self.centre.as_slice();
+        // g = L^-1 A^T b~ = L^-1 (A^T b - A^T A w_c).
+        out.g.clear();
+        // Row i of the symmetric A^T A is its column i.
+        out.g.extend(
+            normal
+                .chunks_exact(n)
+                .zip(rhs)
+                .map(|(row, r)| r - row.iter().zip(centre).map(|(a, c)| a * c).sum::<f64>()),
+        );
+        forward_solve(l, n, &mut out.g);
+        // H = L^-1 (A^T A) L^-T: L^-1 on the columns, transpose, L^-1 again; symmetrised.
+        out.h.clear();
+        out.h.extend_from_slice(normal);
+        for column in out.h.chunks_exact_mut(n) {
+            forward_solve(l, n, column);
+        }
+        transpose_in_place(&mut out.h, n);
+        for column in out.h.chunks_exact_mut(n) {
+            forward_solve(l, n, column);
+        }
+        for j in 0..n {
+            for i in j + 1..n {
+                let mean = 0.5 * (out.h[i + j * n] + out.h[j + i * n]);
+                out.h[i + j * n] = mean;
+                out.h[j + i * n] = mean;
+            }
+        }
+        let hard_case = if self.rho == 0.0 {
+            out.z.clear();
+            out.z.resize(n, 0.0);
+            out.lambda = Some(0.0);
+            false
+        } else if let Some(lambda) = newton::solve(
+            &out.h,
+            &out.g,
+            self.rho,
+            out.lambda,
+            &mut out.newton,
+            &mut out.z,
+        ) {
+            out.lambda = Some(lambda);
+            false
+        } else {
+            let secular = eigen::solve(&out.h, &out.g, self.rho)?;
+            out.z = secular.z;
+            out.lambda = Some(secular.lambda);
+            secular.hard_case
+        };
+        if !hard_case && self.rho > 0.0 {
+            // Put the solution exactly on the sphere (removes the last rounding of the root).
+            let norm = norm_squared(&out.z).sqrt();
+            if !is_positive_finite(norm) {
+                return Err(ReconstructError::Numerical(
+                    "secular equation gave a zero or non-finite solution",
+                ));
+            }
+            out.z.iter_mut().for_each(|v| *v *= self.rho / norm);
+        }
+        // w = w_c + L^-T z.
+        transposed_back_solve(l, n, &mut out.z);
+        out.w.clear();
+        out.w.extend(centre.iter().zip(&out.z).map(|(c, v)| c + v));
+        if !out.w.iter().all(|v| v.is_finite()) {
             return Err(ReconstructError::Numerical(
                 "non-finite constrained least-squares solution",
             ));
         }
-        let objective = (a * &w - b).norm_squared();
-        Ok(ConstrainedSolution {
-            w,
-            multiplier: secular.lambda,
-            objective,
-            hard_case: secular.hard_case,
-        })
+        Ok(hard_case)
     }
 }
 
-/// Root of the secular equation in eigen-coordinates.
-struct Secular {
-    /// Solution coordinates in the eigenbasis, of norm exactly `rho` (to rounding).
-    coords: Vec<f64>,
-    /// Multiplier `lambda`.
-    lambda: f64,
-    /// Whether the hard case applied.
-    hard_case: bool,
+/// The bracket `(lo, hi]` of the secular equation's root and the safeguarded Newton
+/// iteration on `psi(lambda) = 1/|z(lambda)| - 1/rho` (increasing and concave, so Newton's
+/// steps from below approach the root monotonically), shared by both solution paths.
+struct Bracket {
+    lo: f64,
+    hi: f64,
 }
 
-/// Minimises `sum_i d_i x_i^2 - 2 g_i x_i` on the sphere `|x| = rho` (the eigen-coordinate form
-/// of the reduced problem), `d_i >= 0`.
-fn solve_secular(d: &[f64], g: &[f64], rho: f64) -> Result<Secular, ReconstructError> {
-    let n = d.len();
-    if rho == 0.0 {
-        return Ok(Secular {
-            coords: vec![0.0; n],
-            lambda: 0.0,
-            hard_case: false,
-        });
-    }
-    let d_min = d.iter().copied().fold(f64::INFINITY, f64::min);
-    let d_max = d.iter().copied().fold(0.0, f64::max);
-    let g_norm_sq: f64 = g.iter().map(|v| v * v).sum();
-    // Eigenvalues within rounding of the smallest form its eigenspace J.
-    let gap = 1e-13 * d_max.max(f64::MIN_POSITIVE);
-    let in_j = |i: usize| d[i] - d_min <= gap;
-    let g_j_sq: f64 = (0..n).filter(|&i| in_j(i)).map(|i| g[i] * g[i]).sum();
-
-    if g_j_sq <= 1e-28 * g_norm_sq {
-        // Possible hard case: the part of the solution off J at lambda = -d_min.
-        let off: Vec<f64> = (0..n)
-            .map(|i| if in_j(i) { 0.0 } else { g[i] / (d[i] - d_min) })
-            .collect();
-        let off_sq: f64 = off.iter().map(|v| v * v).sum();
-        if off_sq <= rho * rho {
-            let j = (0..n)
-                .filter(|&i| in_j(i))
-                .max_by(|&p, &q| g[p].abs().total_cmp(&g[q].abs()))
-                .ok_or(ReconstructError::Numerical("empty eigenspace"))?;
-            let mut coords = off;
-            let sign = if g[j] < 0.0 { -1.0 } else { 1.0 };
-            coords[j] = sign * (rho * rho - off_sq).sqrt();
-            return Ok(Secular {
-                coords,
-                lambda: -d_min,
-                hard_case: true,
-            });
-        }
-    }
-
-    // Regular case: psi(lambda) = 1/|x(lambda)| - 1/rho, increasing and concave on
-    // (-d_min, inf), negative near -d_min and >= 0 at the upper bracket end.
-    let norms = |lambda: f64| {
-        let (mut n2, mut n3) = (0.0, 0.0);
-        for (di, gi) in d.iter().zip(g) {
-            let t = di + lambda;
-            n2 += gi * gi / (t * t);
-            n3 += gi * gi / (t * t * t);
-        }
-        (n2, n3)
-    };
-    let mut lo = -d_min;
-    let mut hi = g_norm_sq.sqrt() / rho - d_min;
-    let mut lambda = hi;
-    for _ in 0..MAX_SECULAR_STEPS {
-        let (n2, n3) = norms(lambda);
+impl Bracket {
+    /// Narrows the bracket with the sign of `psi(lambda)`, `n2 = |z(lambda)|^2`, and returns
+    /// the next multiplier: the Newton step (`psi'` from `n3 = z^T (H + lambda I)^-1 z`) when
+    /// it falls inside the bracket, else the midpoint; `None` when the iteration stops
+    /// (`|z| = rho` to rounding, no progress, or the bracket exhausted).
+    fn step(&mut self, lambda: f64, n2: f64, n3: f64, rho: f64) -> Option<f64> {
         let norm = n2.sqrt();
-        let psi = 1.0 / norm - 1.0 / rho;
         if (norm - rho).abs() <= 4.0 * f64::EPSILON * rho {
-            break;
+            return None;
         }
+        let psi = 1.0 / norm - 1.0 / rho;
         if psi < 0.0 {
-            lo = lambda;
+            self.lo = lambda;
         } else {
-            hi = lambda;
+            self.hi = lambda;
         }
         let dpsi = n3 / (n2 * norm);
         let newton = lambda - psi / dpsi;
-        let next = if newton > lo && newton < hi && newton.is_finite() {
+        let next = if newton > self.lo && newton < self.hi && newton.is_finite() {
             newton
         } else {
-            0.5 * (lo + hi)
+            0.5 * (self.lo + self.hi)
         };
-        if next == lambda || hi - lo <= 2.0 * f64::EPSILON * (lo.abs() + hi.abs()) {
-            break;
-        }
-        lambda = next;
+        self.unless_done(lambda, next)
     }
-    let mut coords: Vec<f64> = d.iter().zip(g).map(|(di, gi)| gi / (di + lambda)).collect();
-    let norm = coords.iter().map(|v| v * v).sum::<f64>().sqrt();
-    if !is_positive_finite(norm) {
-        return Err(ReconstructError::Numerical(
-            "secular equation gave a zero or non-finite solution",
-        ));
+
+    /// `lambda` lies below the root (`H + lambda I` is not positive definite): the bracket's
+    /// midpoint above it, `None` when the bracket is exhausted.
+    fn below(&mut self, lambda: f64) -> Option<f64> {
+        self.lo = lambda;
+        self.unless_done(lambda, 0.5 * (self.lo + self.hi))
     }
-    // Put the solution exactly on the sphere (removes the last rounding of the root).
-    coords.iter_mut().for_each(|v| *v *= rho / norm);
-    Ok(Secular {
-        coords,
-        lambda,
-        hard_case: false,
-    })
+
+    fn unless_done(&self, lambda: f64, next: f64) -> Option<f64> {
+        let exhausted = self.hi - self.lo <= 2.0 * f64::EPSILON * (self.lo.abs() + self.hi.abs());
+        (next != lambda && !exhausted).then_some(next)
+    }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use proptest::prelude::*;
-
-    /// Value of the constraint `w^T Q w + 2 c^T w + e`.
-    fn constraint(q: &DMatrix<f64>, c: &DVector<f64>, e: f64, w: &DVector<f64>) -> f64 {
-        (w.transpose() * q * w)[(0, 0)] + 2.0 * c.dot(w) + e
-    }
-
-    /// Brute force: the feasible set is the ellipsoid `{w_c + t u : t = rho / sqrt(u^T Q u)}`
-    /// over unit directions `u`; scan directions densely, then refine the best by a shrinking
-    /// pattern search. Uses no eigen-decomposition and no multiplier.
-    fn brute_force(
-        a: &DMatrix<f64>,
-        b: &DVector<f64>,
-        q: &DMatrix<f64>,
-        c: &DVector<f64>,
-        e: f64,
-    ) -> f64 {
-        let n = q.nrows();
-        let q_inv = q.clone().try_inverse().unwrap();
-        let w_c = -(&q_inv * c);
-        let rho_sq = c.dot(&(&q_inv * c)) - e;
-        let point = |u: &DVector<f64>| {
-            let u = u.normalize();
-            let t = (rho_sq / (u.transpose() * q * &u)[(0, 0)]).sqrt();
-            &w_c + u * t
-        };
-        let f = |u: &DVector<f64>| (a * point(u) - b).norm_squared();
-        // Dense scan of directions: angles on a circle (n = 2) or a latitude/longitude grid
-        // (n = 3); n = 1 has two feasible points.
-        let mut candidates: Vec<DVector<f64>> = Vec::new();
-        match n {
-            1 => {
-                candidates.push(DVector::from_vec(vec![1.0]));
-                candidates.push(DVector::from_vec(vec![-1.0]));
-            }
-            2 => {
-                for i in 0..20_000 {
-                    let t = i as f64 / 20_000.0 * std::f64::consts::TAU;
-                    candidates.push(DVector::from_vec(vec![t.cos(), t.sin()]));
-                }
-            }
-            _ => {
-                for i in 0..300 {
-                    let th = (i as f64 + 0.5) / 300.0 * std::f64::consts::PI;
-                    for j in 0..600 {
-                        let ph = j as f64 / 600.0 * std::f64::consts::TAU;
-                        candidates.push(DVector::from_vec(vec![
-                            th.sin() * ph.cos(),
-                            th.sin() * ph.sin(),
-                            th.cos(),
-                        ]));
-                    }
-                }
-            }
+/// Transposes the column-major `n x n` matrix `a` in place.
+fn transpose_in_place(a: &mut [f64], n: usize) {
+    for j in 0..n {
+        for i in j + 1..n {
+            a.swap(i + j * n, j + i * n);
         }
-        let mut best = candidates
-            .into_iter()
-            .min_by(|x, y| f(x).total_cmp(&f(y)))
-            .unwrap();
-        let mut step = 0.05;
-        while step > 1e-12 && n > 1 {
-            let mut improved = false;
-            for k in 0..n {
-                for sgn in [-1.0, 1.0] {
-                    let mut trial = best.clone();
-                    trial[k] += sgn * step;
-                    if f(&trial) < f(&best) {
-                        best = trial;
-                        improved = true;
-                    }
-                }
-            }
-            if !improved {
-                step *= 0.5;
-            }
-        }
-        f(&best)
-    }
-
-    fn spd(n: usize, entries: &[f64]) -> DMatrix<f64> {
-        let m = DMatrix::from_iterator(n, n, entries.iter().copied());
-        &m * m.transpose() + DMatrix::identity(n, n) * 0.2
-    }
-
-    proptest! {
-        #![proptest_config(ProptestConfig::with_cases(48))]
-
-        /// The solver matches a brute-force search over the feasible ellipsoid on small random
-        /// problems, and the constraint holds to 1e-9.
-        #[test]
-        fn matches_brute_force(n in 1usize..=3, m in 1usize..=5,
-                               raw_a in proptest::collection::vec(-2.0f64..2.0, 15),
-                               raw_b in proptest::collection::vec(-2.0f64..2.0, 5),
-                               raw_q in proptest::collection::vec(-1.0f64..1.0, 9),
-                               raw_c in proptest::collection::vec(-1.0f64..1.0, 3),
-                               e in -2.0f64..0.5) {
-            let a = DMatrix::from_iterator(m, n, raw_a.iter().copied().take(m * n));
-            let b = DVector::from_iterator(m, raw_b.iter().copied().take(m));
-            let q = spd(n, &raw_q[..n * n]);
-            let c = DVector::from_iterator(n, raw_c.iter().copied().take(n));
-            match constrained_least_squares(&a, &b, &q, &c, e) {
-                Ok(sol) => {
-                    prop_assert!(constraint(&q, &c, e, &sol.w).abs() < 1e-9);
-                    prop_assert!((sol.objective - (&a * &sol.w - &b).norm_squared()).abs() < 1e-12);
-                    let bf = brute_force(&a, &b, &q, &c, e);
-                    // Ours is a global minimum: never above brute force, and brute force gets
-                    // within its resolution of it.
-                    prop_assert!(sol.objective <= bf + 1e-9 * (1.0 + bf), "ours {} > brute {}", sol.objective, bf);
-                    prop_assert!(bf - sol.objective <= 1e-6 * (1.0 + bf), "brute {} << ours {}", bf, sol.objective);
-                    // Stationarity: (A^T A + lambda Q) w = A^T b - lambda c.
-                    if !sol.hard_case {
-                        let lhs = (a.transpose() * &a + &q * sol.multiplier) * &sol.w;
-                        let rhs = a.transpose() * &b - &c * sol.multiplier;
-                        prop_assert!((lhs - &rhs).norm() < 1e-7 * (1.0 + rhs.norm() + sol.multiplier.abs()));
-                    }
-                }
-                Err(ReconstructError::InfeasibleConstraint { radius_sq }) => {
-                    let q_inv = q.clone().try_inverse().unwrap();
-                    prop_assert!(c.dot(&(&q_inv * &c)) - e < 0.0, "refused a feasible problem ({radius_sq})");
-                }
-                Err(other) => prop_assert!(false, "unexpected error {other}"),
-            }
-        }
-    }
-
-    #[test]
-    fn hard_case_is_solved() {
-        // A = diag(1, 2), b = 0: g = 0, the minimum on the circle |w| = 1 is at +-e1 with
-        // value 1, lambda = -1.
-        let a = DMatrix::from_diagonal(&DVector::from_vec(vec![1.0, 2.0]));
-        let b = DVector::zeros(2);
-        let q = DMatrix::identity(2, 2);
-        let c = DVector::zeros(2);
-        let sol = constrained_least_squares(&a, &b, &q, &c, -1.0).unwrap();
-        assert!(sol.hard_case);
-        assert!((sol.objective - 1.0).abs() < 1e-12);
-        assert!((sol.multiplier + 1.0).abs() < 1e-12);
-        assert!((sol.w[0].abs() - 1.0).abs() < 1e-12 && sol.w[1].abs() < 1e-12);
-        // Fewer equations than unknowns: A~^T A~ is singular.
-        let wide = DMatrix::from_row_slice(1, 3, &[1.0, 2.0, -1.0]);
-        let sol = constrained_least_squares(
-            &wide,
-            &DVector::from_vec(vec![0.3]),
-            &DMatrix::identity(3, 3),
-            &DVector::zeros(3),
-            -4.0,
-        )
-        .unwrap();
-        assert!((sol.w.norm_squared() - 4.0).abs() < 1e-12);
-        assert!(
-            (sol.objective
-                - brute_force(
-                    &wide,
-                    &DVector::from_vec(vec![0.3]),
-                    &DMatrix::identity(3, 3),
-                    &DVector::zeros(3),
-                    -4.0
-                ))
-            .abs()
-                < 1e-9
-        );
-        assert!(
-            sol.objective < 1e-20,
-            "a zero-residual point exists on the sphere"
-        );
-    }
-
-    #[test]
-    fn errors_are_typed() {
-        let a = DMatrix::identity(2, 2);
-        let b = DVector::zeros(2);
-        let q = DMatrix::identity(2, 2);
-        let c = DVector::zeros(2);
-        assert!(matches!(
-            constrained_least_squares(&a, &b, &q, &c, 1.0),
-            Err(ReconstructError::InfeasibleConstraint { .. })
-        ));
-        assert!(matches!(
-            constrained_least_squares(&a, &b, &(-&q), &c, -1.0),
-            Err(ReconstructError::NotPositiveDefinite)
-        ));
-        assert!(matches!(
-            constrained_least_squares(&a, &DVector::zeros(3), &q, &c, -1.0),
-            Err(ReconstructError::DimensionMismatch { .. })
-        ));
-        let mut bad = b.clone();
-        bad[1] = f64::NAN;
-        assert!(matches!(
-            constrained_least_squares(&a, &bad, &q, &c, -1.0),
-            Err(ReconstructError::Numerical(_))
-        ));
     }
 }

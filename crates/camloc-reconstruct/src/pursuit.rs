@@ -10,6 +10,7 @@
 //! chosen over time, one refinement with shared lengths).
 
 mod camera_update;
+mod coefficients;
 mod config;
 mod greedy;
 mod hypotheses;

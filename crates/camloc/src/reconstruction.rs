@@ -148,7 +148,7 @@ impl PoseReconstructor {
     /// Sets the camera mode: [`ModeKind::Opt`] (the default: Procrustes camera, the fastest),
     /// [`ModeKind::Classified`] (the rotation of the classified camera, the paper's section
     /// 8.2) or [`ModeKind::Hybrid`] (the classified rotation refined by Procrustes: the lowest
-    /// 3D error on held-out subjects, about 3 times the time of `opt`; docs/RESULTS.md).
+    /// 3D error on held-out subjects, about twice the time of `opt`; docs/RESULTS.md).
     ///
     /// # Errors
     /// [`CamlocError::InvalidOption`] for [`ModeKind::Oracle`] (it needs the true camera,

@@ -6,9 +6,10 @@ use camloc_skeleton::NUM_LANDMARKS;
 use nalgebra::{DMatrix, DVector};
 
 use super::camera_update::{CameraUpdate, with_optimal_translation};
-use super::observation::{IMAGE_DIM, Observation};
+use super::coefficients::CoefficientStep;
+use super::observation::Observation;
 use super::reconstructor::Reconstructor;
-use crate::basis::{POSE_DIM, vector_to_pose};
+use crate::basis::POSE_DIM;
 use crate::lsq::QuadraticConstraint;
 use crate::{ReconstructError, is_positive};
 
@@ -22,6 +23,10 @@ pub(super) struct Fit {
     /// Squared reprojection error in normalised image units.
     pub(super) error: f64,
     pub(super) iterations: usize,
+    /// The constraint's multiplier in the last coefficient step: where the next one's
+    /// Newton iteration starts (the root does not depend on the start; a near one saves
+    /// steps).
+    pub(super) multiplier: Option<f64>,
 }
 
 impl Reconstructor {
@@ -80,27 +85,25 @@ impl Reconstructor {
         );
         let dots = self.basis.components().tr_mul(&w);
         let axis = [rot[(2, 0)], rot[(2, 1)], rot[(2, 2)]];
-        let mut best: Option<(usize, f64)> = None;
+        // The best so far as (j, |a_j . r|^2 / s^2, |a_j|^2 / s^2) (the common factor s drops
+        // out); scores compared without roots or divisions.
+        let mut best: Option<(usize, f64, f64)> = None;
+        let [x, y, z] = axis;
         for (j, (&(trace, c), dot)) in self.scatter.iter().zip(dots.iter()).enumerate() {
-            if fit.selected.contains(&j) {
-                continue;
-            }
-            let [x, y, z] = axis;
             let along = c[0] * x * x
                 + c[3] * y * y
                 + c[5] * z * z
                 + 2.0 * (c[1] * x * y + c[2] * x * z + c[4] * y * z);
             let norm2 = trace - along;
-            if !is_positive(norm2) {
+            if !is_positive(norm2) || fit.selected.contains(&j) {
                 continue;
             }
-            // The common factor s drops out of the comparison.
-            let score = dot.abs() / norm2.sqrt();
-            if best.is_none_or(|(_, s)| score > s) {
-                best = Some((j, score));
+            let dot2 = dot * dot;
+            if best.is_none_or(|(_, d, n)| dot2 * n > d * norm2) {
+                best = Some((j, dot2, norm2));
             }
         }
-        best.map(|(j, _)| j)
+        best.map(|(j, _, _)| j)
     }
 
     /// Alternates coefficient solves and camera updates on the selected set until the error
@@ -111,13 +114,12 @@ impl Reconstructor {
         fit: &mut Fit,
         update: CameraUpdate,
     ) -> Result<(), ReconstructError> {
-        let target = obs.vector();
         let constraint = self.constraint(&fit.selected)?;
+        let mut step = CoefficientStep::starting_from(fit.multiplier);
         let mut previous = f64::INFINITY;
         for _ in 0..self.config.max_alternations {
-            let coefficients =
-                self.solve_coefficients(&target, &fit.camera, &fit.selected, &constraint)?;
-            let points = self.points(&fit.selected, &coefficients);
+            self.solve_coefficients(obs, &fit.camera, &fit.selected, &constraint, &mut step)?;
+            let points = self.points(&fit.selected, step.coefficients());
             let kept = with_optimal_translation(&fit.camera, &points, &obs.points);
             let kept_error = kept.squared_error(&points, &obs.points)?;
             // A camera update that fails (a degenerate intermediate pose) keeps the old camera.
@@ -128,11 +130,13 @@ impl Reconstructor {
                 Ok((refit, refit_error)) if refit_error <= kept_error => (refit, refit_error),
                 _ => (kept, kept_error),
             };
-            fit.coefficients = coefficients;
+            fit.coefficients.clear();
+            fit.coefficients.extend_from_slice(step.coefficients());
             fit.points = points;
             fit.camera = camera;
             fit.error = error;
             fit.iterations += 1;
+            fit.multiplier = step.multiplier();
             let improved = error < previous * (1.0 - self.config.alternation_tolerance);
             if !improved {
                 break;
@@ -153,78 +157,23 @@ impl Reconstructor {
         QuadraticConstraint::new(&q, &c, self.offset)
     }
 
-    /// Exact constrained least squares for the coefficients of `selected` (whose constraint
-    /// is `constraint`) with the camera's scale and rotation fixed and the translation
-    /// eliminated by centring.
-    fn solve_coefficients(
-        &self,
-        target: &DVector<f64>,
-        camera: &WeakPerspective,
-        selected: &[usize],
-        constraint: &QuadraticConstraint,
-    ) -> Result<Vec<f64>, ReconstructError> {
-        let m = selected.len();
-        // The prior's rows under the image rows: sqrt(prior / var_j) w_j = 0.
-        let prior_rows = if self.config.coefficient_prior > 0.0 {
-            m
-        } else {
-            0
-        };
-        let mut a = DMatrix::zeros(IMAGE_DIM + prior_rows, m);
-        for (col, &j) in selected.iter().enumerate() {
-            a.view_mut((0, col), (IMAGE_DIM, 1))
-                .copy_from(&self.project_centred(camera, self.component(j)));
-            if prior_rows > 0 {
-                let variance = self.basis.explained_variance()[j].max(f64::MIN_POSITIVE);
-                a[(IMAGE_DIM + col, col)] = (self.config.coefficient_prior / variance).sqrt();
-            }
-        }
-        let mut b = DVector::zeros(IMAGE_DIM + prior_rows);
-        b.rows_mut(0, IMAGE_DIM).copy_from(
-            &(target - self.project_centred(camera, self.basis.mean_vector().as_slice())),
-        );
-        let solution = constraint.solve(&a, &b)?;
-        Ok(solution.w.iter().copied().collect())
-    }
-
-    /// Component `j` as a landmark-major slice (`j` must be a valid component index).
-    fn component(&self, j: usize) -> &[f64] {
-        let data = self.basis.components().as_slice();
-        &data[POSE_DIM * j..POSE_DIM * (j + 1)]
-    }
-
-    /// `s [I2 0] R` applied to every landmark of a pose-space vector, centred over the
-    /// landmarks, as a 30-vector.
-    fn project_centred(&self, camera: &WeakPerspective, v: &[f64]) -> DVector<f64> {
-        let r = &camera.rotation;
-        let mut out = DVector::zeros(IMAGE_DIM);
-        let mut mean = [0.0; 2];
-        for (i, x) in v.chunks_exact(3).enumerate() {
-            for row in 0..2 {
-                let p =
-                    camera.scale * (r[(row, 0)] * x[0] + r[(row, 1)] * x[1] + r[(row, 2)] * x[2]);
-                out[2 * i + row] = p;
-                mean[row] += p / NUM_LANDMARKS as f64;
-            }
-        }
-        for (i, o) in out.iter_mut().enumerate() {
-            *o -= mean[i % 2];
-        }
-        out
-    }
-
     /// The pose `mu + sum_j w_j b_j` over `selected`, as points.
     pub(super) fn points(
         &self,
         selected: &[usize],
         coefficients: &[f64],
     ) -> [[f64; 3]; NUM_LANDMARKS] {
-        let mut v = self.basis.mean_vector().clone();
+        let mut flat = [0.0; POSE_DIM];
+        flat.copy_from_slice(self.basis.mean_vector().as_slice());
         for (&j, &w) in selected.iter().zip(coefficients) {
-            for (x, b) in v.iter_mut().zip(self.component(j)) {
+            for (x, b) in flat.iter_mut().zip(self.component(j)) {
                 *x += w * b;
             }
         }
-        vector_to_pose(&v).points
+        let mut points = [[0.0; 3]; NUM_LANDMARKS];
+        for (point, xyz) in points.iter_mut().zip(flat.chunks_exact(3)) {
+            point.copy_from_slice(xyz);
+        }
+        points
     }
 }

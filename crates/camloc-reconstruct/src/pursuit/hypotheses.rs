@@ -246,6 +246,7 @@ impl Reconstructor {
             error: camera.squared_error(&mean, &obs.points)?,
             camera,
             iterations: 0,
+            multiplier: None,
         };
         let primary = self.pursue(obs, initial, update)?;
         let other = if self.config.try_depth_reflection {

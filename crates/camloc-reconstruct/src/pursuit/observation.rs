@@ -2,7 +2,6 @@
 
 use camloc_geometry::WeakPerspective;
 use camloc_skeleton::{NUM_LANDMARKS, Pose2};
-use nalgebra::DVector;
 
 use crate::{Intrinsics, ReconstructError, check_finite_landmarks, is_positive_finite};
 
@@ -43,11 +42,6 @@ impl Observation {
             centroid: [centroid[0] / factor, centroid[1] / factor],
             scale: scale / factor,
         })
-    }
-
-    /// The normalised points as a 30-vector.
-    pub(super) fn vector(&self) -> DVector<f64> {
-        DVector::from_iterator(IMAGE_DIM, self.points.iter().flatten().copied())
     }
 
     /// Intrinsics in the normalised units: the focal length and the principal point (the

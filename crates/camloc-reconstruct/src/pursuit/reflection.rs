@@ -40,6 +40,7 @@ impl Reconstructor {
             points,
             camera,
             iterations: 0,
+            multiplier: fit.multiplier,
         })
     }
 }

@@ -8,6 +8,7 @@ use nalgebra::{SMatrix, SVector, Vector3};
 use rayon::prelude::*;
 
 use super::problem::{FRAME, FrameData, FrameState, Gradient, Hessian, Weights, evaluate};
+use crate::dense::{cholesky_in_place, forward_solve, transposed_back_solve};
 use crate::length_prior::LimbMatrix;
 
 /// Frames whose normal equations are kept between the two passes of a step.
@@ -35,12 +36,15 @@ pub(super) struct Problem<'a> {
     pub(super) iterations: usize,
 }
 
-/// One frame's damped normal equations, factorised: `(A + damping)^-1 B` and
-/// `(A + damping)^-1 g`, with `B^T` and the lengths' own block.
+/// One frame's damped normal equations `[A B; B^T D]`, `g`, with the frame's block
+/// factorised, `A + damping = L L^T`, and the lengths' coupling reduced by it: `L^-1 B` and
+/// `L^-1 g_frame`, so that the frame drops out as `D - (L^-1 B)^T (L^-1 B)` (the Schur
+/// complement) and its step is `-L^-T (L^-1 g_frame + L^-1 B dl)`.
 struct Eliminated {
-    solve_b: SMatrix<f64, FRAME, NUM_LIMBS>,
-    solve_g: SVector<f64, FRAME>,
-    b: SMatrix<f64, FRAME, NUM_LIMBS>,
+    /// `L` in the lower triangle.
+    factor: SMatrix<f64, FRAME, FRAME>,
+    reduced_b: SMatrix<f64, FRAME, NUM_LIMBS>,
+    reduced_g: SVector<f64, FRAME>,
     d: SMatrix<f64, NUM_LIMBS, NUM_LIMBS>,
     g_lengths: SVector<f64, NUM_LIMBS>,
 }
@@ -136,17 +140,22 @@ impl Problem<'_> {
         for i in 0..FRAME {
             a[(i, i)] += damping * (a[(i, i)] + 1e-9);
         }
-        let cholesky = a.cholesky()?;
-        let b = h.fixed_view::<FRAME, NUM_LIMBS>(0, FRAME).into_owned();
-        let g_frame = g.fixed_rows::<FRAME>(0).into_owned();
+        if !cholesky_in_place(a.as_mut_slice(), FRAME) {
+            return None;
+        }
+        let mut reduced_b = SMatrix::<f64, FRAME, NUM_LIMBS>::zeros();
+        if self.free() {
+            reduced_b.copy_from(&h.fixed_view::<FRAME, NUM_LIMBS>(0, FRAME));
+            for column in reduced_b.as_mut_slice().chunks_exact_mut(FRAME) {
+                forward_solve(a.as_slice(), FRAME, column);
+            }
+        }
+        let mut reduced_g = g.fixed_rows::<FRAME>(0).into_owned();
+        forward_solve(a.as_slice(), FRAME, reduced_g.as_mut_slice());
         Some(Eliminated {
-            solve_b: if self.free() {
-                cholesky.solve(&b)
-            } else {
-                SMatrix::zeros()
-            },
-            solve_g: cholesky.solve(&g_frame),
-            b,
+            factor: a,
+            reduced_b,
+            reduced_g,
             d: h.fixed_view::<NUM_LIMBS, NUM_LIMBS>(FRAME, FRAME)
                 .into_owned(),
             g_lengths: g.fixed_rows::<NUM_LIMBS>(FRAME).into_owned(),
@@ -177,8 +186,8 @@ impl Problem<'_> {
         if let Some(unknowns) = &self.lengths {
             let schur = |e: &Eliminated| {
                 (
-                    e.d - e.b.transpose() * e.solve_b,
-                    e.g_lengths - e.b.transpose() * e.solve_g,
+                    e.d - e.reduced_b.tr_mul(&e.reduced_b),
+                    e.g_lengths - e.reduced_b.tr_mul(&e.reduced_g),
                 )
             };
             let zero = (
@@ -212,8 +221,9 @@ impl Problem<'_> {
             dl = -s.cholesky()?.solve(&r);
         }
         let move_frame = |t: usize, e: &Eliminated| -> FrameState {
-            let step = -(e.solve_g + e.solve_b * dl);
-            states[t].stepped(self.frames[t].projection, &step)
+            let mut step = e.reduced_g + e.reduced_b * dl;
+            transposed_back_solve(e.factor.as_slice(), FRAME, step.as_mut_slice());
+            states[t].stepped(self.frames[t].projection, &-step)
         };
         let trial: Vec<FrameState> = match &kept {
             Some(all) => all
