@@ -6,9 +6,11 @@
 //! `k (k + 1) / 2` values to the `d` of `x`; the multinomial regression on top stays the
 //! paper's learner (Newton's method on the expanded features).
 
+use pulp::{Arch, Simd, WithSimd};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
+use crate::standardise::RawLinear;
 use crate::{Features, LearningError, Standardiser};
 
 /// Most principal components a [`QuadraticExpansion`] may keep (its products then number
@@ -35,12 +37,42 @@ const ROWS_PER_TASK: usize = 1024;
 /// of the standardised training rows, each divided by the square root of its variance (so
 /// that `z` has unit variance on the training rows before the clamp), and `c` is
 /// [`COMPONENT_LIMIT`]. Units: `x` as given; `z` is unit-free.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(from = "Stored")]
 pub struct QuadraticExpansion {
     standardiser: Standardiser,
     /// `k x d`, row-major: whitened principal direction `a` in row `a`.
     projection: Vec<f64>,
     n_components: usize,
+    /// `x -> W ((x - mean) / scale)` on raw `x` (standardisation folded in), derived from the
+    /// rest: what [`expand_into`](Self::expand_into) runs.
+    raw: RawLinear,
+}
+
+/// What a [`QuadraticExpansion`] stores (and serialises, in this order); the rest is derived
+/// on decoding.
+#[derive(Deserialize)]
+struct Stored {
+    standardiser: Standardiser,
+    projection: Vec<f64>,
+    n_components: usize,
+}
+
+impl From<Stored> for QuadraticExpansion {
+    fn from(stored: Stored) -> Self {
+        QuadraticExpansion::from_parts(stored.standardiser, stored.projection, stored.n_components)
+    }
+}
+
+impl Serialize for QuadraticExpansion {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeStruct;
+        let mut stored = serializer.serialize_struct("QuadraticExpansion", 3)?;
+        stored.serialize_field("standardiser", &self.standardiser)?;
+        stored.serialize_field("projection", &self.projection)?;
+        stored.serialize_field("n_components", &self.n_components)?;
+        stored.end()
+    }
 }
 
 impl QuadraticExpansion {
@@ -130,11 +162,25 @@ impl QuadraticExpansion {
             let whiten = sign / variance.sqrt();
             projection.extend(column.iter().map(|v| v * whiten));
         }
-        Ok(Self {
+        Ok(Self::from_parts(standardiser, projection, n_components))
+    }
+
+    /// The expansion of its stored parts, with the projection on raw features derived from
+    /// them (sizes are checked by [`validate`](Self::validate); a mismatch only truncates the
+    /// derived map, and a decoded component count is not trusted with an allocation).
+    fn from_parts(standardiser: Standardiser, projection: Vec<f64>, n_components: usize) -> Self {
+        let d = standardiser.n_features();
+        let raw = RawLinear::fold(
+            &standardiser,
+            |j, a| projection.get(a * d + j).copied().unwrap_or(0.0),
+            &[0.0; MAX_EXPANSION_COMPONENTS][..n_components.min(MAX_EXPANSION_COMPONENTS)],
+        );
+        Self {
             standardiser,
             projection,
             n_components,
-        })
+            raw,
+        }
     }
 
     /// Number of input values `d`.
@@ -154,8 +200,9 @@ impl QuadraticExpansion {
 
     /// Writes the expansion of `x` (length [`n_inputs`](Self::n_inputs)) into `out` (length
     /// [`n_outputs`](Self::n_outputs)): `x` itself, then `z_a z_b` for `a <= b` in row-major
-    /// order of the upper triangle, each component clamped to +-[`COMPONENT_LIMIT`]. Does not
-    /// allocate.
+    /// order of the upper triangle, each component clamped to +-[`COMPONENT_LIMIT`]. The
+    /// components are computed on the raw `x`, the standardisation folded into the
+    /// projection (equal to the standardised form up to rounding). Does not allocate.
     ///
     /// # Errors
     /// [`LearningError::SizeMismatch`] for a wrong length of `x` or `out`.
@@ -176,21 +223,14 @@ impl QuadraticExpansion {
             });
         }
         let (linear, products) = out.split_at_mut(d);
-        self.standardiser.transform_into(x, linear);
+        linear.copy_from_slice(x);
         let mut z = [0.0; MAX_EXPANSION_COMPONENTS];
         let z = &mut z[..self.n_components];
-        for (za, w) in z.iter_mut().zip(self.projection.chunks_exact(d)) {
-            let projected: f64 = w.iter().zip(linear.iter()).map(|(a, b)| a * b).sum();
-            *za = projected.clamp(-COMPONENT_LIMIT, COMPONENT_LIMIT);
+        self.raw.apply_into(x, z);
+        for za in z.iter_mut() {
+            *za = za.clamp(-COMPONENT_LIMIT, COMPONENT_LIMIT);
         }
-        linear.copy_from_slice(x);
-        let mut k = 0;
-        for a in 0..z.len() {
-            for b in a..z.len() {
-                products[k] = z[a] * z[b];
-                k += 1;
-            }
-        }
+        Arch::new().dispatch(Products { z, products });
         Ok(())
     }
 
@@ -245,6 +285,36 @@ impl QuadraticExpansion {
             });
         }
         Ok(())
+    }
+}
+
+/// `z_a z_b` for `a <= b` into `products`, in row-major order of the upper triangle, run by
+/// `pulp` on the SIMD vectors of the instruction set it found.
+struct Products<'a> {
+    z: &'a [f64],
+    products: &'a mut [f64],
+}
+
+impl WithSimd for Products<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn with_simd<S: Simd>(self, simd: S) {
+        let Products { z, products } = self;
+        let mut rest = products;
+        for (a, &za) in z.iter().enumerate() {
+            let (row, tail) = rest.split_at_mut(z.len() - a);
+            rest = tail;
+            let (row_vectors, row_tail) = S::as_mut_simd_f64s(row);
+            let (z_vectors, z_tail) = S::as_simd_f64s(&z[a..]);
+            let za_vector = simd.splat_f64s(za);
+            for (p, &zb) in row_vectors.iter_mut().zip(z_vectors) {
+                *p = simd.mul_f64s(za_vector, zb);
+            }
+            for (p, &zb) in row_tail.iter_mut().zip(z_tail) {
+                *p = za * zb;
+            }
+        }
     }
 }
 

@@ -213,7 +213,7 @@ impl LogisticModel {
         &self.parameters.biases
     }
 
-    /// Checks that `x` has `n_features` finite values.
+    /// Checks that `x` has `n_features` values.
     fn check_sample(&self, x: &[f64]) -> Result<(), LearningError> {
         if x.len() != self.n_features() {
             return Err(LearningError::SizeMismatch {
@@ -222,7 +222,7 @@ impl LogisticModel {
                 found: x.len(),
             });
         }
-        check_finite_row(x, 0, x.len().max(1))
+        Ok(())
     }
 
     /// Checks that an output slice has one entry per class.
@@ -242,11 +242,17 @@ impl LogisticModel {
     ///
     /// # Errors
     /// [`LearningError::SizeMismatch`] for a sample or output of the wrong length,
-    /// [`LearningError::NonFinite`] (row 0) for a non-finite feature.
+    /// [`LearningError::NonFinite`] (row 0) for a non-finite feature (`out` is then
+    /// overwritten with unspecified values).
     pub fn decision_function_into(&self, x: &[f64], out: &mut [f64]) -> Result<(), LearningError> {
         self.check_sample(x)?;
         self.check_output(out)?;
         self.logits_unchecked(x, out);
+        // A non-finite feature makes every logit non-finite (its weight times it is infinite
+        // or NaN), so the features are only searched when a logit is.
+        if !out.iter().all(|z| z.is_finite()) {
+            check_finite_row(x, 0, x.len().max(1))?;
+        }
         Ok(())
     }
 

@@ -3,6 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::kernel::PackedLinear;
 use crate::{Features, LearningError};
 
 /// Relative spread below which a feature column counts as constant: a column whose standard
@@ -140,20 +141,13 @@ impl Standardiser {
 /// A linear map on standardised features, `y_k = b_k + sum_j W[j][k] (x_j - mean_j) / scale_j`,
 /// re-expressed on raw features as `y_k = c_k + sum_j V[j][k] x_j` with `V[j][k] =
 /// W[j][k] / scale_j` and `c_k = b_k - sum_j V[j][k] mean_j`. It is what prediction runs:
-/// one multiply-add per weight, no division. It is derived from the stored model, never
-/// stored itself, and equals the standardised form up to rounding.
+/// one multiply-add per weight, no division, on the packed kernel of [`crate::kernel`]. It
+/// is derived from the stored model, never stored itself, and equals the standardised form
+/// up to rounding.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct RawLinear {
-    /// Blocks of [`BLOCK`] outputs (the last one padded with zero weights), each block
-    /// feature-major: the weight of feature `j` for output `BLOCK * b + i` is at
-    /// `weights[(b * n_features + j) * BLOCK + i]`, so that one feature's weights for a block
-    /// are contiguous.
-    weights: Vec<f64>,
-    biases: Vec<f64>,
+    map: PackedLinear,
 }
-
-/// Outputs [`RawLinear`] computes side by side.
-const BLOCK: usize = 4;
 
 impl RawLinear {
     /// Folds `standardiser` into the map whose weight of standardised feature `j` for output
@@ -164,63 +158,24 @@ impl RawLinear {
         weight: impl Fn(usize, usize) -> f64,
         biases: &[f64],
     ) -> Self {
-        let (d, m) = (standardiser.n_features(), biases.len());
-        let blocks = m.div_ceil(BLOCK);
-        let mut weights = vec![0.0; blocks * d * BLOCK];
+        let scales = &standardiser.scales;
+        // A decoded standardiser may have fewer scales than means until it is validated.
+        let d = standardiser.means.len().min(scales.len());
         let mut folded_biases = biases.to_vec();
         for (k, c) in folded_biases.iter_mut().enumerate() {
-            let (b, i) = (k / BLOCK, k % BLOCK);
-            for (j, (&mean, &scale)) in standardiser
-                .means
-                .iter()
-                .zip(&standardiser.scales)
-                .enumerate()
-            {
-                let v = weight(j, k) / scale;
-                weights[(b * d + j) * BLOCK + i] = v;
-                *c -= v * mean;
+            for (j, (&mean, &scale)) in standardiser.means.iter().zip(scales).enumerate() {
+                *c -= weight(j, k) / scale * mean;
             }
         }
-        RawLinear {
-            weights,
-            biases: folded_biases,
-        }
+        let map = PackedLinear::pack(d, |j, k| weight(j, k) / scales[j], folded_biases);
+        RawLinear { map }
     }
 
     /// Writes the outputs for the raw feature row `x` into `out` (one per output; the caller
-    /// checks both lengths). Each block of outputs keeps its partial sums in two sets (even
-    /// and odd features), summed in a fixed order.
+    /// checks both lengths).
     #[inline]
     pub(crate) fn apply_into(&self, x: &[f64], out: &mut [f64]) {
-        let d = x.len();
-        let block_len = (d * BLOCK).max(1);
-        for ((o, c), w) in out.chunks_mut(BLOCK).zip(self.biases.chunks(BLOCK)).zip(
-            self.weights
-                .chunks_exact(block_len)
-                .chain(std::iter::repeat(&[][..])),
-        ) {
-            let mut pairs = w.chunks_exact(2 * BLOCK);
-            // Partial sums passed by value, so that they stay in registers.
-            let (mut even, odd) = x.chunks_exact(2).zip(&mut pairs).fold(
-                ([0.0; BLOCK], [0.0; BLOCK]),
-                |(mut even, mut odd), (xs, ws)| {
-                    for i in 0..BLOCK {
-                        even[i] += ws[i] * xs[0];
-                        odd[i] += ws[BLOCK + i] * xs[1];
-                    }
-                    (even, odd)
-                },
-            );
-            // An odd feature count leaves the last feature's weights as the remainder.
-            if let Some(&last) = x.get(2 * (d / 2)) {
-                for (e, &wi) in even.iter_mut().zip(pairs.remainder()) {
-                    *e += wi * last;
-                }
-            }
-            for ((o, &c), (e, q)) in o.iter_mut().zip(c).zip(even.iter().zip(&odd)) {
-                *o = c + (e + q);
-            }
-        }
+        self.map.apply_into(x, out);
     }
 }
 
