@@ -13,6 +13,10 @@ use crate::localizer::most_probable;
 use crate::rows::sample_pose;
 use crate::{CameraLocalizer, CamlocError};
 
+/// Poses whose feature rows [`CameraLocalizer::predict_labels`] holds at once: about 34 MB of
+/// rows for the 519 features of a quadratic-30 model, whatever the number of poses.
+pub const LABEL_BATCH_POSES: usize = 8192;
+
 /// Accuracy of one camera (by true label).
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct CameraAccuracy {
@@ -155,14 +159,25 @@ pub fn evaluate(localizer: &CameraLocalizer, dataset: &Dataset) -> Result<Evalua
 }
 
 impl CameraLocalizer {
-    /// Most probable label of each pose, computed as one batch (descriptors and a matrix
-    /// product in parallel).
+    /// Most probable label of each pose, computed in batches of [`LABEL_BATCH_POSES`] poses
+    /// (descriptors and predictions in parallel), so that the feature rows held at once do
+    /// not grow with the number of poses; each label is the one
+    /// [`localize_partial`](Self::localize_partial) gives.
     ///
     /// # Errors
-    /// Descriptor errors naming the sample; prediction errors.
+    /// Descriptor errors naming the sample (its index in `poses`); prediction errors.
     pub fn predict_labels(&self, poses: &[PartialPose2]) -> Result<Vec<CameraLabel>, CamlocError> {
-        let x = self.feature_rows(poses)?;
-        let features = Features::new(&x, self.model().n_features())?;
+        let mut labels = Vec::with_capacity(poses.len());
+        for (batch, chunk) in poses.chunks(LABEL_BATCH_POSES).enumerate() {
+            let x = self.feature_rows(chunk, batch * LABEL_BATCH_POSES)?;
+            labels.extend(self.labels_of_rows(&x)?);
+        }
+        Ok(labels)
+    }
+
+    /// The most probable label of each of the classifier's feature rows `x` (row-major).
+    fn labels_of_rows(&self, x: &[f64]) -> Result<Vec<CameraLabel>, CamlocError> {
+        let features = Features::new(x, self.model().n_features())?;
         if self.posture_groups() == 1 {
             return self
                 .model()

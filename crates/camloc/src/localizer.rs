@@ -76,15 +76,24 @@ pub struct CameraLocalizer {
 impl CameraLocalizer {
     /// The classifier's feature rows of `poses` (row-major, [`feature_width`](Self::feature_width)
     /// wide): descriptors in parallel, undefined values imputed, expanded if the model has an
-    /// expansion.
-    pub(crate) fn feature_rows(&self, poses: &[PartialPose2]) -> Result<Vec<f64>, CamlocError> {
-        let x = self.descriptor_rows(poses)?;
+    /// expansion. Errors name a pose by `first` plus its index in `poses`.
+    pub(crate) fn feature_rows(
+        &self,
+        poses: &[PartialPose2],
+        first: usize,
+    ) -> Result<Vec<f64>, CamlocError> {
+        let x = self.descriptor_rows(poses, first)?;
         self.classifier_rows(x)
     }
 
     /// The descriptor rows of `poses` (row-major), in parallel, undefined values imputed.
-    pub(crate) fn descriptor_rows(&self, poses: &[PartialPose2]) -> Result<Vec<f64>, CamlocError> {
-        let (mut x, undefined) = extract_rows(&self.descriptor, poses)?;
+    /// Errors name a pose by `first` plus its index in `poses`.
+    pub(crate) fn descriptor_rows(
+        &self,
+        poses: &[PartialPose2],
+        first: usize,
+    ) -> Result<Vec<f64>, CamlocError> {
+        let (mut x, undefined) = extract_rows(&self.descriptor, poses, first)?;
         impute_rows(&mut x, &undefined, &self.imputation);
         Ok(x)
     }

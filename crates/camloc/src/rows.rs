@@ -17,10 +17,13 @@ pub(crate) fn sample_pose(sample: &camloc_dataset::Sample) -> PartialPose2 {
     pose
 }
 
-/// Descriptors of `poses` (row-major) and the flags of undefined values, in parallel.
+/// Descriptors of `poses` (row-major) and the flags of undefined values, in parallel. Errors
+/// name the pose as `sample {first + i}` (`first`: the index of `poses[0]` in the caller's
+/// collection).
 pub(crate) fn extract_rows(
     descriptor: &Descriptor,
     poses: &[PartialPose2],
+    first: usize,
 ) -> Result<(Vec<f64>, Vec<bool>), CamlocError> {
     let d = descriptor.len();
     let mut x = vec![0.0; poses.len() * d];
@@ -33,7 +36,7 @@ pub(crate) fn extract_rows(
             descriptor
                 .extract_partial_into(pose, row, flags)
                 .map_err(|source| CamlocError::Feature {
-                    context: format!("sample {i}"),
+                    context: format!("sample {}", first + i),
                     source,
                 })
         })?;

@@ -48,7 +48,7 @@ pub fn cross_validate(
     descriptors
         .iter()
         .map(|descriptor| {
-            let (mut x, undefined) = extract_rows(descriptor, &poses)?;
+            let (mut x, undefined) = extract_rows(descriptor, &poses, 0)?;
             let means = crate::rows::column_means(&x, &undefined, descriptor.len());
             impute_rows(&mut x, &undefined, &means);
             let features = Features::new(&x, descriptor.len())?;

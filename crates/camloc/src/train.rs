@@ -74,7 +74,7 @@ impl CameraLocalizer {
             // A mirrored body keeps its posture.
             groups.extend_from_within(..);
         }
-        let (mut x, undefined) = extract_rows(&descriptor, &poses)?;
+        let (mut x, undefined) = extract_rows(&descriptor, &poses, 0)?;
         let imputation = column_means(&x, &undefined, d);
         impute_rows(&mut x, &undefined, &imputation);
         // Labels are 1..=cameras (checked by `dataset.validate()`), mirroring keeps them so.
@@ -187,7 +187,7 @@ impl CameraLocalizer {
             });
         }
         let poses: Vec<PartialPose2> = dataset.samples.iter().map(sample_pose).collect();
-        let descriptors = self.descriptor_rows(&poses)?;
+        let descriptors = self.descriptor_rows(&poses, 0)?;
         let d = self.descriptor.len();
         self.viewpoint_expansion = match (capacity, &self.expansion) {
             (Capacity::Linear, _) => None,
@@ -288,7 +288,7 @@ fn augment(
             pose
         })
         .collect();
-    let (mut x, undefined) = extract_rows(descriptor, &dropped)?;
+    let (mut x, undefined) = extract_rows(descriptor, &dropped, 0)?;
     impute_rows(&mut x, &undefined, imputation);
     Ok((x, chosen.iter().map(|&i| labels[i]).collect()))
 }
