@@ -222,7 +222,14 @@ impl QuadraticExpansion {
                 found: out.len(),
             });
         }
-        let (linear, products) = out.split_at_mut(d);
+        self.expand_sized(x, out);
+        Ok(())
+    }
+
+    /// [`expand_into`](Self::expand_into) for `x` and `out` whose lengths the caller has
+    /// checked.
+    pub(crate) fn expand_sized(&self, x: &[f64], out: &mut [f64]) {
+        let (linear, products) = out.split_at_mut(self.n_inputs());
         linear.copy_from_slice(x);
         let mut z = [0.0; MAX_EXPANSION_COMPONENTS];
         let z = &mut z[..self.n_components];
@@ -231,7 +238,6 @@ impl QuadraticExpansion {
             *za = za.clamp(-COMPONENT_LIMIT, COMPONENT_LIMIT);
         }
         Arch::new().dispatch(Products { z, products });
-        Ok(())
     }
 
     /// The expansions of every row of `x`, row-major (`n x n_outputs`), in parallel.
@@ -251,7 +257,7 @@ impl QuadraticExpansion {
         let mut out = vec![0.0; x.n_samples() * m];
         out.par_chunks_mut(m)
             .zip(x.data().par_chunks(d))
-            .try_for_each(|(o, row)| self.expand_into(row, o))?;
+            .for_each(|(o, row)| self.expand_sized(row, o));
         Ok(out)
     }
 

@@ -1,7 +1,7 @@
 //! [`LogisticRegression::fit`]: Newton's method run to convergence, with a report.
 
 use crate::newton::{FitReport, IterationLog, NewtonProblem, Termination};
-use crate::{Features, LearningError, LogisticModel, LogisticRegression};
+use crate::{DesignRows, Features, LearningError, LogisticModel, LogisticRegression};
 
 impl LogisticRegression {
     /// Fits the model on `x` (one row per sample) with labels `y` in `0..n_classes`.
@@ -30,9 +30,25 @@ impl LogisticRegression {
         x: &Features<'_>,
         y: &[usize],
         n_classes: usize,
+        progress: impl FnMut(&IterationLog),
+    ) -> Result<(LogisticModel, FitReport), LearningError> {
+        self.fit_rows_with_progress(&DesignRows::plain(*x), y, n_classes, progress)
+    }
+
+    /// Like [`fit_with_progress`](Self::fit_with_progress) on rows read one at a time (for
+    /// instance expanded as they are read, [`DesignRows::expanded`]): the same fit as on the
+    /// rows stored whole, without holding them beside the solver's copy.
+    ///
+    /// # Errors
+    /// As [`fit`](Self::fit).
+    pub fn fit_rows_with_progress(
+        &self,
+        x: &DesignRows<'_>,
+        y: &[usize],
+        n_classes: usize,
         mut progress: impl FnMut(&IterationLog),
     ) -> Result<(LogisticModel, FitReport), LearningError> {
-        let mut problem = NewtonProblem::new(x, y, n_classes, self)?;
+        let mut problem = NewtonProblem::from_rows(x, y, n_classes, self)?;
         let threshold = self.gradient_tolerance * x.n_samples() as f64;
         let start = problem.log(0.0, false, 0);
         progress(&start);

@@ -51,6 +51,7 @@
 mod config;
 mod cv;
 mod data;
+mod design;
 mod error;
 mod expansion;
 mod fit;
@@ -68,6 +69,7 @@ pub use config::{
 };
 pub use cv::{CandidateScore, CvReport, cross_validate_grouped, group_k_fold};
 pub use data::Features;
+pub use design::DesignRows;
 pub use error::LearningError;
 pub use expansion::{COMPONENT_LIMIT, MAX_EXPANSION_COMPONENTS, QuadraticExpansion};
 pub use model::LogisticModel;

@@ -80,7 +80,9 @@ use faer::linalg::cholesky::llt::factor::cholesky_in_place_scratch;
 use crate::data::check_labels;
 use crate::hessian::PackedHessian;
 use crate::standardise::Standardiser;
-use crate::{DirectionSolver, Features, LearningError, LogisticModel, LogisticRegression, Mode};
+use crate::{
+    DesignRows, DirectionSolver, Features, LearningError, LogisticModel, LogisticRegression, Mode,
+};
 
 mod blocked;
 mod cg;
@@ -287,6 +289,21 @@ impl NewtonProblem {
         n_classes: usize,
         config: &LogisticRegression,
     ) -> Result<Self, LearningError> {
+        Self::from_rows(&DesignRows::plain(*x), y, n_classes, config)
+    }
+
+    /// [`new`](Self::new) on rows read one at a time (for instance expanded as they are
+    /// read): the same problem as on the rows stored whole, without holding them beside
+    /// the solver's copy.
+    ///
+    /// # Errors
+    /// As [`LogisticRegression::fit`].
+    pub fn from_rows(
+        x: &DesignRows<'_>,
+        y: &[usize],
+        n_classes: usize,
+        config: &LogisticRegression,
+    ) -> Result<Self, LearningError> {
         config.validate()?;
         let n = x.n_samples();
         if n == 0 {
@@ -298,12 +315,12 @@ impl NewtonProblem {
         let k = n_classes;
         let p = dim * k;
         let standardiser = if config.standardise {
-            Standardiser::fit(x)
+            Standardiser::fit_rows(x)
         } else {
             Standardiser::identity(d)
         };
         let mut design = vec![1.0; n * dim];
-        for (i, row) in x.rows().enumerate() {
+        x.for_each_row(|i, row| {
             for (a, ((&v, &m), &s)) in row
                 .iter()
                 .zip(standardiser.means())
@@ -312,7 +329,7 @@ impl NewtonProblem {
             {
                 design[a * n + i] = Standardiser::apply(m, s, v);
             }
-        }
+        });
         let n_blocks = match config.mode {
             Mode::Multinomial => 1,
             Mode::OneVsRest => k,

@@ -4,7 +4,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::kernel::PackedLinear;
-use crate::{Features, LearningError};
+use crate::{DesignRows, Features, LearningError};
 
 /// Relative spread below which a feature column counts as constant: a column whose standard
 /// deviation is at most this times its largest absolute value gets scale 1 (rounding in the
@@ -33,6 +33,12 @@ impl Standardiser {
     /// absolute value) get scale 1 so that they standardise to 0 instead of to noise. With zero rows
     /// the identity is returned.
     pub fn fit(x: &Features<'_>) -> Self {
+        Self::fit_rows(&DesignRows::plain(*x))
+    }
+
+    /// [`fit`](Self::fit) on rows read one at a time (the same numbers as on the rows stored
+    /// whole).
+    pub fn fit_rows(x: &DesignRows<'_>) -> Self {
         let d = x.n_features();
         let n = x.n_samples();
         if n == 0 {
@@ -40,21 +46,21 @@ impl Standardiser {
         }
         let mut means = vec![0.0; d];
         let mut max_abs = vec![0.0_f64; d];
-        for row in x.rows() {
+        x.for_each_row(|_, row| {
             for ((m, a), &v) in means.iter_mut().zip(max_abs.iter_mut()).zip(row) {
                 *m += v;
                 *a = a.max(v.abs());
             }
-        }
+        });
         let inv_n = 1.0 / n as f64;
         means.iter_mut().for_each(|m| *m *= inv_n);
         let mut variances = vec![0.0; d];
-        for row in x.rows() {
+        x.for_each_row(|_, row| {
             for ((s, m), &v) in variances.iter_mut().zip(&means).zip(row) {
                 let c = v - m;
                 *s += c * c;
             }
-        }
+        });
         let scales = variances
             .iter()
             .zip(&max_abs)

@@ -3,7 +3,9 @@
 
 use camloc_dataset::{Dataset, PostureGroup, camera_direction_deg, direction_vector};
 use camloc_features::Descriptor;
-use camloc_learning::{DirectionHeads, Features, FitReport, IterationLog, QuadraticExpansion};
+use camloc_learning::{
+    DesignRows, DirectionHeads, Features, FitReport, IterationLog, QuadraticExpansion,
+};
 use camloc_skeleton::{Landmark, NUM_LANDMARKS, PartialPose2};
 use camloc_store::Validate;
 use rand::{Rng, SeedableRng};
@@ -96,13 +98,14 @@ impl CameraLocalizer {
                 components,
             )?),
         };
-        if let Some(e) = &expansion {
-            x = e.expand_rows(&Features::new(&x, d)?)?;
-        }
-        let width = expansion.as_ref().map_or(d, QuadraticExpansion::n_outputs);
-        let features = Features::new(&x, width)?;
-        let (mut model, report) = options.regression.fit_with_progress(
-            &features,
+        // Expanded rows are made as the solver reads them, never held beside its copy.
+        let features = Features::new(&x, d)?;
+        let rows = match &expansion {
+            Some(e) => DesignRows::expanded(features, e)?,
+            None => DesignRows::plain(features),
+        };
+        let (mut model, report) = options.regression.fit_rows_with_progress(
+            &rows,
             &y,
             dataset.header.cameras.len() * posture_groups,
             progress,
@@ -137,8 +140,11 @@ impl CameraLocalizer {
         if let Some(lambda) = options.viewpoint_lambda {
             match options.viewpoint_capacity {
                 Capacity::Linear => {
-                    let rows = &x[..dataset.samples.len() * width];
-                    localizer.fit_viewpoint_rows(rows, rows, dataset, lambda)?;
+                    // The heads see the classifier's rows of the samples themselves (the
+                    // first rows, before mirror images and dropout copies).
+                    x.truncate(dataset.samples.len() * d);
+                    let rows = localizer.classifier_rows(x)?;
+                    localizer.fit_viewpoint_rows(&rows, &rows, dataset, lambda)?;
                 }
                 capacity => localizer.fit_viewpoint_with_capacity(dataset, lambda, capacity)?,
             }
