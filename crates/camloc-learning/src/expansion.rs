@@ -107,8 +107,10 @@ impl QuadraticExpansion {
             ));
         }
         let standardiser = Standardiser::fit(x);
-        // Covariance of the standardised rows (lower triangle), accumulated per task.
-        let covariance = x
+        // Covariance of the standardised rows (lower triangle), accumulated per task, the
+        // tasks' sums then added in task order (not as the threads finish), so that the
+        // result does not depend on the thread schedule.
+        let partials: Vec<Vec<f64>> = x
             .data()
             .par_chunks(ROWS_PER_TASK * d)
             .map(|rows| {
@@ -125,13 +127,14 @@ impl QuadraticExpansion {
                 }
                 c
             })
-            .reduce(
-                || vec![0.0; d * d],
-                |mut a, b| {
-                    a.iter_mut().zip(&b).for_each(|(x, y)| *x += y);
-                    a
-                },
-            );
+            .collect();
+        let mut covariance = vec![0.0; d * d];
+        for partial in &partials {
+            covariance
+                .iter_mut()
+                .zip(partial)
+                .for_each(|(sum, v)| *sum += v);
+        }
         let inv_n = 1.0 / n as f64;
         let matrix = faer::Mat::<f64>::from_fn(d, d, |r, c| {
             let (hi, lo) = if r >= c { (r, c) } else { (c, r) };

@@ -99,10 +99,13 @@ impl Problem<'_> {
             )
             .unwrap_or(f64::INFINITY)
         };
+        // Frames evaluated in parallel but summed in order, so that the cost (and the
+        // minimisation that compares costs) does not depend on the thread schedule.
         let frames: f64 = if states.len() < PARALLEL_FRAMES {
             (0..states.len()).map(one).sum()
         } else {
-            (0..states.len()).into_par_iter().map(one).sum()
+            let costs: Vec<f64> = (0..states.len()).into_par_iter().map(one).collect();
+            costs.iter().sum()
         };
         frames + self.prior_cost(log_lengths)
     }

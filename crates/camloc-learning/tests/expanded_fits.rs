@@ -1,5 +1,6 @@
-//! A fit on rows expanded as the solver reads them ([`DesignRows::expanded`]) is the fit on
-//! the same rows expanded and stored whole, to the bit.
+//! Fits on expanded features: rows expanded as the solver reads them
+//! ([`DesignRows::expanded`]) give the fit on the same rows expanded and stored whole, to
+//! the bit, and the expansion's own fit does not depend on the thread schedule.
 
 mod support;
 
@@ -36,4 +37,24 @@ fn expanded_rows_need_the_expansion_inputs() {
     let (other, _) = support::gaussian_classes(100, 4, 2, 1.0, 0.0, 3);
     let err = DesignRows::expanded(Features::new(&other, 4).unwrap(), &expansion).unwrap_err();
     assert!(err.to_string().contains("expansion input"), "{err}");
+}
+
+/// The expansion's fit (a covariance summed over parallel tasks) does not depend on how many
+/// threads ran it, so that training is reproducible.
+#[test]
+fn the_expansion_fit_does_not_depend_on_the_thread_count() {
+    let d = 12;
+    let (x, _) = support::gaussian_classes(120_000, d, 5, 1.0, 2.0, 5);
+    let features = Features::new(&x, d).unwrap();
+    let fit_with = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| QuadraticExpansion::fit(&features, 6).unwrap())
+    };
+    let one = fit_with(1);
+    for threads in [2, 3, 4] {
+        assert!(fit_with(threads) == one, "{threads} threads");
+    }
 }
