@@ -28,13 +28,7 @@ impl<'a> DesignRows<'a> {
         x: Features<'a>,
         expansion: &'a QuadraticExpansion,
     ) -> Result<Self, LearningError> {
-        if x.n_features() != expansion.n_inputs() {
-            return Err(LearningError::SizeMismatch {
-                what: "expansion input",
-                expected: expansion.n_inputs(),
-                found: x.n_features(),
-            });
-        }
+        expansion.check_inputs(x.n_features())?;
         Ok(Self {
             x,
             expansion: Some(expansion),

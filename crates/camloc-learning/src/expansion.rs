@@ -210,14 +210,7 @@ impl QuadraticExpansion {
     /// # Errors
     /// [`LearningError::SizeMismatch`] for a wrong length of `x` or `out`.
     pub fn expand_into(&self, x: &[f64], out: &mut [f64]) -> Result<(), LearningError> {
-        let d = self.n_inputs();
-        if x.len() != d {
-            return Err(LearningError::SizeMismatch {
-                what: "expansion input",
-                expected: d,
-                found: x.len(),
-            });
-        }
+        self.check_inputs(x.len())?;
         if out.len() != self.n_outputs() {
             return Err(LearningError::SizeMismatch {
                 what: "expansion output",
@@ -226,6 +219,22 @@ impl QuadraticExpansion {
             });
         }
         self.expand_sized(x, out);
+        Ok(())
+    }
+
+    /// Checks that a row has (or a matrix's rows have) `found` values, the expansion's
+    /// [`n_inputs`](Self::n_inputs).
+    ///
+    /// # Errors
+    /// [`LearningError::SizeMismatch`] ("expansion input") otherwise.
+    pub(crate) fn check_inputs(&self, found: usize) -> Result<(), LearningError> {
+        if found != self.n_inputs() {
+            return Err(LearningError::SizeMismatch {
+                what: "expansion input",
+                expected: self.n_inputs(),
+                found,
+            });
+        }
         Ok(())
     }
 
@@ -249,14 +258,8 @@ impl QuadraticExpansion {
     /// [`LearningError::SizeMismatch`] when `x` does not have [`n_inputs`](Self::n_inputs)
     /// features.
     pub fn expand_rows(&self, x: &Features<'_>) -> Result<Vec<f64>, LearningError> {
+        self.check_inputs(x.n_features())?;
         let (d, m) = (self.n_inputs(), self.n_outputs());
-        if x.n_features() != d {
-            return Err(LearningError::SizeMismatch {
-                what: "expansion input",
-                expected: d,
-                found: x.n_features(),
-            });
-        }
         let mut out = vec![0.0; x.n_samples() * m];
         out.par_chunks_mut(m)
             .zip(x.data().par_chunks(d))
