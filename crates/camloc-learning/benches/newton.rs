@@ -1,5 +1,6 @@
 //! Newton solver benchmarks on synthetic data of the paper's size (n = 43188 samples,
-//! d = 74 features, K = 12 classes) and ten times larger, plus the machine's GEMM peak and
+//! d = 74 features, K = 12 classes) and ten times larger, a Hessian-vector product on the
+//! default model's quadratic shape (group `quadratic`), plus the machine's GEMM peak and
 //! single-sample prediction.
 //!
 //! Besides criterion's times, GFLOP/s figures are printed to stderr, from the fastest
@@ -24,7 +25,9 @@ use std::hint::black_box;
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
-use camloc_learning::{DirectionSolver, Features, LogisticRegression, NewtonProblem};
+use camloc_learning::{
+    DesignRows, DirectionSolver, Features, LogisticRegression, NewtonProblem, QuadraticExpansion,
+};
 use criterion::{Bencher, BenchmarkId, Criterion, criterion_group, criterion_main};
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Mat, Par};
@@ -286,6 +289,83 @@ fn ten_times(c: &mut Criterion) {
     newton_benches(c, "large", 10 * PAPER_N);
 }
 
+/// Samples of the quadratic group: a quarter of the default model's training rows.
+const QUADRATIC_N: usize = 300_000;
+/// Components of the quadratic group's expansion (the default model's).
+const QUADRATIC_COMPONENTS: usize = 30;
+
+/// One Hessian-vector product on the default model's problem shape (74 features expanded
+/// by 30 components to 519, 12 classes), with the expanded design matrix stored whole and
+/// generated chunk by chunk from the features and components.
+fn quadratic(c: &mut Criterion) {
+    let mut group = c.benchmark_group("quadratic");
+    group.sample_size(10);
+    group.warm_up_time(Duration::from_secs(1));
+    let mut data = None;
+    for generated in [false, true] {
+        let name = if generated {
+            "hessian_vector_product_generated"
+        } else {
+            "hessian_vector_product_stored"
+        };
+        let mut best = Duration::MAX;
+        let mut problem = None;
+        group.bench_function(name, |bench| {
+            let (x, y, expansion) = data.get_or_insert_with(|| {
+                let (x, y) = support::gaussian_classes(
+                    QUADRATIC_N,
+                    D_FEATURES,
+                    K_CLASSES,
+                    SEPARATION,
+                    3.0,
+                    SEED,
+                );
+                let features = Features::new(&x, D_FEATURES).expect("valid features");
+                let expansion =
+                    QuadraticExpansion::fit(&features, QUADRATIC_COMPONENTS).expect("expansion");
+                (x, y, expansion)
+            });
+            let problem: &mut NewtonProblem = problem.get_or_insert_with(|| {
+                let features = Features::new(x, D_FEATURES).expect("valid features");
+                let config = LogisticRegression::default();
+                let mut problem = if generated {
+                    let rows = DesignRows::expanded(features, expansion).expect("rows");
+                    NewtonProblem::from_rows(&rows, y, K_CLASSES, &config)
+                } else {
+                    let stored = expansion.expand_rows(&features).expect("expanded");
+                    let stored = Features::new(&stored, expansion.n_outputs()).expect("rows");
+                    NewtonProblem::new(&stored, y, K_CLASSES, &config)
+                }
+                .expect("valid problem");
+                problem.newton_step().expect("first step");
+                problem
+            });
+            let input: Vec<f64> = problem.parameters().iter().map(|t| 1.0 - t).collect();
+            let mut out = vec![0.0; input.len()];
+            timed(
+                bench,
+                problem,
+                &mut best,
+                |_| {},
+                |p| {
+                    p.hessian_vector_product(&input, &mut out)
+                        .expect("sizes match");
+                    black_box(&out);
+                },
+            );
+        });
+        if let Some(p) = problem.as_ref().filter(|_| best < Duration::MAX) {
+            eprintln!(
+                "quadratic: {name} {:.1} ms (fastest): {:.1} GFLOP/s ({:.3e} flops)",
+                best.as_secs_f64() * 1e3,
+                gflops(p.hessian_vector_product_flops(), best),
+                p.hessian_vector_product_flops(),
+            );
+        }
+    }
+    group.finish();
+}
+
 fn predict(c: &mut Criterion) {
     let mut model = None;
     let mut out = vec![0.0; K_CLASSES];
@@ -308,5 +388,7 @@ fn predict(c: &mut Criterion) {
     });
 }
 
-criterion_group!(benches, predict, gemm_peak, paper_size, ten_times);
+criterion_group!(
+    benches, predict, gemm_peak, paper_size, ten_times, quadratic
+);
 criterion_main!(benches);

@@ -46,6 +46,16 @@ impl<'a> DesignRows<'a> {
             .map_or(self.x.n_features(), QuadraticExpansion::n_outputs)
     }
 
+    /// The expansion the rows go through, if any.
+    pub(crate) fn expansion(&self) -> Option<&'a QuadraticExpansion> {
+        self.expansion
+    }
+
+    /// The rows before any expansion.
+    pub(crate) fn raw_rows(&self) -> std::slice::ChunksExact<'a, f64> {
+        self.x.rows()
+    }
+
     /// Calls `visit` with every row in order (row index and its
     /// [`n_features`](Self::n_features) values; expanded rows share one buffer).
     pub fn for_each_row(&self, mut visit: impl FnMut(usize, &[f64])) {

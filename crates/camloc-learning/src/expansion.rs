@@ -245,11 +245,18 @@ impl QuadraticExpansion {
         linear.copy_from_slice(x);
         let mut z = [0.0; MAX_EXPANSION_COMPONENTS];
         let z = &mut z[..self.n_components];
+        self.components_into(x, z);
+        Arch::new().dispatch(Products { z, products });
+    }
+
+    /// The clamped components `z` of `x` (lengths [`n_inputs`](Self::n_inputs) and
+    /// [`n_components`](Self::n_components), checked by the caller): the factors of the
+    /// products [`expand_into`](Self::expand_into) writes.
+    pub(crate) fn components_into(&self, x: &[f64], z: &mut [f64]) {
         self.raw.apply_into(x, z);
         for za in z.iter_mut() {
             *za = za.clamp(-COMPONENT_LIMIT, COMPONENT_LIMIT);
         }
-        Arch::new().dispatch(Products { z, products });
     }
 
     /// The expansions of every row of `x`, row-major (`n x n_outputs`), in parallel.

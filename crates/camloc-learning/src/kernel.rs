@@ -17,12 +17,12 @@
 //!
 //! One implementation of the arithmetic on `pulp`'s SIMD vectors (safe code, as the Newton
 //! solver's blocked products), instantiated for the instruction set found at run time: on
-//! x86_64 CPUs with AVX2 and FMA, fused multiply-adds on 256-bit vectors; elsewhere one
-//! value at a time with a separate multiply and add. The two agree up to rounding; on one
+//! x86_64 CPUs with AVX2 and FMA (with or without AVX-512), fused multiply-adds on 256-bit
+//! vectors; elsewhere one value at a time with a separate multiply and add. The two agree up to rounding; on one
 //! machine every caller (one row or a batch, training or prediction) runs the same one, so
 //! that results are reproducible there.
 
-use pulp::{Arch, Simd, WithSimd};
+use pulp::{Simd, WithSimd};
 
 /// Features per block: the `f64` lanes of a 256-bit vector.
 const BLOCK: usize = 4;
@@ -71,7 +71,7 @@ impl PackedLinear {
     /// that `x` has the map's input count; a shorter `out` receives the leading outputs.
     #[inline]
     pub(crate) fn apply_into(&self, x: &[f64], out: &mut [f64]) {
-        Arch::new().dispatch(Apply { map: self, x, out });
+        dispatch(Apply { map: self, x, out });
     }
 
     /// The map, with the instruction set of `simd`.
@@ -111,7 +111,25 @@ impl PackedLinear {
     }
 }
 
-/// One [`PackedLinear::apply_into`], run by `pulp` with the instruction set it chose.
+/// Runs `op` on 256-bit vectors with fused multiply-adds where the CPU has AVX2 and FMA
+/// (also when it has AVX-512: [`BLOCK`] and [`MAX_GROUP`] are sized for AVX2, and loads, not
+/// the vector width, bound the kernel), else one value at a time.
+#[cfg(target_arch = "x86_64")]
+fn dispatch<Op: WithSimd>(op: Op) -> Op::Output {
+    match pulp::x86::V3::try_new() {
+        Some(simd) => Simd::vectorize(simd, op),
+        None => Simd::vectorize(pulp::Scalar::new(), op),
+    }
+}
+
+/// Runs `op` with the instruction set `pulp` finds at run time (vectors of at most
+/// [`BLOCK`] lanes on these architectures).
+#[cfg(not(target_arch = "x86_64"))]
+fn dispatch<Op: WithSimd>(op: Op) -> Op::Output {
+    pulp::Arch::new().dispatch(op)
+}
+
+/// One [`PackedLinear::apply_into`], run with the instruction set [`dispatch`] chose.
 struct Apply<'a> {
     map: &'a PackedLinear,
     x: &'a [f64],

@@ -86,12 +86,14 @@ use crate::{
 
 mod blocked;
 mod cg;
+mod design_matrix;
 mod direct;
 mod kernels;
 mod line_search;
 mod product;
 
 use blocked::BlockedProducts;
+use design_matrix::DesignMatrix;
 pub(crate) use kernels::row_loss;
 use kernels::{ROWS_PER_TASK, add_ridge_curvature};
 
@@ -198,8 +200,8 @@ pub struct NewtonProblem {
     dim: usize,
     n_classes: usize,
     standardiser: Standardiser,
-    /// `n x D` column-major design matrix (standardised features, then ones).
-    x: Vec<f64>,
+    /// `n x D` design matrix (standardised features, then ones), stored or generated.
+    x: DesignMatrix,
     labels: Vec<usize>,
     /// `D x K` parameters.
     theta: Vec<f64>,
@@ -319,17 +321,7 @@ impl NewtonProblem {
         } else {
             Standardiser::identity(d)
         };
-        let mut design = vec![1.0; n * dim];
-        x.for_each_row(|i, row| {
-            for (a, ((&v, &m), &s)) in row
-                .iter()
-                .zip(standardiser.means())
-                .zip(standardiser.scales())
-                .enumerate()
-            {
-                design[a * n + i] = Standardiser::apply(m, s, v);
-            }
-        });
+        let design = DesignMatrix::new(x, &standardiser);
         let n_blocks = match config.mode {
             Mode::Multinomial => 1,
             Mode::OneVsRest => k,
@@ -391,25 +383,20 @@ impl NewtonProblem {
     }
 
     /// Assembles later Hessians on `m` evenly spaced rows `j n / m` (all rows when `m >= n`,
-    /// and in one-vs-rest mode): gathers their design rows and sizes the buffers.
+    /// and in one-vs-rest mode): gathers their design rows and sizes the buffers. A
+    /// generated design matrix has no stored rows to assemble on, so "all rows" then gathers
+    /// every row.
     fn use_preconditioner_rows(&mut self, m: usize) {
         let (n, dim, k) = (self.n_samples, self.dim, self.n_classes);
         self.sub_rows = if m < n && self.mode == Mode::Multinomial {
             (0..m).map(|j| j * n / m).collect()
+        } else if self.x.is_generated() {
+            (0..n).collect()
         } else {
             Vec::new()
         };
         let m = self.sub_rows.len();
-        self.sub_x = vec![0.0; m * dim];
-        for (column, sub) in self
-            .x
-            .chunks_exact(n)
-            .zip(self.sub_x.chunks_exact_mut(m.max(1)))
-        {
-            for (s, &i) in sub.iter_mut().zip(&self.sub_rows) {
-                *s = column[i];
-            }
-        }
+        self.sub_x = self.x.gather(&self.sub_rows, dim);
         self.sub_per_sample = vec![0.0; m * k];
         self.packed = PackedHessian::new(self.hessian_rows(), dim, k, self.mode);
     }
@@ -419,7 +406,8 @@ impl NewtonProblem {
     /// with the current ones.
     pub(super) fn grow_preconditioner(&mut self) {
         let m = self.sub_rows.len();
-        if self.direction_solver == DirectionSolver::PreconditionedCg && m > 0 {
+        if self.direction_solver == DirectionSolver::PreconditionedCg && m > 0 && m < self.n_samples
+        {
             self.use_preconditioner_rows(m.saturating_mul(2));
         }
     }

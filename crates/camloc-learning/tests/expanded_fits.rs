@@ -4,16 +4,19 @@
 
 mod support;
 
-use camloc_learning::{DesignRows, Features, LogisticRegression, QuadraticExpansion};
+use camloc_learning::{
+    DesignRows, DirectionSolver, Features, LogisticRegression, Mode, QuadraticExpansion,
+};
 
-#[test]
-fn expanded_rows_fit_the_same_model_as_stored_expanded_rows() {
+/// Fits `config` on `n` rows expanded and stored whole, and on the same rows expanded as the
+/// solver reads them (its design matrix then generated chunk by chunk), and asserts that
+/// the two models are equal to the bit.
+fn assert_same_fit(n: usize, config: LogisticRegression) {
     let (d, k) = (6, 4);
-    let (x, y) = support::gaussian_classes(3000, d, k, 0.8, 2.0, 11);
+    let (x, y) = support::gaussian_classes(n, d, k, 0.8, 2.0, 11);
     let features = Features::new(&x, d).unwrap();
     let expansion = QuadraticExpansion::fit(&features, 4).unwrap();
     let stored = expansion.expand_rows(&features).unwrap();
-    let config = LogisticRegression::default();
     let (whole, whole_report) = config
         .fit(
             &Features::new(&stored, expansion.n_outputs()).unwrap(),
@@ -24,9 +27,35 @@ fn expanded_rows_fit_the_same_model_as_stored_expanded_rows() {
     let rows = DesignRows::expanded(features, &expansion).unwrap();
     assert_eq!(rows.n_features(), expansion.n_outputs());
     let (streamed, streamed_report) = config.fit_rows_with_progress(&rows, &y, k, |_| {}).unwrap();
-    assert!(whole_report.converged);
+    assert!(whole_report.converged, "{config:?}");
     assert_eq!(whole_report.iterations, streamed_report.iterations);
-    assert_eq!(whole, streamed);
+    assert_eq!(whole, streamed, "{config:?}");
+}
+
+#[test]
+fn expanded_rows_fit_the_same_model_as_stored_expanded_rows() {
+    assert_same_fit(3000, LogisticRegression::default());
+}
+
+/// The generated design matrix on every path that reads it: chunks and tasks that do not
+/// divide the rows, a preconditioner on a subset of the rows, the direct Cholesky solve on
+/// all of them, and one-vs-rest.
+#[test]
+fn every_solver_fits_the_same_model_on_generated_rows() {
+    let base = LogisticRegression::default();
+    assert_same_fit(
+        7_001,
+        base.clone()
+            .with_direction_solver(DirectionSolver::TruncatedCg {
+                preconditioner_rows: 700,
+            }),
+    );
+    assert_same_fit(
+        5_003,
+        base.clone()
+            .with_direction_solver(DirectionSolver::Cholesky),
+    );
+    assert_same_fit(2_500, base.with_mode(Mode::OneVsRest));
 }
 
 #[test]

@@ -9,7 +9,9 @@
 //! [`CHUNK_ROWS`] rows whose slice of `X` stays in the core's cache between the two
 //! halves of a fused Hessian-vector product ([`BlockedProducts::hessian_product`]): `X` is
 //! read from memory once per product instead of twice, and the per-sample Jacobians are
-//! applied in between without storing anything per sample.
+//! applied in between without storing anything per sample. A generated design matrix
+//! (module `design_matrix`) forms each chunk in its thread's buffer when it is read, and both
+//! halves of a fused product read it there.
 //!
 //! The kernels keep a register tile of `TILE_ROWS` rows (of `X`, or of `X^T`) by
 //! `TILE_VECTORS` SIMD vectors of classes, with the instruction set chosen at run time
@@ -23,6 +25,7 @@ use std::ops::Range;
 use pulp::{Arch, Simd, WithSimd};
 use rayon::prelude::*;
 
+use super::design_matrix::{ChunkView, DesignMatrix};
 use super::kernels::ROWS_PER_TASK;
 
 /// Rows per chunk: the chunk's slice of `X` (`CHUNK_ROWS x D`, 300 kB for `D = 75`) stays
@@ -42,6 +45,8 @@ const TILE_VECTORS: usize = 3;
 #[derive(Debug)]
 pub(super) struct BlockedProducts {
     arch: Arch,
+    /// Samples `n`.
+    n: usize,
     /// `K` rounded up to a whole number of SIMD vectors.
     padded: usize,
     /// `D x padded` row-major right-hand matrix of `X V` (`V^T`, zero-padded).
@@ -72,6 +77,7 @@ impl BlockedProducts {
         let tasks = n.div_ceil(ROWS_PER_TASK);
         Self {
             arch,
+            n,
             padded,
             weights: vec![0.0; dim * padded],
             chunks: vec![0.0; tasks * CHUNK_ROWS * padded],
@@ -95,13 +101,12 @@ impl BlockedProducts {
 
     /// `out = params^T X^T` (`K x n`, each sample's `K` values together): the logits of
     /// every sample for parameters `params` (`D x K` class-major).
-    pub(super) fn logits(&mut self, x: &[f64], params: &[f64], out: &mut [f64]) {
+    pub(super) fn logits(&mut self, x: &DesignMatrix, params: &[f64], out: &mut [f64]) {
         let dim = self.weights.len() / self.padded;
         let k = params.len() / dim.max(1);
-        let n = x.len() / dim.max(1);
         self.load_weights(dim, params);
         let (padded, weights) = (self.padded, &self.weights);
-        let kernels = self.kernels(x, n);
+        let kernels = self.kernels();
         out.par_chunks_mut(ROWS_PER_TASK * k)
             .zip(self.chunks.par_chunks_mut(CHUNK_ROWS * padded))
             .enumerate()
@@ -110,7 +115,9 @@ impl BlockedProducts {
                     let rows = out.len() / k;
                     let first = task * ROWS_PER_TASK + c * CHUNK_ROWS;
                     let chunk = &mut chunk[..rows * padded];
-                    kernels.times_weights(first, weights, chunk);
+                    x.with_chunk(first, rows, dim, |view| {
+                        kernels.times_weights(view, weights, chunk)
+                    });
                     for (o, s) in out.chunks_exact_mut(k).zip(chunk.chunks_exact(padded)) {
                         o.copy_from_slice(&s[..k]);
                     }
@@ -121,12 +128,11 @@ impl BlockedProducts {
     /// `out = X^T M^T` as a `D x K` class-major matrix (`out[k * D + a] = sum_i m_ki x_ia`)
     /// for a `K x n` matrix `m` (each sample's `K` values together): the gradient of the
     /// loss for residuals `m`.
-    pub(super) fn transpose_product(&mut self, x: &[f64], m: &[f64], out: &mut [f64]) {
+    pub(super) fn transpose_product(&mut self, x: &DesignMatrix, m: &[f64], out: &mut [f64]) {
         let dim = self.weights.len() / self.padded;
         let k = out.len() / dim.max(1);
-        let n = x.len() / dim.max(1);
         let padded = self.padded;
-        let kernels = self.kernels(x, n);
+        let kernels = self.kernels();
         m.par_chunks(ROWS_PER_TASK * k)
             .zip(self.chunks.par_chunks_mut(CHUNK_ROWS * padded))
             .zip(self.partials.par_chunks_mut(dim * padded))
@@ -141,7 +147,9 @@ impl BlockedProducts {
                         s[..k].copy_from_slice(r);
                         s[k..].fill(0.0);
                     }
-                    kernels.accumulate_transposed(first, chunk, &mut *partial);
+                    x.with_chunk(first, rows, dim, |view| {
+                        kernels.accumulate_transposed(view, chunk, &mut *partial)
+                    });
                 }
             });
         self.sum_partials(dim, k, out);
@@ -153,17 +161,17 @@ impl BlockedProducts {
     /// used by both products while it is in cache.
     pub(super) fn hessian_product(
         &mut self,
-        x: &[f64],
+        x: &DesignMatrix,
         v: &[f64],
         jacobian: impl Fn(usize, &mut [f64]) + Sync,
         out: &mut [f64],
     ) {
         let dim = self.weights.len() / self.padded;
         let k = v.len() / dim.max(1);
-        let n = x.len() / dim.max(1);
+        let n = self.n;
         self.load_weights(dim, v);
         let (padded, weights) = (self.padded, &self.weights);
-        let kernels = self.kernels(x, n);
+        let kernels = self.kernels();
         self.chunks
             .par_chunks_mut(CHUNK_ROWS * padded)
             .zip(self.partials.par_chunks_mut(dim * padded))
@@ -174,22 +182,22 @@ impl BlockedProducts {
                 for first in (task * ROWS_PER_TASK..end).step_by(CHUNK_ROWS) {
                     let rows = CHUNK_ROWS.min(end - first);
                     let chunk = &mut chunk[..rows * padded];
-                    kernels.times_weights(first, weights, &mut *chunk);
-                    for (i, s) in chunk.chunks_exact_mut(padded).enumerate() {
-                        jacobian(first + i, &mut s[..k]);
-                    }
-                    kernels.accumulate_transposed(first, chunk, &mut *partial);
+                    x.with_chunk(first, rows, dim, |view| {
+                        kernels.times_weights(view, weights, &mut *chunk);
+                        for (i, s) in chunk.chunks_exact_mut(padded).enumerate() {
+                            jacobian(first + i, &mut s[..k]);
+                        }
+                        kernels.accumulate_transposed(view, chunk, &mut *partial);
+                    });
                 }
             });
         self.sum_partials(dim, k, out);
     }
 
-    /// The kernels on the `n x D` column-major design matrix `x`.
-    fn kernels<'a>(&self, x: &'a [f64], n: usize) -> Kernels<'a> {
+    /// The kernels with this instruction set and class padding.
+    fn kernels(&self) -> Kernels {
         Kernels {
             arch: self.arch,
-            x,
-            n,
             padded: self.padded,
         }
     }
@@ -208,12 +216,10 @@ impl BlockedProducts {
     }
 }
 
-/// Rows `first..first + count` of the `n x D` column-major design matrix `x`.
+/// `count` rows of a design-matrix chunk.
 #[derive(Clone, Copy)]
 struct Rows<'a> {
-    x: &'a [f64],
-    n: usize,
-    first: usize,
+    view: ChunkView<'a>,
     count: usize,
 }
 
@@ -221,32 +227,28 @@ impl<'a> Rows<'a> {
     /// Column `a` of these rows.
     #[inline(always)]
     fn column(&self, a: usize) -> &'a [f64] {
-        &self.x[a * self.n + self.first..][..self.count]
+        self.view.column(a, self.count)
     }
 }
 
-/// The two products on one design matrix, with the instruction set and the class padding.
+/// The two products on chunks of a design matrix, with the instruction set and the class
+/// padding.
 #[derive(Clone, Copy)]
-struct Kernels<'a> {
+struct Kernels {
     arch: Arch,
-    /// `n x D` column-major design matrix.
-    x: &'a [f64],
-    n: usize,
     padded: usize,
 }
 
-impl Kernels<'_> {
-    /// `out = X_rows W` for the rows from `first` ([`Kind::TimesWeights`]).
-    fn times_weights(self, first: usize, weights: &[f64], out: &mut [f64]) {
-        let rows = (self.x, self.n, first);
-        let product = Product::new(Kind::TimesWeights, rows, weights, self.padded, out);
+impl Kernels {
+    /// `out = X_rows W` for the rows of `view` ([`Kind::TimesWeights`]).
+    fn times_weights(self, view: ChunkView<'_>, weights: &[f64], out: &mut [f64]) {
+        let product = Product::new(Kind::TimesWeights, view, weights, self.padded, out);
         self.arch.dispatch(product);
     }
 
-    /// `sums += X_rows^T M` for the rows from `first` ([`Kind::AccumulateTransposed`]).
-    fn accumulate_transposed(self, first: usize, m: &[f64], sums: &mut [f64]) {
-        let rows = (self.x, self.n, first);
-        let product = Product::new(Kind::AccumulateTransposed, rows, m, self.padded, sums);
+    /// `sums += X_rows^T M` for the rows of `view` ([`Kind::AccumulateTransposed`]).
+    fn accumulate_transposed(self, view: ChunkView<'_>, m: &[f64], sums: &mut [f64]) {
+        let product = Product::new(Kind::AccumulateTransposed, view, m, self.padded, sums);
         self.arch.dispatch(product);
     }
 }
@@ -273,12 +275,12 @@ struct Product<'a> {
 }
 
 impl<'a> Product<'a> {
-    /// The product `kind` of the rows from `first` of the `n x D` column-major design
-    /// matrix `x` with `operand`, into `out` (both with `padded` columns; the number of rows
-    /// is that of `out` or of `operand`, whichever has one row per sample).
+    /// The product `kind` of the rows of `view` with `operand`, into `out` (both with
+    /// `padded` columns; the number of rows is that of `out` or of `operand`, whichever has
+    /// one row per sample).
     fn new(
         kind: Kind,
-        (x, n, first): (&'a [f64], usize, usize),
+        view: ChunkView<'a>,
         operand: &'a [f64],
         padded: usize,
         out: &'a mut [f64],
@@ -288,7 +290,7 @@ impl<'a> Product<'a> {
             Kind::AccumulateTransposed => operand.len(),
         };
         let count = per_sample / padded.max(1);
-        let rows = Rows { x, n, first, count };
+        let rows = Rows { view, count };
         Self {
             kind,
             rows,

@@ -11,6 +11,7 @@ use faer::linalg::cholesky::llt::solve::solve_in_place;
 use faer::prelude::{Reborrow, ReborrowMut};
 
 use super::NewtonProblem;
+use super::design_matrix::DesignMatrix;
 use crate::{LearningError, Mode};
 
 /// First diagonal damping, relative to the largest diagonal entry, if Cholesky fails.
@@ -34,10 +35,14 @@ impl NewtonProblem {
         for (out, &i) in self.sub_per_sample.chunks_exact_mut(k).zip(&self.sub_rows) {
             out.copy_from_slice(&source[i * k..(i + 1) * k]);
         }
-        let (x, rows, per_sample) = if self.sub_rows.is_empty() {
-            (&self.x, self.n_samples, source)
-        } else {
-            (&self.sub_x, self.sub_rows.len(), &self.sub_per_sample)
+        // A generated design matrix always has gathered rows (`use_preconditioner_rows`).
+        let (x, rows, per_sample) = match (&self.x, self.sub_rows.is_empty()) {
+            (DesignMatrix::Stored { x, .. }, true) => (&x[..], self.n_samples, &source[..]),
+            _ => (
+                &self.sub_x[..],
+                self.sub_rows.len(),
+                &self.sub_per_sample[..],
+            ),
         };
         let dim = self.dim;
         let weights_are_zero = self
