@@ -291,7 +291,7 @@ fn targets(md: &mut String, walking: &EvalReport, diverse: &EvalReport) {
             let _ = writeln!(
                 md,
                 "- {what}: best non-oracle mode `{}` {e:.1} mm, goal <= {goal} mm ({}); \
-                 `opt` (the default camera) {}",
+                 `opt` (the library's camera without a localizer) {}",
                 mode.name(),
                 met(e <= goal),
                 cell(report, ModeKind::Opt)

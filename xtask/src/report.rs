@@ -538,20 +538,20 @@ fn reconstruction_section(
         }
     }
     let _ = writeln!(md);
-    // `camloc reconstruct` defaults to `opt`; say whether this run agrees, from the numbers.
+    // `camloc reconstruct` defaults to `hybrid`; say whether this run agrees, from the numbers.
     let jittered_best = rows
         .iter()
         .find(|(p, ..)| *p == Protocol::Jittered)
         .and_then(|(_, _, r, _)| reconstruction::best_without_truth(r));
     if let Some((mode, _)) = jittered_best {
-        let verdict = if mode == camloc::ModeKind::Opt {
+        let verdict = if mode == camloc::ModeKind::Hybrid {
             "agrees with"
         } else {
             "does not agree with"
         };
         let _ = writeln!(
             md,
-            "`camloc reconstruct` defaults to `opt`; under `jittered` (cameras anywhere near the \
+            "`camloc reconstruct` defaults to `hybrid`; under `jittered` (cameras anywhere near the \
              classes) this run's best mode without the true camera is `{}`, which {verdict} that \
              default.\n",
             mode.name()

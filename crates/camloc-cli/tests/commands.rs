@@ -84,6 +84,16 @@ fn train_evaluate_and_reconstruct_succeed_on_fixture_data() {
         assert!(p.get("alternatives").is_none(), "one hypothesis by default");
     }
 
+    // Without --camera: hybrid, for single poses as for sequences.
+    for extra in [None, Some("--sequence")] {
+        let mut args = vec!["reconstruct", "--input", input, "--json"];
+        args.extend(extra);
+        let poses: serde_json::Value = serde_json::from_str(&success(&camloc(&args))).unwrap();
+        for p in poses.as_array().unwrap() {
+            assert_eq!(p["camera_mode"], "hybrid", "{extra:?}");
+        }
+    }
+
     // --hypotheses 2: the depth mirror beside the preferred one, both scored; hybrid has 2
     // solves of 2 each.
     for (camera, n) in [("opt", 2), ("hybrid", 4)] {

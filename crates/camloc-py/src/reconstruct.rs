@@ -80,8 +80,8 @@ pub(crate) fn reconstruct<'py>(
     principal_point: Option<(f64, f64)>,
     sequence: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
-    // The command line's default: hybrid for sequences, opt for single poses.
-    let camera = camera.unwrap_or(if sequence { "hybrid" } else { "opt" });
+    // The command line's default.
+    let camera = camera.unwrap_or("hybrid");
     let mode = ModeKind::ALL
         .into_iter()
         .find(|m| m.name() == camera && *m != ModeKind::Oracle)

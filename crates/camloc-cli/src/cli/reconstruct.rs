@@ -26,8 +26,8 @@ use crate::html::ViewFrame;
 fn camera_modes() -> [PossibleValue; 3] {
     [
         PossibleValue::new("opt").help(
-            "Procrustes camera re-estimated at every step (Ramakrishna et al.); the default for \
-             single poses: the fastest, and as accurate as hybrid on the rig protocol \
+            "Procrustes camera re-estimated at every step (Ramakrishna et al.): about half the \
+             time of hybrid, as accurate on the rig protocol, less accurate elsewhere \
              (docs/RESULTS.md)",
         ),
         PossibleValue::new("classified").help(
@@ -36,22 +36,17 @@ fn camera_modes() -> [PossibleValue; 3] {
         ),
         PossibleValue::new("hybrid").help(
             "Classified rotation as the start, refined by Procrustes: the lowest 3D error \
-             measured (docs/RESULTS.md), about twice the time of opt; the default with \
-             --sequence",
+             measured (docs/RESULTS.md), about twice the time of opt; the default",
         ),
     ]
 }
 
-/// The camera mode of a run: `--camera`, else `hybrid` for `--sequence` (the lower 3D error
-/// on sequences of both protocols of `cargo xtask reconstruction`, docs/RESULTS.md) and
-/// `opt` for single poses (the fastest; hybrid's gain there is small and not on both
-/// protocols).
+/// The camera mode of a run: `--camera`, else `hybrid`, the lower 3D error in
+/// docs/RESULTS.md: held-out CMU subjects (walking 51.1 against opt's 70.0 mm, other motions
+/// 67.8 against 69.9), rescaled people under `jittered` (66.9 against 71.5) and sequences;
+/// a tie with `opt` on single `rig` frames (75.3 both). `opt` takes about half the time.
 fn camera_of(args: &Args) -> ModeKind {
-    args.camera.unwrap_or(if args.sequence {
-        ModeKind::Hybrid
-    } else {
-        ModeKind::Opt
-    })
+    args.camera.unwrap_or(ModeKind::Hybrid)
 }
 
 /// Parses `--camera` (clap has already checked the name against [`camera_modes`]).
@@ -73,7 +68,7 @@ pub struct Args {
     pub basis: Option<PathBuf>,
     #[command(flatten)]
     pub input: InputArgs,
-    /// Which camera to reconstruct with [default: opt; with --sequence, hybrid].
+    /// Which camera to reconstruct with [default: hybrid].
     #[arg(long, value_name = "MODE",
           value_parser = clap::builder::PossibleValuesParser::new(camera_modes())
               .try_map(|s| parse_camera(&s)))]
