@@ -1,7 +1,8 @@
 //! The batch loop of `localize` and `reconstruct`: read a batch of poses, process it in
 //! parallel, write its results (standard output as text, a JSON array or JSON lines; SVG files
-//! and the file of one row per pose staged), then the next batch. Memory is bounded by the
-//! batch, not the input.
+//! and the file of one row per pose staged), the three stages on different threads so that
+//! reading, processing and writing of consecutive batches overlap. Memory is bounded by a few
+//! batches, not the input.
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -275,9 +276,12 @@ where
     let mut summary = Summary::default();
     let mut first_svg = None;
     let mut emitter = Emitter::new(format);
-    // One thread reads the next batch while the others process this one.
+    // Three stages overlap: one thread reads the next batch, another processes the one before
+    // it (on every core), and this one writes the results of the one before that.
     let (sender, batches) = std::sync::mpsc::sync_channel(1);
+    let (done_sender, done_batches) = std::sync::mpsc::sync_channel(1);
     let reader = &mut inputs;
+    let compute = &compute;
     std::thread::scope(|scope| -> Result<(), CliError> {
         scope.spawn(move || {
             loop {
@@ -289,15 +293,23 @@ where
                 }
             }
         });
-        for batch in batches {
-            let results: Vec<Result<Done<P, K>, Failed<K>>> = batch
-                .par_iter()
-                .map(|item| match item {
-                    Ok(record) => compute(record),
-                    // Reported below; nothing to compute.
-                    Err(_) => Err(Failed::from(String::new())),
-                })
-                .collect();
+        scope.spawn(move || {
+            for batch in batches {
+                let results: Vec<Result<Done<P, K>, Failed<K>>> = batch
+                    .par_iter()
+                    .map(|item| match item {
+                        Ok(record) => compute(record),
+                        // Reported by the writer; nothing to compute.
+                        Err(_) => Err(Failed::from(String::new())),
+                    })
+                    .collect();
+                // Stop when the writer has stopped (an error, a closed pipe).
+                if done_sender.send((batch, results)).is_err() {
+                    break;
+                }
+            }
+        });
+        for (batch, results) in done_batches {
             for (item, result) in batch.iter().zip(results) {
                 let record = match item {
                     Ok(record) => record,
