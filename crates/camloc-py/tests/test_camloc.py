@@ -293,7 +293,9 @@ def test_shapes_and_dtypes(localizer):
     assert rec["points3d"].shape == (3, 15, 3) and rec["points3d"].dtype == np.float64
     assert rec["rotation"].shape == (3, 3, 3) and rec["translation"].shape == (3, 2)
     assert rec["scale"].shape == rec["projection_error"].shape == rec["label"].shape == (3,)
-    np.testing.assert_array_equal(rec["label"], 0)  # opt classifies no camera
+    # The default camera is hybrid: it classifies each pose's camera as the localizer does.
+    np.testing.assert_array_equal(rec["label"], got["label"])
+    np.testing.assert_array_equal(camloc.reconstruct(points, camera="opt")["label"], 0)
     for r in rec["rotation"]:
         np.testing.assert_allclose(r @ r.T, np.eye(3), atol=1e-9)
     assert camloc.reconstruct(points[0])["points3d"].shape == (15, 3)
