@@ -96,12 +96,13 @@ fn posture_clips(sequences: &[PoseSequence]) -> Vec<PoseSequence> {
 }
 
 /// Table rows of `outcomes` per recipe: all, the posture categories together, seated
-/// (category sit), low frames, then each category.
+/// (category sit), low frames, then each other category.
 fn rows(md: &mut String, title: &str, results: &[(&Recipe, Vec<ViewOutcome>)]) {
     let Some((_, first)) = results.first() else {
         return;
     };
-    let categories = categories_in(first);
+    let mut categories = categories_in(first);
+    categories.retain(|c| *c != MotionCategory::Sit);
     let _ = writeln!(md, "\n{title}\n");
     let mut header =
         "| recipe | all | inside the class boxes | postures | sit | low frames |".to_string();

@@ -4,7 +4,8 @@
 //! # Layout
 //!
 //! * Design matrix `X`: `n x D` column-major, `D = d + 1`, the standardised features
-//!   followed by a column of ones (the bias).
+//!   followed by a column of ones (the bias); for quadratic features its product columns are
+//!   formed per chunk of rows rather than stored (module `design_matrix`).
 //! * Parameters `theta`: `D x K` column-major, i.e. class-major: `theta[k * D + a]` is the
 //!   weight of feature `a` for class `k`, `a = d` being the bias. Gradient and Newton
 //!   direction use the same layout; the Hessian is the `P x P` matrix (`P = D K`) on it.
@@ -50,8 +51,9 @@
 //! are in `direct` (Hessian assembly and Cholesky solve) and `cg` (conjugate gradients
 //! preconditioned by the last factor, on the Hessian-vector products of `product`), the
 //! Armijo backtracking in `line_search`, the products of the design matrix with thin
-//! matrices (logits, gradients, Hessian-vector products) in `blocked`, and the per-sample
-//! kernels and reductions in `kernels`.
+//! matrices (logits, gradients, Hessian-vector products) in `blocked`, the design matrix
+//! itself (stored, or generated chunk by chunk for quadratic features) in `design_matrix`,
+//! and the per-sample kernels and reductions in `kernels`.
 //!
 //! # Evaluations
 //!
