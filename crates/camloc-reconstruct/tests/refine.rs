@@ -146,6 +146,38 @@ fn a_sequence_recovers_proportions_the_template_does_not_have() {
     );
 }
 
+/// A sequence's lengths are estimated without the temporal smoothness (which, holding
+/// each bone's direction near its neighbours', biased them), and its poses are then fitted
+/// with the smoothness and those lengths.
+#[test]
+fn sequence_lengths_come_from_the_fit_without_smoothness() {
+    let truth = person(5);
+    let poses = motion(&truth, 30, 6);
+    let rotation = look_at_origin(sphere_point(120.0, 8.0, 1.0)).unwrap();
+    let frames: Vec<_> = poses
+        .iter()
+        .map(|p| (seen(p, rotation), CameraMode::Opt))
+        .collect();
+    let smooth = reconstructor()
+        .reconstruct_sequence(&frames, &Given::default())
+        .unwrap();
+    let mut config = ReconstructConfig::default();
+    assert!(config.refinement.smoothness > 0.0);
+    config.refinement.smoothness = 0.0;
+    let plain = Reconstructor::new(basis().clone(), config)
+        .unwrap()
+        .reconstruct_sequence(&frames, &Given::default())
+        .unwrap();
+    assert_eq!(smooth.lengths, plain.lengths);
+    let moved = smooth
+        .frames
+        .iter()
+        .zip(&plain.frames)
+        .map(|(a, b)| mpjpe_after_similarity(&a.as_ref().unwrap().pose, &b.as_ref().unwrap().pose))
+        .fold(0.0, f64::max);
+    assert!(moved > 1e-6, "the smoothness changed no pose");
+}
+
 #[test]
 fn a_known_focal_length_fits_a_close_camera_in_full_perspective() {
     // A pose the basis spans, with its own lengths given.
