@@ -43,8 +43,9 @@ fn camera_modes() -> [PossibleValue; 3] {
 
 /// The camera mode of a run: `--camera`, else `hybrid`, the lower 3D error in
 /// docs/RESULTS.md: held-out CMU subjects (walking 51.1 against opt's 70.0 mm, other motions
-/// 67.8 against 69.9), rescaled people under `jittered` (66.9 against 71.5) and sequences;
-/// a tie with `opt` on single `rig` frames (75.3 both). `opt` takes about half the time.
+/// 67.9 against 69.9), rescaled people under `jittered` (66.9 against 71.5) and sequences;
+/// a tie with `opt` on single `rig` frames (75.2 against 75.3). `opt` takes about half the
+/// time.
 fn camera_of(args: &Args) -> ModeKind {
     args.camera.unwrap_or(ModeKind::Hybrid)
 }
