@@ -167,13 +167,19 @@ impl RawLinear {
         let scales = &standardiser.scales;
         // A decoded standardiser may have fewer scales than means until it is validated.
         let d = standardiser.means.len().min(scales.len());
+        // `V[j][k]`, feature-major, each divided once.
+        let m = biases.len();
+        let folded: Vec<f64> = (0..d)
+            .flat_map(|j| (0..m).map(move |k| (j, k)))
+            .map(|(j, k)| weight(j, k) / scales[j])
+            .collect();
         let mut folded_biases = biases.to_vec();
         for (k, c) in folded_biases.iter_mut().enumerate() {
-            for (j, (&mean, &scale)) in standardiser.means.iter().zip(scales).enumerate() {
-                *c -= weight(j, k) / scale * mean;
+            for (j, &mean) in standardiser.means.iter().take(d).enumerate() {
+                *c -= folded[j * m + k] * mean;
             }
         }
-        let map = PackedLinear::pack(d, |j, k| weight(j, k) / scales[j], folded_biases);
+        let map = PackedLinear::pack(d, |j, k| folded[j * m + k], folded_biases);
         RawLinear { map }
     }
 

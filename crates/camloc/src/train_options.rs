@@ -93,8 +93,8 @@ pub const DEFAULT_QUADRATIC_LAMBDA: f64 = 100.0;
 /// subjects (training subjects held out of the fit, `cargo xtask postures --test-subjects
 /// 114,13,75,07,14`): tolerances 1e-4, 3e-4 and 1e-3 scored within 0.05 points of each other
 /// on `jittered`, `sphere`, `rig` and its seated and low poses, with 13, 9 and 6 Newton
-/// iterations (78.0, 53.4 and 28.7 s); the default model's fit stops after about a third of
-/// the iterations 1e-4 took (docs/RESULTS.md).
+/// iterations (78.0, 53.4 and 28.7 s); the default model's fit stops after 9 iterations,
+/// where 1e-4 took 37 (docs/RESULTS.md).
 pub const QUADRATIC_GRADIENT_TOLERANCE: f64 = 1e-3;
 
 /// Samples the preconditioning Hessian of the default quadratic model's Newton solver is

@@ -45,8 +45,6 @@ const TILE_VECTORS: usize = 3;
 #[derive(Debug)]
 pub(super) struct BlockedProducts {
     arch: Arch,
-    /// Samples `n`.
-    n: usize,
     /// `K` rounded up to a whole number of SIMD vectors.
     padded: usize,
     /// `D x padded` row-major right-hand matrix of `X V` (`V^T`, zero-padded).
@@ -77,7 +75,6 @@ impl BlockedProducts {
         let tasks = n.div_ceil(ROWS_PER_TASK);
         Self {
             arch,
-            n,
             padded,
             weights: vec![0.0; dim * padded],
             chunks: vec![0.0; tasks * CHUNK_ROWS * padded],
@@ -168,7 +165,7 @@ impl BlockedProducts {
     ) {
         let dim = self.weights.len() / self.padded;
         let k = v.len() / dim.max(1);
-        let n = self.n;
+        let n = x.n_rows();
         self.load_weights(dim, v);
         let (padded, weights) = (self.padded, &self.weights);
         let kernels = self.kernels();

@@ -70,16 +70,7 @@ impl DesignMatrix {
             None => {
                 let dim = rows.n_features() + 1;
                 let mut x = vec![1.0; n * dim];
-                rows.for_each_row(|i, row| {
-                    for (a, ((&v, &m), &s)) in row
-                        .iter()
-                        .zip(standardiser.means())
-                        .zip(standardiser.scales())
-                        .enumerate()
-                    {
-                        x[a * n + i] = Standardiser::apply(m, s, v);
-                    }
-                });
+                rows.for_each_row(|i, row| put_standardised(row, standardiser, i, n, &mut x));
                 Self::Stored { x, n }
             }
         }
@@ -133,6 +124,14 @@ impl DesignMatrix {
         out
     }
 
+    /// Number of rows `n` (samples).
+    pub(super) fn n_rows(&self) -> usize {
+        match self {
+            Self::Stored { n, .. } => *n,
+            Self::Generated(g) => g.n,
+        }
+    }
+
     /// True when the chunks are generated: the whole matrix is never held, so a Hessian
     /// on every row must be assembled from gathered rows.
     pub(super) fn is_generated(&self) -> bool {
@@ -155,9 +154,7 @@ impl GeneratedDesign {
         let (means, scales) = (standardiser.means(), standardiser.scales());
         let mut z = vec![0.0; components];
         for (i, row) in rows.raw_rows().enumerate() {
-            for (a, ((&v, &m), &s)) in row.iter().zip(means).zip(scales).enumerate() {
-                base[a * n + i] = Standardiser::apply(m, s, v);
-            }
+            put_standardised(row, standardiser, i, n, &mut base);
             expansion.components_into(row, &mut z);
             for (a, &za) in z.iter().enumerate() {
                 base[(inputs + a) * n + i] = za;
@@ -181,21 +178,27 @@ impl GeneratedDesign {
             o.copy_from_slice(base_column(a));
         }
         let (product_part, ones) = rest.split_at_mut(rest.len() - count);
-        let mut outputs = product_part
+        // The pairs `a <= b` in the expansion's order (row-major upper triangle).
+        let k = self.components;
+        let pairs = (0..k).flat_map(|a| (a..k).map(move |b| (a, b)));
+        let outputs = product_part
             .chunks_exact_mut(count)
             .zip(self.product_means.iter().zip(&self.product_scales));
-        for a in 0..self.components {
-            let za = base_column(self.inputs + a);
-            for b in a..self.components {
-                let zb = base_column(self.inputs + b);
-                let Some((o, (&m, &s))) = outputs.next() else {
-                    return;
-                };
-                for ((o, &va), &vb) in o.iter_mut().zip(za).zip(zb) {
-                    *o = Standardiser::apply(m, s, va * vb);
-                }
+        for ((o, (&m, &s)), (a, b)) in outputs.zip(pairs) {
+            let (za, zb) = (base_column(self.inputs + a), base_column(self.inputs + b));
+            for ((o, &va), &vb) in o.iter_mut().zip(za).zip(zb) {
+                *o = Standardiser::apply(m, s, va * vb);
             }
         }
         ones.fill(1.0);
+    }
+}
+
+/// Writes the standardised values of `row` (the leading columns `standardiser` knows) as row
+/// `i` of the `n`-row column-major matrix `out`.
+fn put_standardised(row: &[f64], standardiser: &Standardiser, i: usize, n: usize, out: &mut [f64]) {
+    let (means, scales) = (standardiser.means(), standardiser.scales());
+    for (a, ((&v, &m), &s)) in row.iter().zip(means).zip(scales).enumerate() {
+        out[a * n + i] = Standardiser::apply(m, s, v);
     }
 }
