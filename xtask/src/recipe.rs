@@ -65,7 +65,8 @@ pub fn training_views(
 /// to the classifier's and the heads' views), `balance=B` (the camera priors' balance, 1 by
 /// default), `quadratic[-K]` (the classifier's capacity), `heads=quadratic-K` (the heads' own
 /// capacity), `classes` ((posture, camera) classes), `precond=N` (truncated Newton-CG
-/// preconditioned on `N` samples), `lambda=L` (the classifier's ridge weight), `tol=T` (its
+/// preconditioned on `N` samples), `products=N` (its Hessian-vector products on at least `N`
+/// samples; after `quadratic`, which sets both), `lambda=L` (the classifier's ridge weight), `tol=T` (its
 /// per-sample gradient tolerance).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Recipe {
@@ -121,8 +122,27 @@ impl std::str::FromStr for Recipe {
                     recipe.options = recipe.options.clone().with_capacity(k.parse()?)
                 }
                 ("precond", Some(v)) => {
+                    let product_rows = recipe
+                        .options
+                        .regression
+                        .direction_solver
+                        .product_rows(usize::MAX);
                     recipe.options.regression.direction_solver = DirectionSolver::TruncatedCg {
                         preconditioner_rows: number(v)? as usize,
+                        product_rows,
+                    }
+                }
+                ("products", Some(v)) => {
+                    let preconditioner_rows = match recipe.options.regression.direction_solver {
+                        DirectionSolver::TruncatedCg {
+                            preconditioner_rows,
+                            ..
+                        } => preconditioner_rows,
+                        _ => camloc::DEFAULT_PRECONDITIONER_ROWS,
+                    };
+                    recipe.options.regression.direction_solver = DirectionSolver::TruncatedCg {
+                        preconditioner_rows,
+                        product_rows: number(v)? as usize,
                     }
                 }
                 _ => return Err(format!("unknown part '{part}' in recipe '{text}'")),

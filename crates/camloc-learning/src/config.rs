@@ -40,8 +40,8 @@ pub enum DirectionSolver {
     #[default]
     PreconditionedCg,
     /// Truncated Newton (Newton-CG) with a preconditioner assembled on `preconditioner_rows`
-    /// samples. Each Newton system is solved by conjugate gradients on exact Hessian-vector
-    /// products only to the relative residual `eta = min(0.5, sqrt(||g|| / ||g_0||))`
+    /// samples. Each Newton system is solved by conjugate gradients on Hessian-vector
+    /// products (exact, or subsampled: `product_rows` below) only to the relative residual `eta = min(0.5, sqrt(||g|| / ||g_0||))`
     /// (Eisenstat and Walker's forcing term, in the preconditioner's norm; never below
     /// `1e-10`), or until the residual, which is the gradient the quadratic model predicts
     /// after the step, is a quarter of the convergence threshold, so that early iterations
@@ -54,10 +54,21 @@ pub enum DirectionSolver {
     /// direction, so the line search and the objective behave as with the exact solver.
     /// For problems whose Hessian is too costly to assemble from every sample (many samples
     /// and a large `(d + 1) K`, e.g. after a [`QuadraticExpansion`](crate::QuadraticExpansion)).
+    ///
+    /// With `product_rows` below the number of samples, the conjugate-gradient products use
+    /// the Hessian of an evenly spaced subset of the samples (whole blocks of consecutive
+    /// rows, rescaled to all samples) instead of the exact one: subsampled Newton-CG (Byrd,
+    /// Chin, Neveitt and Nocedal, 2011). The gradient, the objective and the line search stay
+    /// exact, and the subsampled Hessian is positive definite, so every direction is still a
+    /// descent direction and the fit stops at the same gradient tolerance; each product costs
+    /// `product_rows / n` of an exact one, at the price of a less exact Newton direction.
     TruncatedCg {
         /// Samples the preconditioning Hessian is assembled on (all of them when there are
         /// fewer); at least 1.
         preconditioner_rows: usize,
+        /// Samples, at least, the Hessian-vector products of conjugate gradients are computed
+        /// on (every sample when there are fewer, which makes the products exact); at least 1.
+        product_rows: usize,
     },
 }
 
@@ -76,9 +87,20 @@ impl DirectionSolver {
                 .max(MIN_PRECONDITIONER_ROWS),
             DirectionSolver::TruncatedCg {
                 preconditioner_rows,
+                ..
             } => *preconditioner_rows,
         };
         rows.min(n_samples)
+    }
+
+    /// Samples the conjugate-gradient Hessian-vector products are computed on, at least,
+    /// for a problem of `n_samples` samples: all of them except for
+    /// [`TruncatedCg`](Self::TruncatedCg) with a smaller `product_rows`.
+    pub fn product_rows(&self, n_samples: usize) -> usize {
+        match self {
+            DirectionSolver::TruncatedCg { product_rows, .. } => (*product_rows).min(n_samples),
+            DirectionSolver::Cholesky | DirectionSolver::PreconditionedCg => n_samples,
+        }
     }
 }
 
@@ -193,14 +215,22 @@ impl LogisticRegression {
             });
         }
         if let DirectionSolver::TruncatedCg {
-            preconditioner_rows: 0,
+            preconditioner_rows,
+            product_rows,
         } = self.direction_solver
         {
-            return Err(LearningError::InvalidParameter {
-                name: "preconditioner_rows",
-                value: "0".into(),
-                reason: "must be at least 1",
-            });
+            for (name, rows) in [
+                ("preconditioner_rows", preconditioner_rows),
+                ("product_rows", product_rows),
+            ] {
+                if rows == 0 {
+                    return Err(LearningError::InvalidParameter {
+                        name,
+                        value: "0".into(),
+                        reason: "must be at least 1",
+                    });
+                }
+            }
         }
         if !(self.gradient_tolerance.is_finite() && self.gradient_tolerance >= 0.0) {
             return Err(LearningError::InvalidParameter {

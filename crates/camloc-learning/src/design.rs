@@ -51,9 +51,10 @@ impl<'a> DesignRows<'a> {
         self.expansion
     }
 
-    /// The rows before any expansion.
-    pub(crate) fn raw_rows(&self) -> std::slice::ChunksExact<'a, f64> {
-        self.x.rows()
+    /// Row `i` before any expansion (`i < n_samples`).
+    pub(crate) fn raw_row(&self, i: usize) -> &'a [f64] {
+        let d = self.x.n_features();
+        &self.x.data()[i * d..(i + 1) * d]
     }
 
     /// Calls `visit` with every row in order (row index and its

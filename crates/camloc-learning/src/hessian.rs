@@ -25,9 +25,6 @@ const CHUNK_ROWS: usize = 256;
 /// Tasks per rayon thread: enough for dynamic load balancing, few enough that the
 /// per-task accumulators stay small.
 const TASKS_PER_THREAD: usize = 4;
-/// Rows per block of the Gram-matrix shortcut (`D` column pieces of this many rows fit in
-/// L2 together).
-const GRAM_BLOCK_ROWS: usize = 512;
 /// Sample weights below this are treated as 0. It keeps subnormal numbers, which are about
 /// a hundred times slower, out of the GEMM; the dropped contributions are at most
 /// `1e-250 x_a x_b`, far below the rounding of any Hessian entry of a problem with
@@ -157,21 +154,26 @@ impl PackedHessian {
     /// (one-vs-rest) common to all samples.
     pub(crate) fn accumulate_uniform(&mut self, x: &[f64], n: usize, mode: Mode, shared: &[f64]) {
         let feature_pairs = &self.feature_pairs;
-        // Per task: its rows' contribution to each packed Gram entry, in the first T
-        // entries of its accumulator.
+        let dim = feature_pairs.last().map_or(0, |&(_, b)| b + 1);
+        // Per task: its rows' Gram matrix (one GEMM), packed into the first T entries of its
+        // accumulator.
         self.tasks.par_iter_mut().for_each(|task| {
-            task.accumulator.fill(0.0);
-            // Blocks of rows small enough for all D column pieces to stay in L2.
-            let mut first = task.first_row;
-            while first < task.end_row {
-                let end = (first + GRAM_BLOCK_ROWS).min(task.end_row);
-                for (g, &(a, b)) in task.accumulator.iter_mut().zip(feature_pairs) {
-                    *g += dot(
-                        &x[a * n + first..a * n + end],
-                        &x[b * n + first..b * n + end],
-                    );
-                }
-                first = end;
+            let rows = task.end_row - task.first_row;
+            let mut gram = faer::Mat::<f64>::zeros(dim, dim);
+            if rows > 0 {
+                let block =
+                    MatRef::from_column_major_slice_with_stride(&x[task.first_row..], rows, dim, n);
+                matmul(
+                    gram.as_mut(),
+                    Accum::Replace,
+                    block.transpose(),
+                    block,
+                    1.0,
+                    Par::Seq,
+                );
+            }
+            for (g, &(a, b)) in task.accumulator.iter_mut().zip(feature_pairs) {
+                *g = gram[(a, b)];
             }
         });
         let q = self.class_pairs.len();

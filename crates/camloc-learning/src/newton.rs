@@ -95,7 +95,7 @@ mod line_search;
 mod product;
 
 use blocked::BlockedProducts;
-use design_matrix::DesignMatrix;
+use design_matrix::{DesignMatrix, RowOrder};
 pub(crate) use kernels::row_loss;
 use kernels::{ROWS_PER_TASK, add_ridge_curvature};
 
@@ -263,6 +263,9 @@ pub struct NewtonProblem {
     gradient_threshold: f64,
     /// Trust radius of truncated CG in the preconditioner's norm (infinite at the start).
     trust_radius: f64,
+    /// Conjugate-gradient products read every `product_task_stride`-th task of rows (1:
+    /// every row, the exact Hessian; [`DirectionSolver::product_rows`]).
+    product_task_stride: usize,
     iteration: usize,
 }
 
@@ -323,7 +326,17 @@ impl NewtonProblem {
         } else {
             Standardiser::identity(d)
         };
-        let design = DesignMatrix::new(x, &standardiser);
+        let product_rows = config.direction_solver.product_rows(n);
+        let order = if product_rows < n {
+            RowOrder::spread(n)
+        } else {
+            RowOrder::input(n)
+        };
+        let design = DesignMatrix::new(x, &standardiser, order);
+        let mut labels = vec![0; n];
+        for (i, &label) in y.iter().enumerate() {
+            labels[order.position(i)] = label;
+        }
         let n_blocks = match config.mode {
             Mode::Multinomial => 1,
             Mode::OneVsRest => k,
@@ -346,7 +359,7 @@ impl NewtonProblem {
             n_classes: k,
             standardiser,
             x: design,
-            labels: y.to_vec(),
+            labels,
             theta: vec![0.0; p],
             logits: vec![0.0; k * n],
             probabilities: vec![0.0; k * n],
@@ -376,6 +389,7 @@ impl NewtonProblem {
             initial_gradient_norm: 0.0,
             gradient_threshold: config.gradient_tolerance * n as f64,
             trust_radius: f64::INFINITY,
+            product_task_stride: Self::task_stride_for(n, product_rows),
             iteration: 0,
         };
         problem.use_preconditioner_rows(config.direction_solver.preconditioner_rows(n, p));

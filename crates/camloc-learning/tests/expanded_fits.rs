@@ -38,8 +38,8 @@ fn expanded_rows_fit_the_same_model_as_stored_expanded_rows() {
 }
 
 /// The generated design matrix on every path that reads it: chunks and tasks that do not
-/// divide the rows, a preconditioner on a subset of the rows, the direct Cholesky solve on
-/// all of them, and one-vs-rest.
+/// divide the rows, a preconditioner on a subset of the rows, Hessian-vector products on a
+/// subset of the tasks, the direct Cholesky solve on all rows, and one-vs-rest.
 #[test]
 fn every_solver_fits_the_same_model_on_generated_rows() {
     let base = LogisticRegression::default();
@@ -48,6 +48,15 @@ fn every_solver_fits_the_same_model_on_generated_rows() {
         base.clone()
             .with_direction_solver(DirectionSolver::TruncatedCg {
                 preconditioner_rows: 700,
+                product_rows: 7_001,
+            }),
+    );
+    assert_same_fit(
+        9_001,
+        base.clone()
+            .with_direction_solver(DirectionSolver::TruncatedCg {
+                preconditioner_rows: 900,
+                product_rows: 2_100,
             }),
     );
     assert_same_fit(

@@ -237,7 +237,9 @@ proptest! {
         solver in prop_oneof![
             Just(DirectionSolver::PreconditionedCg),
             Just(DirectionSolver::Cholesky),
-            (1usize..20).prop_map(|rows| DirectionSolver::TruncatedCg { preconditioner_rows: rows }),
+            (1usize..20, 1usize..100).prop_map(|(preconditioner_rows, product_rows)| {
+                DirectionSolver::TruncatedCg { preconditioner_rows, product_rows }
+            }),
         ],
     ) {
         let (x, y) = support::gaussian_classes(n, d, k, separation, 1.0, seed);
@@ -417,6 +419,7 @@ fn truncated_cg_on_a_subsampled_preconditioner_reaches_the_exact_optimum() {
             .clone()
             .with_direction_solver(DirectionSolver::TruncatedCg {
                 preconditioner_rows: n / 10,
+                product_rows: n,
             });
         let problem = NewtonProblem::new(&features, &y, k, &truncated).expect("valid");
         assert_eq!(problem.hessian_rows(), n / 10);
@@ -440,8 +443,64 @@ fn truncated_cg_on_a_subsampled_preconditioner_reaches_the_exact_optimum() {
         );
         assert!(report.hessian_assemblies() >= 1 && report.cg_products() > 0);
     }
-    let zero = LogisticRegression::default().with_direction_solver(DirectionSolver::TruncatedCg {
-        preconditioner_rows: 0,
-    });
-    assert!(zero.validate().is_err());
+    for (preconditioner_rows, product_rows) in [(0, 10), (10, 0)] {
+        let zero =
+            LogisticRegression::default().with_direction_solver(DirectionSolver::TruncatedCg {
+                preconditioner_rows,
+                product_rows,
+            });
+        assert!(zero.validate().is_err());
+    }
+}
+
+/// Subsampled Newton-CG: conjugate gradients on the Hessian of a quarter of the samples
+/// (every fourth task of rows), the gradient and the line search exact. Every step lowers the
+/// objective and the fit reaches the optimum of the exact Newton fit; its products are
+/// cheaper, so more of them fit the budget, but the directions differ from the exact
+/// products' (the subsample is used).
+#[test]
+fn truncated_cg_on_subsampled_products_reaches_the_exact_optimum() {
+    let (n, d, k) = (20_000, 6, 4);
+    for (lambda, seed) in [(1.0, 11), (1e-3, 12)] {
+        let (x, y) = support::gaussian_classes(n, d, k, 0.8, 2.0, seed);
+        let features = Features::new(&x, d).expect("valid");
+        let exact = LogisticRegression::default()
+            .with_lambda(lambda)
+            .with_gradient_tolerance(1e-8)
+            .with_max_iter(200)
+            .with_direction_solver(DirectionSolver::Cholesky);
+        let solver = |product_rows| DirectionSolver::TruncatedCg {
+            preconditioner_rows: 500,
+            product_rows,
+        };
+        let subsampled = exact.clone().with_direction_solver(solver(n / 4));
+        assert_eq!(subsampled.direction_solver.product_rows(n), n / 4);
+        let (_, report) = subsampled.fit(&features, &y, k).expect("fit");
+        let (_, reference) = exact.fit(&features, &y, k).expect("fit");
+        let (_, whole) = exact
+            .clone()
+            .with_direction_solver(solver(n))
+            .fit(&features, &y, k)
+            .expect("fit");
+        assert!(report.converged, "lambda {lambda}: {report:?}");
+        assert_ne!(
+            report.iterations, whole.iterations,
+            "lambda {lambda}: the products did not use the subsample"
+        );
+        for pair in report.iterations.windows(2) {
+            assert!(
+                pair[1].objective <= pair[0].objective,
+                "lambda {lambda}: objective rose at iteration {}",
+                pair[1].iteration
+            );
+        }
+        let (a, b) = (
+            report.iterations.last().expect("log").objective,
+            reference.iterations.last().expect("log").objective,
+        );
+        assert!(
+            (a - b).abs() <= 1e-9 * b,
+            "lambda {lambda}: optimum {a} (subsampled) vs {b} (exact)"
+        );
+    }
 }

@@ -153,16 +153,18 @@ impl BlockedProducts {
     }
 
     /// `out = X^T [J_i (V^T x_i)]_i` as a `D x K` class-major matrix, for `v` `D x K`
-    /// class-major: the loss part of a Hessian-vector product. `jacobian(i, s)` replaces
-    /// the `K` values `s = V^T x_i` of sample `i` by `J_i s`. Each chunk's slice of `X` is
-    /// used by both products while it is in cache.
+    /// class-major: the loss part of a Hessian-vector product, summed over the rows of every
+    /// `task_stride`-th task of [`ROWS_PER_TASK`] rows (every row for 1); returns the number
+    /// of rows summed. `jacobian(i, s)` replaces the `K` values `s = V^T x_i` of sample `i`
+    /// by `J_i s`. Each chunk's slice of `X` is used by both products while it is in cache.
     pub(super) fn hessian_product(
         &mut self,
         x: &DesignMatrix,
         v: &[f64],
         jacobian: impl Fn(usize, &mut [f64]) + Sync,
+        task_stride: usize,
         out: &mut [f64],
-    ) {
+    ) -> usize {
         let dim = self.weights.len() / self.padded;
         let k = v.len() / dim.max(1);
         let n = x.n_rows();
@@ -175,6 +177,9 @@ impl BlockedProducts {
             .enumerate()
             .for_each(|(task, (chunk, partial))| {
                 partial.fill(0.0);
+                if task % task_stride != 0 {
+                    return;
+                }
                 let end = n.min((task + 1) * ROWS_PER_TASK);
                 for first in (task * ROWS_PER_TASK..end).step_by(CHUNK_ROWS) {
                     let rows = CHUNK_ROWS.min(end - first);
@@ -189,6 +194,10 @@ impl BlockedProducts {
                 }
             });
         self.sum_partials(dim, k, out);
+        (0..n.div_ceil(ROWS_PER_TASK))
+            .step_by(task_stride)
+            .map(|task| n.min((task + 1) * ROWS_PER_TASK) - task * ROWS_PER_TASK)
+            .sum()
     }
 
     /// The kernels with this instruction set and class padding.

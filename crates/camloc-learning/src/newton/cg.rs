@@ -1,7 +1,8 @@
-//! The truncated Newton direction by conjugate gradients on exact Hessian-vector products
-//! (module `product`), preconditioned by the Cholesky factor of an earlier, subsampled
-//! Hessian ([`DirectionSolver::PreconditionedCg`](crate::DirectionSolver::PreconditionedCg)
-//! and [`DirectionSolver::TruncatedCg`](crate::DirectionSolver::TruncatedCg)).
+//! The truncated Newton direction by conjugate gradients on Hessian-vector products (module
+//! `product`; exact, or on an evenly spaced subsample of the rows), preconditioned by the
+//! Cholesky factor of an earlier, subsampled Hessian
+//! ([`DirectionSolver::PreconditionedCg`](crate::DirectionSolver::PreconditionedCg) and
+//! [`DirectionSolver::TruncatedCg`](crate::DirectionSolver::TruncatedCg)).
 //!
 //! The system is the one the direct solve factorises, `(H + S) d = -g`, `S` the
 //! singular-direction shift recorded with the factor (the gradient is orthogonal to the
@@ -72,7 +73,8 @@ impl NewtonProblem {
     fn cg_budget(&self) -> usize {
         let p = self.theta.len() as f64;
         let assembly = self.hessian_flops() + p * p * p / 3.0;
-        let product = self.hessian_vector_product_flops() + 2.0 * p * p;
+        let product =
+            self.hessian_vector_product_flops() / self.product_task_stride as f64 + 2.0 * p * p;
         let budget = assembly / (PRODUCT_COST_WEIGHT * product);
         if budget.is_finite() {
             (budget as usize).max(MIN_BUDGET)
@@ -94,10 +96,11 @@ impl NewtonProblem {
         );
     }
 
-    /// `cg.product = (H + S) cg.search` with the exact Hessian `H` at the current
-    /// parameters and `S` the singular-direction shift recorded with the factor.
+    /// `cg.product = (H + S) cg.search` with the Hessian `H` at the current parameters
+    /// (exact, or on the subsample of `product_rows`) and `S` the singular-direction shift
+    /// recorded with the factor.
     fn hessian_times_search(&mut self) {
-        self.multiply_by_hessian();
+        self.multiply_by_hessian(self.product_task_stride);
         let dim = self.dim;
         let (v, product) = (&self.cg.search, &mut self.cg.product);
         // S v: c_a times the sum over classes of v's entries for column a, in every class.

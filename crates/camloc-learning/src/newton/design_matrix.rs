@@ -13,6 +13,9 @@
 
 use std::cell::RefCell;
 
+use pulp::{Arch, Simd, WithSimd};
+use rayon::prelude::*;
+
 use crate::standardise::Standardiser;
 use crate::{DesignRows, QuadraticExpansion};
 
@@ -34,9 +37,92 @@ impl<'a> ChunkView<'a> {
     }
 }
 
+/// Rows of a column-major matrix formed at a time, in parallel within the block
+/// (`fill_columns`).
+const BUILD_BLOCK_ROWS: usize = 1 << 15;
+
 thread_local! {
     /// Each thread's buffer for the chunks of generated design matrices.
     static CHUNK_BUFFER: RefCell<Vec<f64>> = const { RefCell::new(Vec::new()) };
+}
+
+/// Where each sample's row is stored in the design matrix: in the input order, or spread by
+/// the golden-ratio permutation under which stored row `r` holds input row `r b mod n` (`b`
+/// the integer nearest `0.618 n` that is coprime to `n`): every block of consecutive stored
+/// rows is then an evenly spread sample of the input rows (which come grouped by clip,
+/// subject and augmentation), so that the blocks of rows a subsampled product reads
+/// represent the whole data.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) struct RowOrder {
+    n: usize,
+    /// `b^-1 mod n`: input row `i` is stored as row `i b^-1 mod n` (1: the input order).
+    multiplier: usize,
+    /// `b`: stored row `r` holds input row `r b mod n` (1: the input order).
+    inverse: usize,
+}
+
+impl RowOrder {
+    /// The input order of `n` rows.
+    pub(super) fn input(n: usize) -> Self {
+        Self {
+            n,
+            multiplier: 1,
+            inverse: 1,
+        }
+    }
+
+    /// The golden-ratio spread of `n` rows (the input order for `n <= 2`).
+    pub(super) fn spread(n: usize) -> Self {
+        let golden = 0.5 * (5f64.sqrt() - 1.0);
+        let mut b = ((n as f64 * golden).round() as usize).max(1);
+        while gcd(b, n) != 1 {
+            b += 1;
+        }
+        Self {
+            n,
+            multiplier: inverse_modulo(b, n),
+            inverse: b % n.max(1),
+        }
+    }
+
+    /// The stored row of input row `i` (`i < n`).
+    pub(super) fn position(&self, i: usize) -> usize {
+        times_modulo(i, self.multiplier, self.n)
+    }
+
+    /// The input row stored as row `r` (`r < n`).
+    pub(super) fn input_row(&self, r: usize) -> usize {
+        times_modulo(r, self.inverse, self.n)
+    }
+}
+
+/// `i m mod n` (`i` itself for `m = 1`).
+fn times_modulo(i: usize, m: usize, n: usize) -> usize {
+    if m == 1 {
+        i
+    } else {
+        ((i as u128 * m as u128) % n as u128) as usize
+    }
+}
+
+/// Greatest common divisor (`gcd(a, 0) = a`).
+fn gcd(mut a: usize, mut b: usize) -> usize {
+    while b != 0 {
+        (a, b) = (b, a % b);
+    }
+    a
+}
+
+/// `b^-1 mod n` for `b` coprime to `n` (1 for `n <= 1`), by the extended Euclidean algorithm.
+fn inverse_modulo(b: usize, n: usize) -> usize {
+    let (mut r0, mut r1) = (n as i128, (b % n.max(1)) as i128);
+    let (mut t0, mut t1) = (0i128, 1i128);
+    while r1 != 0 {
+        let q = r0 / r1;
+        (r0, r1) = (r1, r0 - q * r1);
+        (t0, t1) = (t1, t0 - q * t1);
+    }
+    t0.rem_euclid(n.max(1) as i128) as usize
 }
 
 /// The design matrix of a fit.
@@ -56,21 +142,28 @@ pub(super) struct GeneratedDesign {
     components: usize,
     /// `n x (d + k)` column-major: the standardised inputs, then the clamped components.
     base: Vec<f64>,
-    /// Mean and scale of each product column, in the expansion's order.
+    /// Mean and reciprocal scale of each product column, in the expansion's order.
     product_means: Vec<f64>,
-    product_scales: Vec<f64>,
+    product_inverse_scales: Vec<f64>,
 }
 
 impl DesignMatrix {
-    /// The design matrix of `rows` standardised by `standardiser` (fitted on those rows).
-    pub(super) fn new(rows: &DesignRows<'_>, standardiser: &Standardiser) -> Self {
+    /// The design matrix of `rows` standardised by `standardiser` (fitted on those rows),
+    /// input row `i` stored as row `order.position(i)`.
+    pub(super) fn new(rows: &DesignRows<'_>, standardiser: &Standardiser, order: RowOrder) -> Self {
         let n = rows.n_samples();
         match rows.expansion() {
-            Some(expansion) => Self::Generated(GeneratedDesign::new(rows, expansion, standardiser)),
+            Some(expansion) => {
+                Self::Generated(GeneratedDesign::new(rows, expansion, standardiser, order))
+            }
             None => {
                 let dim = rows.n_features() + 1;
                 let mut x = vec![1.0; n * dim];
-                rows.for_each_row(|i, row| put_standardised(row, standardiser, i, n, &mut x));
+                let inverse_scales = standardiser.inverse_scales();
+                rows.for_each_row(|i, row| {
+                    let (means, scales) = (standardiser.means(), &inverse_scales);
+                    put_standardised(row, means, scales, order.position(i), n, &mut x)
+                });
                 Self::Stored { x, n }
             }
         }
@@ -110,17 +203,16 @@ impl DesignMatrix {
     }
 
     /// The rows `rows` (indices into the samples) as an `m x D` column-major matrix
-    /// (`m = rows.len()`).
+    /// (`m = rows.len()`), gathered in parallel.
     pub(super) fn gather(&self, rows: &[usize], dim: usize) -> Vec<f64> {
-        let m = rows.len();
-        let mut out = vec![0.0; m * dim];
-        for (j, &i) in rows.iter().enumerate() {
-            self.with_chunk(i, 1, dim, |row| {
-                for (a, o) in out.chunks_exact_mut(m).enumerate() {
-                    o[j] = row.column(a, 1)[0];
+        let mut out = vec![0.0; rows.len() * dim];
+        fill_columns(&mut out, rows.len(), dim, |j, values| {
+            self.with_chunk(rows[j], 1, dim, |row| {
+                for (a, v) in values.iter_mut().enumerate() {
+                    *v = row.column(a, 1)[0];
                 }
-            });
-        }
+            })
+        });
         out
     }
 
@@ -141,51 +233,91 @@ impl DesignMatrix {
 
 impl GeneratedDesign {
     /// Standardised inputs and clamped components of every row of `rows`, which `expansion`
-    /// expands.
+    /// expands, input row `i` stored as row `order.position(i)`, formed in parallel.
     fn new(
         rows: &DesignRows<'_>,
         expansion: &QuadraticExpansion,
         standardiser: &Standardiser,
+        order: RowOrder,
     ) -> Self {
         let n = rows.n_samples();
         let (inputs, components) = (expansion.n_inputs(), expansion.n_components());
         let width = inputs + components;
         let mut base = vec![0.0; n * width];
-        let (means, scales) = (standardiser.means(), standardiser.scales());
-        let mut z = vec![0.0; components];
-        for (i, row) in rows.raw_rows().enumerate() {
-            put_standardised(row, standardiser, i, n, &mut base);
-            expansion.components_into(row, &mut z);
-            for (a, &za) in z.iter().enumerate() {
-                base[(inputs + a) * n + i] = za;
+        let (means, scales) = (standardiser.means(), standardiser.inverse_scales());
+        fill_columns(&mut base, n, width, |r, out| {
+            let row = rows.raw_row(order.input_row(r));
+            let (standardised, z) = out.split_at_mut(inputs);
+            for ((o, &v), (&m, &s)) in standardised
+                .iter_mut()
+                .zip(row)
+                .zip(means.iter().zip(&scales))
+            {
+                *o = Standardiser::apply(m, s, v);
             }
-        }
+            expansion.components_into(row, z);
+        });
         Self {
             n,
             inputs,
             components,
             base,
-            product_means: means[inputs..].to_vec(),
-            product_scales: scales[inputs..].to_vec(),
+            product_means: standardiser.means()[inputs..].to_vec(),
+            product_inverse_scales: scales[inputs..].to_vec(),
         }
     }
 
-    /// Writes rows `first..first + count` of `X` into `out` (`count x D` column-major).
+    /// Writes rows `first..first + count` of `X` into `out` (`count x D` column-major), with
+    /// the instruction set chosen at run time so that the product loop is vectorised.
     fn generate(&self, first: usize, count: usize, out: &mut [f64]) {
-        let base_column = |a: usize| &self.base[a * self.n + first..][..count];
-        let (input_part, rest) = out.split_at_mut(self.inputs * count);
+        Arch::new().dispatch(Generate {
+            design: self,
+            first,
+            count,
+            out,
+        });
+    }
+}
+
+/// [`GeneratedDesign::generate`]'s work, compiled for each instruction set.
+struct Generate<'a> {
+    design: &'a GeneratedDesign,
+    first: usize,
+    count: usize,
+    out: &'a mut [f64],
+}
+
+impl WithSimd for Generate<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn with_simd<S: Simd>(self, _simd: S) {
+        let Self {
+            design,
+            first,
+            count,
+            out,
+        } = self;
+        let base_column = |a: usize| &design.base[a * design.n + first..][..count];
+        let (input_part, rest) = out.split_at_mut(design.inputs * count);
         for (a, o) in input_part.chunks_exact_mut(count).enumerate() {
             o.copy_from_slice(base_column(a));
         }
         let (product_part, ones) = rest.split_at_mut(rest.len() - count);
         // The pairs `a <= b` in the expansion's order (row-major upper triangle).
-        let k = self.components;
+        let k = design.components;
         let pairs = (0..k).flat_map(|a| (a..k).map(move |b| (a, b)));
-        let outputs = product_part
-            .chunks_exact_mut(count)
-            .zip(self.product_means.iter().zip(&self.product_scales));
+        let outputs = product_part.chunks_exact_mut(count).zip(
+            design
+                .product_means
+                .iter()
+                .zip(&design.product_inverse_scales),
+        );
         for ((o, (&m, &s)), (a, b)) in outputs.zip(pairs) {
-            let (za, zb) = (base_column(self.inputs + a), base_column(self.inputs + b));
+            let (za, zb) = (
+                base_column(design.inputs + a),
+                base_column(design.inputs + b),
+            );
             for ((o, &va), &vb) in o.iter_mut().zip(za).zip(zb) {
                 *o = Standardiser::apply(m, s, va * vb);
             }
@@ -194,11 +326,73 @@ impl GeneratedDesign {
     }
 }
 
-/// Writes the standardised values of `row` (the leading columns `standardiser` knows) as row
-/// `i` of the `n`-row column-major matrix `out`.
-fn put_standardised(row: &[f64], standardiser: &Standardiser, i: usize, n: usize, out: &mut [f64]) {
-    let (means, scales) = (standardiser.means(), standardiser.scales());
-    for (a, ((&v, &m), &s)) in row.iter().zip(means).zip(scales).enumerate() {
+/// Fills the `n`-row, `width`-column column-major matrix `out` row by row, `fill_row(r,
+/// values)` writing row `r`'s `width` values: in parallel over the rows of a block of
+/// [`BUILD_BLOCK_ROWS`], the block held row-major and then copied into the columns (in
+/// parallel over the columns), so that no thread writes across the columns row by row.
+fn fill_columns(
+    out: &mut [f64],
+    n: usize,
+    width: usize,
+    fill_row: impl Fn(usize, &mut [f64]) + Sync,
+) {
+    let mut block = vec![0.0; BUILD_BLOCK_ROWS.min(n) * width];
+    for first in (0..n).step_by(BUILD_BLOCK_ROWS) {
+        let count = BUILD_BLOCK_ROWS.min(n - first);
+        let block = &mut block[..count * width];
+        block
+            .par_chunks_mut(width)
+            .enumerate()
+            .for_each(|(j, values)| fill_row(first + j, values));
+        let block = &*block;
+        out.par_chunks_mut(n).enumerate().for_each(|(a, column)| {
+            let rows = block.chunks_exact(width);
+            for (o, row) in column[first..first + count].iter_mut().zip(rows) {
+                *o = row[a];
+            }
+        });
+    }
+}
+
+/// Writes the values of `row` standardised by `means` and `inverse_scales` (its leading
+/// columns) as row `i` of the `n`-row column-major matrix `out`.
+fn put_standardised(
+    row: &[f64],
+    means: &[f64],
+    inverse_scales: &[f64],
+    i: usize,
+    n: usize,
+    out: &mut [f64],
+) {
+    for (a, ((&v, &m), &s)) in row.iter().zip(means).zip(inverse_scales).enumerate() {
         out[a * n + i] = Standardiser::apply(m, s, v);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::RowOrder;
+
+    /// The spread order is a permutation, and a block of consecutive stored rows holds input
+    /// rows from all over the input: the first `n / 8` stored rows hit every eighth of it.
+    #[test]
+    fn spread_order_is_a_permutation_that_spreads_blocks() {
+        for n in [1, 2, 3, 10, 97, 1000, 4096, 10_007, 65_536] {
+            let order = RowOrder::spread(n);
+            let mut input_of = vec![usize::MAX; n];
+            for i in 0..n {
+                let r = order.position(i);
+                assert!(r < n && input_of[r] == usize::MAX, "n {n}: row {r} twice");
+                input_of[r] = i;
+            }
+            if n >= 64 {
+                let mut eighths = [false; 8];
+                for &i in &input_of[..n / 8] {
+                    eighths[i * 8 / n] = true;
+                }
+                assert!(eighths.iter().all(|&hit| hit), "n {n}: {eighths:?}");
+            }
+        }
+        assert_eq!(RowOrder::input(5).position(3), 3);
     }
 }

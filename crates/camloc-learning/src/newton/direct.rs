@@ -9,6 +9,7 @@ use faer::dyn_stack::MemStack;
 use faer::linalg::cholesky::llt::factor::{LltRegularization, cholesky_in_place};
 use faer::linalg::cholesky::llt::solve::solve_in_place;
 use faer::prelude::{Reborrow, ReborrowMut};
+use rayon::prelude::*;
 
 use super::NewtonProblem;
 use super::design_matrix::DesignMatrix;
@@ -18,6 +19,8 @@ use crate::{LearningError, Mode};
 const FIRST_DAMPING: f64 = 1e-10;
 /// Number of damping attempts (each 100 times the previous one) before giving up.
 const DAMPING_ATTEMPTS: usize = 8;
+/// Feature pairs per tile when the packed blocks are laid out per class pair.
+const TRANSPOSE_TILE: usize = 64;
 
 impl NewtonProblem {
     /// Assembles the exact Hessian of `f` at the current parameters into
@@ -155,43 +158,114 @@ impl NewtonProblem {
 
     /// Expands the packed blocks, times `scale`, into the full symmetric `P x P` Hessian and
     /// adds the ridge curvature `2 lambda` on the weight diagonal.
+    ///
+    /// The packed values are first laid out per class pair (each pair's `D (D + 1) / 2`
+    /// values together, times `scale`). Then, in parallel over the classes `j`, the columns
+    /// of class `j` are written: for each class pair holding `j`, in packed order, its block
+    /// `G` is unfolded into a dense symmetric `D x D` matrix, copied negated into block
+    /// `(l, j)` (the pair's other class `l`) and added into the diagonal block `(j, j)`
+    /// (one-vs-rest: its own pair `(j, j)` only), so that every write is a contiguous piece
+    /// of a column.
     fn unpack_hessian(&mut self, scale: f64) {
         let dim = self.dim;
         let p = self.theta.len();
         let class_pairs = &self.packed.class_pairs;
-        let h = &mut self.hessian;
-        h.fill(0.0);
-        // Accumulate the upper triangle of every block (a <= b within blocks, j <= l across).
-        for (&(a, b), column) in self
-            .packed
-            .feature_pairs
-            .iter()
-            .zip(self.packed.packed.chunks_exact(class_pairs.len().max(1)))
-        {
-            for (&g, &(j, l)) in column.iter().zip(class_pairs) {
-                let g = scale * g;
-                if j == l {
-                    h[(j * dim + b) * p + j * dim + a] += g;
-                } else {
-                    // Off-diagonal block (j, l): -G, both (a, b) and (b, a) entries.
-                    h[(l * dim + b) * p + j * dim + a] = -g;
-                    h[(l * dim + a) * p + j * dim + b] = -g;
-                    h[(j * dim + b) * p + j * dim + a] += g;
-                    h[(l * dim + b) * p + l * dim + a] += g;
+        let q = class_pairs.len().max(1);
+        let t = self.packed.feature_pairs.len();
+        let mut by_pair = vec![0.0; q * t];
+        // Transposed a tile of feature pairs at a time, so that the tile stays in cache.
+        for first in (0..t).step_by(TRANSPOSE_TILE) {
+            let count = TRANSPOSE_TILE.min(t - first);
+            let tile = &self.packed.packed[first * q..(first + count) * q];
+            for (c, values) in by_pair.chunks_exact_mut(t).enumerate() {
+                for (v, row) in values[first..first + count]
+                    .iter_mut()
+                    .zip(tile.chunks_exact(q))
+                {
+                    *v = scale * row[c];
                 }
             }
         }
-        // Mirror the upper triangle into the lower one.
-        for col in 0..p {
-            for row in col + 1..p {
-                h[col * p + row] = h[row * p + col];
+        let two_lambda = 2.0 * self.lambda;
+        let by_pair = &by_pair;
+        self.hessian
+            .par_chunks_mut(dim * p)
+            .enumerate()
+            .for_each(|(j, columns)| {
+                columns.fill(0.0);
+                let mut dense = vec![0.0; dim * dim];
+                for (c, &(x, y)) in class_pairs.iter().enumerate() {
+                    if x != j && y != j {
+                        continue;
+                    }
+                    unfold_symmetric(&by_pair[c * t..][..t], dim, &mut dense);
+                    let other = if x == j { y } else { x };
+                    for (column, g) in columns.chunks_exact_mut(p).zip(dense.chunks_exact(dim)) {
+                        for (h, &v) in column[j * dim..][..dim].iter_mut().zip(g) {
+                            *h += v;
+                        }
+                        if other != j {
+                            for (h, &v) in column[other * dim..][..dim].iter_mut().zip(g) {
+                                *h = -v;
+                            }
+                        }
+                    }
+                }
+                for (a, column) in columns.chunks_exact_mut(p).enumerate().take(dim - 1) {
+                    column[j * dim + a] += two_lambda;
+                }
+            });
+    }
+}
+
+/// Writes the symmetric `dim x dim` matrix whose upper triangle, row by row, is `packed`
+/// into `dense` (column-major): each packed row `a` is column `a`'s lower part, copied whole,
+/// and the upper part is then mirrored from it in tiles of [`TRANSPOSE_TILE`] so that both
+/// sides stay in cache.
+fn unfold_symmetric(packed: &[f64], dim: usize, dense: &mut [f64]) {
+    let mut start = 0;
+    for a in 0..dim {
+        let len = dim - a;
+        dense[a * dim + a..(a + 1) * dim].copy_from_slice(&packed[start..start + len]);
+        start += len;
+    }
+    for tile_a in (0..dim).step_by(TRANSPOSE_TILE) {
+        for tile_b in (0..=tile_a).step_by(TRANSPOSE_TILE) {
+            for a in tile_a..(tile_a + TRANSPOSE_TILE).min(dim) {
+                for b in tile_b..(tile_b + TRANSPOSE_TILE).min(a) {
+                    // Column a, row b < a: the entry of column b, row a.
+                    dense[a * dim + b] = dense[b * dim + a];
+                }
             }
         }
-        let two_lambda = 2.0 * self.lambda;
-        for class in 0..self.n_classes {
-            for a in 0..dim - 1 {
-                let i = class * dim + a;
-                h[i * p + i] += two_lambda;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{TRANSPOSE_TILE, unfold_symmetric};
+
+    /// Every entry of the unfolded matrix is its packed value, on both sides of the
+    /// diagonal, for sizes below, at and across several tiles.
+    #[test]
+    fn unfolded_matrix_is_the_packed_symmetric_one() {
+        for dim in [
+            1,
+            5,
+            TRANSPOSE_TILE,
+            TRANSPOSE_TILE + 1,
+            2 * TRANSPOSE_TILE + 7,
+        ] {
+            let packed: Vec<f64> = (0..dim * (dim + 1) / 2).map(|v| v as f64).collect();
+            let mut dense = vec![f64::NAN; dim * dim];
+            unfold_symmetric(&packed, dim, &mut dense);
+            let mut t = 0;
+            for a in 0..dim {
+                for b in a..dim {
+                    assert_eq!(dense[a * dim + b], packed[t], "dim {dim}: ({a}, {b})");
+                    assert_eq!(dense[b * dim + a], packed[t], "dim {dim}: ({b}, {a})");
+                    t += 1;
+                }
             }
         }
     }

@@ -8,7 +8,7 @@
 //! samples so that `X` is read once (module `blocked`).
 
 use super::NewtonProblem;
-use super::kernels::add_ridge_curvature;
+use super::kernels::{ROWS_PER_TASK, add_ridge_curvature};
 use crate::hessian::dot;
 use crate::softmax::sigmoid_curvature;
 use crate::{LearningError, Mode};
@@ -42,7 +42,7 @@ impl NewtonProblem {
             }
         }
         self.cg.search.copy_from_slice(v);
-        self.multiply_by_hessian();
+        self.multiply_by_hessian(1);
         out.copy_from_slice(&self.cg.product);
         Ok(())
     }
@@ -54,9 +54,22 @@ impl NewtonProblem {
         4.0 * self.n_samples as f64 * self.dim as f64 * self.n_classes as f64
     }
 
-    /// `cg.product = H cg.search`, the exact Hessian at the current parameters: one fused
-    /// pass over the samples (module `blocked`).
-    pub(super) fn multiply_by_hessian(&mut self) {
+    /// Tasks of `ROWS_PER_TASK` rows between two that a conjugate-gradient product reads:
+    /// the largest stride that still reads at least `product_rows` rows (1, every row, when
+    /// `product_rows >= n`).
+    pub(super) fn task_stride_for(n_samples: usize, product_rows: usize) -> usize {
+        let tasks = n_samples.div_ceil(ROWS_PER_TASK);
+        let wanted = product_rows.div_ceil(ROWS_PER_TASK).max(1);
+        (tasks / wanted).max(1)
+    }
+
+    /// `cg.product = H cg.search`, the Hessian at the current parameters: one fused pass
+    /// over the samples (module `blocked`). With `task_stride` 1 the exact Hessian; with a
+    /// larger stride the loss part is summed over the rows of every `task_stride`-th task
+    /// only and rescaled to all samples (the subsampled Hessian of
+    /// [`DirectionSolver::TruncatedCg`](crate::DirectionSolver::TruncatedCg)'s
+    /// `product_rows`).
+    pub(super) fn multiply_by_hessian(&mut self, task_stride: usize) {
         let k = self.n_classes;
         let mode = self.mode;
         let per_sample = match mode {
@@ -67,7 +80,13 @@ impl NewtonProblem {
             apply_jacobian(mode, &per_sample[i * k..(i + 1) * k], s);
         };
         let (v, product) = (&self.cg.search, &mut self.cg.product);
-        self.blocked.hessian_product(&self.x, v, jacobian, product);
+        let rows = self
+            .blocked
+            .hessian_product(&self.x, v, jacobian, task_stride, product);
+        if rows < self.n_samples {
+            let scale = self.n_samples as f64 / rows as f64;
+            product.iter_mut().for_each(|value| *value *= scale);
+        }
         add_ridge_curvature(self.lambda, self.dim, v, product);
     }
 }
