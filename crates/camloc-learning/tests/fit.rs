@@ -3,7 +3,7 @@
 mod support;
 
 use camloc_learning::{
-    DirectionSolver, Features, LogisticRegression, Mode, NewtonProblem, Termination,
+    DirectionSolver, Features, FitReport, LogisticRegression, Mode, NewtonProblem, Termination,
 };
 use proptest::prelude::*;
 
@@ -302,6 +302,23 @@ fn fits_are_bit_for_bit_reproducible() {
     assert_eq!(r1, r2);
 }
 
+/// Every step of `report` lowers the objective, and its last objective is within `relative`
+/// of `reference`'s last one.
+fn assert_descends_to(report: &FitReport, reference: &FitReport, relative: f64, what: &str) {
+    for pair in report.iterations.windows(2) {
+        assert!(
+            pair[1].objective <= pair[0].objective,
+            "{what}: objective rose at iteration {}",
+            pair[1].iteration
+        );
+    }
+    let (a, b) = (
+        report.iterations.last().expect("log").objective,
+        reference.iterations.last().expect("log").objective,
+    );
+    assert!((a - b).abs() <= relative * b, "{what}: optimum {a} vs {b}");
+}
+
 /// The problems of the solver-comparison tests: `(lambda, n, d, k, features, labels)` for
 /// a ridge of 1, a weak one and none (lambda = 0 makes every feature's all-classes shift a
 /// singular direction), on overlapping Gaussian classes.
@@ -343,20 +360,11 @@ fn default_solver_reaches_the_direct_optimum() {
             "lambda {lambda}: {report:?} {direct_report:?}"
         );
         assert!(report.cg_products() > 0 && report.iterations.iter().any(|l| l.truncated));
-        for pair in report.iterations.windows(2) {
-            assert!(
-                pair[1].objective <= pair[0].objective,
-                "lambda {lambda}: objective rose at iteration {}",
-                pair[1].iteration
-            );
-        }
-        let (a, b) = (
-            report.iterations.last().expect("log").objective,
-            direct_report.iterations.last().expect("log").objective,
-        );
-        assert!(
-            (a - b).abs() <= 1e-12 * b,
-            "lambda {lambda}: optimum {a} (default) vs {b} (direct)"
+        assert_descends_to(
+            &report,
+            &direct_report,
+            1e-12,
+            &format!("lambda {lambda}, default vs direct"),
         );
         let mut largest = 0.0f64;
         for row in x.chunks_exact(d) {
@@ -426,20 +434,11 @@ fn truncated_cg_on_a_subsampled_preconditioner_reaches_the_exact_optimum() {
         let (_, report) = truncated.fit(&features, &y, k).expect("fit");
         let (_, reference) = exact.fit(&features, &y, k).expect("fit");
         assert!(report.converged, "lambda {lambda}: {report:?}");
-        for pair in report.iterations.windows(2) {
-            assert!(
-                pair[1].objective <= pair[0].objective,
-                "lambda {lambda}: objective rose at iteration {}",
-                pair[1].iteration
-            );
-        }
-        let (a, b) = (
-            report.iterations.last().expect("log").objective,
-            reference.iterations.last().expect("log").objective,
-        );
-        assert!(
-            (a - b).abs() <= 1e-9 * b,
-            "lambda {lambda}: optimum {a} (truncated) vs {b} (exact)"
+        assert_descends_to(
+            &report,
+            &reference,
+            1e-9,
+            &format!("lambda {lambda}, truncated vs exact"),
         );
         assert!(report.hessian_assemblies() >= 1 && report.cg_products() > 0);
     }
@@ -487,20 +486,11 @@ fn truncated_cg_on_subsampled_products_reaches_the_exact_optimum() {
             report.iterations, whole.iterations,
             "lambda {lambda}: the products did not use the subsample"
         );
-        for pair in report.iterations.windows(2) {
-            assert!(
-                pair[1].objective <= pair[0].objective,
-                "lambda {lambda}: objective rose at iteration {}",
-                pair[1].iteration
-            );
-        }
-        let (a, b) = (
-            report.iterations.last().expect("log").objective,
-            reference.iterations.last().expect("log").objective,
-        );
-        assert!(
-            (a - b).abs() <= 1e-9 * b,
-            "lambda {lambda}: optimum {a} (subsampled) vs {b} (exact)"
+        assert_descends_to(
+            &report,
+            &reference,
+            1e-9,
+            &format!("lambda {lambda}, subsampled vs exact"),
         );
     }
 }
