@@ -66,8 +66,8 @@ pub fn training_views(
 /// default), `quadratic[-K]` (the classifier's capacity), `heads=quadratic-K` (the heads' own
 /// capacity), `classes` ((posture, camera) classes), `precond=N` (truncated Newton-CG
 /// preconditioned on `N` samples), `products=N` (its Hessian-vector products on at least `N`
-/// samples; after `quadratic`, which sets both), `lambda=L` (the classifier's ridge weight), `tol=T` (its
-/// per-sample gradient tolerance).
+/// samples; after `quadratic`, which sets both), `lambda=L` (the classifier's ridge weight),
+/// `tol=T` (its per-sample gradient tolerance).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Recipe {
     /// The text it was parsed from, its name in tables.

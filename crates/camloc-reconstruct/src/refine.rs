@@ -9,8 +9,8 @@
 //! lengths ([`LengthPrior`](crate::LengthPrior), widened by [`LengthWidening`]). Over the
 //! frames of one person (a sequence) the lengths are shared and each bone's direction in the
 //! camera's orientation is held near the mean of its neighbouring frames' (unknown lengths
-//! are estimated by a first pass without that term, `Reconstructor::reconstruct_sequence`). With known
-//! intrinsics the camera is a full perspective one.
+//! are estimated by a first pass without that term, `Reconstructor::reconstruct_sequence`).
+//! With known intrinsics the camera is a full perspective one.
 //!
 //! Layers: `kinematics` (bones to landmarks), `problem` (one frame's cost and normal
 //! equations), `solve` (the steps over all frames), `run` (from pursuit results to refined

@@ -224,8 +224,8 @@ impl TrainOptions {
     /// features, `(d + 1) K` in the thousands) lambda [`DEFAULT_QUADRATIC_LAMBDA`], gradient
     /// tolerance [`QUADRATIC_GRADIENT_TOLERANCE`] and truncated Newton-CG on a Hessian of
     /// [`DEFAULT_PRECONDITIONER_ROWS`] samples and exact products
-    /// ([`DirectionSolver::TruncatedCg`]), whose assemblies cost a fraction of full ones; for [`Capacity::Linear`] the defaults
-    /// ([`DEFAULT_LAMBDA`], [`LogisticRegression::default`]'s tolerance,
+    /// ([`DirectionSolver::TruncatedCg`]), whose assemblies cost a fraction of full ones;
+    /// for [`Capacity::Linear`] the defaults ([`DEFAULT_LAMBDA`], [`LogisticRegression::default`]'s tolerance,
     /// [`DirectionSolver::PreconditionedCg`], whose preconditioner is sized to the problem).
     pub fn with_capacity(mut self, capacity: Capacity) -> Self {
         self.capacity = capacity;

@@ -159,10 +159,9 @@ impl DesignMatrix {
             None => {
                 let dim = rows.n_features() + 1;
                 let mut x = vec![1.0; n * dim];
-                let inverse_scales = standardiser.inverse_scales();
+                let (means, scales) = (standardiser.means(), standardiser.inverse_scales());
                 rows.for_each_row(|i, row| {
-                    let (means, scales) = (standardiser.means(), &inverse_scales);
-                    put_standardised(row, means, scales, order.position(i), n, &mut x)
+                    put_standardised(row, means, &scales, order.position(i), n, &mut x)
                 });
                 Self::Stored { x, n }
             }
@@ -262,7 +261,7 @@ impl GeneratedDesign {
             inputs,
             components,
             base,
-            product_means: standardiser.means()[inputs..].to_vec(),
+            product_means: means[inputs..].to_vec(),
             product_inverse_scales: scales[inputs..].to_vec(),
         }
     }
