@@ -11,11 +11,13 @@ use std::fmt::Write;
 use std::path::PathBuf;
 use std::time::Instant;
 
-use camloc::CameraLocalizer;
 use camloc::dataset::{GenerateConfig, MotionCategory, PoseSequence, Protocol};
+use camloc::skeleton::Landmark;
+use camloc::{CameraLocalizer, Pose3};
 
 use crate::mocap_data::{load_split, project};
 use crate::progress::newton_line;
+use crate::proportions::people::{HEAD_FACTOR, LIMB_FACTOR, factors, rescale};
 use crate::recipe::Recipe;
 use crate::view_scores::{Summary, ViewOutcome, categories_in, outcomes};
 
@@ -86,6 +88,45 @@ fn train(
     Ok((trained.localizer, start.elapsed().as_secs_f64()))
 }
 
+/// Seed of the skeletons of [`other_skeletons`].
+const OTHER_SKELETON_SEED: u64 = 21;
+
+/// `sequences` as people of other proportions annotated in another convention: each clip's
+/// limbs rescaled by its own random factors (each limb type x [`LIMB_FACTOR`], the
+/// neck-to-head distance x [`HEAD_FACTOR`]: the proportions test's people, drawn per clip),
+/// then the landmarks placed as photo annotations and lab skeletons place them (the neck at
+/// the mid-shoulder point, the pelvis at the mid-hip point, the head kept relative to the
+/// neck).
+fn other_skeletons(sequences: &[PoseSequence]) -> Vec<PoseSequence> {
+    sequences
+        .iter()
+        .map(|s| {
+            let f = factors(&s.clip.name, OTHER_SKELETON_SEED);
+            let mut s = s.clone();
+            for (_, pose) in &mut s.frames {
+                *pose = annotated(&rescale(pose, &f));
+            }
+            s
+        })
+        .collect()
+}
+
+/// `pose` with the neck at the mid-shoulder point (the head moved with it), the pelvis at
+/// the mid-hip point.
+fn annotated(pose: &Pose3) -> Pose3 {
+    let mid = |a: Landmark, b: Landmark| {
+        let (p, q) = (pose.get(a), pose.get(b));
+        std::array::from_fn::<f64, 3, _>(|k| 0.5 * (p[k] + q[k]))
+    };
+    let mut out = *pose;
+    let (neck, head) = (pose.get(Landmark::Neck), pose.get(Landmark::Head));
+    let new_neck = mid(Landmark::LeftShoulder, Landmark::RightShoulder);
+    out.points[Landmark::Head.index()] = std::array::from_fn(|k| new_neck[k] + head[k] - neck[k]);
+    out.points[Landmark::Neck.index()] = new_neck;
+    out.points[Landmark::Pelvis.index()] = mid(Landmark::LeftHip, Landmark::RightHip);
+    out
+}
+
 /// The sequences of posture clips (sit, squat, kneel, crawl) among `sequences`.
 fn posture_clips(sequences: &[PoseSequence]) -> Vec<PoseSequence> {
     sequences
@@ -148,22 +189,37 @@ pub fn measure(args: &Args, emit: &mut dyn FnMut(&str)) -> Result<(), String> {
         args.test_subjects.join(", "),
         args.min_pose_distance
     );
+    let _ = writeln!(
+        md,
+        "`other skeletons`: the same subjects as people of other proportions annotated in another convention, as recorded lab skeletons and detectors are (each clip's limb types x U({}, {}), its neck-to-head distance x U({}, {}), then the neck at the mid-shoulder point and the pelvis at the mid-hip point).",
+        LIMB_FACTOR.0, LIMB_FACTOR.1, HEAD_FACTOR.0, HEAD_FACTOR.1
+    );
     // 1. Held-out subjects under three protocols.
     let jittered = project(&test_seqs, &views(Protocol::Jittered, 2, args))?;
     let mut sphere = project(&test_seqs, &views(Protocol::Sphere, 3, args))?;
     sphere.samples.retain(|s| s.in_class_box);
     let rig = project(&test_seqs, &views(Protocol::Rig, 5, args))?;
-    let mut per_protocol: Vec<Vec<(&Recipe, Vec<ViewOutcome>)>> = vec![Vec::new(); 3];
+    let others = other_skeletons(&test_seqs);
+    let jittered_others = project(&others, &views(Protocol::Jittered, 2, args))?;
+    let rig_others = project(&others, &views(Protocol::Rig, 5, args))?;
+    let tests = [&jittered, &sphere, &rig, &jittered_others, &rig_others];
+    let mut per_protocol: Vec<Vec<(&Recipe, Vec<ViewOutcome>)>> = vec![Vec::new(); tests.len()];
     for recipe in &args.recipes {
         let (localizer, seconds) = train(&train_seqs, recipe, args)?;
         let _ = writeln!(md, "\n{}: trained in {seconds:.1} s.", recipe.name);
-        for (k, test) in [&jittered, &sphere, &rig].into_iter().enumerate() {
+        for (k, test) in tests.into_iter().enumerate() {
             per_protocol[k].push((recipe, outcomes(&localizer, test)?));
         }
     }
-    for (name, results) in ["jittered", "sphere, inside the class boxes", "rig"]
-        .iter()
-        .zip(&per_protocol)
+    for (name, results) in [
+        "jittered",
+        "sphere, inside the class boxes",
+        "rig",
+        "jittered, other skeletons",
+        "rig, other skeletons",
+    ]
+    .iter()
+    .zip(&per_protocol)
     {
         rows(&mut md, &format!("Held-out subjects, `{name}`:"), results);
     }

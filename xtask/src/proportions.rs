@@ -4,7 +4,7 @@
 //! and windows of consecutive frames; recovered bone lengths and PA-MPJPE with and without
 //! each part of the skeleton refinement. Part of `cargo xtask reconstruction`.
 
-mod people;
+pub mod people;
 mod views;
 
 use std::fmt::Write;

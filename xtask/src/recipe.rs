@@ -38,22 +38,19 @@ pub fn default_options() -> TrainOptions {
 }
 
 /// Training views of `protocol`: Table-1 cameras, every frame, selection by pose at
-/// `min_pose_distance_mm`, the training augmentation with a share `posture` of the samples
-/// put in a posture, camera roll up to [`DEFAULT_ROLL_DEG`], the given seed.
+/// `min_pose_distance_mm`, the augmentation `augmentation`, camera roll up to
+/// [`DEFAULT_ROLL_DEG`], the given seed.
 pub fn training_views(
     protocol: Protocol,
     seed: u64,
-    posture: f64,
+    augmentation: Augmentation,
     min_pose_distance_mm: f64,
 ) -> GenerateConfig {
     let mut config = GenerateConfig::new(protocol);
     config.seed = seed;
     config.stride = 1;
     config.min_pose_distance_mm = min_pose_distance_mm;
-    config.augmentation = Augmentation {
-        posture,
-        ..Augmentation::TRAINING
-    };
+    config.augmentation = augmentation;
     config.jitter.roll_deg = DEFAULT_ROLL_DEG;
     config
 }
@@ -67,13 +64,17 @@ pub fn training_views(
 /// capacity), `classes` ((posture, camera) classes), `precond=N` (truncated Newton-CG
 /// preconditioned on `N` samples), `products=N` (its Hessian-vector products on at least `N`
 /// samples; after `quadratic`, which sets both), `lambda=L` (the classifier's ridge weight),
-/// `tol=T` (its per-sample gradient tolerance).
+/// `tol=T` (its per-sample gradient tolerance), `bones=B` (the bone-length scaling bound of
+/// the augmentation, 0.1 by default), `hips=LO-HI` and `head=LO-HI` (its hip width and
+/// head reach ranges, 0.8-1.6 both by default), `photo=P` (its share of photo placements,
+/// 0.5 by default).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Recipe {
     /// The text it was parsed from, its name in tables.
     pub name: String,
-    /// The share of samples put in a posture.
-    posture: f64,
+    /// The augmentation of the training views ([`Augmentation::TRAINING`] with the parts'
+    /// changes).
+    augmentation: Augmentation,
     /// The frame stride of the added `rig` views (`None`: none).
     rig_stride: Option<usize>,
     /// The training options.
@@ -86,7 +87,7 @@ impl std::str::FromStr for Recipe {
     fn from_str(text: &str) -> Result<Recipe, String> {
         let mut recipe = Recipe {
             name: text.to_string(),
-            posture: 0.0,
+            augmentation: Augmentation::TRAINING,
             rig_stride: None,
             options: default_options(),
         };
@@ -94,13 +95,24 @@ impl std::str::FromStr for Recipe {
             v.parse::<f64>()
                 .map_err(|_| format!("'{v}' is not a number in recipe '{text}'"))
         };
+        let range = |v: &str| {
+            let (lo, hi) = v
+                .split_once('-')
+                .ok_or_else(|| format!("'{v}' is not a range LO-HI in recipe '{text}'"))?;
+            Ok::<_, String>((number(lo)?, number(hi)?))
+        };
+        let augmentation = &mut recipe.augmentation;
         for part in text.split('+') {
             let (key, value) = part
                 .split_once('=')
                 .map_or((part, None), |(k, v)| (k, Some(v)));
             match (key, value) {
                 ("jittered", None) => {}
-                ("posture", v) => recipe.posture = v.map_or(Ok(0.25), number)?,
+                ("posture", v) => augmentation.posture = v.map_or(Ok(0.25), number)?,
+                ("bones", Some(v)) => augmentation.bone_scale = number(v)?,
+                ("hips", Some(v)) => augmentation.hip_width = range(v)?,
+                ("head", Some(v)) => augmentation.head_reach = range(v)?,
+                ("photo", Some(v)) => augmentation.photo_landmarks = number(v)?,
                 ("rig", v) => {
                     let stride = v.map_or(Ok(2.0), number)?;
                     if !(stride >= 1.0 && stride.fract() == 0.0) {
@@ -149,6 +161,12 @@ impl std::str::FromStr for Recipe {
             }
         }
         recipe.options.validate().map_err(|e| e.to_string())?;
+        GenerateConfig {
+            augmentation: recipe.augmentation,
+            ..GenerateConfig::new(Protocol::Jittered)
+        }
+        .validate()
+        .map_err(|e| format!("recipe '{text}': {e}"))?;
         Ok(recipe)
     }
 }
@@ -200,11 +218,15 @@ impl Recipe {
         rig_seed: u64,
         min_pose_distance_mm: f64,
     ) -> Result<Dataset, String> {
-        let config = training_views(protocol, seed, self.posture, min_pose_distance_mm);
+        let config = training_views(protocol, seed, self.augmentation, min_pose_distance_mm);
         let mut views = project(sequences, &config)?;
         if let Some(stride) = self.rig_stride {
-            let mut rig =
-                training_views(Protocol::Rig, rig_seed, self.posture, min_pose_distance_mm);
+            let mut rig = training_views(
+                Protocol::Rig,
+                rig_seed,
+                self.augmentation,
+                min_pose_distance_mm,
+            );
             rig.stride = stride;
             let rig = project(sequences, &rig)?;
             if views.header.clips != rig.header.clips || views.header.cameras != rig.header.cameras
@@ -270,17 +292,27 @@ mod tests {
             "balance=2",
             "sideways",
             "heads=cubic",
+            "hips=0.5",
+            "head=2-1",
+            "bones=0.7",
         ] {
             assert!(bad.parse::<Recipe>().is_err(), "{bad} parsed");
         }
         let r: Recipe = "posture=0.3+rig=3+balance=0.5+heads=quadratic-10"
             .parse()
             .unwrap();
-        assert_eq!((r.posture, r.rig_stride), (0.3, Some(3)));
+        assert_eq!((r.augmentation.posture, r.rig_stride), (0.3, Some(3)));
         assert_eq!(r.options.camera_balance, 0.5);
         assert_eq!(
             r.options.viewpoint_capacity,
             Capacity::Quadratic { components: 10 }
         );
+        let r: Recipe = "bones=0.2+hips=0.5-1.6+head=0.5-1.7+photo=0.7"
+            .parse()
+            .unwrap();
+        assert_eq!(r.augmentation.bone_scale, 0.2);
+        assert_eq!(r.augmentation.hip_width, (0.5, 1.6));
+        assert_eq!(r.augmentation.head_reach, (0.5, 1.7));
+        assert_eq!(r.augmentation.photo_landmarks, 0.7);
     }
 }

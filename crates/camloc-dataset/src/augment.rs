@@ -39,9 +39,13 @@ pub struct Augmentation {
     /// Probability that a sample takes the landmark placements of photo annotations and
     /// detectors instead of mocap's: the neck at the mid-shoulder point and the pelvis at the
     /// mid-hip point (as derived from COCO-17, which has neither), and the head moved along
-    /// the neck-to-head direction to between 0.8 and 1.6 times its distance from the neck
-    /// (CMU's head is the top of the neck; annotations mark the head top or the nose).
+    /// the neck-to-head direction to a factor from [`head_reach`](Self::head_reach) of its
+    /// distance from the neck (CMU's head is the top of the neck; annotations mark the head
+    /// top, lab skeletons the nose or the face).
     pub photo_landmarks: f64,
+    /// Range `(lo, hi)` of the neck-to-head factor of photo placements
+    /// ([`photo_landmarks`](Self::photo_landmarks)); `0 < lo <= hi <= 3`.
+    pub head_reach: (f64, f64),
     /// Joint-angle variation, degrees: each of the 8 limb bones (thighs, shins, upper arms,
     /// forearms; left and right independently) is turned about a random axis through its
     /// proximal joint by an angle drawn from `U(-b, b)`, the bones below it following, so that
@@ -81,6 +85,7 @@ impl Augmentation {
     const NONE: Augmentation = Augmentation {
         bone_scale: 0.0,
         photo_landmarks: 0.0,
+        head_reach: (0.8, 1.6),
         limb_rotation_deg: 0.0,
         hip_width: (1.0, 1.0),
         shoulder_width: (1.0, 1.0),
@@ -155,6 +160,7 @@ impl Augmentation {
         for (name, (lo, hi)) in [
             ("hip width", self.hip_width),
             ("shoulder width", self.shoulder_width),
+            ("head reach", self.head_reach),
         ] {
             if !(lo > 0.0 && lo <= hi && hi <= 3.0) {
                 return Err(format!(
@@ -213,7 +219,7 @@ impl Augmentation {
             let neck = points[Landmark::Neck.index()];
             let head = points[Landmark::Head.index()];
             let new_neck = mid(Landmark::LeftShoulder, Landmark::RightShoulder);
-            let reach = rng.random_range(0.8..=1.6);
+            let reach = draw_factor(self.head_reach, rng);
             out.points[Landmark::Head.index()] =
                 std::array::from_fn(|k| new_neck[k] + reach * (head[k] - neck[k]));
             out.points[Landmark::Neck.index()] = new_neck;
@@ -244,11 +250,7 @@ impl Augmentation {
             ),
         ] {
             if (lo, hi) != (1.0, 1.0) {
-                let factor = if hi > lo {
-                    rng.random_range(lo..=hi)
-                } else {
-                    lo
-                };
+                let factor = draw_factor((lo, hi), rng);
                 let c = out.get(centre);
                 for side in sides {
                     let s = out.get(side);
@@ -287,6 +289,15 @@ impl Augmentation {
         if let Ok(canonical) = canonicalise(out) {
             *out = canonical;
         }
+    }
+}
+
+/// A factor from `U(lo, hi)`, or `lo` without a draw when the range is one value.
+fn draw_factor((lo, hi): (f64, f64), rng: &mut impl Rng) -> f64 {
+    if hi > lo {
+        rng.random_range(lo..=hi)
+    } else {
+        lo
     }
 }
 

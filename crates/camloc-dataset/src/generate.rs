@@ -69,7 +69,11 @@ impl GenerateConfig {
         }
     }
 
-    fn validate(&self) -> Result<(), DatasetError> {
+    /// Checks the settings (what [`generate`] checks before any work).
+    ///
+    /// # Errors
+    /// [`DatasetError::Invalid`] naming the first setting out of range.
+    pub fn validate(&self) -> Result<(), DatasetError> {
         let bad = |m: String| Err(DatasetError::Invalid(m));
         if self.stride == 0 {
             return bad("stride must be at least 1".into());

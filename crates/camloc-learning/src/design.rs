@@ -10,12 +10,48 @@ use crate::{Features, LearningError, QuadraticExpansion};
 pub struct DesignRows<'a> {
     x: Features<'a>,
     expansion: Option<&'a QuadraticExpansion>,
+    /// The second half of the rows are images of the first half's, row `i + n/2` of row `i`
+    /// ([`in_image_pairs`](Self::in_image_pairs)).
+    image_pairs: bool,
 }
 
 impl<'a> DesignRows<'a> {
     /// The rows of `x` as they are.
     pub fn plain(x: Features<'a>) -> Self {
-        Self { x, expansion: None }
+        Self {
+            x,
+            expansion: None,
+            image_pairs: false,
+        }
+    }
+
+    /// These rows, declared to come in image pairs: `n_samples` is even and row `i + n/2`
+    /// is the image of row `i` under a symmetry of the problem (for instance the mirror
+    /// image of a pose, with the mirrored label), so that the problem, and its exact
+    /// optimum, are invariant under it. A fit whose Hessian-vector products read a subsample
+    /// of the rows then reads each row with its image, so that its iterates keep the
+    /// symmetry as the exact ones do (the products of a subsample that split pairs do not).
+    ///
+    /// # Errors
+    /// [`LearningError::InvalidParameter`] for an odd number of rows.
+    pub fn in_image_pairs(self) -> Result<Self, LearningError> {
+        if !self.n_samples().is_multiple_of(2) {
+            return Err(LearningError::InvalidParameter {
+                name: "image pairs",
+                value: self.n_samples().to_string(),
+                reason: "rows in image pairs must be an even number",
+            });
+        }
+        Ok(Self {
+            image_pairs: true,
+            ..self
+        })
+    }
+
+    /// Whether the rows were declared to come in image pairs
+    /// ([`in_image_pairs`](Self::in_image_pairs)).
+    pub fn has_image_pairs(&self) -> bool {
+        self.image_pairs
     }
 
     /// The rows of `x` expanded by `expansion` as they are read
@@ -32,6 +68,7 @@ impl<'a> DesignRows<'a> {
         Ok(Self {
             x,
             expansion: Some(expansion),
+            image_pairs: false,
         })
     }
 

@@ -266,6 +266,9 @@ pub struct NewtonProblem {
     /// Conjugate-gradient products read every `product_task_stride`-th task of rows (1:
     /// every row, the exact Hessian; [`DirectionSolver::product_rows`]).
     product_task_stride: usize,
+    /// Where each sample's row is stored (image pairs side by side when the products read a
+    /// subsample of rows in image pairs).
+    row_order: RowOrder,
     iteration: usize,
 }
 
@@ -327,7 +330,9 @@ impl NewtonProblem {
             Standardiser::identity(d)
         };
         let product_rows = config.direction_solver.product_rows(n);
-        let order = if product_rows < n {
+        let order = if product_rows < n && x.has_image_pairs() {
+            RowOrder::spread_pairs(n)
+        } else if product_rows < n {
             RowOrder::spread(n)
         } else {
             RowOrder::input(n)
@@ -390,6 +395,7 @@ impl NewtonProblem {
             gradient_threshold: config.gradient_tolerance * n as f64,
             trust_radius: f64::INFINITY,
             product_task_stride: Self::task_stride_for(n, product_rows),
+            row_order: order,
             iteration: 0,
         };
         problem.use_preconditioner_rows(config.direction_solver.preconditioner_rows(n, p));
@@ -398,14 +404,14 @@ impl NewtonProblem {
         Ok(problem)
     }
 
-    /// Assembles later Hessians on `m` evenly spaced rows `j n / m` (all rows when `m >= n`,
-    /// and in one-vs-rest mode): gathers their design rows and sizes the buffers. A
-    /// generated design matrix has no stored rows to assemble on, so "all rows" then gathers
-    /// every row.
+    /// Assembles later Hessians on `m` evenly spaced stored rows ([`RowOrder::spaced`]; all
+    /// rows when `m >= n`, and in one-vs-rest mode): gathers their design rows and sizes the
+    /// buffers. A generated design matrix has no stored rows to assemble on, so "all rows"
+    /// then gathers every row.
     fn use_preconditioner_rows(&mut self, m: usize) {
         let (n, dim, k) = (self.n_samples, self.dim, self.n_classes);
         self.sub_rows = if m < n && self.mode == Mode::Multinomial {
-            (0..m).map(|j| j * n / m).collect()
+            self.row_order.spaced(m)
         } else if self.x.is_generated() {
             (0..n).collect()
         } else {

@@ -177,10 +177,11 @@ pub struct FileKind {
 
 /// Datasets (`camloc_dataset::Dataset`): up to 2 GiB of payload (about 3 million samples of
 /// about 700 bytes). Version 3 added the structural augmentation settings to the header,
-/// version 4 the posture categories of clips (sit, squat, kneel, crawl).
+/// version 4 the posture categories of clips (sit, squat, kneel, crawl), version 5 the head
+/// reach range of photo landmark placements.
 pub const DATASET_KIND: FileKind = FileKind {
     magic: *b"CAMLOCDS",
-    version: 4,
+    version: 5,
     what: "dataset",
     max_payload: 1 << 31,
 };

@@ -6,7 +6,7 @@ use camloc_features::Descriptor;
 use camloc_learning::{
     DesignRows, DirectionHeads, Features, FitReport, IterationLog, QuadraticExpansion,
 };
-use camloc_skeleton::{Landmark, NUM_LANDMARKS, PartialPose2};
+use camloc_skeleton::{Landmark, NUM_LANDMARKS, PartialPose2, mirror_landmark_index};
 use camloc_store::Validate;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -86,7 +86,9 @@ impl CameraLocalizer {
             .map(|(&l, g)| g * cameras.len() + usize::from(l) - 1)
             .collect();
         if let Some(dropout) = options.dropout {
-            let (extra, labels) = augment(&descriptor, &poses, &y, &dropout, &imputation)?;
+            let mirrored = if options.mirror { 2 } else { 1 };
+            let (extra, labels) =
+                augment(&descriptor, &poses, &y, &dropout, &imputation, mirrored)?;
             x.extend_from_slice(&extra);
             y.extend_from_slice(&labels);
         }
@@ -98,12 +100,23 @@ impl CameraLocalizer {
                 components,
             )?),
         };
+        if options.mirror {
+            // Rows [samples, mirror images, dropout copies, their mirror images] become
+            // [samples, dropout copies, mirror images, theirs]: the second half is the first
+            // half's mirror images, row for row (the image pairs of the fit).
+            let (images, copies) = (poses.len() / 2, (y.len() - poses.len()) / 2);
+            x[images * d..(2 * images + copies) * d].rotate_left(images * d);
+            y[images..2 * images + copies].rotate_left(images);
+        }
         // Expanded rows are made as the solver reads them, never held beside its copy.
         let features = Features::new(&x, d)?;
-        let rows = match &expansion {
+        let mut rows = match &expansion {
             Some(e) => DesignRows::expanded(features, e)?,
             None => DesignRows::plain(features),
         };
+        if options.mirror {
+            rows = rows.in_image_pairs()?;
+        }
         let (mut model, report) = options.regression.fit_rows_with_progress(
             &rows,
             &y,
@@ -265,38 +278,57 @@ impl CameraLocalizer {
     }
 }
 
-/// Augmented copies of the training poses with random non-torso landmarks dropped.
+/// Augmented copies of the training poses with random non-torso landmarks dropped. `poses`
+/// (and `labels`) are `images` equal parts, part 2 (when 2) the mirror images of part 1 in
+/// its order: a pose and its mirror image lose mirror landmarks, so that the copies are
+/// mirror images of each other as the poses are (each part's copies in turn).
 fn augment(
     descriptor: &Descriptor,
     poses: &[PartialPose2],
     labels: &[usize],
     dropout: &LandmarkDropout,
     imputation: &[f64],
+    images: usize,
 ) -> Result<(Vec<f64>, Vec<usize>), CamlocError> {
     dropout.validate()?;
     let mut rng = ChaCha8Rng::seed_from_u64(dropout.seed);
     let droppable: Vec<usize> = (0..NUM_LANDMARKS)
         .filter(|&i| i != Landmark::Pelvis.index() && i != Landmark::Neck.index())
         .collect();
+    let originals = poses.len() / images;
     let whole = dropout.copies.floor() as usize;
-    let mut chosen: Vec<usize> = (0..whole).flat_map(|_| 0..poses.len()).collect();
+    let mut chosen: Vec<usize> = (0..whole).flat_map(|_| 0..originals).collect();
     let part = dropout.copies - whole as f64;
-    chosen.extend((0..poses.len()).filter(|_| rng.random_bool(part.clamp(0.0, 1.0))));
-    let dropped: Vec<PartialPose2> = chosen
+    chosen.extend((0..originals).filter(|_| rng.random_bool(part.clamp(0.0, 1.0))));
+    let dropped_sets: Vec<Vec<usize>> = chosen
         .iter()
-        .map(|&i| {
-            let mut pose = poses[i];
+        .map(|_| {
             let mut candidates = droppable.clone();
-            for _ in 0..rng.random_range(1..=dropout.max_missing) {
-                let k = rng.random_range(0..candidates.len());
-                pose.points[candidates.swap_remove(k)] = None;
-            }
-            pose
+            (0..rng.random_range(1..=dropout.max_missing))
+                .map(|_| candidates.swap_remove(rng.random_range(0..candidates.len())))
+                .collect()
         })
         .collect();
+    let mut dropped = Vec::with_capacity(images * chosen.len());
+    let mut dropped_labels = Vec::with_capacity(images * chosen.len());
+    for image in 0..images {
+        for (&i, set) in chosen.iter().zip(&dropped_sets) {
+            let mut pose = poses[image * originals + i];
+            for &landmark in set {
+                let landmark = if image == 1 {
+                    mirror_landmark_index(landmark)
+                } else {
+                    landmark
+                };
+                pose.points[landmark] = None;
+            }
+            dropped.push(pose);
+            dropped_labels.push(labels[image * originals + i]);
+        }
+    }
     let (mut x, undefined) = extract_rows(descriptor, &dropped, 0)?;
     impute_rows(&mut x, &undefined, imputation);
-    Ok((x, chosen.iter().map(|&i| labels[i]).collect()))
+    Ok((x, dropped_labels))
 }
 
 /// The bias shift that moves the camera priors `strength` of the way to even ones: for class

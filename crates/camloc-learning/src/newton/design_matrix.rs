@@ -51,23 +51,30 @@ thread_local! {
 /// the integer nearest `0.618 n` that is coprime to `n`): every block of consecutive stored
 /// rows is then an evenly spread sample of the input rows (which come grouped by clip,
 /// subject and augmentation), so that the blocks of rows a subsampled product reads
-/// represent the whole data.
+/// represent the whole data. Rows in image pairs (input rows `i` and `i + n/2`) are spread
+/// as pairs, each pair stored in two adjacent rows (an even one and the next), so that a
+/// block of an even number of rows starting at an even row holds whole pairs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(super) struct RowOrder {
-    n: usize,
-    /// `b^-1 mod n`: input row `i` is stored as row `i b^-1 mod n` (1: the input order).
+    /// The units spread: rows, or pairs of rows.
+    units: usize,
+    /// `b^-1 mod units`: input unit `i` is stored as unit `i b^-1 mod units` (1: the input
+    /// order).
     multiplier: usize,
-    /// `b`: stored row `r` holds input row `r b mod n` (1: the input order).
+    /// `b`: stored unit `r` holds input unit `r b mod units` (1: the input order).
     inverse: usize,
+    /// The units are pairs of rows (input rows `i` and `i + units`).
+    pairs: bool,
 }
 
 impl RowOrder {
     /// The input order of `n` rows.
     pub(super) fn input(n: usize) -> Self {
         Self {
-            n,
+            units: n,
             multiplier: 1,
             inverse: 1,
+            pairs: false,
         }
     }
 
@@ -79,20 +86,57 @@ impl RowOrder {
             b += 1;
         }
         Self {
-            n,
+            units: n,
             multiplier: inverse_modulo(b, n),
             inverse: b % n.max(1),
+            pairs: false,
+        }
+    }
+
+    /// The golden-ratio spread of the `n / 2` image pairs of `n` rows (`n` even; input rows
+    /// `i` and `i + n/2` are stored as rows `2 q` and `2 q + 1`, `q` the pair's place in the
+    /// spread).
+    pub(super) fn spread_pairs(n: usize) -> Self {
+        Self {
+            pairs: true,
+            ..Self::spread(n / 2)
+        }
+    }
+
+    /// About `m` evenly spaced stored rows (`m < n`), in increasing order: rows `j n / m`;
+    /// with image pairs, both rows of `m / 2` (at least one) evenly spaced pairs, so that the
+    /// rows hold each other's images as the whole set does.
+    pub(super) fn spaced(&self, m: usize) -> Vec<usize> {
+        if self.pairs {
+            let pairs = (m / 2).max(1);
+            (0..pairs)
+                .flat_map(|j| {
+                    let q = j * self.units / pairs;
+                    [2 * q, 2 * q + 1]
+                })
+                .collect()
+        } else {
+            (0..m).map(|j| j * self.units / m).collect()
         }
     }
 
     /// The stored row of input row `i` (`i < n`).
     pub(super) fn position(&self, i: usize) -> usize {
-        times_modulo(i, self.multiplier, self.n)
+        if self.pairs {
+            let (half, unit) = (i / self.units, i % self.units);
+            2 * times_modulo(unit, self.multiplier, self.units) + half
+        } else {
+            times_modulo(i, self.multiplier, self.units)
+        }
     }
 
     /// The input row stored as row `r` (`r < n`).
     pub(super) fn input_row(&self, r: usize) -> usize {
-        times_modulo(r, self.inverse, self.n)
+        if self.pairs {
+            times_modulo(r / 2, self.inverse, self.units) + (r % 2) * self.units
+        } else {
+            times_modulo(r, self.inverse, self.units)
+        }
     }
 }
 
@@ -393,5 +437,37 @@ mod tests {
             }
         }
         assert_eq!(RowOrder::input(5).position(3), 3);
+    }
+
+    /// Image pairs are spread as pairs: a permutation whose stored rows `2 q` and `2 q + 1`
+    /// hold input rows `i` and `i + n/2`, the pairs spread over the input.
+    #[test]
+    fn spread_pairs_keeps_each_row_beside_its_image() {
+        for n in [2, 4, 10, 194, 2000, 8192] {
+            let order = RowOrder::spread_pairs(n);
+            let mut seen = vec![false; n];
+            for r in 0..n {
+                let i = order.input_row(r);
+                assert_eq!(order.position(i), r, "n {n}, row {r}");
+                assert!(!seen[i], "n {n}: input row {i} twice");
+                seen[i] = true;
+            }
+            for q in 0..n / 2 {
+                let (a, b) = (order.input_row(2 * q), order.input_row(2 * q + 1));
+                assert_eq!(b, a + n / 2, "n {n}: pair {q}");
+            }
+            let spaced = order.spaced(n / 3);
+            assert!(spaced.windows(2).all(|w| w[0] < w[1]), "n {n}: {spaced:?}");
+            for pair in spaced.chunks(2) {
+                assert_eq!((pair[0] % 2, pair[1]), (0, pair[0] + 1), "n {n}");
+            }
+            if n >= 128 {
+                let mut eighths = [false; 8];
+                for r in 0..n / 8 {
+                    eighths[order.input_row(r) % (n / 2) * 8 / (n / 2)] = true;
+                }
+                assert!(eighths.iter().all(|&hit| hit), "n {n}: {eighths:?}");
+            }
+        }
     }
 }
