@@ -46,10 +46,26 @@ impl LogisticRegression {
         x: &DesignRows<'_>,
         y: &[usize],
         n_classes: usize,
+        progress: impl FnMut(&IterationLog),
+    ) -> Result<(LogisticModel, FitReport), LearningError> {
+        let problem = NewtonProblem::from_rows(x, y, n_classes, self)?;
+        self.solve_with_progress(problem, progress)
+    }
+
+    /// Runs Newton's method on a `problem` set up from this configuration
+    /// ([`NewtonProblem::from_rows`] with `self`) to convergence, calling `progress` as
+    /// [`fit_with_progress`](Self::fit_with_progress) does: the second half of
+    /// [`fit_rows_with_progress`](Self::fit_rows_with_progress), for a caller that frees its
+    /// rows once the problem holds its own copy of them.
+    ///
+    /// # Errors
+    /// A Hessian that cannot be factorised even with damping ([`LearningError::Singular`]).
+    pub fn solve_with_progress(
+        &self,
+        mut problem: NewtonProblem,
         mut progress: impl FnMut(&IterationLog),
     ) -> Result<(LogisticModel, FitReport), LearningError> {
-        let mut problem = NewtonProblem::from_rows(x, y, n_classes, self)?;
-        let threshold = self.gradient_tolerance * x.n_samples() as f64;
+        let threshold = self.gradient_tolerance * problem.n_samples() as f64;
         let start = problem.log(0.0, false, 0);
         progress(&start);
         let mut iterations = vec![start];

@@ -439,6 +439,11 @@ impl NewtonProblem {
         self.theta.len()
     }
 
+    /// Number of samples (rows) the problem was set up on.
+    pub fn n_samples(&self) -> usize {
+        self.n_samples
+    }
+
     /// Number of Newton iterations done so far.
     pub fn iteration(&self) -> usize {
         self.iteration

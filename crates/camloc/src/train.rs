@@ -4,7 +4,8 @@
 use camloc_dataset::{Dataset, PostureGroup, camera_direction_deg, direction_vector};
 use camloc_features::Descriptor;
 use camloc_learning::{
-    DesignRows, DirectionHeads, Features, FitReport, IterationLog, QuadraticExpansion,
+    DesignRows, DirectionHeads, Features, FitReport, IterationLog, NewtonProblem,
+    QuadraticExpansion,
 };
 use camloc_skeleton::{Landmark, NUM_LANDMARKS, PartialPose2, mirror_landmark_index};
 use camloc_store::Validate;
@@ -92,11 +93,14 @@ impl CameraLocalizer {
             x.extend_from_slice(&extra);
             y.extend_from_slice(&labels);
         }
+        // The rows hold what training reads of the poses from here on.
+        let n_poses = poses.len();
+        drop(poses);
         // The expansion is fitted on the samples (and mirror images) before dropout.
         let expansion = match options.capacity {
             Capacity::Linear => None,
             Capacity::Quadratic { components } => Some(QuadraticExpansion::fit(
-                &Features::new(&x[..poses.len() * d], d)?,
+                &Features::new(&x[..n_poses * d], d)?,
                 components,
             )?),
         };
@@ -104,7 +108,7 @@ impl CameraLocalizer {
             // Rows [samples, mirror images, dropout copies, their mirror images] become
             // [samples, dropout copies, mirror images, theirs]: the second half is the first
             // half's mirror images, row for row (the image pairs of the fit).
-            let (images, copies) = (poses.len() / 2, (y.len() - poses.len()) / 2);
+            let (images, copies) = (n_poses / 2, (y.len() - n_poses) / 2);
             x[images * d..(2 * images + copies) * d].rotate_left(images * d);
             y[images..2 * images + copies].rotate_left(images);
         }
@@ -117,12 +121,19 @@ impl CameraLocalizer {
         if options.mirror {
             rows = rows.in_image_pairs()?;
         }
-        let (mut model, report) = options.regression.fit_rows_with_progress(
-            &rows,
-            &y,
-            dataset.header.cameras.len() * posture_groups,
-            progress,
-        )?;
+        let n_classes = dataset.header.cameras.len() * posture_groups;
+        let problem = NewtonProblem::from_rows(&rows, &y, n_classes, &options.regression)?;
+        // The problem holds its own copy of the rows: before its iterations, free every row
+        // but the samples' own, which only linear viewpoint heads read.
+        let linear_heads =
+            options.viewpoint_lambda.is_some() && options.viewpoint_capacity == Capacity::Linear;
+        x.truncate(if linear_heads {
+            dataset.samples.len() * d
+        } else {
+            0
+        });
+        x.shrink_to_fit();
+        let (mut model, report) = options.regression.solve_with_progress(problem, progress)?;
         if options.camera_balance > 0.0 {
             let shift = balancing_shift(&y, cameras.len(), posture_groups, options.camera_balance);
             model = model.with_bias_shift(&shift)?;
@@ -154,8 +165,7 @@ impl CameraLocalizer {
             match options.viewpoint_capacity {
                 Capacity::Linear => {
                     // The heads see the classifier's rows of the samples themselves (the
-                    // first rows, before mirror images and dropout copies).
-                    x.truncate(dataset.samples.len() * d);
+                    // first rows, before mirror images and dropout copies: kept above).
                     let rows = localizer.classifier_rows(x)?;
                     localizer.fit_viewpoint_rows(&rows, &rows, dataset, lambda)?;
                 }
