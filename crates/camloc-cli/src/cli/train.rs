@@ -47,7 +47,8 @@ pub struct Args {
           allow_hyphen_values = true)]
     pub dropout: f64,
     /// Do not add left-right mirrored copies of the samples (mirror augmentation is on by
-    /// default).
+    /// default: with it, a sample's dropout copy and its mirror image's lose mirror
+    /// landmarks, and the model is mirror-symmetric).
     #[arg(long)]
     pub no_mirror: bool,
     #[command(flatten)]
