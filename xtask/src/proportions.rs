@@ -467,14 +467,17 @@ pub fn measure(
         let seq_plain = film_all(&sequences, studio, false, options.seed)?;
         let (tm, tw, template_limbs) = template_errors(basis, &seq_scaled)?;
         let (single_tm, _, _) = template_errors(basis, &single_scaled)?;
+        let (plain_tm, plain_tw, _) = template_errors(basis, &seq_plain)?;
         let _ = writeln!(
             md,
             "`{}` (template lengths against the rescaled people: mean error {:.1}%, largest \
-             limb {:.1}%):\n\n| variant | camera | frames | PA-MPJPE | walking / other | length \
+             limb {:.1}%; against the same subjects unscaled: {:.1}%, {:.1}%):\n\n| variant | camera | frames | PA-MPJPE | walking / other | length \
              error | largest limb | within 5% | failed | time per frame |\n|---|---|---|---|---|---|---|---|---|---|",
             studio.name(),
             100.0 * tm,
-            100.0 * tw
+            100.0 * tw,
+            100.0 * plain_tm,
+            100.0 * plain_tw
         );
         let mut limbs = limb_row("template (windows)", &template_limbs);
         let mut checks = String::new();
