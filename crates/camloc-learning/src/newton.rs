@@ -9,8 +9,8 @@
 //! * Parameters `theta`: `D x K` column-major, i.e. class-major: `theta[k * D + a]` is the
 //!   weight of feature `a` for class `k`, `a = d` being the bias. Gradient and Newton
 //!   direction use the same layout; the Hessian is the `P x P` matrix (`P = D K`) on it.
-//! * Logits, probabilities and residuals: `K x n` column-major (each sample's `K` values
-//!   contiguous).
+//! * Logits and probabilities: `K x n` column-major (each sample's `K` values contiguous);
+//!   the residuals `p - onehot(y)` are made from them as the gradient reads each row.
 //!
 //! # Hessian
 //!
@@ -58,11 +58,12 @@
 //! # Evaluations
 //!
 //! A line-search trial evaluates every sample at the trial logits `z + t dz` (`dz = X d`,
-//! computed once per direction) in one pass: loss, probabilities and residuals share one
-//! exponential per class and are kept. When the trial is accepted (in practice nearly
-//! always the unit step) it becomes the new state as it is, and only the gradient is left
-//! to compute: an iteration evaluates the objective once, not once for the line search and
-//! again for the update.
+//! computed once per direction) in one pass: loss and probabilities share one exponential
+//! per class, and the probabilities are kept. When the trial is accepted (in practice
+//! nearly always the unit step) it becomes the new state as it is (its logits made again,
+//! the same numbers, in place of the old ones: no second `K x n` array of logits), and only
+//! the gradient is left to compute: an iteration evaluates the objective once, not once for
+//! the line search and again for the update.
 //!
 //! # Singular directions
 //!
@@ -97,7 +98,7 @@ mod product;
 use blocked::BlockedProducts;
 use design_matrix::{DesignMatrix, RowOrder};
 pub(crate) use kernels::row_loss;
-use kernels::{ROWS_PER_TASK, add_ridge_curvature};
+use kernels::{ROWS_PER_TASK, add_ridge_curvature, residuals_of_row};
 
 /// What happened in one Newton iteration (or at the starting point, iteration 0).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -211,12 +212,8 @@ pub struct NewtonProblem {
     logits: Vec<f64>,
     /// `K x n` probabilities (softmax, or per-class sigmoids for one-vs-rest).
     probabilities: Vec<f64>,
-    /// `K x n` probabilities minus one-hot labels.
-    residuals: Vec<f64>,
     /// `K x n` change of the logits along the Newton direction.
     direction_logits: Vec<f64>,
-    /// `K x n` logits of the last line-search trial.
-    trial_logits: Vec<f64>,
     /// `D x K` gradient.
     gradient: Vec<f64>,
     /// Buffers of the products with `X` (logits, gradient, Hessian-vector products).
@@ -368,9 +365,7 @@ impl NewtonProblem {
             theta: vec![0.0; p],
             logits: vec![0.0; k * n],
             probabilities: vec![0.0; k * n],
-            residuals: vec![0.0; k * n],
             direction_logits: vec![0.0; k * n],
-            trial_logits: vec![0.0; k * n],
             gradient: vec![0.0; p],
             blocked: BlockedProducts::new(n, dim, k),
             direction: vec![0.0; p],
@@ -558,7 +553,7 @@ impl NewtonProblem {
         }
     }
 
-    /// Logits, losses, probabilities, residuals, objective and gradient from `theta`.
+    /// Logits, losses, probabilities, objective and gradient from `theta`.
     fn refresh_from_parameters(&mut self) {
         self.blocked.logits(&self.x, &self.theta, &mut self.logits);
         self.class_steps.fill(0.0);
@@ -566,10 +561,23 @@ impl NewtonProblem {
         self.accept_trial();
     }
 
-    /// `grad f = X^T R^T + 2 lambda [W; 0]`.
+    /// `grad f = X^T R^T + 2 lambda [W; 0]`, the residuals `R` made from the probabilities
+    /// and logits as the rows are read.
     fn compute_gradient(&mut self) {
+        let (mode, k) = (self.mode, self.n_classes);
+        let (logits, probabilities, labels) = (&self.logits, &self.probabilities, &self.labels);
+        let residuals = |i: usize, r: &mut [f64]| {
+            let row = i * k..(i + 1) * k;
+            residuals_of_row(
+                mode,
+                labels[i],
+                &logits[row.clone()],
+                &probabilities[row],
+                r,
+            );
+        };
         self.blocked
-            .transpose_product(&self.x, &self.residuals, &mut self.gradient);
+            .transpose_product(&self.x, residuals, &mut self.gradient);
         add_ridge_curvature(self.lambda, self.dim, &self.theta, &mut self.gradient);
     }
 
@@ -603,7 +611,7 @@ impl NewtonProblem {
         if let Some(t) = truncated {
             self.update_trust_radius(step, t);
         }
-        // The trials overwrote probabilities and residuals: take the last one if it is at
+        // The trials overwrote the probabilities: take the last one if it is at
         // the final steps, else evaluate those (all zero when nothing was accepted: the
         // state as it was, recomputed to the same numbers).
         if !evaluated {

@@ -123,25 +123,32 @@ impl BlockedProducts {
     }
 
     /// `out = X^T M^T` as a `D x K` class-major matrix (`out[k * D + a] = sum_i m_ki x_ia`)
-    /// for a `K x n` matrix `m` (each sample's `K` values together): the gradient of the
-    /// loss for residuals `m`.
-    pub(super) fn transpose_product(&mut self, x: &DesignMatrix, m: &[f64], out: &mut [f64]) {
+    /// for the `K x n` matrix `M` whose column `i` `values(i, column)` writes (`K` values
+    /// for row `i`, called once per row): the gradient of the loss for residuals `M`, made
+    /// as the rows are read.
+    pub(super) fn transpose_product(
+        &mut self,
+        x: &DesignMatrix,
+        values: impl Fn(usize, &mut [f64]) + Sync,
+        out: &mut [f64],
+    ) {
         let dim = self.weights.len() / self.padded;
         let k = out.len() / dim.max(1);
+        let n = x.n_rows();
         let padded = self.padded;
         let kernels = self.kernels();
-        m.par_chunks(ROWS_PER_TASK * k)
-            .zip(self.chunks.par_chunks_mut(CHUNK_ROWS * padded))
+        self.chunks
+            .par_chunks_mut(CHUNK_ROWS * padded)
             .zip(self.partials.par_chunks_mut(dim * padded))
             .enumerate()
-            .for_each(|(task, ((m, chunk), partial))| {
+            .for_each(|(task, (chunk, partial))| {
                 partial.fill(0.0);
-                for (c, m) in m.chunks(CHUNK_ROWS * k).enumerate() {
-                    let rows = m.len() / k;
-                    let first = task * ROWS_PER_TASK + c * CHUNK_ROWS;
+                let end = n.min((task + 1) * ROWS_PER_TASK);
+                for first in (task * ROWS_PER_TASK..end).step_by(CHUNK_ROWS) {
+                    let rows = CHUNK_ROWS.min(end - first);
                     let chunk = &mut chunk[..rows * padded];
-                    for (s, r) in chunk.chunks_exact_mut(padded).zip(m.chunks_exact(k)) {
-                        s[..k].copy_from_slice(r);
+                    for (r, s) in chunk.chunks_exact_mut(padded).enumerate() {
+                        values(first + r, &mut s[..k]);
                         s[k..].fill(0.0);
                     }
                     x.with_chunk(first, rows, dim, |view| {

@@ -1,4 +1,4 @@
-//! The per-sample kernels of the Newton solver: probabilities and residuals, losses, and the
+//! The per-sample kernels of the Newton solver: probabilities, residuals, losses, and the
 //! ridge terms (the products with the design matrix are in module `blocked`). Every sum
 //! runs in a fixed order so that fits are bit-for-bit reproducible.
 
@@ -55,23 +55,34 @@ pub(super) fn add_ridge_curvature(lambda: f64, dim: usize, v: &[f64], out: &mut 
     }
 }
 
-/// Probabilities `p` and residuals `r = p - onehot(y)` of one sample with logits `z`. The
-/// residual of the true class is computed without cancellation: `-sum_{c != y} p_c`
-/// (multinomial) or `-sigmoid(-z_y)` (one-vs-rest), not `p_y - 1`, so the gradient stays
-/// accurate when the model is confident.
+/// Probabilities `p` of one sample with logits `z`.
 #[inline]
-fn residuals_of_row(mode: Mode, y: usize, z: &[f64], p: &mut [f64], r: &mut [f64]) {
+fn probabilities_of_row(mode: Mode, z: &[f64], p: &mut [f64]) {
     match mode {
         Mode::Multinomial => {
             p.copy_from_slice(z);
             softmax_in_place(p);
-            multinomial_residuals(y, p, r);
         }
         Mode::OneVsRest => {
-            for (c, ((pc, rc), &zc)) in p.iter_mut().zip(r.iter_mut()).zip(z).enumerate() {
+            for (pc, &zc) in p.iter_mut().zip(z) {
                 *pc = sigmoid(zc);
-                *rc = if c == y { -sigmoid(-zc) } else { *pc };
             }
+        }
+    }
+}
+
+/// Residuals `r = p - onehot(y)` of one sample with label `y`, logits `z` and probabilities
+/// `p` (as [`evaluate_row`] leaves them). The residual of the true class is computed without
+/// cancellation: `-sum_{c != y} p_c` (multinomial) or `-sigmoid(-z_y)` (one-vs-rest), not
+/// `p_y - 1`, so the gradient stays accurate when the model is confident.
+#[inline]
+pub(super) fn residuals_of_row(mode: Mode, y: usize, z: &[f64], p: &[f64], r: &mut [f64]) {
+    match mode {
+        Mode::Multinomial => multinomial_residuals(y, p, r),
+        Mode::OneVsRest => {
+            r.copy_from_slice(p);
+            debug_assert!(y < r.len(), "label {y} of {} classes", r.len());
+            r[y] = -sigmoid(-z[y]);
         }
     }
 }
@@ -91,16 +102,15 @@ fn multinomial_residuals(y: usize, p: &[f64], r: &mut [f64]) {
     r[y] = -others;
 }
 
-/// Where [`evaluate_row`] writes one sample's trial logits, probabilities and residuals
-/// (`K` values each).
+/// Where [`evaluate_row`] writes one sample's trial logits and probabilities (`K` values
+/// each).
 pub(super) struct RowOutput<'a> {
     pub(super) trial: &'a mut [f64],
     pub(super) p: &'a mut [f64],
-    pub(super) r: &'a mut [f64],
 }
 
 /// One sample with label `y` and logits `z` at the trial logits `z + s_c dz` (`s_c` =
-/// `steps[c]`, see [`shifted`]): writes them, the probabilities and the residuals to `out`,
+/// `steps[c]`, see [`shifted`]): writes them and the probabilities to `out`,
 /// and adds the loss to `partial` as [`row_loss`] does. In multinomial mode the loss and the
 /// softmax share one exponential per class (the numbers are those of [`row_loss`] and
 /// [`softmax_in_place`], which handle non-finite logits).
@@ -113,7 +123,7 @@ pub(super) fn evaluate_row(
     out: RowOutput<'_>,
     partial: &mut [f64],
 ) {
-    let RowOutput { trial, p, r } = out;
+    let RowOutput { trial, p } = out;
     for (((t, &zc), &dc), &s) in trial.iter_mut().zip(z).zip(dz).zip(steps) {
         *t = shifted(zc, dc, s);
     }
@@ -129,12 +139,11 @@ pub(super) fn evaluate_row(
             partial[0] += max + sum.ln() - trial[y];
             let inv = 1.0 / sum;
             p.iter_mut().for_each(|v| *v *= inv);
-            multinomial_residuals(y, p, r);
             return;
         }
     }
     row_loss(mode, y, trial.len(), |c| trial[c], partial);
-    residuals_of_row(mode, y, trial, p, r);
+    probabilities_of_row(mode, trial, p);
 }
 
 /// `z + s dz`, leaving `z` untouched (even if `dz` is not finite) when `s == 0`.

@@ -97,8 +97,7 @@ impl NewtonProblem {
     }
 
     /// Evaluates every sample at `theta + class_steps * direction` (the trial logits
-    /// `z + s dz` into `trial_logits`, their probabilities and residuals into
-    /// `probabilities` and `residuals`) and the objective of every block into
+    /// `z + s dz`, their probabilities into `probabilities`) and the objective of every block into
     /// `trial_objectives`; `logits`, `theta` and `block_objectives` are left as they were.
     pub(super) fn evaluate_trial(&mut self) {
         let k = self.n_classes;
@@ -109,22 +108,22 @@ impl NewtonProblem {
         self.logits
             .par_chunks(rows)
             .zip(self.direction_logits.par_chunks(rows))
-            .zip(self.trial_logits.par_chunks_mut(rows))
             .zip(self.probabilities.par_chunks_mut(rows))
-            .zip(self.residuals.par_chunks_mut(rows))
             .zip(self.labels.par_chunks(ROWS_PER_TASK))
             .zip(self.partial_losses.par_chunks_mut(n_blocks))
-            .for_each(|((((((z, dz), trial), p), r), labels), partial)| {
+            .for_each(|((((z, dz), p), labels), partial)| {
                 partial.fill(0.0);
-                for (((((z, dz), trial), p), r), &y) in z
+                let mut trial = vec![0.0; k];
+                for (((z, dz), p), &y) in z
                     .chunks_exact(k)
                     .zip(dz.chunks_exact(k))
-                    .zip(trial.chunks_exact_mut(k))
                     .zip(p.chunks_exact_mut(k))
-                    .zip(r.chunks_exact_mut(k))
                     .zip(labels)
                 {
-                    let out = RowOutput { trial, p, r };
+                    let out = RowOutput {
+                        trial: &mut trial,
+                        p,
+                    };
                     evaluate_row(mode, y, (z, dz), steps, out, partial);
                 }
             });
@@ -167,7 +166,18 @@ impl NewtonProblem {
                 *tv = shifted(*tv, dv, s);
             }
         }
-        std::mem::swap(&mut self.logits, &mut self.trial_logits);
+        // The trial's logits, made again as the trial made them.
+        let (k, steps) = (self.n_classes, &self.class_steps);
+        self.logits
+            .par_chunks_mut(ROWS_PER_TASK * k)
+            .zip(self.direction_logits.par_chunks(ROWS_PER_TASK * k))
+            .for_each(|(z, dz)| {
+                for (z, dz) in z.chunks_exact_mut(k).zip(dz.chunks_exact(k)) {
+                    for ((zc, &dc), &s) in z.iter_mut().zip(dz).zip(steps) {
+                        *zc = shifted(*zc, dc, s);
+                    }
+                }
+            });
         self.block_objectives
             .copy_from_slice(&self.trial_objectives);
         self.compute_gradient();
