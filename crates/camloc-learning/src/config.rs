@@ -42,12 +42,13 @@ pub enum DirectionSolver {
     /// Truncated Newton (Newton-CG) with a preconditioner assembled on `preconditioner_rows`
     /// samples. Each Newton system is solved by conjugate gradients on Hessian-vector
     /// products (exact, or subsampled: `product_rows` below) only to the relative residual
-    /// `eta = min(0.5, sqrt(||g|| / ||g_0||))` (Eisenstat and Walker's forcing term, in the preconditioner's norm; never below
-    /// `1e-10`), or until the residual, which is the gradient the quadratic model predicts
-    /// after the step, is a quarter of the convergence threshold, so that early iterations
-    /// are cheap and the last ones no more exact than the stopping rule needs; and at most to
-    /// a trust radius in the preconditioner's norm (Steihaug), which shrinks to the part of a
-    /// direction the line search accepted and doubles after a full step on it. The
+    /// `eta = min(0.5, sqrt(||g|| / ||g_0||))` (Eisenstat and Walker's forcing term, in the
+    /// preconditioner's norm; never below `1e-10`), or until the residual, which is the
+    /// gradient the quadratic model predicts after the step, is a quarter of the convergence
+    /// threshold, so that early iterations are cheap and the last ones no more exact than the
+    /// stopping rule needs; and at most to a trust radius in the preconditioner's norm
+    /// (Steihaug), which shrinks to the part of a direction the line search accepted and
+    /// doubles after a full step on it. The
     /// preconditioner is the Cholesky factor of the Hessian assembled on
     /// `preconditioner_rows` evenly spaced samples (rescaled to all samples), assembled
     /// afresh when a solve spends its budget of products. Every direction is a descent

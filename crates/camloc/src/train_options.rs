@@ -233,8 +233,9 @@ impl TrainOptions {
     /// tolerance [`QUADRATIC_GRADIENT_TOLERANCE`] and truncated Newton-CG on a Hessian of
     /// [`DEFAULT_PRECONDITIONER_ROWS`] samples and products on [`DEFAULT_PRODUCT_ROWS`]
     /// ([`DirectionSolver::TruncatedCg`]), whose assemblies cost a fraction of full ones;
-    /// for [`Capacity::Linear`] the defaults ([`DEFAULT_LAMBDA`], [`LogisticRegression::default`]'s tolerance,
-    /// [`DirectionSolver::PreconditionedCg`], whose preconditioner is sized to the problem).
+    /// for [`Capacity::Linear`] the defaults ([`DEFAULT_LAMBDA`],
+    /// [`LogisticRegression::default`]'s tolerance, [`DirectionSolver::PreconditionedCg`],
+    /// whose preconditioner is sized to the problem).
     pub fn with_capacity(mut self, capacity: Capacity) -> Self {
         self.capacity = capacity;
         let linear = LogisticRegression::default();

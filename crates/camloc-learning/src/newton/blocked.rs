@@ -143,9 +143,9 @@ impl BlockedProducts {
             .enumerate()
             .for_each(|(task, (chunk, partial))| {
                 partial.fill(0.0);
-                let end = n.min((task + 1) * ROWS_PER_TASK);
-                for first in (task * ROWS_PER_TASK..end).step_by(CHUNK_ROWS) {
-                    let rows = CHUNK_ROWS.min(end - first);
+                let rows_of_task = task_rows(task, n);
+                for first in rows_of_task.clone().step_by(CHUNK_ROWS) {
+                    let rows = CHUNK_ROWS.min(rows_of_task.end - first);
                     let chunk = &mut chunk[..rows * padded];
                     for (r, s) in chunk.chunks_exact_mut(padded).enumerate() {
                         values(first + r, &mut s[..k]);
@@ -187,9 +187,9 @@ impl BlockedProducts {
                 if task % task_stride != 0 {
                     return;
                 }
-                let end = n.min((task + 1) * ROWS_PER_TASK);
-                for first in (task * ROWS_PER_TASK..end).step_by(CHUNK_ROWS) {
-                    let rows = CHUNK_ROWS.min(end - first);
+                let rows_of_task = task_rows(task, n);
+                for first in rows_of_task.clone().step_by(CHUNK_ROWS) {
+                    let rows = CHUNK_ROWS.min(rows_of_task.end - first);
                     let chunk = &mut chunk[..rows * padded];
                     x.with_chunk(first, rows, dim, |view| {
                         kernels.times_weights(view, weights, &mut *chunk);
@@ -203,7 +203,7 @@ impl BlockedProducts {
         self.sum_partials(dim, k, out);
         (0..n.div_ceil(ROWS_PER_TASK))
             .step_by(task_stride)
-            .map(|task| n.min((task + 1) * ROWS_PER_TASK) - task * ROWS_PER_TASK)
+            .map(|task| task_rows(task, n).len())
             .sum()
     }
 
@@ -242,6 +242,12 @@ impl<'a> Rows<'a> {
     fn column(&self, a: usize) -> &'a [f64] {
         self.view.column(a, self.count)
     }
+}
+
+/// The rows of task `task` of a pass over `n` rows ([`ROWS_PER_TASK`] each, the last one
+/// shorter).
+fn task_rows(task: usize, n: usize) -> Range<usize> {
+    task * ROWS_PER_TASK..n.min((task + 1) * ROWS_PER_TASK)
 }
 
 /// The two products on chunks of a design matrix, with the instruction set and the class

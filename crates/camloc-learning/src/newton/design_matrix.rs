@@ -201,11 +201,18 @@ impl DesignMatrix {
                 Self::Generated(GeneratedDesign::new(rows, expansion, standardiser, order))
             }
             None => {
-                let dim = rows.n_features() + 1;
-                let mut x = vec![1.0; n * dim];
+                let d = rows.n_features();
+                let mut x = vec![0.0; n * (d + 1)];
                 let (means, scales) = (standardiser.means(), standardiser.inverse_scales());
-                rows.for_each_row(|i, row| {
-                    put_standardised(row, means, &scales, order.position(i), n, &mut x)
+                fill_columns(&mut x, n, d + 1, |r, out| {
+                    let (standardised, bias) = out.split_at_mut(d);
+                    standardise_row(
+                        rows.raw_row(order.input_row(r)),
+                        means,
+                        &scales,
+                        standardised,
+                    );
+                    bias[0] = 1.0;
                 });
                 Self::Stored { x, n }
             }
@@ -291,13 +298,7 @@ impl GeneratedDesign {
         fill_columns(&mut base, n, width, |r, out| {
             let row = rows.raw_row(order.input_row(r));
             let (standardised, z) = out.split_at_mut(inputs);
-            for ((o, &v), (&m, &s)) in standardised
-                .iter_mut()
-                .zip(row)
-                .zip(means.iter().zip(&scales))
-            {
-                *o = Standardiser::apply(m, s, v);
-            }
+            standardise_row(row, means, &scales, standardised);
             expansion.components_into(row, z);
         });
         Self {
@@ -398,17 +399,14 @@ fn fill_columns(
 }
 
 /// Writes the values of `row` standardised by `means` and `inverse_scales` (its leading
-/// columns) as row `i` of the `n`-row column-major matrix `out`.
-fn put_standardised(
-    row: &[f64],
-    means: &[f64],
-    inverse_scales: &[f64],
-    i: usize,
-    n: usize,
-    out: &mut [f64],
-) {
-    for (a, ((&v, &m), &s)) in row.iter().zip(means).zip(inverse_scales).enumerate() {
-        out[a * n + i] = Standardiser::apply(m, s, v);
+/// columns) into `out`.
+fn standardise_row(row: &[f64], means: &[f64], inverse_scales: &[f64], out: &mut [f64]) {
+    for ((o, &v), (&m, &s)) in out
+        .iter_mut()
+        .zip(row)
+        .zip(means.iter().zip(inverse_scales))
+    {
+        *o = Standardiser::apply(m, s, v);
     }
 }
 

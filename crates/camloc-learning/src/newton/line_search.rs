@@ -97,8 +97,8 @@ impl NewtonProblem {
     }
 
     /// Evaluates every sample at `theta + class_steps * direction` (the trial logits
-    /// `z + s dz`, their probabilities into `probabilities`) and the objective of every block into
-    /// `trial_objectives`; `logits`, `theta` and `block_objectives` are left as they were.
+    /// `z + s dz`, their probabilities into `probabilities`) and the objective of every block
+    /// into `trial_objectives`; `logits`, `theta` and `block_objectives` are left as they were.
     pub(super) fn evaluate_trial(&mut self) {
         let k = self.n_classes;
         let mode = self.mode;
