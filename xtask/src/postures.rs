@@ -11,9 +11,8 @@ use std::fmt::Write;
 use std::path::PathBuf;
 use std::time::Instant;
 
-use camloc::dataset::{GenerateConfig, MotionCategory, PoseSequence, Protocol};
-use camloc::skeleton::Landmark;
-use camloc::{CameraLocalizer, Pose3};
+use camloc::CameraLocalizer;
+use camloc::dataset::{GenerateConfig, MotionCategory, PoseSequence, Protocol, annotated};
 
 use crate::mocap_data::{load_split, project};
 use crate::progress::newton_line;
@@ -106,27 +105,11 @@ fn other_skeletons(sequences: &[PoseSequence]) -> Vec<PoseSequence> {
             let f = factors(&s.clip.name, OTHER_SKELETON_SEED);
             let mut s = s.clone();
             for (_, pose) in &mut s.frames {
-                *pose = annotated(&rescale(pose, &f));
+                *pose = annotated(&rescale(pose, &f), 1.0);
             }
             s
         })
         .collect()
-}
-
-/// `pose` with the neck at the mid-shoulder point (the head moved with it), the pelvis at
-/// the mid-hip point.
-fn annotated(pose: &Pose3) -> Pose3 {
-    let mid = |a: Landmark, b: Landmark| {
-        let (p, q) = (pose.get(a), pose.get(b));
-        std::array::from_fn::<f64, 3, _>(|k| 0.5 * (p[k] + q[k]))
-    };
-    let mut out = *pose;
-    let (neck, head) = (pose.get(Landmark::Neck), pose.get(Landmark::Head));
-    let new_neck = mid(Landmark::LeftShoulder, Landmark::RightShoulder);
-    out.points[Landmark::Head.index()] = std::array::from_fn(|k| new_neck[k] + head[k] - neck[k]);
-    out.points[Landmark::Neck.index()] = new_neck;
-    out.points[Landmark::Pelvis.index()] = mid(Landmark::LeftHip, Landmark::RightHip);
-    out
 }
 
 /// The sequences of posture clips (sit, squat, kneel, crawl) among `sequences`.

@@ -207,23 +207,7 @@ impl Augmentation {
             self.change_structure(&mut out, donor, limits, rng);
         }
         if self.photo_landmarks > 0.0 && rng.random_bool(self.photo_landmarks) {
-            let points = out.points;
-            let mid = |a: Landmark, b: Landmark| {
-                let (p, q) = (points[a.index()], points[b.index()]);
-                [
-                    0.5 * (p[0] + q[0]),
-                    0.5 * (p[1] + q[1]),
-                    0.5 * (p[2] + q[2]),
-                ]
-            };
-            let neck = points[Landmark::Neck.index()];
-            let head = points[Landmark::Head.index()];
-            let new_neck = mid(Landmark::LeftShoulder, Landmark::RightShoulder);
-            let reach = draw_factor(self.head_reach, rng);
-            out.points[Landmark::Head.index()] =
-                std::array::from_fn(|k| new_neck[k] + reach * (head[k] - neck[k]));
-            out.points[Landmark::Neck.index()] = new_neck;
-            out.points[Landmark::Pelvis.index()] = mid(Landmark::LeftHip, Landmark::RightHip);
+            out = annotated(&out, draw_factor(self.head_reach, rng));
         }
         out
     }
@@ -290,6 +274,30 @@ impl Augmentation {
             *out = canonical;
         }
     }
+}
+
+/// `pose` with the landmarks placed as photo annotations, detectors and lab skeletons place
+/// them ([`Augmentation::photo_landmarks`]): the neck at the mid-shoulder point, the pelvis
+/// at the mid-hip point, and the head moved with the neck and along the neck-to-head
+/// direction to `head_reach` times its distance from the neck (1: where it was relative to
+/// the neck). Metres, the frame of `pose`.
+pub fn annotated(pose: &Pose3, head_reach: f64) -> Pose3 {
+    let mid = |a: Landmark, b: Landmark| {
+        let (p, q) = (pose.get(a), pose.get(b));
+        [
+            0.5 * (p[0] + q[0]),
+            0.5 * (p[1] + q[1]),
+            0.5 * (p[2] + q[2]),
+        ]
+    };
+    let (neck, head) = (pose.get(Landmark::Neck), pose.get(Landmark::Head));
+    let new_neck = mid(Landmark::LeftShoulder, Landmark::RightShoulder);
+    let mut out = *pose;
+    out.points[Landmark::Head.index()] =
+        std::array::from_fn(|k| new_neck[k] + head_reach * (head[k] - neck[k]));
+    out.points[Landmark::Neck.index()] = new_neck;
+    out.points[Landmark::Pelvis.index()] = mid(Landmark::LeftHip, Landmark::RightHip);
+    out
 }
 
 /// A factor from `U(lo, hi)`, or `lo` without a draw when the range is one value.

@@ -33,8 +33,8 @@ mod select;
 mod test_poses;
 
 pub use augment::{
-    Augmentation, angle_between_deg, camera_direction_deg, direction_vector, in_class_box,
-    nearest_by_direction,
+    Augmentation, angle_between_deg, annotated, camera_direction_deg, direction_vector,
+    in_class_box, nearest_by_direction,
 };
 pub use camloc_mocap::{CATEGORY_RULES, CategorySource, MocapIndex, MotionCategory};
 pub use dataset::{CameraCount, ClipInfo, Dataset, DatasetHeader, Sample, default_test_subjects};
