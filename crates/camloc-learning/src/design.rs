@@ -96,13 +96,23 @@ impl<'a> DesignRows<'a> {
 
     /// Calls `visit` with every row in order (row index and its
     /// [`n_features`](Self::n_features) values; expanded rows share one buffer).
-    pub fn for_each_row(&self, mut visit: impl FnMut(usize, &[f64])) {
+    pub fn for_each_row(&self, visit: impl FnMut(usize, &[f64])) {
+        self.for_each_selected(0..self.n_samples(), visit);
+    }
+
+    /// [`for_each_row`](Self::for_each_row) on the rows `selected` names, in its order
+    /// (each index below [`n_samples`](Self::n_samples)).
+    pub fn for_each_selected(
+        &self,
+        selected: impl IntoIterator<Item = usize>,
+        mut visit: impl FnMut(usize, &[f64]),
+    ) {
         match self.expansion {
-            None => self.x.rows().enumerate().for_each(|(i, row)| visit(i, row)),
+            None => selected.into_iter().for_each(|i| visit(i, self.raw_row(i))),
             Some(e) => {
                 let mut buffer = vec![0.0; e.n_outputs()];
-                for (i, row) in self.x.rows().enumerate() {
-                    e.expand_sized(row, &mut buffer);
+                for i in selected {
+                    e.expand_sized(self.raw_row(i), &mut buffer);
                     visit(i, &buffer);
                 }
             }

@@ -2,12 +2,18 @@
 //! ridge regression of a unit 3D direction per class, the continuous refinement of a
 //! classifier whose classes are directions (camera viewpoints).
 
+use faer::linalg::matmul::triangular::{self, BlockStructure};
 use faer::linalg::solvers::Solve;
-use faer::{Mat, Side};
+use faer::{Accum, Mat, Par, Side};
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::standardise::RawLinear;
-use crate::{Features, LearningError, Standardiser};
+use crate::{DesignRows, Features, LearningError, Standardiser};
+
+/// Standardised rows [`RidgeModel`]'s fit multiplies together at a time (a few megabytes
+/// of buffer whatever the number of rows).
+const GRAM_ROWS: usize = 256;
 
 /// A fitted multi-output ridge regression `y = W ((x - mean) / scale) + b`.
 #[derive(Clone, Debug, PartialEq)]
@@ -54,7 +60,7 @@ impl RidgeModel {
         n_outputs: usize,
         lambda: f64,
     ) -> Result<RidgeModel, LearningError> {
-        let (n, d) = (x.n_samples(), x.n_features());
+        let n = x.n_samples();
         if n == 0 {
             return Err(LearningError::NoSamples);
         }
@@ -65,35 +71,89 @@ impl RidgeModel {
                 found: y.len(),
             });
         }
-        if !(lambda.is_finite() && lambda >= 0.0) {
-            return Err(LearningError::InvalidParameter {
-                name: "lambda",
-                value: lambda.to_string(),
-                reason: "must be finite and >= 0",
-            });
+        check_lambda(lambda)?;
+        check_targets(y)?;
+        let rows = DesignRows::plain(*x);
+        Self::fit_selected(&rows, &(0..n).collect::<Vec<_>>(), n_outputs, lambda, |i| {
+            &y[i * n_outputs..(i + 1) * n_outputs]
+        })
+    }
+
+    /// [`fit`](Self::fit) on the rows of `x` that `selected` names (at least one), row `i`'s
+    /// targets being `target(i)` (`n_outputs` finite values, checked by the caller). The
+    /// standardised rows are multiplied together [`GRAM_ROWS`] at a time into the lower half
+    /// of the Gram matrix, so that memory does not grow with the rows (they are read twice
+    /// for the standardiser and once for the products; expanded rows are made as they are
+    /// read).
+    fn fit_selected<'y>(
+        x: &DesignRows<'_>,
+        selected: &[usize],
+        n_outputs: usize,
+        lambda: f64,
+        target: impl Fn(usize) -> &'y [f64],
+    ) -> Result<RidgeModel, LearningError> {
+        if selected.is_empty() {
+            return Err(LearningError::NoSamples);
         }
-        if let Some(v) = y.iter().find(|v| !v.is_finite()) {
-            return Err(LearningError::InvalidParameter {
-                name: "target",
-                value: v.to_string(),
-                reason: "targets must be finite",
-            });
-        }
-        let standardiser = Standardiser::fit(x);
+        let d = x.n_features();
+        let standardiser = Standardiser::fit_selected(x, selected.iter().copied());
         let (means, scales) = (standardiser.means(), standardiser.scales());
-        let z = Mat::<f64>::from_fn(n, d, |i, j| (x.data()[i * d + j] - means[j]) / scales[j]);
+        let n = selected.len() as f64;
         let mut y_mean = vec![0.0; n_outputs];
-        for row in y.chunks_exact(n_outputs) {
-            for (m, v) in y_mean.iter_mut().zip(row) {
-                *m += v / n as f64;
+        for &i in selected {
+            for (m, v) in y_mean.iter_mut().zip(target(i)) {
+                *m += v / n;
             }
         }
-        let yc = Mat::<f64>::from_fn(n, n_outputs, |i, k| y[i * n_outputs + k] - y_mean[k]);
-        let mut gram = z.transpose() * &z;
+        let mut gram = Mat::<f64>::zeros(d, d);
+        let mut rhs = Mat::<f64>::zeros(d, n_outputs);
+        // Columns: the standardised rows of a batch; rows: their centred targets.
+        let mut z = Mat::<f64>::zeros(d, GRAM_ROWS);
+        let mut yc = Mat::<f64>::zeros(GRAM_ROWS, n_outputs);
+        let mut filled = 0;
+        let mut add = |z: &Mat<f64>, yc: &Mat<f64>, filled: usize| {
+            let (z, yc) = (z.subcols(0, filled), yc.subrows(0, filled));
+            triangular::matmul(
+                gram.as_mut(),
+                BlockStructure::TriangularLower,
+                Accum::Add,
+                z,
+                BlockStructure::Rectangular,
+                z.transpose(),
+                BlockStructure::Rectangular,
+                1.0,
+                Par::Seq,
+            );
+            faer::linalg::matmul::matmul(rhs.as_mut(), Accum::Add, z, yc, 1.0, Par::Seq);
+        };
+        x.for_each_selected(selected.iter().copied(), |i, row| {
+            let column = z.col_mut(filled).try_as_col_major_mut();
+            if let Some(column) = column {
+                for (((zj, &v), m), s) in column
+                    .as_slice_mut()
+                    .iter_mut()
+                    .zip(row)
+                    .zip(means)
+                    .zip(scales)
+                {
+                    *zj = (v - m) / s;
+                }
+            }
+            for (k, (v, m)) in target(i).iter().zip(&y_mean).enumerate() {
+                yc[(filled, k)] = v - m;
+            }
+            filled += 1;
+            if filled == GRAM_ROWS {
+                add(&z, &yc, filled);
+                filled = 0;
+            }
+        });
+        if filled > 0 {
+            add(&z, &yc, filled);
+        }
         for j in 0..d {
             gram[(j, j)] += lambda;
         }
-        let rhs = z.transpose() * &yc;
         let llt = gram
             .as_ref()
             .llt(Side::Lower)
@@ -204,15 +264,18 @@ pub struct DirectionHeads {
 impl DirectionHeads {
     /// Fits one head per class `0..n_classes` on the samples of that class (`x` rows,
     /// `directions` unit vectors `[x, y, z]` per sample, `classes` their class), with ridge
-    /// weight `lambda`. The uncertainty table is calibrated on `calibration`: per sample,
-    /// the class chosen, its probability, the features and the true direction.
+    /// weight `lambda`, the classes in parallel. Expanded rows are made as each head reads
+    /// them (nothing the size of the rows is held). The uncertainty table is calibrated on
+    /// `calibration`: per sample, the class chosen, its probability, the features and the
+    /// true direction.
     ///
     /// # Errors
     /// [`LearningError::SizeMismatch`] for inconsistent lengths, [`LearningError::NoSamples`]
-    /// naming no class in particular when a class has no samples, and [`RidgeModel::fit`]'s
-    /// errors.
+    /// naming no class in particular when a class has no samples,
+    /// [`LearningError::InvalidParameter`] for a non-finite direction or a bad `lambda`, and
+    /// [`LearningError::Singular`] as [`RidgeModel::fit`].
     pub fn fit(
-        x: &Features<'_>,
+        x: &DesignRows<'_>,
         directions: &[[f64; 3]],
         classes: &[usize],
         n_classes: usize,
@@ -228,16 +291,13 @@ impl DirectionHeads {
                 });
             }
         }
-        let d = x.n_features();
+        check_lambda(lambda)?;
+        check_targets(directions.as_flattened())?;
         let heads = (0..n_classes)
+            .into_par_iter()
             .map(|k| {
                 let rows: Vec<usize> = (0..n).filter(|&i| classes[i] == k).collect();
-                let xs: Vec<f64> = rows
-                    .iter()
-                    .flat_map(|&i| x.data()[i * d..(i + 1) * d].iter().copied())
-                    .collect();
-                let ys: Vec<f64> = rows.iter().flat_map(|&i| directions[i]).collect();
-                RidgeModel::fit(&Features::new(&xs, d)?, &ys, 3, lambda)
+                RidgeModel::fit_selected(x, &rows, 3, lambda, |i| &directions[i])
             })
             .collect::<Result<Vec<_>, _>>()?;
         Ok(DirectionHeads {
@@ -246,7 +306,7 @@ impl DirectionHeads {
         })
     }
 
-    /// Calibrates the uncertainty table: for each sample (features `x` row, the class
+    /// Calibrates the uncertainty table: for each sample (row of `x`, the class
     /// `chosen` for it with probability `probability`, its true unit direction), the
     /// angular error of [`predict`](Self::predict); per probability bin, the error below
     /// which 68% of its samples lie (bins without samples take the next lower bin's value,
@@ -256,7 +316,7 @@ impl DirectionHeads {
     /// As [`predict`](Self::predict), and [`LearningError::SizeMismatch`].
     pub fn calibrate(
         &mut self,
-        x: &Features<'_>,
+        x: &DesignRows<'_>,
         chosen: &[(usize, f64)],
         directions: &[[f64; 3]],
     ) -> Result<(), LearningError> {
@@ -269,9 +329,18 @@ impl DirectionHeads {
             });
         }
         let mut errors: Vec<Vec<f64>> = vec![Vec::new(); CONFIDENCE_BINS.len() + 1];
-        for ((row, &(class, p)), truth) in x.rows().zip(chosen).zip(directions) {
-            let u = self.predict(class, row)?;
-            errors[bin_of(p)].push(angle_deg(&u, truth));
+        let mut failure = None;
+        x.for_each_row(|i, row| {
+            let (class, p) = chosen[i];
+            match self.predict(class, row) {
+                Ok(u) => errors[bin_of(p)].push(angle_deg(&u, &directions[i])),
+                Err(e) => {
+                    failure.get_or_insert(e);
+                }
+            }
+        });
+        if let Some(e) = failure {
+            return Err(e);
         }
         let mut last = 180.0;
         for (slot, mut e) in self.uncertainty_deg.iter_mut().zip(errors) {
@@ -371,6 +440,30 @@ impl DirectionHeads {
     }
 }
 
+/// Checks a ridge weight: finite and `>= 0`.
+fn check_lambda(lambda: f64) -> Result<(), LearningError> {
+    if !(lambda.is_finite() && lambda >= 0.0) {
+        return Err(LearningError::InvalidParameter {
+            name: "lambda",
+            value: lambda.to_string(),
+            reason: "must be finite and >= 0",
+        });
+    }
+    Ok(())
+}
+
+/// Checks regression targets: all finite.
+fn check_targets(y: &[f64]) -> Result<(), LearningError> {
+    match y.iter().find(|v| !v.is_finite()) {
+        Some(v) => Err(LearningError::InvalidParameter {
+            name: "target",
+            value: v.to_string(),
+            reason: "targets must be finite",
+        }),
+        None => Ok(()),
+    }
+}
+
 fn bin_of(p: f64) -> usize {
     CONFIDENCE_BINS.iter().take_while(|&&b| p >= b).count()
 }
@@ -422,7 +515,7 @@ mod tests {
         let angles: Vec<f64> = (0..50).map(|i| -0.3 + 0.012 * i as f64).collect();
         let xs: Vec<f64> = angles.iter().flat_map(|a| [a.cos(), a.sin()]).collect();
         let dirs: Vec<[f64; 3]> = angles.iter().map(|a| [a.cos(), a.sin(), 0.0]).collect();
-        let fx = Features::new(&xs, 2).unwrap();
+        let fx = DesignRows::plain(Features::new(&xs, 2).unwrap());
         let mut heads = DirectionHeads::fit(&fx, &dirs, &vec![0; 50], 1, 1e-9).unwrap();
         assert!(heads.uncertainty_deg(0.9).is_nan());
         let chosen = vec![(0, 0.9); 50];
@@ -441,5 +534,72 @@ mod tests {
         let mut uncalibrated = heads.clone();
         uncalibrated.uncertainty_deg[0] = f64::NAN;
         assert!(uncalibrated.validate(1, 2).is_err());
+    }
+
+    /// Heads fitted on rows expanded as they are read give the heads fitted on the stored
+    /// expansion (several batches of [`GRAM_ROWS`] per class, a partial last one).
+    #[test]
+    fn heads_on_rows_expanded_as_read_equal_heads_on_stored_rows() {
+        let n = 3 * GRAM_ROWS + 17;
+        let x: Vec<f64> = (0..n * 4)
+            .map(|i| (i as f64 * 0.37).sin() + (i % 5) as f64 * 0.1)
+            .collect();
+        let f = Features::new(&x, 4).unwrap();
+        let expansion = crate::QuadraticExpansion::fit(&f, 2).unwrap();
+        let stored = expansion.expand_rows(&f).unwrap();
+        let stored = Features::new(&stored, expansion.n_outputs()).unwrap();
+        let classes: Vec<usize> = (0..n).map(|i| i % 2).collect();
+        let directions: Vec<[f64; 3]> = x
+            .chunks_exact(4)
+            .map(|r| {
+                let v = [1.0 + r[0] * r[1], r[2], 0.5 + r[3]];
+                let norm = v.iter().map(|a| a * a).sum::<f64>().sqrt();
+                v.map(|a| a / norm)
+            })
+            .collect();
+        let read = DesignRows::expanded(f, &expansion).unwrap();
+        let a = DirectionHeads::fit(&read, &directions, &classes, 2, 0.1).unwrap();
+        let b =
+            DirectionHeads::fit(&DesignRows::plain(stored), &directions, &classes, 2, 0.1).unwrap();
+        let mut largest = 0.0_f64;
+        for (i, row) in stored.rows().enumerate().step_by(37) {
+            let (u, v) = (
+                a.predict(i % 2, row).unwrap(),
+                b.predict(i % 2, row).unwrap(),
+            );
+            largest = largest.max(angle_deg(&u, &v));
+        }
+        assert!(largest < 1e-9, "heads differ by {largest} deg");
+
+        // The ridge fit over several batches meets its optimality conditions: on the
+        // standardised rows z, sum_i (y_i - f(x_i)) z_i = lambda w and sum_i (y_i - f(x_i)) = 0.
+        let y: Vec<f64> = directions.as_flattened().to_vec();
+        let lambda = 0.1;
+        let m = RidgeModel::fit(&stored, &y, 3, lambda).unwrap();
+        let (p, d) = (&m.parameters, stored.n_features());
+        let mut gradient = vec![0.0; 3 * (d + 1)];
+        let mut out = [0.0; 3];
+        for (row, target) in stored.rows().zip(y.chunks_exact(3)) {
+            m.predict_into(row, &mut out).unwrap();
+            for k in 0..3 {
+                let r = target[k] - out[k];
+                gradient[k * (d + 1) + d] += r;
+                for j in 0..d {
+                    let z = (row[j] - p.standardiser.means()[j]) / p.standardiser.scales()[j];
+                    gradient[k * (d + 1) + j] += r * z;
+                }
+            }
+        }
+        for k in 0..3 {
+            for j in 0..=d {
+                let penalty = if j < d {
+                    lambda * p.weights[k * d + j]
+                } else {
+                    0.0
+                };
+                let g = gradient[k * (d + 1) + j] - penalty;
+                assert!(g.abs() < 1e-8, "output {k}, feature {j}: {g}");
+            }
+        }
     }
 }

@@ -39,14 +39,23 @@ impl Standardiser {
     /// [`fit`](Self::fit) on rows read one at a time (the same numbers as on the rows stored
     /// whole).
     pub fn fit_rows(x: &DesignRows<'_>) -> Self {
+        Self::fit_selected(x, 0..x.n_samples())
+    }
+
+    /// [`fit`](Self::fit) on the rows of `x` that `selected` names (the same numbers as on
+    /// a copy of those rows, in that order).
+    pub(crate) fn fit_selected(
+        x: &DesignRows<'_>,
+        selected: impl IntoIterator<Item = usize> + Clone,
+    ) -> Self {
         let d = x.n_features();
-        let n = x.n_samples();
+        let n = selected.clone().into_iter().count();
         if n == 0 {
             return Self::identity(d);
         }
         let mut means = vec![0.0; d];
         let mut max_abs = vec![0.0_f64; d];
-        x.for_each_row(|_, row| {
+        x.for_each_selected(selected.clone(), |_, row| {
             for ((m, a), &v) in means.iter_mut().zip(max_abs.iter_mut()).zip(row) {
                 *m += v;
                 *a = a.max(v.abs());
@@ -55,7 +64,7 @@ impl Standardiser {
         let inv_n = 1.0 / n as f64;
         means.iter_mut().for_each(|m| *m *= inv_n);
         let mut variances = vec![0.0; d];
-        x.for_each_row(|_, row| {
+        x.for_each_selected(selected, |_, row| {
             for ((s, m), &v) in variances.iter_mut().zip(&means).zip(row) {
                 let c = v - m;
                 *s += c * c;

@@ -418,12 +418,6 @@ pub const MAX_ATOMS: usize = 1024;
 /// one farthest from the mean), then [`KMEANS_ITERATIONS`] Lloyd iterations; an emptied
 /// cluster keeps its centre. Centres equal to the mean are dropped.
 fn cluster_atoms(vectors: &[DVector<f64>], mean: &DVector<f64>, atoms: usize) -> Vec<DVector<f64>> {
-    let distance2 = |a: &DVector<f64>, b: &DVector<f64>| {
-        a.iter()
-            .zip(b.iter())
-            .map(|(x, y)| (x - y) * (x - y))
-            .sum::<f64>()
-    };
     let first = vectors
         .iter()
         .enumerate()
@@ -438,23 +432,19 @@ fn cluster_atoms(vectors: &[DVector<f64>], mean: &DVector<f64>, atoms: usize) ->
             .max_by(|a, b| a.1.total_cmp(b.1))
             .map_or(0, |(i, _)| i);
         let new = vectors[far].clone();
-        for (n, v) in nearest.iter_mut().zip(vectors) {
-            *n = n.min(distance2(v, &new));
-        }
+        nearest
+            .par_iter_mut()
+            .zip(vectors.par_iter())
+            .for_each(|(n, v)| *n = n.min(distance2(v, &new)));
         centres.push(new);
     }
     let mut assignment = vec![0usize; vectors.len()];
     for _ in 0..KMEANS_ITERATIONS {
+        let packed = pack_centres(&centres);
         assignment
             .par_iter_mut()
             .zip(vectors.par_iter())
-            .for_each(|(a, v)| {
-                *a = centres
-                    .iter()
-                    .enumerate()
-                    .min_by(|x, y| distance2(v, x.1).total_cmp(&distance2(v, y.1)))
-                    .map_or(0, |(i, _)| i);
-            });
+            .for_each(|(a, v)| *a = nearest_centre(v, &packed));
         let mut sums = vec![DVector::zeros(POSE_DIM); centres.len()];
         let mut counts = vec![0usize; centres.len()];
         for (&a, v) in assignment.iter().zip(vectors) {
@@ -476,6 +466,54 @@ fn cluster_atoms(vectors: &[DVector<f64>], mean: &DVector<f64>, atoms: usize) ->
         })
         .collect()
 }
+
+/// The squared distance between two pose vectors, summed coordinate by coordinate in order.
+fn distance2(a: &DVector<f64>, b: &DVector<f64>) -> f64 {
+    a.iter()
+        .zip(b.iter())
+        .map(|(x, y)| (x - y) * (x - y))
+        .sum::<f64>()
+}
+
+/// The centres in groups of [`CENTRES_AT_ONCE`], each group coordinate-major (the group's
+/// first coordinates, then its second ones, ...), the last group padded with infinitely
+/// distant centres: the layout [`nearest_centre`] reads.
+fn pack_centres(centres: &[DVector<f64>]) -> Vec<f64> {
+    let padding = DVector::from_element(POSE_DIM, f64::INFINITY);
+    let mut packed =
+        Vec::with_capacity(centres.len().div_ceil(CENTRES_AT_ONCE) * CENTRES_AT_ONCE * POSE_DIM);
+    for group in centres.chunks(CENTRES_AT_ONCE) {
+        for j in 0..POSE_DIM {
+            packed.extend((0..CENTRES_AT_ONCE).map(|k| group.get(k).unwrap_or(&padding)[j]));
+        }
+    }
+    packed
+}
+
+/// The index of the centre nearest to `v` (the first of equally near ones) among centres
+/// packed by [`pack_centres`]: the squared distances of [`distance2`], each summed in its
+/// order, for a group of centres side by side (independent sums in the lanes of a vector).
+fn nearest_centre(v: &DVector<f64>, packed: &[f64]) -> usize {
+    let (mut best, mut best_distance) = (0, f64::INFINITY);
+    for (g, group) in packed.chunks_exact(CENTRES_AT_ONCE * POSE_DIM).enumerate() {
+        let mut sums = [0.0; CENTRES_AT_ONCE];
+        for (&x, centres) in v.iter().zip(group.chunks_exact(CENTRES_AT_ONCE)) {
+            for (sum, &c) in sums.iter_mut().zip(centres) {
+                let d = x - c;
+                *sum += d * d;
+            }
+        }
+        for (k, distance) in sums.into_iter().enumerate() {
+            if distance.total_cmp(&best_distance).is_lt() {
+                (best, best_distance) = (g * CENTRES_AT_ONCE + k, distance);
+            }
+        }
+    }
+    best
+}
+
+/// Centres whose distances [`nearest_centre`] sums side by side.
+const CENTRES_AT_ONCE: usize = 8;
 
 /// Sum of the 14 squared limb lengths of `pose`, m^2 (the anthropometric quantity that
 /// reconstruction holds fixed).
@@ -518,4 +556,37 @@ pub(crate) fn limb_vectors(v: &DVector<f64>) -> DVector<f64> {
             [v[c] - v[p], v[c + 1] - v[p + 1], v[c + 2] - v[p + 2]]
         }),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// The packed search finds the centre `min_by` over [`distance2`] finds (the first of
+        /// equally near ones), for any number of centres (whole and partial groups) and with
+        /// repeated centres.
+        #[test]
+        fn nearest_centre_is_the_first_nearest(
+            values in proptest::collection::vec(-2.0f64..2.0, POSE_DIM * 12),
+            count in 1usize..12,
+            repeat in 0usize..12,
+        ) {
+            let vectors: Vec<DVector<f64>> = values
+                .chunks_exact(POSE_DIM)
+                .map(DVector::from_column_slice)
+                .collect();
+            let mut centres = vectors[1..=count].to_vec();
+            centres.push(centres[repeat % count].clone());
+            let v = &vectors[0];
+            let expected = centres
+                .iter()
+                .enumerate()
+                .min_by(|a, b| distance2(v, a.1).total_cmp(&distance2(v, b.1)))
+                .map_or(0, |(i, _)| i);
+            prop_assert_eq!(nearest_centre(v, &pack_centres(&centres)), expected);
+            prop_assert_eq!(nearest_centre(&centres[count].clone(), &pack_centres(&centres)), repeat % count);
+        }
+    }
 }

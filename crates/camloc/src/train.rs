@@ -166,8 +166,7 @@ impl CameraLocalizer {
                 Capacity::Linear => {
                     // The heads see the classifier's rows of the samples themselves (the
                     // first rows, before mirror images and dropout copies: kept above).
-                    let rows = localizer.classifier_rows(x)?;
-                    localizer.fit_viewpoint_rows(&rows, &rows, dataset, lambda)?;
+                    localizer.fit_viewpoint_rows(&x, dataset, lambda)?;
                 }
                 capacity => localizer.fit_viewpoint_with_capacity(dataset, lambda, capacity)?,
             }
@@ -227,28 +226,28 @@ impl CameraLocalizer {
                 components,
             )?),
         };
-        let heads_x = match &self.viewpoint_expansion {
-            Some(e) => Some(e.expand_rows(&Features::new(&descriptors, d)?)?),
-            None => None,
-        };
-        let classifier_x = self.classifier_rows(descriptors)?;
-        let heads_x = heads_x.as_deref().unwrap_or(&classifier_x);
-        self.fit_viewpoint_rows(&classifier_x, heads_x, dataset, lambda)
+        self.fit_viewpoint_rows(&descriptors, dataset, lambda)
     }
 
-    /// The viewpoint heads fitted on the samples' heads features `heads_x` and calibrated by
-    /// the classes their classifier features `classifier_x` choose (rows imputed and
-    /// expanded).
+    /// The viewpoint heads fitted on the samples' imputed descriptor rows `descriptors`
+    /// (row-major, expanded as the heads read them), and calibrated by the classes the
+    /// classifier chooses for them.
     fn fit_viewpoint_rows(
         &mut self,
-        classifier_x: &[f64],
-        heads_x: &[f64],
+        descriptors: &[f64],
         dataset: &Dataset,
         lambda: f64,
     ) -> Result<(), CamlocError> {
         check_viewpoint_lambda(lambda)?;
-        let classifier = Features::new(classifier_x, self.feature_width())?;
-        let features = Features::new(heads_x, self.head_width())?;
+        let x = Features::new(descriptors, self.descriptor.len())?;
+        let classifier = match &self.expansion {
+            Some(e) => DesignRows::expanded(x, e)?,
+            None => DesignRows::plain(x),
+        };
+        let features = match &self.viewpoint_expansion {
+            Some(e) => DesignRows::expanded(x, e)?,
+            None => classifier,
+        };
         let directions: Vec<[f64; 3]> = dataset
             .samples
             .iter()
@@ -275,13 +274,19 @@ impl CameraLocalizer {
             DirectionHeads::fit(&features, &directions, &classes, self.cameras.len(), lambda)?;
         let mut classes = vec![0.0; self.model.n_classes()];
         let mut probabilities = vec![0.0; self.cameras.len()];
-        let chosen = classifier
-            .rows()
-            .map(|row| {
-                self.camera_probabilities_into(row, &mut classes, &mut probabilities)?;
-                Ok(most_probable(&probabilities))
-            })
-            .collect::<Result<Vec<_>, CamlocError>>()?;
+        let mut chosen = Vec::with_capacity(classifier.n_samples());
+        let mut failure = None;
+        classifier.for_each_row(|_, row| {
+            match self.camera_probabilities_into(row, &mut classes, &mut probabilities) {
+                Ok(()) => chosen.push(most_probable(&probabilities)),
+                Err(e) => {
+                    failure.get_or_insert(e);
+                }
+            }
+        });
+        if let Some(e) = failure {
+            return Err(e);
+        }
         heads.calibrate(&features, &chosen, &directions)?;
         self.viewpoint = Some(heads);
         Ok(())
