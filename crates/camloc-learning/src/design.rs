@@ -2,7 +2,12 @@
 //! [`QuadraticExpansion`] as they are read, so that a fit on expanded features never holds
 //! them whole beside the solver's own copy of the design matrix.
 
+use rayon::prelude::*;
+
 use crate::{Features, LearningError, QuadraticExpansion};
+
+/// Rows [`DesignRows::for_each_block`] makes at a time.
+const BLOCK_ROWS: usize = 1024;
 
 /// The rows a model is fitted on, produced one at a time: a [`Features`] matrix, optionally
 /// expanded row by row by a [`QuadraticExpansion`].
@@ -116,6 +121,35 @@ impl<'a> DesignRows<'a> {
                     visit(i, &buffer);
                 }
             }
+        }
+    }
+
+    /// Calls `visit` with the rows `selected` names in blocks of up to [`BLOCK_ROWS`], in
+    /// order, each block row-major ([`n_features`](Self::n_features) values per row) and made
+    /// in parallel (expanded rows share one buffer).
+    pub(crate) fn for_each_block(
+        &self,
+        selected: impl IntoIterator<Item = usize>,
+        mut visit: impl FnMut(&[f64]),
+    ) {
+        let d = self.n_features();
+        let mut indices = Vec::with_capacity(BLOCK_ROWS);
+        let mut block = vec![0.0; BLOCK_ROWS * d];
+        let mut selected = selected.into_iter();
+        loop {
+            indices.clear();
+            indices.extend(selected.by_ref().take(BLOCK_ROWS));
+            if indices.is_empty() {
+                break;
+            }
+            let rows = &mut block[..indices.len() * d];
+            rows.par_chunks_mut(d)
+                .zip(indices.par_iter())
+                .for_each(|(row, &i)| match self.expansion {
+                    Some(e) => e.expand_sized(self.raw_row(i), row),
+                    None => row.copy_from_slice(self.raw_row(i)),
+                });
+            visit(rows);
         }
     }
 }

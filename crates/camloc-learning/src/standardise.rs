@@ -1,6 +1,7 @@
 //! Per-feature standardisation `(x - mean) / scale`, fitted on training data and stored in
 //! the model so that predictions take raw features.
 
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::kernel::PackedLinear;
@@ -10,6 +11,9 @@ use crate::{DesignRows, Features, LearningError};
 /// deviation is at most this times its largest absolute value gets scale 1 (rounding in the
 /// mean would otherwise turn a constant column into amplified noise).
 const CONSTANT_COLUMN_RELATIVE_SPREAD: f64 = 1e-10;
+
+/// Columns one parallel task of [`Standardiser::fit_rows`] sums.
+const COLUMN_TASK: usize = 64;
 
 /// Per-feature affine map `x -> (x - means[j]) / scales[j]`, in the units of the raw
 /// features. Every scale is finite and positive.
@@ -53,22 +57,40 @@ impl Standardiser {
         if n == 0 {
             return Self::identity(d);
         }
+        // Blocks of rows made in parallel, then per block the columns in parallel tasks,
+        // each column's values added row after row: the sums of one pass over the rows.
         let mut means = vec![0.0; d];
         let mut max_abs = vec![0.0_f64; d];
-        x.for_each_selected(selected.clone(), |_, row| {
-            for ((m, a), &v) in means.iter_mut().zip(max_abs.iter_mut()).zip(row) {
-                *m += v;
-                *a = a.max(v.abs());
-            }
+        x.for_each_block(selected.clone(), |rows| {
+            let tasks = means
+                .par_chunks_mut(COLUMN_TASK)
+                .zip(max_abs.par_chunks_mut(COLUMN_TASK));
+            tasks.enumerate().for_each(|(t, (m, a))| {
+                for row in rows.chunks_exact(d) {
+                    let row = &row[t * COLUMN_TASK..];
+                    for ((m, a), &v) in m.iter_mut().zip(a.iter_mut()).zip(row) {
+                        *m += v;
+                        *a = a.max(v.abs());
+                    }
+                }
+            });
         });
         let inv_n = 1.0 / n as f64;
         means.iter_mut().for_each(|m| *m *= inv_n);
         let mut variances = vec![0.0; d];
-        x.for_each_selected(selected, |_, row| {
-            for ((s, m), &v) in variances.iter_mut().zip(&means).zip(row) {
-                let c = v - m;
-                *s += c * c;
-            }
+        x.for_each_block(selected, |rows| {
+            let tasks = variances
+                .par_chunks_mut(COLUMN_TASK)
+                .zip(means.par_chunks(COLUMN_TASK));
+            tasks.enumerate().for_each(|(t, (s, m))| {
+                for row in rows.chunks_exact(d) {
+                    let row = &row[t * COLUMN_TASK..];
+                    for ((s, m), &v) in s.iter_mut().zip(m).zip(row) {
+                        let c = v - m;
+                        *s += c * c;
+                    }
+                }
+            });
         });
         let scales = variances
             .iter()
@@ -241,5 +263,35 @@ mod tests {
                 prop_assert!((o - direct).abs() <= 1e-10 * (1.0 + direct.abs()), "output {k}: {o} vs {direct}");
             }
         }
+    }
+
+    /// Rows in blocks and columns in parallel tasks give, to the bit, the sums of one pass
+    /// over the rows (several blocks and a partial one, several tasks and a partial one).
+    #[test]
+    fn blocks_and_column_tasks_give_the_sums_of_one_pass() {
+        let (n, d) = (2 * 1024 + 5, 2 * COLUMN_TASK + 6);
+        let x: Vec<f64> = (0..n * d)
+            .map(|i| (i as f64 * 0.618).sin() * (1.0 + (i % 7) as f64))
+            .collect();
+        let fitted = Standardiser::fit(&Features::new(&x, d).unwrap());
+        let mut means = vec![0.0; d];
+        for row in x.chunks_exact(d) {
+            for (m, v) in means.iter_mut().zip(row) {
+                *m += v;
+            }
+        }
+        means.iter_mut().for_each(|m| *m *= 1.0 / n as f64);
+        let mut variances = vec![0.0; d];
+        for row in x.chunks_exact(d) {
+            for ((s, m), v) in variances.iter_mut().zip(&means).zip(row) {
+                *s += (v - m) * (v - m);
+            }
+        }
+        let scales: Vec<f64> = variances
+            .iter()
+            .map(|v| (v * (1.0 / n as f64)).sqrt())
+            .collect();
+        assert_eq!(fitted.means, means);
+        assert_eq!(fitted.scales, scales);
     }
 }
