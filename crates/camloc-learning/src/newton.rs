@@ -553,9 +553,14 @@ impl NewtonProblem {
         }
     }
 
-    /// Logits, losses, probabilities, objective and gradient from `theta`.
+    /// Logits, losses, probabilities, objective and gradient from `theta`. At `theta = 0`
+    /// (the start of every fit) the logits are 0 without a pass over the rows.
     fn refresh_from_parameters(&mut self) {
-        self.blocked.logits(&self.x, &self.theta, &mut self.logits);
+        if self.theta.iter().all(|&t| t == 0.0) {
+            self.logits.fill(0.0);
+        } else {
+            self.blocked.logits(&self.x, &self.theta, &mut self.logits);
+        }
         self.class_steps.fill(0.0);
         self.evaluate_trial();
         self.accept_trial();

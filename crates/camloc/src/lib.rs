@@ -31,6 +31,7 @@
 //! [`dataset`], [`features`], [`learning`], [`keypoints`] and
 //! [`reconstruct`](mod@reconstruct).
 
+mod dropout;
 mod error;
 mod evaluate;
 mod localizer;

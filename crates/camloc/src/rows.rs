@@ -25,10 +25,25 @@ pub(crate) fn extract_rows(
     poses: &[PartialPose2],
     first: usize,
 ) -> Result<(Vec<f64>, Vec<bool>), CamlocError> {
+    let mut x = Vec::new();
+    let undefined = extract_rows_into(descriptor, poses, first, &mut x)?;
+    Ok((x, undefined))
+}
+
+/// [`extract_rows`], the rows appended to `x` (which moves only if it lacks the room); gives
+/// the flags of the appended rows.
+pub(crate) fn extract_rows_into(
+    descriptor: &Descriptor,
+    poses: &[PartialPose2],
+    first: usize,
+    x: &mut Vec<f64>,
+) -> Result<Vec<bool>, CamlocError> {
     let d = descriptor.len();
-    let mut x = vec![0.0; poses.len() * d];
+    let start = x.len();
+    x.resize(start + poses.len() * d, 0.0);
     let mut undefined = vec![false; poses.len() * d];
-    x.par_chunks_mut(d)
+    x[start..]
+        .par_chunks_mut(d)
         .zip(undefined.par_chunks_mut(d))
         .zip(poses.par_iter())
         .enumerate()
@@ -40,7 +55,7 @@ pub(crate) fn extract_rows(
                     source,
                 })
         })?;
-    Ok((x, undefined))
+    Ok(undefined)
 }
 
 /// Column means over defined values (0 where a column is never defined).

@@ -2,20 +2,18 @@
 //! the multinomial classifier and the continuous-viewpoint heads.
 
 use camloc_dataset::{Dataset, PostureGroup, camera_direction_deg, direction_vector};
-use camloc_features::Descriptor;
 use camloc_learning::{
     DesignRows, DirectionHeads, Features, FitReport, IterationLog, NewtonProblem,
     QuadraticExpansion,
 };
-use camloc_skeleton::{Landmark, NUM_LANDMARKS, PartialPose2, mirror_landmark_index};
+use camloc_skeleton::PartialPose2;
 use camloc_store::Validate;
-use rand::{Rng, SeedableRng};
-use rand_chacha::ChaCha8Rng;
 
+use crate::dropout::DropoutPlan;
 use crate::localizer::most_probable;
-use crate::rows::{column_means, extract_rows, impute_rows, sample_pose};
+use crate::rows::{column_means, extract_rows_into, impute_rows, sample_pose};
 use crate::train_options::check_viewpoint_lambda;
-use crate::{CameraLocalizer, CamlocError, Capacity, LandmarkDropout, TrainOptions, TrainingInfo};
+use crate::{CameraLocalizer, CamlocError, Capacity, TrainOptions, TrainingInfo};
 
 impl CameraLocalizer {
     /// Trains on every sample of `dataset`. `progress` receives the Newton iteration log.
@@ -77,20 +75,26 @@ impl CameraLocalizer {
             // A mirrored body keeps its posture.
             groups.extend_from_within(..);
         }
-        let (mut x, undefined) = extract_rows(&descriptor, &poses, 0)?;
+        let images = if options.mirror { 2 } else { 1 };
+        let dropout = match &options.dropout {
+            Some(dropout) => Some(DropoutPlan::draw(dropout, poses.len() / images)?),
+            None => None,
+        };
+        // Room for the dropout copies' rows, so that adding them moves nothing.
+        let copies = dropout.as_ref().map_or(0, |plan| images * plan.len());
+        let mut x = Vec::with_capacity((poses.len() + copies) * d);
+        let undefined = extract_rows_into(&descriptor, &poses, 0, &mut x)?;
         let imputation = column_means(&x, &undefined, d);
         impute_rows(&mut x, &undefined, &imputation);
+        drop(undefined);
         // Labels are 1..=cameras (checked by `dataset.validate()`), mirroring keeps them so.
         let mut y: Vec<usize> = labels
             .iter()
             .zip(&groups)
             .map(|(&l, g)| g * cameras.len() + usize::from(l) - 1)
             .collect();
-        if let Some(dropout) = options.dropout {
-            let mirrored = if options.mirror { 2 } else { 1 };
-            let (extra, labels) =
-                augment(&descriptor, &poses, &y, &dropout, &imputation, mirrored)?;
-            x.extend_from_slice(&extra);
+        if let Some(plan) = &dropout {
+            let labels = plan.add_rows(&descriptor, &poses, &y, &imputation, images, &mut x)?;
             y.extend_from_slice(&labels);
         }
         // The rows hold what training reads of the poses from here on.
@@ -291,59 +295,6 @@ impl CameraLocalizer {
         self.viewpoint = Some(heads);
         Ok(())
     }
-}
-
-/// Augmented copies of the training poses with random non-torso landmarks dropped. `poses`
-/// (and `labels`) are `images` equal parts, part 2 (when 2) the mirror images of part 1 in
-/// its order: a pose and its mirror image lose mirror landmarks, so that the copies are
-/// mirror images of each other as the poses are (each part's copies in turn).
-fn augment(
-    descriptor: &Descriptor,
-    poses: &[PartialPose2],
-    labels: &[usize],
-    dropout: &LandmarkDropout,
-    imputation: &[f64],
-    images: usize,
-) -> Result<(Vec<f64>, Vec<usize>), CamlocError> {
-    dropout.validate()?;
-    let mut rng = ChaCha8Rng::seed_from_u64(dropout.seed);
-    let droppable: Vec<usize> = (0..NUM_LANDMARKS)
-        .filter(|&i| i != Landmark::Pelvis.index() && i != Landmark::Neck.index())
-        .collect();
-    let originals = poses.len() / images;
-    let whole = dropout.copies.floor() as usize;
-    let mut chosen: Vec<usize> = (0..whole).flat_map(|_| 0..originals).collect();
-    let part = dropout.copies - whole as f64;
-    chosen.extend((0..originals).filter(|_| rng.random_bool(part.clamp(0.0, 1.0))));
-    let dropped_sets: Vec<Vec<usize>> = chosen
-        .iter()
-        .map(|_| {
-            let mut candidates = droppable.clone();
-            (0..rng.random_range(1..=dropout.max_missing))
-                .map(|_| candidates.swap_remove(rng.random_range(0..candidates.len())))
-                .collect()
-        })
-        .collect();
-    let mut dropped = Vec::with_capacity(images * chosen.len());
-    let mut dropped_labels = Vec::with_capacity(images * chosen.len());
-    for image in 0..images {
-        for (&i, set) in chosen.iter().zip(&dropped_sets) {
-            let mut pose = poses[image * originals + i];
-            for &landmark in set {
-                let landmark = if image == 1 {
-                    mirror_landmark_index(landmark)
-                } else {
-                    landmark
-                };
-                pose.points[landmark] = None;
-            }
-            dropped.push(pose);
-            dropped_labels.push(labels[image * originals + i]);
-        }
-    }
-    let (mut x, undefined) = extract_rows(descriptor, &dropped, 0)?;
-    impute_rows(&mut x, &undefined, imputation);
-    Ok((x, dropped_labels))
 }
 
 /// The bias shift that moves the camera priors `strength` of the way to even ones: for class
