@@ -57,40 +57,23 @@ impl Standardiser {
         if n == 0 {
             return Self::identity(d);
         }
-        // Blocks of rows made in parallel, then per block the columns in parallel tasks,
-        // each column's values added row after row: the sums of one pass over the rows.
-        let mut means = vec![0.0; d];
-        let mut max_abs = vec![0.0_f64; d];
-        x.for_each_block(selected.clone(), |rows| {
-            let tasks = means
-                .par_chunks_mut(COLUMN_TASK)
-                .zip(max_abs.par_chunks_mut(COLUMN_TASK));
-            tasks.enumerate().for_each(|(t, (m, a))| {
-                for row in rows.chunks_exact(d) {
-                    let row = &row[t * COLUMN_TASK..];
-                    for ((m, a), &v) in m.iter_mut().zip(a.iter_mut()).zip(row) {
-                        *m += v;
-                        *a = a.max(v.abs());
-                    }
-                }
-            });
+        // Per column: the sum and the largest absolute value, then the squared deviations.
+        let mut first_pass = vec![(0.0, 0.0_f64); d];
+        sum_columns(x, selected.clone(), &mut first_pass, |sums, first, row| {
+            for ((m, a), &v) in sums.iter_mut().zip(&row[first..]) {
+                *m += v;
+                *a = a.max(v.abs());
+            }
         });
         let inv_n = 1.0 / n as f64;
+        let (mut means, max_abs): (Vec<f64>, Vec<f64>) = first_pass.into_iter().unzip();
         means.iter_mut().for_each(|m| *m *= inv_n);
         let mut variances = vec![0.0; d];
-        x.for_each_block(selected, |rows| {
-            let tasks = variances
-                .par_chunks_mut(COLUMN_TASK)
-                .zip(means.par_chunks(COLUMN_TASK));
-            tasks.enumerate().for_each(|(t, (s, m))| {
-                for row in rows.chunks_exact(d) {
-                    let row = &row[t * COLUMN_TASK..];
-                    for ((s, m), &v) in s.iter_mut().zip(m).zip(row) {
-                        let c = v - m;
-                        *s += c * c;
-                    }
-                }
-            });
+        sum_columns(x, selected, &mut variances, |sums, first, row| {
+            for ((s, m), &v) in sums.iter_mut().zip(&means[first..]).zip(&row[first..]) {
+                let c = v - m;
+                *s += c * c;
+            }
         });
         let scales = variances
             .iter()
@@ -229,6 +212,28 @@ impl RawLinear {
     pub(crate) fn apply_into(&self, x: &[f64], out: &mut [f64]) {
         self.map.apply_into(x, out);
     }
+}
+
+/// Adds the rows of `x` that `selected` names to per-column sums: `add(sums, first, row)`
+/// adds `row[first..]` to the sums of the columns `first..` it is given. Blocks of rows are
+/// made in parallel, then each block's columns summed in parallel tasks of [`COLUMN_TASK`],
+/// each column's values added row after row: the sums of one pass over the rows, to the bit.
+fn sum_columns<T: Send>(
+    x: &DesignRows<'_>,
+    selected: impl IntoIterator<Item = usize>,
+    sums: &mut [T],
+    add: impl Fn(&mut [T], usize, &[f64]) + Sync,
+) {
+    let d = x.n_features();
+    x.for_each_block(selected, |rows| {
+        sums.par_chunks_mut(COLUMN_TASK)
+            .enumerate()
+            .for_each(|(t, sums)| {
+                for row in rows.chunks_exact(d) {
+                    add(sums, t * COLUMN_TASK, row);
+                }
+            });
+    });
 }
 
 #[cfg(test)]
