@@ -62,20 +62,21 @@ impl CameraLocalizer {
             *g = present.iter().position(|p| p == g).unwrap_or(0);
         }
         let posture_groups = present.len().max(1);
-        let mut poses: Vec<PartialPose2> = dataset.samples.iter().map(sample_pose).collect();
+        // The samples' poses and labels, then (mirror) their mirror images, in room made once.
+        let (n, images) = (dataset.samples.len(), if options.mirror { 2 } else { 1 });
+        let mut poses: Vec<PartialPose2> = Vec::with_capacity(images * n);
+        poses.extend(dataset.samples.iter().map(sample_pose));
         let mut labels: Vec<u16> = dataset.samples.iter().map(|s| s.label).collect();
         if options.mirror {
-            poses.extend(poses.iter().map(PartialPose2::mirrored).collect::<Vec<_>>());
-            labels.extend(
-                labels
-                    .iter()
-                    .map(|&l| cameras.mirror_left_right(l))
-                    .collect::<Vec<_>>(),
-            );
+            poses.extend_from_within(..);
+            poses[n..].iter_mut().for_each(|p| *p = p.mirrored());
+            labels.extend_from_within(..);
+            labels[n..]
+                .iter_mut()
+                .for_each(|l| *l = cameras.mirror_left_right(*l));
             // A mirrored body keeps its posture.
             groups.extend_from_within(..);
         }
-        let images = if options.mirror { 2 } else { 1 };
         let dropout = match &options.dropout {
             Some(dropout) => Some(DropoutPlan::draw(dropout, poses.len() / images)?),
             None => None,
