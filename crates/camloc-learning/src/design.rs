@@ -7,7 +7,7 @@ use rayon::prelude::*;
 use crate::{Features, LearningError, QuadraticExpansion};
 
 /// Rows [`DesignRows::for_each_block`] makes at a time.
-const BLOCK_ROWS: usize = 1024;
+pub(crate) const BLOCK_ROWS: usize = 1024;
 
 /// The rows a model is fitted on, produced one at a time: a [`Features`] matrix, optionally
 /// expanded row by row by a [`QuadraticExpansion`].
@@ -77,6 +77,21 @@ impl<'a> DesignRows<'a> {
         })
     }
 
+    /// The rows of `x`, expanded by `expansion` as they are read when there is one
+    /// ([`expanded`](Self::expanded)), else as they are ([`plain`](Self::plain)).
+    ///
+    /// # Errors
+    /// As [`expanded`](Self::expanded).
+    pub fn with_expansion(
+        x: Features<'a>,
+        expansion: Option<&'a QuadraticExpansion>,
+    ) -> Result<Self, LearningError> {
+        match expansion {
+            Some(e) => Self::expanded(x, e),
+            None => Ok(Self::plain(x)),
+        }
+    }
+
     /// Number of rows (samples).
     pub fn n_samples(&self) -> usize {
         self.x.n_samples()
@@ -101,25 +116,41 @@ impl<'a> DesignRows<'a> {
 
     /// Calls `visit` with every row in order (row index and its
     /// [`n_features`](Self::n_features) values; expanded rows share one buffer).
-    pub fn for_each_row(&self, visit: impl FnMut(usize, &[f64])) {
-        self.for_each_selected(0..self.n_samples(), visit);
+    pub fn for_each_row(&self, mut visit: impl FnMut(usize, &[f64])) {
+        let Ok(()) = self.try_for_each_row(|i, row| {
+            visit(i, row);
+            Ok::<(), std::convert::Infallible>(())
+        });
     }
 
-    /// [`for_each_row`](Self::for_each_row) on the rows `selected` names, in its order
-    /// (each index below [`n_samples`](Self::n_samples)).
-    pub fn for_each_selected(
+    /// [`for_each_row`](Self::for_each_row) until `visit` fails: its first error.
+    ///
+    /// # Errors
+    /// The first error `visit` returns (no row after it is visited).
+    pub fn try_for_each_row<E>(
+        &self,
+        visit: impl FnMut(usize, &[f64]) -> Result<(), E>,
+    ) -> Result<(), E> {
+        self.for_each_selected(0..self.n_samples(), visit)
+    }
+
+    /// [`try_for_each_row`](Self::try_for_each_row) on the rows `selected` names, in its
+    /// order (each index below [`n_samples`](Self::n_samples)).
+    pub(crate) fn for_each_selected<E>(
         &self,
         selected: impl IntoIterator<Item = usize>,
-        mut visit: impl FnMut(usize, &[f64]),
-    ) {
+        mut visit: impl FnMut(usize, &[f64]) -> Result<(), E>,
+    ) -> Result<(), E> {
         match self.expansion {
-            None => selected.into_iter().for_each(|i| visit(i, self.raw_row(i))),
+            None => selected
+                .into_iter()
+                .try_for_each(|i| visit(i, self.raw_row(i))),
             Some(e) => {
                 let mut buffer = vec![0.0; e.n_outputs()];
-                for i in selected {
+                selected.into_iter().try_for_each(|i| {
                     e.expand_sized(self.raw_row(i), &mut buffer);
-                    visit(i, &buffer);
-                }
+                    visit(i, &buffer)
+                })
             }
         }
     }

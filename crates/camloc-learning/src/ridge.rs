@@ -126,18 +126,10 @@ impl RidgeModel {
             );
             faer::linalg::matmul::matmul(rhs.as_mut(), Accum::Add, z, yc, 1.0, Par::Seq);
         };
-        x.for_each_selected(selected.iter().copied(), |i, row| {
-            let column = z.col_mut(filled).try_as_col_major_mut();
-            if let Some(column) = column {
-                for (((zj, &v), m), s) in column
-                    .as_slice_mut()
-                    .iter_mut()
-                    .zip(row)
-                    .zip(means)
-                    .zip(scales)
-                {
-                    *zj = (v - m) / s;
-                }
+        let Ok(()) = x.for_each_selected(selected.iter().copied(), |i, row| {
+            let column = z.col_mut(filled).iter_mut();
+            for (((zj, &v), m), s) in column.zip(row).zip(means).zip(scales) {
+                *zj = (v - m) / s;
             }
             for (k, (v, m)) in target(i).iter().zip(&y_mean).enumerate() {
                 yc[(filled, k)] = v - m;
@@ -147,6 +139,7 @@ impl RidgeModel {
                 add(&z, &yc, filled);
                 filled = 0;
             }
+            Ok::<(), std::convert::Infallible>(())
         });
         if filled > 0 {
             add(&z, &yc, filled);
@@ -329,19 +322,11 @@ impl DirectionHeads {
             });
         }
         let mut errors: Vec<Vec<f64>> = vec![Vec::new(); CONFIDENCE_BINS.len() + 1];
-        let mut failure = None;
-        x.for_each_row(|i, row| {
+        x.try_for_each_row(|i, row| {
             let (class, p) = chosen[i];
-            match self.predict(class, row) {
-                Ok(u) => errors[bin_of(p)].push(angle_deg(&u, &directions[i])),
-                Err(e) => {
-                    failure.get_or_insert(e);
-                }
-            }
-        });
-        if let Some(e) = failure {
-            return Err(e);
-        }
+            errors[bin_of(p)].push(angle_deg(&self.predict(class, row)?, &directions[i]));
+            Ok(())
+        })?;
         let mut last = 180.0;
         for (slot, mut e) in self.uncertainty_deg.iter_mut().zip(errors) {
             if !e.is_empty() {

@@ -274,7 +274,7 @@ mod tests {
     /// over the rows (several blocks and a partial one, several tasks and a partial one).
     #[test]
     fn blocks_and_column_tasks_give_the_sums_of_one_pass() {
-        let (n, d) = (2 * 1024 + 5, 2 * COLUMN_TASK + 6);
+        let (n, d) = (2 * crate::design::BLOCK_ROWS + 5, 2 * COLUMN_TASK + 6);
         let x: Vec<f64> = (0..n * d)
             .map(|i| (i as f64 * 0.618).sin() * (1.0 + (i % 7) as f64))
             .collect();

@@ -119,10 +119,7 @@ impl CameraLocalizer {
         }
         // Expanded rows are made as the solver reads them, never held beside its copy.
         let features = Features::new(&x, d)?;
-        let mut rows = match &expansion {
-            Some(e) => DesignRows::expanded(features, e)?,
-            None => DesignRows::plain(features),
-        };
+        let mut rows = DesignRows::with_expansion(features, expansion.as_ref())?;
         if options.mirror {
             rows = rows.in_image_pairs()?;
         }
@@ -245,10 +242,7 @@ impl CameraLocalizer {
     ) -> Result<(), CamlocError> {
         check_viewpoint_lambda(lambda)?;
         let x = Features::new(descriptors, self.descriptor.len())?;
-        let classifier = match &self.expansion {
-            Some(e) => DesignRows::expanded(x, e)?,
-            None => DesignRows::plain(x),
-        };
+        let classifier = DesignRows::with_expansion(x, self.expansion.as_ref())?;
         let features = match &self.viewpoint_expansion {
             Some(e) => DesignRows::expanded(x, e)?,
             None => classifier,
@@ -280,18 +274,11 @@ impl CameraLocalizer {
         let mut classes = vec![0.0; self.model.n_classes()];
         let mut probabilities = vec![0.0; self.cameras.len()];
         let mut chosen = Vec::with_capacity(classifier.n_samples());
-        let mut failure = None;
-        classifier.for_each_row(|_, row| {
-            match self.camera_probabilities_into(row, &mut classes, &mut probabilities) {
-                Ok(()) => chosen.push(most_probable(&probabilities)),
-                Err(e) => {
-                    failure.get_or_insert(e);
-                }
-            }
-        });
-        if let Some(e) = failure {
-            return Err(e);
-        }
+        classifier.try_for_each_row(|_, row| {
+            self.camera_probabilities_into(row, &mut classes, &mut probabilities)?;
+            chosen.push(most_probable(&probabilities));
+            Ok::<(), CamlocError>(())
+        })?;
         heads.calibrate(&features, &chosen, &directions)?;
         self.viewpoint = Some(heads);
         Ok(())
