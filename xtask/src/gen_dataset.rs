@@ -27,9 +27,10 @@ pub struct Args {
     pub out: PathBuf,
     /// Projection protocol: canonical (Table-1 cameras exactly, orthographic), jittered
     /// (jittered cameras, perspective from 3-8 m, 2D noise), sphere (camera directions
-    /// uniform over |elevation| <= 67.5 deg, labelled with the nearest camera) or rig (tripod
+    /// uniform over |elevation| <= 67.5 deg, labelled with the camera of their elevation ring and
+    /// azimuth quadrant) or rig (tripod
     /// cameras 1.0-2.2 m high around a capture area, aimed at its centre, lens distortion,
-    /// detector-like noise; labelled with the camera nearest the pelvis-to-camera direction).
+    /// detector-like noise; the pelvis-to-camera direction labelled as under sphere).
     #[arg(long, default_value = "canonical", value_parser = parse_protocol)]
     pub protocol: Protocol,
     /// Consider every N-th mocap frame only (before selection by pose).

@@ -11,7 +11,7 @@ use std::time::Instant;
 use camloc::PartialPose2;
 use camloc::dataset::{
     Augmentation, Dataset, GenerateConfig, MotionCategory, PoseSequence, Protocol,
-    camera_direction_deg, direction_vector, nearest_by_direction,
+    camera_by_ring_and_side, camera_direction_deg, direction_vector,
 };
 use camloc::learning::{LogisticRegression, angle_deg};
 use camloc::{CameraLocalizer, Capacity, Descriptor, TrainOptions, cross_validate, evaluate};
@@ -89,7 +89,7 @@ pub struct ViewpointErrors {
     pub centre_median_deg: f64,
     /// Share of poses whose class centre is more than 45 deg off, percent.
     pub centre_beyond_45: f64,
-    /// Accuracy of labelling by the camera nearest the heads' direction, percent.
+    /// Accuracy of labelling by the camera of the heads' direction (its ring and side), percent.
     pub relabelled: f64,
 }
 
@@ -97,7 +97,7 @@ impl std::fmt::Display for ViewpointErrors {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "heads: median {:.1} deg, {:.2}% beyond 45 deg, {:.1}% within the stated uncertainty; class centre: median {:.1} deg, {:.2}% beyond 45 deg; label = camera nearest the heads' direction: {:.2}% correct",
+            "heads: median {:.1} deg, {:.2}% beyond 45 deg, {:.1}% within the stated uncertainty; class centre: median {:.1} deg, {:.2}% beyond 45 deg; label = camera of the heads' direction: {:.2}% correct",
             self.median_deg,
             self.beyond_45,
             self.within_uncertainty,
@@ -138,7 +138,7 @@ pub fn viewpoint_errors(
         };
         let u = direction_vector(az, el);
         relabelled +=
-            usize::from(nearest_by_direction(localizer.cameras(), az, el).label == s.label);
+            usize::from(camera_by_ring_and_side(localizer.cameras(), az, el).label == s.label);
         let e = angle_deg(&u, t);
         covered += usize::from(e <= radius);
         head_err.push(e);

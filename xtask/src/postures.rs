@@ -18,7 +18,7 @@ use crate::mocap_data::{load_split, project};
 use crate::progress::newton_line;
 use crate::proportions::people::{HEAD_FACTOR, LIMB_FACTOR, factors, rescale};
 use crate::recipe::Recipe;
-use crate::view_scores::{Summary, ViewOutcome, categories_in, outcomes};
+use crate::view_scores::{Summary, ViewOutcome, categories_in, elevation_bands, outcomes};
 
 /// Arguments of `postures`.
 #[derive(clap::Args)]
@@ -208,6 +208,11 @@ pub fn measure(args: &Args, emit: &mut dyn FnMut(&str)) -> Result<(), String> {
     {
         rows(&mut md, &format!("Held-out subjects, `{name}`:"), results);
     }
+    elevation_bands(
+        &mut md,
+        "Held-out subjects, `rig`, by the camera's true elevation above the pelvis (the middle ring's band ends at 22.5 deg):",
+        &per_protocol[2],
+    );
     emit(&std::mem::take(&mut md));
     let all: Vec<PoseSequence> = train_seqs.into_iter().chain(test_seqs).collect();
     // 2. Posture clips, leave-subject-out in folds.
@@ -260,6 +265,11 @@ pub fn measure(args: &Args, emit: &mut dyn FnMut(&str)) -> Result<(), String> {
                 r,
             );
         }
+        elevation_bands(
+            &mut md,
+            "Posture clips of held-out subjects, `rig`, by the camera's true elevation above the pelvis:",
+            &results[1],
+        );
         emit(&std::mem::take(&mut md));
     }
     // 3. Leave-posture-out.

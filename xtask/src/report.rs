@@ -307,7 +307,7 @@ fn generalisation_section(args: &Args) -> Result<String, String> {
          default) and the quadratic-{} one on the same data, lambda {}, mirror, one dropout copy; held-out subjects {}; \
          viewpoint heads (lambda {}) fitted on `sphere` views of the training subjects. The \
          `sphere` protocol draws camera directions uniformly over |elevation| <= 67.5 deg \
-         (perspective, noise), labelled by the nearest Table-1 camera.\n",
+         (perspective, noise), labelled by the Table-1 camera of its elevation ring (middle within +-22.5 deg) and azimuth quadrant.\n",
         Augmentation::TRAINING,
         default_capacity.name(),
         camloc::DEFAULT_QUADRATIC_COMPONENTS,

@@ -348,21 +348,32 @@ pub fn angle_between_deg(a: (f64, f64), b: (f64, f64)) -> f64 {
     sin.atan2(dot).to_degrees()
 }
 
-/// The camera of `cameras` whose direction is nearest (smallest angle) to the direction
-/// `(azimuth_deg, elevation_deg)`.
-pub fn nearest_by_direction(
+/// The camera of `cameras` whose cell holds the direction `(azimuth_deg, elevation_deg)`
+/// (degrees): the ring (the cameras of one elevation) whose elevation is nearest, then in it
+/// the camera whose azimuth is nearest. For Table 1 the level is the elevation band (middle
+/// from -22.5 to 22.5 deg) and the side the azimuth quadrant (+-45 deg around the camera),
+/// whatever the other coordinate: a camera 20 deg above the pelvis is a middle one from any
+/// side, as a lab's camera ring is (docs/conventions.md section 7). Ties go to the camera
+/// listed first.
+pub fn camera_by_ring_and_side(
     cameras: &CameraSet,
     azimuth_deg: f64,
     elevation_deg: f64,
 ) -> &Viewpoint {
-    let u = direction_vector(azimuth_deg, elevation_deg);
-    let mut best = &cameras.viewpoints()[0];
-    let mut best_dot = f64::NEG_INFINITY;
-    for v in cameras.viewpoints() {
-        let w = direction_vector(v.azimuth_deg, v.elevation_deg);
-        let dot: f64 = (0..3).map(|k| u[k] * w[k]).sum();
-        if dot > best_dot {
-            best_dot = dot;
+    let azimuth_gap = |v: &Viewpoint| {
+        let d = (v.azimuth_deg - azimuth_deg).rem_euclid(360.0);
+        d.min(360.0 - d)
+    };
+    let views = cameras.viewpoints();
+    let ring_gap = views
+        .iter()
+        .map(|v| (v.elevation_deg - elevation_deg).abs())
+        .fold(f64::INFINITY, f64::min);
+    let mut best = &views[0];
+    let mut best_gap = f64::INFINITY;
+    for v in views {
+        if (v.elevation_deg - elevation_deg).abs() == ring_gap && azimuth_gap(v) < best_gap {
+            best_gap = azimuth_gap(v);
             best = v;
         }
     }
@@ -521,10 +532,16 @@ mod tests {
     }
 
     #[test]
-    fn nearest_and_box_follow_table1() {
+    fn ring_side_and_box_follow_table1() {
         let cameras = CameraSet::table1();
-        assert_eq!(nearest_by_direction(&cameras, 170.0, 40.0).label, 9);
-        assert_eq!(nearest_by_direction(&cameras, 0.0, -10.0).label, 7);
+        assert_eq!(camera_by_ring_and_side(&cameras, 170.0, 40.0).label, 9);
+        assert_eq!(camera_by_ring_and_side(&cameras, 0.0, -10.0).label, 7);
+        // 20 deg up, halfway between front and left: nearer the upper cameras by angle, but
+        // in the middle ring's band.
+        assert_eq!(camera_by_ring_and_side(&cameras, 224.0, 20.0).label, 5);
+        assert_eq!(camera_by_ring_and_side(&cameras, 226.0, 20.0).label, 6);
+        assert_eq!(camera_by_ring_and_side(&cameras, 226.0, 23.0).label, 10);
+        assert_eq!(camera_by_ring_and_side(&cameras, 90.0, -50.0).label, 4);
         let v = cameras.get(7).unwrap();
         assert!(in_class_box(v, 350.0, 10.0, 30.0, 15.0));
         assert!(!in_class_box(v, 320.0, 10.0, 30.0, 15.0));

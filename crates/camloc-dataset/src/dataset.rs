@@ -76,8 +76,8 @@ pub struct Sample {
     pub landmarks: Pose2,
     /// Bit `i` set when landmark `i` was dropped (treat as missing); 0 for complete poses.
     pub missing_mask: u16,
-    /// Camera class label (1-based, in [`DatasetHeader::cameras`]); under `sphere` the camera
-    /// nearest in direction.
+    /// Camera class label (1-based, in [`DatasetHeader::cameras`]); under `sphere` and `rig` the
+    /// camera of the direction's elevation ring and azimuth quadrant.
     pub label: u16,
     /// Whether the camera direction lies in the label's class box (azimuth and elevation
     /// within the jitter bounds of its centre): always under `canonical` and `jittered`.

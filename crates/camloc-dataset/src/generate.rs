@@ -14,7 +14,7 @@ use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
 use rayon::prelude::*;
 
-use crate::augment::{camera_direction_deg, in_class_box, nearest_by_direction};
+use crate::augment::{camera_by_ring_and_side, camera_direction_deg, in_class_box};
 use crate::posture::PostureLimits;
 use crate::{
     Augmentation, ClipInfo, Dataset, DatasetError, DatasetHeader, Jitter, Protocol, Rig,
@@ -329,9 +329,9 @@ fn project_sample(
     let (label, inside) = if matches!(config.protocol, Protocol::Sphere | Protocol::Rig) {
         let j = &config.jitter;
         let (azimuth, elevation) = camera_direction_deg(&rotation);
-        let nearest = nearest_by_direction(&config.cameras, azimuth, elevation);
-        let inside = in_class_box(nearest, azimuth, elevation, j.azimuth_deg, j.elevation_deg);
-        (nearest.label, inside)
+        let camera = camera_by_ring_and_side(&config.cameras, azimuth, elevation);
+        let inside = in_class_box(camera, azimuth, elevation, j.azimuth_deg, j.elevation_deg);
+        (camera.label, inside)
     } else {
         (view.label, true)
     };
@@ -438,7 +438,7 @@ mod tests {
     }
 
     #[test]
-    fn sphere_labels_are_nearest_cameras_and_boxes_are_recorded() {
+    fn sphere_labels_are_ring_and_side_cameras_and_boxes_are_recorded() {
         let mut config = GenerateConfig::new(Protocol::Sphere);
         config.seed = 5;
         config.augmentation = Augmentation::TRAINING;
@@ -449,7 +449,7 @@ mod tests {
             let (az, el) = camera_direction_deg(&s.rotation);
             assert!(el.abs() <= SPHERE_BAND_DEG + 1e-9);
             assert_eq!(
-                nearest_by_direction(&d.header.cameras, az, el).label,
+                camera_by_ring_and_side(&d.header.cameras, az, el).label,
                 s.label
             );
             let v = d.header.cameras.get(s.label).unwrap();
@@ -490,7 +490,7 @@ mod tests {
         for s in &a.samples {
             let (az, el) = camera_direction_deg(&s.rotation);
             assert_eq!(
-                nearest_by_direction(&a.header.cameras, az, el).label,
+                camera_by_ring_and_side(&a.header.cameras, az, el).label,
                 s.label
             );
             middle += usize::from((5..=8).contains(&s.label));

@@ -20,19 +20,21 @@ pub enum Protocol {
     Jittered,
     /// Cameras anywhere: per sample a direction drawn uniformly over the sphere band
     /// `|elevation| <= SPHERE_BAND_DEG` (uniform by area), roll, distance and noise as
-    /// `jittered`, perspective; the label is the camera of the set nearest in direction, and
+    /// `jittered`, perspective; the label is the camera of the direction's elevation ring and
+    /// azimuth quadrant ([`camera_by_ring_and_side`]), and
     /// [`Sample::in_class_box`] records whether the direction lies in that camera's jittered
     /// class box.
     ///
     /// [`Sample::in_class_box`]: crate::Sample::in_class_box
+    /// [`camera_by_ring_and_side`]: crate::camera_by_ring_and_side
     Sphere,
     /// A studio or a room filmed from tripods ([`Rig`]): cameras fixed in the world 1.0-2.2 m
     /// above the floor and 2.5-7 m from the centre of a capture area, aimed at that centre; the
     /// person on the floor within 2 m of it, seen from an azimuth within half a camera spacing
     /// of the class's (the elevation follows from the heights); perspective with focal
     /// lengths of 500-2000 px and radial distortion; detector-like noise. The truth is the
-    /// direction from the pelvis to the camera centre, the label the camera of the set
-    /// nearest to it, `in_class_box` as under `sphere`.
+    /// direction from the pelvis to the camera centre, the label the camera of its ring and
+    /// side as under `sphere`, `in_class_box` too.
     ///
     /// [`Rig`]: crate::Rig
     Rig,
