@@ -11,7 +11,7 @@ use std::time::Instant;
 use camloc::PartialPose2;
 use camloc::dataset::{
     Augmentation, Dataset, GenerateConfig, MotionCategory, PoseSequence, Protocol,
-    camera_by_ring_and_side, camera_direction_deg, direction_vector,
+    camera_direction_deg, direction_vector,
 };
 use camloc::learning::{LogisticRegression, angle_deg};
 use camloc::{CameraLocalizer, Capacity, Descriptor, TrainOptions, cross_validate, evaluate};
@@ -137,8 +137,7 @@ pub fn viewpoint_errors(
             return Err("the localizer has no viewpoint heads".into());
         };
         let u = direction_vector(az, el);
-        relabelled +=
-            usize::from(camera_by_ring_and_side(localizer.cameras(), az, el).label == s.label);
+        relabelled += usize::from(localizer.cameras().by_ring_and_side(az, el).label == s.label);
         let e = angle_deg(&u, t);
         covered += usize::from(e <= radius);
         head_err.push(e);

@@ -2,7 +2,7 @@
 //! conventions, and the camera direction helpers the `sphere` protocol and the continuous
 //! viewpoint evaluation use.
 
-use camloc_geometry::{CameraSet, Matrix3, Vector3, Viewpoint, rotation_about_axis};
+use camloc_geometry::{Matrix3, Vector3, Viewpoint, azimuth_gap_deg, rotation_about_axis};
 use camloc_mocap::canonicalise;
 use camloc_skeleton::{LIMBS, Landmark, NUM_LANDMARKS, Pose3, mirror_landmark_index};
 use rand::Rng;
@@ -348,38 +348,6 @@ pub fn angle_between_deg(a: (f64, f64), b: (f64, f64)) -> f64 {
     sin.atan2(dot).to_degrees()
 }
 
-/// The camera of `cameras` whose cell holds the direction `(azimuth_deg, elevation_deg)`
-/// (degrees): the ring (the cameras of one elevation) whose elevation is nearest, then in it
-/// the camera whose azimuth is nearest. For Table 1 the level is the elevation band (middle
-/// from -22.5 to 22.5 deg) and the side the azimuth quadrant (+-45 deg around the camera),
-/// whatever the other coordinate: a camera 20 deg above the pelvis is a middle one from any
-/// side, as a lab's camera ring is (docs/conventions.md section 7). Ties go to the camera
-/// listed first.
-pub fn camera_by_ring_and_side(
-    cameras: &CameraSet,
-    azimuth_deg: f64,
-    elevation_deg: f64,
-) -> &Viewpoint {
-    let azimuth_gap = |v: &Viewpoint| {
-        let d = (v.azimuth_deg - azimuth_deg).rem_euclid(360.0);
-        d.min(360.0 - d)
-    };
-    let views = cameras.viewpoints();
-    let ring_gap = views
-        .iter()
-        .map(|v| (v.elevation_deg - elevation_deg).abs())
-        .fold(f64::INFINITY, f64::min);
-    let mut best = &views[0];
-    let mut best_gap = f64::INFINITY;
-    for v in views {
-        if (v.elevation_deg - elevation_deg).abs() == ring_gap && azimuth_gap(v) < best_gap {
-            best_gap = azimuth_gap(v);
-            best = v;
-        }
-    }
-    best
-}
-
 /// Whether the direction `(azimuth_deg, elevation_deg)` lies in the class box of `view`:
 /// azimuth within `+-azimuth_bound_deg` and elevation within `+-elevation_bound_deg` of its
 /// centre (the box the `jittered` protocol draws from).
@@ -390,8 +358,7 @@ pub fn in_class_box(
     azimuth_bound_deg: f64,
     elevation_bound_deg: f64,
 ) -> bool {
-    let d = (azimuth_deg - view.azimuth_deg).rem_euclid(360.0);
-    d.min(360.0 - d) <= azimuth_bound_deg
+    azimuth_gap_deg(azimuth_deg, view.azimuth_deg) <= azimuth_bound_deg
         && (elevation_deg - view.elevation_deg).abs() <= elevation_bound_deg
 }
 
@@ -399,7 +366,7 @@ pub fn in_class_box(
 mod tests {
     use super::*;
     use crate::posture::tests::LIMITS;
-    use camloc_geometry::{look_at_origin, roll_about_optical_axis, sphere_point};
+    use camloc_geometry::{CameraSet, look_at_origin, roll_about_optical_axis, sphere_point};
     use proptest::prelude::*;
     use rand::SeedableRng;
 
@@ -532,16 +499,8 @@ mod tests {
     }
 
     #[test]
-    fn ring_side_and_box_follow_table1() {
+    fn box_follows_table1() {
         let cameras = CameraSet::table1();
-        assert_eq!(camera_by_ring_and_side(&cameras, 170.0, 40.0).label, 9);
-        assert_eq!(camera_by_ring_and_side(&cameras, 0.0, -10.0).label, 7);
-        // 20 deg up, halfway between front and left: nearer the upper cameras by angle, but
-        // in the middle ring's band.
-        assert_eq!(camera_by_ring_and_side(&cameras, 224.0, 20.0).label, 5);
-        assert_eq!(camera_by_ring_and_side(&cameras, 226.0, 20.0).label, 6);
-        assert_eq!(camera_by_ring_and_side(&cameras, 226.0, 23.0).label, 10);
-        assert_eq!(camera_by_ring_and_side(&cameras, 90.0, -50.0).label, 4);
         let v = cameras.get(7).unwrap();
         assert!(in_class_box(v, 350.0, 10.0, 30.0, 15.0));
         assert!(!in_class_box(v, 320.0, 10.0, 30.0, 15.0));

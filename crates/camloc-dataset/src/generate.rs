@@ -14,7 +14,7 @@ use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
 use rayon::prelude::*;
 
-use crate::augment::{camera_by_ring_and_side, camera_direction_deg, in_class_box};
+use crate::augment::{camera_direction_deg, in_class_box};
 use crate::posture::PostureLimits;
 use crate::{
     Augmentation, ClipInfo, Dataset, DatasetError, DatasetHeader, Jitter, Protocol, Rig,
@@ -329,7 +329,7 @@ fn project_sample(
     let (label, inside) = if matches!(config.protocol, Protocol::Sphere | Protocol::Rig) {
         let j = &config.jitter;
         let (azimuth, elevation) = camera_direction_deg(&rotation);
-        let camera = camera_by_ring_and_side(&config.cameras, azimuth, elevation);
+        let camera = config.cameras.by_ring_and_side(azimuth, elevation);
         let inside = in_class_box(camera, azimuth, elevation, j.azimuth_deg, j.elevation_deg);
         (camera.label, inside)
     } else {
@@ -448,10 +448,7 @@ mod tests {
         for s in &d.samples {
             let (az, el) = camera_direction_deg(&s.rotation);
             assert!(el.abs() <= SPHERE_BAND_DEG + 1e-9);
-            assert_eq!(
-                camera_by_ring_and_side(&d.header.cameras, az, el).label,
-                s.label
-            );
+            assert_eq!(d.header.cameras.by_ring_and_side(az, el).label, s.label);
             let v = d.header.cameras.get(s.label).unwrap();
             assert_eq!(s.in_class_box, in_class_box(v, az, el, 30.0, 15.0));
             inside += usize::from(s.in_class_box);
@@ -489,10 +486,7 @@ mod tests {
         let mut middle = 0;
         for s in &a.samples {
             let (az, el) = camera_direction_deg(&s.rotation);
-            assert_eq!(
-                camera_by_ring_and_side(&a.header.cameras, az, el).label,
-                s.label
-            );
+            assert_eq!(a.header.cameras.by_ring_and_side(az, el).label, s.label);
             middle += usize::from((5..=8).contains(&s.label));
             // Every sample is seated, squatting, kneeling or sitting on the floor, whose
             // pelvis is lower than a standing one's.

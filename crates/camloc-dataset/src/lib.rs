@@ -17,9 +17,9 @@
 //! carries a [`MotionCategory`] read from the CMU index text ([`MocapIndex`],
 //! [`assign_categories`]). The `sphere` protocol draws camera directions anywhere in the band
 //! the Table-1 cameras cover and labels each with the camera of its elevation ring and
-//! azimuth quadrant ([`camera_by_ring_and_side`]), recording whether it
-//! lies in that camera's class box; [`Augmentation`] varies bone lengths and the neck, pelvis
-//! and head placements of photo annotations.
+//! azimuth quadrant ([`by_ring_and_side`](camloc_geometry::CameraSet::by_ring_and_side)),
+//! recording whether it lies in that camera's class box; [`Augmentation`] varies bone lengths
+//! and the neck, pelvis and head placements of photo annotations.
 
 mod augment;
 mod dataset;
@@ -34,8 +34,8 @@ mod select;
 mod test_poses;
 
 pub use augment::{
-    Augmentation, angle_between_deg, annotated, camera_by_ring_and_side, camera_direction_deg,
-    direction_vector, in_class_box,
+    Augmentation, angle_between_deg, annotated, camera_direction_deg, direction_vector,
+    in_class_box,
 };
 pub use camloc_mocap::{CATEGORY_RULES, CategorySource, MocapIndex, MotionCategory};
 pub use dataset::{CameraCount, ClipInfo, Dataset, DatasetHeader, Sample, default_test_subjects};

@@ -21,12 +21,12 @@ pub enum Protocol {
     /// Cameras anywhere: per sample a direction drawn uniformly over the sphere band
     /// `|elevation| <= SPHERE_BAND_DEG` (uniform by area), roll, distance and noise as
     /// `jittered`, perspective; the label is the camera of the direction's elevation ring and
-    /// azimuth quadrant ([`camera_by_ring_and_side`]), and
+    /// azimuth quadrant ([`CameraSet::by_ring_and_side`]), and
     /// [`Sample::in_class_box`] records whether the direction lies in that camera's jittered
     /// class box.
     ///
     /// [`Sample::in_class_box`]: crate::Sample::in_class_box
-    /// [`camera_by_ring_and_side`]: crate::camera_by_ring_and_side
+    /// [`CameraSet::by_ring_and_side`]: camloc_geometry::CameraSet::by_ring_and_side
     Sphere,
     /// A studio or a room filmed from tripods ([`Rig`]): cameras fixed in the world 1.0-2.2 m
     /// above the floor and 2.5-7 m from the centre of a capture area, aimed at that centre; the

@@ -25,7 +25,9 @@ pub use procrustes::procrustes_camera;
 pub use rotation::{
     check_rotation, roll_about_optical_axis, rotation_about_axis, rotation_about_z,
 };
-pub use sphere::{CameraSet, Level, Side, Viewpoint, look_at_origin, sphere_point};
+pub use sphere::{
+    CameraSet, Level, Side, Viewpoint, azimuth_gap_deg, look_at_origin, sphere_point,
+};
 
 /// A 3x3 rotation matrix (f64).
 pub type Matrix3 = nalgebra::Matrix3<f64>;

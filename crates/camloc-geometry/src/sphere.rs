@@ -46,6 +46,12 @@ pub fn look_at_origin(position: Vector3) -> Result<Matrix3, GeometryError> {
     ]))
 }
 
+/// The angle between two azimuths, degrees in `[0, 180]`.
+pub fn azimuth_gap_deg(a_deg: f64, b_deg: f64) -> f64 {
+    let d = (a_deg - b_deg).rem_euclid(360.0);
+    d.min(360.0 - d)
+}
+
 /// Camera height class of Table 1.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub enum Level {
@@ -306,18 +312,48 @@ impl CameraSet {
         let Some(i) = (label as usize).checked_sub(1).filter(|&i| i < self.len()) else {
             return label;
         };
-        let ring = i / self.azimuths;
-        let angular_distance = |a: f64| {
-            let d = (a - azimuth_deg).rem_euclid(360.0);
-            d.min(360.0 - d)
-        };
+        self.nearest_azimuth(i / self.azimuths, azimuth_deg, keep)
+            .map_or(label, |v| v.label)
+    }
+
+    /// The viewpoint of ring `ring` (index into [`elevations_deg`](Self::elevations_deg))
+    /// whose azimuth is nearest to `azimuth_deg` (the first of equally near ones), among those
+    /// accepted by `keep`.
+    fn nearest_azimuth(
+        &self,
+        ring: usize,
+        azimuth_deg: f64,
+        keep: impl Fn(f64) -> bool,
+    ) -> Option<&Viewpoint> {
         self.viewpoints[ring * self.azimuths..(ring + 1) * self.azimuths]
             .iter()
             .filter(|v| keep(v.azimuth_deg))
             .min_by(|a, b| {
-                angular_distance(a.azimuth_deg).total_cmp(&angular_distance(b.azimuth_deg))
+                azimuth_gap_deg(a.azimuth_deg, azimuth_deg)
+                    .total_cmp(&azimuth_gap_deg(b.azimuth_deg, azimuth_deg))
             })
-            .map_or(label, |v| v.label)
+    }
+
+    /// The viewpoint whose cell holds the direction `(azimuth_deg, elevation_deg)`
+    /// (degrees, [`sphere_point`]'s angles): the ring whose elevation is nearest, then in it
+    /// the viewpoint whose azimuth is nearest (the first of equally near ones each time). For
+    /// Table 1 the level is the elevation band (middle from -22.5 to 22.5 deg) and the side
+    /// the azimuth quadrant (+-45 deg around the camera), whatever the other angle: a camera
+    /// 20 deg above the body is a middle one from any side, as a lab's camera ring is, where
+    /// the camera nearest by angle would be an upper one halfway between two sides.
+    pub fn by_ring_and_side(&self, azimuth_deg: f64, elevation_deg: f64) -> &Viewpoint {
+        let ring = self
+            .elevations_deg
+            .iter()
+            .enumerate()
+            .min_by(|a, b| {
+                (a.1 - elevation_deg)
+                    .abs()
+                    .total_cmp(&(b.1 - elevation_deg).abs())
+            })
+            .map_or(0, |(r, _)| r);
+        self.nearest_azimuth(ring, azimuth_deg, |_| true)
+            .unwrap_or(&self.viewpoints[ring * self.azimuths])
     }
 
     /// Mirror folding (paper section 8.1): a camera behind the body maps to its mirror image in
@@ -442,6 +478,21 @@ mod tests {
         let mirrored: Vec<u16> = (1..=12).map(|l| set.mirror_left_right(l)).collect();
         assert_eq!(mirrored, [1, 4, 3, 2, 5, 8, 7, 6, 9, 12, 11, 10]);
         assert_eq!(set.fold_back_to_front(99), 99);
+    }
+
+    #[test]
+    fn ring_and_side_follow_table1() {
+        let cameras = CameraSet::table1();
+        assert_eq!(cameras.by_ring_and_side(170.0, 40.0).label, 9);
+        assert_eq!(cameras.by_ring_and_side(0.0, -10.0).label, 7);
+        // 20 deg up, halfway between front and left: nearer the upper cameras by angle, but
+        // in the middle ring's band.
+        assert_eq!(cameras.by_ring_and_side(224.0, 20.0).label, 5);
+        assert_eq!(cameras.by_ring_and_side(226.0, 20.0).label, 6);
+        assert_eq!(cameras.by_ring_and_side(226.0, 23.0).label, 10);
+        assert_eq!(cameras.by_ring_and_side(90.0, -50.0).label, 4);
+        assert_eq!(azimuth_gap_deg(350.0, 10.0), 20.0);
+        assert_eq!(azimuth_gap_deg(-90.0, 270.0), 0.0);
     }
 
     #[test]
