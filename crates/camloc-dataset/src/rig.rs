@@ -288,7 +288,7 @@ mod tests {
     use super::*;
     use crate::augment::camera_direction_deg;
     use crate::test_poses::standing;
-    use camloc_geometry::check_rotation;
+    use camloc_geometry::{azimuth_gap_deg, check_rotation};
     use proptest::prelude::*;
     use rand::SeedableRng;
 
@@ -305,8 +305,7 @@ mod tests {
             prop_assert!(check_rotation(&v.rotation, 1e-9).is_ok());
             prop_assert!(check_rotation(&v.camera_rotation, 1e-9).is_ok());
             let (a, e) = camera_direction_deg(&v.rotation);
-            let d = (a - az).rem_euclid(360.0);
-            prop_assert!(d.min(360.0 - d) < 1e-6, "{} vs {}", a, az);
+            prop_assert!(azimuth_gap_deg(a, az) < 1e-6, "{} vs {}", a, az);
             let ray = v.centre / v.centre.norm();
             prop_assert!((e.to_radians().sin() - ray.z).abs() < 1e-9);
             let floor = -pelvis_height_m(&pose);
