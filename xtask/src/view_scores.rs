@@ -106,22 +106,12 @@ const ELEVATION_BANDS: [(f64, f64); 10] = [
 /// per band and recipe the level accuracy, the shares of views placed a level too high and
 /// too low, the mean signed elevation error and the number of views.
 pub fn elevation_bands(md: &mut String, title: &str, results: &[(&Recipe, Vec<ViewOutcome>)]) {
-    let _ = writeln!(
-        md,
-        "
-{title}
-"
-    );
+    let _ = writeln!(md, "\n{title}\n");
     let mut header = "| true elevation above the pelvis |".to_string();
     for (recipe, _) in results {
         let _ = write!(header, " {} |", recipe.name);
     }
-    let _ = writeln!(
-        md,
-        "{header}
-|{}",
-        "---|".repeat(1 + results.len())
-    );
+    let _ = writeln!(md, "{header}\n|{}", "---|".repeat(1 + results.len()));
     for (lo, hi) in ELEVATION_BANDS {
         let band = match (lo.is_finite(), hi.is_finite()) {
             (false, _) => format!("below {hi} deg"),
@@ -130,26 +120,15 @@ pub fn elevation_bands(md: &mut String, title: &str, results: &[(&Recipe, Vec<Vi
         };
         let mut line = format!("| {band} |");
         for (_, out) in results {
-            let kept: Vec<&ViewOutcome> = out
-                .iter()
-                .filter(|o| (lo..hi).contains(&o.true_elevation_deg))
-                .collect();
-            if kept.is_empty() {
+            let s = Summary::of(out, |o| (lo..hi).contains(&o.true_elevation_deg));
+            if s.views == 0 {
                 line.push_str(" - |");
                 continue;
             }
-            let n = kept.len() as f64;
-            let share = |f: &dyn Fn(&ViewOutcome) -> bool| {
-                100.0 * kept.iter().filter(|o| f(o)).count() as f64 / n
-            };
             let _ = write!(
                 line,
                 " level {:.1}% ({:.1}% too high, {:.1}% too low, bias {:+.1} deg, {}) |",
-                share(&|o| o.level_correct),
-                share(&|o| o.level_offset > 0),
-                share(&|o| o.level_offset < 0),
-                kept.iter().map(|o| o.elevation_error_deg).sum::<f64>() / n,
-                kept.len()
+                s.level_accuracy, s.level_too_high, s.level_too_low, s.elevation_bias_deg, s.views
             );
         }
         let _ = writeln!(md, "{line}");
@@ -165,6 +144,10 @@ pub struct Summary {
     pub accuracy: f64,
     /// Level accuracy, percent.
     pub level_accuracy: f64,
+    /// Views placed a level (or two) too high, percent.
+    pub level_too_high: f64,
+    /// Views placed a level (or two) too low, percent.
+    pub level_too_low: f64,
     /// Median viewpoint error, degrees.
     pub median_deg: f64,
     /// Mean signed elevation error, degrees (negative: the camera is placed too low).
@@ -187,6 +170,8 @@ impl Summary {
             views: kept.len(),
             accuracy: share(|o| o.correct),
             level_accuracy: share(|o| o.level_correct),
+            level_too_high: share(|o| o.level_offset > 0),
+            level_too_low: share(|o| o.level_offset < 0),
             median_deg: angles[angles.len() / 2],
             elevation_bias_deg: kept.iter().map(|o| o.elevation_error_deg).sum::<f64>() / n,
         }
