@@ -48,11 +48,11 @@ pub enum DirectionSolver {
     /// threshold, so that early iterations are cheap and the last ones no more exact than the
     /// stopping rule needs; and at most to a trust radius in the preconditioner's norm
     /// (Steihaug), which shrinks to the part of a direction the line search accepted and
-    /// doubles after a full step on it. The
-    /// preconditioner is the Cholesky factor of the Hessian assembled on
-    /// `preconditioner_rows` evenly spaced samples (rescaled to all samples), assembled
-    /// afresh when a solve spends its budget of products. Every direction is a descent
-    /// direction, so the line search and the objective behave as with the exact solver.
+    /// doubles after a full step on it. The preconditioner is the Cholesky factor of the
+    /// Hessian assembled on `preconditioner_rows` evenly spaced samples (rescaled to all
+    /// samples), assembled afresh when a solve spends its budget of products. Every direction
+    /// is a descent direction, so the line search and the objective behave as with the exact
+    /// solver.
     /// For problems whose Hessian is too costly to assemble from every sample (many samples
     /// and a large `(d + 1) K`, e.g. after a [`QuadraticExpansion`](crate::QuadraticExpansion)).
     ///
