@@ -2,7 +2,6 @@
 
 use camloc_dataset::Dataset;
 use camloc_geometry::{CameraLabel, Level};
-use camloc_learning::Features;
 use camloc_skeleton::PartialPose2;
 use camloc_store::Validate;
 use serde::Serialize;
@@ -12,10 +11,6 @@ use rayon::prelude::*;
 use crate::localizer::most_probable;
 use crate::rows::sample_pose;
 use crate::{CameraLocalizer, CamlocError};
-
-/// Poses whose feature rows [`CameraLocalizer::predict_labels`] holds at once: about 34 MB of
-/// rows for the 519 features of a quadratic-30 model, whatever the number of poses.
-pub const LABEL_BATCH_POSES: usize = 8192;
 
 /// Accuracy of one camera (by true label).
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -159,40 +154,30 @@ pub fn evaluate(localizer: &CameraLocalizer, dataset: &Dataset) -> Result<Evalua
 }
 
 impl CameraLocalizer {
-    /// Most probable label of each pose, computed in batches of [`LABEL_BATCH_POSES`] poses
-    /// (descriptors and predictions in parallel), so that the feature rows held at once do
-    /// not grow with the number of poses; each label is the one
-    /// [`localize_partial`](Self::localize_partial) gives.
+    /// Most probable label of each pose, in parallel, one pose at a time in each thread's
+    /// reused rows (nothing the size of the input but the labels is allocated); each label is
+    /// the one [`localize_partial`](Self::localize_partial) gives.
     ///
     /// # Errors
     /// Descriptor errors naming the sample (its index in `poses`); prediction errors.
     pub fn predict_labels(&self, poses: &[PartialPose2]) -> Result<Vec<CameraLabel>, CamlocError> {
-        let mut labels = Vec::with_capacity(poses.len());
-        for (batch, chunk) in poses.chunks(LABEL_BATCH_POSES).enumerate() {
-            let x = self.feature_rows(chunk, batch * LABEL_BATCH_POSES)?;
-            labels.extend(self.labels_of_rows(&x)?);
-        }
-        Ok(labels)
-    }
-
-    /// The most probable label of each of the classifier's feature rows `x` (row-major).
-    fn labels_of_rows(&self, x: &[f64]) -> Result<Vec<CameraLabel>, CamlocError> {
-        let features = Features::new(x, self.model().n_features())?;
-        if self.posture_groups() == 1 {
-            return self
-                .model()
-                .predict_batch(&features)?
-                .into_iter()
-                .map(|c| Ok(CameraLabel::from_index(c)?))
-                .collect();
-        }
-        let cameras = self.cameras().len();
-        x.par_chunks(features.n_features())
-            .map(|row| {
-                let mut classes = vec![0.0; self.model().n_classes()];
-                let mut probabilities = vec![0.0; cameras];
-                self.camera_probabilities_into(row, &mut classes, &mut probabilities)?;
-                Ok(CameraLabel::from_index(most_probable(&probabilities).0)?)
+        poses
+            .par_iter()
+            .enumerate()
+            .map(|(i, pose)| {
+                self.with_pose_rows(
+                    pose,
+                    || format!("sample {i}"),
+                    |rows| {
+                        let mut probabilities = vec![0.0; self.cameras().len()];
+                        self.camera_probabilities_into(
+                            rows.classifier,
+                            rows.classes,
+                            &mut probabilities,
+                        )?;
+                        Ok(CameraLabel::from_index(most_probable(&probabilities).0)?)
+                    },
+                )
             })
             .collect()
     }

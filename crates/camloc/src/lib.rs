@@ -58,7 +58,7 @@ pub use camloc_geometry::{CameraSet, Level, Side};
 pub use camloc_reconstruct::ModeKind;
 pub use camloc_skeleton::{Landmark, PartialPose2, Pose2, Pose3};
 pub use error::CamlocError;
-pub use evaluate::{CameraAccuracy, Evaluation, LABEL_BATCH_POSES, LevelAccuracy, evaluate};
+pub use evaluate::{CameraAccuracy, Evaluation, LevelAccuracy, evaluate};
 pub use reconstruction::{
     PoseReconstruction, PoseReconstructor, PoseSequenceReconstruction, default_basis,
     evaluation_samples,

@@ -4,7 +4,7 @@
 use camloc_dataset::PostureGroup;
 use camloc_features::Descriptor;
 use camloc_geometry::{CameraLabel, CameraSet, Level, Matrix3, Side};
-use camloc_learning::{DirectionHeads, Features, LogisticModel, QuadraticExpansion};
+use camloc_learning::{DirectionHeads, LogisticModel, QuadraticExpansion};
 use camloc_skeleton::{Landmark, PartialPose2, Pose2};
 use camloc_store::{FileKind, Persist, Validate};
 use rayon::prelude::*;
@@ -74,18 +74,6 @@ pub struct CameraLocalizer {
 }
 
 impl CameraLocalizer {
-    /// The classifier's feature rows of `poses` (row-major, [`feature_width`](Self::feature_width)
-    /// wide): descriptors in parallel, undefined values imputed, expanded if the model has an
-    /// expansion. Errors name a pose by `first` plus its index in `poses`.
-    pub(crate) fn feature_rows(
-        &self,
-        poses: &[PartialPose2],
-        first: usize,
-    ) -> Result<Vec<f64>, CamlocError> {
-        let x = self.descriptor_rows(poses, first)?;
-        self.classifier_rows(x)
-    }
-
     /// The descriptor rows of `poses` (row-major), in parallel, undefined values imputed.
     /// Errors name a pose by `first` plus its index in `poses`.
     pub(crate) fn descriptor_rows(
@@ -96,15 +84,6 @@ impl CameraLocalizer {
         let (mut x, undefined) = extract_rows(&self.descriptor, poses, first)?;
         impute_rows(&mut x, &undefined, &self.imputation);
         Ok(x)
-    }
-
-    /// The classifier's feature rows of the descriptor rows `x`: expanded if the model has an
-    /// expansion, else `x` itself.
-    pub(crate) fn classifier_rows(&self, x: Vec<f64>) -> Result<Vec<f64>, CamlocError> {
-        match &self.expansion {
-            Some(e) => Ok(e.expand_rows(&Features::new(&x, self.descriptor.len())?)?),
-            None => Ok(x),
-        }
     }
 
     /// The number of features the viewpoint heads see.
@@ -207,6 +186,34 @@ impl CameraLocalizer {
     /// [`CamlocError::Feature`] when the pelvis or neck is missing, for non-finite landmarks
     /// or a degenerate torso.
     pub fn localize_partial(&self, pose: &PartialPose2) -> Result<Localization, CamlocError> {
+        self.with_pose_rows(
+            pose,
+            || "input pose".into(),
+            |rows| {
+                let mut probabilities = vec![0.0; self.cameras.len()];
+                self.camera_probabilities_into(rows.classifier, rows.classes, &mut probabilities)?;
+                let heads_x: &[f64] = match &self.viewpoint_expansion {
+                    Some(e) => {
+                        rows.head_row.resize(e.n_outputs(), 0.0);
+                        e.expand_into(rows.descriptor, rows.head_row)?;
+                        rows.head_row
+                    }
+                    None => rows.classifier,
+                };
+                self.localization_from(heads_x, probabilities, pose.missing().collect())
+            },
+        )
+    }
+
+    /// Runs `f` on the rows of `pose` made in this thread's [`RowBuffers`]: its descriptor
+    /// (undefined values imputed) and the classifier's features (expanded if the model has
+    /// an expansion). A descriptor error is given `context()` (which names the pose).
+    pub(crate) fn with_pose_rows<R>(
+        &self,
+        pose: &PartialPose2,
+        context: impl FnOnce() -> String,
+        f: impl FnOnce(PoseRows<'_>) -> Result<R, CamlocError>,
+    ) -> Result<R, CamlocError> {
         ROW_BUFFERS.with_borrow_mut(|buffers| {
             let RowBuffers {
                 descriptor,
@@ -221,11 +228,11 @@ impl CameraLocalizer {
             self.descriptor
                 .extract_partial_into(pose, descriptor, undefined)
                 .map_err(|source| CamlocError::Feature {
-                    context: "input pose".into(),
+                    context: context(),
                     source,
                 })?;
             impute_rows(descriptor, undefined, &self.imputation);
-            let x: &[f64] = match &self.expansion {
+            let classifier: &[f64] = match &self.expansion {
                 Some(e) => {
                     expanded.resize(e.n_outputs(), 0.0);
                     e.expand_into(descriptor, expanded)?;
@@ -234,17 +241,12 @@ impl CameraLocalizer {
                 None => descriptor,
             };
             classes.resize(self.model.n_classes(), 0.0);
-            let mut probabilities = vec![0.0; self.cameras.len()];
-            self.camera_probabilities_into(x, classes, &mut probabilities)?;
-            let heads_x: &[f64] = match &self.viewpoint_expansion {
-                Some(e) => {
-                    head_row.resize(e.n_outputs(), 0.0);
-                    e.expand_into(descriptor, head_row)?;
-                    head_row
-                }
-                None => x,
-            };
-            self.localization_from(heads_x, probabilities, pose.missing().collect())
+            f(PoseRows {
+                descriptor,
+                classifier,
+                head_row,
+                classes,
+            })
         })
     }
 
@@ -392,9 +394,22 @@ pub(crate) fn most_probable(probabilities: &[f64]) -> (usize, f64) {
         )
 }
 
-/// The feature rows of one pose that [`CameraLocalizer::localize_partial`] fills: kept per
-/// thread and reused, so that localizing a pose allocates only its result. Every call sizes
-/// and overwrites them.
+/// The rows of one pose, made by [`CameraLocalizer::with_pose_rows`] in this thread's
+/// [`RowBuffers`].
+pub(crate) struct PoseRows<'a> {
+    /// The descriptor, undefined values imputed.
+    pub(crate) descriptor: &'a [f64],
+    /// The classifier's features: the descriptor, or its expansion.
+    pub(crate) classifier: &'a [f64],
+    /// Room for the viewpoint heads' own expanded row (any length; the user sizes it).
+    pub(crate) head_row: &'a mut Vec<f64>,
+    /// Room for the classifier's class probabilities, one per class.
+    pub(crate) classes: &'a mut [f64],
+}
+
+/// The rows of one pose that [`CameraLocalizer::with_pose_rows`] fills: kept per thread and
+/// reused, so that localizing or labelling a pose allocates only its result. Every call
+/// sizes and overwrites them.
 #[derive(Default)]
 struct RowBuffers {
     /// The descriptor, then imputed.
