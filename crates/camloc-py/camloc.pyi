@@ -115,7 +115,11 @@ def reconstruct(
     camera: ``opt`` (Procrustes camera), ``classified`` (the rotation of the classified
     camera) or ``hybrid`` (classified rotation refined by Procrustes, the default, as on the
     command line: the lower 3D error, about twice the time of ``opt``).
-    localizer: the model that classifies the camera (default: the embedded one).
+      With ``classified`` and ``hybrid`` and the embedded model, each pose is rebuilt from the
+      depths the embedded depth lifter predicts for the classified camera (docs/conventions.md
+      section 6) rather than from the pursuit's pose.
+    localizer: the model that classifies the camera (default: the embedded one; another model
+      reconstructs without the embedded depth lifter, which belongs to the embedded model).
     basis: a pose basis file (default: the embedded one).
     bone_lengths: the person's 14 limb lengths in metres, as a mapping of ``BONE_KEYS``, 14
       numbers in ``BONE_KEYS`` order, or the path of a bone lengths JSON file (docs/cli.md);

@@ -12,11 +12,11 @@ use std::time::Instant;
 
 use camloc::dataset::{MotionCategory, PoseSequence};
 use camloc::reconstruct::{
-    BoneLengths, CameraMode, Given, Intrinsics, ModeKind, PoseBasis, ReconstructConfig,
-    Reconstructor, mpjpe_after_similarity,
+    BoneLengths, CameraMode, Given, Intrinsics, LiftedDepths, ModeKind, PoseBasis,
+    ReconstructConfig, Reconstructor, mpjpe_after_similarity,
 };
 use camloc::skeleton::NUM_LIMBS;
-use camloc::{CameraLocalizer, Pose2, Pose3};
+use camloc::{CameraLocalizer, DepthLifter, Pose2, Pose3};
 use rayon::prelude::*;
 
 use people::{Frames, HEAD_FACTOR, LIMB_FACTOR, factors, rescale, single_poses, windows};
@@ -42,6 +42,9 @@ struct Variant {
     lengths: bool,
     /// The focal length is given (full perspective refinement).
     focal: bool,
+    /// With `hybrid`, the refinement starts from the depth lifter's pose (`opt` has no
+    /// class to lift with).
+    lifted: bool,
 }
 
 /// A test item filmed: the truth and the views.
@@ -116,7 +119,8 @@ impl Scores {
     }
 }
 
-/// The variants of single frames and of sequences.
+/// The variants of single frames and of sequences. `hybrid` lifts (the command line's
+/// default) in the variants marked so; the pursuit-only rows before them are the ablation.
 fn variants() -> (Vec<Variant>, Vec<Variant>) {
     let base = ReconstructConfig::default();
     let with = |f: &dyn Fn(&mut ReconstructConfig)| {
@@ -124,82 +128,89 @@ fn variants() -> (Vec<Variant>, Vec<Variant>) {
         f(&mut c);
         c
     };
+    let v = |name, config: &ReconstructConfig, lengths, focal, lifted| Variant {
+        name,
+        config: config.clone(),
+        lengths,
+        focal,
+        lifted,
+    };
     let template = with(&|c| c.refinement.estimate_lengths = false);
     let single = vec![
-        Variant {
-            name: "template proportions (no refinement)",
-            config: template.clone(),
-            lengths: false,
-            focal: false,
-        },
-        Variant {
-            name: "lengths estimated (the default)",
-            config: base.clone(),
-            lengths: false,
-            focal: false,
-        },
-        Variant {
-            name: "lengths estimated, focal length known",
-            config: base.clone(),
-            lengths: false,
-            focal: true,
-        },
-        Variant {
-            name: "true lengths given",
-            config: base.clone(),
-            lengths: true,
-            focal: false,
-        },
-        Variant {
-            name: "true lengths and focal length given",
-            config: base.clone(),
-            lengths: true,
-            focal: true,
-        },
+        v(
+            "template proportions (no refinement)",
+            &template,
+            false,
+            false,
+            false,
+        ),
+        v(
+            "lengths estimated, the pursuit's pose (the default of opt)",
+            &base,
+            false,
+            false,
+            false,
+        ),
+        v(
+            "lengths estimated, lifted depths (the default of hybrid)",
+            &base,
+            false,
+            false,
+            true,
+        ),
+        v(
+            "lengths estimated, focal length known",
+            &base,
+            false,
+            true,
+            true,
+        ),
+        v("true lengths given", &base, true, false, true),
+        v(
+            "true lengths and focal length given",
+            &base,
+            true,
+            true,
+            true,
+        ),
     ];
     let plain = with(&|c| {
         c.refinement.smoothness = 0.0;
         c.refinement.consistent_depth = false;
     });
+    let viterbi = with(&|c| c.refinement.smoothness = 0.0);
     let sequence = vec![
-        Variant {
-            name: "sequence: template proportions",
-            config: with(&|c| {
-                c.refinement.estimate_lengths = false;
-            }),
-            lengths: false,
-            focal: false,
-        },
-        Variant {
-            name: "sequence: shared lengths only",
-            config: plain.clone(),
-            lengths: false,
-            focal: false,
-        },
-        Variant {
-            name: "sequence: + depths by Viterbi",
-            config: with(&|c| c.refinement.smoothness = 0.0),
-            lengths: false,
-            focal: false,
-        },
-        Variant {
-            name: "sequence: + smoothness (the default)",
-            config: base.clone(),
-            lengths: false,
-            focal: false,
-        },
-        Variant {
-            name: "sequence, focal length known",
-            config: base.clone(),
-            lengths: false,
-            focal: true,
-        },
-        Variant {
-            name: "sequence, true lengths given",
-            config: base,
-            lengths: true,
-            focal: false,
-        },
+        v(
+            "sequence: template proportions",
+            &template,
+            false,
+            false,
+            false,
+        ),
+        v("sequence: shared lengths only", &plain, false, false, false),
+        v(
+            "sequence: + depths by Viterbi",
+            &viterbi,
+            false,
+            false,
+            false,
+        ),
+        v(
+            "sequence: + smoothness (the default of opt)",
+            &base,
+            false,
+            false,
+            false,
+        ),
+        v(
+            "sequence: + lifted depths (the default of hybrid)",
+            &base,
+            false,
+            false,
+            true,
+        ),
+        v("sequence, focal length known", &base, false, true, true),
+        v("sequence, true lengths given", &base, true, false, true),
     ];
     (single, sequence)
 }
@@ -238,18 +249,21 @@ fn film_all(
         .collect()
 }
 
-/// The camera mode of `pose2` under `kind` (the localizer's class for `hybrid`).
+/// The camera mode of `pose2` under `kind` (the localizer's class for `hybrid`), and with a
+/// `lifter` the depths it predicts for that class.
 fn mode_of(
     kind: ModeKind,
     pose2: &Pose2,
     localizer: Option<&CameraLocalizer>,
-) -> Option<CameraMode> {
-    match kind {
-        ModeKind::Opt => Some(CameraMode::Opt),
-        ModeKind::Hybrid => Some(CameraMode::Hybrid(
-            localizer?.localize(pose2).ok()?.rotation,
-        )),
-        _ => None,
+    lifter: Option<&DepthLifter>,
+) -> (Option<CameraMode>, Option<LiftedDepths>) {
+    match (kind, localizer.and_then(|l| l.localize(pose2).ok())) {
+        (ModeKind::Opt, _) => (Some(CameraMode::Opt), None),
+        (ModeKind::Hybrid, Some(l)) => (
+            Some(CameraMode::Hybrid(l.rotation)),
+            lifter.and_then(|f| f.depths(pose2, l.label.index()).ok()),
+        ),
+        _ => (None, None),
     }
 }
 
@@ -259,7 +273,7 @@ fn run(
     basis: &PoseBasis,
     variant: &Variant,
     kind: ModeKind,
-    localizer: Option<&CameraLocalizer>,
+    (localizer, lifter): (Option<&CameraLocalizer>, Option<&DepthLifter>),
     items: &[Filmed],
     sequence: bool,
 ) -> Result<Scores, String> {
@@ -277,11 +291,12 @@ fn run(
     let results: Vec<(Vec<Option<f64>>, Option<BoneLengths>)> = items
         .par_iter()
         .map(|item| {
-            let modes: Vec<Option<CameraMode>> = item
+            let lifter = lifter.filter(|_| variant.lifted);
+            let (modes, depths): (Vec<Option<CameraMode>>, Vec<Option<LiftedDepths>>) = item
                 .views
                 .iter()
-                .map(|v| mode_of(kind, &v.pose2, localizer))
-                .collect();
+                .map(|v| mode_of(kind, &v.pose2, localizer, lifter))
+                .unzip();
             if sequence {
                 let frames: Vec<(Pose2, CameraMode)> = item
                     .views
@@ -289,7 +304,11 @@ fn run(
                     .zip(&modes)
                     .map(|(v, m)| (v.pose2, m.unwrap_or(CameraMode::Opt)))
                     .collect();
-                match reconstructor.reconstruct_sequence(&frames, &given(item, &item.views[0])) {
+                match reconstructor.reconstruct_sequence_lifted(
+                    &frames,
+                    &depths,
+                    &given(item, &item.views[0]),
+                ) {
                     Ok(seq) => (
                         seq.frames
                             .iter()
@@ -307,11 +326,17 @@ fn run(
                 let errors = item
                     .views
                     .iter()
-                    .zip(&modes)
+                    .zip(modes.iter().zip(&depths))
                     .zip(&item.truth)
-                    .map(|((v, m), t)| {
+                    .map(|((v, (m, z)), t)| {
                         let r = reconstructor
-                            .reconstruct_with(&v.pose2, m.as_ref()?, 1, &given(item, v))
+                            .reconstruct_lifted(
+                                &v.pose2,
+                                m.as_ref()?,
+                                1,
+                                &given(item, v),
+                                z.as_ref(),
+                            )
                             .ok()?
                             .into_iter()
                             .next()?;
@@ -420,10 +445,10 @@ fn target_line(
 }
 
 /// Measures the proportions test on the held-out `test` clips with `basis` (and `localizer`
-/// for `hybrid`, when given); returns the markdown.
+/// for `hybrid`, and `lifter` for its lifted variants, when given); returns the markdown.
 pub fn measure(
     basis: &PoseBasis,
-    localizer: Option<&CameraLocalizer>,
+    (localizer, lifter): (Option<&CameraLocalizer>, Option<&DepthLifter>),
     test: &[PoseSequence],
     options: &Options,
 ) -> Result<String, String> {
@@ -443,8 +468,10 @@ pub fn measure(
          length errors are each limb's relative error after one common scale (sizes cannot be \
          told from one camera), the mean over limbs and the largest limb, averaged over \
          persons (single poses: over poses; sequences: over windows); \"within 5%\": the \
-         share whose every limb is within 5%. Time: wall time per frame on the machine's \
-         cores.\n",
+         share whose every limb is within 5%. `hybrid` rows of the variants after the \
+         pursuit-only ones start the refinement from the depth lifter's depths of the classified \
+         camera (docs/conventions.md section 6), as `camloc reconstruct` does. Time: wall time \
+         per frame on the machine's cores.\n",
         LIMB_FACTOR.0,
         LIMB_FACTOR.1,
         HEAD_FACTOR.0,
@@ -486,22 +513,36 @@ pub fn measure(
             (&sequence_variants, &seq_scaled, &seq_plain, true),
         ] {
             for variant in variants {
-                for &kind in &kinds {
+                // Lifting needs the classified camera: `hybrid`, with a lifter. A lifted
+                // variant's `opt` row is its pursuit-only twin's, when it has one.
+                let lifts = |kind: ModeKind| kind == ModeKind::Hybrid && lifter.is_some();
+                let twin = variants.iter().any(|o| {
+                    !o.lifted
+                        && o.config == variant.config
+                        && o.lengths == variant.lengths
+                        && o.focal == variant.focal
+                });
+                for &kind in kinds
+                    .iter()
+                    .filter(|&&k| !(variant.lifted && twin) || lifts(k))
+                {
                     eprintln!(
                         "proportions: {} {} {}",
                         studio.name(),
                         variant.name,
                         kind.name()
                     );
-                    let s = run(basis, variant, kind, localizer, scaled, sequence)?;
+                    let s = run(basis, variant, kind, (localizer, lifter), scaled, sequence)?;
                     let _ = writeln!(md, "| {} | {} | {} |", variant.name, kind.name(), s.cells());
+                    // What `camloc reconstruct` does with this camera.
                     let shipped = !variant.lengths
                         && !variant.focal
-                        && variant.config == ReconstructConfig::default();
+                        && variant.config == ReconstructConfig::default()
+                        && variant.lifted == lifts(kind);
                     if !shipped {
                         continue;
                     }
-                    let u = run(basis, variant, kind, localizer, plain, sequence)?;
+                    let u = run(basis, variant, kind, (localizer, lifter), plain, sequence)?;
                     let _ = writeln!(
                         md,
                         "| {}, same subjects unscaled | {} | {} |",

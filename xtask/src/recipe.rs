@@ -4,7 +4,7 @@
 
 use camloc::dataset::{Augmentation, Dataset, GenerateConfig, PoseSequence, Protocol};
 use camloc::learning::{DirectionSolver, FitReport, IterationLog};
-use camloc::{CameraLocalizer, Capacity, TrainOptions};
+use camloc::{CameraLocalizer, Capacity, DepthLifter, TrainOptions};
 
 use crate::mocap_data::project;
 
@@ -175,6 +175,8 @@ impl std::str::FromStr for Recipe {
 pub struct Trained {
     /// The localizer, viewpoint heads fitted.
     pub localizer: CameraLocalizer,
+    /// The depth lifter, fitted on the viewpoint heads' views.
+    pub lifter: DepthLifter,
     /// The classifier's fit.
     pub report: FitReport,
     /// Views the classifier was trained on.
@@ -240,8 +242,9 @@ impl Recipe {
 
     /// Trains the localizer on `sequences` with this recipe: the classifier on
     /// [`Recipe::classifier_views`], then the viewpoint heads on `sphere` views
-    /// ([`VIEWPOINT_SEED`]) and the recipe's `rig` views, at the heads' capacity. `log` sees
-    /// every Newton iteration.
+    /// ([`VIEWPOINT_SEED`]) and the recipe's `rig` views, at the heads' capacity; and the
+    /// depth lifter on those views (the default quadratic components and
+    /// [`camloc::DEFAULT_LIFTER_LAMBDA`]). `log` sees every Newton iteration.
     pub fn train(
         &self,
         sequences: &[PoseSequence],
@@ -267,8 +270,16 @@ impl Recipe {
                 self.options.viewpoint_capacity,
             )
             .map_err(|e| e.to_string())?;
+        let lifter = DepthLifter::fit(
+            &heads,
+            *localizer.descriptor(),
+            camloc::DEFAULT_QUADRATIC_COMPONENTS,
+            camloc::DEFAULT_LIFTER_LAMBDA,
+        )
+        .map_err(|e| e.to_string())?;
         Ok(Trained {
             localizer,
+            lifter,
             report,
             training_views: training.samples.len(),
             head_views: heads.samples.len(),

@@ -32,10 +32,17 @@ pub struct Args {
         value_name = "FILE"
     )]
     pub basis_out: PathBuf,
+    /// Where to write the depth lifter (trained with the model).
+    #[arg(
+        long,
+        default_value = "fixtures/default-lifter.bin",
+        value_name = "FILE"
+    )]
+    pub lifter_out: PathBuf,
     /// Overwrite the output if it exists.
     #[arg(long)]
     pub force: bool,
-    /// Only the reconstruction basis (the model is left as it is).
+    /// Only the reconstruction basis (the model and the lifter are left as they are).
     #[arg(long)]
     pub basis_only: bool,
 }
@@ -45,7 +52,8 @@ pub fn run(args: &Args) -> Result<(), String> {
     let start = Instant::now();
     let out = crate::workspace_root().join(&args.out);
     let basis_out = crate::workspace_root().join(&args.basis_out);
-    for path in [&out, &basis_out] {
+    let lifter_out = crate::workspace_root().join(&args.lifter_out);
+    for path in [&out, &basis_out, &lifter_out] {
         if path.exists() && !args.force {
             return Err(format!(
                 "{}: already exists (pass --force to replace the defaults)",
@@ -56,7 +64,7 @@ pub fn run(args: &Args) -> Result<(), String> {
     let (mut sequences, _, _) = load_sequences(&args.mocap)?;
     categorise(&mut sequences, &args.mocap, None);
     if !args.basis_only {
-        train_model(args, &sequences, &out)?;
+        train_model(args, &sequences, &out, &lifter_out)?;
     }
     let poses: Vec<camloc::Pose3> = basis_poses(&sequences, DEFAULT_MIN_POSE_DISTANCE_MM)
         .into_iter()
@@ -78,8 +86,14 @@ pub fn run(args: &Args) -> Result<(), String> {
     Ok(())
 }
 
-/// Trains the default model ([`Recipe::default_model`]) on `sequences` and writes it to `out`.
-fn train_model(args: &Args, sequences: &[PoseSequence], out: &Path) -> Result<(), String> {
+/// Trains the default model ([`Recipe::default_model`]) on `sequences` and writes it to `out`,
+/// and its depth lifter to `lifter_out`.
+fn train_model(
+    args: &Args,
+    sequences: &[PoseSequence],
+    out: &Path,
+    lifter_out: &Path,
+) -> Result<(), String> {
     let start = Instant::now();
     let recipe = Recipe::default_model();
     eprintln!(
@@ -113,6 +127,16 @@ fn train_model(args: &Args, sequences: &[PoseSequence], out: &Path) -> Result<()
         localizer.descriptor().name(),
         recipe.options.regression.lambda,
         start.elapsed().as_secs_f64()
+    );
+    trained
+        .lifter
+        .save(lifter_out, args.force)
+        .map_err(|e| e.to_string())?;
+    println!(
+        "wrote {} ({} bytes, depth lifter of {} camera classes)",
+        lifter_out.display(),
+        std::fs::metadata(lifter_out).map(|m| m.len()).unwrap_or(0),
+        trained.lifter.n_classes()
     );
     Ok(())
 }

@@ -79,6 +79,53 @@ impl RidgeModel {
         })
     }
 
+    /// One ridge regression per class `0..n_classes`, each fitted ([`fit`](Self::fit)) on
+    /// the rows of `x` of that class (`classes`, one per row) with targets `y` (row-major
+    /// `n x n_outputs`), the classes in parallel. Expanded rows are made as each fit reads
+    /// them (nothing the size of the rows is held).
+    ///
+    /// # Errors
+    /// [`LearningError::SizeMismatch`] for inconsistent lengths, [`LearningError::NoSamples`]
+    /// when a class has no rows, [`LearningError::InvalidParameter`] for a non-finite target
+    /// or a bad `lambda`, and [`LearningError::Singular`] as [`fit`](Self::fit).
+    pub fn fit_per_class(
+        x: &DesignRows<'_>,
+        y: &[f64],
+        n_outputs: usize,
+        classes: &[usize],
+        n_classes: usize,
+        lambda: f64,
+    ) -> Result<Vec<RidgeModel>, LearningError> {
+        let n = x.n_samples();
+        for (what, expected, found) in [
+            (
+                "targets (n_samples x n_outputs, n_outputs >= 1)",
+                n * n_outputs.max(1),
+                y.len(),
+            ),
+            ("classes", n, classes.len()),
+        ] {
+            if found != expected || n_outputs == 0 {
+                return Err(LearningError::SizeMismatch {
+                    what,
+                    expected,
+                    found,
+                });
+            }
+        }
+        check_lambda(lambda)?;
+        check_targets(y)?;
+        (0..n_classes)
+            .into_par_iter()
+            .map(|k| {
+                let rows: Vec<usize> = (0..n).filter(|&i| classes[i] == k).collect();
+                RidgeModel::fit_selected(x, &rows, n_outputs, lambda, |i| {
+                    &y[i * n_outputs..(i + 1) * n_outputs]
+                })
+            })
+            .collect()
+    }
+
     /// [`fit`](Self::fit) on the rows of `x` that `selected` names (at least one), row `i`'s
     /// targets being `target(i)` (`n_outputs` finite values, checked by the caller). The
     /// standardised rows are multiplied together [`GRAM_ROWS`] at a time into the lower half
@@ -274,25 +321,15 @@ impl DirectionHeads {
         n_classes: usize,
         lambda: f64,
     ) -> Result<DirectionHeads, LearningError> {
-        let n = x.n_samples();
-        for (what, len) in [("directions", directions.len()), ("classes", classes.len())] {
-            if len != n {
-                return Err(LearningError::SizeMismatch {
-                    what,
-                    expected: n,
-                    found: len,
-                });
-            }
+        if directions.len() != x.n_samples() {
+            return Err(LearningError::SizeMismatch {
+                what: "directions",
+                expected: x.n_samples(),
+                found: directions.len(),
+            });
         }
-        check_lambda(lambda)?;
-        check_targets(directions.as_flattened())?;
-        let heads = (0..n_classes)
-            .into_par_iter()
-            .map(|k| {
-                let rows: Vec<usize> = (0..n).filter(|&i| classes[i] == k).collect();
-                RidgeModel::fit_selected(x, &rows, 3, lambda, |i| &directions[i])
-            })
-            .collect::<Result<Vec<_>, _>>()?;
+        let heads =
+            RidgeModel::fit_per_class(x, directions.as_flattened(), 3, classes, n_classes, lambda)?;
         Ok(DirectionHeads {
             heads,
             uncertainty_deg: vec![f64::NAN; CONFIDENCE_BINS.len() + 1],

@@ -7,7 +7,9 @@ use std::sync::OnceLock;
 use camloc::reconstruct::{BONE_KEYS, BoneLengths, Intrinsics, PoseBasis};
 use camloc::skeleton::NUM_LIMBS;
 use camloc::store::Persist;
-use camloc::{CameraLocalizer, CamlocError, ModeKind, PoseReconstruction, PoseReconstructor};
+use camloc::{
+    CameraLocalizer, CamlocError, DepthLifter, ModeKind, PoseReconstruction, PoseReconstructor,
+};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyMapping};
 use rayon::prelude::*;
@@ -23,7 +25,8 @@ fn default_reconstructor() -> PyResult<&'static PoseReconstructor> {
         .get_or_init(|| {
             let made = || -> Result<_, CamlocError> {
                 Ok(PoseReconstructor::new(camloc::default_basis()?)?
-                    .with_localizer(CameraLocalizer::default_model()?))
+                    .with_localizer(CameraLocalizer::default_model()?)
+                    .with_lifter(DepthLifter::default_lifter()?))
             };
             made().map_err(|e| e.to_string())
         })
@@ -96,11 +99,15 @@ pub(crate) fn reconstruct<'py>(
             .map_err(CamlocError::from)
             .and_then(PoseReconstructor::new)
             .map_err(to_py_err)?
-            .with_localizer(CameraLocalizer::default_model().map_err(to_py_err)?),
+            .with_localizer(CameraLocalizer::default_model().map_err(to_py_err)?)
+            .with_lifter(DepthLifter::default_lifter().map_err(to_py_err)?),
         None => default_reconstructor()?.clone(),
     };
+    // The embedded lifter is the embedded model's: another localizer reconstructs without.
     if let Some(localizer) = localizer {
-        reconstructor = reconstructor.with_localizer(localizer.inner.clone());
+        reconstructor = reconstructor
+            .with_localizer(localizer.inner.clone())
+            .without_lifter();
     }
     let mut reconstructor = reconstructor
         .with_mode(mode)

@@ -89,8 +89,8 @@ pub use metrics::{
 };
 pub use prior::{JointLimits, symmetrise};
 pub use pursuit::{
-    CameraMode, DEFAULT_COEFFICIENT_PRIOR, EQUAL_FIT_TOLERANCE, LengthTarget, ModeKind,
-    ReconstructConfig, Reconstruction, Reconstructor, SequenceReconstruction,
+    CameraMode, DEFAULT_COEFFICIENT_PRIOR, EQUAL_FIT_TOLERANCE, LengthTarget, LiftedDepths,
+    ModeKind, ReconstructConfig, Reconstruction, Reconstructor, SequenceReconstruction,
 };
 pub use refine::{Given, Intrinsics, PerspectiveCamera, Refinement};
 

@@ -209,8 +209,17 @@ pub const POSE_BASIS_KIND: FileKind = FileKind {
     max_payload: 1 << 20,
 };
 
+/// Depth lifters (`camloc::DepthLifter`): up to 64 MiB (the default one, 12 classes of 15
+/// depths from 519 features, is about 750 KiB).
+pub const LIFTER_KIND: FileKind = FileKind {
+    magic: *b"CAMLOCDL",
+    version: 1,
+    what: "depth lifter",
+    max_payload: 64 << 20,
+};
+
 /// Every kind of file camloc writes (used to say what a file of the wrong kind is).
-pub const KINDS: [FileKind; 3] = [DATASET_KIND, MODEL_KIND, POSE_BASIS_KIND];
+pub const KINDS: [FileKind; 4] = [DATASET_KIND, MODEL_KIND, POSE_BASIS_KIND, LIFTER_KIND];
 
 /// The invariants a decoded value must satisfy before it is used: run by [`Persist`] after
 /// every decode, and by containers on the values nested in them.

@@ -34,6 +34,7 @@
 mod dropout;
 mod error;
 mod evaluate;
+mod lifter;
 mod localizer;
 mod reconstruction;
 mod rows;
@@ -69,6 +70,7 @@ pub use sequence::{
     sequences,
 };
 
+pub use lifter::{DEFAULT_LIFTER_LAMBDA, DepthLifter, depth_targets};
 pub use localizer::{CameraLocalizer, Localization};
 pub use train_options::{
     Capacity, DEFAULT_LAMBDA, DEFAULT_PRECONDITIONER_ROWS, DEFAULT_PRODUCT_ROWS,

@@ -2,15 +2,15 @@
 
 use camloc_dataset::Dataset;
 use camloc_reconstruct::{
-    BoneLengths, CameraMode, EvalReport, EvalSample, Given, Intrinsics, ModeKind, PoseBasis,
-    ReconstructConfig, ReconstructError, Reconstruction, Reconstructor,
+    BoneLengths, CameraMode, EvalReport, EvalSample, Given, Intrinsics, LiftedDepths, ModeKind,
+    PoseBasis, ReconstructConfig, ReconstructError, Reconstruction, Reconstructor,
 };
 use camloc_skeleton::{PartialPose2, Pose2};
 use camloc_store::Persist;
 use camloc_store::Validate;
 
 use crate::rows::sample_pose;
-use crate::{CameraLocalizer, CamlocError, Localization};
+use crate::{CameraLocalizer, CamlocError, DepthLifter, Localization};
 
 /// A reconstructed pose and the camera localization it used (none for `opt`).
 #[derive(Clone, Debug)]
@@ -59,6 +59,9 @@ pub struct PoseReconstructor {
     reconstructor: Reconstructor,
     mode: ModeKind,
     localizer: Option<CameraLocalizer>,
+    /// The depth lifter the refinement starts from (with a localization: `classified` and
+    /// `hybrid`).
+    lifter: Option<DepthLifter>,
     given: Given,
 }
 
@@ -101,6 +104,7 @@ impl PoseReconstructor {
             reconstructor,
             mode: ModeKind::Opt,
             localizer: None,
+            lifter: None,
             given: Given::default(),
         })
     }
@@ -143,6 +147,27 @@ impl PoseReconstructor {
     pub fn with_localizer(mut self, localizer: CameraLocalizer) -> PoseReconstructor {
         self.localizer = Some(localizer);
         self
+    }
+
+    /// Starts the refinement of every reconstruction that has a localization (the
+    /// `classified` and `hybrid` modes) from the depths `lifter` predicts for the classified
+    /// camera instead of the pursuit's pose (docs/conventions.md section 6): the bone
+    /// directions the refinement holds the pose near are then the lifted ones. The lifter's
+    /// classes must be the localizer's cameras.
+    pub fn with_lifter(mut self, lifter: DepthLifter) -> PoseReconstructor {
+        self.lifter = Some(lifter);
+        self
+    }
+
+    /// The reconstructor without a depth lifter (the pursuit's pose starts every refinement).
+    pub fn without_lifter(mut self) -> PoseReconstructor {
+        self.lifter = None;
+        self
+    }
+
+    /// The depth lifter, if one was given.
+    pub fn lifter(&self) -> Option<&DepthLifter> {
+        self.lifter.as_ref()
     }
 
     /// Sets the camera mode: [`ModeKind::Opt`] (the default: Procrustes camera, the fastest),
@@ -213,10 +238,10 @@ impl PoseReconstructor {
         pose: &PartialPose2,
         max: usize,
     ) -> Result<PoseReconstruction, CamlocError> {
-        let (complete, localization, mode) = self.prepare(pose)?;
+        let (complete, localization, mode, depths) = self.prepare(pose)?;
         let mut hypotheses = self
             .reconstructor
-            .reconstruct_with(&complete, &mode, max, &self.given)
+            .reconstruct_lifted(&complete, &mode, max, &self.given, depths.as_ref())
             .map_err(pose_error)?
             .into_iter();
         let reconstruction = hypotheses
@@ -247,11 +272,15 @@ impl PoseReconstructor {
             poses.iter().map(|p| self.prepare(p)).collect();
         let frames: Vec<(Pose2, CameraMode)> = prepared
             .iter()
-            .filter_map(|p| p.as_ref().ok().map(|(pose, _, mode)| (*pose, *mode)))
+            .filter_map(|p| p.as_ref().ok().map(|(pose, _, mode, _)| (*pose, *mode)))
+            .collect();
+        let depths: Vec<Option<LiftedDepths>> = prepared
+            .iter()
+            .filter_map(|p| p.as_ref().ok().map(|(_, _, _, depths)| *depths))
             .collect();
         let sequence = self
             .reconstructor
-            .reconstruct_sequence(&frames, &self.given)
+            .reconstruct_sequence_lifted(&frames, &depths, &self.given)
             .map_err(|source| CamlocError::Reconstruct {
                 context: "sequence".into(),
                 source,
@@ -260,7 +289,7 @@ impl PoseReconstructor {
         let frames = prepared
             .into_iter()
             .map(|p| {
-                let (_, localization, _) = p?;
+                let (_, localization, _, _) = p?;
                 let reconstruction = solved
                     .next()
                     .unwrap_or(Err(ReconstructError::Numerical("no hypothesis was solved")))
@@ -317,7 +346,23 @@ impl PoseReconstructor {
             (Some(l), _) => CameraMode::Classified(l.rotation),
             (None, _) => CameraMode::Opt,
         };
-        Ok((complete, localization, mode))
+        let depths = match (&localization, &self.lifter) {
+            (Some(l), Some(lifter)) => {
+                let cameras = self.localizer.as_ref().map_or(0, |l| l.cameras().len());
+                if lifter.n_classes() != cameras {
+                    return Err(CamlocError::InvalidOption {
+                        name: "depth lifter",
+                        detail: format!(
+                            "it has {} camera classes, the localizer {cameras} cameras",
+                            lifter.n_classes()
+                        ),
+                    });
+                }
+                Some(lifter.depths(&complete, l.label.index())?)
+            }
+            _ => None,
+        };
+        Ok((complete, localization, mode, depths))
     }
 
     /// Reconstructs every complete sample of `dataset` with every camera mode (`opt`,
@@ -346,7 +391,14 @@ impl PoseReconstructor {
 
 /// What a reconstruction of one pose needs ([`PoseReconstructor::prepare`]): the complete 2D
 /// pose, its localization (none for `opt`) and the camera mode.
-type Prepared = (Pose2, Option<Localization>, CameraMode);
+/// A pose prepared for reconstruction: complete, its localization (none for `opt`), the
+/// camera mode, the lifted depths (with a lifter and a localization).
+type Prepared = (
+    Pose2,
+    Option<Localization>,
+    CameraMode,
+    Option<LiftedDepths>,
+);
 
 /// A reconstruction error of the input pose.
 fn pose_error(source: ReconstructError) -> CamlocError {

@@ -6,7 +6,9 @@ use std::process::ExitCode;
 use camloc::keypoints::KeypointRecord;
 use camloc::reconstruct::{BoneLengths, Intrinsics, PoseBasis, Reconstruction};
 use camloc::store::Persist;
-use camloc::{CameraLocalizer, CamlocError, ModeKind, Pose3, PoseReconstructor, default_basis};
+use camloc::{
+    CameraLocalizer, CamlocError, DepthLifter, ModeKind, Pose3, PoseReconstructor, default_basis,
+};
 use clap::builder::{PossibleValue, TypedValueParser};
 
 use super::export::{self, Kept};
@@ -64,6 +66,15 @@ pub struct Args {
     /// Model file for the classified camera [default: the embedded model].
     #[arg(long, value_name = "MODEL")]
     pub model: Option<PathBuf>,
+    /// Depth lifter file: the refinement of `classified` and `hybrid` starts from the depths
+    /// it predicts for the classified camera (docs/conventions.md section 6) [default: the
+    /// embedded lifter with the embedded model; none with --model].
+    #[arg(long, value_name = "LIFTER", conflicts_with = "no_lifter")]
+    pub lifter: Option<PathBuf>,
+    /// Reconstruct without a depth lifter (the pose basis's pose starts the refinement, as
+    /// before the lifter).
+    #[arg(long)]
+    pub no_lifter: bool,
     /// Pose basis file [default: the embedded basis].
     #[arg(long, value_name = "BASIS")]
     pub basis: Option<PathBuf>,
@@ -210,6 +221,15 @@ fn reconstructor(args: &Args) -> Result<PoseReconstructor, CliError> {
         reconstructor = reconstructor.with_localizer(load_model(args.model.as_deref())?);
     }
     let mut reconstructor = reconstructor.with_mode(choice)?;
+    let lifter = match (&args.lifter, &args.model) {
+        _ if args.no_lifter || choice == ModeKind::Opt => None,
+        (Some(path), _) => Some(DepthLifter::load(path)?),
+        (None, None) => Some(DepthLifter::default_lifter()?),
+        (None, Some(_)) => None,
+    };
+    if let Some(lifter) = lifter {
+        reconstructor = reconstructor.with_lifter(lifter);
+    }
     if let Some(path) = &args.bone_lengths {
         let lengths = BoneLengths::read_json(path).map_err(|e| CamlocError::Reconstruct {
             context: "--bone-lengths".into(),

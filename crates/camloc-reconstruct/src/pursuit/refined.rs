@@ -1,7 +1,9 @@
 //! The pursuit's hypotheses refined into the person's own proportions
 //! ([`Reconstructor::reconstruct_with`]) and turned into [`Reconstruction`]s.
 
-use camloc_skeleton::{Pose2, Pose3};
+use camloc_geometry::WeakPerspective;
+use camloc_skeleton::{Landmark, NUM_LANDMARKS, Pose2, Pose3};
+use nalgebra::Vector3;
 
 use super::hypotheses::{Candidate, Ranked, Reconstruction};
 use super::mode::CameraMode;
@@ -31,6 +33,26 @@ impl Reconstructor {
         max: usize,
         given: &Given,
     ) -> Result<Vec<Reconstruction>, ReconstructError> {
+        self.reconstruct_lifted(pose, mode, max, given, None)
+    }
+
+    /// [`reconstruct_with`](Self::reconstruct_with), the refinement of every hypothesis
+    /// started from the landmarks' `depths` along the camera's optical axis when they are
+    /// given (a [`LiftedDepths`], for instance `camloc::DepthLifter`'s) instead of the
+    /// pursuit's pose: the pose whose landmarks are the 2D ones at those depths, turned into
+    /// the body frame by the hypothesis' camera; its bone directions are then the ones the
+    /// refinement holds the pose near.
+    ///
+    /// # Errors
+    /// As [`reconstruct_with`](Self::reconstruct_with).
+    pub fn reconstruct_lifted(
+        &self,
+        pose: &Pose2,
+        mode: &CameraMode,
+        max: usize,
+        given: &Given,
+        depths: Option<&LiftedDepths>,
+    ) -> Result<Vec<Reconstruction>, ReconstructError> {
         if let Some(intrinsics) = &given.intrinsics {
             intrinsics.check()?;
         }
@@ -44,7 +66,7 @@ impl Reconstructor {
             .take(max.max(1))
             .map(|c| {
                 let refined = if self.refines(given) {
-                    let frame = self.refine_frame(&obs, &c, given);
+                    let frame = self.refine_frame(&obs, &c, given, depths);
                     let (mut out, _) = refine(
                         &[frame],
                         self.length_input(given),
@@ -92,19 +114,24 @@ impl Reconstructor {
         }
     }
 
-    /// What the refinement starts `candidate` from.
+    /// What the refinement starts `candidate` from: its pose, or with (finite) `depths` the
+    /// lifted pose ([`reconstruct_lifted`](Self::reconstruct_lifted)).
     pub(super) fn refine_frame(
         &self,
         obs: &Observation,
         candidate: &Candidate,
         given: &Given,
+        depths: Option<&LiftedDepths>,
     ) -> RefineFrame {
+        let camera = candidate.fit.camera;
+        let points = match depths {
+            Some(z) if z.iter().all(|v| v.is_finite()) => lifted_points(obs, z, &camera),
+            _ => candidate.fit.points,
+        };
         RefineFrame {
             observed: obs.points,
-            pose: Pose3 {
-                points: candidate.fit.points,
-            },
-            camera: candidate.fit.camera,
+            pose: Pose3 { points },
+            camera,
             intrinsics: given.intrinsics.map(|i| obs.normalise_intrinsics(&i)),
         }
     }
@@ -153,4 +180,23 @@ impl Reconstructor {
             perspective,
         }
     }
+}
+
+/// The landmarks' depths along a camera's optical axis, about the centroid of the 3D
+/// landmarks, in the units of the 2D pose centred on its centroid and divided by its RMS
+/// radius (positive away from the camera; `camloc::DepthLifter` predicts them).
+pub type LiftedDepths = [f64; NUM_LANDMARKS];
+
+/// The body-frame pose (metres, pelvis at the origin) whose landmarks `camera` sees at the
+/// normalised 2D points of `obs` with `depths`: `X = R^T (p - p_pelvis) / s`.
+fn lifted_points(
+    obs: &Observation,
+    depths: &LiftedDepths,
+    camera: &WeakPerspective,
+) -> [[f64; 3]; NUM_LANDMARKS] {
+    let seen: [Vector3<f64>; NUM_LANDMARKS] =
+        std::array::from_fn(|j| Vector3::new(obs.points[j][0], obs.points[j][1], depths[j]));
+    let pelvis = seen[Landmark::Pelvis.index()];
+    let inverse = camera.rotation.transpose() / camera.scale;
+    seen.map(|p| (inverse * (p - pelvis)).into())
 }

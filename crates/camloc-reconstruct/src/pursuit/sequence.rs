@@ -9,6 +9,7 @@ use rayon::prelude::*;
 use super::hypotheses::{Candidate, Ranked, Reconstruction};
 use super::mode::CameraMode;
 use super::reconstructor::Reconstructor;
+use super::refined::LiftedDepths;
 use crate::Refinement;
 use crate::refine::{LengthInput, RefinedFrame, refine};
 use crate::viterbi::cheapest_path;
@@ -52,6 +53,22 @@ impl Reconstructor {
         frames: &[(Pose2, CameraMode)],
         given: &Given,
     ) -> Result<SequenceReconstruction, ReconstructError> {
+        self.reconstruct_sequence_lifted(frames, &[], given)
+    }
+
+    /// [`reconstruct_sequence`](Self::reconstruct_sequence) with, per frame, the landmarks'
+    /// depths the refinement starts from where `depths` has them (`depths[t]` for frame `t`;
+    /// missing or `None` entries: the pursuit's pose, as
+    /// [`reconstruct_lifted`](Self::reconstruct_lifted) does).
+    ///
+    /// # Errors
+    /// As [`reconstruct_sequence`](Self::reconstruct_sequence).
+    pub fn reconstruct_sequence_lifted(
+        &self,
+        frames: &[(Pose2, CameraMode)],
+        depths: &[Option<LiftedDepths>],
+        given: &Given,
+    ) -> Result<SequenceReconstruction, ReconstructError> {
         if let Some(intrinsics) = &given.intrinsics {
             intrinsics.check()?;
         }
@@ -79,7 +96,10 @@ impl Reconstructor {
         let (refined, lengths): (Vec<Option<RefinedFrame>>, BoneLengths) = if self.refines(given) {
             let inputs: Vec<_> = chosen
                 .iter()
-                .map(|(_, r, c)| self.refine_frame(&r.obs, c, given))
+                .map(|(t, r, c)| {
+                    let lifted = depths.get(*t).and_then(Option::as_ref);
+                    self.refine_frame(&r.obs, c, given, lifted)
+                })
                 .collect();
             let settings = &self.config.refinement;
             let (refined, lengths) = if given.lengths.is_none() && settings.smoothness > 0.0 {

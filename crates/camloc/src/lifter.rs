@@ -1,0 +1,202 @@
+//! [`DepthLifter`]: the depth of every landmark along the camera's optical axis, learned from
+//! the 2D pose per camera class (docs/conventions.md section 6).
+//!
+//! The 2D pose fixes two of each landmark's three coordinates in the camera's frame; the
+//! third, the depth, is what a single view leaves open and what the pose basis of the
+//! pursuit guesses. The lifter predicts it by one ridge regression per camera class on the
+//! quadratic expansion of the pose descriptor (the features of the quadratic classifier).
+//! Its depths are in the units of the 2D pose centred on the centroid of its landmarks and
+//! divided by their RMS radius about it (the pursuit's normalisation), about the centroid of
+//! the 3D landmarks, positive away from the camera.
+
+use camloc_dataset::{Dataset, Sample};
+use camloc_features::Descriptor;
+use camloc_learning::{DesignRows, Features, QuadraticExpansion, RidgeModel};
+use camloc_skeleton::{NUM_LANDMARKS, Pose2};
+use camloc_store::{FileKind, Persist, Validate};
+use serde::{Deserialize, Serialize};
+
+use crate::CamlocError;
+
+/// Ridge weight of the default depth lifter ([`DepthLifter::fit`]): on held-out CMU subjects
+/// lambda 1, 10 and 100 were within 0.1 mm of each other (docs/RESULTS.md).
+pub const DEFAULT_LIFTER_LAMBDA: f64 = 10.0;
+
+/// Per camera class, a ridge regression of the landmarks' depths along the optical axis from
+/// the quadratic expansion of the pose descriptor (module documentation).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct DepthLifter {
+    descriptor: Descriptor,
+    expansion: QuadraticExpansion,
+    /// One per camera class, [`NUM_LANDMARKS`] outputs each.
+    heads: Vec<RidgeModel>,
+}
+
+impl DepthLifter {
+    /// Fits the lifter on the complete samples of `dataset` (2D landmarks, true 3D pose and
+    /// camera rotation, class = label): the `descriptor`, its quadratic expansion of
+    /// `components` principal components, and per class a ridge regression with weight
+    /// `lambda` of the depths ([`depth_targets`]).
+    ///
+    /// # Errors
+    /// [`CamlocError::Inconsistent`] when no sample is complete or a camera has none;
+    /// descriptor errors naming the sample; expansion and ridge errors.
+    pub fn fit(
+        dataset: &Dataset,
+        descriptor: Descriptor,
+        components: usize,
+        lambda: f64,
+    ) -> Result<DepthLifter, CamlocError> {
+        let d = descriptor.len();
+        let complete: Vec<&Sample> = dataset
+            .samples
+            .iter()
+            .filter(|s| s.missing_mask == 0)
+            .collect();
+        let mut x = vec![0.0; complete.len() * d];
+        for (i, (s, row)) in complete.iter().zip(x.chunks_exact_mut(d)).enumerate() {
+            descriptor
+                .extract_into(&s.landmarks, row)
+                .map_err(|source| CamlocError::Feature {
+                    context: format!("complete sample {i}"),
+                    source,
+                })?;
+        }
+        let n_classes = dataset.header.cameras.len();
+        let classes: Vec<usize> = complete.iter().map(|s| usize::from(s.label) - 1).collect();
+        if let Some(k) = (0..n_classes).find(|k| !classes.contains(k)) {
+            return Err(CamlocError::Inconsistent {
+                what: "depth lifter dataset",
+                detail: format!("camera {} has no complete samples", k + 1),
+            });
+        }
+        let features = Features::new(&x, d)?;
+        let expansion = QuadraticExpansion::fit(&features, components)?;
+        let depths: Vec<f64> = complete.iter().flat_map(|s| depth_targets(s)).collect();
+        let heads = RidgeModel::fit_per_class(
+            &DesignRows::expanded(features, &expansion)?,
+            &depths,
+            NUM_LANDMARKS,
+            &classes,
+            n_classes,
+            lambda,
+        )?;
+        Ok(DepthLifter {
+            descriptor,
+            expansion,
+            heads,
+        })
+    }
+
+    /// The depths of the landmarks of `pose` (image coordinates, any units) seen by a camera
+    /// of class `class` (0-based), in the units of the module documentation.
+    ///
+    /// # Errors
+    /// [`CamlocError::Feature`] for non-finite landmarks or a degenerate torso;
+    /// [`CamlocError::InvalidOption`] for a class the lifter does not have.
+    pub fn depths(&self, pose: &Pose2, class: usize) -> Result<[f64; NUM_LANDMARKS], CamlocError> {
+        let head = self
+            .heads
+            .get(class)
+            .ok_or_else(|| CamlocError::InvalidOption {
+                name: "depth lifter class",
+                detail: format!("{class} is not below {}", self.heads.len()),
+            })?;
+        let mut row = vec![0.0; self.descriptor.len()];
+        self.descriptor
+            .extract_into(pose, &mut row)
+            .map_err(|source| CamlocError::Feature {
+                context: "input pose".into(),
+                source,
+            })?;
+        let mut expanded = vec![0.0; self.expansion.n_outputs()];
+        self.expansion.expand_into(&row, &mut expanded)?;
+        let mut depths = [0.0; NUM_LANDMARKS];
+        head.predict_into(&expanded, &mut depths)?;
+        Ok(depths)
+    }
+
+    /// The number of camera classes (one head each).
+    pub fn n_classes(&self) -> usize {
+        self.heads.len()
+    }
+
+    /// The lifter embedded in this build (trained by `cargo xtask train-default` with the
+    /// default model, on its viewpoint heads' views).
+    ///
+    /// # Errors
+    /// [`CamlocError::NoDefault`] when the build embedded none; decoding errors otherwise.
+    pub fn default_lifter() -> Result<DepthLifter, CamlocError> {
+        let bytes = include_bytes!(concat!(env!("OUT_DIR"), "/default-lifter.bin"));
+        if bytes.is_empty() {
+            return Err(CamlocError::NoDefault("depth lifter"));
+        }
+        Self::from_bytes_named(bytes, "embedded default depth lifter").map_err(CamlocError::from)
+    }
+}
+
+/// The depths [`DepthLifter`] learns for `sample`: each landmark's coordinate along the
+/// camera's optical axis (row 3 of its rotation) about the centroid of the 3D landmarks,
+/// divided by the RMS radius of their coordinates across it (rows 1 and 2), so that they are
+/// in the units of the normalised 2D pose that an orthographic view of the sample gives.
+pub fn depth_targets(sample: &Sample) -> [f64; NUM_LANDMARKS] {
+    let n = NUM_LANDMARKS as f64;
+    let points = &sample.pose3.points;
+    let centroid: [f64; 3] = std::array::from_fn(|a| points.iter().map(|p| p[a]).sum::<f64>() / n);
+    let seen = points.map(|p| {
+        let d = nalgebra::Vector3::new(p[0] - centroid[0], p[1] - centroid[1], p[2] - centroid[2]);
+        sample.rotation * d
+    });
+    let radius = (seen.iter().map(|q| q.x * q.x + q.y * q.y).sum::<f64>() / n).sqrt();
+    seen.map(|q| q.z / radius)
+}
+
+/// The lifter's invariants, run after every decode of a lifter file: a valid descriptor,
+/// expansion and heads, the expansion reading the descriptor and every head reading the
+/// expansion and giving [`NUM_LANDMARKS`] depths.
+impl Validate for DepthLifter {
+    type Invalid = CamlocError;
+
+    fn validate(&self) -> Result<(), CamlocError> {
+        let inconsistent = |detail: String| CamlocError::Inconsistent {
+            what: "depth lifter",
+            detail,
+        };
+        self.descriptor
+            .validate()
+            .map_err(|e| inconsistent(e.to_string()))?;
+        self.expansion
+            .validate()
+            .map_err(|e| inconsistent(format!("feature expansion: {e}")))?;
+        if self.expansion.n_inputs() != self.descriptor.len() {
+            return Err(inconsistent(format!(
+                "the expansion reads {} values, the descriptor has {}",
+                self.expansion.n_inputs(),
+                self.descriptor.len()
+            )));
+        }
+        if self.heads.is_empty() {
+            return Err(inconsistent("no class heads".into()));
+        }
+        for (k, head) in self.heads.iter().enumerate() {
+            head.validate()
+                .map_err(|e| inconsistent(format!("head {k}: {e}")))?;
+            if head.n_features() != self.expansion.n_outputs() || head.n_outputs() != NUM_LANDMARKS
+            {
+                return Err(inconsistent(format!(
+                    "head {k} maps {} features to {} values, expected {} to {NUM_LANDMARKS}",
+                    head.n_features(),
+                    head.n_outputs(),
+                    self.expansion.n_outputs()
+                )));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Lifter files: [`camloc_store::LIFTER_KIND`] (magic `CAMLOCDL`); load with
+/// [`Persist::load`], write with [`Persist::save`] (no overwrite unless asked).
+impl Persist for DepthLifter {
+    const KIND: FileKind = camloc_store::LIFTER_KIND;
+}
