@@ -1,6 +1,6 @@
 //! Per-pose cost of 3D reconstruction with the embedded default basis (and, for the
-//! `classified` and `hybrid` modes, the embedded default model), one pose at a time on one
-//! core.
+//! `classified` and `hybrid` modes, the embedded default model; `hybrid + lifter`, the command
+//! line's default, also the embedded depth lifter), one pose at a time on one core.
 //!
 //! `cargo bench -p camloc --bench reconstruct`
 
@@ -8,7 +8,9 @@ mod common;
 
 use std::hint::black_box;
 
-use camloc::{CameraLocalizer, ModeKind, PartialPose2, PoseReconstructor, default_basis};
+use camloc::{
+    CameraLocalizer, DepthLifter, ModeKind, PartialPose2, PoseReconstructor, default_basis,
+};
 use common::pose;
 use criterion::{Criterion, criterion_group, criterion_main};
 
@@ -32,6 +34,20 @@ fn benches(c: &mut Criterion) {
             }
             Err(e) => eprintln!("skipping reconstruct {}: {e}", mode.name()),
         }
+    }
+    let lifted = DepthLifter::default_lifter().and_then(|lifter| {
+        Ok(PoseReconstructor::new(basis)?
+            .with_localizer(localizer)
+            .with_mode(ModeKind::Hybrid)?
+            .with_lifter(lifter))
+    });
+    match lifted {
+        Ok(r) => {
+            group.bench_function("hybrid + lifter", |b| {
+                b.iter(|| r.reconstruct(black_box(&one)))
+            });
+        }
+        Err(e) => eprintln!("skipping reconstruct hybrid + lifter: {e}"),
     }
     group.finish();
 }
