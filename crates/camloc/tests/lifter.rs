@@ -155,3 +155,31 @@ fn the_embedded_lifter_starts_the_refinement_of_hybrid() {
         .pose;
     assert_eq!(c, d);
 }
+
+/// In a sequence, estimated lengths come from the pursuit's poses whether or not depths are
+/// lifted; the lifted depths change the poses.
+#[test]
+fn a_sequence_takes_its_lengths_from_the_pursuit_and_its_poses_from_the_lifted_depths() {
+    let dataset = views(6);
+    let reconstructor =
+        Reconstructor::new(default_basis().unwrap(), ReconstructConfig::default()).unwrap();
+    let samples: Vec<_> = dataset.samples.iter().take(8).collect();
+    let frames: Vec<_> = samples
+        .iter()
+        .map(|s| (s.landmarks, CameraMode::Hybrid(s.rotation)))
+        .collect();
+    let depths: Vec<_> = samples.iter().map(|s| Some(depth_targets(s))).collect();
+    let given = Given::default();
+    let plain = reconstructor.reconstruct_sequence(&frames, &given).unwrap();
+    let lifted = reconstructor
+        .reconstruct_sequence_lifted(&frames, &depths, &given)
+        .unwrap();
+    assert_eq!(plain.lengths, lifted.lengths);
+    let moved: f64 = plain
+        .frames
+        .iter()
+        .zip(&lifted.frames)
+        .map(|(a, b)| mpjpe_after_similarity(&a.as_ref().unwrap().pose, &b.as_ref().unwrap().pose))
+        .sum();
+    assert!(moved > 1.0, "{moved} mm");
+}

@@ -59,7 +59,10 @@ impl Reconstructor {
     /// [`reconstruct_sequence`](Self::reconstruct_sequence) with, per frame, the landmarks'
     /// depths the refinement starts from where `depths` has them (`depths[t]` for frame `t`;
     /// missing or `None` entries: the pursuit's pose, as
-    /// [`reconstruct_lifted`](Self::reconstruct_lifted) does).
+    /// [`reconstruct_lifted`](Self::reconstruct_lifted) does). Unknown lengths still come
+    /// from the first refinement of the pursuit's poses: lifted depths are drawn towards the
+    /// training proportions, which cost the torso 7% -> 16% of length error on rescaled
+    /// people under `jittered` when the lengths were estimated from them (docs/RESULTS.md).
     ///
     /// # Errors
     /// As [`reconstruct_sequence`](Self::reconstruct_sequence).
@@ -102,12 +105,22 @@ impl Reconstructor {
                 })
                 .collect();
             let settings = &self.config.refinement;
-            let (refined, lengths) = if given.lengths.is_none() && settings.smoothness > 0.0 {
+            let lifted = chosen
+                .iter()
+                .any(|(t, _, _)| depths.get(*t).is_some_and(Option::is_some));
+            let (refined, lengths) = if given.lengths.is_none()
+                && (settings.smoothness > 0.0 || lifted)
+            {
                 let plain = Refinement {
                     smoothness: 0.0,
                     ..*settings
                 };
-                let (_, lengths) = refine(&inputs, self.length_input(given), &plain, true)?;
+                // The lengths from the pursuit's poses (see reconstruct_sequence_lifted).
+                let pursuit: Vec<_> = chosen
+                    .iter()
+                    .map(|(_, r, c)| self.refine_frame(&r.obs, c, given, None))
+                    .collect();
+                let (_, lengths) = refine(&pursuit, self.length_input(given), &plain, true)?;
                 let (refined, _) = refine(&inputs, LengthInput::Given(lengths), settings, true)?;
                 (refined, lengths)
             } else {
