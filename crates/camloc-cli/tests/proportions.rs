@@ -208,3 +208,31 @@ fn bad_bone_lengths_files_are_refused_with_what_and_where() {
     ]);
     assert!(!out.status.success());
 }
+
+/// The embedded depth lifter is the default of `hybrid`; `--no-lifter` gives the pursuit's
+/// pose (another answer), `--lifter FILE` with the embedded file the default's answer, and
+/// a lifter with `--camera opt` or a file of another kind is refused.
+#[test]
+fn the_depth_lifter_is_the_default_and_can_be_chosen_or_refused() {
+    let example = example();
+    let run = |extra: &[&str]| {
+        let mut args: Vec<&str> = vec!["reconstruct", "--input", &example, "--jsonl"];
+        args.extend_from_slice(extra);
+        camloc(&args)
+    };
+    let lifter = fixture("default-lifter.bin").to_string_lossy().into_owned();
+    let default = run(&[]);
+    assert!(default.status.success());
+    let explicit = run(&["--lifter", &lifter]);
+    assert_eq!(default.stdout, explicit.stdout);
+    let without = run(&["--no-lifter"]);
+    assert!(without.status.success());
+    assert_ne!(default.stdout, without.stdout);
+    let opt = run(&["--camera", "opt", "--lifter", &lifter]);
+    assert!(!opt.status.success());
+    assert!(String::from_utf8_lossy(&opt.stderr).contains("--lifter"));
+    let model = fixture("default-model.bin").to_string_lossy().into_owned();
+    let wrong = run(&["--lifter", &model]);
+    assert!(!wrong.status.success());
+    assert!(String::from_utf8_lossy(&wrong.stderr).contains("depth lifter"));
+}

@@ -151,11 +151,19 @@ def test_localize_npz_loads_without_pickle_and_equals_the_json_of_the_same_run(
     assert failures == (1 if input_name == "mixed" else 0)
 
 
-@pytest.mark.parametrize("camera", ["opt", "classified"])
-def test_reconstruct_equals_the_command_line(cli, camera):
+@pytest.mark.parametrize(
+    "camera, lifter", [("opt", True), ("classified", True), ("hybrid", True), ("hybrid", False)]
+)
+def test_reconstruct_equals_the_command_line(cli, localizer, camera, lifter):
+    """With the embedded model both use the embedded depth lifter; a localizer passed in
+    reconstructs without it, as ``--no-lifter`` does."""
     path = KEYPOINTS / "example.json"
-    _, expected = cli("reconstruct", "--input", path, "--camera", camera)
-    got = camloc.reconstruct(example_points(), camera=camera)
+    options = [] if lifter else ["--no-lifter"]
+    _, expected = cli("reconstruct", "--input", path, "--camera", camera, *options)
+    if lifter:
+        got = camloc.reconstruct(example_points(), camera=camera)
+    else:
+        got = camloc.reconstruct(example_points(), camera=camera, localizer=localizer)
     assert got["camera"] == camera
     for i, want in enumerate(expected):
         assert got["error"][i] is None

@@ -221,6 +221,14 @@ fn reconstructor(args: &Args) -> Result<PoseReconstructor, CliError> {
         reconstructor = reconstructor.with_localizer(load_model(args.model.as_deref())?);
     }
     let mut reconstructor = reconstructor.with_mode(choice)?;
+    if args.lifter.is_some() && choice == ModeKind::Opt {
+        return Err(CamlocError::InvalidOption {
+            name: "--lifter",
+            detail: "the lifter needs the classified camera: use --camera classified or hybrid"
+                .into(),
+        }
+        .into());
+    }
     let lifter = match (&args.lifter, &args.model) {
         _ if args.no_lifter || choice == ModeKind::Opt => None,
         (Some(path), _) => Some(DepthLifter::load(path)?),
