@@ -257,12 +257,15 @@ fn mode_of(
     localizer: Option<&CameraLocalizer>,
     lifter: Option<&DepthLifter>,
 ) -> (Option<CameraMode>, Option<LiftedDepths>) {
-    match (kind, localizer.and_then(|l| l.localize(pose2).ok())) {
-        (ModeKind::Opt, _) => (Some(CameraMode::Opt), None),
-        (ModeKind::Hybrid, Some(l)) => (
-            Some(CameraMode::Hybrid(l.rotation)),
-            lifter.and_then(|f| f.depths(pose2, l.label.index()).ok()),
-        ),
+    match kind {
+        ModeKind::Opt => (Some(CameraMode::Opt), None),
+        ModeKind::Hybrid => match localizer.and_then(|l| l.localize(pose2).ok()) {
+            Some(l) => (
+                Some(CameraMode::Hybrid(l.rotation)),
+                lifter.and_then(|f| f.depths(pose2, l.label.index()).ok()),
+            ),
+            None => (None, None),
+        },
         _ => (None, None),
     }
 }
@@ -288,10 +291,10 @@ fn run(
     };
     let started = Instant::now();
     // Per item: per-frame PA-MPJPE (None: failed) and the lengths of the answer.
+    let lifter = lifter.filter(|_| variant.lifted);
     let results: Vec<(Vec<Option<f64>>, Option<BoneLengths>)> = items
         .par_iter()
         .map(|item| {
-            let lifter = lifter.filter(|_| variant.lifted);
             let (modes, depths): (Vec<Option<CameraMode>>, Vec<Option<LiftedDepths>>) = item
                 .views
                 .iter()

@@ -9,10 +9,12 @@ use std::time::Instant;
 
 use camloc::dataset::{GenerateConfig, MotionCategory, PoseSequence, Protocol};
 use camloc::reconstruct::{
-    BasisConfig, BasisKind, CameraMode, EvalReport, EvalSample, Given, ModeKind, PoseBasis,
-    ReconstructConfig, Reconstructor, evaluate, mpjpe_after_similarity,
+    BasisConfig, BasisKind, EvalReport, EvalSample, ModeKind, PoseBasis, ReconstructConfig,
+    Reconstructor, evaluate, mpjpe_after_similarity,
 };
-use camloc::{CameraLocalizer, DepthLifter, Pose3, evaluation_samples};
+use camloc::{
+    CameraLocalizer, DepthLifter, PartialPose2, Pose3, PoseReconstructor, evaluation_samples,
+};
 use rayon::prelude::*;
 
 use crate::generalise::TEST_SUBJECTS;
@@ -233,7 +235,7 @@ pub fn measure(args: &Args) -> Result<Measured, String> {
                 &localizer,
                 &lifter,
                 [&walking, &diverse],
-            );
+            )?;
             shipped = Some((w, d));
         }
     }
@@ -261,32 +263,32 @@ fn train_localizer(train_seqs: &[PoseSequence]) -> Result<(CameraLocalizer, Dept
     Ok((trained.localizer, trained.lifter))
 }
 
-/// The row of `hybrid` with the depth lifter (`camloc reconstruct`'s default: the
-/// refinement started from the lifted depths of the classified camera) on the walking and
-/// diverse samples, beside the shipped basis's row of the table.
+/// The row of `hybrid` with the depth lifter, as `camloc reconstruct` runs it by default (a
+/// `PoseReconstructor` on the basis and settings of `pursuit`, with `localizer` and
+/// `lifter`), on the walking and diverse samples, beside the shipped basis's row of the table.
 fn lifted_rows(
     md: &mut String,
-    reconstructor: &Reconstructor,
+    pursuit: &Reconstructor,
     localizer: &CameraLocalizer,
     lifter: &DepthLifter,
     [walking, diverse]: [&[EvalSample]; 2],
-) {
+) -> Result<(), String> {
+    let reconstructor =
+        PoseReconstructor::with_config(pursuit.basis().clone(), pursuit.config().clone())
+            .and_then(|r| {
+                r.with_localizer(localizer.clone())
+                    .with_mode(ModeKind::Hybrid)
+            })
+            .map_err(|e| e.to_string())?
+            .with_lifter(lifter.clone());
     let mean = |samples: &[EvalSample]| {
         let errors: Vec<Option<f64>> = samples
             .par_iter()
             .map(|s| {
-                let l = localizer.localize(&s.pose2).ok()?;
-                let depths = lifter.depths(&s.pose2, l.label.index()).ok()?;
                 let r = reconstructor
-                    .reconstruct_lifted(
-                        &s.pose2,
-                        &CameraMode::Hybrid(l.rotation),
-                        1,
-                        &Given::default(),
-                        Some(&depths),
-                    )
+                    .reconstruct(&PartialPose2::from(s.pose2))
                     .ok()?;
-                Some(mpjpe_after_similarity(&r.first()?.pose, &s.truth))
+                Some(mpjpe_after_similarity(&r.reconstruction.pose, &s.truth))
             })
             .collect();
         let ok: Vec<f64> = errors.iter().flatten().copied().collect();
@@ -302,6 +304,7 @@ fn lifted_rows(
         "| the same, `hybrid` with the depth lifter (`camloc reconstruct`'s default) | - | - \
          | - | {w:.1} ({wf} failed) | - | - | - | {d:.1} ({df} failed) | - | - |"
     );
+    Ok(())
 }
 
 /// The proportions test (issue 23) with its heading.

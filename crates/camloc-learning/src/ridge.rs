@@ -64,15 +64,7 @@ impl RidgeModel {
         if n == 0 {
             return Err(LearningError::NoSamples);
         }
-        if y.len() != n * n_outputs || n_outputs == 0 {
-            return Err(LearningError::SizeMismatch {
-                what: "targets (n_samples x n_outputs, n_outputs >= 1)",
-                expected: n * n_outputs.max(1),
-                found: y.len(),
-            });
-        }
-        check_lambda(lambda)?;
-        check_targets(y)?;
+        check_fit_inputs(n, y, n_outputs, lambda)?;
         let rows = DesignRows::plain(*x);
         Self::fit_selected(&rows, &(0..n).collect::<Vec<_>>(), n_outputs, lambda, |i| {
             &y[i * n_outputs..(i + 1) * n_outputs]
@@ -97,24 +89,14 @@ impl RidgeModel {
         lambda: f64,
     ) -> Result<Vec<RidgeModel>, LearningError> {
         let n = x.n_samples();
-        for (what, expected, found) in [
-            (
-                "targets (n_samples x n_outputs, n_outputs >= 1)",
-                n * n_outputs.max(1),
-                y.len(),
-            ),
-            ("classes", n, classes.len()),
-        ] {
-            if found != expected || n_outputs == 0 {
-                return Err(LearningError::SizeMismatch {
-                    what,
-                    expected,
-                    found,
-                });
-            }
+        if classes.len() != n {
+            return Err(LearningError::SizeMismatch {
+                what: "classes",
+                expected: n,
+                found: classes.len(),
+            });
         }
-        check_lambda(lambda)?;
-        check_targets(y)?;
+        check_fit_inputs(n, y, n_outputs, lambda)?;
         (0..n_classes)
             .into_par_iter()
             .map(|k| {
@@ -472,6 +454,25 @@ fn check_lambda(lambda: f64) -> Result<(), LearningError> {
         });
     }
     Ok(())
+}
+
+/// Checks what a ridge fit of `n` rows is given: `y` of `n x n_outputs` values
+/// (`n_outputs >= 1`), all finite, and `lambda`.
+fn check_fit_inputs(
+    n: usize,
+    y: &[f64],
+    n_outputs: usize,
+    lambda: f64,
+) -> Result<(), LearningError> {
+    if y.len() != n * n_outputs || n_outputs == 0 {
+        return Err(LearningError::SizeMismatch {
+            what: "targets (n_samples x n_outputs, n_outputs >= 1)",
+            expected: n * n_outputs.max(1),
+            found: y.len(),
+        });
+    }
+    check_lambda(lambda)?;
+    check_targets(y)
 }
 
 /// Checks regression targets: all finite.

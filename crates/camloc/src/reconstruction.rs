@@ -390,9 +390,8 @@ impl PoseReconstructor {
 }
 
 /// What a reconstruction of one pose needs ([`PoseReconstructor::prepare`]): the complete 2D
-/// pose, its localization (none for `opt`) and the camera mode.
-/// A pose prepared for reconstruction: complete, its localization (none for `opt`), the
-/// camera mode, the lifted depths (with a lifter and a localization).
+/// pose, its localization (none for `opt`), the camera mode and the lifted depths (with a
+/// lifter and a localization).
 type Prepared = (
     Pose2,
     Option<Localization>,

@@ -97,17 +97,13 @@ impl Reconstructor {
             }
         }
         let (refined, lengths): (Vec<Option<RefinedFrame>>, BoneLengths) = if self.refines(given) {
+            let lifted_of = |t: usize| depths.get(t).and_then(Option::as_ref);
             let inputs: Vec<_> = chosen
                 .iter()
-                .map(|(t, r, c)| {
-                    let lifted = depths.get(*t).and_then(Option::as_ref);
-                    self.refine_frame(&r.obs, c, given, lifted)
-                })
+                .map(|(t, r, c)| self.refine_frame(&r.obs, c, given, lifted_of(*t)))
                 .collect();
             let settings = &self.config.refinement;
-            let lifted = chosen
-                .iter()
-                .any(|(t, _, _)| depths.get(*t).is_some_and(Option::is_some));
+            let lifted = chosen.iter().any(|(t, _, _)| lifted_of(*t).is_some());
             let (refined, lengths) = if given.lengths.is_none()
                 && (settings.smoothness > 0.0 || lifted)
             {
@@ -115,12 +111,16 @@ impl Reconstructor {
                     smoothness: 0.0,
                     ..*settings
                 };
-                // The lengths from the pursuit's poses (see reconstruct_sequence_lifted).
-                let pursuit: Vec<_> = chosen
-                    .iter()
-                    .map(|(_, r, c)| self.refine_frame(&r.obs, c, given, None))
-                    .collect();
-                let (_, lengths) = refine(&pursuit, self.length_input(given), &plain, true)?;
+                // The lengths from the pursuit's poses (see reconstruct_sequence_lifted),
+                // which are the inputs unless some frames are lifted.
+                let pursuit: Option<Vec<_>> = lifted.then(|| {
+                    chosen
+                        .iter()
+                        .map(|(_, r, c)| self.refine_frame(&r.obs, c, given, None))
+                        .collect()
+                });
+                let starts = pursuit.as_deref().unwrap_or(&inputs);
+                let (_, lengths) = refine(starts, self.length_input(given), &plain, true)?;
                 let (refined, _) = refine(&inputs, LengthInput::Given(lengths), settings, true)?;
                 (refined, lengths)
             } else {
