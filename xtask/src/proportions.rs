@@ -60,28 +60,29 @@ struct Filmed {
 struct Scores {
     /// PA-MPJPE sum (mm) and frames, walking and other motions.
     mpjpe: [(f64, usize); 2],
-    /// Per item: mean and largest absolute relative length error (after one common scale).
+    /// Per answer (a sequence, or a single frame): mean and largest absolute relative length
+    /// error (after one common scale).
     length_errors: Vec<(f64, f64)>,
-    /// Per limb: the sum over items of the absolute relative length error.
+    /// Per limb: the sum over answers of the absolute relative length error.
     limb_errors: [f64; NUM_LIMBS],
     failures: usize,
     seconds: f64,
 }
 
 impl Scores {
-    /// Each limb's mean absolute relative length error over the items.
+    /// Each limb's mean absolute relative length error over the answers.
     fn limb_means(&self) -> [f64; NUM_LIMBS] {
         let n = self.length_errors.len().max(1) as f64;
         self.limb_errors.map(|e| e / n)
     }
 
-    /// The share of items whose every limb is within 5%.
+    /// The share of answers whose every limb is within 5%.
     fn within_5(&self) -> f64 {
         let n = self.length_errors.len().max(1) as f64;
         self.length_errors.iter().filter(|e| e.1 <= 0.05).count() as f64 / n
     }
 
-    /// The mean over items of the mean absolute relative length error.
+    /// The mean over answers of the mean absolute relative length error.
     fn mean_length_error(&self) -> f64 {
         let n = self.length_errors.len().max(1) as f64;
         self.length_errors.iter().map(|e| e.0).sum::<f64>() / n
@@ -290,9 +291,10 @@ fn run(
         }),
     };
     let started = Instant::now();
-    // Per item: per-frame PA-MPJPE (None: failed) and the lengths of the answer.
+    // Per item: per-frame PA-MPJPE (None: failed) and the lengths of the answers (one per
+    // sequence, one per reconstructed frame otherwise).
     let lifter = lifter.filter(|_| variant.lifted);
-    let results: Vec<(Vec<Option<f64>>, Option<BoneLengths>)> = items
+    let results: Vec<(Vec<Option<f64>>, Vec<BoneLengths>)> = items
         .par_iter()
         .map(|item| {
             let (modes, depths): (Vec<Option<CameraMode>>, Vec<Option<LiftedDepths>>) = item
@@ -320,12 +322,12 @@ fn run(
                                 r.as_ref().ok().map(|r| mpjpe_after_similarity(&r.pose, t))
                             })
                             .collect(),
-                        Some(seq.lengths),
+                        vec![seq.lengths],
                     ),
-                    Err(_) => (vec![None; item.views.len()], None),
+                    Err(_) => (vec![None; item.views.len()], Vec::new()),
                 }
             } else {
-                let mut lengths = None;
+                let mut lengths = Vec::new();
                 let errors = item
                     .views
                     .iter()
@@ -343,7 +345,7 @@ fn run(
                             .ok()?
                             .into_iter()
                             .next()?;
-                        lengths = BoneLengths::of_pose(&r.pose).ok();
+                        lengths.extend(BoneLengths::of_pose(&r.pose).ok());
                         Some(mpjpe_after_similarity(&r.pose, t))
                     })
                     .collect();
@@ -366,7 +368,7 @@ fn run(
                 _ => scores.failures += 1,
             }
         }
-        if let Some(l) = lengths {
+        for l in lengths {
             let errors = l.relative_errors(&item.lengths).map(f64::abs);
             for (sum, e) in scores.limb_errors.iter_mut().zip(errors) {
                 *sum += e;
