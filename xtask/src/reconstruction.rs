@@ -30,7 +30,8 @@ pub struct Args {
     /// Held-out subjects (never in the basis, the priors or the localizer).
     #[arg(long, value_delimiter = ',', default_value = TEST_SUBJECTS)]
     pub test_subjects: Vec<String>,
-    /// Use every N-th test sample (the jittered views of the held-out subjects).
+    /// Use every N-th test sample (the jittered views of the held-out subjects; the default
+    /// mode by motion category also on their `rig` views).
     #[arg(long, default_value_t = 4, value_name = "N")]
     pub every: usize,
     /// PCA sizes compared by cross-validation grouped by subject on the training subjects.
@@ -122,25 +123,18 @@ pub fn measure(args: &Args) -> Result<Measured, String> {
     // training subjects.
     let (localizer, lifter) = train_localizer(&train_seqs)?;
 
-    let mut config = GenerateConfig::new(Protocol::Jittered);
-    config.seed = 2;
-    config.min_pose_distance_mm = DEFAULT_MIN_POSE_DISTANCE_MM;
-    let test = project(&test_seqs, &config)?;
     let every = args.every.max(1);
-    let (mut walking, mut diverse) = (Vec::new(), Vec::new());
-    // evaluation_samples keeps the complete samples, in order.
-    let complete = test.samples.iter().filter(|s| s.missing_mask == 0);
-    let samples = evaluation_samples(&test, &localizer).map_err(|e| e.to_string())?;
-    for (i, (s, sample)) in samples.into_iter().zip(complete).enumerate() {
-        if i % every != 0 {
-            continue;
-        }
-        if test.category_of(sample) == MotionCategory::Walk {
-            walking.push(s);
-        } else {
-            diverse.push(s);
-        }
-    }
+    let jittered = categorised_samples(&test_seqs, Protocol::Jittered, every, &localizer)?;
+    let (walking, diverse): (Vec<EvalSample>, Vec<EvalSample>) = {
+        let (w, d): (Vec<_>, Vec<_>) = jittered
+            .iter()
+            .cloned()
+            .partition(|(c, _)| *c == MotionCategory::Walk);
+        (
+            w.into_iter().map(|(_, s)| s).collect(),
+            d.into_iter().map(|(_, s)| s).collect(),
+        )
+    };
     let _ = writeln!(
         md,
         "Basis and priors: {} canonical poses of the training subjects (selection by pose at \
@@ -196,6 +190,7 @@ pub fn measure(args: &Args) -> Result<Measured, String> {
         "| basis and priors | walking: opt | classified | oracle | hybrid | diverse: opt | classified | oracle | hybrid | one core, per pose: opt | hybrid |\n|---|---|---|---|---|---|---|---|---|---|---|"
     );
     let mut shipped = None;
+    let mut by_category = String::new();
     for (name, basis_config, reconstruct_config) in variants {
         let is_shipped = basis_config == BasisConfig::default()
             && reconstruct_config == ReconstructConfig::default();
@@ -229,12 +224,13 @@ pub fn measure(args: &Args) -> Result<Measured, String> {
             per_pose_ms(ModeKind::Hybrid)
         );
         if is_shipped {
-            lifted_rows(
+            let rig = categorised_samples(&test_seqs, Protocol::Rig, every, &localizer)?;
+            by_category = lifted_rows(
                 &mut md,
                 &reconstructor,
-                &localizer,
-                &lifter,
-                [&walking, &diverse],
+                (&localizer, &lifter),
+                &jittered,
+                &rig,
             )?;
             shipped = Some((w, d));
         }
@@ -242,6 +238,7 @@ pub fn measure(args: &Args) -> Result<Measured, String> {
     if let Some((walking, diverse)) = &shipped {
         targets(&mut md, walking, diverse);
     }
+    md.push_str(&by_category);
     let basis = PoseBasis::fit(&poses, &BasisConfig::default()).map_err(|e| e.to_string())?;
     let _ = writeln!(
         md,
@@ -263,16 +260,41 @@ fn train_localizer(train_seqs: &[PoseSequence]) -> Result<(CameraLocalizer, Dept
     Ok((trained.localizer, trained.lifter))
 }
 
+/// Every `every`-th complete `protocol` view (seed 2) of the held-out clips `test_seqs` as
+/// an evaluation sample (classified by `localizer`), with its clip's motion category.
+fn categorised_samples(
+    test_seqs: &[PoseSequence],
+    protocol: Protocol,
+    every: usize,
+    localizer: &CameraLocalizer,
+) -> Result<Vec<(MotionCategory, EvalSample)>, String> {
+    let mut config = GenerateConfig::new(protocol);
+    config.seed = 2;
+    config.min_pose_distance_mm = DEFAULT_MIN_POSE_DISTANCE_MM;
+    let test = project(test_seqs, &config)?;
+    // evaluation_samples keeps the complete samples, in order.
+    let complete = test.samples.iter().filter(|s| s.missing_mask == 0);
+    let samples = evaluation_samples(&test, localizer).map_err(|e| e.to_string())?;
+    Ok(samples
+        .into_iter()
+        .zip(complete)
+        .step_by(every.max(1))
+        .map(|(s, sample)| (test.category_of(sample), s))
+        .collect())
+}
+
 /// The row of `hybrid` with the depth lifter, as `camloc reconstruct` runs it by default (a
-/// `PoseReconstructor` on the basis and settings of `pursuit`, with `localizer` and
-/// `lifter`), on the walking and diverse samples, beside the shipped basis's row of the table.
+/// `PoseReconstructor` on the basis and settings of `pursuit`, with the localizer and the
+/// lifter), on the `jittered` walking and diverse samples, beside the shipped basis's row of
+/// the table; returns the table of that default by motion category on the `jittered` and
+/// `rig` samples.
 fn lifted_rows(
     md: &mut String,
     pursuit: &Reconstructor,
-    localizer: &CameraLocalizer,
-    lifter: &DepthLifter,
-    [walking, diverse]: [&[EvalSample]; 2],
-) -> Result<(), String> {
+    (localizer, lifter): (&CameraLocalizer, &DepthLifter),
+    jittered: &[(MotionCategory, EvalSample)],
+    rig: &[(MotionCategory, EvalSample)],
+) -> Result<String, String> {
     let reconstructor =
         PoseReconstructor::with_config(pursuit.basis().clone(), pursuit.config().clone())
             .and_then(|r| {
@@ -281,30 +303,67 @@ fn lifted_rows(
             })
             .map_err(|e| e.to_string())?
             .with_lifter(lifter.clone());
-    let mean = |samples: &[EvalSample]| {
-        let errors: Vec<Option<f64>> = samples
+    // Per sample: its category and PA-MPJPE (None: failed).
+    let errors = |samples: &[(MotionCategory, EvalSample)]| -> Vec<(MotionCategory, Option<f64>)> {
+        samples
             .par_iter()
-            .map(|s| {
-                let r = reconstructor
-                    .reconstruct(&PartialPose2::from(s.pose2))
-                    .ok()?;
-                Some(mpjpe_after_similarity(&r.reconstruction.pose, &s.truth))
+            .map(|(c, s)| {
+                let r = reconstructor.reconstruct(&PartialPose2::from(s.pose2)).ok();
+                (
+                    *c,
+                    r.map(|r| mpjpe_after_similarity(&r.reconstruction.pose, &s.truth)),
+                )
             })
-            .collect();
-        let ok: Vec<f64> = errors.iter().flatten().copied().collect();
+            .collect()
+    };
+    // Mean error, samples and failures of the samples whose category passes `keep`.
+    let mean = |errors: &[(MotionCategory, Option<f64>)], keep: &dyn Fn(MotionCategory) -> bool| {
+        let kept: Vec<Option<f64>> = errors.iter().filter(|e| keep(e.0)).map(|e| e.1).collect();
+        let ok: Vec<f64> = kept.iter().flatten().copied().collect();
         (
             ok.iter().sum::<f64>() / ok.len().max(1) as f64,
-            errors.len() - ok.len(),
+            kept.len(),
+            kept.len() - ok.len(),
         )
     };
-    let (w, wf) = mean(walking);
-    let (d, df) = mean(diverse);
+    let (jittered, rig) = (errors(jittered), errors(rig));
+    let (w, _, wf) = mean(&jittered, &|c| c == MotionCategory::Walk);
+    let (d, _, df) = mean(&jittered, &|c| c != MotionCategory::Walk);
     let _ = writeln!(
         md,
         "| the same, `hybrid` with the depth lifter (`camloc reconstruct`'s default) | - | - \
          | - | {w:.1} ({wf} failed) | - | - | - | {d:.1} ({df} failed) | - | - |"
     );
-    Ok(())
+    let mut table = String::from(
+        "\n`camloc reconstruct`'s default (`hybrid` with the depth lifter) by motion category \
+         of the held-out clips: PA-MPJPE (mm), views and failures; `jittered` as above, `rig` \
+         (tripod cameras of a studio, seed 2, every same N-th view):\n\n\
+         | motion category | jittered | rig |\n|---|---|---|\n",
+    );
+    let mut categories: Vec<MotionCategory> = jittered.iter().chain(&rig).map(|e| e.0).collect();
+    categories.sort();
+    categories.dedup();
+    let cell = |errors: &[(MotionCategory, Option<f64>)], keep: &dyn Fn(MotionCategory) -> bool| {
+        match mean(errors, keep) {
+            (_, 0, _) => "-".to_string(),
+            (e, n, f) => format!("{e:.1} ({n} views, {f} failed)"),
+        }
+    };
+    for category in categories {
+        let _ = writeln!(
+            table,
+            "| {category} | {} | {} |",
+            cell(&jittered, &|c| c == category),
+            cell(&rig, &|c| c == category)
+        );
+    }
+    let _ = writeln!(
+        table,
+        "| all | {} | {} |",
+        cell(&jittered, &|_| true),
+        cell(&rig, &|_| true)
+    );
+    Ok(table)
 }
 
 /// The proportions test (issue 23) with its heading.
