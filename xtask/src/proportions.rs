@@ -216,24 +216,36 @@ fn variants() -> (Vec<Variant>, Vec<Variant>) {
     (single, sequence)
 }
 
-/// Films every item of `items` under `studio` (rescaled by each subject's factors when
-/// `scaled`).
+/// The skeletons the held-out people are filmed with.
+#[derive(Clone, Copy)]
+enum Skeletons {
+    /// Their own (unscaled).
+    Own,
+    /// Rescaled by each subject's random factors ([`factors`]).
+    Random,
+    /// Rescaled by these factors, every subject alike.
+    Fixed([f64; NUM_LIMBS]),
+}
+
+/// Films every item of `items` under `studio` with `skeletons`.
 fn film_all(
     items: &[Frames],
     studio: Studio,
-    scaled: bool,
+    skeletons: Skeletons,
     seed: u64,
 ) -> Result<Vec<Filmed>, String> {
     items
         .par_iter()
         .enumerate()
         .map(|(i, item)| {
-            let f = factors(&item.subject, seed);
-            let truth: Vec<Pose3> = item
-                .poses
-                .iter()
-                .map(|p| if scaled { rescale(p, &f) } else { *p })
-                .collect();
+            let truth: Vec<Pose3> = match skeletons {
+                Skeletons::Own => item.poses.clone(),
+                Skeletons::Random => {
+                    let f = factors(&item.subject, seed);
+                    item.poses.iter().map(|p| rescale(p, &f)).collect()
+                }
+                Skeletons::Fixed(f) => item.poses.iter().map(|p| rescale(p, &f)).collect(),
+            };
             let lengths = BoneLengths::of_pose(&truth[0]).map_err(|e| e.to_string())?;
             let views = film(
                 &truth,
@@ -493,10 +505,10 @@ pub fn measure(
     }
     for studio in [Studio::Jittered, Studio::Rig] {
         eprintln!("proportions: {} views", studio.name());
-        let single_scaled = film_all(&singles, studio, true, options.seed)?;
-        let single_plain = film_all(&singles, studio, false, options.seed)?;
-        let seq_scaled = film_all(&sequences, studio, true, options.seed)?;
-        let seq_plain = film_all(&sequences, studio, false, options.seed)?;
+        let single_scaled = film_all(&singles, studio, Skeletons::Random, options.seed)?;
+        let single_plain = film_all(&singles, studio, Skeletons::Own, options.seed)?;
+        let seq_scaled = film_all(&sequences, studio, Skeletons::Random, options.seed)?;
+        let seq_plain = film_all(&sequences, studio, Skeletons::Own, options.seed)?;
         let (tm, tw, template_limbs) = template_errors(basis, &seq_scaled)?;
         let (single_tm, _, _) = template_errors(basis, &single_scaled)?;
         let (plain_tm, plain_tw, _) = template_errors(basis, &seq_plain)?;
@@ -572,6 +584,83 @@ pub fn measure(
             "---|".repeat(NUM_LIMBS),
             studio.name()
         );
+    }
+    md.push_str(&labs_section(
+        basis,
+        (localizer, lifter),
+        (&singles, &sequences),
+        options.seed,
+    )?);
+    Ok(md)
+}
+
+/// Skeletons like those of the recorded labs issue 23 quotes (their limbs relative to
+/// camloc's template), as factors of the held-out people's own limbs.
+const LAB_SKELETONS: [(&str, [f64; NUM_LIMBS]); 2] = [
+    (
+        "first lab (torso x 1.30, hip half-width x 0.83, neck-to-head x 0.57, forearms x 1.17)",
+        [
+            0.83, 1.0, 1.0, 0.83, 1.0, 1.0, 1.30, 0.57, 1.0, 1.0, 1.17, 1.0, 1.0, 1.17,
+        ],
+    ),
+    (
+        "second lab (neck-to-head x 1.64, hip half-width x 0.46)",
+        [
+            0.46, 1.0, 1.0, 0.46, 1.0, 1.0, 1.0, 1.64, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0,
+        ],
+    ),
+];
+
+/// The command line's defaults (lengths estimated; `hybrid` with the lifter when there is a
+/// localizer and a lifter, else `opt`) and the same with the true lengths given, on the
+/// held-out `singles` and `sequences` with the [`LAB_SKELETONS`], filmed by the `rig`.
+fn labs_section(
+    basis: &PoseBasis,
+    (localizer, lifter): (Option<&CameraLocalizer>, Option<&DepthLifter>),
+    (singles, sequences): (&[Frames], &[Frames]),
+    seed: u64,
+) -> Result<String, String> {
+    let (kind, lifted) = match (localizer, lifter) {
+        (Some(_), Some(_)) => (ModeKind::Hybrid, true),
+        _ => (ModeKind::Opt, false),
+    };
+    let (single_variants, sequence_variants) = variants();
+    let pick = |variants: Vec<Variant>, lengths: bool| {
+        variants.into_iter().find(|v| {
+            v.config == ReconstructConfig::default()
+                && v.lengths == lengths
+                && !v.focal
+                && v.lifted == lifted
+        })
+    };
+    let chosen: Vec<(Variant, bool)> = [
+        (pick(single_variants, false), false),
+        (pick(variants().0, true), false),
+        (pick(sequence_variants, false), true),
+    ]
+    .into_iter()
+    .filter_map(|(v, sequence)| v.map(|v| (v, sequence)))
+    .collect();
+    let mut md = format!(
+        "\nSkeletons like the recorded labs' that issue 23 quotes: the held-out people's own \
+         limbs times the labs' ratios to camloc's template, every subject alike, filmed by \
+         the `rig` (the labs' are studio cameras), camera `{}`:\n\n| skeletons | variant | \
+         frames | PA-MPJPE | walking / other | length error | largest limb | within 5% | \
+         failed | time per frame |\n|---|---|---|---|---|---|---|---|---|---|\n",
+        kind.name()
+    );
+    for (name, factors) in LAB_SKELETONS {
+        eprintln!("proportions: {name}");
+        let skeletons = Skeletons::Fixed(factors);
+        let filmed = [
+            film_all(singles, Studio::Rig, skeletons, seed)?,
+            film_all(sequences, Studio::Rig, skeletons, seed)?,
+        ];
+        for (variant, sequence) in &chosen {
+            let items = &filmed[usize::from(*sequence)];
+            let s = run(basis, variant, kind, (localizer, lifter), items, *sequence)?;
+            let _ = writeln!(md, "| {name} | {} | {} |", variant.name, s.cells());
+        }
     }
     Ok(md)
 }

@@ -23,6 +23,20 @@ pub const DEFAULT_ROLL_DEG: f64 = 15.0;
 /// The default model's recipe (issue 21: chosen by `cargo xtask postures`, docs/RESULTS.md).
 pub const DEFAULT_RECIPE: &str = "posture=0.1+rig+balance=0.5+quadratic";
 
+/// The augmentation of the depth lifter's views: `training` with bone lengths scaled by up
+/// to 20%, hip widths 0.45-1.6 and head reach 0.5-1.7, because the lifted depths follow the
+/// proportions the lifter has seen and recorded skeletons differ from camloc's template by
+/// more than the classifier's augmentation covers (issue 23's labs: hip half-width 0.46 and
+/// 0.83, neck-to-head 0.57 and 1.64, torso 1.30 times the template's).
+pub fn lifter_augmentation(training: Augmentation) -> Augmentation {
+    Augmentation {
+        bone_scale: 0.2,
+        hip_width: (0.45, 1.6),
+        head_reach: (0.5, 1.7),
+        ..training
+    }
+}
+
 /// The training options of the default model: [`TrainOptions::default`] with the dropout
 /// seeded, and no viewpoint heads fitted on the training views (a recipe fits them on its
 /// own views).
@@ -243,8 +257,9 @@ impl Recipe {
     /// Trains the localizer on `sequences` with this recipe: the classifier on
     /// [`Recipe::classifier_views`], then the viewpoint heads on `sphere` views
     /// ([`VIEWPOINT_SEED`]) and the recipe's `rig` views, at the heads' capacity; and the
-    /// depth lifter on those views (the default quadratic components and
-    /// [`camloc::DEFAULT_LIFTER_LAMBDA`]). `log` sees every Newton iteration.
+    /// depth lifter on the same views of wider people ([`lifter_augmentation`]; the default
+    /// quadratic components and [`camloc::DEFAULT_LIFTER_LAMBDA`]). `log` sees every Newton
+    /// iteration.
     pub fn train(
         &self,
         sequences: &[PoseSequence],
@@ -270,8 +285,22 @@ impl Recipe {
                 self.options.viewpoint_capacity,
             )
             .map_err(|e| e.to_string())?;
+        let head_views = heads.samples.len();
+        drop(heads);
+        // The same views of wider people for the lifter.
+        let lifter_recipe = Recipe {
+            augmentation: lifter_augmentation(self.augmentation),
+            ..self.clone()
+        };
+        let lifter_views = lifter_recipe.views(
+            sequences,
+            Protocol::Sphere,
+            VIEWPOINT_SEED,
+            RIG_SEEDS[1],
+            min_pose_distance_mm,
+        )?;
         let lifter = DepthLifter::fit(
-            &heads,
+            &lifter_views,
             *localizer.descriptor(),
             camloc::DEFAULT_QUADRATIC_COMPONENTS,
             camloc::DEFAULT_LIFTER_LAMBDA,
@@ -282,7 +311,7 @@ impl Recipe {
             lifter,
             report,
             training_views: training.samples.len(),
-            head_views: heads.samples.len(),
+            head_views,
             fit_seconds,
         })
     }

@@ -52,12 +52,13 @@ pub struct LengthWidening {
 }
 
 impl Default for LengthWidening {
-    /// Hip width 0.25, legs 0.05, torso 0.15, head 0.35, shoulder width 0.15, arms 0.06,
+    /// Hip width 0.35 (the hip joints 0.5-2 times as far apart within two deviations),
+    /// legs 0.05, torso 0.15, head 0.35, shoulder width 0.15, arms 0.06,
     /// asymmetry 0.03 (log standard deviations, chosen from the convention differences listed
     /// on each field, not fitted to a test set).
     fn default() -> Self {
         LengthWidening {
-            hip_width: 0.25,
+            hip_width: 0.35,
             legs: 0.05,
             torso: 0.15,
             head: 0.35,
