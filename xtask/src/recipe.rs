@@ -225,6 +225,22 @@ impl Recipe {
         )
     }
 
+    /// The viewpoint heads' views of `sequences`: `sphere` views with [`VIEWPOINT_SEED`], and
+    /// the recipe's `rig` views appended.
+    fn head_views(
+        &self,
+        sequences: &[PoseSequence],
+        min_pose_distance_mm: f64,
+    ) -> Result<Dataset, String> {
+        self.views(
+            sequences,
+            Protocol::Sphere,
+            VIEWPOINT_SEED,
+            RIG_SEEDS[1],
+            min_pose_distance_mm,
+        )
+    }
+
     /// `protocol` views with `seed`, and with `rig_seed` the recipe's `rig` views appended.
     fn views(
         &self,
@@ -271,13 +287,7 @@ impl Recipe {
         let (mut localizer, report) =
             CameraLocalizer::train(&training, &self.options, log).map_err(|e| e.to_string())?;
         let fit_seconds = start.elapsed().as_secs_f64();
-        let heads = self.views(
-            sequences,
-            Protocol::Sphere,
-            VIEWPOINT_SEED,
-            RIG_SEEDS[1],
-            min_pose_distance_mm,
-        )?;
+        let heads = self.head_views(sequences, min_pose_distance_mm)?;
         localizer
             .fit_viewpoint_with_capacity(
                 &heads,
@@ -292,13 +302,7 @@ impl Recipe {
             augmentation: lifter_augmentation(self.augmentation),
             ..self.clone()
         };
-        let lifter_views = lifter_recipe.views(
-            sequences,
-            Protocol::Sphere,
-            VIEWPOINT_SEED,
-            RIG_SEEDS[1],
-            min_pose_distance_mm,
-        )?;
+        let lifter_views = lifter_recipe.head_views(sequences, min_pose_distance_mm)?;
         let lifter = DepthLifter::fit(
             &lifter_views,
             *localizer.descriptor(),
