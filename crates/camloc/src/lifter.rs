@@ -122,7 +122,8 @@ impl DepthLifter {
     }
 
     /// The lifter embedded in this build (trained by `cargo xtask train-default` with the
-    /// default model, on its viewpoint heads' views).
+    /// default model, on its viewpoint heads' views drawn again with wider people:
+    /// docs/conventions.md section 6).
     ///
     /// # Errors
     /// [`CamlocError::NoDefault`] when the build embedded none; decoding errors otherwise.
