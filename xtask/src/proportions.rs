@@ -47,6 +47,17 @@ struct Variant {
     lifted: bool,
 }
 
+impl Variant {
+    /// Whether this is what `camloc reconstruct` runs with the default settings and nothing
+    /// given but, when `lengths`, the true bone lengths; `lifted` as the camera lifts.
+    fn is_default(&self, lengths: bool, lifted: bool) -> bool {
+        self.config == ReconstructConfig::default()
+            && self.lengths == lengths
+            && !self.focal
+            && self.lifted == lifted
+    }
+}
+
 /// A test item filmed: the truth and the views.
 struct Filmed {
     truth: Vec<Pose3>,
@@ -238,13 +249,14 @@ fn film_all(
         .par_iter()
         .enumerate()
         .map(|(i, item)| {
-            let truth: Vec<Pose3> = match skeletons {
-                Skeletons::Own => item.poses.clone(),
-                Skeletons::Random => {
-                    let f = factors(&item.subject, seed);
-                    item.poses.iter().map(|p| rescale(p, &f)).collect()
-                }
-                Skeletons::Fixed(f) => item.poses.iter().map(|p| rescale(p, &f)).collect(),
+            let scale = match skeletons {
+                Skeletons::Own => None,
+                Skeletons::Random => Some(factors(&item.subject, seed)),
+                Skeletons::Fixed(f) => Some(f),
+            };
+            let truth: Vec<Pose3> = match scale {
+                None => item.poses.clone(),
+                Some(f) => item.poses.iter().map(|p| rescale(p, &f)).collect(),
             };
             let lengths = BoneLengths::of_pose(&truth[0]).map_err(|e| e.to_string())?;
             let views = film(
@@ -552,11 +564,7 @@ pub fn measure(
                     let s = run(basis, variant, kind, (localizer, lifter), scaled, sequence)?;
                     let _ = writeln!(md, "| {} | {} | {} |", variant.name, kind.name(), s.cells());
                     // What `camloc reconstruct` does with this camera.
-                    let shipped = !variant.lengths
-                        && !variant.focal
-                        && variant.config == ReconstructConfig::default()
-                        && variant.lifted == lifts(kind);
-                    if !shipped {
+                    if !variant.is_default(false, lifts(kind)) {
                         continue;
                     }
                     let u = run(basis, variant, kind, (localizer, lifter), plain, sequence)?;
@@ -625,21 +633,18 @@ fn labs_section(
         _ => (ModeKind::Opt, false),
     };
     let (single_variants, sequence_variants) = variants();
-    let pick = |variants: Vec<Variant>, lengths: bool| {
-        variants.into_iter().find(|v| {
-            v.config == ReconstructConfig::default()
-                && v.lengths == lengths
-                && !v.focal
-                && v.lifted == lifted
-        })
-    };
-    let chosen: Vec<(Variant, bool)> = [
-        (pick(single_variants, false), false),
-        (pick(variants().0, true), false),
-        (pick(sequence_variants, false), true),
+    let chosen: Vec<(&Variant, bool)> = [
+        (&single_variants, false, false),
+        (&single_variants, true, false),
+        (&sequence_variants, false, true),
     ]
     .into_iter()
-    .filter_map(|(v, sequence)| v.map(|v| (v, sequence)))
+    .filter_map(|(variants, lengths, sequence)| {
+        variants
+            .iter()
+            .find(|v| v.is_default(lengths, lifted))
+            .map(|v| (v, sequence))
+    })
     .collect();
     let mut md = format!(
         "\nSkeletons like the recorded labs' that issue 23 quotes: the held-out people's own \

@@ -125,16 +125,15 @@ pub fn measure(args: &Args) -> Result<Measured, String> {
 
     let every = args.every.max(1);
     let jittered = categorised_samples(&test_seqs, Protocol::Jittered, every, &localizer)?;
-    let (walking, diverse): (Vec<EvalSample>, Vec<EvalSample>) = {
-        let (w, d): (Vec<_>, Vec<_>) = jittered
+    // The samples of walking clips (`true`) or of the other categories.
+    let of_walking = |walk: bool| -> Vec<EvalSample> {
+        jittered
             .iter()
-            .cloned()
-            .partition(|(c, _)| *c == MotionCategory::Walk);
-        (
-            w.into_iter().map(|(_, s)| s).collect(),
-            d.into_iter().map(|(_, s)| s).collect(),
-        )
+            .filter(|(c, _)| (*c == MotionCategory::Walk) == walk)
+            .map(|(_, s)| s.clone())
+            .collect()
     };
+    let (walking, diverse) = (of_walking(true), of_walking(false));
     let _ = writeln!(
         md,
         "Basis and priors: {} canonical poses of the training subjects (selection by pose at \
