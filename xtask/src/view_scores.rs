@@ -260,24 +260,8 @@ mod tests {
 
     #[test]
     fn the_true_pose_locates_noiseless_views_exactly() {
-        // A standing pose (facing -x, right side on +y, z up, metres), with its arms out.
-        let pose = camloc::Pose3::new([
-            [0.0, 0.0, 0.0],
-            [0.0, -0.1, -0.05],
-            [0.02, -0.11, -0.48],
-            [0.05, -0.11, -0.9],
-            [0.0, 0.1, -0.05],
-            [-0.03, 0.12, -0.47],
-            [0.0, 0.12, -0.9],
-            [0.0, 0.0, 0.5],
-            [-0.02, 0.0, 0.72],
-            [0.0, -0.18, 0.48],
-            [0.05, -0.22, 0.2],
-            [-0.1, -0.2, 0.0],
-            [0.0, 0.18, 0.48],
-            [0.03, 0.25, 0.22],
-            [-0.05, 0.3, 0.0],
-        ]);
+        // The embedded basis's mean pose (canonical: facing -x, z up, metres).
+        let pose = camloc::default_basis().unwrap().mean();
         let clip = camloc::dataset::PoseSequence {
             clip: camloc::dataset::ClipInfo::new("01", "01_01"),
             frames: vec![(0, pose)],
