@@ -64,8 +64,9 @@ pub fn outcomes(localizer: &CameraLocalizer, data: &Dataset) -> Result<Vec<ViewO
 /// weak-perspective camera that maps the true canonical pose onto the view's 2D landmarks
 /// (Procrustes, eq. 3, every landmark), the class that of its ring and side
 /// ([`CameraSet::by_ring_and_side`]). Its errors come from the protocol alone (2D noise,
-/// perspective, lens distortion, boundaries between classes): a ceiling for any localizer
-/// that reads the 2D pose.
+/// perspective, lens distortion, boundaries between classes): a reference for any localizer
+/// that reads the 2D pose, not a strict bound (one that learnt the protocol's perspective
+/// and noise could do better).
 ///
 /// # Errors
 /// A message naming the view whose camera cannot be fitted.
@@ -141,8 +142,9 @@ const ELEVATION_BANDS: [(f64, f64); 10] = [
 ];
 
 /// A table of `results` by the true camera elevation above the pelvis ([`ELEVATION_BANDS`]):
-/// per band and row (a recipe's name, or the known-pose ceiling) the level accuracy, the shares of views placed a level too high and
-/// too low, the mean signed elevation error and the number of views.
+/// per band and row (a recipe's, or the true-pose reference's) the level accuracy, the shares
+/// of views placed a level too high and too low, the mean signed elevation error and the
+/// number of views.
 pub fn elevation_bands(md: &mut String, title: &str, results: &[(&str, Vec<ViewOutcome>)]) {
     let _ = writeln!(md, "\n{title}\n");
     let mut header = "| true elevation above the pelvis |".to_string();
