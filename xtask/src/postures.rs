@@ -136,6 +136,33 @@ fn posture_clips(sequences: &[PoseSequence]) -> Vec<PoseSequence> {
 /// The name of the rows of [`known_pose_outcomes`]: the camera fitted to the true 3D pose.
 const KNOWN_POSE: &str = "true 3D pose, Procrustes camera";
 
+/// One table's rows: each row's name (a recipe's, or [`KNOWN_POSE`]) and outcomes.
+type Rows<'a> = Vec<(&'a str, Vec<ViewOutcome>)>;
+
+/// Per test set of `tests`, its table rows: one per recipe of `args` (a localizer trained on
+/// `train_seqs`; `trained` hears the recipe and the seconds of each training), then the
+/// [`KNOWN_POSE`] reference.
+fn score<'a>(
+    train_seqs: &[PoseSequence],
+    tests: &[&Dataset],
+    args: &'a Args,
+    mut trained: impl FnMut(&Recipe, f64),
+) -> Result<Vec<Rows<'a>>, String> {
+    let mut rows = vec![Vec::new(); tests.len()];
+    for recipe in &args.recipes {
+        let (localizer, seconds) = train(train_seqs, recipe, args)?;
+        trained(recipe, seconds);
+        for (row, test) in rows.iter_mut().zip(tests) {
+            row.push((recipe.name.as_str(), outcomes(&localizer, test)?));
+        }
+    }
+    let cameras = CameraSet::table1();
+    for (row, test) in rows.iter_mut().zip(tests) {
+        row.push((KNOWN_POSE, known_pose_outcomes(&cameras, test)?));
+    }
+    Ok(rows)
+}
+
 /// Table rows of `outcomes` per row name (a recipe's, or [`KNOWN_POSE`]): all, the posture
 /// categories together, seated (category sit), low frames, then each other category.
 fn rows(md: &mut String, title: &str, results: &[(&str, Vec<ViewOutcome>)]) {
@@ -194,26 +221,14 @@ pub fn measure(args: &Args, emit: &mut dyn FnMut(&str)) -> Result<(), String> {
         LIMB_FACTOR.0, LIMB_FACTOR.1, HEAD_FACTOR.0, HEAD_FACTOR.1
     );
     // 1. Held-out subjects under three protocols.
-    let jittered = project(&test_seqs, &views(Protocol::Jittered, 2, args))?;
+    let [jittered, rig] = test_views(&test_seqs, args)?;
     let mut sphere = project(&test_seqs, &views(Protocol::Sphere, 3, args))?;
     sphere.samples.retain(|s| s.in_class_box);
-    let rig = project(&test_seqs, &views(Protocol::Rig, 5, args))?;
-    let others = other_skeletons(&test_seqs);
-    let jittered_others = project(&others, &views(Protocol::Jittered, 2, args))?;
-    let rig_others = project(&others, &views(Protocol::Rig, 5, args))?;
+    let [jittered_others, rig_others] = test_views(&other_skeletons(&test_seqs), args)?;
     let tests = [&jittered, &sphere, &rig, &jittered_others, &rig_others];
-    let mut per_protocol: Vec<Vec<(&str, Vec<ViewOutcome>)>> = vec![Vec::new(); tests.len()];
-    for recipe in &args.recipes {
-        let (localizer, seconds) = train(&train_seqs, recipe, args)?;
+    let per_protocol = score(&train_seqs, &tests, args, |recipe, seconds| {
         let _ = writeln!(md, "\n{}: trained in {seconds:.1} s.", recipe.name);
-        for (k, test) in tests.into_iter().enumerate() {
-            per_protocol[k].push((&recipe.name, outcomes(&localizer, test)?));
-        }
-    }
-    let cameras = CameraSet::table1();
-    for (k, test) in tests.into_iter().enumerate() {
-        per_protocol[k].push((KNOWN_POSE, known_pose_outcomes(&cameras, test)?));
-    }
+    })?;
     for (name, results) in [
         "jittered",
         "sphere, inside the class boxes",
@@ -251,36 +266,25 @@ pub fn measure(args: &Args, emit: &mut dyn FnMut(&str)) -> Result<(), String> {
                     .collect()
             })
             .collect();
-        // Per protocol (`jittered`, `rig`), per row (each recipe, then the known pose), the
-        // outcomes pooled over the folds.
-        let names: Vec<&str> = args.recipes.iter().map(|r| r.name.as_str()).collect();
-        let mut pooled: [Vec<Vec<ViewOutcome>>; 2] =
-            std::array::from_fn(|_| vec![Vec::new(); names.len() + 1]);
+        // Per protocol (`jittered`, `rig`) and row, the outcomes pooled over the folds.
+        let mut results: Vec<Rows> = Vec::new();
         for held in &folds {
             let (train_part, test_part): (Vec<PoseSequence>, Vec<PoseSequence>) = all
                 .iter()
                 .cloned()
                 .partition(|s| !held.contains(&s.clip.subject));
-            let test_part = posture_clips(&test_part);
-            let tests = test_views(&test_part, args)?;
-            for (r, recipe) in args.recipes.iter().enumerate() {
-                let (localizer, _) = train(&train_part, recipe, args)?;
-                for (k, test) in tests.iter().enumerate() {
-                    pooled[k][r].extend(outcomes(&localizer, test)?);
+            let [jittered, rig] = test_views(&posture_clips(&test_part), args)?;
+            let fold = score(&train_part, &[&jittered, &rig], args, |_, _| {})?;
+            if results.is_empty() {
+                results = fold;
+                continue;
+            }
+            for (pooled, rows) in results.iter_mut().zip(fold) {
+                for ((_, pooled), (_, row)) in pooled.iter_mut().zip(rows) {
+                    pooled.extend(row);
                 }
             }
-            for (k, test) in tests.iter().enumerate() {
-                pooled[k][names.len()].extend(known_pose_outcomes(&CameraSet::table1(), test)?);
-            }
         }
-        let results = pooled.map(|rows| {
-            names
-                .iter()
-                .copied()
-                .chain([KNOWN_POSE])
-                .zip(rows)
-                .collect::<Vec<_>>()
-        });
         let _ = writeln!(
             md,
             "\nPosture clips, leave-subject-out: {} folds over subjects {} (each fold trained on every other subject).",
@@ -307,17 +311,8 @@ pub fn measure(args: &Args, emit: &mut dyn FnMut(&str)) -> Result<(), String> {
             .iter()
             .cloned()
             .partition(|s| !s.clip.category.is_posture());
-        let tests = test_views(&test_part, args)?;
-        let mut results: [Vec<(&str, Vec<ViewOutcome>)>; 2] = Default::default();
-        for recipe in &args.recipes {
-            let (localizer, _) = train(&train_part, recipe, args)?;
-            for (k, test) in tests.iter().enumerate() {
-                results[k].push((&recipe.name, outcomes(&localizer, test)?));
-            }
-        }
-        for (k, test) in tests.iter().enumerate() {
-            results[k].push((KNOWN_POSE, known_pose_outcomes(&CameraSet::table1(), test)?));
-        }
+        let [jittered, rig] = test_views(&test_part, args)?;
+        let results = score(&train_part, &[&jittered, &rig], args, |_, _| {})?;
         let _ = writeln!(
             md,
             "\nLeave-posture-out: trained on every subject without any posture clip ({} clips left out).",
