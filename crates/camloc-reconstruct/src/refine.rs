@@ -52,6 +52,13 @@ pub struct Refinement {
     /// Sequences: deviation of each bone's unit direction in the camera's orientation from
     /// the mean of the frames before and after it; 0 turns the smoothness off.
     pub smoothness: f64,
+    /// Sequences with unknown lengths: the length prior's deviations are divided by
+    /// `min(sequence_prior, sqrt(frames))` (a one-frame sequence keeps the single frame's
+    /// prior); >= 1. The frames of one video share their errors (a camera elevation misjudged
+    /// over a window draws every frame's depths alike), which the per-frame reprojection
+    /// terms count as independent evidence: without it the lengths follow those shared
+    /// errors.
+    pub sequence_prior: f64,
     /// Sequences: choose each frame's depth hypothesis by the Viterbi path that fits the 2D
     /// and moves least between frames (`true`), or take each frame's preferred one.
     pub consistent_depth: bool,
@@ -63,7 +70,8 @@ pub struct Refinement {
 impl Default for Refinement {
     /// Lengths estimated; image deviation 0.04 (about 4% of a torso), Huber at 2.5
     /// deviations, direction deviation 0.15, the default widening, 10 steps; in sequences
-    /// smoothness 0.1, the Viterbi choice of depths with motion deviation 0.1 m.
+    /// smoothness 0.1, the length prior's deviations halved (`sequence_prior` 2), the Viterbi
+    /// choice of depths with motion deviation 0.1 m.
     fn default() -> Self {
         Refinement {
             estimate_lengths: true,
@@ -73,6 +81,7 @@ impl Default for Refinement {
             widening: LengthWidening::default(),
             iterations: 10,
             smoothness: 0.1,
+            sequence_prior: 2.0,
             consistent_depth: true,
             motion_m: 0.1,
         }
@@ -102,6 +111,13 @@ impl Refinement {
                 "Refinement::smoothness",
                 self.smoothness,
                 "must be finite and >= 0",
+            ));
+        }
+        if !(self.sequence_prior.is_finite() && self.sequence_prior >= 1.0) {
+            return Err(invalid(
+                "Refinement::sequence_prior",
+                self.sequence_prior,
+                "must be finite and >= 1",
             ));
         }
         if self.iterations == 0 {

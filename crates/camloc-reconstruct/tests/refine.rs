@@ -178,6 +178,51 @@ fn sequence_lengths_come_from_the_fit_without_smoothness() {
     assert!(moved > 1e-6, "the smoothness changed no pose");
 }
 
+/// A sequence's estimated lengths are held nearer the prior's mean by `sequence_prior`
+/// (its frames share their errors); a one-frame sequence keeps the single frame's prior, and
+/// a value below 1 is refused.
+#[test]
+fn the_sequence_prior_holds_estimated_lengths_nearer_the_prior() {
+    let truth = person(8);
+    let poses = motion(&truth, 25, 9);
+    let rotation = look_at_origin(sphere_point(150.0, 12.0, 1.0)).unwrap();
+    let frames: Vec<_> = poses
+        .iter()
+        .map(|p| (seen(p, rotation), CameraMode::Opt))
+        .collect();
+    let with = |sequence_prior: f64, frames: &[(Pose2, CameraMode)]| {
+        let mut config = ReconstructConfig::default();
+        config.refinement.sequence_prior = sequence_prior;
+        Reconstructor::new(basis().clone(), config)
+            .unwrap()
+            .reconstruct_sequence(frames, &Given::default())
+            .unwrap()
+            .lengths
+    };
+    let template = reconstructor().template_lengths().unwrap();
+    let from_template = |l: &BoneLengths| {
+        l.relative_errors(&template)
+            .iter()
+            .map(|e| e.abs())
+            .sum::<f64>()
+            / NUM_LIMBS as f64
+    };
+    let (loose, tight) = (with(1.0, &frames), with(5.0, &frames));
+    assert!(
+        from_template(&tight) < 0.9 * from_template(&loose),
+        "tight {} vs loose {}",
+        from_template(&tight),
+        from_template(&loose)
+    );
+    assert_eq!(with(1.0, &frames[..1]), with(5.0, &frames[..1]));
+    let mut config = ReconstructConfig::default();
+    config.refinement.sequence_prior = 0.5;
+    assert!(matches!(
+        Reconstructor::new(basis().clone(), config),
+        Err(ReconstructError::InvalidConfig { .. })
+    ));
+}
+
 #[test]
 fn a_known_focal_length_fits_a_close_camera_in_full_perspective() {
     // A pose the basis spans, with its own lengths given.

@@ -96,7 +96,8 @@ fn start(frame: &RefineFrame, lengths: &[f64; NUM_LIMBS]) -> (FrameData, FrameSt
 }
 
 /// Refines `frames` (one person: their lengths are shared) with `settings`; `sequence` turns
-/// on the smoothness between consecutive frames. Returns the refined frames, in order, and
+/// on the smoothness between consecutive frames and, for unknown lengths, the sequence's
+/// tighter length prior ([`Refinement::sequence_prior`]). Returns the refined frames, in order, and
 /// the lengths.
 ///
 /// # Errors
@@ -112,6 +113,17 @@ pub(crate) fn refine(
         LengthInput::Given(given) => Some(*given),
         LengthInput::Estimated { .. } => None,
     };
+    // A sequence's length prior, tightened (see `Refinement::sequence_prior`).
+    let tightened: Option<LimbMatrix> = match (&lengths, sequence) {
+        (LengthInput::Estimated { whitening, .. }, true) => Some(
+            *whitening
+                * settings
+                    .sequence_prior
+                    .min((frames.len() as f64).sqrt())
+                    .max(1.0),
+        ),
+        _ => None,
+    };
     let (mut log_lengths, unknowns) = match lengths {
         LengthInput::Given(given) => (given.as_array().map(f64::ln), None),
         LengthInput::Estimated {
@@ -120,7 +132,7 @@ pub(crate) fn refine(
         } => (
             mean_log,
             Some(LengthUnknowns {
-                whitening,
+                whitening: tightened.as_ref().unwrap_or(whitening),
                 mean_log,
             }),
         ),
