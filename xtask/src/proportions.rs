@@ -274,8 +274,9 @@ fn film_all(
         .collect()
 }
 
-/// The camera mode of `pose2` under `kind` (the localizer's class for `hybrid`), and with a
-/// `lifter` the depths it predicts for that class.
+/// The camera mode of `pose2` under `kind` (for `hybrid`, the localizer's continuous
+/// viewpoint, as `camloc reconstruct` starts from), and with a `lifter` the depths it predicts
+/// for the localizer's class.
 fn mode_of(
     kind: ModeKind,
     pose2: &Pose2,
@@ -286,7 +287,7 @@ fn mode_of(
         ModeKind::Opt => (Some(CameraMode::Opt), None),
         ModeKind::Hybrid => match localizer.and_then(|l| l.localize(pose2).ok()) {
             Some(l) => (
-                Some(CameraMode::Hybrid(l.rotation)),
+                Some(CameraMode::Hybrid(l.viewpoint_rotation())),
                 lifter.and_then(|f| f.depths(pose2, l.label.index()).ok()),
             ),
             None => (None, None),

@@ -3,7 +3,7 @@
 
 use camloc_dataset::PostureGroup;
 use camloc_features::Descriptor;
-use camloc_geometry::{CameraLabel, CameraSet, Level, Matrix3, Side};
+use camloc_geometry::{CameraLabel, CameraSet, Level, Matrix3, Side, look_at_origin, sphere_point};
 use camloc_learning::{DirectionHeads, LogisticModel, QuadraticExpansion};
 use camloc_skeleton::{Landmark, PartialPose2, Pose2};
 use camloc_store::{FileKind, Persist, Validate};
@@ -43,6 +43,23 @@ pub struct Localization {
     /// 68% of the true directions of the calibration samples with a class probability like
     /// this one's; `None` when the model has no viewpoint heads.
     pub uncertainty_deg: Option<f64>,
+}
+
+impl Localization {
+    /// The rotation (rows: camera x, y, z axes in the canonical body frame) of a camera
+    /// that looks at the body from the continuous viewpoint (`azimuth_deg`, `elevation_deg`),
+    /// without roll (docs/conventions.md section 2, "Looking at the body"); the class's
+    /// `rotation` when the model has no viewpoint heads or the viewpoint is straight above or
+    /// below. The camera `camloc reconstruct`'s `hybrid` starts from: a few degrees from the
+    /// truth where the class's centre may be 45 away.
+    pub fn viewpoint_rotation(&self) -> Matrix3 {
+        match (self.azimuth_deg, self.elevation_deg) {
+            (Some(azimuth), Some(elevation)) => {
+                look_at_origin(sphere_point(azimuth, elevation, 1.0)).unwrap_or(self.rotation)
+            }
+            _ => self.rotation,
+        }
+    }
 }
 
 /// A trained camera localizer: descriptor, classifier and the camera set it predicts.

@@ -172,8 +172,9 @@ impl PoseReconstructor {
 
     /// Sets the camera mode: [`ModeKind::Opt`] (the default: Procrustes camera, the fastest),
     /// [`ModeKind::Classified`] (the rotation of the classified camera, the paper's section
-    /// 8.2) or [`ModeKind::Hybrid`] (the classified rotation refined by Procrustes: the lowest
-    /// 3D error on held-out subjects, about twice the time of `opt`; docs/RESULTS.md).
+    /// 8.2) or [`ModeKind::Hybrid`] (the camera of the localized viewpoint,
+    /// [`Localization::viewpoint_rotation`], refined by Procrustes: the lowest 3D error on
+    /// held-out subjects, about twice the time of `opt`; docs/RESULTS.md).
     ///
     /// # Errors
     /// [`CamlocError::InvalidOption`] for [`ModeKind::Oracle`] (it needs the true camera,
@@ -342,7 +343,7 @@ impl PoseReconstructor {
             }
         };
         let mode = match (&localization, self.mode) {
-            (Some(l), ModeKind::Hybrid) => CameraMode::Hybrid(l.rotation),
+            (Some(l), ModeKind::Hybrid) => CameraMode::Hybrid(l.viewpoint_rotation()),
             (Some(l), _) => CameraMode::Classified(l.rotation),
             (None, _) => CameraMode::Opt,
         };

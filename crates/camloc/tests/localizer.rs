@@ -346,6 +346,36 @@ fn the_default_model_finds_the_examples_true_cameras() {
     }
 }
 
+/// The camera of the continuous viewpoint is a rotation that looks at the body from that
+/// direction; without viewpoint heads it is the class's camera.
+#[test]
+fn the_viewpoint_rotation_looks_from_the_continuous_viewpoint() {
+    let file = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../fixtures/keypoints/example.json");
+    let records = read_keypoints(&file, None, &ReadOptions::default()).unwrap();
+    let localizer = CameraLocalizer::default_model().unwrap();
+    for r in &records {
+        let mut l = localizer.localize_partial(&r.pose).unwrap();
+        let (azimuth, elevation) = (l.azimuth_deg.unwrap(), l.elevation_deg.unwrap());
+        let rotation = l.viewpoint_rotation();
+        assert!(
+            (rotation * rotation.transpose() - camloc_geometry::Matrix3::identity()).norm() < 1e-12
+        );
+        assert!((rotation.determinant() - 1.0).abs() < 1e-12);
+        let seen = camera_direction_deg(&rotation);
+        assert!(
+            angle_between_deg(seen, (azimuth, elevation)) < 1e-9,
+            "{}",
+            r.id
+        );
+        // The camera's x axis is horizontal (no roll), as the Table-1 cameras'.
+        assert!(rotation[(0, 2)].abs() < 1e-12);
+        assert!(angle_between_deg(seen, camera_direction_deg(&l.rotation)) > 1e-6);
+        l.azimuth_deg = None;
+        assert_eq!(l.viewpoint_rotation(), l.rotation);
+    }
+}
+
 #[test]
 fn save_load_round_trips_byte_for_byte_and_corruption_is_refused() {
     let (localizer, dataset) = trained();

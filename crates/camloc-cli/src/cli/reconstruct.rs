@@ -37,8 +37,9 @@ fn camera_modes() -> [PossibleValue; 3] {
              when the camera is one of the 12 viewpoints",
         ),
         PossibleValue::new("hybrid").help(
-            "Classified rotation as the start, refined by Procrustes: the lowest 3D error \
-             measured (docs/RESULTS.md), about twice the time of opt; the default",
+            "The localized viewpoint (the continuous direction, else the classified camera) \
+             as the start, refined by Procrustes: the lowest 3D error measured \
+             (docs/RESULTS.md), about twice the time of opt; the default",
         ),
     ]
 }
