@@ -113,8 +113,9 @@ def reconstruct(
 
     points, layout, scores, min_score: as for ``Localizer.localize``.
     camera: ``opt`` (Procrustes camera), ``classified`` (the rotation of the classified
-    camera) or ``hybrid`` (classified rotation refined by Procrustes, the default, as on the
-    command line: the lower 3D error, about twice the time of ``opt``).
+    camera) or ``hybrid`` (the camera of the localized continuous viewpoint refined by
+    Procrustes, the default, as on the command line: the lower 3D error, about twice the
+    time of ``opt``).
       With ``classified`` and ``hybrid`` and the embedded model, each pose is rebuilt from the
       depths the embedded depth lifter predicts for the classified camera (docs/conventions.md
       section 6) rather than from the pursuit's pose.

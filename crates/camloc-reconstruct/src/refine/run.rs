@@ -97,8 +97,8 @@ fn start(frame: &RefineFrame, lengths: &[f64; NUM_LIMBS]) -> (FrameData, FrameSt
 
 /// Refines `frames` (one person: their lengths are shared) with `settings`; `sequence` turns
 /// on the smoothness between consecutive frames and, for unknown lengths, the sequence's
-/// tighter length prior ([`Refinement::sequence_prior`]). Returns the refined frames, in order, and
-/// the lengths.
+/// tighter length prior ([`Refinement::sequence_prior`]). Returns the refined frames, in
+/// order, and the lengths.
 ///
 /// # Errors
 /// [`ReconstructError::Numerical`] when the estimated lengths leave the plausible range
