@@ -73,6 +73,14 @@ fn seen(pose: &Pose3, rotation: camloc_geometry::Matrix3) -> Pose2 {
     Pose2::new(camera.project(&pose.points))
 }
 
+/// Each of `poses` seen by [`seen`] at `rotation`, with the `opt` camera: a sequence's frames.
+fn opt_frames(poses: &[Pose3], rotation: camloc_geometry::Matrix3) -> Vec<(Pose2, CameraMode)> {
+    poses
+        .iter()
+        .map(|p| (seen(p, rotation), CameraMode::Opt))
+        .collect()
+}
+
 #[test]
 fn given_lengths_are_what_every_reconstruction_has() {
     let lengths = person(1);
@@ -87,10 +95,7 @@ fn given_lengths_are_what_every_reconstruction_has() {
         .reconstruct_with(&seen(&poses[0], rotation), &CameraMode::Opt, 2, &given)
         .unwrap();
     assert_eq!(one.len(), 2);
-    let frames: Vec<_> = poses
-        .iter()
-        .map(|p| (seen(p, rotation), CameraMode::Opt))
-        .collect();
+    let frames = opt_frames(&poses, rotation);
     let sequence = rec.reconstruct_sequence(&frames, &given).unwrap();
     assert_eq!(sequence.lengths, lengths);
     let all = one
@@ -122,10 +127,7 @@ fn a_sequence_recovers_proportions_the_template_does_not_have() {
         let truth = person(10 + seed);
         let poses = motion(&truth, 40, 20 + seed);
         let rotation = look_at_origin(sphere_point(30.0 + 100.0 * seed as f64, 5.0, 1.0)).unwrap();
-        let frames: Vec<_> = poses
-            .iter()
-            .map(|p| (seen(p, rotation), CameraMode::Opt))
-            .collect();
+        let frames = opt_frames(&poses, rotation);
         let sequence = rec
             .reconstruct_sequence(&frames, &Given::default())
             .unwrap();
@@ -154,10 +156,7 @@ fn sequence_lengths_come_from_the_fit_without_smoothness() {
     let truth = person(5);
     let poses = motion(&truth, 30, 6);
     let rotation = look_at_origin(sphere_point(120.0, 8.0, 1.0)).unwrap();
-    let frames: Vec<_> = poses
-        .iter()
-        .map(|p| (seen(p, rotation), CameraMode::Opt))
-        .collect();
+    let frames = opt_frames(&poses, rotation);
     let smooth = reconstructor()
         .reconstruct_sequence(&frames, &Given::default())
         .unwrap();
@@ -186,10 +185,7 @@ fn the_sequence_prior_holds_estimated_lengths_nearer_the_prior() {
     let truth = person(8);
     let poses = motion(&truth, 25, 9);
     let rotation = look_at_origin(sphere_point(150.0, 12.0, 1.0)).unwrap();
-    let frames: Vec<_> = poses
-        .iter()
-        .map(|p| (seen(p, rotation), CameraMode::Opt))
-        .collect();
+    let frames = opt_frames(&poses, rotation);
     let with = |sequence_prior: f64, frames: &[(Pose2, CameraMode)]| {
         let mut config = ReconstructConfig::default();
         config.refinement.sequence_prior = sequence_prior;
@@ -292,10 +288,7 @@ fn a_known_focal_length_fits_a_close_camera_in_full_perspective() {
 fn a_failed_frame_is_reported_and_the_others_are_reconstructed() {
     let lengths = person(5);
     let rotation = look_at_origin(sphere_point(90.0, 0.0, 1.0)).unwrap();
-    let mut frames: Vec<_> = motion(&lengths, 8, 6)
-        .iter()
-        .map(|p| (seen(p, rotation), CameraMode::Opt))
-        .collect();
+    let mut frames = opt_frames(&motion(&lengths, 8, 6), rotation);
     frames[3].0.points[4][1] = f64::NAN;
     let sequence = reconstructor()
         .reconstruct_sequence(&frames, &Given::default())
