@@ -43,8 +43,15 @@ pub struct Refinement {
     pub image_sigma: f64,
     /// Huber threshold of a landmark's reprojection error, in `image_sigma`s; > 0.
     pub huber: f64,
-    /// Deviation of each bone's unit direction from the pursuit's; > 0.
+    /// Deviation of each bone's unit direction from the one the refinement starts from (the
+    /// pursuit's pose, or the lifted one in sequences and under full perspective); > 0.
     pub direction_sigma: f64,
+    /// Single frames started from a lifted pose under weak perspective (no intrinsics): the
+    /// same deviation, from the lifted directions; > 0. The lifted pose is the better
+    /// anchor there, so it is held tighter; in sequences and under full perspective (the
+    /// lifted pose is an orthographic reading of the 2D) `direction_sigma` measured better
+    /// (docs/RESULTS.md).
+    pub lifted_direction_sigma: f64,
     /// The length prior's widening for other skeletons and detectors.
     pub widening: LengthWidening,
     /// Most Levenberg-Marquardt steps (at least 1).
@@ -69,15 +76,16 @@ pub struct Refinement {
 
 impl Default for Refinement {
     /// Lengths estimated; image deviation 0.04 (about 4% of a torso), Huber at 2.5
-    /// deviations, direction deviation 0.15, the default widening, 10 steps; in sequences
-    /// smoothness 0.1, the length prior's deviations halved (`sequence_prior` 2), the Viterbi
-    /// choice of depths with motion deviation 0.1 m.
+    /// deviations, direction deviation 0.15 (0.10 from a single frame's lifted pose), the
+    /// default widening, 10 steps; in sequences smoothness 0.1, the length prior's deviations
+    /// halved (`sequence_prior` 2), the Viterbi choice of depths with motion deviation 0.1 m.
     fn default() -> Self {
         Refinement {
             estimate_lengths: true,
             image_sigma: 0.04,
             huber: 2.5,
             direction_sigma: 0.15,
+            lifted_direction_sigma: 0.10,
             widening: LengthWidening::default(),
             iterations: 10,
             smoothness: 0.1,
@@ -100,6 +108,10 @@ impl Refinement {
             ("Refinement::image_sigma", self.image_sigma),
             ("Refinement::huber", self.huber),
             ("Refinement::direction_sigma", self.direction_sigma),
+            (
+                "Refinement::lifted_direction_sigma",
+                self.lifted_direction_sigma,
+            ),
             ("Refinement::motion_m", self.motion_m),
         ] {
             if !(value.is_finite() && value > 0.0) {

@@ -4,8 +4,8 @@ mod common;
 
 use camloc_geometry::{Perspective, Vector3, WeakPerspective, look_at_origin, sphere_point};
 use camloc_reconstruct::{
-    BoneLengths, CameraMode, Given, Intrinsics, PoseBasis, ReconstructConfig, ReconstructError,
-    Reconstructor, mpjpe_after_similarity,
+    BoneLengths, CameraMode, Given, Intrinsics, LiftedDepths, PoseBasis, ReconstructConfig,
+    ReconstructError, Reconstructor, mpjpe_after_similarity,
 };
 use camloc_skeleton::{LIMBS, NUM_LIMBS, Pose2, Pose3};
 use rand::Rng;
@@ -217,6 +217,72 @@ fn the_sequence_prior_holds_estimated_lengths_nearer_the_prior() {
         Reconstructor::new(basis().clone(), config),
         Err(ReconstructError::InvalidConfig { .. })
     ));
+}
+
+/// Depths of `pose` along the optical axis of a camera at `rotation`, about their mean, in
+/// units of the pose's RMS radius across that axis: what a depth lifter predicts.
+fn true_depths(pose: &Pose3, rotation: camloc_geometry::Matrix3) -> LiftedDepths {
+    let seen: Vec<Vector3> = pose
+        .points
+        .iter()
+        .map(|p| rotation * Vector3::from(*p))
+        .collect();
+    let mean = seen.iter().sum::<Vector3>() / seen.len() as f64;
+    let radius = (seen
+        .iter()
+        .map(|p| (p.x - mean.x).powi(2) + (p.y - mean.y).powi(2))
+        .sum::<f64>()
+        / seen.len() as f64)
+        .sqrt();
+    std::array::from_fn(|i| (seen[i].z - mean.z) / radius)
+}
+
+/// A single frame started from a lifted pose under weak perspective holds its bone
+/// directions with `lifted_direction_sigma`; one started from the pursuit's pose, a lifted
+/// one under full perspective, and a sequence, with `direction_sigma`; a zero deviation is
+/// refused.
+#[test]
+fn lifted_single_frames_have_their_own_direction_deviation() {
+    let poses = motion(&person(6), 8, 7);
+    let rotation = look_at_origin(sphere_point(120.0, 10.0, 1.0)).unwrap();
+    let frames = opt_frames(&poses, rotation);
+    let depths = true_depths(&poses[0], rotation);
+    let with = |pursuit: f64, lifted: f64| {
+        let mut config = ReconstructConfig::default();
+        config.refinement.direction_sigma = pursuit;
+        config.refinement.lifted_direction_sigma = lifted;
+        Reconstructor::new(basis().clone(), config)
+    };
+    // The first frame from the pursuit's pose, from the lifted one, in the sequence.
+    let run = |pursuit: f64, lifted: f64| {
+        let rec = with(pursuit, lifted).unwrap();
+        let single = |d: Option<&LiftedDepths>| {
+            rec.reconstruct_lifted(&frames[0].0, &CameraMode::Opt, 1, &Given::default(), d)
+                .unwrap()
+                .remove(0)
+                .pose
+        };
+        let sequence = rec
+            .reconstruct_sequence(&frames, &Given::default())
+            .unwrap();
+        [
+            single(None),
+            single(Some(&depths)),
+            sequence.frames[0].as_ref().unwrap().pose,
+        ]
+    };
+    let changed = |a: &[Pose3; 3], b: &[Pose3; 3]| -> Vec<bool> {
+        a.iter().zip(b).map(|(x, y)| x != y).collect()
+    };
+    let shipped = run(0.15, 0.1);
+    assert_eq!(changed(&shipped, &run(0.03, 0.1)), [true, false, true]);
+    assert_eq!(changed(&shipped, &run(0.15, 0.03)), [false, true, false]);
+    for (pursuit, lifted) in [(0.0, 0.1), (0.15, 0.0)] {
+        assert!(matches!(
+            with(pursuit, lifted),
+            Err(ReconstructError::InvalidConfig { .. })
+        ));
+    }
 }
 
 #[test]

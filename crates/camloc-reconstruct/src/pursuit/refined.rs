@@ -124,15 +124,16 @@ impl Reconstructor {
         depths: Option<&LiftedDepths>,
     ) -> RefineFrame {
         let camera = candidate.fit.camera;
-        let points = match depths {
-            Some(z) if z.iter().all(|v| v.is_finite()) => lifted_points(obs, z, &camera),
-            _ => candidate.fit.points,
+        let (points, lifted) = match depths {
+            Some(z) if z.iter().all(|v| v.is_finite()) => (lifted_points(obs, z, &camera), true),
+            _ => (candidate.fit.points, false),
         };
         RefineFrame {
             observed: obs.points,
             pose: Pose3 { points },
             camera,
             intrinsics: given.intrinsics.map(|i| obs.normalise_intrinsics(&i)),
+            lifted,
         }
     }
 

@@ -23,6 +23,20 @@ pub(crate) struct RefineFrame {
     pub(crate) camera: WeakPerspective,
     /// Known intrinsics: `(focal, principal point)`.
     pub(crate) intrinsics: Option<(f64, [f64; 2])>,
+    /// Whether `pose` is the lifted one (the 2D at a depth lifter's depths), not the
+    /// pursuit's.
+    pub(crate) lifted: bool,
+}
+
+/// The deviation of the bone directions from their anchors for `frames`:
+/// [`Refinement::lifted_direction_sigma`] for single frames started from a lifted pose under
+/// weak perspective, else [`Refinement::direction_sigma`].
+fn direction_sigma(frames: &[RefineFrame], settings: &Refinement, sequence: bool) -> f64 {
+    if !sequence && frames.iter().all(|f| f.lifted && f.intrinsics.is_none()) {
+        settings.lifted_direction_sigma
+    } else {
+        settings.direction_sigma
+    }
 }
 
 /// One refined frame (normalised image units).
@@ -145,7 +159,7 @@ pub(crate) fn refine(
         weights: Weights {
             image: 1.0 / settings.image_sigma,
             huber: settings.huber,
-            direction: 1.0 / settings.direction_sigma,
+            direction: 1.0 / direction_sigma(frames, settings, sequence),
             smooth: if sequence && settings.smoothness > 0.0 {
                 1.0 / settings.smoothness
             } else {
