@@ -253,11 +253,19 @@ fn lifted_single_frames_have_their_own_direction_deviation() {
         config.refinement.lifted_direction_sigma = lifted;
         Reconstructor::new(basis().clone(), config)
     };
-    // The first frame from the pursuit's pose, from the lifted one, in the sequence.
+    let focal = Given {
+        lengths: None,
+        intrinsics: Some(Intrinsics {
+            focal_px: 2000.0,
+            principal_point: Some([320.0, 240.0]),
+        }),
+    };
+    // The first frame from the pursuit's pose, from the lifted one, from the lifted one with
+    // a focal length, in the sequence.
     let run = |pursuit: f64, lifted: f64| {
         let rec = with(pursuit, lifted).unwrap();
-        let single = |d: Option<&LiftedDepths>| {
-            rec.reconstruct_lifted(&frames[0].0, &CameraMode::Opt, 1, &Given::default(), d)
+        let single = |given: &Given, d: Option<&LiftedDepths>| {
+            rec.reconstruct_lifted(&frames[0].0, &CameraMode::Opt, 1, given, d)
                 .unwrap()
                 .remove(0)
                 .pose
@@ -266,17 +274,24 @@ fn lifted_single_frames_have_their_own_direction_deviation() {
             .reconstruct_sequence(&frames, &Given::default())
             .unwrap();
         [
-            single(None),
-            single(Some(&depths)),
+            single(&Given::default(), None),
+            single(&Given::default(), Some(&depths)),
+            single(&focal, Some(&depths)),
             sequence.frames[0].as_ref().unwrap().pose,
         ]
     };
-    let changed = |a: &[Pose3; 3], b: &[Pose3; 3]| -> Vec<bool> {
+    let changed = |a: &[Pose3; 4], b: &[Pose3; 4]| -> Vec<bool> {
         a.iter().zip(b).map(|(x, y)| x != y).collect()
     };
     let shipped = run(0.15, 0.1);
-    assert_eq!(changed(&shipped, &run(0.03, 0.1)), [true, false, true]);
-    assert_eq!(changed(&shipped, &run(0.15, 0.03)), [false, true, false]);
+    assert_eq!(
+        changed(&shipped, &run(0.03, 0.1)),
+        [true, false, true, true]
+    );
+    assert_eq!(
+        changed(&shipped, &run(0.15, 0.03)),
+        [false, true, false, false]
+    );
     for (pursuit, lifted) in [(0.0, 0.1), (0.15, 0.0)] {
         assert!(matches!(
             with(pursuit, lifted),

@@ -17,7 +17,8 @@ use crate::{BoneLengths, ReconstructError};
 pub(crate) struct RefineFrame {
     /// The 2D landmarks.
     pub(crate) observed: [[f64; 2]; NUM_LANDMARKS],
-    /// The pursuit's pose (metres, body frame).
+    /// The pose the refinement starts from (metres, body frame): the pursuit's, or the
+    /// lifted one (`lifted`).
     pub(crate) pose: Pose3,
     /// The pursuit's weak-perspective camera.
     pub(crate) camera: WeakPerspective,
@@ -26,17 +27,6 @@ pub(crate) struct RefineFrame {
     /// Whether `pose` is the lifted one (the 2D at a depth lifter's depths), not the
     /// pursuit's.
     pub(crate) lifted: bool,
-}
-
-/// The deviation of the bone directions from their anchors for `frames`:
-/// [`Refinement::lifted_direction_sigma`] for single frames started from a lifted pose under
-/// weak perspective, else [`Refinement::direction_sigma`].
-fn direction_sigma(frames: &[RefineFrame], settings: &Refinement, sequence: bool) -> f64 {
-    if !sequence && frames.iter().all(|f| f.lifted && f.intrinsics.is_none()) {
-        settings.lifted_direction_sigma
-    } else {
-        settings.direction_sigma
-    }
 }
 
 /// One refined frame (normalised image units).
@@ -107,6 +97,17 @@ fn start(frame: &RefineFrame, lengths: &[f64; NUM_LIMBS]) -> (FrameData, FrameSt
         projection,
     };
     (data, state)
+}
+
+/// The deviation of the bone directions from their anchors for `frames`:
+/// [`Refinement::lifted_direction_sigma`] for single frames started from a lifted pose under
+/// weak perspective, else [`Refinement::direction_sigma`].
+fn direction_sigma(frames: &[RefineFrame], settings: &Refinement, sequence: bool) -> f64 {
+    if !sequence && frames.iter().all(|f| f.lifted && f.intrinsics.is_none()) {
+        settings.lifted_direction_sigma
+    } else {
+        settings.direction_sigma
+    }
 }
 
 /// Refines `frames` (one person: their lengths are shared) with `settings`; `sequence` turns
