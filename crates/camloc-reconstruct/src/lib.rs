@@ -91,6 +91,7 @@ pub use prior::{JointLimits, symmetrise};
 pub use pursuit::{
     CameraMode, DEFAULT_COEFFICIENT_PRIOR, EQUAL_FIT_TOLERANCE, LengthTarget, LiftedDepths,
     ModeKind, ReconstructConfig, Reconstruction, Reconstructor, SequenceReconstruction,
+    depths_along_axis,
 };
 pub use refine::{Given, Intrinsics, PerspectiveCamera, Refinement};
 

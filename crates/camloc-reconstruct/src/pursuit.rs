@@ -27,5 +27,5 @@ pub use config::{DEFAULT_COEFFICIENT_PRIOR, EQUAL_FIT_TOLERANCE, LengthTarget, R
 pub use hypotheses::Reconstruction;
 pub use mode::{CameraMode, ModeKind};
 pub use reconstructor::Reconstructor;
-pub use refined::LiftedDepths;
+pub use refined::{LiftedDepths, depths_along_axis};
 pub use sequence::SequenceReconstruction;

@@ -5,7 +5,7 @@ mod common;
 use camloc_geometry::{Perspective, Vector3, WeakPerspective, look_at_origin, sphere_point};
 use camloc_reconstruct::{
     BoneLengths, CameraMode, Given, Intrinsics, LiftedDepths, PoseBasis, ReconstructConfig,
-    ReconstructError, Reconstructor, mpjpe_after_similarity,
+    ReconstructError, Reconstructor, depths_along_axis, mpjpe_after_similarity,
 };
 use camloc_skeleton::{LIMBS, NUM_LIMBS, Pose2, Pose3};
 use rand::Rng;
@@ -219,24 +219,6 @@ fn the_sequence_prior_holds_estimated_lengths_nearer_the_prior() {
     ));
 }
 
-/// Depths of `pose` along the optical axis of a camera at `rotation`, about their mean, in
-/// units of the pose's RMS radius across that axis: what a depth lifter predicts.
-fn true_depths(pose: &Pose3, rotation: camloc_geometry::Matrix3) -> LiftedDepths {
-    let seen: Vec<Vector3> = pose
-        .points
-        .iter()
-        .map(|p| rotation * Vector3::from(*p))
-        .collect();
-    let mean = seen.iter().sum::<Vector3>() / seen.len() as f64;
-    let radius = (seen
-        .iter()
-        .map(|p| (p.x - mean.x).powi(2) + (p.y - mean.y).powi(2))
-        .sum::<f64>()
-        / seen.len() as f64)
-        .sqrt();
-    std::array::from_fn(|i| (seen[i].z - mean.z) / radius)
-}
-
 /// A single frame started from a lifted pose under weak perspective holds its bone
 /// directions with `lifted_direction_sigma`; one started from the pursuit's pose, a lifted
 /// one under full perspective, and a sequence, with `direction_sigma`; a zero deviation is
@@ -246,7 +228,7 @@ fn lifted_single_frames_have_their_own_direction_deviation() {
     let poses = motion(&person(6), 8, 7);
     let rotation = look_at_origin(sphere_point(120.0, 10.0, 1.0)).unwrap();
     let frames = opt_frames(&poses, rotation);
-    let depths = true_depths(&poses[0], rotation);
+    let depths = depths_along_axis(&poses[0], &rotation);
     let with = |pursuit: f64, lifted: f64| {
         let mut config = ReconstructConfig::default();
         config.refinement.direction_sigma = pursuit;

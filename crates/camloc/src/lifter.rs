@@ -12,6 +12,7 @@
 use camloc_dataset::{Dataset, Sample};
 use camloc_features::Descriptor;
 use camloc_learning::{DesignRows, Features, QuadraticExpansion, RidgeModel};
+use camloc_reconstruct::depths_along_axis;
 use camloc_skeleton::{NUM_LANDMARKS, Pose2};
 use camloc_store::{FileKind, Persist, Validate};
 use serde::{Deserialize, Serialize};
@@ -141,15 +142,7 @@ impl DepthLifter {
 /// divided by the RMS radius of their coordinates across it (rows 1 and 2), so that they are
 /// in the units of the normalised 2D pose that an orthographic view of the sample gives.
 pub fn depth_targets(sample: &Sample) -> [f64; NUM_LANDMARKS] {
-    let n = NUM_LANDMARKS as f64;
-    let points = &sample.pose3.points;
-    let centroid: [f64; 3] = std::array::from_fn(|a| points.iter().map(|p| p[a]).sum::<f64>() / n);
-    let seen = points.map(|p| {
-        let d = nalgebra::Vector3::new(p[0] - centroid[0], p[1] - centroid[1], p[2] - centroid[2]);
-        sample.rotation * d
-    });
-    let radius = (seen.iter().map(|q| q.x * q.x + q.y * q.y).sum::<f64>() / n).sqrt();
-    seen.map(|q| q.z / radius)
+    depths_along_axis(&sample.pose3, &sample.rotation)
 }
 
 /// The lifter's invariants, run after every decode of a lifter file: a valid descriptor,

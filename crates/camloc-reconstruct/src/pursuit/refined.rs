@@ -1,7 +1,7 @@
 //! The pursuit's hypotheses refined into the person's own proportions
 //! ([`Reconstructor::reconstruct_with`]) and turned into [`Reconstruction`]s.
 
-use camloc_geometry::WeakPerspective;
+use camloc_geometry::{Matrix3, WeakPerspective};
 use camloc_skeleton::{Landmark, NUM_LANDMARKS, Pose2, Pose3};
 use nalgebra::Vector3;
 
@@ -187,6 +187,22 @@ impl Reconstructor {
 /// landmarks, in the units of the 2D pose centred on its centroid and divided by its RMS
 /// radius (positive away from the camera; `camloc::DepthLifter` predicts them).
 pub type LiftedDepths = [f64; NUM_LANDMARKS];
+
+/// The true [`LiftedDepths`] of `pose` (metres, body frame) seen by a camera with `rotation`
+/// (body frame to camera frame): each landmark's coordinate along the optical axis (row 3)
+/// about the centroid of the landmarks, divided by the RMS radius of their coordinates
+/// across it (rows 1 and 2), the unit of the normalised 2D pose of an orthographic view.
+pub fn depths_along_axis(pose: &Pose3, rotation: &Matrix3) -> LiftedDepths {
+    let n = NUM_LANDMARKS as f64;
+    let points = &pose.points;
+    let centroid: [f64; 3] = std::array::from_fn(|a| points.iter().map(|p| p[a]).sum::<f64>() / n);
+    let seen = points.map(|p| {
+        let d = Vector3::new(p[0] - centroid[0], p[1] - centroid[1], p[2] - centroid[2]);
+        rotation * d
+    });
+    let radius = (seen.iter().map(|q| q.x * q.x + q.y * q.y).sum::<f64>() / n).sqrt();
+    seen.map(|q| q.z / radius)
+}
 
 /// The body-frame pose (metres, pelvis at the origin) whose landmarks `camera` sees at the
 /// normalised 2D points of `obs` with `depths`: `X = R^T (p - p_pelvis) / s`.
