@@ -93,7 +93,7 @@ pub use pursuit::{
     ModeKind, ReconstructConfig, Reconstruction, Reconstructor, SequenceReconstruction,
     depths_along_axis,
 };
-pub use refine::{Given, Intrinsics, PerspectiveCamera, Refinement};
+pub use refine::{DistancePrior, Given, Intrinsics, PerspectiveCamera, Refinement};
 
 /// `x > 0`, false for NaN (reads better than a negated comparison at the call sites).
 pub(crate) fn is_positive(x: f64) -> bool {

@@ -10,7 +10,8 @@
 //! frames of one person (a sequence) the lengths are shared and each bone's direction in the
 //! camera's orientation is held near the mean of its neighbouring frames' (unknown lengths
 //! are estimated by a first pass without that term, `Reconstructor::reconstruct_sequence`).
-//! With known intrinsics the camera is a full perspective one.
+//! With known intrinsics the camera is a full perspective one; without them, by default, a
+//! perspective camera at an unknown distance ([`Refinement::distance`]) shared by the frames.
 //!
 //! Layers: `kinematics` (bones to landmarks), `problem` (one frame's cost and normal
 //! equations), `solve` (the steps over all frames), `run` (from pursuit results to refined
@@ -54,6 +55,11 @@ pub struct Refinement {
     pub lifted_direction_sigma: f64,
     /// The length prior's widening for other skeletons and detectors.
     pub widening: LengthWidening,
+    /// Without intrinsics: the camera's distance from the pelvis is an unknown under this
+    /// prior (one for all the frames of a sequence) and the camera a perspective one with the
+    /// pelvis on its optical axis (the reported `camera` is its weak-perspective
+    /// approximation at the pelvis); `None` keeps weak perspective (a camera far away).
+    pub distance: Option<DistancePrior>,
     /// Most Levenberg-Marquardt steps (at least 1).
     pub iterations: usize,
     /// Sequences: deviation of each bone's unit direction in the camera's orientation from
@@ -77,7 +83,8 @@ pub struct Refinement {
 impl Default for Refinement {
     /// Lengths estimated; image deviation 0.04 (about 4% of a torso), Huber at 2.5
     /// deviations, direction deviation 0.15 (0.10 from a single frame's lifted pose), the
-    /// default widening, 10 steps; in sequences smoothness 0.1, the length prior's deviations
+    /// default widening, the camera's distance estimated under [`DistancePrior::default`], 10
+    /// steps; in sequences smoothness 0.1, the length prior's deviations
     /// halved (`sequence_prior` 2), the Viterbi choice of depths with motion deviation 0.1 m.
     fn default() -> Self {
         Refinement {
@@ -87,6 +94,7 @@ impl Default for Refinement {
             direction_sigma: 0.15,
             lifted_direction_sigma: 0.10,
             widening: LengthWidening::default(),
+            distance: Some(DistancePrior::default()),
             iterations: 10,
             smoothness: 0.1,
             sequence_prior: 2.0,
@@ -139,7 +147,57 @@ impl Refinement {
                 "at least one step is needed",
             ));
         }
+        if let Some(distance) = &self.distance {
+            distance.check()?;
+        }
         self.widening.check()
+    }
+}
+
+/// The prior on the distance of a camera whose intrinsics are not given
+/// ([`Refinement::distance`]): a Gaussian on the inverse of the distance from the camera to
+/// the pelvis.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct DistancePrior {
+    /// Mean inverse distance, 1/m; finite and >= 0 (0: a camera far away).
+    pub mean_per_m: f64,
+    /// Deviation of the inverse distance, 1/m; finite and > 0.
+    pub sigma_per_m: f64,
+}
+
+impl Default for DistancePrior {
+    /// Mean 0.1/m (a camera 10 m away), deviation 0.1/m.
+    fn default() -> Self {
+        DistancePrior {
+            mean_per_m: 0.1,
+            sigma_per_m: 0.1,
+        }
+    }
+}
+
+impl DistancePrior {
+    /// An error naming the first setting out of range.
+    fn check(&self) -> Result<(), ReconstructError> {
+        let invalid = |field, value: f64, reason| ReconstructError::InvalidConfig {
+            field,
+            value: value.to_string(),
+            reason,
+        };
+        if !(self.mean_per_m.is_finite() && self.mean_per_m >= 0.0) {
+            return Err(invalid(
+                "DistancePrior::mean_per_m",
+                self.mean_per_m,
+                "must be finite and >= 0",
+            ));
+        }
+        if !(self.sigma_per_m.is_finite() && self.sigma_per_m > 0.0) {
+            return Err(invalid(
+                "DistancePrior::sigma_per_m",
+                self.sigma_per_m,
+                "must be finite and > 0",
+            ));
+        }
+        Ok(())
     }
 }
 

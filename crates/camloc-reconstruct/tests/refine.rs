@@ -4,8 +4,8 @@ mod common;
 
 use camloc_geometry::{Perspective, Vector3, WeakPerspective, look_at_origin, sphere_point};
 use camloc_reconstruct::{
-    BoneLengths, CameraMode, Given, Intrinsics, LiftedDepths, PoseBasis, ReconstructConfig,
-    ReconstructError, Reconstructor, depths_along_axis, mpjpe_after_similarity,
+    BoneLengths, CameraMode, DistancePrior, Given, Intrinsics, LiftedDepths, PoseBasis,
+    ReconstructConfig, ReconstructError, Reconstructor, depths_along_axis, mpjpe_after_similarity,
 };
 use camloc_skeleton::{LIMBS, NUM_LIMBS, Pose2, Pose3};
 use rand::Rng;
@@ -313,7 +313,11 @@ fn a_known_focal_length_fits_a_close_camera_in_full_perspective() {
         }),
         ..weak
     };
-    let a = &rec
+    // Weak perspective: no intrinsics, no distance estimated.
+    let mut config = ReconstructConfig::default();
+    config.refinement.distance = None;
+    let a = &Reconstructor::new(basis().clone(), config)
+        .unwrap()
         .reconstruct_with(&pose2, &CameraMode::Opt, 1, &weak)
         .unwrap()[0];
     let b = &rec
@@ -364,4 +368,120 @@ fn a_failed_frame_is_reported_and_the_others_are_reconstructed() {
         .reconstruct_sequence(&[], &Given::default())
         .unwrap();
     assert!(empty.frames.is_empty());
+}
+
+/// `poses` seen by a perspective camera `distance_m` metres from the pelvis (400 px a metre
+/// at the pelvis), as a sequence's frames with the `hybrid` camera started from the true rotation,
+/// and each frame's true lifted depths.
+fn perspective_frames(
+    poses: &[Pose3],
+    distance_m: f64,
+) -> (Vec<(Pose2, CameraMode)>, Vec<Option<LiftedDepths>>) {
+    let centre = sphere_point(30.0, 10.0, distance_m);
+    let rotation = look_at_origin(centre).unwrap();
+    let camera = Perspective {
+        rotation,
+        centre,
+        focal: 400.0 * distance_m,
+    };
+    poses
+        .iter()
+        .map(|p| {
+            let pose2 = Pose2::new(camera.project(&p.points).unwrap());
+            (
+                (pose2, CameraMode::Hybrid(rotation)),
+                Some(depths_along_axis(p, &rotation)),
+            )
+        })
+        .unzip()
+}
+
+/// The mean PA-MPJPE (mm) of `truth`'s frames reconstructed with `config` from `seen`
+/// and the true lengths: one by one, and as a sequence.
+fn perspective_errors(
+    config: &ReconstructConfig,
+    seen: &(Vec<(Pose2, CameraMode)>, Vec<Option<LiftedDepths>>),
+    truth: &[Pose3],
+) -> [f64; 2] {
+    let rec = Reconstructor::new(basis().clone(), config.clone()).unwrap();
+    let given = Given {
+        lengths: Some(BoneLengths::of_pose(&truth[0]).unwrap()),
+        intrinsics: None,
+    };
+    let (frames, depths) = seen;
+    let n = truth.len() as f64;
+    let single: f64 = frames
+        .iter()
+        .zip(depths)
+        .zip(truth)
+        .map(|(((pose2, mode), d), t)| {
+            let r = rec
+                .reconstruct_lifted(pose2, mode, 1, &given, d.as_ref())
+                .unwrap()
+                .remove(0);
+            mpjpe_after_similarity(&r.pose, t) / n
+        })
+        .sum();
+    let sequence = rec
+        .reconstruct_sequence_lifted(frames, depths, &given)
+        .unwrap();
+    let joint: f64 = sequence
+        .frames
+        .iter()
+        .zip(truth)
+        .map(|(f, t)| mpjpe_after_similarity(&f.as_ref().unwrap().pose, t) / n)
+        .sum();
+    [single, joint]
+}
+
+/// Without intrinsics the camera's distance is an unknown of the refinement: frames from a
+/// close camera are reconstructed better than by weak perspective, one by one and as a
+/// sequence, frames from a far one about as well, and an out-of-range prior is refused.
+#[test]
+fn the_camera_distance_is_estimated_without_intrinsics() {
+    let poses = motion(&person(7), 10, 8);
+    let with = ReconstructConfig::default();
+    assert!(with.refinement.distance.is_some());
+    let mut without = with.clone();
+    without.refinement.distance = None;
+    let near = perspective_frames(&poses, 2.5);
+    let (a, b) = (
+        perspective_errors(&with, &near, &poses),
+        perspective_errors(&without, &near, &poses),
+    );
+    for k in 0..2 {
+        assert!(
+            a[k] < 0.85 * b[k],
+            "near: PA-MPJPE {a:?} mm against {b:?} mm"
+        );
+    }
+    let far = perspective_frames(&poses, 100.0);
+    let (a, b) = (
+        perspective_errors(&with, &far, &poses),
+        perspective_errors(&without, &far, &poses),
+    );
+    for k in 0..2 {
+        assert!(a[k] < b[k] + 3.0, "far: PA-MPJPE {a:?} mm against {b:?} mm");
+    }
+    for prior in [
+        DistancePrior {
+            mean_per_m: -0.1,
+            sigma_per_m: 0.1,
+        },
+        DistancePrior {
+            mean_per_m: 0.1,
+            sigma_per_m: 0.0,
+        },
+        DistancePrior {
+            mean_per_m: f64::NAN,
+            sigma_per_m: 0.1,
+        },
+    ] {
+        let mut config = with.clone();
+        config.refinement.distance = Some(prior);
+        assert!(matches!(
+            Reconstructor::new(basis().clone(), config),
+            Err(ReconstructError::InvalidConfig { .. })
+        ));
+    }
 }

@@ -30,10 +30,14 @@ pub struct Reconstruction {
     ///
     /// [`ReconstructConfig::refinement`]: crate::ReconstructConfig::refinement
     pub pose: Pose3,
-    /// Weak-perspective camera in the input's image units: `L = s [I2 0] R X + t`.
+    /// Weak-perspective camera in the input's image units: `L = s [I2 0] R X + t`. After a
+    /// refinement with a perspective camera (given intrinsics, or an estimated distance:
+    /// [`Refinement::distance`](crate::Refinement::distance)), that camera's approximation at
+    /// the pelvis.
     pub camera: WeakPerspective,
     /// Eq. 6 at the solution: the Euclidean norm of the 30-vector of reprojection residuals,
-    /// in the input's image units.
+    /// in the input's image units, of the camera the solution was fitted with (after a
+    /// refinement, its perspective camera when it had one).
     pub projection_error: f64,
     /// Indices of the pursuit's selected basis components, in order of selection (at most
     /// [`ReconstructConfig::max_basis`]).

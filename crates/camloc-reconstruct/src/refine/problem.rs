@@ -4,7 +4,7 @@
 //! Parameters of a frame, in this order: the rotation increment `w` (3; `R <- R exp([w]x)`),
 //! the camera (3: `log s` and the translation `t` of weak perspective, or the translation `T`
 //! of full perspective), the tangent steps of the 14 bone directions (2 each); then, shared by
-//! every frame, the 14 log bone lengths.
+//! every frame, the 14 log bone lengths and the weak-perspective camera's inverse distance.
 //!
 //! Residuals: the 15 landmarks' reprojection (2 each, in units of the image noise, with a
 //! Huber loss), each bone direction's distance from its anchor (the pursuit's direction, in
@@ -16,12 +16,16 @@
 use camloc_skeleton::{NUM_LANDMARKS, NUM_LIMBS};
 use nalgebra::{Matrix2x3, Matrix3, SMatrix, SVector, Vector2, Vector3};
 
-use super::kinematics::{chains, forward, moved, tangent_basis};
+use super::kinematics::{MAX_CHAIN, chains, forward, moved, tangent_basis};
 
 /// Parameters of one frame.
 pub(super) const FRAME: usize = 3 + 3 + 2 * NUM_LIMBS;
-/// Parameters of one frame and the shared lengths.
-pub(super) const ALL: usize = FRAME + NUM_LIMBS;
+/// Parameters shared by the frames: the log lengths and the inverse distance.
+pub(super) const SHARED: usize = NUM_LIMBS + 1;
+/// Parameters of one frame and the shared ones.
+pub(super) const ALL: usize = FRAME + SHARED;
+/// The inverse distance among all parameters.
+const KAPPA: usize = FRAME + NUM_LIMBS;
 /// First camera parameter.
 const CAM: usize = 3;
 /// First direction parameter.
@@ -35,7 +39,9 @@ pub(super) type Gradient = SVector<f64, ALL>;
 /// How a frame's camera projects, in the frame's normalised image units.
 #[derive(Clone, Copy, Debug)]
 pub(super) enum Projection {
-    /// `p = s [I2 0] R X + t`.
+    /// `p = s (Y_x, Y_y) / (1 + kappa Y_z) + t`, `Y = R X`, with the shared inverse distance
+    /// `kappa` (1/m, >= 0): weak perspective at 0, else a perspective camera `1 / kappa`
+    /// metres from the pelvis with the pelvis on its optical axis.
     Weak,
     /// `p = f (Y_x, Y_y) / Y_z + c`, `Y = R X + T`.
     Perspective {
@@ -82,19 +88,34 @@ pub(super) struct Weights {
 
 /// Depths in front of a perspective camera must exceed this (metres).
 const MIN_DEPTH: f64 = 1e-3;
+/// Under weak perspective with an inverse distance, a landmark's depth must exceed this
+/// fraction of the pelvis's.
+const MIN_DEPTH_RATIO: f64 = 0.2;
+/// Most parameters in one reprojection row: rotation, camera, inverse distance, and a
+/// direction (2) and a length per limb of the longest chain.
+const ROW: usize = 3 + 3 + 1 + 3 * MAX_CHAIN;
+
+/// Which shared parameters are unknowns.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Free {
+    /// The log lengths.
+    pub(super) lengths: bool,
+    /// The inverse distance.
+    pub(super) kappa: bool,
+}
 
 /// One sparse row of the Jacobian: parameter indices and values.
 struct Row {
-    index: [usize; 18],
-    value: [f64; 18],
+    index: [usize; ROW],
+    value: [f64; ROW],
     n: usize,
 }
 
 impl Row {
     fn new() -> Row {
         Row {
-            index: [0; 18],
-            value: [0.0; 18],
+            index: [0; ROW],
+            value: [0.0; ROW],
             n: 0,
         }
     }
@@ -130,19 +151,29 @@ impl FrameState {
         self.directions.map(|d| self.rotation * d)
     }
 
-    /// Where the camera sees the body-frame point `x`, and the derivative of that image point
-    /// with respect to the camera-frame point `R x`; `None` behind a perspective camera.
+    /// Where the camera (with the inverse distance `kappa` under weak perspective) sees the
+    /// body-frame point `x`, and the derivative of that image point with respect to the
+    /// camera-frame point `R x`; `None` behind the camera.
     fn see(
         &self,
         projection: Projection,
+        kappa: f64,
         x: &Vector3<f64>,
     ) -> Option<(Vector2<f64>, Matrix2x3<f64>)> {
         let y = self.rotation * x;
         match projection {
             Projection::Weak => {
-                let s = self.camera[0].exp();
-                let p = Vector2::new(s * y.x + self.camera[1], s * y.y + self.camera[2]);
-                Some((p, Matrix2x3::new(s, 0.0, 0.0, 0.0, s, 0.0)))
+                let den = 1.0 + kappa * y.z;
+                if !(den > MIN_DEPTH_RATIO) {
+                    return None;
+                }
+                let f = self.camera[0].exp() / den;
+                let k = kappa / den;
+                let p = Vector2::new(f * y.x + self.camera[1], f * y.y + self.camera[2]);
+                Some((
+                    p,
+                    Matrix2x3::new(f, 0.0, -f * y.x * k, 0.0, f, -f * y.y * k),
+                ))
             }
             Projection::Perspective { focal, principal } => {
                 let z = y + Vector3::from(self.camera);
@@ -163,15 +194,17 @@ impl FrameState {
         }
     }
 
-    /// The image points of the body-frame `points`; `None` behind a perspective camera.
+    /// The image points of the body-frame `points` (inverse distance `kappa` under weak
+    /// perspective); `None` behind the camera.
     pub(super) fn project(
         &self,
         projection: Projection,
+        kappa: f64,
         points: &[Vector3<f64>; NUM_LANDMARKS],
     ) -> Option<[[f64; 2]; NUM_LANDMARKS]> {
         let mut out = [[0.0; 2]; NUM_LANDMARKS];
         for (o, x) in out.iter_mut().zip(points) {
-            let (p, _) = self.see(projection, x)?;
+            let (p, _) = self.see(projection, kappa, x)?;
             *o = [p.x, p.y];
         }
         Some(out)
@@ -211,20 +244,28 @@ fn huber(rho: f64, k: f64) -> (f64, f64) {
     }
 }
 
+/// A frame's shared parameters: the bone lengths (metres) and the inverse distance of a
+/// weak-perspective camera (1/m).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Shared {
+    pub(super) lengths: [f64; NUM_LIMBS],
+    pub(super) kappa: f64,
+}
+
 /// The cost of `state` (half the sum of squared weighted residuals, Huber on the image) for
-/// the bone `lengths`, with the camera-oriented bone directions `target` of the smoothness;
-/// with `normal`, adds
-/// the Gauss-Newton normal equations there (lengths included when `free_lengths`). `None`
-/// when a landmark is behind a perspective camera.
+/// the `shared` parameters, with the camera-oriented bone directions `target` of the
+/// smoothness; with `normal`, adds the Gauss-Newton normal equations there (the shared
+/// parameters included where `free`). `None` when a landmark is behind the camera.
 pub(super) fn evaluate(
     data: &FrameData,
     state: &FrameState,
-    lengths: &[f64; NUM_LIMBS],
+    shared: &Shared,
     target: Option<&[Vector3<f64>; NUM_LIMBS]>,
     weights: &Weights,
     mut normal: Option<(&mut Hessian, &mut Gradient)>,
-    free_lengths: bool,
+    free: Free,
 ) -> Option<f64> {
+    let lengths = &shared.lengths;
     let points = state.points(lengths);
     let chains = chains();
     let tangents: [[Vector3<f64>; 2]; NUM_LIMBS] = std::array::from_fn(|b| {
@@ -236,7 +277,7 @@ pub(super) fn evaluate(
     });
     let mut cost = 0.0;
     for (i, x) in points.iter().enumerate() {
-        let (p, g) = state.see(data.projection, x)?;
+        let (p, g) = state.see(data.projection, shared.kappa, x)?;
         let u = data.observed[i];
         let e = (p - Vector2::new(u[0], u[1])) * weights.image;
         let (loss, w) = huber(e.norm(), weights.huber);
@@ -254,10 +295,14 @@ pub(super) fn evaluate(
             }
             match data.projection {
                 Projection::Weak => {
-                    let s = state.camera[0].exp();
                     let y = state.rotation * x;
-                    r.push(CAM, s * y[row] * weights.image * w.sqrt());
+                    let den = 1.0 + shared.kappa * y.z;
+                    let seen = state.camera[0].exp() * y[row] / den;
+                    r.push(CAM, seen * weights.image * w.sqrt());
                     r.push(CAM + 1 + row, weights.image * w.sqrt());
+                    if free.kappa {
+                        r.push(KAPPA, -seen * y.z / den * weights.image * w.sqrt());
+                    }
                 }
                 Projection::Perspective { .. } => {
                     for k in 0..3 {
@@ -269,7 +314,7 @@ pub(super) fn evaluate(
                 for (k, e_k) in tangents[b].iter().enumerate() {
                     r.push(DIR + 2 * b + k, lengths[b] * qr.dot(e_k));
                 }
-                if free_lengths {
+                if free.lengths {
                     r.push(FRAME + b, lengths[b] * qr.dot(&state.directions[b]));
                 }
             }
@@ -310,4 +355,121 @@ pub(super) fn evaluate(
         }
     }
     Some(cost)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The gradient of the normal equations is the cost's, parameter by parameter (finite
+    /// differences), for both projections, with every shared parameter free.
+    #[test]
+    fn the_gradient_matches_finite_differences() {
+        let lengths = [
+            0.1, 0.45, 0.42, 0.1, 0.45, 0.42, 0.5, 0.25, 0.18, 0.3, 0.25, 0.18, 0.3, 0.25,
+        ];
+        let directions: [Vector3<f64>; NUM_LIMBS] = std::array::from_fn(|b| {
+            Vector3::new(
+                (b as f64).sin(),
+                (b as f64 * 1.7).cos(),
+                0.3 + 0.1 * b as f64,
+            )
+            .normalize()
+        });
+        let anchors = directions.map(|d| (d + Vector3::new(0.05, -0.03, 0.02)).normalize());
+        let rotation = *nalgebra::Rotation3::new(Vector3::new(0.3, -0.5, 0.2)).matrix();
+        let target = directions.map(|d| rotation * (d + Vector3::new(0.0, 0.04, 0.0)).normalize());
+        let weights = Weights {
+            image: 10.0,
+            huber: 1e9,
+            direction: 5.0,
+            smooth: 3.0,
+        };
+        for (projection, camera) in [
+            (Projection::Weak, [0.2, 0.1, -0.05]),
+            (
+                Projection::Perspective {
+                    focal: 8.0,
+                    principal: [0.1, 0.2],
+                },
+                [0.1, -0.2, 4.0],
+            ),
+        ] {
+            let state = FrameState {
+                rotation,
+                camera,
+                directions,
+            };
+            let shared = Shared {
+                lengths,
+                kappa: 0.3,
+            };
+            let mut observed = state
+                .project(projection, shared.kappa, &state.points(&lengths))
+                .unwrap();
+            for (j, o) in observed.iter_mut().enumerate() {
+                o[0] += 0.02 * (j as f64).cos();
+                o[1] -= 0.03 * (j as f64 * 0.7).sin();
+            }
+            let data = FrameData {
+                observed,
+                anchors,
+                projection,
+            };
+            let free = Free {
+                lengths: true,
+                kappa: true,
+            };
+            let mut h = Hessian::zeros();
+            let mut g = Gradient::zeros();
+            let cost = |s: &FrameState, sh: &Shared| {
+                evaluate(&data, s, sh, Some(&target), &weights, None, free).unwrap()
+            };
+            evaluate(
+                &data,
+                &state,
+                &shared,
+                Some(&target),
+                &weights,
+                Some((&mut h, &mut g)),
+                free,
+            )
+            .unwrap();
+            let eps = 1e-6;
+            for i in 0..ALL {
+                let (plus, minus) = if i < FRAME {
+                    let mut step = SVector::<f64, FRAME>::zeros();
+                    step[i] = eps;
+                    let plus = cost(&state.stepped(projection, &step), &shared);
+                    step[i] = -eps;
+                    (plus, cost(&state.stepped(projection, &step), &shared))
+                } else if i < KAPPA {
+                    let mut up = shared;
+                    up.lengths[i - FRAME] *= eps.exp();
+                    let mut down = shared;
+                    down.lengths[i - FRAME] *= (-eps).exp();
+                    (cost(&state, &up), cost(&state, &down))
+                } else {
+                    let mut up = shared;
+                    up.kappa += eps;
+                    let mut down = shared;
+                    down.kappa -= eps;
+                    (cost(&state, &up), cost(&state, &down))
+                };
+                let numeric = (plus - minus) / (2.0 * eps);
+                // The inverse distance moves nothing under full perspective.
+                let expected = if i == KAPPA && matches!(projection, Projection::Perspective { .. })
+                {
+                    0.0
+                } else {
+                    numeric
+                };
+                assert!(
+                    (g[i] - expected).abs() < 1e-4 * (1.0 + expected.abs()),
+                    "{projection:?} parameter {i}: {} against {expected}",
+                    g[i]
+                );
+            }
+        }
+    }
 }

@@ -8,7 +8,7 @@ use nalgebra::Vector3;
 use super::Refinement;
 use super::kinematics::{directions_of, to_pose};
 use super::problem::{FrameData, FrameState, Projection, Weights};
-use super::solve::{LengthUnknowns, Problem};
+use super::solve::{KappaUnknown, LengthUnknowns, Problem, SharedState};
 use crate::length_prior::LimbMatrix;
 use crate::{BoneLengths, ReconstructError};
 
@@ -33,8 +33,8 @@ pub(crate) struct RefineFrame {
 pub(crate) struct RefinedFrame {
     /// The pose with the refined lengths (metres, body frame, pelvis at the origin).
     pub(crate) pose: Pose3,
-    /// The weak-perspective camera; with intrinsics, the perspective camera's weak
-    /// approximation at the pelvis.
+    /// The weak-perspective camera; with intrinsics or an estimated distance, the perspective
+    /// camera's weak approximation at the pelvis.
     pub(crate) camera: WeakPerspective,
     /// With intrinsics: the perspective camera's translation `T` (metres) and principal
     /// point.
@@ -139,7 +139,7 @@ pub(crate) fn refine(
         ),
         _ => None,
     };
-    let (mut log_lengths, unknowns) = match lengths {
+    let (log_lengths, unknowns) = match lengths {
         LengthInput::Given(given) => (given.as_array().map(f64::ln), None),
         LengthInput::Estimated {
             whitening,
@@ -155,6 +155,18 @@ pub(crate) fn refine(
     let initial = log_lengths.map(f64::exp);
     let (data, mut states): (Vec<FrameData>, Vec<FrameState>) =
         frames.iter().map(|f| start(f, &initial)).unzip();
+    // Without intrinsics the camera's distance is an unknown under its prior.
+    let kappa = settings
+        .distance
+        .filter(|_| frames.iter().all(|f| f.intrinsics.is_none()))
+        .map(|prior| KappaUnknown {
+            mean: prior.mean_per_m,
+            weight: 1.0 / prior.sigma_per_m,
+        });
+    let mut shared = SharedState {
+        log_lengths,
+        kappa: kappa.as_ref().map_or(0.0, |k| k.mean),
+    };
     let problem = Problem {
         frames: &data,
         weights: Weights {
@@ -168,13 +180,14 @@ pub(crate) fn refine(
             },
         },
         lengths: unknowns,
+        kappa,
         iterations: settings.iterations,
     };
-    problem.solve(&mut states, &mut log_lengths);
+    problem.solve(&mut states, &mut shared);
     // Given lengths stay exactly as given (not through their logarithms).
     let lengths = match given {
         Some(given) => given,
-        None => BoneLengths::from_array(log_lengths.map(f64::exp)).map_err(|_| {
+        None => BoneLengths::from_array(shared.log_lengths.map(f64::exp)).map_err(|_| {
             ReconstructError::Numerical("the estimated bone lengths are implausible")
         })?,
     };
@@ -182,16 +195,21 @@ pub(crate) fn refine(
     let refined = data
         .iter()
         .zip(&states)
-        .map(|(d, s)| finish(d, s, &metres))
+        .map(|(d, s)| finish(d, s, &metres, shared.kappa))
         .collect();
     Ok((refined, lengths))
 }
 
-/// The refined frame of `state`.
-fn finish(data: &FrameData, state: &FrameState, lengths: &[f64; NUM_LIMBS]) -> RefinedFrame {
+/// The refined frame of `state` (inverse distance `kappa` under weak perspective).
+fn finish(
+    data: &FrameData,
+    state: &FrameState,
+    lengths: &[f64; NUM_LIMBS],
+    kappa: f64,
+) -> RefinedFrame {
     let points = state.points(lengths);
     let squared_error = state
-        .project(data.projection, &points)
+        .project(data.projection, kappa, &points)
         .map_or(f64::INFINITY, |p| {
             p.iter()
                 .zip(&data.observed)

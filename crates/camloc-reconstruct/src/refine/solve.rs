@@ -1,13 +1,15 @@
-//! Levenberg-Marquardt over the frames of one person with shared bone lengths: each frame's
-//! parameters are eliminated (Schur complement), the 14 log lengths solved, the frames'
-//! steps recovered. A frame's normal equations are kept between the two passes for short
+//! Levenberg-Marquardt over the frames of one person with shared bone lengths and camera
+//! distance: each frame's parameters are eliminated (Schur complement), the shared ones (14
+//! log lengths, the inverse distance) solved, the frames' steps recovered. A frame's normal equations are kept between the two passes for short
 //! problems and made again for long ones, so that memory does not grow with the frames.
 
 use camloc_skeleton::NUM_LIMBS;
 use nalgebra::{SMatrix, SVector, Vector3};
 use rayon::prelude::*;
 
-use super::problem::{FRAME, FrameData, FrameState, Gradient, Hessian, Weights, evaluate};
+use super::problem::{
+    FRAME, FrameData, FrameState, Free, Gradient, Hessian, SHARED, Shared, Weights, evaluate,
+};
 use crate::dense::{cholesky_in_place, forward_solve, transposed_back_solve};
 use crate::length_prior::LimbMatrix;
 
@@ -26,12 +28,41 @@ pub(super) struct LengthUnknowns<'a> {
     pub(super) mean_log: [f64; NUM_LIMBS],
 }
 
+/// The prior on the shared inverse distance (1/m) when it is an unknown:
+/// `((kappa - mean) weight)^2 / 2`.
+pub(super) struct KappaUnknown {
+    pub(super) mean: f64,
+    /// 1 / the deviation (m).
+    pub(super) weight: f64,
+}
+
+/// The shared unknowns as the solver moves them.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct SharedState {
+    /// Log bone lengths (log metres).
+    pub(super) log_lengths: [f64; NUM_LIMBS],
+    /// The weak-perspective camera's inverse distance (1/m, >= 0).
+    pub(super) kappa: f64,
+}
+
+impl SharedState {
+    /// The lengths in metres and the inverse distance.
+    pub(super) fn shared(&self) -> Shared {
+        Shared {
+            lengths: self.log_lengths.map(f64::exp),
+            kappa: self.kappa,
+        }
+    }
+}
+
 /// What the solver works on.
 pub(super) struct Problem<'a> {
     pub(super) frames: &'a [FrameData],
     pub(super) weights: Weights,
     /// `None`: the lengths are given and stay.
     pub(super) lengths: Option<LengthUnknowns<'a>>,
+    /// `None`: the inverse distance stays.
+    pub(super) kappa: Option<KappaUnknown>,
     /// Most Levenberg-Marquardt steps.
     pub(super) iterations: usize,
 }
@@ -43,15 +74,18 @@ pub(super) struct Problem<'a> {
 struct Eliminated {
     /// `L` in the lower triangle.
     factor: SMatrix<f64, FRAME, FRAME>,
-    reduced_b: SMatrix<f64, FRAME, NUM_LIMBS>,
+    reduced_b: SMatrix<f64, FRAME, SHARED>,
     reduced_g: SVector<f64, FRAME>,
-    d: SMatrix<f64, NUM_LIMBS, NUM_LIMBS>,
-    g_lengths: SVector<f64, NUM_LIMBS>,
+    d: SMatrix<f64, SHARED, SHARED>,
+    g_shared: SVector<f64, SHARED>,
 }
 
 impl Problem<'_> {
-    fn free(&self) -> bool {
-        self.lengths.is_some()
+    fn free(&self) -> Free {
+        Free {
+            lengths: self.lengths.is_some(),
+            kappa: self.kappa.is_some(),
+        }
     }
 
     /// Each frame's smoothness target: the mean camera-oriented bone directions of the
@@ -79,23 +113,27 @@ impl Problem<'_> {
         )
     }
 
-    /// The cost of the frames (none behind a camera) plus the length prior.
+    /// The cost of the frames (none behind a camera) plus the priors on the shared
+    /// unknowns.
     fn cost(
         &self,
         states: &[FrameState],
-        log_lengths: &[f64; NUM_LIMBS],
+        shared: &SharedState,
         targets: Option<&[[Vector3<f64>; NUM_LIMBS]]>,
     ) -> f64 {
-        let lengths = log_lengths.map(f64::exp);
+        let metres = shared.shared();
         let one = |t: usize| {
             evaluate(
                 &self.frames[t],
                 &states[t],
-                &lengths,
+                &metres,
                 targets.map(|all| &all[t]),
                 &self.weights,
                 None,
-                false,
+                Free {
+                    lengths: false,
+                    kappa: false,
+                },
             )
             .unwrap_or(f64::INFINITY)
         };
@@ -107,15 +145,20 @@ impl Problem<'_> {
             let costs: Vec<f64> = (0..states.len()).into_par_iter().map(one).collect();
             costs.iter().sum()
         };
-        frames + self.prior_cost(log_lengths)
+        frames + self.prior_cost(shared)
     }
 
-    fn prior_cost(&self, log_lengths: &[f64; NUM_LIMBS]) -> f64 {
-        self.lengths.as_ref().map_or(0.0, |u| {
+    fn prior_cost(&self, shared: &SharedState) -> f64 {
+        let lengths = self.lengths.as_ref().map_or(0.0, |u| {
             let r = u.whitening
-                * SVector::<f64, NUM_LIMBS>::from_fn(|b, _| log_lengths[b] - u.mean_log[b]);
+                * SVector::<f64, NUM_LIMBS>::from_fn(|b, _| shared.log_lengths[b] - u.mean_log[b]);
             0.5 * r.norm_squared()
-        })
+        });
+        let kappa = self
+            .kappa
+            .as_ref()
+            .map_or(0.0, |k| 0.5 * ((shared.kappa - k.mean) * k.weight).powi(2));
+        lengths + kappa
     }
 
     /// Frame `t`'s normal equations, damped by `damping` and factorised; `None` when the
@@ -124,7 +167,7 @@ impl Problem<'_> {
         &self,
         t: usize,
         state: &FrameState,
-        lengths: &[f64; NUM_LIMBS],
+        shared: &Shared,
         target: Option<&[Vector3<f64>; NUM_LIMBS]>,
         damping: f64,
     ) -> Option<Eliminated> {
@@ -133,7 +176,7 @@ impl Problem<'_> {
         evaluate(
             &self.frames[t],
             state,
-            lengths,
+            shared,
             target,
             &self.weights,
             Some((&mut h, &mut g)),
@@ -146,9 +189,10 @@ impl Problem<'_> {
         if !cholesky_in_place(a.as_mut_slice(), FRAME) {
             return None;
         }
-        let mut reduced_b = SMatrix::<f64, FRAME, NUM_LIMBS>::zeros();
-        if self.free() {
-            reduced_b.copy_from(&h.fixed_view::<FRAME, NUM_LIMBS>(0, FRAME));
+        let mut reduced_b = SMatrix::<f64, FRAME, SHARED>::zeros();
+        let free = self.free();
+        if free.lengths || free.kappa {
+            reduced_b.copy_from(&h.fixed_view::<FRAME, SHARED>(0, FRAME));
             for column in reduced_b.as_mut_slice().chunks_exact_mut(FRAME) {
                 forward_solve(a.as_slice(), FRAME, column);
             }
@@ -159,24 +203,23 @@ impl Problem<'_> {
             factor: a,
             reduced_b,
             reduced_g,
-            d: h.fixed_view::<NUM_LIMBS, NUM_LIMBS>(FRAME, FRAME)
-                .into_owned(),
-            g_lengths: g.fixed_rows::<NUM_LIMBS>(FRAME).into_owned(),
+            d: h.fixed_view::<SHARED, SHARED>(FRAME, FRAME).into_owned(),
+            g_shared: g.fixed_rows::<SHARED>(FRAME).into_owned(),
         })
     }
 
-    /// One damped Gauss-Newton step from `states`, `log_lengths`: the trial states and log
-    /// lengths, `None` when a system cannot be solved.
+    /// One damped Gauss-Newton step from `states`, `shared`: the trial states and shared
+    /// unknowns, `None` when a system cannot be solved.
     fn step(
         &self,
         states: &[FrameState],
-        log_lengths: &[f64; NUM_LIMBS],
+        shared: &SharedState,
         targets: Option<&[[Vector3<f64>; NUM_LIMBS]]>,
         damping: f64,
-    ) -> Option<(Vec<FrameState>, [f64; NUM_LIMBS])> {
-        let lengths = log_lengths.map(f64::exp);
+    ) -> Option<(Vec<FrameState>, SharedState)> {
+        let metres = shared.shared();
         let eliminate =
-            |t: usize| self.eliminate(t, &states[t], &lengths, targets.map(|all| &all[t]), damping);
+            |t: usize| self.eliminate(t, &states[t], &metres, targets.map(|all| &all[t]), damping);
         let kept: Option<Vec<Eliminated>> = if states.len() <= KEPT_FRAMES {
             (0..states.len())
                 .map(eliminate)
@@ -185,23 +228,18 @@ impl Problem<'_> {
         } else {
             None
         };
-        let mut dl = SVector::<f64, NUM_LIMBS>::zeros();
-        if let Some(unknowns) = &self.lengths {
-            let schur = |e: &Eliminated| {
+        let free = self.free();
+        let mut ds = SVector::<f64, SHARED>::zeros();
+        if free.lengths || free.kappa {
+            type System = (SMatrix<f64, SHARED, SHARED>, SVector<f64, SHARED>);
+            let schur = |e: &Eliminated| -> System {
                 (
                     e.d - e.reduced_b.tr_mul(&e.reduced_b),
-                    e.g_lengths - e.reduced_b.tr_mul(&e.reduced_g),
+                    e.g_shared - e.reduced_b.tr_mul(&e.reduced_g),
                 )
             };
-            let zero = (
-                SMatrix::<f64, NUM_LIMBS, NUM_LIMBS>::zeros(),
-                SVector::<f64, NUM_LIMBS>::zeros(),
-            );
-            let add =
-                |a: (SMatrix<f64, NUM_LIMBS, NUM_LIMBS>, SVector<f64, NUM_LIMBS>),
-                 b: (SMatrix<f64, NUM_LIMBS, NUM_LIMBS>, SVector<f64, NUM_LIMBS>)| {
-                    (a.0 + b.0, a.1 + b.1)
-                };
+            let zero: System = (SMatrix::zeros(), SVector::zeros());
+            let add = |a: System, b: System| -> System { (a.0 + b.0, a.1 + b.1) };
             let (mut s, mut r) = match &kept {
                 Some(all) => all.iter().map(schur).fold(zero, add),
                 None => (0..states.len())
@@ -211,20 +249,40 @@ impl Problem<'_> {
                     .into_iter()
                     .fold(zero, add),
             };
-            let w = unknowns.whitening;
-            let prior_h = w.transpose() * w;
-            let residual = w * SVector::<f64, NUM_LIMBS>::from_fn(|b, _| {
-                log_lengths[b] - unknowns.mean_log[b]
-            });
-            s += prior_h;
-            r += w.transpose() * residual;
-            for i in 0..NUM_LIMBS {
-                s[(i, i)] += damping * (s[(i, i)] + 1e-9);
+            if let Some(unknowns) = &self.lengths {
+                let w = unknowns.whitening;
+                let residual = w * SVector::<f64, NUM_LIMBS>::from_fn(|b, _| {
+                    shared.log_lengths[b] - unknowns.mean_log[b]
+                });
+                let mut block = s.fixed_view_mut::<NUM_LIMBS, NUM_LIMBS>(0, 0);
+                block += w.transpose() * w;
+                let mut rows = r.fixed_rows_mut::<NUM_LIMBS>(0);
+                rows += w.transpose() * residual;
             }
-            dl = -s.cholesky()?.solve(&r);
+            if let Some(k) = &self.kappa {
+                s[(NUM_LIMBS, NUM_LIMBS)] += k.weight * k.weight;
+                r[NUM_LIMBS] += k.weight * k.weight * (shared.kappa - k.mean);
+            }
+            for i in 0..SHARED {
+                let fixed = if i < NUM_LIMBS {
+                    !free.lengths
+                } else {
+                    !free.kappa
+                };
+                if fixed {
+                    // A fixed unknown: its step is 0.
+                    s.row_mut(i).fill(0.0);
+                    s.column_mut(i).fill(0.0);
+                    s[(i, i)] = 1.0;
+                    r[i] = 0.0;
+                } else {
+                    s[(i, i)] += damping * (s[(i, i)] + 1e-9);
+                }
+            }
+            ds = -s.cholesky()?.solve(&r);
         }
         let move_frame = |t: usize, e: &Eliminated| -> FrameState {
-            let mut step = e.reduced_g + e.reduced_b * dl;
+            let mut step = e.reduced_g + e.reduced_b * ds;
             transposed_back_solve(e.factor.as_slice(), FRAME, step.as_mut_slice());
             states[t].stepped(self.frames[t].projection, &-step)
         };
@@ -239,41 +297,41 @@ impl Problem<'_> {
                 .map(|t| eliminate(t).map(|e| move_frame(t, &e)))
                 .collect::<Option<Vec<_>>>()?,
         };
-        let trial_lengths = std::array::from_fn(|b| log_lengths[b] + dl[b]);
-        Some((trial, trial_lengths))
+        let trial_shared = SharedState {
+            log_lengths: std::array::from_fn(|b| shared.log_lengths[b] + ds[b]),
+            // A camera cannot be beyond infinity.
+            kappa: (shared.kappa + ds[NUM_LIMBS]).max(0.0),
+        };
+        Some((trial, trial_shared))
     }
 
-    /// Minimises the cost from `states` and `log_lengths` (both updated in place); returns
-    /// the number of steps taken.
-    pub(super) fn solve(
-        &self,
-        states: &mut Vec<FrameState>,
-        log_lengths: &mut [f64; NUM_LIMBS],
-    ) -> usize {
+    /// Minimises the cost from `states` and `shared` (both updated in place); returns the
+    /// number of steps taken.
+    pub(super) fn solve(&self, states: &mut Vec<FrameState>, shared: &mut SharedState) -> usize {
         let mut damping = DAMPING.0;
         let mut steps = 0;
         for _ in 0..self.iterations {
             let targets = self.targets(states);
-            let current = self.cost(states, log_lengths, targets.as_deref());
+            let current = self.cost(states, shared, targets.as_deref());
             let mut accepted = None;
             while damping <= DAMPING.2 {
-                if let Some((trial, trial_lengths)) =
-                    self.step(states, log_lengths, targets.as_deref(), damping)
+                if let Some((trial, trial_shared)) =
+                    self.step(states, shared, targets.as_deref(), damping)
                 {
-                    let cost = self.cost(&trial, &trial_lengths, targets.as_deref());
+                    let cost = self.cost(&trial, &trial_shared, targets.as_deref());
                     if cost < current {
-                        accepted = Some((trial, trial_lengths, cost));
+                        accepted = Some((trial, trial_shared, cost));
                         damping = (damping / 3.0).max(DAMPING.1);
                         break;
                     }
                 }
                 damping *= 5.0;
             }
-            let Some((trial, trial_lengths, cost)) = accepted else {
+            let Some((trial, trial_shared, cost)) = accepted else {
                 break;
             };
             *states = trial;
-            *log_lengths = trial_lengths;
+            *shared = trial_shared;
             steps += 1;
             if current - cost <= 1e-6 * current {
                 break;
