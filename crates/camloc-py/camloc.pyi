@@ -137,8 +137,11 @@ def reconstruct(
         the estimated ones at the prior's size), in the basis's canonical body frame (pelvis at the origin, z up; see
         docs/conventions.md), ``LANDMARKS`` order;
       rotation (N, 3, 3), scale (N,) (image units per metre), translation (N, 2) (image units):
-        the weak-perspective camera, image = scale * rotation[:2] @ X + translation;
-      projection_error (N,): norm of the reprojection residuals, image units;
+        the weak-perspective camera, image = scale * rotation[:2] @ X + translation (without
+        ``focal_px`` the final refinement estimates the camera's distance: this is that
+        perspective camera's approximation at the pelvis; docs/conventions.md section 6);
+      projection_error (N,): norm of the reprojection residuals of the fitted camera, image
+        units;
       label (N,) int64: the classified camera (0 for ``opt`` and failed poses);
       bone_lengths (N, 14): each pose's limb lengths in metres, ``BONE_KEYS`` order;
       translation_m (N, 3): with ``focal_px``, the pelvis in the perspective camera's frame in
