@@ -137,15 +137,19 @@ def reconstruct(
         the estimated ones at the prior's size), in the basis's canonical body frame (pelvis at the origin, z up; see
         docs/conventions.md), ``LANDMARKS`` order;
       rotation (N, 3, 3), scale (N,) (image units per metre), translation (N, 2) (image units):
-        the weak-perspective camera, image = scale * rotation[:2] @ X + translation (without
-        ``focal_px`` the final refinement estimates the camera's distance: this is that
-        perspective camera's approximation at the pelvis; docs/conventions.md section 6);
-      projection_error (N,): norm of the reprojection residuals of the fitted camera, image
-        units;
+        the weak-perspective camera, image = scale * rotation[:2] @ X + translation (after a
+        perspective refinement, that camera's approximation at the pelvis;
+        docs/conventions.md section 6);
+      projection_error (N,): norm of the reprojection residuals of the fitted camera (the
+        perspective one when there is one), image units;
       label (N,) int64: the classified camera (0 for ``opt`` and failed poses);
       bone_lengths (N, 14): each pose's limb lengths in metres, ``BONE_KEYS`` order;
-      translation_m (N, 3): with ``focal_px``, the pelvis in the perspective camera's frame in
-        metres (absolute only with given ``bone_lengths``), else NaN;
+      translation_m (N, 3), focal_px (N,), principal_point (N, 2): the perspective camera the
+        final refinement fitted (with ``focal_px`` that one; without it, the camera at the
+        estimated distance, the pelvis on its optical axis, mostly the prior's distance for a
+        single pose), image = focal_px * (R X + T)[:2] / (R X + T)[2] + principal_point with
+        R = rotation, T = translation_m: the pelvis in the camera's frame in metres (absolute
+        only with given ``bone_lengths``); NaN where there is none (weak perspective);
       person_bone_lengths (14,): with ``sequence``, the person's lengths (given or estimated);
       camera: the mode used;
       error: list of N messages, None where the pose was reconstructed.

@@ -5,7 +5,7 @@
 use camloc::geometry::CameraSet;
 use camloc::keypoints::KeypointRecord;
 use camloc::reconstruct::Reconstruction;
-use camloc::skeleton::{LIMBS, Landmark, Pose2};
+use camloc::skeleton::{LIMBS, Landmark};
 use camloc::{CameraLabel, Localization};
 use serde::Serialize;
 
@@ -54,8 +54,7 @@ impl ViewFrame {
             frame: record.frame,
             person: record.person,
             input: record.pose.points.to_vec(),
-            reprojection: reconstruction
-                .map(|r| Pose2::new(r.camera.project(&r.pose.points)).points.to_vec()),
+            reprojection: reconstruction.map(|r| r.reprojection().to_vec()),
             pose: reconstruction.map(|r| r.pose.points.to_vec()),
             label: localization.map(|l| l.label),
             probabilities: localization.map(|l| l.probabilities.clone()),

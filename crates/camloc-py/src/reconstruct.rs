@@ -164,6 +164,8 @@ pub(crate) fn reconstruct<'py>(
     let mut label = vec![0i64; n];
     let mut lengths = vec![f64::NAN; n * NUM_LIMBS];
     let mut translation_m = vec![f64::NAN; n * 3];
+    let mut focal_px = vec![f64::NAN; n];
+    let mut principal_point = vec![f64::NAN; n * 2];
     let mut errors = Vec::new();
     for (i, result) in results.into_iter().enumerate() {
         let r = match result {
@@ -191,6 +193,8 @@ pub(crate) fn reconstruct<'py>(
         }
         if let Some(p) = &rec.perspective {
             translation_m[i * 3..(i + 1) * 3].copy_from_slice(&p.translation);
+            focal_px[i] = p.focal_px;
+            principal_point[i * 2..(i + 1) * 2].copy_from_slice(&p.principal_point);
         }
         label[i] = r
             .localization
@@ -206,6 +210,8 @@ pub(crate) fn reconstruct<'py>(
     out.array("label", label, &[])?;
     out.array("bone_lengths", lengths, &[NUM_LIMBS])?;
     out.array("translation_m", translation_m, &[3])?;
+    out.array("focal_px", focal_px, &[])?;
+    out.array("principal_point", principal_point, &[2])?;
     if let Some(l) = person_lengths {
         let array = numpy::PyArray1::from_vec(py, l.as_array().to_vec());
         out.set("person_bone_lengths", array)?;

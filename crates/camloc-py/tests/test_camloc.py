@@ -199,6 +199,8 @@ def test_proportions_options_equal_the_command_line(cli, tmp_path):
             np.testing.assert_allclose(
                 got["translation_m"][i], want["perspective"]["translation_m"], rtol=1e-9
             )
+            assert got["focal_px"][i] == 900.0
+            np.testing.assert_allclose(got["principal_point"][i], [320, 240], rtol=1e-12)
     _, expected = cli("reconstruct", "--input", path, "--sequence")
     got = camloc.reconstruct(example_points(), sequence=True)
     assert got["person_bone_lengths"].shape == (14,)
@@ -206,7 +208,13 @@ def test_proportions_options_equal_the_command_line(cli, tmp_path):
         landmarks = [want["landmarks_m"][name] for name in camloc.LANDMARKS]
         np.testing.assert_allclose(got["points3d"][i], landmarks, rtol=1e-9, atol=1e-12)
         np.testing.assert_allclose(got["bone_lengths"][i], got["person_bone_lengths"], rtol=1e-9)
-    assert np.isnan(got["translation_m"]).all()
+        # Without a focal length: the camera at the distance the refinement estimated, if
+        # finite.
+        if "perspective" in want:
+            for key in ["translation_m", "focal_px", "principal_point"]:
+                np.testing.assert_allclose(got[key][i], want["perspective"][key], rtol=1e-9)
+        else:
+            assert np.isnan(got["translation_m"][i]).all() and np.isnan(got["focal_px"][i])
 
 
 @pytest.mark.parametrize(

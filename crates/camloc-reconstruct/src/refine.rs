@@ -232,7 +232,8 @@ impl Intrinsics {
     }
 }
 
-/// A full perspective camera fitted with known [`Intrinsics`]: a body-frame point `X`
+/// A full perspective camera fitted with known [`Intrinsics`], or at an estimated distance
+/// ([`Refinement::distance`]): a body-frame point `X`
 /// (metres, the reconstruction's frame) is at `Y = R X + T` in the camera frame and seen at
 /// `u = f Y_x / Y_z + c_u`, `v = f Y_y / Y_z + c_v` (pixels).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -243,7 +244,7 @@ pub struct PerspectiveCamera {
     /// bone lengths were given: with estimated lengths the size, hence the depth, is the
     /// length prior's.
     pub translation: [f64; 3],
-    /// The focal length `f`, pixels.
+    /// The focal length `f`, pixels (the given one, or the estimated one).
     pub focal_px: f64,
     /// The principal point `(c_u, c_v)` used, pixels.
     pub principal_point: [f64; 2],

@@ -436,7 +436,9 @@ fn perspective_errors(
 
 /// Without intrinsics the camera's distance is an unknown of the refinement: frames from a
 /// close camera are reconstructed better than by weak perspective, one by one and as a
-/// sequence, frames from a far one about as well, and an out-of-range prior is refused.
+/// sequence, and the camera at that distance is reported (the projection error is its);
+/// frames from a far one are reconstructed about as well, and an out-of-range prior is
+/// refused.
 #[test]
 fn the_camera_distance_is_estimated_without_intrinsics() {
     let poses = motion(&person(7), 10, 8);
@@ -455,6 +457,34 @@ fn the_camera_distance_is_estimated_without_intrinsics() {
             "near: PA-MPJPE {a:?} mm against {b:?} mm"
         );
     }
+    // The camera at the estimated distance is reported, and the projection error is its.
+    let rec = Reconstructor::new(basis().clone(), with.clone()).unwrap();
+    let given = Given {
+        lengths: Some(BoneLengths::of_pose(&poses[0]).unwrap()),
+        intrinsics: None,
+    };
+    let ((pose2, mode), depths) = (&near.0[0], &near.1[0]);
+    let r = rec
+        .reconstruct_lifted(pose2, mode, 1, &given, depths.as_ref())
+        .unwrap()
+        .remove(0);
+    let camera = r.perspective.as_ref().expect("a perspective camera");
+    let distance = camera.translation[2];
+    assert!(distance > 1.0 && distance < 20.0, "distance {distance} m");
+    let error = r
+        .reprojection()
+        .iter()
+        .zip(&pose2.points)
+        .map(|(p, q)| (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2))
+        .sum::<f64>()
+        .sqrt();
+    assert!((error - r.projection_error).abs() < 1e-6 * (1.0 + error));
+    let weak = Reconstructor::new(basis().clone(), without.clone())
+        .unwrap()
+        .reconstruct_lifted(pose2, mode, 1, &given, depths.as_ref())
+        .unwrap()
+        .remove(0);
+    assert!(weak.perspective.is_none());
     let far = perspective_frames(&poses, 100.0);
     let (a, b) = (
         perspective_errors(&with, &far, &poses),

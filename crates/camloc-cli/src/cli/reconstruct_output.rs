@@ -32,7 +32,8 @@ struct CameraJson {
     translation: [f64; 2],
 }
 
-/// The perspective camera of one pose of `reconstruct --json` (with `--focal-px`).
+/// The perspective camera of one pose of `reconstruct --json` (with `--focal-px`, or at the
+/// estimated distance without it).
 #[derive(Serialize)]
 struct PerspectiveJson {
     rotation: [[f64; 3]; 3],
@@ -189,11 +190,7 @@ pub fn pose_svg(
 ) -> Option<String> {
     let input = input.complete()?;
     let r = &result.reconstruction;
-    let projected = r
-        .perspective
-        .as_ref()
-        .and_then(|p| p.project(&r.pose.points))
-        .unwrap_or_else(|| r.camera.project(&r.pose.points));
+    let projected = r.reprojection();
     let caption = format!("{id}: camera {}", camera_text(choice, result));
     Some(svg::reconstruction_svg(
         &input,
@@ -240,7 +237,7 @@ fn reconstruction_text(heading: &str, r: &Reconstruction) -> String {
         let t = p.translation;
         let _ = writeln!(
             out,
-            "  perspective: T = [{:.3} {:.3} {:.3}] m, f = {} px, principal point ({}, {})",
+            "  perspective: T = [{:.3} {:.3} {:.3}] m, f = {:.1} px, principal point ({:.1}, {:.1})",
             t[0], t[1], t[2], p.focal_px, p.principal_point[0], p.principal_point[1]
         );
     }

@@ -2,7 +2,7 @@
 //! hypothesis and the priors, ranked.
 
 use camloc_geometry::{Matrix3, WeakPerspective, check_rotation};
-use camloc_skeleton::{Pose2, Pose3};
+use camloc_skeleton::{NUM_LANDMARKS, Pose2, Pose3};
 
 use super::camera_update::CameraUpdate;
 use super::config::EQUAL_FIT_TOLERANCE;
@@ -56,9 +56,27 @@ pub struct Reconstruction {
     /// prior's projection: the sum over the 8 limb bones of the angle beyond the limits,
     /// radians (0: within them).
     pub limit_violation_rad: f64,
-    /// With known intrinsics ([`Given::intrinsics`]): the full perspective camera of the
-    /// final refinement (`camera` is then its weak-perspective approximation at the pelvis).
+    /// The full perspective camera of the final refinement (`camera` is then its
+    /// weak-perspective approximation at the pelvis): with known intrinsics
+    /// ([`Given::intrinsics`]) theirs; without them, when the refinement estimated the
+    /// camera's distance ([`Refinement::distance`](crate::Refinement::distance)) as finite,
+    /// the camera at that distance with the pelvis on its optical axis (the principal point
+    /// is the pelvis's image point, the focal length the scale times the distance; one view
+    /// tells the distance poorly, so a single frame's is mostly the prior's). `None` under
+    /// weak perspective.
     pub perspective: Option<PerspectiveCamera>,
+}
+
+impl Reconstruction {
+    /// The pose's landmarks as the camera it was fitted with sees them, in the input's image
+    /// units: by [`perspective`](Self::perspective) when there is one (and every landmark is
+    /// in front of it), else by [`camera`](Self::camera).
+    pub fn reprojection(&self) -> [[f64; 2]; NUM_LANDMARKS] {
+        self.perspective
+            .as_ref()
+            .and_then(|p| p.project(&self.pose.points))
+            .unwrap_or_else(|| self.camera.project(&self.pose.points))
+    }
 }
 
 /// One hypothesis of [`Reconstructor::solve`], after the priors.

@@ -149,15 +149,13 @@ impl Reconstructor {
     ) -> Reconstruction {
         let (pose, camera, error, perspective) = match refined {
             Some(r) => {
-                let perspective =
-                    r.perspective
-                        .zip(given.intrinsics)
-                        .map(|((t, c), intrinsics)| PerspectiveCamera {
-                            rotation: r.camera.rotation,
-                            translation: t,
-                            focal_px: intrinsics.focal_px,
-                            principal_point: obs.denormalise_point(c),
-                        });
+                let perspective = r.perspective.map(|(focal, t, c)| PerspectiveCamera {
+                    rotation: r.camera.rotation,
+                    translation: t,
+                    // A given focal length exactly as given.
+                    focal_px: given.intrinsics.map_or(focal * obs.scale, |i| i.focal_px),
+                    principal_point: obs.denormalise_point(c),
+                });
                 (r.pose, r.camera, r.squared_error, perspective)
             }
             None => (

@@ -36,9 +36,9 @@ pub(crate) struct RefinedFrame {
     /// The weak-perspective camera; with intrinsics or an estimated distance, the perspective
     /// camera's weak approximation at the pelvis.
     pub(crate) camera: WeakPerspective,
-    /// With intrinsics: the perspective camera's translation `T` (metres) and principal
-    /// point.
-    pub(crate) perspective: Option<([f64; 3], [f64; 2])>,
+    /// The perspective camera (given intrinsics, or an estimated distance): its focal
+    /// length, translation `T` (metres) and principal point.
+    pub(crate) perspective: Option<(f64, [f64; 3], [f64; 2])>,
     /// Sum of squared reprojection errors.
     pub(crate) squared_error: f64,
 }
@@ -217,14 +217,21 @@ fn finish(
                 .sum()
         });
     let (camera, perspective) = match data.projection {
-        Projection::Weak => (
-            WeakPerspective {
-                scale: state.camera[0].exp(),
-                rotation: state.rotation,
-                translation: [state.camera[1], state.camera[2]],
-            },
-            None,
-        ),
+        Projection::Weak => {
+            let scale = state.camera[0].exp();
+            let translation = [state.camera[1], state.camera[2]];
+            // At a finite distance, the pinhole camera with the pelvis on its optical axis.
+            let perspective =
+                (kappa > 0.0).then(|| (scale / kappa, [0.0, 0.0, 1.0 / kappa], translation));
+            (
+                WeakPerspective {
+                    scale,
+                    rotation: state.rotation,
+                    translation,
+                },
+                perspective,
+            )
+        }
         Projection::Perspective { focal, principal } => {
             let t = state.camera;
             (
@@ -236,7 +243,7 @@ fn finish(
                         focal * t[1] / t[2] + principal[1],
                     ],
                 },
-                Some((t, principal)),
+                Some((focal, t, principal)),
             )
         }
     };
