@@ -5,7 +5,8 @@ use camloc_skeleton::{NUM_LANDMARKS, Pose2, Pose3};
 use nalgebra::{Matrix3, SVD, Vector3};
 
 use crate::{
-    ReconstructError, Reconstruction, check_finite_landmarks, is_positive, is_positive_finite,
+    PerspectiveCamera, ReconstructError, Reconstruction, check_finite_landmarks, is_positive,
+    is_positive_finite,
 };
 
 /// `estimate` mapped onto `truth` by the similarity transform (scale, proper rotation with
@@ -68,7 +69,8 @@ pub fn mpjpe_after_similarity(estimate: &Pose3, truth: &Pose3) -> f64 {
 }
 
 /// The paper's eq. 12: the Euclidean norm of the 30-vector of residuals between `pose2` and the
-/// projection of `recon.pose` by `recon.camera` (eq. 6, image units), divided by `width x
+/// projection of `recon.pose` by the camera it was fitted with (eq. 6, image units;
+/// [`Reconstruction::reprojection`]: its perspective camera when it has one), divided by `width x
 /// height` of the image (image units squared). The result has units of 1 / image unit, so it is
 /// comparable only between inputs of the same image size; use [`projection_error_eq12_bbox`]
 /// when no image size is known.
@@ -158,8 +160,9 @@ pub fn rms_error_in_torsos(pose2: &Pose2, recon: &Reconstruction) -> Result<f64,
     Ok(norm / (NUM_LANDMARKS as f64).sqrt() / torso)
 }
 
-/// Eq. 6: `|L - projection|_2` over the 30 coordinates, image units (computed on the pose
-/// brought into range, so that it neither overflows nor underflows).
+/// Eq. 6: `|L - projection|_2` over the 30 coordinates, image units, by the camera `recon`
+/// was fitted with (computed on the pose brought into range, so that it neither overflows
+/// nor underflows).
 fn residual_norm(pose2: &Pose2, recon: &Reconstruction) -> Result<f64, ReconstructError> {
     check_finite_landmarks(pose2)?;
     let (scaled, factor) = pose2.within_safe_range();
@@ -173,6 +176,23 @@ fn scaled_residual_norm(
     factor: f64,
     recon: &Reconstruction,
 ) -> Result<f64, ReconstructError> {
+    // The perspective camera when there is one (and every landmark is in front of it).
+    let perspective = recon.perspective.as_ref().and_then(|p| {
+        PerspectiveCamera {
+            focal_px: p.focal_px * factor,
+            principal_point: p.principal_point.map(|c| c * factor),
+            ..*p
+        }
+        .project(&recon.pose.points)
+    });
+    if let Some(seen) = perspective {
+        let squared: f64 = seen
+            .iter()
+            .zip(&scaled.points)
+            .map(|(p, l)| (p[0] - l[0]).powi(2) + (p[1] - l[1]).powi(2))
+            .sum();
+        return Ok(squared.sqrt());
+    }
     let camera = WeakPerspective {
         scale: recon.camera.scale * factor,
         rotation: recon.camera.rotation,
@@ -277,5 +297,38 @@ mod tests {
             projection_error_eq12(&pose2, &recon, 640.0, 480.0),
             Err(ReconstructError::NonFiniteInput { landmark: 2, .. })
         ));
+    }
+
+    /// A reconstruction with a perspective camera is measured through it: its exact
+    /// projection has no error, which its weak-perspective approximation would have.
+    #[test]
+    fn the_projection_error_uses_the_perspective_camera() {
+        let truth = body();
+        let rotation = rotation_about_axis(nalgebra::Vector3::new(0.0, 0.0, 1.0), 0.3);
+        let perspective = PerspectiveCamera {
+            rotation,
+            translation: [0.0, 0.0, 2.0],
+            focal_px: 800.0,
+            principal_point: [320.0, 240.0],
+        };
+        let pose2 = Pose2::new(perspective.project(&truth.points).unwrap());
+        let mut recon = Reconstruction {
+            pose: truth,
+            camera: WeakPerspective {
+                scale: 400.0,
+                rotation,
+                translation: [320.0, 240.0],
+            },
+            projection_error: 0.0,
+            selected: vec![],
+            coefficients: vec![],
+            iterations: 0,
+            reflected: false,
+            limit_violation_rad: 0.0,
+            perspective: Some(perspective),
+        };
+        assert!(projection_error_eq12_bbox(&pose2, &recon).unwrap() < 1e-12);
+        recon.perspective = None;
+        assert!(projection_error_eq12_bbox(&pose2, &recon).unwrap() > 1e-6);
     }
 }
