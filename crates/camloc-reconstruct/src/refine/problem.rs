@@ -248,7 +248,9 @@ fn huber(rho: f64, k: f64) -> (f64, f64) {
 /// weak-perspective camera (1/m).
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Shared {
+    /// Bone lengths, metres.
     pub(super) lengths: [f64; NUM_LIMBS],
+    /// Inverse distance, 1/m (0 under full perspective, where it has no part).
     pub(super) kappa: f64,
 }
 

@@ -31,6 +31,7 @@ pub(super) struct LengthUnknowns<'a> {
 /// The prior on the shared inverse distance (1/m) when it is an unknown:
 /// `((kappa - mean) weight)^2 / 2`.
 pub(super) struct KappaUnknown {
+    /// The prior's mean, 1/m.
     pub(super) mean: f64,
     /// 1 / the deviation (m).
     pub(super) weight: f64,
