@@ -47,7 +47,7 @@ pub struct Refinement {
     /// Deviation of each bone's unit direction from the one the refinement starts from (the
     /// pursuit's pose, or the lifted one in sequences and under full perspective); > 0.
     pub direction_sigma: f64,
-    /// Single frames started from a lifted pose under weak perspective (no intrinsics): the
+    /// Single frames started from a lifted pose without intrinsics: the
     /// same deviation, from the lifted directions; > 0. The lifted pose is the better
     /// anchor there, so it is held tighter; in sequences and under full perspective (the
     /// lifted pose is an orthographic reading of the 2D) `direction_sigma` measured better

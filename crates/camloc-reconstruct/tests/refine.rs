@@ -219,7 +219,7 @@ fn the_sequence_prior_holds_estimated_lengths_nearer_the_prior() {
     ));
 }
 
-/// A single frame started from a lifted pose under weak perspective holds its bone
+/// A single frame started from a lifted pose without intrinsics holds its bone
 /// directions with `lifted_direction_sigma`; one started from the pursuit's pose, a lifted
 /// one under full perspective, and a sequence, with `direction_sigma`; a zero deviation is
 /// refused.

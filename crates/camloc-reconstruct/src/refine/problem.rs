@@ -2,8 +2,8 @@
 //! Gauss-Newton normal equations around a state.
 //!
 //! Parameters of a frame, in this order: the rotation increment `w` (3; `R <- R exp([w]x)`),
-//! the camera (3: `log s` and the translation `t` of weak perspective, or the translation `T`
-//! of full perspective), the tangent steps of the 14 bone directions (2 each); then, shared by
+//! the camera (3: `log s` and the translation `t` of the on-axis camera, or the translation
+//! `T` of full perspective), the tangent steps of the 14 bone directions (2 each); then, shared by
 //! every frame, the 14 log bone lengths and the weak-perspective camera's inverse distance.
 //!
 //! Residuals: the 15 landmarks' reprojection (2 each, in units of the image noise, with a
@@ -39,11 +39,11 @@ pub(super) type Gradient = SVector<f64, ALL>;
 /// How a frame's camera projects, in the frame's normalised image units.
 #[derive(Clone, Copy, Debug)]
 pub(super) enum Projection {
-    /// `p = s (Y_x, Y_y) / (1 + kappa Y_z) + t`, `Y = R X`, with the shared inverse distance
-    /// `kappa` (1/m, >= 0): weak perspective at 0, else a perspective camera `1 / kappa`
-    /// metres from the pelvis with the pelvis on its optical axis.
-    Weak,
-    /// `p = f (Y_x, Y_y) / Y_z + c`, `Y = R X + T`.
+    /// No intrinsics: `p = s (Y_x, Y_y) / (1 + kappa Y_z) + t`, `Y = R X`, with the shared
+    /// inverse distance `kappa` (1/m, >= 0): weak perspective at 0, else a perspective camera
+    /// `1 / kappa` metres from the pelvis with the pelvis on its optical axis.
+    OnAxis,
+    /// Known intrinsics: `p = f (Y_x, Y_y) / Y_z + c`, `Y = R X + T`.
     Perspective {
         /// Focal length.
         focal: f64,
@@ -67,7 +67,7 @@ pub(super) struct FrameData {
 pub(super) struct FrameState {
     /// Body frame to camera.
     pub(super) rotation: Matrix3<f64>,
-    /// `(log s, t_u, t_v)` for weak perspective, `T` for perspective.
+    /// `(log s, t_u, t_v)` for the on-axis camera, `T` for perspective.
     pub(super) camera: [f64; 3],
     /// Unit bone directions, body frame.
     pub(super) directions: [Vector3<f64>; NUM_LIMBS],
@@ -88,7 +88,7 @@ pub(super) struct Weights {
 
 /// Depths in front of a perspective camera must exceed this (metres).
 const MIN_DEPTH: f64 = 1e-3;
-/// Under weak perspective with an inverse distance, a landmark's depth must exceed this
+/// For the on-axis camera at a finite distance, a landmark's depth must exceed this
 /// fraction of the pelvis's.
 const MIN_DEPTH_RATIO: f64 = 0.2;
 /// Most parameters in one reprojection row: rotation, camera, inverse distance, and a
@@ -151,7 +151,7 @@ impl FrameState {
         self.directions.map(|d| self.rotation * d)
     }
 
-    /// Where the camera (with the inverse distance `kappa` under weak perspective) sees the
+    /// Where the camera (with the inverse distance `kappa` when on-axis) sees the
     /// body-frame point `x`, and the derivative of that image point with respect to the
     /// camera-frame point `R x`; `None` behind the camera.
     fn see(
@@ -162,7 +162,7 @@ impl FrameState {
     ) -> Option<(Vector2<f64>, Matrix2x3<f64>)> {
         let y = self.rotation * x;
         match projection {
-            Projection::Weak => {
+            Projection::OnAxis => {
                 let den = 1.0 + kappa * y.z;
                 if !(den > MIN_DEPTH_RATIO) {
                     return None;
@@ -217,7 +217,7 @@ impl FrameState {
         for (k, c) in camera.iter_mut().enumerate() {
             *c += step[CAM + k];
         }
-        if matches!(projection, Projection::Weak) {
+        if matches!(projection, Projection::OnAxis) {
             // Keep the scale's logarithm in a range where exp neither overflows nor vanishes.
             camera[0] = camera[0].clamp(-300.0, 300.0);
         }
@@ -296,7 +296,7 @@ pub(super) fn evaluate(
                 r.push(a, qr.dot(&Vector3::ith(a, 1.0).cross(x)));
             }
             match data.projection {
-                Projection::Weak => {
+                Projection::OnAxis => {
                     let y = state.rotation * x;
                     let den = 1.0 + shared.kappa * y.z;
                     let seen = state.camera[0].exp() * y[row] / den;
@@ -388,7 +388,7 @@ mod tests {
             smooth: 3.0,
         };
         for (projection, camera) in [
-            (Projection::Weak, [0.2, 0.1, -0.05]),
+            (Projection::OnAxis, [0.2, 0.1, -0.05]),
             (
                 Projection::Perspective {
                     focal: 8.0,

@@ -79,7 +79,7 @@ fn start(frame: &RefineFrame, lengths: &[f64; NUM_LIMBS]) -> (FrameData, FrameSt
     let projection = match frame.intrinsics {
         None => {
             state.camera = [state.camera[0], t[0], t[1]];
-            Projection::Weak
+            Projection::OnAxis
         }
         Some((focal, principal)) => {
             let depth = focal / scale;
@@ -100,8 +100,8 @@ fn start(frame: &RefineFrame, lengths: &[f64; NUM_LIMBS]) -> (FrameData, FrameSt
 }
 
 /// The deviation of the bone directions from their anchors for `frames`:
-/// [`Refinement::lifted_direction_sigma`] for single frames started from a lifted pose under
-/// weak perspective, else [`Refinement::direction_sigma`].
+/// [`Refinement::lifted_direction_sigma`] for single frames started from a lifted pose without
+/// intrinsics, else [`Refinement::direction_sigma`].
 fn direction_sigma(frames: &[RefineFrame], settings: &Refinement, sequence: bool) -> f64 {
     if !sequence && frames.iter().all(|f| f.lifted && f.intrinsics.is_none()) {
         settings.lifted_direction_sigma
@@ -200,7 +200,7 @@ pub(crate) fn refine(
     Ok((refined, lengths))
 }
 
-/// The refined frame of `state` (inverse distance `kappa` under weak perspective).
+/// The refined frame of `state` (inverse distance `kappa` for the on-axis camera).
 fn finish(
     data: &FrameData,
     state: &FrameState,
@@ -217,7 +217,7 @@ fn finish(
                 .sum()
         });
     let (camera, perspective) = match data.projection {
-        Projection::Weak => {
+        Projection::OnAxis => {
             let scale = state.camera[0].exp();
             let translation = [state.camera[1], state.camera[2]];
             // At a finite distance, the pinhole camera with the pelvis on its optical axis.
