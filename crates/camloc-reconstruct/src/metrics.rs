@@ -1,12 +1,10 @@
 //! Evaluation metrics: 3D error after similarity alignment, and the paper's projection error.
 
-use camloc_geometry::WeakPerspective;
 use camloc_skeleton::{NUM_LANDMARKS, Pose2, Pose3};
 use nalgebra::{Matrix3, SVD, Vector3};
 
 use crate::{
-    PerspectiveCamera, ReconstructError, Reconstruction, check_finite_landmarks, is_positive,
-    is_positive_finite,
+    ReconstructError, Reconstruction, check_finite_landmarks, is_positive, is_positive_finite,
 };
 
 /// `estimate` mapped onto `truth` by the similarity transform (scale, proper rotation with
@@ -124,7 +122,7 @@ pub fn projection_error_eq12_bbox(
         ));
     }
     let (width, height) = bounding_box(&scaled);
-    let norm = scaled_residual_norm(&scaled, factor, recon)?;
+    let norm = scaled_residual_norm(&scaled, factor, recon);
     Ok(norm / width.max(floor) / height.max(floor) * factor)
 }
 
@@ -166,46 +164,25 @@ pub fn rms_error_in_torsos(pose2: &Pose2, recon: &Reconstruction) -> Result<f64,
 fn residual_norm(pose2: &Pose2, recon: &Reconstruction) -> Result<f64, ReconstructError> {
     check_finite_landmarks(pose2)?;
     let (scaled, factor) = pose2.within_safe_range();
-    Ok(scaled_residual_norm(&scaled, factor, recon)? / factor)
+    Ok(scaled_residual_norm(&scaled, factor, recon) / factor)
 }
 
 /// Eq. 6 for `scaled = factor x` the input pose (units of `scaled`): the camera is scaled
 /// alike.
-fn scaled_residual_norm(
-    scaled: &Pose2,
-    factor: f64,
-    recon: &Reconstruction,
-) -> Result<f64, ReconstructError> {
-    // The perspective camera when there is one (and every landmark is in front of it).
-    let perspective = recon.perspective.as_ref().and_then(|p| {
-        PerspectiveCamera {
-            focal_px: p.focal_px * factor,
-            principal_point: p.principal_point.map(|c| c * factor),
-            ..*p
-        }
-        .project(&recon.pose.points)
-    });
-    if let Some(seen) = perspective {
-        let squared: f64 = seen
-            .iter()
-            .zip(&scaled.points)
-            .map(|(p, l)| (p[0] - l[0]).powi(2) + (p[1] - l[1]).powi(2))
-            .sum();
-        return Ok(squared.sqrt());
-    }
-    let camera = WeakPerspective {
-        scale: recon.camera.scale * factor,
-        rotation: recon.camera.rotation,
-        translation: recon.camera.translation.map(|t| t * factor),
-    };
-    Ok(camera
-        .squared_error(&recon.pose.points, &scaled.points)?
-        .sqrt())
+fn scaled_residual_norm(scaled: &Pose2, factor: f64, recon: &Reconstruction) -> f64 {
+    let squared: f64 = recon
+        .reprojection_scaled(factor)
+        .iter()
+        .zip(&scaled.points)
+        .map(|(p, l)| (p[0] - l[0]).powi(2) + (p[1] - l[1]).powi(2))
+        .sum();
+    squared.sqrt()
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::PerspectiveCamera;
     use camloc_geometry::{WeakPerspective, rotation_about_axis};
     use proptest::prelude::*;
 

@@ -148,7 +148,20 @@ impl Refinement {
             ));
         }
         if let Some(distance) = &self.distance {
-            distance.check()?;
+            if !(distance.mean_per_m.is_finite() && distance.mean_per_m >= 0.0) {
+                return Err(invalid(
+                    "DistancePrior::mean_per_m",
+                    distance.mean_per_m,
+                    "must be finite and >= 0",
+                ));
+            }
+            if !(distance.sigma_per_m.is_finite() && distance.sigma_per_m > 0.0) {
+                return Err(invalid(
+                    "DistancePrior::sigma_per_m",
+                    distance.sigma_per_m,
+                    "must be finite and > 0",
+                ));
+            }
         }
         self.widening.check()
     }
@@ -172,32 +185,6 @@ impl Default for DistancePrior {
             mean_per_m: 0.1,
             sigma_per_m: 0.1,
         }
-    }
-}
-
-impl DistancePrior {
-    /// An error naming the first setting out of range.
-    fn check(&self) -> Result<(), ReconstructError> {
-        let invalid = |field, value: f64, reason| ReconstructError::InvalidConfig {
-            field,
-            value: value.to_string(),
-            reason,
-        };
-        if !(self.mean_per_m.is_finite() && self.mean_per_m >= 0.0) {
-            return Err(invalid(
-                "DistancePrior::mean_per_m",
-                self.mean_per_m,
-                "must be finite and >= 0",
-            ));
-        }
-        if !(self.sigma_per_m.is_finite() && self.sigma_per_m > 0.0) {
-            return Err(invalid(
-                "DistancePrior::sigma_per_m",
-                self.sigma_per_m,
-                "must be finite and > 0",
-            ));
-        }
-        Ok(())
     }
 }
 

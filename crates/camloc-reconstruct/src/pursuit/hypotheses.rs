@@ -72,10 +72,31 @@ impl Reconstruction {
     /// units: by [`perspective`](Self::perspective) when there is one (and every landmark is
     /// in front of it), else by [`camera`](Self::camera).
     pub fn reprojection(&self) -> [[f64; 2]; NUM_LANDMARKS] {
+        self.reprojection_scaled(1.0)
+    }
+
+    /// [`reprojection`](Self::reprojection) in image units multiplied by `factor` (the
+    /// camera's image-side quantities scaled alike; exact for a power of two).
+    pub(crate) fn reprojection_scaled(&self, factor: f64) -> [[f64; 2]; NUM_LANDMARKS] {
+        let points = &self.pose.points;
         self.perspective
             .as_ref()
-            .and_then(|p| p.project(&self.pose.points))
-            .unwrap_or_else(|| self.camera.project(&self.pose.points))
+            .and_then(|p| {
+                PerspectiveCamera {
+                    focal_px: p.focal_px * factor,
+                    principal_point: p.principal_point.map(|c| c * factor),
+                    ..*p
+                }
+                .project(points)
+            })
+            .unwrap_or_else(|| {
+                WeakPerspective {
+                    scale: self.camera.scale * factor,
+                    translation: self.camera.translation.map(|t| t * factor),
+                    ..self.camera
+                }
+                .project(points)
+            })
     }
 }
 

@@ -289,6 +289,10 @@ pub(super) fn evaluate(
         };
         let q = g * state.rotation * (weights.image * w.sqrt());
         let (chain, n) = chains[i];
+        // The on-axis camera's camera-frame point, depth factor and scale, once per landmark.
+        let y = state.rotation * x;
+        let den = 1.0 + shared.kappa * y.z;
+        let scale = state.camera[0].exp();
         for row in 0..2 {
             let mut r = Row::new();
             let qr = q.row(row).transpose();
@@ -297,9 +301,7 @@ pub(super) fn evaluate(
             }
             match data.projection {
                 Projection::OnAxis => {
-                    let y = state.rotation * x;
-                    let den = 1.0 + shared.kappa * y.z;
-                    let seen = state.camera[0].exp() * y[row] / den;
+                    let seen = scale * y[row] / den;
                     r.push(CAM, seen * weights.image * w.sqrt());
                     r.push(CAM + 1 + row, weights.image * w.sqrt());
                     if free.kappa {
