@@ -107,9 +107,12 @@ def reconstruct(
     principal_point: Optional[Tuple[float, float]] = None,
     sequence: bool = False,
 ) -> Dict[str, Any]:
-    """Reconstructs the 3D pose of every pose (all 15 landmarks needed) by projected matching
-    pursuit on camloc's pose basis (principal components and cluster centres), then rebuilds
-    each pose with the person's own bone lengths (docs/cli.md, "The person's proportions").
+    """Reconstructs the 3D pose of every pose by projected matching pursuit on camloc's pose
+    basis (principal components and cluster centres), then rebuilds each pose with the
+    person's own bone lengths (docs/cli.md, "The person's proportions"). Missing landmarks
+    (NaN, or a score below ``min_score``) are first filled in from the pose basis seen by the
+    localized camera (in every mode; see ``imputed``); a pose whose torso cannot be found
+    (pelvis or neck missing, and a hip or shoulder to stand in for it) gets an error.
 
     points, layout, scores, min_score: as for ``Localizer.localize``.
     camera: ``opt`` (Procrustes camera), ``classified`` (the rotation of the classified
@@ -150,6 +153,8 @@ def reconstruct(
         single pose), image = focal_px * (R X + T)[:2] / (R X + T)[2] + principal_point with
         R = rotation, T = translation_m: the pelvis in the camera's frame in metres (absolute
         only with given ``bone_lengths``); NaN where there is none (weak perspective);
+      imputed (N, 15) bool: the landmarks that were missing and filled in (their 3D is the
+        basis's guess, not a measurement);
       person_bone_lengths (14,): with ``sequence``, the person's lengths (given or estimated);
       camera: the mode used;
       error: list of N messages, None where the pose was reconstructed.

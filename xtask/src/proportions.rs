@@ -4,6 +4,7 @@
 //! and windows of consecutive frames; recovered bone lengths and PA-MPJPE with and without
 //! each part of the skeleton refinement. Part of `cargo xtask reconstruction`.
 
+mod missing;
 pub mod people;
 mod views;
 
@@ -600,6 +601,14 @@ pub fn measure(
         (&singles, &sequences),
         options.seed,
     )?);
+    if let Some(localizer) = localizer {
+        md.push_str(&missing::section(
+            basis,
+            (localizer, lifter),
+            &singles,
+            options.seed,
+        )?);
+    }
     Ok(md)
 }
 

@@ -314,10 +314,11 @@ fn draw_sphere(
 /// Orthographic view of a 3D point (metres) onto drawing coordinates (v down).
 type ViewProjection = fn([f64; 3]) -> [f64; 2];
 
-/// Input 2D pose (dashed) with the reprojection of the reconstruction over it, and the 3D
-/// skeleton from the front (camera on -x), the left side (-y) and above (+z).
+/// Input 2D pose (dashed; its missing landmarks left out) with the reprojection of the
+/// reconstruction over it, and the 3D skeleton from the front (camera on -x), the left side
+/// (-y) and above (+z).
 pub fn reconstruction_svg(
-    input: &Pose2,
+    input: &PartialPose2,
     reprojection: &Pose2,
     pose: &Pose3,
     caption: &str,
@@ -327,11 +328,12 @@ pub fn reconstruction_svg(
     let both: Vec<[f64; 2]> = input
         .points
         .iter()
+        .flatten()
         .chain(&reprojection.points)
         .copied()
         .collect();
     let map = fit_box(&both, 10.0, 20.0, 200.0, 210.0);
-    draw_skeleton(&mut svg, &input.points.map(|p| Some(map(p))), true, 2.0);
+    draw_skeleton(&mut svg, &input.points.map(|p| p.map(&map)), true, 2.0);
     draw_skeleton(
         &mut svg,
         &reprojection.points.map(|p| Some(map(p))),

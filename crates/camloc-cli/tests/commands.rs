@@ -167,3 +167,48 @@ fn train_evaluate_and_reconstruct_succeed_on_fixture_data() {
         assert!(!second.exists());
     }
 }
+
+/// `reconstruct` fills in missing landmarks from the localized camera and says which; a pose
+/// without a pelvis is still refused, naming it; the drawing leaves the missing landmarks
+/// out of the input and names them in its caption.
+#[test]
+fn reconstruct_fills_in_missing_landmarks() {
+    let dir = TempDir::new("filled");
+    let partial = fixture("keypoints/partial.json");
+    let svg = dir.0.join("filled.svg");
+    let out = camloc(&[
+        "reconstruct",
+        "--input",
+        partial.to_str().unwrap(),
+        "--jsonl",
+        "--svg",
+        svg.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(1), "the second pose has no pelvis");
+    let stdout = String::from_utf8(out.stdout).unwrap();
+    let lines: Vec<serde_json::Value> = stdout
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(lines.len(), 2);
+    assert_eq!(
+        lines[0]["imputed"],
+        serde_json::json!(["right_elbow", "right_wrist"])
+    );
+    for l in camloc::Landmark::ALL {
+        let p = lines[0]["landmarks_m"][l.name()].as_array().unwrap();
+        assert!(p.iter().all(|x| x.as_f64().unwrap().is_finite()));
+    }
+    assert!(
+        lines[1]["error"].as_str().unwrap().contains("pelvis"),
+        "{}",
+        lines[1]
+    );
+    // Two poses in the input: the drawings are numbered, the failed pose has none.
+    assert!(!dir.0.join("filled-002.svg").exists());
+    let drawn = std::fs::read_to_string(dir.0.join("filled-001.svg")).unwrap();
+    assert!(drawn.contains("filled in: right_elbow, right_wrist"));
+    // Only the input's 12 limbs with both ends present are dashed: 14 minus the two of the
+    // right arm's missing ends.
+    assert_eq!(drawn.matches("stroke-dasharray").count(), 12, "{drawn}");
+}

@@ -147,7 +147,7 @@ fn reconstruct_writes_the_3d_poses_as_npy() {
             assert_eq!(json, pose.points[l.index()].to_vec(), "{}", l.name());
         }
     }
-    // A pose that cannot be reconstructed (missing landmarks) is a row of NaN.
+    // A pose that cannot be reconstructed (no pelvis) is a row of NaN.
     let npy = dir.0.join("partial3.npy");
     let out = camloc(&[
         "reconstruct",

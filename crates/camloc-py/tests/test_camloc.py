@@ -356,10 +356,11 @@ def test_nan_marks_missing_joints(localizer):
         assert got["label"][i] == 0 and np.isnan(got["probabilities"][i]).all()
     np.testing.assert_array_equal(got["label"][[0, 5]], localizer.localize(points[[0, 5]])["label"])
 
-    rec = camloc.reconstruct(points[:2])
-    assert rec["error"][0] is None
-    assert "needs all 15 landmarks" in rec["error"][1] and "right_elbow" in rec["error"][1]
-    assert np.isnan(rec["points3d"][1]).all()
+    rec = camloc.reconstruct(points[:3])
+    assert rec["error"][0] is None and rec["error"][1] is None  # the elbow is filled in
+    assert rec["imputed"][1, elbow] and rec["imputed"][1].sum() == 1 and not rec["imputed"][0].any()
+    assert np.isfinite(rec["points3d"][1]).all()
+    assert "pelvis" in rec["error"][2] and np.isnan(rec["points3d"][2]).all()
 
 
 def test_bad_shapes_layouts_and_options_raise_value_error(localizer):

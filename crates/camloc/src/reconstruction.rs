@@ -5,7 +5,7 @@ use camloc_reconstruct::{
     BoneLengths, CameraMode, EvalReport, EvalSample, Given, Intrinsics, LiftedDepths, ModeKind,
     PoseBasis, ReconstructConfig, ReconstructError, Reconstruction, Reconstructor,
 };
-use camloc_skeleton::{PartialPose2, Pose2};
+use camloc_skeleton::{Landmark, PartialPose2, Pose2};
 use camloc_store::Persist;
 use camloc_store::Validate;
 
@@ -24,6 +24,10 @@ pub struct PoseReconstruction {
     pub alternatives: Vec<Reconstruction>,
     /// The camera localization, when the mode used one.
     pub localization: Option<Localization>,
+    /// The landmarks that were missing in the input, in index order: their 2D was filled in
+    /// from the pose basis seen by the localized camera before the reconstruction
+    /// ([`Reconstructor::impute`]), so their 3D is the basis's guess, not a measurement.
+    pub imputed: Vec<Landmark>,
 }
 
 /// The default basis embedded in this build (16 principal components and 256 cluster
@@ -212,12 +216,15 @@ impl PoseReconstructor {
         &self.reconstructor
     }
 
-    /// Reconstructs one 2D pose (image coordinates; all 15 landmarks needed) with the camera
-    /// mode: a 3D pose in metres in the canonical body frame, its weak-perspective camera, and
-    /// the localization used (none for `opt`).
+    /// Reconstructs one 2D pose (image coordinates) with the camera mode: a 3D pose in metres
+    /// in the canonical body frame, its weak-perspective camera, and the localization used
+    /// (none for `opt`). Missing landmarks (all but the pelvis and neck may be missing) are
+    /// first filled in from the pose basis seen by the localized camera
+    /// ([`PoseReconstruction::imputed`]; this needs a localizer in every mode).
     ///
     /// # Errors
-    /// [`CamlocError::InvalidOption`] when landmarks are missing; [`CamlocError::Feature`] for
+    /// [`CamlocError::InvalidOption`] when landmarks are missing and there is no localizer;
+    /// [`CamlocError::Feature`] when the pelvis or neck is missing, for
     /// a pose whose scale localization refuses too (`Descriptor::check_scale` of the
     /// localizer's descriptor, or of the default one); localization errors for `classified`
     /// and `hybrid`; [`CamlocError::Reconstruct`] for a degenerate pose.
@@ -239,10 +246,23 @@ impl PoseReconstructor {
         pose: &PartialPose2,
         max: usize,
     ) -> Result<PoseReconstruction, CamlocError> {
-        let (complete, localization, mode, depths) = self.prepare(pose)?;
+        let Prepared {
+            complete,
+            localization,
+            mode,
+            depths,
+            imputed,
+        } = self.prepare(pose)?;
         let mut hypotheses = self
             .reconstructor
-            .reconstruct_lifted(&complete, &mode, max, &self.given, depths.as_ref())
+            .reconstruct_imputed(
+                &complete,
+                landmark_mask(&imputed),
+                &mode,
+                max,
+                &self.given,
+                depths.as_ref(),
+            )
             .map_err(pose_error)?
             .into_iter();
         let reconstruction = hypotheses
@@ -252,15 +272,17 @@ impl PoseReconstructor {
             reconstruction,
             alternatives: hypotheses.collect(),
             localization,
+            imputed,
         })
     }
 
     /// Reconstructs the frames of one person, in time order, with one set of bone lengths
     /// (the given ones, or estimated from all frames), the depth of each frame chosen
     /// consistently over time and temporal smoothness
-    /// ([`Reconstructor::reconstruct_sequence`]). A frame that cannot be reconstructed
-    /// (missing landmarks, a degenerate pose, a failed localization) gets its error and
-    /// the others are still reconstructed.
+    /// ([`Reconstructor::reconstruct_sequence`]); missing landmarks are filled in as
+    /// [`PoseReconstructor::reconstruct`] fills them. A frame that cannot be reconstructed
+    /// (a missing pelvis or neck, a degenerate pose, a failed localization) gets its error
+    /// and the others are still reconstructed.
     ///
     /// # Errors
     /// [`CamlocError::Reconstruct`] when the estimated lengths leave the plausible range;
@@ -273,15 +295,19 @@ impl PoseReconstructor {
             poses.iter().map(|p| self.prepare(p)).collect();
         let frames: Vec<(Pose2, CameraMode)> = prepared
             .iter()
-            .filter_map(|p| p.as_ref().ok().map(|(pose, _, mode, _)| (*pose, *mode)))
+            .filter_map(|p| p.as_ref().ok().map(|p| (p.complete, p.mode)))
             .collect();
         let depths: Vec<Option<LiftedDepths>> = prepared
             .iter()
-            .filter_map(|p| p.as_ref().ok().map(|(_, _, _, depths)| *depths))
+            .filter_map(|p| p.as_ref().ok().map(|p| p.depths))
+            .collect();
+        let imputed: Vec<u16> = prepared
+            .iter()
+            .filter_map(|p| p.as_ref().ok().map(|p| landmark_mask(&p.imputed)))
             .collect();
         let sequence = self
             .reconstructor
-            .reconstruct_sequence_lifted(&frames, &depths, &self.given)
+            .reconstruct_sequence_imputed(&frames, &depths, &imputed, &self.given)
             .map_err(|source| CamlocError::Reconstruct {
                 context: "sequence".into(),
                 source,
@@ -290,7 +316,11 @@ impl PoseReconstructor {
         let frames = prepared
             .into_iter()
             .map(|p| {
-                let (_, localization, _, _) = p?;
+                let Prepared {
+                    localization,
+                    imputed,
+                    ..
+                } = p?;
                 let reconstruction = solved
                     .next()
                     .unwrap_or(Err(ReconstructError::Numerical("no hypothesis was solved")))
@@ -299,6 +329,7 @@ impl PoseReconstructor {
                     reconstruction,
                     alternatives: Vec::new(),
                     localization,
+                    imputed,
                 })
             })
             .collect();
@@ -308,18 +339,32 @@ impl PoseReconstructor {
         })
     }
 
-    /// What a reconstruction of `pose` needs: the complete 2D pose (after the scale check of
-    /// localization), the localization (none for `opt`) and the camera mode.
+    /// What a reconstruction of `pose` needs ([`Prepared`]).
     fn prepare(&self, pose: &PartialPose2) -> Result<Prepared, CamlocError> {
-        let Some(complete) = pose.complete() else {
-            let missing: Vec<&str> = pose.missing().map(|l| l.name()).collect();
-            return Err(CamlocError::InvalidOption {
-                name: "input pose",
-                detail: format!(
-                    "reconstruction needs all 15 landmarks; missing: {}",
-                    missing.join(", ")
-                ),
-            });
+        let imputed: Vec<Landmark> = pose.missing().collect();
+        // A pose with missing landmarks is localized as it is (localization imputes its
+        // descriptor), and its landmarks are filled in with that camera.
+        let (complete, partial_localization) = match pose.complete() {
+            Some(complete) => (complete, None),
+            None => {
+                let Some(localizer) = &self.localizer else {
+                    let missing: Vec<&str> = imputed.iter().map(|l| l.name()).collect();
+                    return Err(CamlocError::InvalidOption {
+                        name: "input pose",
+                        detail: format!(
+                            "missing landmarks ({}) are filled in with the localized camera: \
+                             give a localizer",
+                            missing.join(", ")
+                        ),
+                    });
+                };
+                let localization = localizer.localize_partial(pose)?;
+                let complete = self
+                    .reconstructor
+                    .impute(pose, &localization.viewpoint_rotation())
+                    .map_err(pose_error)?;
+                (complete, Some(localization))
+            }
         };
         // The scale check of localization (the localizer's descriptor, or the default one), so
         // that a pose localize refuses (a pelvis at 1e8 beside a body 100 px tall) is refused
@@ -332,10 +377,11 @@ impl PoseReconstructor {
                 context: "input pose".into(),
                 source,
             })?;
-        let localization = match (self.mode, &self.localizer) {
-            (ModeKind::Opt, _) => None,
-            (_, Some(localizer)) => Some(localizer.localize(&complete)?),
-            (mode, None) => {
+        let localization = match (self.mode, &self.localizer, partial_localization) {
+            (ModeKind::Opt, _, _) => None,
+            (_, _, Some(localization)) => Some(localization),
+            (_, Some(localizer), None) => Some(localizer.localize(&complete)?),
+            (mode, None, None) => {
                 return Err(CamlocError::InvalidOption {
                     name: "camera mode",
                     detail: format!("{} needs a localizer", mode.name()),
@@ -363,7 +409,13 @@ impl PoseReconstructor {
             }
             _ => None,
         };
-        Ok((complete, localization, mode, depths))
+        Ok(Prepared {
+            complete,
+            localization,
+            mode,
+            depths,
+            imputed,
+        })
     }
 
     /// Reconstructs every complete sample of `dataset` with every camera mode (`opt`,
@@ -390,15 +442,24 @@ impl PoseReconstructor {
     }
 }
 
-/// What a reconstruction of one pose needs ([`PoseReconstructor::prepare`]): the complete 2D
-/// pose, its localization (none for `opt`), the camera mode and the lifted depths (with a
-/// lifter and a localization).
-type Prepared = (
-    Pose2,
-    Option<Localization>,
-    CameraMode,
-    Option<LiftedDepths>,
-);
+/// What a reconstruction of one pose needs ([`PoseReconstructor::prepare`]).
+struct Prepared {
+    /// The 2D pose, missing landmarks filled in (after the scale check of localization).
+    complete: Pose2,
+    /// The localization (none for `opt`).
+    localization: Option<Localization>,
+    /// The camera mode.
+    mode: CameraMode,
+    /// The lifted depths (with a lifter and a localization).
+    depths: Option<LiftedDepths>,
+    /// The landmarks that were filled in.
+    imputed: Vec<Landmark>,
+}
+
+/// Bit `i` set for each landmark of index `i` in `landmarks`.
+fn landmark_mask(landmarks: &[Landmark]) -> u16 {
+    landmarks.iter().fold(0, |mask, l| mask | 1 << l.index())
+}
 
 /// A reconstruction error of the input pose.
 fn pose_error(source: ReconstructError) -> CamlocError {

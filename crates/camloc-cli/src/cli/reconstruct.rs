@@ -347,7 +347,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
             svg: args
                 .svg
                 .as_ref()
-                .and_then(|_| pose_svg(&record.pose, &record.id, choice, &result)),
+                .map(|_| pose_svg(&record.pose, &record.id, choice, &result)),
             row: args.npy.as_ref().map(|_| r.pose),
             keep: keep.then(|| Kept {
                 key: (record.frame, record.person),

@@ -118,6 +118,9 @@ struct ReconstructionJson<'a> {
     best: HypothesisJson<'a>,
     #[serde(skip_serializing_if = "Vec::is_empty")]
     alternatives: Vec<HypothesisJson<'a>>,
+    /// The landmarks missing in the input, filled in before the reconstruction.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    imputed: Vec<&'static str>,
 }
 
 /// How the camera of `result` was chosen, for text and captions.
@@ -133,6 +136,11 @@ fn camera_text(choice: ModeKind, result: &PoseReconstruction) -> String {
         ),
         None => choice.name().to_string(),
     }
+}
+
+/// The names of the landmarks of `result` that were filled in.
+fn imputed_names(result: &PoseReconstruction) -> Vec<&'static str> {
+    result.imputed.iter().map(|l| l.name()).collect()
 }
 
 /// The output of one reconstructed pose: one JSON object (no newline) or lines of text.
@@ -157,6 +165,7 @@ pub fn pose_output(
                 .iter()
                 .map(HypothesisJson::new)
                 .collect(),
+            imputed: imputed_names(result),
         });
     }
     let id = escaped(meta.id);
@@ -167,10 +176,12 @@ pub fn pose_output(
     if let Some(p) = meta.person {
         let _ = write!(heading, " person {p}");
     }
-    let mut text = reconstruction_text(
-        &format!("{heading}: camera {}", camera_text(choice, result)),
-        r,
-    );
+    let mut heading = format!("{heading}: camera {}", camera_text(choice, result));
+    let imputed = imputed_names(result);
+    if !imputed.is_empty() {
+        let _ = write!(heading, "; filled in: {}", imputed.join(", "));
+    }
+    let mut text = reconstruction_text(&heading, r);
     for (k, alternative) in result.alternatives.iter().enumerate() {
         text.push_str(&reconstruction_text(
             &format!("  alternative {}", k + 1),
@@ -180,24 +191,22 @@ pub fn pose_output(
     text
 }
 
-/// The drawing of one reconstructed pose (input, reprojection, three views), when the input
-/// pose is complete.
+/// The drawing of one reconstructed pose (input, reprojection, three views); the caption
+/// names the landmarks that were filled in.
 pub fn pose_svg(
     input: &PartialPose2,
     id: &str,
     choice: ModeKind,
     result: &PoseReconstruction,
-) -> Option<String> {
-    let input = input.complete()?;
+) -> String {
     let r = &result.reconstruction;
     let projected = r.reprojection();
-    let caption = format!("{id}: camera {}", camera_text(choice, result));
-    Some(svg::reconstruction_svg(
-        &input,
-        &Pose2::new(projected),
-        &r.pose,
-        &caption,
-    ))
+    let mut caption = format!("{id}: camera {}", camera_text(choice, result));
+    let imputed = imputed_names(result);
+    if !imputed.is_empty() {
+        let _ = write!(caption, "; filled in: {}", imputed.join(", "));
+    }
+    svg::reconstruction_svg(input, &Pose2::new(projected), &r.pose, &caption)
 }
 
 /// Bone lengths as one line of text: `KEY LENGTH` pairs, metres.

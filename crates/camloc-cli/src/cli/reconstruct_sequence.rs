@@ -146,11 +146,10 @@ pub fn run(
                     };
                     emit.write(out, &pose_output(format, &meta, options.choice, &r))?;
                     if let Some(svg) = options.svg {
-                        if let Some(drawing) = pose_svg(&k.pose, &k.id, options.choice, &r) {
-                            // Numbered as if there were several; a single one is renamed.
-                            let path = numbered_path(svg, drawn.len(), 2);
-                            drawn.push((drawn.len(), staged.add(&path, drawing.as_bytes())?));
-                        }
+                        let drawing = pose_svg(&k.pose, &k.id, options.choice, &r);
+                        // Numbered as if there were several; a single one is renamed.
+                        let path = numbered_path(svg, drawn.len(), 2);
+                        drawn.push((drawn.len(), staged.add(&path, drawing.as_bytes())?));
                     }
                     if let Some(row) = rows.get_mut(i) {
                         *row = Some(r.reconstruction.pose);

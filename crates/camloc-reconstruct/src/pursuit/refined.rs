@@ -53,6 +53,26 @@ impl Reconstructor {
         given: &Given,
         depths: Option<&LiftedDepths>,
     ) -> Result<Vec<Reconstruction>, ReconstructError> {
+        self.reconstruct_imputed(pose, 0, mode, max, given, depths)
+    }
+
+    /// [`reconstruct_lifted`](Self::reconstruct_lifted) of a pose whose landmarks with bit
+    /// `i` set in `imputed` were filled in (for instance by [`impute`](Self::impute)), not
+    /// observed: the pursuit fits them like the others, the refinement leaves them out of
+    /// its reprojection error (the bone directions' prior holds their bones where the
+    /// pursuit or the lifter put them).
+    ///
+    /// # Errors
+    /// As [`reconstruct_with`](Self::reconstruct_with).
+    pub fn reconstruct_imputed(
+        &self,
+        pose: &Pose2,
+        imputed: u16,
+        mode: &CameraMode,
+        max: usize,
+        given: &Given,
+        depths: Option<&LiftedDepths>,
+    ) -> Result<Vec<Reconstruction>, ReconstructError> {
         if let Some(intrinsics) = &given.intrinsics {
             intrinsics.check()?;
         }
@@ -66,7 +86,7 @@ impl Reconstructor {
             .take(max.max(1))
             .map(|c| {
                 let refined = if self.refines(given) {
-                    let frame = self.refine_frame(&obs, &c, given, depths);
+                    let frame = self.refine_frame(&obs, &c, given, depths, imputed);
                     let (mut out, _) = refine(
                         &[frame],
                         self.length_input(given),
@@ -115,13 +135,15 @@ impl Reconstructor {
     }
 
     /// What the refinement starts `candidate` from: its pose, or with (finite) `depths` the
-    /// lifted pose ([`reconstruct_lifted`](Self::reconstruct_lifted)).
+    /// lifted pose ([`reconstruct_lifted`](Self::reconstruct_lifted)); `imputed` marks the
+    /// landmarks that were filled in.
     pub(super) fn refine_frame(
         &self,
         obs: &Observation,
         candidate: &Candidate,
         given: &Given,
         depths: Option<&LiftedDepths>,
+        imputed: u16,
     ) -> RefineFrame {
         let camera = candidate.fit.camera;
         let (points, lifted) = match depths {
@@ -134,6 +156,7 @@ impl Reconstructor {
             camera,
             intrinsics: given.intrinsics.map(|i| obs.normalise_intrinsics(&i)),
             lifted,
+            imputed,
         }
     }
 

@@ -72,6 +72,23 @@ impl Reconstructor {
         depths: &[Option<LiftedDepths>],
         given: &Given,
     ) -> Result<SequenceReconstruction, ReconstructError> {
+        self.reconstruct_sequence_imputed(frames, depths, &[], given)
+    }
+
+    /// [`reconstruct_sequence_lifted`](Self::reconstruct_sequence_lifted) of frames whose
+    /// landmarks with bit `i` set in `imputed[t]` (frame `t`; missing entries: none) were
+    /// filled in, not observed: the refinements leave them out of their reprojection error,
+    /// as [`reconstruct_imputed`](Self::reconstruct_imputed) does.
+    ///
+    /// # Errors
+    /// As [`reconstruct_sequence`](Self::reconstruct_sequence).
+    pub fn reconstruct_sequence_imputed(
+        &self,
+        frames: &[(Pose2, CameraMode)],
+        depths: &[Option<LiftedDepths>],
+        imputed: &[u16],
+        given: &Given,
+    ) -> Result<SequenceReconstruction, ReconstructError> {
         if let Some(intrinsics) = &given.intrinsics {
             intrinsics.check()?;
         }
@@ -98,9 +115,10 @@ impl Reconstructor {
         }
         let (refined, lengths): (Vec<Option<RefinedFrame>>, BoneLengths) = if self.refines(given) {
             let lifted_of = |t: usize| depths.get(t).and_then(Option::as_ref);
+            let imputed_of = |t: usize| imputed.get(t).copied().unwrap_or(0);
             let inputs: Vec<_> = chosen
                 .iter()
-                .map(|(t, r, c)| self.refine_frame(&r.obs, c, given, lifted_of(*t)))
+                .map(|(t, r, c)| self.refine_frame(&r.obs, c, given, lifted_of(*t), imputed_of(*t)))
                 .collect();
             let settings = &self.config.refinement;
             let lifted = chosen.iter().any(|(t, _, _)| lifted_of(*t).is_some());
@@ -116,7 +134,7 @@ impl Reconstructor {
                 let pursuit: Option<Vec<_>> = lifted.then(|| {
                     chosen
                         .iter()
-                        .map(|(_, r, c)| self.refine_frame(&r.obs, c, given, None))
+                        .map(|(t, r, c)| self.refine_frame(&r.obs, c, given, None, imputed_of(*t)))
                         .collect()
                 });
                 let starts = pursuit.as_deref().unwrap_or(&inputs);

@@ -60,6 +60,9 @@ pub(super) struct FrameData {
     /// The bone directions the pursuit found (unit, body frame).
     pub(super) anchors: [Vector3<f64>; NUM_LIMBS],
     pub(super) projection: Projection,
+    /// Bit `i` set when landmark `i` was filled in rather than observed: it has no
+    /// reprojection term (the direction prior holds its bones).
+    pub(super) imputed: u16,
 }
 
 /// A frame's unknowns.
@@ -279,6 +282,9 @@ pub(super) fn evaluate(
     });
     let mut cost = 0.0;
     for (i, x) in points.iter().enumerate() {
+        if data.imputed & (1 << i) != 0 {
+            continue;
+        }
         let (p, g) = state.see(data.projection, shared.kappa, x)?;
         let u = data.observed[i];
         let e = (p - Vector2::new(u[0], u[1])) * weights.image;
@@ -419,6 +425,7 @@ mod tests {
                 observed,
                 anchors,
                 projection,
+                imputed: 0,
             };
             let free = Free {
                 lengths: true,

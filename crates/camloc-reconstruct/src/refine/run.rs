@@ -27,6 +27,8 @@ pub(crate) struct RefineFrame {
     /// Whether `pose` is the lifted one (the 2D at a depth lifter's depths), not the
     /// pursuit's.
     pub(crate) lifted: bool,
+    /// Bit `i` set when landmark `i` of `observed` was filled in rather than observed.
+    pub(crate) imputed: u16,
 }
 
 /// One refined frame (normalised image units).
@@ -95,6 +97,7 @@ fn start(frame: &RefineFrame, lengths: &[f64; NUM_LIMBS]) -> (FrameData, FrameSt
         observed: frame.observed,
         anchors,
         projection,
+        imputed: frame.imputed,
     };
     (data, state)
 }
