@@ -70,7 +70,8 @@
 //! name (see [`LSP_JOINTS`]), except that `head_top` becomes the head (the crown sits higher than
 //! camloc's head landmark, the upper end of the neck). `visible` must be `0` or `1`:
 //! by default a `0` marks the landmark as missing; [`Invisible::Use`] keeps the annotated
-//! coordinates of invisible joints. An image that lacks some joint rows simply has those
+//! coordinates of invisible joints, except placeholders (a coordinate `<= 0`: no position). An
+//! image that lacks some joint rows simply has those
 //! landmarks missing.
 //!
 //! ## COCO-17 JSON
@@ -160,8 +161,9 @@ pub enum Invisible {
     /// The landmark is missing (the default).
     #[default]
     Missing,
-    /// Keep the annotated coordinates (LSP annotates occluded joints where they are guessed to
-    /// be; joints outside the image may have coordinates outside it).
+    /// Keep the annotated coordinates (some LSP-style files place occluded joints where they
+    /// are guessed to be). A coordinate `<= 0` (at or beyond the image's top or left edge) is
+    /// the placeholder of a joint that was not annotated: that joint stays missing.
     Use,
 }
 

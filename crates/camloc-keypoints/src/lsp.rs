@@ -200,20 +200,29 @@ fn first_row(text: &str, header: &Header, image: &str, joint: &str) -> usize {
         .map_or(0, |(line, _)| line)
 }
 
+/// Whether `joint` is an invisible joint without a position: a coordinate at or beyond the
+/// image's top or left edge (`<= 0`). LSP-style files put the joints they did not annotate
+/// there (in `lsp400_joints.csv` every invisible joint sits at `(0, -27.3)` or the like, all
+/// of one image's at one point); taken as positions they would make a torso out of nothing.
+/// Such a joint is missing even with [`Invisible::Use`] and gives no pelvis or neck.
+fn is_placeholder(joint: &Row) -> bool {
+    !joint.visible && !(joint.point[0] > 0.0 && joint.point[1] > 0.0)
+}
+
 /// The record of `image` from its rows.
 fn record(image: &Image, joints: &[Row], file: &str, options: &ReadOptions) -> KeypointRecord {
     let mut pose = PartialPose2::empty();
     let mut annotated = PartialPose2::empty();
-    for joint in joints {
+    for joint in joints.iter().filter(|j| !is_placeholder(j)) {
         let landmark = LSP_JOINTS[usize::from(joint.slot)].1.index();
         if joint.visible || options.lsp.invisible == Invisible::Use {
             pose.points[landmark] = Some(joint.point);
         }
         annotated.points[landmark] = Some(joint.point);
     }
-    // The torso is the unit of scale and LSP annotates hidden joints too: a pelvis or neck that
-    // the visible joints cannot give comes from the annotated (invisible) hips, shoulders or
-    // neck, and is recorded as derived.
+    // The torso is the unit of scale and LSP may annotate hidden joints too: a pelvis or neck
+    // that the visible joints cannot give comes from the annotated (invisible, not placeholder)
+    // hips, shoulders or neck, and is recorded as derived.
     let mut derived = Vec::new();
     if options.derive_torso {
         derive_torso(&mut annotated);
@@ -316,6 +325,27 @@ mod tests {
         for l in Landmark::ALL {
             let n = LSP_JOINTS.iter().filter(|(_, m)| *m == l).count();
             assert_eq!(n, usize::from(l != Landmark::Pelvis), "{l:?}");
+        }
+    }
+
+    /// An invisible hip at the image's edge is a placeholder: no hip and no pelvis from it,
+    /// with or without `Invisible::Use`; an invisible hip inside the image gives the pelvis.
+    #[test]
+    fn placeholder_joints_give_no_position_and_no_torso() {
+        let text = "image,joint,x,y,visible\na,left_hip,10,20,1\na,right_hip,0,-27.3,0\n\
+                    b,left_hip,10,20,1\nb,right_hip,30,20,0\n";
+        for invisible in [Invisible::Missing, Invisible::Use] {
+            let options = ReadOptions {
+                lsp: crate::LspOptions { invisible },
+                ..ReadOptions::default()
+            };
+            let records = parse(text, "t.csv", &options).unwrap();
+            let (a, b) = (&records[0].pose, &records[1].pose);
+            assert_eq!(a.points[Landmark::RightHip.index()], None);
+            assert_eq!(a.points[Landmark::Pelvis.index()], None);
+            assert_eq!(b.points[Landmark::Pelvis.index()], Some([20.0, 20.0]));
+            let used = invisible == Invisible::Use;
+            assert_eq!(b.points[Landmark::RightHip.index()].is_some(), used);
         }
     }
 

@@ -19,6 +19,9 @@ fn mirrored_lsp_poses_get_the_mirrored_side() {
     let localizer = CameraLocalizer::default_model().unwrap();
     let records = read_keypoints(&file, None, &ReadOptions::default()).unwrap();
     assert_eq!(records.len(), 400);
+    // Poses without a torso from their visible joints cannot be localized (the file's
+    // invisible joints have no position: docs/keypoints.md).
+    let with_torso = records.iter().filter(|r| r.require_torso().is_ok()).count();
     let (mut ok, mut consistent) = (0usize, 0usize);
     for r in &records {
         if let (Ok(a), Ok(b)) = (
@@ -34,7 +37,10 @@ fn mirrored_lsp_poses_get_the_mirrored_side() {
         "LSP mirror check: {consistent} of {ok} poses ({:.1}%)",
         100.0 * share
     );
-    assert!(ok >= 390, "only {ok} of 400 LSP poses localized");
+    assert!(
+        ok == with_torso && with_torso >= 240,
+        "{ok} of the {with_torso} LSP poses with a torso localized"
+    );
     assert!(
         share >= 0.99,
         "mirrored side in {:.1}% of poses",

@@ -153,9 +153,11 @@ pub fn run(cli: Cli, out: &mut Out) -> Result<ExitCode, CliError> {
 /// How LSP joints marked visible=0 are read.
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub enum InvisibleArg {
-    /// As missing landmarks (their descriptor values are imputed).
+    /// As missing landmarks (localize imputes their descriptor values, reconstruct fills them
+    /// in).
     Missing,
-    /// With their annotated coordinates.
+    /// With their annotated coordinates; a coordinate <= 0 is a placeholder of a joint that was
+    /// not annotated, which stays missing (docs/keypoints.md).
     Use,
 }
 
