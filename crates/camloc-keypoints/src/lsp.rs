@@ -206,7 +206,8 @@ fn first_row(text: &str, header: &Header, image: &str, joint: &str) -> usize {
 /// of one image's at one point); taken as positions they would make a torso out of nothing.
 /// Such a joint is missing even with [`Invisible::Use`] and gives no pelvis or neck.
 fn is_placeholder(joint: &Row) -> bool {
-    !joint.visible && !(joint.point[0] > 0.0 && joint.point[1] > 0.0)
+    let placed = joint.point[0] > 0.0 && joint.point[1] > 0.0;
+    !joint.visible && !placed
 }
 
 /// The record of `image` from its rows.
