@@ -613,6 +613,10 @@ fn lsp_section(md: &mut String, args: &Args) -> Result<(), String> {
     let records =
         read_keypoints(&path, None, &ReadOptions::default()).map_err(|e| e.to_string())?;
     let poses: Vec<_> = records.iter().map(|r| r.pose).collect();
+    let no_torso = records
+        .iter()
+        .filter(|r| r.require_torso().is_err())
+        .count();
     let results = localizer.localize_batch(&poses);
     let mirrored: Vec<_> = poses.iter().map(|p| p.mirrored()).collect();
     let mirrored_results = localizer.localize_batch(&mirrored);
@@ -631,11 +635,13 @@ fn lsp_section(md: &mut String, args: &Args) -> Result<(), String> {
     }
     let _ = writeln!(
         md,
-        "`{}` read with the default options (joints marked invisible are missing and imputed; \
-         {missing} poses have at least one), localized with the default model embedded in the \
-         binary (`cargo xtask train-default`). {ok} of {} poses localized. There is no ground \
-         truth camera for these photos: this is a sanity check of how the predictions spread \
-         over the sphere.\n",
+        "`{}` read with the default options (joints marked invisible are missing; {no_torso} \
+         poses have no pelvis or neck that their visible joints give: the file's invisible \
+         joints are placeholders without a position, docs/keypoints.md), localized with the \
+         default model embedded in the binary (`cargo xtask train-default`; the descriptor \
+         values of missing landmarks imputed: {missing} of the localized poses have at least \
+         one). {ok} of {} poses localized. There is no ground truth camera for these photos: \
+         this is a sanity check of how the predictions spread over the sphere.\n",
         path.file_name()
             .map_or_else(String::new, |n| n.to_string_lossy().into_owned()),
         records.len()
