@@ -78,9 +78,13 @@ enum Command {
     #[command(after_help = EXIT_CODES)]
     Localize(localize::Args),
     /// Reconstruct the 3D poses of a keypoint input with a pose basis and projected matching
-    /// pursuit, using the Procrustes camera (opt, default) or the classified one (classified, hybrid).
+    /// pursuit, using the camera of the localized viewpoint (hybrid, default), the classified
+    /// one (classified) or the Procrustes camera (opt).
     ///
-    /// Poses are read, reconstructed (in parallel) and written in batches.
+    /// Poses are read, reconstructed (in parallel) and written in batches. Missing landmarks
+    /// are filled in from the pose basis seen by the localized camera and named in the output
+    /// (`imputed`); a pose without a pelvis and neck (or the hips and shoulders they come from)
+    /// is refused.
     #[command(after_help = EXIT_CODES)]
     Reconstruct(reconstruct::Args),
     /// Measure 3D error (mm, after similarity alignment) and projection error of every
