@@ -218,13 +218,14 @@ impl PoseReconstructor {
 
     /// Reconstructs one 2D pose (image coordinates) with the camera mode: a 3D pose in metres
     /// in the canonical body frame, its weak-perspective camera, and the localization used
-    /// (none for `opt`). Missing landmarks (all but the pelvis and neck may be missing) are
-    /// first filled in from the pose basis seen by the localized camera
-    /// ([`PoseReconstruction::imputed`]; this needs a localizer in every mode).
+    /// (none for `opt`). Missing landmarks are first filled in from the pose basis seen by
+    /// the localized camera ([`PoseReconstruction::imputed`]; this needs a localizer in every
+    /// mode). What may be missing is what localization accepts: for the default model any
+    /// landmark, the pelvis (neck) only when both hips (shoulders) are present.
     ///
     /// # Errors
     /// [`CamlocError::InvalidOption`] when landmarks are missing and there is no localizer;
-    /// [`CamlocError::Feature`] when the pelvis or neck is missing, for
+    /// [`CamlocError::Feature`] when localization finds no torso, for
     /// a pose whose scale localization refuses too (`Descriptor::check_scale` of the
     /// localizer's descriptor, or of the default one); localization errors for `classified`
     /// and `hybrid`; [`CamlocError::Reconstruct`] for a degenerate pose.
