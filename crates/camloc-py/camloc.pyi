@@ -183,7 +183,8 @@ def read_keypoints(
     layout: the joint layout of .npy arrays and MMPose keypoints (None: from the joint count).
     min_score: joints scoring below it are missing (formats with scores).
     image_size: (width, height) in pixels or "W,H", to scale MediaPipe's normalised coordinates.
-    lsp_invisible: ``missing`` or ``use`` (LSP joints marked visible=0).
+    lsp_invisible: ``missing`` or ``use`` (LSP joints marked visible=0; with ``use``, a joint
+      with a coordinate <= 0 is a placeholder without a position and stays missing).
     derive_torso: derive a missing pelvis / neck from the hips / shoulders.
     recursive: for a folder, read its sub-folders too.
 
