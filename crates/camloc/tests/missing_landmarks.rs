@@ -32,7 +32,7 @@ fn reconstructor(mode: ModeKind) -> PoseReconstructor {
 
 /// A pose without its right forearm is reconstructed in every mode, says what was filled in,
 /// and stays within 100 mm of the complete pose's reconstruction (no depth flip, no collapse;
-/// 33-78 mm measured, most of it the two missing landmarks); a sequence fills in each frame.
+/// 31-78 mm measured, most of it the two missing landmarks); a sequence fills in each frame.
 #[test]
 fn missing_landmarks_are_filled_in_and_reported() {
     let poses = example_poses();
