@@ -192,7 +192,7 @@ function describe(f) {
   if (f.smoothed) parts.push(`smoothed camera ${String(f.smoothed).padStart(2, "0")}`);
   if (f.direction) parts.push(`direction: azimuth ${f.direction[0].toFixed(1)}, elevation ${f.direction[1].toFixed(1)}, +- ${f.direction[2].toFixed(1)} deg`);
   // A landmark missing in the input but reconstructed was filled in from the pose basis.
-  const filled = data.landmarks.filter((_, i) => f.input[i] === null && f.pose);
+  const filled = f.pose ? data.landmarks.filter((_, i) => f.input[i] === null) : [];
   if (filled.length) parts.push(`filled in: ${filled.join(", ")}`);
   if (f.error) parts.push(`error: ${f.error}`);
   return parts.join("; ");

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use std::sync::OnceLock;
 
 use camloc::reconstruct::{BONE_KEYS, BoneLengths, Intrinsics, PoseBasis};
-use camloc::skeleton::NUM_LIMBS;
+use camloc::skeleton::{NUM_LANDMARKS, NUM_LIMBS};
 use camloc::store::Persist;
 use camloc::{
     CameraLocalizer, CamlocError, DepthLifter, ModeKind, PoseReconstruction, PoseReconstructor,
@@ -166,7 +166,7 @@ pub(crate) fn reconstruct<'py>(
     let mut translation_m = vec![f64::NAN; n * 3];
     let mut focal_px = vec![f64::NAN; n];
     let mut principal_point = vec![f64::NAN; n * 2];
-    let mut imputed = vec![false; n * 15];
+    let mut imputed = vec![false; n * NUM_LANDMARKS];
     let mut errors = Vec::new();
     for (i, result) in results.into_iter().enumerate() {
         let r = match result {
@@ -198,7 +198,7 @@ pub(crate) fn reconstruct<'py>(
             principal_point[i * 2..(i + 1) * 2].copy_from_slice(&p.principal_point);
         }
         for l in &r.imputed {
-            imputed[i * 15 + l.index()] = true;
+            imputed[i * NUM_LANDMARKS + l.index()] = true;
         }
         label[i] = r
             .localization
@@ -216,7 +216,7 @@ pub(crate) fn reconstruct<'py>(
     out.array("translation_m", translation_m, &[3])?;
     out.array("focal_px", focal_px, &[])?;
     out.array("principal_point", principal_point, &[2])?;
-    out.array("imputed", imputed, &[15])?;
+    out.array("imputed", imputed, &[NUM_LANDMARKS])?;
     if let Some(l) = person_lengths {
         let array = numpy::PyArray1::from_vec(py, l.as_array().to_vec());
         out.set("person_bone_lengths", array)?;

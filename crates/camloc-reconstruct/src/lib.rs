@@ -63,7 +63,6 @@ mod basis;
 mod dense;
 mod error;
 mod eval;
-mod impute;
 mod length_prior;
 mod lengths;
 mod lsq;

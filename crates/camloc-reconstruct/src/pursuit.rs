@@ -6,14 +6,16 @@
 //! `reconstructor` (the [`Reconstructor`] and its precomputed constraint), `greedy` (the
 //! pursuit loop), `reflection` (the depth-reflected start), `hypotheses` (the solves of a
 //! mode, the priors and the ranking), `refined` (each hypothesis refined with the person's
-//! own bone lengths, [`crate::refine`]) and `sequence` (the frames of one person: depths
-//! chosen over time, one refinement with shared lengths).
+//! own bone lengths, [`crate::refine`]), `sequence` (the frames of one person: depths
+//! chosen over time, one refinement with shared lengths) and `impute` (missing landmarks
+//! filled in from the basis seen by a given rotation).
 
 mod camera_update;
 mod coefficients;
 mod config;
 mod greedy;
 mod hypotheses;
+mod impute;
 mod mode;
 mod observation;
 mod reconstructor;

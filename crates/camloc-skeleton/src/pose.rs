@@ -404,6 +404,12 @@ impl PartialPose2 {
             .enumerate()
             .fold(0, |m, (i, p)| if p.is_some() { m | (1 << i) } else { m })
     }
+
+    /// Bit `i` set when landmark `i` is missing (the complement of
+    /// [`present_mask`](Self::present_mask) over the 15 landmarks).
+    pub fn missing_mask(&self) -> u16 {
+        !self.present_mask() & ((1 << NUM_LANDMARKS) - 1)
+    }
 }
 
 impl From<Pose2> for PartialPose2 {
@@ -424,6 +430,27 @@ mod tests {
             let t = i as f64;
             [0.1 * t.sin() + 0.01 * t, 0.2 * t.cos(), 0.05 * t * t - 0.3]
         }))
+    }
+
+    /// The missing mask is the present mask's complement over the 15 landmarks.
+    #[test]
+    fn missing_and_present_masks_split_the_landmarks() {
+        let mut pose = PartialPose2 {
+            points: [Some([1.0, 2.0]); NUM_LANDMARKS],
+        };
+        assert_eq!(pose.missing_mask(), 0);
+        pose.points[Landmark::RightWrist.index()] = None;
+        pose.points[Landmark::Pelvis.index()] = None;
+        let expected = 1 << Landmark::RightWrist.index() | 1 << Landmark::Pelvis.index();
+        assert_eq!(pose.missing_mask(), expected);
+        assert_eq!(
+            pose.missing_mask() | pose.present_mask(),
+            (1 << NUM_LANDMARKS) - 1
+        );
+        assert_eq!(
+            PartialPose2::empty().missing_mask(),
+            (1 << NUM_LANDMARKS) - 1
+        );
     }
 
     #[test]

@@ -256,7 +256,7 @@ impl PoseReconstructor {
             depths,
             imputed,
         } = self.prepare(pose)?;
-        let mask = landmark_mask(&imputed);
+        let mask = pose.missing_mask();
         let solve = |pose: &Pose2, depths: Option<&LiftedDepths>| {
             self.reconstructor
                 .reconstruct_imputed(pose, mask, &mode, max, &self.given, depths)
@@ -316,7 +316,8 @@ impl PoseReconstructor {
             .collect();
         let imputed: Vec<u16> = prepared
             .iter()
-            .filter_map(|p| p.as_ref().ok().map(|p| landmark_mask(&p.imputed)))
+            .zip(poses)
+            .filter_map(|(p, pose)| p.as_ref().ok().map(|_| pose.missing_mask()))
             .collect();
         let sequence = self
             .reconstructor
@@ -475,11 +476,6 @@ struct Prepared {
     depths: Option<LiftedDepths>,
     /// The landmarks that were filled in.
     imputed: Vec<Landmark>,
-}
-
-/// Bit `i` set for each landmark of index `i` in `landmarks`.
-fn landmark_mask(landmarks: &[Landmark]) -> u16 {
-    landmarks.iter().fold(0, |mask, l| mask | 1 << l.index())
 }
 
 /// A reconstruction error of the input pose.

@@ -143,6 +143,17 @@ fn imputed_names(result: &PoseReconstruction) -> Vec<&'static str> {
     result.imputed.iter().map(|l| l.name()).collect()
 }
 
+/// `title`, how the camera of `result` was chosen and the landmarks filled in: the heading of
+/// its text and the caption of its drawing.
+fn heading(title: &str, choice: ModeKind, result: &PoseReconstruction) -> String {
+    let mut heading = format!("{title}: camera {}", camera_text(choice, result));
+    let imputed = imputed_names(result);
+    if !imputed.is_empty() {
+        let _ = write!(heading, "; filled in: {}", imputed.join(", "));
+    }
+    heading
+}
+
 /// The output of one reconstructed pose: one JSON object (no newline) or lines of text.
 pub fn pose_output(
     format: Format,
@@ -169,19 +180,14 @@ pub fn pose_output(
         });
     }
     let id = escaped(meta.id);
-    let mut heading = format!("{id}");
+    let mut title = format!("{id}");
     if let Some(f) = meta.frame {
-        let _ = write!(heading, " frame {f}");
+        let _ = write!(title, " frame {f}");
     }
     if let Some(p) = meta.person {
-        let _ = write!(heading, " person {p}");
+        let _ = write!(title, " person {p}");
     }
-    let mut heading = format!("{heading}: camera {}", camera_text(choice, result));
-    let imputed = imputed_names(result);
-    if !imputed.is_empty() {
-        let _ = write!(heading, "; filled in: {}", imputed.join(", "));
-    }
-    let mut text = reconstruction_text(&heading, r);
+    let mut text = reconstruction_text(&heading(&title, choice, result), r);
     for (k, alternative) in result.alternatives.iter().enumerate() {
         text.push_str(&reconstruction_text(
             &format!("  alternative {}", k + 1),
@@ -201,11 +207,7 @@ pub fn pose_svg(
 ) -> String {
     let r = &result.reconstruction;
     let projected = r.reprojection();
-    let mut caption = format!("{id}: camera {}", camera_text(choice, result));
-    let imputed = imputed_names(result);
-    if !imputed.is_empty() {
-        let _ = write!(caption, "; filled in: {}", imputed.join(", "));
-    }
+    let caption = heading(id, choice, result);
     svg::reconstruction_svg(input, &Pose2::new(projected), &r.pose, &caption)
 }
 

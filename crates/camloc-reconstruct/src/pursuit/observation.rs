@@ -87,16 +87,16 @@ impl Observation {
 }
 
 /// The mean of `points` (their units).
-fn centroid(points: &[[f64; 2]; NUM_LANDMARKS]) -> [f64; 2] {
-    let n = NUM_LANDMARKS as f64;
+pub(super) fn centroid(points: &[[f64; 2]]) -> [f64; 2] {
+    let n = points.len() as f64;
     points
         .iter()
         .fold([0.0; 2], |a, p| [a[0] + p[0] / n, a[1] + p[1] / n])
 }
 
 /// Root-mean-square distance of `points` from their centroid (their units).
-pub(super) fn rms_radius(points: &[[f64; 2]; NUM_LANDMARKS]) -> f64 {
-    let n = NUM_LANDMARKS as f64;
+pub(super) fn rms_radius(points: &[[f64; 2]]) -> f64 {
+    let n = points.len() as f64;
     let centre = centroid(points);
     let sum: f64 = points
         .iter()

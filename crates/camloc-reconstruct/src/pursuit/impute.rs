@@ -3,9 +3,10 @@
 //! threshold) can be reconstructed (docs/conventions.md section 6, "Missing landmarks").
 
 use camloc_geometry::Matrix3;
-use camloc_skeleton::{NUM_LANDMARKS, PartialPose2, Pose2};
+use camloc_skeleton::{Landmark, NUM_LANDMARKS, PartialPose2, Pose2};
 use nalgebra::{DMatrix, DVector, Vector3};
 
+use super::observation::{centroid, rms_radius};
 use crate::{ReconstructError, Reconstructor};
 
 impl Reconstructor {
@@ -41,7 +42,7 @@ impl Reconstructor {
         {
             return Err(ReconstructError::NonFiniteInput {
                 landmark,
-                name: camloc_skeleton::Landmark::ALL[landmark].name(),
+                name: Landmark::ALL[landmark].name(),
             });
         }
         if present.len() == NUM_LANDMARKS {
@@ -54,21 +55,20 @@ impl Reconstructor {
         }
         // Centred on the present landmarks' centroid and divided by their largest deviation,
         // so that no square below overflows or underflows whatever the input's units.
-        let n = present.len() as f64;
-        let centre: [f64; 2] =
-            std::array::from_fn(|k| present.iter().map(|(_, p)| p[k] / n).sum::<f64>());
-        let spread = present
+        let points: Vec<[f64; 2]> = present.iter().map(|(_, p)| *p).collect();
+        let centre = centroid(&points);
+        let spread = points
             .iter()
-            .flat_map(|(_, p)| [(p[0] - centre[0]).abs(), (p[1] - centre[1]).abs()])
+            .flat_map(|p| [(p[0] - centre[0]).abs(), (p[1] - centre[1]).abs()])
             .fold(0.0, f64::max);
         if !(spread > 0.0 && spread.is_finite()) {
             return Err(ReconstructError::DegenerateInput(
                 "the landmarks present coincide",
             ));
         }
-        let observed: Vec<[f64; 2]> = present
+        let observed: Vec<[f64; 2]> = points
             .iter()
-            .map(|(_, p)| [(p[0] - centre[0]) / spread, (p[1] - centre[1]) / spread])
+            .map(|p| [(p[0] - centre[0]) / spread, (p[1] - centre[1]) / spread])
             .collect();
         let fit = self.basis_fit(&present, &observed, rotation)?;
         let mut points = pose.points.map(|p| p.unwrap_or_default());
@@ -109,26 +109,15 @@ impl Reconstructor {
             .map(|&k| seen(basis.components().column(k).as_slice()))
             .collect();
         // The scale of the mean pose fitted alone sets the prior's units: v = s w.
-        let n = present.len() as f64;
-        let centre = |points: &mut dyn Iterator<Item = [f64; 2]>| {
-            points.fold([0.0; 2], |a, p| [a[0] + p[0] / n, a[1] + p[1] / n])
-        };
-        let observed_centre = centre(&mut observed.iter().copied());
-        let mean_centre = centre(&mut present.iter().map(|(i, _)| mean[*i]));
-        let squares = |points: &mut dyn Iterator<Item = [f64; 2]>, c: [f64; 2]| {
-            points
-                .map(|p| (p[0] - c[0]).powi(2) + (p[1] - c[1]).powi(2))
-                .sum::<f64>()
-        };
-        let observed_squares = squares(&mut observed.iter().copied(), observed_centre);
-        let mean_squares = squares(&mut present.iter().map(|(i, _)| mean[*i]), mean_centre);
-        if !(mean_squares > 0.0 && observed_squares > 0.0) {
+        let mean_present: Vec<[f64; 2]> = present.iter().map(|(i, _)| mean[*i]).collect();
+        let (observed_radius, mean_radius) = (rms_radius(observed), rms_radius(&mean_present));
+        if !(mean_radius > 0.0 && observed_radius > 0.0) {
             return Err(ReconstructError::DegenerateInput(
                 "the landmarks present coincide",
             ));
         }
-        let scale = (observed_squares / mean_squares).sqrt();
-        let sigma = self.config().refinement.image_sigma * (observed_squares / n).sqrt();
+        let scale = observed_radius / mean_radius;
+        let sigma = self.config().refinement.image_sigma * observed_radius;
         // Unknowns: s, t_x, t_y, then v_k.
         let dim = 3 + components.len();
         let mut normal = DMatrix::<f64>::zeros(dim, dim);
