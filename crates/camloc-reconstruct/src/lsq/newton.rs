@@ -91,6 +91,9 @@ pub(super) fn solve(
             None => break,
         }
     }
-    let converged = (norm - rho).abs() <= 1e-10 * rho;
+    // |z| reaches rho to 1e-10, or to the rounding of the factorisation where the bracket has
+    // shrunk to adjacent multipliers (|z| then moves by about `condition * eps` per step).
+    let tolerance = 1e-10_f64.max(16.0 * f64::EPSILON * condition);
+    let converged = (norm - rho).abs() <= tolerance * rho;
     (converged && condition <= MAX_CONDITION).then_some(lambda)
 }

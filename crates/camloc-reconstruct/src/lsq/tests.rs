@@ -207,8 +207,9 @@ proptest! {
     #![proptest_config(ProptestConfig::with_cases(200))]
 
     /// The Newton path on Cholesky factorisations reaches the eigen-decomposition path's
-    /// solution and multiplier (to 1e-9) on random reduced problems of the pursuit's sizes,
-    /// from a cold start and from any warm start, and does not decline them.
+    /// solution and multiplier (to 1e-9, the solution also to the rounding of its condition
+    /// number) on random reduced problems of the pursuit's sizes, from a cold start and from
+    /// any warm start, and does not decline them.
     #[test]
     fn newton_path_matches_eigen_path(n in 1usize..=12, rank in 1usize..=12,
                                       raw in proptest::collection::vec(-1.0f64..1.0, 144),
@@ -225,6 +226,12 @@ proptest! {
             z.iter().map(|v| v * rho / norm).collect::<Vec<f64>>()
         };
         let expected = on_sphere(&reference.z);
+        // Near -d_min the solution is as sensitive as H + lambda I is ill-conditioned along
+        // it: both paths agree to 1e-9 plus that condition number's rounding.
+        let d_min = DMatrix::from_column_slice(n, n, &h).symmetric_eigenvalues().min();
+        let d_max = (0..n).map(|i| h[i + i * n]).fold(0.0, f64::max);
+        let condition = (reference.lambda.abs() + d_max) / (reference.lambda + d_min);
+        let z_tolerance = (1e-9 + f64::EPSILON * condition) * rho;
         for start in [None, Some(warm)] {
             let mut buffers = newton::NewtonBuffers::default();
             let mut z = Vec::new();
@@ -234,7 +241,7 @@ proptest! {
             prop_assert!((lambda - reference.lambda).abs() <= 1e-9 * (1.0 + reference.lambda.abs()),
                 "lambda {} vs {}", lambda, reference.lambda);
             for (a, b) in on_sphere(&z).iter().zip(&expected) {
-                prop_assert!((a - b).abs() <= 1e-9 * rho, "z {} vs {}", a, b);
+                prop_assert!((a - b).abs() <= z_tolerance, "z {} vs {}", a, b);
             }
         }
     }
