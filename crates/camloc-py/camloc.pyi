@@ -75,6 +75,10 @@ class Localizer:
 
         points: (N, J, 2) or (N, J, 3) with scores, or one pose (J, 2) / (J, 3); J is the
         layout's joint count; NaN coordinates mark a missing joint. Converted to float64.
+        A pose whose torso cannot be found (pelvis or neck missing, and a hip or shoulder to
+        stand in for it) is localized with its missing landmarks filled in from the embedded
+        pose basis seen by camera hypotheses (docs/conventions.md section 6); with fewer than
+        8 landmarks present it gets an error.
         scores: optional (N, J) (or (J,)) confidences in [0, 1] for 2-channel points.
         min_score: joints scoring below it are missing (finite, >= 0).
 
@@ -112,7 +116,8 @@ def reconstruct(
     person's own bone lengths (docs/cli.md, "The person's proportions"). Missing landmarks
     (NaN, or a score below ``min_score``) are first filled in from the pose basis seen by the
     localized camera (in every mode; see ``imputed``); a pose whose torso cannot be found
-    (pelvis or neck missing, and a hip or shoulder to stand in for it) gets an error.
+    (pelvis or neck missing, and a hip or shoulder to stand in for it) has it filled in as
+    ``Localizer.localize`` does, and gets an error with fewer than 8 landmarks present.
 
     points, layout, scores, min_score: as for ``Localizer.localize``.
     camera: ``opt`` (Procrustes camera), ``classified`` (the rotation of the classified

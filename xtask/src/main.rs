@@ -13,8 +13,10 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 mod compare_sklearn;
+mod filled_torso;
 mod gen_dataset;
 mod generalise;
+mod lsp_photos;
 mod mocap_data;
 mod postures;
 mod progress;

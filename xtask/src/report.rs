@@ -8,7 +8,6 @@ use std::time::Instant;
 use camloc::dataset::Augmentation;
 use camloc::dataset::{Dataset, GenerateConfig, Protocol, default_test_subjects};
 use camloc::features::PaperConfig;
-use camloc::keypoints::{ReadOptions, read_keypoints};
 use camloc::learning::LogisticRegression;
 use camloc::{CameraLocalizer, Capacity, Descriptor, TrainOptions, cross_validate, evaluate};
 
@@ -155,7 +154,12 @@ pub fn run(args: &Args) -> Result<(), String> {
             &options,
         )?;
         rows.push(row);
-        recon_rows.push(reconstruction_rows(&train, &test, &localizer)?);
+        let basis = camloc::reconstruct::PoseBasis::fit(
+            &train.unique_poses(),
+            &camloc::reconstruct::BasisConfig::default(),
+        )
+        .map_err(|e| e.to_string())?;
+        recon_rows.push(reconstruction_rows(basis.clone(), &test, &localizer)?);
         if protocol == Protocol::Jittered {
             let mut missing_config = config.clone();
             missing_config.drop_landmarks = 2;
@@ -178,6 +182,8 @@ pub fn run(args: &Args) -> Result<(), String> {
                 100.0 * e_plain.accuracy,
                 100.0 * e_plain.accuracy_folded
             );
+            eprintln!("jittered: localizing test views without a torso");
+            missing_text.push_str(&crate::filled_torso::rows(&localizer, basis, &test)?);
         }
     }
 
@@ -227,7 +233,12 @@ pub fn run(args: &Args) -> Result<(), String> {
     let _ = writeln!(
         md,
         "The `jittered` test subjects again, with 2 random non-torso landmarks of every sample \
-         marked missing (their descriptor values are imputed with the training means):\n"
+         marked missing (their descriptor values are imputed with the training means); then \
+         their complete samples with landmarks of the torso taken away (a hip and a shoulder \
+         alternately left and right), which leaves the descriptor no torso: localized with the \
+         missing landmarks filled in from a basis of the training subjects' poses seen by \
+         camera hypotheses (`CameraLocalizer::localize_filled`, docs/conventions.md section 6; \
+         the same views complete: the `jittered` default-settings row above):\n"
     );
     let _ = writeln!(
         md,
@@ -235,7 +246,7 @@ pub fn run(args: &Args) -> Result<(), String> {
     );
     reconstruction_section(&mut md, &recon_rows);
     md.push_str(&reconstruction_issue_section(args)?);
-    lsp_section(&mut md, args)?;
+    crate::lsp_photos::section(&mut md, args.lsp.as_deref())?;
     md.push_str(&generalisation);
     md.push_str(&postures_md);
     let out = root.join(&args.out);
@@ -448,15 +459,10 @@ const RECONSTRUCTION_STEP: usize = 4;
 /// Reconstruction of the test subjects with a basis of the training subjects' poses and the
 /// classifier trained on them.
 fn reconstruction_rows(
-    train: &Dataset,
+    basis: camloc::reconstruct::PoseBasis,
     test: &Dataset,
     localizer: &CameraLocalizer,
 ) -> Result<(Protocol, usize, camloc::reconstruct::EvalReport, f64), String> {
-    let basis = camloc::reconstruct::PoseBasis::fit(
-        &train.unique_poses(),
-        &camloc::reconstruct::BasisConfig::default(),
-    )
-    .map_err(|e| e.to_string())?;
     let reconstructor = camloc::PoseReconstructor::new(basis)
         .map_err(|e| e.to_string())?
         .with_localizer(localizer.clone());
@@ -594,97 +600,6 @@ fn train_and_test_keep(
         seconds,
     };
     Ok((localizer, row))
-}
-
-/// Distribution of predicted viewpoints on the LSP photos, with the embedded default model.
-fn lsp_section(md: &mut String, args: &Args) -> Result<(), String> {
-    let path = args
-        .lsp
-        .clone()
-        .unwrap_or_else(|| camloc::skeleton::data::data_folder().join("lsp/lsp400_joints.csv"));
-    let _ = writeln!(md, "## Real photos: 400 LSP poses\n");
-    let localizer = match CameraLocalizer::default_model() {
-        Ok(l) => l,
-        Err(e) => {
-            let _ = writeln!(md, "Not measured: {e}.\n");
-            return Ok(());
-        }
-    };
-    let records =
-        read_keypoints(&path, None, &ReadOptions::default()).map_err(|e| e.to_string())?;
-    let poses: Vec<_> = records.iter().map(|r| r.pose).collect();
-    let no_torso = records
-        .iter()
-        .filter(|r| r.require_torso().is_err())
-        .count();
-    let results = localizer.localize_batch(&poses);
-    let mirrored: Vec<_> = poses.iter().map(|p| p.mirrored()).collect();
-    let mirrored_results = localizer.localize_batch(&mirrored);
-    let cameras = localizer.cameras();
-    let mut counts = vec![0usize; cameras.len()];
-    let (mut ok, mut consistent, mut missing) = (0usize, 0usize, 0usize);
-    for (a, b) in results.iter().zip(&mirrored_results) {
-        if let Ok(a) = a {
-            ok += 1;
-            counts[a.label.index()] += 1;
-            missing += usize::from(!a.missing.is_empty());
-            if let Ok(b) = b {
-                consistent += usize::from(b.side == a.side.mirrored());
-            }
-        }
-    }
-    let _ = writeln!(
-        md,
-        "`{}` read with the default options (joints marked invisible are missing; {no_torso} \
-         poses have no pelvis or neck that their visible joints give: the file's invisible \
-         joints are placeholders without a position, docs/keypoints.md), localized with the \
-         default model embedded in the binary (`cargo xtask train-default`; the descriptor \
-         values of missing landmarks imputed: {missing} of the localized poses have at least \
-         one). {ok} of {} poses localized. There is no ground truth camera for these photos: \
-         this is a sanity check of how the predictions spread over the sphere.\n",
-        path.file_name()
-            .map_or_else(String::new, |n| n.to_string_lossy().into_owned()),
-        records.len()
-    );
-    let _ = writeln!(
-        md,
-        "| camera | level | side | poses | share |\n|---|---|---|---|---|"
-    );
-    for (v, n) in cameras.viewpoints().iter().zip(&counts) {
-        let _ = writeln!(
-            md,
-            "| {} | {} | {} | {n} | {:.1}% |",
-            v.label_text(),
-            v.level.name(),
-            v.side.name(),
-            100.0 * *n as f64 / ok.max(1) as f64
-        );
-    }
-    let level_share = |level: camloc::Level| {
-        let n: usize = cameras
-            .viewpoints()
-            .iter()
-            .zip(&counts)
-            .filter(|(v, _)| v.level == level)
-            .map(|(_, n)| n)
-            .sum();
-        100.0 * n as f64 / ok.max(1) as f64
-    };
-    let _ = writeln!(
-        md,
-        "\nBy level: lower {:.1}%, middle {:.1}%, upper {:.1}%.",
-        level_share(camloc::Level::Lower),
-        level_share(camloc::Level::Middle),
-        level_share(camloc::Level::Upper)
-    );
-    let _ = writeln!(
-        md,
-        "\nMirror check: each pose mirrored horizontally with left/right labels swapped is \
-         localized on the mirrored side (left <-> right, front and back unchanged) in \
-         {consistent} of {ok} poses ({:.1}%).\n",
-        100.0 * consistent as f64 / ok.max(1) as f64
-    );
-    Ok(())
 }
 
 /// One line describing this machine: CPU model (from /proc/cpuinfo), cores available to this

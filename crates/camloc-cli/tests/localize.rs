@@ -194,3 +194,53 @@ fn a_closed_pipe_is_a_normal_end() {
         String::from_utf8_lossy(&out.stderr)
     );
 }
+
+/// A pose without its pelvis and right hip (which the descriptor's torso needs) is localized
+/// with its torso filled in from the embedded basis, and its output names what was missing; a
+/// pose with 7 landmarks is refused with that count; the `--html` page reconstructs the poses
+/// with missing landmarks in 3D too (filled in with the localized camera).
+#[test]
+fn localize_fills_in_a_missing_torso() {
+    let dir = TempDir::new("no-torso");
+    let mut input: serde_json::Value = serde_json::from_str(FIFTEEN).unwrap();
+    let mut partial: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(fixture("keypoints/partial.json")).unwrap(),
+    )
+    .unwrap();
+    let poses = input["poses"].as_array_mut().unwrap();
+    for name in ["pelvis", "right_hip"] {
+        poses[0]["landmarks"][name] = serde_json::Value::Null;
+    }
+    poses.append(partial["poses"].as_array_mut().unwrap());
+    let path = dir.file("poses.json", &input.to_string());
+    let page = dir.0.join("page.html");
+    let out = camloc(&[
+        "localize",
+        "--input",
+        &path,
+        "--jsonl",
+        "--html",
+        page.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(1), "the third pose has 7 landmarks");
+    let lines: Vec<serde_json::Value> = String::from_utf8(out.stdout)
+        .unwrap()
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(lines.len(), 3);
+    assert!((1..=12).contains(&lines[0]["label"].as_u64().unwrap()));
+    assert_eq!(lines[0]["missing"], serde_json::json!(["pelvis", "right_hip"]));
+    let error = lines[2]["error"].as_str().unwrap();
+    assert!(
+        error.contains("pelvis") && error.contains("7 landmarks present"),
+        "{error}"
+    );
+    let html = std::fs::read_to_string(&page).unwrap();
+    let start = html.find(r#"id="data">"#).unwrap() + 10;
+    let end = start + html[start..].find("</script>").unwrap();
+    let data: serde_json::Value = serde_json::from_str(&html[start..end]).unwrap();
+    for (i, frame) in data["frames"].as_array().unwrap().iter().enumerate() {
+        assert_eq!(frame["pose"].is_array(), i < 2, "frame {i}: {frame}");
+    }
+}

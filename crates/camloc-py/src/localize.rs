@@ -2,8 +2,8 @@
 
 use std::path::PathBuf;
 
-use camloc::CameraLocalizer;
 use camloc::store::Persist;
+use camloc::{CameraLocalizer, PoseReconstructor, default_basis};
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
@@ -19,6 +19,16 @@ const CHUNK: usize = 1024;
 #[pyclass(frozen, module = "camloc")]
 pub(crate) struct Localizer {
     pub(crate) inner: CameraLocalizer,
+    /// The embedded basis, which fills in the torso of a pose that lacks one
+    /// (`CameraLocalizer::localize_filled`); `None` when the build embedded no basis.
+    filler: Option<PoseReconstructor>,
+}
+
+impl Localizer {
+    fn with_filler(inner: CameraLocalizer) -> Self {
+        let filler = default_basis().and_then(PoseReconstructor::new).ok();
+        Localizer { inner, filler }
+    }
 }
 
 #[pymethods]
@@ -26,17 +36,17 @@ impl Localizer {
     /// The default model embedded in this build.
     #[new]
     fn new() -> PyResult<Self> {
-        Ok(Localizer {
-            inner: CameraLocalizer::default_model().map_err(to_py_err)?,
-        })
+        Ok(Localizer::with_filler(
+            CameraLocalizer::default_model().map_err(to_py_err)?,
+        ))
     }
 
     /// Reads a model file written by `camloc train`.
     #[staticmethod]
     fn load(path: PathBuf) -> PyResult<Self> {
-        Ok(Localizer {
-            inner: CameraLocalizer::load(&path).map_err(|e| to_py_err(e.into()))?,
-        })
+        Ok(Localizer::with_filler(
+            CameraLocalizer::load(&path).map_err(|e| to_py_err(e.into()))?,
+        ))
     }
 
     /// The camera classes, one dict per label (1-based, the column `label - 1` of
@@ -77,7 +87,7 @@ impl Localizer {
         let batch = PoseBatch::new(&points, layout, scores.as_ref(), min_score)?;
         let n = batch.len();
         let k = self.inner.cameras().len();
-        let localizer = &self.inner;
+        let (localizer, filler) = (&self.inner, self.filler.as_ref());
         let (label, folded, probability, probabilities, viewpoint, errors) = py.detach(|| {
             let mut label = vec![0i64; n];
             let mut folded = vec![0i64; n];
@@ -98,9 +108,13 @@ impl Localizer {
                         for (j, row) in probabilities.chunks_exact_mut(k).enumerate() {
                             let i = c * CHUNK + j;
                             let result = batch.pose(i).map_err(|e| e.to_string()).and_then(|m| {
-                                localizer
-                                    .localize_partial(&m.pose)
-                                    .map_err(|e| e.to_string())
+                                match filler {
+                                    Some(f) => {
+                                        localizer.localize_filled(&m.pose, f.reconstructor())
+                                    }
+                                    None => localizer.localize_partial(&m.pose),
+                                }
+                                .map_err(|e| e.to_string())
                             });
                             match result {
                                 Ok(loc) => {

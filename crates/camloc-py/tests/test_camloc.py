@@ -342,25 +342,32 @@ def test_nan_marks_missing_joints(localizer):
     points = np.repeat(example_points(), 2, axis=0)
     elbow = camloc.LANDMARKS.index("right_elbow")
     points[1, elbow] = np.nan  # a missing limb joint: imputed, still localized
-    for name in ("pelvis", "left_hip"):  # no pelvis and it cannot be derived
-        points[2, camloc.LANDMARKS.index(name)] = np.nan
+    no_torso = [camloc.LANDMARKS.index(name) for name in ("pelvis", "left_hip")]
+    points[2, no_torso] = np.nan  # no pelvis, and it cannot be derived: filled in
     points[3, elbow, 0] = np.nan  # half a joint
     points[4, elbow, 1] = np.inf
+    sparse = points[0].copy()  # 7 landmarks: too few to fill a torso in
+    for name in ("pelvis", "left_hip", "left_knee", "right_knee", "left_ankle", "right_ankle",
+                 "left_wrist", "right_wrist"):
+        sparse[camloc.LANDMARKS.index(name)] = np.nan
+    points = np.concatenate([points, sparse[None]])
     got = localizer.localize(points)
-    assert got["error"][0] is None and got["error"][1] is None and got["error"][5] is None
-    assert 1 <= got["label"][1] <= 12
-    assert "pelvis" in got["error"][2]
+    for i in (0, 1, 2, 5):
+        assert got["error"][i] is None and 1 <= got["label"][i] <= 12
     assert "one coordinate is NaN" in got["error"][3]
     assert "not a finite number" in got["error"][4]
-    for i in (2, 3, 4):
+    assert "pelvis" in got["error"][6] and "7 landmarks present" in got["error"][6]
+    for i in (3, 4, 6):
         assert got["label"][i] == 0 and np.isnan(got["probabilities"][i]).all()
     np.testing.assert_array_equal(got["label"][[0, 5]], localizer.localize(points[[0, 5]])["label"])
 
-    rec = camloc.reconstruct(points[:3])
+    rec = camloc.reconstruct(points[[0, 1, 2, 6]])
     assert rec["error"][0] is None and rec["error"][1] is None  # the elbow is filled in
     assert rec["imputed"][1, elbow] and rec["imputed"][1].sum() == 1 and not rec["imputed"][0].any()
     assert np.isfinite(rec["points3d"][1]).all()
-    assert "pelvis" in rec["error"][2] and np.isnan(rec["points3d"][2]).all()
+    assert rec["error"][2] is None and rec["imputed"][2, no_torso].all()  # the torso too
+    assert rec["imputed"][2].sum() == 2 and np.isfinite(rec["points3d"][2]).all()
+    assert "pelvis" in rec["error"][3] and np.isnan(rec["points3d"][3]).all()
 
 
 def test_bad_shapes_layouts_and_options_raise_value_error(localizer):

@@ -34,6 +34,7 @@
 mod dropout;
 mod error;
 mod evaluate;
+mod filled;
 mod lifter;
 mod localizer;
 mod reconstruction;
@@ -60,6 +61,7 @@ pub use camloc_reconstruct::ModeKind;
 pub use camloc_skeleton::{Landmark, PartialPose2, Pose2, Pose3};
 pub use error::CamlocError;
 pub use evaluate::{CameraAccuracy, Evaluation, LevelAccuracy, evaluate};
+pub use filled::MIN_PRESENT_FOR_FILL;
 pub use reconstruction::{
     PoseReconstruction, PoseReconstructor, PoseSequenceReconstruction, default_basis,
     evaluation_samples,

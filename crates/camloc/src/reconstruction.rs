@@ -222,12 +222,14 @@ impl PoseReconstructor {
     /// the localized camera ([`PoseReconstruction::imputed`]; this needs a localizer in every
     /// mode), then, with a localization (`classified`, `hybrid`), again from the first
     /// reconstruction's reprojection for a second solve (docs/conventions.md section 6). What
-    /// may be missing is what localization accepts: for the default model any
-    /// landmark, the pelvis (neck) only when both hips (shoulders) are present.
+    /// may be missing is what [`CameraLocalizer::localize_filled`] accepts: any landmark, and
+    /// for a pose whose torso is incomplete (the pelvis and a hip, or the neck and a
+    /// shoulder) at least [`MIN_PRESENT_FOR_FILL`](crate::MIN_PRESENT_FOR_FILL) landmarks.
     ///
     /// # Errors
     /// [`CamlocError::InvalidOption`] when landmarks are missing and there is no localizer;
-    /// [`CamlocError::Feature`] when localization finds no torso, for
+    /// [`CamlocError::Feature`] when localization finds no torso and too few landmarks to
+    /// fill one in, for
     /// a pose whose scale localization refuses too (`Descriptor::check_scale` of the
     /// localizer's descriptor, or of the default one); localization errors for `classified`
     /// and `hybrid`; [`CamlocError::Reconstruct`] for a degenerate pose.
@@ -294,7 +296,7 @@ impl PoseReconstructor {
     /// consistently over time and temporal smoothness
     /// ([`Reconstructor::reconstruct_sequence`]); missing landmarks are filled in as
     /// [`PoseReconstructor::reconstruct`] fills them. A frame that cannot be reconstructed
-    /// (a missing pelvis or neck, a degenerate pose, a failed localization) gets its error
+    /// (no torso and too few landmarks, a degenerate pose, a failed localization) gets its error
     /// and the others are still reconstructed.
     ///
     /// # Errors
@@ -380,7 +382,8 @@ impl PoseReconstructor {
     fn prepare(&self, pose: &PartialPose2) -> Result<Prepared, CamlocError> {
         let imputed: Vec<Landmark> = pose.missing().collect();
         // A pose with missing landmarks is localized as it is (localization imputes its
-        // descriptor), and its landmarks are filled in with that camera.
+        // descriptor; a missing torso is filled in from the basis), and its landmarks are
+        // filled in with that camera.
         let (complete, partial_localization) = match pose.complete() {
             Some(complete) => (complete, None),
             None => {
@@ -395,7 +398,7 @@ impl PoseReconstructor {
                         ),
                     });
                 };
-                let localization = localizer.localize_partial(pose)?;
+                let localization = localizer.localize_filled(pose, &self.reconstructor)?;
                 let complete = self
                     .reconstructor
                     .impute(pose, &localization.viewpoint_rotation())

@@ -1,8 +1,8 @@
 //! The default model on real photos (LSP, skipped without ../shared/data): a mirrored photo
 //! is seen from the mirrored side.
 
-use camloc::CameraLocalizer;
 use camloc::keypoints::{ReadOptions, read_keypoints};
+use camloc::{CameraLocalizer, MIN_PRESENT_FOR_FILL, PartialPose2, PoseReconstructor};
 
 /// A horizontally mirrored photo with left/right labels swapped is seen from the mirrored side:
 /// the default model is mirror-symmetric (trained on mirror image pairs,
@@ -17,33 +17,54 @@ fn mirrored_lsp_poses_get_the_mirrored_side() {
         return;
     };
     let localizer = CameraLocalizer::default_model().unwrap();
+    let filler = PoseReconstructor::new(camloc::default_basis().unwrap()).unwrap();
     let records = read_keypoints(&file, None, &ReadOptions::default()).unwrap();
     assert_eq!(records.len(), 400);
-    // Poses without a torso from their visible joints cannot be localized (the file's
-    // invisible joints have no position: docs/keypoints.md).
+    // Poses without a torso from their visible joints (the file's invisible joints have no
+    // position: docs/keypoints.md) are localized with it filled in, given enough landmarks.
     let with_torso = records.iter().filter(|r| r.require_torso().is_ok()).count();
-    let (mut ok, mut consistent) = (0usize, 0usize);
+    let fillable = records
+        .iter()
+        .filter(|r| {
+            r.require_torso().is_err()
+                && r.pose.points.iter().flatten().count() >= MIN_PRESENT_FOR_FILL
+        })
+        .count();
+    let localize = |pose: &PartialPose2| localizer.localize_filled(pose, filler.reconstructor());
+    // [with a torso, filled in]: poses localized, and of those seen from the mirrored side.
+    let (mut ok, mut consistent) = ([0usize; 2], [0usize; 2]);
     for r in &records {
-        if let (Ok(a), Ok(b)) = (
-            localizer.localize_partial(&r.pose),
-            localizer.localize_partial(&r.pose.mirrored()),
-        ) {
-            ok += 1;
-            consistent += usize::from(b.side == a.side.mirrored());
+        let filled = usize::from(r.require_torso().is_err());
+        if let (Ok(a), Ok(b)) = (localize(&r.pose), localize(&r.pose.mirrored())) {
+            ok[filled] += 1;
+            consistent[filled] += usize::from(b.side == a.side.mirrored());
         }
     }
-    let share = consistent as f64 / ok as f64;
     eprintln!(
-        "LSP mirror check: {consistent} of {ok} poses ({:.1}%)",
-        100.0 * share
+        "LSP mirror check: {} of {} poses with a torso, {} of {} with it filled in",
+        consistent[0], ok[0], consistent[1], ok[1]
     );
     assert!(
-        ok == with_torso && with_torso >= 240,
-        "{ok} of the {with_torso} LSP poses with a torso localized"
+        ok[0] == with_torso && with_torso >= 240,
+        "{} of the {with_torso} LSP poses with a torso localized",
+        ok[0]
     );
     assert!(
-        share >= 0.99,
-        "mirrored side in {:.1}% of poses",
-        100.0 * share
+        ok[1] == fillable && fillable >= 100,
+        "{} of the {fillable} LSP poses whose torso can be filled in localized",
+        ok[1]
     );
+    // A filled-in torso comes from the basis (fitted to people as recorded, not mirrored)
+    // and the search may settle on another camera where two are about equally probable.
+    for (what, (consistent, ok), least) in [
+        ("with a torso", (consistent[0], ok[0]), 0.99),
+        ("filled in", (consistent[1], ok[1]), 0.85),
+    ] {
+        let share = consistent as f64 / ok as f64;
+        assert!(
+            share >= least,
+            "{what}: mirrored side in {:.1}% of poses",
+            100.0 * share
+        );
+    }
 }

@@ -6,8 +6,8 @@ use std::path::PathBuf;
 use camloc::keypoints::{ReadOptions, read_keypoints};
 use camloc::reconstruct::mpjpe_after_similarity;
 use camloc::{
-    CameraLocalizer, CamlocError, DepthLifter, Landmark, ModeKind, PartialPose2, PoseReconstructor,
-    default_basis,
+    CameraLocalizer, CamlocError, DepthLifter, Landmark, MIN_PRESENT_FOR_FILL, ModeKind,
+    PartialPose2, PoseReconstructor, default_basis,
 };
 
 /// The example's complete poses (image coordinates).
@@ -67,8 +67,9 @@ fn missing_landmarks_are_filled_in_and_reported() {
     assert_eq!(imputed, [vec![], vec![Landmark::LeftKnee], vec![]]);
 }
 
-/// Without a localizer nothing fills the missing landmarks in, and a missing pelvis is
-/// refused by the localization: both are errors that name the cause.
+/// Without a localizer nothing fills the missing landmarks in, and a missing pelvis with too
+/// few landmarks to fill the torso in is refused by the localization: both are errors that
+/// name the cause.
 #[test]
 fn what_cannot_be_filled_in_is_refused() {
     let mut partial = example_poses()[0];
@@ -84,12 +85,37 @@ fn what_cannot_be_filled_in_is_refused() {
         other => panic!("{other:?}"),
     }
     // The default model's descriptor stands in the hips' midpoint for a missing pelvis;
-    // without a hip too, there is no torso.
+    // without a hip too, the torso is filled in from the basis (given enough landmarks).
     partial.points[Landmark::Pelvis.index()] = None;
     partial.points[Landmark::LeftHip.index()] = None;
-    let error = reconstructor(ModeKind::Hybrid)
+    let filled = reconstructor(ModeKind::Hybrid)
         .reconstruct(&partial)
+        .unwrap();
+    assert_eq!(
+        filled.imputed,
+        [Landmark::Pelvis, Landmark::LeftHip, Landmark::LeftAnkle]
+    );
+    // With fewer than MIN_PRESENT_FOR_FILL landmarks there is no torso to fill in.
+    let mut sparse = partial;
+    for l in [
+        Landmark::RightAnkle,
+        Landmark::LeftKnee,
+        Landmark::RightKnee,
+        Landmark::LeftWrist,
+        Landmark::RightWrist,
+    ] {
+        sparse.points[l.index()] = None;
+    }
+    assert_eq!(
+        sparse.points.iter().flatten().count(),
+        MIN_PRESENT_FOR_FILL - 1
+    );
+    let error = reconstructor(ModeKind::Hybrid)
+        .reconstruct(&sparse)
         .unwrap_err()
         .to_string();
-    assert!(error.contains("pelvis"), "{error}");
+    assert!(
+        error.contains("pelvis") && error.contains("7 landmarks present"),
+        "{error}"
+    );
 }

@@ -7,7 +7,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use camloc::keypoints::KeypointRecord;
-use camloc::{CameraLocalizer, Localization, PoseReconstructor, default_basis};
+use camloc::{CameraLocalizer, CamlocError, Localization};
 
 use camloc::store::escaped;
 
@@ -21,7 +21,8 @@ use super::localize_npz::LocalizationArrays;
 use super::sequence;
 use super::stream::{self, Done, Failed, Files, SummaryDrawing};
 use super::{
-    CliError, ForceArgs, FormatArgs, InputArgs, Out, ProgressArgs, load_model, progress, targets,
+    CliError, ForceArgs, FormatArgs, InputArgs, Locator, Out, ProgressArgs, embedded_basis,
+    load_model, progress, targets,
 };
 
 /// Arguments of `camloc localize`.
@@ -106,9 +107,22 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         });
         (path, draw)
     });
-    // The page's 3D skeletons: the embedded basis, Procrustes camera.
+    // The embedded basis fills in missing torsos and gives the page's 3D skeletons
+    // (Procrustes camera).
+    let basis = embedded_basis();
+    let locator = Locator {
+        localizer: &localizer,
+        filler: basis.as_ref(),
+    };
+    // The localizer fills in the page's poses with missing landmarks (the camera stays
+    // Procrustes'): without it they would get no 3D.
     let page_reconstructor = match &args.html {
-        Some(_) => Some(PoseReconstructor::new(default_basis()?)?),
+        Some(_) => Some(
+            basis
+                .clone()
+                .ok_or(CamlocError::NoDefault("basis"))?
+                .with_localizer(localizer.clone()),
+        ),
         None => None,
     };
     let view = |record: &KeypointRecord, loc: Option<&Localization>, error: Option<String>| {
@@ -153,10 +167,10 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
             max_poses: args.sequence_max_poses,
             html: args.html.as_deref().map(|path| (path, args.fps)),
         };
-        return sequence::run(&localizer, inputs, out, format, &files, &bar, &view);
+        return sequence::run(locator, inputs, out, format, &files, &bar, &view);
     }
     let summary = stream::run(inputs, out, format, files, &bar, |record| {
-        let loc = localizer.localize_partial(&record.pose).map_err(|e| {
+        let loc = locator.localize(&record.pose).map_err(|e| {
             let message = e.to_string();
             Failed {
                 keep: view(record, None, Some(message.clone())).map(Box::new),

@@ -6,7 +6,9 @@ use std::process::ExitCode;
 use camloc::dataset::Dataset;
 use camloc::keypoints::{ImageSize, Invisible, KeypointError, KeypointFormat, Layout, ReadOptions};
 use camloc::store::{Persist, StoreError};
-use camloc::{CameraLocalizer, CamlocError};
+use camloc::{
+    CameraLocalizer, CamlocError, Localization, PartialPose2, PoseReconstructor, default_basis,
+};
 use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use clap::{Parser, Subcommand, ValueEnum};
 
@@ -71,7 +73,10 @@ enum Command {
     /// Missing landmarks (null in camloc JSON, visible=0 in LSP CSV unless --lsp-invisible use,
     /// a score of 0 or below --min-score, NaN in .npy) have their descriptor values imputed.
     /// The pelvis and neck are derived from the hips and shoulders when missing; a pose whose
-    /// torso cannot be derived is reported as an error and the others are still localized.
+    /// torso cannot be derived (a hip or shoulder missing too) is localized with its missing
+    /// landmarks filled in from the embedded pose basis seen by camera hypotheses
+    /// (docs/conventions.md section 6), or, with fewer than 8 landmarks present, reported as an
+    /// error while the others are still localized.
     ///
     /// Poses are read, localized (in parallel) and written in batches, so memory does not grow
     /// with the input; use --jsonl for one JSON object per line, --npz for NumPy arrays.
@@ -83,8 +88,9 @@ enum Command {
     ///
     /// Poses are read, reconstructed (in parallel) and written in batches. Missing landmarks
     /// are filled in from the pose basis seen by the localized camera and named in the output
-    /// (`imputed`); a pose without a pelvis and neck (or the hips and shoulders they come from)
-    /// is refused.
+    /// (`imputed`); a pose without a pelvis or neck and a hip or shoulder to stand in for it is
+    /// localized with its torso filled in as `localize` does, and refused with fewer than 8
+    /// landmarks present.
     #[command(after_help = EXIT_CODES)]
     Reconstruct(reconstruct::Args),
     /// Measure 3D error (mm, after similarity alignment) and projection error of every
@@ -317,6 +323,33 @@ pub fn load_model(path: Option<&Path>) -> Result<CameraLocalizer, CamlocError> {
     match path {
         Some(p) => Ok(CameraLocalizer::load(p)?),
         None => CameraLocalizer::default_model(),
+    }
+}
+
+/// The embedded basis with the default pursuit settings: it fills in the torso of a pose that
+/// lacks one for localization ([`Locator`]) and reconstructs the `--html` pages'
+/// skeletons. `None` when this build embedded no basis.
+pub fn embedded_basis() -> Option<PoseReconstructor> {
+    default_basis().and_then(PoseReconstructor::new).ok()
+}
+
+/// A camera localizer and the basis that fills in the torso of a pose that lacks one
+/// ([`CameraLocalizer::localize_filled`]; without a basis such poses are refused).
+#[derive(Clone, Copy)]
+pub struct Locator<'a> {
+    /// The camera localizer.
+    pub localizer: &'a CameraLocalizer,
+    /// The basis that fills in missing torsos, if the build has one.
+    pub filler: Option<&'a PoseReconstructor>,
+}
+
+impl Locator<'_> {
+    /// The localization of `pose`.
+    pub fn localize(&self, pose: &PartialPose2) -> Result<Localization, CamlocError> {
+        match self.filler {
+            Some(filler) => self.localizer.localize_filled(pose, filler.reconstructor()),
+            None => self.localizer.localize_partial(pose),
+        }
     }
 }
 

@@ -288,7 +288,9 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     let finish = finish(args, &inputs, page_localizer);
     let view = |record: &KeypointRecord, r: Option<&Reconstruction>, error: Option<String>| {
         page_localizer.map(|localizer| {
-            let localization = localizer.localize_partial(&record.pose).ok();
+            let localization = localizer
+                .localize_filled(&record.pose, reconstructor.reconstructor())
+                .ok();
             ViewFrame::new(record, localization.as_ref(), r, error)
         })
     };

@@ -15,7 +15,7 @@ use std::path::Path;
 use std::process::ExitCode;
 
 use camloc::keypoints::KeypointRecord;
-use camloc::{CameraLabel, CameraLocalizer, Localization, SequenceModel, SmoothedFrame, sequences};
+use camloc::{CameraLabel, Localization, SequenceModel, SmoothedFrame, sequences};
 use indicatif::ProgressBar;
 use rayon::prelude::*;
 use serde::Serialize;
@@ -27,7 +27,7 @@ use super::export;
 use super::input::Inputs;
 use super::output::Out;
 use super::stream::{BATCH, Emitter, Format, Summary, json_line, report_pose_error};
-use super::{CliError, numbered_path};
+use super::{CliError, Locator, numbered_path};
 use camloc::store::{StagedFiles, check_target, escaped};
 
 /// One localized (or failed) pose of a sequence: what is kept until the sequence is smoothed
@@ -115,7 +115,7 @@ pub type PageFrame<'a> =
 
 /// Runs `camloc localize --sequence` (see the module docs), writing `files`.
 pub fn run(
-    localizer: &CameraLocalizer,
+    locator: Locator<'_>,
     mut inputs: Inputs,
     out: &mut Out,
     format: Format,
@@ -123,6 +123,7 @@ pub fn run(
     bar: &ProgressBar,
     page: &PageFrame,
 ) -> Result<ExitCode, CliError> {
+    let localizer = locator.localizer;
     let (svg_out, summary_out, force) = (files.svg, files.summary, files.force);
     if let Some((html, _)) = files.html {
         check_target(html, force)?;
@@ -148,7 +149,7 @@ pub fn run(
             .par_iter()
             .map(|item| {
                 let record = item.as_ref().ok()?;
-                let found = localizer.localize_partial(&record.pose);
+                let found = locator.localize(&record.pose);
                 let view = match &found {
                     Ok(loc) => page(record, Some(loc), None),
                     Err(e) => page(record, None, Some(e.to_string())),
