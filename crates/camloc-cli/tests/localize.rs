@@ -203,10 +203,9 @@ fn a_closed_pipe_is_a_normal_end() {
 fn localize_fills_in_a_missing_torso() {
     let dir = TempDir::new("no-torso");
     let mut input: serde_json::Value = serde_json::from_str(FIFTEEN).unwrap();
-    let mut partial: serde_json::Value = serde_json::from_str(
-        &std::fs::read_to_string(fixture("keypoints/partial.json")).unwrap(),
-    )
-    .unwrap();
+    let mut partial: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(fixture("keypoints/partial.json")).unwrap())
+            .unwrap();
     let poses = input["poses"].as_array_mut().unwrap();
     for name in ["pelvis", "right_hip"] {
         poses[0]["landmarks"][name] = serde_json::Value::Null;
@@ -230,7 +229,10 @@ fn localize_fills_in_a_missing_torso() {
         .collect();
     assert_eq!(lines.len(), 3);
     assert!((1..=12).contains(&lines[0]["label"].as_u64().unwrap()));
-    assert_eq!(lines[0]["missing"], serde_json::json!(["pelvis", "right_hip"]));
+    assert_eq!(
+        lines[0]["missing"],
+        serde_json::json!(["pelvis", "right_hip"])
+    );
     let error = lines[2]["error"].as_str().unwrap();
     assert!(
         error.contains("pelvis") && error.contains("7 landmarks present"),

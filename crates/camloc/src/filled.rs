@@ -15,8 +15,14 @@ use crate::{CameraLocalizer, CamlocError, Localization};
 pub const MIN_PRESENT_FOR_FILL: usize = 8;
 
 /// Camera hypotheses refilled to convergence (those whose fills the classifier agrees with
-/// most); the most probable result wins.
+/// most).
 const STARTS: usize = 3;
+
+/// The misfit of the basis seen from a converged viewpoint ([`Reconstructor::impute_with_misfit`])
+/// that weighs as much as a factor `e` of its probability when the hypotheses are compared.
+/// Chosen on the validation subjects 07, 13, 14, 75 and 114 among 0.003, 0.01 and the misfit
+/// alone (docs/RESULTS.md, "Measured in this version").
+const MISFIT_SCALE: f64 = 0.01;
 
 /// Most refills of a pose from its latest localization's continuous viewpoint.
 const MAX_REFILLS: usize = 8;
@@ -36,8 +42,10 @@ impl CameraLocalizer {
     /// classifier gives the highest probability of that same class are each refined: the pose
     /// is filled in again from the latest localization's continuous viewpoint
     /// ([`Localization::viewpoint_rotation`]) until the viewpoint moves less than 0.1 deg (at
-    /// most 8 times). The answer is the most probable of the three final localizations; its
-    /// `missing` names the landmarks the input lacked.
+    /// most 8 times). Of the three final localizations the answer is the one whose
+    /// probability is highest after a penalty for the misfit of the basis seen from its
+    /// viewpoint (`ln p - misfit / 0.01`: a viewpoint from which no basis pose looks like the
+    /// present landmarks loses); its `missing` names the landmarks the input lacked.
     ///
     /// Costs some 30 to 80 fills and localizations (a few hundred microseconds) for such a
     /// pose; other poses cost what `localize_partial` costs.
@@ -90,16 +98,16 @@ impl CameraLocalizer {
         };
         let mut hypotheses: Vec<(f64, Localization)> = Vec::new();
         for (c, view) in self.cameras().viewpoints().iter().enumerate() {
-            let found = localize(&fill(&view.rotation)?)?;
+            let found = localize(&fill(&view.rotation)?.0)?;
             let agreement = found.probabilities.get(c).copied().unwrap_or(0.0);
             hypotheses.push((agreement, found));
         }
         hypotheses.sort_by(|a, b| b.0.total_cmp(&a.0));
-        let mut best: Option<Localization> = None;
+        let mut best: Option<(f64, Localization)> = None;
         for (_, mut found) in hypotheses.into_iter().take(STARTS) {
             for _ in 0..MAX_REFILLS {
                 let rotation = found.viewpoint_rotation();
-                let next = localize(&fill(&rotation)?)?;
+                let next = localize(&fill(&rotation)?.0)?;
                 let axis = |r: &Matrix3| r.row(2).transpose();
                 let moved_deg = axis(&rotation)
                     .dot(&axis(&next.viewpoint_rotation()))
@@ -111,38 +119,38 @@ impl CameraLocalizer {
                     break;
                 }
             }
-            if best
-                .as_ref()
-                .is_none_or(|b| found.probability > b.probability)
-            {
-                best = Some(found);
+            let (_, misfit) = fill(&found.viewpoint_rotation())?;
+            let score = found.probability.ln() - misfit / MISFIT_SCALE;
+            if best.as_ref().is_none_or(|(b, _)| score > *b) {
+                best = Some((score, found));
             }
         }
-        let Some(found) = best else {
+        let Some((_, found)) = best else {
             return Err(missing_torso);
         };
         Ok(found)
     }
 }
 
-/// `pose` filled in by `filler` seen by `rotation` ([`Reconstructor::impute`]), each filled-in
-/// landmark the mean of that fill and of the mirror image of the mirrored pose's fill seen by
-/// the mirrored camera: a pose and its mirror image get mirror-image fills (the basis, fitted
-/// to people as recorded, is not mirror-symmetric), so that the mirror-symmetric classifier
-/// sees them from mirror-image cameras.
+/// `pose` filled in by `filler` seen by `rotation` ([`Reconstructor::impute_with_misfit`]),
+/// each filled-in landmark the mean of that fill and of the mirror image of the mirrored
+/// pose's fill seen by the mirrored camera, and the mean of the two fits' misfits: a pose and
+/// its mirror image get mirror-image fills (the basis, fitted to people as recorded, is not
+/// mirror-symmetric), so that the mirror-symmetric classifier sees them from mirror-image
+/// cameras.
 fn mirror_symmetric_fill(
     filler: &Reconstructor,
     pose: &PartialPose2,
     rotation: &Matrix3,
-) -> Result<Pose2, ReconstructError> {
+) -> Result<(Pose2, f64), ReconstructError> {
     // The mirror image: u -> -u in the camera frame and the body reflected through its
     // sagittal plane (y -> -y in the canonical frame, docs/conventions.md section 1).
     let image_flip = Matrix3::from_diagonal(&Vector3::new(-1.0, 1.0, 1.0));
     let body_flip = Matrix3::from_diagonal(&Vector3::new(1.0, -1.0, 1.0));
-    let direct = filler.impute(pose, rotation)?;
-    let mirrored = filler
-        .impute(&pose.mirrored(), &(image_flip * rotation * body_flip))?
-        .mirrored();
+    let (direct, direct_misfit) = filler.impute_with_misfit(pose, rotation)?;
+    let (mirrored, mirrored_misfit) =
+        filler.impute_with_misfit(&pose.mirrored(), &(image_flip * rotation * body_flip))?;
+    let mirrored = mirrored.mirrored();
     let mut points = direct.points;
     for (i, point) in points.iter_mut().enumerate() {
         if pose.points[i].is_none() {
@@ -150,5 +158,5 @@ fn mirror_symmetric_fill(
             *point = [0.5 * (point[0] + other[0]), 0.5 * (point[1] + other[1])];
         }
     }
-    Ok(Pose2::new(points))
+    Ok((Pose2::new(points), 0.5 * (direct_misfit + mirrored_misfit)))
 }

@@ -1,10 +1,15 @@
 //! Poses whose torso is incomplete (a hip, and so the pelvis, or a shoulder, and so the neck,
 //! missing: what a detector or an annotator gives for an occluded hip) are localized with the
 //! torso filled in from the embedded basis (`CameraLocalizer::localize_filled`), on CMU poses
-//! seen by the studio cameras of the `rig` protocol. Skipped, visibly, without the data.
+//! seen by the studio cameras of the `rig` protocol (skipped, visibly, without the data), and
+//! on the fixture poses whatever their translation and scale.
+
+use std::path::PathBuf;
 
 use camloc::dataset::{GenerateConfig, Protocol, generate, load_mocap_folders};
+use camloc::keypoints::{ReadOptions, read_keypoints};
 use camloc::{CameraLocalizer, Landmark, PartialPose2, PoseReconstructor, default_basis};
+use proptest::prelude::*;
 
 /// Views tried (every n-th generated view, so that they spread over clips and cameras).
 const VIEWS: usize = 1500;
@@ -75,5 +80,63 @@ fn a_missing_hip_or_shoulder_is_filled_in_and_the_camera_found() {
             100.0 * share(n),
             100.0 * share(complete)
         );
+    }
+}
+
+/// The example's poses (image coordinates) with the pelvis and the left hip taken away.
+fn example_poses_without_a_torso() -> Vec<PartialPose2> {
+    let file =
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/keypoints/example.json");
+    read_keypoints(&file, None, &ReadOptions::default())
+        .unwrap()
+        .into_iter()
+        .map(|r| {
+            let mut pose = r.pose;
+            pose.points[Landmark::Pelvis.index()] = None;
+            pose.points[Landmark::LeftHip.index()] = None;
+            pose
+        })
+        .collect()
+}
+
+/// A pose that has a torso gets exactly `localize_partial`'s answer.
+#[test]
+fn a_pose_with_a_torso_is_localized_as_before() {
+    let localizer = CameraLocalizer::default_model().unwrap();
+    let filler = PoseReconstructor::new(default_basis().unwrap()).unwrap();
+    let mut pose = example_poses_without_a_torso()[0];
+    pose.points[Landmark::LeftHip.index()] = Some([300.0, 250.0]);
+    assert_eq!(
+        localizer
+            .localize_filled(&pose, filler.reconstructor())
+            .unwrap(),
+        localizer.localize_partial(&pose).unwrap()
+    );
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(24))]
+
+    /// Moving and scaling the image moves and scales the fill with it: the camera and its
+    /// probabilities stay (to rounding).
+    #[test]
+    fn the_filled_in_localization_ignores_translation_and_scale(
+        which in 0usize..3,
+        scale in prop_oneof![1e-3f64..1e-1, 1e-1f64..10.0, 10.0f64..1e4],
+        shift in (-1e4f64..1e4, -1e4f64..1e4),
+    ) {
+        let localizer = CameraLocalizer::default_model().unwrap();
+        let filler = PoseReconstructor::new(default_basis().unwrap()).unwrap();
+        let pose = example_poses_without_a_torso()[which];
+        let mut moved = pose;
+        for p in moved.points.iter_mut().flatten() {
+            *p = [scale * p[0] + shift.0, scale * p[1] + shift.1];
+        }
+        let a = localizer.localize_filled(&pose, filler.reconstructor()).unwrap();
+        let b = localizer.localize_filled(&moved, filler.reconstructor()).unwrap();
+        prop_assert_eq!(a.label, b.label);
+        for (p, q) in a.probabilities.iter().zip(&b.probabilities) {
+            prop_assert!((p - q).abs() < 1e-6, "{} vs {}", p, q);
+        }
     }
 }

@@ -3,7 +3,7 @@
 //! threshold) can be reconstructed (docs/conventions.md section 6, "Missing landmarks").
 
 use camloc_geometry::Matrix3;
-use camloc_skeleton::{Landmark, NUM_LANDMARKS, PartialPose2, Pose2};
+use camloc_skeleton::{Landmark, PartialPose2, Pose2};
 use nalgebra::{DMatrix, DVector, Vector3};
 
 use super::observation::{centroid, rms_radius};
@@ -30,6 +30,26 @@ impl Reconstructor {
         pose: &PartialPose2,
         rotation: &Matrix3,
     ) -> Result<Pose2, ReconstructError> {
+        if let Some(complete) = pose.complete().filter(Pose2::is_finite) {
+            return Ok(complete);
+        }
+        self.impute_with_misfit(pose, rotation)
+            .map(|(pose, _)| pose)
+    }
+
+    /// `pose` filled in as [`Reconstructor::impute`] fills it, and the fit's misfit: the share
+    /// of the present landmarks' spread (their squared distances from their centroid) that
+    /// the fitted basis pose's projections leave unexplained, 0 for a perfect fit, at most 1
+    /// (the fit explains no less than the centroid alone). A rotation from which no pose of the basis looks like the present landmarks has
+    /// a large misfit. A complete pose is fitted too (and comes back unchanged).
+    ///
+    /// # Errors
+    /// As [`Reconstructor::impute`].
+    pub fn impute_with_misfit(
+        &self,
+        pose: &PartialPose2,
+        rotation: &Matrix3,
+    ) -> Result<(Pose2, f64), ReconstructError> {
         let present: Vec<(usize, [f64; 2])> = pose
             .points
             .iter()
@@ -44,9 +64,6 @@ impl Reconstructor {
                 landmark,
                 name: Landmark::ALL[landmark].name(),
             });
-        }
-        if present.len() == NUM_LANDMARKS {
-            return Ok(Pose2::new(pose.points.map(|p| p.unwrap_or_default())));
         }
         if present.len() < 2 {
             return Err(ReconstructError::DegenerateInput(
@@ -71,6 +88,15 @@ impl Reconstructor {
             .map(|p| [(p[0] - centre[0]) / spread, (p[1] - centre[1]) / spread])
             .collect();
         let fit = self.basis_fit(&present, &observed, rotation)?;
+        let unexplained: f64 = present
+            .iter()
+            .zip(&observed)
+            .map(|((i, _), u)| {
+                let d = fit.project(*i);
+                (d[0] - u[0]).powi(2) + (d[1] - u[1]).powi(2)
+            })
+            .sum();
+        let spread_squared: f64 = observed.iter().map(|u| u[0] * u[0] + u[1] * u[1]).sum();
         let mut points = pose.points.map(|p| p.unwrap_or_default());
         for (i, point) in points.iter_mut().enumerate() {
             if pose.points[i].is_none() {
@@ -78,7 +104,7 @@ impl Reconstructor {
                 *point = [centre[0] + spread * d[0], centre[1] + spread * d[1]];
             }
         }
-        Ok(Pose2::new(points))
+        Ok((Pose2::new(points), unexplained / spread_squared))
     }
 
     /// The basis pose and weak-perspective camera (rotation `rotation`) that fit the
