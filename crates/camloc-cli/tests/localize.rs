@@ -197,8 +197,9 @@ fn a_closed_pipe_is_a_normal_end() {
 
 /// A pose without its pelvis and right hip (which the descriptor's torso needs) is localized
 /// with its torso filled in from the embedded basis, and its output names what was missing; a
-/// pose with 7 landmarks is refused with that count; the `--html` page reconstructs the poses
-/// with missing landmarks in 3D too (filled in with the localized camera).
+/// pose with 7 landmarks is refused with that count; the drawing's caption names what was
+/// missing; the `--html` page reconstructs the poses with missing landmarks in 3D too (filled
+/// in with the localized camera).
 #[test]
 fn localize_fills_in_a_missing_torso() {
     let dir = TempDir::new("no-torso");
@@ -213,6 +214,7 @@ fn localize_fills_in_a_missing_torso() {
     poses.append(partial["poses"].as_array_mut().unwrap());
     let path = dir.file("poses.json", &input.to_string());
     let page = dir.0.join("page.html");
+    let svg = dir.0.join("pose.svg");
     let out = camloc(&[
         "localize",
         "--input",
@@ -220,6 +222,8 @@ fn localize_fills_in_a_missing_torso() {
         "--jsonl",
         "--html",
         page.to_str().unwrap(),
+        "--svg",
+        svg.to_str().unwrap(),
     ]);
     assert_eq!(out.status.code(), Some(1), "the third pose has 7 landmarks");
     let lines: Vec<serde_json::Value> = String::from_utf8(out.stdout)
@@ -238,6 +242,8 @@ fn localize_fills_in_a_missing_torso() {
         error.contains("pelvis") && error.contains("7 landmarks present"),
         "{error}"
     );
+    let drawn = std::fs::read_to_string(dir.0.join("pose-001.svg")).unwrap();
+    assert!(drawn.contains("missing: pelvis, right_hip"), "{drawn}");
     let html = std::fs::read_to_string(&page).unwrap();
     let start = html.find(r#"id="data">"#).unwrap() + 10;
     let end = start + html[start..].find("</script>").unwrap();

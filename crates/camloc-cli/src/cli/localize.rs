@@ -188,7 +188,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
             localization_text(&localizer, record, &loc)
         };
         let svg = args.svg.as_ref().map(|_| {
-            let caption = format!(
+            let mut caption = format!(
                 "{}: camera {} ({} {}), p = {:.2}",
                 record.id,
                 loc.label,
@@ -196,6 +196,10 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
                 loc.side.name(),
                 loc.probability
             );
+            if !loc.missing.is_empty() {
+                let names: Vec<&str> = loc.missing.iter().map(|l| l.name()).collect();
+                let _ = write!(caption, "; missing: {}", names.join(", "));
+            }
             svg::localization_svg(
                 &record.pose,
                 localizer.cameras(),
