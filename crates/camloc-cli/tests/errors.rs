@@ -21,14 +21,25 @@ fn bad_inputs_fail_cleanly() {
     assert_clean_failure(&camloc(&["localize", "--input", &nan]), "nan.json");
     let nan_csv = dir.file("nan.csv", "image,joint,x,y,visible\nim1,neck,nan,2,1\n");
     assert_clean_failure(&camloc(&["localize", "--input", &nan_csv]), "nan.csv");
-    // 14 landmarks: the neck is missing and cannot be derived without both shoulders.
-    let fourteen = dir.file(
-        "fourteen.json",
+    // 7 landmarks: the neck is missing and cannot be derived without both shoulders, and
+    // too few landmarks are left to fill the torso in.
+    let seven = dir.file(
+        "seven.json",
         &FIFTEEN
             .replace(r#""neck": [100, 140],"#, "")
-            .replace(r#""left_shoulder": [118, 145],"#, ""),
+            .replace(r#""left_ankle": [113, 320],"#, "")
+            .replace(r#""head": [100, 115],"#, "")
+            .replace(r#""left_shoulder": [118, 145],"#, "")
+            .replace(r#""left_elbow": [125, 175], "left_wrist": [128, 200],"#, "")
+            .replace(r#""right_elbow": [75, 175], "right_wrist": [72, 200]"#, "")
+            .replace(
+                r#""right_shoulder": [82, 145], "#,
+                r#""right_shoulder": [82, 145]"#,
+            ),
     );
-    assert_clean_failure(&camloc(&["localize", "--input", &fourteen]), "neck");
+    let refused = camloc(&["localize", "--input", &seven]);
+    assert_clean_failure(&refused, "neck");
+    assert!(String::from_utf8_lossy(&refused.stderr).contains("7 landmarks present"));
     let empty = dir.file("empty.json", "");
     assert_clean_failure(&camloc(&["localize", "--input", &empty]), "empty.json");
     let not_a_model = dir.file("model.bin", "hello");
