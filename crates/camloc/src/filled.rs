@@ -47,8 +47,9 @@ impl CameraLocalizer {
     /// viewpoint (`ln p - misfit / 0.01`: a viewpoint from which no basis pose looks like the
     /// present landmarks loses); its `missing` names the landmarks the input lacked.
     ///
-    /// Costs some 30 to 80 fills and localizations (a few hundred microseconds) for such a
-    /// pose; other poses cost what `localize_partial` costs.
+    /// Costs 15 to 39 fills (two basis fits each) and 12 to 36 localizations for such a pose
+    /// (docs/RESULTS.md, "Missing landmarks": 0.11-0.12 ms of wall time per pose on two
+    /// cores); other poses cost what `localize_partial` costs.
     ///
     /// # Errors
     /// As [`CameraLocalizer::localize_partial`]; a pose without a torso and with fewer than
