@@ -16,8 +16,57 @@ use super::people::Frames;
 use super::views::Studio;
 use super::{Skeletons, film_all};
 
-/// Numbers of landmarks taken away from each pose.
-const MISSING_COUNTS: [usize; 5] = [0, 1, 2, 3, 5];
+/// What is taken away from each pose.
+const TAKEN: [Taken; 7] = [
+    Taken::Random(0),
+    Taken::Random(1),
+    Taken::Random(2),
+    Taken::Random(3),
+    Taken::Random(5),
+    Taken::PelvisAndHip,
+    Taken::NeckAndShoulder,
+];
+
+/// Landmarks taken away from a pose.
+#[derive(Clone, Copy)]
+enum Taken {
+    /// This many at random, any but the pelvis and neck.
+    Random(usize),
+    /// The pelvis and one hip (left or right at random): no torso for the descriptor.
+    PelvisAndHip,
+    /// The neck and one shoulder (left or right at random).
+    NeckAndShoulder,
+}
+
+impl Taken {
+    /// The table's `missing` cell.
+    fn name(self) -> String {
+        match self {
+            Taken::Random(k) => k.to_string(),
+            Taken::PelvisAndHip => "pelvis, one hip".into(),
+            Taken::NeckAndShoulder => "neck, one shoulder".into(),
+        }
+    }
+
+    /// Takes the landmarks away from `pose`; returns their indices.
+    fn apply(self, pose: &mut PartialPose2, rng: &mut ChaCha8Rng) -> Vec<usize> {
+        let (end, left, right) = match self {
+            Taken::Random(k) => return drop_landmarks(pose, k, rng),
+            Taken::PelvisAndHip => (Landmark::Pelvis, Landmark::LeftHip, Landmark::RightHip),
+            Taken::NeckAndShoulder => (
+                Landmark::Neck,
+                Landmark::LeftShoulder,
+                Landmark::RightShoulder,
+            ),
+        };
+        let side = if rng.random_bool(0.5) { left } else { right };
+        let taken = vec![end.index(), side.index()];
+        for &j in &taken {
+            pose.points[j] = None;
+        }
+        taken
+    }
+}
 
 /// The section: per camera protocol and number of missing landmarks, the PA-MPJPE of all
 /// 15 landmarks and of the missing ones (after the alignment of all 15), and the poses that
@@ -39,7 +88,9 @@ pub(super) fn section(
         .map_err(|e| e.to_string())?;
     let mut md = format!(
         "\nMissing landmarks: the rescaled single poses with k landmarks taken away at random \
-         (any but the pelvis and neck, the same draw for every protocol), reconstructed as \
+         (any but the pelvis and neck, the same draw for every protocol), or the pelvis and one \
+         hip, or the neck and one shoulder (no torso for the localizer's descriptor: filled in \
+         from camera hypotheses, `CameraLocalizer::localize_filled`), reconstructed as \
          `camloc reconstruct` does (`hybrid`{}; the missing landmarks filled in from the pose \
          basis seen by the localized camera, docs/conventions.md section 6). PA-MPJPE (mm) \
          of all 15 landmarks, and of the missing ones alone after the same alignment:\n\n| \
@@ -48,19 +99,28 @@ pub(super) fn section(
     );
     for studio in [Studio::Jittered, Studio::Rig] {
         let filmed = film_all(singles, studio, Skeletons::Random, seed)?;
-        for k in MISSING_COUNTS {
-            eprintln!("proportions: missing landmarks, {} k = {k}", studio.name());
+        for taken in TAKEN {
+            eprintln!(
+                "proportions: missing landmarks, {}, {}",
+                studio.name(),
+                taken.name()
+            );
             let results: Vec<Option<(f64, f64)>> = filmed
                 .par_iter()
                 .enumerate()
                 .flat_map_iter(|(i, item)| {
-                    let mut rng = ChaCha8Rng::seed_from_u64(seed ^ (i as u64 * 7919 + k as u64));
+                    let salt = match taken {
+                        Taken::Random(k) => k as u64,
+                        Taken::PelvisAndHip => 101,
+                        Taken::NeckAndShoulder => 102,
+                    };
+                    let mut rng = ChaCha8Rng::seed_from_u64(seed ^ (i as u64 * 7919 + salt));
                     item.views
                         .iter()
                         .zip(&item.truth)
                         .map(|(view, truth)| {
                             let mut pose = PartialPose2::from(view.pose2);
-                            let dropped = drop_landmarks(&mut pose, k, &mut rng);
+                            let dropped = taken.apply(&mut pose, &mut rng);
                             let r = reconstructor.reconstruct(&pose).ok()?;
                             let estimate = &r.reconstruction.pose;
                             let all = mpjpe_after_similarity(estimate, truth);
@@ -85,15 +145,16 @@ pub(super) fn section(
             let solved: Vec<(f64, f64)> = results.iter().flatten().copied().collect();
             let n = solved.len().max(1) as f64;
             let all = solved.iter().map(|r| r.0).sum::<f64>() / n;
-            let missing = if k == 0 {
+            let missing = if matches!(taken, Taken::Random(0)) {
                 "-".to_string()
             } else {
                 format!("{:.1}", solved.iter().map(|r| r.1).sum::<f64>() / n)
             };
             let _ = writeln!(
                 md,
-                "| `{}` | {k} | {} | {all:.1} | {missing} | {} |",
+                "| `{}` | {} | {} | {all:.1} | {missing} | {} |",
                 studio.name(),
+                taken.name(),
                 results.len(),
                 results.len() - solved.len()
             );
