@@ -99,6 +99,42 @@ fn begin_titled(w: f64, h: f64, title: &str) -> String {
     svg
 }
 
+/// Distance between the lines of a caption (pixels, at the documents' font size 12).
+const CAPTION_LINE_PX: f64 = 15.0;
+
+/// `caption` broken at spaces into lines that fit `width` pixels (at most one character per
+/// 7 pixels, wider than the average sans-serif character at font size 12); a word longer than
+/// a line gets a line of its own. At least one line.
+fn caption_lines(caption: &str, width: f64) -> Vec<String> {
+    let max_chars = ((width / 7.0) as usize).max(1);
+    let mut lines = vec![String::new()];
+    for word in caption.split(' ') {
+        let line = lines.last_mut().expect("lines starts with one line");
+        if line.is_empty() {
+            line.push_str(word);
+        } else if line.chars().count() + 1 + word.chars().count() <= max_chars {
+            line.push(' ');
+            line.push_str(word);
+        } else {
+            lines.push(word.to_string());
+        }
+    }
+    lines
+}
+
+/// Writes `lines` at `x`, the first line's baseline at `y`, each next one
+/// [`CAPTION_LINE_PX`] lower.
+fn draw_caption(svg: &mut String, lines: &[String], x: f64, y: f64) {
+    for (k, line) in lines.iter().enumerate() {
+        let _ = writeln!(
+            svg,
+            r#"<text x="{x}" y="{}" fill="{CENTRE}">{}</text>"#,
+            y + CAPTION_LINE_PX * k as f64,
+            escape(line)
+        );
+    }
+}
+
 /// `text` for an SVG text element: control characters escaped as messages escape them (XML
 /// cannot hold most of them, even as references), then `&`, `<` and `>`.
 fn escape(text: &str) -> String {
@@ -135,7 +171,8 @@ impl Direction {
 /// when known, the continuous direction with its uncertainty.
 ///
 /// `pose` is in image coordinates (v down); missing landmarks are left out. `label` is the
-/// predicted camera of `cameras`, `caption` a line of text shown under the drawing.
+/// predicted camera of `cameras`, `caption` text shown under the drawing (broken into as many
+/// lines as its width needs; the drawing grows by a line for each).
 pub fn localization_svg(
     pose: &PartialPose2,
     cameras: &CameraSet,
@@ -143,7 +180,9 @@ pub fn localization_svg(
     direction: Option<Direction>,
     caption: &str,
 ) -> String {
-    let (w, h) = (640.0, 360.0);
+    let w = 640.0;
+    let lines = caption_lines(caption, w - 20.0);
+    let h = 360.0 + CAPTION_LINE_PX * (lines.len() - 1) as f64;
     let mut svg = begin(w, h);
     let present: Vec<[f64; 2]> = pose.points.iter().flatten().copied().collect();
     let map = fit_box(&present, 10.0, 10.0, 300.0, 310.0);
@@ -152,12 +191,7 @@ pub fn localization_svg(
     if let Some(direction) = direction {
         draw_direction(&mut svg, &sphere, direction);
     }
-    let _ = writeln!(
-        svg,
-        r#"<text x="10" y="{}" fill="{CENTRE}">{}</text>"#,
-        h - 14.0,
-        escape(caption)
-    );
+    draw_caption(&mut svg, &lines, 10.0, 346.0);
     let _ = writeln!(
         svg,
         r#"<text x="10" y="22" fill="{LEFT}">left</text><text x="40" y="22" fill="{RIGHT}">right</text>"#
@@ -316,14 +350,17 @@ type ViewProjection = fn([f64; 3]) -> [f64; 2];
 
 /// Input 2D pose (dashed; its missing landmarks left out) with the reprojection of the
 /// reconstruction over it, and the 3D skeleton from the front (camera on -x), the left side
-/// (-y) and above (+z).
+/// (-y) and above (+z), `caption` under them (broken into lines as
+/// [`localization_svg`]'s).
 pub fn reconstruction_svg(
     input: &PartialPose2,
     reprojection: &Pose2,
     pose: &Pose3,
     caption: &str,
 ) -> String {
-    let (w, h) = (880.0, 260.0);
+    let w = 880.0;
+    let lines = caption_lines(caption, w - 20.0);
+    let h = 260.0 + CAPTION_LINE_PX * (lines.len() - 1) as f64;
     let mut svg = begin(w, h);
     let both: Vec<[f64; 2]> = input
         .points
@@ -386,12 +423,7 @@ pub fn reconstruction_svg(
             x0 + 60.0
         );
     }
-    let _ = writeln!(
-        svg,
-        r#"<text x="10" y="{}" fill="{CENTRE}">{}</text>"#,
-        h - 8.0,
-        escape(caption)
-    );
+    draw_caption(&mut svg, &lines, 10.0, 252.0);
     svg.push_str("</svg>\n");
     svg
 }
@@ -679,5 +711,33 @@ mod tests {
         assert!(uncertainty_width(&wider) > 2.0 * uncertainty_width(&svg));
         let without = localization_svg(&pose, &cameras, label, None, "c");
         assert!(!without.contains(DIRECTION));
+    }
+
+    #[test]
+    fn a_long_caption_is_broken_into_lines_inside_the_drawing() {
+        let missing = "pelvis, right_hip, neck, right_shoulder, right_elbow, right_wrist";
+        let caption = format!("im00011: camera 08 (middle right), p = 0.95; missing: {missing}");
+        let lines = caption_lines(&caption, 300.0);
+        assert!(lines.len() > 1, "{lines:?}");
+        assert!(
+            lines.iter().all(|l| l.chars().count() <= 300 / 7),
+            "{lines:?}"
+        );
+        assert_eq!(lines.join(" "), caption);
+        assert_eq!(caption_lines("one-long-word", 20.0), ["one-long-word"]);
+        assert_eq!(caption_lines("", 100.0), [""]);
+
+        let pose = PartialPose2::from(Pose2::new([[0.0; 2]; 15]));
+        let (cameras, label) = (CameraSet::table1(), CameraLabel::new(8).unwrap());
+        let short = localization_svg(&pose, &cameras, label, None, "im00011");
+        let long = localization_svg(&pose, &cameras, label, None, &caption.repeat(2));
+        assert!(short.contains(r#"height="360""#));
+        let rows = caption_lines(&caption.repeat(2), 620.0).len();
+        assert!(rows > 1);
+        let height = 360.0 + CAPTION_LINE_PX * (rows - 1) as f64;
+        assert!(long.contains(&format!(r#"height="{height}""#)), "{long}");
+        let last_baseline = 346.0 + CAPTION_LINE_PX * (rows - 1) as f64;
+        assert!(long.contains(&format!(r#"y="{last_baseline}""#)));
+        assert!(last_baseline < height);
     }
 }
