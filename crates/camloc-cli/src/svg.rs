@@ -79,23 +79,34 @@ fn draw_skeleton(svg: &mut String, points: &[Option<[f64; 2]>; 15], dashed: bool
 
 /// An SVG document of `w` x `h` pixels on a white background, left open for drawing.
 fn begin(w: f64, h: f64) -> String {
+    begin_above(w, h, 0.0)
+}
+
+/// [`begin`] with `above` more pixels on top, at negative y (the drawing's coordinates stay
+/// those of a `w` x `h` document).
+fn begin_above(w: f64, h: f64, above: f64) -> String {
     let mut svg = String::new();
+    let total = h + above;
     let _ = writeln!(
         svg,
-        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" viewBox="0 0 {w} {h}" font-family="sans-serif" font-size="12">"#
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{total}" viewBox="0 {} {w} {total}" font-family="sans-serif" font-size="12">"#,
+        0.0 - above
     );
-    let _ = writeln!(svg, r#"<rect width="{w}" height="{h}" fill="white"/>"#);
+    let _ = writeln!(
+        svg,
+        r#"<rect y="{}" width="{w}" height="{total}" fill="white"/>"#,
+        0.0 - above
+    );
     svg
 }
 
-/// [`begin`] with `title` written at the top left.
+/// [`begin`] with `title` written at the top left, broken into lines as captions are; each
+/// line after the first adds [`CAPTION_LINE_PX`] on top of the drawing.
 fn begin_titled(w: f64, h: f64, title: &str) -> String {
-    let mut svg = begin(w, h);
-    let _ = writeln!(
-        svg,
-        r#"<text x="10" y="20" fill="{CENTRE}">{}</text>"#,
-        escape(title)
-    );
+    let lines = caption_lines(title, w - 20.0);
+    let above = CAPTION_LINE_PX * (lines.len() - 1) as f64;
+    let mut svg = begin_above(w, h, above);
+    draw_caption(&mut svg, &lines, 10.0, 20.0 - above);
     svg
 }
 
@@ -104,19 +115,39 @@ const CAPTION_LINE_PX: f64 = 15.0;
 
 /// `caption` broken at spaces into lines that fit `width` pixels (at most one character per
 /// 7 pixels, wider than the average sans-serif character at font size 12); a word longer than
-/// a line gets a line of its own. At least one line.
+/// a line (a path) is broken after its last `/`, `_` or `-` that fits, else where the line
+/// ends. At least one line.
 fn caption_lines(caption: &str, width: f64) -> Vec<String> {
     let max_chars = ((width / 7.0) as usize).max(1);
     let mut lines = vec![String::new()];
     for word in caption.split(' ') {
-        let line = lines.last_mut().expect("lines starts with one line");
-        if line.is_empty() {
-            line.push_str(word);
-        } else if line.chars().count() + 1 + word.chars().count() <= max_chars {
-            line.push(' ');
-            line.push_str(word);
-        } else {
-            lines.push(word.to_string());
+        let mut rest: Vec<char> = word.chars().collect();
+        loop {
+            let line = lines.last_mut().expect("lines starts with one line");
+            let used = line.chars().count();
+            let room = if used == 0 {
+                max_chars
+            } else {
+                max_chars.saturating_sub(used + 1)
+            };
+            if rest.len() <= room {
+                if used > 0 {
+                    line.push(' ');
+                }
+                line.extend(&rest);
+                break;
+            }
+            if used > 0 {
+                lines.push(String::new());
+                continue;
+            }
+            let cut = rest[..max_chars]
+                .iter()
+                .rposition(|c| matches!(c, '/' | '_' | '-'))
+                .map_or(max_chars, |k| k + 1);
+            line.extend(&rest[..cut]);
+            rest.drain(..cut);
+            lines.push(String::new());
         }
     }
     lines
@@ -724,7 +755,13 @@ mod tests {
             "{lines:?}"
         );
         assert_eq!(lines.join(" "), caption);
-        assert_eq!(caption_lines("one-long-word", 20.0), ["one-long-word"]);
+        let path = "/tmp/a-very-long-folder/of-frames/poses.json: person 0";
+        let broken = caption_lines(path, 140.0);
+        assert!(broken.iter().all(|l| l.chars().count() <= 20), "{broken:?}");
+        assert_eq!(broken.concat().replace(' ', ""), path.replace(' ', ""));
+        assert_eq!(caption_lines("a/long/path", 35.0), ["a/", "long/", "path"]);
+        assert_eq!(caption_lines("abcdefgh", 21.0), ["abc", "def", "gh"]);
+        assert_eq!(caption_lines("ab cd ef", 35.0), ["ab cd", "ef"]);
         assert_eq!(caption_lines("", 100.0), [""]);
 
         let pose = PartialPose2::from(Pose2::new([[0.0; 2]; 15]));
@@ -739,5 +776,17 @@ mod tests {
         let last_baseline = 346.0 + CAPTION_LINE_PX * (rows - 1) as f64;
         assert!(long.contains(&format!(r#"y="{last_baseline}""#)));
         assert!(last_baseline < height);
+    }
+
+    #[test]
+    fn a_long_title_gets_lines_above_the_drawing() {
+        let title = "cameras of /tmp/a-very-long-folder-name-for-a-video-project/and-another-nested-folder-of-frames/poses.json";
+        let svg = begin_titled(300.0, 100.0, title);
+        let rows = caption_lines(title, 280.0).len();
+        assert!(rows > 1);
+        let above = CAPTION_LINE_PX * (rows - 1) as f64;
+        assert!(svg.contains(&format!(r#"viewBox="0 {} 300 {}""#, -above, 100.0 + above)));
+        assert!(svg.contains(&format!(r#"y="{}""#, 20.0 - above)));
+        assert!(begin_titled(300.0, 100.0, "short").contains(r#"viewBox="0 0 300 100""#));
     }
 }
