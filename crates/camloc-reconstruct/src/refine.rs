@@ -72,6 +72,14 @@ pub struct Refinement {
     /// terms count as independent evidence: without it the lengths follow those shared
     /// errors.
     pub sequence_prior: f64,
+    /// Sequences with unknown lengths, beyond this many frames: the length prior's weight
+    /// grows with the frames as their reprojection terms' does (its deviations divided by
+    /// `sequence_prior * sqrt(frames / length_evidence_frames)` when that is larger), so that
+    /// a long video weighs the errors its frames share against the prior as a window of this
+    /// many frames does; >= 1. Without it the lengths of a long video follow those shared
+    /// errors to implausible values (a person seen from one side for 10,000 frames: the
+    /// collar bones, along the depth, shrank to 1 cm).
+    pub length_evidence_frames: f64,
     /// Sequences: choose each frame's depth hypothesis by the Viterbi path that fits the 2D
     /// and moves least between frames (`true`), or take each frame's preferred one.
     pub consistent_depth: bool,
@@ -85,7 +93,8 @@ impl Default for Refinement {
     /// deviations, direction deviation 0.15 (0.10 from a single frame's lifted pose), the
     /// default widening, the camera's distance estimated under [`DistancePrior::default`], 10
     /// steps; in sequences smoothness 0.1, the length prior's deviations
-    /// halved (`sequence_prior` 2), the Viterbi choice of depths with motion deviation 0.1 m.
+    /// halved (`sequence_prior` 2) and made to keep pace with the frames beyond 60
+    /// (`length_evidence_frames`), the Viterbi choice of depths with motion deviation 0.1 m.
     fn default() -> Self {
         Refinement {
             estimate_lengths: true,
@@ -98,6 +107,7 @@ impl Default for Refinement {
             iterations: 10,
             smoothness: 0.1,
             sequence_prior: 2.0,
+            length_evidence_frames: 60.0,
             consistent_depth: true,
             motion_m: 0.1,
         }
@@ -137,6 +147,13 @@ impl Refinement {
             return Err(invalid(
                 "Refinement::sequence_prior",
                 self.sequence_prior,
+                "must be finite and >= 1",
+            ));
+        }
+        if !(self.length_evidence_frames.is_finite() && self.length_evidence_frames >= 1.0) {
+            return Err(invalid(
+                "Refinement::length_evidence_frames",
+                self.length_evidence_frames,
                 "must be finite and >= 1",
             ));
         }

@@ -219,6 +219,49 @@ fn the_sequence_prior_holds_estimated_lengths_nearer_the_prior() {
     ));
 }
 
+/// Beyond `length_evidence_frames` frames the length prior keeps pace with the frames: a
+/// view held still for 240 frames gets the lengths of 60 such frames, where a prior that
+/// stops growing lets the repeated frames pull the lengths further away; a value below 1 is
+/// refused.
+#[test]
+fn a_long_sequence_weighs_its_frames_against_the_prior_as_a_window_does() {
+    let pose = motion(&person(4), 2, 5)[0];
+    let rotation = look_at_origin(sphere_point(265.0, 8.0, 1.0)).unwrap();
+    let view = opt_frames(&[pose], rotation)[0];
+    let lengths = |evidence_frames: f64, frames: usize| {
+        let mut config = ReconstructConfig::default();
+        config.refinement.length_evidence_frames = evidence_frames;
+        Reconstructor::new(basis().clone(), config)
+            .unwrap()
+            .reconstruct_sequence(&vec![view; frames], &Given::default())
+            .unwrap()
+            .lengths
+    };
+    let apart = |a: &BoneLengths, b: &BoneLengths| {
+        a.relative_errors(b)
+            .iter()
+            .fold(0.0f64, |m, e| m.max(e.abs()))
+    };
+    let window = lengths(60.0, 60);
+    let kept = apart(&lengths(60.0, 240), &window);
+    let unbounded = apart(&lengths(1e12, 240), &lengths(1e12, 60));
+    // The solver stops at a relative cost change of 1e-6: the same lengths to a few 0.1%.
+    assert!(
+        kept < 0.005,
+        "240 frames moved a limb by {kept} from 60 frames' lengths"
+    );
+    assert!(
+        unbounded > 10.0 * kept.max(1e-4),
+        "without the bound 240 frames moved a limb by only {unbounded}"
+    );
+    let mut config = ReconstructConfig::default();
+    config.refinement.length_evidence_frames = 0.5;
+    assert!(matches!(
+        Reconstructor::new(basis().clone(), config),
+        Err(ReconstructError::InvalidConfig { .. })
+    ));
+}
+
 /// A single frame started from a lifted pose without intrinsics holds its bone
 /// directions with `lifted_direction_sigma`; one started from the pursuit's pose, a lifted
 /// one under full perspective, and a sequence, with `direction_sigma`; a zero deviation is

@@ -123,6 +123,18 @@ pub fn run(
             ),
             Err(e) => (members.iter().map(|_| Err(e.to_string())).collect(), None),
         };
+        // A failed sequence is reported once on standard error, not once per frame (the JSON
+        // outputs still hold an error object per frame).
+        let whole_failed = lengths.is_none();
+        if let (true, Some(&first)) = (whole_failed, members.first()) {
+            let message = frames.first().and_then(|f| f.as_ref().err());
+            report_pose_error(
+                bar,
+                &format!("person {person}, {} frames", members.len()),
+                &kept[first].source,
+                message.map_or("", String::as_str),
+            );
+        }
         for (&i, frame) in members.iter().zip(frames) {
             let k = &kept[i];
             if options.finish.is_some() {
@@ -157,7 +169,9 @@ pub fn run(
                 }
                 Err(message) => {
                     summary.failed_poses += 1;
-                    report_pose_error(bar, &k.id, &k.source, &message);
+                    if !whole_failed {
+                        report_pose_error(bar, &k.id, &k.source, &message);
+                    }
                     if format.is_json() {
                         let object = ErrorJson {
                             id: Some(&k.id),

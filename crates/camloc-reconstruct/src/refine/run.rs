@@ -131,15 +131,18 @@ pub(crate) fn refine(
         LengthInput::Given(given) => Some(*given),
         LengthInput::Estimated { .. } => None,
     };
-    // A sequence's length prior, tightened (see `Refinement::sequence_prior`).
+    // A sequence's length prior, tightened (see `Refinement::sequence_prior` and
+    // `Refinement::length_evidence_frames`).
     let tightened: Option<LimbMatrix> = match (&lengths, sequence) {
-        (LengthInput::Estimated { whitening, .. }, true) => Some(
-            *whitening
-                * settings
-                    .sequence_prior
-                    .min((frames.len() as f64).sqrt())
-                    .max(1.0),
-        ),
+        (LengthInput::Estimated { whitening, .. }, true) => {
+            let n = frames.len() as f64;
+            let factor = settings
+                .sequence_prior
+                .min(n.sqrt())
+                .max(1.0)
+                .max(settings.sequence_prior * (n / settings.length_evidence_frames).sqrt());
+            Some(*whitening * factor)
+        }
         _ => None,
     };
     let (log_lengths, unknowns) = match lengths {
@@ -191,7 +194,9 @@ pub(crate) fn refine(
     let lengths = match given {
         Some(given) => given,
         None => BoneLengths::from_array(shared.log_lengths.map(f64::exp)).map_err(|_| {
-            ReconstructError::Numerical("the estimated bone lengths are implausible")
+            ReconstructError::Numerical(
+                "the estimated bone lengths are implausible (give the bone lengths, or reconstruct the frames one by one)",
+            )
         })?,
     };
     let metres = lengths.as_array();
