@@ -10,7 +10,7 @@ use clap::ValueEnum;
 
 use super::input::Inputs;
 use super::output::{NpyStage, RowFile};
-use super::stream::{Summary, report_pose_error};
+use super::stream::{Summary, counted, report_pose_error};
 use super::{CliError, EXIT_ERROR, InputArgs, Out, ProgressArgs, progress};
 
 /// camloc's own keypoint formats.
@@ -88,9 +88,9 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         }
     }
     out.write(&format!(
-        "wrote {} ({} poses, {})\n",
+        "wrote {} ({}, {})\n",
         escaped(&args.out.display().to_string()),
-        summary.poses,
+        counted(summary.poses, "pose"),
         match args.to {
             Target::Camloc => "camloc JSON",
             Target::Npy => "(N, 15, 2) float64 .npy",

@@ -21,7 +21,9 @@ use super::export::Kept;
 use super::input::Inputs;
 use super::output::{NpyStage, Out};
 use super::reconstruct_output::{PoseMeta, lengths_text, pose_output, pose_svg};
-use super::stream::{Emitter, ErrorJson, Finish, Format, Summary, json_line, report_pose_error};
+use super::stream::{
+    Emitter, ErrorJson, Finish, Format, Summary, counted, json_line, report_pose_error,
+};
 use super::{CliError, numbered_path};
 
 /// What the `--html` page shows of one frame: its record, its reconstruction or the error.
@@ -130,7 +132,10 @@ pub fn run(
             let message = frames.first().and_then(|f| f.as_ref().err());
             report_pose_error(
                 bar,
-                &format!("person {person}, {} frames", members.len()),
+                &format!(
+                    "person {person}, {}",
+                    counted(members.len() as u64, "frame")
+                ),
                 &kept[first].source,
                 message.map_or("", String::as_str),
             );
@@ -188,8 +193,8 @@ pub fn run(
                 emit.write(
                     out,
                     &format!(
-                        "person {person} ({} frames): bone lengths (m): {}\n",
-                        members.len(),
+                        "person {person} ({}): bone lengths (m): {}\n",
+                        counted(members.len() as u64, "frame"),
                         lengths_text(&lengths)
                     ),
                 )?;

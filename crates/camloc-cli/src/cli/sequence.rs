@@ -26,7 +26,7 @@ use crate::svg;
 use super::export;
 use super::input::Inputs;
 use super::output::Out;
-use super::stream::{BATCH, Emitter, Format, Summary, json_line, report_pose_error};
+use super::stream::{BATCH, Emitter, Format, Summary, counted, json_line, report_pose_error};
 use super::{CliError, Locator, numbered_path};
 use camloc::store::{StagedFiles, check_target, escaped};
 
@@ -213,9 +213,9 @@ pub fn run(
                 .map(|&i| frames[i].best().map(|b| b.0))
                 .collect();
             let title = format!(
-                "{}: person {person}, {} frames",
+                "{}: person {person}, {}",
                 inputs.name(),
-                members.len()
+                counted(members.len() as u64, "frame")
             );
             let drawing = svg::timeline_svg(localizer.cameras(), &raw, &smoothed, &title);
             staged.add(&numbered_path(svg, n, groups.len()), drawing.as_bytes())?;

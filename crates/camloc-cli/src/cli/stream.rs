@@ -223,6 +223,15 @@ pub fn report_pose_error(bar: &ProgressBar, id: &str, source: &str, message: &st
     bar.suspend(|| eprintln!("camloc: error: {id} ({source}): {message}"));
 }
 
+/// `n` and `noun`, the noun in the plural unless `n` is 1 ("1 frame", "3 frames").
+pub fn counted(n: u64, noun: &str) -> String {
+    if n == 1 {
+        format!("1 {noun}")
+    } else {
+        format!("{n} {noun}s")
+    }
+}
+
 /// Serialises one output object on one line.
 pub fn json_line<T: Serialize>(value: &T) -> String {
     // Room for a typical object at once (no regrowth while writing it).
@@ -389,4 +398,16 @@ where
     }
     staged.commit()?;
     Ok(summary)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::counted;
+
+    #[test]
+    fn counts_take_the_plural_unless_one() {
+        assert_eq!(counted(1, "frame"), "1 frame");
+        assert_eq!(counted(0, "frame"), "0 frames");
+        assert_eq!(counted(60, "pose"), "60 poses");
+    }
 }
