@@ -45,10 +45,11 @@ pub struct Args {
     /// [default: cmu-mocap-index-text.txt in the first --mocap folder, or in the default one].
     #[arg(long, value_name = "FILE")]
     pub index: Option<PathBuf>,
-    /// Augment each sample with the training augmentation of the default model
-    /// (docs/conventions.md section 7): bone lengths +-10% per limb, hip and shoulder widths,
-    /// limb rotations up to 25 deg, the upper body of another pose for half of the samples,
-    /// photo-annotation placements of neck, pelvis and head for half of the samples.
+    /// Augment each sample with the training augmentation (docs/conventions.md section 7):
+    /// bone lengths +-10% per limb, hip and shoulder widths, limb rotations up to 25 deg, the
+    /// upper body of another pose for half of the samples, photo-annotation placements of
+    /// neck, pelvis and head for half of the samples (the default model's classifier puts
+    /// every sample in them).
     #[arg(long)]
     pub augment: bool,
     /// Put this share of the samples in a posture (seated, squatting, kneeling, sitting on
