@@ -113,7 +113,8 @@ pub struct Args {
     /// frame, and reconstruct each person's frames together: one set of bone lengths per
     /// person, the depths chosen consistently over time, temporal smoothness. Output (per
     /// frame, by person then frame) as without it; the .npy rows stay in input order. Every
-    /// pose is kept until its person is done (about 500 bytes a pose).
+    /// pose is kept until its person is done (about 500 bytes a pose), and a person's frames
+    /// take about 12 KB each while they are solved together (20,000 frames: about 250 MB).
     #[arg(long, conflicts_with = "hypotheses")]
     pub sequence: bool,
     /// With --sequence: refuse an input of more than N poses.

@@ -19,6 +19,9 @@ const KEPT_FRAMES: usize = 64;
 /// Frames below which the frames are processed on one thread.
 const PARALLEL_FRAMES: usize = 16;
 
+/// Frames whose reduced systems are made at once (in parallel) before they are summed.
+const SCHUR_CHUNK: usize = 1024;
+
 /// Initial, smallest and largest Marquardt damping.
 const DAMPING: (f64, f64, f64) = (1e-3, 1e-9, 1e8);
 
@@ -243,12 +246,21 @@ impl Problem<'_> {
             let add = |a: System, b: System| -> System { (a.0 + b.0, a.1 + b.1) };
             let (mut s, mut r) = match &kept {
                 Some(all) => all.iter().map(schur).fold(zero, add),
-                None => (0..states.len())
-                    .into_par_iter()
-                    .map(|t| eliminate(t).map(|e| schur(&e)))
-                    .collect::<Option<Vec<_>>>()?
-                    .into_iter()
-                    .fold(zero, add),
+                // In chunks, summed in frame order: memory bounded by a chunk, the same sum
+                // whatever the threads.
+                None => {
+                    let mut total = zero;
+                    for first in (0..states.len()).step_by(SCHUR_CHUNK) {
+                        let chunk = first..(first + SCHUR_CHUNK).min(states.len());
+                        total = chunk
+                            .into_par_iter()
+                            .map(|t| eliminate(t).map(|e| schur(&e)))
+                            .collect::<Option<Vec<_>>>()?
+                            .into_iter()
+                            .fold(total, add);
+                    }
+                    total
+                }
             };
             if let Some(unknowns) = &self.lengths {
                 let w = unknowns.whitening;
