@@ -4,10 +4,11 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use camloc::keypoints::KeypointRecord;
-use camloc::reconstruct::{BoneLengths, Intrinsics, PoseBasis, Reconstruction};
+use camloc::reconstruct::{BoneLengths, Intrinsics, PoseBasis};
 use camloc::store::Persist;
 use camloc::{
-    CameraLocalizer, CamlocError, DepthLifter, ModeKind, Pose3, PoseReconstructor, default_basis,
+    CameraLocalizer, CamlocError, DepthLifter, ModeKind, Pose3, PoseReconstruction,
+    PoseReconstructor, default_basis,
 };
 use clap::builder::{PossibleValue, TypedValueParser};
 
@@ -287,12 +288,16 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     let inputs = Inputs::open(&args.input)?;
     let format = args.format.format();
     let finish = finish(args, &inputs, page_localizer);
-    let view = |record: &KeypointRecord, r: Option<&Reconstruction>, error: Option<String>| {
+    // The localization a reconstruction used (classified, hybrid), else the page's own.
+    let view = |record: &KeypointRecord, r: Option<&PoseReconstruction>, error: Option<String>| {
         page_localizer.map(|localizer| {
-            let localization = localizer
-                .localize_filled(&record.pose, reconstructor.reconstructor())
-                .ok();
-            ViewFrame::new(record, localization.as_ref(), r, error)
+            let localization = r.and_then(|r| r.localization.clone()).or_else(|| {
+                localizer
+                    .localize_filled(&record.pose, reconstructor.reconstructor())
+                    .ok()
+            });
+            let reconstruction = r.map(|r| &r.reconstruction);
+            ViewFrame::new(record, localization.as_ref(), reconstruction, error)
         })
     };
     let bar = progress::counter(
@@ -355,7 +360,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
             keep: keep.then(|| Kept {
                 key: (record.frame, record.person),
                 pose: Some(r.pose),
-                view: view(record, Some(r), None),
+                view: view(record, Some(&result), None),
             }),
         })
     })?;

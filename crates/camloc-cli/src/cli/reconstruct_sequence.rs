@@ -10,9 +10,9 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use camloc::keypoints::KeypointRecord;
-use camloc::reconstruct::{BoneLengths, Reconstruction};
+use camloc::reconstruct::BoneLengths;
 use camloc::store::{StagedFiles, check_target};
-use camloc::{ModeKind, PartialPose2, Pose3, PoseReconstructor, sequences};
+use camloc::{ModeKind, PartialPose2, Pose3, PoseReconstruction, PoseReconstructor, sequences};
 use indicatif::ProgressBar;
 
 use crate::html::ViewFrame;
@@ -26,9 +26,10 @@ use super::stream::{
 };
 use super::{CliError, numbered_path};
 
-/// What the `--html` page shows of one frame: its record, its reconstruction or the error.
+/// What the `--html` page shows of one frame: its record, its reconstruction (with the
+/// localization it used, if any) or the error.
 pub type ViewOf<'a> =
-    &'a dyn Fn(&KeypointRecord, Option<&Reconstruction>, Option<String>) -> Option<ViewFrame>;
+    &'a dyn Fn(&KeypointRecord, Option<&PoseReconstruction>, Option<String>) -> Option<ViewFrame>;
 
 /// The options of a sequence run.
 pub struct Options<'a> {
@@ -144,12 +145,12 @@ pub fn run(
             let k = &kept[i];
             if options.finish.is_some() {
                 let (r, error) = match &frame {
-                    Ok(r) => (Some(&r.reconstruction), None),
+                    Ok(r) => (Some(r), None),
                     Err(message) => (None, Some(message.clone())),
                 };
                 exported.push(Kept {
                     key: (k.frame, k.person),
-                    pose: r.map(|r| r.pose),
+                    pose: r.map(|r| r.reconstruction.pose),
                     view: (options.view)(k, r, error),
                 });
             }
