@@ -1,7 +1,8 @@
 //! `CameraLocalizer::predict_labels` over many poses (labelled in parallel): the labels of
 //! single poses, and errors naming the pose by its index in the whole input.
 
-use camloc::keypoints::{ReadOptions, read_keypoints};
+mod common;
+
 use camloc::{CameraLocalizer, PartialPose2};
 
 /// More poses than the parallel tasks of a 2-core machine take at once.
@@ -10,9 +11,7 @@ const MANY: usize = 10_000;
 /// The example poses (fixtures/keypoints/example.json), each moved by a deterministic
 /// pseudo-random offset of up to 3 px per coordinate, `n` of them in turn.
 fn varied_examples(n: usize) -> Vec<PartialPose2> {
-    let file = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../fixtures/keypoints/example.json");
-    let records = read_keypoints(&file, None, &ReadOptions::default()).unwrap();
+    let records = common::example_records();
     let mut state: u64 = 0x2545_f491_4f6c_dd1d;
     let mut offset = move || {
         state = state

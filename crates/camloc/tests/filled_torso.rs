@@ -4,10 +4,9 @@
 //! seen by the studio cameras of the `rig` protocol (skipped, visibly, without the data), and
 //! on the fixture poses whatever their translation and scale.
 
-use std::path::PathBuf;
+mod common;
 
 use camloc::dataset::{GenerateConfig, Protocol, generate, load_mocap_folders};
-use camloc::keypoints::{ReadOptions, read_keypoints};
 use camloc::{CameraLocalizer, Landmark, PartialPose2, PoseReconstructor, default_basis};
 use proptest::prelude::*;
 
@@ -85,10 +84,7 @@ fn a_missing_hip_or_shoulder_is_filled_in_and_the_camera_found() {
 
 /// The example's poses (image coordinates) with the pelvis and the left hip taken away.
 fn example_poses_without_a_torso() -> Vec<PartialPose2> {
-    let file =
-        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/keypoints/example.json");
-    read_keypoints(&file, None, &ReadOptions::default())
-        .unwrap()
+    common::example_records()
         .into_iter()
         .map(|r| {
             let mut pose = r.pose;

@@ -1,11 +1,12 @@
 //! CameraLocalizer: training on synthetic data, save/load, corruption, missing landmarks, and
 //! the mirror symmetry of a trained model.
 
+mod common;
+
 use camloc::dataset::{
     ClipInfo, GenerateConfig, PoseSequence, Protocol, angle_between_deg, camera_direction_deg,
     generate,
 };
-use camloc::keypoints::{ReadOptions, read_keypoints};
 use camloc::learning::DirectionSolver;
 use camloc::store::{Persist, StoreError};
 use camloc::{CameraLocalizer, CamlocError, Capacity, PartialPose2, Pose3, TrainOptions, evaluate};
@@ -306,18 +307,11 @@ fn viewpoint_heads_refine_the_class_centre() {
     ));
 }
 
-/// The example poses of fixtures/keypoints/example.json.
-fn example_records() -> Vec<camloc::keypoints::KeypointRecord> {
-    let file = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../fixtures/keypoints/example.json");
-    read_keypoints(&file, None, &ReadOptions::default()).unwrap()
-}
-
 /// The example poses (fixtures/keypoints/example.json, whose ids name the camera they were drawn for) get
 /// their true cameras from the embedded default model, and a viewpoint near them.
 #[test]
 fn the_default_model_finds_the_examples_true_cameras() {
-    let records = example_records();
+    let records = common::example_records();
     let localizer = CameraLocalizer::default_model().unwrap();
     // front standing: camera 5 (middle front); left side walking: 6 (middle left); upper
     // front reaching: 9 (upper front). The third was drawn by hand as seen from above, with
@@ -355,7 +349,7 @@ fn the_default_model_finds_the_examples_true_cameras() {
 /// direction; without viewpoint heads it is the class's camera.
 #[test]
 fn the_viewpoint_rotation_looks_from_the_continuous_viewpoint() {
-    let records = example_records();
+    let records = common::example_records();
     let localizer = CameraLocalizer::default_model().unwrap();
     for r in &records {
         let mut l = localizer.localize_partial(&r.pose).unwrap();

@@ -1,9 +1,8 @@
 //! Reconstruction of poses with missing landmarks through the facade: filled in with the
 //! localized camera, reported, and refused where nothing can be filled in.
 
-use std::path::PathBuf;
+mod common;
 
-use camloc::keypoints::{ReadOptions, read_keypoints};
 use camloc::reconstruct::mpjpe_after_similarity;
 use camloc::{
     CameraLocalizer, CamlocError, DepthLifter, Landmark, MIN_PRESENT_FOR_FILL, ModeKind,
@@ -12,10 +11,7 @@ use camloc::{
 
 /// The example's complete poses (image coordinates).
 fn example_poses() -> Vec<PartialPose2> {
-    let file =
-        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/keypoints/example.json");
-    read_keypoints(&file, None, &ReadOptions::default())
-        .unwrap()
+    common::example_records()
         .into_iter()
         .map(|r| r.pose)
         .collect()
