@@ -48,14 +48,26 @@ _Path = Union[str, PathLike]
 class Localizer:
     """A trained camera localizer."""
 
-    def __init__(self) -> None:
-        """The default model embedded in camloc (trained on CMU motion capture)."""
+    def __init__(self, camera_height: str = "any") -> None:
+        """The default model embedded in camloc (trained on CMU motion capture).
+
+        camera_height: what is known of the camera's height, a prior over the cameras that
+        reweighs the model's probabilities: ``"any"`` (the model's own priors) or
+        ``"eye-level"`` (a tripod, handheld phone or studio camera at about a standing
+        person's eye level, a few metres away: a middle-ring camera is 8 times as likely a
+        priori; docs/conventions.md section 5). Raises CamlocError for another value."""
 
     @staticmethod
-    def load(path: _Path) -> "Localizer":
-        """Reads a model file written by ``camloc train``.
+    def load(path: _Path, camera_height: str = "any") -> "Localizer":
+        """Reads a model file written by ``camloc train``; ``camera_height`` as for the
+        default model (not stored in the file).
 
         Raises OSError if it cannot be read, CamlocError if it is not a valid model."""
+
+    @property
+    def camera_height(self) -> str:
+        """The prior over the camera's height this localizer applies: ``"any"`` or
+        ``"eye-level"``."""
 
     @property
     def cameras(self) -> List[Dict[str, Any]]:

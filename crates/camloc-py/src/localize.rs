@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use camloc::store::Persist;
-use camloc::{CameraLocalizer, PoseReconstructor, default_basis};
+use camloc::{CameraHeight, CameraLocalizer, PoseReconstructor, default_basis};
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
@@ -33,20 +33,36 @@ impl Localizer {
 
 #[pymethods]
 impl Localizer {
-    /// The default model embedded in this build.
+    /// The default model embedded in this build, localizing under the prior `camera_height`
+    /// (`"any"` or `"eye-level"`, `camloc::CameraHeight`).
     #[new]
-    fn new() -> PyResult<Self> {
+    #[pyo3(signature = (camera_height = "any"))]
+    fn new(camera_height: &str) -> PyResult<Self> {
+        let height: CameraHeight = camera_height.parse().map_err(to_py_err)?;
         Ok(Localizer::with_filler(
-            CameraLocalizer::default_model().map_err(to_py_err)?,
+            CameraLocalizer::default_model()
+                .map_err(to_py_err)?
+                .with_camera_height(height),
         ))
     }
 
-    /// Reads a model file written by `camloc train`.
+    /// Reads a model file written by `camloc train`, localizing under the prior
+    /// `camera_height`.
     #[staticmethod]
-    fn load(path: PathBuf) -> PyResult<Self> {
+    #[pyo3(signature = (path, camera_height = "any"))]
+    fn load(path: PathBuf, camera_height: &str) -> PyResult<Self> {
+        let height: CameraHeight = camera_height.parse().map_err(to_py_err)?;
         Ok(Localizer::with_filler(
-            CameraLocalizer::load(&path).map_err(|e| to_py_err(e.into()))?,
+            CameraLocalizer::load(&path)
+                .map_err(|e| to_py_err(e.into()))?
+                .with_camera_height(height),
         ))
+    }
+
+    /// The prior over the camera's height this localizer applies (`"any"` or `"eye-level"`).
+    #[getter]
+    fn camera_height(&self) -> &'static str {
+        self.inner.camera_height().name()
     }
 
     /// The camera classes, one dict per label (1-based, the column `label - 1` of

@@ -424,6 +424,28 @@ def test_a_model_file_gives_the_embedded_models_answers(localizer):
     np.testing.assert_array_equal(classified["label"], localizer.localize(points)["label"])
 
 
+def test_eye_level_prior_equals_the_command_line_and_favours_the_middle_ring(cli, localizer):
+    eye = camloc.Localizer(camera_height="eye-level")
+    assert (localizer.camera_height, eye.camera_height) == ("any", "eye-level")
+    path = KEYPOINTS / "example.json"
+    _, expected = cli("localize", "--input", path, "--camera-height", "eye-level")
+    points = camloc.read_keypoints(path)["points"]
+    got, before = eye.localize(points), localizer.localize(points)
+    middle = [i for i, c in enumerate(localizer.cameras) if c["level"] == "middle"]
+    for i, want in enumerate(expected):
+        assert got["label"][i] == want["label"]
+        probabilities = [want["probabilities"][f"{c['label']:02}"] for c in localizer.cameras]
+        np.testing.assert_allclose(got["probabilities"][i], probabilities, rtol=1e-12)
+        # The middle ring's share rises; each ring keeps its cameras' ratios.
+        assert got["probabilities"][i][middle].sum() > before["probabilities"][i][middle].sum()
+        ratio = got["probabilities"][i][middle] / before["probabilities"][i][middle]
+        np.testing.assert_allclose(ratio, ratio[0], rtol=1e-9)
+    loaded = camloc.Localizer.load(ROOT / "fixtures" / "default-model.bin", camera_height="eye-level")
+    np.testing.assert_array_equal(loaded.localize(points)["probabilities"], got["probabilities"])
+    with pytest.raises(camloc.CamlocError, match="eye-level"):
+        camloc.Localizer(camera_height="tripod")
+
+
 def test_folders_read_every_file_and_report_bad_ones(tmp_path):
     folder = camloc.read_keypoints(SAMPLES / "openpose")
     assert list(folder["frames"]) == [0, 1, 1] and list(folder["persons"]) == [0, 0, 1]

@@ -31,6 +31,7 @@
 //! [`dataset`], [`features`], [`learning`], [`keypoints`] and
 //! [`reconstruct`](mod@reconstruct).
 
+mod camera_height;
 mod dropout;
 mod error;
 mod evaluate;
@@ -54,6 +55,7 @@ pub use camloc_reconstruct as reconstruct;
 pub use camloc_skeleton as skeleton;
 pub use camloc_store as store;
 
+pub use camera_height::{CameraHeight, EYE_LEVEL_WEIGHT};
 pub use camloc_features::Descriptor;
 pub use camloc_geometry::CameraLabel;
 pub use camloc_geometry::{CameraSet, Level, Side};

@@ -11,7 +11,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::rows::{extract_rows, impute_rows};
-use crate::{CamlocError, TrainingInfo};
+use crate::{CameraHeight, CamlocError, TrainingInfo};
 
 /// Where the camera stood, as localized from one 2D pose.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -88,6 +88,10 @@ pub struct CameraLocalizer {
     /// expanded by this quadratic expansion of their own
     /// ([`CameraLocalizer::fit_viewpoint_with_capacity`]).
     pub(crate) viewpoint_expansion: Option<QuadraticExpansion>,
+    /// The prior over the camera's height this localizer applies (not saved with the model:
+    /// [`CameraLocalizer::with_camera_height`]).
+    #[serde(skip)]
+    pub(crate) camera_height: CameraHeight,
 }
 
 impl CameraLocalizer {
@@ -125,9 +129,9 @@ impl CameraLocalizer {
     }
 
     /// The probability of every camera for the feature row `x` into `out` (one per
-    /// camera): the classifier's class probabilities (into `classes`, one per class) summed
-    /// over the posture groups.
-    pub(crate) fn camera_probabilities_into(
+    /// camera) under the model's own priors: the classifier's class probabilities (into
+    /// `classes`, one per class) summed over the posture groups.
+    pub(crate) fn model_camera_probabilities_into(
         &self,
         x: &[f64],
         classes: &mut [f64],
@@ -141,6 +145,34 @@ impl CameraLocalizer {
             }
         }
         Ok(())
+    }
+
+    /// [`model_camera_probabilities_into`](Self::model_camera_probabilities_into) weighed by
+    /// the localizer's [`CameraHeight`] prior: what its localizations report.
+    pub(crate) fn camera_probabilities_into(
+        &self,
+        x: &[f64],
+        classes: &mut [f64],
+        out: &mut [f64],
+    ) -> Result<(), CamlocError> {
+        self.model_camera_probabilities_into(x, classes, out)?;
+        self.camera_height.reweigh(&self.cameras, out);
+        Ok(())
+    }
+
+    /// This localizer with the prior `height` over the camera's height (replacing any set
+    /// before): every localization, label and evaluation it makes from now on weighs the
+    /// cameras by it ([`CameraHeight`]). The model file is unchanged; a loaded model starts
+    /// with [`CameraHeight::Any`].
+    #[must_use]
+    pub fn with_camera_height(mut self, height: CameraHeight) -> Self {
+        self.camera_height = height;
+        self
+    }
+
+    /// The prior over the camera's height this localizer applies.
+    pub fn camera_height(&self) -> CameraHeight {
+        self.camera_height
     }
 
     /// Posture groups the classifier's classes are split into (1 unless trained with

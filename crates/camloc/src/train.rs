@@ -13,7 +13,7 @@ use crate::dropout::DropoutPlan;
 use crate::localizer::most_probable;
 use crate::rows::{column_means, extract_rows_into, impute_rows, sample_pose};
 use crate::train_options::check_viewpoint_lambda;
-use crate::{CameraLocalizer, CamlocError, Capacity, TrainOptions, TrainingInfo};
+use crate::{CameraHeight, CameraLocalizer, CamlocError, Capacity, TrainOptions, TrainingInfo};
 
 impl CameraLocalizer {
     /// Trains on every sample of `dataset`. `progress` receives the Newton iteration log.
@@ -162,6 +162,7 @@ impl CameraLocalizer {
             info,
             viewpoint: None,
             viewpoint_expansion: None,
+            camera_height: CameraHeight::Any,
         };
         if let Some(lambda) = options.viewpoint_lambda {
             match options.viewpoint_capacity {
@@ -275,7 +276,7 @@ impl CameraLocalizer {
         let mut probabilities = vec![0.0; self.cameras.len()];
         let mut chosen = Vec::with_capacity(classifier.n_samples());
         classifier.try_for_each_row(|_, row| {
-            self.camera_probabilities_into(row, &mut classes, &mut probabilities)?;
+            self.model_camera_probabilities_into(row, &mut classes, &mut probabilities)?;
             chosen.push(most_probable(&probabilities));
             Ok::<(), CamlocError>(())
         })?;

@@ -6,7 +6,7 @@ use std::process::ExitCode;
 
 use camloc::{CamlocError, evaluate};
 
-use super::{CliError, Out, load_dataset, load_model};
+use super::{CameraHeightArgs, CliError, Out, load_dataset, load_model};
 use camloc::store::{StagedFiles, check_target};
 
 /// Arguments of `camloc evaluate`.
@@ -15,6 +15,8 @@ pub struct Args {
     /// Model file (from `camloc train`) [default: the model embedded in this binary].
     #[arg(long, value_name = "MODEL")]
     pub model: Option<PathBuf>,
+    #[command(flatten)]
+    pub height: CameraHeightArgs,
     /// Labelled dataset (from `cargo xtask gen-dataset`).
     #[arg(long, value_name = "FILE")]
     pub dataset: PathBuf,
@@ -36,7 +38,7 @@ pub fn run(args: &Args, stdout: &mut Out) -> Result<ExitCode, CliError> {
     if let Some(svg) = &args.svg {
         check_target(svg, args.force)?;
     }
-    let localizer = load_model(args.model.as_deref())?;
+    let localizer = load_model(args.model.as_deref(), &args.height)?;
     let dataset = load_dataset(&args.dataset)?;
     let e = evaluate(&localizer, &dataset)?;
     let mut staged = StagedFiles::new(args.force);

@@ -21,8 +21,8 @@ use super::localize_npz::LocalizationArrays;
 use super::sequence;
 use super::stream::{self, Done, Failed, Files, SummaryDrawing};
 use super::{
-    CliError, ForceArgs, FormatArgs, InputArgs, Locator, Out, ProgressArgs, embedded_basis,
-    load_model, progress, targets,
+    CameraHeightArgs, CliError, ForceArgs, FormatArgs, InputArgs, Locator, Out, ProgressArgs,
+    embedded_basis, load_model, progress, targets,
 };
 
 /// Arguments of `camloc localize`.
@@ -31,6 +31,8 @@ pub struct Args {
     /// Model file [default: the model embedded in this binary].
     #[arg(long, value_name = "MODEL")]
     pub model: Option<PathBuf>,
+    #[command(flatten)]
+    pub height: CameraHeightArgs,
     #[command(flatten)]
     pub input: InputArgs,
     #[command(flatten)]
@@ -86,7 +88,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         (args.npz.as_deref(), "--npz", false),
     ];
     targets::check_distinct(&targets::outputs(outputs))?;
-    let localizer = load_model(args.model.as_deref())?;
+    let localizer = load_model(args.model.as_deref(), &args.height)?;
     let inputs = Inputs::open(&args.input)?;
     let format = args.format.format();
     // Poses per predicted camera, for --summary-svg.

@@ -7,7 +7,8 @@ use camloc::dataset::Dataset;
 use camloc::keypoints::{ImageSize, Invisible, KeypointError, KeypointFormat, Layout, ReadOptions};
 use camloc::store::{Persist, StoreError};
 use camloc::{
-    CameraLocalizer, CamlocError, Localization, PartialPose2, PoseReconstructor, default_basis,
+    CameraHeight, CameraLocalizer, CamlocError, Localization, PartialPose2, PoseReconstructor,
+    default_basis,
 };
 use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use clap::{Parser, Subcommand, ValueEnum};
@@ -318,12 +319,48 @@ pub fn load_dataset(path: &Path) -> Result<Dataset, CliError> {
     Ok(dataset)
 }
 
-/// The model at `path`, or the embedded default.
-pub fn load_model(path: Option<&Path>) -> Result<CameraLocalizer, CamlocError> {
-    match path {
-        Some(p) => Ok(CameraLocalizer::load(p)?),
-        None => CameraLocalizer::default_model(),
+/// `--camera-height`: what is known of the camera's height before seeing the poses.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum CameraHeightArg {
+    /// Nothing known: the model's own priors over Table 1's three heights.
+    Any,
+    /// A tripod, handheld phone or studio camera at about a standing person's eye level, a
+    /// few metres away: a middle-ring camera is 8 times as likely a priori.
+    EyeLevel,
+}
+
+/// The `--camera-height` option of the commands that localize.
+#[derive(clap::Args)]
+pub struct CameraHeightArgs {
+    /// What is known of the camera's height, as a prior over the cameras that reweighs the
+    /// model's probabilities (docs/conventions.md section 5, "What the caller knows of the
+    /// camera"). `eye-level` suits studios, tripods and phones: on views of such cameras it
+    /// turns more of the level mistakes near the middle ring's edge into right answers, and
+    /// it costs views from far above or below.
+    #[arg(long, value_enum, default_value = "any", value_name = "HEIGHT")]
+    pub camera_height: CameraHeightArg,
+}
+
+impl CameraHeightArgs {
+    /// The library's prior for the option.
+    pub fn height(&self) -> CameraHeight {
+        match self.camera_height {
+            CameraHeightArg::Any => CameraHeight::Any,
+            CameraHeightArg::EyeLevel => CameraHeight::EyeLevel,
+        }
     }
+}
+
+/// The model at `path`, or the embedded default, localizing under the prior `height`.
+pub fn load_model(
+    path: Option<&Path>,
+    height: &CameraHeightArgs,
+) -> Result<CameraLocalizer, CamlocError> {
+    let localizer = match path {
+        Some(p) => CameraLocalizer::load(p)?,
+        None => CameraLocalizer::default_model()?,
+    };
+    Ok(localizer.with_camera_height(height.height()))
 }
 
 /// The embedded basis with the default pursuit settings: it fills in the torso of a pose that

@@ -19,8 +19,8 @@ use super::reconstruct_output::{PoseMeta, pose_output, pose_svg};
 use super::reconstruct_sequence;
 use super::stream::{self, Done, Failed, Files};
 use super::{
-    CliError, ForceArgs, FormatArgs, InputArgs, Out, ProgressArgs, load_dataset, load_model,
-    progress, targets,
+    CameraHeightArgs, CliError, ForceArgs, FormatArgs, InputArgs, Out, ProgressArgs, load_dataset,
+    load_model, progress, targets,
 };
 use crate::html::ViewFrame;
 
@@ -34,8 +34,9 @@ fn camera_modes() -> [PossibleValue; 3] {
              (docs/RESULTS.md)",
         ),
         PossibleValue::new("classified").help(
-            "Rotation fixed to the classified Table-1 camera (the paper's section 8.2); best \
-             when the camera is one of the 12 viewpoints",
+            "The pursuit's rotation fixed to the classified Table-1 camera (the paper's section \
+             8.2); the final skeleton refinement, as in every mode, then adjusts the camera by \
+             a few degrees. Best when the camera is one of the 12 viewpoints",
         ),
         PossibleValue::new("hybrid").help(
             "The localized viewpoint (the continuous direction, else the classified camera) \
@@ -46,10 +47,8 @@ fn camera_modes() -> [PossibleValue; 3] {
 }
 
 /// The camera mode of a run: `--camera`, else `hybrid`, the lower 3D error in
-/// docs/RESULTS.md: held-out CMU subjects (walking 51.1 against opt's 70.0 mm, other motions
-/// 67.9 against 69.9), rescaled people under `jittered` (66.9 against 71.5) and sequences;
-/// a tie with `opt` on single `rig` frames (75.2 against 75.3). `opt` takes about half the
-/// time.
+/// docs/RESULTS.md (held-out CMU subjects, rescaled people, sequences; the closing paragraph
+/// of its "Measured in this version" says why). `opt` takes about half the time.
 fn camera_of(args: &Args) -> ModeKind {
     args.camera.unwrap_or(ModeKind::Hybrid)
 }
@@ -68,6 +67,8 @@ pub struct Args {
     /// Model file for the classified camera [default: the embedded model].
     #[arg(long, value_name = "MODEL")]
     pub model: Option<PathBuf>,
+    #[command(flatten)]
+    pub height: CameraHeightArgs,
     /// Depth lifter file: the refinement of `classified` and `hybrid` starts from the depths
     /// it predicts for the classified camera (docs/conventions.md section 6) [default: the
     /// embedded lifter with the embedded model; none with --model].
@@ -167,6 +168,8 @@ pub struct EvalArgs {
     /// Model file for the classified camera [default: the embedded model].
     #[arg(long, value_name = "MODEL")]
     pub model: Option<PathBuf>,
+    #[command(flatten)]
+    pub height: CameraHeightArgs,
     /// Pose basis file [default: the embedded basis].
     #[arg(long, value_name = "BASIS")]
     pub basis: Option<PathBuf>,
@@ -222,7 +225,8 @@ fn reconstructor(args: &Args) -> Result<PoseReconstructor, CliError> {
     let choice = camera_of(args);
     let mut reconstructor = PoseReconstructor::new(load_basis(args.basis.as_deref())?)?;
     if choice != ModeKind::Opt || args.model.is_some() {
-        reconstructor = reconstructor.with_localizer(load_model(args.model.as_deref())?);
+        reconstructor =
+            reconstructor.with_localizer(load_model(args.model.as_deref(), &args.height)?);
     }
     let mut reconstructor = reconstructor.with_mode(choice)?;
     if args.lifter.is_some() && choice == ModeKind::Opt {
@@ -281,7 +285,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         (None, _) => None,
         (Some(_), Some(localizer)) => Some(localizer),
         (Some(_), None) => {
-            loaded = load_model(args.model.as_deref())?;
+            loaded = load_model(args.model.as_deref(), &args.height)?;
             Some(&loaded)
         }
     };
@@ -406,7 +410,7 @@ fn finish(
 /// Runs `camloc evaluate-reconstruction`.
 pub fn run_evaluation(args: &EvalArgs, out: &mut Out) -> Result<ExitCode, CliError> {
     let reconstructor = PoseReconstructor::new(load_basis(args.basis.as_deref())?)?
-        .with_localizer(load_model(args.model.as_deref())?);
+        .with_localizer(load_model(args.model.as_deref(), &args.height)?);
     let dataset = load_dataset(&args.dataset)?;
     let bar = progress::spinner(
         args.progress.quiet,

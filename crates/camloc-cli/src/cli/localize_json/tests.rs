@@ -7,7 +7,6 @@ use serde::ser::SerializeMap;
 use serde::{Serialize, Serializer};
 
 use super::*;
-use crate::cli::load_model;
 use crate::cli::stream::json_line;
 
 /// The probabilities as serde_json wrote them: a map from camera label text to probability.
@@ -77,7 +76,7 @@ fn by_serde(labels: &[String], record: &KeypointRecord, loc: &Localization) -> S
 
 /// The default model, its JSON writer and its camera label texts (camera order).
 fn setup() -> (CameraLocalizer, LocalizationJson, Vec<String>) {
-    let localizer = load_model(None).unwrap();
+    let localizer = CameraLocalizer::default_model().unwrap();
     let objects = LocalizationJson::new(localizer.cameras());
     let labels = localizer
         .cameras()
