@@ -340,6 +340,16 @@ fn draw_sphere(
 /// Orthographic view of a 3D point (metres) onto drawing coordinates (v down).
 type ViewProjection = fn([f64; 3]) -> [f64; 2];
 
+/// The 3D skeleton's views in [`reconstruction_svg`], canonical body frame (facing -x, its
+/// right towards +y, z up): from the front and from the left side as Table-1 cameras 05 and
+/// 06 see it (right = the camera's x axis, down = its y axis), and from above with the front
+/// up, so that the person's right is on the right.
+const SKELETON_VIEWS: [(&str, ViewProjection); 3] = [
+    ("front", |p| [-p[1], -p[2]]),
+    ("left side", |p| [p[0], -p[2]]),
+    ("top", |p| [p[1], p[0]]),
+];
+
 /// Input 2D pose (dashed; its missing landmarks left out) with the reprojection of the
 /// reconstruction over it, and the 3D skeleton from the front (camera on -x), the left side
 /// (-y) and above (+z), `caption` under them (broken into lines as
@@ -373,12 +383,8 @@ pub fn reconstruction_svg(
         svg,
         r#"<text x="20" y="16">input (dashed) and reprojection</text>"#
     );
-    let views: [(&str, ViewProjection); 3] = [
-        ("front", |p| [-p[1], -p[2]]),
-        ("left side", |p| [-p[0], -p[2]]),
-        ("top", |p| [-p[1], p[0]]),
-    ];
     // One scale for the three views so that they compare; each view centred on its points.
+    let views = &SKELETON_VIEWS;
     let span = views
         .iter()
         .flat_map(|(_, f)| {
@@ -420,13 +426,16 @@ pub fn reconstruction_svg(
     svg
 }
 
-/// A timeline of one person's viewpoint: frames on x (in sequence order), the cameras of
-/// `cameras` on y (label 1 at the top), a grey tick per frame at its raw (per-frame) camera
-/// (none for a frame that was not localized) and the smoothed camera as a red step line.
+/// A timeline of one person's viewpoint: frames on x (in sequence order, evenly spaced: gaps
+/// in the frame numbers are not drawn; the axis names the first and last frame numbers,
+/// `frame_range`), the cameras of `cameras` on y (label 1 at the top), a grey tick per frame
+/// at its raw (per-frame) camera (none for a frame that was not localized) and the smoothed
+/// camera as a red step line.
 pub fn timeline_svg(
     cameras: &CameraSet,
     raw: &[Option<CameraLabel>],
     smoothed: &[SmoothedFrame],
+    frame_range: [u64; 2],
     title: &str,
 ) -> String {
     let (left, top, plot_w, row_h) = (110.0, 40.0, 900.0, 22.0);
@@ -487,10 +496,12 @@ pub fn timeline_svg(
     let bottom = top + row_h * k as f64;
     let _ = writeln!(
         svg,
-        r##"<text x="{left}" y="{:.1}" fill="{CENTRE}">frame 1</text><text x="{:.1}" y="{:.1}" fill="{CENTRE}" text-anchor="end">frame {n}</text>"##,
+        r##"<text x="{left}" y="{:.1}" fill="{CENTRE}">frame {}</text><text x="{:.1}" y="{:.1}" fill="{CENTRE}" text-anchor="end">frame {}</text>"##,
         bottom + 18.0,
+        frame_range[0],
         left + plot_w,
-        bottom + 18.0
+        bottom + 18.0,
+        frame_range[1]
     );
     let _ = writeln!(
         svg,
@@ -655,6 +666,26 @@ pub fn summary_svg(cameras: &CameraSet, counts: &[u64], title: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_skeleton_views_are_what_their_cameras_see_unmirrored() {
+        let cameras = CameraSet::table1();
+        for ((name, view), label) in SKELETON_VIEWS.iter().zip([5u16, 6]) {
+            let r = cameras.get(label).unwrap().rotation;
+            for p in [[0.3, -0.2, 0.5], [-0.1, 0.4, -0.7], [1.0, 0.0, 0.0]] {
+                let v = Vector3::from(p);
+                let want = [r.row(0).dot(&v.transpose()), r.row(1).dot(&v.transpose())];
+                let got = view(p);
+                assert!(
+                    (got[0] - want[0]).abs() < 1e-12 && (got[1] - want[1]).abs() < 1e-12,
+                    "{name}: {got:?} against camera {label}'s {want:?}"
+                );
+            }
+        }
+        // From above with the front (-x) up: the person's right (+y) on the right.
+        let top = SKELETON_VIEWS[2].1;
+        assert!(top([0.0, 1.0, 0.0])[0] > 0.0 && top([-1.0, 0.0, 0.0])[1] < 0.0);
+    }
 
     /// The `(cx, cy)` texts of the circles of `fill` with radius `r` in `svg`.
     fn circles(svg: &str, r: &str, fill: &str) -> Vec<String> {

@@ -187,6 +187,8 @@ fn a_turn_with_corrupted_frames_is_smoothed() {
     let drawing = std::fs::read_to_string(&svg).unwrap();
     assert!(drawing.starts_with("<svg") && drawing.trim_end().ends_with("</svg>"));
     assert!(drawing.contains("person 0, 200 frames"), "{drawing}");
+    // The axis names the first and last frame numbers.
+    assert!(drawing.contains(">frame 0<") && drawing.contains(">frame 199<"));
     // The timeline exists now: without --force it is refused and left as it is.
     let again = camloc(&[
         "localize",

@@ -217,7 +217,10 @@ pub fn run(
                 inputs.name(),
                 counted(members.len() as u64, "frame")
             );
-            let drawing = svg::timeline_svg(localizer.cameras(), &raw, &smoothed, &title);
+            // Frame numbers, else the position in the input (as the outputs' `frame`).
+            let number = |i: usize| frames[i].frame.unwrap_or(i as u64);
+            let ends = [members.first(), members.last()].map(|m| m.map_or(0, |&i| number(i)));
+            let drawing = svg::timeline_svg(localizer.cameras(), &raw, &smoothed, ends, &title);
             staged.add(&numbered_path(svg, n, groups.len()), drawing.as_bytes())?;
         }
     }
