@@ -236,3 +236,58 @@ fn the_depth_lifter_is_the_default_and_can_be_chosen_or_refused() {
     assert!(!wrong.status.success());
     assert!(String::from_utf8_lossy(&wrong.stderr).contains("depth lifter"));
 }
+
+/// `fixtures/keypoints/example.json` with the poses at `broken` cut to their head (no torso
+/// and too few landmarks to fill one in: they cannot be reconstructed), written to `dir`.
+fn with_broken_poses(dir: &TempDir, broken: &[usize]) -> String {
+    let mut doc: Value =
+        serde_json::from_str(&std::fs::read_to_string(example()).unwrap()).unwrap();
+    for &i in broken {
+        let head = doc["poses"][i]["landmarks"]["head"].clone();
+        doc["poses"][i]["landmarks"] = serde_json::json!({ "head": head });
+    }
+    let out = path(dir, "broken.json");
+    std::fs::write(&out, doc.to_string()).unwrap();
+    out
+}
+
+#[test]
+fn sequence_drawings_are_numbered_by_input_position_and_failed_people_get_no_lengths() {
+    let dir = TempDir::new("broken-sequence");
+    // The middle pose fails: the drawings are the first and the third, as without --sequence.
+    let input = with_broken_poses(&dir, &[1]);
+    let svg = path(&dir, "r.svg");
+    let out = camloc(&[
+        "reconstruct",
+        "--input",
+        &input,
+        "--sequence",
+        "--svg",
+        &svg,
+        "-q",
+    ]);
+    assert_eq!(
+        out.status.code(),
+        Some(1),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let exists = |name: &str| dir.0.join(name).exists();
+    assert!(exists("r-001.svg") && !exists("r-002.svg") && exists("r-003.svg"));
+    // Every pose fails: no lengths file (they would be the prior's), and the user is told.
+    let input = with_broken_poses(&dir, &[0, 1, 2]);
+    let lengths = path(&dir, "lengths.json");
+    let out = camloc(&[
+        "reconstruct",
+        "--input",
+        &input,
+        "--sequence",
+        "--bone-lengths-out",
+        &lengths,
+        "-q",
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(!exists("lengths.json"));
+    assert!(stderr.contains("no bone lengths for person 0"), "{stderr}");
+}

@@ -141,6 +141,7 @@ pub fn run(
                 message.map_or("", String::as_str),
             );
         }
+        let reconstructed = frames.iter().filter(|f| f.is_ok()).count();
         for (&i, frame) in members.iter().zip(frames) {
             let k = &kept[i];
             if options.finish.is_some() {
@@ -165,9 +166,10 @@ pub fn run(
                     emit.write(out, &pose_output(format, &meta, options.choice, &r))?;
                     if let Some(svg) = options.svg {
                         let drawing = pose_svg(&k.pose, &k.id, options.choice, &r);
-                        // Numbered as if there were several; a single one is renamed.
-                        let path = numbered_path(svg, drawn.len(), 2);
-                        drawn.push((drawn.len(), staged.add(&path, drawing.as_bytes())?));
+                        // Numbered by the pose's position in the input, as without
+                        // --sequence; an input of one pose is renamed to `svg` below.
+                        let path = numbered_path(svg, i, 2);
+                        drawn.push((i, staged.add(&path, drawing.as_bytes())?));
                     }
                     if let Some(row) = rows.get_mut(i) {
                         *row = Some(r.reconstruction.pose);
@@ -189,7 +191,12 @@ pub fn run(
                 }
             }
         }
-        if let Some(lengths) = lengths {
+        if let (Some(_), 0) = (&lengths, reconstructed) {
+            eprintln!(
+                "camloc: no bone lengths for person {person}: none of its frames was reconstructed"
+            );
+        }
+        if let Some(lengths) = lengths.filter(|_| reconstructed > 0) {
             if format == Format::Text {
                 emit.write(
                     out,
@@ -216,7 +223,7 @@ pub fn run(
         }
         npy.finish(&mut staged)?;
     }
-    if let (Some(svg), Some(&(0, at)), 1) = (options.svg, drawn.first(), drawn.len()) {
+    if let (Some(svg), Some(&(0, at)), 1) = (options.svg, drawn.first(), kept.len()) {
         staged.retarget(at, svg);
     }
     if let Some((_, finish)) = options.finish {
