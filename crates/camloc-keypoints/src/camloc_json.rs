@@ -7,7 +7,9 @@ use serde::de::{MapAccess, SeqAccess};
 use crate::ReadOptions;
 use crate::emit::{self, ListReader, ListSeed, Sink, TopLevel};
 use crate::error::{KeypointError, Location};
-use crate::json::{Json, Skipped, check_keys, get, index_path, key_path, number_array, wrong_type};
+use crate::json::{
+    Json, Skipped, check_keys, count_number, get, index_path, key_path, number_array, wrong_type,
+};
 use crate::record::{KeypointRecord, finish};
 
 /// The value of the `format` key.
@@ -29,14 +31,14 @@ const LANDMARK_NAMES: [&str; NUM_LANDMARKS] = {
 /// Keys of the top-level document object.
 const DOCUMENT_KEYS: [&str; 3] = ["format", "version", "poses"];
 /// Keys of a pose object.
-const POSE_KEYS: [&str; 2] = ["id", "landmarks"];
+const POSE_KEYS: [&str; 4] = ["id", "frame", "person", "landmarks"];
 
 /// What a top-level object that is not a document must be.
 const EXPECTED: &str = "an object with \"poses\" (a document) or \"landmarks\" (one pose)";
 
 /// Top-level keys whose value (first occurrence) is kept while streaming: the document's
 /// `format` and `version`, and the keys of a bare pose. Other values are parsed and dropped.
-const KEPT_KEYS: [&str; 4] = ["format", "version", "id", "landmarks"];
+const KEPT_KEYS: [&str; 6] = ["format", "version", "id", "frame", "person", "landmarks"];
 
 /// `true` for a top level that is one pose: `landmarks` and no `poses`.
 fn is_bare_pose(fields: &[(String, Json)]) -> bool {
@@ -184,8 +186,18 @@ fn pose(
             }
         };
     }
+    let number = |key: &'static str| {
+        get(fields, key)
+            .map(|v| count_number(v, key, file, &key_path(path, key)))
+            .transpose()
+    };
+    let (frame, person) = (number("frame")?, number("person")?);
     let source = format!("{file}: {}", Location::Path(path.to_owned()));
-    Ok(finish(id, pose, Vec::new(), source, options))
+    Ok(KeypointRecord {
+        frame,
+        person,
+        ..finish(id, pose, Vec::new(), source, options)
+    })
 }
 
 /// A short rendering of a JSON value for error messages.
@@ -197,27 +209,32 @@ fn json_text(value: &Json) -> String {
     }
 }
 
-/// Writes poses as a camloc JSON document (format version 1), pretty-printed with one landmark
-/// per line, every landmark key present and missing ones as `null`.
+/// Writes records as a camloc JSON document (format version 1), pretty-printed with one
+/// landmark per line, every landmark key present and missing ones as `null`; each pose's
+/// `id`, and its `frame` and `person` numbers when it has them (poses of a video), so that
+/// `camloc localize --sequence` groups the written poses as it grouped the read ones.
 ///
 /// Coordinates are written in the shortest form that reads back to the same `f64`, so
 /// [`parse_keypoints`](crate::parse_keypoints) with `derive_torso: false` returns exactly the
-/// given ids and poses. A non-finite coordinate cannot be written in JSON: such a landmark is
-/// written as `null`, i.e. missing.
-pub fn to_camloc_json<S: AsRef<str>>(poses: &[(S, PartialPose2)]) -> String {
+/// given ids, poses, frames and persons (not their `source` or `derived`). A non-finite
+/// coordinate cannot be written in JSON: such a landmark is written as `null`, i.e. missing.
+pub fn to_camloc_json(records: &[KeypointRecord]) -> String {
     let mut out = format!(
         "{{\n  \"format\": {},\n  \"version\": {CAMLOC_FORMAT_VERSION},\n  \"poses\": [",
         string(CAMLOC_FORMAT_TAG)
     );
-    for (i, (id, pose)) in poses.iter().enumerate() {
+    for (i, record) in records.iter().enumerate() {
         out.push_str(if i == 0 { "\n" } else { ",\n" });
-        out.push_str(&format!(
-            "    {{\n      \"id\": {},\n      \"landmarks\": {{\n",
-            string(id.as_ref())
-        ));
+        out.push_str(&format!("    {{\n      \"id\": {},\n", string(&record.id)));
+        for (key, number) in [("frame", record.frame), ("person", record.person)] {
+            if let Some(n) = number {
+                out.push_str(&format!("      \"{key}\": {n},\n"));
+            }
+        }
+        out.push_str("      \"landmarks\": {\n");
         let lines: Vec<String> = Landmark::ALL
             .iter()
-            .zip(&pose.points)
+            .zip(&record.pose.points)
             .map(|(landmark, point)| {
                 format!("        \"{}\": {}", landmark.name(), point_text(*point))
             })
@@ -225,7 +242,7 @@ pub fn to_camloc_json<S: AsRef<str>>(poses: &[(S, PartialPose2)]) -> String {
         out.push_str(&lines.join(",\n"));
         out.push_str("\n      }\n    }");
     }
-    out.push_str(if poses.is_empty() {
+    out.push_str(if records.is_empty() {
         "]\n}\n"
     } else {
         "\n  ]\n}\n"
@@ -251,12 +268,29 @@ fn point_text(point: Option<[f64; 2]>) -> String {
 mod tests {
     use super::*;
 
+    /// A record as the writer takes it (its source and derived landmarks are not written).
+    fn record(
+        id: &str,
+        pose: PartialPose2,
+        frame: Option<u64>,
+        person: Option<u64>,
+    ) -> KeypointRecord {
+        KeypointRecord {
+            id: id.to_owned(),
+            pose,
+            derived: Vec::new(),
+            source: String::new(),
+            frame,
+            person,
+        }
+    }
+
     #[test]
     fn writes_all_keys_in_landmark_order_with_null_for_missing() {
         let mut pose = PartialPose2::empty();
         pose.points[Landmark::Neck.index()] = Some([1.5, -2.0]);
         pose.points[Landmark::Head.index()] = Some([f64::NAN, 0.0]);
-        let text = to_camloc_json(&[("a \"quoted\" id", pose)]);
+        let text = to_camloc_json(&[record("a \"quoted\" id", pose, None, None)]);
         assert!(text.contains("\"id\": \"a \\\"quoted\\\" id\""), "{text}");
         assert!(text.contains("\"neck\": [1.5, -2.0],"), "{text}");
         assert!(text.contains("\"head\": null,"), "{text}");
@@ -270,7 +304,7 @@ mod tests {
 
     #[test]
     fn empty_list_is_a_valid_document() {
-        let text = to_camloc_json::<&str>(&[]);
+        let text = to_camloc_json(&[]);
         let root: serde_json::Value = serde_json::from_str(&text).unwrap();
         assert_eq!(root["poses"], serde_json::json!([]));
         assert!(
@@ -278,5 +312,39 @@ mod tests {
                 .unwrap()
                 .is_empty()
         );
+    }
+
+    #[test]
+    fn frames_and_persons_are_written_and_read_back_and_checked() {
+        let mut pose = PartialPose2::empty();
+        pose.points[Landmark::Pelvis.index()] = Some([1.0, 2.0]);
+        let records = [
+            record("12/1", pose, Some(12), Some(1)),
+            record("still", pose, None, None),
+        ];
+        let text = to_camloc_json(&records);
+        assert!(
+            !text
+                .split("\"still\"")
+                .nth(1)
+                .unwrap()
+                .contains("\"frame\""),
+            "{text}"
+        );
+        let options = ReadOptions {
+            derive_torso: false,
+            ..ReadOptions::default()
+        };
+        let read = crate::parse_keypoints(&text, "f.json", None, &options).unwrap();
+        let keys: Vec<_> = read.iter().map(|r| (r.frame, r.person)).collect();
+        assert_eq!(keys, [(Some(12), Some(1)), (None, None)]);
+        for (bad, key) in [("-1", "frame"), ("1.5", "frame"), ("\"3\"", "person")] {
+            let doc = format!(r#"{{"poses": [{{"{key}": {bad}, "landmarks": {{}}}}]}}"#);
+            let err = crate::parse_keypoints(&doc, "b.json", None, &options).unwrap_err();
+            assert!(
+                err.to_string().contains(&format!("poses[0].{key}")),
+                "{err}"
+            );
+        }
     }
 }

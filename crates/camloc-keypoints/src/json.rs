@@ -285,6 +285,25 @@ pub(crate) fn optional<'a>(
     Ok(first)
 }
 
+/// The non-negative integer `value` (a frame or person number) of the key `field` at `path`.
+pub(crate) fn count_number(
+    value: &Json,
+    field: &'static str,
+    file: &str,
+    path: &str,
+) -> Result<u64, KeypointError> {
+    match value {
+        Json::Number(n) => n.as_u64().ok_or_else(|| KeypointError::InvalidValue {
+            file: file.to_owned(),
+            at: Location::Path(path.to_owned()),
+            field,
+            text: n.to_string(),
+            expected: "an integer of at least 0",
+        }),
+        other => Err(wrong_type(file, path, "an integer", other)),
+    }
+}
+
 /// A [`KeypointError::WrongType`] for `found` at `path`.
 pub(crate) fn wrong_type(
     file: &str,

@@ -56,6 +56,9 @@
 //!   (`u` to the right, `v` down, any unit). A missing key or `null` is a missing landmark; an
 //!   unknown key or a key given twice is an error.
 //! * `id` (a string) is optional: a pose without one is called `pose-{index}` (0-based).
+//! * `frame` and `person` (integers of at least 0) are optional: the pose's video frame and its
+//!   person in that frame ([`KeypointRecord::frame`], [`KeypointRecord::person`]); the writer
+//!   writes them for records that have them.
 //! * `format` and `version` are optional when reading and checked when present; the writer
 //!   ([`to_camloc_json`]) always writes them, and every landmark key.
 //! * For convenience a file may also hold one bare pose: `{"id": "..", "landmarks": {..}}`.

@@ -69,14 +69,7 @@ fn entry_records(
     };
     let frame_path = key_path(path, "frame_id");
     let frame = match optional(fields, "frame_id", file, path)? {
-        Some(Json::Number(n)) => n.as_u64().ok_or_else(|| KeypointError::InvalidValue {
-            file: file.to_owned(),
-            at: Location::Path(frame_path),
-            field: "frame_id",
-            text: n.to_string(),
-            expected: "a frame number (an integer of at least 0)",
-        })?,
-        Some(other) => return Err(json::wrong_type(file, &frame_path, "an integer", other)),
+        Some(value) => json::count_number(value, "frame_id", file, &frame_path)?,
         None => i as u64,
     };
     let instances_path = key_path(path, "instances");

@@ -3,9 +3,9 @@
 mod common;
 
 use camloc_keypoints::{
-    ImageSize, KeypointFormat, Layout, NpyPoseWriter, PartialPose2, Pose3, ReadOptions,
-    derive_torso, parse_keypoints, parse_keypoints_bytes, pose_from_array, read_npy_poses3,
-    to_camloc_json, write_npy,
+    ImageSize, KeypointFormat, KeypointRecord, Layout, NpyPoseWriter, PartialPose2, Pose3,
+    ReadOptions, derive_torso, parse_keypoints, parse_keypoints_bytes, pose_from_array,
+    read_npy_poses3, to_camloc_json, write_npy,
 };
 use common::fixture;
 use proptest::prelude::*;
@@ -38,8 +38,25 @@ fn any_options() -> ReadOptions {
     }
 }
 
-fn poses() -> impl Strategy<Value = Vec<(String, PartialPose2)>> {
-    prop::collection::vec((any::<String>(), partial_pose()), 0..5)
+/// Records as the camloc JSON writer takes them: any id, pose, frame and person (the source
+/// and derived landmarks are not written).
+fn poses() -> impl Strategy<Value = Vec<KeypointRecord>> {
+    let number = || prop::option::of(any::<u64>());
+    prop::collection::vec((any::<String>(), partial_pose(), number(), number()), 0..5).prop_map(
+        |items| {
+            items
+                .into_iter()
+                .map(|(id, pose, frame, person)| KeypointRecord {
+                    id,
+                    pose,
+                    derived: Vec::new(),
+                    source: String::new(),
+                    frame,
+                    person,
+                })
+                .collect()
+        },
+    )
 }
 
 proptest! {
@@ -49,9 +66,10 @@ proptest! {
         let text = to_camloc_json(&poses);
         let records = parse_keypoints(&text, "rt.json", None, &options).unwrap();
         prop_assert_eq!(records.len(), poses.len());
-        for (i, (record, (id, pose))) in records.iter().zip(&poses).enumerate() {
-            prop_assert_eq!(&record.id, id);
-            prop_assert_eq!(&record.pose, pose);
+        for (i, (record, written)) in records.iter().zip(&poses).enumerate() {
+            prop_assert_eq!(&record.id, &written.id);
+            prop_assert_eq!(&record.pose, &written.pose);
+            prop_assert_eq!((record.frame, record.person), (written.frame, written.person));
             prop_assert!(record.derived.is_empty());
             prop_assert_eq!(&record.source, &format!("rt.json: poses[{i}]"));
         }
@@ -61,8 +79,8 @@ proptest! {
     fn camloc_json_read_with_derivation_applies_the_rule(poses in poses()) {
         let text = to_camloc_json(&poses);
         let records = parse_keypoints(&text, "rt.json", None, &ReadOptions::default()).unwrap();
-        for (record, (_, pose)) in records.iter().zip(&poses) {
-            let mut expected = *pose;
+        for (record, written) in records.iter().zip(&poses) {
+            let mut expected = written.pose;
             let derived = derive_torso(&mut expected);
             prop_assert_eq!(&record.pose, &expected);
             prop_assert_eq!(&record.derived, &derived);

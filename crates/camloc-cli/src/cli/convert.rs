@@ -4,7 +4,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use camloc::PartialPose2;
-use camloc::keypoints::to_camloc_json;
+use camloc::keypoints::{KeypointRecord, to_camloc_json};
 use camloc::store::{StagedFiles, check_target, escaped};
 use clap::ValueEnum;
 
@@ -54,7 +54,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         Target::Npy => Some(Box::new(NpyStage::<PartialPose2>::new(&args.out)?)),
         Target::Camloc => None,
     };
-    let mut poses: Vec<(String, PartialPose2)> = Vec::new();
+    let mut poses: Vec<KeypointRecord> = Vec::new();
     let mut empty = 0u64;
     for item in inputs.by_ref() {
         bar.inc(1);
@@ -68,7 +68,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
                 }
                 match &mut npy {
                     Some(npy) => npy.push(&record, Some(&record.pose))?,
-                    None => poses.push((record.id, record.pose)),
+                    None => poses.push(record),
                 }
             }
             Err(e) => {
