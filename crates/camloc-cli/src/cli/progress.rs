@@ -4,7 +4,7 @@
 use std::io::IsTerminal;
 use std::time::Duration;
 
-use indicatif::{ProgressBar, ProgressStyle};
+use indicatif::{ProgressBar, ProgressState, ProgressStyle};
 
 /// `true` when progress may be drawn.
 fn shown(quiet: bool) -> bool {
@@ -20,16 +20,23 @@ pub fn counter(quiet: bool, len: Option<u64>, message: &str, unit: &str) -> Prog
         Some(len) => (
             ProgressBar::new(len),
             format!(
-                "{{msg}} [{{wide_bar}}] {{human_pos}}/{{human_len}} {unit} ({{per_sec}}, {{eta}} left)"
+                "{{msg}} [{{wide_bar}}] {{human_pos}}/{{human_len}} {unit} ({{rate}}, {{eta}} left)"
             ),
         ),
         None => (
             ProgressBar::no_length(),
-            format!("{{spinner}} {{msg}}: {{human_pos}} {unit} ({{per_sec}}, {{elapsed}})"),
+            format!("{{spinner}} {{msg}}: {{human_pos}} {unit} ({{rate}}, {{elapsed}})"),
         ),
     };
-    let style =
-        ProgressStyle::with_template(&template).unwrap_or_else(|_| ProgressStyle::default_bar());
+    // The rate as a whole number a second (indicatif's `per_sec` prints four decimals).
+    let style = ProgressStyle::with_template(&template)
+        .unwrap_or_else(|_| ProgressStyle::default_bar())
+        .with_key(
+            "rate",
+            |state: &ProgressState, w: &mut dyn std::fmt::Write| {
+                let _ = write!(w, "{:.0}/s", state.per_sec());
+            },
+        );
     bar.set_style(style);
     bar.set_message(message.to_owned());
     bar.enable_steady_tick(Duration::from_millis(200));

@@ -20,6 +20,9 @@ use super::{CliError, EXIT_ERROR, numbered_path};
 /// Poses per batch: enough to keep both cores busy, small enough to bound memory.
 pub const BATCH: usize = 4096;
 
+/// Poses computed between two advances of the progress bar.
+const PROGRESS_STEP: usize = 64;
+
 /// How results are written to standard output.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Format {
@@ -302,16 +305,27 @@ where
                 }
             }
         });
+        let computing = bar.clone();
         scope.spawn(move || {
             for batch in batches {
+                // Progress counts poses as they are computed, PROGRESS_STEP at a time (a
+                // batch of slow reconstructions takes seconds).
                 let results: Vec<Result<Done<P, K>, Failed<K>>> = batch
                     .par_iter()
-                    .map(|item| match item {
-                        Ok(record) => compute(record),
-                        // Reported by the writer; nothing to compute.
-                        Err(_) => Err(Failed::from(String::new())),
+                    .enumerate()
+                    .map(|(i, item)| {
+                        let result = match item {
+                            Ok(record) => compute(record),
+                            // Reported by the writer; nothing to compute.
+                            Err(_) => Err(Failed::from(String::new())),
+                        };
+                        if i % PROGRESS_STEP == PROGRESS_STEP - 1 {
+                            computing.inc(PROGRESS_STEP as u64);
+                        }
+                        result
                     })
                     .collect();
+                computing.inc((batch.len() % PROGRESS_STEP) as u64);
                 // Stop when the writer has stopped (an error, a closed pipe).
                 if done_sender.send((batch, results)).is_err() {
                     break;
@@ -369,7 +383,6 @@ where
                     }
                 }
             }
-            bar.inc(batch.len() as u64);
             if out.closed() && !has_files {
                 break;
             }
