@@ -62,8 +62,8 @@ pub struct Args {
     pub roll: Option<f64>,
     /// Camera distance range from the pelvis, metres, as NEAR,FAR (jittered and sphere)
     /// [default: 3,8].
-    #[arg(long, value_name = "NEAR,FAR", value_delimiter = ',', num_args = 2)]
-    pub distance: Vec<f64>,
+    #[arg(long, value_name = "NEAR,FAR", value_parser = parse_distance)]
+    pub distance: Option<(f64, f64)>,
     /// 2D Gaussian noise sigma as a fraction of the 2D torso length
     /// [default: 0 for canonical, 0.03 for jittered].
     #[arg(long, value_name = "F")]
@@ -89,6 +89,22 @@ pub struct Args {
     /// Overwrite --out (and --test-out) if they exist.
     #[arg(long)]
     pub force: bool,
+}
+
+/// Reads `--distance` "NEAR,FAR": two finite numbers of metres, `0 < NEAR <= FAR`.
+fn parse_distance(s: &str) -> Result<(f64, f64), String> {
+    let values: Vec<f64> = s
+        .split(',')
+        .map(|v| v.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| format!("expected NEAR,FAR in metres (e.g. 3,8), got {s:?}"))?;
+    match values[..] {
+        [near, far] if near.is_finite() && far.is_finite() && 0.0 < near && near <= far => {
+            Ok((near, far))
+        }
+        [_, _] => Err(format!("need 0 < NEAR <= FAR (finite metres), got {s:?}")),
+        _ => Err(format!("expected two values NEAR,FAR, got {s:?}")),
+    }
 }
 
 fn parse_protocol(s: &str) -> Result<Protocol, String> {
@@ -144,8 +160,8 @@ pub fn run(args: &Args) -> Result<(), String> {
     if let Some(roll) = args.roll {
         config.jitter.roll_deg = roll;
     }
-    if let [near, far] = args.distance[..] {
-        config.jitter.distance_m = (near, far);
+    if let Some(range) = args.distance {
+        config.jitter.distance_m = range;
     }
     config.noise_fraction = args.noise.unwrap_or(args.protocol.default_noise_fraction());
     config.seed = args.seed;
@@ -262,4 +278,18 @@ pub fn run(args: &Args) -> Result<(), String> {
         println!("{warnings} warning(s) above");
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::parse_distance;
+
+    #[test]
+    fn distance_reads_near_comma_far_and_refuses_the_rest() {
+        assert_eq!(parse_distance("3,8"), Ok((3.0, 8.0)));
+        assert_eq!(parse_distance("2.5, 2.5"), Ok((2.5, 2.5)));
+        for bad in ["3", "3,8,9", "8,3", "0,3", "-1,3", "3,inf", "a,b", ""] {
+            assert!(parse_distance(bad).is_err(), "{bad:?}");
+        }
+    }
 }
