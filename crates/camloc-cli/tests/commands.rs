@@ -54,6 +54,14 @@ fn train_evaluate_and_reconstruct_succeed_on_fixture_data() {
         .map(|c| c.as_u64().unwrap())
         .sum();
     assert_eq!(confusion, dataset.samples.len() as u64);
+    // Levels are named as everywhere else (lower case, as `localize --json` writes them).
+    let levels: Vec<&str> = e["per_level"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|l| l["level"].as_str().unwrap())
+        .collect();
+    assert_eq!(levels, ["lower", "middle", "upper"]);
     let text = camloc(&["evaluate", "--model", model, "--dataset", &data]);
     assert!(text.status.success());
     assert!(
@@ -144,6 +152,9 @@ fn train_evaluate_and_reconstruct_succeed_on_fixture_data() {
     ]);
     let report: serde_json::Value = serde_json::from_str(&success(&out)).unwrap();
     assert!(report.is_object(), "{report}");
+    // Camera modes are named as `--camera` names them.
+    assert!(report.to_string().contains("\"hybrid\""), "{report}");
+    assert!(!report.to_string().contains("\"Hybrid\""), "{report}");
 
     // The model is moved into place only after standard output was written.
     if let Ok(full) = std::fs::OpenOptions::new().write(true).open("/dev/full") {

@@ -52,8 +52,9 @@ pub fn azimuth_gap_deg(a_deg: f64, b_deg: f64) -> f64 {
     d.min(360.0 - d)
 }
 
-/// Camera height class of Table 1.
+/// Camera height class of Table 1. Serialised by its lower-case [`name`](Level::name).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
 pub enum Level {
     /// Below the body, looking up (Table 1: elevation -45 deg).
     Lower,
@@ -85,8 +86,10 @@ impl Level {
     }
 }
 
-/// Which side of the (canonical, -x facing) body a camera stands on.
+/// Which side of the (canonical, -x facing) body a camera stands on. Serialised by its
+/// lower-case [`name`](Side::name).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
 pub enum Side {
     /// In front of the body (azimuth 180 deg, camera on -x).
     Front,

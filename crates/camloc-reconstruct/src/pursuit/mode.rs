@@ -42,8 +42,10 @@ impl CameraMode {
     }
 }
 
-/// A camera mode to evaluate, resolved per sample into a [`CameraMode`].
+/// A camera mode to evaluate, resolved per sample into a [`CameraMode`]. Serialised by its
+/// lower-case [`name`](ModeKind::name), as the command line names it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
 pub enum ModeKind {
     /// [`CameraMode::Opt`].
     Opt,
