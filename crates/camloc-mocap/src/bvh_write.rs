@@ -35,6 +35,11 @@ impl BvhOptions {
     }
 }
 
+/// The frame times, seconds, a BVH file is written with: `Frame Time:` is written to 9
+/// decimals, so a shorter one would read back as 0 (a frame rate of a million a second), and
+/// a longer one (an hour a frame) is no animation.
+pub const BVH_FRAME_TIME_RANGE_S: (f64, f64) = (1e-6, 3600.0);
+
 /// Why [`write_bvh`] cannot write a sequence.
 #[derive(Debug, Error, PartialEq)]
 #[non_exhaustive]
@@ -50,8 +55,9 @@ pub enum BvhWriteError {
         /// The length given.
         value: f64,
     },
-    /// The frame time or the unit is not a positive finite number.
-    #[error("BVH: {what} is {value}, not a positive finite number")]
+    /// The unit is not a positive finite number, or the frame time is outside
+    /// [`BVH_FRAME_TIME_RANGE_S`].
+    #[error("BVH: {what} is {value}, not a positive finite number in range")]
     Option {
         /// `frame time` or `metres per unit`.
         what: &'static str,
@@ -115,11 +121,16 @@ pub fn write_bvh(
             return Err(BvhWriteError::LimbLength { limb, value });
         }
     }
-    for (what, value) in [
-        ("the frame time", options.frame_time_s),
-        ("metres per unit", options.metres_per_unit),
+    let (shortest, longest) = BVH_FRAME_TIME_RANGE_S;
+    for (what, value, in_range) in [
+        (
+            "the frame time (s)",
+            options.frame_time_s,
+            (shortest..=longest).contains(&options.frame_time_s),
+        ),
+        ("metres per unit", options.metres_per_unit, true),
     ] {
-        if !(value > 0.0 && value.is_finite()) {
+        if !(value > 0.0 && value.is_finite() && in_range) {
             return Err(BvhWriteError::Option { what, value });
         }
     }

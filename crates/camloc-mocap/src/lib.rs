@@ -56,7 +56,9 @@ use std::path::Path;
 pub use amc::{parse_amc, read_amc};
 pub use asf::{AsfSkeleton, parse_asf, read_asf};
 pub use bvh::{parse_bvh, parse_bvh_with_unit, read_bvh, read_bvh_with_unit};
-pub use bvh_write::{BVH_CENTIMETRE, BvhOptions, BvhWriteError, write_bvh, write_person_bvh};
+pub use bvh_write::{
+    BVH_CENTIMETRE, BVH_FRAME_TIME_RANGE_S, BvhOptions, BvhWriteError, write_bvh, write_person_bvh,
+};
 pub use canonical::canonicalise;
 pub use category::{CATEGORY_RULES, CategorySource, MocapIndex, MotionCategory};
 pub use discover::{MocapSource, discover};

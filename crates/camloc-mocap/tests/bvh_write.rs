@@ -229,7 +229,8 @@ fn bad_input_is_a_typed_error() {
         write_bvh(&[pose], &zero, &options),
         Err(BvhWriteError::LimbLength { limb: 4, .. })
     ));
-    for fps in [0.0, -1.0, f64::NAN] {
+    // 1e10 frames a second would be written as `Frame Time: 0.000000000`.
+    for fps in [0.0, -1.0, f64::NAN, 1e10, 1e-300] {
         assert!(matches!(
             write_bvh(&[pose], &lengths, &BvhOptions::at_fps(fps)),
             Err(BvhWriteError::Option { .. })

@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use camloc::geometry::CameraSet;
-use camloc::mocap::{BvhOptions, BvhWriteError, write_person_bvh};
+use camloc::mocap::{BVH_FRAME_TIME_RANGE_S, BvhOptions, BvhWriteError, write_person_bvh};
 use camloc::{Pose3, sequences};
 
 use crate::html::{self, Group, ViewFrame};
@@ -108,18 +108,29 @@ pub fn html_file(
     (out.to_path_buf(), page.into_bytes())
 }
 
-/// Parses `--fps`: a positive finite number.
+/// Parses `--fps`: frames a second whose frame time a BVH file can hold
+/// ([`BVH_FRAME_TIME_RANGE_S`]: from one frame an hour to a million a second).
 pub fn parse_fps(text: &str) -> Result<f64, String> {
+    let (shortest, longest) = BVH_FRAME_TIME_RANGE_S;
     text.trim()
         .parse::<f64>()
         .ok()
-        .filter(|f| f.is_finite() && *f > 0.0)
-        .ok_or_else(|| format!("not a positive number: {text:?}"))
+        .filter(|f| (1.0 / longest..=1.0 / shortest).contains(f))
+        .ok_or_else(|| format!("not a frame rate from 1/3600 to 1000000 frames a second: {text:?}"))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn fps_is_a_frame_rate_a_bvh_file_can_hold() {
+        assert_eq!(parse_fps("25"), Ok(25.0));
+        assert_eq!(parse_fps(" 29.97 "), Ok(29.97));
+        for bad in ["0", "-5", "1e10", "1e-300", "nan", "inf", "x", ""] {
+            assert!(parse_fps(bad).is_err(), "{bad}");
+        }
+    }
 
     #[test]
     fn groups_are_persons_poses_or_everything() {

@@ -151,7 +151,8 @@ pub struct Args {
     #[arg(long, value_name = "OUT")]
     pub html: Option<PathBuf>,
     /// Frames per second of the input video: the BVH frame time and the page's play rate.
-    #[arg(long, value_name = "FPS", default_value = "30", value_parser = export::parse_fps)]
+    #[arg(long, value_name = "FPS", default_value = "30", value_parser = export::parse_fps,
+          allow_hyphen_values = true)]
     pub fps: f64,
     #[command(flatten)]
     pub force: ForceArgs,
