@@ -181,6 +181,40 @@ fn two_outputs_at_one_file_are_refused_before_any_work() {
     }
 }
 
+/// An output that names the input file is refused even with --force (the run would replace
+/// what it reads), and `-` is no output file; the input is left as it was.
+#[test]
+fn outputs_that_are_the_input_or_standard_input_are_refused() {
+    let dir = TempDir::new("hostile-input-out");
+    let original = std::fs::read_to_string(fixture("keypoints/example.json")).unwrap();
+    let input = dir.file("in.json", &original);
+    let same = dir
+        .0
+        .join(".")
+        .join("in.json")
+        .to_string_lossy()
+        .into_owned();
+    let cases: [&[&str]; 4] = [
+        &["convert", "--to", "camloc", "--out", &same],
+        &["convert", "--to", "npy", "--out", "-"],
+        &["reconstruct", "--npy", &input],
+        &["localize", "--svg", &same],
+    ];
+    for case in cases {
+        let mut args = case.to_vec();
+        args.extend(["--input", &input, "--force"]);
+        let out = camloc(&args);
+        let text = short_clean_lines(&out);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {text}");
+        assert!(
+            text.contains("names the input file") || text.contains("not standard output"),
+            "{text}"
+        );
+        assert_eq!(std::fs::read_to_string(&input).unwrap(), original);
+    }
+    assert!(!dir.0.join("-").exists());
+}
+
 #[test]
 fn reconstruct_refuses_the_scale_localize_refuses() {
     let dir = TempDir::new("hostile-far");

@@ -11,7 +11,7 @@ use clap::ValueEnum;
 use super::input::Inputs;
 use super::output::{NpyStage, RowFile};
 use super::stream::{Summary, counted, report_pose_error};
-use super::{CliError, EXIT_ERROR, InputArgs, Out, ProgressArgs, progress};
+use super::{CliError, EXIT_ERROR, InputArgs, Out, ProgressArgs, progress, targets};
 
 /// camloc's own keypoint formats.
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -45,6 +45,8 @@ pub struct Args {
 /// derived where the input lacks them (as `localize` sees them). `.npy` output is written as
 /// the poses are read; camloc JSON holds the poses in memory until the end.
 pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
+    let outputs = targets::outputs([(Some(args.out.as_path()), "--out", false)]);
+    targets::check_not_input(&outputs, &args.input.input)?;
     check_target(&args.out, args.force)?;
     let mut inputs = Inputs::open(&args.input)?;
     let bar = progress::counter(args.progress.quiet, inputs.len_hint(), "convert", "poses");

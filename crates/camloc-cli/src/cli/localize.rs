@@ -87,7 +87,9 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         (args.html.as_deref(), "--html", false),
         (args.npz.as_deref(), "--npz", false),
     ];
-    targets::check_distinct(&targets::outputs(outputs))?;
+    let outputs = targets::outputs(outputs);
+    targets::check_distinct(&outputs)?;
+    targets::check_not_input(&outputs, &args.input.input)?;
     let localizer = load_model(args.model.as_deref(), &args.height)?;
     let inputs = Inputs::open(&args.input)?;
     let format = args.format.format();

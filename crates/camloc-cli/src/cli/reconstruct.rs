@@ -276,7 +276,9 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         (args.bvh.as_deref(), "--bvh", true),
         (args.html.as_deref(), "--html", false),
     ];
-    targets::check_distinct(&targets::outputs(outputs))?;
+    let outputs = targets::outputs(outputs);
+    targets::check_distinct(&outputs)?;
+    targets::check_not_input(&outputs, &args.input.input)?;
     let choice = camera_of(args);
     let reconstructor = reconstructor(args)?;
     // The page shows the cameras' probabilities: the localizer of every pose (the

@@ -53,6 +53,33 @@ pub fn check_distinct(outputs: &[Output]) -> Result<(), CliError> {
     Ok(())
 }
 
+/// Refuses ([`CliError::Usage`]) an output that names the `--input` file (even with
+/// `--force`: the run would replace what it reads), and `-`, which names standard input for
+/// `--input` but would be a file named `-` here.
+pub fn check_not_input(outputs: &[Output], input: &Path) -> Result<(), CliError> {
+    let read = Output {
+        option: "--input",
+        path: input,
+        numbered: false,
+    };
+    for out in outputs {
+        if out.path == Path::new("-") {
+            return Err(CliError::Usage(format!(
+                "{} -: outputs are files, not standard output; give a path",
+                out.option
+            )));
+        }
+        if input != Path::new("-") && input.is_file() && same_file(&read, out) {
+            return Err(CliError::Usage(format!(
+                "{} names the input file ({}); write the output elsewhere",
+                out.option,
+                quoted_path(out.path)
+            )));
+        }
+    }
+    Ok(())
+}
+
 /// `true` when `a` (or, if `b` is numbered, one of `b`'s numbered names) is the file `b` names.
 fn same_file(a: &Output, b: &Output) -> bool {
     let (spelled_a, spelled_b) = (spelled(a.path), spelled(b.path));
