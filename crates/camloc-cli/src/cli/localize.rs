@@ -50,7 +50,7 @@ pub struct Args {
     pub sequence: bool,
     /// With --sequence: refuse an input of more than N poses (each is kept until the end:
     /// about 600 to 700 bytes a pose, docs/cli.md).
-    #[arg(long, value_name = "N", default_value_t = 1_000_000)]
+    #[arg(long, value_name = "N", default_value_t = 1_000_000, requires = "sequence")]
     pub sequence_max_poses: u64,
     /// Draw where the cameras of the whole input fall (the cameras as an azimuth by
     /// elevation grid, shaded by the share of poses) as SVG to this file.
@@ -71,6 +71,7 @@ pub struct Args {
     /// elevation_deg, uncertainty_deg, failed, missing, derived, frame, person, and the ids as
     /// id_utf8 and id_end (docs/cli.md gives their types and shapes). Written at the end of the
     /// run, or not at all. Nothing is printed per pose unless --json or --jsonl asks for it.
+    /// Not with --sequence (whose smoothed cameras have no arrays here: use --jsonl).
     #[arg(long, value_name = "OUT", conflicts_with = "sequence")]
     pub npz: Option<PathBuf>,
     #[command(flatten)]
