@@ -84,6 +84,15 @@ pub enum KeypointError {
         /// What it is: `dangling symbolic link`, `FIFO`, `character device`, ...
         kind: &'static str,
     },
+    /// The input is a file camloc wrote (a dataset, model, pose basis or depth lifter), not
+    /// keypoints.
+    #[error("{}: this is a camloc {what} file, not keypoints", file_name(.file))]
+    CamlocFile {
+        /// Name of the input.
+        file: String,
+        /// What kind of camloc file ("dataset", "model", ...).
+        what: &'static str,
+    },
     /// The input is not valid UTF-8.
     #[error("{}: line {line}: not valid UTF-8 (invalid byte at offset {offset})",
         file_name(.file))]

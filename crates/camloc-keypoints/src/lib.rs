@@ -410,6 +410,9 @@ pub fn open_keypoints_reader(
     if start.len() > limit {
         return Err(too_large(start.len()));
     }
+    if let Some(e) = camloc_file(&start.content, name) {
+        return Err(e);
+    }
     if let Some(e) = start.utf8_error(name) {
         return Err(e);
     }
@@ -614,7 +617,22 @@ pub fn parse_keypoints_bytes(
         let size = Some(bytes.len() as u64);
         return NpyPoses::new(bytes, source_name, size, options)?.collect();
     }
+    if let Some(e) = camloc_file(bytes, source_name) {
+        return Err(e);
+    }
     parse_keypoints(utf8_text(bytes, source_name)?, source_name, format, options)
+}
+
+/// [`KeypointError::CamlocFile`] when `start` (an input's first bytes) begins with the magic
+/// bytes of a file camloc writes (`camloc_store::KINDS`).
+fn camloc_file(start: &[u8], file: &str) -> Option<KeypointError> {
+    let kind = camloc_store::KINDS
+        .iter()
+        .find(|k| start.starts_with(&k.magic))?;
+    Some(KeypointError::CamlocFile {
+        file: file.to_owned(),
+        what: kind.what,
+    })
 }
 
 /// Parses keypoint text. `source_name` names the input in record sources and errors, and its

@@ -281,3 +281,21 @@ fn a_document_whose_format_comes_late_is_still_given_one_record_at_a_time() {
     assert_eq!(stream.size_hint(), (0, None));
     assert_eq!(stream.count(), 100);
 }
+
+/// A file camloc wrote (here the default model) given as keypoints is named for what it is,
+/// not reported as text that is not UTF-8.
+#[test]
+fn a_camloc_file_given_as_keypoints_says_what_it_is() {
+    let model = std::fs::read(common::fixture("../default-model.bin")).unwrap();
+    let err =
+        camloc_keypoints::parse_keypoints_bytes(&model, "m.bin", None, &ReadOptions::default())
+            .unwrap_err();
+    assert!(
+        matches!(err, KeypointError::CamlocFile { what: "model", .. }),
+        "{err}"
+    );
+    assert!(
+        err.to_string().contains("camloc model file, not keypoints"),
+        "{err}"
+    );
+}
