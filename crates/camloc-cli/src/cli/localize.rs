@@ -50,7 +50,12 @@ pub struct Args {
     pub sequence: bool,
     /// With --sequence: refuse an input of more than N poses (each is kept until the end:
     /// about 600 to 700 bytes a pose, docs/cli.md).
-    #[arg(long, value_name = "N", default_value_t = 1_000_000, requires = "sequence")]
+    #[arg(
+        long,
+        value_name = "N",
+        default_value_t = 1_000_000,
+        requires = "sequence"
+    )]
     pub sequence_max_poses: u64,
     /// Draw where the cameras of the whole input fall (the cameras as an azimuth by
     /// elevation grid, shaded by the share of poses) as SVG to this file.

@@ -120,7 +120,12 @@ pub struct Args {
     #[arg(long, conflicts_with = "hypotheses")]
     pub sequence: bool,
     /// With --sequence: refuse an input of more than N poses.
-    #[arg(long, value_name = "N", default_value_t = 1_000_000, requires = "sequence")]
+    #[arg(
+        long,
+        value_name = "N",
+        default_value_t = 1_000_000,
+        requires = "sequence"
+    )]
     pub sequence_max_poses: u64,
     /// With --sequence: write each person's bone lengths (given or estimated; the JSON form
     /// of --bone-lengths) to this file (several people: FILE-001.json, ...).
