@@ -88,11 +88,27 @@ function draw2d(f) {
   if (f.reprojection) drawLimbs(ctx, f.reprojection.map(map), false, 2);
 }
 
+/** Writes `text` from (x, y) in lines no wider than `width` pixels, `step` pixels apart. */
+function fillWrapped(ctx, text, x, y, width, step) {
+  let line = "";
+  for (const word of text.split(/\s+/)) {
+    const longer = line ? `${line} ${word}` : word;
+    if (line && ctx.measureText(longer).width > width) {
+      ctx.fillText(line, x, y);
+      y += step;
+      line = word;
+    } else {
+      line = longer;
+    }
+  }
+  if (line) ctx.fillText(line, x, y);
+}
+
 /** The 3D panel: the skeleton (pelvis at the centre) over a floor grid, seen from `view`. */
 function draw3d(f) {
   const [ctx, w, h] = panel("skeleton");
   if (!f.pose) {
-    ctx.fillText(f.error || "no 3D pose", 10, 20);
+    fillWrapped(ctx, f.error || "no 3D pose", 10, 20, w - 20, 16);
     return;
   }
   const [x, y] = viewAxes();
