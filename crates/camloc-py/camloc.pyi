@@ -129,7 +129,8 @@ def reconstruct(
     (NaN, or a score below ``min_score``) are first filled in from the pose basis seen by the
     localized camera (in every mode; see ``imputed``); a pose whose torso cannot be found
     (pelvis or neck missing, and a hip or shoulder to stand in for it) has it filled in as
-    ``Localizer.localize`` does, and gets an error with fewer than 8 landmarks present.
+    ``Localizer.localize`` does. A pose with missing landmarks and fewer than 8 present gets
+    an error (most of its 3D would be the basis's guess).
 
     points, layout, scores, min_score: as for ``Localizer.localize``.
     camera: ``opt`` (Procrustes camera), ``classified`` (the rotation of the classified

@@ -58,6 +58,17 @@ pub enum ReconstructError {
         /// Landmark name.
         name: &'static str,
     },
+    /// Too few landmarks of the 2D input are present to fill in the others: the 3D pose
+    /// would be mostly the basis's guess.
+    #[error(
+        "2D pose: {present} landmarks present, {needed} needed to fill in the missing ones and reconstruct it"
+    )]
+    TooFewLandmarks {
+        /// Landmarks present.
+        present: usize,
+        /// The fewest accepted.
+        needed: usize,
+    },
     /// The 2D input cannot be reconstructed (zero torso, all points coinciding).
     #[error("2D pose is degenerate: {0}")]
     DegenerateInput(&'static str),

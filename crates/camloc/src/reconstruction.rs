@@ -10,7 +10,7 @@ use camloc_store::Persist;
 use camloc_store::Validate;
 
 use crate::rows::sample_pose;
-use crate::{CameraLocalizer, CamlocError, DepthLifter, Localization};
+use crate::{CameraLocalizer, CamlocError, DepthLifter, Localization, MIN_PRESENT_FOR_FILL};
 
 /// A reconstructed pose and the camera localization it used (none for `opt`).
 #[derive(Clone, Debug)]
@@ -222,9 +222,10 @@ impl PoseReconstructor {
     /// the localized camera ([`PoseReconstruction::imputed`]; this needs a localizer in every
     /// mode), then, with a localization (`classified`, `hybrid`), again from the first
     /// reconstruction's reprojection for a second solve (docs/conventions.md section 6). What
-    /// may be missing is what [`CameraLocalizer::localize_filled`] accepts: any landmark, and
-    /// for a pose whose torso is incomplete (the pelvis and a hip, or the neck and a
-    /// shoulder) at least [`MIN_PRESENT_FOR_FILL`](crate::MIN_PRESENT_FOR_FILL) landmarks.
+    /// may be missing is any landmark, provided at least
+    /// [`MIN_PRESENT_FOR_FILL`](crate::MIN_PRESENT_FOR_FILL) (8) landmarks are present, the
+    /// rule [`CameraLocalizer::localize_filled`] applies to a pose whose torso is incomplete:
+    /// with fewer, most of the 3D pose would be the basis's guess.
     ///
     /// # Errors
     /// [`CamlocError::InvalidOption`] when landmarks are missing and there is no localizer;
@@ -232,7 +233,9 @@ impl PoseReconstructor {
     /// fill one in, for
     /// a pose whose scale localization refuses too (`Descriptor::check_scale` of the
     /// localizer's descriptor, or of the default one); localization errors for `classified`
-    /// and `hybrid`; [`CamlocError::Reconstruct`] for a degenerate pose.
+    /// and `hybrid`; [`CamlocError::Reconstruct`] for a degenerate pose, and for an incomplete
+    /// pose with fewer than [`MIN_PRESENT_FOR_FILL`](crate::MIN_PRESENT_FOR_FILL) landmarks
+    /// ([`ReconstructError::TooFewLandmarks`]).
     pub fn reconstruct(&self, pose: &PartialPose2) -> Result<PoseReconstruction, CamlocError> {
         self.reconstruct_hypotheses(pose, 1)
     }
@@ -398,7 +401,16 @@ impl PoseReconstructor {
                         ),
                     });
                 };
+                // (A pose without a torso and with too few landmarks is refused here, naming
+                // the torso's missing landmark; one with a torso, below.)
                 let localization = localizer.localize_filled(pose, &self.reconstructor)?;
+                let present = pose.points.iter().flatten().count();
+                if present < MIN_PRESENT_FOR_FILL {
+                    return Err(pose_error(ReconstructError::TooFewLandmarks {
+                        present,
+                        needed: MIN_PRESENT_FOR_FILL,
+                    }));
+                }
                 let complete = self
                     .reconstructor
                     .impute(pose, &localization.viewpoint_rotation())

@@ -3,7 +3,7 @@
 
 mod common;
 
-use camloc::reconstruct::mpjpe_after_similarity;
+use camloc::reconstruct::{ReconstructError, mpjpe_after_similarity};
 use camloc::{
     CameraLocalizer, CamlocError, DepthLifter, Landmark, MIN_PRESENT_FOR_FILL, ModeKind,
     PartialPose2, PoseReconstructor, default_basis,
@@ -113,5 +113,38 @@ fn what_cannot_be_filled_in_is_refused() {
     assert!(
         error.contains("pelvis") && error.contains("7 landmarks present"),
         "{error}"
+    );
+    // With the torso but fewer than MIN_PRESENT_FOR_FILL landmarks, the pose is localized
+    // (its probabilities say how little it shows) but not reconstructed: most of its 3D
+    // would be the basis's guess.
+    let mut torso_only = sparse;
+    torso_only.points[Landmark::Pelvis.index()] =
+        example_poses()[0].points[Landmark::Pelvis.index()];
+    torso_only.points[Landmark::Head.index()] = None;
+    assert_eq!(
+        torso_only.points.iter().flatten().count(),
+        MIN_PRESENT_FOR_FILL - 1
+    );
+    let refused = reconstructor(ModeKind::Hybrid)
+        .reconstruct(&torso_only)
+        .unwrap_err();
+    assert!(
+        matches!(
+            refused,
+            CamlocError::Reconstruct {
+                source: ReconstructError::TooFewLandmarks {
+                    present: 7,
+                    needed: MIN_PRESENT_FOR_FILL
+                },
+                ..
+            }
+        ),
+        "{refused}"
+    );
+    assert!(
+        CameraLocalizer::default_model()
+            .unwrap()
+            .localize_partial(&torso_only)
+            .is_ok()
     );
 }

@@ -90,8 +90,8 @@ enum Command {
     /// Poses are read, reconstructed (in parallel) and written in batches. Missing landmarks
     /// are filled in from the pose basis seen by the localized camera and named in the output
     /// (`imputed`); a pose without a pelvis or neck and a hip or shoulder to stand in for it is
-    /// localized with its torso filled in as `localize` does, and refused with fewer than 8
-    /// landmarks present.
+    /// localized with its torso filled in as `localize` does. A pose with missing landmarks is
+    /// refused with fewer than 8 present (most of its 3D would be the basis's guess).
     #[command(after_help = EXIT_CODES)]
     Reconstruct(reconstruct::Args),
     /// Measure 3D error (mm, after similarity alignment) and projection error of every
