@@ -32,6 +32,12 @@ fn train_evaluate_and_reconstruct_succeed_on_fixture_data() {
         "--quiet",
     ]);
     assert!(success(&out).starts_with("wrote "));
+    // A fixture dataset has a few views per camera, fewer than its heads' features.
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("fewer training views than the") && stderr.contains("camera(s) 01 ("),
+        "{stderr}"
+    );
     let trained = camloc::CameraLocalizer::load(Path::new(model)).unwrap();
     assert_eq!(trained.descriptor().name(), "landmarks");
     assert_eq!(trained.training_info().lambda, 0.5);

@@ -433,6 +433,11 @@ impl DirectionHeads {
         Ok(u)
     }
 
+    /// The number of features each head reads (0 without heads).
+    pub fn n_features(&self) -> usize {
+        self.heads.first().map_or(0, RidgeModel::n_features)
+    }
+
     /// The calibrated uncertainty (degrees, the angular radius holding about 68% of the
     /// calibration errors) of a prediction whose class has probability `probability`; NaN
     /// before [`calibrate`](Self::calibrate).

@@ -5,6 +5,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
 
+use camloc::dataset::Dataset;
 use camloc::features::PaperConfig;
 use camloc::learning::{LogisticRegression, Mode};
 use camloc::store::{Persist, StagedFiles, check_target};
@@ -12,6 +13,35 @@ use camloc::{CameraLocalizer, Capacity, Descriptor, LandmarkDropout, TrainOption
 use clap::ValueEnum;
 
 use super::{CliError, ForceArgs, Out, load_dataset, progress};
+
+/// Warns on standard error of the cameras with fewer training views than the features their
+/// viewpoint head reads: such a head is set by its ridge penalty more than by the views, so
+/// its continuous directions and uncertainties cannot be trusted.
+fn warn_of_thin_heads(localizer: &CameraLocalizer, dataset: &Dataset) {
+    let Some(width) = localizer.viewpoint_heads().map(|h| h.n_features()) else {
+        return;
+    };
+    let mut views = vec![0usize; localizer.cameras().len()];
+    for s in &dataset.samples {
+        if let Some(n) = views.get_mut(usize::from(s.label).wrapping_sub(1)) {
+            *n += 1;
+        }
+    }
+    let thin: Vec<String> = views
+        .iter()
+        .enumerate()
+        .filter(|&(_, &n)| n < width)
+        .map(|(c, n)| format!("{:02} ({n})", c + 1))
+        .collect();
+    if !thin.is_empty() {
+        eprintln!(
+            "camloc: warning: fewer training views than the {width} features a viewpoint head \
+             reads, for camera(s) {}: their continuous directions and uncertainties are \
+             unreliable; train on more views",
+            thin.join(", ")
+        );
+    }
+}
 
 /// Arguments of `camloc train`.
 #[derive(clap::Args)]
@@ -176,6 +206,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     });
     bar.finish_and_clear();
     let (localizer, report) = trained?;
+    warn_of_thin_heads(&localizer, &dataset);
     // The model is moved into place only after standard output was written.
     let mut staged = StagedFiles::new(args.force.force);
     staged.add(&args.out, &localizer.to_bytes()?)?;
