@@ -19,7 +19,39 @@ fn the_example_is_localized() {
         String::from_utf8_lossy(&out.stderr)
     );
     let stdout = String::from_utf8_lossy(&out.stdout);
-    assert_eq!(stdout.matches("probability").count(), 3, "{stdout}");
+    let poses: Vec<&str> = stdout.lines().filter(|l| !l.starts_with(' ')).collect();
+    assert_eq!(poses.len(), 3, "{stdout}");
+    // An unsure answer (probability below 0.9) names the runner-up camera, from the same
+    // probabilities the JSON output gives.
+    let json = camloc(&[
+        "localize",
+        "--input",
+        fixture("keypoints/example.json").to_str().unwrap(),
+        "--json",
+    ]);
+    let objects: serde_json::Value = serde_json::from_slice(&json.stdout).unwrap();
+    // Each pose's text: its first line and the indented lines after it.
+    let mut blocks: Vec<String> = Vec::new();
+    for line in stdout.lines() {
+        match blocks.last_mut() {
+            Some(block) if line.starts_with(' ') => block.push_str(line),
+            _ => blocks.push(line.to_owned()),
+        }
+    }
+    for (object, block) in objects.as_array().unwrap().iter().zip(&blocks) {
+        let p = object["probability"].as_f64().unwrap();
+        let top = format!("{:02}", object["label"].as_u64().unwrap());
+        let runner_up = object["probabilities"]
+            .as_object()
+            .unwrap()
+            .iter()
+            .filter(|(k, _)| **k != top)
+            .max_by(|a, b| a.1.as_f64().unwrap().total_cmp(&b.1.as_f64().unwrap()))
+            .map(|(k, _)| k.clone())
+            .unwrap();
+        let line = format!("next most probable: camera {runner_up}, ");
+        assert_eq!(block.contains(&line), p < 0.9, "{block}");
+    }
 }
 
 #[test]

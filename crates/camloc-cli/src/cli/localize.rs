@@ -237,6 +237,31 @@ fn rotation_rows(loc: &Localization) -> [[f64; 3]; 3] {
     ]
 }
 
+/// Below this probability of the most probable camera, the text output also names the
+/// second most probable one.
+const SURE: f64 = 0.9;
+
+/// The line naming the second most probable camera and its probability, when the most
+/// probable one's is below [`SURE`].
+fn runner_up_text(localizer: &CameraLocalizer, loc: &Localization) -> Option<String> {
+    if loc.probability >= SURE {
+        return None;
+    }
+    let (index, p) = loc
+        .probabilities
+        .iter()
+        .enumerate()
+        .filter(|&(i, _)| i != loc.label.index())
+        .max_by(|a, b| a.1.total_cmp(b.1))?;
+    let view = localizer.cameras().viewpoints().get(index)?;
+    Some(format!(
+        "  next most probable: camera {}, {} level, {} side, probability {p:.3}\n",
+        view.label_text(),
+        view.level.name(),
+        view.side.name()
+    ))
+}
+
 fn localization_text(
     localizer: &CameraLocalizer,
     record: &KeypointRecord,
@@ -259,6 +284,9 @@ fn localization_text(
         loc.side.name(),
         loc.probability
     );
+    if let Some(line) = runner_up_text(localizer, loc) {
+        out.push_str(&line);
+    }
     if loc.folded_label != loc.label {
         let _ = writeln!(out, "  mirror-folded camera: {}", loc.folded_label);
     }
