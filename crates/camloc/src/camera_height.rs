@@ -9,10 +9,10 @@ use camloc_geometry::{CameraSet, Level};
 use crate::CamlocError;
 
 /// How many times as likely a camera of the middle ring is, a priori, under
-/// [`CameraHeight::EyeLevel`] as under the model's own priors (chosen on the validation
-/// subjects 07, 13, 14, 75 and 114 among 2, 4, 8 and 16: `rig` views 90.8, 92.0, 92.7, 92.9
-/// and 93.1%, `jittered` views 94.1, 92.3, 89.8, 86.9 and 83.6% against 94.1% without it;
-/// docs/RESULTS.md, Measured in this version).
+/// [`CameraHeight::EyeLevel`] as under the model's own priors. Chosen on the validation
+/// subjects 07, 13, 14, 75 and 114 among 2, 4, 8 and 16: `rig` views 90.8% without a prior,
+/// then 92.0, 92.7, 92.9 and 93.1%; `jittered` views (every height alike) 94.1%, then 92.3,
+/// 89.8, 86.9 and 83.6% (docs/RESULTS.md, Measured in this version).
 pub const EYE_LEVEL_WEIGHT: f64 = 8.0;
 
 /// Where the camera may stand, as the caller knows before seeing the pose: a prior over the
