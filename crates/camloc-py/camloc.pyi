@@ -122,6 +122,7 @@ def reconstruct(
     focal_px: Optional[float] = None,
     principal_point: Optional[Tuple[float, float]] = None,
     sequence: bool = False,
+    camera_height: Optional[str] = None,
 ) -> Dict[str, Any]:
     """Reconstructs the 3D pose of every pose by projected matching pursuit on camloc's pose
     basis (principal components and cluster centres), then rebuilds each pose with the
@@ -152,6 +153,9 @@ def reconstruct(
       full-perspective refinement.
     sequence: the poses are the frames of one person, in time order: one set of bone lengths
       for all of them, depths chosen consistently over time, temporal smoothness.
+    camera_height: ``"any"`` or ``"eye-level"``, the prior over the camera's height the
+      localizer applies (as ``Localizer(camera_height=...)``; the embedded depth lifter stays).
+      Default: the localizer's own (``"any"`` for the embedded one).
 
     Returns a dict:
       points3d (N, 15, 3) float64: the 3D landmarks in metres (the given bone lengths, else

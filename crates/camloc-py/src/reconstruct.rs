@@ -8,7 +8,8 @@ use camloc::reconstruct::{BONE_KEYS, BoneLengths, Intrinsics, PoseBasis};
 use camloc::skeleton::{NUM_LANDMARKS, NUM_LIMBS};
 use camloc::store::Persist;
 use camloc::{
-    CameraLocalizer, CamlocError, DepthLifter, ModeKind, PoseReconstruction, PoseReconstructor,
+    CameraHeight, CameraLocalizer, CamlocError, DepthLifter, ModeKind, PoseReconstruction,
+    PoseReconstructor,
 };
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyMapping};
@@ -67,7 +68,7 @@ fn bone_lengths(value: &Bound<'_, PyAny>) -> PyResult<BoneLengths> {
 
 /// Reconstructs the 3D pose of every pose; see `camloc.pyi`.
 #[pyfunction]
-#[pyo3(signature = (points, layout = "camloc15", camera = None, scores = None, min_score = 0.0, localizer = None, basis = None, bone_lengths = None, focal_px = None, principal_point = None, sequence = false))]
+#[pyo3(signature = (points, layout = "camloc15", camera = None, scores = None, min_score = 0.0, localizer = None, basis = None, bone_lengths = None, focal_px = None, principal_point = None, sequence = false, camera_height = None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn reconstruct<'py>(
     py: Python<'py>,
@@ -82,6 +83,7 @@ pub(crate) fn reconstruct<'py>(
     focal_px: Option<f64>,
     principal_point: Option<(f64, f64)>,
     sequence: bool,
+    camera_height: Option<&str>,
 ) -> PyResult<Bound<'py, PyDict>> {
     // The command line's default.
     let camera = camera.unwrap_or("hybrid");
@@ -108,6 +110,13 @@ pub(crate) fn reconstruct<'py>(
         reconstructor = reconstructor
             .with_localizer(localizer.inner.clone())
             .without_lifter();
+    }
+    // A camera height given here replaces the localizer's own (the lifter stays).
+    if let Some(height) = camera_height {
+        let height: CameraHeight = height.parse().map_err(to_py_err)?;
+        if let Some(localizer) = reconstructor.localizer().cloned() {
+            reconstructor = reconstructor.with_localizer(localizer.with_camera_height(height));
+        }
     }
     let mut reconstructor = reconstructor
         .with_mode(mode)

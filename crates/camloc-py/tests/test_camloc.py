@@ -444,6 +444,13 @@ def test_eye_level_prior_equals_the_command_line_and_favours_the_middle_ring(cli
     np.testing.assert_array_equal(loaded.localize(points)["probabilities"], got["probabilities"])
     with pytest.raises(camloc.CamlocError, match="eye-level"):
         camloc.Localizer(camera_height="tripod")
+    # reconstruct: the same prior as --camera-height, the embedded lifter kept.
+    _, rebuilt = cli("reconstruct", "--input", path, "--camera-height", "eye-level")
+    got = camloc.reconstruct(points, camera_height="eye-level")
+    for i, want in enumerate(rebuilt):
+        landmarks = [want["landmarks_m"][name] for name in camloc.LANDMARKS]
+        np.testing.assert_allclose(got["points3d"][i], landmarks, rtol=1e-9, atol=1e-12)
+        assert got["label"][i] == want["classified_label"]
 
 
 def test_folders_read_every_file_and_report_bad_ones(tmp_path):
