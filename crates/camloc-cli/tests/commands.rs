@@ -221,6 +221,22 @@ fn reconstruct_fills_in_missing_landmarks() {
         "{}",
         lines[1]
     );
+    // `opt` fills them in too (with the embedded model's localization).
+    let opt = camloc(&[
+        "reconstruct",
+        "--input",
+        partial.to_str().unwrap(),
+        "--jsonl",
+        "--camera",
+        "opt",
+    ]);
+    let first: serde_json::Value =
+        serde_json::from_str(String::from_utf8_lossy(&opt.stdout).lines().next().unwrap()).unwrap();
+    assert_eq!(
+        first["imputed"],
+        serde_json::json!(["right_elbow", "right_wrist"]),
+        "{first}"
+    );
     // Two poses in the input: the drawings are numbered, the failed pose has none.
     assert!(!dir.0.join("filled-002.svg").exists());
     let drawn = std::fs::read_to_string(dir.0.join("filled-001.svg")).unwrap();

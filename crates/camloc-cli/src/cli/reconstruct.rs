@@ -229,12 +229,11 @@ fn parse_point(text: &str) -> Result<[f64; 2], String> {
 /// intrinsics.
 fn reconstructor(args: &Args) -> Result<PoseReconstructor, CliError> {
     let choice = camera_of(args);
-    let mut reconstructor = PoseReconstructor::new(load_basis(args.basis.as_deref())?)?;
-    if choice != ModeKind::Opt || args.model.is_some() {
-        reconstructor =
-            reconstructor.with_localizer(load_model(args.model.as_deref(), &args.height)?);
-    }
-    let mut reconstructor = reconstructor.with_mode(choice)?;
+    // Every mode has the localizer: `opt` does not localize complete poses, but it fills in
+    // missing landmarks with the localized camera.
+    let mut reconstructor = PoseReconstructor::new(load_basis(args.basis.as_deref())?)?
+        .with_localizer(load_model(args.model.as_deref(), &args.height)?)
+        .with_mode(choice)?;
     if args.lifter.is_some() && choice == ModeKind::Opt {
         return Err(CamlocError::InvalidOption {
             name: "--lifter",
@@ -286,17 +285,8 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     targets::check_not_input(&outputs, &args.input.input)?;
     let choice = camera_of(args);
     let reconstructor = reconstructor(args)?;
-    // The page shows the cameras' probabilities: the localizer of every pose (the
-    // reconstructor's when it has one, else the model loaded for the page alone).
-    let loaded;
-    let page_localizer = match (&args.html, reconstructor.localizer()) {
-        (None, _) => None,
-        (Some(_), Some(localizer)) => Some(localizer),
-        (Some(_), None) => {
-            loaded = load_model(args.model.as_deref(), &args.height)?;
-            Some(&loaded)
-        }
-    };
+    // The page shows the cameras' probabilities: the reconstructor's localizer.
+    let page_localizer = args.html.as_ref().and(reconstructor.localizer());
     let inputs = Inputs::open(&args.input)?;
     let format = args.format.format();
     let finish = finish(args, &inputs, page_localizer);
