@@ -123,6 +123,7 @@ def reconstruct(
     principal_point: Optional[Tuple[float, float]] = None,
     sequence: bool = False,
     camera_height: Optional[str] = None,
+    lifter: bool = True,
 ) -> Dict[str, Any]:
     """Reconstructs the 3D pose of every pose by projected matching pursuit on camloc's pose
     basis (principal components and cluster centres), then rebuilds each pose with the
@@ -142,7 +143,8 @@ def reconstruct(
       depths the embedded depth lifter predicts for the classified camera (docs/conventions.md
       section 6) rather than from the pursuit's pose.
     localizer: the model that classifies the camera (default: the embedded one; another model
-      reconstructs without the embedded depth lifter, which belongs to the embedded model).
+      reconstructs without the embedded depth lifter, which belongs to the embedded model;
+      ``Localizer()`` and ``Localizer.load`` of the embedded model's file keep it).
     basis: a pose basis file (default: the embedded one).
     bone_lengths: the person's 14 limb lengths in metres, as a mapping of ``BONE_KEYS``, 14
       numbers in ``BONE_KEYS`` order, or the path of a bone lengths JSON file (docs/cli.md);
@@ -156,6 +158,8 @@ def reconstruct(
     camera_height: ``"any"`` or ``"eye-level"``, the prior over the camera's height the
       localizer applies (as ``Localizer(camera_height=...)``; the embedded depth lifter stays).
       Default: the localizer's own (``"any"`` for the embedded one).
+    lifter: ``False`` reconstructs without the embedded depth lifter (the pursuit's pose starts
+      the refinement), as ``camloc reconstruct --no-lifter``.
 
     Returns a dict:
       points3d (N, 15, 3) float64: the 3D landmarks in metres (the given bone lengths, else

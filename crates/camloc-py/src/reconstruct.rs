@@ -68,7 +68,7 @@ fn bone_lengths(value: &Bound<'_, PyAny>) -> PyResult<BoneLengths> {
 
 /// Reconstructs the 3D pose of every pose; see `camloc.pyi`.
 #[pyfunction]
-#[pyo3(signature = (points, layout = "camloc15", camera = None, scores = None, min_score = 0.0, localizer = None, basis = None, bone_lengths = None, focal_px = None, principal_point = None, sequence = false, camera_height = None))]
+#[pyo3(signature = (points, layout = "camloc15", camera = None, scores = None, min_score = 0.0, localizer = None, basis = None, bone_lengths = None, focal_px = None, principal_point = None, sequence = false, camera_height = None, lifter = true))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn reconstruct<'py>(
     py: Python<'py>,
@@ -84,6 +84,7 @@ pub(crate) fn reconstruct<'py>(
     principal_point: Option<(f64, f64)>,
     sequence: bool,
     camera_height: Option<&str>,
+    lifter: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     // The command line's default.
     let camera = camera.unwrap_or("hybrid");
@@ -106,10 +107,21 @@ pub(crate) fn reconstruct<'py>(
         None => default_reconstructor()?.clone(),
     };
     // The embedded lifter is the embedded model's: another localizer reconstructs without.
+    // (The embedded model loaded again, whatever its camera height, keeps it.)
     if let Some(localizer) = localizer {
-        reconstructor = reconstructor
-            .with_localizer(localizer.inner.clone())
-            .without_lifter();
+        let embedded = default_reconstructor()?.localizer().is_some_and(|own| {
+            *own == localizer
+                .inner
+                .clone()
+                .with_camera_height(CameraHeight::Any)
+        });
+        reconstructor = reconstructor.with_localizer(localizer.inner.clone());
+        if !embedded {
+            reconstructor = reconstructor.without_lifter();
+        }
+    }
+    if !lifter {
+        reconstructor = reconstructor.without_lifter();
     }
     // A camera height given here replaces the localizer's own (the lifter stays).
     if let Some(height) = camera_height {

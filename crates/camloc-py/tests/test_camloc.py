@@ -154,16 +154,16 @@ def test_localize_npz_loads_without_pickle_and_equals_the_json_of_the_same_run(
 @pytest.mark.parametrize(
     "camera, lifter", [("opt", True), ("classified", True), ("hybrid", True), ("hybrid", False)]
 )
-def test_reconstruct_equals_the_command_line(cli, localizer, camera, lifter):
-    """With the embedded model both use the embedded depth lifter; a localizer passed in
-    reconstructs without it, as ``--no-lifter`` does."""
+def test_reconstruct_equals_the_command_line(cli, camera, lifter):
+    """With the embedded model both use the embedded depth lifter; ``lifter=False``
+    reconstructs without it, as ``--no-lifter`` does, and so does another model passed in."""
     path = KEYPOINTS / "example.json"
     options = [] if lifter else ["--no-lifter"]
     _, expected = cli("reconstruct", "--input", path, "--camera", camera, *options)
     if lifter:
         got = camloc.reconstruct(example_points(), camera=camera)
     else:
-        got = camloc.reconstruct(example_points(), camera=camera, localizer=localizer)
+        got = camloc.reconstruct(example_points(), camera=camera, lifter=False)
     assert got["camera"] == camera
     for i, want in enumerate(expected):
         assert got["error"][i] is None
@@ -422,6 +422,10 @@ def test_a_model_file_gives_the_embedded_models_answers(localizer):
     )
     classified = camloc.reconstruct(points, camera="classified", localizer=loaded)
     np.testing.assert_array_equal(classified["label"], localizer.localize(points)["label"])
+    # The embedded model, loaded from its file or not, keeps the embedded lifter.
+    np.testing.assert_array_equal(
+        classified["points3d"], camloc.reconstruct(points, camera="classified")["points3d"]
+    )
 
 
 def test_eye_level_prior_equals_the_command_line_and_favours_the_middle_ring(cli, localizer):
