@@ -161,6 +161,31 @@ fn two_outputs_at_one_file_are_refused_before_any_work() {
             "--svg".into(),
             at("x"),
         ],
+        // The names the writers make: `--bvh b` writes b.bvh (b-001.bvh, ... for several
+        // people), `--bone-lengths-out l` l-001.json, ... for several.
+        vec![
+            "reconstruct".into(),
+            "--bvh".into(),
+            at("b"),
+            "--html".into(),
+            at("b.bvh"),
+        ],
+        vec![
+            "reconstruct".into(),
+            "--sequence".into(),
+            "--bvh".into(),
+            at("b"),
+            "--html".into(),
+            at("b-001.bvh"),
+        ],
+        vec![
+            "reconstruct".into(),
+            "--sequence".into(),
+            "--bone-lengths-out".into(),
+            at("l"),
+            "--html".into(),
+            at("l-001.json"),
+        ],
     ];
     for case in cases {
         for force in [true, false] {
@@ -194,23 +219,36 @@ fn outputs_that_are_the_input_or_standard_input_are_refused() {
         .join("in.json")
         .to_string_lossy()
         .into_owned();
-    let cases: [&[&str]; 4] = [
+    std::fs::create_dir(dir.0.join("frames")).unwrap();
+    let folder_file = dir.file("frames/f_000000000001_keypoints.json", &original);
+    let folder = dir.0.join("frames").to_string_lossy().into_owned();
+    let model = dir.0.join("m.bin").to_string_lossy().into_owned();
+    std::fs::copy(fixture("default-model.bin"), &model).unwrap();
+    let cases: [&[&str]; 7] = [
         &["convert", "--to", "camloc", "--out", &same],
         &["convert", "--to", "npy", "--out", "-"],
         &["reconstruct", "--npy", &input],
         &["localize", "--svg", &same],
+        &["localize", "--model", &model, "--npz", &model],
+        &["reconstruct", "--html", &folder_file, "--input", &folder],
+        &["evaluate", "--dataset", &model, "--svg", &model],
     ];
     for case in cases {
         let mut args = case.to_vec();
-        args.extend(["--input", &input, "--force"]);
+        if !case.contains(&"--input") && case[0] != "evaluate" {
+            args.extend(["--input", &input]);
+        }
+        args.push("--force");
         let out = camloc(&args);
         let text = short_clean_lines(&out);
         assert_eq!(out.status.code(), Some(2), "{args:?}: {text}");
         assert!(
-            text.contains("names the input file") || text.contains("not standard output"),
+            text.contains("reads (") || text.contains("not standard output"),
             "{text}"
         );
-        assert_eq!(std::fs::read_to_string(&input).unwrap(), original);
+        for file in [&input, &folder_file] {
+            assert_eq!(std::fs::read_to_string(file).unwrap(), original);
+        }
     }
     assert!(!dir.0.join("-").exists());
 }

@@ -6,7 +6,7 @@ use std::process::ExitCode;
 
 use camloc::{CamlocError, evaluate};
 
-use super::{CameraHeightArgs, CliError, Out, load_dataset, load_model};
+use super::{CameraHeightArgs, CliError, Out, load_dataset, load_model, targets};
 use camloc::store::{StagedFiles, check_target};
 
 /// Arguments of `camloc evaluate`.
@@ -35,6 +35,14 @@ pub struct Args {
 
 /// Runs `camloc evaluate`.
 pub fn run(args: &Args, stdout: &mut Out) -> Result<ExitCode, CliError> {
+    let outputs = targets::outputs([(args.svg.as_deref(), "--svg", None)]);
+    targets::check_not_input(
+        &outputs,
+        &[
+            ("--dataset", Some(&args.dataset)),
+            ("--model", args.model.as_deref()),
+        ],
+    )?;
     if let Some(svg) = &args.svg {
         check_target(svg, args.force)?;
     }

@@ -88,14 +88,20 @@ pub struct Args {
 /// Runs `camloc localize`.
 pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     let outputs = [
-        (args.svg.as_deref(), "--svg", true),
-        (args.summary_svg.as_deref(), "--summary-svg", false),
-        (args.html.as_deref(), "--html", false),
-        (args.npz.as_deref(), "--npz", false),
+        (args.svg.as_deref(), "--svg", Some("svg")),
+        (args.summary_svg.as_deref(), "--summary-svg", None),
+        (args.html.as_deref(), "--html", None),
+        (args.npz.as_deref(), "--npz", None),
     ];
     let outputs = targets::outputs(outputs);
     targets::check_distinct(&outputs)?;
-    targets::check_not_input(&outputs, &args.input.input)?;
+    targets::check_not_input(
+        &outputs,
+        &[
+            ("--input", Some(&args.input.input)),
+            ("--model", args.model.as_deref()),
+        ],
+    )?;
     let localizer = load_model(args.model.as_deref(), &args.height)?;
     let inputs = Inputs::open(&args.input)?;
     let format = args.format.format();

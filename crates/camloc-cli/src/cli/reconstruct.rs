@@ -273,16 +273,32 @@ fn reconstructor(args: &Args) -> Result<PoseReconstructor, CliError> {
 
 /// Runs `camloc reconstruct`.
 pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
+    // The files as the writers name them: `--bvh OUT` writes OUT.bvh when OUT has no
+    // extension; the numbered names of several files take .svg, .json and .bvh.
+    let bvh = args.bvh.as_deref().map(export::bvh_base);
     let outputs = [
-        (args.npy.as_deref(), "--npy", false),
-        (args.svg.as_deref(), "--svg", true),
-        (args.bone_lengths_out.as_deref(), "--bone-lengths-out", true),
-        (args.bvh.as_deref(), "--bvh", true),
-        (args.html.as_deref(), "--html", false),
+        (args.npy.as_deref(), "--npy", None),
+        (args.svg.as_deref(), "--svg", Some("svg")),
+        (
+            args.bone_lengths_out.as_deref(),
+            "--bone-lengths-out",
+            Some("json"),
+        ),
+        (bvh.as_deref(), "--bvh", Some("bvh")),
+        (args.html.as_deref(), "--html", None),
     ];
     let outputs = targets::outputs(outputs);
     targets::check_distinct(&outputs)?;
-    targets::check_not_input(&outputs, &args.input.input)?;
+    targets::check_not_input(
+        &outputs,
+        &[
+            ("--input", Some(&args.input.input)),
+            ("--model", args.model.as_deref()),
+            ("--lifter", args.lifter.as_deref()),
+            ("--basis", args.basis.as_deref()),
+            ("--bone-lengths", args.bone_lengths.as_deref()),
+        ],
+    )?;
     let choice = camera_of(args);
     let reconstructor = reconstructor(args)?;
     // The page shows the cameras' probabilities: the reconstructor's localizer.

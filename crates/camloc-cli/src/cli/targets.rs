@@ -7,20 +7,23 @@ use camloc::store::quoted_path;
 
 use super::CliError;
 
-/// One output option: its name (`--svg`), its path, and whether it stands for numbered files
-/// (`OUT-001.svg`, `OUT-002.svg`, ... beside `OUT.svg` when there are several drawings).
+/// One output option: its name (`--svg`), the path of its file, and whether it stands for
+/// numbered files instead when there are several (`OUT-001.svg`, `OUT-002.svg`, ...).
 pub struct Output<'a> {
     /// The option, e.g. `--summary-svg`.
     pub option: &'static str,
-    /// The path given.
+    /// The file written when there is one (for `--bvh`, the path given with `.bvh` added
+    /// when it has no extension).
     pub path: &'a Path,
-    /// `true` for `--svg`, whose several drawings are numbered.
-    pub numbered: bool,
+    /// For outputs numbered when there are several files (`--svg`, `--bvh`,
+    /// `--bone-lengths-out`), the extension their numbered names take when `path` has none
+    /// (as [`numbered_path`](super::numbered_path) and the writers name them).
+    pub numbered: Option<&'static str>,
 }
 
 /// The outputs among `(path if given, option, numbered)`.
 pub fn outputs<'a>(
-    given: impl IntoIterator<Item = (Option<&'a Path>, &'static str, bool)>,
+    given: impl IntoIterator<Item = (Option<&'a Path>, &'static str, Option<&'static str>)>,
 ) -> Vec<Output<'a>> {
     given
         .into_iter()
@@ -53,15 +56,15 @@ pub fn check_distinct(outputs: &[Output]) -> Result<(), CliError> {
     Ok(())
 }
 
-/// Refuses ([`CliError::Usage`]) an output that names the `--input` file (even with
-/// `--force`: the run would replace what it reads), and `-`, which names standard input for
-/// `--input` but would be a file named `-` here.
-pub fn check_not_input(outputs: &[Output], input: &Path) -> Result<(), CliError> {
-    let read = Output {
-        option: "--input",
-        path: input,
-        numbered: false,
-    };
+/// Refuses ([`CliError::Usage`]) an output path `-` (`-` is standard input for `--input`,
+/// but would be a file named `-` here), and an output that names a file the run reads, even
+/// with `--force` (the run would replace what it reads): one of `inputs` (an option and its
+/// path, if given), or, for an input folder, a file in it that the folder's reader reads
+/// (`.json`, `.csv`, `.npy`).
+pub fn check_not_input(
+    outputs: &[Output],
+    inputs: &[(&'static str, Option<&Path>)],
+) -> Result<(), CliError> {
     for out in outputs {
         if out.path == Path::new("-") {
             return Err(CliError::Usage(format!(
@@ -69,15 +72,47 @@ pub fn check_not_input(outputs: &[Output], input: &Path) -> Result<(), CliError>
                 out.option
             )));
         }
-        if input != Path::new("-") && input.is_file() && same_file(&read, out) {
-            return Err(CliError::Usage(format!(
-                "{} names the input file ({}); write the output elsewhere",
-                out.option,
-                quoted_path(out.path)
-            )));
+        for &(option, path) in inputs {
+            let Some(path) = path.filter(|p| *p != Path::new("-")) else {
+                continue;
+            };
+            let read = Output {
+                option,
+                path,
+                numbered: None,
+            };
+            let clash = if path.is_dir() {
+                reads_in_folder(out, path)
+            } else {
+                path.is_file() && same_file(&read, out)
+            };
+            if clash {
+                return Err(CliError::Usage(format!(
+                    "{} names a file {option} reads ({}); write the output elsewhere",
+                    out.option,
+                    quoted_path(out.path)
+                )));
+            }
         }
     }
     Ok(())
+}
+
+/// `true` when `out` names an existing file in `folder` (or below it) that a folder input
+/// reads: `.json`, `.csv` or `.npy`.
+fn reads_in_folder(out: &Output, folder: &Path) -> bool {
+    let read = out
+        .path
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| ["json", "csv", "npy"].contains(&e.to_ascii_lowercase().as_str()));
+    let (Ok(file), Ok(folder)) = (
+        std::fs::canonicalize(out.path),
+        std::fs::canonicalize(folder),
+    ) else {
+        return false;
+    };
+    read && file.starts_with(folder)
 }
 
 /// `true` when `a` (or, if `b` is numbered, one of `b`'s numbered names) is the file `b` names.
@@ -87,7 +122,9 @@ fn same_file(a: &Output, b: &Output) -> bool {
         return true;
     }
     same_inode(a.path, b.path)
-        || b.numbered && spelled_a.parent() == spelled_b.parent() && is_numbered(a.path, b.path)
+        || b.numbered.is_some_and(|ext| {
+            spelled_a.parent() == spelled_b.parent() && is_numbered(a.path, b.path, ext)
+        })
 }
 
 /// `true` when both paths exist and are one file (links followed, hard links included).
@@ -120,15 +157,15 @@ fn spelled(path: &Path) -> PathBuf {
 }
 
 /// `true` when the file name of `path` is a numbered name of `out` (`STEM-NNN.EXT`, as
-/// [`numbered_path`](super::numbered_path) makes them).
-fn is_numbered(path: &Path, out: &Path) -> bool {
+/// [`numbered_path`](super::numbered_path) makes them; EXT `out`'s extension, else `ext`).
+fn is_numbered(path: &Path, out: &Path, ext: &str) -> bool {
     let (Some(name), Some(stem)) = (
         path.file_name().and_then(|n| n.to_str()),
         out.file_stem().and_then(|s| s.to_str()),
     ) else {
         return false;
     };
-    let ext = out.extension().and_then(|e| e.to_str()).unwrap_or("svg");
+    let ext = out.extension().and_then(|e| e.to_str()).unwrap_or(ext);
     name.strip_prefix(stem)
         .and_then(|rest| rest.strip_prefix('-'))
         .and_then(|rest| rest.strip_suffix(ext))

@@ -12,7 +12,7 @@ use camloc::store::{Persist, StagedFiles, check_target};
 use camloc::{CameraLocalizer, Capacity, Descriptor, LandmarkDropout, TrainOptions};
 use clap::ValueEnum;
 
-use super::{CliError, ForceArgs, Out, load_dataset, progress};
+use super::{CliError, ForceArgs, Out, load_dataset, progress, targets};
 
 /// Warns on standard error of the cameras with fewer training views than the features their
 /// viewpoint head reads: such a head is set by its ridge penalty more than by the views, so
@@ -153,6 +153,8 @@ pub enum ModeArg {
 /// Runs `camloc train`.
 pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     let descriptor = args.descriptor.descriptor();
+    let outputs = targets::outputs([(Some(args.out.as_path()), "--out", None)]);
+    targets::check_not_input(&outputs, &[("--dataset", Some(&args.dataset))])?;
     check_target(&args.out, args.force.force)?;
     let mut options = TrainOptions {
         descriptor,
