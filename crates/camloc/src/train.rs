@@ -40,6 +40,10 @@ impl CameraLocalizer {
                 detail: "no samples to train on".into(),
             });
         }
+        // Before the fit: the heads fitted after it need views of every camera.
+        if options.viewpoint_lambda.is_some() {
+            check_every_camera_seen(dataset, "dataset")?;
+        }
         let d = descriptor.len();
         let cameras = &dataset.header.cameras;
         // The posture group of every sample, numbered over the groups present (a group no
@@ -256,20 +260,12 @@ impl CameraLocalizer {
                 direction_vector(azimuth, elevation)
             })
             .collect();
+        check_every_camera_seen(dataset, "viewpoint dataset")?;
         let classes: Vec<usize> = dataset
             .samples
             .iter()
             .map(|s| usize::from(s.label) - 1)
             .collect();
-        if let Some(k) = (0..self.cameras.len()).find(|k| !classes.contains(k)) {
-            return Err(CamlocError::Inconsistent {
-                what: "viewpoint dataset",
-                detail: format!(
-                    "camera {} has no samples; the viewpoint heads need samples of every camera (or train without heads)",
-                    k + 1
-                ),
-            });
-        }
         let mut heads =
             DirectionHeads::fit(&features, &directions, &classes, self.cameras.len(), lambda)?;
         let mut classes = vec![0.0; self.model.n_classes()];
@@ -283,6 +279,29 @@ impl CameraLocalizer {
         heads.calibrate(&features, &chosen, &directions)?;
         self.viewpoint = Some(heads);
         Ok(())
+    }
+}
+
+/// [`CamlocError::Inconsistent`] (about `what`) naming the first camera of the dataset's set
+/// that none of its samples has: viewpoint heads need views of every camera.
+fn check_every_camera_seen(dataset: &Dataset, what: &'static str) -> Result<(), CamlocError> {
+    let mut seen = vec![false; dataset.header.cameras.len()];
+    for s in &dataset.samples {
+        if let Some(slot) = seen.get_mut(usize::from(s.label).wrapping_sub(1)) {
+            *slot = true;
+        }
+    }
+    match seen.iter().position(|s| !s) {
+        Some(k) => Err(CamlocError::Inconsistent {
+            what,
+            detail: format!(
+                "camera {} has no samples; the viewpoint heads need samples of every camera \
+                 (or train without heads: TrainOptions::viewpoint_lambda None, \
+                 camloc train --no-viewpoint)",
+                k + 1
+            ),
+        }),
+        None => Ok(()),
     }
 }
 

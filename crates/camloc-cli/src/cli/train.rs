@@ -81,6 +81,11 @@ pub struct Args {
     /// landmarks, and the model is mirror-symmetric).
     #[arg(long)]
     pub no_mirror: bool,
+    /// Do not fit the continuous-viewpoint heads (the model then gives the camera class
+    /// without an azimuth, elevation and uncertainty): for a dataset that lacks views of some
+    /// camera, such as one of only `rig` views (nearly all in the middle ring).
+    #[arg(long)]
+    pub no_viewpoint: bool,
     #[command(flatten)]
     pub force: ForceArgs,
     /// Do not print the Newton iteration log nor the progress spinner.
@@ -169,6 +174,9 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         ModeArg::OneVsRest => Mode::OneVsRest,
     });
     options.mirror = !args.no_mirror;
+    if args.no_viewpoint {
+        options.viewpoint_lambda = None;
+    }
     options.dropout = (args.dropout > 0.0).then_some(LandmarkDropout {
         copies: args.dropout,
         ..LandmarkDropout::default()
