@@ -338,7 +338,12 @@ mod tests {
         let read = crate::parse_keypoints(&text, "f.json", None, &options).unwrap();
         let keys: Vec<_> = read.iter().map(|r| (r.frame, r.person)).collect();
         assert_eq!(keys, [(Some(12), Some(1)), (None, None)]);
-        for (bad, key) in [("-1", "frame"), ("1.5", "frame"), ("\"3\"", "person")] {
+        for (bad, key) in [
+            ("-1", "frame"),
+            ("1.5", "frame"),
+            ("\"3\"", "person"),
+            ("9223372036854775808", "person"),
+        ] {
             let doc = format!(r#"{{"poses": [{{"{key}": {bad}, "landmarks": {{}}}}]}}"#);
             let err = crate::parse_keypoints(&doc, "b.json", None, &options).unwrap_err();
             assert!(

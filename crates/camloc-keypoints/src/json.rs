@@ -285,7 +285,7 @@ pub(crate) fn optional<'a>(
     Ok(first)
 }
 
-/// The non-negative integer `value` (a frame or person number) of the key `field` at `path`.
+/// The integer `value` (a frame or person number, 0 to [`MAX_FRAME_NUMBER`](crate::MAX_FRAME_NUMBER)) of the key `field` at `path`.
 pub(crate) fn count_number(
     value: &Json,
     field: &'static str,
@@ -293,13 +293,16 @@ pub(crate) fn count_number(
     path: &str,
 ) -> Result<u64, KeypointError> {
     match value {
-        Json::Number(n) => n.as_u64().ok_or_else(|| KeypointError::InvalidValue {
-            file: file.to_owned(),
-            at: Location::Path(path.to_owned()),
-            field,
-            text: n.to_string(),
-            expected: "an integer of at least 0",
-        }),
+        Json::Number(n) => n
+            .as_u64()
+            .filter(|&v| v <= crate::MAX_FRAME_NUMBER)
+            .ok_or_else(|| KeypointError::InvalidValue {
+                file: file.to_owned(),
+                at: Location::Path(path.to_owned()),
+                field,
+                text: n.to_string(),
+                expected: "an integer from 0 to 2^63 - 1",
+            }),
         other => Err(wrong_type(file, path, "an integer", other)),
     }
 }

@@ -142,6 +142,10 @@ use std::path::Path;
 use std::str::FromStr;
 
 pub use camloc_json::{CAMLOC_FORMAT_TAG, CAMLOC_FORMAT_VERSION, to_camloc_json};
+
+/// The largest frame or person number a record carries (2^63 - 1): they are written to
+/// NumPy's and Python's signed 64-bit integers.
+pub const MAX_FRAME_NUMBER: u64 = i64::MAX as u64;
 pub use camloc_skeleton::{Landmark, PartialPose2, Pose3};
 pub use coco::COCO_KEYPOINTS;
 pub use error::{

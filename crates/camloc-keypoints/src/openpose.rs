@@ -19,13 +19,16 @@ pub const OPENPOSE_FRAME_MAX_BYTES: u64 = 16 << 20;
 
 /// The frame index in an OpenPose file name: the digits that end its stem once `.json` and
 /// `_keypoints` are removed (`video_000000000012_keypoints.json` → 12). `None` when the stem
-/// does not end in digits (or they do not fit a `u64`).
+/// does not end in digits (or their number is above [`MAX_FRAME_NUMBER`](crate::MAX_FRAME_NUMBER)).
 pub fn frame_index(file_name: &str) -> Option<u64> {
     let name = Path::new(file_name).file_name()?.to_str()?;
     let stem = strip_suffix_ignore_case(name, ".json").unwrap_or(name);
     let stem = stem.strip_suffix("_keypoints").unwrap_or(stem);
     let digits = stem.len() - stem.trim_end_matches(|c: char| c.is_ascii_digit()).len();
-    stem[stem.len() - digits..].parse().ok()
+    stem[stem.len() - digits..]
+        .parse()
+        .ok()
+        .filter(|&n| n <= crate::MAX_FRAME_NUMBER)
 }
 
 /// `text` without `suffix`, compared ignoring ASCII case.

@@ -3,9 +3,9 @@
 mod common;
 
 use camloc_keypoints::{
-    ImageSize, KeypointFormat, KeypointRecord, Layout, NpyPoseWriter, PartialPose2, Pose3,
-    ReadOptions, derive_torso, parse_keypoints, parse_keypoints_bytes, pose_from_array,
-    read_npy_poses3, to_camloc_json, write_npy,
+    ImageSize, KeypointFormat, KeypointRecord, Layout, MAX_FRAME_NUMBER, NpyPoseWriter,
+    PartialPose2, Pose3, ReadOptions, derive_torso, parse_keypoints, parse_keypoints_bytes,
+    pose_from_array, read_npy_poses3, to_camloc_json, write_npy,
 };
 use common::fixture;
 use proptest::prelude::*;
@@ -41,7 +41,7 @@ fn any_options() -> ReadOptions {
 /// Records as the camloc JSON writer takes them: any id, pose, frame and person (the source
 /// and derived landmarks are not written).
 fn poses() -> impl Strategy<Value = Vec<KeypointRecord>> {
-    let number = || prop::option::of(any::<u64>());
+    let number = || prop::option::of(0..=MAX_FRAME_NUMBER);
     prop::collection::vec((any::<String>(), partial_pose(), number(), number()), 0..5).prop_map(
         |items| {
             items
