@@ -245,3 +245,34 @@ fn reconstruct_fills_in_missing_landmarks() {
     // right arm's missing ends.
     assert_eq!(drawn.matches("stroke-dasharray").count(), 12, "{drawn}");
 }
+
+/// A pose that fails keeps its frame and person numbers in the JSON outputs, as the poses
+/// that succeed have them (an OpenPose frame whose person has only the nose and a wrist).
+#[test]
+fn failed_poses_keep_their_frame_and_person_in_json() {
+    let dir = TempDir::new("failed-frame");
+    let frames = dir.0.join("frames");
+    std::fs::create_dir(&frames).unwrap();
+    let mut keypoints = vec![0.0; 75];
+    for (joint, [u, v]) in [(0, [100.0, 50.0]), (4, [130.0, 150.0])] {
+        keypoints[3 * joint..3 * joint + 3].copy_from_slice(&[u, v, 0.9]);
+    }
+    let frame = serde_json::json!({"people": [{"pose_keypoints_2d": keypoints}]});
+    std::fs::write(
+        frames.join("v_000000000007_keypoints.json"),
+        frame.to_string(),
+    )
+    .unwrap();
+    for command in ["localize", "reconstruct"] {
+        let out = camloc(&[command, "--input", frames.to_str().unwrap(), "--jsonl"]);
+        assert_eq!(out.status.code(), Some(1), "{command}");
+        let object: serde_json::Value =
+            serde_json::from_str(String::from_utf8_lossy(&out.stdout).trim()).unwrap();
+        assert!(object["error"].is_string(), "{object}");
+        assert_eq!(
+            (object["frame"].as_u64(), object["person"].as_u64()),
+            (Some(7), Some(0)),
+            "{command}: {object}"
+        );
+    }
+}

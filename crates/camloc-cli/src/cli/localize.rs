@@ -250,7 +250,8 @@ const SURE: f64 = 0.9;
 /// The line naming the second most probable camera and its probability, when the most
 /// probable one's is below [`SURE`].
 fn runner_up_text(localizer: &CameraLocalizer, loc: &Localization) -> Option<String> {
-    if loc.probability >= SURE {
+    // As printed (three decimals): a 0.8996 shown as 0.900 is sure enough.
+    if (1000.0 * loc.probability).round() >= 1000.0 * SURE {
         return None;
     }
     let (index, p) = loc

@@ -184,6 +184,8 @@ pub fn run(
                         let object = ErrorJson {
                             id: Some(&k.id),
                             source: Some(&k.source),
+                            frame: k.frame,
+                            person: k.person,
                             error: &message,
                         };
                         emit.write(out, &json_line(&object))?;

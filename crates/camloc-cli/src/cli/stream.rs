@@ -152,6 +152,12 @@ pub struct ErrorJson<'a> {
     /// The pose's place in the input.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub source: Option<&'a str>,
+    /// The pose's video frame, for inputs that have frames (as a pose's object has it).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub frame: Option<u64>,
+    /// The person's position in its frame, for inputs that have persons.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub person: Option<u64>,
     /// The message.
     pub error: &'a str,
 }
@@ -202,6 +208,8 @@ impl Emitter {
             let object = ErrorJson {
                 id: None,
                 source: None,
+                frame: None,
+                person: None,
                 error: &message,
             };
             self.write(out, &json_line(&object))?;
@@ -373,6 +381,8 @@ where
                             let object = ErrorJson {
                                 id: Some(&record.id),
                                 source: Some(&record.source),
+                                frame: record.frame,
+                                person: record.person,
                                 error: &message,
                             };
                             emitter.write(out, &json_line(&object))?;
