@@ -242,7 +242,9 @@ fn the_pages_load_in_a_browser_and_draw_the_skeleton() {
         ("reconstruct", vec!["--sequence"], "sequence.html"),
         ("localize", vec!["--sequence"], "localize-sequence.html"),
         ("localize", vec![], "localize.html"),
+        ("reconstruct", vec![], "reconstruct.html"),
     ];
+    let mut poses = Vec::new();
     for (command, extra, name) in &pages {
         let page = dir.0.join(name);
         let mut args = vec![*command, "--input", &folder, "--quiet", "--html"];
@@ -273,6 +275,18 @@ fn the_pages_load_in_a_browser_and_draw_the_skeleton() {
             "{name}"
         );
         assert!(frame["direction"].is_array(), "{name}");
+        if extra.is_empty() {
+            poses.push(data["frames"].clone());
+        }
+    }
+    // localize's page shows the skeletons `camloc reconstruct` gives.
+    for (l, r) in poses[0]
+        .as_array()
+        .unwrap()
+        .iter()
+        .zip(poses[1].as_array().unwrap())
+    {
+        assert_eq!(l["pose"], r["pose"]);
     }
     let Some(browser) = chromium() else {
         let _ = std::io::stderr().lock().write_all(

@@ -7,7 +7,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use camloc::keypoints::KeypointRecord;
-use camloc::{CameraLocalizer, CamlocError, Localization};
+use camloc::{CameraLocalizer, CamlocError, DepthLifter, Localization, ModeKind};
 
 use camloc::store::escaped;
 
@@ -63,8 +63,8 @@ pub struct Args {
     pub summary_svg: Option<PathBuf>,
     /// Write one self-contained interactive page (no network needed): per pose the 2D input,
     /// the camera sphere with the 12 probabilities and the continuous direction with its
-    /// uncertainty, and the 3D skeleton reconstructed with the embedded basis (drag to turn,
-    /// wheel to zoom) with its reprojection; a timeline to play and scrub (with --sequence,
+    /// uncertainty, and the 3D skeleton `camloc reconstruct` gives with the same model (drag to
+    /// turn, wheel to zoom) with its reprojection; a timeline to play and scrub (with --sequence,
     /// per person, with the smoothed camera).
     #[arg(long, value_name = "OUT")]
     pub html: Option<PathBuf>,
@@ -123,22 +123,26 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         });
         (path, draw)
     });
-    // The embedded basis fills in missing torsos and gives the page's 3D skeletons
-    // (Procrustes camera).
+    // The embedded basis fills in missing torsos and gives the page's 3D skeletons.
     let basis = embedded_basis();
     let locator = Locator {
         localizer: &localizer,
         filler: basis.as_ref(),
     };
-    // The localizer fills in the page's poses with missing landmarks (the camera stays
-    // Procrustes'): without it they would get no 3D.
+    // The page's 3D skeletons are what `camloc reconstruct` gives with the same model: the
+    // `hybrid` camera, with the embedded depth lifter when the model is the embedded one.
     let page_reconstructor = match &args.html {
-        Some(_) => Some(
-            basis
+        Some(_) => {
+            let reconstructor = basis
                 .clone()
                 .ok_or(CamlocError::NoDefault("basis"))?
-                .with_localizer(localizer.clone()),
-        ),
+                .with_localizer(localizer.clone());
+            let reconstructor = match &args.model {
+                None => reconstructor.with_lifter(DepthLifter::default_lifter()?),
+                Some(_) => reconstructor,
+            };
+            Some(reconstructor.with_mode(ModeKind::Hybrid)?)
+        }
         None => None,
     };
     let view = |record: &KeypointRecord, loc: Option<&Localization>, error: Option<String>| {
