@@ -245,3 +245,35 @@ fn persons_are_separate_sequences() {
     }
     assert!(!Path::new(&svg).exists());
 }
+
+/// A person none of whose frames can be localized (only a hip and a knee seen) gets no
+/// smoothed camera: null in JSON, said so in text; the other person is smoothed as usual.
+#[test]
+fn a_person_never_localized_has_no_smoothed_camera() {
+    let people = fixture_people();
+    let dir = TempDir::new("never");
+    let frames = dir.path("frames");
+    std::fs::create_dir(&frames).unwrap();
+    let frames_dir = TempDir(PathBuf::from(&frames));
+    let mut hidden = people[1].clone();
+    for joint in 0..25 {
+        if joint != 9 && joint != 10 {
+            hidden[joint * 3 + 2] = serde_json::json!(0.0);
+        }
+    }
+    for t in 0..5 {
+        write_frame(&frames_dir, t, &[&people[0], &hidden]);
+    }
+    let out = camloc(&["localize", "--input", &frames, "--sequence", "--jsonl"]);
+    assert_eq!(out.status.code(), Some(1));
+    let objects = json_lines(&out);
+    assert_eq!(objects.len(), 10);
+    for o in &objects {
+        let never = o["person"].as_u64() == Some(1);
+        assert_eq!(o["smoothed_label"].is_null(), never, "{o}");
+        assert_eq!(o["smoothed_probability"].is_null(), never, "{o}");
+    }
+    let text = camloc(&["localize", "--input", &frames, "--sequence"]);
+    let stdout = String::from_utf8_lossy(&text.stdout);
+    assert_eq!(stdout.matches("no smoothed camera").count(), 5, "{stdout}");
+}

@@ -90,8 +90,8 @@ struct FrameJson<'a> {
     probability: Option<f64>,
     #[serde(skip_serializing_if = "Option::is_none")]
     error: Option<&'a str>,
-    smoothed_label: CameraLabel,
-    smoothed_probability: f64,
+    smoothed_label: Option<CameraLabel>,
+    smoothed_probability: Option<f64>,
 }
 
 /// The options of a sequence run: `--svg` (one timeline per person), `--summary-svg`,
@@ -199,11 +199,18 @@ pub fn run(
             .iter()
             .map(|&i| frames[i].result.as_ref().ok().map(|r| &r.1[..]))
             .collect();
-        let smoothed = model.smooth(&probabilities)?;
-        for (&i, s) in members.iter().zip(&smoothed) {
+        // A person none of whose frames was localized has no smoothed camera: the model's
+        // flat frames alone would name camera 1 at 1/K.
+        let smoothed = if probabilities.iter().any(Option::is_some) {
+            model.smooth(&probabilities)?
+        } else {
+            Vec::new()
+        };
+        for (k, &i) in members.iter().enumerate() {
+            let s = smoothed.get(k);
             let text = frame_output(format, &frames[i], s, &failures);
             emit.write(out, &text)?;
-            if let Some(view) = views.get_mut(i) {
+            if let (Some(view), Some(s)) = (views.get_mut(i), s) {
                 view.set_smoothed(s.label);
             }
         }
@@ -248,7 +255,12 @@ pub fn run(
 }
 
 /// The output of one frame: a JSON object (no newline) or a line of text.
-fn frame_output(format: Format, frame: &Frame, s: &SmoothedFrame, failures: &Failures) -> String {
+fn frame_output(
+    format: Format,
+    frame: &Frame,
+    s: Option<&SmoothedFrame>,
+    failures: &Failures,
+) -> String {
     let raw = frame.best();
     if format.is_json() {
         return json_line(&FrameJson {
@@ -259,8 +271,8 @@ fn frame_output(format: Format, frame: &Frame, s: &SmoothedFrame, failures: &Fai
             label: raw.map(|r| r.0),
             probability: raw.map(|r| r.1),
             error: frame.result.as_ref().err().map(|&n| failures.message(n)),
-            smoothed_label: s.label,
-            smoothed_probability: s.probability,
+            smoothed_label: s.map(|s| s.label),
+            smoothed_probability: s.map(|s| s.probability),
         });
     }
     let mut text = String::new();
@@ -277,7 +289,12 @@ fn frame_output(format: Format, frame: &Frame, s: &SmoothedFrame, failures: &Fai
         }
         None => text.push_str(": not localized"),
     }
-    let _ = writeln!(text, ", smoothed camera {} ({:.3})", s.label, s.probability);
+    match s {
+        Some(s) => {
+            let _ = writeln!(text, ", smoothed camera {} ({:.3})", s.label, s.probability);
+        }
+        None => text.push_str(", no smoothed camera (no frame of the person was localized)\n"),
+    }
     text
 }
 
