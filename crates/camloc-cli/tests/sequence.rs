@@ -277,3 +277,36 @@ fn a_person_never_localized_has_no_smoothed_camera() {
     let stdout = String::from_utf8_lossy(&text.stdout);
     assert_eq!(stdout.matches("no smoothed camera").count(), 5, "{stdout}");
 }
+
+/// Two videos' frames read as one input (two folders with `--recursive`) hold the same frame
+/// and person numbers: the user is warned that they are taken as one person's.
+#[test]
+fn repeated_frame_numbers_are_warned_of() {
+    let people = fixture_people();
+    let dir = TempDir::new("repeated");
+    for camera in ["a", "b"] {
+        let folder = TempDir(dir.0.join(camera));
+        std::fs::create_dir(&folder.0).unwrap();
+        for t in 0..3 {
+            write_frame(&folder, t, &[&people[0]]);
+        }
+        std::mem::forget(folder);
+    }
+    let root = dir.path("");
+    let out = camloc(&[
+        "localize",
+        "--input",
+        &root,
+        "--recursive",
+        "--sequence",
+        "-q",
+    ]);
+    assert!(out.status.success());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("3 poses repeat the frame and person numbers"),
+        "{stderr}"
+    );
+    let once = camloc(&["localize", "--input", &dir.path("a"), "--sequence", "-q"]);
+    assert!(!String::from_utf8_lossy(&once.stderr).contains("repeat"));
+}

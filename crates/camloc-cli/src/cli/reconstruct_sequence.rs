@@ -106,6 +106,7 @@ pub fn run(
         return Err(CliError::NoPoses(inputs.name().to_owned()));
     }
     let keys: Vec<_> = kept.iter().map(|k| (k.frame, k.person)).collect();
+    super::sequence::warn_of_repeated_frames(&keys);
     let groups = sequences(&keys);
     let mut staged = StagedFiles::new(options.force);
     let mut rows: Vec<Option<Pose3>> =

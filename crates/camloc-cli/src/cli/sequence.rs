@@ -192,6 +192,7 @@ pub fn run(
     }
     let model = SequenceModel::with_default_switch(localizer.cameras());
     let keys: Vec<_> = frames.iter().map(|f| (f.frame, f.person)).collect();
+    warn_of_repeated_frames(&keys);
     let groups = sequences(&keys);
     let mut staged = StagedFiles::new(force);
     for (n, (person, members)) in groups.iter().enumerate() {
@@ -252,6 +253,27 @@ pub fn run(
     out.flush()?;
     staged.commit()?;
     Ok(summary.exit_code("localized"))
+}
+
+/// Warns on standard error when a (frame, person) key is held by more than one pose: the
+/// poses of several videos (two cameras' folders read with `--recursive`) would be smoothed
+/// as one person.
+pub fn warn_of_repeated_frames(keys: &[(Option<u64>, Option<u64>)]) {
+    let mut seen = std::collections::HashSet::new();
+    let repeated = keys
+        .iter()
+        .filter(|(frame, _)| frame.is_some())
+        .filter(|key| !seen.insert(**key))
+        .count();
+    if repeated > 0 {
+        eprintln!(
+            "camloc: warning: {} repeat{} the frame and person numbers of an earlier pose \
+             (several videos in one input?): they are taken as frames of the same person; \
+             give one video per run",
+            counted(repeated as u64, "pose"),
+            if repeated == 1 { "s" } else { "" }
+        );
+    }
 }
 
 /// The output of one frame: a JSON object (no newline) or a line of text.
