@@ -276,3 +276,53 @@ fn failed_poses_keep_their_frame_and_person_in_json() {
         );
     }
 }
+
+/// `--camera-height eye-level` with a model whose cameras are all in the middle ring changes
+/// nothing, and says so.
+#[test]
+fn a_camera_height_that_cannot_apply_is_warned_of() {
+    use camloc::dataset::{GenerateConfig, Protocol, generate, load_mocap_folders};
+    use camloc::store::Persist;
+    let dir = TempDir::new("height-middle");
+    let (sequences, _) =
+        load_mocap_folders(&[fixture("mocap")], &mut |_| {}, &mut |_, _, _| {}).unwrap();
+    let mut config = GenerateConfig::new(Protocol::Jittered);
+    config.cameras = camloc::CameraSet::sphere(4, &[-20.0, 20.0]).unwrap();
+    let data = dir.0.join("middle.bin");
+    generate(&sequences, &config, &|_, _| {})
+        .unwrap()
+        .save(&data, false)
+        .unwrap();
+    let model = dir.0.join("middle-model.bin");
+    let (data, model) = (data.to_str().unwrap(), model.to_str().unwrap());
+    success(&camloc(&[
+        "train",
+        "--dataset",
+        data,
+        "--out",
+        model,
+        "--no-viewpoint",
+        "-q",
+    ]));
+    let input = fixture("keypoints/example.json");
+    let run = |height: &str| {
+        let args = [
+            "localize",
+            "--input",
+            input.to_str().unwrap(),
+            "--model",
+            model,
+            "--camera-height",
+            height,
+        ];
+        camloc(&args)
+    };
+    let (any, eye) = (run("any"), run("eye-level"));
+    assert_eq!(any.stdout, eye.stdout);
+    assert!(!String::from_utf8_lossy(&any.stderr).contains("changes nothing"));
+    let stderr = String::from_utf8_lossy(&eye.stderr);
+    assert!(
+        stderr.contains("changes nothing for this model: all of its cameras"),
+        "{stderr}"
+    );
+}

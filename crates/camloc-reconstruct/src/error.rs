@@ -61,7 +61,8 @@ pub enum ReconstructError {
     /// Too few landmarks of the 2D input are present to fill in the others: the 3D pose
     /// would be mostly the basis's guess.
     #[error(
-        "2D pose: {present} landmarks present, {needed} needed to fill in the missing ones and reconstruct it"
+        "{present} landmark{} present, {needed} needed to fill in the missing ones and reconstruct the pose",
+        if *.present == 1 { "" } else { "s" }
     )]
     TooFewLandmarks {
         /// Landmarks present.

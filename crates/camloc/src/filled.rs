@@ -75,8 +75,9 @@ impl CameraLocalizer {
             return Err(match missing_torso {
                 CamlocError::Feature { context, source } => CamlocError::Feature {
                     context: format!(
-                        "{context} ({present} landmarks present, {MIN_PRESENT_FOR_FILL} needed \
-                         to fill in a torso)"
+                        "{context} ({present} landmark{} present, {MIN_PRESENT_FOR_FILL} needed \
+                         to fill in a torso)",
+                        if present == 1 { "" } else { "s" }
                     ),
                     source,
                 },

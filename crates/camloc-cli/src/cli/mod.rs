@@ -360,6 +360,22 @@ pub fn load_model(
         Some(p) => CameraLocalizer::load(p)?,
         None => CameraLocalizer::default_model()?,
     };
+    // A prior over the rings changes nothing when the model's cameras are all in one ring.
+    let middle = localizer
+        .cameras()
+        .viewpoints()
+        .iter()
+        .filter(|v| v.level == camloc::Level::Middle)
+        .count();
+    if height.height() != CameraHeight::Any && (middle == 0 || middle == localizer.cameras().len())
+    {
+        eprintln!(
+            "camloc: warning: --camera-height {} changes nothing for this model: {} of its \
+             cameras are in the middle ring",
+            height.height(),
+            if middle == 0 { "none" } else { "all" }
+        );
+    }
     Ok(localizer.with_camera_height(height.height()))
 }
 
