@@ -45,8 +45,10 @@ pub struct Args {
 /// derived where the input lacks them (as `localize` sees them). `.npy` output is written as
 /// the poses are read; camloc JSON holds the poses in memory until the end.
 pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
-    let outputs = targets::outputs([(Some(args.out.as_path()), "--out", None)]);
-    targets::check_not_input(&outputs, &[("--input", Some(&args.input.input))])?;
+    targets::check(
+        [(Some(args.out.as_path()), "--out", None)],
+        &[("--input", Some(&args.input.input))],
+    )?;
     check_target(&args.out, args.force)?;
     let mut inputs = Inputs::open(&args.input)?;
     let bar = progress::counter(args.progress.quiet, inputs.len_hint(), "convert", "poses");

@@ -35,9 +35,8 @@ pub struct Args {
 
 /// Runs `camloc evaluate`.
 pub fn run(args: &Args, stdout: &mut Out) -> Result<ExitCode, CliError> {
-    let outputs = targets::outputs([(args.svg.as_deref(), "--svg", None)]);
-    targets::check_not_input(
-        &outputs,
+    targets::check(
+        [(args.svg.as_deref(), "--svg", None)],
         &[
             ("--dataset", Some(&args.dataset)),
             ("--model", args.model.as_deref()),

@@ -93,10 +93,8 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         (args.html.as_deref(), "--html", None),
         (args.npz.as_deref(), "--npz", None),
     ];
-    let outputs = targets::outputs(outputs);
-    targets::check_distinct(&outputs)?;
-    targets::check_not_input(
-        &outputs,
+    targets::check(
+        outputs,
         &[
             ("--input", Some(&args.input.input)),
             ("--model", args.model.as_deref()),

@@ -287,10 +287,8 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         (bvh.as_deref(), "--bvh", Some("bvh")),
         (args.html.as_deref(), "--html", None),
     ];
-    let outputs = targets::outputs(outputs);
-    targets::check_distinct(&outputs)?;
-    targets::check_not_input(
-        &outputs,
+    targets::check(
+        outputs,
         &[
             ("--input", Some(&args.input.input)),
             ("--model", args.model.as_deref()),

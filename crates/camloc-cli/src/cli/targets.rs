@@ -21,11 +21,15 @@ pub struct Output<'a> {
     pub numbered: Option<&'static str>,
 }
 
-/// The outputs among `(path if given, option, numbered)`.
-pub fn outputs<'a>(
+/// Checks a command's outputs before any work: the outputs among `given` (`(path if given,
+/// option, numbered)`, `numbered` as [`Output::numbered`]) are distinct files
+/// (`check_distinct`) and none is a file the run reads or `-` (`check_not_input`, with
+/// `inputs` the reading options and their paths, if given).
+pub fn check<'a>(
     given: impl IntoIterator<Item = (Option<&'a Path>, &'static str, Option<&'static str>)>,
-) -> Vec<Output<'a>> {
-    given
+    inputs: &[(&'static str, Option<&Path>)],
+) -> Result<(), CliError> {
+    let outputs: Vec<Output> = given
         .into_iter()
         .filter_map(|(path, option, numbered)| {
             path.map(|path| Output {
@@ -34,13 +38,15 @@ pub fn outputs<'a>(
                 numbered,
             })
         })
-        .collect()
+        .collect();
+    check_distinct(&outputs)?;
+    check_not_input(&outputs, inputs)
 }
 
 /// Refuses ([`CliError::Usage`]) two of `outputs` that name one file: the same path however
 /// spelled (`s.svg`, `./s.svg`, `d/../s.svg`), two links (symbolic or hard) to one file, or a
 /// path that is one of the numbered names of a `--svg` output.
-pub fn check_distinct(outputs: &[Output]) -> Result<(), CliError> {
+fn check_distinct(outputs: &[Output]) -> Result<(), CliError> {
     for (i, a) in outputs.iter().enumerate() {
         for b in &outputs[..i] {
             if same_file(a, b) || same_file(b, a) {
@@ -61,7 +67,7 @@ pub fn check_distinct(outputs: &[Output]) -> Result<(), CliError> {
 /// with `--force` (the run would replace what it reads): one of `inputs` (an option and its
 /// path, if given), or, for an input folder, a file in it that the folder's reader reads
 /// (`.json`, `.csv`, `.npy`).
-pub fn check_not_input(
+fn check_not_input(
     outputs: &[Output],
     inputs: &[(&'static str, Option<&Path>)],
 ) -> Result<(), CliError> {

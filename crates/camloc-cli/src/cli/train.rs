@@ -158,8 +158,10 @@ pub enum ModeArg {
 /// Runs `camloc train`.
 pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     let descriptor = args.descriptor.descriptor();
-    let outputs = targets::outputs([(Some(args.out.as_path()), "--out", None)]);
-    targets::check_not_input(&outputs, &[("--dataset", Some(&args.dataset))])?;
+    targets::check(
+        [(Some(args.out.as_path()), "--out", None)],
+        &[("--dataset", Some(&args.dataset))],
+    )?;
     check_target(&args.out, args.force.force)?;
     let mut options = TrainOptions {
         descriptor,
