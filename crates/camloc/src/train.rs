@@ -285,20 +285,14 @@ impl CameraLocalizer {
 /// [`CamlocError::Inconsistent`] (about `what`) naming the first camera of the dataset's set
 /// that none of its samples has: viewpoint heads need views of every camera.
 fn check_every_camera_seen(dataset: &Dataset, what: &'static str) -> Result<(), CamlocError> {
-    let mut seen = vec![false; dataset.header.cameras.len()];
-    for s in &dataset.samples {
-        if let Some(slot) = seen.get_mut(usize::from(s.label).wrapping_sub(1)) {
-            *slot = true;
-        }
-    }
-    match seen.iter().position(|s| !s) {
-        Some(k) => Err(CamlocError::Inconsistent {
+    match dataset.samples_per_camera().iter().find(|c| c.samples == 0) {
+        Some(unseen) => Err(CamlocError::Inconsistent {
             what,
             detail: format!(
                 "camera {} has no samples; the viewpoint heads need samples of every camera \
                  (or train without heads: TrainOptions::viewpoint_lambda None, \
                  camloc train --no-viewpoint)",
-                k + 1
+                unseen.label
             ),
         }),
         None => Ok(()),

@@ -21,17 +21,11 @@ fn warn_of_thin_heads(localizer: &CameraLocalizer, dataset: &Dataset) {
     let Some(width) = localizer.viewpoint_heads().map(|h| h.n_features()) else {
         return;
     };
-    let mut views = vec![0usize; localizer.cameras().len()];
-    for s in &dataset.samples {
-        if let Some(n) = views.get_mut(usize::from(s.label).wrapping_sub(1)) {
-            *n += 1;
-        }
-    }
-    let thin: Vec<String> = views
+    let thin: Vec<String> = dataset
+        .samples_per_camera()
         .iter()
-        .enumerate()
-        .filter(|&(_, &n)| n < width)
-        .map(|(c, n)| format!("{:02} ({n})", c + 1))
+        .filter(|c| c.samples < width)
+        .map(|c| format!("{:02} ({})", c.label, c.samples))
         .collect();
     if !thin.is_empty() {
         eprintln!(
