@@ -7,7 +7,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use camloc::keypoints::KeypointRecord;
-use camloc::{CameraLocalizer, CamlocError, DepthLifter, Localization, ModeKind};
+use camloc::{CameraLocalizer, CamlocError, Localization, ModeKind};
 
 use camloc::store::escaped;
 
@@ -22,7 +22,7 @@ use super::sequence;
 use super::stream::{self, Done, Failed, Files, SummaryDrawing};
 use super::{
     CameraHeightArgs, CliError, ForceArgs, FormatArgs, InputArgs, Locator, Out, ProgressArgs,
-    embedded_basis, load_model, progress, targets,
+    embedded_basis, lifter_for_model, load_model, progress, targets,
 };
 
 /// Arguments of `camloc localize`.
@@ -135,9 +135,9 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
                 .clone()
                 .ok_or(CamlocError::NoDefault("basis"))?
                 .with_localizer(localizer.clone());
-            let reconstructor = match &args.model {
-                None => reconstructor.with_lifter(DepthLifter::default_lifter()?),
-                Some(_) => reconstructor,
+            let reconstructor = match lifter_for_model(args.model.as_deref())? {
+                Some(lifter) => reconstructor.with_lifter(lifter),
+                None => reconstructor,
             };
             Some(reconstructor.with_mode(ModeKind::Hybrid)?)
         }

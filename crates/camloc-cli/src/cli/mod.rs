@@ -7,8 +7,8 @@ use camloc::dataset::Dataset;
 use camloc::keypoints::{ImageSize, Invisible, KeypointError, KeypointFormat, Layout, ReadOptions};
 use camloc::store::{Persist, StoreError};
 use camloc::{
-    CameraHeight, CameraLocalizer, CamlocError, Localization, PartialPose2, PoseReconstructor,
-    default_basis,
+    CameraHeight, CameraLocalizer, CamlocError, DepthLifter, Localization, PartialPose2,
+    PoseReconstructor, default_basis,
 };
 use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use clap::{Parser, Subcommand, ValueEnum};
@@ -377,6 +377,13 @@ pub fn load_model(
         );
     }
     Ok(localizer.with_camera_height(height.height()))
+}
+
+/// The depth lifter that goes with the model `path` names: the embedded lifter with the
+/// embedded model (`None`), none with another model (the embedded lifter is fitted on the
+/// embedded model's cameras and features).
+pub fn lifter_for_model(path: Option<&Path>) -> Result<Option<DepthLifter>, CamlocError> {
+    path.is_none().then(DepthLifter::default_lifter).transpose()
 }
 
 /// The embedded basis with the default pursuit settings: it fills in the torso of a pose that

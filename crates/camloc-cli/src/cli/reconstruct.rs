@@ -19,8 +19,8 @@ use super::reconstruct_output::{PoseMeta, pose_output, pose_svg};
 use super::reconstruct_sequence;
 use super::stream::{self, Done, Failed, Files};
 use super::{
-    CameraHeightArgs, CliError, ForceArgs, FormatArgs, InputArgs, Out, ProgressArgs, load_dataset,
-    load_model, progress, targets,
+    CameraHeightArgs, CliError, ForceArgs, FormatArgs, InputArgs, Out, ProgressArgs,
+    lifter_for_model, load_dataset, load_model, progress, targets,
 };
 use crate::html::ViewFrame;
 
@@ -242,11 +242,10 @@ fn reconstructor(args: &Args) -> Result<PoseReconstructor, CliError> {
         }
         .into());
     }
-    let lifter = match (&args.lifter, &args.model) {
+    let lifter = match &args.lifter {
         _ if args.no_lifter || choice == ModeKind::Opt => None,
-        (Some(path), _) => Some(DepthLifter::load(path)?),
-        (None, None) => Some(DepthLifter::default_lifter()?),
-        (None, Some(_)) => None,
+        Some(path) => Some(DepthLifter::load(path)?),
+        None => lifter_for_model(args.model.as_deref())?,
     };
     if let Some(lifter) = lifter {
         reconstructor = reconstructor.with_lifter(lifter);
