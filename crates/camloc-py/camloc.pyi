@@ -48,17 +48,21 @@ _Path = Union[str, PathLike]
 class Localizer:
     """A trained camera localizer."""
 
-    def __init__(self, camera_height: str = "any") -> None:
+    def __init__(self, camera_height: str = "from-input") -> None:
         """The default model embedded in camloc (trained on CMU motion capture).
 
         camera_height: what is known of the camera's height, a prior over the cameras that
-        reweighs the model's probabilities: ``"any"`` (the model's own priors) or
-        ``"eye-level"`` (a tripod, handheld phone or studio camera at about a standing
-        person's eye level, a few metres away: a middle-ring camera is 8 times as likely a
-        priori; docs/conventions.md section 5). Raises CamlocError for another value."""
+        reweighs the model's probabilities (docs/conventions.md section 5):
+        ``"from-input"`` (each ``localize`` call first estimates how the cameras of its poses
+        divide among the three heights, then localizes every pose under those shares: a
+        pose's answer depends on the other poses of the call, as with ``camloc localize``),
+        ``"any"`` (the model's own priors; each pose on its own) or ``"eye-level"`` (a
+        tripod, handheld phone or studio camera at about a standing person's eye level, a
+        few metres away: a middle-ring camera is 8 times as likely a priori). Raises
+        CamlocError for another value."""
 
     @staticmethod
-    def load(path: _Path, camera_height: str = "any") -> "Localizer":
+    def load(path: _Path, camera_height: str = "from-input") -> "Localizer":
         """Reads a model file written by ``camloc train``; ``camera_height`` as for the
         default model (not stored in the file).
 
@@ -66,8 +70,8 @@ class Localizer:
 
     @property
     def camera_height(self) -> str:
-        """The prior over the camera's height this localizer applies: ``"any"`` or
-        ``"eye-level"``."""
+        """The prior over the camera's height this localizer applies: ``"from-input"``,
+        ``"any"`` or ``"eye-level"``."""
 
     @property
     def cameras(self) -> List[Dict[str, Any]]:
@@ -155,9 +159,10 @@ def reconstruct(
       full-perspective refinement.
     sequence: the poses are the frames of one person, in time order: one set of bone lengths
       for all of them, depths chosen consistently over time, temporal smoothness.
-    camera_height: ``"any"`` or ``"eye-level"``, the prior over the camera's height the
-      localizer applies (as ``Localizer(camera_height=...)``; the embedded depth lifter stays).
-      Default: the localizer's own (``"any"`` for the embedded one).
+    camera_height: ``"from-input"`` (the camera heights estimated from the poses of this
+      call), ``"any"`` or ``"eye-level"``, the prior over the camera's height the localizer
+      applies (as ``Localizer(camera_height=...)``; the embedded depth lifter stays).
+      Default: the localizer's own (``"from-input"`` for the embedded one).
     lifter: ``False`` reconstructs without the embedded depth lifter (the pursuit's pose starts
       the refinement), as ``camloc reconstruct --no-lifter``.
 

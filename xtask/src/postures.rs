@@ -14,7 +14,9 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use camloc::dataset::{Dataset, GenerateConfig, MotionCategory, PoseSequence, Protocol, annotated};
-use camloc::{CameraHeight, CameraLocalizer, CameraSet, EYE_LEVEL_WEIGHT};
+use camloc::{
+    CameraHeight, CameraLocalizer, CameraSet, EYE_LEVEL_WEIGHT, HEIGHT_SHARE_PSEUDO_VIEWS,
+};
 
 use crate::mocap_data::{load_split, project};
 use crate::progress::newton_line;
@@ -139,13 +141,19 @@ const KNOWN_POSE: &str = "true 3D pose, Procrustes camera";
 /// The row of the last recipe's localizer under the prior `CameraHeight::EyeLevel`.
 const EYE_LEVEL: &str = "the last recipe with `--camera-height eye-level`";
 
-/// One table's rows: each row's name (a recipe's, [`EYE_LEVEL`] or [`KNOWN_POSE`]) and
-/// outcomes.
+/// The row of the last recipe's localizer with the camera heights' shares estimated from
+/// each test set, as one input (`CameraLocalizer::estimate_height_shares`).
+const FROM_INPUT: &str =
+    "the last recipe with `--camera-height from-input` (the command line's default)";
+
+/// One table's rows: each row's name (a recipe's, [`FROM_INPUT`], [`EYE_LEVEL`] or
+/// [`KNOWN_POSE`]) and outcomes.
 type Rows<'a> = Vec<(&'a str, Vec<ViewOutcome>)>;
 
 /// Per test set of `tests`, its table rows: one per recipe of `args` (a localizer trained on
 /// `train_seqs`; `trained` hears the recipe and the seconds of each training), the last
-/// recipe's under the eye-level prior ([`EYE_LEVEL`]), then the [`KNOWN_POSE`] reference.
+/// recipe's with the camera heights estimated from the test set ([`FROM_INPUT`]) and under
+/// the eye-level prior ([`EYE_LEVEL`]), then the [`KNOWN_POSE`] reference.
 fn score<'a>(
     train_seqs: &[PoseSequence],
     tests: &[&Dataset],
@@ -163,6 +171,17 @@ fn score<'a>(
         last = Some(localizer);
     }
     if let Some(localizer) = last {
+        for (row, test) in rows.iter_mut().zip(tests) {
+            let shares = localizer.estimate_height_shares_of(test);
+            eprintln!(
+                "  camera heights of {} test views: {shares}",
+                test.samples.len()
+            );
+            let estimated = localizer
+                .clone()
+                .with_camera_height(CameraHeight::Shares(shares));
+            row.push((FROM_INPUT, outcomes(&estimated, test)?));
+        }
         let eye_level = localizer.with_camera_height(CameraHeight::EyeLevel);
         for (row, test) in rows.iter_mut().zip(tests) {
             row.push((EYE_LEVEL, outcomes(&eye_level, test)?));
@@ -372,6 +391,13 @@ pub fn report_section(mocap: &[PathBuf], folds: usize) -> Result<String, String>
          the person walking within 2 m of it; its truth is the camera's direction, so views \
          near a class boundary count; `inside the class boxes` keeps the views whose direction \
          lies in the Table-1 box of its class. `low frames` = pelvis below 0.9 leg lengths. \
+         The recipe rows localize each view on its own (`--camera-height any`). \
+         `{FROM_INPUT}` is today's model given each table's test views as one input: it \
+         estimates how the input's cameras divide among the three heights from all its views \
+         (`CameraLocalizer::estimate_height_shares`, expectation-maximisation with the \
+         model's probabilities held fixed, {HEIGHT_SHARE_PSEUDO_VIEWS} views of the model's \
+         own priors added), then localizes every view under those shares, as `camloc \
+         localize` and Python's `Localizer` do by default with the poses of one call. \
          `{EYE_LEVEL}` is today's model told that the camera stands at about eye level \
          (`camloc localize --camera-height eye-level`, `CameraHeight::EyeLevel`: a \
          middle-ring camera {EYE_LEVEL_WEIGHT} times as likely a priori), what a user filming \

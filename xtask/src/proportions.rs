@@ -17,7 +17,7 @@ use camloc::reconstruct::{
     ReconstructConfig, Reconstructor, mpjpe_after_similarity,
 };
 use camloc::skeleton::NUM_LIMBS;
-use camloc::{CameraLocalizer, DepthLifter, Pose2, Pose3};
+use camloc::{CameraHeight, CameraLocalizer, DepthLifter, PartialPose2, Pose2, Pose3};
 use rayon::prelude::*;
 
 use people::{Frames, HEAD_FACTOR, LIMB_FACTOR, factors, rescale, single_poses, windows};
@@ -309,6 +309,18 @@ fn run(
 ) -> Result<Scores, String> {
     let reconstructor =
         Reconstructor::new(basis.clone(), variant.config.clone()).map_err(|e| e.to_string())?;
+    // `camloc reconstruct`'s default, `--camera-height from-input`: the shares of the camera
+    // heights among all the views of `items` (one input), estimated before any is localized.
+    let estimated = localizer.map(|l| {
+        let poses: Vec<PartialPose2> = items
+            .iter()
+            .flat_map(|item| &item.views)
+            .map(|v| PartialPose2::from(v.pose2))
+            .collect();
+        let shares = l.estimate_height_shares(&poses);
+        l.clone().with_camera_height(CameraHeight::Shares(shares))
+    });
+    let localizer = estimated.as_ref();
     let given = |item: &Filmed, view: &View| Given {
         lengths: variant.lengths.then_some(item.lengths),
         intrinsics: variant.focal.then_some(Intrinsics {
@@ -501,8 +513,11 @@ pub fn measure(
          persons (single poses: over poses; sequences: over windows); \"within 5%\": the \
          share whose every limb is within 5%. `hybrid` rows of the variants after the \
          pursuit-only ones start the refinement from the depth lifter's depths of the classified \
-         camera (docs/conventions.md section 6), as `camloc reconstruct` does. Time: wall time \
-         per frame on the machine's cores.\n",
+         camera (docs/conventions.md section 6), as `camloc reconstruct` does. The localizer \
+         of `hybrid` weighs the camera heights by their shares among all the views of the \
+         table row's test set, estimated before any is localized (`--camera-height \
+         from-input`, `camloc reconstruct`'s default, each test set one input). Time: wall \
+         time per frame on the machine's cores.\n",
         LIMB_FACTOR.0,
         LIMB_FACTOR.1,
         HEAD_FACTOR.0,

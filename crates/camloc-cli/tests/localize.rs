@@ -284,3 +284,69 @@ fn localize_fills_in_a_missing_torso() {
         assert_eq!(frame["pose"].is_array(), i < 2, "frame {i}: {frame}");
     }
 }
+
+/// The probabilities of each pose of a JSON-lines output.
+fn jsonl_probabilities(stdout: &str) -> Vec<Vec<f64>> {
+    stdout
+        .lines()
+        .map(|line| {
+            let v: serde_json::Value = serde_json::from_str(line).unwrap();
+            // An object keyed "01" to "12": in camera order.
+            v["probabilities"]
+                .as_object()
+                .unwrap()
+                .values()
+                .map(|p| p.as_f64().unwrap())
+                .collect()
+        })
+        .collect()
+}
+
+/// `--camera-height from-input` (the default) localizes every pose under the shares of the
+/// camera heights the library estimates from the whole input, from a file and from standard
+/// input alike; `any` localizes each pose on its own, as the library's default does.
+#[test]
+fn the_default_estimates_the_camera_heights_from_the_whole_input() {
+    use camloc::keypoints::{ReadOptions, read_keypoints};
+    use camloc::{CameraHeight, CameraLocalizer};
+    let example = fixture("keypoints/example.json");
+    let path = example.to_str().unwrap();
+    let records = read_keypoints(&example, None, &ReadOptions::default()).unwrap();
+    let poses: Vec<_> = records.iter().map(|r| r.pose).collect();
+    let any = CameraLocalizer::default_model().unwrap();
+    let shares = any.estimate_height_shares(&poses);
+    let estimated = any.clone().with_camera_height(CameraHeight::Shares(shares));
+    let run = |args: &[&str]| {
+        let mut all = vec!["localize", "--input", path, "--jsonl"];
+        all.extend_from_slice(args);
+        jsonl_probabilities(&success(&camloc(&all)))
+    };
+    let close = |got: &[Vec<f64>], localizer: &CameraLocalizer| {
+        for (row, pose) in got.iter().zip(&poses) {
+            let want = localizer.localize_partial(pose).unwrap().probabilities;
+            for (g, w) in row.iter().zip(&want) {
+                // JSON keeps 17 significant digits.
+                assert!((g - w).abs() < 1e-12, "{g} against {w}");
+            }
+        }
+    };
+    let default = run(&[]);
+    assert_eq!(default.len(), 3);
+    close(&default, &estimated);
+    close(&run(&["--camera-height", "any"]), &any);
+    assert_eq!(default, run(&["--camera-height", "from-input"]));
+    let stdin = camloc_with_stdin(
+        &["localize", "--input", "-", "--jsonl"],
+        &std::fs::read(&example).unwrap(),
+    );
+    assert_eq!(jsonl_probabilities(&success(&stdin)), default);
+    // The estimate moved the probabilities: the input is not read as each pose alone.
+    let alone = run(&["--camera-height", "any"]);
+    assert!(
+        default
+            .iter()
+            .zip(&alone)
+            .any(|(d, a)| d.iter().zip(a).any(|(x, y)| (x - y).abs() > 1e-6)),
+        "{default:?}"
+    );
+}

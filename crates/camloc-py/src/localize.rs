@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use camloc::store::Persist;
-use camloc::{CameraHeight, CameraLocalizer, PoseReconstructor, default_basis};
+use camloc::{CameraHeight, CameraLocalizer, CamlocError, PoseReconstructor, default_basis};
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
@@ -19,50 +19,89 @@ const CHUNK: usize = 1024;
 #[pyclass(frozen, module = "camloc")]
 pub(crate) struct Localizer {
     pub(crate) inner: CameraLocalizer,
+    /// `camera_height="from-input"`: each call estimates the shares of the camera heights
+    /// among its poses ([`for_poses`]) and localizes them under those shares.
+    pub(crate) from_input: bool,
     /// The embedded basis, which fills in the torso of a pose that lacks one
     /// (`CameraLocalizer::localize_filled`); `None` when the build embedded no basis.
     filler: Option<PoseReconstructor>,
 }
 
 impl Localizer {
-    fn with_filler(inner: CameraLocalizer) -> Self {
+    /// `inner` under the camera height named `camera_height`, with the embedded basis.
+    fn with_filler(inner: CameraLocalizer, camera_height: &str) -> PyResult<Self> {
+        let (height, from_input) = parse_height(camera_height)?;
         let filler = default_basis().and_then(PoseReconstructor::new).ok();
-        Localizer { inner, filler }
+        Ok(Localizer {
+            inner: inner.with_camera_height(height),
+            from_input,
+            filler,
+        })
     }
+}
+
+/// The prior a `camera_height` argument names, and whether it is `"from-input"` (then the
+/// prior is `Any` until the shares of a call's poses are estimated).
+pub(crate) fn parse_height(camera_height: &str) -> PyResult<(CameraHeight, bool)> {
+    if camera_height == CameraHeight::FROM_INPUT {
+        return Ok((CameraHeight::Any, true));
+    }
+    let height: CameraHeight = camera_height.parse().map_err(|_| {
+        to_py_err(CamlocError::InvalidOption {
+            name: "camera height",
+            detail: format!(
+                "expected \"from-input\", \"any\" or \"eye-level\", got {camera_height:?}"
+            ),
+        })
+    })?;
+    Ok((height, false))
+}
+
+/// `localizer` under the shares of the camera heights among the poses of `batch` that can be
+/// read (`camloc::CameraLocalizer::estimate_height_shares`).
+pub(crate) fn for_poses(localizer: &CameraLocalizer, batch: &PoseBatch) -> CameraLocalizer {
+    let poses: Vec<_> = (0..batch.len())
+        .filter_map(|i| batch.pose(i).ok().map(|m| m.pose))
+        .collect();
+    let shares = localizer.estimate_height_shares(&poses);
+    localizer
+        .clone()
+        .with_camera_height(CameraHeight::Shares(shares))
 }
 
 #[pymethods]
 impl Localizer {
     /// The default model embedded in this build, localizing under the prior `camera_height`
-    /// (`"any"` or `"eye-level"`, `camloc::CameraHeight`).
+    /// (`"from-input"`, `"any"` or `"eye-level"`, as `camloc localize --camera-height`).
     #[new]
-    #[pyo3(signature = (camera_height = "any"))]
+    #[pyo3(signature = (camera_height = "from-input"))]
     fn new(camera_height: &str) -> PyResult<Self> {
-        let height: CameraHeight = camera_height.parse().map_err(to_py_err)?;
-        Ok(Localizer::with_filler(
-            CameraLocalizer::default_model()
-                .map_err(to_py_err)?
-                .with_camera_height(height),
-        ))
+        Localizer::with_filler(
+            CameraLocalizer::default_model().map_err(to_py_err)?,
+            camera_height,
+        )
     }
 
     /// Reads a model file written by `camloc train`, localizing under the prior
     /// `camera_height`.
     #[staticmethod]
-    #[pyo3(signature = (path, camera_height = "any"))]
+    #[pyo3(signature = (path, camera_height = "from-input"))]
     fn load(path: PathBuf, camera_height: &str) -> PyResult<Self> {
-        let height: CameraHeight = camera_height.parse().map_err(to_py_err)?;
-        Ok(Localizer::with_filler(
-            CameraLocalizer::load(&path)
-                .map_err(|e| to_py_err(e.into()))?
-                .with_camera_height(height),
-        ))
+        Localizer::with_filler(
+            CameraLocalizer::load(&path).map_err(|e| to_py_err(e.into()))?,
+            camera_height,
+        )
     }
 
-    /// The prior over the camera's height this localizer applies (`"any"` or `"eye-level"`).
+    /// The prior over the camera's height this localizer applies (`"from-input"`, `"any"`
+    /// or `"eye-level"`).
     #[getter]
     fn camera_height(&self) -> &'static str {
-        self.inner.camera_height().name()
+        if self.from_input {
+            CameraHeight::FROM_INPUT
+        } else {
+            self.inner.camera_height().name()
+        }
     }
 
     /// The camera classes, one dict per label (1-based, the column `label - 1` of
@@ -103,7 +142,11 @@ impl Localizer {
         let batch = PoseBatch::new(&points, layout, scores.as_ref(), min_score)?;
         let n = batch.len();
         let k = self.inner.cameras().len();
-        let (localizer, filler) = (&self.inner, self.filler.as_ref());
+        let estimated = self.from_input.then(|| for_poses(&self.inner, &batch));
+        let (localizer, filler) = (
+            estimated.as_ref().unwrap_or(&self.inner),
+            self.filler.as_ref(),
+        );
         let (label, folded, probability, probabilities, viewpoint, errors) = py.detach(|| {
             let mut label = vec![0i64; n];
             let mut folded = vec![0i64; n];

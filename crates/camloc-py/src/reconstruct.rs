@@ -16,7 +16,7 @@ use pyo3::types::{PyDict, PyMapping};
 use rayon::prelude::*;
 
 use crate::arrays::{ArrayArg, Output, PoseBatch};
-use crate::localize::Localizer;
+use crate::localize::{Localizer, for_poses, parse_height};
 use crate::{to_py_err, value_error};
 
 /// The reconstructor on the embedded basis with the embedded default model, made once.
@@ -108,7 +108,9 @@ pub(crate) fn reconstruct<'py>(
     };
     // The embedded lifter is the embedded model's: another localizer reconstructs without.
     // (The embedded model loaded again, whatever its camera height, keeps it.)
+    let mut from_input = true;
     if let Some(localizer) = localizer {
+        from_input = localizer.from_input;
         let embedded = default_reconstructor()?.localizer().is_some_and(|own| {
             *own == localizer
                 .inner
@@ -124,11 +126,16 @@ pub(crate) fn reconstruct<'py>(
         reconstructor = reconstructor.without_lifter();
     }
     // A camera height given here replaces the localizer's own (the lifter stays).
-    if let Some(height) = camera_height {
-        let height: CameraHeight = height.parse().map_err(to_py_err)?;
+    if let Some(name) = camera_height {
+        let height;
+        (height, from_input) = parse_height(name)?;
         if let Some(localizer) = reconstructor.localizer().cloned() {
             reconstructor = reconstructor.with_localizer(localizer.with_camera_height(height));
         }
+    }
+    if from_input && let Some(localizer) = reconstructor.localizer() {
+        let estimated = for_poses(localizer, &batch);
+        reconstructor = reconstructor.with_localizer(estimated);
     }
     let mut reconstructor = reconstructor
         .with_mode(mode)

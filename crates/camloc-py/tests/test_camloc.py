@@ -47,6 +47,12 @@ def localizer():
     return camloc.Localizer()
 
 
+@pytest.fixture(scope="module")
+def alone():
+    """Each pose on its own (the default reads a call's poses together)."""
+    return camloc.Localizer(camera_height="any")
+
+
 def example_points():
     return camloc.read_keypoints(KEYPOINTS / "example.json")["points"]
 
@@ -264,23 +270,23 @@ def test_raw_h36m_array_gives_the_labels_of_the_same_poses_in_camloc_json(locali
     np.testing.assert_array_equal(with_channel["probabilities"], via_file["probabilities"])
 
 
-def test_min_score_drops_weak_joints_as_the_reader_does(localizer):
+def test_min_score_drops_weak_joints_as_the_reader_does(alone):
     # Pose 1's right wrist scores 0.05 in the sample (fixtures/keypoints/README.md).
     array = np.load(SAMPLES / "h36m17_scores.npy")
-    raw = localizer.localize(array, layout="h36m17", min_score=0.1)
+    raw = alone.localize(array, layout="h36m17", min_score=0.1)
     read = camloc.read_keypoints(SAMPLES / "h36m17_scores.npy", layout="h36m17", min_score=0.1)
     assert np.isnan(read["points"][1, camloc.LANDMARKS.index("right_wrist")]).all()
     np.testing.assert_array_equal(
-        raw["probabilities"], localizer.localize(read["points"])["probabilities"]
+        raw["probabilities"], alone.localize(read["points"])["probabilities"]
     )
-    full = localizer.localize(array, layout="h36m17")
+    full = alone.localize(array, layout="h36m17")
     assert not np.array_equal(raw["probabilities"][1], full["probabilities"][1])
     np.testing.assert_array_equal(raw["probabilities"][[0, 2]], full["probabilities"][[0, 2]])
 
 
-def test_shapes_and_dtypes(localizer):
+def test_shapes_and_dtypes(alone):
     points = example_points()
-    got = localizer.localize(points)
+    got = alone.localize(points)
     assert got["label"].shape == (3,) and got["label"].dtype == np.int64
     assert got["folded_label"].shape == (3,) and got["folded_label"].dtype == np.int64
     assert got["probability"].shape == (3,) and got["probability"].dtype == np.float64
@@ -293,15 +299,15 @@ def test_shapes_and_dtypes(localizer):
     assert ((got["azimuth_deg"] >= 0) & (got["azimuth_deg"] < 360)).all()
     assert ((got["elevation_deg"] >= -90) & (got["elevation_deg"] <= 90)).all()
     assert isinstance(got["error"], list) and got["error"] == [None] * 3
-    assert [c["label"] for c in localizer.cameras] == list(range(1, 13))
-    assert localizer.cameras[0]["rotation"].shape == (3, 3)
+    assert [c["label"] for c in alone.cameras] == list(range(1, 13))
+    assert alone.cameras[0]["rotation"].shape == (3, 3)
 
-    one = localizer.localize(points[1])
+    one = alone.localize(points[1])
     assert one["label"].shape == () and one["probabilities"].shape == (12,)
     assert one["label"] == got["label"][1] and one["error"] is None
     np.testing.assert_array_equal(one["probabilities"], got["probabilities"][1])
 
-    empty = localizer.localize(np.zeros((0, 15, 2)))
+    empty = alone.localize(np.zeros((0, 15, 2)))
     assert empty["label"].shape == (0,) and empty["probabilities"].shape == (0, 12)
     assert empty["error"] == []
 
@@ -309,7 +315,7 @@ def test_shapes_and_dtypes(localizer):
     assert rec["points3d"].shape == (3, 15, 3) and rec["points3d"].dtype == np.float64
     assert rec["rotation"].shape == (3, 3, 3) and rec["translation"].shape == (3, 2)
     assert rec["scale"].shape == rec["projection_error"].shape == rec["label"].shape == (3,)
-    # The default camera is hybrid: it classifies each pose's camera as the localizer does.
+    # The default camera is hybrid: it classifies each pose's camera as the alone does.
     np.testing.assert_array_equal(rec["label"], got["label"])
     np.testing.assert_array_equal(camloc.reconstruct(points, camera="opt")["label"], 0)
     for r in rec["rotation"]:
@@ -428,13 +434,36 @@ def test_a_model_file_gives_the_embedded_models_answers(localizer):
     )
 
 
+def test_each_pose_on_its_own_equals_the_command_line_and_the_default_reads_the_whole_call(
+    cli, localizer
+):
+    alone = camloc.Localizer(camera_height="any")
+    assert (localizer.camera_height, alone.camera_height) == ("from-input", "any")
+    path = KEYPOINTS / "example.json"
+    _, expected = cli("localize", "--input", path, "--camera-height", "any")
+    points = camloc.read_keypoints(path)["points"]
+    got = alone.localize(points)
+    for i, want in enumerate(expected):
+        probabilities = [want["probabilities"][f"{c['label']:02}"] for c in alone.cameras]
+        np.testing.assert_allclose(got["probabilities"][i], probabilities, rtol=1e-12)
+        # On its own, a pose gets the same answer in any call.
+        np.testing.assert_array_equal(
+            alone.localize(points[i : i + 1])["probabilities"][0], got["probabilities"][i]
+        )
+    # The default estimates the camera heights of the call's poses: a pose's answer depends
+    # on the others (the command line's default does the same: the CLI_INPUTS test).
+    together = localizer.localize(points)["probabilities"]
+    first_alone = localizer.localize(points[:1])["probabilities"][0]
+    assert np.abs(together[0] - first_alone).max() > 1e-9
+
+
 def test_eye_level_prior_equals_the_command_line_and_favours_the_middle_ring(cli, localizer):
     eye = camloc.Localizer(camera_height="eye-level")
-    assert (localizer.camera_height, eye.camera_height) == ("any", "eye-level")
+    assert eye.camera_height == "eye-level"
     path = KEYPOINTS / "example.json"
     _, expected = cli("localize", "--input", path, "--camera-height", "eye-level")
     points = camloc.read_keypoints(path)["points"]
-    got, before = eye.localize(points), localizer.localize(points)
+    got, before = eye.localize(points), camloc.Localizer(camera_height="any").localize(points)
     middle = [i for i, c in enumerate(localizer.cameras) if c["level"] == "middle"]
     for i, want in enumerate(expected):
         assert got["label"][i] == want["label"]
@@ -479,7 +508,7 @@ def test_mediapipe_needs_and_uses_the_image_size():
     assert np.nanmax(pixels[..., 0]) > 1.5  # scaled from [0, 1] to pixels
 
 
-def test_a_100k_pose_batch(localizer):
+def test_a_100k_pose_batch(alone):
     base = example_points()
     n = 100_000
     rng = np.random.default_rng(7)
@@ -487,10 +516,10 @@ def test_a_100k_pose_batch(localizer):
     scale = rng.uniform(0.5, 2.0, size=(n, 1, 1))
     shift = rng.uniform(-500, 500, size=(n, 1, 2))
     points = base[np.arange(n) % 3] * scale + shift
-    got = localizer.localize(points)
+    got = alone.localize(points)
     assert got["label"].shape == (n,) and got["probabilities"].shape == (n, 12)
     assert got["error"] == [None] * n
-    reference = localizer.localize(base)
+    reference = alone.localize(base)
     np.testing.assert_array_equal(got["label"], np.tile(reference["label"], n // 3 + 1)[:n])
     np.testing.assert_allclose(
         got["probabilities"], np.tile(reference["probabilities"], (n // 3 + 1, 1))[:n], atol=1e-9

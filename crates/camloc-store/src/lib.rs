@@ -190,10 +190,11 @@ pub const DATASET_KIND: FileKind = FileKind {
 /// 10,000 values for 64 cameras, with viewpoint heads, would still fit; the default model is
 /// under 1 MiB). Version 2 added the continuous-viewpoint heads, version 3 the quadratic
 /// feature expansion, version 4 the posture groups of (posture, camera) classes, version 5
-/// the viewpoint heads' own expansion and the clamped components of quadratic expansions.
+/// the viewpoint heads' own expansion and the clamped components of quadratic expansions,
+/// version 6 the model's own camera priors (`TrainingInfo::camera_priors`).
 pub const MODEL_KIND: FileKind = FileKind {
     magic: *b"CAMLOCMD",
-    version: 5,
+    version: 6,
     what: "model",
     max_payload: 64 << 20,
 };

@@ -4,9 +4,10 @@
 use std::fmt;
 use std::str::FromStr;
 
-use camloc_geometry::{CameraSet, Level};
+use camloc_geometry::CameraSet;
 
 use crate::CamlocError;
+use crate::height_shares::{HeightShares, level_index};
 
 /// How many times as likely a camera of the middle ring is, a priori, under
 /// [`CameraHeight::EyeLevel`] as under the model's own priors. Chosen on the validation
@@ -20,7 +21,7 @@ pub const EYE_LEVEL_WEIGHT: f64 = 8.0;
 /// that the most probable camera, its probability and the continuous viewpoint of its head
 /// follow it. Not stored in a model file: a property of the footage, set per use
 /// ([`CameraLocalizer::with_camera_height`](crate::CameraLocalizer::with_camera_height)).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub enum CameraHeight {
     /// Nothing known: the model's own priors (Table 1's heights as its training balanced
     /// them, docs/conventions.md section 5). The default.
@@ -29,31 +30,45 @@ pub enum CameraHeight {
     /// A camera at about a standing person's eye level or a little above, a few metres away,
     /// as tripods, handheld phones and studio rigs are (the `rig` protocol: 1.0-2.2 m high,
     /// 2.5-7 m from the centre of the room): every camera of the middle ring (elevation within
-    /// 22.5 deg of level, [`Level::Middle`]) is [`EYE_LEVEL_WEIGHT`] times as likely a priori.
+    /// 22.5 deg of level, [`Level::Middle`](camloc_geometry::Level::Middle)) is [`EYE_LEVEL_WEIGHT`] times as likely a priori.
     /// A camera far above or below the person can still win, on stronger evidence.
     EyeLevel,
+    /// The heights in these shares, as an input's own poses show them
+    /// ([`CameraLocalizer::estimate_height_shares`](crate::CameraLocalizer::estimate_height_shares);
+    /// `camloc localize`'s default `--camera-height from-input`): each height's cameras are
+    /// weighed by its share over the model's own share of it.
+    Shares(HeightShares),
 }
 
 impl CameraHeight {
-    /// The name used on the command line and in Python (`"any"`, `"eye-level"`).
+    /// The name of [`CameraHeight::Shares`] estimated from the input (the command line's and
+    /// Python's default).
+    pub const FROM_INPUT: &'static str = "from-input";
+
+    /// The name used on the command line and in Python (`"any"`, `"eye-level"`, and
+    /// `"from-input"` for shares, which the command line and Python estimate from the input).
     pub const fn name(self) -> &'static str {
         match self {
             CameraHeight::Any => "any",
             CameraHeight::EyeLevel => "eye-level",
+            CameraHeight::Shares(_) => CameraHeight::FROM_INPUT,
         }
     }
 
     /// Multiplies each camera's probability in `probabilities` (one per camera of
-    /// `cameras`, summing to 1) by this prior's weight for it and normalises them again.
-    pub(crate) fn reweigh(self, cameras: &CameraSet, probabilities: &mut [f64]) {
-        if self == CameraHeight::Any {
-            return;
-        }
+    /// `cameras`, summing to 1) by this prior's weight for it and normalises them again;
+    /// `priors` are the model's own priors over the cameras (one per camera).
+    pub(crate) fn reweigh(self, cameras: &CameraSet, priors: &[f64], probabilities: &mut [f64]) {
+        let weights = match self {
+            CameraHeight::Any => return,
+            CameraHeight::EyeLevel => [1.0, EYE_LEVEL_WEIGHT, 1.0],
+            CameraHeight::Shares(shares) => {
+                shares.weights_against(&HeightShares::of_priors(cameras, priors))
+            }
+        };
         let mut total = 0.0;
         for (p, camera) in probabilities.iter_mut().zip(cameras.viewpoints()) {
-            if camera.level == Level::Middle {
-                *p *= EYE_LEVEL_WEIGHT;
-            }
+            *p *= weights[level_index(camera.level)];
             total += *p;
         }
         if total > 0.0 {
@@ -98,15 +113,40 @@ mod tests {
         let total: f64 = p.iter().sum();
         p.iter_mut().for_each(|v| *v /= total);
         let before = p.clone();
-        CameraHeight::Any.reweigh(&cameras, &mut p);
+        let priors = vec![1.0 / 12.0; 12];
+        CameraHeight::Any.reweigh(&cameras, &priors, &mut p);
         assert_eq!(p, before);
-        CameraHeight::EyeLevel.reweigh(&cameras, &mut p);
+        CameraHeight::EyeLevel.reweigh(&cameras, &priors, &mut p);
         assert!((p.iter().sum::<f64>() - 1.0).abs() < 1e-12);
         // Middle front now beats upper front: 0.1 x 8 against 0.2.
         assert!(p[4] > p[8]);
         assert!((p[4] / p[8] - EYE_LEVEL_WEIGHT / 2.0).abs() < 1e-12);
         // Cameras of one ring keep their ratios.
         assert!((p[8] / p[9] - before[8] / before[9]).abs() < 1e-12);
+    }
+
+    #[test]
+    fn shares_weigh_each_height_by_its_share_over_the_models() {
+        let cameras = CameraSet::table1();
+        // The model saw the middle ring twice as often; the input is all middle and upper.
+        let mut priors = vec![1.0 / 16.0; 12];
+        priors[4..8].iter_mut().for_each(|p| *p = 1.0 / 8.0);
+        let shares = HeightShares::new(0.0, 0.5, 0.5).unwrap();
+        let mut p = vec![1.0 / 12.0; 12];
+        CameraHeight::Shares(shares).reweigh(&cameras, &priors, &mut p);
+        // Weights 0, 1 and 2 over the rings: lower 0, middle 1/12 x 1, upper 1/12 x 2.
+        assert!(p[..4].iter().all(|&v| v == 0.0));
+        assert!((p[8] / p[4] - 2.0).abs() < 1e-12);
+        assert!((p.iter().sum::<f64>() - 1.0).abs() < 1e-12);
+        // The model's own shares change nothing.
+        let own = HeightShares::new(0.25, 0.5, 0.25).unwrap();
+        let mut q = vec![0.01; 12];
+        q[3] = 0.89;
+        let before = q.clone();
+        CameraHeight::Shares(own).reweigh(&cameras, &priors, &mut q);
+        for (a, b) in q.iter().zip(&before) {
+            assert!((a - b).abs() < 1e-12);
+        }
     }
 
     #[test]

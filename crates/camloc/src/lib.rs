@@ -36,6 +36,7 @@ mod dropout;
 mod error;
 mod evaluate;
 mod filled;
+mod height_shares;
 mod lifter;
 mod localizer;
 mod reconstruction;
@@ -64,6 +65,7 @@ pub use camloc_skeleton::{Landmark, PartialPose2, Pose2, Pose3};
 pub use error::CamlocError;
 pub use evaluate::{CameraAccuracy, Evaluation, LevelAccuracy, evaluate};
 pub use filled::MIN_PRESENT_FOR_FILL;
+pub use height_shares::{HEIGHT_SHARE_PSEUDO_VIEWS, HeightShares};
 pub use reconstruction::{
     PoseReconstruction, PoseReconstructor, PoseSequenceReconstruction, default_basis,
     evaluation_samples,

@@ -156,7 +156,8 @@ impl CameraLocalizer {
         out: &mut [f64],
     ) -> Result<(), CamlocError> {
         self.model_camera_probabilities_into(x, classes, out)?;
-        self.camera_height.reweigh(&self.cameras, out);
+        self.camera_height
+            .reweigh(&self.cameras, &self.info.camera_priors, out);
         Ok(())
     }
 
@@ -400,6 +401,19 @@ impl Validate for CameraLocalizer {
                 self.model.n_classes(),
                 self.cameras.len(),
                 self.posture_groups
+            )));
+        }
+        let priors = &self.info.camera_priors;
+        let total: f64 = priors.iter().sum();
+        if priors.len() != self.cameras.len()
+            || !priors.iter().all(|p| p.is_finite() && *p >= 0.0)
+            || (total - 1.0).abs() > 1e-6
+        {
+            return Err(inconsistent(format!(
+                "{} camera priors (summing to {total}) for {} cameras; expected non-negative \
+                 priors summing to 1",
+                priors.len(),
+                self.cameras.len()
             )));
         }
         if !self.imputation.iter().all(|v| v.is_finite()) {

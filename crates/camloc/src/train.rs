@@ -140,8 +140,9 @@ impl CameraLocalizer {
         });
         x.shrink_to_fit();
         let (mut model, report) = options.regression.solve_with_progress(problem, progress)?;
+        let rows_per_camera = camera_row_counts(&y, cameras.len());
         if options.camera_balance > 0.0 {
-            let shift = balancing_shift(&y, cameras.len(), posture_groups, options.camera_balance);
+            let shift = balancing_shift(&rows_per_camera, posture_groups, options.camera_balance);
             model = model.with_bias_shift(&shift)?;
         }
         let info = TrainingInfo {
@@ -155,6 +156,7 @@ impl CameraLocalizer {
             mirror: options.mirror,
             posture_classes: options.posture_classes,
             camera_balance: options.camera_balance,
+            camera_priors: learnt_priors(&rows_per_camera, options.camera_balance),
         };
         let mut localizer = CameraLocalizer {
             descriptor,
@@ -299,16 +301,21 @@ fn check_every_camera_seen(dataset: &Dataset, what: &'static str) -> Result<(), 
     }
 }
 
-/// The bias shift that moves the camera priors `strength` of the way to even ones: for class
-/// `g * cameras + c`, minus `strength` times the log of camera `c`'s share of the rows `y`
-/// relative to an even share (0 for a camera without rows, whose classes the fit already
-/// drove down).
-fn balancing_shift(y: &[usize], cameras: usize, groups: usize, strength: f64) -> Vec<f64> {
+/// Rows per camera among the training rows `y` (class `g * cameras + c` is camera `c`).
+fn camera_row_counts(y: &[usize], cameras: usize) -> Vec<usize> {
     let mut counts = vec![0usize; cameras];
     for &class in y {
         counts[class % cameras] += 1;
     }
-    let even = y.len() as f64 / cameras as f64;
+    counts
+}
+
+/// The bias shift that moves the camera priors `strength` of the way to even ones: for class
+/// `g * cameras + c`, minus `strength` times the log of camera `c`'s share of the training
+/// rows (`counts`, per camera) relative to an even share (0 for a camera without rows, whose
+/// classes the fit already drove down).
+fn balancing_shift(counts: &[usize], groups: usize, strength: f64) -> Vec<f64> {
+    let even = counts.iter().sum::<usize>() as f64 / counts.len() as f64;
     let per_camera: Vec<f64> = counts
         .iter()
         .map(|&n| {
@@ -322,4 +329,15 @@ fn balancing_shift(y: &[usize], cameras: usize, groups: usize, strength: f64) ->
     (0..groups)
         .flat_map(|_| per_camera.iter().copied())
         .collect()
+}
+
+/// The priors over the cameras the classifier keeps after [`balancing_shift`] of `strength`:
+/// each camera's share of the rows (`counts`) raised to `1 - strength`, normalised.
+fn learnt_priors(counts: &[usize], strength: f64) -> Vec<f64> {
+    let raised: Vec<f64> = counts
+        .iter()
+        .map(|&n| (n as f64).powf(1.0 - strength))
+        .collect();
+    let total: f64 = raised.iter().sum();
+    raised.iter().map(|r| r / total).collect()
 }

@@ -346,4 +346,9 @@ pub struct TrainingInfo {
     pub posture_classes: bool,
     /// How far the camera priors were balanced ([`TrainOptions::camera_balance`]).
     pub camera_balance: f64,
+    /// The model's own prior of each camera (one per camera, summing to 1): the share of
+    /// the training rows it had, raised to `1 - camera_balance` and normalised (the balance's
+    /// bias shift leaves that prior in the classifier's probabilities). What
+    /// [`CameraHeight::Shares`](crate::CameraHeight::Shares) is weighed against.
+    pub camera_priors: Vec<f64>,
 }

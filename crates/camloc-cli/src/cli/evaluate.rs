@@ -6,6 +6,7 @@ use std::process::ExitCode;
 
 use camloc::{CamlocError, evaluate};
 
+use super::heights;
 use super::{CameraHeightArgs, CliError, Out, load_dataset, load_model, targets};
 use camloc::store::{StagedFiles, check_target};
 
@@ -47,6 +48,7 @@ pub fn run(args: &Args, stdout: &mut Out) -> Result<ExitCode, CliError> {
     }
     let localizer = load_model(args.model.as_deref(), &args.height)?;
     let dataset = load_dataset(&args.dataset)?;
+    let localizer = heights::for_dataset(localizer, &args.height, &dataset, false);
     let e = evaluate(&localizer, &dataset)?;
     let mut staged = StagedFiles::new(args.force);
     if let Some(svg) = &args.svg {

@@ -19,6 +19,8 @@ pub const STDIN_NAME: &str = "standard input";
 /// one at a time.
 pub struct Inputs {
     name: String,
+    /// Records read already (standard input kept to be read twice), given before the rest.
+    kept: std::vec::IntoIter<Result<KeypointRecord, KeypointError>>,
     current: Option<KeypointStream>,
     files: std::vec::IntoIter<PathBuf>,
     format: Option<KeypointFormat>,
@@ -31,6 +33,7 @@ impl Inputs {
         let options = args.options();
         let mut inputs = Inputs {
             name: String::new(),
+            kept: Vec::new().into_iter(),
             current: None,
             files: Vec::new().into_iter(),
             format: args.format,
@@ -51,6 +54,23 @@ impl Inputs {
         Ok(inputs)
     }
 
+    /// Whether this is standard input (which cannot be read twice).
+    pub fn is_stdin(&self) -> bool {
+        self.name == STDIN_NAME
+    }
+
+    /// Standard input's `records`, read already, given again in order.
+    pub fn from_records(records: Vec<Result<KeypointRecord, KeypointError>>) -> Inputs {
+        Inputs {
+            name: STDIN_NAME.to_owned(),
+            kept: records.into_iter(),
+            current: None,
+            files: Vec::new().into_iter(),
+            format: None,
+            options: ReadOptions::default(),
+        }
+    }
+
     /// How the input is named in messages (`no poses in NAME`).
     pub fn name(&self) -> &str {
         &self.name
@@ -58,6 +78,9 @@ impl Inputs {
 
     /// The number of poses when known in advance (one file), for progress bars.
     pub fn len_hint(&self) -> Option<u64> {
+        if self.kept.len() > 0 {
+            return Some(self.kept.len() as u64);
+        }
         if self.files.len() > 0 {
             return None;
         }
@@ -70,6 +93,9 @@ impl Iterator for Inputs {
     type Item = Result<KeypointRecord, KeypointError>;
 
     fn next(&mut self) -> Option<Self::Item> {
+        if let Some(record) = self.kept.next() {
+            return Some(record);
+        }
         loop {
             if let Some(stream) = &mut self.current {
                 if let Some(item) = stream.next() {

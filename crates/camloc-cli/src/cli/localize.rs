@@ -15,14 +15,14 @@ use crate::html::ViewFrame;
 use crate::svg;
 
 use super::export;
-use super::input::Inputs;
+use super::heights;
 use super::localize_json::LocalizationJson;
 use super::localize_npz::LocalizationArrays;
 use super::sequence;
 use super::stream::{self, Done, Failed, Files, SummaryDrawing};
 use super::{
     CameraHeightArgs, CliError, ForceArgs, FormatArgs, InputArgs, Locator, Out, ProgressArgs,
-    embedded_basis, lifter_for_model, load_model, progress, targets,
+    embedded_basis, lifter_for_model, progress, targets,
 };
 
 /// Arguments of `camloc localize`.
@@ -100,8 +100,12 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
             ("--model", args.model.as_deref()),
         ],
     )?;
-    let localizer = load_model(args.model.as_deref(), &args.height)?;
-    let inputs = Inputs::open(&args.input)?;
+    let (localizer, inputs) = heights::load_for_input(
+        args.model.as_deref(),
+        &args.height,
+        &args.input,
+        args.progress.quiet,
+    )?;
     let format = args.format.format();
     // Poses per predicted camera, for --summary-svg.
     let counts: Arc<Vec<AtomicU64>> = Arc::new(

@@ -16,6 +16,7 @@ use clap::{Parser, Subcommand, ValueEnum};
 mod convert;
 mod evaluate;
 mod export;
+mod heights;
 mod input;
 mod localize;
 mod localize_json;
@@ -320,9 +321,12 @@ pub fn load_dataset(path: &Path) -> Result<Dataset, CliError> {
 }
 
 /// `--camera-height`: what is known of the camera's height before seeing the poses.
-#[derive(Clone, Copy, Debug, ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum CameraHeightArg {
-    /// Nothing known: the model's own priors over Table 1's three heights.
+    /// The shares of the three heights among the input's cameras, estimated from all its
+    /// poses before any is localized: each pose's answer then depends on the others.
+    FromInput,
+    /// Nothing known: the model's own priors; each pose is localized on its own.
     Any,
     /// A tripod, handheld phone or studio camera at about a standing person's eye level, a
     /// few metres away: a middle-ring camera is 8 times as likely a priori.
@@ -334,18 +338,22 @@ pub enum CameraHeightArg {
 pub struct CameraHeightArgs {
     /// What is known of the camera's height, as a prior over the cameras that reweighs the
     /// model's probabilities (docs/conventions.md section 5, "What the caller knows of the
-    /// camera"). `eye-level` suits studios, tripods and phones: on views of such cameras it
-    /// turns more of the level mistakes near the middle ring's edge into right answers, and
-    /// it costs views from far above or below.
-    #[arg(long, value_enum, default_value = "any", value_name = "HEIGHT")]
+    /// camera"). `from-input` first reads the whole input and estimates how its cameras
+    /// divide among the three heights (a video or a studio's views: mostly one), then
+    /// localizes every pose under those shares; `any` localizes each pose on its own, as a
+    /// single pose is; `eye-level` suits studios, tripods and phones: on views of such
+    /// cameras it turns more of the level mistakes near the middle ring's edge into right
+    /// answers, and it costs views from far above or below.
+    #[arg(long, value_enum, default_value = "from-input", value_name = "HEIGHT")]
     pub camera_height: CameraHeightArg,
 }
 
 impl CameraHeightArgs {
-    /// The library's prior for the option.
+    /// The library's prior for the option before the input is read (`from-input`: the
+    /// model's own, until [`heights::for_input`] estimates the input's).
     pub fn height(&self) -> CameraHeight {
         match self.camera_height {
-            CameraHeightArg::Any => CameraHeight::Any,
+            CameraHeightArg::Any | CameraHeightArg::FromInput => CameraHeight::Any,
             CameraHeightArg::EyeLevel => CameraHeight::EyeLevel,
         }
     }

@@ -13,6 +13,7 @@ use camloc::{
 use clap::builder::{PossibleValue, TypedValueParser};
 
 use super::export::{self, Kept};
+use super::heights;
 use super::input::Inputs;
 use super::output::NpyStage;
 use super::reconstruct_output::{PoseMeta, pose_output, pose_svg};
@@ -227,12 +228,12 @@ fn parse_point(text: &str) -> Result<[f64; 2], String> {
 
 /// The reconstructor `args` ask for: basis, camera mode, localizer, given bone lengths and
 /// intrinsics.
-fn reconstructor(args: &Args) -> Result<PoseReconstructor, CliError> {
+fn reconstructor(args: &Args, localizer: CameraLocalizer) -> Result<PoseReconstructor, CliError> {
     let choice = camera_of(args);
     // Every mode has the localizer: `opt` does not localize complete poses, but it fills in
     // missing landmarks with the localized camera.
     let mut reconstructor = PoseReconstructor::new(load_basis(args.basis.as_deref())?)?
-        .with_localizer(load_model(args.model.as_deref(), &args.height)?)
+        .with_localizer(localizer)
         .with_mode(choice)?;
     if args.lifter.is_some() && choice == ModeKind::Opt {
         return Err(CamlocError::InvalidOption {
@@ -297,10 +298,15 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         ],
     )?;
     let choice = camera_of(args);
-    let reconstructor = reconstructor(args)?;
+    let (localizer, inputs) = heights::load_for_input(
+        args.model.as_deref(),
+        &args.height,
+        &args.input,
+        args.progress.quiet,
+    )?;
+    let reconstructor = reconstructor(args, localizer)?;
     // The page shows the cameras' probabilities: the reconstructor's localizer.
     let page_localizer = args.html.as_ref().and(reconstructor.localizer());
-    let inputs = Inputs::open(&args.input)?;
     let format = args.format.format();
     let finish = finish(args, &inputs, page_localizer);
     // The localization a reconstruction used (classified, hybrid), else the page's own.
@@ -420,9 +426,11 @@ fn finish(
 
 /// Runs `camloc evaluate-reconstruction`.
 pub fn run_evaluation(args: &EvalArgs, out: &mut Out) -> Result<ExitCode, CliError> {
-    let reconstructor = PoseReconstructor::new(load_basis(args.basis.as_deref())?)?
-        .with_localizer(load_model(args.model.as_deref(), &args.height)?);
+    let basis = load_basis(args.basis.as_deref())?;
+    let localizer = load_model(args.model.as_deref(), &args.height)?;
     let dataset = load_dataset(&args.dataset)?;
+    let localizer = heights::for_dataset(localizer, &args.height, &dataset, args.progress.quiet);
+    let reconstructor = PoseReconstructor::new(basis)?.with_localizer(localizer);
     let bar = progress::spinner(
         args.progress.quiet,
         &format!(

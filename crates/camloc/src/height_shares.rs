@@ -1,0 +1,268 @@
+//! [`HeightShares`]: how an input's cameras divide among Table 1's three heights, and their
+//! estimate from the input's own poses ([`CameraLocalizer::estimate_height_shares`]).
+
+use camloc_dataset::Dataset;
+use camloc_geometry::{CameraSet, Level};
+use camloc_skeleton::PartialPose2;
+use rayon::prelude::*;
+
+use crate::rows::sample_pose;
+use crate::{CameraLocalizer, CamlocError};
+
+/// Views of the model's own priors added to an input's views when its camera heights are
+/// estimated ([`CameraLocalizer::estimate_height_shares`]): an input of a few poses moves the
+/// estimate little from the model's priors, one of thousands settles it.
+pub const HEIGHT_SHARE_PSEUDO_VIEWS: f64 = 10.0;
+
+/// At most this many rounds of the estimate (it usually settles in a few dozen).
+const MAX_ROUNDS: usize = 500;
+
+/// The estimate has settled when no share moves by more than this in a round.
+const SETTLED: f64 = 1e-9;
+
+/// The shares of Table 1's three camera heights among the cameras of some footage
+/// ([`Level`]: below the body, at body height within 22.5 deg, above it): non-negative, summing
+/// to 1. As a prior ([`CameraHeight::Shares`](crate::CameraHeight::Shares)) they replace the
+/// model's own priors over the heights, keeping its priors within each height.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HeightShares {
+    /// Share of cameras in the lower ring (looking up at the body).
+    pub lower: f64,
+    /// Share of cameras in the middle ring (at body height).
+    pub middle: f64,
+    /// Share of cameras in the upper ring (looking down on the body).
+    pub upper: f64,
+}
+
+impl HeightShares {
+    /// The shares `lower`, `middle` and `upper`, normalised to sum to 1.
+    ///
+    /// # Errors
+    /// [`CamlocError::InvalidOption`] when one is negative or not finite, or all are 0.
+    pub fn new(lower: f64, middle: f64, upper: f64) -> Result<Self, CamlocError> {
+        let total = lower + middle + upper;
+        let valid = [lower, middle, upper]
+            .iter()
+            .all(|s| s.is_finite() && *s >= 0.0);
+        if !(valid && total > 0.0 && total.is_finite()) {
+            return Err(CamlocError::InvalidOption {
+                name: "camera height shares",
+                detail: format!(
+                    "expected three non-negative finite shares, not all 0; got {lower}, {middle}, {upper}"
+                ),
+            });
+        }
+        Ok(HeightShares {
+            lower: lower / total,
+            middle: middle / total,
+            upper: upper / total,
+        })
+    }
+
+    /// The share of `level`.
+    pub fn of(&self, level: Level) -> f64 {
+        match level {
+            Level::Lower => self.lower,
+            Level::Middle => self.middle,
+            Level::Upper => self.upper,
+        }
+    }
+
+    /// The shares of the heights under the per-camera priors `priors` (one per camera of
+    /// `cameras`, summing to 1).
+    pub(crate) fn of_priors(cameras: &CameraSet, priors: &[f64]) -> Self {
+        let mut shares = [0.0; 3];
+        for (p, view) in priors.iter().zip(cameras.viewpoints()) {
+            shares[level_index(view.level)] += p;
+        }
+        HeightShares {
+            lower: shares[0],
+            middle: shares[1],
+            upper: shares[2],
+        }
+    }
+
+    /// Per level, how many times as likely a camera of that height is under these shares as
+    /// under `model` (1 for a height the model gives no share).
+    pub(crate) fn weights_against(&self, model: &HeightShares) -> [f64; 3] {
+        [Level::Lower, Level::Middle, Level::Upper].map(|level| {
+            let m = model.of(level);
+            if m > 0.0 { self.of(level) / m } else { 1.0 }
+        })
+    }
+}
+
+/// The shares in per cent, e.g. `lower 0.3%, middle 99.5%, upper 0.2%`.
+impl std::fmt::Display for HeightShares {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "lower {:.1}%, middle {:.1}%, upper {:.1}%",
+            100.0 * self.lower,
+            100.0 * self.middle,
+            100.0 * self.upper
+        )
+    }
+}
+
+/// The index of `level` in [`HeightShares`]'s order (lower, middle, upper).
+pub(crate) fn level_index(level: Level) -> usize {
+    match level {
+        Level::Lower => 0,
+        Level::Middle => 1,
+        Level::Upper => 2,
+    }
+}
+
+/// The shares of the heights that best explain `probabilities` (rows of one probability per
+/// camera of `cameras`, under the model's own per-camera `priors`): expectation-maximisation
+/// of the heights' shares with the classifier's probabilities held fixed (Saerens, Latinne and
+/// Decaestecker 2002, "Adjusting the outputs of a classifier to new a priori probabilities"),
+/// with [`HEIGHT_SHARE_PSEUDO_VIEWS`] views of the model's own shares added.
+pub(crate) fn estimate(cameras: &CameraSet, priors: &[f64], probabilities: &[f64]) -> HeightShares {
+    let model = HeightShares::of_priors(cameras, priors);
+    let levels: Vec<usize> = cameras
+        .viewpoints()
+        .iter()
+        .map(|v| level_index(v.level))
+        .collect();
+    let k = levels.len();
+    let views = (probabilities.len() / k.max(1)) as f64;
+    let mut shares = model;
+    for _ in 0..MAX_ROUNDS {
+        let weights = shares.weights_against(&model);
+        let mut sums = [0.0; 3];
+        for row in probabilities.chunks_exact(k) {
+            let total: f64 = row.iter().zip(&levels).map(|(p, &l)| p * weights[l]).sum();
+            if total > 0.0 {
+                for (p, &l) in row.iter().zip(&levels) {
+                    sums[l] += p * weights[l] / total;
+                }
+            }
+        }
+        let [lower, middle, upper] = [0, 1, 2].map(|l| {
+            let m = [model.lower, model.middle, model.upper][l];
+            (sums[l] + HEIGHT_SHARE_PSEUDO_VIEWS * m) / (views + HEIGHT_SHARE_PSEUDO_VIEWS)
+        });
+        let next = HeightShares {
+            lower,
+            middle,
+            upper,
+        };
+        let moved = (next.lower - shares.lower)
+            .abs()
+            .max((next.middle - shares.middle).abs())
+            .max((next.upper - shares.upper).abs());
+        shares = next;
+        if moved < SETTLED {
+            break;
+        }
+    }
+    shares
+}
+
+impl CameraLocalizer {
+    /// The shares of the camera heights among the views of `poses`, as the model reads them:
+    /// the classifier's probabilities of every pose under its own priors, then the shares
+    /// that best explain them all ([`estimate`]: expectation-maximisation, Saerens et al.
+    /// 2002). Give them back as [`CameraHeight::Shares`](crate::CameraHeight::Shares)
+    /// ([`CameraLocalizer::with_camera_height`]) to localize the same poses under them: then
+    /// each pose's answer depends on the others. Poses that cannot be localized (no pelvis
+    /// or neck, non-finite or degenerate landmarks) are left out; with none left, the model's
+    /// own shares come back. Runs in parallel.
+    pub fn estimate_height_shares(&self, poses: &[PartialPose2]) -> HeightShares {
+        let k = self.cameras.len();
+        let rows: Vec<Vec<f64>> = poses
+            .par_iter()
+            .filter_map(|pose| {
+                self.with_pose_rows(pose, String::new, |rows| {
+                    let mut p = vec![0.0; k];
+                    self.model_camera_probabilities_into(rows.classifier, rows.classes, &mut p)?;
+                    Ok(p)
+                })
+                .ok()
+            })
+            .collect();
+        let flat: Vec<f64> = rows.concat();
+        estimate(&self.cameras, &self.info.camera_priors, &flat)
+    }
+
+    /// [`estimate_height_shares`](Self::estimate_height_shares) of the samples of `dataset`
+    /// (with their missing landmarks).
+    pub fn estimate_height_shares_of(&self, dataset: &Dataset) -> HeightShares {
+        let poses: Vec<PartialPose2> = dataset.samples.iter().map(sample_pose).collect();
+        self.estimate_height_shares(&poses)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Camera probabilities of a classifier that is right with probability `sure` and spreads
+    /// the rest evenly, for a view of camera `truth`.
+    fn row(truth: usize, sure: f64) -> Vec<f64> {
+        let mut p = vec![(1.0 - sure) / 11.0; 12];
+        p[truth] = sure;
+        p
+    }
+
+    #[test]
+    fn the_estimate_finds_an_input_of_one_height_and_keeps_an_even_one() {
+        let cameras = CameraSet::table1();
+        let priors = vec![1.0 / 12.0; 12];
+        // A classifier that sees the right camera 60% of the time and each other one 40/11%
+        // (its answer's probabilities are `row`): `views` views of camera `truth` give these
+        // answers in these numbers.
+        let answers = |truth: usize, views: usize| {
+            (0..12).flat_map(move |seen| {
+                let n = if seen == truth {
+                    views * 6 / 10
+                } else {
+                    views * 4 / 110
+                };
+                std::iter::repeat_n(row(seen, 0.6), n).flatten()
+            })
+        };
+        // 1,100 views of each middle camera (Table 1's 5-8), 110 of each lower one.
+        let mut rows = Vec::new();
+        for truth in 0..8 {
+            rows.extend(answers(truth, if truth < 4 { 110 } else { 1100 }));
+        }
+        let shares = estimate(&cameras, &priors, &rows);
+        assert!((shares.lower + shares.middle + shares.upper - 1.0).abs() < 1e-12);
+        // Within 2 points: the rounds settle slowly towards a share of 0 (upper).
+        assert!((shares.middle - 10.0 / 11.0).abs() < 0.02, "{shares:?}");
+        assert!((shares.lower - 1.0 / 11.0).abs() < 0.02, "{shares:?}");
+        // An even input stays even.
+        let even: Vec<f64> = (0..1200).flat_map(|i| row(i % 12, 0.6)).collect();
+        let shares = estimate(&cameras, &priors, &even);
+        for s in [shares.lower, shares.middle, shares.upper] {
+            assert!((s - 1.0 / 3.0).abs() < 1e-6, "{shares:?}");
+        }
+    }
+
+    #[test]
+    fn few_views_move_the_estimate_little_and_none_keep_the_model_shares() {
+        let cameras = CameraSet::table1();
+        // A model that saw the middle ring twice as often.
+        let mut priors = vec![1.0 / 16.0; 12];
+        priors[4..8].iter_mut().for_each(|p| *p = 1.0 / 8.0);
+        let none = estimate(&cameras, &priors, &[]);
+        assert!((none.middle - 0.5).abs() < 1e-12 && (none.lower - 0.25).abs() < 1e-12);
+        let one = estimate(&cameras, &priors, &row(0, 0.9));
+        assert!(one.lower > 0.25 && one.lower < 0.25 + 1.0 / 11.0, "{one:?}");
+    }
+
+    #[test]
+    fn shares_are_normalised_and_bad_ones_refused() {
+        let s = HeightShares::new(1.0, 2.0, 1.0).unwrap();
+        assert_eq!((s.lower, s.middle, s.upper), (0.25, 0.5, 0.25));
+        for bad in [(0.0, 0.0, 0.0), (-1.0, 1.0, 1.0), (f64::NAN, 1.0, 1.0)] {
+            assert!(HeightShares::new(bad.0, bad.1, bad.2).is_err());
+        }
+        let model = HeightShares::new(0.25, 0.5, 0.25).unwrap();
+        let input = HeightShares::new(0.0, 1.0, 0.0).unwrap();
+        assert_eq!(input.weights_against(&model), [0.0, 2.0, 0.0]);
+    }
+}
