@@ -326,3 +326,28 @@ fn a_camera_height_that_cannot_apply_is_warned_of() {
         "{stderr}"
     );
 }
+
+/// A camera without samples in the dataset has no accuracy: null in `evaluate --json`, `-` in
+/// the text (it was 0.00, which read as every sample wrong); the others keep theirs.
+#[test]
+fn a_camera_without_samples_has_no_accuracy() {
+    let dir = TempDir::new("no-camera-one");
+    let data = fixture_dataset(&dir);
+    let mut dataset = camloc::dataset::Dataset::load(Path::new(&data)).unwrap();
+    dataset.samples.retain(|s| s.label != 1);
+    let path = dir.0.join("no-camera-one.bin");
+    dataset.save(&path, false).unwrap();
+    let path = path.to_str().unwrap();
+    let out = camloc(&["evaluate", "--dataset", path, "--json"]);
+    let e: serde_json::Value = serde_json::from_str(&success(&out)).unwrap();
+    let cameras = e["per_camera"].as_array().unwrap();
+    assert_eq!(cameras[0]["samples"].as_u64(), Some(0));
+    assert!(cameras[0]["accuracy"].is_null(), "{}", cameras[0]);
+    assert!(cameras[1..].iter().all(|c| c["accuracy"].is_f64()));
+    let text = success(&camloc(&["evaluate", "--dataset", path]));
+    let line = text
+        .lines()
+        .find(|l| l.trim_start().starts_with("01 "))
+        .unwrap();
+    assert!(line.trim_end().ends_with(" -"), "{line}");
+}

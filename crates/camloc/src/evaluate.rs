@@ -21,8 +21,8 @@ pub struct CameraAccuracy {
     pub name: String,
     /// Samples whose true camera is this one.
     pub samples: usize,
-    /// Share of them classified correctly.
-    pub accuracy: f64,
+    /// Share of them classified correctly; `None` (null in JSON) when there are none.
+    pub accuracy: Option<f64>,
 }
 
 /// Accuracy of one level (by true label).
@@ -115,7 +115,8 @@ pub fn evaluate(localizer: &CameraLocalizer, dataset: &Dataset) -> Result<Evalua
                 label,
                 name: format!("{} {}", v.level.name(), v.side.name()),
                 samples: row.iter().sum(),
-                accuracy: share(row[label.index()], row.iter().sum()),
+                accuracy: (row.iter().sum::<usize>() > 0)
+                    .then(|| share(row[label.index()], row.iter().sum())),
             })
         })
         .collect::<Result<_, CamlocError>>()?;

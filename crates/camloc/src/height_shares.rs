@@ -164,8 +164,9 @@ pub(crate) fn estimate(cameras: &CameraSet, priors: &[f64], probabilities: &[f64
 impl CameraLocalizer {
     /// The shares of the camera heights among the views of `poses`, as the model reads them:
     /// the classifier's probabilities of every pose under its own priors, then the shares
-    /// that best explain them all ([`estimate`]: expectation-maximisation, Saerens et al.
-    /// 2002). Give them back as [`CameraHeight::Shares`](crate::CameraHeight::Shares)
+    /// that best explain them all (expectation-maximisation with the probabilities held
+    /// fixed, Saerens, Latinne and Decaestecker 2002, with [`HEIGHT_SHARE_PSEUDO_VIEWS`]
+    /// views of the model's own shares added). Give them back as [`CameraHeight::Shares`](crate::CameraHeight::Shares)
     /// ([`CameraLocalizer::with_camera_height`]) to localize the same poses under them: then
     /// each pose's answer depends on the others. Poses that cannot be localized (no pelvis
     /// or neck, non-finite or degenerate landmarks) are left out; with none left, the model's

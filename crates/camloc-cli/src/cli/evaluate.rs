@@ -96,13 +96,13 @@ pub fn run(args: &Args, stdout: &mut Out) -> Result<ExitCode, CliError> {
     }
     let _ = writeln!(out, "per camera:");
     for c in &e.per_camera {
+        let accuracy = c
+            .accuracy
+            .map_or_else(|| "-".to_string(), |a| format!("{:.2}%", 100.0 * a));
         let _ = writeln!(
             out,
-            "  {} {:<13} {:>8} samples  {:>6.2}%",
-            c.label,
-            c.name,
-            c.samples,
-            100.0 * c.accuracy
+            "  {} {:<13} {:>8} samples  {accuracy:>7}",
+            c.label, c.name, c.samples
         );
     }
     let _ = writeln!(out, "confusion (rows: true camera, columns: predicted):");
