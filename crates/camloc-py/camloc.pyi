@@ -53,9 +53,11 @@ class Localizer:
 
         camera_height: what is known of the camera's height, a prior over the cameras that
         reweighs the model's probabilities (docs/conventions.md section 5):
-        ``"from-input"`` (each ``localize`` call first estimates how the cameras of its poses
-        divide among the three heights, then localizes every pose under those shares: a
-        pose's answer depends on the other poses of the call, as with ``camloc localize``),
+        ``"from-input"`` (each ``localize`` call first estimates from its first 20,000 poses
+        how their cameras divide among the three heights, then localizes every pose under
+        those shares: a pose's answer depends on the other poses of the call, as with
+        ``camloc localize``; a call with fewer than 100 poses that can be localized leaves
+        each on its own),
         ``"any"`` (the model's own priors; each pose on its own) or ``"eye-level"`` (a
         tripod, handheld phone or studio camera at about a standing person's eye level, a
         few metres away: a middle-ring camera is 8 times as likely a priori). Raises
@@ -194,7 +196,7 @@ def reconstruct(
     (a missing or unknown key, not 14 numbers, a length outside 0.01-1.5 m, a bone lengths file
     that cannot be read or is malformed), a focal length that is not finite and positive, or a
     principal point without a focal length; OSError / CamlocError for an unreadable or invalid
-    basis.
+    basis; CamlocError for an unknown ``camera_height``, as ``Localizer``.
     """
 
 def read_keypoints(

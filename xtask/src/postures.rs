@@ -15,7 +15,8 @@ use std::time::Instant;
 
 use camloc::dataset::{Dataset, GenerateConfig, MotionCategory, PoseSequence, Protocol, annotated};
 use camloc::{
-    CameraHeight, CameraLocalizer, CameraSet, EYE_LEVEL_WEIGHT, HEIGHT_SHARE_PSEUDO_VIEWS,
+    CameraHeight, CameraLocalizer, CameraSet, EYE_LEVEL_WEIGHT, HEIGHT_SHARE_MAX_POSES,
+    HEIGHT_SHARE_PSEUDO_VIEWS,
 };
 
 use crate::mocap_data::{load_split, project};
@@ -142,7 +143,8 @@ const KNOWN_POSE: &str = "true 3D pose, Procrustes camera";
 const EYE_LEVEL: &str = "the last recipe with `--camera-height eye-level`";
 
 /// The row of the last recipe's localizer with the camera heights' shares estimated from
-/// each test set, as one input (`CameraLocalizer::estimate_height_shares`).
+/// each test set as one input (`CameraLocalizer::estimate_height_shares`: its first
+/// `HEIGHT_SHARE_MAX_POSES` views, as `camloc localize` reads them).
 const FROM_INPUT: &str =
     "the last recipe with `--camera-height from-input` (the command line's default)";
 
@@ -172,14 +174,14 @@ fn score<'a>(
     }
     if let Some(localizer) = last {
         for (row, test) in rows.iter_mut().zip(tests) {
-            let shares = localizer.estimate_height_shares_of(test);
+            let estimate = localizer.estimate_height_shares_of(test);
             eprintln!(
-                "  camera heights of {} test views: {shares}",
+                "  camera heights of {} test views: {estimate:?}",
                 test.samples.len()
             );
             let estimated = localizer
                 .clone()
-                .with_camera_height(CameraHeight::Shares(shares));
+                .with_camera_height(estimate.camera_height());
             row.push((FROM_INPUT, outcomes(&estimated, test)?));
         }
         let eye_level = localizer.with_camera_height(CameraHeight::EyeLevel);
@@ -394,10 +396,11 @@ pub fn report_section(mocap: &[PathBuf], folds: usize) -> Result<String, String>
          The recipe rows localize each view on its own (`--camera-height any`). \
          `{FROM_INPUT}` is today's model given each table's test views as one input: it \
          estimates how the input's cameras divide among the three heights from all its views \
-         (`CameraLocalizer::estimate_height_shares`, expectation-maximisation with the \
-         model's probabilities held fixed, {HEIGHT_SHARE_PSEUDO_VIEWS} views of the model's \
-         own priors added), then localizes every view under those shares, as `camloc \
-         localize` and Python's `Localizer` do by default with the poses of one call. \
+         (`CameraLocalizer::estimate_height_shares`: its first {HEIGHT_SHARE_MAX_POSES} \
+         views, expectation-maximisation with the model's probabilities held fixed, \
+         {HEIGHT_SHARE_PSEUDO_VIEWS} views of the model's own priors added), then localizes \
+         every view under those shares, as `camloc localize` and Python's `Localizer` do by \
+         default with the poses of one input or call. \
          `{EYE_LEVEL}` is today's model told that the camera stands at about eye level \
          (`camloc localize --camera-height eye-level`, `CameraHeight::EyeLevel`: a \
          middle-ring camera {EYE_LEVEL_WEIGHT} times as likely a priori), what a user filming \

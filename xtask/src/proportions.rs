@@ -17,7 +17,7 @@ use camloc::reconstruct::{
     ReconstructConfig, Reconstructor, mpjpe_after_similarity,
 };
 use camloc::skeleton::NUM_LIMBS;
-use camloc::{CameraHeight, CameraLocalizer, DepthLifter, PartialPose2, Pose2, Pose3};
+use camloc::{CameraLocalizer, DepthLifter, PartialPose2, Pose2, Pose3};
 use rayon::prelude::*;
 
 use people::{Frames, HEAD_FACTOR, LIMB_FACTOR, factors, rescale, single_poses, windows};
@@ -310,15 +310,16 @@ fn run(
     let reconstructor =
         Reconstructor::new(basis.clone(), variant.config.clone()).map_err(|e| e.to_string())?;
     // `camloc reconstruct`'s default, `--camera-height from-input`: the shares of the camera
-    // heights among all the views of `items` (one input), estimated before any is localized.
+    // heights among the views of `items` (one input; its first `HEIGHT_SHARE_MAX_POSES`),
+    // estimated before any is localized.
     let estimated = localizer.map(|l| {
         let poses: Vec<PartialPose2> = items
             .iter()
             .flat_map(|item| &item.views)
             .map(|v| PartialPose2::from(v.pose2))
             .collect();
-        let shares = l.estimate_height_shares(&poses);
-        l.clone().with_camera_height(CameraHeight::Shares(shares))
+        l.clone()
+            .with_camera_height(l.estimate_height_shares(&poses).camera_height())
     });
     let localizer = estimated.as_ref();
     let given = |item: &Filmed, view: &View| Given {

@@ -302,26 +302,56 @@ fn jsonl_probabilities(stdout: &str) -> Vec<Vec<f64>> {
         .collect()
 }
 
+/// A camloc JSON document of the example poses repeated `copies` times (ids made unique).
+fn repeated_example(copies: usize) -> (String, Vec<camloc::PartialPose2>) {
+    let text = std::fs::read_to_string(fixture("keypoints/example.json")).unwrap();
+    let mut doc: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let poses = doc["poses"].as_array().unwrap().clone();
+    let mut all = Vec::new();
+    for c in 0..copies {
+        for pose in &poses {
+            let mut pose = pose.clone();
+            pose["id"] = serde_json::json!(format!("{}-{c}", pose["id"].as_str().unwrap()));
+            all.push(pose);
+        }
+    }
+    doc["poses"] = serde_json::Value::Array(all);
+    let records = camloc::keypoints::read_keypoints(
+        fixture("keypoints/example.json"),
+        None,
+        &camloc::keypoints::ReadOptions::default(),
+    )
+    .unwrap();
+    let poses = (0..copies)
+        .flat_map(|_| records.iter().map(|r| r.pose))
+        .collect();
+    (doc.to_string(), poses)
+}
+
 /// `--camera-height from-input` (the default) localizes every pose under the shares of the
-/// camera heights the library estimates from the whole input, from a file and from standard
-/// input alike; `any` localizes each pose on its own, as the library's default does.
+/// camera heights the library estimates from the input's first poses: from a file, from
+/// standard input and from a named pipe alike (each read once); `any` localizes each pose
+/// on its own, as the library's default does, and so does the default for an input of too
+/// few poses.
 #[test]
-fn the_default_estimates_the_camera_heights_from_the_whole_input() {
-    use camloc::keypoints::{ReadOptions, read_keypoints};
-    use camloc::{CameraHeight, CameraLocalizer};
-    let example = fixture("keypoints/example.json");
-    let path = example.to_str().unwrap();
-    let records = read_keypoints(&example, None, &ReadOptions::default()).unwrap();
-    let poses: Vec<_> = records.iter().map(|r| r.pose).collect();
+fn the_default_estimates_the_camera_heights_from_the_input() {
+    use camloc::{CameraHeight, CameraLocalizer, HEIGHT_SHARE_MIN_POSES};
+    let dir = TempDir::new("from-input");
+    let copies = HEIGHT_SHARE_MIN_POSES.div_ceil(3) + 1;
+    let (text, poses) = repeated_example(copies);
+    let path = dir.file("many.json", &text);
     let any = CameraLocalizer::default_model().unwrap();
-    let shares = any.estimate_height_shares(&poses);
-    let estimated = any.clone().with_camera_height(CameraHeight::Shares(shares));
-    let run = |args: &[&str]| {
-        let mut all = vec!["localize", "--input", path, "--jsonl"];
+    let estimate = any.estimate_height_shares(&poses);
+    assert_eq!(estimate.read, poses.len());
+    let estimated = any.clone().with_camera_height(estimate.camera_height());
+    assert!(matches!(estimate.camera_height(), CameraHeight::Shares(_)));
+    let run = |input: &str, args: &[&str]| {
+        let mut all = vec!["localize", "--input", input, "--jsonl"];
         all.extend_from_slice(args);
         jsonl_probabilities(&success(&camloc(&all)))
     };
     let close = |got: &[Vec<f64>], localizer: &CameraLocalizer| {
+        assert_eq!(got.len(), poses.len());
         for (row, pose) in got.iter().zip(&poses) {
             let want = localizer.localize_partial(pose).unwrap().probabilities;
             for (g, w) in row.iter().zip(&want) {
@@ -330,23 +360,33 @@ fn the_default_estimates_the_camera_heights_from_the_whole_input() {
             }
         }
     };
-    let default = run(&[]);
-    assert_eq!(default.len(), 3);
+    let default = run(&path, &[]);
     close(&default, &estimated);
-    close(&run(&["--camera-height", "any"]), &any);
-    assert_eq!(default, run(&["--camera-height", "from-input"]));
-    let stdin = camloc_with_stdin(
-        &["localize", "--input", "-", "--jsonl"],
-        &std::fs::read(&example).unwrap(),
-    );
-    assert_eq!(jsonl_probabilities(&success(&stdin)), default);
-    // The estimate moved the probabilities: the input is not read as each pose alone.
-    let alone = run(&["--camera-height", "any"]);
+    let alone = run(&path, &["--camera-height", "any"]);
+    close(&alone, &any);
+    assert_eq!(default, run(&path, &["--camera-height", "from-input"]));
+    // The estimate moved the probabilities: the poses are not read each on its own.
     assert!(
         default
             .iter()
             .zip(&alone)
-            .any(|(d, a)| d.iter().zip(a).any(|(x, y)| (x - y).abs() > 1e-6)),
-        "{default:?}"
+            .any(|(d, a)| d.iter().zip(a).any(|(x, y)| (x - y).abs() > 1e-6))
     );
+    let stdin = camloc_with_stdin(&["localize", "--input", "-", "--jsonl"], text.as_bytes());
+    assert_eq!(jsonl_probabilities(&success(&stdin)), default);
+    // A named pipe is read once, as standard input is.
+    let fifo = dir.0.join("pipe.json");
+    let made = Command::new("mkfifo").arg(&fifo).status();
+    if made.is_ok_and(|s| s.success()) {
+        let writer = {
+            let (fifo, text) = (fifo.clone(), text.clone());
+            std::thread::spawn(move || std::fs::write(fifo, text).unwrap())
+        };
+        assert_eq!(run(fifo.to_str().unwrap(), &[]), default);
+        writer.join().unwrap();
+    }
+    // Three poses are too few to tell the heights: each is localized on its own.
+    let example = fixture("keypoints/example.json");
+    let three = example.to_str().unwrap();
+    assert_eq!(run(three, &[]), run(three, &["--camera-height", "any"]));
 }

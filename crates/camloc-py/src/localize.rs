@@ -3,7 +3,10 @@
 use std::path::PathBuf;
 
 use camloc::store::Persist;
-use camloc::{CameraHeight, CameraLocalizer, CamlocError, PoseReconstructor, default_basis};
+use camloc::{
+    CameraHeight, CameraLocalizer, CamlocError, HEIGHT_SHARE_MAX_POSES, PoseReconstructor,
+    default_basis,
+};
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
@@ -57,16 +60,18 @@ pub(crate) fn parse_height(camera_height: &str) -> PyResult<(CameraHeight, bool)
     Ok((height, false))
 }
 
-/// `localizer` under the shares of the camera heights among the poses of `batch` that can be
-/// read (`camloc::CameraLocalizer::estimate_height_shares`).
+/// `localizer` under the shares of the camera heights among the first poses of `batch`
+/// (`camloc::CameraLocalizer::estimate_height_shares`: at most `HEIGHT_SHARE_MAX_POSES`; too
+/// few that can be localized leave each pose on its own), as `camloc localize` estimates
+/// them from the first records of its input.
 pub(crate) fn for_poses(localizer: &CameraLocalizer, batch: &PoseBatch) -> CameraLocalizer {
-    let poses: Vec<_> = (0..batch.len())
+    let poses: Vec<_> = (0..batch.len().min(HEIGHT_SHARE_MAX_POSES))
         .filter_map(|i| batch.pose(i).ok().map(|m| m.pose))
         .collect();
-    let shares = localizer.estimate_height_shares(&poses);
+    let estimate = localizer.estimate_height_shares(&poses);
     localizer
         .clone()
-        .with_camera_height(CameraHeight::Shares(shares))
+        .with_camera_height(estimate.camera_height())
 }
 
 #[pymethods]
@@ -211,9 +216,10 @@ impl Localizer {
 
     fn __repr__(&self) -> String {
         format!(
-            "camloc.Localizer(descriptor={:?}, cameras={})",
+            "camloc.Localizer(descriptor={:?}, cameras={}, camera_height={:?})",
             self.inner.descriptor().name(),
-            self.inner.cameras().len()
+            self.inner.cameras().len(),
+            self.camera_height()
         )
     }
 }

@@ -435,7 +435,7 @@ def test_a_model_file_gives_the_embedded_models_answers(localizer):
 
 
 def test_each_pose_on_its_own_equals_the_command_line_and_the_default_reads_the_whole_call(
-    cli, localizer
+    cli, localizer, tmp_path
 ):
     alone = camloc.Localizer(camera_height="any")
     assert (localizer.camera_height, alone.camera_height) == ("from-input", "any")
@@ -450,11 +450,19 @@ def test_each_pose_on_its_own_equals_the_command_line_and_the_default_reads_the_
         np.testing.assert_array_equal(
             alone.localize(points[i : i + 1])["probabilities"][0], got["probabilities"][i]
         )
-    # The default estimates the camera heights of the call's poses: a pose's answer depends
-    # on the others (the command line's default does the same: the CLI_INPUTS test).
-    together = localizer.localize(points)["probabilities"]
-    first_alone = localizer.localize(points[:1])["probabilities"][0]
-    assert np.abs(together[0] - first_alone).max() > 1e-9
+    # Three poses are too few to tell the camera heights: the default leaves each on its own.
+    np.testing.assert_array_equal(localizer.localize(points)["probabilities"], got["probabilities"])
+    # Enough poses: the default estimates the camera heights of the call's first poses, and a
+    # pose's answer depends on the others, as with the command line's default.
+    many = np.tile(points, (40, 1, 1))
+    together = localizer.localize(many)["probabilities"]
+    assert np.abs(together[0] - got["probabilities"][0]).max() > 1e-9
+    path = tmp_path / "many.npy"
+    np.save(path, many)
+    _, expected = cli("localize", "--input", path)
+    for i in (0, 1, 2, len(many) - 1):
+        probabilities = [expected[i]["probabilities"][f"{c['label']:02}"] for c in alone.cameras]
+        np.testing.assert_allclose(together[i], probabilities, rtol=1e-12)
 
 
 def test_eye_level_prior_equals_the_command_line_and_favours_the_middle_ring(cli, localizer):

@@ -14,6 +14,39 @@ use crate::{CameraLocalizer, CamlocError};
 /// estimate little from the model's priors, one of thousands settles it.
 pub const HEIGHT_SHARE_PSEUDO_VIEWS: f64 = 10.0;
 
+/// The estimate reads at most this many poses: the first ones of an input (three shares: a
+/// few thousand poses settle them). Reading the first ones, not a spread, lets a stream be
+/// localized once they are read, and gives the same answer whatever the input's source.
+pub const HEIGHT_SHARE_MAX_POSES: usize = 20_000;
+
+/// An input with fewer poses that can be localized than this gets no estimate: its poses are
+/// localized on their own ([`CameraHeight::Any`](crate::CameraHeight::Any)). In a small
+/// input a pose's own probabilities would weigh noticeably in the prior it is then judged
+/// under (one pose would be pushed towards its own most probable height); from this many on,
+/// a pose weighs at most 1/110 of the estimate.
+pub const HEIGHT_SHARE_MIN_POSES: usize = 100;
+
+/// What [`CameraLocalizer::estimate_height_shares`] found in an input.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HeightEstimate {
+    /// The shares of the heights, or `None` when fewer than [`HEIGHT_SHARE_MIN_POSES`] of the
+    /// poses read could be localized.
+    pub shares: Option<HeightShares>,
+    /// The poses read: the first ones, at most [`HEIGHT_SHARE_MAX_POSES`].
+    pub read: usize,
+    /// Of those, the poses that could be localized (the others are left out of the estimate).
+    pub localized: usize,
+}
+
+impl HeightEstimate {
+    /// The prior the estimate gives: [`CameraHeight::Shares`](crate::CameraHeight::Shares),
+    /// or [`CameraHeight::Any`](crate::CameraHeight::Any) without shares.
+    pub fn camera_height(&self) -> crate::CameraHeight {
+        self.shares
+            .map_or(crate::CameraHeight::Any, crate::CameraHeight::Shares)
+    }
+}
+
 /// At most this many rounds of the estimate (it usually settles in a few dozen).
 const MAX_ROUNDS: usize = 500;
 
@@ -162,18 +195,20 @@ pub(crate) fn estimate(cameras: &CameraSet, priors: &[f64], probabilities: &[f64
 }
 
 impl CameraLocalizer {
-    /// The shares of the camera heights among the views of `poses`, as the model reads them:
-    /// the classifier's probabilities of every pose under its own priors, then the shares
-    /// that best explain them all (expectation-maximisation with the probabilities held
-    /// fixed, Saerens, Latinne and Decaestecker 2002, with [`HEIGHT_SHARE_PSEUDO_VIEWS`]
-    /// views of the model's own shares added). Give them back as [`CameraHeight::Shares`](crate::CameraHeight::Shares)
-    /// ([`CameraLocalizer::with_camera_height`]) to localize the same poses under them: then
-    /// each pose's answer depends on the others. Poses that cannot be localized (no pelvis
-    /// or neck, non-finite or degenerate landmarks) are left out; with none left, the model's
-    /// own shares come back. Runs in parallel.
-    pub fn estimate_height_shares(&self, poses: &[PartialPose2]) -> HeightShares {
+    /// The shares of the camera heights among the first [`HEIGHT_SHARE_MAX_POSES`] of `poses`,
+    /// as the model reads them: the classifier's probabilities of every pose under its own
+    /// priors, then the shares that best explain them all (expectation-maximisation with the
+    /// probabilities held fixed, Saerens, Latinne and Decaestecker 2002, with
+    /// [`HEIGHT_SHARE_PSEUDO_VIEWS`] views of the model's own shares added). Poses that
+    /// cannot be localized (no pelvis or neck, non-finite or degenerate landmarks) are left
+    /// out; with fewer than [`HEIGHT_SHARE_MIN_POSES`] left there are no shares. Give the
+    /// estimate's [`camera_height`](HeightEstimate::camera_height) to
+    /// [`CameraLocalizer::with_camera_height`] to localize the input under it: then each
+    /// pose's answer depends on the others. Runs in parallel.
+    pub fn estimate_height_shares(&self, poses: &[PartialPose2]) -> HeightEstimate {
+        let read = &poses[..poses.len().min(HEIGHT_SHARE_MAX_POSES)];
         let k = self.cameras.len();
-        let rows: Vec<Vec<f64>> = poses
+        let rows: Vec<Vec<f64>> = read
             .par_iter()
             .filter_map(|pose| {
                 self.with_pose_rows(pose, String::new, |rows| {
@@ -184,14 +219,24 @@ impl CameraLocalizer {
                 .ok()
             })
             .collect();
-        let flat: Vec<f64> = rows.concat();
-        estimate(&self.cameras, &self.info.camera_priors, &flat)
+        let shares = (rows.len() >= HEIGHT_SHARE_MIN_POSES)
+            .then(|| estimate(&self.cameras, &self.info.camera_priors, &rows.concat()));
+        HeightEstimate {
+            shares,
+            read: read.len(),
+            localized: rows.len(),
+        }
     }
 
     /// [`estimate_height_shares`](Self::estimate_height_shares) of the samples of `dataset`
     /// (with their missing landmarks).
-    pub fn estimate_height_shares_of(&self, dataset: &Dataset) -> HeightShares {
-        let poses: Vec<PartialPose2> = dataset.samples.iter().map(sample_pose).collect();
+    pub fn estimate_height_shares_of(&self, dataset: &Dataset) -> HeightEstimate {
+        let poses: Vec<PartialPose2> = dataset
+            .samples
+            .iter()
+            .take(HEIGHT_SHARE_MAX_POSES)
+            .map(sample_pose)
+            .collect();
         self.estimate_height_shares(&poses)
     }
 }

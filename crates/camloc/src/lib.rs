@@ -65,7 +65,10 @@ pub use camloc_skeleton::{Landmark, PartialPose2, Pose2, Pose3};
 pub use error::CamlocError;
 pub use evaluate::{CameraAccuracy, Evaluation, LevelAccuracy, evaluate};
 pub use filled::MIN_PRESENT_FOR_FILL;
-pub use height_shares::{HEIGHT_SHARE_PSEUDO_VIEWS, HeightShares};
+pub use height_shares::{
+    HEIGHT_SHARE_MAX_POSES, HEIGHT_SHARE_MIN_POSES, HEIGHT_SHARE_PSEUDO_VIEWS, HeightEstimate,
+    HeightShares,
+};
 pub use reconstruction::{
     PoseReconstruction, PoseReconstructor, PoseSequenceReconstruction, default_basis,
     evaluation_samples,

@@ -19,7 +19,7 @@ pub const STDIN_NAME: &str = "standard input";
 /// one at a time.
 pub struct Inputs {
     name: String,
-    /// Records read already (standard input kept to be read twice), given before the rest.
+    /// Records read already and given back ([`Inputs::put_back`]), given before the rest.
     kept: std::vec::IntoIter<Result<KeypointRecord, KeypointError>>,
     current: Option<KeypointStream>,
     files: std::vec::IntoIter<PathBuf>,
@@ -54,21 +54,11 @@ impl Inputs {
         Ok(inputs)
     }
 
-    /// Whether this is standard input (which cannot be read twice).
-    pub fn is_stdin(&self) -> bool {
-        self.name == STDIN_NAME
-    }
-
-    /// Standard input's `records`, read already, given again in order.
-    pub fn from_records(records: Vec<Result<KeypointRecord, KeypointError>>) -> Inputs {
-        Inputs {
-            name: STDIN_NAME.to_owned(),
-            kept: records.into_iter(),
-            current: None,
-            files: Vec::new().into_iter(),
-            format: None,
-            options: ReadOptions::default(),
-        }
+    /// Gives `records`, read from this input already, back in front of the rest.
+    pub fn put_back(&mut self, records: Vec<Result<KeypointRecord, KeypointError>>) {
+        let mut all = records;
+        all.extend(std::mem::take(&mut self.kept));
+        self.kept = all.into_iter();
     }
 
     /// How the input is named in messages (`no poses in NAME`).
@@ -78,14 +68,15 @@ impl Inputs {
 
     /// The number of poses when known in advance (one file), for progress bars.
     pub fn len_hint(&self) -> Option<u64> {
-        if self.kept.len() > 0 {
-            return Some(self.kept.len() as u64);
-        }
         if self.files.len() > 0 {
             return None;
         }
-        let stream = self.current.as_ref()?;
-        stream.size_hint().1.map(|n| n as u64)
+        let rest = match &self.current {
+            Some(stream) => stream.size_hint().1?,
+            None if self.kept.len() > 0 => 0,
+            None => return None,
+        };
+        Some((self.kept.len() + rest) as u64)
     }
 }
 

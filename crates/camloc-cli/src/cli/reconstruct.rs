@@ -20,8 +20,8 @@ use super::reconstruct_output::{PoseMeta, pose_output, pose_svg};
 use super::reconstruct_sequence;
 use super::stream::{self, Done, Failed, Files};
 use super::{
-    CameraHeightArgs, CliError, ForceArgs, FormatArgs, InputArgs, Out, ProgressArgs,
-    lifter_for_model, load_dataset, load_model, progress, targets,
+    CameraHeightArg, CameraHeightArgs, CliError, ForceArgs, FormatArgs, InputArgs, Out,
+    ProgressArgs, lifter_for_model, load_dataset, load_model, progress, targets,
 };
 use crate::html::ViewFrame;
 
@@ -298,9 +298,15 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         ],
     )?;
     let choice = camera_of(args);
+    // `opt` localizes no complete pose: the input's camera heights are not estimated for it.
+    let camera_height = match (choice, args.height.camera_height) {
+        (ModeKind::Opt, CameraHeightArg::FromInput) => CameraHeightArg::Any,
+        (_, given) => given,
+    };
+    let height = CameraHeightArgs { camera_height };
     let (localizer, inputs) = heights::load_for_input(
         args.model.as_deref(),
-        &args.height,
+        &height,
         &args.input,
         args.progress.quiet,
     )?;
