@@ -133,7 +133,11 @@ pub(crate) fn reconstruct<'py>(
             reconstructor = reconstructor.with_localizer(localizer.with_camera_height(height));
         }
     }
-    if from_input && let Some(localizer) = reconstructor.localizer() {
+    // `opt` localizes no complete pose: no estimate, as `camloc reconstruct --camera opt`.
+    if from_input
+        && mode != ModeKind::Opt
+        && let Some(localizer) = reconstructor.localizer()
+    {
         let estimated = for_poses(localizer, &batch);
         reconstructor = reconstructor.with_localizer(estimated);
     }

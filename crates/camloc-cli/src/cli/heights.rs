@@ -38,14 +38,17 @@ pub fn for_input(
     if height.camera_height != CameraHeightArg::FromInput {
         return Ok((localizer, inputs));
     }
-    let first: Vec<_> = inputs.by_ref().take(HEIGHT_SHARE_MAX_POSES).collect();
-    let whole = first.len() < HEIGHT_SHARE_MAX_POSES;
+    let mut first: Vec<_> = inputs.by_ref().take(HEIGHT_SHARE_MAX_POSES).collect();
     let poses: Vec<PartialPose2> = first
         .iter()
         .filter_map(|r| r.as_ref().ok())
         .map(|r| r.pose)
         .collect();
     let estimate = localizer.estimate_height_shares(&poses);
+    // One more record tells whether the estimate read the whole input.
+    let next = inputs.next();
+    let whole = next.is_none();
+    first.extend(next);
     inputs.put_back(first);
     say(&estimate, whole, quiet);
     Ok((
@@ -80,17 +83,17 @@ fn say(estimate: &HeightEstimate, whole: bool, quiet: bool) {
     if quiet || !std::io::stderr().is_terminal() {
         return;
     }
-    let plural = |n: usize| if n == 1 { "" } else { "s" };
     let read = estimate.read;
-    let poses = if whole {
-        format!("its {read} pose{}", plural(read))
-    } else {
-        format!("its first {read} poses")
+    let poses = match (whole, read) {
+        (true, 1) => "its 1 pose".to_string(),
+        (true, _) => format!("its {read} poses"),
+        (false, _) => format!("its first {read} poses"),
     };
+    // Poses whose torso must be filled in are localized but not counted.
     let localized = if estimate.localized == read {
         String::new()
     } else {
-        format!(" ({} localized)", estimate.localized)
+        format!(", {} of them with a torso", estimate.localized)
     };
     match estimate.shares {
         Some(shares) => eprintln!(
@@ -98,9 +101,9 @@ fn say(estimate: &HeightEstimate, whole: bool, quiet: bool) {
              (--camera-height any: each pose on its own)"
         ),
         None => eprintln!(
-            "camloc: {poses}{localized} are too few to estimate the camera heights of the \
-             input (at least {HEIGHT_SHARE_MIN_POSES} are needed): each pose is localized on \
-             its own"
+            "camloc: too few poses to estimate the camera heights of the input ({poses}{localized}; \
+             at least {HEIGHT_SHARE_MIN_POSES} with a torso are needed): each pose is localized \
+             on its own"
         ),
     }
 }

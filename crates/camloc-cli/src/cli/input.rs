@@ -23,6 +23,8 @@ pub struct Inputs {
     kept: std::vec::IntoIter<Result<KeypointRecord, KeypointError>>,
     current: Option<KeypointStream>,
     files: std::vec::IntoIter<PathBuf>,
+    /// The number of poses when known at opening (one file), for progress bars.
+    len_hint: Option<u64>,
     format: Option<KeypointFormat>,
     options: ReadOptions,
 }
@@ -35,6 +37,7 @@ impl Inputs {
             name: String::new(),
             kept: Vec::new().into_iter(),
             current: None,
+            len_hint: None,
             files: Vec::new().into_iter(),
             format: args.format,
             options,
@@ -43,13 +46,16 @@ impl Inputs {
             inputs.name = STDIN_NAME.to_owned();
             let stream =
                 open_keypoints_reader(std::io::stdin(), STDIN_NAME, None, args.format, &options)?;
+            inputs.len_hint = stream.size_hint().1.map(|n| n as u64);
             inputs.current = Some(stream);
         } else if args.input.is_dir() {
             inputs.name = args.input.display().to_string();
             inputs.files = keypoint_files(&args.input, args.recursive)?.into_iter();
         } else {
             inputs.name = args.input.display().to_string();
-            inputs.current = Some(open_keypoints(&args.input, args.format, &options)?);
+            let stream = open_keypoints(&args.input, args.format, &options)?;
+            inputs.len_hint = stream.size_hint().1.map(|n| n as u64);
+            inputs.current = Some(stream);
         }
         Ok(inputs)
     }
@@ -66,17 +72,10 @@ impl Inputs {
         &self.name
     }
 
-    /// The number of poses when known in advance (one file), for progress bars.
+    /// The number of poses when known in advance (one file), for progress bars: the whole
+    /// input's, however much of it has been read.
     pub fn len_hint(&self) -> Option<u64> {
-        if self.files.len() > 0 {
-            return None;
-        }
-        let rest = match &self.current {
-            Some(stream) => stream.size_hint().1?,
-            None if self.kept.len() > 0 => 0,
-            None => return None,
-        };
-        Some((self.kept.len() + rest) as u64)
+        self.len_hint
     }
 }
 

@@ -305,7 +305,8 @@ pub struct ForceArgs {
 /// Options of the commands that show progress.
 #[derive(clap::Args)]
 pub struct ProgressArgs {
-    /// No progress bar on standard error (it is shown only when standard error is a terminal).
+    /// No progress bar, nor the camera heights of `--camera-height from-input`, on standard
+    /// error (they are shown only when standard error is a terminal).
     #[arg(long, short)]
     pub quiet: bool,
 }
@@ -323,8 +324,9 @@ pub fn load_dataset(path: &Path) -> Result<Dataset, CliError> {
 /// `--camera-height`: what is known of the camera's height before seeing the poses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum CameraHeightArg {
-    /// The shares of the three heights among the input's cameras, estimated from all its
-    /// poses before any is localized: each pose's answer then depends on the others.
+    /// The shares of the three heights among the input's cameras, estimated from its first
+    /// 20,000 poses before any is localized: each pose's answer then depends on the others
+    /// (fewer than 100 poses with a torso: each on its own).
     FromInput,
     /// Nothing known: the model's own priors; each pose is localized on its own.
     Any,
@@ -338,10 +340,11 @@ pub enum CameraHeightArg {
 pub struct CameraHeightArgs {
     /// What is known of the camera's height, as a prior over the cameras that reweighs the
     /// model's probabilities (docs/conventions.md section 5, "What the caller knows of the
-    /// camera"). `from-input` first reads the whole input and estimates how its cameras
-    /// divide among the three heights (a video or a studio's views: mostly one), then
-    /// localizes every pose under those shares; `any` localizes each pose on its own, as a
-    /// single pose is; `eye-level` suits studios, tripods and phones: on views of such
+    /// camera"). `from-input` first reads the input's first 20,000 poses and estimates how
+    /// its cameras divide among the three heights (a video or a studio's views: mostly one),
+    /// then localizes every pose under those shares (an input of fewer than 100 poses with a
+    /// torso, or `reconstruct --camera opt`: no estimate); `any` localizes each pose on its
+    /// own; `eye-level` suits studios, tripods and phones: on views of such
     /// cameras it turns more of the level mistakes near the middle ring's edge into right
     /// answers, and it costs views from far above or below.
     #[arg(long, value_enum, default_value = "from-input", value_name = "HEIGHT")]

@@ -393,6 +393,8 @@ where
                     }
                 }
             }
+            // A batch's lines leave now, not with the next batch's.
+            out.flush()?;
             if out.closed() && !has_files {
                 break;
             }
