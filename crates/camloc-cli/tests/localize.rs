@@ -6,6 +6,9 @@ use std::process::Command;
 mod common;
 use common::*;
 
+#[path = "common/npz.rs"]
+mod npz_reader;
+
 #[test]
 fn the_example_is_localized() {
     let out = camloc(&[
@@ -362,6 +365,21 @@ fn the_default_estimates_the_camera_heights_from_the_input() {
     };
     let default = run(&path, &[]);
     close(&default, &estimated);
+    // `--npz` records the shares the run used.
+    let npz = dir.0.join("many.npz");
+    success(&camloc(&[
+        "localize",
+        "--input",
+        &path,
+        "--npz",
+        npz.to_str().unwrap(),
+    ]));
+    let archive = npz_reader::Npz::parse(&std::fs::read(&npz).unwrap());
+    assert!(archive.names().contains(&"camera_height_shares"));
+    assert_eq!(archive.descr("camera_height_shares"), "'<f8'");
+    let (_, shares) = archive.array::<f64>("camera_height_shares");
+    let want = estimate.shares.unwrap();
+    assert_eq!(shares, [want.lower, want.middle, want.upper]);
     let alone = run(&path, &["--camera-height", "any"]);
     close(&alone, &any);
     assert_eq!(default, run(&path, &["--camera-height", "from-input"]));

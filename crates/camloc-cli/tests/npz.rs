@@ -13,7 +13,7 @@ mod npz_reader;
 use npz_reader::Npz;
 
 /// The arrays of an archive, in the order they are written, with their NumPy types.
-const ARRAYS: [(&str, &str); 13] = [
+const ARRAYS: [(&str, &str); 14] = [
     ("label", "'<u2'"),
     ("folded_label", "'<u2'"),
     ("probabilities", "'<f8'"),
@@ -27,6 +27,7 @@ const ARRAYS: [(&str, &str); 13] = [
     ("person", "'<i8'"),
     ("id_utf8", "'|u1'"),
     ("id_end", "'<u8'"),
+    ("camera_height_shares", "'<f8'"),
 ];
 
 /// `x` as it reads back from the JSON text serde_json writes for it: equal to a number parsed
@@ -84,6 +85,14 @@ fn check_against_json(input: &str, out: &std::path::Path) -> (usize, usize) {
         assert_eq!(npz.descr(name), descr, "{name}");
     }
     let n = lines.len();
+    // The heights' shares the run used: none for these small inputs, else three summing to 1.
+    let (shares_shape, shares) = npz.array::<f64>("camera_height_shares");
+    assert_eq!(shares_shape, [3]);
+    let total: f64 = shares.iter().sum();
+    assert!(
+        shares.iter().all(|s| s.is_nan()) || (total - 1.0).abs() < 1e-12,
+        "{shares:?}"
+    );
     let (label_shape, label) = npz.array::<u16>("label");
     let (p_shape, p) = npz.array::<f64>("probabilities");
     let (missing_shape, missing) = npz.array::<bool>("missing");

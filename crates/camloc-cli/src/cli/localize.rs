@@ -167,7 +167,11 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         (vec![args.html.clone().unwrap_or_default()], make)
     });
     let rows = match &args.npz {
-        Some(npz) => Some(Box::new(LocalizationArrays::new(npz, localizer.cameras().len())?) as _),
+        Some(npz) => Some(Box::new(LocalizationArrays::new(
+            npz,
+            localizer.cameras().len(),
+            localizer.camera_height(),
+        )?) as _),
         None => None,
     };
     let files = Files::<Localization, ViewFrame> {

@@ -4,10 +4,10 @@
 use std::io;
 use std::path::{Path, PathBuf};
 
-use camloc::Localization;
 use camloc::keypoints::KeypointRecord;
 use camloc::skeleton::{Landmark, NUM_LANDMARKS};
 use camloc::store::{StagedFiles, quoted};
+use camloc::{CameraHeight, Localization};
 
 use super::CliError;
 use super::npz::{Column, stage_npz};
@@ -43,14 +43,30 @@ pub struct LocalizationArrays {
     id_utf8: Column<u8>,
     /// (N,) uint64: where each id ends in `id_utf8` (it starts where the previous one ended).
     id_end: Column<u64>,
+    /// (3,) float64: the shares of the lower, middle and upper cameras the run localized
+    /// under (`--camera-height from-input`'s estimate), NaN when it used none.
+    camera_height_shares: Column<f64>,
 }
 
 impl LocalizationArrays {
-    /// Starts the arrays of the archive `target`, for `cameras` cameras.
+    /// Starts the arrays of the archive `target`, for `cameras` cameras, localized under the
+    /// prior `height`.
     ///
     /// # Errors
     /// When the scratch files cannot be made beside `target`.
-    pub fn new(target: &Path, cameras: usize) -> Result<LocalizationArrays, CliError> {
+    pub fn new(
+        target: &Path,
+        cameras: usize,
+        height: CameraHeight,
+    ) -> Result<LocalizationArrays, CliError> {
+        let mut camera_height_shares = Column::new(target, "camera_height_shares", None)?;
+        let shares = match height {
+            CameraHeight::Shares(s) => [s.lower, s.middle, s.upper],
+            _ => [f64::NAN; 3],
+        };
+        camera_height_shares
+            .extend(shares)
+            .map_err(io_error(target))?;
         Ok(LocalizationArrays {
             target: target.to_path_buf(),
             cameras,
@@ -67,6 +83,7 @@ impl LocalizationArrays {
             person: Column::new(target, "person", None)?,
             id_utf8: Column::new(target, "id_utf8", None)?,
             id_end: Column::new(target, "id_end", None)?,
+            camera_height_shares,
         })
     }
 
@@ -139,7 +156,8 @@ impl RowFile<Localization> for LocalizationArrays {
             ($($column:ident)*) => { [$(a.$column.entry()),*] };
         }
         let entries = entries!(label folded_label probabilities azimuth_deg elevation_deg
-            uncertainty_deg failed missing derived frame person id_utf8 id_end)
+            uncertainty_deg failed missing derived frame person id_utf8 id_end
+            camera_height_shares)
         .into_iter()
         .collect::<io::Result<Vec<_>>>()
         .map_err(io_error(&a.target))?;
