@@ -18,11 +18,13 @@ use crate::record::{KeypointRecord, from_joints};
 pub const OPENPOSE_FRAME_MAX_BYTES: u64 = 16 << 20;
 
 /// The frame index in an OpenPose file name: the digits that end its stem once `.json` and
-/// `_keypoints` are removed (`video_000000000012_keypoints.json` → 12). `None` when the stem
-/// does not end in digits (or their number is above [`MAX_FRAME_NUMBER`](crate::MAX_FRAME_NUMBER)).
+/// `_keypoints` are removed (`video_000000000012_keypoints.json` → 12). `None` when the name
+/// does not end in `.json` (OpenPose writes no other; a pipe such as `/dev/fd/63` has no
+/// frame), when the stem does not end in digits, or when their number is above
+/// [`MAX_FRAME_NUMBER`](crate::MAX_FRAME_NUMBER).
 pub fn frame_index(file_name: &str) -> Option<u64> {
     let name = Path::new(file_name).file_name()?.to_str()?;
-    let stem = strip_suffix_ignore_case(name, ".json").unwrap_or(name);
+    let stem = strip_suffix_ignore_case(name, ".json")?;
     let stem = stem.strip_suffix("_keypoints").unwrap_or(stem);
     let digits = stem.len() - stem.trim_end_matches(|c: char| c.is_ascii_digit()).len();
     stem[stem.len() - digits..]
@@ -131,6 +133,7 @@ mod tests {
         assert_eq!(frame_index("frame_7.JSON"), Some(7));
         assert_eq!(frame_index("12.json"), Some(12));
         assert_eq!(frame_index("video_keypoints.json"), None);
+        assert_eq!(frame_index("/dev/fd/63"), None);
         assert_eq!(
             frame_index("a_99999999999999999999999_keypoints.json"),
             None
