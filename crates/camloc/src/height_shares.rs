@@ -92,13 +92,23 @@ impl HeightShares {
         })
     }
 
+    /// The shares in the order lower, middle, upper.
+    pub fn to_array(self) -> [f64; 3] {
+        [self.lower, self.middle, self.upper]
+    }
+
+    /// Shares given in the order lower, middle, upper (as they are, not checked).
+    fn from_array([lower, middle, upper]: [f64; 3]) -> Self {
+        HeightShares {
+            lower,
+            middle,
+            upper,
+        }
+    }
+
     /// The share of `level`.
     pub fn of(&self, level: Level) -> f64 {
-        match level {
-            Level::Lower => self.lower,
-            Level::Middle => self.middle,
-            Level::Upper => self.upper,
-        }
+        self.to_array()[level_index(level)]
     }
 
     /// The shares of the heights under the per-camera priors `priors` (one per camera of
@@ -108,19 +118,19 @@ impl HeightShares {
         for (p, view) in priors.iter().zip(cameras.viewpoints()) {
             shares[level_index(view.level)] += p;
         }
-        HeightShares {
-            lower: shares[0],
-            middle: shares[1],
-            upper: shares[2],
-        }
+        HeightShares::from_array(shares)
     }
 
-    /// Per level, how many times as likely a camera of that height is under these shares as
-    /// under `model` (1 for a height the model gives no share).
+    /// Per level (lower, middle, upper), how many times as likely a camera of that height is
+    /// under these shares as under `model` (1 for a height the model gives no share).
     pub(crate) fn weights_against(&self, model: &HeightShares) -> [f64; 3] {
-        [Level::Lower, Level::Middle, Level::Upper].map(|level| {
-            let m = model.of(level);
-            if m > 0.0 { self.of(level) / m } else { 1.0 }
+        let (own, model) = (self.to_array(), model.to_array());
+        [0, 1, 2].map(|l| {
+            if model[l] > 0.0 {
+                own[l] / model[l]
+            } else {
+                1.0
+            }
         })
     }
 }
@@ -173,20 +183,14 @@ pub(crate) fn estimate(cameras: &CameraSet, priors: &[f64], probabilities: &[f64
                 }
             }
         }
-        let [lower, middle, upper] = [0, 1, 2].map(|l| {
-            let m = [model.lower, model.middle, model.upper][l];
-            (sums[l] + HEIGHT_SHARE_PSEUDO_VIEWS * m) / (views + HEIGHT_SHARE_PSEUDO_VIEWS)
+        let (before, prior) = (shares.to_array(), model.to_array());
+        let next = [0, 1, 2].map(|l| {
+            (sums[l] + HEIGHT_SHARE_PSEUDO_VIEWS * prior[l]) / (views + HEIGHT_SHARE_PSEUDO_VIEWS)
         });
-        let next = HeightShares {
-            lower,
-            middle,
-            upper,
-        };
-        let moved = (next.lower - shares.lower)
-            .abs()
-            .max((next.middle - shares.middle).abs())
-            .max((next.upper - shares.upper).abs());
-        shares = next;
+        let moved = (0..3)
+            .map(|l| (next[l] - before[l]).abs())
+            .fold(0.0, f64::max);
+        shares = HeightShares::from_array(next);
         if moved < SETTLED {
             break;
         }

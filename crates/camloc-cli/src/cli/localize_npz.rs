@@ -61,7 +61,7 @@ impl LocalizationArrays {
     ) -> Result<LocalizationArrays, CliError> {
         let mut camera_height_shares = Column::new(target, "camera_height_shares", None)?;
         let shares = match height {
-            CameraHeight::Shares(s) => [s.lower, s.middle, s.upper],
+            CameraHeight::Shares(s) => s.to_array(),
             _ => [f64::NAN; 3],
         };
         camera_height_shares
