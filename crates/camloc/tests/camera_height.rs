@@ -90,6 +90,38 @@ fn studio_and_far_views(sequences: &[PoseSequence], seed: u64) -> [(Protocol, Da
     })
 }
 
+/// On the `rig` views and the far `sphere` views of the CMU data ([`studio_and_far_views`],
+/// `seed`), the prior `prior` gives for each set: the prior, the embedded model's accuracy
+/// under its own priors and under that prior (printed, naming `test`). `None`, skipped
+/// visibly, without the data.
+fn accuracies_against_any(
+    test: &str,
+    seed: u64,
+    prior: impl Fn(&CameraLocalizer, &Dataset) -> CameraHeight,
+) -> Option<[(CameraHeight, f64, f64); 2]> {
+    let cmu = camloc::skeleton::data::data_path_or_skip("cmu", test)?;
+    let (sequences, _) = load_mocap_folders(&[cmu], &mut |_| {}, &mut |_, _, _| {}).unwrap();
+    let any = CameraLocalizer::default_model().unwrap();
+    Some(
+        studio_and_far_views(&sequences, seed).map(|(protocol, dataset)| {
+            let height = prior(&any, &dataset);
+            let other = any.clone().with_camera_height(height);
+            let (a, o) = (
+                evaluate(&any, &dataset).unwrap().accuracy,
+                evaluate(&other, &dataset).unwrap().accuracy,
+            );
+            eprintln!(
+                "{protocol:?}: {} views, any {:.2}%, {height:?} {:.2}%",
+                dataset.samples.len(),
+                100.0 * a,
+                100.0 * o
+            );
+            assert!(dataset.samples.len() >= 1000, "{}", dataset.samples.len());
+            (height, a, o)
+        }),
+    )
+}
+
 /// On `rig` views (tripod cameras 1.0-2.2 m high: nearly all in the middle ring) the
 /// eye-level prior gets the camera right more often than the model's own priors, and on
 /// `sphere` views inside the class boxes of the upper and lower rings less often. The embedded
@@ -97,31 +129,13 @@ fn studio_and_far_views(sequences: &[PoseSequence], seed: u64) -> [(Protocol, Da
 /// the direction of the trade, not its size.
 #[test]
 fn eye_level_helps_studio_views_and_costs_views_from_above_and_below() {
-    let Some(cmu) = camloc::skeleton::data::data_path_or_skip(
-        "cmu",
+    let Some([(_, rig_any, rig_eye), (_, far_any, far_eye)]) = accuracies_against_any(
         "camloc::eye_level_helps_studio_views_and_costs_views_from_above_and_below",
+        11,
+        |_, _| CameraHeight::EyeLevel,
     ) else {
         return;
     };
-    let (sequences, _) = load_mocap_folders(&[cmu], &mut |_| {}, &mut |_, _, _| {}).unwrap();
-    let any = CameraLocalizer::default_model().unwrap();
-    let eye = any.clone().with_camera_height(CameraHeight::EyeLevel);
-    let mut accuracies = Vec::new();
-    for (protocol, dataset) in studio_and_far_views(&sequences, 11) {
-        let (a, e) = (
-            evaluate(&any, &dataset).unwrap(),
-            evaluate(&eye, &dataset).unwrap(),
-        );
-        eprintln!(
-            "{protocol:?}: {} views, any {:.2}%, eye-level {:.2}%",
-            dataset.samples.len(),
-            100.0 * a.accuracy,
-            100.0 * e.accuracy
-        );
-        assert!(dataset.samples.len() >= 1000, "{}", dataset.samples.len());
-        accuracies.push((a.accuracy, e.accuracy));
-    }
-    let ((rig_any, rig_eye), (far_any, far_eye)) = (accuracies[0], accuracies[1]);
     assert!(
         rig_eye > rig_any,
         "rig: {rig_eye} with eye-level against {rig_any}"
@@ -208,47 +222,21 @@ fn the_models_own_shares_change_nothing_and_small_inputs_get_no_estimate() {
 /// subjects, so this checks directions, not sizes).
 #[test]
 fn shares_from_the_input_follow_studio_views_and_views_from_above_and_below() {
-    let Some(cmu) = camloc::skeleton::data::data_path_or_skip(
-        "cmu",
+    let Some([rig, far]) = accuracies_against_any(
         "camloc::shares_from_the_input_follow_studio_views_and_views_from_above_and_below",
+        12,
+        |any, dataset| any.estimate_height_shares_of(dataset).camera_height(),
     ) else {
         return;
     };
-    let (sequences, _) = load_mocap_folders(&[cmu], &mut |_| {}, &mut |_, _, _| {}).unwrap();
-    let any = CameraLocalizer::default_model().unwrap();
-    for (protocol, dataset) in studio_and_far_views(&sequences, 12) {
-        let shares = any.estimate_height_shares_of(&dataset).shares.unwrap();
-        let estimated = any.clone().with_camera_height(CameraHeight::Shares(shares));
-        let (a, e) = (
-            evaluate(&any, &dataset).unwrap(),
-            evaluate(&estimated, &dataset).unwrap(),
-        );
-        eprintln!(
-            "{protocol:?}: {} views, shares {shares}, any {:.2}%, from the input {:.2}%",
-            dataset.samples.len(),
-            100.0 * a.accuracy,
-            100.0 * e.accuracy
-        );
-        assert!(dataset.samples.len() >= 1000, "{}", dataset.samples.len());
-        match protocol {
-            Protocol::Rig => {
-                assert!(shares.middle > 0.9, "{shares}");
-                assert!(
-                    e.accuracy > a.accuracy,
-                    "{} against {}",
-                    e.accuracy,
-                    a.accuracy
-                );
-            }
-            _ => {
-                assert!(shares.middle < 0.2, "{shares}");
-                assert!(
-                    e.accuracy >= a.accuracy,
-                    "{} against {}",
-                    e.accuracy,
-                    a.accuracy
-                );
-            }
-        }
-    }
+    let middle = |height: CameraHeight| match height {
+        CameraHeight::Shares(shares) => shares.middle,
+        other => panic!("no shares: {other:?}"),
+    };
+    let (shares, any, estimated) = rig;
+    assert!(middle(shares) > 0.9, "{shares:?}");
+    assert!(estimated > any, "{estimated} against {any}");
+    let (shares, any, estimated) = far;
+    assert!(middle(shares) < 0.2, "{shares:?}");
+    assert!(estimated >= any, "{estimated} against {any}");
 }
