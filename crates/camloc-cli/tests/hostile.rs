@@ -253,6 +253,40 @@ fn outputs_that_are_the_input_or_standard_input_are_refused() {
     assert!(!dir.0.join("-").exists());
 }
 
+/// An output named like a file of another format (`--svg view.png` would be an SVG file
+/// named like a PNG image) is refused before any work; the option's own extension in any
+/// case, and a name without extension, are written.
+#[test]
+fn outputs_named_like_another_format_are_refused() {
+    let dir = TempDir::new("hostile-extension");
+    let input = fixture("keypoints/example.json")
+        .to_string_lossy()
+        .into_owned();
+    let at = |name: &str| dir.0.join(name).to_string_lossy().into_owned();
+    let refused: [(&str, &str, &str); 4] = [
+        ("localize", "--svg", "view.png"),
+        ("localize", "--html", "page.svg"),
+        ("reconstruct", "--npy", "poses.npz"),
+        ("reconstruct", "--bvh", "walk.json"),
+    ];
+    for (command, option, name) in refused {
+        let out = camloc(&[command, "--input", &input, option, &at(name), "-q"]);
+        let text = short_clean_lines(&out);
+        assert_eq!(out.status.code(), Some(2), "{option} {name}: {text}");
+        let ext = Path::new(name).extension().unwrap().to_str().unwrap();
+        assert!(
+            text.contains(option) && text.contains(&format!("ends in .{ext}")),
+            "{text}"
+        );
+        assert!(!dir.0.join(name).exists(), "{name} was written");
+    }
+    for name in ["VIEW.SVG", "view"] {
+        let out = camloc(&["localize", "--input", &input, "--svg", &at(name), "-q"]);
+        assert!(out.status.success(), "{name}: {}", stderr(&out));
+    }
+    assert!(dir.0.join("VIEW-001.SVG").exists() && dir.0.join("view-001.svg").exists());
+}
+
 #[test]
 fn reconstruct_refuses_the_scale_localize_refuses() {
     let dir = TempDir::new("hostile-far");

@@ -23,8 +23,9 @@ pub struct Output<'a> {
 
 /// Checks a command's outputs before any work: the outputs among `given` (`(path if given,
 /// option, numbered)`, `numbered` as [`Output::numbered`]) are distinct files
-/// (`check_distinct`) and none is a file the run reads or `-` (`check_not_input`, with
-/// `inputs` the reading options and their paths, if given).
+/// (`check_distinct`), none is a file the run reads or `-` (`check_not_input`, with
+/// `inputs` the reading options and their paths, if given), and none is named like a file
+/// of another format (`check_extensions`).
 pub fn check<'a>(
     given: impl IntoIterator<Item = (Option<&'a Path>, &'static str, Option<&'static str>)>,
     inputs: &[(&'static str, Option<&Path>)],
@@ -40,7 +41,53 @@ pub fn check<'a>(
         })
         .collect();
     check_distinct(&outputs)?;
-    check_not_input(&outputs, inputs)
+    check_not_input(&outputs, inputs)?;
+    check_extensions(&outputs)
+}
+
+/// Extensions of file formats a user may take an output for: an output whose path ends in
+/// one of them that is not its own is refused.
+const KNOWN_EXTENSIONS: [&str; 21] = [
+    "svg", "png", "jpg", "jpeg", "gif", "webp", "bmp", "tif", "tiff", "pdf", "eps", "html", "htm",
+    "json", "jsonl", "csv", "npy", "npz", "bvh", "txt", "bin",
+];
+
+/// What the output `option` writes and the extensions its files may have; `None` for
+/// options whose format is not fixed by the option (`--out`).
+fn format_of(option: &str) -> Option<(&'static str, &'static [&'static str])> {
+    match option {
+        "--svg" | "--summary-svg" => Some(("an SVG drawing", &["svg"])),
+        "--html" => Some(("an HTML page", &["html", "htm"])),
+        "--npz" => Some(("a NumPy .npz archive", &["npz"])),
+        "--npy" => Some(("a NumPy .npy array", &["npy"])),
+        "--bvh" => Some(("a BVH animation", &["bvh"])),
+        "--bone-lengths-out" => Some(("JSON", &["json"])),
+        _ => None,
+    }
+}
+
+/// Refuses ([`CliError::Usage`]) an output whose path ends in the extension of another
+/// known format (`--svg view.png` would be an SVG file named like a PNG image); other and
+/// missing extensions pass.
+fn check_extensions(outputs: &[Output]) -> Result<(), CliError> {
+    for out in outputs {
+        let Some((what, own)) = format_of(out.option) else {
+            continue;
+        };
+        let Some(ext) = out.path.extension().and_then(|e| e.to_str()) else {
+            continue;
+        };
+        let ext = ext.to_ascii_lowercase();
+        if KNOWN_EXTENSIONS.contains(&ext.as_str()) && !own.contains(&ext.as_str()) {
+            return Err(CliError::Usage(format!(
+                "{} writes {what}, but {} ends in .{ext}; give a name ending in .{}",
+                out.option,
+                quoted_path(out.path),
+                own[0]
+            )));
+        }
+    }
+    Ok(())
 }
 
 /// Refuses ([`CliError::Usage`]) two of `outputs` that name one file: the same path however
