@@ -285,6 +285,48 @@ fn outputs_named_like_another_format_are_refused() {
         assert!(out.status.success(), "{name}: {}", stderr(&out));
     }
     assert!(dir.0.join("VIEW-001.SVG").exists() && dir.0.join("view-001.svg").exists());
+    let out = camloc(&[
+        "convert",
+        "--input",
+        &input,
+        "--to",
+        "npy",
+        "--out",
+        &at("p.json"),
+    ]);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(stderr(&out).contains("--to npy writes") && !dir.0.join("p.json").exists());
+}
+
+/// An output in a folder that does not exist is refused before any work (nothing printed),
+/// naming the folder.
+#[test]
+fn outputs_in_missing_folders_are_refused_before_any_work() {
+    let dir = TempDir::new("hostile-no-folder");
+    let input = fixture("keypoints/example.json")
+        .to_string_lossy()
+        .into_owned();
+    let missing = dir.0.join("nodir");
+    for (command, option, name) in [
+        ("reconstruct", "--bvh", "x.bvh"),
+        ("localize", "--html", "x.html"),
+        ("localize", "--svg", "x.svg"),
+    ] {
+        let path = missing.join(name).to_string_lossy().into_owned();
+        let out = camloc(&[command, "--input", &input, option, &path, "-q"]);
+        let text = short_clean_lines(&out);
+        assert_eq!(out.status.code(), Some(2), "{option}: {text}");
+        assert!(
+            text.contains("nodir") && text.contains("does not exist"),
+            "{text}"
+        );
+        assert!(
+            out.stdout.is_empty(),
+            "{}",
+            String::from_utf8_lossy(&out.stdout)
+        );
+    }
+    assert!(!missing.exists());
 }
 
 #[test]

@@ -49,6 +49,14 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         [(Some(args.out.as_path()), "--out", None)],
         &[("--input", Some(&args.input.input))],
     )?;
+    match args.to {
+        Target::Camloc => {
+            targets::check_format(&args.out, "--to camloc", "camloc JSON", &["json"])?
+        }
+        Target::Npy => {
+            targets::check_format(&args.out, "--to npy", "a NumPy .npy array", &["npy"])?
+        }
+    }
     check_target(&args.out, args.force)?;
     let mut inputs = Inputs::open(&args.input)?;
     let bar = progress::counter(args.progress.quiet, inputs.len_hint(), "convert", "poses");

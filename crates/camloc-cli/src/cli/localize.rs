@@ -73,8 +73,9 @@ pub struct Args {
     pub fps: f64,
     /// Write the results as NumPy arrays to this .npz archive (numpy.load reads it without
     /// pickle), row n for the n-th pose read: label, folded_label, probabilities, azimuth_deg,
-    /// elevation_deg, uncertainty_deg, failed, missing, derived, frame, person, and the ids as
-    /// id_utf8 and id_end (docs/cli.md gives their types and shapes). Written at the end of the
+    /// elevation_deg, uncertainty_deg, failed, missing, derived, frame, person, the ids as
+    /// id_utf8 and id_end, and camera_height_shares (the run's estimate, NaN without one;
+    /// docs/cli.md gives their types and shapes). Written at the end of the
     /// run, or not at all. Nothing is printed per pose unless --json or --jsonl asks for it.
     /// Not with --sequence (whose smoothed cameras have no arrays here: use --jsonl).
     #[arg(long, value_name = "OUT", conflicts_with = "sequence")]

@@ -305,8 +305,9 @@ pub struct ForceArgs {
 /// Options of the commands that show progress.
 #[derive(clap::Args)]
 pub struct ProgressArgs {
-    /// No progress bar, nor the camera heights of `--camera-height from-input`, on standard
-    /// error (they are shown only when standard error is a terminal).
+    /// No progress bar on standard error, nor (commands that localize) the camera heights
+    /// `--camera-height from-input` estimated (both are shown only when standard error is a
+    /// terminal).
     #[arg(long, short)]
     pub quiet: bool,
 }
@@ -362,13 +363,26 @@ impl CameraHeightArgs {
     }
 }
 
+/// `path`, which `option` names, when it exists; else an error that names the option (the
+/// file system's own message names only the path).
+pub fn existing<'a>(path: &'a Path, option: &'static str) -> Result<&'a Path, CamlocError> {
+    if path.exists() {
+        Ok(path)
+    } else {
+        Err(CamlocError::InvalidOption {
+            name: option,
+            detail: format!("{} does not exist", camloc::store::quoted_path(path)),
+        })
+    }
+}
+
 /// The model at `path`, or the embedded default, localizing under the prior `height`.
 pub fn load_model(
     path: Option<&Path>,
     height: &CameraHeightArgs,
 ) -> Result<CameraLocalizer, CamlocError> {
     let localizer = match path {
-        Some(p) => CameraLocalizer::load(p)?,
+        Some(p) => CameraLocalizer::load(existing(p, "--model")?)?,
         None => CameraLocalizer::default_model()?,
     };
     // A prior over the rings changes nothing when the model's cameras are all in one ring.

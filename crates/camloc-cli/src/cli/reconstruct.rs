@@ -189,7 +189,7 @@ pub struct EvalArgs {
 
 fn load_basis(path: Option<&std::path::Path>) -> Result<PoseBasis, CamlocError> {
     match path {
-        Some(p) => Ok(PoseBasis::load(p)?),
+        Some(p) => Ok(PoseBasis::load(super::existing(p, "--basis")?)?),
         None => default_basis(),
     }
 }
@@ -245,7 +245,7 @@ fn reconstructor(args: &Args, localizer: CameraLocalizer) -> Result<PoseReconstr
     }
     let lifter = match &args.lifter {
         _ if args.no_lifter || choice == ModeKind::Opt => None,
-        Some(path) => Some(DepthLifter::load(path)?),
+        Some(path) => Some(DepthLifter::load(super::existing(path, "--lifter")?)?),
         None => lifter_for_model(args.model.as_deref())?,
     };
     if let Some(lifter) = lifter {

@@ -24,8 +24,8 @@ pub struct Output<'a> {
 /// Checks a command's outputs before any work: the outputs among `given` (`(path if given,
 /// option, numbered)`, `numbered` as [`Output::numbered`]) are distinct files
 /// (`check_distinct`), none is a file the run reads or `-` (`check_not_input`, with
-/// `inputs` the reading options and their paths, if given), and none is named like a file
-/// of another format (`check_extensions`).
+/// `inputs` the reading options and their paths, if given), every one's folder exists
+/// (`check_folders`), and none is named like a file of another format (`check_format`).
 pub fn check<'a>(
     given: impl IntoIterator<Item = (Option<&'a Path>, &'static str, Option<&'static str>)>,
     inputs: &[(&'static str, Option<&Path>)],
@@ -42,7 +42,32 @@ pub fn check<'a>(
         .collect();
     check_distinct(&outputs)?;
     check_not_input(&outputs, inputs)?;
-    check_extensions(&outputs)
+    check_folders(&outputs)?;
+    for out in &outputs {
+        if let Some((what, own)) = format_of(out.option) {
+            check_format(out.path, out.option, what, own)?;
+        }
+    }
+    Ok(())
+}
+
+/// Refuses ([`CliError::Usage`]) an output whose folder does not exist (or is no folder), so
+/// that the run does not find it out after its work.
+fn check_folders(outputs: &[Output]) -> Result<(), CliError> {
+    for out in outputs {
+        let Some(folder) = out.path.parent().filter(|p| !p.as_os_str().is_empty()) else {
+            continue;
+        };
+        if !folder.is_dir() {
+            return Err(CliError::Usage(format!(
+                "{} {}: the folder {} does not exist; create it first",
+                out.option,
+                quoted_path(out.path),
+                quoted_path(folder)
+            )));
+        }
+    }
+    Ok(())
 }
 
 /// Extensions of file formats a user may take an output for: an output whose path ends in
@@ -66,26 +91,21 @@ fn format_of(option: &str) -> Option<(&'static str, &'static [&'static str])> {
     }
 }
 
-/// Refuses ([`CliError::Usage`]) an output whose path ends in the extension of another
-/// known format (`--svg view.png` would be an SVG file named like a PNG image); other and
-/// missing extensions pass.
-fn check_extensions(outputs: &[Output]) -> Result<(), CliError> {
-    for out in outputs {
-        let Some((what, own)) = format_of(out.option) else {
-            continue;
-        };
-        let Some(ext) = out.path.extension().and_then(|e| e.to_str()) else {
-            continue;
-        };
-        let ext = ext.to_ascii_lowercase();
-        if KNOWN_EXTENSIONS.contains(&ext.as_str()) && !own.contains(&ext.as_str()) {
-            return Err(CliError::Usage(format!(
-                "{} writes {what}, but {} ends in .{ext}; give a name ending in .{}",
-                out.option,
-                quoted_path(out.path),
-                own[0]
-            )));
-        }
+/// Refuses ([`CliError::Usage`]) an output `path` of `option`, which writes `what` in files
+/// ending in one of `own` (the first the usual one), whose path ends in the extension of
+/// another known format (`--svg view.png` would be an SVG file named like a PNG image);
+/// other and missing extensions pass.
+pub fn check_format(path: &Path, option: &str, what: &str, own: &[&str]) -> Result<(), CliError> {
+    let Some(ext) = path.extension().and_then(|e| e.to_str()) else {
+        return Ok(());
+    };
+    let ext = ext.to_ascii_lowercase();
+    if KNOWN_EXTENSIONS.contains(&ext.as_str()) && !own.contains(&ext.as_str()) {
+        return Err(CliError::Usage(format!(
+            "{option} writes {what}, but {} ends in .{ext}; give a name ending in .{}",
+            quoted_path(path),
+            own.first().copied().unwrap_or_default()
+        )));
     }
     Ok(())
 }
