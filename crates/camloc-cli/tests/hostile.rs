@@ -298,6 +298,33 @@ fn outputs_named_like_another_format_are_refused() {
     assert!(stderr(&out).contains("--to npy writes") && !dir.0.join("p.json").exists());
 }
 
+/// Any existing file a numbered output may write (`d-002.svg`, `b-003.bvh`) is found before
+/// any work, without --force: nothing is printed and the file is kept.
+#[test]
+fn existing_numbered_outputs_are_refused_before_any_work() {
+    let dir = TempDir::new("hostile-numbered");
+    let input = fixture("keypoints/example.json")
+        .to_string_lossy()
+        .into_owned();
+    for (command, option, base, existing) in [
+        ("localize", "--svg", "d.svg", "d-002.svg"),
+        ("reconstruct", "--bvh", "b", "b-003.bvh"),
+    ] {
+        let kept = dir.file(existing, "old");
+        let out_path = dir.0.join(base).to_string_lossy().into_owned();
+        let out = camloc(&[command, "--input", &input, option, &out_path, "-q"]);
+        let text = short_clean_lines(&out);
+        assert_eq!(out.status.code(), Some(1), "{option}: {text}");
+        assert!(text.contains(existing) && text.contains("exists"), "{text}");
+        assert!(
+            out.stdout.is_empty(),
+            "{}",
+            String::from_utf8_lossy(&out.stdout)
+        );
+        assert_eq!(std::fs::read_to_string(&kept).unwrap(), "old");
+    }
+}
+
 /// An output in a folder that does not exist is refused before any work (nothing printed),
 /// naming the folder.
 #[test]

@@ -406,8 +406,7 @@ fn finish(
     let mut paths = Vec::new();
     if let Some(bvh) = &args.bvh {
         let base = export::bvh_base(bvh);
-        paths.push(super::numbered_path(&base, 0, 2));
-        paths.push(base);
+        paths.extend(super::targets::numbered_targets(&base, "bvh"));
     }
     paths.extend(args.html.clone());
     let (bvh, html, sequence, fps) = (args.bvh.clone(), args.html.clone(), args.sequence, args.fps);

@@ -72,15 +72,17 @@ pub fn run(
     bar: &ProgressBar,
 ) -> Result<ExitCode, CliError> {
     if let Some(svg) = options.svg {
-        check_target(svg, options.force)?;
-        check_target(&numbered_path(svg, 0, 2), options.force)?;
+        for path in super::targets::numbered_targets(svg, "svg") {
+            check_target(&path, options.force)?;
+        }
     }
     if let Some(path) = options.npy {
         check_target(path, options.force)?;
     }
     if let Some(path) = options.lengths_out {
-        check_target(path, options.force)?;
-        check_target(&lengths_path(path, 0, 2), options.force)?;
+        for path in super::targets::numbered_targets(path, "json") {
+            check_target(&path, options.force)?;
+        }
     }
     for path in options.finish.iter().flat_map(|(paths, _)| paths) {
         check_target(path, options.force)?;

@@ -130,8 +130,9 @@ pub fn run(
     }
     let mut views: Vec<ViewFrame> = Vec::new();
     if let Some(svg) = svg_out {
-        check_target(svg, force)?;
-        check_target(&numbered_path(svg, 0, 2), force)?;
+        for path in super::targets::numbered_targets(svg, "svg") {
+            check_target(&path, force)?;
+        }
     }
     if let Some(summary) = summary_out {
         check_target(summary, force)?;

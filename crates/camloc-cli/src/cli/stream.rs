@@ -276,8 +276,9 @@ where
     let svg_single = files.svg.clone();
     // Refuse existing outputs before any work (checked again when the files are moved in place).
     if let Some(svg) = &files.svg {
-        check_target(svg, files.force)?;
-        check_target(&numbered_path(svg, 0, 2), files.force)?;
+        for path in super::targets::numbered_targets(svg, "svg") {
+            check_target(&path, files.force)?;
+        }
     }
     if let Some(rows) = &files.rows {
         check_target(rows.target(), files.force)?;

@@ -229,6 +229,28 @@ fn spelled(path: &Path) -> PathBuf {
     }
 }
 
+/// The files a numbered output `out` may write, to be checked before any work: `out` itself
+/// and every existing file of its folder with one of its numbered names (`OUT-NNN.EXT`, as
+/// [`numbered_path`](super::numbered_path) makes them; EXT `out`'s extension, else `ext`).
+/// How many files a run writes is known only at its end, so any of them may be replaced.
+pub fn numbered_targets(out: &Path, ext: &str) -> Vec<PathBuf> {
+    let mut paths = vec![out.to_path_buf()];
+    let folder = match out.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    // An unreadable folder is found when the files are written.
+    if let Ok(entries) = std::fs::read_dir(folder) {
+        paths.extend(
+            entries
+                .flatten()
+                .map(|entry| folder.join(entry.file_name()))
+                .filter(|path| is_numbered(path, out, ext)),
+        );
+    }
+    paths
+}
+
 /// `true` when the file name of `path` is a numbered name of `out` (`STEM-NNN.EXT`, as
 /// [`numbered_path`](super::numbered_path) makes them; EXT `out`'s extension, else `ext`).
 fn is_numbered(path: &Path, out: &Path, ext: &str) -> bool {
