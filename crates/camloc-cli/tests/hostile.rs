@@ -325,6 +325,26 @@ fn existing_numbered_outputs_are_refused_before_any_work() {
     }
 }
 
+/// An input whose header says it holds more poses than `--html` keeps is refused at once,
+/// before any pose is read (every pose here would fail, and say so).
+#[test]
+fn an_input_known_to_be_too_long_for_html_is_refused_before_any_work() {
+    let dir = TempDir::new("hostile-keep");
+    let mut bytes =
+        npy_head("{'descr': '<f8', 'fortran_order': False, 'shape': (100001, 15, 2), }");
+    bytes.resize(bytes.len() + 100_001 * 15 * 2 * 8, 0);
+    let input = dir.0.join("long.npy");
+    std::fs::write(&input, bytes).unwrap();
+    let page = dir.0.join("p.html").to_string_lossy().into_owned();
+    let input = input.to_string_lossy().into_owned();
+    let out = camloc(&["localize", "--input", &input, "--html", &page, "-q"]);
+    let text = stderr(&out);
+    assert_eq!(out.status.code(), Some(1), "{text}");
+    assert!(text.contains("more than 100000 poses"), "{text}");
+    assert_eq!(text.lines().count(), 1, "{text}");
+    assert!(out.stdout.is_empty() && !dir.0.join("p.html").exists());
+}
+
 /// An output in a folder that does not exist is refused before any work (nothing printed),
 /// naming the folder.
 #[test]

@@ -289,6 +289,11 @@ where
     for path in files.finish.iter().flat_map(|(paths, _)| paths) {
         check_target(path, files.force)?;
     }
+    // An input known at opening to hold more poses than the end's files may keep is refused
+    // now, not when the poses past the limit are reached.
+    if files.finish.is_some() && inputs.len_hint().is_some_and(|n| n > KEEP_MAX_POSES) {
+        return Err(CliError::TooManyKept(KEEP_MAX_POSES));
+    }
     let mut kept = Vec::new();
     let mut staged = StagedFiles::new(files.force);
     let mut rows = files.rows;
