@@ -11,7 +11,7 @@ mod views;
 use std::fmt::Write;
 use std::time::Instant;
 
-use camloc::dataset::{MotionCategory, PoseSequence};
+use camloc::dataset::{MotionCategory, PoseSequence, annotated};
 use camloc::reconstruct::{
     BoneLengths, CameraMode, Given, Intrinsics, LiftedDepths, ModeKind, PoseBasis,
     ReconstructConfig, Reconstructor, mpjpe_after_similarity,
@@ -237,6 +237,10 @@ enum Skeletons {
     Random,
     /// Rescaled by these factors, every subject alike.
     Fixed([f64; NUM_LIMBS]),
+    /// Their own, with the landmarks placed as detectors and photo annotations place them
+    /// (`camloc::dataset::annotated`: the neck at the mid-shoulder point, the pelvis at the
+    /// mid-hip point).
+    Annotated,
 }
 
 /// Films every item of `items` under `studio` with `skeletons`.
@@ -250,14 +254,14 @@ fn film_all(
         .par_iter()
         .enumerate()
         .map(|(i, item)| {
-            let scale = match skeletons {
-                Skeletons::Own => None,
-                Skeletons::Random => Some(factors(&item.subject, seed)),
-                Skeletons::Fixed(f) => Some(f),
-            };
-            let truth: Vec<Pose3> = match scale {
-                None => item.poses.clone(),
-                Some(f) => item.poses.iter().map(|p| rescale(p, &f)).collect(),
+            let truth: Vec<Pose3> = match skeletons {
+                Skeletons::Own => item.poses.clone(),
+                Skeletons::Random => {
+                    let f = factors(&item.subject, seed);
+                    item.poses.iter().map(|p| rescale(p, &f)).collect()
+                }
+                Skeletons::Fixed(f) => item.poses.iter().map(|p| rescale(p, &f)).collect(),
+                Skeletons::Annotated => item.poses.iter().map(|p| annotated(p, 1.0)).collect(),
             };
             let lengths = BoneLengths::of_pose(&truth[0]).map_err(|e| e.to_string())?;
             let views = film(
@@ -628,6 +632,10 @@ pub fn measure(
     Ok(md)
 }
 
+/// The labs section's row group of the held-out people's own skeletons with the landmarks
+/// placed as detectors place them ([`Skeletons::Annotated`]).
+const DETECTOR_PLACEMENT: &str = "own limbs, landmarks placed as detectors place them (neck at the mid-shoulder point, pelvis at the mid-hip point)";
+
 /// Skeletons like those of the recorded labs issue 23 quotes (their limbs relative to
 /// camloc's template), as factors of the held-out people's own limbs.
 const LAB_SKELETONS: [(&str, [f64; NUM_LIMBS]); 2] = [
@@ -680,9 +688,12 @@ fn labs_section(
          failed | time per frame |\n|---|---|---|---|---|---|---|---|---|---|\n",
         kind.name()
     );
-    for (name, factors) in LAB_SKELETONS {
+    let groups = LAB_SKELETONS
+        .iter()
+        .map(|&(name, factors)| (name, Skeletons::Fixed(factors)))
+        .chain([(DETECTOR_PLACEMENT, Skeletons::Annotated)]);
+    for (name, skeletons) in groups {
         eprintln!("proportions: {name}");
-        let skeletons = Skeletons::Fixed(factors);
         let filmed = [
             film_all(singles, Studio::Rig, skeletons, seed)?,
             film_all(sequences, Studio::Rig, skeletons, seed)?,
