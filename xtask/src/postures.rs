@@ -244,7 +244,7 @@ pub fn measure(args: &Args, emit: &mut dyn FnMut(&str)) -> Result<(), String> {
     train_seqs.retain(|s| !args.exclude_subjects.contains(&s.clip.subject));
     let _ = writeln!(
         md,
-        "Cells: 12-class accuracy (level accuracy, median viewpoint error, mean signed elevation error, views). Held-out subjects {}; selection by pose at {} mm.",
+        "Cells: 12-class accuracy (level accuracy, median viewpoint error, mean signed elevation error, the share of views whose viewpoint error is within the uncertainty camloc reported (calibrated to hold about 68%; none for the true-pose reference), views). Held-out subjects {}; selection by pose at {} mm.",
         args.test_subjects.join(", "),
         args.min_pose_distance
     );

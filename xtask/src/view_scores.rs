@@ -33,6 +33,9 @@ pub struct ViewOutcome {
     pub true_elevation_deg: f64,
     /// Predicted level minus true level, in levels (lower, middle, upper): +1 a level too high.
     pub level_offset: i32,
+    /// Whether the error lies within the uncertainty the localizer reported (`None` for an
+    /// answer without one).
+    pub within_uncertainty: Option<bool>,
 }
 
 /// The outcome of every view of `data` (poses with their dropped landmarks missing).
@@ -55,7 +58,9 @@ pub fn outcomes(localizer: &CameraLocalizer, data: &Dataset) -> Result<Vec<ViewO
             let (Some(az), Some(el)) = (l.azimuth_deg, l.elevation_deg) else {
                 return Err("the localizer has no viewpoint heads".to_string());
             };
-            Ok(outcome(cameras, data, s, l.label.get(), l.level, (az, el)))
+            let mut o = outcome(cameras, data, s, l.label.get(), l.level, (az, el));
+            o.within_uncertainty = l.uncertainty_deg.map(|u| o.angle_deg <= u);
+            Ok(o)
         })
         .collect()
 }
@@ -113,6 +118,7 @@ fn outcome(
         elevation_error_deg: elevation_deg - true_el,
         true_elevation_deg: true_el,
         level_offset,
+        within_uncertainty: None,
     }
 }
 
@@ -192,6 +198,9 @@ pub struct Summary {
     pub median_deg: f64,
     /// Mean signed elevation error, degrees (negative: the camera is placed too low).
     pub elevation_bias_deg: f64,
+    /// Views whose error lies within their reported uncertainty (calibrated to hold about 68%),
+    /// percent; `None` when the answers have no uncertainty.
+    pub within_uncertainty: Option<f64>,
 }
 
 impl Summary {
@@ -214,16 +223,24 @@ impl Summary {
             level_too_low: share(|o| o.level_offset < 0),
             median_deg: angles[angles.len() / 2],
             elevation_bias_deg: kept.iter().map(|o| o.elevation_error_deg).sum::<f64>() / n,
+            within_uncertainty: kept
+                .iter()
+                .all(|o| o.within_uncertainty.is_some())
+                .then(|| share(|o| o.within_uncertainty == Some(true))),
         }
     }
 
-    /// `accuracy% (level%, median deg, bias deg, n)` for a table cell; `-` without views.
+    /// `accuracy% (level%, median deg, bias deg[, within%], n)` for a table cell; `-`
+    /// without views.
     pub fn cell(&self) -> String {
         if self.views == 0 {
             return "-".into();
         }
+        let within = self
+            .within_uncertainty
+            .map_or_else(String::new, |w| format!("{w:.0}% within uncertainty, "));
         format!(
-            "{:.2}% (level {:.1}%, {:.1} deg, bias {:+.1} deg, {})",
+            "{:.2}% (level {:.1}%, {:.1} deg, bias {:+.1} deg, {within}{})",
             self.accuracy,
             self.level_accuracy,
             self.median_deg,
@@ -257,6 +274,7 @@ mod tests {
             elevation_error_deg: -2.0,
             true_elevation_deg,
             level_offset,
+            within_uncertainty: None,
         }
     }
 
