@@ -59,10 +59,13 @@ impl Reconstructor {
     /// [`reconstruct_sequence`](Self::reconstruct_sequence) with, per frame, the landmarks'
     /// depths the refinement starts from where `depths` has them (`depths[t]` for frame `t`;
     /// missing or `None` entries: the pursuit's pose, as
-    /// [`reconstruct_lifted`](Self::reconstruct_lifted) does). Unknown lengths still come
-    /// from the first refinement of the pursuit's poses: lifted depths are drawn towards the
-    /// training proportions, which cost the torso 7% -> 16% of length error on rescaled
-    /// people under `jittered` when the lengths were estimated from them (docs/RESULTS.md).
+    /// [`reconstruct_lifted`](Self::reconstruct_lifted) does). Unknown lengths come from the
+    /// first refinement of those starts, lifted where lifted: from the pursuit's poses, whose
+    /// basis places the neck and pelvis as the mocap does, they were 12% off for people whose
+    /// landmarks are placed as detectors place them (the neck at the mid-shoulder point, the
+    /// pelvis at the mid-hip point: 11.7% -> 4.4% mean length error on validation subjects),
+    /// at the cost of 6.4% -> 7.8% for rescaled mocap people under `jittered`
+    /// (docs/RESULTS.md).
     ///
     /// # Errors
     /// As [`reconstruct_sequence`](Self::reconstruct_sequence).
@@ -121,24 +124,14 @@ impl Reconstructor {
                 .map(|(t, r, c)| self.refine_frame(&r.obs, c, given, lifted_of(*t), imputed_of(*t)))
                 .collect();
             let settings = &self.config.refinement;
-            let lifted = chosen.iter().any(|(t, _, _)| lifted_of(*t).is_some());
-            let (refined, lengths) = if given.lengths.is_none()
-                && (settings.smoothness > 0.0 || lifted)
-            {
+            let (refined, lengths) = if given.lengths.is_none() && settings.smoothness > 0.0 {
+                // The lengths from a first refinement without the smoothness (see
+                // reconstruct_sequence), then the poses with them and the smoothness.
                 let plain = Refinement {
                     smoothness: 0.0,
                     ..*settings
                 };
-                // The lengths from the pursuit's poses (see reconstruct_sequence_lifted),
-                // which are the inputs unless some frames are lifted.
-                let pursuit: Option<Vec<_>> = lifted.then(|| {
-                    chosen
-                        .iter()
-                        .map(|(t, r, c)| self.refine_frame(&r.obs, c, given, None, imputed_of(*t)))
-                        .collect()
-                });
-                let starts = pursuit.as_deref().unwrap_or(&inputs);
-                let (_, lengths) = refine(starts, self.length_input(given), &plain, true)?;
+                let (_, lengths) = refine(&inputs, self.length_input(given), &plain, true)?;
                 let (refined, _) = refine(&inputs, LengthInput::Given(lengths), settings, true)?;
                 (refined, lengths)
             } else {
