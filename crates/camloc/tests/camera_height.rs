@@ -1,6 +1,6 @@
 //! The prior over the camera's height (`CameraHeight`): it reweighs the model's camera
-//! probabilities in every path (single poses, many labels, evaluation), is not saved with the
-//! model, and on views of studio cameras (`rig`, skipped visibly without the data) `eye-level`
+//! probabilities in every path (single poses, many labels, evaluation) but not the lookup of
+//! the uncertainty, is not saved with the model, and on views of studio cameras (`rig`, skipped visibly without the data) `eye-level`
 //! finds the camera more often while views from far above or below pay for it. The shares of
 //! the heights estimated from an input (`HeightShares`) follow what the input holds.
 
@@ -46,6 +46,14 @@ fn eye_level_reweighs_the_middle_ring_in_every_path_and_is_not_saved() {
             assert!((got - want / total).abs() < 1e-12, "{got} against {want}");
         }
         assert!((e.probability - e.probabilities[e.label.index()]).abs() < 1e-15);
+        // The uncertainty is looked up by the model's own probability of the chosen camera,
+        // the one it was calibrated on, not by the reweighed one.
+        let heads = any.viewpoint_heads().unwrap();
+        let own = a.probabilities[e.label.index()];
+        assert_eq!(e.uncertainty_deg, Some(heads.uncertainty_deg(own)));
+        if e.label == a.label {
+            assert_eq!(e.uncertainty_deg, a.uncertainty_deg);
+        }
     }
     let labels: Vec<_> = poses
         .iter()
