@@ -495,7 +495,7 @@ mod tests {
         let err = Descriptor::Joints.extract(&p).unwrap_err();
         assert_eq!(
             err.to_string(),
-            "degenerate torso: the shoulder midpoint and the hip midpoint are 0e0 apart (relative to the pose size), so the pose has no scale"
+            "degenerate torso: the shoulder midpoint and the hip midpoint are 0 apart (relative to the pose size), so the pose has no scale"
         );
         // The descriptors built on pelvis and neck are well defined for this pose.
         assert!(Descriptor::Landmarks.extract(&p).is_ok());
@@ -504,7 +504,7 @@ mod tests {
         let err = Descriptor::Landmarks.extract(&q).unwrap_err();
         assert!(
             err.to_string()
-                .starts_with("degenerate torso: the neck and the pelvis are 0e0 apart"),
+                .starts_with("degenerate torso: the neck and the pelvis are 0 apart"),
             "{err}"
         );
     }
@@ -520,7 +520,7 @@ mod tests {
                 }
             }
         }
-        // +-1e308 corners: finite, and a collapsed torso is "0e0 apart", never "NaN apart".
+        // +-1e308 corners: finite, and a collapsed torso is "0 apart", never "NaN apart".
         let mut p = Pose2::new([[1e308, -1e308]; 15]);
         p.points[Landmark::Neck.index()] = [-1e308, 1e308];
         for d in [
@@ -533,7 +533,7 @@ mod tests {
         let flat = Pose2::new([[1e308, -1e308]; 15]);
         for d in all() {
             let err = d.extract(&flat).unwrap_err().to_string();
-            assert!(err.contains(" are 0e0 apart"), "{}: {err}", d.name());
+            assert!(err.contains(" are 0 apart"), "{}: {err}", d.name());
         }
         let mut signs = Pose2::new([[1e308, 1e308]; 15]);
         signs.points[Landmark::LeftHip.index()] = [-1e308, -1e308];

@@ -12,7 +12,8 @@ pub enum FeatureError {
     /// The two ends of the torso segment that gives the descriptor its unit of length
     /// coincide (or nearly so): there is no unit of scale.
     #[error(
-        "degenerate torso: {top} and {origin} are {length:e} apart (relative to the pose size), so the pose has no scale"
+        "degenerate torso: {top} and {origin} are {} apart (relative to the pose size), so the pose has no scale",
+        relative(*.length)
     )]
     DegenerateTorso {
         /// Torso length relative to the pose's extent.
@@ -44,4 +45,16 @@ pub enum FeatureError {
     /// Unknown descriptor name.
     #[error("unknown descriptor '{0}' (expected 'landmarks', 'joints' or 'paper')")]
     UnknownName(String),
+}
+
+/// A relative length for a message: `0` when it is zero, three decimals from 0.001 up, else
+/// in scientific notation with two significant digits (`1.2e-9`).
+fn relative(length: f64) -> String {
+    if length == 0.0 {
+        "0".to_owned()
+    } else if length.abs() >= 1e-3 {
+        format!("{length:.3}")
+    } else {
+        format!("{length:.1e}")
+    }
 }
