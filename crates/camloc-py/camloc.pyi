@@ -61,7 +61,7 @@ class Localizer:
         ``"any"`` (the model's own priors; each pose on its own) or ``"eye-level"`` (a
         tripod, handheld phone or studio camera at about a standing person's eye level, a
         few metres away: a middle-ring camera is 8 times as likely a priori). Raises
-        CamlocError for another value."""
+        ValueError for another value, as for every other bad argument."""
 
     @staticmethod
     def load(path: _Path, camera_height: str = "from-input") -> "Localizer":
@@ -195,8 +195,8 @@ def reconstruct(
     Raises ValueError for a wrong shape, layout or camera mode, bone lengths that are refused
     (a missing or unknown key, not 14 numbers, a length outside 0.01-1.5 m, a bone lengths file
     that cannot be read or is malformed), a focal length that is not finite and positive, or a
-    principal point without a focal length; OSError / CamlocError for an unreadable or invalid
-    basis; CamlocError for an unknown ``camera_height``, as ``Localizer``.
+    principal point without a focal length or an unknown ``camera_height`` (as ``Localizer``);
+    OSError / CamlocError for an unreadable or invalid basis.
     """
 
 def read_keypoints(

@@ -4,8 +4,7 @@ use std::path::PathBuf;
 
 use camloc::store::Persist;
 use camloc::{
-    CameraHeight, CameraLocalizer, CamlocError, HEIGHT_SHARE_MAX_POSES, PoseReconstructor,
-    default_basis,
+    CameraHeight, CameraLocalizer, HEIGHT_SHARE_MAX_POSES, PoseReconstructor, default_basis,
 };
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::prelude::*;
@@ -13,7 +12,7 @@ use pyo3::types::{PyDict, PyList};
 use rayon::prelude::*;
 
 use crate::arrays::{ArrayArg, Output, PoseBatch};
-use crate::to_py_err;
+use crate::{to_py_err, value_error};
 
 /// Poses per parallel task: large enough that scheduling costs nothing next to the work.
 const CHUNK: usize = 1024;
@@ -50,12 +49,10 @@ pub(crate) fn parse_height(camera_height: &str) -> PyResult<(CameraHeight, bool)
         return Ok((CameraHeight::Any, true));
     }
     let height: CameraHeight = camera_height.parse().map_err(|_| {
-        to_py_err(CamlocError::InvalidOption {
-            name: "camera height",
-            detail: format!(
-                "expected \"from-input\", \"any\" or \"eye-level\", got {camera_height:?}"
-            ),
-        })
+        value_error(format!(
+            "camera_height: expected \"from-input\", \"any\" or \"eye-level\", got \
+             {camera_height:?}"
+        ))
     })?;
     Ok((height, false))
 }
