@@ -240,6 +240,27 @@ fn empty_inputs_are_an_error_in_every_command() {
     }
 }
 
+/// A folder whose poses are all in sub-folders has no poses without --recursive, and the
+/// message says so; with it, they are read.
+#[test]
+fn a_folder_of_sub_folders_points_to_recursive() {
+    let dir = TempDir::new("sub-folders");
+    std::fs::create_dir(dir.0.join("clip")).unwrap();
+    std::fs::copy(
+        fixture("keypoints/example.json"),
+        dir.0.join("clip").join("poses.json"),
+    )
+    .unwrap();
+    let folder = dir.0.to_string_lossy().into_owned();
+    let out = camloc(&["localize", "--input", &folder]);
+    assert_clean_failure(&out, "(its sub-folders are read with --recursive)");
+    success(&camloc(&["localize", "--input", &folder, "--recursive"]));
+    // A folder without sub-folders gets no hint.
+    let empty = TempDir::new("no-sub-folders");
+    let out = camloc(&["localize", "--input", &empty.0.to_string_lossy()]);
+    assert!(!String::from_utf8_lossy(&out.stderr).contains("--recursive"));
+}
+
 /// The new reader options are checked when the command line is parsed (exit 2).
 #[test]
 fn reader_options_are_checked_at_parse_time() {

@@ -91,7 +91,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     }
     bar.finish_and_clear();
     if summary.poses == 0 && summary.failed_files == 0 {
-        return Err(CliError::NoPoses(inputs.name().to_owned()));
+        return Err(inputs.no_poses());
     }
     match npy {
         Some(npy) => npy.finish(&mut staged)?,

@@ -27,6 +27,8 @@ pub struct Inputs {
     len_hint: Option<u64>,
     format: Option<KeypointFormat>,
     options: ReadOptions,
+    /// Whether the input is a folder read without `--recursive` that has sub-folders.
+    unread_folders: bool,
 }
 
 impl Inputs {
@@ -41,6 +43,7 @@ impl Inputs {
             files: Vec::new().into_iter(),
             format: args.format,
             options,
+            unread_folders: false,
         };
         if args.input == Path::new("-") {
             inputs.name = STDIN_NAME.to_owned();
@@ -51,6 +54,12 @@ impl Inputs {
         } else if args.input.is_dir() {
             inputs.name = args.input.display().to_string();
             inputs.files = keypoint_files(&args.input, args.recursive)?.into_iter();
+            inputs.unread_folders = !args.recursive
+                && std::fs::read_dir(&args.input).is_ok_and(|entries| {
+                    entries
+                        .flatten()
+                        .any(|e| e.file_type().is_ok_and(|t| t.is_dir()))
+                });
         } else {
             inputs.name = args.input.display().to_string();
             let stream = open_keypoints(&args.input, args.format, &options)?;
@@ -65,6 +74,17 @@ impl Inputs {
         let mut all = records;
         all.extend(std::mem::take(&mut self.kept));
         self.kept = all.into_iter();
+    }
+
+    /// [`CliError::NoPoses`] for this input, with a hint when it is a folder whose
+    /// sub-folders were not read.
+    pub fn no_poses(&self) -> CliError {
+        let hint = if self.unread_folders {
+            " (its sub-folders are read with --recursive)"
+        } else {
+            ""
+        };
+        CliError::NoPoses(self.name.clone(), hint)
     }
 
     /// How the input is named in messages (`no poses in NAME`).

@@ -134,8 +134,8 @@ pub enum CliError {
     #[error("{0}")]
     Export(String),
     /// The input holds no pose at all (the rule for empty inputs, see `camloc --help`).
-    #[error("no poses in {}", camloc::store::quoted_path(Path::new(.0)))]
-    NoPoses(String),
+    #[error("no poses in {}{}", camloc::store::quoted_path(Path::new(.0)), .1)]
+    NoPoses(String, &'static str),
 }
 
 impl From<KeypointError> for CliError {
@@ -317,7 +317,7 @@ pub struct ProgressArgs {
 pub fn load_dataset(path: &Path) -> Result<Dataset, CliError> {
     let dataset = Dataset::load(path).map_err(CamlocError::from)?;
     if dataset.samples.is_empty() {
-        return Err(CliError::NoPoses(path.display().to_string()));
+        return Err(CliError::NoPoses(path.display().to_string(), ""));
     }
     Ok(dataset)
 }

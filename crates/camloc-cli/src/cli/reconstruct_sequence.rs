@@ -105,7 +105,7 @@ pub fn run(
     }
     bar.finish_and_clear();
     if summary.poses == 0 && summary.failed_files == 0 {
-        return Err(CliError::NoPoses(inputs.name().to_owned()));
+        return Err(inputs.no_poses());
     }
     let keys: Vec<_> = kept.iter().map(|k| (k.frame, k.person)).collect();
     super::sequence::warn_of_repeated_frames(&keys);

@@ -189,7 +189,7 @@ pub fn run(
     }
     bar.finish_and_clear();
     if summary.poses == 0 && summary.failed_files == 0 {
-        return Err(CliError::NoPoses(inputs.name().to_owned()));
+        return Err(inputs.no_poses());
     }
     let model = SequenceModel::with_default_switch(localizer.cameras());
     let keys: Vec<_> = frames.iter().map(|f| (f.frame, f.person)).collect();

@@ -409,7 +409,7 @@ where
     })?;
     bar.finish_and_clear();
     if summary.poses == 0 && summary.failed_files == 0 {
-        return Err(CliError::NoPoses(inputs.name().to_owned()));
+        return Err(inputs.no_poses());
     }
     emitter.end(out)?;
     out.flush()?;
