@@ -171,6 +171,7 @@ fn a_sequence_is_one_bvh_per_person_with_shared_lengths() {
         "--sequence",
         "--bvh",
         bvh.to_str().unwrap(),
+        "--bvh-in-place",
         "--quiet",
     ]);
     let objects = success(&out);
@@ -191,6 +192,74 @@ fn a_sequence_is_one_bvh_per_person_with_shared_lengths() {
             let error = max_joint_distance_mm(read, &expected) / 1000.0;
             assert!(error < 1e-3, "person {person} frame {t}: {error} m");
         }
+    }
+}
+
+/// A person walking across the image of a camera that stands still: with `--sequence` the
+/// BVH's root moves across the floor by the image distance over the camera's scale and stays
+/// at the pelvis's height above the feet; `--bvh-in-place` keeps it at the origin.
+#[test]
+fn a_sequence_s_bvh_moves_as_the_camera_saw_the_person() {
+    let dir = TempDir::new("bvh-root-motion");
+    let example: Value =
+        serde_json::from_str(&std::fs::read_to_string(fixture("keypoints/example.json")).unwrap())
+            .unwrap();
+    let standing = &example["poses"][0]["landmarks"];
+    let (frames, step_px) = (20usize, 8.0);
+    let poses: Vec<Value> = (0..frames)
+        .map(|t| {
+            let moved: serde_json::Map<String, Value> = standing
+                .as_object()
+                .unwrap()
+                .iter()
+                .map(|(name, p)| {
+                    let (x, y) = (p[0].as_f64().unwrap(), p[1].as_f64().unwrap());
+                    (name.clone(), serde_json::json!([x + step_px * t as f64, y]))
+                })
+                .collect();
+            serde_json::json!({"id": format!("f{t}"), "frame": t, "person": 0, "landmarks": moved})
+        })
+        .collect();
+    let input = dir.file(
+        "walk.json",
+        &serde_json::json!({"format": "camloc-keypoints", "version": 1, "poses": poses})
+            .to_string(),
+    );
+    let (moving, still) = (dir.0.join("moving.bvh"), dir.0.join("still.bvh"));
+    let run = |bvh: &Path, extra: &[&str]| {
+        let mut args = vec!["reconstruct", "--input", &input, "--json", "--sequence"];
+        args.extend(["--bvh", bvh.to_str().unwrap(), "--quiet"]);
+        args.extend(extra);
+        success(&camloc(&args))
+    };
+    let objects = run(&moving, &[]);
+    run(&still, &["--bvh-in-place"]);
+    // The weak-perspective scale, pixels per metre at the pelvis.
+    let scale: f64 = objects
+        .iter()
+        .map(|o| o["camera"]["scale"].as_f64().unwrap())
+        .sum::<f64>()
+        / frames as f64;
+    let expected = step_px * (frames - 1) as f64 / scale;
+    let clip = read_bvh_with_unit(&moving, BVH_CENTIMETRE).unwrap();
+    let pelvis = |pose: &Pose3| pose.get(Landmark::Pelvis);
+    let (first, last) = (pelvis(&clip.frames[0]), pelvis(&clip.frames[frames - 1]));
+    let across = ((last[0] - first[0]).powi(2) + (last[1] - first[1]).powi(2)).sqrt();
+    assert!(
+        (across / expected - 1.0).abs() < 0.1,
+        "moved {across:.3} m across the floor, expected {expected:.3} m"
+    );
+    // Feet on the floor, the pelvis above them.
+    let lowest = clip
+        .frames
+        .iter()
+        .flat_map(|f| f.points.iter().map(|p| p[2]))
+        .fold(f64::INFINITY, f64::min);
+    assert!(lowest.abs() < 1e-3, "lowest landmark at {lowest} m");
+    assert!(first[2] > 0.5, "pelvis at {} m", first[2]);
+    let still = read_bvh_with_unit(&still, BVH_CENTIMETRE).unwrap();
+    for frame in &still.frames {
+        assert!(pelvis(frame).iter().all(|c| c.abs() < 1e-6));
     }
 }
 

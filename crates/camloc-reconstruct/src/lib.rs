@@ -71,6 +71,7 @@ mod prior;
 mod pursuit;
 mod refine;
 mod viterbi;
+mod world;
 
 pub use basis::{
     BasisConfig, BasisKind, DEFAULT_ATOMS, MAX_ATOMS, POSE_DIM, PoseBasis, sum_squared_limb_lengths,
@@ -94,6 +95,7 @@ pub use pursuit::{
     depths_along_axis,
 };
 pub use refine::{DistancePrior, Given, Intrinsics, PerspectiveCamera, Refinement};
+pub use world::world_poses;
 
 /// `x > 0`, false for NaN (reads better than a negated comparison at the call sites).
 pub(crate) fn is_positive(x: f64) -> bool {

@@ -147,9 +147,16 @@ pub struct Args {
     /// (FILE-001.bvh, ... when there are several), or with --sequence one per person. Bone
     /// lengths are the mean limb lengths of the file's poses (with --sequence: the person's
     /// shared lengths, given or estimated); each frame keeps its limb directions. A frame that
-    /// could not be reconstructed holds the previous one.
+    /// could not be reconstructed holds the previous one. With --sequence the person moves
+    /// and turns as the camera saw them, for a camera that stood still (root motion, feet
+    /// on the floor; --bvh-in-place for a camera that moved); one pose stands at the origin.
     #[arg(long, value_name = "OUT")]
     pub bvh: Option<PathBuf>,
+    /// With --sequence and --bvh: no root motion; every frame at the origin, facing one way
+    /// (for footage from a camera that panned or moved, whose motion would become the
+    /// person's).
+    #[arg(long, requires = "bvh", requires = "sequence")]
+    pub bvh_in_place: bool,
     /// Write one self-contained interactive page (no network needed): per pose the 2D input
     /// and reprojection, the 3D skeleton (drag to turn, wheel to zoom) and the camera sphere
     /// with the 12 probabilities and the continuous direction (from the localizer: --model),
@@ -343,6 +350,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
             max_poses: args.sequence_max_poses,
             finish,
             view: &view,
+            root_motion: !args.bvh_in_place,
         };
         return reconstruct_sequence::run(&reconstructor, inputs, out, format, options, &bar);
     }

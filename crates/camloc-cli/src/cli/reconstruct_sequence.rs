@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use camloc::keypoints::KeypointRecord;
-use camloc::reconstruct::BoneLengths;
+use camloc::reconstruct::{BoneLengths, world_poses};
 use camloc::store::{StagedFiles, check_target};
 use camloc::{ModeKind, PartialPose2, Pose3, PoseReconstruction, PoseReconstructor, sequences};
 use indicatif::ProgressBar;
@@ -50,6 +50,9 @@ pub struct Options<'a> {
     pub finish: Option<(Vec<PathBuf>, Finish<Kept>)>,
     /// The page's record of a frame.
     pub view: ViewOf<'a>,
+    /// Whether the `--bvh` poses are placed in the camera's world (root motion,
+    /// [`world_poses`]) rather than each at the origin in the body frame.
+    pub root_motion: bool,
 }
 
 /// The numbered names of `--bone-lengths-out` take `.json` when the name has no extension.
@@ -110,6 +113,12 @@ pub fn run(
     let keys: Vec<_> = kept.iter().map(|k| (k.frame, k.person)).collect();
     super::sequence::warn_of_repeated_frames(&keys);
     let groups = sequences(&keys);
+    // The camera's intrinsics when the user gave them with a fixed principal point.
+    let fixed_camera = reconstructor
+        .given()
+        .intrinsics
+        .as_ref()
+        .and_then(|i| i.principal_point.map(|c| (i.focal_px, c)));
     let mut staged = StagedFiles::new(options.force);
     let mut rows: Vec<Option<Pose3>> =
         vec![None; if options.npy.is_some() { kept.len() } else { 0 }];
@@ -145,7 +154,20 @@ pub fn run(
             );
         }
         let reconstructed = frames.iter().filter(|f| f.is_ok()).count();
-        for (&i, frame) in members.iter().zip(frames) {
+        // The poses the BVH gets: placed where the camera saw them, or each at the origin.
+        let animated: Vec<Option<Pose3>> = if options.root_motion {
+            let found: Vec<_> = frames
+                .iter()
+                .map(|f| f.as_ref().ok().map(|r| &r.reconstruction))
+                .collect();
+            world_poses(&found, fixed_camera)
+        } else {
+            frames
+                .iter()
+                .map(|f| f.as_ref().ok().map(|r| r.reconstruction.pose))
+                .collect()
+        };
+        for ((&i, frame), pose) in members.iter().zip(frames).zip(animated) {
             let k = &kept[i];
             if options.finish.is_some() {
                 let (r, error) = match &frame {
@@ -154,7 +176,7 @@ pub fn run(
                 };
                 exported.push(Kept {
                     key: (k.frame, k.person),
-                    pose: r.map(|r| r.reconstruction.pose),
+                    pose,
                     view: (options.view)(k, r, error),
                 });
             }

@@ -247,6 +247,8 @@ pub fn numbered_targets(out: &Path, ext: &str) -> Vec<PathBuf> {
                 .map(|entry| folder.join(entry.file_name()))
                 .filter(|path| is_numbered(path, out, ext)),
         );
+        // In number order, so that a refusal names the first.
+        paths[1..].sort();
     }
     paths
 }

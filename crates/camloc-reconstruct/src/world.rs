@@ -1,0 +1,286 @@
+//! One person's reconstructed frames seen by one fixed camera, placed in a world frame of
+//! that camera: where the person stood and which way they faced in each frame
+//! ([`world_poses`]), for animation with root motion.
+
+use camloc_geometry::{Matrix3, Vector3};
+use camloc_skeleton::{NUM_LANDMARKS, Pose3};
+
+use crate::Reconstruction;
+
+/// [`world_poses`] places the pelvis at the mean of its places in the frames within this many
+/// frames before and after (the depth from one frame's scale jitters: on tripod views of
+/// CMU walks, 30 frames a second, the path walked came out 30% long without it).
+pub const SMOOTHING_FRAMES: usize = 2;
+
+/// The frames of one person filmed by one fixed camera, in time order (`None`: a frame
+/// without a reconstruction), placed in one z-up world frame, metres: each frame's pose turned
+/// by its camera rotation and moved to its pelvis's place in front of the camera.
+///
+/// - **The camera**: `intrinsics` (focal length and principal point, pixels) when known;
+///   then each frame's perspective camera ([`Reconstruction::perspective`]) places the
+///   pelvis. Else the focal length is the median of the frames' estimated ones (a sequence's
+///   shared distance, [`Refinement::distance`](crate::Refinement::distance)) and the
+///   principal point the centre of the box of the pelvis's image positions; each frame's
+///   weak-perspective camera then gives the pelvis's depth (focal length over scale) and its
+///   place across the image, and its rotation, fitted as if the optical axis went through
+///   the pelvis, is turned from that ray to the optical axis. Without any focal length the
+///   depth is the same in every frame and the rotations are taken as they are.
+/// - **Smoothing**: the pelvis's place is averaged over [`SMOOTHING_FRAMES`] frames on each
+///   side (fewer near the ends, as many on both sides; the frames' own poses and rotations
+///   are kept).
+/// - **Up** is the mean over the frames of the canonical body frame's vertical seen by the
+///   camera (the basis's poses are upright in that frame: its z is the world's vertical,
+///   for seated and crawling poses too).
+/// - **Axes**: x is the camera's right made horizontal, y points away from the camera, z up.
+/// - **Origin**: the first frame's pelvis, moved down to the floor: the lowest landmark of
+///   all frames is at z = 0.
+///
+/// Sizes and distances are in the length prior's size when the bone lengths were estimated.
+/// A panning or moving camera turns its own motion into the person's.
+pub fn world_poses(
+    frames: &[Option<&Reconstruction>],
+    intrinsics: Option<(f64, [f64; 2])>,
+) -> Vec<Option<Pose3>> {
+    let found: Vec<&Reconstruction> = frames.iter().flatten().copied().collect();
+    if found.is_empty() {
+        return vec![None; frames.len()];
+    }
+    let place = Placement::of(&found, intrinsics);
+    // Each frame's body -> camera rotation and pelvis in the camera frame, the pelvis
+    // averaged over the frames within SMOOTHING_FRAMES of it.
+    let mut seen: Vec<Option<(Matrix3, Vector3)>> =
+        frames.iter().map(|f| f.map(|r| place.frame(r))).collect();
+    let pelvis: Vec<Option<Vector3>> = seen.iter().map(|s| s.map(|(_, p)| p)).collect();
+    for (t, s) in seen.iter_mut().enumerate() {
+        if let Some((_, p)) = s {
+            // A window as wide on both sides, so that the ends are not drawn inwards.
+            let half = SMOOTHING_FRAMES.min(t).min(pelvis.len() - 1 - t);
+            let (sum, n) = pelvis[t - half..=t + half]
+                .iter()
+                .flatten()
+                .fold((Vector3::zeros(), 0.0), |(sum, n), q| (sum + q, n + 1.0));
+            *p = sum / n;
+        }
+    }
+    let up_sum: Vector3 = seen
+        .iter()
+        .flatten()
+        .map(|(r, _)| r.column(2).into_owned())
+        .sum();
+    let up = if up_sum.norm() > 0.0 {
+        up_sum.normalize()
+    } else {
+        -Vector3::y()
+    };
+    let right = Vector3::x() - up * up.x;
+    let right = if right.norm() > 1e-9 {
+        right.normalize()
+    } else {
+        Vector3::z().cross(&up).normalize()
+    };
+    let away = up.cross(&right);
+    // Rows: the world axes in camera coordinates (camera -> world).
+    let to_world = Matrix3::from_rows(&[right.transpose(), away.transpose(), up.transpose()]);
+    let placed: Vec<Option<Pose3>> = frames
+        .iter()
+        .zip(&seen)
+        .map(|(f, seen)| {
+            let (r, (rotation, pelvis)) = (f.as_ref()?, seen.as_ref()?);
+            let points: [[f64; 3]; NUM_LANDMARKS] = std::array::from_fn(|j| {
+                let x = Vector3::from(r.pose.points[j]);
+                (to_world * (rotation * x + pelvis)).into()
+            });
+            Some(Pose3 { points })
+        })
+        .collect();
+    let first = placed
+        .iter()
+        .flatten()
+        .next()
+        .map_or([0.0; 3], |p| p.points[0]);
+    let floor = placed
+        .iter()
+        .flatten()
+        .flat_map(|p| p.points.iter().map(|q| q[2]))
+        .fold(f64::INFINITY, f64::min);
+    let origin = [first[0], first[1], floor];
+    placed
+        .into_iter()
+        .map(|p| {
+            p.map(|p| Pose3 {
+                points: p.points.map(|q| std::array::from_fn(|k| q[k] - origin[k])),
+            })
+        })
+        .collect()
+}
+
+/// How [`world_poses`] places a frame in the camera frame.
+enum Placement {
+    /// Known intrinsics: each frame's perspective camera (rotation and translation).
+    Perspective,
+    /// Weak perspective with a focal length (pixels; `None`: unknown) and a principal point.
+    Weak {
+        focal: Option<f64>,
+        principal: [f64; 2],
+    },
+}
+
+impl Placement {
+    /// The placement of `found` (at least one frame) given `intrinsics`.
+    fn of(found: &[&Reconstruction], intrinsics: Option<(f64, [f64; 2])>) -> Placement {
+        if intrinsics.is_some() && found.iter().all(|r| r.perspective.is_some()) {
+            return Placement::Perspective;
+        }
+        let mut focals: Vec<f64> = found
+            .iter()
+            .filter_map(|r| r.perspective.as_ref().map(|p| p.focal_px))
+            .filter(|f| f.is_finite() && *f > 0.0)
+            .collect();
+        focals.sort_by(f64::total_cmp);
+        let focal = intrinsics
+            .map(|(f, _)| f)
+            .or_else(|| focals.get(focals.len() / 2).copied());
+        let principal = intrinsics.map_or_else(
+            || {
+                let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+                for r in found {
+                    for k in 0..2 {
+                        lo[k] = lo[k].min(r.camera.translation[k]);
+                        hi[k] = hi[k].max(r.camera.translation[k]);
+                    }
+                }
+                [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])]
+            },
+            |(_, c)| c,
+        );
+        Placement::Weak { focal, principal }
+    }
+
+    /// The body -> camera rotation of `r` and its pelvis in the camera frame, metres.
+    fn frame(&self, r: &Reconstruction) -> (Matrix3, Vector3) {
+        let (focal, principal) = match (self, &r.perspective) {
+            (Placement::Perspective, Some(p)) => {
+                return (p.rotation, Vector3::from(p.translation));
+            }
+            // (Not made: `of` gives `Perspective` only when every frame has one.)
+            (Placement::Perspective, None) => (None, [0.0; 2]),
+            (Placement::Weak { focal, principal }, _) => (*focal, *principal),
+        };
+        let s = r.camera.scale;
+        let across = [
+            (r.camera.translation[0] - principal[0]) / s,
+            (r.camera.translation[1] - principal[1]) / s,
+        ];
+        match focal {
+            Some(f) => {
+                let pelvis = Vector3::new(across[0], across[1], f / s);
+                // The rotation was fitted along the ray to the pelvis: turn that ray onto the
+                // optical axis's place.
+                let ray = nalgebra::Rotation3::rotation_between(&Vector3::z(), &pelvis)
+                    .map_or_else(Matrix3::identity, |q| q.into_inner());
+                (ray * r.camera.rotation, pelvis)
+            }
+            None => (r.camera.rotation, Vector3::new(across[0], across[1], 0.0)),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use camloc_geometry::WeakPerspective;
+    use camloc_skeleton::Landmark;
+
+    /// A standing pose (metres, canonical frame: facing -x, z up).
+    fn standing() -> Pose3 {
+        let mut points = [[0.0; 3]; NUM_LANDMARKS];
+        let place = |points: &mut [[f64; 3]; NUM_LANDMARKS], l: Landmark, p: [f64; 3]| {
+            points[l.index()] = p;
+        };
+        place(&mut points, Landmark::LeftHip, [0.0, -0.1, -0.05]);
+        place(&mut points, Landmark::LeftKnee, [0.0, -0.1, -0.5]);
+        place(&mut points, Landmark::LeftAnkle, [0.0, -0.1, -0.95]);
+        place(&mut points, Landmark::RightHip, [0.0, 0.1, -0.05]);
+        place(&mut points, Landmark::RightKnee, [0.0, 0.1, -0.5]);
+        place(&mut points, Landmark::RightAnkle, [0.0, 0.1, -0.95]);
+        place(&mut points, Landmark::Neck, [0.0, 0.0, 0.5]);
+        place(&mut points, Landmark::Head, [0.0, 0.0, 0.75]);
+        place(&mut points, Landmark::LeftShoulder, [0.0, -0.2, 0.45]);
+        place(&mut points, Landmark::LeftElbow, [0.0, -0.25, 0.2]);
+        place(&mut points, Landmark::LeftWrist, [0.0, -0.25, -0.05]);
+        place(&mut points, Landmark::RightShoulder, [0.0, 0.2, 0.45]);
+        place(&mut points, Landmark::RightElbow, [0.0, 0.25, 0.2]);
+        place(&mut points, Landmark::RightWrist, [0.0, 0.25, -0.05]);
+        Pose3 { points }
+    }
+
+    /// A camera level with the pelvis seeing the body from its front turned by `yaw` about
+    /// the vertical, the pelvis at `t` in the image (scale 100 px per metre).
+    fn seen(yaw: f64, t: [f64; 2]) -> Reconstruction {
+        // Body -> camera: the camera looks along +x of the body (at its front, which faces
+        // -x), image y down.
+        let turn = Matrix3::new(
+            yaw.cos(),
+            -yaw.sin(),
+            0.0,
+            yaw.sin(),
+            yaw.cos(),
+            0.0,
+            0.0,
+            0.0,
+            1.0,
+        );
+        let front = Matrix3::new(0.0, 1.0, 0.0, 0.0, 0.0, -1.0, 1.0, 0.0, 0.0);
+        Reconstruction {
+            pose: standing(),
+            camera: WeakPerspective {
+                scale: 100.0,
+                rotation: front * turn,
+                translation: t,
+            },
+            projection_error: 0.0,
+            selected: Vec::new(),
+            coefficients: Vec::new(),
+            iterations: 0,
+            reflected: false,
+            limit_violation_rad: 0.0,
+            perspective: None,
+        }
+    }
+
+    #[test]
+    fn a_person_walking_across_and_turning_moves_and_turns_in_the_world() {
+        let a = seen(0.0, [0.0, 0.0]);
+        let b = seen(std::f64::consts::FRAC_PI_2, [100.0, 0.0]);
+        let placed = world_poses(&[Some(&a), None, Some(&b)], None);
+        assert!(placed[1].is_none());
+        let (p, q) = (placed[0].unwrap(), placed[2].unwrap());
+        // Feet on the floor, upright: the head above the pelvis by the pose's 0.75 m.
+        let lowest = p.points.iter().map(|x| x[2]).fold(f64::INFINITY, f64::min);
+        assert!(lowest.abs() < 1e-12, "{lowest}");
+        let pelvis = Landmark::Pelvis.index();
+        let head = Landmark::Head.index();
+        assert!((p.points[head][2] - p.points[pelvis][2] - 0.75).abs() < 1e-9);
+        // The first pelvis is the origin across the floor; the second is 1 m to the right.
+        assert!(p.points[pelvis][0].abs() < 1e-12 && p.points[pelvis][1].abs() < 1e-12);
+        assert!(
+            (q.points[pelvis][0] - 1.0).abs() < 1e-9,
+            "{:?}",
+            q.points[pelvis]
+        );
+        // The shoulder line turned by a quarter turn about the vertical.
+        let line = |pose: &Pose3| {
+            let (l, r) = (
+                pose.get(Landmark::LeftShoulder),
+                pose.get(Landmark::RightShoulder),
+            );
+            Vector3::new(r[0] - l[0], r[1] - l[1], r[2] - l[2]).normalize()
+        };
+        assert!(line(&p).dot(&line(&q)).abs() < 1e-9);
+        assert!(line(&p)[2].abs() < 1e-9 && line(&q)[2].abs() < 1e-9);
+        // Lengths are kept.
+        for limb in 0..camloc_skeleton::NUM_LIMBS {
+            assert!((q.limb_length(limb) - b.pose.limb_length(limb)).abs() < 1e-9);
+        }
+    }
+}
