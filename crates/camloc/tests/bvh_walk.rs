@@ -4,6 +4,8 @@
 //! read the same kind of file with a third-party parser, bvhio.) Skipped, visibly, without the
 //! data.
 
+mod held_out;
+
 use std::path::Path;
 
 use camloc::dataset::max_joint_distance_mm;
@@ -14,9 +16,7 @@ use camloc::mocap::{
 use camloc::reconstruct::{BasisConfig, BasisKind, PoseBasis};
 use camloc::skeleton::{Pose2, mean_limb_lengths};
 use camloc::{PartialPose2, Pose3, PoseReconstructor};
-
-/// The subjects the project's evaluations hold out (`xtask/src/generalise.rs`).
-const HELD_OUT: [&str; 9] = ["06", "09", "16", "17", "35", "47", "113", "127", "141"];
+use held_out::HELD_OUT;
 
 /// Frames of the walk.
 const FRAMES: usize = 200;

@@ -4,15 +4,15 @@
 //! pelvis's path across the floor and the body's facing against the truth. Skipped, visibly,
 //! without the data. Which clips are walks comes from the CMU index, not from a folder.
 
+mod held_out;
+
 use camloc::mocap::{MocapIndex, MotionCategory, discover};
 use camloc::reconstruct::world_poses;
 use camloc::skeleton::{Landmark, Pose2};
 use camloc::{
     CameraLocalizer, DepthLifter, ModeKind, PartialPose2, Pose3, PoseReconstructor, default_basis,
 };
-
-/// The subjects the project's evaluations hold out (`xtask/src/generalise.rs`).
-const HELD_OUT: [&str; 9] = ["06", "09", "16", "17", "35", "47", "113", "127", "141"];
+use held_out::HELD_OUT;
 
 /// Walks measured.
 const WALKS: usize = 3;
