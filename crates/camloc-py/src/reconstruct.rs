@@ -4,11 +4,11 @@ use std::collections::HashMap;
 use std::path::PathBuf;
 use std::sync::OnceLock;
 
-use camloc::reconstruct::{BONE_KEYS, BoneLengths, Intrinsics, PoseBasis};
+use camloc::reconstruct::{BONE_KEYS, BoneLengths, Intrinsics, PoseBasis, world_poses};
 use camloc::skeleton::{NUM_LANDMARKS, NUM_LIMBS};
 use camloc::store::Persist;
 use camloc::{
-    CameraHeight, CameraLocalizer, CamlocError, DepthLifter, ModeKind, PoseReconstruction,
+    CameraHeight, CameraLocalizer, CamlocError, DepthLifter, ModeKind, Pose3, PoseReconstruction,
     PoseReconstructor,
 };
 use pyo3::prelude::*;
@@ -199,6 +199,20 @@ pub(crate) fn reconstruct<'py>(
     let mut focal_px = vec![f64::NAN; n];
     let mut principal_point = vec![f64::NAN; n * 2];
     let mut imputed = vec![false; n * NUM_LANDMARKS];
+    // With `sequence`, the frames placed where a camera standing still saw them (as
+    // `camloc reconstruct --sequence --bvh` animates them), the intrinsics when given whole.
+    let world: Option<Vec<Option<Pose3>>> = sequence.then(|| {
+        let found: Vec<_> = results
+            .iter()
+            .map(|r| r.as_ref().ok().map(|r| &r.reconstruction))
+            .collect();
+        let fixed = reconstructor
+            .given()
+            .intrinsics
+            .as_ref()
+            .and_then(|i| i.principal_point.map(|c| (i.focal_px, c)));
+        world_poses(&found, fixed)
+    });
     let mut errors = Vec::new();
     for (i, result) in results.into_iter().enumerate() {
         let r = match result {
@@ -249,6 +263,17 @@ pub(crate) fn reconstruct<'py>(
     out.array("focal_px", focal_px, &[])?;
     out.array("principal_point", principal_point, &[2])?;
     out.array("imputed", imputed, &[NUM_LANDMARKS])?;
+    if let Some(world) = world {
+        let mut placed = vec![f64::NAN; n * 45];
+        for (out, pose) in placed.chunks_exact_mut(45).zip(&world) {
+            if let Some(pose) = pose {
+                for (o, p) in out.chunks_exact_mut(3).zip(&pose.points) {
+                    o.copy_from_slice(p);
+                }
+            }
+        }
+        out.array("world_points3d", placed, &[15, 3])?;
+    }
     if let Some(l) = person_lengths {
         let array = numpy::PyArray1::from_vec(py, l.as_array().to_vec());
         out.set("person_bone_lengths", array)?;

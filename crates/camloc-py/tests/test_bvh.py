@@ -2,7 +2,8 @@
 (`camloc.read_bvh`) and by a third-party parser (bvhio, with its own forward kinematics), to
 the reconstructed landmarks within 1 mm: the fixture poses, and 200 frames of a CMU walk of a
 held-out subject taken from 2D keypoints, through Python and through `camloc reconstruct
---sequence --bvh` (skipped, with the reason, without the data).
+--sequence --bvh` (skipped, with the reason, without the data); with root motion, the
+command line's file animates Python's `world_points3d`.
 """
 
 import json
@@ -170,7 +171,34 @@ def test_the_command_line_makes_the_walk_bvh_both_readers_read_back(
     keypoints.write_text(json.dumps({"format": "camloc-keypoints", "version": 1, "poses": poses}))
     path = tmp_path / "walk.bvh"
     code, objects = cli("reconstruct", "--input", keypoints, "--sequence", "--fps", "120",
-                        "--bvh", path)
+                        "--bvh", path, "--bvh-in-place")
     assert code == 0 and len(objects) == 200
     points3d = np.array([[o["landmarks_m"][n] for n in camloc.LANDMARKS] for o in objects])
     assert_walk_reads_back(name, path, points3d, "camloc reconstruct --sequence --bvh")
+
+
+def test_the_command_line_s_walk_moves_as_python_s_world_points3d(tmp_path, walk_keypoints, cli):
+    """`camloc reconstruct --sequence --bvh` (root motion) animates the frames Python's
+    `reconstruct(sequence=True)["world_points3d"]` places, both readers within 1 mm; the
+    walker moves across the floor."""
+    name, points2d = walk_keypoints
+    poses = [
+        {"id": f"frame-{t:04d}", "landmarks": dict(zip(camloc.LANDMARKS, pose.tolist()))}
+        for t, pose in enumerate(points2d)
+    ]
+    keypoints = tmp_path / "walk.json"
+    keypoints.write_text(json.dumps({"format": "camloc-keypoints", "version": 1, "poses": poses}))
+    path = tmp_path / "walk.bvh"
+    code, _ = cli("reconstruct", "--input", keypoints, "--sequence", "--fps", "120", "--bvh", path)
+    assert code == 0
+    rec = camloc.reconstruct(points2d, sequence=True)
+    world = rec["world_points3d"]
+    assert world.shape == (200, 15, 3) and not np.isnan(world).any()
+    assert "world_points3d" not in camloc.reconstruct(points2d[:3])
+    assert abs(world[..., 2].min()) < 1e-9
+    walked = np.linalg.norm(world[-1, 0, :2] - world[0, 0, :2])
+    assert walked > 0.5, f"the pelvis moved {walked:.2f} m"
+    ours, theirs = assert_both_readers_give(path, with_lengths(world, mean_lengths(world)), 120)
+    print(f"{name}: the pelvis moved {walked:.2f} m across the floor; the command line's BVH is "
+          f"Python's world_points3d within {ours * 1e3:.6f} mm (camloc), {theirs * 1e3:.6f} mm "
+          "(bvhio)")
