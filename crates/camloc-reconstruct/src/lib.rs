@@ -95,7 +95,7 @@ pub use pursuit::{
     depths_along_axis,
 };
 pub use refine::{DistancePrior, Given, Intrinsics, PerspectiveCamera, Refinement};
-pub use world::world_poses;
+pub use world::{SMOOTHING_FRAMES, world_poses};
 
 /// `x > 0`, false for NaN (reads better than a negated comparison at the call sites).
 pub(crate) fn is_positive(x: f64) -> bool {
