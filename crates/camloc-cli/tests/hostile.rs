@@ -336,13 +336,26 @@ fn an_input_known_to_be_too_long_for_html_is_refused_before_any_work() {
     let input = dir.0.join("long.npy");
     std::fs::write(&input, bytes).unwrap();
     let page = dir.0.join("p.html").to_string_lossy().into_owned();
+    let bvh = dir.0.join("p.bvh").to_string_lossy().into_owned();
     let input = input.to_string_lossy().into_owned();
-    let out = camloc(&["localize", "--input", &input, "--html", &page, "-q"]);
-    let text = stderr(&out);
-    assert_eq!(out.status.code(), Some(1), "{text}");
-    assert!(text.contains("more than 100000 poses"), "{text}");
-    assert_eq!(text.lines().count(), 1, "{text}");
-    assert!(out.stdout.is_empty() && !dir.0.join("p.html").exists());
+    // With --sequence too, whose frames are kept until the end anyway.
+    let cases: [&[&str]; 4] = [
+        &["localize", "--html", &page],
+        &["localize", "--sequence", "--html", &page],
+        &["reconstruct", "--sequence", "--html", &page],
+        &["reconstruct", "--sequence", "--bvh", &bvh],
+    ];
+    for case in cases {
+        let mut args = case.to_vec();
+        args.extend(["--input", &input, "-q"]);
+        let out = camloc(&args);
+        let text = stderr(&out);
+        assert_eq!(out.status.code(), Some(1), "{case:?}: {text}");
+        assert!(text.contains("more than 100000 poses"), "{case:?}: {text}");
+        assert_eq!(text.lines().count(), 1, "{case:?}: {text}");
+        assert!(out.stdout.is_empty() && !dir.0.join("p.html").exists());
+        assert!(!dir.0.join("p.bvh").exists());
+    }
 }
 
 /// An output in a folder that does not exist is refused before any work (nothing printed),

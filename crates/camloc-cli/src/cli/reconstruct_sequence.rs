@@ -22,7 +22,8 @@ use super::input::Inputs;
 use super::output::{NpyStage, Out};
 use super::reconstruct_output::{PoseMeta, lengths_text, pose_output, pose_svg};
 use super::stream::{
-    Emitter, ErrorJson, Finish, Format, Summary, counted, json_line, report_pose_error,
+    Emitter, ErrorJson, Finish, Format, KEEP_MAX_POSES, Summary, check_kept, counted, json_line,
+    report_pose_error,
 };
 use super::{CliError, numbered_path};
 
@@ -90,6 +91,8 @@ pub fn run(
     for path in options.finish.iter().flat_map(|(paths, _)| paths) {
         check_target(path, options.force)?;
     }
+    let keeps = options.finish.is_some();
+    check_kept(keeps, &inputs)?;
     let mut emit = Emitter::new(format);
     let mut summary = Summary::default();
     let mut kept: Vec<KeypointRecord> = Vec::new();
@@ -99,6 +102,9 @@ pub fn run(
             Ok(record) => {
                 if summary.poses == options.max_poses {
                     return Err(CliError::TooManyPoses(options.max_poses));
+                }
+                if keeps && summary.poses == KEEP_MAX_POSES {
+                    return Err(CliError::TooManyKept(KEEP_MAX_POSES));
                 }
                 summary.poses += 1;
                 kept.push(record);

@@ -26,7 +26,10 @@ use crate::svg;
 use super::export;
 use super::input::Inputs;
 use super::output::Out;
-use super::stream::{BATCH, Emitter, Format, Summary, counted, json_line, report_pose_error};
+use super::stream::{
+    BATCH, Emitter, Format, KEEP_MAX_POSES, Summary, check_kept, counted, json_line,
+    report_pose_error,
+};
 use super::{CliError, Locator, numbered_path};
 use camloc::store::{StagedFiles, check_target, escaped};
 
@@ -138,6 +141,7 @@ pub fn run(
         check_target(summary, force)?;
     }
     let mut emit = Emitter::new(format);
+    check_kept(files.html.is_some(), &inputs)?;
     let mut summary = Summary::default();
     let mut frames: Vec<Frame> = Vec::new();
     let mut failures = Failures::default();
@@ -169,6 +173,9 @@ pub fn run(
                 views.extend(view);
                 if summary.poses == files.max_poses {
                     return Err(CliError::TooManyPoses(files.max_poses));
+                }
+                if files.html.is_some() && summary.poses == KEEP_MAX_POSES {
+                    return Err(CliError::TooManyKept(KEEP_MAX_POSES));
                 }
                 let result = result.map_err(|message| {
                     summary.failed_poses += 1;

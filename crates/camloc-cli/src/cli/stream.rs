@@ -85,6 +85,16 @@ impl<K> From<String> for Failed<K> {
 /// Most poses a run keeps until the end for [`Files::finish`] (`--bvh`, `--html`).
 pub const KEEP_MAX_POSES: u64 = 100_000;
 
+/// Refuses ([`CliError::TooManyKept`]) an input known at opening to hold more than
+/// [`KEEP_MAX_POSES`] poses when the run `keeps` every pose for the end's files (`--bvh`,
+/// `--html`), so that it is refused now, not when the poses past the limit are reached.
+pub fn check_kept(keeps: bool, inputs: &Inputs) -> Result<(), CliError> {
+    if keeps && inputs.len_hint().is_some_and(|n| n > KEEP_MAX_POSES) {
+        return Err(CliError::TooManyKept(KEEP_MAX_POSES));
+    }
+    Ok(())
+}
+
 /// Makes files, once every pose is done, from what the run kept of each (in input order):
 /// `(path, content)` pairs, written with the run's other files (all or nothing).
 pub type Finish<K> = Box<dyn FnOnce(Vec<K>) -> Result<Vec<(PathBuf, Vec<u8>)>, CliError>>;
@@ -289,11 +299,7 @@ where
     for path in files.finish.iter().flat_map(|(paths, _)| paths) {
         check_target(path, files.force)?;
     }
-    // An input known at opening to hold more poses than the end's files may keep is refused
-    // now, not when the poses past the limit are reached.
-    if files.finish.is_some() && inputs.len_hint().is_some_and(|n| n > KEEP_MAX_POSES) {
-        return Err(CliError::TooManyKept(KEEP_MAX_POSES));
-    }
+    check_kept(files.finish.is_some(), &inputs)?;
     let mut kept = Vec::new();
     let mut staged = StagedFiles::new(files.force);
     let mut rows = files.rows;
