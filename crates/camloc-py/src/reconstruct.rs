@@ -4,7 +4,7 @@ use std::collections::HashMap;
 use std::path::PathBuf;
 use std::sync::OnceLock;
 
-use camloc::reconstruct::{BONE_KEYS, BoneLengths, Intrinsics, PoseBasis, world_poses};
+use camloc::reconstruct::{BONE_KEYS, BoneLengths, Intrinsics, PoseBasis};
 use camloc::skeleton::{NUM_LANDMARKS, NUM_LIMBS};
 use camloc::store::Persist;
 use camloc::{
@@ -200,18 +200,10 @@ pub(crate) fn reconstruct<'py>(
     let mut principal_point = vec![f64::NAN; n * 2];
     let mut imputed = vec![false; n * NUM_LANDMARKS];
     // With `sequence`, the frames placed where a camera standing still saw them (as
-    // `camloc reconstruct --sequence --bvh` animates them), the intrinsics when given whole.
+    // `camloc reconstruct --sequence --bvh` animates them).
     let world: Option<Vec<Option<Pose3>>> = sequence.then(|| {
-        let found: Vec<_> = results
-            .iter()
-            .map(|r| r.as_ref().ok().map(|r| &r.reconstruction))
-            .collect();
-        let fixed = reconstructor
-            .given()
-            .intrinsics
-            .as_ref()
-            .and_then(|i| i.principal_point.map(|c| (i.focal_px, c)));
-        world_poses(&found, fixed)
+        let found: Vec<_> = results.iter().map(|r| r.as_ref().ok()).collect();
+        reconstructor.place_in_world(&found)
     });
     let mut errors = Vec::new();
     for (i, result) in results.into_iter().enumerate() {

@@ -28,9 +28,16 @@ pub const SMOOTHING_FRAMES: usize = 2;
 /// - **Smoothing**: the pelvis's place is averaged over [`SMOOTHING_FRAMES`] frames on each
 ///   side (fewer near the ends, as many on both sides; the frames' own poses and rotations
 ///   are kept).
-/// - **Up** is the mean over the frames of the canonical body frame's vertical seen by the
-///   camera (the basis's poses are upright in that frame: its z is the world's vertical,
-///   for seated and crawling poses too).
+/// - **Upright**: `verticals` gives, where known, each frame's world vertical in camera
+///   coordinates as the localizer saw it (the third column of
+///   `Localization::viewpoint_rotation`). The reconstruction's camera may tilt the body
+///   towards or away from the camera (by 14 deg for a walk towards a tripod in a user's trial,
+///   where the localizer was within 1 deg), which would make the floor slope; the bodies are
+///   turned by one rotation so that their vertical is the localizer's on average. Without
+///   any, the reconstructions' own.
+/// - **Up** is the mean over the frames of the body frame's vertical seen by the camera (the
+///   basis's poses are upright in that frame: its z is the world's vertical, for seated and
+///   crawling poses too).
 /// - **Axes**: x is the camera's right made horizontal, y points away from the camera, z up.
 /// - **Origin**: the first frame's pelvis, moved down to the floor: the lowest landmark of
 ///   all frames is at z = 0.
@@ -39,6 +46,7 @@ pub const SMOOTHING_FRAMES: usize = 2;
 /// A panning or moving camera turns its own motion into the person's.
 pub fn world_poses(
     frames: &[Option<&Reconstruction>],
+    verticals: &[Option<[f64; 3]>],
     intrinsics: Option<(f64, [f64; 2])>,
 ) -> Vec<Option<Pose3>> {
     let found: Vec<&Reconstruction> = frames.iter().flatten().copied().collect();
@@ -46,10 +54,18 @@ pub fn world_poses(
         return vec![None; frames.len()];
     }
     let place = Placement::of(&found, intrinsics);
+    let tilt = tilt_to(frames, verticals);
     // Each frame's body -> camera rotation and pelvis in the camera frame, the pelvis
     // averaged over the frames within SMOOTHING_FRAMES of it.
-    let mut seen: Vec<Option<(Matrix3, Vector3)>> =
-        frames.iter().map(|f| f.map(|r| place.frame(r))).collect();
+    let mut seen: Vec<Option<(Matrix3, Vector3)>> = frames
+        .iter()
+        .map(|f| {
+            f.map(|r| {
+                let (rotation, pelvis) = place.frame(r);
+                (rotation * tilt, pelvis)
+            })
+        })
+        .collect();
     let pelvis: Vec<Option<Vector3>> = seen.iter().map(|s| s.map(|(_, p)| p)).collect();
     for (t, s) in seen.iter_mut().enumerate() {
         if let Some((_, p)) = s {
@@ -112,6 +128,21 @@ pub fn world_poses(
             })
         })
         .collect()
+}
+
+/// The rotation `T` of the body frame that makes the frames' bodies upright as `verticals`
+/// say (each frame's world vertical in camera coordinates, where known): each frame's camera
+/// then sees the body's vertical `R T z` along its vertical on average (`T z` is the mean
+/// of `R^T v` over the frames, `R` body -> camera); the identity without any.
+fn tilt_to(frames: &[Option<&Reconstruction>], verticals: &[Option<[f64; 3]>]) -> Matrix3 {
+    let mut vertical = Vector3::zeros();
+    for (f, v) in frames.iter().zip(verticals) {
+        if let (Some(r), Some(v)) = (f, v) {
+            vertical += r.camera.rotation.transpose() * Vector3::from(*v);
+        }
+    }
+    nalgebra::Rotation3::rotation_between(&Vector3::z(), &vertical)
+        .map_or_else(Matrix3::identity, |q| q.into_inner())
 }
 
 /// How [`world_poses`] places a frame in the camera frame.
@@ -249,10 +280,49 @@ mod tests {
     }
 
     #[test]
+    fn the_localizer_s_verticals_level_the_floor_of_a_tilted_reconstruction() {
+        // A walk straight away from the camera (10 m, then 20 m: scale 100, then 50 px per
+        // metre at 1000 px), reconstructed leaning 10 deg towards the camera; the localizer
+        // saw the body upright.
+        let pitch = 10f64.to_radians();
+        let lean = Matrix3::new(
+            pitch.cos(),
+            0.0,
+            pitch.sin(),
+            0.0,
+            1.0,
+            0.0,
+            -pitch.sin(),
+            0.0,
+            pitch.cos(),
+        );
+        let (mut near, mut far) = (seen(0.0, [0.0, 0.0]), seen(0.0, [0.0, 0.0]));
+        let upright: [f64; 3] = near.camera.rotation.column(2).into_owned().into();
+        far.camera.scale = 50.0;
+        for r in [&mut near, &mut far] {
+            r.camera.rotation *= lean;
+        }
+        let camera = Some((1000.0, [0.0, 0.0]));
+        let rise = |placed: Vec<Option<Pose3>>| {
+            let (a, b) = (placed[0].unwrap(), placed[1].unwrap());
+            b.get(Landmark::Pelvis)[2] - a.get(Landmark::Pelvis)[2]
+        };
+        let own = rise(world_poses(&[Some(&near), Some(&far)], &[], camera));
+        let told = rise(world_poses(
+            &[Some(&near), Some(&far)],
+            &[Some(upright), Some(upright)],
+            camera,
+        ));
+        // Alone, the floor slopes by the lean over the 10 m walked; told, it is level.
+        assert!((own.abs() - 10.0 * pitch.sin()).abs() < 1e-6, "{own}");
+        assert!(told.abs() < 1e-9, "{told}");
+    }
+
+    #[test]
     fn a_person_walking_across_and_turning_moves_and_turns_in_the_world() {
         let a = seen(0.0, [0.0, 0.0]);
         let b = seen(std::f64::consts::FRAC_PI_2, [100.0, 0.0]);
-        let placed = world_poses(&[Some(&a), None, Some(&b)], None);
+        let placed = world_poses(&[Some(&a), None, Some(&b)], &[], None);
         assert!(placed[1].is_none());
         let (p, q) = (placed[0].unwrap(), placed[2].unwrap());
         // Feet on the floor, upright: the head above the pelvis by the pose's 0.75 m.

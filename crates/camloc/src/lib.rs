@@ -45,6 +45,7 @@ mod select;
 mod sequence;
 mod train;
 mod train_options;
+mod world;
 
 pub use camloc_dataset as dataset;
 pub use camloc_features as features;

@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use camloc::keypoints::KeypointRecord;
-use camloc::reconstruct::{BoneLengths, world_poses};
+use camloc::reconstruct::BoneLengths;
 use camloc::store::{StagedFiles, check_target};
 use camloc::{ModeKind, PartialPose2, Pose3, PoseReconstruction, PoseReconstructor, sequences};
 use indicatif::ProgressBar;
@@ -119,12 +119,6 @@ pub fn run(
     let keys: Vec<_> = kept.iter().map(|k| (k.frame, k.person)).collect();
     super::sequence::warn_of_repeated_frames(&keys);
     let groups = sequences(&keys);
-    // The camera's intrinsics when the user gave them with a fixed principal point.
-    let fixed_camera = reconstructor
-        .given()
-        .intrinsics
-        .as_ref()
-        .and_then(|i| i.principal_point.map(|c| (i.focal_px, c)));
     let mut staged = StagedFiles::new(options.force);
     let mut rows: Vec<Option<Pose3>> =
         vec![None; if options.npy.is_some() { kept.len() } else { 0 }];
@@ -162,11 +156,8 @@ pub fn run(
         let reconstructed = frames.iter().filter(|f| f.is_ok()).count();
         // The poses the BVH gets: placed where the camera saw them, or each at the origin.
         let animated: Vec<Option<Pose3>> = if options.root_motion {
-            let found: Vec<_> = frames
-                .iter()
-                .map(|f| f.as_ref().ok().map(|r| &r.reconstruction))
-                .collect();
-            world_poses(&found, fixed_camera)
+            let found: Vec<_> = frames.iter().map(|f| f.as_ref().ok()).collect();
+            reconstructor.place_in_world(&found)
         } else {
             frames
                 .iter()
