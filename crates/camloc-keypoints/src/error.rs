@@ -355,7 +355,7 @@ pub enum KeypointError {
     /// The input has normalised coordinates and no image size was given.
     #[error(
         "{}: {format} coordinates are normalised to [0, 1]: give the image size in pixels \
-         (ReadOptions::image_size, --image-size W,H)",
+         (--image-size W,H; Python image_size=; Rust ReadOptions::image_size)",
         file_name(.file)
     )]
     ImageSizeNeeded {

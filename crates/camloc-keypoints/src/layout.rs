@@ -350,7 +350,7 @@ pub(crate) fn resolve_layout(
         ([layout], _) => Ok(*layout),
         ([_, _], Some(layout)) => Ok(layout),
         ([_, _], None) => Err(
-            "that can be coco17 or h36m17: name the layout (ReadOptions::layout, --layout)"
+            "that can be coco17 or h36m17: name the layout (--layout; Python layout=; Rust ReadOptions::layout)"
                 .to_owned(),
         ),
         _ => Err(format!(
