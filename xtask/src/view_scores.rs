@@ -104,7 +104,7 @@ fn outcome(
 ) -> ViewOutcome {
     let (true_az, true_el) = camera_direction_deg(&sample.rotation);
     let truth_level = cameras.get(sample.label).map(|v| v.level);
-    let level_offset = truth_level.map_or(0, |t| level_rank(level) - level_rank(t));
+    let level_offset = truth_level.map_or(0, |t| level.index() as i32 - t.index() as i32);
     ViewOutcome {
         category: data.category_of(sample),
         low: is_low_posture(&sample.pose3),
@@ -119,15 +119,6 @@ fn outcome(
         true_elevation_deg: true_el,
         level_offset,
         within_uncertainty: None,
-    }
-}
-
-/// 0, 1, 2 for the lower, middle and upper level.
-fn level_rank(level: Level) -> i32 {
-    match level {
-        Level::Lower => 0,
-        Level::Middle => 1,
-        Level::Upper => 2,
     }
 }
 

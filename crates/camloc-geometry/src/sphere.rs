@@ -74,6 +74,15 @@ impl Level {
         }
     }
 
+    /// 0, 1 and 2 for the lower, middle and upper level: the levels from the lowest.
+    pub const fn index(self) -> usize {
+        match self {
+            Level::Lower => 0,
+            Level::Middle => 1,
+            Level::Upper => 2,
+        }
+    }
+
     /// The Table-1 level nearest to `elevation_deg` (-45, 0 or +45 deg).
     pub fn nearest(elevation_deg: f64) -> Level {
         if elevation_deg < -22.5 {

@@ -7,7 +7,7 @@ use std::str::FromStr;
 use camloc_geometry::CameraSet;
 
 use crate::CamlocError;
-use crate::height_shares::{HeightShares, level_index};
+use crate::height_shares::HeightShares;
 
 /// How many times as likely a camera of the middle ring is, a priori, under
 /// [`CameraHeight::EyeLevel`] as under the model's own priors. Chosen on the validation
@@ -68,7 +68,7 @@ impl CameraHeight {
         };
         let mut total = 0.0;
         for (p, camera) in probabilities.iter_mut().zip(cameras.viewpoints()) {
-            *p *= weights[level_index(camera.level)];
+            *p *= weights[camera.level.index()];
             total += *p;
         }
         if total > 0.0 {

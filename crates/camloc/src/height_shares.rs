@@ -108,7 +108,7 @@ impl HeightShares {
 
     /// The share of `level`.
     pub fn of(&self, level: Level) -> f64 {
-        self.to_array()[level_index(level)]
+        self.to_array()[level.index()]
     }
 
     /// The shares of the heights under the per-camera priors `priors` (one per camera of
@@ -116,7 +116,7 @@ impl HeightShares {
     pub(crate) fn of_priors(cameras: &CameraSet, priors: &[f64]) -> Self {
         let mut shares = [0.0; 3];
         for (p, view) in priors.iter().zip(cameras.viewpoints()) {
-            shares[level_index(view.level)] += p;
+            shares[view.level.index()] += p;
         }
         HeightShares::from_array(shares)
     }
@@ -148,15 +148,6 @@ impl std::fmt::Display for HeightShares {
     }
 }
 
-/// The index of `level` in [`HeightShares`]'s order (lower, middle, upper).
-pub(crate) fn level_index(level: Level) -> usize {
-    match level {
-        Level::Lower => 0,
-        Level::Middle => 1,
-        Level::Upper => 2,
-    }
-}
-
 /// The shares of the heights that best explain `probabilities` (rows of one probability per
 /// camera of `cameras`, under the model's own per-camera `priors`): expectation-maximisation
 /// of the heights' shares with the classifier's probabilities held fixed (Saerens, Latinne and
@@ -167,7 +158,7 @@ pub(crate) fn estimate(cameras: &CameraSet, priors: &[f64], probabilities: &[f64
     let levels: Vec<usize> = cameras
         .viewpoints()
         .iter()
-        .map(|v| level_index(v.level))
+        .map(|v| v.level.index())
         .collect();
     let k = levels.len();
     let views = (probabilities.len() / k.max(1)) as f64;
