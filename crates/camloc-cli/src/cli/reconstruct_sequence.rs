@@ -22,7 +22,7 @@ use super::input::Inputs;
 use super::output::{NpyStage, Out};
 use super::reconstruct_output::{PoseMeta, lengths_text, pose_output, pose_svg};
 use super::stream::{
-    Emitter, ErrorJson, Finish, Format, KEEP_MAX_POSES, Summary, check_kept, counted, json_line,
+    Emitter, ErrorJson, Finish, Format, Summary, check_kept, check_kept_input, counted, json_line,
     report_pose_error,
 };
 use super::{CliError, numbered_path};
@@ -52,7 +52,7 @@ pub struct Options<'a> {
     /// The page's record of a frame.
     pub view: ViewOf<'a>,
     /// Whether the `--bvh` poses are placed in the camera's world (root motion,
-    /// [`world_poses`]) rather than each at the origin in the body frame.
+    /// `PoseReconstructor::place_in_world`) rather than each at the origin in the body frame.
     pub root_motion: bool,
 }
 
@@ -76,23 +76,19 @@ pub fn run(
     bar: &ProgressBar,
 ) -> Result<ExitCode, CliError> {
     if let Some(svg) = options.svg {
-        for path in super::targets::numbered_targets(svg, "svg") {
-            check_target(&path, options.force)?;
-        }
+        super::targets::check_numbered(svg, "svg", options.force)?;
     }
     if let Some(path) = options.npy {
         check_target(path, options.force)?;
     }
     if let Some(path) = options.lengths_out {
-        for path in super::targets::numbered_targets(path, "json") {
-            check_target(&path, options.force)?;
-        }
+        super::targets::check_numbered(path, "json", options.force)?;
     }
     for path in options.finish.iter().flat_map(|(paths, _)| paths) {
         check_target(path, options.force)?;
     }
     let keeps = options.finish.is_some();
-    check_kept(keeps, &inputs)?;
+    check_kept_input(keeps, &inputs)?;
     let mut emit = Emitter::new(format);
     let mut summary = Summary::default();
     let mut kept: Vec<KeypointRecord> = Vec::new();
@@ -103,9 +99,7 @@ pub fn run(
                 if summary.poses == options.max_poses {
                     return Err(CliError::TooManyPoses(options.max_poses));
                 }
-                if keeps && summary.poses == KEEP_MAX_POSES {
-                    return Err(CliError::TooManyKept(KEEP_MAX_POSES));
-                }
+                check_kept(keeps, summary.poses + 1)?;
                 summary.poses += 1;
                 kept.push(record);
                 bar.inc(1);

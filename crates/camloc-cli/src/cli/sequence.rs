@@ -27,7 +27,7 @@ use super::export;
 use super::input::Inputs;
 use super::output::Out;
 use super::stream::{
-    BATCH, Emitter, Format, KEEP_MAX_POSES, Summary, check_kept, counted, json_line,
+    BATCH, Emitter, Format, Summary, check_kept, check_kept_input, counted, json_line,
     report_pose_error,
 };
 use super::{CliError, Locator, numbered_path};
@@ -133,15 +133,13 @@ pub fn run(
     }
     let mut views: Vec<ViewFrame> = Vec::new();
     if let Some(svg) = svg_out {
-        for path in super::targets::numbered_targets(svg, "svg") {
-            check_target(&path, force)?;
-        }
+        super::targets::check_numbered(svg, "svg", force)?;
     }
     if let Some(summary) = summary_out {
         check_target(summary, force)?;
     }
     let mut emit = Emitter::new(format);
-    check_kept(files.html.is_some(), &inputs)?;
+    check_kept_input(files.html.is_some(), &inputs)?;
     let mut summary = Summary::default();
     let mut frames: Vec<Frame> = Vec::new();
     let mut failures = Failures::default();
@@ -174,9 +172,7 @@ pub fn run(
                 if summary.poses == files.max_poses {
                     return Err(CliError::TooManyPoses(files.max_poses));
                 }
-                if files.html.is_some() && summary.poses == KEEP_MAX_POSES {
-                    return Err(CliError::TooManyKept(KEEP_MAX_POSES));
-                }
+                check_kept(files.html.is_some(), summary.poses + 1)?;
                 let result = result.map_err(|message| {
                     summary.failed_poses += 1;
                     report_pose_error(bar, &record.id, &record.source, &message);

@@ -85,14 +85,21 @@ impl<K> From<String> for Failed<K> {
 /// Most poses a run keeps until the end for [`Files::finish`] (`--bvh`, `--html`).
 pub const KEEP_MAX_POSES: u64 = 100_000;
 
-/// Refuses ([`CliError::TooManyKept`]) an input known at opening to hold more than
-/// [`KEEP_MAX_POSES`] poses when the run `keeps` every pose for the end's files (`--bvh`,
-/// `--html`), so that it is refused now, not when the poses past the limit are reached.
-pub fn check_kept(keeps: bool, inputs: &Inputs) -> Result<(), CliError> {
-    if keeps && inputs.len_hint().is_some_and(|n| n > KEEP_MAX_POSES) {
+/// Refuses ([`CliError::TooManyKept`]) a run that `keeps` `poses` for the end's files
+/// (`--bvh`, `--html`) when they are more than [`KEEP_MAX_POSES`]: each pose about to be kept,
+/// counted with it, and before any work the input's length when known at opening
+/// ([`check_kept_input`]).
+pub fn check_kept(keeps: bool, poses: u64) -> Result<(), CliError> {
+    if keeps && poses > KEEP_MAX_POSES {
         return Err(CliError::TooManyKept(KEEP_MAX_POSES));
     }
     Ok(())
+}
+
+/// [`check_kept`] of the whole input when its length is known at opening, so that it is
+/// refused now, not when the poses past the limit are reached.
+pub fn check_kept_input(keeps: bool, inputs: &Inputs) -> Result<(), CliError> {
+    check_kept(keeps, inputs.len_hint().unwrap_or(0))
 }
 
 /// Makes files, once every pose is done, from what the run kept of each (in input order):
@@ -286,9 +293,7 @@ where
     let svg_single = files.svg.clone();
     // Refuse existing outputs before any work (checked again when the files are moved in place).
     if let Some(svg) = &files.svg {
-        for path in super::targets::numbered_targets(svg, "svg") {
-            check_target(&path, files.force)?;
-        }
+        super::targets::check_numbered(svg, "svg", files.force)?;
     }
     if let Some(rows) = &files.rows {
         check_target(rows.target(), files.force)?;
@@ -299,7 +304,7 @@ where
     for path in files.finish.iter().flat_map(|(paths, _)| paths) {
         check_target(path, files.force)?;
     }
-    check_kept(files.finish.is_some(), &inputs)?;
+    check_kept_input(files.finish.is_some(), &inputs)?;
     let mut kept = Vec::new();
     let mut staged = StagedFiles::new(files.force);
     let mut rows = files.rows;
@@ -367,9 +372,7 @@ where
                     Ok(done) => done.keep.is_some(),
                     Err(failed) => failed.keep.is_some(),
                 };
-                if keep && kept.len() as u64 == KEEP_MAX_POSES {
-                    return Err(CliError::TooManyKept(KEEP_MAX_POSES));
-                }
+                check_kept(keep, kept.len() as u64 + 1)?;
                 match result {
                     Ok(done) => {
                         emitter.write(out, &done.text)?;

@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
-use camloc::store::quoted_path;
+use camloc::store::{check_target, quoted_path};
 
 use super::CliError;
 
@@ -218,10 +218,7 @@ fn same_inode(_: &Path, _: &Path) -> bool {
 
 /// `path` with its folder made absolute and resolved (links, `.` and `..`) where it exists.
 fn spelled(path: &Path) -> PathBuf {
-    let folder = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
-    };
+    let folder = folder_of(path);
     let name = path.file_name().unwrap_or(path.as_os_str());
     match std::fs::canonicalize(folder) {
         Ok(folder) => folder.join(name),
@@ -235,10 +232,7 @@ fn spelled(path: &Path) -> PathBuf {
 /// How many files a run writes is known only at its end, so any of them may be replaced.
 pub fn numbered_targets(out: &Path, ext: &str) -> Vec<PathBuf> {
     let mut paths = vec![out.to_path_buf()];
-    let folder = match out.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
-    };
+    let folder = folder_of(out);
     // An unreadable folder is found when the files are written.
     if let Ok(entries) = std::fs::read_dir(folder) {
         paths.extend(
@@ -251,6 +245,23 @@ pub fn numbered_targets(out: &Path, ext: &str) -> Vec<PathBuf> {
         paths[1..].sort();
     }
     paths
+}
+
+/// Refuses, before any work, an existing file among the [`numbered_targets`] of `out` (as
+/// [`check_target`] does: without `force`, or a folder or device even with it).
+pub fn check_numbered(out: &Path, ext: &str, force: bool) -> Result<(), CliError> {
+    for path in numbered_targets(out, ext) {
+        check_target(&path, force)?;
+    }
+    Ok(())
+}
+
+/// The folder `path` is in (`.` for a bare name).
+fn folder_of(path: &Path) -> &Path {
+    match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    }
 }
 
 /// `true` when the file name of `path` is a numbered name of `out` (`STEM-NNN.EXT`, as
