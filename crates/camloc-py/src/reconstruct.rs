@@ -215,12 +215,7 @@ pub(crate) fn reconstruct<'py>(
             }
         };
         let rec = &r.reconstruction;
-        for (out, p) in points3d[i * 45..(i + 1) * 45]
-            .chunks_exact_mut(3)
-            .zip(&rec.pose.points)
-        {
-            out.copy_from_slice(p);
-        }
+        points3d[i * 45..(i + 1) * 45].copy_from_slice(rec.pose.points.as_flattened());
         for (k, out) in rotation[i * 9..(i + 1) * 9].iter_mut().enumerate() {
             *out = rec.camera.rotation[(k / 3, k % 3)];
         }
@@ -259,9 +254,7 @@ pub(crate) fn reconstruct<'py>(
         let mut placed = vec![f64::NAN; n * 45];
         for (out, pose) in placed.chunks_exact_mut(45).zip(&world) {
             if let Some(pose) = pose {
-                for (o, p) in out.chunks_exact_mut(3).zip(&pose.points) {
-                    o.copy_from_slice(p);
-                }
+                out.copy_from_slice(pose.points.as_flattened());
             }
         }
         out.array("world_points3d", placed, &[15, 3])?;
