@@ -159,16 +159,21 @@ def test_a_held_out_cmu_walk_goes_from_2d_keypoints_to_a_bvh_both_readers_read_b
     assert_walk_reads_back(name, path, rec["points3d"], "camloc.to_bvh")
 
 
-def test_the_command_line_makes_the_walk_bvh_both_readers_read_back(
-    tmp_path, walk_keypoints, cli
-):
-    name, points2d = walk_keypoints
+def write_keypoints(path, points2d):
+    """`points2d` (N, 15, 2) written as a camloc JSON keypoint file at `path`, one pose a frame."""
     poses = [
         {"id": f"frame-{t:04d}", "landmarks": dict(zip(camloc.LANDMARKS, pose.tolist()))}
         for t, pose in enumerate(points2d)
     ]
-    keypoints = tmp_path / "walk.json"
-    keypoints.write_text(json.dumps({"format": "camloc-keypoints", "version": 1, "poses": poses}))
+    path.write_text(json.dumps({"format": "camloc-keypoints", "version": 1, "poses": poses}))
+    return path
+
+
+def test_the_command_line_makes_the_walk_bvh_both_readers_read_back(
+    tmp_path, walk_keypoints, cli
+):
+    name, points2d = walk_keypoints
+    keypoints = write_keypoints(tmp_path / "walk.json", points2d)
     path = tmp_path / "walk.bvh"
     code, objects = cli("reconstruct", "--input", keypoints, "--sequence", "--fps", "120",
                         "--bvh", path, "--bvh-in-place")
@@ -182,12 +187,7 @@ def test_the_command_line_s_walk_moves_as_python_s_world_points3d(tmp_path, walk
     `reconstruct(sequence=True)["world_points3d"]` places, both readers within 1 mm; the
     walker moves across the floor."""
     name, points2d = walk_keypoints
-    poses = [
-        {"id": f"frame-{t:04d}", "landmarks": dict(zip(camloc.LANDMARKS, pose.tolist()))}
-        for t, pose in enumerate(points2d)
-    ]
-    keypoints = tmp_path / "walk.json"
-    keypoints.write_text(json.dumps({"format": "camloc-keypoints", "version": 1, "poses": poses}))
+    keypoints = write_keypoints(tmp_path / "walk.json", points2d)
     path = tmp_path / "walk.bvh"
     code, _ = cli("reconstruct", "--input", keypoints, "--sequence", "--fps", "120", "--bvh", path)
     assert code == 0
