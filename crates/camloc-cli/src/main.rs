@@ -36,31 +36,49 @@ fn main() -> ExitCode {
 
 /// Standard output, or an error when it was closed when camloc started (`camloc ... >&-`).
 ///
-/// Rust's runtime opens `/dev/null` (for reading and writing) in place of a standard descriptor
-/// that is closed at startup, so that writes would seem to succeed; a user's `>/dev/null` opens
-/// it for writing only. Where the operating system shows a descriptor's flags
-/// (`/proc/self/fdinfo`, Linux), the first case is told from the second and refused.
+/// Rust's runtime opens `/dev/null` in place of a standard descriptor that is closed at
+/// startup, so that writes would seem to succeed. A `/dev/null` given on purpose looks the
+/// same afterwards (Python's `subprocess.DEVNULL` opens it for reading and writing too), so
+/// the descriptor is looked at before the runtime starts ([`closed_at_start`], Linux).
 #[cfg(unix)]
 fn standard_output() -> std::io::Result<Box<dyn Write>> {
     use std::os::fd::AsFd;
-    use std::os::unix::fs::MetadataExt;
-    let file = std::fs::File::from(std::io::stdout().as_fd().try_clone_to_owned()?);
-    let null = std::fs::metadata("/dev/null")?;
-    let meta = file.metadata()?;
-    let read_write = std::fs::read_to_string("/proc/self/fdinfo/1")
-        .ok()
-        .and_then(|info| {
-            let flags = info.lines().find_map(|l| l.strip_prefix("flags:"))?;
-            u32::from_str_radix(flags.trim(), 8).ok()
-        })
-        .is_some_and(|flags| flags & 3 == 2);
-    if read_write && (meta.dev(), meta.ino()) == (null.dev(), null.ino()) {
+    #[cfg(target_os = "linux")]
+    if closed_at_start::standard_output() {
         return Err(std::io::Error::new(
             std::io::ErrorKind::BrokenPipe,
             "it was closed when camloc started",
         ));
     }
+    let file = std::fs::File::from(std::io::stdout().as_fd().try_clone_to_owned()?);
     Ok(Box::new(file))
+}
+
+/// Whether standard output was closed when the process started, seen by a function the
+/// loader runs before Rust's runtime opens `/dev/null` in its place (`.init_array`).
+#[cfg(target_os = "linux")]
+mod closed_at_start {
+    use std::sync::atomic::{AtomicBool, Ordering};
+
+    /// Set by [`probe`] when descriptor 1 was closed.
+    static CLOSED: AtomicBool = AtomicBool::new(false);
+
+    /// Records whether descriptor 1 is open (the loader calls it before `main`).
+    extern "C" fn probe() {
+        // SAFETY: F_GETFD only reads the descriptor's flags; it fails (EBADF) on a closed one.
+        let closed = unsafe { libc::fcntl(1, libc::F_GETFD) } == -1;
+        CLOSED.store(closed, Ordering::Relaxed);
+    }
+
+    /// The loader's list of functions to run at startup holds [`probe`].
+    #[used]
+    #[unsafe(link_section = ".init_array")]
+    static PROBE: extern "C" fn() = probe;
+
+    /// Whether standard output was closed when camloc started.
+    pub fn standard_output() -> bool {
+        CLOSED.load(Ordering::Relaxed)
+    }
 }
 
 /// Standard output (see the Unix version).

@@ -457,13 +457,16 @@ fn a_closed_standard_output_is_an_error() {
     let script = format!("exec \"$0\" localize --input '{}' >&-", input.display());
     let out = shell(&script);
     assert_clean_failure(&out, "standard output");
-    // Writing to /dev/null on purpose is fine.
-    let script = format!(
-        "exec \"$0\" localize --input '{}' >/dev/null",
-        input.display()
-    );
-    let out = shell(&script);
-    assert!(out.status.success(), "{}", stderr(&out));
+    // Writing to /dev/null on purpose is fine, opened for writing or, as Python's
+    // `subprocess.DEVNULL` opens it, for reading and writing (which camloc refused before).
+    for redirect in [">/dev/null", "1<>/dev/null"] {
+        let script = format!(
+            "exec \"$0\" localize --input '{}' {redirect}",
+            input.display()
+        );
+        let out = shell(&script);
+        assert!(out.status.success(), "{redirect}: {}", stderr(&out));
+    }
 }
 
 #[test]
