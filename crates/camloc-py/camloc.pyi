@@ -191,9 +191,11 @@ def reconstruct(
       person_bone_lengths (14,): with ``sequence``, the person's lengths (given or estimated);
       world_points3d (N, 15, 3): with ``sequence``, the frames placed where a camera standing
         still saw them, as ``camloc reconstruct --sequence --bvh`` animates them (a z-up world
-        of the camera, the first pelvis above the origin, feet on the floor; docs/cli.md
-        section Animation): ``to_bvh(r["world_points3d"], fps, r["person_bone_lengths"])``
-        walks and turns; NaN where a frame failed;
+        of the camera, the first pelvis above the origin, planted feet kept in place on the
+        floor; docs/cli.md section Animation): ``to_bvh(r["world_points3d"], fps,
+        r["person_bone_lengths"])`` walks and turns; NaN where a frame failed. The rows are
+        taken as consecutive video frames: give a frame the person is missing from as a row
+        of NaN, so that time passes there;
       camera: the mode used;
       error: list of N messages, None where the pose was reconstructed.
 

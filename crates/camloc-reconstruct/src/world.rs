@@ -7,6 +7,9 @@ use camloc_skeleton::{NUM_LANDMARKS, Pose3};
 
 use crate::Reconstruction;
 
+mod floor;
+mod planted;
+
 /// [`world_poses`] places the pelvis at the mean of its places in the frames within this many
 /// frames before and after (the depth from one frame's scale jitters: on tripod views of
 /// CMU walks, 30 frames a second, the path walked came out 30% long without it).
@@ -26,8 +29,9 @@ pub const SMOOTHING_FRAMES: usize = 2;
 ///   the pelvis, is turned from that ray to the optical axis. Without any focal length the
 ///   depth is the same in every frame and the rotations are taken as they are.
 /// - **Smoothing**: the pelvis's place is averaged over [`SMOOTHING_FRAMES`] frames on each
-///   side (fewer near the ends, as many on both sides; the frames' own poses and rotations
-///   are kept).
+///   side (fewer near the ends of a run of frames without `None`, as many on both sides; the
+///   frames' own poses and rotations are kept). `frames` should hold a `None` for each video
+///   frame the person is missing from, so that time passes there.
 /// - **Upright**: `verticals` gives, where known, each frame's world vertical in camera
 ///   coordinates as the localizer saw it (the third column of
 ///   `Localization::viewpoint_rotation`). The reconstruction's camera may tilt the body
@@ -39,8 +43,20 @@ pub const SMOOTHING_FRAMES: usize = 2;
 ///   basis's poses are upright in that frame: its z is the world's vertical, for seated and
 ///   crawling poses too).
 /// - **Axes**: x is the camera's right made horizontal, y points away from the camera, z up.
-/// - **Origin**: the first frame's pelvis, moved down to the floor: the lowest landmark of
-///   all frames is at z = 0.
+/// - **Planted feet**: the pelvis's path is then moved so that a foot on the floor stays
+///   where it stands (the depth from one frame's scale jitters by centimetres, and the feet
+///   slid with it): per axis, the path nearest the placed one whose steps are those of the
+///   planted ankle seen from the pelvis and which bends little from frame to frame
+///   (`world/planted.rs`). In each step the planted foot
+///   is the one that moves less, unless it moves with the pelvis (a person gliding or
+///   carried) or is above the floor. A `None` frame breaks the path: the frames on each side
+///   are planted apart.
+/// - **Floor**: a slope of the planted ankles' heights along the path gentler than 6 deg
+///   (from the depth's error, which grows with the distance) is taken out by moving each
+///   frame up or down; steeper ones (stairs) are kept (`world/floor.rs`). The floor, z = 0,
+///   has a tenth of the planted ankles below it; with fewer than 10 planted ankles, the
+///   lowest landmark of all frames is on it.
+/// - **Origin**: across the floor, the first frame's pelvis.
 ///
 /// Sizes and distances are in the length prior's size when the bone lengths were estimated.
 /// A panning or moving camera turns its own motion into the person's.
@@ -67,10 +83,25 @@ pub fn world_poses(
         })
         .collect();
     let pelvis: Vec<Option<Vector3>> = seen.iter().map(|s| s.map(|(_, p)| p)).collect();
+    // Each frame's distance to the first and the last frame of its run of frames without a
+    // gap.
+    let mut from_start = vec![0; pelvis.len()];
+    let mut to_end = vec![0; pelvis.len()];
+    for t in 1..pelvis.len() {
+        if pelvis[t].is_some() && pelvis[t - 1].is_some() {
+            from_start[t] = from_start[t - 1] + 1;
+        }
+    }
+    for t in (0..pelvis.len().saturating_sub(1)).rev() {
+        if pelvis[t].is_some() && pelvis[t + 1].is_some() {
+            to_end[t] = to_end[t + 1] + 1;
+        }
+    }
     for (t, s) in seen.iter_mut().enumerate() {
         if let Some((_, p)) = s {
-            // A window as wide on both sides, so that the ends are not drawn inwards.
-            let half = SMOOTHING_FRAMES.min(t).min(pelvis.len() - 1 - t);
+            // A window as wide on both sides within the run, so that the ends of a run are
+            // not drawn inwards.
+            let half = SMOOTHING_FRAMES.min(from_start[t]).min(to_end[t]);
             let (sum, n) = pelvis[t - half..=t + half]
                 .iter()
                 .flatten()
@@ -109,16 +140,21 @@ pub fn world_poses(
             Some(Pose3 { points })
         })
         .collect();
+    let mut placed = placed;
+    let contacts = planted::plant_feet(&mut placed);
+    let floor = floor::level(&mut placed, &contacts);
     let first = placed
         .iter()
         .flatten()
         .next()
         .map_or([0.0; 3], |p| p.points[0]);
-    let floor = placed
-        .iter()
-        .flatten()
-        .flat_map(|p| p.points.iter().map(|q| q[2]))
-        .fold(f64::INFINITY, f64::min);
+    let floor = floor.unwrap_or_else(|| {
+        placed
+            .iter()
+            .flatten()
+            .flat_map(|p| p.points.iter().map(|q| q[2]))
+            .fold(f64::INFINITY, f64::min)
+    });
     let origin = [first[0], first[1], floor];
     placed
         .into_iter()

@@ -1,0 +1,111 @@
+//! The floor of a placed sequence, from its planted ankles ([`level`]): heights that climb
+//! along the path where the floor is level (from the camera's depth, whose error grows with
+//! the distance) are taken out, and the floor is put under the planted feet rather than under
+//! the one lowest landmark of the clip.
+
+use camloc_skeleton::{Landmark, Pose3};
+
+/// The steepest slope of the planted ankles' heights along the path that is taken out,
+/// degrees; steeper, the person climbed (stairs, a ramp) and the heights are kept.
+const MAX_SLOPE_DEG: f64 = 6.0;
+/// The fewest planted ankles that place the floor.
+const MIN_CONTACTS: usize = 10;
+/// The share of the planted ankles put below the floor: the floor is at this quantile of
+/// their heights.
+const BELOW_SHARE: f64 = 0.1;
+/// Ridge weight on the slope, square metres per ankle (a spread of 10 cm): planted ankles
+/// along a straight line leave the slope across it at 0.
+const SLOPE_RIDGE_M2: f64 = 0.01;
+
+/// Takes a slope gentler than [`MAX_SLOPE_DEG`] out of the heights of `placed` (z-up world,
+/// metres): the plane fitted to the `contacts` (frame, planted ankle) is made level by
+/// moving each frame up or down by the plane's height under its pelvis (the bodies keep
+/// their orientation). Returns the floor's height, the [`BELOW_SHARE`] quantile of the
+/// contacts' heights; `None` with fewer than [`MIN_CONTACTS`] contacts (nothing is moved).
+pub(super) fn level(placed: &mut [Option<Pose3>], contacts: &[(usize, Landmark)]) -> Option<f64> {
+    let points: Vec<[f64; 3]> = contacts
+        .iter()
+        .filter_map(|&(t, l)| placed.get(t).copied().flatten().map(|p| p.get(l)))
+        .collect();
+    if points.len() < MIN_CONTACTS {
+        return None;
+    }
+    let n = points.len() as f64;
+    let mean: [f64; 3] = std::array::from_fn(|k| points.iter().map(|p| p[k]).sum::<f64>() / n);
+    let (mut sxx, mut sxy, mut syy, mut sxz, mut syz) = (0.0, 0.0, 0.0, 0.0, 0.0);
+    for p in &points {
+        let (x, y, z) = (p[0] - mean[0], p[1] - mean[1], p[2] - mean[2]);
+        sxx += x * x;
+        sxy += x * y;
+        syy += y * y;
+        sxz += x * z;
+        syz += y * z;
+    }
+    let ridge = SLOPE_RIDGE_M2 * n;
+    let (sxx, syy) = (sxx + ridge, syy + ridge);
+    let det = sxx * syy - sxy * sxy;
+    // Height = a x + b y + c.
+    let (a, b) = ((syy * sxz - sxy * syz) / det, (sxx * syz - sxy * sxz) / det);
+    let slope = a.hypot(b).atan().to_degrees();
+    if slope.is_finite() && slope < MAX_SLOPE_DEG {
+        for p in placed.iter_mut().flatten() {
+            let pelvis = p.get(Landmark::Pelvis);
+            let rise = a * (pelvis[0] - mean[0]) + b * (pelvis[1] - mean[1]);
+            for q in &mut p.points {
+                q[2] -= rise;
+            }
+        }
+    }
+    let mut heights: Vec<f64> = contacts
+        .iter()
+        .filter_map(|&(t, l)| placed.get(t).copied().flatten().map(|p| p.get(l)[2]))
+        .collect();
+    heights.sort_by(f64::total_cmp);
+    Some(heights[((heights.len() - 1) as f64 * BELOW_SHARE).round() as usize])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use camloc_skeleton::NUM_LANDMARKS;
+
+    /// Frames of a walk along x, 2 m, whose heights climb by `slope` (metres per metre), the
+    /// left ankle planted in each, the pelvis 0.9 m above it; and the contacts.
+    fn climbing(slope: f64) -> (Vec<Option<Pose3>>, Vec<(usize, Landmark)>) {
+        let placed = (0..40)
+            .map(|t| {
+                let x = 0.05 * t as f64;
+                let mut points = [[x, 0.0, 0.9 + slope * x]; NUM_LANDMARKS];
+                points[Landmark::LeftAnkle.index()] = [x, 0.0, slope * x];
+                Some(Pose3 { points })
+            })
+            .collect();
+        let contacts = (0..40).map(|t| (t, Landmark::LeftAnkle)).collect();
+        (placed, contacts)
+    }
+
+    #[test]
+    fn a_gentle_slope_is_levelled_and_the_floor_is_under_the_planted_feet() {
+        let (mut placed, contacts) = climbing(0.05);
+        let floor = level(&mut placed, &contacts).unwrap();
+        for p in placed.iter().flatten() {
+            assert!(
+                (p.get(Landmark::LeftAnkle)[2] - floor).abs() < 0.01,
+                "{p:?}"
+            );
+            assert!(
+                (p.get(Landmark::Pelvis)[2] - p.get(Landmark::LeftAnkle)[2] - 0.9).abs() < 1e-12
+            );
+        }
+    }
+
+    #[test]
+    fn stairs_keep_their_climb_and_few_contacts_place_no_floor() {
+        let (mut placed, contacts) = climbing(0.5);
+        let before = placed.clone();
+        let floor = level(&mut placed, &contacts).unwrap();
+        assert_eq!(placed, before);
+        assert!((floor - 0.1 * 0.5 * 0.05 * 39.0).abs() < 0.01, "{floor}");
+        assert_eq!(level(&mut placed, &contacts[..MIN_CONTACTS - 1]), None);
+    }
+}
