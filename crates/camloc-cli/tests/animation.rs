@@ -187,8 +187,14 @@ fn a_sequence_is_one_bvh_per_person_with_shared_lengths() {
         let file = dir.0.join(format!("people-00{}.bvh", person + 1));
         let clip = read_bvh_with_unit(&file, BVH_CENTIMETRE).unwrap();
         assert_eq!(clip.frames.len(), 12);
+        // In place, the lowest landmark of the person's frames is on the floor.
+        let floor = poses
+            .iter()
+            .flat_map(|p| p.points.iter().map(|q| q[2]))
+            .fold(f64::INFINITY, f64::min);
         for (t, (read, pose)) in clip.frames.iter().zip(&poses).enumerate() {
-            let expected = pose.with_limb_lengths(&lengths).unwrap();
+            let lifted = Pose3::new(pose.points.map(|q| [q[0], q[1], q[2] - floor]));
+            let expected = lifted.with_limb_lengths(&lengths).unwrap();
             let error = max_joint_distance_mm(read, &expected) / 1000.0;
             assert!(error < 1e-3, "person {person} frame {t}: {error} m");
         }
@@ -201,30 +207,8 @@ fn a_sequence_is_one_bvh_per_person_with_shared_lengths() {
 #[test]
 fn a_sequence_s_bvh_moves_as_the_camera_saw_the_person() {
     let dir = TempDir::new("bvh-root-motion");
-    let example: Value =
-        serde_json::from_str(&std::fs::read_to_string(fixture("keypoints/example.json")).unwrap())
-            .unwrap();
-    let standing = &example["poses"][0]["landmarks"];
-    let (frames, step_px) = (20usize, 8.0);
-    let poses: Vec<Value> = (0..frames)
-        .map(|t| {
-            let moved: serde_json::Map<String, Value> = standing
-                .as_object()
-                .unwrap()
-                .iter()
-                .map(|(name, p)| {
-                    let (x, y) = (p[0].as_f64().unwrap(), p[1].as_f64().unwrap());
-                    (name.clone(), serde_json::json!([x + step_px * t as f64, y]))
-                })
-                .collect();
-            serde_json::json!({"id": format!("f{t}"), "frame": t, "person": 0, "landmarks": moved})
-        })
-        .collect();
-    let input = dir.file(
-        "walk.json",
-        &serde_json::json!({"format": "camloc-keypoints", "version": 1, "poses": poses})
-            .to_string(),
-    );
+    let (frames, step_px) = (20usize, WALK_STEP_PX);
+    let input = walk_across(&dir, 0..frames);
     let (moving, still) = (dir.0.join("moving.bvh"), dir.0.join("still.bvh"));
     let run = |bvh: &Path, extra: &[&str]| {
         let mut args = vec!["reconstruct", "--input", &input, "--json", "--sequence"];
@@ -257,9 +241,104 @@ fn a_sequence_s_bvh_moves_as_the_camera_saw_the_person() {
         .fold(f64::INFINITY, f64::min);
     assert!(lowest.abs() < 1e-3, "lowest landmark at {lowest} m");
     assert!(first[2] > 0.5, "pelvis at {} m", first[2]);
+    // In place: the pelvis above the origin, the feet on the floor.
     let still = read_bvh_with_unit(&still, BVH_CENTIMETRE).unwrap();
+    let lowest = still
+        .frames
+        .iter()
+        .flat_map(|f| f.points.iter().map(|p| p[2]))
+        .fold(f64::INFINITY, f64::min);
+    assert!(
+        lowest.abs() < 1e-3,
+        "lowest landmark at {lowest} m in place"
+    );
     for frame in &still.frames {
-        assert!(pelvis(frame).iter().all(|c| c.abs() < 1e-6));
+        let p = pelvis(frame);
+        assert!(
+            p[0].abs() < 1e-6 && p[1].abs() < 1e-6 && p[2] > 0.5,
+            "{p:?}"
+        );
+    }
+}
+
+/// Pixels a frame the person of [`walk_across`] moves to the right.
+const WALK_STEP_PX: f64 = 8.0;
+
+/// A `camloc-keypoints` file in `dir` of the example's standing person moving across the image
+/// by [`WALK_STEP_PX`] a frame, with the frames of `numbers` (frame numbers kept).
+fn walk_across(dir: &TempDir, numbers: impl Iterator<Item = usize>) -> String {
+    let example: Value =
+        serde_json::from_str(&std::fs::read_to_string(fixture("keypoints/example.json")).unwrap())
+            .unwrap();
+    let standing = &example["poses"][0]["landmarks"];
+    let poses: Vec<Value> = numbers
+        .map(|t| {
+            let moved: serde_json::Map<String, Value> = standing
+                .as_object()
+                .unwrap()
+                .iter()
+                .map(|(name, p)| {
+                    let (x, y) = (p[0].as_f64().unwrap(), p[1].as_f64().unwrap());
+                    (
+                        name.clone(),
+                        serde_json::json!([x + WALK_STEP_PX * t as f64, y]),
+                    )
+                })
+                .collect();
+            serde_json::json!({"id": format!("f{t}"), "frame": t, "person": 0, "landmarks": moved})
+        })
+        .collect();
+    dir.file(
+        "walk.json",
+        &serde_json::json!({"format": "camloc-keypoints", "version": 1, "poses": poses})
+            .to_string(),
+    )
+}
+
+/// Frames the detector missed (no record of the person) keep the video's timing in a
+/// sequence's BVH: each holds the frame before, and the person is where the camera saw them
+/// after the gap (a trial's walk with 28 frames missing had played 0.93 s early after them).
+#[test]
+fn frames_the_person_is_missing_from_hold_the_previous_one_in_the_bvh() {
+    let dir = TempDir::new("bvh-gap");
+    let input = walk_across(&dir, (0..8).chain(12..20));
+    let (bvh, whole) = (dir.0.join("gap.bvh"), dir.0.join("whole.bvh"));
+    let run = |bvh: &Path, input: &str| {
+        let args = [
+            "reconstruct",
+            "--input",
+            input,
+            "--json",
+            "--sequence",
+            "--quiet",
+        ];
+        let mut args = args.to_vec();
+        args.extend(["--bvh", bvh.to_str().unwrap()]);
+        success(&camloc(&args))
+    };
+    assert_eq!(run(&bvh, &input).len(), 16);
+    let clip = read_bvh_with_unit(&bvh, BVH_CENTIMETRE).unwrap();
+    assert_eq!(clip.frames.len(), 20);
+    for t in 8..12 {
+        assert_eq!(clip.frames[t], clip.frames[7], "frame {t}");
+    }
+    // After the gap the person is as far across as without it.
+    let all = TempDir::new("bvh-gap-whole");
+    run(&whole, &walk_across(&all, 0..20));
+    let whole = read_bvh_with_unit(&whole, BVH_CENTIMETRE).unwrap();
+    let across = |clip: &camloc::mocap::MocapClip, t: usize| {
+        let (a, b) = (
+            clip.frames[0].get(Landmark::Pelvis),
+            clip.frames[t].get(Landmark::Pelvis),
+        );
+        (a[0] - b[0]).hypot(a[1] - b[1])
+    };
+    for t in [12, 19] {
+        let (gap, whole) = (across(&clip, t), across(&whole, t));
+        assert!(
+            (gap / whole - 1.0).abs() < 0.05,
+            "frame {t}: {gap} m against {whole} m"
+        );
     }
 }
 

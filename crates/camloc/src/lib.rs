@@ -77,7 +77,7 @@ pub use reconstruction::{
 pub use select::{DescriptorCv, cross_validate};
 pub use sequence::{
     DEFAULT_SWITCH_PROBABILITY, NEIGHBOUR_SHARE, OUTLIER_SHARE, SequenceModel, SmoothedFrame,
-    sequences,
+    frame_slots, sequences,
 };
 
 pub use lifter::{DEFAULT_LIFTER_LAMBDA, DepthLifter, depth_targets};

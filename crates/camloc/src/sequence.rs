@@ -298,10 +298,61 @@ pub fn sequences(keys: &[(Option<u64>, Option<u64>)]) -> Vec<(u64, Vec<usize>)> 
     out
 }
 
+/// The video timeline of one sequence of [`sequences`] (`members`, ordered by frame, and the
+/// `keys` of the records as there): slot `f - first` holds the position in `members` of the
+/// record of frame `f`, `None` for a frame of which no record holds that person (not
+/// detected), so that outputs keep the video's timing across such gaps. `None` when a member
+/// has no frame number, two have the same, or the frames span more than `max_slots`.
+pub fn frame_slots(
+    keys: &[(Option<u64>, Option<u64>)],
+    members: &[usize],
+    max_slots: usize,
+) -> Option<Vec<Option<usize>>> {
+    let frames: Vec<u64> = members
+        .iter()
+        .map(|&i| keys.get(i).and_then(|k| k.0))
+        .collect::<Option<_>>()?;
+    let (&first, &last) = (frames.first()?, frames.last()?);
+    let span = usize::try_from(last.checked_sub(first)?)
+        .ok()?
+        .checked_add(1)?;
+    if span > max_slots {
+        return None;
+    }
+    let mut slots = vec![None; span];
+    for (position, frame) in frames.iter().enumerate() {
+        let slot = &mut slots[(frame - first) as usize];
+        if slot.is_some() {
+            return None;
+        }
+        *slot = Some(position);
+    }
+    Some(slots)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use proptest::prelude::*;
+
+    #[test]
+    fn frame_slots_keep_the_gaps_of_a_video() {
+        let keys = [(Some(7), Some(0)), (Some(3), Some(0)), (Some(4), Some(0))];
+        let members = &sequences(&keys)[0].1;
+        assert_eq!(members, &vec![1, 2, 0]);
+        assert_eq!(
+            frame_slots(&keys, members, 10),
+            Some(vec![Some(0), Some(1), None, None, Some(2)])
+        );
+        // Too long a span, a repeated frame, a record without a frame: no timeline.
+        assert_eq!(frame_slots(&keys, members, 4), None);
+        let repeated = [(Some(3), None), (Some(3), None)];
+        assert_eq!(frame_slots(&repeated, &[0, 1], 10), None);
+        let unnumbered = [(Some(3), None), (None, None)];
+        assert_eq!(frame_slots(&unnumbered, &[0, 1], 10), None);
+        let far = [(Some(0), None), (Some(u64::MAX), None)];
+        assert_eq!(frame_slots(&far, &[0, 1], 100_000), None);
+    }
 
     /// Confident probabilities of camera index `c` (0.9 there, the rest shared).
     fn confident(c: usize) -> Vec<f64> {

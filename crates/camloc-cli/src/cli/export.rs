@@ -5,10 +5,11 @@ use std::path::{Path, PathBuf};
 
 use camloc::geometry::CameraSet;
 use camloc::mocap::{BVH_FRAME_TIME_RANGE_S, BvhOptions, BvhWriteError, write_person_bvh};
-use camloc::{Pose3, sequences};
+use camloc::{Pose3, frame_slots, sequences};
 
 use crate::html::{self, Group, ViewFrame};
 
+use super::stream::KEEP_MAX_POSES;
 use super::{CliError, numbered_path};
 
 /// What `reconstruct` keeps of a pose for `--bvh` and `--html`.
@@ -49,7 +50,8 @@ pub fn groups(
 /// The BVH files of `kept` at `out` (numbered as `--svg` drawings when there are several:
 /// per person with `sequence`, else per pose by its position in the input): each group's
 /// frames as [`write_person_bvh`] writes them (a frame that could not be reconstructed holds
-/// the previous one). A group without any reconstructed frame is left out, with a message on
+/// the previous one), a person's on the video's timeline ([`frame_slots`]: a frame number
+/// without the person holds the previous frame too). A group without any reconstructed frame is left out, with a message on
 /// standard error (the run has already failed for those poses).
 pub fn bvh_files(
     out: &Path,
@@ -62,7 +64,27 @@ pub fn bvh_files(
     let groups = groups(&keys, sequence, true);
     let mut files = Vec::new();
     for (n, (name, members)) in groups.iter().enumerate() {
-        let poses: Vec<Option<Pose3>> = members.iter().map(|&i| kept[i].pose).collect();
+        // A person's frames on the video's timeline: a frame where they were not detected
+        // holds the previous one, as one that could not be reconstructed does.
+        let slots = if sequence {
+            let slots = frame_slots(&keys, members, KEEP_MAX_POSES as usize);
+            if slots.is_none() && members.iter().all(|&i| keys[i].0.is_some()) {
+                eprintln!(
+                    "camloc: the BVH of {name} plays its frames one after another: their \
+                     frame numbers repeat or span more than {KEEP_MAX_POSES} frames"
+                );
+            }
+            slots
+        } else {
+            None
+        };
+        let poses: Vec<Option<Pose3>> = match slots {
+            Some(slots) => slots
+                .iter()
+                .map(|s| s.and_then(|m| kept[members[m]].pose))
+                .collect(),
+            None => members.iter().map(|&i| kept[i].pose).collect(),
+        };
         // The bone lengths: `None` takes the mean limb lengths of the group's poses.
         let text = match write_person_bvh(&poses, None, &BvhOptions::at_fps(fps)) {
             Ok(text) => text,

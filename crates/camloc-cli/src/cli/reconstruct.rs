@@ -147,14 +147,16 @@ pub struct Args {
     /// (FILE-001.bvh, ... when there are several), or with --sequence one per person. Bone
     /// lengths are the mean limb lengths of the file's poses (with --sequence: the person's
     /// shared lengths, given or estimated); each frame keeps its limb directions. A frame that
-    /// could not be reconstructed holds the previous one. With --sequence the person moves
-    /// and turns as the camera saw them, for a camera that stood still (root motion, feet
-    /// on the floor; --bvh-in-place for a camera that moved); one pose stands at the origin.
+    /// could not be reconstructed holds the previous one, and with --sequence so does a frame
+    /// number the person is missing from. With --sequence the person moves and turns as the
+    /// camera saw them, for a camera that stood still (root motion, planted feet kept in
+    /// place, on the floor; --bvh-in-place for a camera that moved); one pose stands at the
+    /// origin.
     #[arg(long, value_name = "OUT")]
     pub bvh: Option<PathBuf>,
-    /// With --sequence and --bvh: no root motion; every frame at the origin, facing one way
-    /// (for footage from a camera that panned or moved, whose motion would become the
-    /// person's).
+    /// With --sequence and --bvh: no root motion; every frame's pelvis above the origin,
+    /// facing one way, the lowest landmark of the person's frames on the floor (for footage
+    /// from a camera that panned or moved, whose motion would become the person's).
     #[arg(long, requires = "bvh", requires = "sequence")]
     pub bvh_in_place: bool,
     /// Write one self-contained interactive page (no network needed): per pose the 2D input

@@ -12,7 +12,9 @@ use std::process::ExitCode;
 use camloc::keypoints::KeypointRecord;
 use camloc::reconstruct::BoneLengths;
 use camloc::store::{StagedFiles, check_target};
-use camloc::{ModeKind, PartialPose2, Pose3, PoseReconstruction, PoseReconstructor, sequences};
+use camloc::{
+    ModeKind, PartialPose2, Pose3, PoseReconstruction, PoseReconstructor, frame_slots, sequences,
+};
 use indicatif::ProgressBar;
 
 use crate::html::ViewFrame;
@@ -22,8 +24,8 @@ use super::input::Inputs;
 use super::output::{NpyStage, Out};
 use super::reconstruct_output::{PoseMeta, lengths_text, pose_output, pose_svg};
 use super::stream::{
-    Emitter, ErrorJson, Finish, Format, Summary, check_kept, check_kept_input, counted, json_line,
-    report_pose_error,
+    Emitter, ErrorJson, Finish, Format, KEEP_MAX_POSES, Summary, check_kept, check_kept_input,
+    counted, json_line, report_pose_error,
 };
 use super::{CliError, numbered_path};
 
@@ -151,11 +153,42 @@ pub fn run(
         // The poses the BVH gets: placed where the camera saw them, or each at the origin.
         let animated: Vec<Option<Pose3>> = if options.root_motion {
             let found: Vec<_> = frames.iter().map(|f| f.as_ref().ok()).collect();
-            reconstructor.place_in_world(&found)
+            // On the video's timeline, so that frames where the person was not detected
+            // count as time passing.
+            match frame_slots(&keys, members, KEEP_MAX_POSES as usize) {
+                Some(slots) => {
+                    let on_timeline: Vec<_> =
+                        slots.iter().map(|s| s.and_then(|m| found[m])).collect();
+                    let placed = reconstructor.place_in_world(&on_timeline);
+                    let mut animated = vec![None; members.len()];
+                    for (slot, pose) in slots.iter().zip(placed) {
+                        if let Some(m) = slot {
+                            animated[*m] = pose;
+                        }
+                    }
+                    animated
+                }
+                None => reconstructor.place_in_world(&found),
+            }
         } else {
-            frames
+            // The pelvis above the origin, the lowest landmark of the person's frames on the
+            // floor.
+            let poses: Vec<Option<Pose3>> = frames
                 .iter()
                 .map(|f| f.as_ref().ok().map(|r| r.reconstruction.pose))
+                .collect();
+            let floor = poses
+                .iter()
+                .flatten()
+                .flat_map(|p| p.points.iter().map(|q| q[2]))
+                .fold(f64::INFINITY, f64::min);
+            poses
+                .into_iter()
+                .map(|p| {
+                    p.map(|p| Pose3 {
+                        points: p.points.map(|q| [q[0], q[1], q[2] - floor]),
+                    })
+                })
                 .collect()
         };
         for ((&i, frame), pose) in members.iter().zip(frames).zip(animated) {
