@@ -77,12 +77,11 @@ pub(super) fn plant_feet(placed: &mut [Option<Pose3>]) -> Vec<(usize, Landmark)>
 fn pelvis_shifts(run: &[Pose3]) -> (Vec<[f64; 3]>, Vec<(usize, Landmark)>) {
     let n = run.len();
     let pelvis: Vec<[f64; 3]> = run.iter().map(|p| p.get(Landmark::Pelvis)).collect();
+    // As wide on both sides, so that the steps near the ends keep their size.
     let coarse: Vec<[f64; 3]> = (0..n)
         .map(|t| {
-            let (lo, hi) = (
-                t.saturating_sub(COARSE_FRAMES),
-                (t + COARSE_FRAMES).min(n - 1),
-            );
+            let half = COARSE_FRAMES.min(t).min(n - 1 - t);
+            let (lo, hi) = (t - half, t + half);
             let m = (hi - lo + 1) as f64;
             std::array::from_fn(|k| pelvis[lo..=hi].iter().map(|p| p[k]).sum::<f64>() / m)
         })
