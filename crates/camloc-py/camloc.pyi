@@ -252,7 +252,10 @@ def to_bvh(
 
     points3d: (N, 15, 3) frames (or one pose (15, 3)) in metres, z up, ``LANDMARKS`` order, as
       ``reconstruct`` returns them; a frame that is all NaN (a pose that could not be
-      reconstructed) holds the previous frame (the first complete one at the start).
+      reconstructed, or a video frame the person is missing from) is filled: between two
+      complete frames it turns from one to the other (the pelvis along a straight line, each
+      limb's direction along the great circle), before the first and after the last it holds
+      that frame.
     fps: frames per second (``Frame Time`` = 1 / fps).
     limb_lengths: the 14 bone lengths in metres (limb order of docs/conventions.md section 3);
       default: the mean of each limb over the complete frames.

@@ -8,6 +8,7 @@ use std::fmt::Write;
 use camloc_skeleton::{LIMB_NAMES, LIMBS, Landmark, NUM_LIMBS, Pose3, mean_limb_lengths};
 use thiserror::Error;
 
+use super::bvh_gaps::fill_missing_frames;
 use super::bvh_skeleton::{JOINTS, JointRole, end_site_offset, joint_offset};
 use super::bvh_solve::Solver;
 use super::rotation::z_up_to_y_up;
@@ -178,8 +179,10 @@ pub fn write_bvh(
 
 /// Writes one person's animation: `frames` (metres, z-up world frame, in time order) as
 /// [`write_bvh`] does, where a frame may be missing (`None`: a pose that could not be
-/// reconstructed). A missing frame holds the nearest earlier pose (those before the first
-/// pose hold it), so that the file keeps the frames' timing.
+/// reconstructed, or a video frame the person is missing from), so that the file keeps the
+/// frames' timing: a missing frame between two poses is turned from one to the other (the
+/// pelvis along a straight line, each limb's direction along the great circle); those before
+/// the first pose and after the last hold it.
 ///
 /// The bone lengths are `limb_lengths` (metres, `LIMBS` order) when given: the person's own
 /// lengths where the caller knows them. Without them, the mean length of each limb over the
@@ -193,7 +196,7 @@ pub fn write_person_bvh(
     limb_lengths: Option<&[f64; NUM_LIMBS]>,
     options: &BvhOptions,
 ) -> Result<String, BvhWriteError> {
-    let held = hold_missing_frames(frames).ok_or(BvhWriteError::NoFrames)?;
+    let filled = fill_missing_frames(frames).ok_or(BvhWriteError::NoFrames)?;
     let lengths = match limb_lengths {
         Some(given) => *given,
         None => {
@@ -201,24 +204,7 @@ pub fn write_person_bvh(
             mean_limb_lengths(&poses).ok_or(BvhWriteError::NoFrames)?
         }
     };
-    write_bvh(&held, &lengths, options)
-}
-
-/// `frames` with each missing frame (`None`) holding the nearest earlier pose, and those
-/// before the first pose holding it; `None` when there is no pose at all.
-fn hold_missing_frames(frames: &[Option<Pose3>]) -> Option<Vec<Pose3>> {
-    let mut last = *frames.iter().flatten().next()?;
-    Some(
-        frames
-            .iter()
-            .map(|p| {
-                if let Some(p) = p {
-                    last = *p;
-                }
-                last
-            })
-            .collect(),
-    )
+    write_bvh(&filled, &lengths, options)
 }
 
 /// The `HIERARCHY` section for limb lengths in file units.
@@ -269,20 +255,4 @@ fn hierarchy(lengths: &[f64; NUM_LIMBS], metres_per_unit: f64) -> String {
     }
     close_to(&mut text, &mut open, None);
     text
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn missing_frames_hold_the_previous_pose_and_the_first_before_it() {
-        let a = Pose3::new([[1.0; 3]; 15]);
-        let b = Pose3::new([[2.0; 3]; 15]);
-        assert_eq!(
-            hold_missing_frames(&[None, Some(a), None, Some(b), None]),
-            Some(vec![a, a, a, b, b])
-        );
-        assert_eq!(hold_missing_frames(&[None, None]), None);
-    }
 }

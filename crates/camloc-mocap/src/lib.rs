@@ -40,6 +40,7 @@
 mod amc;
 mod asf;
 mod bvh;
+mod bvh_gaps;
 mod bvh_skeleton;
 mod bvh_solve;
 mod bvh_write;

@@ -63,23 +63,69 @@ fn a_pose_with_the_given_lengths_reads_back_as_itself() {
 }
 
 #[test]
-fn a_person_missing_frames_hold_the_previous_pose_with_the_given_or_mean_lengths() {
+fn a_person_s_missing_frames_are_filled_with_the_given_or_mean_lengths() {
     let frames = fixture_frames();
     let (a, b) = (frames[0], frames[frames.len() - 1]);
     let options = BvhOptions::at_fps(30.0);
     let gappy = [None, Some(a), None, Some(b), None];
-    let held = [a, a, a, b, b];
     let given = a.limb_lengths().map(|l| 1.1 * l);
-    assert_eq!(
-        write_person_bvh(&gappy, Some(&given), &options),
-        write_bvh(&held, &given, &options)
+    let text = write_person_bvh(&gappy, Some(&given), &options).unwrap();
+    let back = parse_bvh_with_unit(&text, "gappy.bvh", BVH_CENTIMETRE)
+        .unwrap()
+        .frames;
+    // The ends hold the first and last poses (with the given lengths).
+    let (a1, b1) = (
+        a.with_limb_lengths(&given).unwrap(),
+        b.with_limb_lengths(&given).unwrap(),
     );
-    // Without lengths: the mean over the poses present (a and b once each, not as held).
+    assert!(max_distance(&back[..2], &[a1, a1]) < 1e-6);
+    assert!(max_distance(&back[3..], &[b1, b1]) < 1e-6);
+    // The frame between them: the pelvis half way, each limb half way along the great circle
+    // between its directions in the two poses (the fixture's left upper arm points opposite
+    // ways in them).
+    let direction = |p: &Pose3, (from, to): (Landmark, Landmark)| -> [f64; 3] {
+        let (u, v) = (p.get(from), p.get(to));
+        let d = [v[0] - u[0], v[1] - u[1], v[2] - u[2]];
+        let n = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        d.map(|c| c / n)
+    };
+    let angle = |u: [f64; 3], v: [f64; 3]| {
+        (u[0] * v[0] + u[1] * v[1] + u[2] * v[2])
+            .clamp(-1.0, 1.0)
+            .acos()
+    };
+    let (pa, pb, pm) = (
+        a.get(Landmark::Pelvis),
+        b.get(Landmark::Pelvis),
+        back[2].get(Landmark::Pelvis),
+    );
+    assert!((0..3).all(|k| (pm[k] - 0.5 * (pa[k] + pb[k])).abs() < 1e-7));
+    for limb in LIMBS {
+        let (u, v, m) = (
+            direction(&a, limb),
+            direction(&b, limb),
+            direction(&back[2], limb),
+        );
+        let whole = angle(u, v);
+        if whole > 3.1 {
+            // Opposite directions have no one great circle: the limb switches half way.
+            assert!(angle(m, v) < 1e-6, "{limb:?}");
+            continue;
+        }
+        assert!(
+            (angle(u, m) - 0.5 * whole).abs() < 1e-6 && (angle(m, v) - 0.5 * whole).abs() < 1e-6,
+            "{limb:?}: {} and {} of {whole} rad",
+            angle(u, m),
+            angle(m, v)
+        );
+    }
+    // Without lengths: the mean over the poses present (a and b once each, not as filled).
     let mean = mean_limb_lengths(&[a, b]).unwrap();
-    assert_eq!(
-        write_person_bvh(&gappy, None, &options),
-        write_bvh(&held, &mean, &options)
-    );
+    let text = write_person_bvh(&gappy, None, &options).unwrap();
+    let back = parse_bvh_with_unit(&text, "gappy.bvh", BVH_CENTIMETRE)
+        .unwrap()
+        .frames;
+    assert!((back[1].limb_length(0) - mean[0]).abs() < 1e-7);
     assert_eq!(
         write_person_bvh(&[None, None], None, &options),
         Err(BvhWriteError::NoFrames)

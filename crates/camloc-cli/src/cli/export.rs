@@ -49,10 +49,11 @@ pub fn groups(
 
 /// The BVH files of `kept` at `out` (numbered as `--svg` drawings when there are several:
 /// per person with `sequence`, else per pose by its position in the input): each group's
-/// frames as [`write_person_bvh`] writes them (a frame that could not be reconstructed holds
-/// the previous one), a person's on the video's timeline ([`frame_slots`]: a frame number
-/// without the person holds the previous frame too). A group without any reconstructed frame is left out, with a message on
-/// standard error (the run has already failed for those poses).
+/// frames as [`write_person_bvh`] writes them (a frame that could not be reconstructed is
+/// filled from the frames around it), a person's on the video's timeline ([`frame_slots`]:
+/// a frame number without the person is filled too). A group without any reconstructed
+/// frame is left out, with a message on standard error (the run has already failed for
+/// those poses).
 pub fn bvh_files(
     out: &Path,
     kept: &[Kept],
@@ -65,7 +66,7 @@ pub fn bvh_files(
     let mut files = Vec::new();
     for (n, (name, members)) in groups.iter().enumerate() {
         // A person's frames on the video's timeline: a frame where they were not detected
-        // holds the previous one, as one that could not be reconstructed does.
+        // is filled, as one that could not be reconstructed is.
         let slots = if sequence {
             let slots = frame_slots(&keys, members, KEEP_MAX_POSES as usize);
             if slots.is_none() && members.iter().all(|&i| keys[i].0.is_some()) {

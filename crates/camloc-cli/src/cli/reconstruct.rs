@@ -147,8 +147,8 @@ pub struct Args {
     /// (FILE-001.bvh, ... when there are several), or with --sequence one per person. Bone
     /// lengths are the mean limb lengths of the file's poses (with --sequence: the person's
     /// shared lengths, given or estimated); each frame keeps its limb directions. A frame that
-    /// could not be reconstructed holds the previous one, and with --sequence so does a frame
-    /// number the person is missing from. With --sequence the person moves and turns as the
+    /// could not be reconstructed turns from the frame before to the one after (holds at the
+    /// ends), and with --sequence so does a frame number the person is missing from. With --sequence the person moves and turns as the
     /// camera saw them, for a camera that stood still (root motion, planted feet kept in
     /// place, on the floor; --bvh-in-place for a camera that moved); one pose stands at the
     /// origin.

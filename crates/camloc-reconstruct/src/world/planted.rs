@@ -12,11 +12,13 @@ use camloc_skeleton::{Landmark, Pose3};
 /// cm; without planting, 1.80 cm and 6.3 cm.)
 const CAMERA_DEVIATION_M: [f64; 3] = [0.03, 0.05, 0.03];
 /// How far the pelvis's path may bend from one frame to the next (its second difference),
-/// metres. (Chosen on the walks of [`CAMERA_DEVIATION_M`]: without it the path took up the
-/// planted ankle's jitter, 2.33 cm a frame squared over all landmarks against the truth's
-/// 1.39; with it 1.33, the path 5.7 cm from the true one instead of 6.2, the feet sliding
-/// 1.15 cm a frame instead of 1.10; at 0.5 cm, 1.15 and 1.27 cm.)
-const ACCELERATION_DEVIATION_M: f64 = 0.01;
+/// metres. Without it the path takes up the planted ankle's jitter. (Chosen on the walks of
+/// [`CAMERA_DEVIATION_M`] and on a simulated user's tripod views of five CMU walks, which
+/// found the pelvis shaking with 1 cm: there the pelvis's mean second difference across /
+/// in depth / up was 0.71 / 0.78 / 0.31 cm with 1 cm, 0.35 / 0.38 / 0.16 cm with 0.5 cm,
+/// 0.18 / 0.20 / 0.09 cm with 0.3 cm (the truth's 0.29 across the floor, 0.20 up), and the
+/// planted feet slid 1.43 / 1.70 / 1.86 cm a frame (2.12 without planting).)
+const ACCELERATION_DEVIATION_M: f64 = 0.005;
 /// How far a planted foot's ankle may move from one frame to the next, metres.
 const PLANTED_DEVIATION_M: f64 = 0.005;
 /// Frames on each side over which the pelvis's path is averaged to tell which foot moves.
