@@ -155,7 +155,7 @@ pub struct Args {
     #[arg(long, value_name = "OUT")]
     pub bvh: Option<PathBuf>,
     /// With --sequence and --bvh: no root motion; every frame's pelvis above the origin,
-    /// facing one way, the lowest landmark of the person's frames on the floor (for footage
+    /// facing one way, at the height root motion gives it (feet on the floor; for footage
     /// from a camera that panned or moved, whose motion would become the person's).
     #[arg(long, requires = "bvh", requires = "sequence")]
     pub bvh_in_place: bool,

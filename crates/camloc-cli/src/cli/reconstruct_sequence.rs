@@ -11,6 +11,7 @@ use std::process::ExitCode;
 
 use camloc::keypoints::KeypointRecord;
 use camloc::reconstruct::BoneLengths;
+use camloc::skeleton::Landmark;
 use camloc::store::{StagedFiles, check_target};
 use camloc::{
     ModeKind, PartialPose2, Pose3, PoseReconstruction, PoseReconstructor, frame_slots, sequences,
@@ -151,42 +152,41 @@ pub fn run(
         }
         let reconstructed = frames.iter().filter(|f| f.is_ok()).count();
         // The poses the BVH gets: placed where the camera saw them, or each at the origin.
-        let animated: Vec<Option<Pose3>> = if options.root_motion {
-            let found: Vec<_> = frames.iter().map(|f| f.as_ref().ok()).collect();
-            // On the video's timeline, so that frames where the person was not detected
-            // count as time passing.
-            match frame_slots(&keys, members, KEEP_MAX_POSES as usize) {
-                Some(slots) => {
-                    let on_timeline: Vec<_> =
-                        slots.iter().map(|s| s.and_then(|m| found[m])).collect();
-                    let placed = reconstructor.place_in_world(&on_timeline);
-                    let mut animated = vec![None; members.len()];
-                    for (slot, pose) in slots.iter().zip(placed) {
-                        if let Some(m) = slot {
-                            animated[*m] = pose;
-                        }
+        // Placed where the camera saw them, on the video's timeline (frames where the person
+        // was not detected count as time passing).
+        let found: Vec<_> = frames.iter().map(|f| f.as_ref().ok()).collect();
+        let placed: Vec<Option<Pose3>> = match frame_slots(&keys, members, KEEP_MAX_POSES as usize)
+        {
+            Some(slots) => {
+                let on_timeline: Vec<_> = slots.iter().map(|s| s.and_then(|m| found[m])).collect();
+                let mut placed = vec![None; members.len()];
+                for (slot, pose) in slots.iter().zip(reconstructor.place_in_world(&on_timeline)) {
+                    if let Some(m) = slot {
+                        placed[*m] = pose;
                     }
-                    animated
                 }
-                None => reconstructor.place_in_world(&found),
+                placed
             }
+            None => reconstructor.place_in_world(&found),
+        };
+        // The poses the BVH gets: as placed, or in place (the body frame, facing one way, the
+        // pelvis above the origin at the height the placement gives it: the feet on the floor,
+        // the body bobbing as it did).
+        let animated: Vec<Option<Pose3>> = if options.root_motion {
+            placed
         } else {
-            // The pelvis above the origin, the lowest landmark of the person's frames on the
-            // floor.
-            let poses: Vec<Option<Pose3>> = frames
+            found
                 .iter()
-                .map(|f| f.as_ref().ok().map(|r| r.reconstruction.pose))
-                .collect();
-            let floor = poses
-                .iter()
-                .flatten()
-                .flat_map(|p| p.points.iter().map(|q| q[2]))
-                .fold(f64::INFINITY, f64::min);
-            poses
-                .into_iter()
-                .map(|p| {
-                    p.map(|p| Pose3 {
-                        points: p.points.map(|q| [q[0], q[1], q[2] - floor]),
+                .zip(&placed)
+                .map(|(r, world)| {
+                    let (r, world) = (r.as_ref()?, world.as_ref()?);
+                    let height = world.get(Landmark::Pelvis)[2];
+                    Some(Pose3 {
+                        points: r
+                            .reconstruction
+                            .pose
+                            .points
+                            .map(|q| [q[0], q[1], q[2] + height]),
                     })
                 })
                 .collect()
