@@ -44,8 +44,9 @@ const FLOOR_FRAMES: usize = 15;
 /// planted ankle seen from the pelvis (weighted by [`PLANTED_DEVIATION_M`]) and which bends
 /// little from frame to frame (weighted by [`ACCELERATION_DEVIATION_M`]). In each step the
 /// planted foot is the one that moves less on a coarse path (the pelvis's averaged over
-/// [`COARSE_FRAMES`] on each side), counted as much as it is near the floor. The
-/// poses themselves are kept; runs of fewer than 3 frames are left as they are.
+/// [`COARSE_FRAMES`] on each side), unless it moves with the pelvis ([`GLIDE_SHARE`]),
+/// counted as much as it is near the floor. The poses themselves are kept; runs of fewer
+/// than 3 frames are left as they are.
 ///
 /// Returns the planted ankles (frame, landmark) counted at least half.
 pub(super) fn plant_feet(placed: &mut [Option<Pose3>]) -> Vec<(usize, Landmark)> {
