@@ -10,6 +10,8 @@ use camloc_store::Persist;
 use camloc_store::Validate;
 
 use crate::rows::sample_pose;
+
+mod runs;
 use crate::{CameraLocalizer, CamlocError, DepthLifter, Localization, MIN_PRESENT_FOR_FILL};
 
 /// A reconstructed pose and the camera localization it used (none for `opt`).
@@ -300,7 +302,8 @@ impl PoseReconstructor {
     /// ([`Reconstructor::reconstruct_sequence`]); missing landmarks are filled in as
     /// [`PoseReconstructor::reconstruct`] fills them. A frame that cannot be reconstructed
     /// (no torso and too few landmarks, a degenerate pose, a failed localization) gets its error
-    /// and the others are still reconstructed.
+    /// and the others are still reconstructed; the frames before and after it are not tied
+    /// to each other over time (see [`reconstruct_sequence_with_breaks`](Self::reconstruct_sequence_with_breaks)).
     ///
     /// # Errors
     /// [`CamlocError::Reconstruct`] when the estimated lengths leave the plausible range;
@@ -309,53 +312,7 @@ impl PoseReconstructor {
         &self,
         poses: &[PartialPose2],
     ) -> Result<PoseSequenceReconstruction, CamlocError> {
-        let prepared: Vec<Result<Prepared, CamlocError>> =
-            poses.iter().map(|p| self.prepare(p)).collect();
-        let frames: Vec<(Pose2, CameraMode)> = prepared
-            .iter()
-            .filter_map(|p| p.as_ref().ok().map(|p| (p.complete, p.mode)))
-            .collect();
-        let depths: Vec<Option<LiftedDepths>> = prepared
-            .iter()
-            .filter_map(|p| p.as_ref().ok().map(|p| p.depths))
-            .collect();
-        let imputed: Vec<u16> = prepared
-            .iter()
-            .zip(poses)
-            .filter_map(|(p, pose)| p.as_ref().ok().map(|_| pose.missing_mask()))
-            .collect();
-        let sequence = self
-            .reconstructor
-            .reconstruct_sequence_imputed(&frames, &depths, &imputed, &self.given)
-            .map_err(|source| CamlocError::Reconstruct {
-                context: "sequence".into(),
-                source,
-            })?;
-        let mut solved = sequence.frames.into_iter();
-        let frames = prepared
-            .into_iter()
-            .map(|p| {
-                let Prepared {
-                    localization,
-                    imputed,
-                    ..
-                } = p?;
-                let reconstruction = solved
-                    .next()
-                    .unwrap_or(Err(ReconstructError::Numerical("no hypothesis was solved")))
-                    .map_err(pose_error)?;
-                Ok(PoseReconstruction {
-                    reconstruction,
-                    alternatives: Vec::new(),
-                    localization,
-                    imputed,
-                })
-            })
-            .collect();
-        Ok(PoseSequenceReconstruction {
-            frames,
-            lengths: sequence.lengths,
-        })
+        self.reconstruct_sequence_with_breaks(poses, &[])
     }
 
     /// The depths the lifter predicts for `complete` seen by the camera of `localization`

@@ -302,7 +302,8 @@ pub fn sequences(keys: &[(Option<u64>, Option<u64>)]) -> Vec<(u64, Vec<usize>)> 
 /// `keys` of the records as there): slot `f - first` holds the position in `members` of the
 /// record of frame `f`, `None` for a frame of which no record holds that person (not
 /// detected), so that outputs keep the video's timing across such gaps. `None` when a member
-/// has no frame number, two have the same, or the frames span more than `max_slots`.
+/// has no frame number, two have the same, they are out of frame order, or the frames span
+/// more than `max_slots`.
 pub fn frame_slots(
     keys: &[(Option<u64>, Option<u64>)],
     members: &[usize],
@@ -321,7 +322,9 @@ pub fn frame_slots(
     }
     let mut slots = vec![None; span];
     for (position, frame) in frames.iter().enumerate() {
-        let slot = &mut slots[(frame - first) as usize];
+        // (Out of order, a frame before the first has no slot.)
+        let offset = usize::try_from(frame.checked_sub(first)?).ok()?;
+        let slot = slots.get_mut(offset)?;
         if slot.is_some() {
             return None;
         }
@@ -352,6 +355,9 @@ mod tests {
         assert_eq!(frame_slots(&unnumbered, &[0, 1], 10), None);
         let far = [(Some(0), None), (Some(u64::MAX), None)];
         assert_eq!(frame_slots(&far, &[0, 1], 100_000), None);
+        // Members out of frame order have no timeline either.
+        assert_eq!(frame_slots(&keys, &[2, 1, 0], 10), None);
+        assert_eq!(frame_slots(&keys, &[0, 1, 2], 10), None);
     }
 
     /// Confident probabilities of camera index `c` (0.9 there, the rest shared).

@@ -124,7 +124,15 @@ pub fn run(
     let mut drawn: Vec<(usize, usize)> = Vec::new();
     for (n, (person, members)) in groups.iter().enumerate() {
         let poses: Vec<PartialPose2> = members.iter().map(|&i| kept[i].pose).collect();
-        let result = reconstructor.reconstruct_sequence(&poses);
+        // A frame after frame numbers the person is missing from starts a new run.
+        let breaks: Vec<bool> = (0..members.len())
+            .map(|m| {
+                let frame = |m: usize| kept[members[m]].frame;
+                m > 0
+                    && matches!((frame(m - 1), frame(m)), (Some(a), Some(b)) if b > a.saturating_add(1))
+            })
+            .collect();
+        let result = reconstructor.reconstruct_sequence_with_breaks(&poses, &breaks);
         let (frames, lengths): (Vec<Result<_, String>>, Option<BoneLengths>) = match result {
             Ok(r) => (
                 r.frames

@@ -1,0 +1,110 @@
+//! One person's frames as runs without a gap ([`PoseReconstructor::reconstruct_sequence_with_breaks`]):
+//! the depths' consistency and the smoothness tie a frame only to frames of its own run, the
+//! bone lengths are shared by all.
+
+use camloc_reconstruct::{CameraMode, Given, LiftedDepths, ReconstructError, Reconstruction};
+use camloc_skeleton::{PartialPose2, Pose2};
+
+use super::{
+    PoseReconstruction, PoseReconstructor, PoseSequenceReconstruction, Prepared, pose_error,
+};
+use crate::CamlocError;
+
+impl PoseReconstructor {
+    /// [`reconstruct_sequence`](Self::reconstruct_sequence) of frames where `breaks[t]` says
+    /// that frame `t` follows frames the person is missing from (a gap in the video; missing
+    /// entries: no gap). The frames are solved in runs that end at such a gap and at a frame
+    /// that cannot be reconstructed: the choice of depths over time and the smoothness tie a
+    /// frame only to the frames of its run (across a gap of 28 frames in a user's walk, the
+    /// frames at its ends had turned 20 and 33 deg to meet each other). The bone lengths are
+    /// the given ones, or estimated from all frames together (which solves them once more).
+    ///
+    /// # Errors
+    /// As [`reconstruct_sequence`](Self::reconstruct_sequence).
+    pub fn reconstruct_sequence_with_breaks(
+        &self,
+        poses: &[PartialPose2],
+        breaks: &[bool],
+    ) -> Result<PoseSequenceReconstruction, CamlocError> {
+        let prepared: Vec<Result<Prepared, CamlocError>> =
+            poses.iter().map(|p| self.prepare(p)).collect();
+        // Runs of frames that were prepared, split at gaps and at frames that were not.
+        let mut runs: Vec<Vec<usize>> = Vec::new();
+        let mut open = false;
+        for (t, p) in prepared.iter().enumerate() {
+            if p.is_err() {
+                open = false;
+                continue;
+            }
+            if !open || breaks.get(t).copied().unwrap_or(false) {
+                runs.push(Vec::new());
+                open = true;
+            }
+            if let Some(run) = runs.last_mut() {
+                run.push(t);
+            }
+        }
+        let solve = |frames: &[usize], given: &Given| {
+            let ready: Vec<&Prepared> = frames
+                .iter()
+                .filter_map(|&t| prepared[t].as_ref().ok())
+                .collect();
+            let inputs: Vec<(Pose2, CameraMode)> =
+                ready.iter().map(|p| (p.complete, p.mode)).collect();
+            let depths: Vec<Option<LiftedDepths>> = ready.iter().map(|p| p.depths).collect();
+            let imputed: Vec<u16> = frames.iter().map(|&t| poses[t].missing_mask()).collect();
+            self.reconstructor
+                .reconstruct_sequence_imputed(&inputs, &depths, &imputed, given)
+                .map_err(|source| CamlocError::Reconstruct {
+                    context: "sequence".into(),
+                    source,
+                })
+        };
+        let all: Vec<usize> = runs.iter().flatten().copied().collect();
+        let mut solved: Vec<Option<Result<Reconstruction, ReconstructError>>> =
+            (0..poses.len()).map(|_| None).collect();
+        let lengths = if runs.len() <= 1 {
+            let whole = solve(&all, &self.given)?;
+            for (&t, frame) in all.iter().zip(whole.frames) {
+                solved[t] = Some(frame);
+            }
+            whole.lengths
+        } else {
+            let lengths = match self.given.lengths {
+                Some(lengths) => lengths,
+                None => solve(&all, &self.given)?.lengths,
+            };
+            let given = Given {
+                lengths: Some(lengths),
+                ..self.given
+            };
+            for run in &runs {
+                for (&t, frame) in run.iter().zip(solve(run, &given)?.frames) {
+                    solved[t] = Some(frame);
+                }
+            }
+            lengths
+        };
+        let frames = prepared
+            .into_iter()
+            .zip(solved)
+            .map(|(p, solved)| {
+                let Prepared {
+                    localization,
+                    imputed,
+                    ..
+                } = p?;
+                let reconstruction = solved
+                    .unwrap_or(Err(ReconstructError::Numerical("no hypothesis was solved")))
+                    .map_err(pose_error)?;
+                Ok(PoseReconstruction {
+                    reconstruction,
+                    alternatives: Vec::new(),
+                    localization,
+                    imputed,
+                })
+            })
+            .collect();
+        Ok(PoseSequenceReconstruction { frames, lengths })
+    }
+}

@@ -1,0 +1,64 @@
+//! A sequence with a gap (`PoseReconstructor::reconstruct_sequence_with_breaks`): the frames
+//! on each side are solved as runs of their own, with the bone lengths of all frames.
+
+mod common;
+
+use camloc::skeleton::Pose2;
+use camloc::{
+    CameraLocalizer, DepthLifter, ModeKind, PartialPose2, Pose3, PoseReconstructor, default_basis,
+};
+
+/// Ten frames: the example's first pose, moved and bent a little more in each.
+fn frames() -> Vec<PartialPose2> {
+    let pose = common::example_records()[0].pose.complete().unwrap();
+    (0..10)
+        .map(|t| {
+            let f = t as f64;
+            let mut points = pose.points;
+            for (j, p) in points.iter_mut().enumerate() {
+                p[0] += 4.0 * f + 3.0 * (0.7 * f + j as f64).sin();
+                p[1] += 2.0 * (1.3 * f + 2.0 * j as f64).cos();
+            }
+            PartialPose2::from(Pose2::new(points))
+        })
+        .collect()
+}
+
+fn reconstructor() -> PoseReconstructor {
+    PoseReconstructor::new(default_basis().unwrap())
+        .unwrap()
+        .with_localizer(CameraLocalizer::default_model().unwrap())
+        .with_lifter(DepthLifter::default_lifter().unwrap())
+        .with_mode(ModeKind::Hybrid)
+        .unwrap()
+}
+
+fn poses(result: &camloc::PoseSequenceReconstruction) -> Vec<Pose3> {
+    result
+        .frames
+        .iter()
+        .map(|f| f.as_ref().unwrap().reconstruction.pose)
+        .collect()
+}
+
+#[test]
+fn frames_after_a_gap_are_solved_apart_with_the_shared_lengths() {
+    let frames = frames();
+    let rec = reconstructor();
+    let mut breaks = vec![false; frames.len()];
+    breaks[5] = true;
+    let split = rec
+        .reconstruct_sequence_with_breaks(&frames, &breaks)
+        .unwrap();
+    let whole = rec.reconstruct_sequence(&frames).unwrap();
+    // The lengths are those of all frames together.
+    assert_eq!(split.lengths, whole.lengths);
+    // Each side is what that side alone gives with those lengths.
+    let given = rec.clone().with_bone_lengths(split.lengths);
+    let first = given.reconstruct_sequence(&frames[..5]).unwrap();
+    let second = given.reconstruct_sequence(&frames[5..]).unwrap();
+    let expected: Vec<Pose3> = poses(&first).into_iter().chain(poses(&second)).collect();
+    assert_eq!(poses(&split), expected);
+    // Without the gap the smoothness ties the frames at the break to each other.
+    assert_ne!(poses(&whole), expected);
+}
