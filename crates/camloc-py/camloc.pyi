@@ -195,8 +195,9 @@ def reconstruct(
         floor; docs/cli.md section Animation): ``to_bvh(r["world_points3d"], fps,
         r["person_bone_lengths"])`` walks and turns; NaN where a frame failed. The rows are
         taken as consecutive video frames: give a frame the person is missing from as a row
-        of NaN, so that time passes there (the frames on each side of a frame that fails are
-        solved as runs of their own, with the person's one set of bone lengths);
+        of NaN, so that time passes there (the frames on each side of 3 or more frames in a
+        row that fail are solved as runs of their own, with the person's one set of bone
+        lengths);
       camera: the mode used;
       error: list of N messages, None where the pose was reconstructed.
 

@@ -29,9 +29,10 @@ pub const SMOOTHING_FRAMES: usize = 2;
 ///   the pelvis, is turned from that ray to the optical axis. Without any focal length the
 ///   depth is the same in every frame and the rotations are taken as they are.
 /// - **Smoothing**: the pelvis's place is averaged over [`SMOOTHING_FRAMES`] frames on each
-///   side (fewer near the ends of a run of frames without `None`, as many on both sides; the
-///   frames' own poses and rotations are kept). `frames` should hold a `None` for each video
-///   frame the person is missing from, so that time passes there.
+///   side (fewer near the ends, as many on both sides; where some are `None`, the straight
+///   line through those present, taken at the frame; the frames' own poses and rotations are
+///   kept). `frames` should hold a `None` for each video frame the person is missing from,
+///   so that time passes there.
 /// - **Upright**: `verticals` gives, where known, each frame's world vertical in camera
 ///   coordinates as the localizer saw it (the third column of
 ///   `Localization::viewpoint_rotation`). The reconstruction's camera may tilt the body
@@ -49,8 +50,7 @@ pub const SMOOTHING_FRAMES: usize = 2;
 ///   planted ankle seen from the pelvis and which bends little from frame to frame
 ///   (`world/planted.rs`). In each step the planted foot
 ///   is the one that moves less, unless it moves with the pelvis (a person gliding or
-///   carried) or is above the floor. A `None` frame breaks the path: the frames on each side
-///   are planted apart.
+///   carried) or is above the floor. Across `None` frames the path only bends.
 /// - **Floor**: a slope of the planted ankles' heights along the path gentler than 6 deg
 ///   (from the depth's error, which grows with the distance) is taken out by moving each
 ///   frame up or down; steeper ones (stairs) are kept (`world/floor.rs`). The floor, z = 0,
@@ -83,30 +83,31 @@ pub fn world_poses(
         })
         .collect();
     let pelvis: Vec<Option<Vector3>> = seen.iter().map(|s| s.map(|(_, p)| p)).collect();
-    // Each frame's distance to the first and the last frame of its run of frames without a
-    // gap.
-    let mut from_start = vec![0; pelvis.len()];
-    let mut to_end = vec![0; pelvis.len()];
-    for t in 1..pelvis.len() {
-        if pelvis[t].is_some() && pelvis[t - 1].is_some() {
-            from_start[t] = from_start[t - 1] + 1;
-        }
-    }
-    for t in (0..pelvis.len().saturating_sub(1)).rev() {
-        if pelvis[t].is_some() && pelvis[t + 1].is_some() {
-            to_end[t] = to_end[t + 1] + 1;
-        }
-    }
     for (t, s) in seen.iter_mut().enumerate() {
         if let Some((_, p)) = s {
-            // A window as wide on both sides within the run, so that the ends of a run are
-            // not drawn inwards.
-            let half = SMOOTHING_FRAMES.min(from_start[t]).min(to_end[t]);
-            let (sum, n) = pelvis[t - half..=t + half]
+            // The straight line through the frames present within as many frames on both
+            // sides, at this frame: their mean where none is missing; where some are, the
+            // frames at a gap's side are not drawn towards the other side.
+            let half = SMOOTHING_FRAMES.min(t).min(pelvis.len() - 1 - t);
+            let near: Vec<(f64, Vector3)> = (t - half..=t + half)
+                .filter_map(|u| pelvis[u].map(|q| (u as f64 - t as f64, q)))
+                .collect();
+            let n = near.len() as f64;
+            let (mean_dt, mean_p) = near
                 .iter()
-                .flatten()
-                .fold((Vector3::zeros(), 0.0), |(sum, n), q| (sum + q, n + 1.0));
-            *p = sum / n;
+                .fold((0.0, Vector3::zeros()), |(a, b), (dt, q)| {
+                    (a + dt / n, b + q / n)
+                });
+            let spread: f64 = near.iter().map(|(dt, _)| (dt - mean_dt).powi(2)).sum();
+            let slope: Vector3 = if spread > 0.0 {
+                near.iter()
+                    .map(|(dt, q)| (q - mean_p) * (dt - mean_dt))
+                    .sum::<Vector3>()
+                    / spread
+            } else {
+                Vector3::zeros()
+            };
+            *p = mean_p - slope * mean_dt;
         }
     }
     let up_sum: Vector3 = seen

@@ -71,8 +71,8 @@ pub use height_shares::{
     HeightShares,
 };
 pub use reconstruction::{
-    PoseReconstruction, PoseReconstructor, PoseSequenceReconstruction, default_basis,
-    evaluation_samples,
+    PoseReconstruction, PoseReconstructor, PoseSequenceReconstruction, SEQUENCE_BREAK_FRAMES,
+    default_basis, evaluation_samples,
 };
 pub use select::{DescriptorCv, cross_validate};
 pub use sequence::{

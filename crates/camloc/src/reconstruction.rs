@@ -12,7 +12,9 @@ use camloc_store::Validate;
 use crate::rows::sample_pose;
 
 mod runs;
+
 use crate::{CameraLocalizer, CamlocError, DepthLifter, Localization, MIN_PRESENT_FOR_FILL};
+pub use runs::SEQUENCE_BREAK_FRAMES;
 
 /// A reconstructed pose and the camera localization it used (none for `opt`).
 #[derive(Clone, Debug)]
@@ -302,8 +304,9 @@ impl PoseReconstructor {
     /// ([`Reconstructor::reconstruct_sequence`]); missing landmarks are filled in as
     /// [`PoseReconstructor::reconstruct`] fills them. A frame that cannot be reconstructed
     /// (no torso and too few landmarks, a degenerate pose, a failed localization) gets its error
-    /// and the others are still reconstructed; the frames before and after it are not tied
-    /// to each other over time (see [`reconstruct_sequence_with_breaks`](Self::reconstruct_sequence_with_breaks)).
+    /// and the others are still reconstructed; the frames before and after a few such frames
+    /// in a row are not tied to each other over time (see
+    /// [`reconstruct_sequence_with_breaks`](Self::reconstruct_sequence_with_breaks)).
     ///
     /// # Errors
     /// [`CamlocError::Reconstruct`] when the estimated lengths leave the plausible range;

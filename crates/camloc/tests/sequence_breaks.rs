@@ -62,3 +62,53 @@ fn frames_after_a_gap_are_solved_apart_with_the_shared_lengths() {
     // Without the gap the smoothness ties the frames at the break to each other.
     assert_ne!(poses(&whole), expected);
 }
+
+#[test]
+fn a_frame_or_two_that_fail_keep_their_neighbours_tied_and_three_split_them() {
+    let frames = frames();
+    let rec = reconstructor();
+    let without = |gone: &[usize]| -> Vec<PartialPose2> {
+        (0..frames.len())
+            .filter(|t| !gone.contains(t))
+            .map(|t| frames[t])
+            .collect()
+    };
+    let failing = |gone: &[usize]| -> Vec<PartialPose2> {
+        (0..frames.len())
+            .map(|t| {
+                if gone.contains(&t) {
+                    PartialPose2::empty()
+                } else {
+                    frames[t]
+                }
+            })
+            .collect()
+    };
+    // Two failed frames: the others are as if those frames were not there at all.
+    let gone = [4, 5];
+    let result = rec.reconstruct_sequence(&failing(&gone)).unwrap();
+    assert!(result.frames[4].is_err() && result.frames[5].is_err());
+    let kept: Vec<Pose3> = result
+        .frames
+        .iter()
+        .filter_map(|f| f.as_ref().ok().map(|r| r.reconstruction.pose))
+        .collect();
+    assert_eq!(
+        kept,
+        poses(&rec.reconstruct_sequence(&without(&gone)).unwrap())
+    );
+    // Three in a row split the frames into two runs.
+    let gone = [4, 5, 6];
+    let result = rec.reconstruct_sequence(&failing(&gone)).unwrap();
+    let mut breaks = vec![false; 7];
+    breaks[4] = true;
+    let split = rec
+        .reconstruct_sequence_with_breaks(&without(&gone), &breaks)
+        .unwrap();
+    let kept: Vec<Pose3> = result
+        .frames
+        .iter()
+        .filter_map(|f| f.as_ref().ok().map(|r| r.reconstruction.pose))
+        .collect();
+    assert_eq!(kept, poses(&split));
+}

@@ -14,7 +14,8 @@ use camloc::reconstruct::BoneLengths;
 use camloc::skeleton::Landmark;
 use camloc::store::{StagedFiles, check_target};
 use camloc::{
-    ModeKind, PartialPose2, Pose3, PoseReconstruction, PoseReconstructor, frame_slots, sequences,
+    ModeKind, PartialPose2, Pose3, PoseReconstruction, PoseReconstructor, SEQUENCE_BREAK_FRAMES,
+    frame_slots, sequences,
 };
 use indicatif::ProgressBar;
 
@@ -124,12 +125,14 @@ pub fn run(
     let mut drawn: Vec<(usize, usize)> = Vec::new();
     for (n, (person, members)) in groups.iter().enumerate() {
         let poses: Vec<PartialPose2> = members.iter().map(|&i| kept[i].pose).collect();
-        // A frame after frame numbers the person is missing from starts a new run.
+        // A frame after SEQUENCE_BREAK_FRAMES or more frame numbers the person is missing
+        // from starts a new run.
         let breaks: Vec<bool> = (0..members.len())
             .map(|m| {
                 let frame = |m: usize| kept[members[m]].frame;
                 m > 0
-                    && matches!((frame(m - 1), frame(m)), (Some(a), Some(b)) if b > a.saturating_add(1))
+                    && matches!((frame(m - 1), frame(m)), (Some(a), Some(b))
+                        if b.saturating_sub(a) > SEQUENCE_BREAK_FRAMES as u64)
             })
             .collect();
         let result = reconstructor.reconstruct_sequence_with_breaks(&poses, &breaks);

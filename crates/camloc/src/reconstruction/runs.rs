@@ -10,14 +10,20 @@ use super::{
 };
 use crate::CamlocError;
 
+/// The fewest frames in a row, missing or not reconstructed, that split one person's frames
+/// into runs solved apart (fewer: the frames on each side stay neighbours, as they nearly
+/// are; a detector that misses every other frame keeps its smoothness).
+pub const SEQUENCE_BREAK_FRAMES: usize = 3;
+
 impl PoseReconstructor {
     /// [`reconstruct_sequence`](Self::reconstruct_sequence) of frames where `breaks[t]` says
-    /// that frame `t` follows frames the person is missing from (a gap in the video; missing
-    /// entries: no gap). The frames are solved in runs that end at such a gap and at a frame
-    /// that cannot be reconstructed: the choice of depths over time and the smoothness tie a
-    /// frame only to the frames of its run (across a gap of 28 frames in a user's walk, the
-    /// frames at its ends had turned 20 and 33 deg to meet each other). The bone lengths are
-    /// the given ones, or estimated from all frames together (which solves them once more).
+    /// that frame `t` follows at least [`SEQUENCE_BREAK_FRAMES`] frames the person is missing
+    /// from (a gap in the video; missing entries: no gap). The frames are solved in runs that
+    /// end at such a gap and at [`SEQUENCE_BREAK_FRAMES`] or more frames in a row that cannot
+    /// be reconstructed: the choice of depths over time and the smoothness tie a frame only to
+    /// the frames of its run (across a gap of 28 frames in a user's walk, the frames at its
+    /// ends had turned 17 and 35 deg to meet each other). The bone lengths are the given ones,
+    /// or estimated from all frames together (which solves them once more).
     ///
     /// # Errors
     /// As [`reconstruct_sequence`](Self::reconstruct_sequence).
@@ -28,20 +34,21 @@ impl PoseReconstructor {
     ) -> Result<PoseSequenceReconstruction, CamlocError> {
         let prepared: Vec<Result<Prepared, CamlocError>> =
             poses.iter().map(|p| self.prepare(p)).collect();
-        // Runs of frames that were prepared, split at gaps and at frames that were not.
+        // Runs of frames that were prepared, split at gaps and at as many frames in a row
+        // that were not.
         let mut runs: Vec<Vec<usize>> = Vec::new();
-        let mut open = false;
+        let mut failed_in_a_row = 0;
         for (t, p) in prepared.iter().enumerate() {
             if p.is_err() {
-                open = false;
+                failed_in_a_row += 1;
                 continue;
             }
-            if !open || breaks.get(t).copied().unwrap_or(false) {
-                runs.push(Vec::new());
-                open = true;
-            }
-            if let Some(run) = runs.last_mut() {
-                run.push(t);
+            let gap =
+                failed_in_a_row >= SEQUENCE_BREAK_FRAMES || breaks.get(t).copied().unwrap_or(false);
+            failed_in_a_row = 0;
+            match runs.last_mut() {
+                Some(run) if !gap => run.push(t),
+                _ => runs.push(vec![t]),
             }
         }
         let solve = |frames: &[usize], given: &Given| {
