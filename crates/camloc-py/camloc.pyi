@@ -246,7 +246,7 @@ def read_keypoints(
 def to_bvh(
     points3d: npt.ArrayLike,
     fps: float = 30.0,
-    limb_lengths: Optional[Sequence[float]] = None,
+    limb_lengths: Optional[Union[Mapping[str, float], Sequence[float], _Path]] = None,
     unit_m: float = 0.01,
 ) -> str:
     """The 3D poses as the text of a BVH animation file, for Blender, MotionBuilder and other
@@ -259,8 +259,9 @@ def to_bvh(
       limb's direction along the great circle), before the first and after the last it holds
       that frame.
     fps: frames per second (``Frame Time`` = 1 / fps).
-    limb_lengths: the 14 bone lengths in metres (limb order of docs/conventions.md section 3);
-      default: the mean of each limb over the complete frames.
+    limb_lengths: the 14 bone lengths in metres, as ``reconstruct``'s ``bone_lengths`` takes
+      them (a mapping of ``BONE_KEYS``, 14 numbers in that order, or a bone lengths JSON file;
+      each 0.01-1.5 m); default: the mean of each limb over the complete frames.
     unit_m: metres per file unit (0.01: centimetres; Blender imports them with scale 0.01).
 
     The skeleton is a T-pose in MotionBuilder naming (``Hips``, ``LeftUpLeg``, ``LeftLeg``,

@@ -11,6 +11,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::arrays::{ArrayArg, Output, c_order};
+use crate::reconstruct::bone_lengths;
 use crate::value_error;
 
 /// A positive finite number, or a `ValueError` naming `what`.
@@ -63,21 +64,14 @@ fn frames(points3d: &ArrayArg<'_>) -> PyResult<Vec<Option<Pose3>>> {
 pub(crate) fn to_bvh(
     points3d: ArrayArg<'_>,
     fps: f64,
-    limb_lengths: Option<Vec<f64>>,
+    limb_lengths: Option<Bound<'_, PyAny>>,
     unit_m: f64,
 ) -> PyResult<String> {
     let fps = positive(fps, "fps")?;
     let unit_m = positive(unit_m, "unit_m")?;
     let frames = frames(&points3d)?;
     let lengths: Option<[f64; NUM_LIMBS]> = limb_lengths
-        .map(|given| {
-            given.try_into().map_err(|given: Vec<f64>| {
-                value_error(format!(
-                    "limb_lengths must have 14 values (metres, LIMBS order), got {}",
-                    given.len()
-                ))
-            })
-        })
+        .map(|given| bone_lengths(&given, "limb_lengths").map(|l| l.as_array()))
         .transpose()?;
     let options = BvhOptions {
         frame_time_s: 1.0 / fps,

@@ -35,22 +35,23 @@ fn default_reconstructor() -> PyResult<&'static PoseReconstructor> {
         .map_err(|message| crate::CamlocError::new_err(message.clone()))
 }
 
-/// The `bone_lengths` argument: a mapping of the 14 JSON keys, 14 numbers in the library's
-/// limb order, or the path of a bone lengths JSON file.
-fn bone_lengths(value: &Bound<'_, PyAny>) -> PyResult<BoneLengths> {
-    let invalid = |e: camloc::reconstruct::BoneLengthError| value_error(e.to_string());
+/// A bone lengths argument named `name` (`reconstruct`'s `bone_lengths`, `to_bvh`'s
+/// `limb_lengths`): a mapping of the 14 JSON keys, 14 numbers in the library's limb order
+/// (`BONE_KEYS`), or the path of a bone lengths JSON file.
+pub(crate) fn bone_lengths(value: &Bound<'_, PyAny>, name: &str) -> PyResult<BoneLengths> {
+    let invalid = |e: camloc::reconstruct::BoneLengthError| value_error(format!("{name}: {e}"));
     if let Ok(mapping) = value.cast::<PyMapping>() {
         let named: HashMap<String, f64> = mapping.extract()?;
         if let Some(unknown) = named.keys().find(|k| !BONE_KEYS.contains(&k.as_str())) {
             return Err(value_error(format!(
-                "bone_lengths: unknown key {unknown:?} (expected the 14 keys of BONE_KEYS)"
+                "{name}: unknown key {unknown:?} (expected the 14 keys of BONE_KEYS)"
             )));
         }
         let mut lengths = [0.0; NUM_LIMBS];
         for (out, key) in lengths.iter_mut().zip(BONE_KEYS) {
             *out = *named
                 .get(key)
-                .ok_or_else(|| value_error(format!("bone_lengths: missing key {key:?}")))?;
+                .ok_or_else(|| value_error(format!("{name}: missing key {key:?}")))?;
         }
         return BoneLengths::from_array(lengths).map_err(invalid);
     }
@@ -58,11 +59,13 @@ fn bone_lengths(value: &Bound<'_, PyAny>) -> PyResult<BoneLengths> {
         return BoneLengths::read_json(&path).map_err(invalid);
     }
     let numbers: Vec<f64> = value.extract().map_err(|_| {
-        value_error("bone_lengths: expected a mapping of BONE_KEYS, 14 numbers or a file path")
+        value_error(format!(
+            "{name}: expected a mapping of BONE_KEYS, 14 numbers or a file path"
+        ))
     })?;
-    let lengths: [f64; NUM_LIMBS] = numbers.try_into().map_err(|v: Vec<f64>| {
-        value_error(format!("bone_lengths: {} numbers, expected 14", v.len()))
-    })?;
+    let lengths: [f64; NUM_LIMBS] = numbers
+        .try_into()
+        .map_err(|v: Vec<f64>| value_error(format!("{name}: {} numbers, expected 14", v.len())))?;
     BoneLengths::from_array(lengths).map_err(invalid)
 }
 
@@ -145,7 +148,7 @@ pub(crate) fn reconstruct<'py>(
         .with_mode(mode)
         .map_err(|e| value_error(e.to_string()))?;
     if let Some(value) = &bone_lengths {
-        reconstructor = reconstructor.with_bone_lengths(self::bone_lengths(value)?);
+        reconstructor = reconstructor.with_bone_lengths(self::bone_lengths(value, "bone_lengths")?);
     }
     if principal_point.is_some() && focal_px.is_none() {
         return Err(value_error("principal_point needs focal_px"));

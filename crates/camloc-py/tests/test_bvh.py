@@ -89,7 +89,7 @@ def test_bad_input_raises_value_error():
         camloc.to_bvh(np.zeros((3, 14, 3)))
     with pytest.raises(ValueError, match="fps"):
         camloc.to_bvh(pose, fps=0)
-    with pytest.raises(ValueError, match="14 values"):
+    with pytest.raises(ValueError, match="limb_lengths: 13 numbers, expected 14"):
         camloc.to_bvh(pose, limb_lengths=[0.3] * 13)
     with pytest.raises(ValueError, match="no frame"):
         camloc.to_bvh(np.full((2, 15, 3), np.nan))
@@ -209,3 +209,21 @@ def test_the_command_line_s_walk_moves_as_python_s_world_points3d(tmp_path, walk
     print(f"{name}: the pelvis moved {walked:.2f} m across the floor; the command line's BVH is "
           f"Python's world_points3d within {ours * 1e3:.6f} mm (camloc), {theirs * 1e3:.6f} mm "
           "(bvhio)")
+
+
+def test_to_bvh_takes_limb_lengths_as_reconstruct_takes_bone_lengths(tmp_path):
+    """A mapping of BONE_KEYS, 14 numbers and a file give the same file; bad ones name the
+    argument."""
+    pose = camloc.reconstruct(camloc.read_keypoints(EXAMPLE)["points"])["points3d"][0]
+    lengths = [0.1, 0.42, 0.41, 0.1, 0.42, 0.41, 0.5, 0.25, 0.17, 0.28, 0.26, 0.17, 0.28, 0.26]
+    mapping = dict(zip(camloc.BONE_KEYS, lengths))
+    path = tmp_path / "me.json"
+    path.write_text(json.dumps({"format": "camloc-bone-lengths", "version": 1, "unit": "m",
+                                "lengths": mapping}))
+    as_list = camloc.to_bvh(pose, limb_lengths=lengths)
+    assert camloc.to_bvh(pose, limb_lengths=mapping) == as_list
+    assert camloc.to_bvh(pose, limb_lengths=str(path)) == as_list
+    with pytest.raises(ValueError, match="limb_lengths: 13 numbers"):
+        camloc.to_bvh(pose, limb_lengths=lengths[:13])
+    with pytest.raises(ValueError, match="limb_lengths: unknown key"):
+        camloc.to_bvh(pose, limb_lengths={**mapping, "tail": 0.3})

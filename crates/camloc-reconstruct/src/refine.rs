@@ -222,14 +222,21 @@ impl Intrinsics {
     /// [`ReconstructError::InvalidConfig`] when the focal length is not finite and positive
     /// or the principal point is not finite.
     pub fn check(&self) -> Result<(), ReconstructError> {
-        let valid = self.focal_px.is_finite()
-            && self.focal_px > 0.0
-            && self.principal_point.iter().flatten().all(|c| c.is_finite());
-        if !valid {
+        if !(self.focal_px.is_finite() && self.focal_px > 0.0) {
             return Err(ReconstructError::InvalidConfig {
-                field: "Intrinsics",
-                value: format!("{:?}", self),
-                reason: "the focal length must be finite and > 0, the principal point finite",
+                field: "the focal length (pixels)",
+                value: self.focal_px.to_string(),
+                reason: "it must be finite and > 0",
+            });
+        }
+        if let Some(point) = self
+            .principal_point
+            .filter(|p| !p.iter().all(|c| c.is_finite()))
+        {
+            return Err(ReconstructError::InvalidConfig {
+                field: "the principal point (pixels)",
+                value: format!("{}, {}", point[0], point[1]),
+                reason: "it must be finite",
             });
         }
         Ok(())
