@@ -268,7 +268,9 @@ def to_bvh(
     ``LeftFoot``, ``Neck``, ``Head``, ``LeftArm``, ``LeftForeArm``, ``LeftHand``, ...) whose
     joint origins are the 15 landmarks; each frame keeps its limb directions, with the given
     lengths, and the root follows the pelvis. The file is y up: a point (x, y, z) is
-    (x, z, -y) / unit_m in it.
+    (x, z, -y) / unit_m in it. The points are written where they are: a pose of
+    ``reconstruct`` has its pelvis at the origin and its feet below the floor; to make it
+    stand as ``camloc reconstruct --bvh`` does, lift it: ``p[..., 2] -= p[..., 2].min()``.
 
     Raises ValueError for a wrong shape, a frame with some (not all) NaN, no complete frame, a
     limb without direction, or a non-positive fps, unit or length.

@@ -102,6 +102,19 @@ pub fn bvh_files(
     Ok(files)
 }
 
+/// `pose` (pelvis at the origin, z up) moved up so that its lowest landmark is on the floor
+/// (height 0): how a single pose's `--bvh` file stands.
+pub fn on_the_floor(pose: Pose3) -> Pose3 {
+    let floor = pose
+        .points
+        .iter()
+        .map(|q| q[2])
+        .fold(f64::INFINITY, f64::min);
+    Pose3 {
+        points: pose.points.map(|q| [q[0], q[1], q[2] - floor]),
+    }
+}
+
 /// The path the `--bvh OUT` files are named after: `OUT`, with the extension `.bvh` when it
 /// has none (so that numbered names keep it).
 pub fn bvh_base(out: &Path) -> PathBuf {

@@ -148,10 +148,10 @@ pub struct Args {
     /// lengths are the mean limb lengths of the file's poses (with --sequence: the person's
     /// shared lengths, given or estimated); each frame keeps its limb directions. A frame that
     /// could not be reconstructed turns from the frame before to the one after (holds at the
-    /// ends), and with --sequence so does a frame number the person is missing from. With --sequence the person moves and turns as the
-    /// camera saw them, for a camera that stood still (root motion, planted feet kept in
-    /// place, on the floor; --bvh-in-place for a camera that moved); one pose stands at the
-    /// origin.
+    /// ends), and with --sequence so does a frame number the person is missing from. With
+    /// --sequence the person moves and turns as the camera saw them, for a camera that stood
+    /// still (root motion, planted feet kept in place, on the floor; --bvh-in-place for a
+    /// camera that moved); one pose stands on the floor, its pelvis above the origin.
     #[arg(long, value_name = "OUT")]
     pub bvh: Option<PathBuf>,
     /// With --sequence and --bvh: no root motion; every frame's pelvis above the origin,
@@ -396,7 +396,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
             row: args.npy.as_ref().map(|_| r.pose),
             keep: keep.then(|| Kept {
                 key: (record.frame, record.person),
-                pose: Some(r.pose),
+                pose: Some(export::on_the_floor(r.pose)),
                 view: view(record, Some(&result), None),
             }),
         })
