@@ -92,8 +92,8 @@ impl Default for Refinement {
     /// Lengths estimated; image deviation 0.04 (about 4% of a torso), Huber at 2.5
     /// deviations, direction deviation 0.15 (0.10 from a single frame's lifted pose), the
     /// default widening, the camera's distance estimated under [`DistancePrior::default`], 10
-    /// steps; in sequences smoothness 0.07 (0.1 before; docs/RESULTS.md), the length prior's deviations
-    /// halved (`sequence_prior` 2) and made to keep pace with the frames beyond 60
+    /// steps; in sequences smoothness 0.07 (0.1 before; docs/RESULTS.md), the length prior's
+    /// deviations halved (`sequence_prior` 2) and made to keep pace with the frames beyond 60
     /// (`length_evidence_frames`), the Viterbi choice of depths with motion deviation 0.1 m.
     fn default() -> Self {
         Refinement {

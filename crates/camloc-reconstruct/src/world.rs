@@ -11,8 +11,9 @@ mod floor;
 mod planted;
 
 /// [`world_poses`] places the pelvis at the mean of its places in the frames within this many
-/// frames before and after (the depth from one frame's scale jitters: on tripod views of
-/// CMU walks, 30 frames a second, the path walked came out 30% long without it).
+/// frames before and after (the straight line through them where some are missing): the
+/// depth from one frame's scale jitters (on tripod views of CMU walks, 30 frames a second, the
+/// path walked came out 30% long without it).
 pub const SMOOTHING_FRAMES: usize = 2;
 
 /// The frames of one person filmed by one fixed camera, in time order (`None`: a frame
@@ -85,29 +86,7 @@ pub fn world_poses(
     let pelvis: Vec<Option<Vector3>> = seen.iter().map(|s| s.map(|(_, p)| p)).collect();
     for (t, s) in seen.iter_mut().enumerate() {
         if let Some((_, p)) = s {
-            // The straight line through the frames present within as many frames on both
-            // sides, at this frame: their mean where none is missing; where some are, the
-            // frames at a gap's side are not drawn towards the other side.
-            let half = SMOOTHING_FRAMES.min(t).min(pelvis.len() - 1 - t);
-            let near: Vec<(f64, Vector3)> = (t - half..=t + half)
-                .filter_map(|u| pelvis[u].map(|q| (u as f64 - t as f64, q)))
-                .collect();
-            let n = near.len() as f64;
-            let (mean_dt, mean_p) = near
-                .iter()
-                .fold((0.0, Vector3::zeros()), |(a, b), (dt, q)| {
-                    (a + dt / n, b + q / n)
-                });
-            let spread: f64 = near.iter().map(|(dt, _)| (dt - mean_dt).powi(2)).sum();
-            let slope: Vector3 = if spread > 0.0 {
-                near.iter()
-                    .map(|(dt, q)| (q - mean_p) * (dt - mean_dt))
-                    .sum::<Vector3>()
-                    / spread
-            } else {
-                Vector3::zeros()
-            };
-            *p = mean_p - slope * mean_dt;
+            *p = smoothed(&pelvis, t);
         }
     }
     let up_sum: Vector3 = seen
@@ -129,7 +108,7 @@ pub fn world_poses(
     let away = up.cross(&right);
     // Rows: the world axes in camera coordinates (camera -> world).
     let to_world = Matrix3::from_rows(&[right.transpose(), away.transpose(), up.transpose()]);
-    let placed: Vec<Option<Pose3>> = frames
+    let mut placed: Vec<Option<Pose3>> = frames
         .iter()
         .zip(&seen)
         .map(|(f, seen)| {
@@ -141,7 +120,6 @@ pub fn world_poses(
             Some(Pose3 { points })
         })
         .collect();
-    let mut placed = placed;
     let contacts = planted::plant_feet(&mut placed);
     let floor = floor::level(&mut placed, &contacts);
     let first = placed
@@ -165,6 +143,33 @@ pub fn world_poses(
             })
         })
         .collect()
+}
+
+/// The pelvis's place at frame `t` (present) of `pelvis` (`None`: a missing frame) averaged
+/// over [`SMOOTHING_FRAMES`] frames on each side, as many on both sides: the straight line
+/// through the frames present there, taken at `t` (their mean where none is missing; where
+/// some are, the frames at a gap's side are not drawn towards the other side).
+fn smoothed(pelvis: &[Option<Vector3>], t: usize) -> Vector3 {
+    let half = SMOOTHING_FRAMES.min(t).min(pelvis.len() - 1 - t);
+    let near: Vec<(f64, Vector3)> = (t - half..=t + half)
+        .filter_map(|u| pelvis[u].map(|q| (u as f64 - t as f64, q)))
+        .collect();
+    let n = near.len() as f64;
+    let (mean_dt, mean_p) = near
+        .iter()
+        .fold((0.0, Vector3::zeros()), |(a, b), (dt, q)| {
+            (a + dt / n, b + q / n)
+        });
+    let spread: f64 = near.iter().map(|(dt, _)| (dt - mean_dt).powi(2)).sum();
+    if spread == 0.0 {
+        return mean_p;
+    }
+    let slope: Vector3 = near
+        .iter()
+        .map(|(dt, q)| (q - mean_p) * (dt - mean_dt))
+        .sum::<Vector3>()
+        / spread;
+    mean_p - slope * mean_dt
 }
 
 /// The rotation `T` of the body frame that makes the frames' bodies upright as `verticals`

@@ -10,10 +10,10 @@ use camloc_store::Persist;
 use camloc_store::Validate;
 
 use crate::rows::sample_pose;
+use crate::{CameraLocalizer, CamlocError, DepthLifter, Localization, MIN_PRESENT_FOR_FILL};
 
 mod runs;
 
-use crate::{CameraLocalizer, CamlocError, DepthLifter, Localization, MIN_PRESENT_FOR_FILL};
 pub use runs::SEQUENCE_BREAK_FRAMES;
 
 /// A reconstructed pose and the camera localization it used (none for `opt`).

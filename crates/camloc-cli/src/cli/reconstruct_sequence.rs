@@ -162,23 +162,22 @@ pub fn run(
             );
         }
         let reconstructed = frames.iter().filter(|f| f.is_ok()).count();
-        // The poses the BVH gets: placed where the camera saw them, or each at the origin.
         // Placed where the camera saw them, on the video's timeline (frames where the person
-        // was not detected count as time passing).
+        // was not detected count as time passing); only for the files made at the end.
         let found: Vec<_> = frames.iter().map(|f| f.as_ref().ok()).collect();
-        let placed: Vec<Option<Pose3>> = match frame_slots(&keys, members, KEEP_MAX_POSES as usize)
-        {
-            Some(slots) => {
-                let on_timeline: Vec<_> = slots.iter().map(|s| s.and_then(|m| found[m])).collect();
-                let mut placed = vec![None; members.len()];
-                for (slot, pose) in slots.iter().zip(reconstructor.place_in_world(&on_timeline)) {
-                    if let Some(m) = slot {
-                        placed[*m] = pose;
-                    }
+        let placed: Vec<Option<Pose3>> = if options.finish.is_none() {
+            vec![None; members.len()]
+        } else if let Some(slots) = frame_slots(&keys, members, KEEP_MAX_POSES as usize) {
+            let on_timeline: Vec<_> = slots.iter().map(|s| s.and_then(|m| found[m])).collect();
+            let mut placed = vec![None; members.len()];
+            for (slot, pose) in slots.iter().zip(reconstructor.place_in_world(&on_timeline)) {
+                if let Some(m) = slot {
+                    placed[*m] = pose;
                 }
-                placed
             }
-            None => reconstructor.place_in_world(&found),
+            placed
+        } else {
+            reconstructor.place_in_world(&found)
         };
         // The poses the BVH gets: as placed, or in place (the body frame, facing one way, the
         // pelvis above the origin at the height the placement gives it: the feet on the floor,
