@@ -235,7 +235,10 @@ def read_keypoints(
         ready for ``Localizer.localize(points)`` (layout camloc15);
       derived (N, 15) bool: landmarks computed from other points rather than read;
       ids, sources: lists of N str (pose id; file and place in it);
-      frames, persons (N,) int64: video frame and person index, -1 where the format has none;
+      frames, persons (N,) int64: video frame and person, -1 where the format has none
+        (docs/keypoints.md: e.g. COCO's integer ``image_id`` and ``track_id``, MMPose's
+        ``frame_id`` and ``track_id`` or position in the frame); split a video's rows by
+        person before ``reconstruct(..., sequence=True)``;
       file_errors: for a folder, (file, message) of each file that could not be read (the
         others are still read); empty for a file.
 

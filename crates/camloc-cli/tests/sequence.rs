@@ -310,3 +310,90 @@ fn repeated_frame_numbers_are_warned_of() {
     let once = camloc(&["localize", "--input", &dir.path("a"), "--sequence", "-q"]);
     assert!(!String::from_utf8_lossy(&once.stderr).contains("repeat"));
 }
+
+/// OpenPose numbers people in the detector's order, which changes as people come and go: a
+/// person whose pose jumps across the image is warned of, and the same frames in a constant
+/// order are not.
+#[test]
+fn detector_order_changes_are_warned_of() {
+    let people = fixture_people();
+    // Another person 600 px to the right.
+    let mut other = people[0].clone();
+    for (i, v) in other.as_array_mut().unwrap().iter_mut().enumerate() {
+        if i % 3 == 0 && v.as_f64().unwrap() != 0.0 {
+            *v = (v.as_f64().unwrap() + 600.0).into();
+        }
+    }
+    for (name, swap_at) in [("swapped", 4), ("constant", 99)] {
+        let dir = TempDir::new(name);
+        for t in 0..8 {
+            let order = if t < swap_at {
+                [&people[0], &other]
+            } else {
+                [&other, &people[0]]
+            };
+            write_frame(&dir, t, &order);
+        }
+        let out = camloc(&["localize", "--input", &dir.path(""), "--sequence", "-q"]);
+        assert!(out.status.success());
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        if swap_at < 8 {
+            for person in [0, 1] {
+                assert!(
+                    stderr.contains(&format!(
+                        "person {person}: the pose jumps across the image or changes size \
+                         from one frame to the next at 1 frame (first at frame 4)"
+                    )),
+                    "{stderr}"
+                );
+            }
+        } else {
+            assert!(!stderr.contains("jumps"), "{stderr}");
+        }
+    }
+}
+
+/// A COCO results list of a video: `image_id` is the frame and `track_id` the person, so two
+/// tracked people are two sequences; without `track_id` they are one, which is warned of.
+#[test]
+fn coco_track_ids_keep_people_apart() {
+    let fixture = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../fixtures/keypoints/tiny_coco_results.json");
+    let results: Value = serde_json::from_str(&std::fs::read_to_string(fixture).unwrap()).unwrap();
+    let (a, b) = (&results[0]["keypoints"], &results[1]["keypoints"]);
+    let dir = TempDir::new("coco-tracks");
+    for tracked in [true, false] {
+        let entries: Vec<Value> = (0..3)
+            .flat_map(|t| {
+                [(a, 5), (b, 9)].map(|(k, track)| {
+                    let mut e =
+                        serde_json::json!({"image_id": t, "category_id": 1, "keypoints": k});
+                    if tracked {
+                        e["track_id"] = track.into();
+                    }
+                    e
+                })
+            })
+            .collect();
+        let file = dir.path(&format!("results-{tracked}.json"));
+        std::fs::write(&file, Value::from(entries).to_string()).unwrap();
+        let out = camloc(&["localize", "--input", &file, "--sequence", "--jsonl", "-q"]);
+        assert!(out.status.success());
+        let objects = json_lines(&out);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        if tracked {
+            let keys: Vec<(u64, u64)> = objects
+                .iter()
+                .map(|o| (o["person"].as_u64().unwrap(), o["frame"].as_u64().unwrap()))
+                .collect();
+            assert_eq!(keys, [(5, 0), (5, 1), (5, 2), (9, 0), (9, 1), (9, 2)]);
+            assert!(stderr.is_empty(), "{stderr}");
+        } else {
+            assert!(objects.iter().all(|o| o["person"].is_null()));
+            assert!(
+                stderr.contains("3 poses repeat the frame and person numbers"),
+                "{stderr}"
+            );
+        }
+    }
+}

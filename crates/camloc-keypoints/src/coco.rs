@@ -1,9 +1,11 @@
 //! COCO-17 keypoints: a COCO dataset file (`{"annotations": [...]}`) or a results list
 //! (`[{"image_id": .., "keypoints": [..], "score": ..}]`).
 //!
-//! The top level and the annotations are streamed: only `image_id`, `id` and `keypoints` of each
-//! annotation are kept, so that segmentation polygons and image lists of large dataset files are
-//! skipped rather than held in memory.
+//! The top level and the annotations are streamed: only `image_id`, `id`, `track_id` and
+//! `keypoints` of each annotation are kept, so that segmentation polygons and image lists of
+//! large dataset files are skipped rather than held in memory. An integer `image_id` is the
+//! record's frame and an integer `track_id` (a tracker's person id) its person, so that the
+//! poses of a video's detections are ordered and kept apart by person.
 
 use std::fmt;
 
@@ -13,7 +15,7 @@ use crate::emit::{self, ListReader, Sink, TopLevel};
 
 use crate::ReadOptions;
 use crate::error::{KeypointError, Location};
-use crate::json::{Json, index_path, key_path, number_array, wrong_type};
+use crate::json::{self, Json, index_path, key_path, number_array, wrong_type};
 use crate::layout::{COCO17, keeps};
 use crate::record::{KeypointRecord, from_joints};
 
@@ -34,6 +36,7 @@ pub const COCO_KEYPOINTS: [&str; 17] = {
 struct Annotation {
     image_id: Option<Json>,
     id: Option<Json>,
+    track_id: Option<Json>,
     keypoints: Option<Json>,
 }
 
@@ -58,6 +61,7 @@ impl<'de> Visitor<'de> for AnnotationVisitor {
             let (slot, name) = match key.as_str() {
                 "image_id" => (&mut annotation.image_id, "image_id"),
                 "id" => (&mut annotation.id, "id"),
+                "track_id" => (&mut annotation.track_id, "track_id"),
                 "keypoints" => (&mut annotation.keypoints, "keypoints"),
                 _ => {
                     map.next_value::<IgnoredAny>()?;
@@ -121,11 +125,8 @@ fn record<'a>(
             key,
         })
     };
-    let image = id_text(
-        required(annotation.image_id.as_ref(), "image_id")?,
-        file,
-        &key_path(path, "image_id"),
-    )?;
+    let image_id = required(annotation.image_id.as_ref(), "image_id")?;
+    let image = id_text(image_id, file, &key_path(path, "image_id"))?;
     let suffix = match &annotation.id {
         Some(id) => id_text(id, file, &key_path(path, "id"))?,
         None => index.to_string(),
@@ -140,14 +141,19 @@ fn record<'a>(
     let points = values
         .chunks_exact(3)
         .map(|xyv| keeps(xyv[2], options).then_some([xyv[0], xyv[1]]));
-    Ok(from_joints(
+    let record = from_joints(
         &COCO17,
         points,
         format!("{image}/{suffix}"),
         file,
         path,
         options,
-    ))
+    );
+    Ok(KeypointRecord {
+        frame: Some(image_id).and_then(json::tracking_number),
+        person: annotation.track_id.as_ref().and_then(json::tracking_number),
+        ..record
+    })
 }
 
 /// An image or annotation id (a number or a string) as text.
@@ -182,6 +188,16 @@ mod tests {
             records[0].pose.points[Landmark::LeftShoulder.index()],
             Some([7.0, 8.0])
         );
+        assert_eq!((records[0].frame, records[0].person), (Some(1), None));
+        let tracked = format!(
+            r#"[{{"image_id": 4, "track_id": 2, "keypoints": {kp}}}, {{"image_id": "a.jpg", "track_id": -1, "keypoints": {kp}}}]"#
+        );
+        let keys: Vec<_> = parse(&tracked)
+            .unwrap()
+            .iter()
+            .map(|r| (r.frame, r.person))
+            .collect();
+        assert_eq!(keys, [(Some(4), Some(2)), (None, None)]);
         let twice = format!(r#"[{{"image_id": 1, "keypoints": {kp}, "keypoints": {kp}}}]"#);
         let err = parse(&twice).unwrap_err();
         assert!(matches!(err, KeypointError::Json { .. }), "{err:?}");

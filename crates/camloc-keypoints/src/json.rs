@@ -307,6 +307,17 @@ pub(crate) fn count_number(
     }
 }
 
+/// A frame or person number a detector or tracker wrote beside the keypoints (COCO's
+/// `image_id`, a `track_id`): the value when it is an integer from 0 to
+/// [`MAX_FRAME_NUMBER`](crate::MAX_FRAME_NUMBER), else `None` (string image ids, the `-1`
+/// some trackers write for an untracked detection), which leaves the record without one.
+pub(crate) fn tracking_number(value: &Json) -> Option<u64> {
+    match value {
+        Json::Number(n) => n.as_u64().filter(|&v| v <= crate::MAX_FRAME_NUMBER),
+        _ => None,
+    }
+}
+
 /// A [`KeypointError::WrongType`] for `found` at `path`.
 pub(crate) fn wrong_type(
     file: &str,

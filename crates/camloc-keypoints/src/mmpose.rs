@@ -63,7 +63,7 @@ fn entry_records(
     let Some(instances) = optional(fields, "instances", file, path)? else {
         let record = instance_record(entry, path, i.to_string(), file, options)?;
         return Ok(vec![KeypointRecord {
-            person: Some(i as u64),
+            person: record.person.or(Some(i as u64)),
             ..record
         }]);
     };
@@ -87,14 +87,15 @@ fn entry_records(
             )?;
             Ok(KeypointRecord {
                 frame: Some(frame),
-                person: Some(n as u64),
+                person: record.person.or(Some(n as u64)),
                 ..record
             })
         })
         .collect()
 }
 
-/// One instance at `path`.
+/// One instance at `path`; its person is the instance's `track_id` (a tracker's person id)
+/// when that is a number [`json::tracking_number`] takes, else `None`.
 fn instance_record(
     instance: &Json,
     path: &str,
@@ -143,12 +144,9 @@ fn instance_record(
         let kept = scores.as_ref().is_none_or(|s| keeps(s[k], options));
         points.push(kept.then_some(xy));
     }
-    Ok(from_joints(
-        layout.joints(),
-        points,
-        id,
-        file,
-        path,
-        options,
-    ))
+    let record = from_joints(layout.joints(), points, id, file, path, options);
+    Ok(KeypointRecord {
+        person: optional(fields, "track_id", file, path)?.and_then(json::tracking_number),
+        ..record
+    })
 }

@@ -22,11 +22,12 @@ pub struct KeypointRecord {
     /// Where the pose is in the input, e.g. `lsp.csv: line 17` or `poses.json: poses[3]`.
     pub source: String,
     /// The video frame of the pose (0-based), for inputs that have frames: the number in an
-    /// OpenPose file name, MMPose's `frame_id`, the position in a MediaPipe list, the row of a
-    /// `.npy` array. `None` otherwise.
+    /// OpenPose file name, MMPose's `frame_id`, an integer COCO `image_id`, the position in a
+    /// MediaPipe list, the row of a `.npy` array. `None` otherwise.
     pub frame: Option<u64>,
-    /// The person's position among the poses of its frame (0-based: OpenPose `people`, MMPose
-    /// `instances`), `None` for inputs with one pose per frame or no frames.
+    /// The person: a tracker's `track_id` (COCO, MMPose) when the detection has one, else the
+    /// person's position among the poses of its frame (0-based: OpenPose `people`, MMPose
+    /// `instances`); `None` for inputs with one pose per frame or no frames.
     pub person: Option<u64>,
 }
 

@@ -299,3 +299,18 @@ fn a_camloc_file_given_as_keypoints_says_what_it_is() {
         "{err}"
     );
 }
+
+/// A pose tracker's `track_id` is the person; one that is not a person number (`-1`,
+/// untracked) leaves the instance's position in its frame.
+#[test]
+fn an_mmpose_track_id_is_the_person() {
+    let text = format!(
+        r#"[{{"frame_id": 3, "instances": [{}, {}, {}]}}]"#,
+        mmpose_instance(r#", "track_id": 12"#),
+        mmpose_instance(r#", "track_id": -1"#),
+        mmpose_instance("")
+    );
+    let records = parse_keypoints(&text, "t.json", None, &ReadOptions::default()).unwrap();
+    let persons: Vec<_> = records.iter().map(|r| r.person).collect();
+    assert_eq!(persons, [Some(12), Some(1), Some(2)]);
+}

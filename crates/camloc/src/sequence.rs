@@ -279,8 +279,9 @@ fn argmax(values: &[f64]) -> usize {
 /// [`KeypointRecord`](crate::keypoints::KeypointRecord)); a record without a frame counts as
 /// frame n, one without a person as person 0 (inputs with one pose per frame). Persons come in
 /// increasing order; records of the same person and frame keep their input order. The person
-/// index is the detector's position of the pose in its frame (OpenPose `people[i]`), not a
-/// tracked identity.
+/// is a tracker's id where the input has one (`track_id` of COCO and MMPose), else the
+/// detector's position of the pose in its frame (OpenPose `people[i]`), which is not a tracked
+/// identity ([`identity_jumps`](crate::identity_jumps) finds where it changes).
 pub fn sequences(keys: &[(Option<u64>, Option<u64>)]) -> Vec<(u64, Vec<usize>)> {
     let mut order: Vec<(u64, u64, usize)> = keys
         .iter()

@@ -15,7 +15,7 @@ use camloc::skeleton::Landmark;
 use camloc::store::{StagedFiles, check_target};
 use camloc::{
     ModeKind, PartialPose2, Pose3, PoseReconstruction, PoseReconstructor, SEQUENCE_BREAK_FRAMES,
-    frame_slots, sequences,
+    TorsoAnchor, frame_slots, sequences,
 };
 use indicatif::ProgressBar;
 
@@ -125,6 +125,11 @@ pub fn run(
     let mut drawn: Vec<(usize, usize)> = Vec::new();
     for (n, (person, members)) in groups.iter().enumerate() {
         let poses: Vec<PartialPose2> = members.iter().map(|&i| kept[i].pose).collect();
+        super::sequence::warn_of_identity_jumps(
+            *person,
+            &super::sequence::frame_numbers(&keys, members),
+            &poses.iter().map(TorsoAnchor::of).collect::<Vec<_>>(),
+        );
         // A frame after SEQUENCE_BREAK_FRAMES or more frame numbers the person is missing
         // from starts a new run.
         let breaks: Vec<bool> = (0..members.len())

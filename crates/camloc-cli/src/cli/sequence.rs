@@ -15,7 +15,9 @@ use std::path::Path;
 use std::process::ExitCode;
 
 use camloc::keypoints::KeypointRecord;
-use camloc::{CameraLabel, Localization, SequenceModel, SmoothedFrame, sequences};
+use camloc::{
+    CameraLabel, Localization, SequenceModel, SmoothedFrame, TorsoAnchor, identity_jumps, sequences,
+};
 use indicatif::ProgressBar;
 use rayon::prelude::*;
 use serde::Serialize;
@@ -34,12 +36,15 @@ use super::{CliError, Locator, numbered_path};
 use camloc::store::{StagedFiles, check_target, escaped};
 
 /// One localized (or failed) pose of a sequence: what is kept until the sequence is smoothed
-/// (at most 96 bytes, with the id, source and probabilities on the heap).
+/// (at most 112 bytes, with the id, source and probabilities on the heap).
 struct Frame {
     id: Box<str>,
     source: Box<str>,
     frame: Option<u64>,
     person: Option<u64>,
+    /// The pose's [`TorsoAnchor`] (pelvis x, y and torso length, single precision), for
+    /// [`warn_of_identity_jumps`].
+    anchor: Option<[f32; 3]>,
     /// The most probable camera and every camera's probability, or the number of the failure's
     /// message in [`Failures`].
     result: Result<(CameraLabel, Box<[f64]>), u32>,
@@ -184,6 +189,8 @@ pub fn run(
                     source: record.source.as_str().into(),
                     frame: record.frame,
                     person: record.person,
+                    anchor: TorsoAnchor::of(&record.pose)
+                        .map(|a| [a.pelvis[0] as f32, a.pelvis[1] as f32, a.torso as f32]),
                     result,
                 });
             }
@@ -200,6 +207,16 @@ pub fn run(
     let groups = sequences(&keys);
     let mut staged = StagedFiles::new(force);
     for (n, (person, members)) in groups.iter().enumerate() {
+        let anchors: Vec<Option<TorsoAnchor>> = members
+            .iter()
+            .map(|&i| {
+                frames[i].anchor.map(|[x, y, torso]| TorsoAnchor {
+                    pelvis: [f64::from(x), f64::from(y)],
+                    torso: f64::from(torso),
+                })
+            })
+            .collect();
+        warn_of_identity_jumps(*person, &frame_numbers(&keys, members), &anchors);
         let probabilities: Vec<Option<&[f64]>> = members
             .iter()
             .map(|&i| frames[i].result.as_ref().ok().map(|r| &r.1[..]))
@@ -260,8 +277,9 @@ pub fn run(
 }
 
 /// Warns on standard error when a (frame, person) key is held by more than one pose: the
-/// poses of several videos (two cameras' folders read with `--recursive`) would be smoothed
-/// as one person.
+/// poses of several videos (two cameras' folders read with `--recursive`), or several people
+/// of a frame without person ids (COCO results without `track_id`), would be smoothed as one
+/// person.
 pub fn warn_of_repeated_frames(keys: &[(Option<u64>, Option<u64>)]) {
     let mut seen = std::collections::HashSet::new();
     let repeated = keys
@@ -272,12 +290,44 @@ pub fn warn_of_repeated_frames(keys: &[(Option<u64>, Option<u64>)]) {
     if repeated > 0 {
         eprintln!(
             "camloc: warning: {} repeat{} the frame and person numbers of an earlier pose \
-             (several videos in one input?): they are taken as frames of the same person; \
-             give one video per run",
+             (several videos in one input, or several people without person ids?): they are \
+             taken as frames of the same person; give one video per run and each person an id \
+             (`person` in camloc JSON, `track_id` in COCO or MMPose)",
             counted(repeated as u64, "pose"),
             if repeated == 1 { "s" } else { "" }
         );
     }
+}
+
+/// The frame numbers of the records at `members` (their `keys`' first part).
+pub fn frame_numbers(keys: &[(Option<u64>, Option<u64>)], members: &[usize]) -> Vec<Option<u64>> {
+    members.iter().map(|&i| keys[i].0).collect()
+}
+
+/// Warns on standard error when the frames of `person` (their `frames` numbers and
+/// `anchors`, in time order) jump across the image or change size as one person cannot
+/// ([`identity_jumps`]): a detector's order of people (OpenPose's `people[i]`) changed, or two
+/// people share an id, and one person's smoothing, bone lengths and animation would mix them.
+pub fn warn_of_identity_jumps(
+    person: u64,
+    frames: &[Option<u64>],
+    anchors: &[Option<TorsoAnchor>],
+) {
+    let jumps = identity_jumps(frames, anchors);
+    let Some(&first) = jumps.first() else {
+        return;
+    };
+    let at = match frames[first] {
+        Some(frame) => format!("frame {frame}"),
+        None => format!("its frame {}", first + 1),
+    };
+    eprintln!(
+        "camloc: warning: person {person}: the pose jumps across the image or changes size \
+         from one frame to the next at {} (first at {at}): these may be several people \
+         (the detector's order of people changed?); give each person an id (`person` in \
+         camloc JSON, `track_id` in COCO or MMPose)",
+        counted(jumps.len() as u64, "frame")
+    );
 }
 
 /// The output of one frame: a JSON object (no newline) or a line of text.
@@ -330,6 +380,6 @@ mod tests {
 
     #[test]
     fn a_kept_frame_is_small() {
-        assert!(std::mem::size_of::<Frame>() <= 96);
+        assert!(std::mem::size_of::<Frame>() <= 112);
     }
 }
