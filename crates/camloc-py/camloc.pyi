@@ -158,7 +158,8 @@ def reconstruct(
       from motion capture (proportions only; the size is the prior's).
     focal_px, principal_point: the camera's focal length and principal point (pixels; the
       principal point defaults to the centre of each pose's 2D bounding box): a final
-      full-perspective refinement.
+      full-perspective refinement. The poses must be in pixels too: a pose whose root mean
+      square radius is under 1/1000 of ``focal_px`` (normalised coordinates) fails.
     sequence: the poses are the frames of one person, in time order: one set of bone lengths
       for all of them, depths chosen consistently over time, temporal smoothness.
     camera_height: ``"from-input"`` (the camera heights estimated from the poses of this

@@ -138,6 +138,15 @@ fn record<'a>(
         &key_path(path, "keypoints"),
     )?;
 
+    let keypoints_path = key_path(path, "keypoints");
+    for (k, xyv) in values.chunks_exact(3).enumerate() {
+        json::score_on_threshold_scale(
+            xyv[2],
+            options,
+            file,
+            &index_path(&keypoints_path, 3 * k + 2),
+        )?;
+    }
     let points = values
         .chunks_exact(3)
         .map(|xyv| keeps(xyv[2], options).then_some([xyv[0], xyv[1]]));

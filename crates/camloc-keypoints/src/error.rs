@@ -4,6 +4,8 @@ use std::fmt;
 
 use camloc_skeleton::Landmark;
 
+use crate::array_pose::ArrayPoseError;
+
 /// Where in an input a problem was found.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub enum Location {
@@ -286,6 +288,18 @@ pub enum KeypointError {
         /// What is allowed there.
         expected: &'static str,
     },
+    /// A 17-joint pose whose first five joints contradict its layout
+    /// ([`seventeen_joint_layout`](crate::seventeen_joint_layout)): COCO-17 data read as
+    /// Human3.6M or the reverse. `source` is [`ArrayPoseError::LayoutMismatch`].
+    #[error("{}: {at}: {source} (--layout; Python layout=)", file_name(.file))]
+    LayoutMismatch {
+        /// Name of the input.
+        file: String,
+        /// Where: the pose.
+        at: Location,
+        /// What the joints look like.
+        source: ArrayPoseError,
+    },
     /// A coordinate is NaN or infinite.
     #[error("{}: {at}: {field} \"{}\" is not a finite number",
         file_name(.file), clip(text))]
@@ -327,6 +341,24 @@ pub enum KeypointError {
         score: f64,
         /// A hint for the likely cause, empty or starting with `; `.
         hint: &'static str,
+    },
+    /// A score above [`SCORE_SCALE_LIMIT`](crate::SCORE_SCALE_LIMIT) in a format whose scores
+    /// are not range-checked (COCO, MMPose) while `min_score` is in (0, 1]: the scores are on
+    /// another scale (0-100) than the threshold, which would keep every joint.
+    #[error(
+        "{}: {at}: score {score} is on another scale than the minimum score {min_score} (0-1): \
+         give the minimum on the scores' scale (--min-score; e.g. 30 for scores of 0-100)",
+        file_name(.file)
+    )]
+    ScoreScale {
+        /// Name of the input.
+        file: String,
+        /// Where.
+        at: Location,
+        /// The score found.
+        score: f64,
+        /// The minimum score asked for.
+        min_score: f64,
     },
     /// A pose has a number of joints that the layout does not have.
     #[error("{}: {at}: {found} joints: {what}",

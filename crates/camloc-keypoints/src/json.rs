@@ -450,6 +450,29 @@ pub(crate) fn unit_score(
     }
 }
 
+/// Checks that `score` (found at `path`, in a format whose scores are not range-checked) is on
+/// the scale of [`ReadOptions::min_score`](crate::ReadOptions::min_score): a minimum in
+/// (0, 1] with a score above [`SCORE_SCALE_LIMIT`](crate::SCORE_SCALE_LIMIT) is
+/// [`KeypointError::ScoreScale`].
+pub(crate) fn score_on_threshold_scale(
+    score: f64,
+    options: &crate::ReadOptions,
+    file: &str,
+    path: &str,
+) -> Result<(), KeypointError> {
+    let threshold = options.min_score;
+    if threshold > 0.0 && threshold <= 1.0 && score > crate::SCORE_SCALE_LIMIT {
+        Err(KeypointError::ScoreScale {
+            file: file.to_owned(),
+            at: Location::Path(path.to_owned()),
+            score,
+            min_score: threshold,
+        })
+    } else {
+        Ok(())
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

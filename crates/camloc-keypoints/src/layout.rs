@@ -7,7 +7,6 @@ use std::str::FromStr;
 use camloc_skeleton::{Landmark, PartialPose2};
 
 use crate::ReadOptions;
-use crate::torso::derive_torso;
 
 /// What one joint of a layout becomes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -213,7 +212,7 @@ pub(crate) const MEDIAPIPE33: [Joint; 33] = [
 /// Each layout maps to the 15 landmarks as listed in docs/keypoints.md: joints with a camloc
 /// landmark of the same meaning are read as it; face points (COCO-17, BODY_25) are averaged into
 /// the head, which is then *derived*; the pelvis and neck, when the layout has none, are derived
-/// from the hips and shoulders ([`derive_torso`]).
+/// from the hips and shoulders ([`derive_torso`](crate::derive_torso)).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Layout {
     /// COCO-17: nose, eyes, ears, then shoulders, elbows, wrists, hips, knees, ankles (left
@@ -412,108 +411,6 @@ pub struct MappedPose {
     pub derived: Vec<Landmark>,
 }
 
-/// Why one pose of a raw array cannot be mapped ([`pose_from_array`]). Joints and channels are
-/// 0-based; the `.npy` reader turns these into [`KeypointError`](crate::KeypointError)s that name
-/// the file and the element.
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
-pub enum ArrayPoseError {
-    /// The slice does not hold `J × C` numbers, or C is not 2 or 3.
-    #[error(
-        "expected {joints} joints × 2 or 3 channels for layout {layout}, got {values} numbers with {channels} channels"
-    )]
-    Shape {
-        /// The layout.
-        layout: Layout,
-        /// Its joint count.
-        joints: usize,
-        /// Channels given.
-        channels: usize,
-        /// Numbers given.
-        values: usize,
-    },
-    /// A coordinate or score is infinite, or a score is NaN.
-    #[error("joint {joint}, channel {channel}: {value} is not a finite number")]
-    NonFinite {
-        /// Joint index.
-        joint: usize,
-        /// Channel (0 = x, 1 = y, 2 = score).
-        channel: usize,
-        /// The value.
-        value: f64,
-    },
-    /// One coordinate is NaN and the other is not.
-    #[error(
-        "joint {joint}: one coordinate is NaN and the other is not (NaN, NaN marks a missing joint)"
-    )]
-    HalfMissing {
-        /// Joint index.
-        joint: usize,
-    },
-    /// A score outside [0, 1].
-    #[error("joint {joint}: score {score} is outside [0, 1]")]
-    ScoreOutOfRange {
-        /// Joint index.
-        joint: usize,
-        /// The score.
-        score: f64,
-    },
-}
-
-/// Maps one pose given as raw numbers to the 15 landmarks: `values` holds J × C numbers in row
-/// order (joint by joint), J = `layout.joint_count()`, C = 2 (`x, y`) or 3 (`x, y, score`).
-///
-/// A joint is missing when both coordinates are NaN, or (C = 3) when its score is 0 or below
-/// [`ReadOptions::min_score`]. Scores must lie in [0, 1]; infinities, a NaN score or a single
-/// NaN coordinate are errors. The head of COCO-17 and BODY_25 is the mean of the present face
-/// points, and pelvis and neck are derived per [`ReadOptions::derive_torso`].
-pub fn pose_from_array(
-    layout: Layout,
-    values: &[f64],
-    channels: usize,
-    options: &ReadOptions,
-) -> Result<MappedPose, ArrayPoseError> {
-    let joints = layout.joint_count();
-    if !(channels == 2 || channels == 3) || values.len() != joints * channels {
-        return Err(ArrayPoseError::Shape {
-            layout,
-            joints,
-            channels,
-            values: values.len(),
-        });
-    }
-    // Every joint is checked first, so that mapping (which reads the rows again) cannot fail.
-    for (joint, row) in values.chunks_exact(channels).enumerate() {
-        for (channel, &value) in row.iter().enumerate() {
-            if value.is_infinite() || (channel == 2 && value.is_nan()) {
-                return Err(ArrayPoseError::NonFinite {
-                    joint,
-                    channel,
-                    value,
-                });
-            }
-        }
-        match row.get(2) {
-            Some(&score) if !(0.0..=1.0).contains(&score) => {
-                return Err(ArrayPoseError::ScoreOutOfRange { joint, score });
-            }
-            _ => {}
-        }
-        if row[0].is_nan() != row[1].is_nan() {
-            return Err(ArrayPoseError::HalfMissing { joint });
-        }
-    }
-    let points = values.chunks_exact(channels).map(|row| {
-        let kept = !row[0].is_nan() && row.get(2).is_none_or(|&score| keeps(score, options));
-        kept.then_some([row[0], row[1]])
-    });
-    let (mut pose, mut derived) = map_joints(layout.joints(), points);
-    if options.derive_torso {
-        derived.extend(derive_torso(&mut pose));
-        derived.sort_unstable();
-    }
-    Ok(MappedPose { pose, derived })
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -544,17 +441,6 @@ mod tests {
                     assert_eq!(named, l, "{layout} {name}");
                 }
             }
-        }
-    }
-
-    #[test]
-    fn every_layout_gives_all_15_landmarks_from_a_full_pose() {
-        for layout in Layout::ALL {
-            let values: Vec<f64> = (0..layout.joint_count())
-                .flat_map(|j| [j as f64, 2.0 * j as f64])
-                .collect();
-            let mapped = pose_from_array(layout, &values, 2, &ReadOptions::default()).unwrap();
-            assert!(mapped.pose.complete().is_some(), "{layout}");
         }
     }
 

@@ -117,6 +117,7 @@
 
 #![warn(missing_docs)]
 
+mod array_pose;
 mod camloc_json;
 mod coco;
 mod emit;
@@ -125,6 +126,7 @@ mod folder;
 mod format;
 mod json;
 mod layout;
+mod layout_check;
 mod lsp;
 mod mediapipe;
 mod mmpose;
@@ -146,6 +148,12 @@ pub use camloc_json::{CAMLOC_FORMAT_TAG, CAMLOC_FORMAT_VERSION, to_camloc_json};
 /// The largest frame or person number a record carries (2^63 - 1): they are written to
 /// NumPy's and Python's signed 64-bit integers.
 pub const MAX_FRAME_NUMBER: u64 = i64::MAX as u64;
+
+/// The largest score of a format whose scores are not range-checked (COCO flags go up to 2,
+/// MMPose's heatmap maxima a little over 1) that a `min_score` in (0, 1] accepts: a larger one
+/// is on another scale (0-100) and refused ([`KeypointError::ScoreScale`]).
+pub const SCORE_SCALE_LIMIT: f64 = 2.0;
+pub use array_pose::{ArrayPoseError, pose_from_array};
 pub use camloc_skeleton::{Landmark, PartialPose2, Pose3};
 pub use coco::COCO_KEYPOINTS;
 pub use error::{
@@ -154,7 +162,8 @@ pub use error::{
 pub use folder::{FolderRecords, keypoint_files, open_folder_file, read_folder};
 pub use format::{KeypointFormat, UnknownFormatName};
 pub use json::MAX_ENTRY_VALUES;
-pub use layout::{ArrayPoseError, Layout, MappedPose, UnknownLayoutName, pose_from_array};
+pub use layout::{Layout, MappedPose, UnknownLayoutName};
+pub use layout_check::{FIRST_FIVE_SPREAD_SPLIT, seventeen_joint_layout};
 pub use lsp::LSP_JOINTS;
 pub use npy::{NPY_MAX_HEADER_BYTES, NpyPose, NpyPoseWriter, NpyPoses, read_npy_poses3, write_npy};
 pub use openpose::{OPENPOSE_FRAME_MAX_BYTES, frame_index};

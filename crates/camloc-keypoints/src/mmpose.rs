@@ -7,12 +7,14 @@
 use serde::de::{MapAccess, SeqAccess};
 
 use crate::ReadOptions;
+use crate::array_pose::ArrayPoseError;
 use crate::emit::{self, ListReader, Sink, TopLevel};
 use crate::error::{KeypointError, Location};
 use crate::json::{
     self, Json, array, index_path, key_path, number_array, numbers, object, optional, required,
 };
 use crate::layout::{Layout, keeps, resolve_layout};
+use crate::layout_check::contradicted;
 use crate::record::{KeypointRecord, from_joints};
 
 /// MMPose predictions: a list of instances or frames, or an object with `instance_info` (other
@@ -134,6 +136,9 @@ fn instance_record(
                     what: "one score per keypoint",
                 });
             }
+            for (k, &score) in scores.iter().enumerate() {
+                json::score_on_threshold_scale(score, options, file, &index_path(&scores_path, k))?;
+            }
             Some(scores)
         }
         None => None,
@@ -143,6 +148,17 @@ fn instance_record(
         let xy = number_array::<2>(point, "[x, y]", file, &index_path(&kp_path, k))?;
         let kept = scores.as_ref().is_none_or(|s| keeps(s[k], options));
         points.push(kept.then_some(xy));
+    }
+    if let Some((likely, spread)) = contradicted(layout, &points) {
+        return Err(KeypointError::LayoutMismatch {
+            file: file.to_owned(),
+            at: Location::Path(kp_path),
+            source: ArrayPoseError::LayoutMismatch {
+                layout,
+                likely,
+                spread,
+            },
+        });
     }
     let record = from_joints(layout.joints(), points, id, file, path, options);
     Ok(KeypointRecord {

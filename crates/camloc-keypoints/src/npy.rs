@@ -12,9 +12,10 @@ use camloc_skeleton::{NUM_LANDMARKS, PartialPose2, Pose3};
 use npyz::WriterBuilder;
 
 use crate::ReadOptions;
+use crate::array_pose::{ArrayPoseError, pose_from_array};
 use crate::error::{KeypointError, Location};
 use crate::format::NPY_MAGIC;
-use crate::layout::{ArrayPoseError, Layout, pose_from_array, resolve_layout};
+use crate::layout::{Layout, resolve_layout};
 use crate::record::KeypointRecord;
 
 /// The longest `.npy` header accepted, in bytes: NumPy's own default limit (`max_header_size`).
@@ -289,6 +290,11 @@ fn pose_error(file: &str, pose: u64, error: ArrayPoseError) -> KeypointError {
             what: "score",
             score,
             hint: "; (N, J, 3) keypoint arrays hold x, y, score, not 3D points",
+        },
+        mismatch @ ArrayPoseError::LayoutMismatch { .. } => KeypointError::LayoutMismatch {
+            file,
+            at: Location::Array(Box::new([pose])),
+            source: mismatch,
         },
         shape @ ArrayPoseError::Shape { .. } => KeypointError::Npy {
             file,

@@ -7,7 +7,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use camloc_keypoints::{
-    KeypointError, KeypointFormat, KeypointStream, ReadOptions, open_keypoints_reader,
+    KeypointError, KeypointFormat, KeypointStream, Layout, ReadOptions, open_keypoints_reader,
     parse_keypoints,
 };
 
@@ -313,4 +313,69 @@ fn an_mmpose_track_id_is_the_person() {
     let records = parse_keypoints(&text, "t.json", None, &ReadOptions::default()).unwrap();
     let persons: Vec<_> = records.iter().map(|r| r.person).collect();
     assert_eq!(persons, [Some(12), Some(1), Some(2)]);
+}
+
+/// MMPose's 17 keypoints are COCO-17 unless a layout is named: keypoints in Human3.6M order
+/// (pelvis and legs first) are refused with the likely layout, and read with it.
+#[test]
+fn mmpose_keypoints_of_the_other_17_joint_layout_are_refused() {
+    // A body along a line whose first five joints spread as Human3.6M's do.
+    let points: Vec<String> = (0..17)
+        .map(|j| format!("[{}, {}]", 3.0 * f64::from(j), 10.0 * f64::from(j % 7)))
+        .collect();
+    let text = format!(r#"[{{"keypoints": [{}]}}]"#, points.join(", "));
+    let e = parse(&text, KeypointFormat::MmPose).unwrap_err();
+    assert!(matches!(e, KeypointError::LayoutMismatch { .. }), "{e:?}");
+    assert!(
+        e.to_string()
+            .contains("the layout is likely h36m17, not coco17 (--layout"),
+        "{e}"
+    );
+    let options = ReadOptions {
+        layout: Some(Layout::H36m17),
+        ..ReadOptions::default()
+    };
+    let records = parse_keypoints(&text, "t.json", Some(KeypointFormat::MmPose), &options);
+    assert_eq!(records.unwrap().len(), 1);
+}
+
+/// COCO and MMPose scores are not range-checked, but a minimum score on a 0-1 scale with
+/// scores on a 0-100 one would keep every joint: refused, naming the score; a minimum on the
+/// scores' scale reads them.
+#[test]
+fn scores_on_another_scale_than_the_minimum_are_refused() {
+    let coco_keypoints: Vec<String> = (0..17)
+        .map(|j| format!("{}, {}, 73.5", 10 * j, 20 * j))
+        .collect();
+    let coco = format!(
+        r#"[{{"image_id": 1, "keypoints": [{}]}}]"#,
+        coco_keypoints.join(", ")
+    );
+    let points = vec!["[1.0, 2.0]"; 17].join(", ");
+    let scores = vec!["73.5"; 17].join(", ");
+    let mmpose = format!(r#"[{{"keypoints": [{points}], "keypoint_scores": [{scores}]}}]"#);
+    for (text, format, at) in [
+        (&coco, KeypointFormat::Coco, "[0].keypoints[2]"),
+        (&mmpose, KeypointFormat::MmPose, "[0].keypoint_scores[0]"),
+    ] {
+        let on = |min_score| ReadOptions {
+            min_score,
+            ..ReadOptions::default()
+        };
+        let e = parse_keypoints(text, "t.json", Some(format), &on(0.3)).unwrap_err();
+        assert!(matches!(e, KeypointError::ScoreScale { .. }), "{e:?}");
+        assert!(
+            e.to_string()
+                .starts_with(&format!("t.json: {at}: score 73.5 is on another scale")),
+            "{e}"
+        );
+        for min_score in [0.0, 30.0] {
+            assert_eq!(
+                parse_keypoints(text, "t.json", Some(format), &on(min_score))
+                    .unwrap()
+                    .len(),
+                1
+            );
+        }
+    }
 }

@@ -94,7 +94,9 @@ pub use pursuit::{
     ModeKind, ReconstructConfig, Reconstruction, Reconstructor, SequenceReconstruction,
     depths_along_axis,
 };
-pub use refine::{DistancePrior, Given, Intrinsics, PerspectiveCamera, Refinement};
+pub use refine::{
+    DistancePrior, Given, Intrinsics, MIN_POSE_SPREAD_PER_FOCAL, PerspectiveCamera, Refinement,
+};
 pub use world::{SMOOTHING_FRAMES, world_poses};
 
 /// `x > 0`, false for NaN (reads better than a negated comparison at the call sites).

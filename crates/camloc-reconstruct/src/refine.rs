@@ -23,6 +23,7 @@ mod run;
 mod solve;
 
 use camloc_geometry::Matrix3;
+use camloc_skeleton::Pose2;
 use serde::{Deserialize, Serialize};
 
 use crate::length_prior::LengthWidening;
@@ -237,6 +238,39 @@ impl Intrinsics {
                 field: "the principal point (pixels)",
                 value: format!("{}, {}", point[0], point[1]),
                 reason: "it must be finite",
+            });
+        }
+        Ok(())
+    }
+}
+
+/// The smallest root mean square radius of a 2D pose, as a share of the focal length, that
+/// [`Intrinsics::check_pose`] accepts: a person's landmarks lie about 0.4 m from their centroid,
+/// so a smaller pose would be more than about 400 m away.
+pub const MIN_POSE_SPREAD_PER_FOCAL: f64 = 1e-3;
+
+impl Intrinsics {
+    /// Checks that `pose` is in the units of the focal length: its root mean square radius
+    /// about its centroid is at least [`MIN_POSE_SPREAD_PER_FOCAL`] of the focal length.
+    ///
+    /// # Errors
+    /// [`ReconstructError::ScaleMismatch`] for a smaller pose (normalised coordinates with a
+    /// focal length in pixels).
+    pub fn check_pose(&self, pose: &Pose2) -> Result<(), ReconstructError> {
+        let n = pose.points.len() as f64;
+        let mean: [f64; 2] =
+            std::array::from_fn(|k| pose.points.iter().map(|p| p[k]).sum::<f64>() / n);
+        let spread = (pose
+            .points
+            .iter()
+            .map(|p| (p[0] - mean[0]).powi(2) + (p[1] - mean[1]).powi(2))
+            .sum::<f64>()
+            / n)
+            .sqrt();
+        if spread < MIN_POSE_SPREAD_PER_FOCAL * self.focal_px {
+            return Err(ReconstructError::ScaleMismatch {
+                spread,
+                focal: self.focal_px,
             });
         }
         Ok(())

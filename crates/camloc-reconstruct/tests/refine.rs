@@ -392,6 +392,20 @@ fn a_known_focal_length_fits_a_close_camera_in_full_perspective() {
         rec.reconstruct_with(&pose2, &CameraMode::Opt, 1, &bad),
         Err(ReconstructError::InvalidConfig { .. })
     ));
+    // The same pose in normalised image coordinates (divided by the image width) with the
+    // focal length in pixels: refused, single frame and sequence alike.
+    let normalised = Pose2::new(points.map(|p| [p[0] / 640.0, p[1] / 640.0]));
+    assert!(matches!(
+        rec.reconstruct_with(&normalised, &CameraMode::Opt, 1, &full),
+        Err(ReconstructError::ScaleMismatch { .. })
+    ));
+    let frames = [(normalised, CameraMode::Opt), (pose2, CameraMode::Opt)];
+    let sequence = rec.reconstruct_sequence(&frames, &full).unwrap();
+    assert!(matches!(
+        sequence.frames[0],
+        Err(ReconstructError::ScaleMismatch { .. })
+    ));
+    assert!(sequence.frames[1].is_ok());
 }
 
 #[test]

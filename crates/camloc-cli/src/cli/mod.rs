@@ -235,7 +235,9 @@ pub struct InputArgs {
               .try_map(|s| s.parse::<KeypointFormat>()))]
     pub format: Option<KeypointFormat>,
     /// Joint layout of .npy arrays (and MMPose keypoints) [default: from the joint count;
-    /// 17 joints need it named].
+    /// 17 joints need it named in .npy arrays, MMPose's are coco17]. A 17-joint pose whose
+    /// first five joints are not the layout's (COCO-17's face, Human3.6M's pelvis and legs) is
+    /// refused with the likely layout.
     #[arg(long, value_name = "NAME",
           value_parser = PossibleValuesParser::new(layout_values())
               .try_map(|s| s.parse::<Layout>()))]

@@ -103,8 +103,9 @@ pub struct Args {
     #[arg(long, value_name = "FILE")]
     pub bone_lengths: Option<PathBuf>,
     /// The camera's focal length in pixels: a final full-perspective refinement with it
-    /// (close cameras, wide lenses). Without it the refinement estimates the camera's
-    /// distance (and so a focal length); the JSON output has that perspective camera.
+    /// (close cameras, wide lenses); the keypoints must be in pixels too. Without it the
+    /// refinement estimates the camera's distance (and so a focal length); the JSON output
+    /// has that perspective camera.
     #[arg(long, value_name = "F", value_parser = parse_focal)]
     pub focal_px: Option<f64>,
     /// With --focal-px: the principal point in pixels [default: the centre of --image-size

@@ -75,6 +75,7 @@ impl Reconstructor {
     ) -> Result<Vec<Reconstruction>, ReconstructError> {
         if let Some(intrinsics) = &given.intrinsics {
             intrinsics.check()?;
+            intrinsics.check_pose(pose)?;
         }
         let Ranked {
             obs,

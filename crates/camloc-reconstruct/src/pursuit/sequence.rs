@@ -98,7 +98,12 @@ impl Reconstructor {
         let ranked: Vec<Result<Ranked, ReconstructError>> = frames
             .par_iter()
             .with_max_len(8)
-            .map(|(pose, mode)| self.ranked(pose, mode))
+            .map(|(pose, mode)| {
+                if let Some(intrinsics) = &given.intrinsics {
+                    intrinsics.check_pose(pose)?;
+                }
+                self.ranked(pose, mode)
+            })
             .collect();
         let choice = self.choose(&ranked);
         // Every frame's result; the successful ones are filled in at the end.
