@@ -183,6 +183,35 @@ fn a_turn_with_corrupted_frames_is_smoothed() {
         } else {
             assert_eq!(&o["label"], expected, "frame {t}");
         }
+        // The smoothed viewpoint: none for the frame that was not localized; the frame's own
+        // where the 7 frames around it are the same pose; nearer the part's than its own at
+        // a corrupted frame.
+        let viewpoint = |o: &Value, key: &str| {
+            let (a, e) = (
+                &o[format!("{key}azimuth_deg")],
+                &o[format!("{key}elevation_deg")],
+            );
+            a.as_f64().zip(e.as_f64())
+        };
+        let smoothed = viewpoint(o, "smoothed_");
+        let window = t.saturating_sub(3)..=(t + 3).min(199);
+        let steady = window
+            .clone()
+            .all(|u| !corrupted.contains(&u) && u != broken && (u >= 80) == (t >= 80));
+        if t == broken {
+            assert_eq!(smoothed, None, "{o}");
+        } else if steady {
+            let (own, smoothed) = (viewpoint(o, "").unwrap(), smoothed.unwrap());
+            assert!((own.0 - smoothed.0).abs() < 1e-3 && (own.1 - smoothed.1).abs() < 1e-3);
+        } else if corrupted.contains(&t) {
+            let part = viewpoint(&objects[t - 2], "").unwrap();
+            let own = viewpoint(o, "").unwrap();
+            let off = |v: (f64, f64)| (v.0 - part.0 + 540.0).rem_euclid(360.0) - 180.0;
+            assert!(
+                off(smoothed.unwrap()).abs() < off(own).abs(),
+                "frame {t}: {o}"
+            );
+        }
     }
     let drawing = std::fs::read_to_string(&svg).unwrap();
     assert!(drawing.starts_with("<svg") && drawing.trim_end().ends_with("</svg>"));

@@ -16,7 +16,8 @@ use std::process::ExitCode;
 
 use camloc::keypoints::KeypointRecord;
 use camloc::{
-    CameraLabel, Localization, SequenceModel, SmoothedFrame, TorsoAnchor, identity_jumps, sequences,
+    CameraLabel, Localization, SequenceModel, SmoothedFrame, TorsoAnchor, Viewpoint,
+    identity_jumps, sequences, smooth_viewpoints,
 };
 use indicatif::ProgressBar;
 use rayon::prelude::*;
@@ -36,7 +37,7 @@ use super::{CliError, Locator, numbered_path};
 use camloc::store::{StagedFiles, check_target, escaped};
 
 /// One localized (or failed) pose of a sequence: what is kept until the sequence is smoothed
-/// (at most 112 bytes, with the id, source and probabilities on the heap).
+/// (at most 120 bytes, with the id, source and probabilities on the heap).
 struct Frame {
     id: Box<str>,
     source: Box<str>,
@@ -45,6 +46,9 @@ struct Frame {
     /// The pose's [`TorsoAnchor`] (pelvis x, y and torso length, single precision), for
     /// [`warn_of_identity_jumps`].
     anchor: Option<[f32; 3]>,
+    /// The localization's continuous viewpoint (azimuth, elevation, degrees, single
+    /// precision), for [`smooth_viewpoints`].
+    viewpoint: Option<[f32; 2]>,
     /// The most probable camera and every camera's probability, or the number of the failure's
     /// message in [`Failures`].
     result: Result<(CameraLabel, Box<[f64]>), u32>,
@@ -97,9 +101,15 @@ struct FrameJson<'a> {
     #[serde(skip_serializing_if = "Option::is_none")]
     probability: Option<f64>,
     #[serde(skip_serializing_if = "Option::is_none")]
+    azimuth_deg: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    elevation_deg: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
     error: Option<&'a str>,
     smoothed_label: Option<CameraLabel>,
     smoothed_probability: Option<f64>,
+    smoothed_azimuth_deg: Option<f64>,
+    smoothed_elevation_deg: Option<f64>,
 }
 
 /// The options of a sequence run: `--svg` (one timeline per person), `--summary-svg`,
@@ -162,17 +172,21 @@ pub fn run(
                     Ok(loc) => page(record, Some(loc), None),
                     Err(e) => page(record, None, Some(e.to_string())),
                 };
+                let viewpoint = found
+                    .as_ref()
+                    .ok()
+                    .and_then(|loc| Some([loc.azimuth_deg? as f32, loc.elevation_deg? as f32]));
                 let result = found
                     .map(|loc| (loc.label, loc.probabilities.into_boxed_slice()))
                     .map_err(|e| e.to_string());
-                Some((record, result, view))
+                Some((record, result, view, viewpoint))
             })
             .collect();
         for (item, frame) in batch.iter().zip(results) {
             if let Err(e) = item {
                 emit.file_error(out, &mut summary, bar, e)?;
             }
-            if let Some((record, result, view)) = frame {
+            if let Some((record, result, view, viewpoint)) = frame {
                 views.extend(view);
                 if summary.poses == files.max_poses {
                     return Err(CliError::TooManyPoses(files.max_poses));
@@ -191,6 +205,7 @@ pub fn run(
                     person: record.person,
                     anchor: TorsoAnchor::of(&record.pose)
                         .map(|a| [a.pelvis[0] as f32, a.pelvis[1] as f32, a.torso as f32]),
+                    viewpoint,
                     result,
                 });
             }
@@ -216,7 +231,17 @@ pub fn run(
                 })
             })
             .collect();
-        warn_of_identity_jumps(*person, &frame_numbers(&keys, members), &anchors);
+        let numbers = frame_numbers(&keys, members);
+        warn_of_identity_jumps(*person, &numbers, &anchors);
+        let viewpoints: Vec<Option<Viewpoint>> = members
+            .iter()
+            .map(|&i| {
+                frames[i]
+                    .viewpoint
+                    .map(|[a, e]| (f64::from(a), f64::from(e)))
+            })
+            .collect();
+        let smoothed_viewpoints = smooth_viewpoints(&numbers, &viewpoints);
         let probabilities: Vec<Option<&[f64]>> = members
             .iter()
             .map(|&i| frames[i].result.as_ref().ok().map(|r| &r.1[..]))
@@ -230,7 +255,7 @@ pub fn run(
         };
         for (k, &i) in members.iter().enumerate() {
             let s = smoothed.get(k);
-            let text = frame_output(format, &frames[i], s, &failures);
+            let text = frame_output(format, &frames[i], (s, smoothed_viewpoints[k]), &failures);
             emit.write(out, &text)?;
             if let (Some(view), Some(s)) = (views.get_mut(i), s) {
                 view.set_smoothed(s.label);
@@ -330,11 +355,12 @@ pub fn warn_of_identity_jumps(
     );
 }
 
-/// The output of one frame: a JSON object (no newline) or a line of text.
+/// The output of one frame: a JSON object (no newline) or a line of text; `s` is the frame's
+/// smoothed camera and smoothed viewpoint.
 fn frame_output(
     format: Format,
     frame: &Frame,
-    s: Option<&SmoothedFrame>,
+    (s, viewpoint): (Option<&SmoothedFrame>, Option<Viewpoint>),
     failures: &Failures,
 ) -> String {
     let raw = frame.best();
@@ -346,9 +372,13 @@ fn frame_output(
             person: frame.person,
             label: raw.map(|r| r.0),
             probability: raw.map(|r| r.1),
+            azimuth_deg: frame.viewpoint.map(|v| f64::from(v[0])),
+            elevation_deg: frame.viewpoint.map(|v| f64::from(v[1])),
             error: frame.result.as_ref().err().map(|&n| failures.message(n)),
             smoothed_label: s.map(|s| s.label),
             smoothed_probability: s.map(|s| s.probability),
+            smoothed_azimuth_deg: viewpoint.map(|v| v.0),
+            smoothed_elevation_deg: viewpoint.map(|v| v.1),
         });
     }
     let mut text = String::new();
@@ -367,7 +397,14 @@ fn frame_output(
     }
     match s {
         Some(s) => {
-            let _ = writeln!(text, ", smoothed camera {} ({:.3})", s.label, s.probability);
+            let _ = write!(text, ", smoothed camera {} ({:.3})", s.label, s.probability);
+            if let Some((azimuth, elevation)) = viewpoint {
+                let _ = write!(
+                    text,
+                    ", smoothed viewpoint azimuth {azimuth:.1} deg, elevation {elevation:.1} deg"
+                );
+            }
+            text.push('\n');
         }
         None => text.push_str(", no smoothed camera (no frame of the person was localized)\n"),
     }
@@ -380,6 +417,6 @@ mod tests {
 
     #[test]
     fn a_kept_frame_is_small() {
-        assert!(std::mem::size_of::<Frame>() <= 112);
+        assert!(std::mem::size_of::<Frame>() <= 120);
     }
 }
