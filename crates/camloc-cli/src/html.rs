@@ -146,7 +146,7 @@ canvas {{ border: 1px solid #ddd; }} #skeleton, #sphere {{ cursor: grab; }}
 <input id="scrub" type="range" min="0" max="0" value="0" style="width: 60%"> <span id="position"></span></div>
 <div id="caption"></div>
 <div class="panels">
-<figure><canvas id="image" width="360" height="420"></canvas><figcaption>2D input (dashed) and reprojection</figcaption></figure>
+<figure><canvas id="image" width="360" height="420"></canvas><figcaption>2D input (pale band) and reprojection (thin)</figcaption></figure>
 <figure><canvas id="skeleton" width="420" height="420"></canvas><figcaption>3D skeleton (metres; drag to turn, wheel to zoom)</figcaption></figure>
 <figure><canvas id="sphere" width="420" height="420"></canvas><figcaption>cameras (dot size: probability), direction and uncertainty (orange)</figcaption></figure>
 </div>

@@ -50,18 +50,16 @@ fn fit_box(points: &[[f64; 2]], x: f64, y: f64, w: f64, h: f64) -> impl Fn([f64;
     move |p: [f64; 2]| [cx + s * p[0], cy + s * p[1]]
 }
 
-/// Draws the limbs of a (possibly partial) 2D pose already mapped to SVG coordinates.
-fn draw_skeleton(svg: &mut String, points: &[Option<[f64; 2]>; 15], dashed: bool, width: f64) {
+/// Draws the limbs of a (possibly partial) 2D pose already mapped to SVG coordinates: with
+/// `band`, as a pale band 7 wide (an input under its reprojection, so that the residuals
+/// show), else as lines `width` wide with the joints dotted.
+fn draw_skeleton(svg: &mut String, points: &[Option<[f64; 2]>; 15], band: bool, width: f64) {
+    let (width, opacity) = if band { (7.0, 0.3) } else { (width, 1.0) };
     for (a, b) in LIMBS {
         if let (Some(p), Some(q)) = (points[a.index()], points[b.index()]) {
-            let dash = if dashed {
-                r#" stroke-dasharray="4 3""#
-            } else {
-                ""
-            };
             let _ = writeln!(
                 svg,
-                r#"<line x1="{:.1}" y1="{:.1}" x2="{:.1}" y2="{:.1}" stroke="{}" stroke-width="{width}" stroke-linecap="round"{dash}/>"#,
+                r#"<line x1="{:.1}" y1="{:.1}" x2="{:.1}" y2="{:.1}" stroke="{}" stroke-width="{width}" stroke-opacity="{opacity}" stroke-linecap="round"/>"#,
                 p[0],
                 p[1],
                 q[0],
@@ -70,7 +68,7 @@ fn draw_skeleton(svg: &mut String, points: &[Option<[f64; 2]>; 15], dashed: bool
             );
         }
     }
-    if !dashed {
+    if !band {
         for p in points.iter().flatten() {
             let _ = writeln!(
                 svg,
@@ -350,7 +348,7 @@ const SKELETON_VIEWS: [(&str, ViewProjection); 3] = [
     ("top", |p| [p[1], p[0]]),
 ];
 
-/// Input 2D pose (dashed; its missing landmarks left out) with the reprojection of the
+/// Input 2D pose (a pale band; its missing landmarks left out) with the reprojection of the
 /// reconstruction over it, and the 3D skeleton from the front (camera on -x), the left side
 /// (-y) and above (+z), `caption` under them (broken into lines as
 /// [`localization_svg`]'s).
@@ -381,7 +379,7 @@ pub fn reconstruction_svg(
     );
     let _ = writeln!(
         svg,
-        r#"<text x="20" y="16">input (dashed) and reprojection</text>"#
+        r#"<text x="20" y="16">input (pale band) and reprojection (thin)</text>"#
     );
     // One scale for the three views so that they compare; each view centred on its points.
     let views = &SKELETON_VIEWS;

@@ -7,7 +7,7 @@
 //               pose: [15 x [x, y, z]] | null (metres, z up, facing -x),
 //               label, probabilities: [12] | null, direction: [azimuth, elevation, radius] | null
 //               (degrees), smoothed: label | null, error: text | null}] }
-// Panels: the 2D input (dashed) with the reprojection (solid); the 3D skeleton and the camera
+// Panels: the 2D input (a pale band) with the reprojection (thin); the 3D skeleton and the camera
 // sphere, seen from one viewpoint that a mouse drag turns and the wheel zooms; a timeline
 // (play, scrub) over the frames of the chosen group (a person of a sequence, or every pose).
 // When drawn, the page sets body[data-status] to "ready" and body[data-skeleton-pixels] to
@@ -51,11 +51,12 @@ function viewAxes() {
   return [x, cross(z, x), z];
 }
 
-/** Draws `points` (15 screen points or null) as limbs; dashed for the input. */
-function drawLimbs(ctx, points, dashed, width) {
-  ctx.lineWidth = width;
+/** Draws `points` (15 screen points or null) as limbs; as a pale wide band for the input
+ * under the thin reprojection, so that the residuals show. */
+function drawLimbs(ctx, points, band, width) {
+  ctx.lineWidth = band ? 7 : width;
   ctx.lineCap = "round";
-  ctx.setLineDash(dashed ? [5, 4] : []);
+  ctx.globalAlpha = band ? 0.3 : 1;
   for (const [a, b] of data.limbs) {
     if (!points[a] || !points[b]) continue;
     ctx.strokeStyle = limbColour(b);
@@ -64,7 +65,7 @@ function drawLimbs(ctx, points, dashed, width) {
     ctx.lineTo(...points[b]);
     ctx.stroke();
   }
-  ctx.setLineDash([]);
+  ctx.globalAlpha = 1;
 }
 
 /** A canvas cleared, with its 2D context and size. */
@@ -75,7 +76,8 @@ function panel(id) {
   return [ctx, canvas.width, canvas.height];
 }
 
-/** The 2D panel: input (dashed) and reprojection fitted into the canvas, v down. */
+/** The 2D panel: input (a pale band) and reprojection (thin; the input itself where there
+ * is none) fitted into the canvas, v down. */
 function draw2d(f) {
   const [ctx, w, h] = panel("image");
   const all = [...f.input, ...(f.reprojection || [])].filter((p) => p);
@@ -85,7 +87,7 @@ function draw2d(f) {
   const s = 0.85 * Math.min(w, h) / Math.max(hi[0] - lo[0], hi[1] - lo[1], 1e-9);
   const map = (p) => p && [w / 2 + s * (p[0] - (lo[0] + hi[0]) / 2), h / 2 + s * (p[1] - (lo[1] + hi[1]) / 2)];
   drawLimbs(ctx, f.input.map(map), true, 2);
-  if (f.reprojection) drawLimbs(ctx, f.reprojection.map(map), false, 2);
+  drawLimbs(ctx, (f.reprojection || f.input).map(map), false, 2);
 }
 
 /** Writes `text` from (x, y) in lines no wider than `width` pixels, `step` pixels apart. */
@@ -156,20 +158,6 @@ function drawSphere(f) {
     ctx.lineTo(...screen(b));
     ctx.stroke();
   }
-  const label = f.smoothed || f.label;
-  data.cameras.forEach((c, i) => {
-    const p = spherePoint(c.azimuth, c.elevation);
-    const q = screen(p);
-    const prob = f.probabilities ? f.probabilities[i] : 0;
-    const behind = dot(p, z) > 0;
-    ctx.globalAlpha = behind ? 0.45 : 1;
-    ctx.fillStyle = c.label === label ? RIGHT : "#777777";
-    ctx.beginPath();
-    ctx.arc(...q, 3 + 12 * Math.sqrt(prob), 0, 2 * Math.PI);
-    ctx.fill();
-    ctx.fillText(`${String(c.label).padStart(2, "0")} ${(100 * prob).toFixed(0)}%`, q[0] + 9, q[1] - 8);
-    ctx.globalAlpha = 1;
-  });
   if (f.direction) {
     const [a, e, radius] = f.direction;
     const d = spherePoint(a, e);
@@ -197,6 +185,28 @@ function drawSphere(f) {
     ctx.lineTo(...screen(d));
     ctx.stroke();
   }
+  const label = f.smoothed || f.label;
+  // The cameras over the direction's disk; labels dark on a white halo, the chosen camera's
+  // in bold and never faded.
+  ctx.lineWidth = 3;
+  ctx.strokeStyle = "#ffffff";
+  data.cameras.forEach((c, i) => {
+    const p = spherePoint(c.azimuth, c.elevation);
+    const q = screen(p);
+    const prob = f.probabilities ? f.probabilities[i] : 0;
+    const chosen = c.label === label;
+    ctx.globalAlpha = dot(p, z) > 0 && !chosen ? 0.45 : 1;
+    ctx.fillStyle = chosen ? RIGHT : "#777777";
+    ctx.beginPath();
+    ctx.arc(...q, 3 + 12 * Math.sqrt(prob), 0, 2 * Math.PI);
+    ctx.fill();
+    const text = `${String(c.label).padStart(2, "0")} ${(100 * prob).toFixed(0)}%`;
+    ctx.font = chosen ? "bold 12px sans-serif" : "11px sans-serif";
+    ctx.fillStyle = chosen ? "#222222" : "#555555";
+    ctx.strokeText(text, q[0] + 9, q[1] - 8);
+    ctx.fillText(text, q[0] + 9, q[1] - 8);
+    ctx.globalAlpha = 1;
+  });
 }
 
 /** The text under the panels for frame `f`. */

@@ -241,9 +241,13 @@ fn reconstruct_fills_in_missing_landmarks() {
     assert!(!dir.0.join("filled-002.svg").exists());
     let drawn = std::fs::read_to_string(dir.0.join("filled-001.svg")).unwrap();
     assert!(drawn.contains("filled in: right_elbow, right_wrist"));
-    // Only the input's 12 limbs with both ends present are dashed: 14 minus the two of the
-    // right arm's missing ends.
-    assert_eq!(drawn.matches("stroke-dasharray").count(), 12, "{drawn}");
+    // Only the input's 12 limbs with both ends present are drawn as its pale band: 14 minus
+    // the two of the right arm's missing ends.
+    assert_eq!(
+        drawn.matches(r#"stroke-opacity="0.3""#).count(),
+        12,
+        "{drawn}"
+    );
 }
 
 /// A pose that fails keeps its frame and person numbers in the JSON outputs, as the poses

@@ -515,10 +515,13 @@ fn a_sequence_longer_than_its_cap_is_refused() {
         camloc(&[&args[..], &["--sequence-max-poses", cap]].concat())
     };
     assert_clean_failure(&run("4"), "more than 4 poses for --sequence");
+    // Poses without a landmark are frames the person is missing from; a sequence of only
+    // such frames is an error.
     let out = run("5");
     let text = short_clean_lines(&out);
     assert!(
-        text.contains("5 of 5 poses could not be localized"),
+        text.contains("5 of 5 poses have no landmarks (nothing detected)"),
         "{text}"
     );
+    assert_eq!(out.status.code(), Some(1));
 }

@@ -426,3 +426,45 @@ fn coco_track_ids_keep_people_apart() {
         }
     }
 }
+
+/// A frame without a single landmark (nothing detected) is a frame the person is missing from,
+/// not a failure: noted once, its JSON object says so, the exit code stays 0, for `localize`
+/// and `reconstruct` alike; outside `--sequence` it is a failed pose.
+#[test]
+fn frames_with_nothing_detected_are_gaps_of_a_sequence() {
+    let fixture =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/keypoints/example.json");
+    let mut doc: Value = serde_json::from_str(&std::fs::read_to_string(fixture).unwrap()).unwrap();
+    let first = doc["poses"][0]["landmarks"].clone();
+    let poses: Vec<Value> = (0..6)
+        .map(|t| {
+            let landmarks = if t == 3 {
+                serde_json::json!({})
+            } else {
+                first.clone()
+            };
+            serde_json::json!({"id": format!("f{t}"), "frame": t, "landmarks": landmarks})
+        })
+        .collect();
+    doc["poses"] = poses.into();
+    let dir = TempDir::new("nothing");
+    let file = dir.path("video.json");
+    std::fs::write(&file, doc.to_string()).unwrap();
+    for command in ["localize", "reconstruct"] {
+        let out = camloc(&[command, "--input", &file, "--sequence", "--jsonl", "-q"]);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{command}: {stderr}");
+        assert!(
+            stderr.contains("1 of 6 poses have no landmarks (nothing detected)"),
+            "{command}: {stderr}"
+        );
+        let objects = json_lines(&out);
+        let gap = objects.iter().find(|o| o["id"] == "f3").unwrap();
+        assert_eq!(
+            gap["error"], "no landmarks (nothing detected in this frame)",
+            "{gap}"
+        );
+        let single = camloc(&[command, "--input", &file, "--jsonl", "-q"]);
+        assert_eq!(single.status.code(), Some(1), "{command}");
+    }
+}

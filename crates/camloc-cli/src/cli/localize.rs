@@ -314,12 +314,14 @@ fn localization_text(
             "  viewpoint: azimuth {a:.1} deg, elevation {e:.1} deg, +- {u:.1} deg"
         );
     }
+    // The class's Table-1 camera, not the viewpoint above: named so.
+    let _ = writeln!(
+        out,
+        "  camera {}'s rotation (Table 1; rows: its axes in the person's frame):",
+        loc.label
+    );
     for row in rotation_rows(loc) {
-        let _ = writeln!(
-            out,
-            "  R = [{:>7.4} {:>7.4} {:>7.4}]",
-            row[0], row[1], row[2]
-        );
+        let _ = writeln!(out, "    [{:>7.4} {:>7.4} {:>7.4}]", row[0], row[1], row[2]);
     }
     if !record.derived.is_empty() {
         let names: Vec<&str> = record.derived.iter().map(|l| l.name()).collect();

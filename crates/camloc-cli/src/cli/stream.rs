@@ -135,11 +135,31 @@ pub struct Summary {
     pub failed_poses: u64,
     /// Files of a folder (or the rest of a stream) that could not be read.
     pub failed_files: u64,
+    /// Frames of a sequence without a single landmark ([`nothing_detected`]): frames the
+    /// person is missing from, not failures.
+    pub undetected: u64,
+}
+
+/// The error of a frame of a sequence without a single landmark (a row of NaN, an empty
+/// detection): nothing was detected, which is a frame the person is missing from.
+pub const NOTHING_DETECTED: &str = "no landmarks (nothing detected in this frame)";
+
+/// Whether `pose` has no landmark at all.
+pub fn nothing_detected(pose: &camloc::PartialPose2) -> bool {
+    pose.points.iter().all(Option::is_none)
 }
 
 impl Summary {
-    /// Reports failures on standard error (`verb`: "localized", ...) and gives the exit code.
+    /// Reports failures on standard error (`verb`: "localized", ...) and gives the exit code:
+    /// an error when a pose failed, a file could not be read, or no pose had a landmark.
     pub fn exit_code(&self, verb: &str) -> ExitCode {
+        if self.undetected > 0 {
+            eprintln!(
+                "camloc: {} of {} poses have no landmarks (nothing detected): taken as frames the \
+                 person is missing from",
+                self.undetected, self.poses
+            );
+        }
         if self.failed_poses > 0 {
             eprintln!(
                 "camloc: {} of {} poses could not be {verb}",
@@ -152,7 +172,8 @@ impl Summary {
                 self.failed_files
             );
         }
-        if self.failed_poses > 0 || self.failed_files > 0 {
+        let nothing = self.undetected > 0 && self.undetected == self.poses;
+        if self.failed_poses > 0 || self.failed_files > 0 || nothing {
             ExitCode::from(EXIT_ERROR)
         } else {
             ExitCode::SUCCESS
