@@ -525,3 +525,33 @@ fn a_sequence_longer_than_its_cap_is_refused() {
     );
     assert_eq!(out.status.code(), Some(1));
 }
+
+/// Points whose v axis points up (people upside down in the image) are warned of; the same
+/// people upright are not.
+#[test]
+fn an_input_with_v_up_is_warned_of() {
+    let dir = TempDir::new("hostile-v-up");
+    let fixture =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/keypoints/example.json");
+    let mut doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(fixture).unwrap()).unwrap();
+    let upright = dir.file("upright.json", &doc.to_string());
+    for pose in doc["poses"].as_array_mut().unwrap() {
+        for point in pose["landmarks"].as_object_mut().unwrap().values_mut() {
+            if let Some(v) = point[1].as_f64() {
+                point[1] = (-v).into();
+            }
+        }
+    }
+    let flipped = dir.file("flipped.json", &doc.to_string());
+    for command in ["localize", "reconstruct"] {
+        let out = camloc(&[command, "--input", &flipped, "--jsonl", "-q"]);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            stderr.contains("3 of 3 poses have the head below both ankles"),
+            "{command}: {stderr}"
+        );
+        let out = camloc(&[command, "--input", &upright, "--jsonl", "-q"]);
+        assert!(!String::from_utf8_lossy(&out.stderr).contains("below"));
+    }
+}

@@ -104,7 +104,7 @@ pub fn run(
                     return Err(CliError::TooManyPoses(options.max_poses));
                 }
                 check_kept(keeps, summary.poses + 1)?;
-                summary.poses += 1;
+                summary.count(&record.pose);
                 kept.push(record);
                 bar.inc(1);
             }

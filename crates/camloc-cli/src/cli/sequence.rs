@@ -201,7 +201,7 @@ pub fn run(
                     report_pose_error(bar, &record.id, &record.source, &message);
                     failures.number(message)
                 });
-                summary.poses += 1;
+                summary.count(&record.pose);
                 frames.push(Frame {
                     id: record.id.as_str().into(),
                     source: record.source.as_str().into(),

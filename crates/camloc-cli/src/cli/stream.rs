@@ -138,6 +138,9 @@ pub struct Summary {
     /// Frames of a sequence without a single landmark ([`nothing_detected`]): frames the
     /// person is missing from, not failures.
     pub undetected: u64,
+    /// Poses with a head and both ankles, and of those the poses whose head is below both
+    /// ankles in the image ([`Summary::count`]).
+    pub upside_down: (u64, u64),
 }
 
 /// The error of a frame of a sequence without a single landmark (a row of NaN, an empty
@@ -150,9 +153,30 @@ pub fn nothing_detected(pose: &camloc::PartialPose2) -> bool {
 }
 
 impl Summary {
+    /// Counts a pose read, and whether it stands on its head in the image (`v` up rather than
+    /// down, as some plotting conventions have it): [`Summary::exit_code`] warns when most
+    /// poses do.
+    pub fn count(&mut self, pose: &camloc::PartialPose2) {
+        use camloc::Landmark::{Head, LeftAnkle, RightAnkle};
+        self.poses += 1;
+        let v = |l: camloc::Landmark| pose.points[l.index()].map(|p| p[1]);
+        if let (Some(head), Some(left), Some(right)) = (v(Head), v(LeftAnkle), v(RightAnkle)) {
+            self.upside_down.0 += 1;
+            self.upside_down.1 += u64::from(head > left && head > right);
+        }
+    }
+
     /// Reports failures on standard error (`verb`: "localized", ...) and gives the exit code:
     /// an error when a pose failed, a file could not be read, or no pose had a landmark.
     pub fn exit_code(&self, verb: &str) -> ExitCode {
+        let (checked, upside_down) = self.upside_down;
+        if 2 * upside_down > checked {
+            eprintln!(
+                "camloc: warning: {upside_down} of {checked} poses have the head below both \
+                 ankles: camloc takes image coordinates with v down (image rows); flip v if the \
+                 input's points up (people on their hands are seen as they are)"
+            );
+        }
         if self.undetected > 0 {
             eprintln!(
                 "camloc: {} of {} poses have no landmarks (nothing detected): taken as frames the \
@@ -388,7 +412,7 @@ where
                     }
                 };
                 let index = summary.poses;
-                summary.poses += 1;
+                summary.count(&record.pose);
                 let keep = match &result {
                     Ok(done) => done.keep.is_some(),
                     Err(failed) => failed.keep.is_some(),
