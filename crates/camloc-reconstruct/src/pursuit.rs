@@ -7,8 +7,9 @@
 //! pursuit loop), `reflection` (the depth-reflected start), `hypotheses` (the solves of a
 //! mode, the priors and the ranking), `refined` (each hypothesis refined with the person's
 //! own bone lengths, [`crate::refine`]), `sequence` (the frames of one person: depths
-//! chosen over time, one refinement with shared lengths) and `impute` (missing landmarks
-//! filled in from the basis seen by a given rotation).
+//! chosen over time, one refinement with shared lengths), `impute` (missing landmarks
+//! filled in from the basis seen by a given rotation) and `level` (a reconstruction turned
+//! so that its camera stands at a given elevation).
 
 mod camera_update;
 mod coefficients;
@@ -16,6 +17,7 @@ mod config;
 mod greedy;
 mod hypotheses;
 mod impute;
+mod level;
 mod mode;
 mod observation;
 mod reconstructor;

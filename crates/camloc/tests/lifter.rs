@@ -204,3 +204,64 @@ fn a_sequence_takes_its_lengths_and_its_poses_from_the_lifted_depths() {
         .sum();
     assert!(moved > 1.0, "{moved} mm");
 }
+
+/// The elevation of the camera direction (pelvis to camera) of a rotation whose rows are the
+/// camera's axes in the body frame, degrees.
+fn camera_elevation(rotation: &camloc::geometry::Matrix3) -> f64 {
+    (-rotation[(2, 2)]).clamp(-1.0, 1.0).asin().to_degrees()
+}
+
+/// `hybrid` from lifted depths levels the pose to the localizer's elevation: the
+/// reconstruction's camera stands where the localization says, single poses and sequence
+/// frames alike (the latter at the sequence's smoothed elevations), the image fit unchanged;
+/// without the lifter nothing is levelled.
+#[test]
+fn hybrid_from_lifted_depths_is_levelled_to_the_localizer_s_elevation() {
+    let lifter = DepthLifter::default_lifter().unwrap();
+    let without = PoseReconstructor::new(default_basis().unwrap())
+        .unwrap()
+        .with_localizer(CameraLocalizer::default_model().unwrap())
+        .with_mode(ModeKind::Hybrid)
+        .unwrap();
+    let with = without.clone().with_lifter(lifter);
+    let dataset = views(3);
+    let inputs: Vec<PartialPose2> = dataset
+        .samples
+        .iter()
+        .take(7)
+        .map(|s| PartialPose2::from(s.landmarks))
+        .collect();
+    for input in &inputs {
+        let r = with.reconstruct(input).unwrap();
+        let localized = r.localization.as_ref().unwrap().elevation_deg.unwrap();
+        let elevation = camera_elevation(&r.reconstruction.camera.rotation);
+        assert!(
+            (elevation - localized).abs() < 1e-6,
+            "{elevation} {localized}"
+        );
+        let rotation = &r.reconstruction.camera.rotation;
+        assert!((rotation.determinant() - 1.0).abs() < 1e-9);
+    }
+    let sequence = with.reconstruct_sequence(&inputs).unwrap();
+    let elevations: Vec<(f64, f64)> = sequence
+        .frames
+        .iter()
+        .map(|f| {
+            let f = f.as_ref().unwrap();
+            let l = f.localization.as_ref().unwrap();
+            (l.azimuth_deg.unwrap(), l.elevation_deg.unwrap())
+        })
+        .collect();
+    let smoothed = camloc::smooth_viewpoints(
+        &[],
+        &elevations.iter().map(|v| Some(*v)).collect::<Vec<_>>(),
+    );
+    for (f, s) in sequence.frames.iter().zip(&smoothed) {
+        let elevation = camera_elevation(&f.as_ref().unwrap().reconstruction.camera.rotation);
+        assert!((elevation - s.unwrap().1).abs() < 1e-6);
+    }
+    // Without the lifter the refined camera stays where the refinement put it.
+    let plain = without.reconstruct(&inputs[0]).unwrap();
+    let localized = plain.localization.as_ref().unwrap().elevation_deg.unwrap();
+    assert!((camera_elevation(&plain.reconstruction.camera.rotation) - localized).abs() > 1e-3);
+}

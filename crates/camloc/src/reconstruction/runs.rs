@@ -8,7 +8,7 @@ use camloc_skeleton::{PartialPose2, Pose2};
 use super::{
     PoseReconstruction, PoseReconstructor, PoseSequenceReconstruction, Prepared, pose_error,
 };
-use crate::CamlocError;
+use crate::{CamlocError, VIEWPOINT_HALF_WINDOW, Viewpoint, smooth_viewpoints};
 
 /// The fewest frames in a row, missing or not reconstructed, that split one person's frames
 /// into runs solved apart (fewer: the frames on each side stay neighbours, as they nearly
@@ -92,18 +92,23 @@ impl PoseReconstructor {
             }
             lengths
         };
+        let elevations = self.levelling_elevations(&prepared, &runs);
         let frames = prepared
             .into_iter()
             .zip(solved)
-            .map(|(p, solved)| {
+            .zip(elevations)
+            .map(|((p, solved), elevation)| {
                 let Prepared {
                     localization,
                     imputed,
                     ..
                 } = p?;
-                let reconstruction = solved
+                let mut reconstruction = solved
                     .unwrap_or(Err(ReconstructError::Numerical("no hypothesis was solved")))
                     .map_err(pose_error)?;
+                if let Some(elevation) = elevation {
+                    reconstruction.level_to_elevation(elevation);
+                }
                 Ok(PoseReconstruction {
                     reconstruction,
                     alternatives: Vec::new(),
@@ -113,5 +118,46 @@ impl PoseReconstructor {
             })
             .collect();
         Ok(PoseSequenceReconstruction { frames, lengths })
+    }
+
+    /// Per frame, the elevation its reconstruction is levelled to (as a single pose's,
+    /// [`PoseReconstructor::levelling_elevation`]), the localizations' viewpoints smoothed over
+    /// the frames of its run ([`smooth_viewpoints`]; the frames of `runs` counted as
+    /// consecutive, as the solve takes them): on validation subjects' sequences, the
+    /// pelvis-centred error without rotation alignment went from 90.2 to 86.2 mm with each
+    /// frame's own elevation and to 83.7 mm with the smoothed one (`jittered`; `rig` 89.3 to
+    /// 77.9 and 76.5 mm).
+    fn levelling_elevations(
+        &self,
+        prepared: &[Result<Prepared, CamlocError>],
+        runs: &[Vec<usize>],
+    ) -> Vec<Option<f64>> {
+        let mut members: Vec<usize> = Vec::new();
+        let mut numbers: Vec<Option<u64>> = Vec::new();
+        let mut viewpoints: Vec<Option<Viewpoint>> = Vec::new();
+        // Each run starts beyond the smoothing's reach of the one before.
+        let mut number = 0;
+        for run in runs {
+            for &t in run {
+                let viewpoint = prepared[t].as_ref().ok().and_then(|p| {
+                    self.levelling_elevation(&p.localization, p.depths.is_some())?;
+                    let l = p.localization.as_ref()?;
+                    Some((l.azimuth_deg?, l.elevation_deg?))
+                });
+                members.push(t);
+                numbers.push(Some(number));
+                viewpoints.push(viewpoint);
+                number += 1;
+            }
+            number += 2 * VIEWPOINT_HALF_WINDOW + 1;
+        }
+        let mut elevations = vec![None; prepared.len()];
+        for (t, v) in members
+            .into_iter()
+            .zip(smooth_viewpoints(&numbers, &viewpoints))
+        {
+            elevations[t] = v.map(|v| v.1);
+        }
+        elevations
     }
 }

@@ -1,0 +1,103 @@
+//! [`Reconstruction::level_to_elevation`]: the pose and its cameras turned together about the
+//! camera's horizontal axis, so that the camera stands at a given elevation above the body's
+//! horizontal plane (the image is unchanged).
+
+use camloc_geometry::{Matrix3, Vector3};
+use nalgebra::Rotation3;
+
+use super::hypotheses::Reconstruction;
+
+impl Reconstruction {
+    /// Turns the pose, [`camera`](Self::camera) and [`perspective`](Self::perspective)
+    /// together by the least rotation that puts the direction from the pelvis to the camera
+    /// at `elevation_deg` (degrees above the body frame's horizontal plane, z up), keeping its
+    /// azimuth. Every landmark is seen where it was (the rotation cancels between pose and
+    /// camera) and the pose keeps its shape: only which way is up in the body frame changes.
+    ///
+    /// A single view leaves the camera's elevation and the body's lean partly exchangeable;
+    /// the localizer's continuous viewpoint tells the elevation better than the refined
+    /// camera (docs/RESULTS.md), which this gives to the pose. Nothing changes for a
+    /// non-finite elevation or a camera looking straight up or down.
+    pub fn level_to_elevation(&mut self, elevation_deg: f64) {
+        let rotation = &self.camera.rotation;
+        let towards_camera = -Vector3::new(rotation[(2, 0)], rotation[(2, 1)], rotation[(2, 2)]);
+        let across = towards_camera.x.hypot(towards_camera.y);
+        if !elevation_deg.is_finite() || across < 1e-9 {
+            return;
+        }
+        let e = elevation_deg.clamp(-90.0, 90.0).to_radians();
+        let target = Vector3::new(
+            e.cos() * towards_camera.x / across,
+            e.cos() * towards_camera.y / across,
+            e.sin(),
+        );
+        let Some(turn) = Rotation3::rotation_between(&towards_camera.normalize(), &target) else {
+            return;
+        };
+        let q: Matrix3 = *turn.matrix();
+        for p in &mut self.pose.points {
+            *p = (q * Vector3::from(*p)).into();
+        }
+        self.camera.rotation *= q.transpose();
+        if let Some(perspective) = &mut self.perspective {
+            perspective.rotation *= q.transpose();
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use camloc_geometry::{WeakPerspective, look_at_origin, sphere_point};
+    use camloc_skeleton::Pose3;
+
+    use super::*;
+
+    #[test]
+    fn levelling_keeps_the_image_and_sets_the_elevation() {
+        let points: [[f64; 3]; 15] = std::array::from_fn(|i| {
+            [
+                0.1 * i as f64,
+                (0.37 * i as f64).sin(),
+                0.05 * (i * i) as f64,
+            ]
+        });
+        let rotation = look_at_origin(sphere_point(130.0, 25.0, 5.0)).unwrap();
+        let mut r = Reconstruction {
+            pose: Pose3 { points },
+            camera: WeakPerspective {
+                scale: 300.0,
+                rotation,
+                translation: [10.0, 20.0],
+            },
+            projection_error: 0.0,
+            selected: Vec::new(),
+            coefficients: Vec::new(),
+            iterations: 0,
+            reflected: false,
+            limit_violation_rad: 0.0,
+            perspective: None,
+        };
+        let before = r.reprojection();
+        let shape: Vec<f64> = (1..15)
+            .map(|i| (Vector3::from(points[i]) - Vector3::from(points[0])).norm())
+            .collect();
+        r.level_to_elevation(5.0);
+        let after = r.reprojection();
+        for (a, b) in before.iter().zip(&after) {
+            assert!((a[0] - b[0]).abs() < 1e-9 && (a[1] - b[1]).abs() < 1e-9);
+        }
+        let p = &r.pose.points;
+        for (i, length) in shape.iter().enumerate() {
+            let now = (Vector3::from(p[i + 1]) - Vector3::from(p[0])).norm();
+            assert!((now - length).abs() < 1e-12);
+        }
+        let rot = &r.camera.rotation;
+        assert!((rot.determinant() - 1.0).abs() < 1e-12);
+        assert!((rot * rot.transpose() - Matrix3::identity()).norm() < 1e-12);
+        let towards = -Vector3::new(rot[(2, 0)], rot[(2, 1)], rot[(2, 2)]);
+        assert!((towards.z.asin().to_degrees() - 5.0).abs() < 1e-9);
+        // The azimuth is kept.
+        let azimuth = towards.y.atan2(towards.x).to_degrees().rem_euclid(360.0);
+        assert!((azimuth - 130.0).abs() < 1e-9, "{azimuth}");
+    }
+}
