@@ -52,7 +52,7 @@ pub enum ArrayPoseError {
         score: f64,
     },
     /// The first five joints of a 17-joint pose contradict the layout
-    /// ([`seventeen_joint_layout`](crate::seventeen_joint_layout)).
+    /// ([`contradicted`](crate::contradicted)).
     #[error("{}", crate::layout_check::mismatch(*.layout, *.likely, *.spread))]
     LayoutMismatch {
         /// The layout given.
@@ -114,7 +114,9 @@ pub fn pose_from_array(
             kept.then_some([row[0], row[1]])
         })
         .collect();
-    if let Some((likely, spread)) = contradicted(layout, &points) {
+    let scores: Option<Vec<f64>> =
+        (channels == 3).then(|| values.chunks_exact(3).map(|row| row[2]).collect());
+    if let Some((likely, spread)) = contradicted(layout, &points, scores.as_deref()) {
         return Err(ArrayPoseError::LayoutMismatch {
             layout,
             likely,

@@ -289,7 +289,7 @@ pub enum KeypointError {
         expected: &'static str,
     },
     /// A 17-joint pose whose first five joints contradict its layout
-    /// ([`seventeen_joint_layout`](crate::seventeen_joint_layout)): COCO-17 data read as
+    /// ([`contradicted`](crate::contradicted)): COCO-17 data read as
     /// Human3.6M or the reverse. `source` is [`ArrayPoseError::LayoutMismatch`].
     #[error("{}: {at}: {source} (--layout; Python layout=)", file_name(.file))]
     LayoutMismatch {

@@ -163,7 +163,9 @@ pub use folder::{FolderRecords, keypoint_files, open_folder_file, read_folder};
 pub use format::{KeypointFormat, UnknownFormatName};
 pub use json::MAX_ENTRY_VALUES;
 pub use layout::{Layout, MappedPose, UnknownLayoutName};
-pub use layout_check::{FIRST_FIVE_SPREAD_SPLIT, seventeen_joint_layout};
+pub use layout_check::{
+    COCO_FACE_SPREAD_MAX, H36M_HIPS_SPREAD_MIN, LAYOUT_CHECK_MIN_SCORE, contradicted,
+};
 pub use lsp::LSP_JOINTS;
 pub use npy::{NPY_MAX_HEADER_BYTES, NpyPose, NpyPoseWriter, NpyPoses, read_npy_poses3, write_npy};
 pub use openpose::{OPENPOSE_FRAME_MAX_BYTES, frame_index};

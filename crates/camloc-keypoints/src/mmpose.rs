@@ -149,7 +149,7 @@ fn instance_record(
         let kept = scores.as_ref().is_none_or(|s| keeps(s[k], options));
         points.push(kept.then_some(xy));
     }
-    if let Some((likely, spread)) = contradicted(layout, &points) {
+    if let Some((likely, spread)) = contradicted(layout, &points, scores.as_deref()) {
         return Err(KeypointError::LayoutMismatch {
             file: file.to_owned(),
             at: Location::Path(kp_path),

@@ -102,7 +102,8 @@ impl<R: Read> Values<R> {
 /// Each pose is mapped by its [`Layout`] ([`pose_from_array`]): both coordinates NaN mark a
 /// missing joint, scores must lie in [0, 1] and below [`ReadOptions::min_score`] mark it missing.
 /// Record ids are the row numbers (`"0"`, `"1"`, ...), which are also the records' `frame`.
-/// Iteration stops after the first error.
+/// Iteration stops after the first error, but for a pose whose joints contradict its layout
+/// ([`KeypointError::LayoutMismatch`], that pose's error).
 pub struct NpyPoses<R: Read> {
     file: String,
     /// Buffered here (whatever `R` is) so that reading one pose is a copy from the buffer.
@@ -259,7 +260,9 @@ impl<R: Read> Iterator for NpyPoses<R> {
 
     fn next(&mut self) -> Option<Self::Item> {
         let item = self.read_next();
-        if matches!(item, Some(Err(_))) {
+        // A pose whose joints contradict its layout is that pose's problem (its row was read
+        // whole); any other error ends the array.
+        if matches!(item, Some(Err(ref e)) if !matches!(e, KeypointError::LayoutMismatch { .. })) {
             self.values = None;
         }
         item

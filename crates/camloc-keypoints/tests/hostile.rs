@@ -328,7 +328,7 @@ fn mmpose_keypoints_of_the_other_17_joint_layout_are_refused() {
     assert!(matches!(e, KeypointError::LayoutMismatch { .. }), "{e:?}");
     assert!(
         e.to_string()
-            .contains("the layout is likely h36m17, not coco17 (--layout"),
+            .contains("the layout is likely h36m17, not coco17 (if the layout is right"),
         "{e}"
     );
     let options = ReadOptions {

@@ -7,7 +7,7 @@
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use camloc::keypoints::KeypointRecord;
+use camloc::keypoints::{KeypointError, KeypointRecord};
 use camloc::store::{StagedFiles, check_target, escaped, quoted, quoted_path};
 use indicatif::ProgressBar;
 use rayon::prelude::*;
@@ -254,16 +254,23 @@ impl Emitter {
         Ok(())
     }
 
-    /// Reports an input file that could not be read: counted in `summary`, printed on
-    /// standard error (above the progress bar) and, in JSON output, written as an error object.
+    /// Reports an input file that could not be read, or a pose its reader refused (a 17-joint
+    /// pose of the other layout): counted in `summary`, printed on standard error (above the
+    /// progress bar) and, in JSON output, written as an error object.
     pub fn file_error(
         &mut self,
         out: &mut Out,
         summary: &mut Summary,
         bar: &ProgressBar,
-        error: &impl std::fmt::Display,
+        error: &KeypointError,
     ) -> Result<(), CliError> {
-        summary.failed_files += 1;
+        // A pose the reader refused for its layout is a failed pose of a file still read.
+        if matches!(error, KeypointError::LayoutMismatch { .. }) {
+            summary.poses += 1;
+            summary.failed_poses += 1;
+        } else {
+            summary.failed_files += 1;
+        }
         let message = error.to_string();
         bar.suspend(|| eprintln!("camloc: error: {message}"));
         if self.format.is_json() {
