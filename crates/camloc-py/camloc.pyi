@@ -161,7 +161,11 @@ def reconstruct(
       full-perspective refinement. The poses must be in pixels too: a pose whose root mean
       square radius is under 1/1000 of ``focal_px`` (normalised coordinates) fails.
     sequence: the poses are the frames of one person, in time order: one set of bone lengths
-      for all of them, depths chosen consistently over time, temporal smoothness.
+      for all of them, depths chosen consistently over time, temporal smoothness. A
+      ``UserWarning`` says where the pose jumps across the image or changes size as one person
+      cannot from one row to the next (rows of several people: split them by the ``persons``
+      of ``read_keypoints``). A row of NaN (nothing detected) gets the error "the pose has no
+      landmarks (nothing detected)".
     camera_height: ``"from-input"`` (the camera heights estimated from the poses of this
       call), ``"any"`` or ``"eye-level"``, the prior over the camera's height the localizer
       applies (as ``Localizer(camera_height=...)``; the embedded depth lifter stays).

@@ -35,6 +35,8 @@ pub struct ViewFrame {
     direction: Option<[f64; 3]>,
     /// The camera smoothed over the sequence.
     smoothed: Option<CameraLabel>,
+    /// The continuous viewpoint smoothed over the sequence: azimuth and elevation, degrees.
+    smoothed_direction: Option<[f64; 2]>,
     /// Why the pose could not be localized or reconstructed.
     error: Option<String>,
 }
@@ -60,13 +62,16 @@ impl ViewFrame {
             probabilities: localization.map(|l| l.probabilities.clone()),
             direction,
             smoothed: None,
+            smoothed_direction: None,
             error,
         }
     }
 
-    /// Records the camera smoothed over the sequence.
-    pub fn set_smoothed(&mut self, label: CameraLabel) {
+    /// Records the camera and the continuous viewpoint (azimuth, elevation, degrees)
+    /// smoothed over the sequence.
+    pub fn set_smoothed(&mut self, label: CameraLabel, direction: Option<(f64, f64)>) {
         self.smoothed = Some(label);
+        self.smoothed_direction = direction.map(|(a, e)| [a, e]);
     }
 }
 

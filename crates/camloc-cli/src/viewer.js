@@ -6,7 +6,8 @@
 //     frames: [{id, frame, person, input: [15 x [u, v] | null], reprojection: [15 x [u, v]] | null,
 //               pose: [15 x [x, y, z]] | null (metres, z up, facing -x),
 //               label, probabilities: [12] | null, direction: [azimuth, elevation, radius] | null
-//               (degrees), smoothed: label | null, error: text | null}] }
+//               (degrees), smoothed: label | null, smoothed_direction: [azimuth, elevation] | null
+//               (degrees), error: text | null}] }
 // Panels: the 2D input (a pale band) with the reprojection (thin); the 3D skeleton and the camera
 // sphere, seen from one viewpoint that a mouse drag turns and the wheel zooms; a timeline
 // (play, scrub) over the frames of the chosen group (a person of a sequence, or every pose).
@@ -217,6 +218,7 @@ function describe(f) {
   if (f.label) parts.push(`camera ${String(f.label).padStart(2, "0")} (p = ${f.probabilities[f.label - 1].toFixed(3)})`);
   if (f.smoothed) parts.push(`smoothed camera ${String(f.smoothed).padStart(2, "0")}`);
   if (f.direction) parts.push(`direction: azimuth ${f.direction[0].toFixed(1)}, elevation ${f.direction[1].toFixed(1)}, +- ${f.direction[2].toFixed(1)} deg`);
+  if (f.smoothed_direction) parts.push(`smoothed direction: azimuth ${f.smoothed_direction[0].toFixed(1)}, elevation ${f.smoothed_direction[1].toFixed(1)} deg`);
   // A landmark missing in the input but reconstructed was filled in from the pose basis.
   const filled = f.pose ? data.landmarks.filter((_, i) => f.input[i] === null) : [];
   if (filled.length) parts.push(`filled in: ${filled.join(", ")}`);

@@ -567,3 +567,23 @@ def test_opt_makes_no_estimate_of_the_camera_heights():
     default = camloc.reconstruct(many, camera="opt")["points3d"]
     alone = camloc.reconstruct(many, camera="opt", camera_height="any")["points3d"]
     np.testing.assert_array_equal(default, alone)
+
+
+def test_a_sequence_that_jumps_between_people_warns_and_nothing_detected_says_so():
+    # One person standing still, then another 600 px to the right: the rows of two people.
+    pose = example_points()[0]
+    rows = np.stack([pose + [2.0 * t, 0.0] for t in range(6)])
+    other = rows + [600.0, 0.0]
+    with pytest.warns(UserWarning, match="jumps across the image"):
+        camloc.reconstruct(np.concatenate([rows, other]), sequence=True)
+    # One person, with a row of NaN where nothing was detected: no warning, and that row's
+    # error says what happened.
+    rows[3] = np.nan
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        got = camloc.reconstruct(rows, sequence=True)
+    assert got["error"][3] == "the pose has no landmarks (nothing detected)"
+    assert np.isnan(got["points3d"][3]).all()
+    assert all(e is None for k, e in enumerate(got["error"]) if k != 3)

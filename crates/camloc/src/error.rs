@@ -50,6 +50,10 @@ pub enum CamlocError {
         /// Details.
         detail: String,
     },
+    /// A pose without a single landmark: nothing was detected (a row of NaN, a detection
+    /// whose every score is 0).
+    #[error("the pose has no landmarks (nothing detected)")]
+    NothingDetected,
     /// No default model (or basis) was embedded at build time.
     #[error(
         "no default {0} is embedded in this build; pass one explicitly or run `cargo xtask train-default`"

@@ -52,7 +52,8 @@ impl CameraLocalizer {
     /// cores); other poses cost what `localize_partial` costs.
     ///
     /// # Errors
-    /// As [`CameraLocalizer::localize_partial`]; a pose without a torso and with fewer than
+    /// As [`CameraLocalizer::localize_partial`]; [`CamlocError::NothingDetected`] for a pose
+    /// without a single landmark; a pose without a torso and with fewer than
     /// [`MIN_PRESENT_FOR_FILL`] landmarks present keeps its [`FeatureError::MissingTorso`]
     /// (the context says how many are present);
     /// [`CamlocError::Reconstruct`] when the fill fails (non-finite or coinciding landmarks).
@@ -71,6 +72,9 @@ impl CameraLocalizer {
             found => return found,
         };
         let present = pose.points.iter().flatten().count();
+        if present == 0 {
+            return Err(CamlocError::NothingDetected);
+        }
         if present < MIN_PRESENT_FOR_FILL {
             return Err(match missing_torso {
                 CamlocError::Feature { context, source } => CamlocError::Feature {

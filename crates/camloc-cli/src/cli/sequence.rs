@@ -262,7 +262,7 @@ pub fn run(
             let text = frame_output(format, &frames[i], (s, smoothed_viewpoints[k]), &failures);
             emit.write(out, &text)?;
             if let (Some(view), Some(s)) = (views.get_mut(i), s) {
-                view.set_smoothed(s.label);
+                view.set_smoothed(s.label, smoothed_viewpoints[k]);
             }
         }
         if let Some(svg) = svg_out {
@@ -353,8 +353,8 @@ pub fn warn_of_identity_jumps(
     eprintln!(
         "camloc: warning: person {person}: the pose jumps across the image or changes size \
          from one frame to the next at {} (first at {at}): these may be several people \
-         (the detector's order of people changed?); give each person an id (`person` in \
-         camloc JSON, `track_id` in COCO or MMPose)",
+         (the detector's order of people changed?), or not consecutive frames of a video; \
+         give each person an id (`person` in camloc JSON, `track_id` in COCO or MMPose)",
         counted(jumps.len() as u64, "frame")
     );
 }

@@ -174,7 +174,7 @@ impl Summary {
             eprintln!(
                 "camloc: warning: {upside_down} of {checked} poses have the head below both \
                  ankles: camloc takes image coordinates with v down (image rows); flip v if the \
-                 input's points up (people on their hands are seen as they are)"
+                 input's v points up (people on their hands are seen as they are)"
             );
         }
         if self.undetected > 0 {
