@@ -26,8 +26,8 @@ use super::input::Inputs;
 use super::output::{NpyStage, Out};
 use super::reconstruct_output::{PoseMeta, lengths_text, pose_output, pose_svg};
 use super::stream::{
-    Emitter, ErrorJson, Finish, Format, KEEP_MAX_POSES, NOTHING_DETECTED, Summary, check_kept,
-    check_kept_input, counted, json_line, nothing_detected, report_pose_error,
+    Emitter, ErrorJson, Finish, Format, KEEP_MAX_POSES, Summary, check_kept, check_kept_input,
+    counted, json_line, nothing_detected, report_pose_error,
 };
 use super::{CliError, numbered_path};
 
@@ -242,7 +242,7 @@ pub fn run(
                 Err(message) => {
                     let message = if nothing_detected(&k.pose) {
                         summary.undetected += 1;
-                        NOTHING_DETECTED.to_owned()
+                        message
                     } else {
                         summary.failed_poses += 1;
                         if !whole_failed {

@@ -30,8 +30,8 @@ use super::export;
 use super::input::Inputs;
 use super::output::Out;
 use super::stream::{
-    BATCH, Emitter, Format, NOTHING_DETECTED, Summary, check_kept, check_kept_input, counted,
-    json_line, nothing_detected, report_pose_error,
+    BATCH, Emitter, Format, Summary, check_kept, check_kept_input, counted, json_line,
+    nothing_detected, report_pose_error,
 };
 use super::{CliError, Locator, numbered_path};
 use camloc::store::{StagedFiles, check_target, escaped};
@@ -195,7 +195,7 @@ pub fn run(
                 let result = result.map_err(|message| {
                     if nothing_detected(&record.pose) {
                         summary.undetected += 1;
-                        return failures.number(NOTHING_DETECTED.to_owned());
+                        return failures.number(message);
                     }
                     summary.failed_poses += 1;
                     report_pose_error(bar, &record.id, &record.source, &message);

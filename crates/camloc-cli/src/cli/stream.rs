@@ -135,17 +135,13 @@ pub struct Summary {
     pub failed_poses: u64,
     /// Files of a folder (or the rest of a stream) that could not be read.
     pub failed_files: u64,
-    /// Frames of a sequence without a single landmark ([`nothing_detected`]): frames the
-    /// person is missing from, not failures.
+    /// Frames of a sequence without a single landmark ([`nothing_detected`]: the library's
+    /// `CamlocError::NothingDetected`): frames the person is missing from, not failures.
     pub undetected: u64,
     /// Poses with a head and both ankles, and of those the poses whose head is below both
     /// ankles in the image ([`Summary::count`]).
     pub upside_down: (u64, u64),
 }
-
-/// The error of a frame of a sequence without a single landmark (a row of NaN, an empty
-/// detection): nothing was detected, which is a frame the person is missing from.
-pub const NOTHING_DETECTED: &str = "no landmarks (nothing detected in this frame)";
 
 /// Whether `pose` has no landmark at all.
 pub fn nothing_detected(pose: &camloc::PartialPose2) -> bool {
