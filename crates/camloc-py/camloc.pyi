@@ -213,6 +213,28 @@ def reconstruct(
     OSError / CamlocError for an unreadable or invalid basis.
     """
 
+def smooth_viewpoints(
+    azimuth_deg: npt.ArrayLike,
+    elevation_deg: npt.ArrayLike,
+    frames: Optional[npt.ArrayLike] = None,
+) -> Tuple[np.ndarray, np.ndarray]:
+    """One person's continuous viewpoints smoothed over the frames of a video, as ``camloc
+    localize --sequence`` smooths them (its ``smoothed_azimuth_deg``, ``smoothed_elevation_deg``):
+    each frame's direction is the mean of the unit directions of the frames whose numbers lie
+    within 3 of its own (7 frames; docs/cli.md, "Sequences").
+
+    azimuth_deg, elevation_deg (N,): each frame's viewpoint, e.g. ``Localizer.localize``'s
+      ``azimuth_deg`` and ``elevation_deg`` of one person's rows in time order; NaN where the
+      frame has none.
+    frames (N,): the frames' numbers (whole numbers >= 0, increasing; default: 0, 1, 2, ...),
+      so that frames far apart in time are not averaged.
+
+    Returns (azimuth_deg, elevation_deg), (N,) each, degrees; NaN where the frame had no
+    viewpoint. Raises ValueError for arrays of different lengths or frame numbers that are not
+    whole numbers >= 0. Smooth only consecutive frames of one camera: on a few frames sampled
+    over a long clip it is worse than the frames' own viewpoints.
+    """
+
 def read_keypoints(
     path: _Path,
     format: Optional[str] = None,

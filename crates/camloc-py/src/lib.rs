@@ -2,7 +2,8 @@
 //!
 //! Thin over the Rust crates: joint layouts come from [`camloc::keypoints::pose_from_array`],
 //! localization from [`camloc::CameraLocalizer`], reconstruction from [`camloc::PoseReconstructor`],
-//! files from [`camloc::keypoints::read_keypoints`], BVH from [`camloc::mocap::write_bvh`] and
+//! files from [`camloc::keypoints::read_keypoints`], smoothed viewpoints from
+//! [`camloc::smooth_viewpoints`], BVH from [`camloc::mocap::write_bvh`] and
 //! [`camloc::mocap::read_bvh_with_unit`]. This crate only converts arrays, releases
 //! the GIL around batch work and runs batches on rayon's thread pool. The Python API is
 //! documented in `camloc.pyi` beside this crate's Cargo.toml.
@@ -16,6 +17,7 @@ mod bvh;
 mod localize;
 mod read;
 mod reconstruct;
+mod smooth;
 
 create_exception!(
     camloc,
@@ -69,5 +71,6 @@ fn camloc_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(read::read_keypoints, m)?)?;
     m.add_function(wrap_pyfunction!(bvh::to_bvh, m)?)?;
     m.add_function(wrap_pyfunction!(bvh::read_bvh, m)?)?;
+    m.add_function(wrap_pyfunction!(smooth::smooth_viewpoints, m)?)?;
     Ok(())
 }

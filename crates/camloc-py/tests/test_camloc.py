@@ -587,3 +587,22 @@ def test_a_sequence_that_jumps_between_people_warns_and_nothing_detected_says_so
     assert got["error"][3] == "the pose has no landmarks (nothing detected)"
     assert np.isnan(got["points3d"][3]).all()
     assert all(e is None for k, e in enumerate(got["error"]) if k != 3)
+
+
+def test_smooth_viewpoints_equals_the_command_line(cli, localizer):
+    path = KEYPOINTS / "example.json"
+    _, rows = cli("localize", "--input", path, "--sequence")
+    azimuth = np.array([r["azimuth_deg"] for r in rows])
+    elevation = np.array([r["elevation_deg"] for r in rows])
+    frames = np.array([r["frame"] if r.get("frame") is not None else i for i, r in enumerate(rows)])
+    got = camloc.smooth_viewpoints(azimuth, elevation, frames)
+    np.testing.assert_allclose(got[0], [r["smoothed_azimuth_deg"] for r in rows], atol=1e-4)
+    np.testing.assert_allclose(got[1], [r["smoothed_elevation_deg"] for r in rows], atol=1e-4)
+    # A frame without a viewpoint has none smoothed; frames far apart are not averaged.
+    az, el = camloc.smooth_viewpoints([10.0, np.nan, 200.0], [0.0, np.nan, 5.0], [0, 1, 50])
+    assert np.isnan(az[1]) and np.isnan(el[1])
+    np.testing.assert_allclose([az[0], az[2], el[2]], [10.0, 200.0, 5.0], atol=1e-9)
+    with pytest.raises(ValueError, match="same length"):
+        camloc.smooth_viewpoints([1.0, 2.0], [1.0])
+    with pytest.raises(ValueError, match="whole numbers"):
+        camloc.smooth_viewpoints([1.0], [1.0], [-1])

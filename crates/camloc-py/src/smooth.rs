@@ -1,0 +1,65 @@
+//! `camloc.smooth_viewpoints`: one person's per-frame viewpoints smoothed over time, as
+//! `camloc localize --sequence` smooths them ([`camloc::smooth_viewpoints`]).
+
+use numpy::PyArray1;
+use pyo3::prelude::*;
+
+use crate::arrays::{ArrayArg, c_order};
+use crate::value_error;
+
+/// Azimuths and elevations, degrees, one per frame.
+type Degrees<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>);
+
+/// Smooths one person's viewpoints over the frames of a video; see `camloc.pyi`.
+#[pyfunction]
+#[pyo3(signature = (azimuth_deg, elevation_deg, frames = None))]
+pub(crate) fn smooth_viewpoints<'py>(
+    py: Python<'py>,
+    azimuth_deg: ArrayArg<'py>,
+    elevation_deg: ArrayArg<'py>,
+    frames: Option<ArrayArg<'py>>,
+) -> PyResult<Degrees<'py>> {
+    let (azimuth, elevation) = (c_order(&azimuth_deg), c_order(&elevation_deg));
+    let n = azimuth.len();
+    if elevation.len() != n {
+        return Err(value_error(format!(
+            "azimuth_deg and elevation_deg must have the same length, got {n} and {}",
+            elevation.len()
+        )));
+    }
+    let frames: Vec<Option<u64>> = match &frames {
+        None => vec![None; n],
+        Some(given) => {
+            let given = c_order(given);
+            if given.len() != n {
+                return Err(value_error(format!(
+                    "frames must have one number per viewpoint ({n}), got {}",
+                    given.len()
+                )));
+            }
+            given
+                .iter()
+                .map(|&f| {
+                    (f.is_finite() && f >= 0.0 && f.fract() == 0.0 && f <= 2f64.powi(53))
+                        .then_some(Some(f as u64))
+                        .ok_or_else(|| {
+                            value_error(format!("frames must be whole numbers >= 0, got {f}"))
+                        })
+                })
+                .collect::<PyResult<_>>()?
+        }
+    };
+    let viewpoints: Vec<Option<(f64, f64)>> = azimuth
+        .iter()
+        .zip(elevation.iter())
+        .map(|(&a, &e)| (a.is_finite() && e.is_finite()).then_some((a, e)))
+        .collect();
+    let smoothed = camloc::smooth_viewpoints(&frames, &viewpoints);
+    let column = |pick: fn((f64, f64)) -> f64| -> Vec<f64> {
+        smoothed.iter().map(|v| v.map_or(f64::NAN, pick)).collect()
+    };
+    Ok((
+        PyArray1::from_vec(py, column(|v| v.0)),
+        PyArray1::from_vec(py, column(|v| v.1)),
+    ))
+}
