@@ -304,21 +304,14 @@ mod tests {
             1.0,
         );
         let front = Matrix3::new(0.0, 1.0, 0.0, 0.0, 0.0, -1.0, 1.0, 0.0, 0.0);
-        Reconstruction {
-            pose: standing(),
-            camera: WeakPerspective {
+        Reconstruction::seen_by(
+            standing(),
+            WeakPerspective {
                 scale: 100.0,
                 rotation: front * turn,
                 translation: t,
             },
-            projection_error: 0.0,
-            selected: Vec::new(),
-            coefficients: Vec::new(),
-            iterations: 0,
-            reflected: false,
-            limit_violation_rad: 0.0,
-            perspective: None,
-        }
+        )
     }
 
     #[test]

@@ -68,6 +68,23 @@ pub struct Reconstruction {
 }
 
 impl Reconstruction {
+    /// A reconstruction of `pose` seen by `camera` as the pursuit would leave it without
+    /// selections or errors (for tests of what is done with reconstructions).
+    #[cfg(test)]
+    pub(crate) fn seen_by(pose: Pose3, camera: WeakPerspective) -> Reconstruction {
+        Reconstruction {
+            pose,
+            camera,
+            projection_error: 0.0,
+            selected: Vec::new(),
+            coefficients: Vec::new(),
+            iterations: 0,
+            reflected: false,
+            limit_violation_rad: 0.0,
+            perspective: None,
+        }
+    }
+
     /// The pose's landmarks as the camera it was fitted with sees them, in the input's image
     /// units: by [`perspective`](Self::perspective) when there is one (and every landmark is
     /// in front of it), else by [`camera`](Self::camera).

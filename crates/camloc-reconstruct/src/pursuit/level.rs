@@ -62,21 +62,14 @@ mod tests {
             ]
         });
         let rotation = look_at_origin(sphere_point(130.0, 25.0, 5.0)).unwrap();
-        let mut r = Reconstruction {
-            pose: Pose3 { points },
-            camera: WeakPerspective {
+        let mut r = Reconstruction::seen_by(
+            Pose3 { points },
+            WeakPerspective {
                 scale: 300.0,
                 rotation,
                 translation: [10.0, 20.0],
             },
-            projection_error: 0.0,
-            selected: Vec::new(),
-            coefficients: Vec::new(),
-            iterations: 0,
-            reflected: false,
-            limit_violation_rad: 0.0,
-            perspective: None,
-        };
+        );
         let before = r.reprojection();
         let shape: Vec<f64> = (1..15)
             .map(|i| (Vector3::from(points[i]) - Vector3::from(points[0])).norm())
