@@ -226,12 +226,13 @@ def smooth_viewpoints(
     azimuth_deg, elevation_deg (N,): each frame's viewpoint, e.g. ``Localizer.localize``'s
       ``azimuth_deg`` and ``elevation_deg`` of one person's rows in time order; NaN where the
       frame has none.
-    frames (N,): the frames' numbers (whole numbers >= 0, increasing; default: 0, 1, 2, ...),
-      so that frames far apart in time are not averaged.
+    frames (N,): the frames' numbers (whole numbers from 0 to 2^53, increasing; default: 0,
+      1, 2, ...), so that frames far apart in time are not averaged.
 
-    Returns (azimuth_deg, elevation_deg), (N,) each, degrees; NaN where the frame had no
-    viewpoint. Raises ValueError for arrays of different lengths or frame numbers that are not
-    whole numbers >= 0. Smooth only consecutive frames of one camera: on a few frames sampled
+    Returns (azimuth_deg, elevation_deg), (N,) each, degrees (azimuth in [0, 360)); NaN where
+    the frame had no viewpoint or the directions around it cancel (opposite views). Raises
+    ValueError for arrays that are not one-dimensional or of different lengths, an elevation
+    outside [-90, 90], or frame numbers that are not whole numbers from 0 to 2^53. Smooth only consecutive frames of one camera: on a few frames sampled
     over a long clip it is worse than the frames' own viewpoints.
     """
 

@@ -284,8 +284,8 @@ fn warn_of_identity_jumps(py: Python<'_>, poses: &[PartialPose2]) -> PyResult<()
     };
     let message = format!(
         "the pose jumps across the image or changes size from one row to the next at {} row(s) \
-         (first at row {first}): these may be several people; give one person's rows per call \
-         (read_keypoints gives each pose's person)",
+         (first at row {first}): these may be several people, or not consecutive frames of a \
+         video; give one person's rows per call (read_keypoints gives each pose's person)",
         jumps.len()
     );
     let message = std::ffi::CString::new(message).unwrap_or_default();

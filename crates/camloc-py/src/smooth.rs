@@ -1,7 +1,7 @@
 //! `camloc.smooth_viewpoints`: one person's per-frame viewpoints smoothed over time, as
 //! `camloc localize --sequence` smooths them ([`camloc::smooth_viewpoints`]).
 
-use numpy::PyArray1;
+use numpy::{PyArray1, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 
 use crate::arrays::{ArrayArg, c_order};
@@ -19,7 +19,26 @@ pub(crate) fn smooth_viewpoints<'py>(
     elevation_deg: ArrayArg<'py>,
     frames: Option<ArrayArg<'py>>,
 ) -> PyResult<Degrees<'py>> {
+    for (name, array) in [
+        ("azimuth_deg", &azimuth_deg),
+        ("elevation_deg", &elevation_deg),
+    ]
+    .into_iter()
+    .chain(frames.as_ref().map(|f| ("frames", f)))
+    {
+        if array.ndim() != 1 {
+            return Err(value_error(format!(
+                "{name} must be one-dimensional (one number per frame), got shape {:?}",
+                array.shape()
+            )));
+        }
+    }
     let (azimuth, elevation) = (c_order(&azimuth_deg), c_order(&elevation_deg));
+    if let Some(e) = elevation.iter().find(|e| e.abs() > 90.0) {
+        return Err(value_error(format!(
+            "elevation_deg must lie in [-90, 90] (NaN: no viewpoint), got {e}"
+        )));
+    }
     let n = azimuth.len();
     if elevation.len() != n {
         return Err(value_error(format!(

@@ -606,3 +606,7 @@ def test_smooth_viewpoints_equals_the_command_line(cli, localizer):
         camloc.smooth_viewpoints([1.0, 2.0], [1.0])
     with pytest.raises(ValueError, match="whole numbers"):
         camloc.smooth_viewpoints([1.0], [1.0], [-1])
+    with pytest.raises(ValueError, match="one-dimensional"):
+        camloc.smooth_viewpoints([[1.0]], [[1.0]])
+    with pytest.raises(ValueError, match=r"\[-90, 90\]"):
+        camloc.smooth_viewpoints([1.0], [120.0])

@@ -90,9 +90,9 @@ pub use metrics::{
 };
 pub use prior::{JointLimits, symmetrise};
 pub use pursuit::{
-    CameraMode, DEFAULT_COEFFICIENT_PRIOR, EQUAL_FIT_TOLERANCE, LengthTarget, LiftedDepths,
-    ModeKind, ReconstructConfig, Reconstruction, Reconstructor, SequenceReconstruction,
-    depths_along_axis,
+    CameraMode, DEFAULT_COEFFICIENT_PRIOR, EQUAL_FIT_TOLERANCE, LEVEL_AZIMUTH_AGREEMENT_DEG,
+    LengthTarget, LiftedDepths, ModeKind, ReconstructConfig, Reconstruction, Reconstructor,
+    SequenceReconstruction, depths_along_axis,
 };
 pub use refine::{
     DistancePrior, Given, Intrinsics, MIN_POSE_SPREAD_PER_FOCAL, PerspectiveCamera, Refinement,

@@ -29,6 +29,7 @@ mod tests;
 
 pub use config::{DEFAULT_COEFFICIENT_PRIOR, EQUAL_FIT_TOLERANCE, LengthTarget, ReconstructConfig};
 pub use hypotheses::Reconstruction;
+pub use level::LEVEL_AZIMUTH_AGREEMENT_DEG;
 pub use mode::{CameraMode, ModeKind};
 pub use reconstructor::Reconstructor;
 pub use refined::{LiftedDepths, depths_along_axis};

@@ -286,9 +286,11 @@ impl PoseReconstructor {
             let depths = self.lifted_depths(&refilled, localization.as_ref())?;
             hypotheses = solve(&refilled, depths.as_ref())?;
         }
-        if let Some(elevation) = self.levelling_elevation(&localization, depths.is_some()) {
+        if let Some((azimuth, elevation)) =
+            self.levelling_viewpoint(&localization, depths.is_some())
+        {
             for h in &mut hypotheses {
-                h.level_to_elevation(elevation);
+                h.level_to_viewpoint(azimuth, elevation);
             }
         }
         let mut hypotheses = hypotheses.into_iter();
@@ -445,21 +447,24 @@ impl PoseReconstructor {
 }
 
 impl PoseReconstructor {
-    /// The elevation (degrees) a `hybrid` reconstruction started from lifted depths (`lifted`)
-    /// is levelled to ([`Reconstruction::level_to_elevation`]): the localization's continuous
-    /// viewpoint's. On validation subjects this took the pelvis-centred error without rotation
-    /// alignment from 98.7 to 92.0 mm (`jittered`), 100.5 to 87.9 mm (`rig`) and 103.4 to 92.0
-    /// mm (the labs' skeletons), the torso's lean error from 8.8 to 7.6, 7.0 and 6.7 deg; from
-    /// the pursuit's pose it did not help (100.3 to 103.6 mm `jittered`; docs/RESULTS.md).
-    fn levelling_elevation(
+    /// The viewpoint (azimuth, elevation, degrees) a `hybrid` reconstruction started from
+    /// lifted depths (`lifted`) is levelled to ([`Reconstruction::level_to_viewpoint`]: its
+    /// elevation, when the reconstruction's camera is on the viewpoint's side): the
+    /// localization's continuous viewpoint. On validation subjects this took the
+    /// pelvis-centred error without rotation alignment from 98.7 to 92.0 mm (`jittered`),
+    /// 100.5 to 87.9 mm (`rig`) and 103.4 to 92.0 mm (the labs' skeletons), the torso's lean
+    /// error from 8.8 to 7.6, 7.0 and 6.7 deg; from the pursuit's pose it did not help (100.3
+    /// to 103.6 mm `jittered`; docs/RESULTS.md).
+    fn levelling_viewpoint(
         &self,
         localization: &Option<Localization>,
         lifted: bool,
-    ) -> Option<f64> {
+    ) -> Option<(f64, f64)> {
         if self.mode != ModeKind::Hybrid || !lifted {
             return None;
         }
-        localization.as_ref()?.elevation_deg
+        let l = localization.as_ref()?;
+        Some((l.azimuth_deg?, l.elevation_deg?))
     }
 }
 

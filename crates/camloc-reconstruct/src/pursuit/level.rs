@@ -7,7 +7,27 @@ use nalgebra::Rotation3;
 
 use super::hypotheses::Reconstruction;
 
+/// How far, in azimuth, the camera may stand from a viewpoint for
+/// [`Reconstruction::level_to_viewpoint`] to take its elevation, degrees: farther, the
+/// reconstruction saw the body from the other side and that side's elevation is not its own.
+pub const LEVEL_AZIMUTH_AGREEMENT_DEG: f64 = 90.0;
+
 impl Reconstruction {
+    /// [`level_to_elevation`](Self::level_to_elevation) to the elevation of the viewpoint
+    /// (`azimuth_deg`, `elevation_deg`; degrees, the body frame's azimuth) when the camera's
+    /// azimuth lies within [`LEVEL_AZIMUTH_AGREEMENT_DEG`] of its; returns whether it did.
+    pub fn level_to_viewpoint(&mut self, azimuth_deg: f64, elevation_deg: f64) -> bool {
+        let rotation = &self.camera.rotation;
+        let (x, y) = (-rotation[(2, 0)], -rotation[(2, 1)]);
+        let own = y.atan2(x).to_degrees();
+        let apart = (own - azimuth_deg + 540.0).rem_euclid(360.0) - 180.0;
+        if !(apart.abs() <= LEVEL_AZIMUTH_AGREEMENT_DEG) {
+            return false;
+        }
+        self.level_to_elevation(elevation_deg);
+        true
+    }
+
     /// Turns the pose, [`camera`](Self::camera) and [`perspective`](Self::perspective)
     /// together by the least rotation that puts the direction from the pelvis to the camera
     /// at `elevation_deg` (degrees above the body frame's horizontal plane, z up), keeping its
@@ -92,5 +112,12 @@ mod tests {
         // The azimuth is kept.
         let azimuth = towards.y.atan2(towards.x).to_degrees().rem_euclid(360.0);
         assert!((azimuth - 130.0).abs() < 1e-9, "{azimuth}");
+        // A viewpoint on the other side is not taken; one near it is.
+        let levelled = r.camera.rotation;
+        assert!(!r.level_to_viewpoint(310.0, 20.0));
+        assert_eq!(r.camera.rotation, levelled);
+        assert!(r.level_to_viewpoint(150.0, 20.0));
+        let rot = &r.camera.rotation;
+        assert!((rot[(2, 2)] + 20f64.to_radians().sin()).abs() < 1e-9);
     }
 }

@@ -92,12 +92,12 @@ impl PoseReconstructor {
             }
             lengths
         };
-        let elevations = self.levelling_elevations(&prepared, &runs);
+        let viewpoints = self.levelling_viewpoints(&prepared, &runs);
         let frames = prepared
             .into_iter()
             .zip(solved)
-            .zip(elevations)
-            .map(|((p, solved), elevation)| {
+            .zip(viewpoints)
+            .map(|((p, solved), viewpoint)| {
                 let Prepared {
                     localization,
                     imputed,
@@ -106,8 +106,8 @@ impl PoseReconstructor {
                 let mut reconstruction = solved
                     .unwrap_or(Err(ReconstructError::Numerical("no hypothesis was solved")))
                     .map_err(pose_error)?;
-                if let Some(elevation) = elevation {
-                    reconstruction.level_to_elevation(elevation);
+                if let Some((azimuth, elevation)) = viewpoint {
+                    reconstruction.level_to_viewpoint(azimuth, elevation);
                 }
                 Ok(PoseReconstruction {
                     reconstruction,
@@ -120,18 +120,18 @@ impl PoseReconstructor {
         Ok(PoseSequenceReconstruction { frames, lengths })
     }
 
-    /// Per frame, the elevation its reconstruction is levelled to (as a single pose's,
-    /// [`PoseReconstructor::levelling_elevation`]), the localizations' viewpoints smoothed over
+    /// Per frame, the viewpoint its reconstruction is levelled to (as a single pose's,
+    /// [`PoseReconstructor::levelling_viewpoint`]), the localizations' viewpoints smoothed over
     /// the frames of its run ([`smooth_viewpoints`]; the frames of `runs` counted as
     /// consecutive, as the solve takes them): on validation subjects' sequences, the
     /// pelvis-centred error without rotation alignment went from 90.2 to 86.2 mm with each
     /// frame's own elevation and to 83.7 mm with the smoothed one (`jittered`; `rig` 89.3 to
     /// 77.9 and 76.5 mm).
-    fn levelling_elevations(
+    fn levelling_viewpoints(
         &self,
         prepared: &[Result<Prepared, CamlocError>],
         runs: &[Vec<usize>],
-    ) -> Vec<Option<f64>> {
+    ) -> Vec<Option<Viewpoint>> {
         let mut members: Vec<usize> = Vec::new();
         let mut numbers: Vec<Option<u64>> = Vec::new();
         let mut viewpoints: Vec<Option<Viewpoint>> = Vec::new();
@@ -139,11 +139,10 @@ impl PoseReconstructor {
         let mut number = 0;
         for run in runs {
             for &t in run {
-                let viewpoint = prepared[t].as_ref().ok().and_then(|p| {
-                    self.levelling_elevation(&p.localization, p.depths.is_some())?;
-                    let l = p.localization.as_ref()?;
-                    Some((l.azimuth_deg?, l.elevation_deg?))
-                });
+                let viewpoint = prepared[t]
+                    .as_ref()
+                    .ok()
+                    .and_then(|p| self.levelling_viewpoint(&p.localization, p.depths.is_some()));
                 members.push(t);
                 numbers.push(Some(number));
                 viewpoints.push(viewpoint);
@@ -151,13 +150,13 @@ impl PoseReconstructor {
             }
             number += 2 * VIEWPOINT_HALF_WINDOW + 1;
         }
-        let mut elevations = vec![None; prepared.len()];
+        let mut smoothed = vec![None; prepared.len()];
         for (t, v) in members
             .into_iter()
             .zip(smooth_viewpoints(&numbers, &viewpoints))
         {
-            elevations[t] = v.map(|v| v.1);
+            smoothed[t] = v;
         }
-        elevations
+        smoothed
     }
 }
