@@ -288,6 +288,22 @@ pub enum KeypointError {
         /// What is allowed there.
         expected: &'static str,
     },
+    /// A joint layout given for a format that names or fixes its joints itself (a layout
+    /// applies to `.npy` arrays and MMPose keypoints).
+    #[error(
+        "{}: a layout ({layout}) was given, but {format} input names or fixes its joints \
+         itself: a layout applies to .npy arrays and MMPose keypoints (leave out --layout; \
+         Python layout=)",
+        file_name(.file)
+    )]
+    LayoutNotUsed {
+        /// Name of the input.
+        file: String,
+        /// Its format's name.
+        format: &'static str,
+        /// The name of the layout given.
+        layout: &'static str,
+    },
     /// A 17-joint pose whose first five joints contradict its layout
     /// ([`contradicted`](crate::contradicted)): COCO-17 data read as
     /// Human3.6M or the reverse. `source` is [`ArrayPoseError::LayoutMismatch`].

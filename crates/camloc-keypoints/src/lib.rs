@@ -467,6 +467,37 @@ pub fn open_keypoints_reader(
     })
 }
 
+/// [`KeypointError::LayoutNotUsed`] when [`ReadOptions::layout`] is given for a `format` that
+/// does not take one (only `.npy` arrays and MMPose keypoints do) and is not the format's own
+/// layout (COCO's `coco17`, LSP's `lsp14`, MPII's `mpii16`, camloc's `camloc15`, OpenPose's
+/// `body25`).
+fn layout_applies(
+    format: KeypointFormat,
+    options: &ReadOptions,
+    file: &str,
+) -> Result<(), KeypointError> {
+    let Some(layout) = options.layout else {
+        return Ok(());
+    };
+    let own = match format {
+        KeypointFormat::Npy | KeypointFormat::MmPose => return Ok(()),
+        KeypointFormat::Coco => Some(Layout::Coco17),
+        KeypointFormat::Lsp => Some(Layout::Lsp14),
+        KeypointFormat::Mpii => Some(Layout::Mpii16),
+        KeypointFormat::Camloc => Some(Layout::Camloc15),
+        KeypointFormat::OpenPose => Some(Layout::Body25),
+        KeypointFormat::MediaPipe => None,
+    };
+    if own == Some(layout) {
+        return Ok(());
+    }
+    Err(KeypointError::LayoutNotUsed {
+        file: file.to_owned(),
+        format: format.name(),
+        layout: layout.name(),
+    })
+}
+
 /// [`KeypointError::UnknownFormat`] for input `file` with `extension`.
 fn unknown_format(file: &str, extension: Option<&str>) -> KeypointError {
     KeypointError::UnknownFormat {
@@ -487,6 +518,7 @@ fn stream_json(
     (limit, rule): (u64, &'static str),
     options: &ReadOptions,
 ) -> Result<KeypointStream, KeypointError> {
+    layout_applies(format, options, name)?;
     let file = name.to_owned();
     let options = *options;
     let received = stream::spawn(name, move |sender| {
@@ -567,6 +599,7 @@ fn stream_lsp(
     name: &str,
     options: &ReadOptions,
 ) -> Result<KeypointStream, KeypointError> {
+    layout_applies(KeypointFormat::Lsp, options, name)?;
     let file = name.to_owned();
     let options = *options;
     let received = stream::spawn(name, move |sender| {
@@ -686,6 +719,7 @@ pub fn parse_keypoints(
     if text.len() as u64 > limit {
         return Err(too_large((limit, rule)));
     }
+    layout_applies(format, options, file)?;
     match format {
         KeypointFormat::Lsp => lsp::parse(text, file, options),
         KeypointFormat::Npy => {

@@ -379,3 +379,25 @@ fn scores_on_another_scale_than_the_minimum_are_refused() {
         }
     }
 }
+
+/// A layout given for a format that names or fixes its joints is refused rather than ignored,
+/// unless it is the format's own.
+#[test]
+fn a_layout_for_a_format_that_does_not_take_one_is_refused() {
+    let camloc = r#"{"poses": [{"landmarks": {"neck": [1.0, 2.0]}}]}"#;
+    let with = |layout| ReadOptions {
+        layout: Some(layout),
+        ..ReadOptions::default()
+    };
+    let e = parse_keypoints(camloc, "p.json", None, &with(Layout::H36m17)).unwrap_err();
+    assert!(matches!(e, KeypointError::LayoutNotUsed { .. }), "{e:?}");
+    assert!(
+        e.to_string()
+            .starts_with("p.json: a layout (h36m17) was given, but camloc input"),
+        "{e}"
+    );
+    assert!(parse_keypoints(camloc, "p.json", None, &with(Layout::Camloc15)).is_ok());
+    let csv = "image,joint,x,y,visible\nim1,neck,1,2,1\n";
+    let e = parse_keypoints(csv, "l.csv", None, &with(Layout::Coco17)).unwrap_err();
+    assert!(matches!(e, KeypointError::LayoutNotUsed { .. }), "{e:?}");
+}

@@ -17,7 +17,7 @@ use pyo3::types::{PyDict, PyMapping};
 use rayon::prelude::*;
 
 use crate::arrays::{ArrayArg, Output, PoseBatch};
-use crate::localize::{Localizer, for_poses, parse_height};
+use crate::localize::{Localizer, for_poses, parse_height, warn_if_upside_down};
 use crate::{to_py_err, value_error};
 
 /// The reconstructor on the embedded basis with the embedded default model, made once.
@@ -101,6 +101,7 @@ pub(crate) fn reconstruct<'py>(
             ))
         })?;
     let batch = PoseBatch::new(&points, layout, scores.as_ref(), min_score)?;
+    warn_if_upside_down(py, &batch)?;
     let mut reconstructor = match basis {
         Some(path) => PoseBasis::load(&path)
             .map_err(CamlocError::from)

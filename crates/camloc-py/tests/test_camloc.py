@@ -610,3 +610,17 @@ def test_smooth_viewpoints_equals_the_command_line(cli, localizer):
         camloc.smooth_viewpoints([[1.0]], [[1.0]])
     with pytest.raises(ValueError, match=r"\[-90, 90\]"):
         camloc.smooth_viewpoints([1.0], [120.0])
+
+
+def test_points_with_v_up_warn_as_the_command_line_does(localizer):
+    points = example_points()
+    flipped = points * [1.0, -1.0]
+    with pytest.warns(UserWarning, match="head below both ankles"):
+        localizer.localize(flipped)
+    with pytest.warns(UserWarning, match="head below both ankles"):
+        camloc.reconstruct(flipped)
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        localizer.localize(points)

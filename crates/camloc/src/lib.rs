@@ -46,6 +46,7 @@ mod select;
 mod sequence;
 mod train;
 mod train_options;
+mod upside_down;
 mod viewpoint_smoothing;
 mod world;
 
@@ -90,4 +91,5 @@ pub use train_options::{
     DEFAULT_QUADRATIC_COMPONENTS, DEFAULT_QUADRATIC_LAMBDA, DEFAULT_VIEWPOINT_LAMBDA,
     LandmarkDropout, MAX_DROPOUT_COPIES, QUADRATIC_GRADIENT_TOLERANCE, TrainOptions, TrainingInfo,
 };
+pub use upside_down::{head_below_ankles, upside_down_warning};
 pub use viewpoint_smoothing::{VIEWPOINT_HALF_WINDOW, Viewpoint, smooth_viewpoints};

@@ -139,7 +139,7 @@ pub struct Summary {
     /// `CamlocError::NothingDetected`): frames the person is missing from, not failures.
     pub undetected: u64,
     /// Poses with a head and both ankles, and of those the poses whose head is below both
-    /// ankles in the image ([`Summary::count`]).
+    /// ankles in the image ([`camloc::head_below_ankles`]).
     pub upside_down: (u64, u64),
 }
 
@@ -153,25 +153,18 @@ impl Summary {
     /// down, as some plotting conventions have it): [`Summary::exit_code`] warns when most
     /// poses do.
     pub fn count(&mut self, pose: &camloc::PartialPose2) {
-        use camloc::Landmark::{Head, LeftAnkle, RightAnkle};
         self.poses += 1;
-        let v = |l: camloc::Landmark| pose.points[l.index()].map(|p| p[1]);
-        if let (Some(head), Some(left), Some(right)) = (v(Head), v(LeftAnkle), v(RightAnkle)) {
+        if let Some(below) = camloc::head_below_ankles(pose) {
             self.upside_down.0 += 1;
-            self.upside_down.1 += u64::from(head > left && head > right);
+            self.upside_down.1 += u64::from(below);
         }
     }
 
     /// Reports failures on standard error (`verb`: "localized", ...) and gives the exit code:
     /// an error when a pose failed, a file could not be read, or no pose had a landmark.
     pub fn exit_code(&self, verb: &str) -> ExitCode {
-        let (checked, upside_down) = self.upside_down;
-        if 2 * upside_down > checked {
-            eprintln!(
-                "camloc: warning: {upside_down} of {checked} poses have the head below both \
-                 ankles: camloc takes image coordinates with v down (image rows); flip v if the \
-                 input's v points up (people on their hands are seen as they are)"
-            );
+        if let Some(warning) = camloc::upside_down_warning(self.upside_down.0, self.upside_down.1) {
+            eprintln!("camloc: warning: {warning}");
         }
         if self.undetected > 0 {
             eprintln!(
