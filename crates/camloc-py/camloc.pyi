@@ -88,6 +88,7 @@ class Localizer:
         layout: str = "camloc15",
         scores: Optional[npt.ArrayLike] = None,
         min_score: float = 0.0,
+        sequence: bool = False,
     ) -> Dict[str, Any]:
         """Localizes the camera of every pose.
 
@@ -99,6 +100,9 @@ class Localizer:
         8 landmarks present it gets an error.
         scores: optional (N, J) (or (J,)) confidences in [0, 1] for 2-channel points.
         min_score: joints scoring below it are missing (finite, >= 0).
+        sequence: the poses are one person's frames of a video, in time order (a row of NaN
+          where the person was missed): the result also has each frame's camera and viewpoint
+          smoothed over the frames, as ``camloc localize --sequence`` gives them.
 
         Returns a dict:
           label (N,) int64: most probable camera, 1..12 (0 where the pose failed);
@@ -109,6 +113,11 @@ class Localizer:
             person's canonical frame (azimuth 180 = front, 270 = left, 0 = back, 90 = right;
             elevation + above); NaN where the pose failed or the model has no direction heads;
           uncertainty_deg (N,) float64: angular radius holding about 68% of the viewpoint error;
+          with ``sequence``: smoothed_label (N,) int64 and smoothed_probability (N,), the
+            camera on the hidden Markov model's most probable path and its posterior (0 and NaN
+            when no frame was localized; a frame that was not counts as a flat one);
+            smoothed_azimuth_deg, smoothed_elevation_deg (N,): the mean direction of the frames
+            within 3 rows (``smooth_viewpoints``), NaN where the frame has no viewpoint;
           error: list of N messages, None where the pose was localized.
 
         Raises ValueError for a wrong shape, an unknown layout or a bad ``min_score``.

@@ -4,8 +4,8 @@ use std::path::PathBuf;
 
 use camloc::store::Persist;
 use camloc::{
-    CameraHeight, CameraLocalizer, HEIGHT_SHARE_MAX_POSES, PoseReconstructor, default_basis,
-    head_below_ankles, upside_down_warning,
+    CameraHeight, CameraLocalizer, HEIGHT_SHARE_MAX_POSES, PoseReconstructor, SequenceModel,
+    default_basis, head_below_ankles, smooth_viewpoints, upside_down_warning,
 };
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::PyUserWarning;
@@ -153,7 +153,7 @@ impl Localizer {
     }
 
     /// Localizes the camera of every pose; see `camloc.pyi`.
-    #[pyo3(signature = (points, layout = "camloc15", scores = None, min_score = 0.0))]
+    #[pyo3(signature = (points, layout = "camloc15", scores = None, min_score = 0.0, sequence = false))]
     fn localize<'py>(
         &self,
         py: Python<'py>,
@@ -161,6 +161,7 @@ impl Localizer {
         layout: &str,
         scores: Option<ArrayArg<'py>>,
         min_score: f64,
+        sequence: bool,
     ) -> PyResult<Bound<'py, PyDict>> {
         let batch = PoseBatch::new(&points, layout, scores.as_ref(), min_score)?;
         warn_if_upside_down(py, &batch)?;
@@ -221,6 +222,11 @@ impl Localizer {
         });
         let column =
             |c: usize| -> Vec<f64> { viewpoint.iter().skip(c).step_by(3).copied().collect() };
+        let smoothed = if sequence {
+            Some(self.smoothed(&label, &probabilities, &viewpoint)?)
+        } else {
+            None
+        };
         let out = Output::new(py, n, batch.single);
         out.array("label", label, &[])?;
         out.array("folded_label", folded, &[])?;
@@ -229,6 +235,18 @@ impl Localizer {
         out.array("azimuth_deg", column(0), &[])?;
         out.array("elevation_deg", column(1), &[])?;
         out.array("uncertainty_deg", column(2), &[])?;
+        if let Some(Smoothed {
+            label,
+            probability,
+            azimuth_deg,
+            elevation_deg,
+        }) = smoothed
+        {
+            out.array("smoothed_label", label, &[])?;
+            out.array("smoothed_probability", probability, &[])?;
+            out.array("smoothed_azimuth_deg", azimuth_deg, &[])?;
+            out.array("smoothed_elevation_deg", elevation_deg, &[])?;
+        }
         out.errors(errors)?;
         Ok(out.into_dict())
     }
@@ -240,5 +258,65 @@ impl Localizer {
             self.inner.cameras().len(),
             self.camera_height()
         )
+    }
+}
+
+/// A sequence's smoothed cameras and viewpoints, per row ([`Localizer::smoothed`]).
+struct Smoothed {
+    /// The smoothed camera, 0 for a person none of whose rows was localized.
+    label: Vec<i64>,
+    /// Its posterior probability (NaN without one).
+    probability: Vec<f64>,
+    /// The smoothed viewpoint, degrees (NaN for a row without a viewpoint).
+    azimuth_deg: Vec<f64>,
+    /// See `azimuth_deg`.
+    elevation_deg: Vec<f64>,
+}
+
+impl Localizer {
+    /// The smoothed values of a sequence (`localize(..., sequence=True)`): the rows are one
+    /// person's frames in time order; each frame's camera smoothed by the hidden Markov model
+    /// of `camloc localize --sequence` (`camloc::SequenceModel`, a frame that was not
+    /// localized counting as a flat one) and its viewpoint by `camloc::smooth_viewpoints`.
+    fn smoothed(
+        &self,
+        label: &[i64],
+        probabilities: &[f64],
+        viewpoint: &[f64],
+    ) -> PyResult<Smoothed> {
+        let n = label.len();
+        let k = self.inner.cameras().len();
+        let frames: Vec<Option<&[f64]>> = (0..n)
+            .map(|i| (label[i] > 0).then(|| &probabilities[i * k..(i + 1) * k]))
+            .collect();
+        // A person none of whose frames was localized has no smoothed camera.
+        let cameras = if frames.iter().any(Option::is_some) {
+            SequenceModel::with_default_switch(self.inner.cameras())
+                .smooth(&frames)
+                .map_err(to_py_err)?
+        } else {
+            Vec::new()
+        };
+        let views: Vec<Option<(f64, f64)>> = viewpoint
+            .chunks_exact(3)
+            .map(|v| (v[0].is_finite() && v[1].is_finite()).then_some((v[0], v[1])))
+            .collect();
+        let directions = smooth_viewpoints(&vec![None; n], &views);
+        Ok(Smoothed {
+            label: (0..n)
+                .map(|i| cameras.get(i).map_or(0, |s| i64::from(s.label.get())))
+                .collect(),
+            probability: (0..n)
+                .map(|i| cameras.get(i).map_or(f64::NAN, |s| s.probability))
+                .collect(),
+            azimuth_deg: directions
+                .iter()
+                .map(|d| d.map_or(f64::NAN, |d| d.0))
+                .collect(),
+            elevation_deg: directions
+                .iter()
+                .map(|d| d.map_or(f64::NAN, |d| d.1))
+                .collect(),
+        })
     }
 }

@@ -624,3 +624,20 @@ def test_points_with_v_up_warn_as_the_command_line_does(localizer):
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         localizer.localize(points)
+
+
+def test_a_sequence_is_smoothed_as_the_command_line_smooths_it(cli, localizer):
+    path = KEYPOINTS / "example.json"
+    _, rows = cli("localize", "--input", path, "--sequence")
+    got = localizer.localize(example_points(), sequence=True)
+    assert list(got["smoothed_label"]) == [r["smoothed_label"] for r in rows]
+    np.testing.assert_allclose(
+        got["smoothed_probability"], [r["smoothed_probability"] for r in rows], rtol=1e-9
+    )
+    for key in ["smoothed_azimuth_deg", "smoothed_elevation_deg"]:
+        np.testing.assert_allclose(got[key], [r[key] for r in rows], atol=1e-4)
+    # Without `sequence` there are no smoothed keys; a person never localized has none.
+    assert "smoothed_label" not in localizer.localize(example_points())
+    empty = localizer.localize(np.full((3, 15, 2), np.nan), sequence=True)
+    assert list(empty["smoothed_label"]) == [0, 0, 0]
+    assert np.isnan(empty["smoothed_probability"]).all()
