@@ -107,23 +107,29 @@ pub fn pose_from_array(
             return Err(ArrayPoseError::HalfMissing { joint });
         }
     }
-    let points: Vec<Option<[f64; 2]>> = values
-        .chunks_exact(channels)
-        .map(|row| {
-            let kept = !row[0].is_nan() && row.get(2).is_none_or(|&score| keeps(score, options));
-            kept.then_some([row[0], row[1]])
-        })
-        .collect();
-    let scores: Option<Vec<f64>> =
-        (channels == 3).then(|| values.chunks_exact(3).map(|row| row[2]).collect());
-    if let Some((likely, spread)) = contradicted(layout, &points, scores.as_deref()) {
-        return Err(ArrayPoseError::LayoutMismatch {
-            layout,
-            likely,
-            spread,
-        });
+    let point = |row: &[f64]| {
+        let kept = !row[0].is_nan() && row.get(2).is_none_or(|&score| keeps(score, options));
+        kept.then_some([row[0], row[1]])
+    };
+    // Only the 17-joint layouts are checked (on the stack: this runs for every pose).
+    if joints == 17 {
+        let mut points = [None; 17];
+        let mut scores = [1.0; 17];
+        for (j, row) in values.chunks_exact(channels).enumerate() {
+            points[j] = point(row);
+            scores[j] = row.get(2).copied().unwrap_or(1.0);
+        }
+        let scored = (channels == 3).then_some(&scores[..]);
+        if let Some((likely, spread)) = contradicted(layout, &points, scored) {
+            return Err(ArrayPoseError::LayoutMismatch {
+                layout,
+                likely,
+                spread,
+            });
+        }
     }
-    let (mut pose, mut derived) = map_joints(layout.joints(), points);
+    let (mut pose, mut derived) =
+        map_joints(layout.joints(), values.chunks_exact(channels).map(point));
     if options.derive_torso {
         derived.extend(derive_torso(&mut pose));
         derived.sort_unstable();

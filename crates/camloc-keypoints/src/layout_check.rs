@@ -45,36 +45,46 @@ pub fn contradicted(
     if points.len() != 17 || !matches!(layout, Layout::Coco17 | Layout::H36m17) {
         return None;
     }
-    let sure = |range: std::ops::Range<usize>| -> Vec<[f64; 2]> {
-        range
-            .filter(|&j| {
-                scores.is_none_or(|s| s.get(j).is_some_and(|&c| c >= LAYOUT_CHECK_MIN_SCORE))
-            })
-            .filter_map(|j| points[j])
-            .collect()
+    // The sure joints of `range`, on the stack (this runs for every 17-joint pose read).
+    let sure = |range: std::ops::Range<usize>| {
+        let mut kept = [[0.0; 2]; 12];
+        let mut n = 0;
+        for j in range {
+            let scored =
+                scores.is_none_or(|s| s.get(j).is_some_and(|&c| c >= LAYOUT_CHECK_MIN_SCORE));
+            if let (true, Some(p)) = (scored, points[j]) {
+                kept[n] = p;
+                n += 1;
+            }
+        }
+        (kept, n)
     };
-    let (first, rest) = (sure(0..5), sure(5..17));
+    let ((first, n_first), (rest, n_rest)) = (sure(0..5), sure(5..17));
+    let (first, rest) = (&first[..n_first], &rest[..n_rest]);
     if first.len() < MIN_PRESENT || rest.len() < MIN_PRESENT {
         return None;
     }
-    let size = rms_radius(&rest);
+    let size = rms_radius(rest);
     if !(size.is_finite() && size > 0.0) {
         return None;
     }
     if layout == Layout::Coco17 {
         let face = (0..first.len())
             .map(|left_out| {
-                let others: Vec<[f64; 2]> = (0..first.len())
-                    .filter(|&i| i != left_out)
-                    .map(|i| first[i])
-                    .collect();
-                rms_radius(&others)
+                let mut others = [[0.0; 2]; 4];
+                for (slot, i) in others
+                    .iter_mut()
+                    .zip((0..first.len()).filter(|&i| i != left_out))
+                {
+                    *slot = first[i];
+                }
+                rms_radius(&others[..first.len() - 1])
             })
             .fold(f64::INFINITY, f64::min);
         let spread = face / size;
         (spread > COCO_FACE_SPREAD_MAX).then_some((Layout::H36m17, spread))
     } else {
-        let spread = rms_radius(&first) / size;
+        let spread = rms_radius(first) / size;
         (spread < H36M_HIPS_SPREAD_MIN).then_some((Layout::Coco17, spread))
     }
 }
