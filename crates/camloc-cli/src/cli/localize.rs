@@ -43,9 +43,11 @@ pub struct Args {
     #[arg(long, value_name = "OUT")]
     pub svg: Option<PathBuf>,
     /// Treat the input as the frames of a video: group the poses by person, order them by
-    /// frame and smooth the viewpoint over time (a hidden Markov model over the cameras).
-    /// Output (per frame, by person then frame) has the raw and the smoothed camera. Every
-    /// frame's 12 probabilities are kept until the end (not the poses).
+    /// frame and smooth the viewpoint over time (a hidden Markov model over the cameras, the
+    /// mean direction over 7 frames). Output (per frame, by person then frame) has the raw
+    /// and the smoothed camera and viewpoint; a person whose pose jumps across the image
+    /// (two people under one id) is warned of. Every frame's 12 probabilities are kept until
+    /// the end (not the poses).
     #[arg(long)]
     pub sequence: bool,
     /// With --sequence: refuse an input of more than N poses (each is kept until the end:

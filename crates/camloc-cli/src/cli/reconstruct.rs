@@ -115,7 +115,8 @@ pub struct Args {
     pub principal_point: Option<[f64; 2]>,
     /// Treat the input as the frames of a video: group the poses by person, order them by
     /// frame, and reconstruct each person's frames together: one set of bone lengths per
-    /// person, the depths chosen consistently over time, temporal smoothness. Output (per
+    /// person, the depths chosen consistently over time, temporal smoothness (a person whose
+    /// pose jumps across the image, two people under one id, is warned of). Output (per
     /// frame, by person then frame) as without it; the .npy rows stay in input order. Every
     /// pose is kept until its person is done (about 500 bytes a pose), and a person's frames
     /// take about 12 KB each while they are solved together (20,000 frames: about 250 MB).
