@@ -102,7 +102,12 @@ class Localizer:
         min_score: joints scoring below it are missing (finite, >= 0).
         sequence: the poses are one person's frames of a video, in time order (a row of NaN
           where the person was missed): the result also has each frame's camera and viewpoint
-          smoothed over the frames, as ``camloc localize --sequence`` gives them.
+          smoothed over the frames, as ``camloc localize --sequence`` gives them, and a
+          ``UserWarning`` says where the pose jumps across the image as one person cannot (rows
+          of several people). A row of NaN counts as a frame, where the command line skips a
+          frame number no record has: the smoothed probabilities can differ there.
+        A ``UserWarning`` says when most of the (first 20,000) poses have the head below both
+        ankles: points with v up (``camloc localize`` warns alike).
 
         Returns a dict:
           label (N,) int64: most probable camera, 1..12 (0 where the pose failed);
@@ -174,7 +179,8 @@ def reconstruct(
       ``UserWarning`` says where the pose jumps across the image or changes size as one person
       cannot from one row to the next (rows of several people: split them by the ``persons``
       of ``read_keypoints``). A row of NaN (nothing detected) gets the error "the pose has no
-      landmarks (nothing detected)".
+      landmarks (nothing detected)". Like ``Localizer.localize``, it warns when most poses
+      have the head below both ankles.
     camera_height: ``"from-input"`` (the camera heights estimated from the poses of this
       call), ``"any"`` or ``"eye-level"``, the prior over the camera's height the localizer
       applies (as ``Localizer(camera_height=...)``; the embedded depth lifter stays).
@@ -235,13 +241,14 @@ def smooth_viewpoints(
     azimuth_deg, elevation_deg (N,): each frame's viewpoint, e.g. ``Localizer.localize``'s
       ``azimuth_deg`` and ``elevation_deg`` of one person's rows in time order; NaN where the
       frame has none.
-    frames (N,): the frames' numbers (whole numbers from 0 to 2^53, increasing; default: 0,
-      1, 2, ...), so that frames far apart in time are not averaged.
+    frames (N,): the frames' numbers (whole numbers from 0 to 2^53, increasing: ValueError
+      otherwise; default: 0, 1, 2, ...), so that frames far apart in time are not averaged.
 
     Returns (azimuth_deg, elevation_deg), (N,) each, degrees (azimuth in [0, 360)); NaN where
     the frame had no viewpoint or the directions around it cancel (opposite views). Raises
     ValueError for arrays that are not one-dimensional or of different lengths, an elevation
-    outside [-90, 90], or frame numbers that are not whole numbers from 0 to 2^53. Smooth only consecutive frames of one camera: on a few frames sampled
+    outside [-90, 90] (an infinite azimuth is a frame without a viewpoint), or frame numbers
+    that are not whole numbers from 0 to 2^53 or do not increase. Smooth only consecutive frames of one camera: on a few frames sampled
     over a long clip it is worse than the frames' own viewpoints.
     """
 
@@ -280,7 +287,9 @@ def read_keypoints(
         others are still read); empty for a file.
 
     Raises OSError if the file cannot be read, CamlocError if it is malformed (the message
-    names the file and place), ValueError for bad options.
+    names the file and place), ValueError for bad options (also a ``layout`` the file's format
+    does not take: only ``.npy`` arrays and MMPose keypoints take one, other formats only their
+    own).
     """
 
 def to_bvh(

@@ -101,7 +101,7 @@ fn first_five(layout: Layout) -> &'static str {
 pub(crate) fn mismatch(layout: Layout, likely: Layout, spread: f64) -> String {
     let (measured, side, limit) = if layout == Layout::Coco17 {
         (
-            "face points but the most spread one",
+            "face points, leaving out the most spread one,",
             "over",
             COCO_FACE_SPREAD_MAX,
         )

@@ -18,6 +18,7 @@ mod localize;
 mod read;
 mod reconstruct;
 mod smooth;
+mod warnings;
 
 create_exception!(
     camloc,
@@ -27,7 +28,8 @@ create_exception!(
 );
 
 /// The Python exception for a camloc error: `OSError` when a file could not be opened or read,
-/// [`CamlocError`] otherwise, with the library's message.
+/// `ValueError` for a layout the file's format does not take, [`CamlocError`] otherwise, with
+/// the library's message.
 pub(crate) fn to_py_err(error: camloc::CamlocError) -> PyErr {
     use camloc::CamlocError as E;
     use camloc::keypoints::KeypointError;
@@ -36,6 +38,8 @@ pub(crate) fn to_py_err(error: camloc::CamlocError) -> PyErr {
         E::Keypoints(KeypointError::Io { .. }) | E::Store(StoreError::Io { .. }) => {
             PyOSError::new_err(error.to_string())
         }
+        // An option the file cannot take.
+        E::Keypoints(KeypointError::LayoutNotUsed { .. }) => value_error(error.to_string()),
         _ => CamlocError::new_err(error.to_string()),
     }
 }

@@ -4,16 +4,16 @@ use std::path::PathBuf;
 
 use camloc::store::Persist;
 use camloc::{
-    CameraHeight, CameraLocalizer, HEIGHT_SHARE_MAX_POSES, PoseReconstructor, SequenceModel,
-    default_basis, head_below_ankles, smooth_viewpoints, upside_down_warning,
+    CameraHeight, CameraLocalizer, HEIGHT_SHARE_MAX_POSES, PartialPose2, PoseReconstructor,
+    SequenceModel, default_basis, smooth_viewpoints,
 };
 use numpy::{PyArray1, PyArrayMethods};
-use pyo3::exceptions::PyUserWarning;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use rayon::prelude::*;
 
 use crate::arrays::{ArrayArg, Output, PoseBatch};
+use crate::warnings::{warn_if_upside_down, warn_of_identity_jumps};
 use crate::{to_py_err, value_error};
 
 /// Poses per parallel task: large enough that scheduling costs nothing next to the work.
@@ -57,25 +57,6 @@ pub(crate) fn parse_height(camera_height: &str) -> PyResult<(CameraHeight, bool)
         ))
     })?;
     Ok((height, false))
-}
-
-/// Warns (`UserWarning`) when most of the first [`HEIGHT_SHARE_MAX_POSES`] poses of `batch`
-/// have the head below both ankles (`camloc::upside_down_warning`, as the command line warns).
-pub(crate) fn warn_if_upside_down(py: Python<'_>, batch: &PoseBatch) -> PyResult<()> {
-    let (mut checked, mut below) = (0, 0);
-    for i in 0..batch.len().min(HEIGHT_SHARE_MAX_POSES) {
-        if let Some(b) = batch.pose(i).ok().and_then(|m| head_below_ankles(&m.pose)) {
-            checked += 1;
-            below += u64::from(b);
-        }
-    }
-    match upside_down_warning(checked, below) {
-        Some(warning) => {
-            let message = std::ffi::CString::new(warning).unwrap_or_default();
-            PyErr::warn(py, &py.get_type::<PyUserWarning>(), &message, 1)
-        }
-        None => Ok(()),
-    }
 }
 
 /// `localizer` under the shares of the camera heights among the first poses of `batch`
@@ -165,6 +146,16 @@ impl Localizer {
     ) -> PyResult<Bound<'py, PyDict>> {
         let batch = PoseBatch::new(&points, layout, scores.as_ref(), min_score)?;
         warn_if_upside_down(py, &batch)?;
+        if sequence {
+            let poses: Vec<PartialPose2> = (0..batch.len())
+                .map(|i| {
+                    batch
+                        .pose(i)
+                        .map_or_else(|_| PartialPose2::empty(), |m| m.pose)
+                })
+                .collect();
+            warn_of_identity_jumps(py, &poses)?;
+        }
         let n = batch.len();
         let k = self.inner.cameras().len();
         let estimated = self.from_input.then(|| for_poses(&self.inner, &batch));

@@ -8,16 +8,16 @@ use camloc::reconstruct::{BONE_KEYS, BoneLengths, Intrinsics, PoseBasis};
 use camloc::skeleton::{NUM_LANDMARKS, NUM_LIMBS};
 use camloc::store::Persist;
 use camloc::{
-    CameraHeight, CameraLocalizer, CamlocError, DepthLifter, ModeKind, PartialPose2, Pose3,
-    PoseReconstruction, PoseReconstructor, TorsoAnchor, identity_jumps,
+    CameraHeight, CameraLocalizer, CamlocError, DepthLifter, ModeKind, Pose3, PoseReconstruction,
+    PoseReconstructor,
 };
-use pyo3::exceptions::PyUserWarning;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyMapping};
 use rayon::prelude::*;
 
 use crate::arrays::{ArrayArg, Output, PoseBatch};
-use crate::localize::{Localizer, for_poses, parse_height, warn_if_upside_down};
+use crate::localize::{Localizer, for_poses, parse_height};
+use crate::warnings::{warn_if_upside_down, warn_of_identity_jumps};
 use crate::{to_py_err, value_error};
 
 /// The reconstructor on the embedded basis with the embedded default model, made once.
@@ -272,23 +272,4 @@ pub(crate) fn reconstruct<'py>(
     out.errors(errors)?;
     out.set("camera", mode.name())?;
     Ok(out.into_dict())
-}
-
-/// Warns (`UserWarning`) when the rows of a sequence jump across the image or change size as
-/// one person cannot (`camloc::identity_jumps`, as `camloc reconstruct --sequence` warns):
-/// rows of several people, or a detector's order of people that changed.
-fn warn_of_identity_jumps(py: Python<'_>, poses: &[PartialPose2]) -> PyResult<()> {
-    let anchors: Vec<Option<TorsoAnchor>> = poses.iter().map(TorsoAnchor::of).collect();
-    let jumps = identity_jumps(&[], &anchors);
-    let Some(first) = jumps.first() else {
-        return Ok(());
-    };
-    let message = format!(
-        "the pose jumps across the image or changes size from one row to the next at {} row(s) \
-         (first at row {first}): these may be several people, or not consecutive frames of a \
-         video; give one person's rows per call (read_keypoints gives each pose's person)",
-        jumps.len()
-    );
-    let message = std::ffi::CString::new(message).unwrap_or_default();
-    PyErr::warn(py, &py.get_type::<PyUserWarning>(), &message, 1)
 }

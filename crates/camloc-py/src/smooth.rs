@@ -62,10 +62,23 @@ pub(crate) fn smooth_viewpoints<'py>(
                     (f.is_finite() && f >= 0.0 && f.fract() == 0.0 && f <= 2f64.powi(53))
                         .then_some(Some(f as u64))
                         .ok_or_else(|| {
-                            value_error(format!("frames must be whole numbers >= 0, got {f}"))
+                            value_error(format!(
+                                "frames must be whole numbers from 0 to 2^53, got {f}"
+                            ))
                         })
                 })
-                .collect::<PyResult<_>>()?
+                .collect::<PyResult<Vec<Option<u64>>>>()
+                .and_then(
+                    |frames| match frames.windows(2).position(|w| w[1] <= w[0]) {
+                        Some(k) => Err(value_error(format!(
+                            "frames must increase, got {:?} then {:?} at {}",
+                            frames[k].unwrap_or_default(),
+                            frames[k + 1].unwrap_or_default(),
+                            k + 1
+                        ))),
+                        None => Ok(frames),
+                    },
+                )?
         }
     };
     let viewpoints: Vec<Option<(f64, f64)>> = azimuth

@@ -641,3 +641,14 @@ def test_a_sequence_is_smoothed_as_the_command_line_smooths_it(cli, localizer):
     empty = localizer.localize(np.full((3, 15, 2), np.nan), sequence=True)
     assert list(empty["smoothed_label"]) == [0, 0, 0]
     assert np.isnan(empty["smoothed_probability"]).all()
+
+
+def test_a_localized_sequence_that_jumps_between_people_warns():
+    pose = example_points()[0]
+    rows = np.stack([pose + [2.0 * t, 0.0] for t in range(6)])
+    with pytest.warns(UserWarning, match="jumps across the image"):
+        camloc.Localizer().localize(np.concatenate([rows, rows + [600.0, 0.0]]), sequence=True)
+    with pytest.raises(ValueError, match="frames must increase"):
+        camloc.smooth_viewpoints([1.0, 2.0, 3.0], [0.0, 0.0, 0.0], [10, 0, 11])
+    with pytest.raises(ValueError, match="layout"):
+        camloc.read_keypoints(KEYPOINTS / "example.json", layout="h36m17")
