@@ -111,8 +111,9 @@ pub fn pose_from_array(
         let kept = !row[0].is_nan() && row.get(2).is_none_or(|&score| keeps(score, options));
         kept.then_some([row[0], row[1]])
     };
-    // Only the 17-joint layouts are checked (on the stack: this runs for every pose).
-    if joints == 17 {
+    // Only the 17-joint layouts are checked (on the stack: this runs for every pose), and
+    // their points are mapped as checked.
+    let (mut pose, mut derived) = if joints == 17 {
         let mut points = [None; 17];
         let mut scores = [1.0; 17];
         for (j, row) in values.chunks_exact(channels).enumerate() {
@@ -127,9 +128,10 @@ pub fn pose_from_array(
                 spread,
             });
         }
-    }
-    let (mut pose, mut derived) =
-        map_joints(layout.joints(), values.chunks_exact(channels).map(point));
+        map_joints(layout.joints(), points)
+    } else {
+        map_joints(layout.joints(), values.chunks_exact(channels).map(point))
+    };
     if options.derive_torso {
         derived.extend(derive_torso(&mut pose));
         derived.sort_unstable();

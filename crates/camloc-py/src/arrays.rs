@@ -3,6 +3,7 @@
 
 use std::borrow::Cow;
 
+use camloc::PartialPose2;
 use camloc::keypoints::{ArrayPoseError, Layout, MappedPose, ReadOptions, pose_from_array};
 use numpy::{AllowTypeChange, PyArrayDyn, PyArrayLikeDyn, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::prelude::*;
@@ -108,6 +109,14 @@ impl<'a> PoseBatch<'a> {
     /// Number of poses N.
     pub(crate) fn len(&self) -> usize {
         self.poses
+    }
+
+    /// The first `count` poses (all, if fewer) mapped to the 15 landmarks, `None` where a
+    /// pose cannot be: what the height estimate and the warnings read.
+    pub(crate) fn leading_poses(&self, count: usize) -> Vec<Option<PartialPose2>> {
+        (0..self.len().min(count))
+            .map(|i| self.pose(i).ok().map(|m| m.pose))
+            .collect()
     }
 
     /// Pose `i` mapped to the 15 landmarks (NaN coordinates = missing joint).

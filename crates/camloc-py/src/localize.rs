@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use camloc::store::Persist;
 use camloc::{
     CameraHeight, CameraLocalizer, HEIGHT_SHARE_MAX_POSES, PartialPose2, PoseReconstructor,
-    SequenceModel, default_basis, smooth_viewpoints,
+    SequenceModel, default_basis,
 };
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::prelude::*;
@@ -13,6 +13,7 @@ use pyo3::types::{PyDict, PyList};
 use rayon::prelude::*;
 
 use crate::arrays::{ArrayArg, Output, PoseBatch};
+use crate::smooth::smoothed_columns;
 use crate::warnings::{warn_if_upside_down, warn_of_identity_jumps};
 use crate::{to_py_err, value_error};
 
@@ -59,13 +60,20 @@ pub(crate) fn parse_height(camera_height: &str) -> PyResult<(CameraHeight, bool)
     Ok((height, false))
 }
 
-/// `localizer` under the shares of the camera heights among the first poses of `batch`
-/// (`camloc::CameraLocalizer::estimate_height_shares`: at most `HEIGHT_SHARE_MAX_POSES`; too
-/// few that can be localized leave each pose on its own), as `camloc localize` estimates
-/// them from the first records of its input.
-pub(crate) fn for_poses(localizer: &CameraLocalizer, batch: &PoseBatch) -> CameraLocalizer {
-    let poses: Vec<_> = (0..batch.len().min(HEIGHT_SHARE_MAX_POSES))
-        .filter_map(|i| batch.pose(i).ok().map(|m| m.pose))
+/// `localizer` under the shares of the camera heights among the first poses of a call
+/// (`leading`: [`PoseBatch::leading_poses`], of which the first `HEIGHT_SHARE_MAX_POSES` that
+/// could be mapped are read; `camloc::CameraLocalizer::estimate_height_shares`: too few that
+/// can be localized leave each pose on its own), as `camloc localize` estimates them from the
+/// first records of its input.
+pub(crate) fn for_poses(
+    localizer: &CameraLocalizer,
+    leading: &[Option<PartialPose2>],
+) -> CameraLocalizer {
+    let poses: Vec<PartialPose2> = leading
+        .iter()
+        .take(HEIGHT_SHARE_MAX_POSES)
+        .flatten()
+        .copied()
         .collect();
     let estimate = localizer.estimate_height_shares(&poses);
     localizer
@@ -145,20 +153,19 @@ impl Localizer {
         sequence: bool,
     ) -> PyResult<Bound<'py, PyDict>> {
         let batch = PoseBatch::new(&points, layout, scores.as_ref(), min_score)?;
-        warn_if_upside_down(py, &batch)?;
+        // Mapped once for the warnings and the height estimate: a sequence's every pose.
+        let leading = batch.leading_poses(if sequence {
+            batch.len()
+        } else {
+            HEIGHT_SHARE_MAX_POSES
+        });
+        warn_if_upside_down(py, &leading)?;
         if sequence {
-            let poses: Vec<PartialPose2> = (0..batch.len())
-                .map(|i| {
-                    batch
-                        .pose(i)
-                        .map_or_else(|_| PartialPose2::empty(), |m| m.pose)
-                })
-                .collect();
-            warn_of_identity_jumps(py, &poses)?;
+            warn_of_identity_jumps(py, leading.iter().map(|p| p.as_ref()))?;
         }
         let n = batch.len();
         let k = self.inner.cameras().len();
-        let estimated = self.from_input.then(|| for_poses(&self.inner, &batch));
+        let estimated = self.from_input.then(|| for_poses(&self.inner, &leading));
         let (localizer, filler) = (
             estimated.as_ref().unwrap_or(&self.inner),
             self.filler.as_ref(),
@@ -213,8 +220,9 @@ impl Localizer {
         });
         let column =
             |c: usize| -> Vec<f64> { viewpoint.iter().skip(c).step_by(3).copied().collect() };
+        let (azimuth, elevation) = (column(0), column(1));
         let smoothed = if sequence {
-            Some(self.smoothed(&label, &probabilities, &viewpoint)?)
+            Some(self.smoothed(&label, &probabilities, (&azimuth, &elevation))?)
         } else {
             None
         };
@@ -223,8 +231,8 @@ impl Localizer {
         out.array("folded_label", folded, &[])?;
         out.array("probability", probability, &[])?;
         out.array("probabilities", probabilities, &[k])?;
-        out.array("azimuth_deg", column(0), &[])?;
-        out.array("elevation_deg", column(1), &[])?;
+        out.array("azimuth_deg", azimuth, &[])?;
+        out.array("elevation_deg", elevation, &[])?;
         out.array("uncertainty_deg", column(2), &[])?;
         if let Some(Smoothed {
             label,
@@ -273,7 +281,7 @@ impl Localizer {
         &self,
         label: &[i64],
         probabilities: &[f64],
-        viewpoint: &[f64],
+        (azimuth, elevation): (&[f64], &[f64]),
     ) -> PyResult<Smoothed> {
         let n = label.len();
         let k = self.inner.cameras().len();
@@ -288,11 +296,7 @@ impl Localizer {
         } else {
             Vec::new()
         };
-        let views: Vec<Option<(f64, f64)>> = viewpoint
-            .chunks_exact(3)
-            .map(|v| (v[0].is_finite() && v[1].is_finite()).then_some((v[0], v[1])))
-            .collect();
-        let directions = smooth_viewpoints(&vec![None; n], &views);
+        let (azimuth_deg, elevation_deg) = smoothed_columns(&vec![None; n], azimuth, elevation);
         Ok(Smoothed {
             label: (0..n)
                 .map(|i| cameras.get(i).map_or(0, |s| i64::from(s.label.get())))
@@ -300,14 +304,8 @@ impl Localizer {
             probability: (0..n)
                 .map(|i| cameras.get(i).map_or(f64::NAN, |s| s.probability))
                 .collect(),
-            azimuth_deg: directions
-                .iter()
-                .map(|d| d.map_or(f64::NAN, |d| d.0))
-                .collect(),
-            elevation_deg: directions
-                .iter()
-                .map(|d| d.map_or(f64::NAN, |d| d.1))
-                .collect(),
+            azimuth_deg,
+            elevation_deg,
         })
     }
 }

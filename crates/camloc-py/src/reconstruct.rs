@@ -8,8 +8,8 @@ use camloc::reconstruct::{BONE_KEYS, BoneLengths, Intrinsics, PoseBasis};
 use camloc::skeleton::{NUM_LANDMARKS, NUM_LIMBS};
 use camloc::store::Persist;
 use camloc::{
-    CameraHeight, CameraLocalizer, CamlocError, DepthLifter, ModeKind, Pose3, PoseReconstruction,
-    PoseReconstructor,
+    CameraHeight, CameraLocalizer, CamlocError, DepthLifter, HEIGHT_SHARE_MAX_POSES, ModeKind,
+    Pose3, PoseReconstruction, PoseReconstructor,
 };
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyMapping};
@@ -101,7 +101,9 @@ pub(crate) fn reconstruct<'py>(
             ))
         })?;
     let batch = PoseBatch::new(&points, layout, scores.as_ref(), min_score)?;
-    warn_if_upside_down(py, &batch)?;
+    // Mapped once for the warning and the height estimate.
+    let leading = batch.leading_poses(HEIGHT_SHARE_MAX_POSES);
+    warn_if_upside_down(py, &leading)?;
     let mut reconstructor = match basis {
         Some(path) => PoseBasis::load(&path)
             .map_err(CamlocError::from)
@@ -143,7 +145,7 @@ pub(crate) fn reconstruct<'py>(
         && mode != ModeKind::Opt
         && let Some(localizer) = reconstructor.localizer()
     {
-        let estimated = for_poses(localizer, &batch);
+        let estimated = for_poses(localizer, &leading);
         reconstructor = reconstructor.with_localizer(estimated);
     }
     let mut reconstructor = reconstructor
@@ -169,7 +171,7 @@ pub(crate) fn reconstruct<'py>(
             .map(|i| batch.pose(i).map(|m| m.pose))
             .collect::<Result<Vec<_>, _>>()
             .map_err(|e| value_error(e.to_string()))?;
-        warn_of_identity_jumps(py, &poses)?;
+        warn_of_identity_jumps(py, poses.iter().map(Some))?;
         let solved = py
             .detach(|| reconstructor.reconstruct_sequence(&poses))
             .map_err(to_py_err)?;

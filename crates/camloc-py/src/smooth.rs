@@ -81,17 +81,28 @@ pub(crate) fn smooth_viewpoints<'py>(
                 )?
         }
     };
+    let (azimuth, elevation) = smoothed_columns(&frames, &azimuth, &elevation);
+    Ok((
+        PyArray1::from_vec(py, azimuth),
+        PyArray1::from_vec(py, elevation),
+    ))
+}
+
+/// [`camloc::smooth_viewpoints`] of per-frame `azimuth` and `elevation` (degrees; a frame with
+/// a non-finite one has no viewpoint) at frame numbers `frames`, as azimuth and elevation
+/// columns, NaN where a frame has no smoothed viewpoint.
+pub(crate) fn smoothed_columns(
+    frames: &[Option<u64>],
+    azimuth: &[f64],
+    elevation: &[f64],
+) -> (Vec<f64>, Vec<f64>) {
     let viewpoints: Vec<Option<(f64, f64)>> = azimuth
         .iter()
-        .zip(elevation.iter())
+        .zip(elevation)
         .map(|(&a, &e)| (a.is_finite() && e.is_finite()).then_some((a, e)))
         .collect();
-    let smoothed = camloc::smooth_viewpoints(&frames, &viewpoints);
-    let column = |pick: fn((f64, f64)) -> f64| -> Vec<f64> {
-        smoothed.iter().map(|v| v.map_or(f64::NAN, pick)).collect()
-    };
-    Ok((
-        PyArray1::from_vec(py, column(|v| v.0)),
-        PyArray1::from_vec(py, column(|v| v.1)),
-    ))
+    camloc::smooth_viewpoints(frames, &viewpoints)
+        .into_iter()
+        .map(|v| v.unwrap_or((f64::NAN, f64::NAN)))
+        .unzip()
 }

@@ -27,6 +27,7 @@ use camloc_skeleton::Pose2;
 use serde::{Deserialize, Serialize};
 
 use crate::length_prior::LengthWidening;
+use crate::pursuit::rms_radius;
 use crate::{BoneLengths, ReconstructError};
 
 pub(crate) use run::{LengthInput, RefineFrame, RefinedFrame, refine};
@@ -257,16 +258,7 @@ impl Intrinsics {
     /// [`ReconstructError::ScaleMismatch`] for a smaller pose (normalised coordinates with a
     /// focal length in pixels).
     pub fn check_pose(&self, pose: &Pose2) -> Result<(), ReconstructError> {
-        let n = pose.points.len() as f64;
-        let mean: [f64; 2] =
-            std::array::from_fn(|k| pose.points.iter().map(|p| p[k]).sum::<f64>() / n);
-        let spread = (pose
-            .points
-            .iter()
-            .map(|p| (p[0] - mean[0]).powi(2) + (p[1] - mean[1]).powi(2))
-            .sum::<f64>()
-            / n)
-            .sqrt();
+        let spread = rms_radius(&pose.points);
         if spread < MIN_POSE_SPREAD_PER_FOCAL * self.focal_px {
             return Err(ReconstructError::ScaleMismatch {
                 spread,

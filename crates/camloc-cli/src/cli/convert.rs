@@ -10,7 +10,7 @@ use clap::ValueEnum;
 
 use super::input::Inputs;
 use super::output::{NpyStage, RowFile};
-use super::stream::{Summary, counted, report_pose_error};
+use super::stream::{Summary, counted, nothing_detected, report_pose_error};
 use super::{CliError, EXIT_ERROR, InputArgs, Out, ProgressArgs, progress, targets};
 
 /// camloc's own keypoint formats.
@@ -73,7 +73,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         match item {
             Ok(record) => {
                 summary.poses += 1;
-                if record.pose.points.iter().all(Option::is_none) {
+                if nothing_detected(&record.pose) {
                     empty += 1;
                     let message = "no landmark (every joint missing); written as such";
                     report_pose_error(&bar, &record.id, &record.source, message);

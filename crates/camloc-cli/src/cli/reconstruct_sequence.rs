@@ -240,16 +240,14 @@ pub fn run(
                     }
                 }
                 Err(message) => {
-                    let message = if nothing_detected(&k.pose) {
+                    if nothing_detected(&k.pose) {
                         summary.undetected += 1;
-                        message
                     } else {
                         summary.failed_poses += 1;
                         if !whole_failed {
                             report_pose_error(bar, &k.id, &k.source, &message);
                         }
-                        message
-                    };
+                    }
                     if format.is_json() {
                         let object = ErrorJson {
                             id: Some(&k.id),

@@ -145,7 +145,7 @@ pub struct Summary {
 
 /// Whether `pose` has no landmark at all.
 pub fn nothing_detected(pose: &camloc::PartialPose2) -> bool {
-    pose.points.iter().all(Option::is_none)
+    pose.present_mask() == 0
 }
 
 impl Summary {

@@ -95,7 +95,7 @@ pub(super) fn centroid(points: &[[f64; 2]]) -> [f64; 2] {
 }
 
 /// Root-mean-square distance of `points` from their centroid (their units).
-pub(super) fn rms_radius(points: &[[f64; 2]]) -> f64 {
+pub(crate) fn rms_radius(points: &[[f64; 2]]) -> f64 {
     let n = points.len() as f64;
     let centre = centroid(points);
     let sum: f64 = points
