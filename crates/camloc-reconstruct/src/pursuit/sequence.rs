@@ -137,16 +137,7 @@ impl Reconstructor {
                     ..*settings
                 };
                 let (_, lengths) = refine(&inputs, self.length_input(given), &plain, true)?;
-                let pursuit_inputs: Vec<_> = chosen
-                    .iter()
-                    .map(|(t, r, c)| self.refine_frame(&r.obs, c, given, None, imputed_of(*t)))
-                    .collect();
-                let second = if std::env::var("SEQPOSE").is_ok() {
-                    &pursuit_inputs
-                } else {
-                    &inputs
-                };
-                let (refined, _) = refine(second, LengthInput::Given(lengths), settings, true)?;
+                let (refined, _) = refine(&inputs, LengthInput::Given(lengths), settings, true)?;
                 (refined, lengths)
             } else {
                 refine(&inputs, self.length_input(given), settings, true)?
