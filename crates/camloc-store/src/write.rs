@@ -9,6 +9,7 @@ use std::path::{Path, PathBuf};
 use tempfile::TempPath;
 
 use crate::StoreError;
+use crate::unfinished::{Listed, moving};
 
 /// Checks what is at `path` against the one rule for output targets:
 ///
@@ -64,7 +65,8 @@ pub fn check_target(path: &Path, overwrite: bool) -> Result<(), StoreError> {
 /// file is removed).
 pub fn write_new(path: &Path, bytes: &[u8], overwrite: bool) -> Result<(), StoreError> {
     check_target(path, overwrite)?;
-    let tmp = temporary(path, |w| w.write_all(bytes))?;
+    let (tmp, _listed) = temporary(path, |w| w.write_all(bytes))?;
+    let _moving = moving();
     persist(tmp, path, overwrite)
 }
 
@@ -90,7 +92,7 @@ pub fn scratch_beside(target: &Path) -> Result<File, StoreError> {
 #[derive(Debug)]
 pub struct StagedFiles {
     overwrite: bool,
-    files: Vec<(TempPath, PathBuf)>,
+    files: Vec<(TempPath, Listed, PathBuf)>,
 }
 
 impl StagedFiles {
@@ -121,8 +123,8 @@ impl StagedFiles {
         target: &Path,
         write: impl FnOnce(&mut BufWriter<&File>) -> io::Result<()>,
     ) -> Result<usize, StoreError> {
-        let tmp = temporary(target, write)?;
-        self.files.push((tmp, target.to_path_buf()));
+        let (tmp, listed) = temporary(target, write)?;
+        self.files.push((tmp, listed, target.to_path_buf()));
         Ok(self.files.len() - 1)
     }
 
@@ -130,7 +132,7 @@ impl StagedFiles {
     /// as the one it was staged for (e.g. a single drawing is not numbered, which is known
     /// only at the end). An unknown `at` changes nothing.
     pub fn retarget(&mut self, at: usize, target: &Path) {
-        if let Some((_, old)) = self.files.get_mut(at) {
+        if let Some((_, _, old)) = self.files.get_mut(at) {
             *old = target.to_path_buf();
         }
     }
@@ -144,12 +146,14 @@ impl StagedFiles {
     /// failure to move a file ([`StoreError::Exists`] when a file appeared at a target without
     /// `overwrite`, [`StoreError::Io`] otherwise).
     pub fn commit(self) -> Result<Vec<PathBuf>, StoreError> {
-        for (_, target) in &self.files {
+        for (_, _, target) in &self.files {
             check_target(target, self.overwrite)?;
         }
+        // An interrupt waits for the moves (and a roll-back) to end.
+        let _moving = moving();
         // (target, the previous file moved aside) for each file moved into place.
         let mut done: Vec<(PathBuf, Option<TempPath>)> = Vec::new();
-        for (tmp, target) in self.files {
+        for (tmp, _listed, target) in self.files {
             match place(tmp, &target, self.overwrite) {
                 Ok(backup) => done.push((target, backup)),
                 Err(e) => {
@@ -205,11 +209,12 @@ fn move_aside(target: &Path) -> Result<Option<TempPath>, StoreError> {
     Ok(Some(backup))
 }
 
-/// A temporary file beside `target` holding what `write` wrote, flushed to disk and closed.
+/// A temporary file beside `target` holding what `write` wrote, flushed to disk and closed,
+/// and its place on the list of unfinished files (`unfinished.rs`).
 fn temporary(
     target: &Path,
     write: impl FnOnce(&mut BufWriter<&File>) -> io::Result<()>,
-) -> Result<TempPath, StoreError> {
+) -> Result<(TempPath, Listed), StoreError> {
     let io = |e| io_error(target, e);
     let prefix = hidden_prefix(target);
     let mut builder = tempfile::Builder::new();
@@ -218,12 +223,12 @@ fn temporary(
     // owner-only mode temporary files get by default.
     #[cfg(unix)]
     builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
-    let tmp = builder.tempfile_in(folder(target)).map_err(io)?;
+    let (tmp, listed) = Listed::create(|| builder.tempfile_in(folder(target))).map_err(io)?;
     let mut out = BufWriter::new(tmp.as_file());
     write(&mut out).map_err(io)?;
     out.into_inner().map_err(|e| io(e.into_error()))?;
     tmp.as_file().sync_all().map_err(io)?;
-    Ok(tmp.into_temp_path())
+    Ok((tmp.into_temp_path(), listed))
 }
 
 /// Renames `tmp` onto `target`: replacing what is there with `overwrite`, otherwise only if

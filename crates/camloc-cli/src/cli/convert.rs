@@ -93,6 +93,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     if summary.poses == 0 && summary.failed_files == 0 {
         return Err(inputs.no_poses());
     }
+    inputs.check_read_to_end(summary.failed_files)?;
     match npy {
         Some(npy) => npy.finish(&mut staged)?,
         None => {

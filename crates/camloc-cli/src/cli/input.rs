@@ -29,6 +29,8 @@ pub struct Inputs {
     options: ReadOptions,
     /// Whether the input is a folder read without `--recursive` that has sub-folders.
     unread_folders: bool,
+    /// Whether the input is a folder (else one file or standard input).
+    folder: bool,
 }
 
 impl Inputs {
@@ -44,6 +46,7 @@ impl Inputs {
             format: args.format,
             options,
             unread_folders: false,
+            folder: false,
         };
         if args.input == Path::new("-") {
             inputs.name = STDIN_NAME.to_owned();
@@ -53,6 +56,7 @@ impl Inputs {
             inputs.current = Some(stream);
         } else if args.input.is_dir() {
             inputs.name = args.input.display().to_string();
+            inputs.folder = true;
             inputs.files = keypoint_files(&args.input, args.recursive)?.into_iter();
             inputs.unread_folders = !args.recursive
                 && std::fs::read_dir(&args.input).is_ok_and(|entries| {
@@ -85,6 +89,17 @@ impl Inputs {
             ""
         };
         CliError::NoPoses(self.name.clone(), hint)
+    }
+
+    /// [`CliError::NotReadToEnd`] when this input is one file or standard input and
+    /// `failed_files` (its read errors, each reported already) is not 0: its output files
+    /// would pass for the whole input's (a cut-off file's rows end early, unmarked), so the
+    /// run writes none. A folder's other files are still written (docs/cli.md).
+    pub fn check_read_to_end(&self, failed_files: u64) -> Result<(), CliError> {
+        if failed_files > 0 && !self.folder {
+            return Err(CliError::NotReadToEnd(self.name.clone()));
+        }
+        Ok(())
     }
 
     /// How the input is named in messages (`no poses in NAME`).

@@ -5,7 +5,7 @@ use std::process::ExitCode;
 
 use camloc::dataset::Dataset;
 use camloc::keypoints::{ImageSize, Invisible, KeypointError, KeypointFormat, Layout, ReadOptions};
-use camloc::store::{Persist, StoreError};
+use camloc::store::{Persist, StagedFiles, StoreError};
 use camloc::{
     CameraHeight, CameraLocalizer, CamlocError, DepthLifter, Localization, PartialPose2,
     PoseReconstructor, default_basis,
@@ -47,6 +47,7 @@ const EXIT_CODES: &str = "Exit codes:
      reconstruct, convert) at least one pose or file of a folder that could not be processed
   2  usage error: unknown subcommand or option, missing or invalid argument, two
      outputs at one file
+  130  interrupted (Ctrl-C, SIGTERM, SIGHUP); its unfinished output files are removed
 
 An input with no pose at all (an empty pose list, a header-only CSV, an empty .npy array, a
 folder without poses, a dataset without samples) is an error: \"no poses in INPUT\", exit 1.";
@@ -133,6 +134,13 @@ pub enum CliError {
     /// A file made at the end of a run (`--bvh`) could not be made.
     #[error("{0}")]
     Export(String),
+    /// The input, one file or standard input, could not be read to its end (the error was
+    /// reported): no output file is written.
+    #[error(
+        "{} could not be read to its end (the error above); no output file was written",
+        camloc::store::quoted_path(Path::new(.0))
+    )]
+    NotReadToEnd(String),
     /// The input holds no pose at all (the rule for empty inputs, see `camloc --help`).
     #[error("no poses in {}{}", camloc::store::quoted_path(Path::new(.0)), .1)]
     NoPoses(String, &'static str),
@@ -442,7 +450,8 @@ impl Locator<'_> {
 }
 
 /// Path of the SVG for pose `index` of `count`: `out` itself for one pose, else
-/// `out` with `-NNN` before the extension.
+/// `out` with `-NNN` before the extension, the number padded with zeros to three digits or
+/// to as many as `count` has (`-0001` ... `-2000`), so that the names sort in number order.
 pub fn numbered_path(out: &Path, index: usize, count: usize) -> PathBuf {
     if count <= 1 {
         return out.to_path_buf();
@@ -453,5 +462,45 @@ pub fn numbered_path(out: &Path, index: usize, count: usize) -> PathBuf {
     let ext = out
         .extension()
         .map_or_else(|| "svg".to_string(), |e| e.to_string_lossy().into_owned());
-    out.with_file_name(format!("{stem}-{:03}.{ext}", index + 1))
+    let width = count.to_string().len().max(3);
+    out.with_file_name(format!("{stem}-{:0width$}.{ext}", index + 1))
+}
+
+/// Gives the files of `out` staged as they were computed (`drawn`: the pose's index and the
+/// staged file's number, named by [`numbered_path`] for 2 poses, as the count is known only
+/// at the end) their names for `count` poses: `out` itself for one pose, wider numbers past
+/// 999.
+pub fn rename_numbered(
+    staged: &mut StagedFiles,
+    out: &Path,
+    drawn: &[(usize, usize)],
+    count: usize,
+) {
+    if count == 1 {
+        if let Some(&(0, at)) = drawn.first() {
+            staged.retarget(at, out);
+        }
+    } else if count > 999 {
+        for &(index, at) in drawn {
+            staged.retarget(at, &numbered_path(out, index, count));
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbered_names_sort_in_number_order() {
+        let out = Path::new("d/v.svg");
+        assert_eq!(numbered_path(out, 0, 1), out);
+        assert_eq!(numbered_path(out, 0, 2), Path::new("d/v-001.svg"));
+        assert_eq!(numbered_path(out, 998, 999), Path::new("d/v-999.svg"));
+        assert_eq!(numbered_path(out, 0, 1000), Path::new("d/v-0001.svg"));
+        assert_eq!(numbered_path(out, 1999, 2000), Path::new("d/v-2000.svg"));
+        let names: Vec<PathBuf> = (0..1200).map(|i| numbered_path(out, i, 1200)).collect();
+        assert!(names.windows(2).all(|w| w[0] < w[1]));
+        assert_eq!(numbered_path(Path::new("v"), 2, 3), Path::new("v-003.svg"));
+    }
 }

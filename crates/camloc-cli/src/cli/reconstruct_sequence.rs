@@ -79,17 +79,20 @@ pub fn run(
     options: Options,
     bar: &ProgressBar,
 ) -> Result<ExitCode, CliError> {
+    // The numbered outputs' targets, looked at again after the run (`warn_left_over`).
+    let mut numbered = Vec::new();
     if let Some(svg) = options.svg {
-        super::targets::check_numbered(svg, "svg", options.force)?;
+        numbered.extend(super::targets::check_numbered(svg, "svg", options.force)?);
     }
     if let Some(path) = options.npy {
         check_target(path, options.force)?;
     }
     if let Some(path) = options.lengths_out {
-        super::targets::check_numbered(path, "json", options.force)?;
+        numbered.extend(super::targets::check_numbered(path, "json", options.force)?);
     }
     for path in options.finish.iter().flat_map(|(paths, _)| paths) {
         check_target(path, options.force)?;
+        numbered.push(path.clone());
     }
     let keeps = options.finish.is_some();
     check_kept_input(keeps, &inputs)?;
@@ -114,6 +117,7 @@ pub fn run(
     if summary.poses == 0 && summary.failed_files == 0 {
         return Err(inputs.no_poses());
     }
+    inputs.check_read_to_end(summary.failed_files)?;
     let keys: Vec<_> = kept.iter().map(|k| (k.frame, k.person)).collect();
     super::sequence::warn_of_repeated_frames(&keys);
     let groups = sequences(&keys);
@@ -121,7 +125,7 @@ pub fn run(
     let mut rows: Vec<Option<Pose3>> =
         vec![None; if options.npy.is_some() { kept.len() } else { 0 }];
     let mut exported: Vec<Kept> = Vec::new();
-    // The staged drawings: (number, staged file).
+    // The staged drawings: (pose index, staged file).
     let mut drawn: Vec<(usize, usize)> = Vec::new();
     for (n, (person, members)) in groups.iter().enumerate() {
         let poses: Vec<PartialPose2> = members.iter().map(|&i| kept[i].pose).collect();
@@ -293,14 +297,15 @@ pub fn run(
         }
         npy.finish(&mut staged)?;
     }
-    if let (Some(svg), Some(&(0, at)), 1) = (options.svg, drawn.first(), kept.len()) {
-        staged.retarget(at, svg);
+    if let Some(svg) = options.svg {
+        super::rename_numbered(&mut staged, svg, &drawn, kept.len());
     }
     if let Some((_, finish)) = options.finish {
         for (path, bytes) in finish(exported)? {
             staged.add(&path, &bytes)?;
         }
     }
-    staged.commit()?;
+    let written = staged.commit()?;
+    super::targets::warn_left_over(&numbered, &written);
     Ok(summary.exit_code("reconstructed"))
 }

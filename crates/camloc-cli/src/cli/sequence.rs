@@ -100,10 +100,11 @@ struct FrameJson<'a> {
     label: Option<CameraLabel>,
     #[serde(skip_serializing_if = "Option::is_none")]
     probability: Option<f64>,
+    /// Single precision, as each frame keeps it (about 1e-5 deg), and printed as such.
     #[serde(skip_serializing_if = "Option::is_none")]
-    azimuth_deg: Option<f64>,
+    azimuth_deg: Option<f32>,
     #[serde(skip_serializing_if = "Option::is_none")]
-    elevation_deg: Option<f64>,
+    elevation_deg: Option<f32>,
     #[serde(skip_serializing_if = "Option::is_none")]
     error: Option<&'a str>,
     smoothed_label: Option<CameraLabel>,
@@ -147,8 +148,10 @@ pub fn run(
         check_target(html, force)?;
     }
     let mut views: Vec<ViewFrame> = Vec::new();
+    // The timelines' targets, looked at again after the run (`warn_left_over`).
+    let mut numbered = Vec::new();
     if let Some(svg) = svg_out {
-        super::targets::check_numbered(svg, "svg", force)?;
+        numbered = super::targets::check_numbered(svg, "svg", force)?;
     }
     if let Some(summary) = summary_out {
         check_target(summary, force)?;
@@ -220,6 +223,7 @@ pub fn run(
     if summary.poses == 0 && summary.failed_files == 0 {
         return Err(inputs.no_poses());
     }
+    inputs.check_read_to_end(summary.failed_files)?;
     let model = SequenceModel::with_default_switch(localizer.cameras());
     let keys: Vec<_> = frames.iter().map(|f| (f.frame, f.person)).collect();
     warn_of_repeated_frames(&keys);
@@ -301,7 +305,8 @@ pub fn run(
     }
     emit.end(out)?;
     out.flush()?;
-    staged.commit()?;
+    let written = staged.commit()?;
+    super::targets::warn_left_over(&numbered, &written);
     Ok(summary.exit_code("localized"))
 }
 
@@ -354,7 +359,8 @@ pub fn warn_of_identity_jumps(
         "camloc: warning: person {person}: the pose jumps across the image or changes size \
          from one frame to the next at {} (first at {at}): these may be several people \
          (the detector's order of people changed?), or not consecutive frames of a video; \
-         give each person an id (`person` in camloc JSON, `track_id` in COCO or MMPose)",
+         several people need an id each (`person` in camloc JSON, `track_id` in COCO or \
+         MMPose)",
         counted(jumps.len() as u64, "frame")
     );
 }
@@ -376,8 +382,8 @@ fn frame_output(
             person: frame.person,
             label: raw.map(|r| r.0),
             probability: raw.map(|r| r.1),
-            azimuth_deg: frame.viewpoint.map(|v| f64::from(v[0])),
-            elevation_deg: frame.viewpoint.map(|v| f64::from(v[1])),
+            azimuth_deg: frame.viewpoint.map(|v| v[0]),
+            elevation_deg: frame.viewpoint.map(|v| v[1]),
             error: frame.result.as_ref().err().map(|&n| failures.message(n)),
             smoothed_label: s.map(|s| s.label),
             smoothed_probability: s.map(|s| s.probability),

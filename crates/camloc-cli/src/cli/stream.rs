@@ -284,9 +284,31 @@ impl Emitter {
     }
 }
 
-/// Prints that the pose `id` (at `source`) failed with `message` on standard error, above the
-/// progress bar: one line, the id and source quoted as messages quote user text.
+/// How many poses' errors are written on standard error one by one; the rest are only
+/// counted (in the end's summary, and in the JSON outputs' error objects): a detector's dump
+/// with 100,000 failed poses would otherwise write 100,000 lines.
+pub const POSE_ERRORS_SHOWN: u64 = 20;
+
+/// The number of poses' errors [`report_pose_error`] was given so far in this run.
+static POSE_ERRORS: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+
+/// Reports on standard error, above the progress bar, that pose `id` of `source` failed with
+/// `message` (quoted and escaped: ids and names come from the input); after
+/// [`POSE_ERRORS_SHOWN`] errors, one line says that the rest are only counted.
 pub fn report_pose_error(bar: &ProgressBar, id: &str, source: &str, message: &str) {
+    let seen = POSE_ERRORS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    if seen > POSE_ERRORS_SHOWN {
+        return;
+    }
+    if seen == POSE_ERRORS_SHOWN {
+        bar.suspend(|| {
+            eprintln!(
+                "camloc: further poses that could not be processed are not listed; their count \
+                 is at the end (--json and --jsonl give each one's error)"
+            )
+        });
+        return;
+    }
     let (id, source) = (quoted(id), quoted_path(Path::new(source)));
     let message = escaped(message);
     bar.suspend(|| eprintln!("camloc: error: {id} ({source}): {message}"));
@@ -331,10 +353,12 @@ where
     K: Send,
     F: Fn(&KeypointRecord) -> Result<Done<P, K>, Failed<K>> + Sync,
 {
-    let svg_single = files.svg.clone();
-    // Refuse existing outputs before any work (checked again when the files are moved in place).
+    let svg_out = files.svg.clone();
+    // Refuse existing outputs before any work (checked again when the files are moved in
+    // place); the numbered ones are looked at again after the run (`warn_left_over`).
+    let mut numbered = Vec::new();
     if let Some(svg) = &files.svg {
-        super::targets::check_numbered(svg, "svg", files.force)?;
+        numbered = super::targets::check_numbered(svg, "svg", files.force)?;
     }
     if let Some(rows) = &files.rows {
         check_target(rows.target(), files.force)?;
@@ -344,6 +368,7 @@ where
     }
     for path in files.finish.iter().flat_map(|(paths, _)| paths) {
         check_target(path, files.force)?;
+        numbered.push(path.clone());
     }
     check_kept_input(files.finish.is_some(), &inputs)?;
     let mut kept = Vec::new();
@@ -352,7 +377,8 @@ where
     let has_files =
         files.svg.is_some() || rows.is_some() || files.summary.is_some() || files.finish.is_some();
     let mut summary = Summary::default();
-    let mut first_svg = None;
+    // The staged drawings: (pose index, staged file).
+    let mut drawn: Vec<(usize, usize)> = Vec::new();
     let mut emitter = Emitter::new(format);
     // Three stages overlap: one thread reads the next batch, another processes the one before
     // it (on every core), and this one writes the results of the one before that.
@@ -419,10 +445,7 @@ where
                         emitter.write(out, &done.text)?;
                         if let (Some(svg), Some(drawing)) = (&files.svg, &done.svg) {
                             let path = numbered_path(svg, index as usize, 2);
-                            let at = staged.add(&path, drawing.as_bytes())?;
-                            if index == 0 {
-                                first_svg = Some(at);
-                            }
+                            drawn.push((index as usize, staged.add(&path, drawing.as_bytes())?));
                         }
                         if let Some(rows) = &mut rows {
                             rows.push(record, done.row.as_ref())?;
@@ -461,6 +484,7 @@ where
     if summary.poses == 0 && summary.failed_files == 0 {
         return Err(inputs.no_poses());
     }
+    inputs.check_read_to_end(summary.failed_files)?;
     emitter.end(out)?;
     out.flush()?;
     if let Some(rows) = rows {
@@ -469,15 +493,16 @@ where
     if let Some((path, draw)) = &files.summary {
         staged.add(path, draw().as_bytes())?;
     }
-    if let (Some(at), Some(svg), 1) = (first_svg, &svg_single, summary.poses) {
-        staged.retarget(at, svg);
+    if let Some(svg) = &svg_out {
+        super::rename_numbered(&mut staged, svg, &drawn, summary.poses as usize);
     }
     if let Some((_, finish)) = files.finish {
         for (path, bytes) in finish(kept)? {
             staged.add(&path, &bytes)?;
         }
     }
-    staged.commit()?;
+    let written = staged.commit()?;
+    super::targets::warn_left_over(&numbered, &written);
     Ok(summary)
 }
 

@@ -248,12 +248,50 @@ pub fn numbered_targets(out: &Path, ext: &str) -> Vec<PathBuf> {
 }
 
 /// Refuses, before any work, an existing file among the [`numbered_targets`] of `out` (as
-/// [`check_target`] does: without `force`, or a folder or device even with it).
-pub fn check_numbered(out: &Path, ext: &str, force: bool) -> Result<(), CliError> {
-    for path in numbered_targets(out, ext) {
-        check_target(&path, force)?;
+/// [`check_target`] does: without `force`, or a folder or device even with it); returns
+/// those targets, for [`warn_left_over`].
+pub fn check_numbered(out: &Path, ext: &str, force: bool) -> Result<Vec<PathBuf>, CliError> {
+    let targets = numbered_targets(out, ext);
+    for path in &targets {
+        check_target(path, force)?;
     }
-    Ok(())
+    Ok(targets)
+}
+
+/// Warns on standard error of the files among `checked` (targets checked before the run,
+/// which [`numbered_targets`] lists with every existing numbered file) that the run did not
+/// replace (not in `written`) and that still exist: with `--force`, a run of 500 poses leaves
+/// an earlier run's `OUT-501` ... `OUT-2000` beside its own, which would pass for one result.
+pub fn warn_left_over(checked: &[PathBuf], written: &[PathBuf]) {
+    let written: std::collections::HashSet<PathBuf> = written.iter().map(|p| spelled(p)).collect();
+    let left: Vec<&PathBuf> = checked
+        .iter()
+        .filter(|path| !written.contains(&spelled(path)))
+        .filter(|path| std::fs::symlink_metadata(path).is_ok())
+        .collect();
+    let (Some(first), Some(last)) = (left.first(), left.last()) else {
+        return;
+    };
+    let (which, it) = if left.len() == 1 {
+        let which = format!(
+            "1 file named like this run's outputs, {}, was not written by this run and is",
+            quoted_path(first)
+        );
+        (which, "it")
+    } else {
+        let which = format!(
+            "{} files named like this run's outputs, {} to {}, were not written by this run \
+             and are",
+            left.len(),
+            quoted_path(first),
+            quoted_path(last)
+        );
+        (which, "them")
+    };
+    eprintln!(
+        "camloc: warning: {which} left from an earlier one; remove {it}, or write to an empty \
+         folder"
+    );
 }
 
 /// The folder `path` is in (`.` for a bare name).

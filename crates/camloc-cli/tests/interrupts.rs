@@ -1,0 +1,197 @@
+//! Runs cut short and runs after runs: an interrupt removes the unfinished files, a cut-off
+//! input writes none, `--force` names the files an earlier run left, and a flood of failed
+//! poses is not listed line by line.
+
+mod common;
+
+use std::path::Path;
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+use common::{TempDir, assert_clean_failure, camloc, success};
+
+/// A camloc JSON input of `n` copies of the pose of `common::FIFTEEN`, each moved a little so
+/// that the drawings differ; `broken` of them (the last ones) with only a neck, which no
+/// command can take.
+fn poses_json(n: usize, broken: usize) -> String {
+    let poses: Vec<String> = (0..n)
+        .map(|i| {
+            if i >= n - broken {
+                return format!(r#"{{"id": "b{i}", "landmarks": {{"neck": [100, 140]}}}}"#);
+            }
+            let dx = i as f64 * 0.01;
+            format!(
+                r#"{{"id": "p{i}", "landmarks": {{
+  "pelvis": [{}, 200], "left_hip": [110, 205], "left_knee": [112, 260], "left_ankle": [113, 320],
+  "right_hip": [90, 205], "right_knee": [88, 262], "right_ankle": [87, 322], "neck": [100, 140],
+  "head": [100, 115], "left_shoulder": [118, 145], "left_elbow": [125, 175], "left_wrist": [128, 200],
+  "right_shoulder": [82, 145], "right_elbow": [75, 175], "right_wrist": [72, 200]}}}}"#,
+                100.0 + dx
+            )
+        })
+        .collect();
+    format!(r#"{{"poses": [{}]}}"#, poses.join(",\n"))
+}
+
+/// The names in `dir`, hidden ones included, sorted.
+fn listing(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}
+
+/// Ctrl-C (SIGINT) while a run's drawings are being written: exit code 130, a message, and
+/// none of its temporary files (`.NAME.XXXXXX.tmp`) left; a file the run would have replaced
+/// with `--force` is untouched.
+#[cfg(unix)]
+#[test]
+fn an_interrupt_removes_the_unfinished_files() {
+    let dir = TempDir::new("interrupt");
+    let input = dir.file("many.json", &poses_json(3000, 0));
+    let out_dir = dir.0.join("out");
+    std::fs::create_dir(&out_dir).unwrap();
+    std::fs::write(out_dir.join("v-001.svg"), "mine").unwrap();
+    let svg = out_dir.join("v.svg");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_camloc"))
+        .args(["localize", "--input", &input, "--svg"])
+        .arg(&svg)
+        .args(["--force", "--quiet"])
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Wait until temporaries exist (the run is writing its drawings), then interrupt.
+    let start = Instant::now();
+    let writing = loop {
+        let temporaries = listing(&out_dir)
+            .iter()
+            .filter(|n| n.ends_with(".tmp"))
+            .count();
+        if temporaries >= 10 {
+            break true;
+        }
+        if start.elapsed() > Duration::from_secs(120) || child.try_wait().unwrap().is_some() {
+            break false;
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    };
+    assert!(writing, "the run wrote no temporaries before it ended");
+    let killed = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(killed.success());
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(130), "{stderr}");
+    assert!(stderr.contains("camloc: interrupted; removed"), "{stderr}");
+    assert_eq!(listing(&out_dir), ["v-001.svg"], "{stderr}");
+    assert_eq!(
+        std::fs::read_to_string(out_dir.join("v-001.svg")).unwrap(),
+        "mine"
+    );
+}
+
+/// A single input file cut off in the middle gives no output file (its rows would end early
+/// with nothing to say so), with the read error and a message saying so.
+#[test]
+fn a_cut_off_input_writes_no_file() {
+    let dir = TempDir::new("cut-off");
+    // Large enough to be read as a stream (a small file is parsed whole when opened).
+    let whole = poses_json(3000, 0);
+    let input = dir.file("cut.json", &whole[..whole.len() / 2]);
+    let npz = dir.0.join("rows.npz");
+    let npy = dir.0.join("poses.npy");
+    let runs: [&[&str]; 3] = [
+        &[
+            "localize",
+            "--input",
+            &input,
+            "--npz",
+            npz.to_str().unwrap(),
+        ],
+        &[
+            "reconstruct",
+            "--input",
+            &input,
+            "--sequence",
+            "--npy",
+            npy.to_str().unwrap(),
+        ],
+        &[
+            "convert",
+            "--input",
+            &input,
+            "--to",
+            "npy",
+            "--out",
+            npy.to_str().unwrap(),
+        ],
+    ];
+    for args in runs {
+        let out = camloc(args);
+        assert_clean_failure(&out, "could not be read to its end");
+        assert_eq!(listing(&dir.0), ["cut.json"], "{args:?}");
+    }
+    // The whole file is written.
+    let input = dir.file("whole.json", &whole);
+    success(&camloc(&[
+        "localize",
+        "--input",
+        &input,
+        "--npz",
+        npz.to_str().unwrap(),
+    ]));
+    assert!(npz.is_file());
+}
+
+/// With `--force`, files named like a numbered output that the run did not write are left
+/// and named in a warning; a run that replaces them all warns of nothing.
+#[test]
+fn force_names_the_files_an_earlier_run_left() {
+    let dir = TempDir::new("left-over");
+    let five = dir.file("five.json", &poses_json(5, 0));
+    let three = dir.file("three.json", &poses_json(3, 0));
+    let svg = dir.0.join("v.svg");
+    let svg = svg.to_str().unwrap();
+    let run = |input: &str| camloc(&["localize", "--input", input, "--svg", svg, "--force"]);
+    let out = run(&five);
+    success(&out);
+    assert!(!String::from_utf8_lossy(&out.stderr).contains("warning"));
+    let out = run(&three);
+    success(&out);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("2 files named like this run's outputs")
+            && stderr.contains("v-004.svg")
+            && stderr.contains("v-005.svg"),
+        "{stderr}"
+    );
+    let out = run(&five);
+    success(&out);
+    assert!(!String::from_utf8_lossy(&out.stderr).contains("warning"));
+}
+
+/// Past 20 failed poses, the rest are counted, not listed; the JSON output has every one.
+#[test]
+fn many_failed_poses_are_counted_not_listed() {
+    let dir = TempDir::new("many-failed");
+    let input = dir.file("broken.json", &poses_json(30, 26));
+    let out = camloc(&["localize", "--input", &input, "--jsonl"]);
+    assert_clean_failure(&out, "26 of 30 poses could not be localized");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let listed = stderr
+        .lines()
+        .filter(|l| l.starts_with("camloc: error: b") || l.starts_with("camloc: error: \"b"))
+        .count();
+    assert_eq!(listed, 20, "{stderr}");
+    assert!(stderr.contains("are not listed"), "{stderr}");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(
+        stdout.lines().filter(|l| l.contains("\"error\"")).count(),
+        26
+    );
+}
