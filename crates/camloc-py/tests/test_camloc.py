@@ -652,3 +652,23 @@ def test_a_localized_sequence_that_jumps_between_people_warns():
         camloc.smooth_viewpoints([1.0, 2.0, 3.0], [0.0, 0.0, 0.0], [10, 0, 11])
     with pytest.raises(ValueError, match="layout"):
         camloc.read_keypoints(KEYPOINTS / "example.json", layout="h36m17")
+
+
+def test_ctrl_c_stops_a_long_reconstruction():
+    """A KeyboardInterrupt (Ctrl-C) during reconstruct comes within a block of poses, not at
+    the end of the call."""
+    import _thread
+    import time
+
+    points = np.tile(example_points(), (40_000, 1, 1))
+    timer = threading.Timer(0.3, _thread.interrupt_main)
+    started = time.perf_counter()
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            camloc.reconstruct(points)
+    finally:
+        timer.cancel()
+    # Not a speed goal: the whole call (120,000 poses) takes about a minute on two cores, a
+    # block of 1024 poses about half a second; an interrupt only seen at the end fails this.
+    assert time.perf_counter() - started < 30.0

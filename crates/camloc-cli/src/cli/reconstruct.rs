@@ -119,7 +119,7 @@ pub struct Args {
     /// pose jumps across the image, two people under one id, is warned of). Output (per
     /// frame, by person then frame) as without it; the .npy rows stay in input order. Every
     /// pose is kept until its person is done (about 500 bytes a pose), and a person's frames
-    /// take about 12 KB each while they are solved together (20,000 frames: about 250 MB).
+    /// take about 15 KB each while they are solved together (20,000 frames: about 300 MB).
     #[arg(long, conflicts_with = "hypotheses")]
     pub sequence: bool,
     /// With --sequence: refuse an input of more than N poses.
@@ -164,7 +164,8 @@ pub struct Args {
     /// Write one self-contained interactive page (no network needed): per pose the 2D input
     /// and reprojection, the 3D skeleton (drag to turn, wheel to zoom) and the camera sphere
     /// with the 12 probabilities and the continuous direction (from the localizer: --model),
-    /// with a timeline to play and scrub.
+    /// with a timeline to play and scrub. The page holds every pose (about 2.5 KB each; at
+    /// most 100,000 poses: split larger inputs).
     #[arg(long, value_name = "OUT")]
     pub html: Option<PathBuf>,
     /// Frames per second of the input video: the BVH frame time and the page's play rate.

@@ -144,7 +144,23 @@ pub fn run(
                         if b.saturating_sub(a) > SEQUENCE_BREAK_FRAMES as u64)
             })
             .collect();
+        // The solve of a long sequence takes a while (20,000 frames: tens of seconds) and
+        // counts nothing: a spinner says whose it is, when the reading's bar was shown.
+        let solving = if bar.is_hidden() {
+            ProgressBar::hidden()
+        } else {
+            super::progress::spinner(
+                false,
+                &format!(
+                    "reconstructing person {person} ({} of {}, {})",
+                    n + 1,
+                    groups.len(),
+                    counted(members.len() as u64, "frame")
+                ),
+            )
+        };
         let result = reconstructor.reconstruct_sequence_with_breaks(&poses, &breaks);
+        solving.finish_and_clear();
         let (frames, lengths): (Vec<Result<_, String>>, Option<BoneLengths>) = match result {
             Ok(r) => (
                 r.frames
