@@ -226,6 +226,10 @@ def reconstruct(
     that cannot be read or is malformed), a focal length that is not finite and positive, or a
     principal point without a focal length or an unknown ``camera_height`` (as ``Localizer``);
     OSError / CamlocError for an unreadable or invalid basis.
+
+    Ctrl-C raises ``KeyboardInterrupt`` after the block of 1,024 poses being reconstructed
+    (about half a second on two cores); with ``sequence`` only when the person's frames are
+    solved (a 20,000-frame sequence: about 15 seconds).
     """
 
 def smooth_viewpoints(

@@ -14,6 +14,7 @@ use crate::ReadOptions;
 use crate::error::{KeypointError, Location};
 use crate::json::{self, Json, SkipVisitor, Skipped, wrong_type};
 use crate::record::KeypointRecord;
+use crate::stream::Item;
 
 /// Why a reader stopped before the end of its input.
 pub(crate) enum Stop {
@@ -31,26 +32,24 @@ pub(crate) struct Sink<'a> {
     pub(crate) file: &'a str,
     /// The reader options.
     pub(crate) options: &'a ReadOptions,
-    emit: &'a mut dyn FnMut(KeypointRecord) -> bool,
+    emit: &'a mut dyn FnMut(Item) -> bool,
     stop: Option<Stop>,
 }
 
 impl Sink<'_> {
-    /// Gives a record to the callback, or records why not and returns an error that ends
-    /// parsing.
-    pub(crate) fn send<E: de::Error>(
-        &mut self,
-        record: Result<KeypointRecord, KeypointError>,
-    ) -> Result<(), E> {
-        match record {
-            Ok(record) => {
-                if (self.emit)(record) {
+    /// Gives a record, or the error of one pose ([`KeypointError::is_pose_error`]), to the
+    /// callback; another error, or a callback that wants no more, records why reading stops
+    /// and returns an error that ends parsing.
+    pub(crate) fn send<E: de::Error>(&mut self, item: Item) -> Result<(), E> {
+        match item {
+            Err(e) if !e.is_pose_error() => Err(self.stop(Stop::Invalid(e))),
+            item => {
+                if (self.emit)(item) {
                     Ok(())
                 } else {
                     Err(self.stop(Stop::Closed))
                 }
             }
-            Err(e) => Err(self.stop(Stop::Invalid(e))),
         }
     }
 
@@ -91,13 +90,14 @@ pub(crate) trait TopLevel {
     }
 }
 
-/// Reads the JSON document of `read` with `top` and gives each record to `emit` (which returns
-/// `false` to stop). Errors come in input order, after the records before them.
+/// Reads the JSON document of `read` with `top` and gives each record, or a pose's error, to
+/// `emit` (which returns `false` to stop). Errors come in input order, after the records
+/// before them.
 pub(crate) fn drive<'de, R: serde_json::de::Read<'de>>(
     read: R,
     file: &str,
     options: &ReadOptions,
-    emit: &mut dyn FnMut(KeypointRecord) -> bool,
+    emit: &mut dyn FnMut(Item) -> bool,
     top: impl TopLevel,
 ) -> Result<(), Stop> {
     let mut sink = Sink {
@@ -120,19 +120,19 @@ pub(crate) fn drive<'de, R: serde_json::de::Read<'de>>(
     }
 }
 
-/// All the records `read` gives (a reader such as [`drive`] called with a callback), or the
-/// first error.
+/// The records and pose errors ([`KeypointError::is_pose_error`]) `read` gives (a reader such
+/// as [`drive`] called with a callback), or the error that stopped it.
 pub(crate) fn collect(
     file: &str,
-    read: impl FnOnce(&mut dyn FnMut(KeypointRecord) -> bool) -> Result<(), Stop>,
-) -> Result<Vec<KeypointRecord>, KeypointError> {
-    let mut records = Vec::new();
-    match read(&mut |r| {
-        records.push(r);
+    read: impl FnOnce(&mut dyn FnMut(Item) -> bool) -> Result<(), Stop>,
+) -> Result<Vec<Item>, KeypointError> {
+    let mut items = Vec::new();
+    match read(&mut |item| {
+        items.push(item);
         true
     }) {
         // `Closed` cannot happen: the callback above never stops.
-        Ok(()) | Err(Stop::Closed) => Ok(records),
+        Ok(()) | Err(Stop::Closed) => Ok(items),
         Err(Stop::Invalid(e)) => Err(e),
         Err(Stop::Io(source)) => Err(KeypointError::Io {
             file: file.to_owned(),
@@ -142,7 +142,7 @@ pub(crate) fn collect(
 }
 
 /// Parses the elements of the list `seq` one at a time, each as one entry, and gives each with
-/// its index to `records`, whose records (or error) go to the sink in order.
+/// its index to `records`, whose records (or errors: [`Sink::send`]) go to the sink in order.
 pub(crate) fn entries<'de, A, I>(
     mut seq: A,
     sink: &mut Sink,
@@ -150,21 +150,41 @@ pub(crate) fn entries<'de, A, I>(
 ) -> Result<(), A::Error>
 where
     A: SeqAccess<'de>,
-    I: IntoIterator<Item = KeypointRecord>,
+    I: IntoIterator,
+    I::Item: IntoItem,
 {
     let mut index = 0;
     while let Some(entry) = seq.next_element::<Json>()? {
         match records(entry, index) {
             Ok(batch) => {
-                for record in batch {
-                    sink.send(Ok(record))?;
+                for item in batch {
+                    sink.send(item.into_item())?;
                 }
             }
-            Err(e) => return Err(sink.fail(e)),
+            Err(e) => sink.send(Err(e))?,
         }
         index += 1;
     }
     Ok(())
+}
+
+/// What an entry's reader gives per record: the record, or the record's own outcome (a pose
+/// refused on its own, [`KeypointError::is_pose_error`]).
+pub(crate) trait IntoItem {
+    /// The record's item.
+    fn into_item(self) -> Item;
+}
+
+impl IntoItem for KeypointRecord {
+    fn into_item(self) -> Item {
+        Ok(self)
+    }
+}
+
+impl IntoItem for Item {
+    fn into_item(self) -> Item {
+        self
+    }
 }
 
 /// Reads the elements of a list as they are parsed (see [`ListSeed`]).

@@ -501,6 +501,15 @@ fn landmark_list(items: &[Landmark]) -> String {
         .join(" and ")
 }
 
+impl KeypointError {
+    /// `true` for an error of one pose whose record was read whole
+    /// ([`KeypointError::LayoutMismatch`]): the readers pass it on in the pose's place and read
+    /// on; any other error ends the input.
+    pub fn is_pose_error(&self) -> bool {
+        matches!(self, KeypointError::LayoutMismatch { .. })
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -302,7 +302,8 @@ pub struct KeypointStream {
 
 /// Where a [`KeypointStream`]'s records come from.
 enum StreamInner {
-    Parsed(std::vec::IntoIter<KeypointRecord>),
+    /// Read whole (short inputs): the records, and the errors of poses refused on their own.
+    Parsed(std::vec::IntoIter<stream::Item>),
     Npy(Box<NpyPoses<Box<dyn Read + Send>>>),
     /// Parsed on a producer thread (JSON and LSP longer than [`STREAM_PEEK_BYTES`]).
     Channel(stream::Received),
@@ -313,7 +314,7 @@ impl Iterator for KeypointStream {
 
     fn next(&mut self) -> Option<Self::Item> {
         match &mut self.inner {
-            StreamInner::Parsed(records) => records.next().map(Ok),
+            StreamInner::Parsed(items) => items.next(),
             StreamInner::Npy(poses) => poses.next(),
             StreamInner::Channel(received) => received.next_item(),
         }
@@ -323,7 +324,7 @@ impl Iterator for KeypointStream {
     /// the stream); unknown for streamed JSON and LSP.
     fn size_hint(&self) -> (usize, Option<usize>) {
         match &self.inner {
-            StreamInner::Parsed(records) => records.size_hint(),
+            StreamInner::Parsed(items) => items.size_hint(),
             StreamInner::Npy(poses) => (0, usize::try_from(poses.len()).ok()),
             StreamInner::Channel(_) => (0, None),
         }
@@ -461,9 +462,9 @@ pub fn open_keypoints_reader(
     if !start.ended {
         return stream_text(bytes, name, detected, options);
     }
-    let records = parse_keypoints_bytes(&bytes, name, format, options)?;
+    let items = parse_items_bytes(&bytes, name, format, options)?;
     Ok(KeypointStream {
-        inner: StreamInner::Parsed(records.into_iter()),
+        inner: StreamInner::Parsed(items.into_iter()),
     })
 }
 
@@ -524,9 +525,7 @@ fn stream_json(
     let received = stream::spawn(name, move |sender| {
         let reader = io::BufReader::with_capacity(1 << 16, stream::Capped::new(reader, limit));
         let read = serde_json::de::IoRead::new(reader);
-        let outcome = json_records(format, read, &file, &options, &mut |record| {
-            sender.send(Ok(record))
-        });
+        let outcome = json_records(format, read, &file, &options, &mut |item| sender.send(item));
         let error = match outcome {
             Some(Ok(()) | Err(emit::Stop::Closed)) => return,
             Some(Err(emit::Stop::Invalid(e))) => e,
@@ -581,7 +580,7 @@ fn stream_text(
         KeypointFormat::Lsp => stream_lsp(bytes, name, options),
         KeypointFormat::Npy => Ok(KeypointStream {
             inner: StreamInner::Parsed(
-                parse_keypoints_bytes(&bytes, name, Some(format), options)?.into_iter(),
+                parse_items_bytes(&bytes, name, Some(format), options)?.into_iter(),
             ),
         }),
         json => {
@@ -636,7 +635,7 @@ fn json_records<'de, R: serde_json::de::Read<'de>>(
     read: R,
     file: &str,
     options: &ReadOptions,
-    emit: &mut dyn FnMut(KeypointRecord) -> bool,
+    emit: &mut dyn FnMut(stream::Item) -> bool,
 ) -> Option<Result<(), emit::Stop>> {
     Some(match format {
         KeypointFormat::Camloc => emit::drive(read, file, options, emit, camloc_json::Document),
@@ -657,18 +656,45 @@ pub fn parse_keypoints_bytes(
     format: Option<KeypointFormat>,
     options: &ReadOptions,
 ) -> Result<Vec<KeypointRecord>, KeypointError> {
+    parse_items_bytes(bytes, source_name, format, options)?
+        .into_iter()
+        .collect()
+}
+
+/// [`parse_keypoints_bytes`] with the errors of poses refused on their own
+/// ([`KeypointError::is_pose_error`]) kept in their places; another error is the result.
+fn parse_items_bytes(
+    bytes: &[u8],
+    source_name: &str,
+    format: Option<KeypointFormat>,
+    options: &ReadOptions,
+) -> Result<Vec<stream::Item>, KeypointError> {
     let npy = match format {
         Some(format) => format == KeypointFormat::Npy,
         None => bytes.starts_with(format::NPY_MAGIC),
     };
     if npy {
         let size = Some(bytes.len() as u64);
-        return NpyPoses::new(bytes, source_name, size, options)?.collect();
+        return until_fatal(NpyPoses::new(bytes, source_name, size, options)?);
     }
     if let Some(e) = camloc_file(bytes, source_name) {
         return Err(e);
     }
-    parse_keypoints(utf8_text(bytes, source_name)?, source_name, format, options)
+    parse_items(utf8_text(bytes, source_name)?, source_name, format, options)
+}
+
+/// The items of `items` up to the first error that is not a pose's own, which is returned
+/// instead.
+fn until_fatal(
+    items: impl IntoIterator<Item = stream::Item>,
+) -> Result<Vec<stream::Item>, KeypointError> {
+    items
+        .into_iter()
+        .map(|item| match item {
+            Err(e) if !e.is_pose_error() => Err(e),
+            item => Ok(item),
+        })
+        .collect()
 }
 
 /// [`KeypointError::CamlocFile`] when `start` (an input's first bytes) begins with the magic
@@ -692,6 +718,19 @@ pub fn parse_keypoints(
     format: Option<KeypointFormat>,
     options: &ReadOptions,
 ) -> Result<Vec<KeypointRecord>, KeypointError> {
+    parse_items(text, source_name, format, options)?
+        .into_iter()
+        .collect()
+}
+
+/// [`parse_keypoints`] with the errors of poses refused on their own
+/// ([`KeypointError::is_pose_error`]) kept in their places; another error is the result.
+fn parse_items(
+    text: &str,
+    source_name: &str,
+    format: Option<KeypointFormat>,
+    options: &ReadOptions,
+) -> Result<Vec<stream::Item>, KeypointError> {
     let file = source_name;
     let too_large = |(limit, rule)| KeypointError::TooLarge {
         file: file.to_owned(),
@@ -721,10 +760,13 @@ pub fn parse_keypoints(
     }
     layout_applies(format, options, file)?;
     match format {
-        KeypointFormat::Lsp => lsp::parse(text, file, options),
+        KeypointFormat::Lsp => Ok(lsp::parse(text, file, options)?
+            .into_iter()
+            .map(Ok)
+            .collect()),
         KeypointFormat::Npy => {
             let size = Some(text.len() as u64);
-            NpyPoses::new(text.as_bytes(), file, size, options)?.collect()
+            until_fatal(NpyPoses::new(text.as_bytes(), file, size, options)?)
         }
         json => emit::collect(file, |emit| {
             let read = serde_json::de::StrRead::new(text);

@@ -16,6 +16,7 @@ use crate::json::{
 use crate::layout::{Layout, keeps, resolve_layout};
 use crate::layout_check::contradicted;
 use crate::record::{KeypointRecord, from_joints};
+use crate::stream::Item;
 
 /// MMPose predictions: a list of instances or frames, or an object with `instance_info` (other
 /// keys skipped); the list is read one entry at a time.
@@ -53,21 +54,23 @@ impl ListReader for Entries {
     }
 }
 
-/// The records of entry `i` at `path`: an instance, or a frame `{"frame_id", "instances"}`.
+/// The records of entry `i` at `path`: an instance, or a frame `{"frame_id", "instances"}`;
+/// each instance's record or error (a refused instance is its own error: the frame's other
+/// instances and the next entries are still read, [`Sink::send`](crate::emit::Sink::send)).
 fn entry_records(
     entry: &Json,
     path: &str,
     i: usize,
     file: &str,
     options: &ReadOptions,
-) -> Result<Vec<KeypointRecord>, KeypointError> {
+) -> Result<Vec<Item>, KeypointError> {
     let fields = object(entry, "an instance or frame object", file, path)?;
     let Some(instances) = optional(fields, "instances", file, path)? else {
-        let record = instance_record(entry, path, i.to_string(), file, options)?;
-        return Ok(vec![KeypointRecord {
+        let record = instance_record(entry, path, i.to_string(), file, options);
+        return Ok(vec![record.map(|record| KeypointRecord {
             person: record.person.or(Some(i as u64)),
             ..record
-        }]);
+        })]);
     };
     let frame_path = key_path(path, "frame_id");
     let frame = match optional(fields, "frame_id", file, path)? {
@@ -76,7 +79,7 @@ fn entry_records(
     };
     let instances_path = key_path(path, "instances");
     let instances = array(instances, "a list of instances", file, &instances_path)?;
-    instances
+    Ok(instances
         .iter()
         .enumerate()
         .map(|(n, instance)| {
@@ -86,14 +89,14 @@ fn entry_records(
                 format!("{frame}/{n}"),
                 file,
                 options,
-            )?;
-            Ok(KeypointRecord {
+            );
+            record.map(|record| KeypointRecord {
                 frame: Some(frame),
                 person: record.person.or(Some(n as u64)),
                 ..record
             })
         })
-        .collect()
+        .collect())
 }
 
 /// One instance at `path`; its person is the instance's `track_id` (a tracker's person id)

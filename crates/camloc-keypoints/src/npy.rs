@@ -262,7 +262,7 @@ impl<R: Read> Iterator for NpyPoses<R> {
         let item = self.read_next();
         // A pose whose joints contradict its layout is that pose's problem (its row was read
         // whole); any other error ends the array.
-        if matches!(item, Some(Err(ref e)) if !matches!(e, KeypointError::LayoutMismatch { .. })) {
+        if matches!(item, Some(Err(ref e)) if !e.is_pose_error()) {
             self.values = None;
         }
         item

@@ -201,3 +201,109 @@ fn the_first_records_come_before_the_rest_is_read() {
     assert!(now < bound, "{now} bytes read, bound {bound}");
     drop(stream);
 }
+
+/// A COCO-17 pose as MMPose keypoints: a face-sized cluster first, then the body.
+fn coco_points(shift: f64) -> Vec<[f64; 2]> {
+    let face = [
+        [0.0, 0.0],
+        [-3.0, -3.0],
+        [3.0, -3.0],
+        [-6.0, 0.0],
+        [6.0, 0.0],
+    ];
+    let body = [
+        [-20.0, 30.0],
+        [20.0, 30.0],
+        [-25.0, 60.0],
+        [25.0, 60.0],
+        [-27.0, 90.0],
+        [27.0, 90.0],
+        [-10.0, 100.0],
+        [10.0, 100.0],
+        [-10.0, 150.0],
+        [10.0, 150.0],
+        [-10.0, 200.0],
+        [10.0, 200.0],
+    ];
+    face.iter()
+        .chain(&body)
+        .map(|p| [p[0] + shift, p[1]])
+        .collect()
+}
+
+/// Human3.6M-ordered points (pelvis and legs first) that contradict COCO-17.
+fn h36m_points() -> Vec<[f64; 2]> {
+    (0..17)
+        .map(|j| [3.0 * f64::from(j), 10.0 * f64::from(j % 7)])
+        .collect()
+}
+
+/// An MMPose document of `frames` frames of two instances, the second instance of frame
+/// `refused` in the other 17-joint layout.
+fn mmpose_frames(frames: usize, refused: usize) -> String {
+    let instance = |points: Vec<[f64; 2]>| {
+        let points: Vec<String> = points
+            .iter()
+            .map(|p| format!("[{}, {}]", p[0], p[1]))
+            .collect();
+        format!(r#"{{"keypoints": [{}]}}"#, points.join(", "))
+    };
+    let frames: Vec<String> = (0..frames)
+        .map(|f| {
+            let second = if f == refused {
+                h36m_points()
+            } else {
+                coco_points(100.0)
+            };
+            format!(
+                r#"{{"frame_id": {f}, "instances": [{}, {}]}}"#,
+                instance(coco_points(f as f64 * 0.1)),
+                instance(second)
+            )
+        })
+        .collect();
+    format!("[{}]", frames.join(",\n"))
+}
+
+/// A pose refused for its layout is an error in its place, and the frame's other instance and
+/// the next frames are still read, whether the input is read whole or streamed; the whole-text
+/// parser still refuses the input with that error.
+#[test]
+fn a_pose_refused_for_its_layout_does_not_end_the_input() {
+    for frames in [4, 2000] {
+        let text = mmpose_frames(frames, 1);
+        assert_eq!(
+            text.len() as u64 > STREAM_PEEK_BYTES,
+            frames > 4,
+            "{}",
+            text.len()
+        );
+        let reader = io::Cursor::new(text.as_bytes().to_vec());
+        let items: Vec<_> = open_keypoints_reader(
+            reader,
+            "pred.json",
+            None,
+            Some(KeypointFormat::MmPose),
+            &ReadOptions::default(),
+        )
+        .unwrap()
+        .collect();
+        assert_eq!(items.len(), 2 * frames, "{frames}");
+        let refused: Vec<usize> = (0..items.len()).filter(|&i| items[i].is_err()).collect();
+        assert_eq!(refused, [3], "{frames}");
+        assert!(matches!(
+            items[3],
+            Err(KeypointError::LayoutMismatch { .. })
+        ));
+        let last = items.last().unwrap().as_ref().unwrap();
+        assert_eq!(last.frame, Some(frames as u64 - 1));
+        let e = parse_keypoints(
+            &text,
+            "pred.json",
+            Some(KeypointFormat::MmPose),
+            &ReadOptions::default(),
+        )
+        .unwrap_err();
+        assert!(matches!(e, KeypointError::LayoutMismatch { .. }), "{e}");
+    }
+}
