@@ -136,9 +136,8 @@ impl Reconstructor {
     }
 
     /// What the refinement starts `candidate` from: its pose, or with (finite) `depths` the
-    /// lifted pose ([`reconstruct_lifted`](Self::reconstruct_lifted)) with its head turned
-    /// halfway to the pursuit's ([`head_halfway_to`]); `imputed` marks the landmarks that
-    /// were filled in.
+    /// lifted pose ([`reconstruct_lifted`](Self::reconstruct_lifted)); `imputed` marks the
+    /// landmarks that were filled in.
     pub(super) fn refine_frame(
         &self,
         obs: &Observation,
@@ -149,11 +148,7 @@ impl Reconstructor {
     ) -> RefineFrame {
         let camera = candidate.fit.camera;
         let (points, lifted) = match depths {
-            Some(z) if z.iter().all(|v| v.is_finite()) => {
-                let mut points = lifted_points(obs, z, &camera);
-                head_halfway_to(&mut points, &candidate.fit.points);
-                (points, true)
-            }
+            Some(z) if z.iter().all(|v| v.is_finite()) => (lifted_points(obs, z, &camera), true),
             _ => (candidate.fit.points, false),
         };
         RefineFrame {
@@ -243,71 +238,4 @@ fn lifted_points(
     let pelvis = seen[Landmark::Pelvis.index()];
     let inverse = camera.rotation.transpose() / camera.scale;
     seen.map(|p| (inverse * (p - pelvis)).into())
-}
-
-/// Turns the neck-to-head bone of `lifted` (body frame, metres) to the mean of its direction
-/// and that of `pursuit`'s, keeping its length; unchanged when either bone has no length or
-/// the two point opposite ways. The lifter learnt the head's depth from the heads of motion
-/// capture; for heads placed elsewhere (detectors' face points, annotations' head tops, other
-/// skeletons: the neck-to-head distance x U(0.6, 1.6) of `xtask reconstruction`) its depth
-/// is off, and the pursuit's pose, fitted to the 2D, reads those heads better from above and
-/// below. On the validation subjects, whose drawn heads were far from the template's (its
-/// neck-to-head error 61%), the mean of the two lowered that limb's length error under
-/// `jittered` from 37.8% to 32.0% (single poses) and 30.1% to 23.0% (sequences), and no row
-/// of `xtask reconstruction --proportions-only` grew. On the held-out subjects, whose heads
-/// were drawn near it (11%), it grew by 0.9 and 1.8 points, the mean length errors by 0.1,
-/// and the PA-MPJPE of the labs' skeletons (neck-to-head x 0.57 and x 1.64) fell by
-/// 0.1-0.4 mm (docs/RESULTS.md).
-fn head_halfway_to(lifted: &mut [[f64; 3]; NUM_LANDMARKS], pursuit: &[[f64; 3]; NUM_LANDMARKS]) {
-    let (neck, head) = (Landmark::Neck.index(), Landmark::Head.index());
-    let bone = |p: &[[f64; 3]; NUM_LANDMARKS]| Vector3::from(p[head]) - Vector3::from(p[neck]);
-    let (ours, theirs) = (bone(lifted), bone(pursuit));
-    let length = ours.norm();
-    let (Some(a), Some(b)) = (ours.try_normalize(1e-12), theirs.try_normalize(1e-12)) else {
-        return;
-    };
-    if let Some(direction) = (a + b).try_normalize(1e-6) {
-        lifted[head] = (Vector3::from(lifted[neck]) + direction * length).into();
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn the_head_turns_halfway_and_keeps_its_length() {
-        let mut lifted = [[0.0; 3]; NUM_LANDMARKS];
-        let mut pursuit = lifted;
-        let (neck, head) = (Landmark::Neck.index(), Landmark::Head.index());
-        lifted[neck] = [0.0, 0.5, 0.0];
-        lifted[head] = [0.0, 0.7, 0.0]; // up, 0.2 m
-        pursuit[neck] = [1.0, 1.0, 1.0];
-        pursuit[head] = [1.0, 1.0, 1.3]; // forward, 0.3 m
-        let before = lifted;
-        head_halfway_to(&mut lifted, &pursuit);
-        let bone = Vector3::from(lifted[head]) - Vector3::from(lifted[neck]);
-        assert!((bone.norm() - 0.2).abs() < 1e-12);
-        let expected = Vector3::new(0.0, 1.0, 1.0).normalize();
-        assert!((bone.normalize() - expected).norm() < 1e-12);
-        // Only the head moved.
-        for j in (0..NUM_LANDMARKS).filter(|&j| j != head) {
-            assert_eq!(lifted[j], before[j]);
-        }
-    }
-
-    #[test]
-    fn opposite_or_empty_bones_leave_the_head() {
-        let (neck, head) = (Landmark::Neck.index(), Landmark::Head.index());
-        let mut lifted = [[0.0; 3]; NUM_LANDMARKS];
-        lifted[head] = [0.0, 0.2, 0.0];
-        let mut pursuit = [[0.0; 3]; NUM_LANDMARKS];
-        pursuit[head] = [0.0, -0.3, 0.0];
-        let before = lifted;
-        head_halfway_to(&mut lifted, &pursuit);
-        assert_eq!(lifted, before);
-        pursuit[head] = pursuit[neck];
-        head_halfway_to(&mut lifted, &pursuit);
-        assert_eq!(lifted, before);
-    }
 }
