@@ -125,7 +125,8 @@ class Localizer:
             within 3 rows (``smooth_viewpoints``), NaN where the frame has no viewpoint;
           error: list of N messages, None where the pose was localized.
 
-        Raises ValueError for a wrong shape, an unknown layout or a bad ``min_score``.
+        Raises ValueError for a wrong shape, an unknown layout or a bad ``min_score``. Ctrl-C
+        raises ``KeyboardInterrupt`` after the block of 65,536 poses being localized.
         """
 
     def __repr__(self) -> str: ...

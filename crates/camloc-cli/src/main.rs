@@ -7,23 +7,12 @@ use clap::Parser;
 
 mod cli;
 mod html;
+mod interrupt;
 mod svg;
 
 fn main() -> ExitCode {
     let args = cli::Cli::parse();
-    // An interrupted run (Ctrl-C, SIGTERM, SIGHUP) removes its unfinished output files
-    // (hidden temporaries beside the outputs); nothing it would replace has been touched.
-    // Without a handler (the platform refused one) the signal ends the run as before.
-    let _ = ctrlc::set_handler(|| {
-        let removed = camloc::store::remove_unfinished();
-        let files = match removed {
-            0 => String::new(),
-            1 => "; removed 1 unfinished output file".to_string(),
-            n => format!("; removed {n} unfinished output files"),
-        };
-        eprintln!("\ncamloc: interrupted{files}");
-        std::process::exit(EXIT_INTERRUPTED);
-    });
+    interrupt::install();
     let stdout = match standard_output() {
         Ok(stdout) => stdout,
         Err(e) => {
@@ -46,10 +35,6 @@ fn main() -> ExitCode {
         }
     }
 }
-
-/// The exit code of a run ended by Ctrl-C or SIGTERM (128 + SIGINT's number, as shells
-/// report an interrupted command).
-const EXIT_INTERRUPTED: i32 = 130;
 
 /// Standard output, or an error when it was closed when camloc started (`camloc ... >&-`).
 ///

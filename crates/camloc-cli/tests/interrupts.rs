@@ -43,56 +43,119 @@ fn listing(dir: &Path) -> Vec<String> {
     names
 }
 
-/// Ctrl-C (SIGINT) while a run's drawings are being written: exit code 130, a message, and
-/// none of its temporary files (`.NAME.XXXXXX.tmp`) left; a file the run would have replaced
-/// with `--force` is untouched.
+/// Starts `camloc localize --input INPUT --svg OUT/v.svg --force --quiet` (through `wrapper`,
+/// e.g. `nohup`, when given; standard error to `stderr`), waits until it writes temporaries,
+/// sends it `signal` (`kill -SIGNAL`) and waits for its end; returns its exit code and
+/// standard error (empty unless piped). A run that has not ended two minutes after the
+/// signal fails the test: it hung.
+#[cfg(unix)]
+fn signalled(
+    input: &str,
+    out: &Path,
+    wrapper: Option<&str>,
+    stderr: Stdio,
+    signal: &str,
+) -> (Option<i32>, String) {
+    let camloc = env!("CARGO_BIN_EXE_camloc");
+    let mut command = match wrapper {
+        Some(wrapper) => {
+            let mut command = Command::new(wrapper);
+            command.arg(camloc);
+            command
+        }
+        None => Command::new(camloc),
+    };
+    let mut child = command
+        .args(["localize", "--input", input, "--svg"])
+        .arg(out.join("v.svg"))
+        .args(["--force", "--quiet"])
+        .stdout(Stdio::null())
+        .stderr(stderr)
+        .spawn()
+        .unwrap();
+    let waiting = |what: &str, child: &mut std::process::Child, until: &dyn Fn() -> bool| {
+        let start = Instant::now();
+        while !until() {
+            assert!(
+                start.elapsed() < Duration::from_secs(120),
+                "{what} within two minutes"
+            );
+            if child.try_wait().unwrap().is_some() {
+                return false;
+            }
+            std::thread::sleep(Duration::from_millis(5));
+        }
+        true
+    };
+    let temporaries = || listing(out).iter().filter(|n| n.ends_with(".tmp")).count() >= 10;
+    let writing = waiting("temporaries", &mut child, &temporaries);
+    assert!(writing, "the run wrote no temporaries before it ended");
+    let killed = Command::new("kill")
+        .args([&format!("-{signal}"), &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(killed.success());
+    let ended = || false;
+    waiting("the end of the run", &mut child, &ended);
+    let out = child.wait_with_output().unwrap();
+    (
+        out.status.code(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+/// SIGTERM (handled as Ctrl-C is; SIGINT itself is not sent, since a test run in the
+/// background of a shell script inherits it ignored) while a run's drawings are being
+/// written: exit code 130, a message, and none of its temporary files (`.NAME.XXXXXX.tmp`)
+/// left; a file the run would have replaced with `--force` is untouched. With a standard
+/// error that cannot be written (a closed terminal), the run ends the same way and does not
+/// hang.
 #[cfg(unix)]
 #[test]
 fn an_interrupt_removes_the_unfinished_files() {
     let dir = TempDir::new("interrupt");
     let input = dir.file("many.json", &poses_json(3000, 0));
-    let out_dir = dir.0.join("out");
-    std::fs::create_dir(&out_dir).unwrap();
-    std::fs::write(out_dir.join("v-001.svg"), "mine").unwrap();
-    let svg = out_dir.join("v.svg");
-    let mut child = Command::new(env!("CARGO_BIN_EXE_camloc"))
-        .args(["localize", "--input", &input, "--svg"])
-        .arg(&svg)
-        .args(["--force", "--quiet"])
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    // Wait until temporaries exist (the run is writing its drawings), then interrupt.
-    let start = Instant::now();
-    let writing = loop {
-        let temporaries = listing(&out_dir)
-            .iter()
-            .filter(|n| n.ends_with(".tmp"))
-            .count();
-        if temporaries >= 10 {
-            break true;
-        }
-        if start.elapsed() > Duration::from_secs(120) || child.try_wait().unwrap().is_some() {
-            break false;
-        }
-        std::thread::sleep(Duration::from_millis(5));
-    };
-    assert!(writing, "the run wrote no temporaries before it ended");
-    let killed = Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .unwrap();
-    assert!(killed.success());
-    let out = child.wait_with_output().unwrap();
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(130), "{stderr}");
-    assert!(stderr.contains("camloc: interrupted; removed"), "{stderr}");
-    assert_eq!(listing(&out_dir), ["v-001.svg"], "{stderr}");
+    let out = dir.0.join("out");
+    std::fs::create_dir(&out).unwrap();
+    std::fs::write(out.join("v-001.svg"), "mine").unwrap();
+    let (code, stderr) = signalled(&input, &out, None, Stdio::piped(), "TERM");
+    assert_eq!(code, Some(130), "{stderr}");
+    assert!(stderr.contains("camloc: interrupted; removing"), "{stderr}");
+    assert_eq!(listing(&out), ["v-001.svg"], "{stderr}");
     assert_eq!(
-        std::fs::read_to_string(out_dir.join("v-001.svg")).unwrap(),
+        std::fs::read_to_string(out.join("v-001.svg")).unwrap(),
         "mine"
     );
+    if let Ok(full) = std::fs::OpenOptions::new().write(true).open("/dev/full") {
+        let (code, _) = signalled(&input, &out, None, Stdio::from(full), "TERM");
+        assert_eq!(code, Some(130));
+        assert_eq!(listing(&out), ["v-001.svg"]);
+    }
+}
+
+/// A run started with `SIGHUP` ignored (`nohup`, a terminal that closes later) keeps it
+/// ignored: it ends normally and writes its files.
+#[cfg(unix)]
+#[test]
+fn a_run_under_nohup_outlives_its_terminal() {
+    let nohup = Command::new("nohup")
+        .arg("true")
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .status();
+    if !nohup.is_ok_and(|s| s.success()) {
+        eprintln!("skipped: no nohup command");
+        return;
+    }
+    let dir = TempDir::new("nohup");
+    let input = dir.file("many.json", &poses_json(3000, 0));
+    let out = dir.0.join("out");
+    std::fs::create_dir(&out).unwrap();
+    let (code, stderr) = signalled(&input, &out, Some("nohup"), Stdio::piped(), "HUP");
+    assert_eq!(code, Some(0), "{stderr}");
+    let names = listing(&out);
+    assert_eq!(names.len(), 3000, "{stderr}");
+    assert!(names.iter().all(|n| !n.starts_with('.')));
 }
 
 /// A single input file cut off in the middle gives no output file (its rows would end early

@@ -20,6 +20,9 @@ use crate::{to_py_err, value_error};
 /// Poses per parallel task: large enough that scheduling costs nothing next to the work.
 const CHUNK: usize = 1024;
 
+/// Poses localized between two looks at Python's signals (Ctrl-C): about 0.1 s on two cores.
+const INTERRUPT_POSES: usize = 1 << 16;
+
 /// A trained camera localizer (the model embedded in camloc, or one loaded from a file).
 #[pyclass(frozen, module = "camloc")]
 pub(crate) struct Localizer {
@@ -170,54 +173,60 @@ impl Localizer {
             estimated.as_ref().unwrap_or(&self.inner),
             self.filler.as_ref(),
         );
-        let (label, folded, probability, probabilities, viewpoint, errors) = py.detach(|| {
-            let mut label = vec![0i64; n];
-            let mut folded = vec![0i64; n];
-            let mut probability = vec![f64::NAN; n];
-            let mut probabilities = vec![f64::NAN; n * k];
-            // Per pose: azimuth, elevation, uncertainty (degrees).
-            let mut viewpoint = vec![f64::NAN; n * 3];
-            let errors: Vec<(usize, String)> = label
-                .par_chunks_mut(CHUNK)
-                .zip(folded.par_chunks_mut(CHUNK))
-                .zip(probability.par_chunks_mut(CHUNK))
-                .zip(probabilities.par_chunks_mut(CHUNK * k))
-                .zip(viewpoint.par_chunks_mut(CHUNK * 3))
-                .enumerate()
-                .flat_map_iter(
-                    |(c, ((((label, folded), probability), probabilities), view))| {
-                        let mut errors = Vec::new();
-                        for (j, row) in probabilities.chunks_exact_mut(k).enumerate() {
-                            let i = c * CHUNK + j;
-                            let result = batch.pose(i).map_err(|e| e.to_string()).and_then(|m| {
-                                match filler {
-                                    Some(f) => {
-                                        localizer.localize_filled(&m.pose, f.reconstructor())
+        let mut label = vec![0i64; n];
+        let mut folded = vec![0i64; n];
+        let mut probability = vec![f64::NAN; n];
+        let mut probabilities = vec![f64::NAN; n * k];
+        // Per pose: azimuth, elevation, uncertainty (degrees).
+        let mut viewpoint = vec![f64::NAN; n * 3];
+        let mut errors: Vec<(usize, String)> = Vec::new();
+        // Blocks of INTERRUPT_POSES, with a look at Python's signals (Ctrl-C) after each.
+        for start in (0..n).step_by(INTERRUPT_POSES) {
+            let end = (start + INTERRUPT_POSES).min(n);
+            let block_errors: Vec<(usize, String)> = py.detach(|| {
+                label[start..end]
+                    .par_chunks_mut(CHUNK)
+                    .zip(folded[start..end].par_chunks_mut(CHUNK))
+                    .zip(probability[start..end].par_chunks_mut(CHUNK))
+                    .zip(probabilities[start * k..end * k].par_chunks_mut(CHUNK * k))
+                    .zip(viewpoint[start * 3..end * 3].par_chunks_mut(CHUNK * 3))
+                    .enumerate()
+                    .flat_map_iter(
+                        |(c, ((((label, folded), probability), probabilities), view))| {
+                            let mut errors = Vec::new();
+                            for (j, row) in probabilities.chunks_exact_mut(k).enumerate() {
+                                let i = start + c * CHUNK + j;
+                                let result =
+                                    batch.pose(i).map_err(|e| e.to_string()).and_then(|m| {
+                                        match filler {
+                                            Some(f) => localizer
+                                                .localize_filled(&m.pose, f.reconstructor()),
+                                            None => localizer.localize_partial(&m.pose),
+                                        }
+                                        .map_err(|e| e.to_string())
+                                    });
+                                match result {
+                                    Ok(loc) => {
+                                        label[j] = i64::from(loc.label.get());
+                                        folded[j] = i64::from(loc.folded_label.get());
+                                        probability[j] = loc.probability;
+                                        row.copy_from_slice(&loc.probabilities);
+                                        let nan = f64::NAN;
+                                        view[3 * j] = loc.azimuth_deg.unwrap_or(nan);
+                                        view[3 * j + 1] = loc.elevation_deg.unwrap_or(nan);
+                                        view[3 * j + 2] = loc.uncertainty_deg.unwrap_or(nan);
                                     }
-                                    None => localizer.localize_partial(&m.pose),
+                                    Err(message) => errors.push((i, message)),
                                 }
-                                .map_err(|e| e.to_string())
-                            });
-                            match result {
-                                Ok(loc) => {
-                                    label[j] = i64::from(loc.label.get());
-                                    folded[j] = i64::from(loc.folded_label.get());
-                                    probability[j] = loc.probability;
-                                    row.copy_from_slice(&loc.probabilities);
-                                    let nan = f64::NAN;
-                                    view[3 * j] = loc.azimuth_deg.unwrap_or(nan);
-                                    view[3 * j + 1] = loc.elevation_deg.unwrap_or(nan);
-                                    view[3 * j + 2] = loc.uncertainty_deg.unwrap_or(nan);
-                                }
-                                Err(message) => errors.push((i, message)),
                             }
-                        }
-                        errors
-                    },
-                )
-                .collect();
-            (label, folded, probability, probabilities, viewpoint, errors)
-        });
+                            errors
+                        },
+                    )
+                    .collect()
+            });
+            errors.extend(block_errors);
+            py.check_signals()?;
+        }
         let column =
             |c: usize| -> Vec<f64> { viewpoint.iter().skip(c).step_by(3).copied().collect() };
         let (azimuth, elevation) = (column(0), column(1));

@@ -5,6 +5,7 @@
 use std::collections::HashSet;
 use std::io;
 use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Mutex, MutexGuard};
 
 use tempfile::NamedTempFile;
@@ -16,6 +17,9 @@ static UNFINISHED: Mutex<Option<HashSet<PathBuf>>> = Mutex::new(None);
 /// failed commit's roll-back) to end: a user's replaced file is never left under a
 /// temporary name.
 static MOVING: Mutex<()> = Mutex::new(());
+
+/// Set once files have been moved into place in this process ([`placed`]).
+static PLACED: AtomicBool = AtomicBool::new(false);
 
 /// `mutex` locked, whether or not a thread panicked while holding it.
 fn lock<T>(mutex: &Mutex<T>) -> MutexGuard<'_, T> {
@@ -58,16 +62,24 @@ pub(crate) fn moving() -> MutexGuard<'static, ()> {
     lock(&MOVING)
 }
 
+/// Records that output files were moved into place (for [`remove_unfinished`]'s `announce`).
+pub(crate) fn placed() {
+    PLACED.store(true, Ordering::Relaxed);
+}
+
 /// Removes every temporary output file still in the making and returns how many it removed.
 /// For an interrupted run (Ctrl-C, `SIGTERM`): it first waits for files being moved into
-/// place to be in place (or put back), and keeps the list locked afterwards, so that no new
-/// temporary is made before the process ends. Call it only right before ending the process.
-pub fn remove_unfinished() -> usize {
+/// place to be in place (or put back), then calls `announce` with the number of files it is
+/// about to remove (deleting thousands of files that were flushed to disk takes seconds) and
+/// whether output files were moved into place in this process, removes them, and keeps the
+/// list locked afterwards, so that no new temporary is made before the process ends. Call it
+/// only right before ending the process.
+pub fn remove_unfinished(announce: impl FnOnce(usize, bool)) -> usize {
     let moving = lock(&MOVING);
     let mut list = lock(&UNFINISHED);
-    let removed = list
-        .take()
-        .unwrap_or_default()
+    let paths = list.take().unwrap_or_default();
+    announce(paths.len(), PLACED.load(Ordering::Relaxed));
+    let removed = paths
         .iter()
         .filter(|path| std::fs::remove_file(path).is_ok())
         .count();

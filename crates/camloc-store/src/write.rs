@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use tempfile::TempPath;
 
 use crate::StoreError;
-use crate::unfinished::{Listed, moving};
+use crate::unfinished::{Listed, moving, placed};
 
 /// Checks what is at `path` against the one rule for output targets:
 ///
@@ -67,7 +67,9 @@ pub fn write_new(path: &Path, bytes: &[u8], overwrite: bool) -> Result<(), Store
     check_target(path, overwrite)?;
     let (tmp, _listed) = temporary(path, |w| w.write_all(bytes))?;
     let _moving = moving();
-    persist(tmp, path, overwrite)
+    persist(tmp, path, overwrite)?;
+    placed();
+    Ok(())
 }
 
 /// An anonymous scratch file in `target`'s folder (opened for reading and writing, deleted by
@@ -164,6 +166,9 @@ impl StagedFiles {
                     return Err(e);
                 }
             }
+        }
+        if !done.is_empty() {
+            placed();
         }
         // Dropping the backups removes the replaced files.
         Ok(done.into_iter().map(|(target, _)| target).collect())

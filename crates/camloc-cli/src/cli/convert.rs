@@ -85,7 +85,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
             }
             Err(e) => {
                 summary.failed_files += 1;
-                bar.suspend(|| eprintln!("camloc: error: {e}"));
+                super::stream::report_error(&super::stream::FILE_ERRORS, &bar, || e.to_string());
             }
         }
     }

@@ -109,8 +109,9 @@ struct FrameJson<'a> {
     error: Option<&'a str>,
     smoothed_label: Option<CameraLabel>,
     smoothed_probability: Option<f64>,
-    smoothed_azimuth_deg: Option<f64>,
-    smoothed_elevation_deg: Option<f64>,
+    /// Single precision: smoothed from the frames' single-precision angles.
+    smoothed_azimuth_deg: Option<f32>,
+    smoothed_elevation_deg: Option<f32>,
 }
 
 /// The options of a sequence run: `--svg` (one timeline per person), `--summary-svg`,
@@ -387,8 +388,8 @@ fn frame_output(
             error: frame.result.as_ref().err().map(|&n| failures.message(n)),
             smoothed_label: s.map(|s| s.label),
             smoothed_probability: s.map(|s| s.probability),
-            smoothed_azimuth_deg: viewpoint.map(|v| v.0),
-            smoothed_elevation_deg: viewpoint.map(|v| v.1),
+            smoothed_azimuth_deg: viewpoint.map(|v| v.0 as f32),
+            smoothed_elevation_deg: viewpoint.map(|v| v.1 as f32),
         });
     }
     let mut text = String::new();

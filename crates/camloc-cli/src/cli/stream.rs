@@ -254,14 +254,16 @@ impl Emitter {
         error: &KeypointError,
     ) -> Result<(), CliError> {
         // A pose the reader refused for its layout is a failed pose of a file still read.
-        if matches!(error, KeypointError::LayoutMismatch { .. }) {
+        let kind = if error.is_pose_error() {
             summary.poses += 1;
             summary.failed_poses += 1;
+            &POSE_ERRORS
         } else {
             summary.failed_files += 1;
-        }
+            &FILE_ERRORS
+        };
         let message = error.to_string();
-        bar.suspend(|| eprintln!("camloc: error: {message}"));
+        report_error(kind, bar, || message.clone());
         if self.format.is_json() {
             let object = ErrorJson {
                 id: None,
@@ -284,34 +286,59 @@ impl Emitter {
     }
 }
 
-/// How many poses' errors are written on standard error one by one; the rest are only
-/// counted (in the end's summary, and in the JSON outputs' error objects): a detector's dump
-/// with 100,000 failed poses would otherwise write 100,000 lines.
-pub const POSE_ERRORS_SHOWN: u64 = 20;
+/// How many errors of poses, and how many of a folder's files, are written on standard
+/// error one by one; the rest are only counted (in the end's summary, and in the JSON outputs'
+/// error objects): a detector's dump with 100,000 failed poses would otherwise write 100,000
+/// lines. (One input file has at most one error of its own, always written.)
+pub const ERRORS_SHOWN: u64 = 20;
 
-/// The number of poses' errors [`report_pose_error`] was given so far in this run.
-static POSE_ERRORS: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+/// Errors of one kind ([`POSE_ERRORS`], [`FILE_ERRORS`]) reported so far in this run.
+pub struct ErrorCount {
+    count: std::sync::atomic::AtomicU64,
+    /// What the rest are, for the line that says they are not listed ("poses", "files").
+    what: &'static str,
+}
 
-/// Reports on standard error, above the progress bar, that pose `id` of `source` failed with
-/// `message` (quoted and escaped: ids and names come from the input); after
-/// [`POSE_ERRORS_SHOWN`] errors, one line says that the rest are only counted.
-pub fn report_pose_error(bar: &ProgressBar, id: &str, source: &str, message: &str) {
-    let seen = POSE_ERRORS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-    if seen > POSE_ERRORS_SHOWN {
-        return;
-    }
-    if seen == POSE_ERRORS_SHOWN {
+/// The poses that failed so far.
+pub static POSE_ERRORS: ErrorCount = ErrorCount {
+    count: std::sync::atomic::AtomicU64::new(0),
+    what: "poses",
+};
+
+/// The files of a folder that could not be read so far.
+pub static FILE_ERRORS: ErrorCount = ErrorCount {
+    count: std::sync::atomic::AtomicU64::new(0),
+    what: "files",
+};
+
+/// Writes `camloc: error: LINE` on standard error, above the progress bar, for the first
+/// [`ERRORS_SHOWN`] errors of `kind` in a run; then one line says that the rest are only
+/// counted.
+pub fn report_error(kind: &ErrorCount, bar: &ProgressBar, line: impl FnOnce() -> String) {
+    let seen = kind
+        .count
+        .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    if seen < ERRORS_SHOWN {
+        let line = line();
+        bar.suspend(|| eprintln!("camloc: error: {line}"));
+    } else if seen == ERRORS_SHOWN {
+        let what = kind.what;
         bar.suspend(|| {
             eprintln!(
-                "camloc: further poses that could not be processed are not listed; their count \
-                 is at the end (--json and --jsonl give each one's error)"
+                "camloc: further {what} that could not be processed are not listed; their \
+                 count is at the end (--json and --jsonl give each one's error)"
             )
         });
-        return;
     }
-    let (id, source) = (quoted(id), quoted_path(Path::new(source)));
-    let message = escaped(message);
-    bar.suspend(|| eprintln!("camloc: error: {id} ({source}): {message}"));
+}
+
+/// Reports ([`report_error`]) that pose `id` of `source` failed with `message` (quoted and
+/// escaped: ids and names come from the input).
+pub fn report_pose_error(bar: &ProgressBar, id: &str, source: &str, message: &str) {
+    report_error(&POSE_ERRORS, bar, || {
+        let (id, source) = (quoted(id), quoted_path(Path::new(source)));
+        format!("{id} ({source}): {}", escaped(message))
+    });
 }
 
 /// `n` and `noun`, the noun in the plural unless `n` is 1 ("1 frame", "3 frames").

@@ -264,33 +264,34 @@ pub fn check_numbered(out: &Path, ext: &str, force: bool) -> Result<Vec<PathBuf>
 /// an earlier run's `OUT-501` ... `OUT-2000` beside its own, which would pass for one result.
 pub fn warn_left_over(checked: &[PathBuf], written: &[PathBuf]) {
     let written: std::collections::HashSet<PathBuf> = written.iter().map(|p| spelled(p)).collect();
-    let left: Vec<&PathBuf> = checked
+    let mut left: Vec<&PathBuf> = checked
         .iter()
         .filter(|path| !written.contains(&spelled(path)))
         .filter(|path| std::fs::symlink_metadata(path).is_ok())
         .collect();
-    let (Some(first), Some(last)) = (left.first(), left.last()) else {
+    left.sort();
+    if left.is_empty() {
         return;
+    }
+    // The first few by name: the files may belong to several outputs, and numbers of
+    // different widths do not sort into one range.
+    let mut names: Vec<String> = left.iter().take(3).map(|p| quoted_path(p)).collect();
+    if left.len() > names.len() {
+        names.push(format!("{} more", left.len() - names.len()));
+    }
+    let list = match names.split_last() {
+        Some((last, rest)) if !rest.is_empty() => format!("{} and {last}", rest.join(", ")),
+        _ => names.concat(),
     };
-    let (which, it) = if left.len() == 1 {
-        let which = format!(
-            "1 file named like this run's outputs, {}, was not written by this run and is",
-            quoted_path(first)
-        );
-        (which, "it")
+    let (count, verb, it) = if left.len() == 1 {
+        ("1 file".to_string(), "was", "it")
     } else {
-        let which = format!(
-            "{} files named like this run's outputs, {} to {}, were not written by this run \
-             and are",
-            left.len(),
-            quoted_path(first),
-            quoted_path(last)
-        );
-        (which, "them")
+        (format!("{} files", left.len()), "were", "them")
     };
     eprintln!(
-        "camloc: warning: {which} left from an earlier one; remove {it}, or write to an empty \
-         folder"
+        "camloc: warning: {count} named like this run's outputs {verb} not written by this run \
+         and {} left from an earlier one ({list}); remove {it}, or write to an empty folder",
+        if left.len() == 1 { "is" } else { "are" }
     );
 }
 
