@@ -65,7 +65,7 @@ pub fn check_target(path: &Path, overwrite: bool) -> Result<(), StoreError> {
 /// file is removed).
 pub fn write_new(path: &Path, bytes: &[u8], overwrite: bool) -> Result<(), StoreError> {
     check_target(path, overwrite)?;
-    let (tmp, _listed) = temporary(path, |w| w.write_all(bytes))?;
+    let (tmp, _listed) = temporary(path, Flush::Now, |w| w.write_all(bytes))?;
     let _moving = moving();
     persist(tmp, path, overwrite)?;
     placed();
@@ -125,7 +125,7 @@ impl StagedFiles {
         target: &Path,
         write: impl FnOnce(&mut BufWriter<&File>) -> io::Result<()>,
     ) -> Result<usize, StoreError> {
-        let (tmp, listed) = temporary(target, write)?;
+        let (tmp, listed) = temporary(target, Flush::AtCommit, write)?;
         self.files.push((tmp, listed, target.to_path_buf()));
         Ok(self.files.len() - 1)
     }
@@ -151,6 +151,7 @@ impl StagedFiles {
         for (_, _, target) in &self.files {
             check_target(target, self.overwrite)?;
         }
+        flush_all(&self.files)?;
         // An interrupt waits for the moves (and a roll-back) to end.
         let _moving = moving();
         // (target, the previous file moved aside) for each file moved into place.
@@ -214,10 +215,21 @@ fn move_aside(target: &Path) -> Result<Option<TempPath>, StoreError> {
     Ok(Some(backup))
 }
 
-/// A temporary file beside `target` holding what `write` wrote, flushed to disk and closed,
-/// and its place on the list of unfinished files (`unfinished.rs`).
+/// When a temporary file is flushed to disk.
+#[derive(Clone, Copy, PartialEq)]
+enum Flush {
+    /// At once (one file written on its own).
+    Now,
+    /// With the others of its [`StagedFiles`], before they are moved into place
+    /// ([`flush_all`]).
+    AtCommit,
+}
+
+/// A temporary file beside `target` holding what `write` wrote, flushed to disk as `flush`
+/// says and closed, and its place on the list of unfinished files (`unfinished.rs`).
 fn temporary(
     target: &Path,
+    flush: Flush,
     write: impl FnOnce(&mut BufWriter<&File>) -> io::Result<()>,
 ) -> Result<(TempPath, Listed), StoreError> {
     let io = |e| io_error(target, e);
@@ -232,8 +244,50 @@ fn temporary(
     let mut out = BufWriter::new(tmp.as_file());
     write(&mut out).map_err(io)?;
     out.into_inner().map_err(|e| io(e.into_error()))?;
-    tmp.as_file().sync_all().map_err(io)?;
+    if flush == Flush::Now {
+        tmp.as_file().sync_all().map_err(io)?;
+    }
     Ok((tmp.into_temp_path(), listed))
+}
+
+/// How many staged files [`flush_all`] flushes at a time.
+const FLUSHING_THREADS: usize = 8;
+
+/// Flushes the staged `files` to disk, [`FLUSHING_THREADS`] at a time: flushes of different
+/// files overlap (a filesystem's journal commits them together), and one after the other they
+/// were most of the time of thousands of small drawings (2,000 flushes took 4 s of an 8.6 s
+/// run on a loaded disk; 1,000 small files here 0.25 s one by one, 0.05 s eight at a time).
+fn flush_all(files: &[(TempPath, Listed, PathBuf)]) -> Result<(), StoreError> {
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let flush = || -> Result<(), StoreError> {
+        loop {
+            let at = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            let Some((tmp, _, target)) = files.get(at) else {
+                return Ok(());
+            };
+            // Opened for writing: some systems flush only files open for writing.
+            fs::OpenOptions::new()
+                .write(true)
+                .open(tmp)
+                .and_then(|file| file.sync_all())
+                .map_err(|e| io_error(target, e))?;
+        }
+    };
+    std::thread::scope(|scope| {
+        let workers: Vec<_> = (1..FLUSHING_THREADS.min(files.len()))
+            .map(|_| scope.spawn(flush))
+            .collect();
+        let mine = flush();
+        workers.into_iter().fold(mine, |first, worker| {
+            let theirs = worker.join().unwrap_or_else(|_| {
+                Err(StoreError::Io {
+                    path: PathBuf::new(),
+                    source: io::Error::other("a thread flushing output files panicked"),
+                })
+            });
+            first.and(theirs)
+        })
+    })
 }
 
 /// Renames `tmp` onto `target`: replacing what is there with `overwrite`, otherwise only if
