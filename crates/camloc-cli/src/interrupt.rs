@@ -1,86 +1,93 @@
-//! Ctrl-C, `SIGTERM` and `SIGHUP`: an interrupted run removes its unfinished output files
-//! (hidden temporaries beside the outputs, `camloc_store::remove_unfinished`) and exits with
-//! [`EXIT_INTERRUPTED`]; nothing it would replace has been touched unless its files were
-//! already being moved into place, which ends first.
+//! Ctrl-C, `SIGTERM`, `SIGHUP` and `SIGQUIT` (Unix): an interrupted run removes its unfinished
+//! output files (hidden temporaries beside the outputs, `camloc_store::remove_unfinished`),
+//! then ends as the signal would have ended it, so that a shell sees a command killed by Ctrl-C
+//! and stops its loop or script. Nothing the run would replace has been touched, unless its
+//! files were already being moved into place, which ends first.
 
-/// The exit code of a run ended by Ctrl-C, `SIGTERM` or `SIGHUP` (128 + SIGINT's number, as
-/// shells report an interrupted command).
-pub const EXIT_INTERRUPTED: i32 = 130;
-
-/// Installs the handler. A signal the process was started with ignored stays ignored: `nohup`
-/// ignores `SIGHUP`, and a shell ignores `SIGINT` in the commands it runs in the background.
-/// Without a handler (the platform refused one) a signal ends the run as before.
+/// Installs the handler for the signals the process was not started with ignored: `nohup`
+/// ignores `SIGHUP`, and a shell ignores `SIGINT` in the commands it runs in the background;
+/// those stay ignored. Without a handler (the platform refused one, or not Unix) a signal ends
+/// the run as before.
 pub fn install() {
-    let ignored = inherited::ignored();
-    if ctrlc::set_handler(on_signal).is_ok() {
-        inherited::ignore_again(&ignored);
-    }
+    #[cfg(unix)]
+    unix::install();
 }
 
-/// What the handler does: says what it removes (deleting thousands of files takes seconds),
-/// removes it and ends the process. The message is written so that a standard error that
-/// cannot be written (a closed terminal) cannot stop the exit.
-fn on_signal() {
-    camloc::store::remove_unfinished(|count, placed| {
-        let message = match (count, placed) {
-            (0, true) => "camloc: interrupted after its output files were written".to_string(),
-            (0, false) => "camloc: interrupted".to_string(),
-            (1, _) => "camloc: interrupted; removing 1 unfinished output file".to_string(),
-            (n, _) => format!("camloc: interrupted; removing {n} unfinished output files"),
-        };
-        inherited::write_error(&format!("\n{message}\n"));
-    });
-    std::process::exit(EXIT_INTERRUPTED);
-}
-
-/// The signals' dispositions the process was started with (Unix).
 #[cfg(unix)]
-mod inherited {
-    /// The signals the handler is installed for (`ctrlc` with its `termination` feature).
-    const SIGNALS: [libc::c_int; 3] = [libc::SIGINT, libc::SIGTERM, libc::SIGHUP];
+mod unix {
+    use std::sync::mpsc;
+    use std::time::Duration;
 
-    /// The signals of [`SIGNALS`] that are ignored now.
-    pub fn ignored() -> Vec<libc::c_int> {
-        SIGNALS
+    use camloc::store::{Unfinished, remove_unfinished};
+    use signal_hook::consts::{SIGHUP, SIGINT, SIGQUIT, SIGTERM};
+    use signal_hook::iterator::Signals;
+
+    /// How long the handler waits for its message to be written before it ends the process
+    /// (a standard error nobody reads, a full pipe, must not keep the run alive).
+    const MESSAGE_WAIT: Duration = Duration::from_secs(1);
+
+    /// See [`super::install`].
+    pub fn install() {
+        let handled: Vec<libc::c_int> = [SIGINT, SIGTERM, SIGHUP, SIGQUIT]
             .into_iter()
-            .filter(|&signal| {
-                // SAFETY: a null new action only reads the current one into `old`, a plain
-                // C struct for which all zero bytes are a valid value.
-                let mut old: libc::sigaction = unsafe { std::mem::zeroed() };
-                let read = unsafe { libc::sigaction(signal, std::ptr::null(), &mut old) };
-                read == 0 && old.sa_sigaction == libc::SIG_IGN
-            })
-            .collect()
+            .filter(|&signal| !ignored(signal))
+            .collect();
+        let Ok(mut signals) = Signals::new(&handled) else {
+            return;
+        };
+        let _ = std::thread::Builder::new()
+            .name("camloc signals".to_owned())
+            .spawn(move || {
+                if let Some(signal) = signals.forever().next() {
+                    clean_up();
+                    // Ends the process as the signal's default action does (killed by it).
+                    let _ = signal_hook::low_level::emulate_default_handler(signal);
+                    std::process::exit(128 + signal);
+                }
+            });
     }
 
-    /// Ignores `signals` again (after the handler was installed for them).
-    pub fn ignore_again(signals: &[libc::c_int]) {
-        for &signal in signals {
-            // SAFETY: setting a signal's disposition to "ignore" has no other effect.
-            unsafe { libc::signal(signal, libc::SIG_IGN) };
-        }
+    /// Whether `signal` is ignored now (as the process was started).
+    fn ignored(signal: libc::c_int) -> bool {
+        // SAFETY: a null new action only reads the current one into `old`, a plain C struct
+        // for which all zero bytes are a valid value.
+        let mut old: libc::sigaction = unsafe { std::mem::zeroed() };
+        let read = unsafe { libc::sigaction(signal, std::ptr::null(), &mut old) };
+        read == 0 && old.sa_sigaction == libc::SIG_IGN
     }
 
-    /// Writes `text` to descriptor 2 directly, ignoring failures, without the lock of Rust's
-    /// standard error (which the interrupted thread may hold).
-    pub fn write_error(text: &str) {
-        // SAFETY: writes at most `text.len()` bytes from `text`'s buffer.
-        let _ = unsafe { libc::write(2, text.as_ptr().cast(), text.len()) };
-    }
-}
-
-/// Other platforms: no dispositions are read; the message goes through standard error,
-/// failures ignored.
-#[cfg(not(unix))]
-mod inherited {
-    pub fn ignored() -> Vec<i32> {
-        Vec::new()
-    }
-
-    pub fn ignore_again(_: &[i32]) {}
-
-    pub fn write_error(text: &str) {
-        use std::io::Write;
-        let _ = std::io::stderr().write_all(text.as_bytes());
+    /// Removes the unfinished output files, saying first what it waits for and removes. The
+    /// messages go out from their own thread, straight to descriptor 2 (not through Rust's
+    /// standard error, whose lock the interrupted thread may hold), failures ignored: a
+    /// standard error that cannot be written, or a pipe nobody reads, delays nothing.
+    fn clean_up() {
+        let (say, said) = mpsc::channel::<String>();
+        let (done, written) = mpsc::channel::<()>();
+        let _ = std::thread::Builder::new()
+            .name("camloc interrupted".to_owned())
+            .spawn(move || {
+                for message in said {
+                    let text = format!("\ncamloc: {message}\n");
+                    // SAFETY: writes at most `text.len()` bytes from `text`'s buffer.
+                    let _ = unsafe { libc::write(2, text.as_ptr().cast(), text.len()) };
+                }
+                let _ = done.send(());
+            });
+        remove_unfinished(|state| {
+            let message = match state {
+                Unfinished::Moving => {
+                    "interrupted; waiting for the output files being moved into place".to_owned()
+                }
+                Unfinished::Removing(1) => "interrupted; removing 1 unfinished output file".into(),
+                Unfinished::Removing(n) => {
+                    format!("interrupted; removing {n} unfinished output files")
+                }
+                Unfinished::Written => "interrupted after its output files were written".into(),
+                Unfinished::Nothing => "interrupted".into(),
+            };
+            let _ = say.send(message);
+        });
+        drop(say);
+        let _ = written.recv_timeout(MESSAGE_WAIT);
     }
 }

@@ -5,6 +5,16 @@ use std::process::ExitCode;
 
 use clap::Parser;
 
+/// Writes a line to standard error as `eprintln!` does, but a failed write (a closed
+/// terminal, a pipe whose reader is gone, `/dev/full`) is ignored instead of a panic: messages
+/// are lost then, never the run or its output files.
+macro_rules! stderr_line {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stderr(), $($arg)*);
+    }};
+}
+
 mod cli;
 mod html;
 mod interrupt;
@@ -16,7 +26,7 @@ fn main() -> ExitCode {
     let stdout = match standard_output() {
         Ok(stdout) => stdout,
         Err(e) => {
-            eprintln!("camloc: error: {}", cli::CliError::Stdout(e));
+            stderr_line!("camloc: error: {}", cli::CliError::Stdout(e));
             return ExitCode::from(cli::EXIT_ERROR);
         }
     };
@@ -27,7 +37,7 @@ fn main() -> ExitCode {
             // Whatever was written before the error still goes out (a failure here adds
             // nothing to report).
             let _ = out.flush();
-            eprintln!("camloc: error: {e}");
+            stderr_line!("camloc: error: {e}");
             ExitCode::from(match e {
                 cli::CliError::Usage(_) => cli::EXIT_USAGE,
                 _ => cli::EXIT_ERROR,

@@ -4,6 +4,8 @@
 
 mod common;
 
+#[cfg(unix)]
+use std::os::unix::process::ExitStatusExt;
 use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
@@ -45,7 +47,7 @@ fn listing(dir: &Path) -> Vec<String> {
 
 /// Starts `camloc localize --input INPUT --svg OUT/v.svg --force --quiet` (through `wrapper`,
 /// e.g. `nohup`, when given; standard error to `stderr`), waits until it writes temporaries,
-/// sends it `signal` (`kill -SIGNAL`) and waits for its end; returns its exit code and
+/// sends it `signal` (`kill -SIGNAL`) and waits for its end; returns how it ended and its
 /// standard error (empty unless piped). A run that has not ended two minutes after the
 /// signal fails the test: it hung.
 #[cfg(unix)]
@@ -55,7 +57,7 @@ fn signalled(
     wrapper: Option<&str>,
     stderr: Stdio,
     signal: &str,
-) -> (Option<i32>, String) {
+) -> (std::process::ExitStatus, String) {
     let camloc = env!("CARGO_BIN_EXE_camloc");
     let mut command = match wrapper {
         Some(wrapper) => {
@@ -99,17 +101,17 @@ fn signalled(
     waiting("the end of the run", &mut child, &ended);
     let out = child.wait_with_output().unwrap();
     (
-        out.status.code(),
+        out.status,
         String::from_utf8_lossy(&out.stderr).into_owned(),
     )
 }
 
 /// SIGTERM (handled as Ctrl-C is; SIGINT itself is not sent, since a test run in the
 /// background of a shell script inherits it ignored) while a run's drawings are being
-/// written: exit code 130, a message, and none of its temporary files (`.NAME.XXXXXX.tmp`)
-/// left; a file the run would have replaced with `--force` is untouched. With a standard
-/// error that cannot be written (a closed terminal), the run ends the same way and does not
-/// hang.
+/// written: the run ends killed by the signal (as a shell expects, to stop a loop), with a
+/// message and none of its temporary files (`.NAME.XXXXXX.tmp`) left; a file the run would
+/// have replaced with `--force` is untouched. With a standard error that cannot be written
+/// (a closed terminal), the run ends the same way and does not hang.
 #[cfg(unix)]
 #[test]
 fn an_interrupt_removes_the_unfinished_files() {
@@ -118,8 +120,8 @@ fn an_interrupt_removes_the_unfinished_files() {
     let out = dir.0.join("out");
     std::fs::create_dir(&out).unwrap();
     std::fs::write(out.join("v-001.svg"), "mine").unwrap();
-    let (code, stderr) = signalled(&input, &out, None, Stdio::piped(), "TERM");
-    assert_eq!(code, Some(130), "{stderr}");
+    let (status, stderr) = signalled(&input, &out, None, Stdio::piped(), "TERM");
+    assert_eq!(status.signal(), Some(15), "{status:?} {stderr}");
     assert!(stderr.contains("camloc: interrupted; removing"), "{stderr}");
     assert_eq!(listing(&out), ["v-001.svg"], "{stderr}");
     assert_eq!(
@@ -127,8 +129,8 @@ fn an_interrupt_removes_the_unfinished_files() {
         "mine"
     );
     if let Ok(full) = std::fs::OpenOptions::new().write(true).open("/dev/full") {
-        let (code, _) = signalled(&input, &out, None, Stdio::from(full), "TERM");
-        assert_eq!(code, Some(130));
+        let (status, _) = signalled(&input, &out, None, Stdio::from(full), "TERM");
+        assert_eq!(status.signal(), Some(15), "{status:?}");
         assert_eq!(listing(&out), ["v-001.svg"]);
     }
 }
@@ -151,8 +153,8 @@ fn a_run_under_nohup_outlives_its_terminal() {
     let input = dir.file("many.json", &poses_json(3000, 0));
     let out = dir.0.join("out");
     std::fs::create_dir(&out).unwrap();
-    let (code, stderr) = signalled(&input, &out, Some("nohup"), Stdio::piped(), "HUP");
-    assert_eq!(code, Some(0), "{stderr}");
+    let (status, stderr) = signalled(&input, &out, Some("nohup"), Stdio::piped(), "HUP");
+    assert_eq!(status.code(), Some(0), "{stderr}");
     let names = listing(&out);
     assert_eq!(names.len(), 3000, "{stderr}");
     assert!(names.iter().all(|n| !n.starts_with('.')));
@@ -257,4 +259,27 @@ fn many_failed_poses_are_counted_not_listed() {
         stdout.lines().filter(|l| l.contains("\"error\"")).count(),
         26
     );
+}
+
+/// A standard error that cannot be written loses the messages, not the run: failed poses
+/// (whose errors go to standard error) with standard error on `/dev/full` still give exit 1
+/// and the output file.
+#[test]
+fn an_unwritable_standard_error_loses_only_the_messages() {
+    let Ok(full) = std::fs::OpenOptions::new().write(true).open("/dev/full") else {
+        eprintln!("skipped: no /dev/full");
+        return;
+    };
+    let dir = TempDir::new("stderr-full");
+    let input = dir.file("some-broken.json", &poses_json(30, 5));
+    let npz = dir.0.join("rows.npz");
+    let out = Command::new(env!("CARGO_BIN_EXE_camloc"))
+        .args(["localize", "--input", &input, "--npz"])
+        .arg(&npz)
+        .stdout(Stdio::null())
+        .stderr(full)
+        .status()
+        .unwrap();
+    assert_eq!(out.code(), Some(1), "{out:?}");
+    assert!(npz.is_file());
 }

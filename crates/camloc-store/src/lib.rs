@@ -37,7 +37,7 @@ mod unfinished;
 mod write;
 
 pub use quote::{MAX_QUOTED_CHARS, MAX_QUOTED_PATH_CHARS, escaped, quoted, quoted_path};
-pub use unfinished::remove_unfinished;
+pub use unfinished::{Unfinished, remove_unfinished};
 pub use write::{StagedFiles, check_target, file_type_name, scratch_beside, write_new};
 
 /// Length of the envelope header in bytes.

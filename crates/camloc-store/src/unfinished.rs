@@ -67,18 +67,43 @@ pub(crate) fn placed() {
     PLACED.store(true, Ordering::Relaxed);
 }
 
+/// What [`remove_unfinished`] tells its caller, in order, so that an interrupted run can say
+/// what it is waiting for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Unfinished {
+    /// Files are being moved into place; they are waited for (thousands of replaced files
+    /// take seconds). Told before the waiting.
+    Moving,
+    /// This many temporary files are about to be removed (thousands of files take a while).
+    Removing(usize),
+    /// No temporary file is left, and output files were moved into place in this process.
+    Written,
+    /// No temporary file is left, and none was moved into place.
+    Nothing,
+}
+
 /// Removes every temporary output file still in the making and returns how many it removed.
 /// For an interrupted run (Ctrl-C, `SIGTERM`): it first waits for files being moved into
-/// place to be in place (or put back), then calls `announce` with the number of files it is
-/// about to remove (deleting thousands of files that were flushed to disk takes seconds) and
-/// whether output files were moved into place in this process, removes them, and keeps the
-/// list locked afterwards, so that no new temporary is made before the process ends. Call it
-/// only right before ending the process.
-pub fn remove_unfinished(announce: impl FnOnce(usize, bool)) -> usize {
-    let moving = lock(&MOVING);
+/// place to be in place (or put back), telling `announce` ([`Unfinished::Moving`]) before it
+/// waits, then tells `announce` what it finds ([`Unfinished::Removing`], `Written` or
+/// `Nothing`), removes the temporaries, and keeps the list locked afterwards, so that no new
+/// temporary is made before the process ends. Call it only right before ending the process.
+pub fn remove_unfinished(mut announce: impl FnMut(Unfinished)) -> usize {
+    let moving = match MOVING.try_lock() {
+        Ok(guard) => guard,
+        Err(std::sync::TryLockError::Poisoned(poisoned)) => poisoned.into_inner(),
+        Err(std::sync::TryLockError::WouldBlock) => {
+            announce(Unfinished::Moving);
+            lock(&MOVING)
+        }
+    };
     let mut list = lock(&UNFINISHED);
     let paths = list.take().unwrap_or_default();
-    announce(paths.len(), PLACED.load(Ordering::Relaxed));
+    announce(match paths.len() {
+        0 if PLACED.load(Ordering::Relaxed) => Unfinished::Written,
+        0 => Unfinished::Nothing,
+        n => Unfinished::Removing(n),
+    });
     let removed = paths
         .iter()
         .filter(|path| std::fs::remove_file(path).is_ok())

@@ -113,7 +113,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     staged.commit()?;
     let code = summary.exit_code("converted");
     if empty > 0 {
-        eprintln!(
+        stderr_line!(
             "camloc: {empty} of {} poses have no landmark",
             summary.poses
         );

@@ -70,7 +70,7 @@ pub fn bvh_files(
         let slots = if sequence {
             let slots = frame_slots(&keys, members, KEEP_MAX_POSES as usize);
             if slots.is_none() && members.iter().all(|&i| keys[i].0.is_some()) {
-                eprintln!(
+                stderr_line!(
                     "camloc: the BVH of {name} plays its frames one after another: their \
                      frame numbers repeat or span more than {KEEP_MAX_POSES} frames"
                 );
@@ -91,7 +91,7 @@ pub fn bvh_files(
             Ok(text) => text,
             Err(BvhWriteError::NoFrames) => {
                 if sequence {
-                    eprintln!("camloc: no BVH for {name}: none of its poses was reconstructed");
+                    stderr_line!("camloc: no BVH for {name}: none of its poses was reconstructed");
                 }
                 continue;
             }

@@ -96,11 +96,11 @@ fn say(estimate: &HeightEstimate, whole: bool, quiet: bool) {
         format!(", {} of them with a torso", estimate.localized)
     };
     match estimate.shares {
-        Some(shares) => eprintln!(
+        Some(shares) => stderr_line!(
             "camloc: camera heights of the input, from {poses}{localized}: {shares} \
              (--camera-height any: each pose on its own)"
         ),
-        None => eprintln!(
+        None => stderr_line!(
             "camloc: too few poses to estimate the camera heights of the input ({poses}{localized}; \
              at least {HEIGHT_SHARE_MIN_POSES} with a torso are needed): each pose is localized \
              on its own"

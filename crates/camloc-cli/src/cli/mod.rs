@@ -47,7 +47,9 @@ const EXIT_CODES: &str = "Exit codes:
      reconstruct, convert) at least one pose or file of a folder that could not be processed
   2  usage error: unknown subcommand or option, missing or invalid argument, two
      outputs at one file
-  130  interrupted (Ctrl-C, SIGTERM, SIGHUP); its unfinished output files are removed
+  Ctrl-C, SIGTERM, SIGHUP or SIGQUIT: the unfinished output files are removed, then the run
+     ends killed by the signal (a shell reports 128 + its number: 130 for Ctrl-C); a signal
+     the run was started with ignored (nohup) stays ignored
 
 An input with no pose at all (an empty pose list, a header-only CSV, an empty .npy array, a
 folder without poses, a dataset without samples) is an error: \"no poses in INPUT\", exit 1.";
@@ -405,7 +407,7 @@ pub fn load_model(
         .count();
     if height.height() != CameraHeight::Any && (middle == 0 || middle == localizer.cameras().len())
     {
-        eprintln!(
+        stderr_line!(
             "camloc: warning: --camera-height {} changes nothing for this model: {} of its \
              cameras are in the middle ring",
             height.height(),

@@ -282,7 +282,7 @@ pub fn run(
             }
         }
         if let (Some(_), 0) = (&lengths, reconstructed) {
-            eprintln!(
+            stderr_line!(
                 "camloc: no bone lengths for person {person}: none of its frames was reconstructed"
             );
         }

@@ -323,7 +323,7 @@ pub fn warn_of_repeated_frames(keys: &[(Option<u64>, Option<u64>)]) {
         .filter(|key| !seen.insert(**key))
         .count();
     if repeated > 0 {
-        eprintln!(
+        stderr_line!(
             "camloc: warning: {} repeat{} the frame and person numbers of an earlier pose \
              (several videos in one input, or several people without person ids?): they are \
              taken as frames of the same person; give one video per run and each person an id \
@@ -356,7 +356,7 @@ pub fn warn_of_identity_jumps(
         Some(frame) => format!("frame {frame}"),
         None => format!("its frame {}", first + 1),
     };
-    eprintln!(
+    stderr_line!(
         "camloc: warning: person {person}: the pose jumps across the image or changes size \
          from one frame to the next at {} (first at {at}): these may be several people \
          (the detector's order of people changed?), or not consecutive frames of a video; \

@@ -164,23 +164,25 @@ impl Summary {
     /// an error when a pose failed, a file could not be read, or no pose had a landmark.
     pub fn exit_code(&self, verb: &str) -> ExitCode {
         if let Some(warning) = camloc::upside_down_warning(self.upside_down.0, self.upside_down.1) {
-            eprintln!("camloc: warning: {warning}");
+            stderr_line!("camloc: warning: {warning}");
         }
         if self.undetected > 0 {
-            eprintln!(
+            stderr_line!(
                 "camloc: {} of {} poses have no landmarks (nothing detected): taken as frames the \
                  person is missing from",
-                self.undetected, self.poses
+                self.undetected,
+                self.poses
             );
         }
         if self.failed_poses > 0 {
-            eprintln!(
+            stderr_line!(
                 "camloc: {} of {} poses could not be {verb}",
-                self.failed_poses, self.poses
+                self.failed_poses,
+                self.poses
             );
         }
         if self.failed_files > 0 {
-            eprintln!(
+            stderr_line!(
                 "camloc: {} input file(s) could not be read",
                 self.failed_files
             );
@@ -320,13 +322,13 @@ pub fn report_error(kind: &ErrorCount, bar: &ProgressBar, line: impl FnOnce() ->
         .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
     if seen < ERRORS_SHOWN {
         let line = line();
-        bar.suspend(|| eprintln!("camloc: error: {line}"));
+        bar.suspend(|| stderr_line!("camloc: error: {line}"));
     } else if seen == ERRORS_SHOWN {
         let what = kind.what;
         bar.suspend(|| {
-            eprintln!(
+            stderr_line!(
                 "camloc: further {what} that could not be processed are not listed; their \
-                 count is at the end (--json and --jsonl give each one's error)"
+                 count is at the end"
             )
         });
     }

@@ -288,7 +288,7 @@ pub fn warn_left_over(checked: &[PathBuf], written: &[PathBuf]) {
     } else {
         (format!("{} files", left.len()), "were", "them")
     };
-    eprintln!(
+    stderr_line!(
         "camloc: warning: {count} named like this run's outputs {verb} not written by this run \
          and {} left from an earlier one ({list}); remove {it}, or write to an empty folder",
         if left.len() == 1 { "is" } else { "are" }

@@ -28,7 +28,7 @@ fn warn_of_thin_heads(localizer: &CameraLocalizer, dataset: &Dataset) {
         .map(|c| format!("{:02} ({})", c.label, c.samples))
         .collect();
     if !thin.is_empty() {
-        eprintln!(
+        stderr_line!(
             "camloc: warning: fewer training views than the {width} features a viewpoint head \
              reads, for camera(s) {}: their continuous directions and uncertainties are \
              unreliable; train on more views",
@@ -180,7 +180,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     options.validate()?;
     let start = Instant::now();
     let dataset = load_dataset(&args.dataset)?;
-    eprintln!(
+    stderr_line!(
         "training on {} samples of {} subjects ({} protocol, {} cameras), descriptor {}, {} classifier, lambda {}",
         dataset.samples.len(),
         dataset.subjects().len(),
@@ -199,7 +199,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         ));
         if !quiet {
             bar.suspend(|| {
-                eprintln!(
+                stderr_line!(
                     "  newton {:>3}: objective {:.6e}  |grad|_inf {:.3e}  step {:.3}  ({})",
                     log.iteration,
                     log.objective,

@@ -125,7 +125,7 @@ fn python_zipfile_reads_both_forms() {
             .arg(&path)
             .output();
         let Ok(run) = run else {
-            eprintln!("SKIPPED: python3 not found, zip archive not checked by Python");
+            stderr_line!("SKIPPED: python3 not found, zip archive not checked by Python");
             break;
         };
         assert!(
