@@ -40,11 +40,27 @@ mod unix {
             .spawn(move || {
                 if let Some(signal) = signals.forever().next() {
                     clean_up();
-                    // Ends the process as the signal's default action does (killed by it).
-                    let _ = signal_hook::low_level::emulate_default_handler(signal);
-                    std::process::exit(128 + signal);
+                    end_by(signal);
                 }
             });
+    }
+
+    /// Ends the process by `signal`'s default action (killed by it, as without a handler), or,
+    /// where that action does not end it (the first process of a container, which the kernel
+    /// does not let default actions kill), by exiting with 128 + the signal's number, as a
+    /// shell reports a killed command.
+    fn end_by(signal: libc::c_int) -> ! {
+        // SAFETY: plain calls on a signal number and a local signal set: the default action
+        // back, the signal unblocked in this thread, then sent to it.
+        unsafe {
+            libc::signal(signal, libc::SIG_DFL);
+            let mut set: libc::sigset_t = std::mem::zeroed();
+            libc::sigemptyset(&mut set);
+            libc::sigaddset(&mut set, signal);
+            libc::pthread_sigmask(libc::SIG_UNBLOCK, &set, std::ptr::null_mut());
+            libc::raise(signal);
+        }
+        std::process::exit(128 + signal)
     }
 
     /// Whether `signal` is ignored now (as the process was started).

@@ -261,6 +261,62 @@ fn many_failed_poses_are_counted_not_listed() {
     );
 }
 
+/// As the first process of a PID namespace (a container started without an init process),
+/// where the kernel does not let a default action kill the process, an interrupted run still
+/// removes its temporaries and ends with 128 + the signal's number (it ended with SIGSEGV
+/// when its handler re-raised the signal and then aborted). Skipped where `unshare --pid`
+/// is not allowed.
+#[cfg(target_os = "linux")]
+#[test]
+fn the_first_process_of_a_container_ends_with_the_signals_status() {
+    let allowed = Command::new("unshare")
+        .args(["--pid", "--fork", "true"])
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .status();
+    if !allowed.is_ok_and(|s| s.success()) {
+        eprintln!("skipped: unshare --pid is not allowed here");
+        return;
+    }
+    let dir = TempDir::new("pid-one");
+    let input = dir.file("many.json", &poses_json(3000, 0));
+    let out = dir.0.join("out");
+    std::fs::create_dir(&out).unwrap();
+    // `unshare` waits for camloc, its child and the namespace's first process, and exits with
+    // its status; the signal goes to camloc.
+    let mut unshare = Command::new("unshare")
+        .args(["--pid", "--fork", env!("CARGO_BIN_EXE_camloc")])
+        .args(["localize", "--input", &input, "--svg"])
+        .arg(out.join("v.svg"))
+        .arg("--quiet")
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let start = Instant::now();
+    let children = format!("/proc/{0}/task/{0}/children", unshare.id());
+    let camloc = loop {
+        let writing = listing(&out).iter().any(|n| n.ends_with(".tmp"));
+        let child = std::fs::read_to_string(&children).unwrap_or_default();
+        if let (true, Some(pid)) = (writing, child.split_whitespace().next()) {
+            break pid.to_owned();
+        }
+        assert!(start.elapsed() < Duration::from_secs(120), "no temporaries");
+        assert!(unshare.try_wait().unwrap().is_none(), "the run ended first");
+        std::thread::sleep(Duration::from_millis(5));
+    };
+    assert!(
+        Command::new("kill")
+            .args(["-TERM", &camloc])
+            .status()
+            .unwrap()
+            .success()
+    );
+    let status = unshare.wait().unwrap();
+    assert_eq!(status.code(), Some(128 + 15), "{status:?}");
+    assert_eq!(listing(&out), Vec::<String>::new());
+}
+
 /// A standard error that cannot be written loses the messages, not the run: failed poses
 /// (whose errors go to standard error) with standard error on `/dev/full` still give exit 1
 /// and the output file.

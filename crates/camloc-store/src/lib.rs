@@ -23,7 +23,9 @@
 //!
 //! Writing goes through [`write_new`] (one file) or [`StagedFiles`] (several, all or nothing):
 //! temporary files in the targets' folders, renamed into place, never replacing an existing
-//! file unless asked to, under one rule for links and special files ([`check_target`]).
+//! file unless asked to, under one rule for links and special files ([`check_target`]). The
+//! temporaries still in the making are on one list, which an interrupted program removes with
+//! [`remove_unfinished`].
 
 use std::fs;
 use std::io::Read;
