@@ -30,7 +30,8 @@ fn main() -> ExitCode {
             return ExitCode::from(cli::EXIT_ERROR);
         }
     };
-    let mut out = cli::Out::new(stdout);
+    let terminal = std::io::IsTerminal::is_terminal(&std::io::stdout());
+    let mut out = cli::Out::new(stdout, terminal);
     match cli::run(args, &mut out) {
         Ok(code) => code,
         Err(e) => {

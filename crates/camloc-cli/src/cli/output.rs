@@ -13,20 +13,25 @@ use camloc::store::{StagedFiles, StoreError, scratch_beside};
 
 use super::CliError;
 
-/// Standard output through a buffer. A closed pipe (`camloc ... | head`) is not an error: it
-/// marks the output closed and later text is dropped; any other failure is
-/// [`CliError::Stdout`].
+/// Standard output through a buffer. A reader that has gone away is not an error: a closed
+/// pipe (`camloc ... | head`), or a terminal that hung up (a run left behind by a closed
+/// session); it marks the output closed, later text is dropped and the run goes on to write
+/// its files. Any other failure is [`CliError::Stdout`].
 pub struct Out {
     inner: BufWriter<Box<dyn Write>>,
     closed: bool,
+    /// Whether standard output is a terminal (whose hang-up is an I/O error).
+    terminal: bool,
 }
 
 impl Out {
-    /// Buffered output to `inner` (the process's standard output, or a test's buffer).
-    pub fn new(inner: Box<dyn Write>) -> Out {
+    /// Buffered output to `inner` (the process's standard output, or a test's buffer), a
+    /// terminal or not.
+    pub fn new(inner: Box<dyn Write>, terminal: bool) -> Out {
         Out {
             inner: BufWriter::with_capacity(1 << 16, inner),
             closed: false,
+            terminal,
         }
     }
 
@@ -48,6 +53,15 @@ impl Out {
         self.check(result)
     }
 
+    /// Whether `e` is a terminal's hang-up (`EIO` on a terminal).
+    fn hung_up(&self, e: &io::Error) -> bool {
+        #[cfg(unix)]
+        let hang_up = e.raw_os_error() == Some(libc::EIO);
+        #[cfg(not(unix))]
+        let hang_up = false;
+        self.terminal && hang_up
+    }
+
     /// `true` once the reader of standard output has gone away.
     pub fn closed(&self) -> bool {
         self.closed
@@ -55,7 +69,7 @@ impl Out {
 
     fn check(&mut self, result: io::Result<()>) -> Result<(), CliError> {
         match result {
-            Err(e) if e.kind() == io::ErrorKind::BrokenPipe => {
+            Err(e) if e.kind() == io::ErrorKind::BrokenPipe || self.hung_up(&e) => {
                 self.closed = true;
                 Ok(())
             }
