@@ -35,6 +35,29 @@ fn poses_json(n: usize, broken: usize) -> String {
     format!(r#"{{"poses": [{}]}}"#, poses.join(",\n"))
 }
 
+/// Whether `program ARGS` runs and succeeds here (a tool the test needs, a namespace it may
+/// make); a test that needs it is skipped, visibly, when it does not.
+#[cfg(unix)]
+fn works(program: &str, args: &[&str]) -> bool {
+    let status = Command::new(program)
+        .args(args)
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .status();
+    status.is_ok_and(|s| s.success())
+}
+
+/// A folder named after `name` with an input of 3,000 poses (enough drawings to interrupt
+/// while they are written) and an empty output folder `out` in it.
+#[cfg(unix)]
+fn many_poses(name: &str) -> (TempDir, String, std::path::PathBuf) {
+    let dir = TempDir::new(name);
+    let input = dir.file("many.json", &poses_json(3000, 0));
+    let out = dir.0.join("out");
+    std::fs::create_dir(&out).unwrap();
+    (dir, input, out)
+}
+
 /// The names in `dir`, hidden ones included, sorted.
 fn listing(dir: &Path) -> Vec<String> {
     let mut names: Vec<String> = std::fs::read_dir(dir)
@@ -115,10 +138,7 @@ fn signalled(
 #[cfg(unix)]
 #[test]
 fn an_interrupt_removes_the_unfinished_files() {
-    let dir = TempDir::new("interrupt");
-    let input = dir.file("many.json", &poses_json(3000, 0));
-    let out = dir.0.join("out");
-    std::fs::create_dir(&out).unwrap();
+    let (_dir, input, out) = many_poses("interrupt");
     std::fs::write(out.join("v-001.svg"), "mine").unwrap();
     let (status, stderr) = signalled(&input, &out, None, Stdio::piped(), "TERM");
     assert_eq!(status.signal(), Some(15), "{status:?} {stderr}");
@@ -140,19 +160,11 @@ fn an_interrupt_removes_the_unfinished_files() {
 #[cfg(unix)]
 #[test]
 fn a_run_under_nohup_outlives_its_terminal() {
-    let nohup = Command::new("nohup")
-        .arg("true")
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .status();
-    if !nohup.is_ok_and(|s| s.success()) {
+    if !works("nohup", &["true"]) {
         eprintln!("skipped: no nohup command");
         return;
     }
-    let dir = TempDir::new("nohup");
-    let input = dir.file("many.json", &poses_json(3000, 0));
-    let out = dir.0.join("out");
-    std::fs::create_dir(&out).unwrap();
+    let (_dir, input, out) = many_poses("nohup");
     let (status, stderr) = signalled(&input, &out, Some("nohup"), Stdio::piped(), "HUP");
     assert_eq!(status.code(), Some(0), "{stderr}");
     let names = listing(&out);
@@ -269,19 +281,11 @@ fn many_failed_poses_are_counted_not_listed() {
 #[cfg(target_os = "linux")]
 #[test]
 fn the_first_process_of_a_container_ends_with_the_signals_status() {
-    let allowed = Command::new("unshare")
-        .args(["--pid", "--fork", "true"])
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .status();
-    if !allowed.is_ok_and(|s| s.success()) {
+    if !works("unshare", &["--pid", "--fork", "true"]) {
         eprintln!("skipped: unshare --pid is not allowed here");
         return;
     }
-    let dir = TempDir::new("pid-one");
-    let input = dir.file("many.json", &poses_json(3000, 0));
-    let out = dir.0.join("out");
-    std::fs::create_dir(&out).unwrap();
+    let (_dir, input, out) = many_poses("pid-one");
     // `unshare` waits for camloc, its child and the namespace's first process, and exits with
     // its status; the signal goes to camloc.
     let mut unshare = Command::new("unshare")

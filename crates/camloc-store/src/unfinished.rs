@@ -82,13 +82,12 @@ pub enum Unfinished {
     Nothing,
 }
 
-/// Removes every temporary output file still in the making and returns how many it removed.
-/// For an interrupted run (Ctrl-C, `SIGTERM`): it first waits for files being moved into
+/// Removes every temporary output file still in the making. For an interrupted run (Ctrl-C, `SIGTERM`): it first waits for files being moved into
 /// place to be in place (or put back), telling `announce` ([`Unfinished::Moving`]) before it
 /// waits, then tells `announce` what it finds ([`Unfinished::Removing`], `Written` or
 /// `Nothing`), removes the temporaries, and keeps the list locked afterwards, so that no new
 /// temporary is made before the process ends. Call it only right before ending the process.
-pub fn remove_unfinished(mut announce: impl FnMut(Unfinished)) -> usize {
+pub fn remove_unfinished(mut announce: impl FnMut(Unfinished)) {
     let moving = match MOVING.try_lock() {
         Ok(guard) => guard,
         Err(std::sync::TryLockError::Poisoned(poisoned)) => poisoned.into_inner(),
@@ -104,14 +103,13 @@ pub fn remove_unfinished(mut announce: impl FnMut(Unfinished)) -> usize {
         0 => Unfinished::Nothing,
         n => Unfinished::Removing(n),
     });
-    let removed = paths
-        .iter()
-        .filter(|path| std::fs::remove_file(path).is_ok())
-        .count();
+    for path in &paths {
+        // Nothing more can be done for a file that cannot be removed (or is gone already).
+        let _ = std::fs::remove_file(path);
+    }
     // Neither lock is released: the process is about to end.
     std::mem::forget(list);
     std::mem::forget(moving);
-    removed
 }
 
 #[cfg(test)]

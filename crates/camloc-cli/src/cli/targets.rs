@@ -263,12 +263,17 @@ pub fn check_numbered(out: &Path, ext: &str, force: bool) -> Result<Vec<PathBuf>
 /// replace (not in `written`) and that still exist: with `--force`, a run of 500 poses leaves
 /// an earlier run's `OUT-501` ... `OUT-2000` beside its own, which would pass for one result.
 pub fn warn_left_over(checked: &[PathBuf], written: &[PathBuf]) {
-    let written: std::collections::HashSet<PathBuf> = written.iter().map(|p| spelled(p)).collect();
+    // Mostly none is left (without --force an existing target refuses the run), and the
+    // written paths are resolved only then.
     let mut left: Vec<&PathBuf> = checked
         .iter()
-        .filter(|path| !written.contains(&spelled(path)))
         .filter(|path| std::fs::symlink_metadata(path).is_ok())
         .collect();
+    if left.is_empty() {
+        return;
+    }
+    let written: std::collections::HashSet<PathBuf> = written.iter().map(|p| spelled(p)).collect();
+    left.retain(|path| !written.contains(&spelled(path)));
     left.sort();
     if left.is_empty() {
         return;
@@ -283,15 +288,14 @@ pub fn warn_left_over(checked: &[PathBuf], written: &[PathBuf]) {
         Some((last, rest)) if !rest.is_empty() => format!("{} and {last}", rest.join(", ")),
         _ => names.concat(),
     };
-    let (count, verb, it) = if left.len() == 1 {
-        ("1 file".to_string(), "was", "it")
+    let (count, was, is, it) = if left.len() == 1 {
+        ("1 file".to_string(), "was", "is", "it")
     } else {
-        (format!("{} files", left.len()), "were", "them")
+        (format!("{} files", left.len()), "were", "are", "them")
     };
     stderr_line!(
-        "camloc: warning: {count} named like this run's outputs {verb} not written by this run \
-         and {} left from an earlier one ({list}); remove {it}, or write to an empty folder",
-        if left.len() == 1 { "is" } else { "are" }
+        "camloc: warning: {count} named like this run's outputs {was} not written by this run \
+         and {is} left from an earlier one ({list}); remove {it}, or write to an empty folder"
     );
 }
 
