@@ -118,7 +118,25 @@ fn two_outputs_at_one_file_are_refused_before_any_work() {
     std::fs::write(at("target.svg"), "old").unwrap();
     std::os::unix::fs::symlink(at("target.svg"), at("link.svg")).unwrap();
     std::fs::hard_link(at("target.svg"), at("hard.svg")).unwrap();
+    // Links to an existing numbered name of another output.
+    std::fs::write(at("s-002.svg"), "old").unwrap();
+    std::os::unix::fs::symlink(at("s-002.svg"), at("soft-numbered.svg")).unwrap();
+    std::fs::hard_link(at("s-002.svg"), at("hard-numbered.svg")).unwrap();
     let cases: Vec<Vec<String>> = vec![
+        vec![
+            "localize".into(),
+            "--svg".into(),
+            at("s.svg"),
+            "--summary-svg".into(),
+            at("soft-numbered.svg"),
+        ],
+        vec![
+            "localize".into(),
+            "--svg".into(),
+            at("s.svg"),
+            "--summary-svg".into(),
+            at("hard-numbered.svg"),
+        ],
         vec![
             "localize".into(),
             "--svg".into(),
@@ -202,6 +220,7 @@ fn two_outputs_at_one_file_are_refused_before_any_work() {
             assert!(!text.contains("already exists"), "{text}");
             assert!(!Path::new(&at("s.svg")).exists() && !Path::new(&at("x")).exists());
             assert_eq!(std::fs::read_to_string(at("target.svg")).unwrap(), "old");
+            assert_eq!(std::fs::read_to_string(at("s-002.svg")).unwrap(), "old");
         }
     }
 }
@@ -224,7 +243,11 @@ fn outputs_that_are_the_input_or_standard_input_are_refused() {
     let folder = dir.0.join("frames").to_string_lossy().into_owned();
     let model = dir.0.join("m.bin").to_string_lossy().into_owned();
     std::fs::copy(fixture("default-model.bin"), &model).unwrap();
-    let cases: [&[&str]; 7] = [
+    // A hard link elsewhere to a file of the input folder.
+    let linked = dir.0.join("linked.json").to_string_lossy().into_owned();
+    std::fs::hard_link(&folder_file, &linked).unwrap();
+    let cases: [&[&str]; 8] = [
+        &["reconstruct", "--npy", &linked, "--input", &folder],
         &["convert", "--to", "camloc", "--out", &same],
         &["convert", "--to", "npy", "--out", "-"],
         &["reconstruct", "--npy", &input],

@@ -438,6 +438,17 @@ pub fn open_keypoints_reader(
     if detected.is_none() && !text.starts_with(['{', '[']) && !text.is_empty() {
         return Err(unknown_format(name, extension));
     }
+    // A format found from the content may have a lower limit (one OpenPose frame): a file
+    // known to be beyond it is refused before more is read.
+    let (detected_limit, detected_rule) = options.byte_limit(detected);
+    if let Some(size) = size.filter(|&size| size > detected_limit) {
+        return Err(KeypointError::TooLarge {
+            file: name.to_owned(),
+            bytes: size,
+            limit: detected_limit,
+            rule: detected_rule,
+        });
+    }
     let json = detected.filter(|f| !matches!(f, KeypointFormat::Lsp | KeypointFormat::Npy));
     if let (Some(json), false) = (json, start.ended) {
         let (lead, content) = (start.lead(false), start.content);

@@ -743,6 +743,26 @@ fn openpose_frames_have_their_own_size_cap() {
             "{e:?}"
         );
     }
+    // A frame of known size whose format is found from its content is refused before it is
+    // read (it was read, its poses given, and then cut at the limit), with its own size.
+    let frame = format!(
+        r#"{{"people": [{{"pose_keypoints_2d": [{}]}}], "pad": "{}"}}"#,
+        vec!["1.0"; 54].join(", "),
+        " ".repeat(limit as usize)
+    );
+    let size = frame.len() as u64;
+    let opened = camloc_keypoints::open_keypoints_reader(
+        std::io::Cursor::new(frame.into_bytes()),
+        "f_000000000001_keypoints.json",
+        Some(size),
+        None,
+        &ReadOptions::default(),
+    );
+    assert!(
+        matches!(&opened, Err(KeypointError::TooLarge { bytes, limit: l, .. }) if *bytes == size && *l == limit),
+        "{:?}",
+        opened.err()
+    );
     // An .npy header that promises more poses than the file holds is refused before reading.
     let bytes = std::fs::read(fixture("bad/npy_truncated.npy")).unwrap();
     let mut promised = bytes.clone();

@@ -5,7 +5,8 @@ mod common;
 use camloc_geometry::{Perspective, Vector3, WeakPerspective, look_at_origin, sphere_point};
 use camloc_reconstruct::{
     BoneLengths, CameraMode, DistancePrior, Given, Intrinsics, LiftedDepths, PoseBasis,
-    ReconstructConfig, ReconstructError, Reconstructor, depths_along_axis, mpjpe_after_similarity,
+    ReconstructConfig, ReconstructError, Reconstruction, Reconstructor, depths_along_axis,
+    mpjpe_after_similarity,
 };
 use camloc_skeleton::{LIMBS, NUM_LIMBS, Pose2, Pose3};
 use rand::Rng;
@@ -570,5 +571,47 @@ fn the_camera_distance_is_estimated_without_intrinsics() {
             Reconstructor::new(basis().clone(), config),
             Err(ReconstructError::InvalidConfig { .. })
         ));
+    }
+}
+
+/// With lifted depths, the first hypothesis of the other depth reflection starts from the
+/// depths mirrored, so that it is the lifted pose's own depth mirror (every hypothesis used
+/// to start from the same lifted pose and ended within centimetres of the first).
+#[test]
+fn the_other_reflection_of_a_lifted_pose_is_its_depth_mirror() {
+    let poses = motion(&person(3), 4, 5);
+    let (frames, depths) = perspective_frames(&poses, 100.0);
+    let rec = reconstructor();
+    let given = Given::default();
+    for ((pose2, mode), depths) in frames.iter().zip(&depths) {
+        let all = rec
+            .reconstruct_lifted(pose2, mode, 4, &given, depths.as_ref())
+            .unwrap();
+        assert_eq!(all.len(), 4);
+        // Camera-frame depths about the pelvis.
+        let depth_of = |r: &Reconstruction| -> Vec<f64> {
+            let pelvis = r.camera.rotation * Vector3::from(r.pose.points[0]);
+            r.pose
+                .points
+                .iter()
+                .map(|p| (r.camera.rotation * Vector3::from(*p) - pelvis).z)
+                .collect()
+        };
+        let first = depth_of(&all[0]);
+        let other = all
+            .iter()
+            .position(|r| r.reflected != all[0].reflected)
+            .expect("a hypothesis of the other reflection");
+        let mirror = depth_of(&all[other]);
+        let spread = first.iter().map(|z| z.abs()).fold(0.0, f64::max);
+        let off = first
+            .iter()
+            .zip(&mirror)
+            .map(|(a, b)| (a + b).abs())
+            .fold(0.0, f64::max);
+        assert!(
+            spread > 0.1 && off < 0.25 * spread,
+            "depths {first:?} against {mirror:?}"
+        );
     }
 }

@@ -172,7 +172,8 @@ fn check_not_input(
 }
 
 /// `true` when `out` names an existing file in `folder` (or below it) that a folder input
-/// reads: `.json`, `.csv` or `.npy`.
+/// reads (`.json`, `.csv` or `.npy`), through any path or link: a hard link elsewhere to
+/// one of them included.
 fn reads_in_folder(out: &Output, folder: &Path) -> bool {
     let read = out
         .path
@@ -185,7 +186,13 @@ fn reads_in_folder(out: &Output, folder: &Path) -> bool {
     ) else {
         return false;
     };
-    read && file.starts_with(folder)
+    if file.starts_with(&folder) {
+        return read;
+    }
+    // The folder's reader picks its files by their own names, whatever `out` is called.
+    hard_linked(out.path)
+        && camloc::keypoints::keypoint_files(&folder, true)
+            .is_ok_and(|files| files.iter().any(|f| same_inode(out.path, f)))
 }
 
 /// `true` when `a` (or, if `b` is numbered, one of `b`'s numbered names) is the file `b` names.
@@ -196,8 +203,26 @@ fn same_file(a: &Output, b: &Output) -> bool {
     }
     same_inode(a.path, b.path)
         || b.numbered.is_some_and(|ext| {
-            spelled_a.parent() == spelled_b.parent() && is_numbered(a.path, b.path, ext)
+            (spelled_a.parent() == spelled_b.parent() && is_numbered(a.path, b.path, ext))
+                // A link (symbolic or hard) to one of `b`'s existing numbered files.
+                || (std::fs::metadata(a.path).is_ok()
+                    && numbered_targets(b.path, ext)[1..]
+                        .iter()
+                        .any(|t| same_inode(a.path, t)))
         })
+}
+
+/// `true` when `path` is a file with other hard links (unix; elsewhere never).
+#[cfg(unix)]
+fn hard_linked(path: &Path) -> bool {
+    use std::os::unix::fs::MetadataExt;
+    std::fs::metadata(path).is_ok_and(|m| m.is_file() && m.nlink() > 1)
+}
+
+/// Hard links are not told apart here.
+#[cfg(not(unix))]
+fn hard_linked(_: &Path) -> bool {
+    false
 }
 
 /// `true` when both paths exist and are one file (links followed, hard links included).

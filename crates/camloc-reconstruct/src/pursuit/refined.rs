@@ -36,12 +36,14 @@ impl Reconstructor {
         self.reconstruct_lifted(pose, mode, max, given, None)
     }
 
-    /// [`reconstruct_with`](Self::reconstruct_with), the refinement of every hypothesis
+    /// [`reconstruct_with`](Self::reconstruct_with), the refinement of the first hypothesis
     /// started from the landmarks' `depths` along the camera's optical axis when they are
     /// given (a [`LiftedDepths`], for instance `camloc::DepthLifter`'s) instead of the
     /// pursuit's pose: the pose whose landmarks are the 2D ones at those depths, turned into
     /// the body frame by the hypothesis' camera; its bone directions are then the ones the
-    /// refinement holds the pose near.
+    /// refinement holds the pose near. The first hypothesis of the other depth reflection
+    /// starts from those depths mirrored (the lifted pose's depth mirror), any further one
+    /// from its pursuit pose.
     ///
     /// # Errors
     /// As [`reconstruct_with`](Self::reconstruct_with).
@@ -82,12 +84,13 @@ impl Reconstructor {
             candidates,
             iterations,
         } = self.ranked(pose, mode)?;
+        let starts = lifted_starts(&candidates, max.max(1), depths);
         candidates
             .into_iter()
-            .take(max.max(1))
-            .map(|c| {
+            .zip(starts)
+            .map(|(c, start)| {
                 let refined = if self.refines(given) {
-                    let frame = self.refine_frame(&obs, &c, given, depths, imputed);
+                    let frame = self.refine_frame(&obs, &c, given, start.as_ref(), imputed);
                     let (mut out, _) = refine(
                         &[frame],
                         self.length_input(given),
@@ -203,6 +206,38 @@ impl Reconstructor {
             perspective,
         }
     }
+}
+
+/// The lifted depths each of the first `max` `candidates` starts its refinement from, so
+/// that with a lifter the hypotheses stay distinct readings of the 2D: the first candidate
+/// the lifted `depths`; the first candidate of the other depth reflection the same depths
+/// mirrored (negated: the lifted pose's own depth mirror); any further candidate none (its
+/// pursuit pose). Started from the same lifted pose, every hypothesis of a pose ended within
+/// a few centimetres of the first.
+fn lifted_starts(
+    candidates: &[Candidate],
+    max: usize,
+    depths: Option<&LiftedDepths>,
+) -> Vec<Option<LiftedDepths>> {
+    let Some(depths) = depths else {
+        return vec![None; candidates.len().min(max)];
+    };
+    let first = candidates.first().is_some_and(|c| c.reflected);
+    let mut used = [false; 2];
+    candidates
+        .iter()
+        .take(max)
+        .map(|c| {
+            let slot = &mut used[usize::from(c.reflected)];
+            if std::mem::replace(slot, true) {
+                None
+            } else if c.reflected == first {
+                Some(*depths)
+            } else {
+                Some(depths.map(|z| -z))
+            }
+        })
+        .collect()
 }
 
 /// The landmarks' depths along a camera's optical axis, about the centroid of the 3D
