@@ -365,6 +365,64 @@ fn frames_the_person_is_missing_from_keep_the_timing_of_the_bvh() {
     }
 }
 
+/// A second pose of a frame (a tracker's duplicate) and a frame holding another person's
+/// pose (two people's ids swapped for one frame) are left out of the sequence, with warnings
+/// naming the person and the frames: the BVH keeps the video's timing (the duplicate had made
+/// it play every frame one after another) and fills the swapped frame from its neighbours
+/// (the other person's pose had pulled the root 0.5 m away in a trial).
+#[test]
+fn a_duplicate_and_a_swapped_frame_are_left_out_of_the_sequence() {
+    let dir = TempDir::new("bvh-left-out");
+    let input = walk_across(&dir, 0..20);
+    let mut document: Value =
+        serde_json::from_str(&std::fs::read_to_string(&input).unwrap()).unwrap();
+    let poses = document["poses"].as_array_mut().unwrap();
+    let moved = |pose: &Value, dx: f64, id: &str| {
+        let mut pose = pose.clone();
+        for p in pose["landmarks"].as_object_mut().unwrap().values_mut() {
+            p[0] = (p[0].as_f64().unwrap() + dx).into();
+        }
+        pose["id"] = id.into();
+        pose
+    };
+    let duplicate = moved(&poses[5], 3.0, "dup5");
+    poses.insert(6, duplicate);
+    // Frame 14 (now at position 15) holds someone 900 px away.
+    poses[15] = moved(&poses[15], 900.0, "other14");
+    let file = dir.file("left-out.json", &document.to_string());
+    let bvh = dir.0.join("left-out.bvh");
+    let out = camloc(&[
+        "reconstruct",
+        "--input",
+        &file,
+        "--json",
+        "--sequence",
+        "--quiet",
+        "--bvh",
+        bvh.to_str().unwrap(),
+    ]);
+    let objects = success(&out);
+    assert_eq!(objects.len(), 21);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    for expected in [
+        "person 0: 1 frame holds a second pose (first at frame 5)",
+        "person 0: the pose of 1 frame lies apart from the frames before and after it (first \
+         at frame 14",
+    ] {
+        assert!(stderr.contains(expected), "{stderr}");
+    }
+    let clip = read_bvh_with_unit(&bvh, BVH_CENTIMETRE).unwrap();
+    assert_eq!(clip.frames.len(), 20);
+    // Frame 14 is filled halfway between its neighbours, which the walk keeps one step
+    // apart on each side.
+    let pelvis = |t: usize| clip.frames[t].get(Landmark::Pelvis);
+    let (before, after) = (pelvis(14)[0] - pelvis(13)[0], pelvis(15)[0] - pelvis(14)[0]);
+    assert!(
+        (before - after).abs() < 1e-6 && before.abs() < 0.1,
+        "steps {before} m and {after} m"
+    );
+}
+
 /// Chromium's command, when installed.
 fn chromium() -> Option<&'static str> {
     ["chromium", "chromium-browser"].into_iter().find(|name| {

@@ -371,7 +371,7 @@ fn detector_order_changes_are_warned_of() {
                 assert!(
                     stderr.contains(&format!(
                         "person {person}: the pose jumps across the image or changes size \
-                         from one frame to the next at 1 frame (first at frame 4)"
+                         from one frame to the next once (first at frame 4)"
                     )),
                     "{stderr}"
                 );

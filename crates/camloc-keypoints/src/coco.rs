@@ -159,7 +159,7 @@ fn record<'a>(
         options,
     );
     Ok(KeypointRecord {
-        frame: Some(image_id).and_then(json::tracking_number),
+        frame: json::frame_number(image_id),
         person: annotation.track_id.as_ref().and_then(json::tracking_number),
         ..record
     })
@@ -207,6 +207,27 @@ mod tests {
             .map(|r| (r.frame, r.person))
             .collect();
         assert_eq!(keys, [(Some(4), Some(2)), (None, None)]);
+        // Numbers as scripts and tools write them: floats, digit strings, image file names.
+        let written = format!(
+            r#"[{{"image_id": 12.0, "track_id": "3", "keypoints": {kp}}},
+                {{"image_id": "frames/cam2_frame_000013.jpg", "track_id": 4.0, "keypoints": {kp}}},
+                {{"image_id": "0014", "track_id": "walker", "keypoints": {kp}}},
+                {{"image_id": 1.5, "track_id": -2.0, "keypoints": {kp}}}]"#
+        );
+        let keys: Vec<_> = parse(&written)
+            .unwrap()
+            .iter()
+            .map(|r| (r.frame, r.person))
+            .collect();
+        assert_eq!(
+            keys,
+            [
+                (Some(12), Some(3)),
+                (Some(13), Some(4)),
+                (Some(14), None),
+                (None, None)
+            ]
+        );
         let twice = format!(r#"[{{"image_id": 1, "keypoints": {kp}, "keypoints": {kp}}}]"#);
         let err = parse(&twice).unwrap_err();
         assert!(matches!(err, KeypointError::Json { .. }), "{err:?}");

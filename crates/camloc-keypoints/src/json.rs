@@ -307,14 +307,47 @@ pub(crate) fn count_number(
     }
 }
 
-/// A frame or person number a detector or tracker wrote beside the keypoints (COCO's
-/// `image_id`, a `track_id`): the value when it is an integer from 0 to
-/// [`MAX_FRAME_NUMBER`](crate::MAX_FRAME_NUMBER), else `None` (string image ids, the `-1`
-/// some trackers write for an untracked detection), which leaves the record without one.
+/// A person number a tracker wrote beside the keypoints (a `track_id`): the value when it is
+/// an integer from 0 to [`MAX_FRAME_NUMBER`](crate::MAX_FRAME_NUMBER), written as a number
+/// (`7`, or `7.0` as scripts write floats) or as a string of digits (`"7"`), else `None` (the
+/// `-1` some trackers write for an untracked detection, a name), which leaves the record
+/// without one.
 pub(crate) fn tracking_number(value: &Json) -> Option<u64> {
     match value {
-        Json::Number(n) => n.as_u64().filter(|&v| v <= crate::MAX_FRAME_NUMBER),
+        Json::Number(n) => n
+            .as_u64()
+            .or_else(|| {
+                n.as_f64()
+                    .filter(|v| v.fract() == 0.0 && *v >= 0.0 && *v < 2f64.powi(63))
+                    .map(|v| v as u64)
+            })
+            .filter(|&v| v <= crate::MAX_FRAME_NUMBER),
+        Json::String(s) if !s.is_empty() && s.bytes().all(|b| b.is_ascii_digit()) => s
+            .parse::<u64>()
+            .ok()
+            .filter(|&v| v <= crate::MAX_FRAME_NUMBER),
         _ => None,
+    }
+}
+
+/// A frame number a detector wrote beside the keypoints (COCO's `image_id`): as
+/// [`tracking_number`], and for an image's file name (`"frame_000012.jpg"`, `"12.png"`) the
+/// last run of digits before its extension; `None` for a string without digits.
+pub(crate) fn frame_number(value: &Json) -> Option<u64> {
+    match value {
+        Json::String(s) => {
+            let stem = s.rsplit(['/', '\\']).next().unwrap_or(s);
+            let stem = stem.rsplit_once('.').map_or(stem, |(stem, _)| stem);
+            let end = stem.rfind(|c: char| c.is_ascii_digit())? + 1;
+            let start = stem[..end]
+                .rfind(|c: char| !c.is_ascii_digit())
+                .map_or(0, |i| i + 1);
+            stem[start..end]
+                .parse::<u64>()
+                .ok()
+                .filter(|&v| v <= crate::MAX_FRAME_NUMBER)
+        }
+        other => tracking_number(other),
     }
 }
 

@@ -8,7 +8,9 @@ use serde::de::{MapAccess, SeqAccess};
 use crate::ReadOptions;
 use crate::emit::{self, ListReader, Sink, TopLevel};
 use crate::error::{KeypointError, Location};
-use crate::json::{Json, index_path, key_path, numbers, object, required, unit_score};
+use crate::json::{
+    Json, index_path, key_path, numbers, object, optional, required, tracking_number, unit_score,
+};
 use crate::layout::{COCO18, Joint, Layout, keeps};
 use crate::record::{KeypointRecord, from_joints};
 
@@ -107,8 +109,13 @@ fn person_record(
         let c = unit_score(xyc[2], "confidence", file, &c_path)?;
         points.push(keeps(c, options).then_some([xyc[0], xyc[1]]));
     }
+    // OpenPose's tracker writes its id as `person_id: [7]` (`[-1]` without tracking).
+    let tracked = optional(fields, "person_id", file, &path)?.and_then(|id| match id {
+        Json::Array(ids) => ids.first().and_then(tracking_number),
+        other => tracking_number(other),
+    });
     Ok(KeypointRecord {
-        person: Some(p as u64),
+        person: Some(tracked.unwrap_or(p as u64)),
         ..from_joints(
             table,
             points,
@@ -140,5 +147,29 @@ mod tests {
         );
         assert_eq!(frame_index("é.json"), None);
         assert_eq!(frame_index(""), None);
+    }
+
+    /// A tracker's `person_id` is the pose's person; `[-1]` (no tracking) or none leaves the
+    /// position in `people`.
+    #[test]
+    fn tracked_people_keep_their_ids() {
+        let kp = vec!["1.0"; 75].join(", ");
+        let text = format!(
+            r#"{{"people": [{{"person_id": [-1], "pose_keypoints_2d": [{kp}]}},
+                            {{"person_id": [7], "pose_keypoints_2d": [{kp}]}},
+                            {{"pose_keypoints_2d": [{kp}]}}]}}"#
+        );
+        let records = crate::parse_keypoints(
+            &text,
+            "v_000000000003_keypoints.json",
+            Some(crate::KeypointFormat::OpenPose),
+            &ReadOptions::default(),
+        )
+        .unwrap();
+        let keys: Vec<_> = records.iter().map(|r| (r.frame, r.person)).collect();
+        assert_eq!(
+            keys,
+            [(Some(3), Some(0)), (Some(3), Some(7)), (Some(3), Some(2))]
+        );
     }
 }

@@ -26,11 +26,23 @@ pub struct TorsoAnchor {
 }
 
 impl TorsoAnchor {
-    /// The anchor of `pose`, `None` when its pelvis or neck is missing, or they coincide or
-    /// are not finite.
+    /// The anchor of `pose`: its pelvis, else the midpoint of its hips, else the hip it has;
+    /// its neck, else the midpoint of its shoulders, else the shoulder it has (a low-scored
+    /// pelvis or neck is often where people occlude each other, which is where identities
+    /// switch). `None` when it has neither hip nor shoulder, or the two points coincide or are
+    /// not finite.
     pub fn of(pose: &PartialPose2) -> Option<TorsoAnchor> {
-        let pelvis = pose.points[Landmark::Pelvis.index()]?;
-        let neck = pose.points[Landmark::Neck.index()]?;
+        let point = |centre: Landmark, pair: [Landmark; 2]| {
+            pose.points[centre.index()].or_else(|| match pair.map(|l| pose.points[l.index()]) {
+                [Some(a), Some(b)] => Some([0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])]),
+                [a, b] => a.or(b),
+            })
+        };
+        let pelvis = point(Landmark::Pelvis, [Landmark::LeftHip, Landmark::RightHip])?;
+        let neck = point(
+            Landmark::Neck,
+            [Landmark::LeftShoulder, Landmark::RightShoulder],
+        )?;
         let torso = (neck[0] - pelvis[0]).hypot(neck[1] - pelvis[1]);
         (torso.is_finite() && torso > 0.0 && pelvis.iter().all(|v| v.is_finite()))
             .then_some(TorsoAnchor { pelvis, torso })
@@ -69,30 +81,65 @@ pub fn identity_jumps(frames: &[Option<u64>], anchors: &[Option<TorsoAnchor>]) -
         };
         (k, smoothed)
     });
-    let mut jumps = Vec::new();
+    let mut found = Vec::new();
     let mut previous: Option<(usize, TorsoAnchor)> = None;
     for (k, anchor) in filtered {
         if let Some((j, before)) = previous {
-            let elapsed = match (
-                frames.get(j).copied().flatten(),
-                frames.get(k).copied().flatten(),
-            ) {
-                (Some(a), Some(b)) if b > a => (b - a) as f64,
-                _ => (k - j) as f64,
-            };
-            let moved =
-                (anchor.pelvis[0] - before.pelvis[0]).hypot(anchor.pelvis[1] - before.pelvis[1]);
-            let torso = 0.5 * (anchor.torso + before.torso);
-            let ratio = anchor.torso.max(before.torso) / anchor.torso.min(before.torso);
-            if moved > IDENTITY_JUMP_TORSOS * elapsed * torso
-                || (elapsed <= 1.0 && ratio > IDENTITY_SIZE_RATIO)
-            {
-                jumps.push(k);
+            if jumps(&before, &anchor, elapsed(frames, j, k)) {
+                found.push(k);
             }
         }
         previous = Some((k, anchor));
     }
-    jumps
+    found
+}
+
+/// Whether the step from `before` to `after` (`elapsed` frames apart) is not one person
+/// moving: the pelvis moves more than [`IDENTITY_JUMP_TORSOS`] torso lengths (their mean) per
+/// frame elapsed, or, over one frame, the torso length changes by more than
+/// [`IDENTITY_SIZE_RATIO`].
+fn jumps(before: &TorsoAnchor, after: &TorsoAnchor, elapsed: f64) -> bool {
+    let moved = (after.pelvis[0] - before.pelvis[0]).hypot(after.pelvis[1] - before.pelvis[1]);
+    let torso = 0.5 * (after.torso + before.torso);
+    let ratio = after.torso.max(before.torso) / after.torso.min(before.torso);
+    moved > IDENTITY_JUMP_TORSOS * elapsed * torso
+        || (elapsed <= 1.0 && ratio > IDENTITY_SIZE_RATIO)
+}
+
+/// Frames elapsed from position `j` to position `k` (`k > j`) of one person's frames: by their
+/// frame numbers where both have one in that order, else by their positions.
+fn elapsed(frames: &[Option<u64>], j: usize, k: usize) -> f64 {
+    match (
+        frames.get(j).copied().flatten(),
+        frames.get(k).copied().flatten(),
+    ) {
+        (Some(a), Some(b)) if b > a => (b - a) as f64,
+        _ => (k - j) as f64,
+    }
+}
+
+/// The positions of one person's frames (in time order; `frames` and `anchors` as for
+/// [`identity_jumps`]) whose pose is not where the frames before and after it put the person
+/// while those two agree with each other: one frame that holds another person's detection (two
+/// tracked people's ids swapped for one frame) or a detection a detector misplaced. The median
+/// of [`identity_jumps`] does not count such a frame as a change of person; its pose is still
+/// not this person's. The first and the last frame with an anchor are never reported.
+pub fn outlier_frames(frames: &[Option<u64>], anchors: &[Option<TorsoAnchor>]) -> Vec<usize> {
+    let present: Vec<(usize, TorsoAnchor)> = anchors
+        .iter()
+        .enumerate()
+        .filter_map(|(k, a)| a.map(|a| (k, a)))
+        .collect();
+    present
+        .windows(3)
+        .filter(|w| {
+            let [(i, a), (k, b), (l, c)] = [w[0], w[1], w[2]];
+            jumps(&a, &b, elapsed(frames, i, k))
+                && jumps(&b, &c, elapsed(frames, k, l))
+                && !jumps(&a, &c, elapsed(frames, i, l))
+        })
+        .map(|w| w[1].0)
+        .collect()
 }
 
 #[cfg(test)]
@@ -125,10 +172,43 @@ mod tests {
             a.as_mut().unwrap().torso = 250.0;
         }
         assert_eq!(identity_jumps(&frames, &nearer), vec![4]);
-        // One frame whose hips a detector misplaced is not a jump.
+        // One frame whose hips a detector misplaced is not a jump, but an outlier.
         let mut misplaced = walk.clone();
         misplaced[5] = at(400.0, 40.0);
         assert!(identity_jumps(&frames, &misplaced).is_empty());
+        assert_eq!(outlier_frames(&frames, &misplaced), vec![5]);
+        // Neither a walk nor a lasting switch has an outlier; two people's ids swapped for
+        // one frame give one in each.
+        assert!(outlier_frames(&frames, &walk).is_empty());
+        assert!(outlier_frames(&frames, &switched).is_empty());
+        let other: Vec<_> = (0..10)
+            .map(|t| at(900.0 - 10.0 * f64::from(t), 100.0))
+            .collect();
+        let (mut a, mut b) = (walk.clone(), other.clone());
+        std::mem::swap(&mut a[3], &mut b[3]);
+        assert_eq!(outlier_frames(&frames, &a), vec![3]);
+        assert_eq!(outlier_frames(&frames, &b), vec![3]);
+        // A person running past a camera filmed at a low frame rate moves far every frame:
+        // no outlier, as the frames before and after disagree too.
+        let fast: Vec<_> = (0..10).map(|t| at(150.0 * f64::from(t), 100.0)).collect();
+        assert!(outlier_frames(&frames, &fast).is_empty());
+    }
+
+    #[test]
+    fn a_missing_pelvis_or_neck_is_stood_in_for_by_hips_or_shoulders() {
+        let mut pose = PartialPose2::empty();
+        pose.points[Landmark::LeftHip.index()] = Some([-10.0, 0.0]);
+        pose.points[Landmark::RightHip.index()] = Some([10.0, 0.0]);
+        pose.points[Landmark::LeftShoulder.index()] = Some([-20.0, -100.0]);
+        assert_eq!(
+            TorsoAnchor::of(&pose),
+            Some(TorsoAnchor {
+                pelvis: [0.0, 0.0],
+                torso: 20.0f64.hypot(100.0)
+            })
+        );
+        pose.points[Landmark::LeftShoulder.index()] = None;
+        assert_eq!(TorsoAnchor::of(&pose), None);
     }
 
     #[test]

@@ -73,7 +73,9 @@ pub use height_shares::{
     HEIGHT_SHARE_MAX_POSES, HEIGHT_SHARE_MIN_POSES, HEIGHT_SHARE_PSEUDO_VIEWS, HeightEstimate,
     HeightShares,
 };
-pub use identity::{IDENTITY_JUMP_TORSOS, IDENTITY_SIZE_RATIO, TorsoAnchor, identity_jumps};
+pub use identity::{
+    IDENTITY_JUMP_TORSOS, IDENTITY_SIZE_RATIO, TorsoAnchor, identity_jumps, outlier_frames,
+};
 pub use reconstruction::{
     PoseReconstruction, PoseReconstructor, PoseSequenceReconstruction, SEQUENCE_BREAK_FRAMES,
     default_basis, evaluation_samples,

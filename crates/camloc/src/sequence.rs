@@ -302,9 +302,10 @@ pub fn sequences(keys: &[(Option<u64>, Option<u64>)]) -> Vec<(u64, Vec<usize>)> 
 /// The video timeline of one sequence of [`sequences`] (`members`, ordered by frame, and the
 /// `keys` of the records as there): slot `f - first` holds the position in `members` of the
 /// record of frame `f`, `None` for a frame of which no record holds that person (not
-/// detected), so that outputs keep the video's timing across such gaps. `None` when a member
-/// has no frame number, two have the same, they are out of frame order, or the frames span
-/// more than `max_slots`.
+/// detected), so that outputs keep the video's timing across such gaps; of members with the
+/// same frame number the first holds the slot (the others are off the timeline: one
+/// duplicated detection used to cost the whole sequence its timing). `None` when a member has
+/// no frame number, they are out of frame order, or the frames span more than `max_slots`.
 pub fn frame_slots(
     keys: &[(Option<u64>, Option<u64>)],
     members: &[usize],
@@ -326,10 +327,9 @@ pub fn frame_slots(
         // (Out of order, a frame before the first has no slot.)
         let offset = usize::try_from(frame.checked_sub(first)?).ok()?;
         let slot = slots.get_mut(offset)?;
-        if slot.is_some() {
-            return None;
+        if slot.is_none() {
+            *slot = Some(position);
         }
-        *slot = Some(position);
     }
     Some(slots)
 }
@@ -348,10 +348,14 @@ mod tests {
             frame_slots(&keys, members, 10),
             Some(vec![Some(0), Some(1), None, None, Some(2)])
         );
-        // Too long a span, a repeated frame, a record without a frame: no timeline.
+        // A repeated frame: the first record holds it.
+        let repeated = [(Some(3), None), (Some(3), None), (Some(4), None)];
+        assert_eq!(
+            frame_slots(&repeated, &[0, 1, 2], 10),
+            Some(vec![Some(0), Some(2)])
+        );
+        // Too long a span, a record without a frame: no timeline.
         assert_eq!(frame_slots(&keys, members, 4), None);
-        let repeated = [(Some(3), None), (Some(3), None)];
-        assert_eq!(frame_slots(&repeated, &[0, 1], 10), None);
         let unnumbered = [(Some(3), None), (None, None)];
         assert_eq!(frame_slots(&unnumbered, &[0, 1], 10), None);
         let far = [(Some(0), None), (Some(u64::MAX), None)];

@@ -63,6 +63,10 @@ pub fn bvh_files(
     let base = bvh_base(out);
     let keys: Vec<_> = kept.iter().map(|k| k.key).collect();
     let groups = groups(&keys, sequence, true);
+    if sequence {
+        let names: Vec<String> = groups.iter().map(|(name, _)| name.clone()).collect();
+        super::sequence::name_numbered_persons(&base, &names);
+    }
     let mut files = Vec::new();
     for (n, (name, members)) in groups.iter().enumerate() {
         // A person's frames on the video's timeline: a frame where they were not detected
@@ -72,7 +76,7 @@ pub fn bvh_files(
             if slots.is_none() && members.iter().all(|&i| keys[i].0.is_some()) {
                 stderr_line!(
                     "camloc: the BVH of {name} plays its frames one after another: their \
-                     frame numbers repeat or span more than {KEEP_MAX_POSES} frames"
+                     frame numbers span more than {KEEP_MAX_POSES} frames"
                 );
             }
             slots

@@ -61,13 +61,12 @@ pub struct Options<'a> {
 }
 
 /// The numbered names of `--bone-lengths-out` take `.json` when the name has no extension.
-fn lengths_path(out: &Path, index: usize, count: usize) -> PathBuf {
-    let base = if out.extension().is_none() && count > 1 {
+fn lengths_base(out: &Path, count: usize) -> PathBuf {
+    if out.extension().is_none() && count > 1 {
         out.with_extension("json")
     } else {
         out.to_path_buf()
-    };
-    numbered_path(&base, index, count)
+    }
 }
 
 /// Runs `camloc reconstruct --sequence` (see the module docs).
@@ -121,6 +120,10 @@ pub fn run(
     let keys: Vec<_> = kept.iter().map(|k| (k.frame, k.person)).collect();
     super::sequence::warn_of_repeated_frames(&keys);
     let groups = sequences(&keys);
+    if let Some(path) = options.lengths_out {
+        let names: Vec<String> = groups.iter().map(|(p, _)| format!("person {p}")).collect();
+        super::sequence::name_numbered_persons(&lengths_base(path, groups.len()), &names);
+    }
     let mut staged = StagedFiles::new(options.force);
     let mut rows: Vec<Option<Pose3>> =
         vec![None; if options.npy.is_some() { kept.len() } else { 0 }];
@@ -129,21 +132,31 @@ pub fn run(
     let mut drawn: Vec<(usize, usize)> = Vec::new();
     for (n, (person, members)) in groups.iter().enumerate() {
         let poses: Vec<PartialPose2> = members.iter().map(|&i| kept[i].pose).collect();
-        super::sequence::warn_of_identity_jumps(
+        let numbers = super::sequence::frame_numbers(&keys, members);
+        let anchors: Vec<_> = poses.iter().map(TorsoAnchor::of).collect();
+        super::sequence::warn_of_identity_jumps(*person, &numbers, &anchors);
+        // A second pose of a frame, and a frame whose pose is not where the frames around it
+        // put the person, are reconstructed on their own, outside the sequence.
+        let left_out = super::sequence::left_out_of_sequence(
             *person,
-            &super::sequence::frame_numbers(&keys, members),
-            &poses.iter().map(TorsoAnchor::of).collect::<Vec<_>>(),
+            &numbers,
+            &anchors,
+            "reconstructed on its own, left out of the sequence (its lengths, smoothness and \
+             animation)",
         );
+        let in_sequence: Vec<usize> = (0..members.len()).filter(|&m| !left_out[m]).collect();
         // A frame after SEQUENCE_BREAK_FRAMES or more frame numbers the person is missing
         // from starts a new run.
-        let breaks: Vec<bool> = (0..members.len())
-            .map(|m| {
-                let frame = |m: usize| kept[members[m]].frame;
-                m > 0
-                    && matches!((frame(m - 1), frame(m)), (Some(a), Some(b))
+        let breaks: Vec<bool> = in_sequence
+            .iter()
+            .enumerate()
+            .map(|(s, &m)| {
+                s > 0
+                    && matches!((numbers[in_sequence[s - 1]], numbers[m]), (Some(a), Some(b))
                         if b.saturating_sub(a) > SEQUENCE_BREAK_FRAMES as u64)
             })
             .collect();
+        let sequence_poses: Vec<PartialPose2> = in_sequence.iter().map(|&m| poses[m]).collect();
         // The solve of a long sequence takes a while (20,000 frames: tens of seconds) and
         // counts nothing: a spinner says whose it is, when the reading's bar was shown.
         let solving = if bar.is_hidden() {
@@ -159,9 +172,9 @@ pub fn run(
                 ),
             )
         };
-        let result = reconstructor.reconstruct_sequence_with_breaks(&poses, &breaks);
+        let result = reconstructor.reconstruct_sequence_with_breaks(&sequence_poses, &breaks);
         solving.finish_and_clear();
-        let (frames, lengths): (Vec<Result<_, String>>, Option<BoneLengths>) = match result {
+        let (solved, lengths): (Vec<Result<_, String>>, Option<BoneLengths>) = match result {
             Ok(r) => (
                 r.frames
                     .into_iter()
@@ -169,27 +182,46 @@ pub fn run(
                     .collect(),
                 Some(r.lengths),
             ),
-            Err(e) => (members.iter().map(|_| Err(e.to_string())).collect(), None),
+            Err(e) => (
+                in_sequence.iter().map(|_| Err(e.to_string())).collect(),
+                None,
+            ),
         };
+        let mut solved = solved.into_iter();
+        let frames: Vec<Result<PoseReconstruction, String>> = (0..members.len())
+            .map(|m| match left_out[m] {
+                true => reconstructor
+                    .reconstruct(&poses[m])
+                    .map_err(|e| e.to_string()),
+                false => solved
+                    .next()
+                    .unwrap_or_else(|| Err("no reconstruction".to_owned())),
+            })
+            .collect();
         // A failed sequence is reported once on standard error, not once per frame (the JSON
         // outputs still hold an error object per frame).
         let whole_failed = lengths.is_none();
-        if let (true, Some(&first)) = (whole_failed, members.first()) {
-            let message = frames.first().and_then(|f| f.as_ref().err());
+        if let (true, Some(&first)) = (whole_failed, in_sequence.first()) {
+            let message = frames[first].as_ref().err();
             report_pose_error(
                 bar,
                 &format!(
                     "person {person}, {}",
-                    counted(members.len() as u64, "frame")
+                    counted(in_sequence.len() as u64, "frame")
                 ),
-                &kept[first].source,
+                &kept[members[first]].source,
                 message.map_or("", String::as_str),
             );
         }
-        let reconstructed = frames.iter().filter(|f| f.is_ok()).count();
         // Placed where the camera saw them, on the video's timeline (frames where the person
-        // was not detected count as time passing); only for the files made at the end.
-        let found: Vec<_> = frames.iter().map(|f| f.as_ref().ok()).collect();
+        // was not detected count as time passing, as do the frames left out of the sequence);
+        // only for the files made at the end.
+        let found: Vec<_> = frames
+            .iter()
+            .zip(&left_out)
+            .map(|(f, &left)| f.as_ref().ok().filter(|_| !left))
+            .collect();
+        let reconstructed = found.iter().flatten().count();
         let placed: Vec<Option<Pose3>> = if options.finish.is_none() {
             vec![None; members.len()]
         } else if let Some(slots) = frame_slots(&keys, members, KEEP_MAX_POSES as usize) {
@@ -226,7 +258,7 @@ pub fn run(
                 })
                 .collect()
         };
-        for ((&i, frame), pose) in members.iter().zip(frames).zip(animated) {
+        for (((&i, frame), pose), left) in members.iter().zip(frames).zip(animated).zip(left_out) {
             let k = &kept[i];
             if options.finish.is_some() {
                 let (r, error) = match &frame {
@@ -264,7 +296,7 @@ pub fn run(
                         summary.undetected += 1;
                     } else {
                         summary.failed_poses += 1;
-                        if !whole_failed {
+                        if !whole_failed || left {
                             report_pose_error(bar, &k.id, &k.source, &message);
                         }
                     }
@@ -299,7 +331,7 @@ pub fn run(
             }
             if let Some(path) = options.lengths_out {
                 staged.add(
-                    &lengths_path(path, n, groups.len()),
+                    &numbered_path(&lengths_base(path, groups.len()), n, groups.len()),
                     lengths.to_json_string().as_bytes(),
                 )?;
             }

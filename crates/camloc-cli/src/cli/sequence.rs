@@ -17,7 +17,7 @@ use std::process::ExitCode;
 use camloc::keypoints::KeypointRecord;
 use camloc::{
     CameraLabel, Localization, SequenceModel, SmoothedFrame, TorsoAnchor, Viewpoint,
-    identity_jumps, sequences, smooth_viewpoints,
+    identity_jumps, outlier_frames, sequences, smooth_viewpoints,
 };
 use indicatif::ProgressBar;
 use rayon::prelude::*;
@@ -229,6 +229,10 @@ pub fn run(
     let keys: Vec<_> = frames.iter().map(|f| (f.frame, f.person)).collect();
     warn_of_repeated_frames(&keys);
     let groups = sequences(&keys);
+    if let Some(svg) = svg_out {
+        let names: Vec<String> = groups.iter().map(|(p, _)| format!("person {p}")).collect();
+        name_numbered_persons(svg, &names);
+    }
     let mut staged = StagedFiles::new(force);
     for (n, (person, members)) in groups.iter().enumerate() {
         let anchors: Vec<Option<TorsoAnchor>> = members
@@ -242,18 +246,30 @@ pub fn run(
             .collect();
         let numbers = frame_numbers(&keys, members);
         warn_of_identity_jumps(*person, &numbers, &anchors);
+        let left_out = left_out_of_sequence(
+            *person,
+            &numbers,
+            &anchors,
+            "left out of the person's smoothing (its smoothed camera is the frames around it's)",
+        );
         let viewpoints: Vec<Option<Viewpoint>> = members
             .iter()
-            .map(|&i| {
-                frames[i]
-                    .viewpoint
+            .zip(&left_out)
+            .map(|(&i, &left)| {
+                (frames[i].viewpoint)
+                    .filter(|_| !left)
                     .map(|[a, e]| (f64::from(a), f64::from(e)))
             })
             .collect();
         let smoothed_viewpoints = smooth_viewpoints(&numbers, &viewpoints);
         let probabilities: Vec<Option<&[f64]>> = members
             .iter()
-            .map(|&i| frames[i].result.as_ref().ok().map(|r| &r.1[..]))
+            .zip(&left_out)
+            .map(|(&i, &left)| {
+                (frames[i].result.as_ref().ok())
+                    .filter(|_| !left)
+                    .map(|r| &r.1[..])
+            })
             .collect();
         // A person none of whose frames was localized has no smoothed camera: the model's
         // flat frames alone would name camera 1 at 1/K.
@@ -317,21 +333,113 @@ pub fn run(
 /// person.
 pub fn warn_of_repeated_frames(keys: &[(Option<u64>, Option<u64>)]) {
     let mut seen = std::collections::HashSet::new();
-    let repeated = keys
+    let repeated: Vec<&(Option<u64>, Option<u64>)> = keys
         .iter()
         .filter(|(frame, _)| frame.is_some())
         .filter(|key| !seen.insert(**key))
-        .count();
-    if repeated > 0 {
+        .collect();
+    let Some(&&(Some(frame), person)) = repeated.first() else {
+        return;
+    };
+    let (first, cause) = match person {
+        Some(person) => (
+            format!("person {person}, frame {frame}"),
+            "one track id given to two detections of a frame?",
+        ),
+        None => (
+            format!("frame {frame}"),
+            "several videos in one input, or several people without person ids? give one \
+             video per run and each person an id (`person` in camloc JSON, `track_id` in COCO \
+             or MMPose)",
+        ),
+    };
+    stderr_line!(
+        "camloc: warning: {} repeat{} the frame and person numbers of an earlier pose (first: \
+         {first}; {cause})",
+        counted(repeated.len() as u64, "pose"),
+        if repeated.len() == 1 { "s" } else { "" }
+    );
+}
+
+/// The frames of `person` (their `frames` numbers and `anchors`, in time order; a frame's
+/// poses in input order) that are left out of the person's sequence, with a warning on
+/// standard error saying that each is `treated` so: a second pose of a frame (the first is
+/// the person's), and a pose that lies apart from the frames before and after it while those
+/// agree ([`outlier_frames`]: one frame of another person's detection, as a tracker swapping
+/// two people's ids for one frame gives, or a misplaced one).
+pub fn left_out_of_sequence(
+    person: u64,
+    frames: &[Option<u64>],
+    anchors: &[Option<TorsoAnchor>],
+    treated: &str,
+) -> Vec<bool> {
+    let mut left: Vec<bool> = (0..frames.len())
+        .map(|m| m > 0 && frames[m].is_some() && frames[m] == frames[m - 1])
+        .collect();
+    let seconds = left.iter().filter(|&&l| l).count();
+    let at = |m: usize| match frames[m] {
+        Some(frame) => format!("frame {frame}"),
+        None => format!("its frame {}", m + 1),
+    };
+    if let Some(first) = left.iter().position(|&l| l) {
         stderr_line!(
-            "camloc: warning: {} repeat{} the frame and person numbers of an earlier pose \
-             (several videos in one input, or several people without person ids?): they are \
-             taken as frames of the same person; give one video per run and each person an id \
-             (`person` in camloc JSON, `track_id` in COCO or MMPose)",
-            counted(repeated as u64, "pose"),
-            if repeated == 1 { "s" } else { "" }
+            "camloc: warning: person {person}: {} a second pose (first at {}): the second is \
+             {treated}",
+            if seconds == 1 {
+                "1 frame holds".to_owned()
+            } else {
+                format!("{seconds} frames hold")
+            },
+            at(first)
         );
     }
+    let others: Vec<Option<TorsoAnchor>> = anchors
+        .iter()
+        .zip(&left)
+        .map(|(a, &l)| a.filter(|_| !l))
+        .collect();
+    let outliers = outlier_frames(frames, &others);
+    if let Some(&first) = outliers.first() {
+        stderr_line!(
+            "camloc: warning: person {person}: the pose of {} lies apart from the frames before \
+             and after it (first at {}: another person's detection, or a misplaced one?): it \
+             is {treated}",
+            counted(outliers.len() as u64, "frame"),
+            at(first)
+        );
+    }
+    for m in outliers {
+        left[m] = true;
+    }
+    left
+}
+
+/// Says on standard error which person each numbered file of `out` is, when there are
+/// several `persons` (their names, `person 7`, in order): the files are numbered in the
+/// persons' order, and a file's number is not the person's id (track ids 1, 2 and 7 write
+/// `-001` to `-003`).
+pub fn name_numbered_persons(out: &Path, persons: &[String]) {
+    if persons.len() < 2 {
+        return;
+    }
+    let name = |n: usize| {
+        let path = numbered_path(out, n, persons.len());
+        path.file_name()
+            .map_or_else(String::new, |f| f.to_string_lossy().into_owned())
+    };
+    let mut pairs: Vec<String> = persons
+        .iter()
+        .take(10)
+        .enumerate()
+        .map(|(n, person)| format!("{} is {person}", escaped(&name(n))))
+        .collect();
+    if persons.len() > pairs.len() {
+        pairs.push(format!(
+            "{} more in the persons' order",
+            persons.len() - pairs.len()
+        ));
+    }
+    stderr_line!("camloc: {}", pairs.join(", "));
 }
 
 /// The frame numbers of the records at `members` (their `keys`' first part).
@@ -358,11 +466,15 @@ pub fn warn_of_identity_jumps(
     };
     stderr_line!(
         "camloc: warning: person {person}: the pose jumps across the image or changes size \
-         from one frame to the next at {} (first at {at}): these may be several people \
+         from one frame to the next {} (first at {at}): these may be several people \
          (the detector's order of people changed?), or not consecutive frames of a video; \
          several people need an id each (`person` in camloc JSON, `track_id` in COCO or \
          MMPose)",
-        counted(jumps.len() as u64, "frame")
+        if jumps.len() == 1 {
+            "once".to_owned()
+        } else {
+            format!("{} times", jumps.len())
+        }
     );
 }
 

@@ -167,9 +167,16 @@ impl Summary {
             stderr_line!("camloc: warning: {warning}");
         }
         if self.undetected > 0 {
+            // Every pose empty is more often a threshold above the input's scores (30 for
+            // scores from 0 to 1) than a video without anyone in it.
+            let hint = if self.undetected == self.poses {
+                "; if --min-score was given, is it on the scale of the input's scores?"
+            } else {
+                ""
+            };
             stderr_line!(
                 "camloc: {} of {} poses have no landmarks (nothing detected): taken as frames the \
-                 person is missing from",
+                 person is missing from{hint}",
                 self.undetected,
                 self.poses
             );
