@@ -46,7 +46,8 @@ class CamlocError(Exception):
 _Path = Union[str, PathLike]
 
 class Localizer:
-    """A trained camera localizer."""
+    """A trained camera localizer. It can be pickled and copied (``pickle``, ``copy``,
+    multiprocessing): the copy holds the same model and camera height."""
 
     def __init__(self, camera_height: str = "from-input") -> None:
         """The default model embedded in camloc (trained on CMU motion capture).
@@ -104,7 +105,9 @@ class Localizer:
           where the person was missed): the result also has each frame's camera and viewpoint
           smoothed over the frames, as ``camloc localize --sequence`` gives them, and a
           ``UserWarning`` says where the pose jumps across the image as one person cannot (rows
-          of several people). A row of NaN counts as a frame, where the command line skips a
+          of several people), and another where one row lies apart from the rows before and
+          after it while those agree (another person's detection; unlike the command line, the
+          row stays in the smoothing). A row of NaN counts as a frame, where the command line skips a
           frame number no record has: the smoothed probabilities can differ there.
         A ``UserWarning`` says when most of the (first 20,000) poses have the head below both
         ankles: points with v up (``camloc localize`` warns alike).
@@ -141,7 +144,7 @@ def reconstruct(
     basis: Optional[_Path] = None,
     bone_lengths: Optional[Union[Mapping[str, float], Sequence[float], _Path]] = None,
     focal_px: Optional[float] = None,
-    principal_point: Optional[Tuple[float, float]] = None,
+    principal_point: Optional[npt.ArrayLike] = None,
     sequence: bool = False,
     camera_height: Optional[str] = None,
     lifter: bool = True,
@@ -158,11 +161,14 @@ def reconstruct(
     points, layout, scores, min_score: as for ``Localizer.localize``.
     camera: ``opt`` (Procrustes camera), ``classified`` (the rotation of the classified
     camera) or ``hybrid`` (the camera of the localized continuous viewpoint refined by
-    Procrustes, the default, as on the command line: the lower 3D error, about twice the
-    time of ``opt``).
+    Procrustes, the default, as on the command line; about 1.7 times the time of ``opt``).
       With ``classified`` and ``hybrid`` and the embedded model, each pose is rebuilt from the
       depths the embedded depth lifter predicts for the classified camera (docs/conventions.md
-      section 6) rather than from the pursuit's pose.
+      section 6) rather than from the pursuit's pose: the two modes then give the same shape
+      (the same error after a similarity alignment), and ``hybrid`` orients it by its
+      Procrustes camera levelled to the localized elevation where ``classified`` keeps the
+      class's camera. Without the lifter (``lifter=False``) ``hybrid`` has the lower 3D
+      error.
     localizer: the model that classifies the camera (default: the embedded one; another model
       reconstructs without the embedded depth lifter, which belongs to the embedded model;
       ``Localizer()`` and ``Localizer.load`` of the embedded model's file keep it).
@@ -172,14 +178,18 @@ def reconstruct(
       every pose then has exactly these. Default: estimated from the 2D under a prior learned
       from motion capture (proportions only; the size is the prior's).
     focal_px, principal_point: the camera's focal length and principal point (pixels; the
-      principal point defaults to the centre of each pose's 2D bounding box): a final
+      principal point, two numbers as a tuple, list or array, defaults to the centre of each
+      pose's 2D bounding box): a final
       full-perspective refinement. The poses must be in pixels too: a pose whose root mean
       square radius is under 1/1000 of ``focal_px`` (normalised coordinates) fails.
     sequence: the poses are the frames of one person, in time order: one set of bone lengths
       for all of them, depths chosen consistently over time, temporal smoothness. A
       ``UserWarning`` says where the pose jumps across the image or changes size as one person
       cannot from one row to the next (rows of several people: split them by the ``persons``
-      of ``read_keypoints``). A row of NaN (nothing detected) gets the error "the pose has no
+      of ``read_keypoints``), and another where one row lies apart from the rows before and
+      after it while those agree (another person's detection; unlike ``camloc reconstruct
+      --sequence``, which reconstructs such a frame on its own, the row stays in the
+      sequence). A row of NaN (nothing detected) gets the error "the pose has no
       landmarks (nothing detected)". Like ``Localizer.localize``, it warns when most poses
       have the head below both ankles.
     camera_height: ``"from-input"`` (the camera heights estimated from the poses of this
@@ -248,6 +258,7 @@ def smooth_viewpoints(
       frame has none.
     frames (N,): the frames' numbers (whole numbers from 0 to 2^53, increasing: ValueError
       otherwise; default: 0, 1, 2, ...), so that frames far apart in time are not averaged.
+      All -1 (``read_keypoints``' frames of an input without frame numbers) is the default.
 
     Returns (azimuth_deg, elevation_deg), (N,) each, degrees (azimuth in [0, 360)); NaN where
     the frame had no viewpoint or the directions around it cancel (opposite views). Raises
@@ -315,7 +326,8 @@ def to_bvh(
     fps: frames per second (``Frame Time`` = 1 / fps).
     limb_lengths: the 14 bone lengths in metres, as ``reconstruct``'s ``bone_lengths`` takes
       them (a mapping of ``BONE_KEYS``, 14 numbers in that order, or a bone lengths JSON file;
-      each 0.01-1.5 m); default: the mean of each limb over the complete frames.
+      each 0.01-1.5 m); default: the mean of each limb over the complete frames, held to the
+      same range (points in millimetres raise ValueError).
     unit_m: metres per file unit (0.01: centimetres; Blender imports them with scale 0.01).
 
     The skeleton is a T-pose in MotionBuilder naming (``Hips``, ``LeftUpLeg``, ``LeftLeg``,

@@ -52,7 +52,9 @@ impl ViewFrame {
         let direction =
             localization.and_then(|l| Some([l.azimuth_deg?, l.elevation_deg?, l.uncertainty_deg?]));
         ViewFrame {
-            id: record.id.clone(),
+            // Control and bidirectional formatting characters escaped, as in every other
+            // output (a right-to-left override turned the page's caption around).
+            id: camloc::store::escaped(&record.id).into_owned(),
             frame: record.frame,
             person: record.person,
             input: record.pose.points.to_vec(),

@@ -157,15 +157,18 @@ impl Direction {
     }
 }
 
-/// A 2D pose (left) and the camera sphere (right) with the predicted viewpoint highlighted and,
+/// A 2D pose (left) and the camera sphere (right) with every camera's probability (a dot's
+/// area, and its percentage from [`SHOWN_PROBABILITY`]), the predicted viewpoint ringed and,
 /// when known, the continuous direction with its uncertainty.
 ///
-/// `pose` is in image coordinates (v down); missing landmarks are left out. `label` is the
-/// predicted camera of `cameras`, `caption` text shown under the drawing (broken into as many
-/// lines as its width needs; the drawing grows by a line for each).
+/// `pose` is in image coordinates (v down); missing landmarks are left out. `probabilities`
+/// holds each camera's probability (index [`CameraLabel::index`]), `label` is the predicted
+/// camera of `cameras`, `caption` text shown under the drawing (broken into as many lines as
+/// its width needs; the drawing grows by a line for each).
 pub fn localization_svg(
     pose: &PartialPose2,
     cameras: &CameraSet,
+    probabilities: &[f64],
     label: CameraLabel,
     direction: Option<Direction>,
     caption: &str,
@@ -177,7 +180,12 @@ pub fn localization_svg(
     let present: Vec<[f64; 2]> = pose.points.iter().flatten().copied().collect();
     let map = fit_box(&present, 10.0, 10.0, 300.0, 310.0);
     draw_skeleton(&mut svg, &pose.points.map(|p| p.map(&map)), false, 3.0);
-    let sphere = draw_sphere(&mut svg, cameras, label.get(), 330.0, 10.0, 300.0, 310.0);
+    let sphere = draw_sphere(
+        &mut svg,
+        cameras,
+        (probabilities, label.get()),
+        (330.0, 10.0, 300.0, 310.0),
+    );
     if let Some(direction) = direction {
         draw_direction(&mut svg, &sphere, direction);
     }
@@ -242,10 +250,12 @@ fn draw_direction(svg: &mut String, sphere: &SphereView, d: Direction) {
         r#"<line x1="{:.1}" y1="{:.1}" x2="{:.1}" y2="{:.1}" stroke="{DIRECTION}" stroke-width="2"/><circle cx="{:.1}" cy="{:.1}" r="4.5" fill="{DIRECTION}"/>"#,
         o[0], o[1], p[0], p[1], p[0], p[1]
     );
+    // From the panel's left edge, so that a negative elevation and a two-digit uncertainty
+    // stay inside the drawing.
     let _ = writeln!(
         svg,
         r#"<text x="{:.1}" y="{:.1}" fill="{DIRECTION}">direction: azimuth {:.0}, elevation {:.0}, +- {:.0} deg</text>"#,
-        sphere.centre[0] - sphere.radius,
+        sphere.centre[0] - 150.0,
         sphere.centre[1] + sphere.radius + 14.0,
         d.azimuth_deg,
         d.elevation_deg,
@@ -253,17 +263,20 @@ fn draw_direction(svg: &mut String, sphere: &SphereView, d: Direction) {
     );
 }
 
-/// The camera sphere seen obliquely: rings at each elevation, a small body at the centre
-/// facing -x, a dot per camera and the `label` camera highlighted. Returns where it is.
+/// The probability from which a camera's dot on the sphere is labelled with its percentage.
+pub const SHOWN_PROBABILITY: f64 = 0.05;
+
+/// The camera sphere seen obliquely in the box `(x, y, w, h)`: rings at each elevation, a
+/// small body at the centre facing -x, a dot per camera whose area grows with its probability
+/// (`chosen.0`, index [`CameraLabel::index`]) and the camera labelled `chosen.1` red and
+/// ringed. Returns where it is.
 fn draw_sphere(
     svg: &mut String,
     cameras: &CameraSet,
-    label: u16,
-    x: f64,
-    y: f64,
-    w: f64,
-    h: f64,
+    chosen: (&[f64], u16),
+    (x, y, w, h): (f64, f64, f64, f64),
 ) -> SphereView {
+    let (probabilities, label) = chosen;
     // View the sphere from azimuth 215 deg (front-left), elevation 20 deg.
     let view = match look_at_origin(sphere_point(215.0, 20.0, 1.0)) {
         Ok(r) => r,
@@ -309,24 +322,42 @@ fn draw_sphere(
             p[0], p[1], q[0], q[1]
         );
     }
-    for v in cameras.viewpoints() {
+    for (k, v) in cameras.viewpoints().iter().enumerate() {
         let p = to_svg(v.position(1.0));
         let chosen = v.label == label;
-        let (r, fill) = if chosen {
-            (7.0, RIGHT)
-        } else {
-            (3.5, "#888888")
-        };
+        let probability = probabilities.get(k).copied().filter(|p| p.is_finite());
+        // Area in proportion to the probability, from a dot of 3 px for none.
+        let r = 3.0 + 7.0 * probability.unwrap_or(0.0).clamp(0.0, 1.0).sqrt();
+        let fill = if chosen { RIGHT } else { "#777777" };
         let _ = writeln!(
             svg,
-            r#"<circle cx="{:.1}" cy="{:.1}" r="{r}" fill="{fill}"/>"#,
+            r#"<circle cx="{:.1}" cy="{:.1}" r="{r:.1}" fill="{fill}"/>"#,
             p[0], p[1]
         );
-        if chosen || cameras.len() <= 16 {
+        if chosen {
+            // A ring, so that the answer does not hang on telling red from grey.
             let _ = writeln!(
                 svg,
-                r#"<text x="{:.1}" y="{:.1}" fill="{fill}">{}</text>"#,
-                p[0] + 8.0,
+                r#"<circle cx="{:.1}" cy="{:.1}" r="{:.1}" fill="none" stroke="{CENTRE}" stroke-width="1.5"/>"#,
+                p[0],
+                p[1],
+                r + 3.0
+            );
+        }
+        if chosen || cameras.len() <= 16 {
+            let percent = probability
+                .filter(|&p| p >= SHOWN_PROBABILITY)
+                .map_or(String::new(), |p| format!(" {:.0}%", 100.0 * p));
+            // Beside the dot, on the side towards the sphere's centre when a percentage
+            // would run past the drawing's right edge.
+            let (x, anchor) = if !percent.is_empty() && p[0] > cx {
+                (p[0] - r - 4.0, r#" text-anchor="end""#)
+            } else {
+                (p[0] + r + 4.0, "")
+            };
+            let _ = writeln!(
+                svg,
+                r#"<text x="{x:.1}" y="{:.1}" fill="{fill}"{anchor}>{}{percent}</text>"#,
                 p[1] - 6.0,
                 v.label_text()
             );
@@ -442,7 +473,12 @@ pub fn timeline_svg(
     let (w, h) = (left + plot_w + 20.0, top + row_h * k as f64 + 50.0);
     let dx = plot_w / n as f64;
     let x_at = |t: usize| left + dx * t as f64;
-    let y_at = |index: usize| top + row_h * (index as f64 + 0.5);
+    // Rings from the upper one at the top down to the lower one, as the cameras stand.
+    let (azimuths, rings) = (cameras.azimuths().max(1), cameras.elevations_deg().len());
+    let y_at = |index: usize| {
+        let row = (rings.saturating_sub(1 + index / azimuths)) * azimuths + index % azimuths;
+        top + row_h * (row as f64 + 0.5)
+    };
     let mut svg = begin_titled(w, h, title);
     for v in cameras.viewpoints() {
         let y = y_at(usize::from(v.label.saturating_sub(1)));
@@ -722,15 +758,38 @@ mod tests {
             elevation_deg: 0.0,
             uncertainty_deg,
         };
-        let svg = localization_svg(&pose, &cameras, label, Some(front(10.0)), "c");
+        let mut probabilities = [0.0; 12];
+        probabilities[4] = 0.9;
+        probabilities[5] = 0.1;
+        let svg = localization_svg(
+            &pose,
+            &cameras,
+            &probabilities,
+            label,
+            Some(front(10.0)),
+            "c",
+        );
         // Camera 5 is the middle front camera: the direction's dot is drawn on it.
-        let chosen = circles(&svg, "7", RIGHT);
+        let chosen = circles(&svg, "9.6", RIGHT);
         assert_eq!(chosen.len(), 1);
         assert_eq!(circles(&svg, "4.5", DIRECTION), chosen);
         assert!(svg.contains("direction: azimuth 180, elevation 0, +- 10 deg"));
-        let wider = localization_svg(&pose, &cameras, label, Some(front(30.0)), "c");
+        // Each camera's probability: the chosen one's and the next one's percentages, the
+        // next one's dot larger than the others'.
+        assert!(svg.contains(">05 90%</text>") && svg.contains(">06 10%</text>"));
+        assert!(svg.contains(">07</text>"));
+        assert_eq!(circles(&svg, "5.2", "#777777").len(), 1);
+        assert_eq!(circles(&svg, "3.0", "#777777").len(), 10);
+        let wider = localization_svg(
+            &pose,
+            &cameras,
+            &probabilities,
+            label,
+            Some(front(30.0)),
+            "c",
+        );
         assert!(uncertainty_width(&wider) > 2.0 * uncertainty_width(&svg));
-        let without = localization_svg(&pose, &cameras, label, None, "c");
+        let without = localization_svg(&pose, &cameras, &probabilities, label, None, "c");
         assert!(!without.contains(DIRECTION));
     }
 
@@ -740,8 +799,16 @@ mod tests {
         let caption = format!("im00011: camera 08 (middle right), p = 0.95; missing: {missing}");
         let pose = PartialPose2::from(Pose2::new([[0.0; 2]; 15]));
         let (cameras, label) = (CameraSet::table1(), CameraLabel::new(8).unwrap());
-        let short = localization_svg(&pose, &cameras, label, None, "im00011");
-        let long = localization_svg(&pose, &cameras, label, None, &caption.repeat(2));
+        let probabilities = [1.0 / 12.0; 12];
+        let short = localization_svg(&pose, &cameras, &probabilities, label, None, "im00011");
+        let long = localization_svg(
+            &pose,
+            &cameras,
+            &probabilities,
+            label,
+            None,
+            &caption.repeat(2),
+        );
         assert!(short.contains(r#"height="360""#));
         let rows = caption_lines(&caption.repeat(2), 620.0).len();
         assert!(rows > 1);

@@ -186,28 +186,64 @@ function drawSphere(f) {
     ctx.lineTo(...screen(d));
     ctx.stroke();
   }
+  // A sequence's smoothed direction: a red line and dot, beside the frame's own orange one.
+  if (f.smoothed_direction) {
+    const s = screen(spherePoint(...f.smoothed_direction));
+    ctx.strokeStyle = RIGHT;
+    ctx.fillStyle = RIGHT;
+    ctx.lineWidth = 1.5;
+    ctx.setLineDash([4, 3]);
+    ctx.beginPath();
+    ctx.moveTo(...screen([0, 0, 0]));
+    ctx.lineTo(...s);
+    ctx.stroke();
+    ctx.setLineDash([]);
+    ctx.beginPath();
+    ctx.arc(...s, 3, 0, 2 * Math.PI);
+    ctx.fill();
+  }
   const label = f.smoothed || f.label;
   // The cameras over the direction's disk; labels dark on a white halo, the chosen camera's
-  // in bold and never faded.
-  ctx.lineWidth = 3;
-  ctx.strokeStyle = "#ffffff";
+  // in bold and never faded, nor a camera of 5% or more; a frame's own camera ringed when the
+  // smoothed one differs.
   data.cameras.forEach((c, i) => {
     const p = spherePoint(c.azimuth, c.elevation);
     const q = screen(p);
-    const prob = f.probabilities ? f.probabilities[i] : 0;
+    const prob = f.probabilities ? f.probabilities[i] : null;
     const chosen = c.label === label;
-    ctx.globalAlpha = dot(p, z) > 0 && !chosen ? 0.45 : 1;
+    const radius = 3 + 12 * Math.sqrt(prob || 0);
+    ctx.globalAlpha = dot(p, z) > 0 && !chosen && !(prob >= 0.05) ? 0.45 : 1;
     ctx.fillStyle = chosen ? RIGHT : "#777777";
     ctx.beginPath();
-    ctx.arc(...q, 3 + 12 * Math.sqrt(prob), 0, 2 * Math.PI);
+    ctx.arc(...q, radius, 0, 2 * Math.PI);
     ctx.fill();
-    const text = `${String(c.label).padStart(2, "0")} ${(100 * prob).toFixed(0)}%`;
+    if (f.smoothed && f.label && c.label === f.label && f.label !== f.smoothed) {
+      ctx.strokeStyle = CENTRE;
+      ctx.lineWidth = 1.5;
+      ctx.beginPath();
+      ctx.arc(...q, radius + 3, 0, 2 * Math.PI);
+      ctx.stroke();
+    }
+    // A pose that could not be localized has no probabilities: the labels alone.
+    const percent = prob === null ? "" : ` ${(100 * prob).toFixed(0)}%`;
+    const text = `${String(c.label).padStart(2, "0")}${percent}`;
     ctx.font = chosen ? "bold 12px sans-serif" : "11px sans-serif";
     ctx.fillStyle = chosen ? "#222222" : "#555555";
+    ctx.lineWidth = 3;
+    ctx.strokeStyle = "#ffffff";
     ctx.strokeText(text, q[0] + 9, q[1] - 8);
     ctx.fillText(text, q[0] + 9, q[1] - 8);
     ctx.globalAlpha = 1;
   });
+  // What the marks are (nothing is marked for a pose that could not be localized).
+  if (f.probabilities) {
+    ctx.font = "11px sans-serif";
+    ctx.fillStyle = "#555555";
+    const legend = f.smoothed
+      ? "red: the smoothed camera and direction; dots and orange: this frame's own"
+      : "red: the camera; dot areas: probabilities; orange: the direction";
+    ctx.fillText(legend, 8, h - 8);
+  }
 }
 
 /** The text under the panels for frame `f`. */

@@ -4,6 +4,7 @@ use std::path::PathBuf;
 
 use camloc::Pose3;
 use camloc::mocap::{BvhOptions, BvhWriteError, CMU_UNIT_M, read_bvh_with_unit, write_person_bvh};
+use camloc::reconstruct::BoneLengths;
 use camloc::skeleton::NUM_LIMBS;
 use numpy::PyUntypedArrayMethods;
 use pyo3::exceptions::PyOSError;
@@ -73,6 +74,18 @@ pub(crate) fn to_bvh(
     let lengths: Option<[f64; NUM_LIMBS]> = limb_lengths
         .map(|given| bone_lengths(&given, "limb_lengths").map(|l| l.as_array()))
         .transpose()?;
+    // Lengths taken from the frames are held to the range given ones are (points in
+    // millimetres made limbs of 100 m).
+    if lengths.is_none() {
+        let poses: Vec<Pose3> = frames.iter().flatten().copied().collect();
+        if !poses.is_empty() {
+            BoneLengths::mean_of(&poses).map_err(|e| {
+                value_error(format!(
+                    "points3d: the frames' mean limb lengths: {e} (points3d must be in metres)"
+                ))
+            })?;
+        }
+    }
     let options = BvhOptions {
         frame_time_s: 1.0 / fps,
         metres_per_unit: unit_m,

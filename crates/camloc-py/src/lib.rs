@@ -71,6 +71,7 @@ fn camloc_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     )?;
     m.add("BONE_KEYS", camloc::reconstruct::BONE_KEYS.to_vec())?;
     m.add_class::<localize::Localizer>()?;
+    m.add_function(wrap_pyfunction!(localize::localizer_from_bytes, m)?)?;
     m.add_function(wrap_pyfunction!(reconstruct::reconstruct, m)?)?;
     m.add_function(wrap_pyfunction!(read::read_keypoints, m)?)?;
     m.add_function(wrap_pyfunction!(bvh::to_bvh, m)?)?;

@@ -4,8 +4,8 @@ use std::path::PathBuf;
 
 use camloc::store::Persist;
 use camloc::{
-    CameraHeight, CameraLocalizer, HEIGHT_SHARE_MAX_POSES, PartialPose2, PoseReconstructor,
-    SequenceModel, default_basis,
+    CameraHeight, CameraLocalizer, CamlocError, HEIGHT_SHARE_MAX_POSES, PartialPose2,
+    PoseReconstructor, SequenceModel, default_basis,
 };
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::prelude::*;
@@ -14,7 +14,9 @@ use rayon::prelude::*;
 
 use crate::arrays::{ArrayArg, Output, PoseBatch};
 use crate::smooth::smoothed_columns;
-use crate::warnings::{warn_if_upside_down, warn_of_identity_jumps};
+use crate::warnings::{
+    warn_if_every_pose_failed, warn_of_identity_jumps, warn_of_input_conventions,
+};
 use crate::{to_py_err, value_error};
 
 /// Poses per parallel task: large enough that scheduling costs nothing next to the work.
@@ -46,6 +48,20 @@ impl Localizer {
             filler,
         })
     }
+}
+
+/// What `Localizer.__reduce__` gives `pickle`: the function that rebuilds a localizer and its
+/// arguments (the model file's bytes, the camera height).
+type Reduced<'py> = (Bound<'py, PyAny>, (Vec<u8>, &'static str));
+
+/// A localizer from the bytes of a model file, under the prior `camera_height`: how a pickled
+/// [`Localizer`] is rebuilt (`Localizer.__reduce__`).
+#[pyfunction]
+#[pyo3(name = "_localizer_from_bytes")]
+pub(crate) fn localizer_from_bytes(bytes: Vec<u8>, camera_height: &str) -> PyResult<Localizer> {
+    let inner = CameraLocalizer::from_bytes_named(&bytes, "pickled Localizer")
+        .map_err(|e| to_py_err(CamlocError::from(e)))?;
+    Localizer::with_filler(inner, camera_height)
 }
 
 /// The prior a `camera_height` argument names, and whether it is `"from-input"` (then the
@@ -108,6 +124,18 @@ impl Localizer {
         )
     }
 
+    /// How `pickle` and `copy` rebuild this localizer: [`localizer_from_bytes`] of its model
+    /// file's bytes and its camera height (the embedded basis that fills in torsos comes back
+    /// with it).
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<Reduced<'py>> {
+        let rebuild = py.import("camloc")?.getattr("_localizer_from_bytes")?;
+        let bytes = self
+            .inner
+            .to_bytes()
+            .map_err(|e| to_py_err(CamlocError::from(e)))?;
+        Ok((rebuild, (bytes, self.camera_height())))
+    }
+
     /// The prior over the camera's height this localizer applies (`"from-input"`, `"any"`
     /// or `"eye-level"`).
     #[getter]
@@ -162,7 +190,7 @@ impl Localizer {
         } else {
             HEIGHT_SHARE_MAX_POSES
         });
-        warn_if_upside_down(py, &leading)?;
+        warn_of_input_conventions(py, &leading)?;
         if sequence {
             warn_of_identity_jumps(py, leading.iter().map(|p| p.as_ref()))?;
         }
@@ -255,6 +283,7 @@ impl Localizer {
             out.array("smoothed_azimuth_deg", azimuth_deg, &[])?;
             out.array("smoothed_elevation_deg", elevation_deg, &[])?;
         }
+        warn_if_every_pose_failed(py, n, &errors)?;
         out.errors(errors)?;
         Ok(out.into_dict())
     }

@@ -17,7 +17,9 @@ use rayon::prelude::*;
 
 use crate::arrays::{ArrayArg, Output, PoseBatch};
 use crate::localize::{Localizer, for_poses, parse_height};
-use crate::warnings::{warn_if_upside_down, warn_of_identity_jumps};
+use crate::warnings::{
+    warn_if_every_pose_failed, warn_of_identity_jumps, warn_of_input_conventions,
+};
 use crate::{to_py_err, value_error};
 
 /// Poses reconstructed between two looks at Python's signals (Ctrl-C): about half a second of
@@ -89,7 +91,7 @@ pub(crate) fn reconstruct<'py>(
     basis: Option<PathBuf>,
     bone_lengths: Option<Bound<'py, PyAny>>,
     focal_px: Option<f64>,
-    principal_point: Option<(f64, f64)>,
+    principal_point: Option<Vec<f64>>,
     sequence: bool,
     camera_height: Option<&str>,
     lifter: bool,
@@ -98,7 +100,7 @@ pub(crate) fn reconstruct<'py>(
     let camera = camera.unwrap_or("hybrid");
     let mode = ModeKind::ALL
         .into_iter()
-        .find(|m| m.name() == camera && *m != ModeKind::Oracle)
+        .find(|m| m.name().eq_ignore_ascii_case(camera.trim()) && *m != ModeKind::Oracle)
         .ok_or_else(|| {
             value_error(format!(
                 "unknown camera \"{camera}\" (expected one of: opt, classified, hybrid)"
@@ -107,7 +109,7 @@ pub(crate) fn reconstruct<'py>(
     let batch = PoseBatch::new(&points, layout, scores.as_ref(), min_score)?;
     // Mapped once for the warning and the height estimate.
     let leading = batch.leading_poses(HEIGHT_SHARE_MAX_POSES);
-    warn_if_upside_down(py, &leading)?;
+    warn_of_input_conventions(py, &leading)?;
     let mut reconstructor = match basis {
         Some(path) => PoseBasis::load(&path)
             .map_err(CamlocError::from)
@@ -161,11 +163,22 @@ pub(crate) fn reconstruct<'py>(
     if principal_point.is_some() && focal_px.is_none() {
         return Err(value_error("principal_point needs focal_px"));
     }
+    // A tuple, list or array of the two pixel coordinates.
+    let principal_point = match principal_point.as_deref() {
+        None => None,
+        Some(&[u, v]) => Some([u, v]),
+        Some(other) => {
+            return Err(value_error(format!(
+                "principal_point: 2 numbers (u, v), got {}",
+                other.len()
+            )));
+        }
+    };
     if let Some(focal_px) = focal_px {
         reconstructor = reconstructor
             .with_intrinsics(Intrinsics {
                 focal_px,
-                principal_point: principal_point.map(|(u, v)| [u, v]),
+                principal_point,
             })
             .map_err(|e| value_error(e.to_string()))?;
     }
@@ -281,6 +294,7 @@ pub(crate) fn reconstruct<'py>(
         let array = numpy::PyArray1::from_vec(py, l.as_array().to_vec());
         out.set("person_bone_lengths", array)?;
     }
+    warn_if_every_pose_failed(py, n, &errors)?;
     out.errors(errors)?;
     out.set("camera", mode.name())?;
     Ok(out.into_dict())

@@ -56,6 +56,11 @@ pub(crate) fn smooth_viewpoints<'py>(
                     given.len()
                 )));
             }
+            // read_keypoints' frames of an input without frame numbers (LSP, MPII) are all
+            // -1: no numbers, as without `frames`.
+            if given.iter().all(|&f| f == -1.0) {
+                return smoothed_arrays(py, &vec![None; n], &azimuth, &elevation);
+            }
             given
                 .iter()
                 .map(|&f| {
@@ -81,7 +86,17 @@ pub(crate) fn smooth_viewpoints<'py>(
                 )?
         }
     };
-    let (azimuth, elevation) = smoothed_columns(&frames, &azimuth, &elevation);
+    smoothed_arrays(py, &frames, &azimuth, &elevation)
+}
+
+/// [`smoothed_columns`] as NumPy arrays.
+fn smoothed_arrays<'py>(
+    py: Python<'py>,
+    frames: &[Option<u64>],
+    azimuth: &[f64],
+    elevation: &[f64],
+) -> PyResult<Degrees<'py>> {
+    let (azimuth, elevation) = smoothed_columns(frames, azimuth, elevation);
     Ok((
         PyArray1::from_vec(py, azimuth),
         PyArray1::from_vec(py, elevation),

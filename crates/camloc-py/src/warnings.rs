@@ -1,9 +1,10 @@
 //! The warnings the Python functions give (`UserWarning`), as the command line gives them on
-//! standard error: points with v up, and rows of a sequence that jump between people.
+//! standard error: points with v up or joints at the image origin, rows of a sequence that
+//! jump between people, and a call whose every pose failed.
 
 use camloc::{
-    HEIGHT_SHARE_MAX_POSES, PartialPose2, TorsoAnchor, head_below_ankles, identity_jumps,
-    upside_down_warning,
+    HEIGHT_SHARE_MAX_POSES, PartialPose2, TorsoAnchor, has_origin_placeholders, head_below_ankles,
+    identity_jumps, origin_placeholder_warning, outlier_frames, upside_down_warning,
 };
 use pyo3::exceptions::PyUserWarning;
 use pyo3::prelude::*;
@@ -15,22 +16,46 @@ fn warn(py: Python<'_>, message: String) -> PyResult<()> {
 }
 
 /// Warns (`UserWarning`) when most of the first [`HEIGHT_SHARE_MAX_POSES`] poses of a call
-/// (`leading`, [`PoseBatch::leading_poses`](crate::arrays::PoseBatch::leading_poses)) have the head below both ankles
-/// (`camloc::upside_down_warning`, as the command line warns).
-pub(crate) fn warn_if_upside_down(
+/// (`leading`, [`PoseBatch::leading_poses`](crate::arrays::PoseBatch::leading_poses)) have the
+/// head below both ankles (`camloc::upside_down_warning`), and when any has joints at the
+/// image origin (`camloc::origin_placeholder_warning`), as the command line warns.
+pub(crate) fn warn_of_input_conventions(
     py: Python<'_>,
     leading: &[Option<PartialPose2>],
 ) -> PyResult<()> {
-    let (mut checked, mut below) = (0, 0);
+    let (mut checked, mut below, mut mapped, mut placeholders) = (0, 0, 0, 0);
     for pose in leading.iter().take(HEIGHT_SHARE_MAX_POSES).flatten() {
+        mapped += 1;
+        placeholders += u64::from(has_origin_placeholders(pose));
         if let Some(b) = head_below_ankles(pose) {
             checked += 1;
             below += u64::from(b);
         }
     }
-    match upside_down_warning(checked, below) {
+    if let Some(warning) = upside_down_warning(checked, below) {
+        warn(py, warning)?;
+    }
+    match origin_placeholder_warning(mapped, placeholders) {
         Some(warning) => warn(py, warning),
         None => Ok(()),
+    }
+}
+
+/// Warns (`UserWarning`) when every one of `poses` (two or more) failed (`errors`: the
+/// failures, by pose), for a reason other than nothing detected: an input mistake (a layout
+/// that is not the array's, scores on another scale) otherwise shows only in `error`.
+pub(crate) fn warn_if_every_pose_failed(
+    py: Python<'_>,
+    poses: usize,
+    errors: &[(usize, String)],
+) -> PyResult<()> {
+    let undetected = |m: &str| m.ends_with("(nothing detected)");
+    match errors.first() {
+        Some((_, first)) if poses >= 2 && errors.len() == poses && !undetected(first) => warn(
+            py,
+            format!("every one of the {poses} poses failed (see \"error\"); the first: {first}"),
+        ),
+        _ => Ok(()),
     }
 }
 
@@ -43,15 +68,23 @@ pub(crate) fn warn_of_identity_jumps<'a>(
     poses: impl Iterator<Item = Option<&'a PartialPose2>>,
 ) -> PyResult<()> {
     let anchors: Vec<Option<TorsoAnchor>> = poses.map(|p| p.and_then(TorsoAnchor::of)).collect();
-    let jumps = identity_jumps(&[], &anchors);
-    let Some(first) = jumps.first() else {
-        return Ok(());
-    };
-    let message = format!(
-        "the pose jumps across the image or changes size from one row to the next at {} row(s) \
-         (first at row {first}): these may be several people, or not consecutive frames of a \
-         video; give one person's rows per call (read_keypoints gives each pose's person)",
-        jumps.len()
-    );
-    warn(py, message)
+    if let Some(first) = identity_jumps(&[], &anchors).first() {
+        let message = format!(
+            "the pose jumps across the image or changes size from one row to the next (first \
+             at row {first}): these may be several people, or not consecutive frames of a \
+             video; give one person's rows per call (read_keypoints gives each pose's person)"
+        );
+        warn(py, message)?;
+    }
+    let outliers = outlier_frames(&[], &anchors);
+    if let Some(first) = outliers.first() {
+        let message = format!(
+            "{} row(s) lie apart from the rows before and after them while those agree (first \
+             at row {first}): another person's detection, or a misplaced one? (the command \
+             line leaves such frames out of the sequence; here they stay in)",
+            outliers.len()
+        );
+        warn(py, message)?;
+    }
+    Ok(())
 }

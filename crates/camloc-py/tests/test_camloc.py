@@ -576,6 +576,12 @@ def test_a_sequence_that_jumps_between_people_warns_and_nothing_detected_says_so
     other = rows + [600.0, 0.0]
     with pytest.warns(UserWarning, match="jumps across the image"):
         camloc.reconstruct(np.concatenate([rows, other]), sequence=True)
+    # One row of the other person among one person's rows (two tracked ids swapped for a
+    # frame).
+    swapped = rows.copy()
+    swapped[2] = other[2]
+    with pytest.warns(UserWarning, match="lie apart from the rows before and after them"):
+        camloc.reconstruct(swapped, sequence=True)
     # One person, with a row of NaN where nothing was detected: no warning, and that row's
     # error says what happened.
     rows[3] = np.nan
@@ -605,7 +611,7 @@ def test_smooth_viewpoints_equals_the_command_line(cli, localizer):
     with pytest.raises(ValueError, match="same length"):
         camloc.smooth_viewpoints([1.0, 2.0], [1.0])
     with pytest.raises(ValueError, match="whole numbers"):
-        camloc.smooth_viewpoints([1.0], [1.0], [-1])
+        camloc.smooth_viewpoints([1.0, 2.0], [1.0, 2.0], [-1, 3])
     with pytest.raises(ValueError, match="one-dimensional"):
         camloc.smooth_viewpoints([[1.0]], [[1.0]])
     with pytest.raises(ValueError, match=r"\[-90, 90\]"):
@@ -672,3 +678,59 @@ def test_ctrl_c_stops_a_long_reconstruction():
     # Not a speed goal: the whole call (120,000 poses) takes about a minute on two cores, a
     # block of 1024 poses about half a second; an interrupt only seen at the end fails this.
     assert time.perf_counter() - started < 30.0
+
+
+def test_localizers_pickle_and_copy_to_the_same_answers(localizer):
+    import copy
+    import pickle
+
+    points = example_points()
+    want = localizer.localize(points)["probabilities"]
+    for other in (pickle.loads(pickle.dumps(localizer)), copy.deepcopy(localizer)):
+        assert other.camera_height == localizer.camera_height
+        np.testing.assert_array_equal(other.localize(points)["probabilities"], want)
+    eye = camloc.Localizer(camera_height="eye-level")
+    assert pickle.loads(pickle.dumps(eye)).camera_height == "eye-level"
+
+
+def test_input_mistakes_warn_where_every_pose_would_fail_quietly(localizer):
+    import warnings
+
+    points = example_points()
+    # Scores on a scale of 0 to 100 fail every pose, one by one.
+    with pytest.warns(UserWarning, match="every one of the 3 poses failed"):
+        out = localizer.localize(points, scores=np.full(points.shape[:2], 95.0))
+    assert all(e is not None for e in out["error"])
+    # Joints at (0, 0), where detectors put the ones they did not find.
+    zeros = points.copy()
+    zeros[:, [3, 6]] = 0.0
+    with pytest.warns(UserWarning, match=r"landmarks at exactly \(0, 0\)"):
+        localizer.localize(zeros)
+    # The same joints given as NaN: no warning.
+    nans = points.copy()
+    nans[:, [3, 6]] = np.nan
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        localizer.localize(nans)
+
+
+def test_arguments_as_users_write_them():
+    points = example_points()
+    by_case = camloc.reconstruct(points, camera="HYBRID")["points3d"]
+    np.testing.assert_array_equal(by_case, camloc.reconstruct(points)["points3d"])
+    as_list = camloc.reconstruct(points, focal_px=1500.0, principal_point=[320, 240])
+    as_tuple = camloc.reconstruct(points, focal_px=1500.0, principal_point=(320.0, 240.0))
+    np.testing.assert_array_equal(as_list["points3d"], as_tuple["points3d"])
+    with pytest.raises(ValueError, match="principal_point: 2 numbers"):
+        camloc.reconstruct(points, focal_px=1500.0, principal_point=[1, 2, 3])
+    # read_keypoints' frames of an input without frame numbers are -1.
+    azimuth, elevation = np.linspace(0, 90, 5), np.zeros(5)
+    np.testing.assert_array_equal(
+        camloc.smooth_viewpoints(azimuth, elevation, frames=np.full(5, -1))[0],
+        camloc.smooth_viewpoints(azimuth, elevation)[0],
+    )
+    # Points in millimetres make limbs no one has.
+    pose3d = camloc.reconstruct(points)["points3d"]
+    camloc.to_bvh(pose3d)
+    with pytest.raises(ValueError, match="must be in metres"):
+        camloc.to_bvh(pose3d * 1000.0)

@@ -1,5 +1,5 @@
 //! How messages quote text that came from the user (pose ids, image names, keys, file names,
-//! array shapes): control characters escaped, so that nothing reaches a terminal or a drawing
+//! array shapes): control and bidirectional formatting characters escaped, so that nothing reaches a terminal or a drawing
 //! raw, and cut to a bounded length, so that a message stays one short line whatever the input.
 
 use std::borrow::Cow;
@@ -14,10 +14,20 @@ pub const MAX_QUOTED_CHARS: usize = 80;
 /// end (the file's own name) around a `…`.
 pub const MAX_QUOTED_PATH_CHARS: usize = 100;
 
-/// `text` with its control characters escaped (`\n`, `\u{1b}`, ...), nothing cut: for output
-/// that shows user text whole (ids in text output, drawing captions).
+/// Whether `c` is escaped where user text is shown: a control character, or a
+/// bidirectional formatting character (U+200E, U+200F, U+202A to U+202E, U+2066 to U+2069),
+/// which would turn the rest of a line around, numbers included ("p = 0.57" read
+/// "75.0 = p").
+fn escapes(c: char) -> bool {
+    c.is_control()
+        || matches!(c, '\u{200e}' | '\u{200f}' | '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}')
+}
+
+/// `text` with its control and bidirectional formatting characters escaped (`\n`,
+/// `\u{1b}`, `\u{202e}`, ...), nothing cut: for output that shows user text whole (ids in
+/// text output, drawing captions).
 pub fn escaped(text: &str) -> Cow<'_, str> {
-    if text.chars().any(char::is_control) {
+    if text.chars().any(escapes) {
         Cow::Owned(cut(text, usize::MAX, 0))
     } else {
         Cow::Borrowed(text)
@@ -56,7 +66,7 @@ fn cut(text: &str, head: usize, tail: usize) -> String {
             }
             continue;
         }
-        if c.is_control() {
+        if escapes(c) {
             let _ = write!(out, "{}", c.escape_default());
         } else {
             out.push(c);
@@ -72,6 +82,8 @@ mod tests {
     #[test]
     fn control_characters_are_escaped_and_long_text_cut() {
         assert_eq!(escaped("a\u{1b}[31mb\n"), "a\\u{1b}[31mb\\n");
+        assert_eq!(escaped("id\u{202e}p = 0.57"), "id\\u{202e}p = 0.57");
+        assert_eq!(quoted("\u{2067}x\u{200f}"), "\\u{2067}x\\u{200f}");
         assert!(matches!(escaped("plain"), Cow::Borrowed("plain")));
         let long = "x".repeat(100_000);
         let q = quoted(&long);

@@ -40,6 +40,7 @@ mod height_shares;
 mod identity;
 mod lifter;
 mod localizer;
+mod placeholders;
 mod reconstruction;
 mod rows;
 mod select;
@@ -88,6 +89,7 @@ pub use sequence::{
 
 pub use lifter::{DEFAULT_LIFTER_LAMBDA, DepthLifter, depth_targets};
 pub use localizer::{CameraLocalizer, Localization};
+pub use placeholders::{has_origin_placeholders, origin_placeholder_warning};
 pub use train_options::{
     Capacity, DEFAULT_LAMBDA, DEFAULT_PRECONDITIONER_ROWS, DEFAULT_PRODUCT_ROWS,
     DEFAULT_QUADRATIC_COMPONENTS, DEFAULT_QUADRATIC_LAMBDA, DEFAULT_VIEWPOINT_LAMBDA,

@@ -5,9 +5,14 @@
 use camloc_skeleton::{Landmark, PartialPose2};
 
 /// Whether `pose` has its head below both ankles in the image (`v` larger), `None` when its
-/// head or an ankle is missing.
+/// head or an ankle is missing or at exactly `(0, 0)` (a detector's placeholder for a joint it
+/// did not find: [`has_origin_placeholders`](crate::has_origin_placeholders)).
 pub fn head_below_ankles(pose: &PartialPose2) -> Option<bool> {
-    let v = |l: Landmark| pose.points[l.index()].map(|p| p[1]);
+    let v = |l: Landmark| {
+        pose.points[l.index()]
+            .filter(|p| *p != [0.0, 0.0])
+            .map(|p| p[1])
+    };
     let (head, left, right) = (
         v(Landmark::Head)?,
         v(Landmark::LeftAnkle)?,

@@ -227,6 +227,13 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
                 loc.side.name(),
                 loc.probability
             );
+            // The runner-up of a close call.
+            let next = (loc.probabilities.iter().enumerate())
+                .filter(|&(k, _)| k != loc.label.index())
+                .max_by(|a, b| a.1.total_cmp(b.1));
+            if let Some((k, &p)) = next.filter(|(_, p)| **p >= svg::SHOWN_PROBABILITY) {
+                let _ = write!(caption, "; next {:02}, p = {p:.2}", k + 1);
+            }
             if !loc.missing.is_empty() {
                 let names: Vec<&str> = loc.missing.iter().map(|l| l.name()).collect();
                 let _ = write!(caption, "; missing: {}", names.join(", "));
@@ -234,6 +241,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
             svg::localization_svg(
                 &record.pose,
                 localizer.cameras(),
+                &loc.probabilities,
                 loc.label,
                 svg::Direction::of(&loc),
                 &caption,

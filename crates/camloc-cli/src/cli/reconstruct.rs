@@ -427,7 +427,11 @@ fn finish(
     paths.extend(args.html.clone());
     let (bvh, html, sequence, fps) = (args.bvh.clone(), args.html.clone(), args.sequence, args.fps);
     let cameras = page_localizer.map(|l| l.cameras().clone());
-    let title = format!("camloc reconstruct: {}", inputs.name());
+    let title = format!(
+        "camloc reconstruct{}: {}",
+        if sequence { " --sequence" } else { "" },
+        inputs.name()
+    );
     let make: stream::Finish<Kept> = Box::new(move |kept: Vec<Kept>| {
         let mut files = Vec::new();
         if let Some(bvh) = &bvh {

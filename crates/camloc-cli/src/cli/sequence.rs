@@ -310,7 +310,10 @@ pub fn run(
                 *count += 1;
             }
         }
-        let title = format!("cameras of {}", inputs.name());
+        let title = format!(
+            "per-frame cameras of {} (the smoothed ones: --svg's timelines)",
+            inputs.name()
+        );
         let drawing = svg::summary_svg(localizer.cameras(), &counts, &title);
         staged.add(path, drawing.as_bytes())?;
     }

@@ -141,6 +141,8 @@ pub struct Summary {
     /// Poses with a head and both ankles, and of those the poses whose head is below both
     /// ankles in the image ([`camloc::head_below_ankles`]).
     pub upside_down: (u64, u64),
+    /// Poses with landmarks at the image origin ([`camloc::has_origin_placeholders`]).
+    pub origin_placeholders: u64,
 }
 
 /// Whether `pose` has no landmark at all.
@@ -149,11 +151,13 @@ pub fn nothing_detected(pose: &camloc::PartialPose2) -> bool {
 }
 
 impl Summary {
-    /// Counts a pose read, and whether it stands on its head in the image (`v` up rather than
-    /// down, as some plotting conventions have it): [`Summary::exit_code`] warns when most
-    /// poses do.
+    /// Counts a pose read, whether it stands on its head in the image (`v` up rather than
+    /// down, as some plotting conventions have it) and whether it has joints at the image
+    /// origin (a detector's placeholders): [`Summary::exit_code`] warns when most poses stand
+    /// on their heads, or any has placeholders.
     pub fn count(&mut self, pose: &camloc::PartialPose2) {
         self.poses += 1;
+        self.origin_placeholders += u64::from(camloc::has_origin_placeholders(pose));
         if let Some(below) = camloc::head_below_ankles(pose) {
             self.upside_down.0 += 1;
             self.upside_down.1 += u64::from(below);
@@ -164,6 +168,11 @@ impl Summary {
     /// an error when a pose failed, a file could not be read, or no pose had a landmark.
     pub fn exit_code(&self, verb: &str) -> ExitCode {
         if let Some(warning) = camloc::upside_down_warning(self.upside_down.0, self.upside_down.1) {
+            stderr_line!("camloc: warning: {warning}");
+        }
+        if let Some(warning) =
+            camloc::origin_placeholder_warning(self.poses, self.origin_placeholders)
+        {
             stderr_line!("camloc: warning: {warning}");
         }
         if self.undetected > 0 {
