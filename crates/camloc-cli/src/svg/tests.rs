@@ -1,0 +1,133 @@
+//! Tests of the drawings: what they show and where.
+
+use super::*;
+
+#[test]
+fn the_skeleton_views_are_what_their_cameras_see_unmirrored() {
+    let cameras = CameraSet::table1();
+    for ((name, view), label) in SKELETON_VIEWS.iter().zip([5u16, 6]) {
+        let r = cameras.get(label).unwrap().rotation;
+        for p in [[0.3, -0.2, 0.5], [-0.1, 0.4, -0.7], [1.0, 0.0, 0.0]] {
+            let v = Vector3::from(p);
+            let want = [r.row(0).dot(&v.transpose()), r.row(1).dot(&v.transpose())];
+            let got = view(p);
+            assert!(
+                (got[0] - want[0]).abs() < 1e-12 && (got[1] - want[1]).abs() < 1e-12,
+                "{name}: {got:?} against camera {label}'s {want:?}"
+            );
+        }
+    }
+    // From above with the front (-x) up: the person's right (+y) on the right.
+    let top = SKELETON_VIEWS[2].1;
+    assert!(top([0.0, 1.0, 0.0])[0] > 0.0 && top([-1.0, 0.0, 0.0])[1] < 0.0);
+}
+
+/// The `(cx, cy)` texts of the circles of `fill` with radius `r` in `svg`.
+fn circles(svg: &str, r: &str, fill: &str) -> Vec<String> {
+    let tail = format!(r#"" r="{r}" fill="{fill}"/>"#);
+    svg.lines()
+        .filter_map(|line| line.split("<circle cx=\"").nth(1))
+        .filter(|rest| rest.contains(&tail))
+        .map(|rest| rest.split(&tail).next().unwrap_or("").to_owned())
+        .collect()
+}
+
+/// Width of the bounding box of the uncertainty path (the path in the direction colour).
+fn uncertainty_width(svg: &str) -> f64 {
+    let line = svg
+        .lines()
+        .find(|l| l.starts_with("<path") && l.contains(DIRECTION))
+        .unwrap_or("");
+    let d = line.split("d=\"").nth(1).and_then(|r| r.split('"').next());
+    let xs: Vec<f64> = d
+        .unwrap_or("")
+        .split_whitespace()
+        .filter_map(|p| p.trim_start_matches(['M', 'L']).split(',').next())
+        .filter_map(|x| x.parse().ok())
+        .collect();
+    assert_eq!(xs.len(), 49, "{line}");
+    xs.iter().copied().fold(f64::MIN, f64::max) - xs.iter().copied().fold(f64::MAX, f64::min)
+}
+
+#[test]
+fn the_sphere_draws_the_direction_at_its_point_with_its_uncertainty() {
+    let pose = PartialPose2::from(Pose2::new([[0.0; 2]; 15]));
+    let cameras = CameraSet::table1();
+    let label = CameraLabel::new(5).unwrap();
+    let front = |uncertainty_deg| Direction {
+        azimuth_deg: 180.0,
+        elevation_deg: 0.0,
+        uncertainty_deg,
+    };
+    let mut probabilities = [0.0; 12];
+    probabilities[4] = 0.9;
+    probabilities[5] = 0.1;
+    let svg = localization_svg(
+        &pose,
+        &cameras,
+        &probabilities,
+        label,
+        Some(front(10.0)),
+        "c",
+    );
+    // Camera 5 is the middle front camera: the direction's dot is drawn on it.
+    let chosen = circles(&svg, "9.6", RIGHT);
+    assert_eq!(chosen.len(), 1);
+    assert_eq!(circles(&svg, "4.5", DIRECTION), chosen);
+    assert!(svg.contains("direction: azimuth 180, elevation 0, +- 10 deg"));
+    // Each camera's probability: the chosen one's and the next one's percentages, the
+    // next one's dot larger than the others'.
+    assert!(svg.contains(">05 90%</text>") && svg.contains(">06 10%</text>"));
+    assert!(svg.contains(">07</text>"));
+    assert_eq!(circles(&svg, "5.2", "#777777").len(), 1);
+    assert_eq!(circles(&svg, "3.0", "#777777").len(), 10);
+    let wider = localization_svg(
+        &pose,
+        &cameras,
+        &probabilities,
+        label,
+        Some(front(30.0)),
+        "c",
+    );
+    assert!(uncertainty_width(&wider) > 2.0 * uncertainty_width(&svg));
+    let without = localization_svg(&pose, &cameras, &probabilities, label, None, "c");
+    assert!(!without.contains(DIRECTION));
+}
+
+#[test]
+fn a_long_caption_is_broken_into_lines_inside_the_drawing() {
+    let missing = "pelvis, right_hip, neck, right_shoulder, right_elbow, right_wrist";
+    let caption = format!("im00011: camera 08 (middle right), p = 0.95; missing: {missing}");
+    let pose = PartialPose2::from(Pose2::new([[0.0; 2]; 15]));
+    let (cameras, label) = (CameraSet::table1(), CameraLabel::new(8).unwrap());
+    let probabilities = [1.0 / 12.0; 12];
+    let short = localization_svg(&pose, &cameras, &probabilities, label, None, "im00011");
+    let long = localization_svg(
+        &pose,
+        &cameras,
+        &probabilities,
+        label,
+        None,
+        &caption.repeat(2),
+    );
+    assert!(short.contains(r#"height="360""#));
+    let rows = caption_lines(&caption.repeat(2), 620.0).len();
+    assert!(rows > 1);
+    let height = 360.0 + CAPTION_LINE_PX * (rows - 1) as f64;
+    assert!(long.contains(&format!(r#"height="{height}""#)), "{long}");
+    let last_baseline = 346.0 + CAPTION_LINE_PX * (rows - 1) as f64;
+    assert!(long.contains(&format!(r#"y="{last_baseline}""#)));
+    assert!(last_baseline < height);
+}
+
+#[test]
+fn a_long_title_gets_lines_above_the_drawing() {
+    let title = "cameras of /tmp/a-very-long-folder-name-for-a-video-project/and-another-nested-folder-of-frames/poses.json";
+    let svg = begin_titled(300.0, 100.0, title);
+    let rows = caption_lines(title, 280.0).len();
+    assert!(rows > 1);
+    let above = CAPTION_LINE_PX * (rows - 1) as f64;
+    assert!(svg.contains(&format!(r#"viewBox="0 {} 300 {}""#, -above, 100.0 + above)));
+    assert!(svg.contains(&format!(r#"y="{}""#, 20.0 - above)));
+    assert!(begin_titled(300.0, 100.0, "short").contains(r#"viewBox="0 0 300 100""#));
+}
