@@ -329,9 +329,14 @@ fn draw_sphere(
         // Area in proportion to the probability, from a dot of 3 px for none.
         let r = 3.0 + 7.0 * probability.unwrap_or(0.0).clamp(0.0, 1.0).sqrt();
         let fill = if chosen { RIGHT } else { "#777777" };
+        // A camera on the far side of the sphere (away from the viewer) is paler, unless it
+        // is the answer or has a share worth reading.
+        let far = (sphere.view * v.position(1.0)).z > 0.0;
+        let faded = far && !chosen && probability.is_none_or(|p| p < SHOWN_PROBABILITY);
+        let opacity = if faded { r#" opacity="0.45""# } else { "" };
         let _ = writeln!(
             svg,
-            r#"<circle cx="{:.1}" cy="{:.1}" r="{r:.1}" fill="{fill}"/>"#,
+            r#"<circle cx="{:.1}" cy="{:.1}" r="{r:.1}" fill="{fill}"{opacity}/>"#,
             p[0], p[1]
         );
         if chosen {
@@ -357,7 +362,7 @@ fn draw_sphere(
             };
             let _ = writeln!(
                 svg,
-                r#"<text x="{x:.1}" y="{:.1}" fill="{fill}"{anchor}>{}{percent}</text>"#,
+                r#"<text x="{x:.1}" y="{:.1}" fill="{fill}"{anchor}{opacity}>{}{percent}</text>"#,
                 p[1] - 6.0,
                 v.label_text()
             );
