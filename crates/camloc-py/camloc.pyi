@@ -239,9 +239,20 @@ def reconstruct(
     OSError / CamlocError for an unreadable or invalid basis.
 
     Ctrl-C raises ``KeyboardInterrupt`` after the block of 1,024 poses being reconstructed
-    (about half a second on two cores); with ``sequence`` only when the person's frames are
-    solved (a 20,000-frame sequence: about 15 seconds).
+    (0.4 s on two idle cores); with ``sequence`` only when the person's frames are solved (a
+    20,000-frame sequence: 16 s on two idle cores, twice that on a loaded machine).
     """
+
+def bone_lengths_json(
+    lengths: Union[Mapping[str, float], Sequence[float], _Path],
+) -> str:
+    """The text of a bone lengths JSON file (docs/cli.md) of ``lengths``: a mapping of
+    ``BONE_KEYS``, 14 numbers in that order (``reconstruct``'s ``bone_lengths`` or
+    ``person_bone_lengths`` row), or such a file. Written to a file, it is what
+    ``bone_lengths=PATH`` and ``camloc reconstruct --bone-lengths`` read.
+
+    Raises ValueError for a missing or unknown key, not 14 numbers, or a length outside
+    0.01-1.5 m."""
 
 def smooth_viewpoints(
     azimuth_deg: npt.ArrayLike,

@@ -59,7 +59,8 @@ fn frames(points3d: &ArrayArg<'_>) -> PyResult<Vec<Option<Pose3>>> {
     Ok(out)
 }
 
-/// The 3D poses as BVH text; see `camloc.pyi`.
+// The 3D poses as BVH text: its docstring is camloc.pyi's (build.rs).
+#[doc = include_str!(concat!(env!("OUT_DIR"), "/doc/to_bvh.txt"))]
 #[pyfunction]
 #[pyo3(signature = (points3d, fps = 30.0, limb_lengths = None, unit_m = 0.01))]
 pub(crate) fn to_bvh(
@@ -96,9 +97,11 @@ pub(crate) fn to_bvh(
     })
 }
 
-/// A BVH file's 15 landmarks; see `camloc.pyi`.
+// A BVH file's 15 landmarks: its docstring is camloc.pyi's (build.rs).
+#[doc = include_str!(concat!(env!("OUT_DIR"), "/doc/read_bvh.txt"))]
 #[pyfunction]
-#[pyo3(signature = (path, unit_m = CMU_UNIT_M))]
+// The default shown as the number it is (CMU_UNIT_M, the CMU files' inch / 0.45).
+#[pyo3(signature = (path, unit_m = CMU_UNIT_M), text_signature = "(path, unit_m=0.05644444444444444)")]
 pub(crate) fn read_bvh<'py>(
     py: Python<'py>,
     path: PathBuf,

@@ -49,7 +49,8 @@ pub(crate) fn value_error(message: impl Into<String>) -> PyErr {
     PyValueError::new_err(message.into())
 }
 
-/// The `camloc` module.
+// The `camloc` module: its docstring is camloc.pyi's (build.rs).
+#[doc = include_str!(concat!(env!("OUT_DIR"), "/doc/module.txt"))]
 #[pymodule]
 #[pyo3(name = "camloc")]
 fn camloc_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -73,6 +74,7 @@ fn camloc_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<localize::Localizer>()?;
     m.add_function(wrap_pyfunction!(localize::localizer_from_bytes, m)?)?;
     m.add_function(wrap_pyfunction!(reconstruct::reconstruct, m)?)?;
+    m.add_function(wrap_pyfunction!(reconstruct::bone_lengths_json_text, m)?)?;
     m.add_function(wrap_pyfunction!(read::read_keypoints, m)?)?;
     m.add_function(wrap_pyfunction!(bvh::to_bvh, m)?)?;
     m.add_function(wrap_pyfunction!(bvh::read_bvh, m)?)?;

@@ -25,7 +25,9 @@ const CHUNK: usize = 1024;
 /// Poses localized between two looks at Python's signals (Ctrl-C): about 0.1 s on two cores.
 const INTERRUPT_POSES: usize = 1 << 16;
 
-/// A trained camera localizer (the model embedded in camloc, or one loaded from a file).
+// A trained camera localizer (the model embedded in camloc, or one loaded from a file): its
+// docstring is camloc.pyi's (build.rs).
+#[doc = include_str!(concat!(env!("OUT_DIR"), "/doc/Localizer.txt"))]
 #[pyclass(frozen, module = "camloc")]
 pub(crate) struct Localizer {
     pub(crate) inner: CameraLocalizer,
@@ -113,8 +115,8 @@ impl Localizer {
         )
     }
 
-    /// Reads a model file written by `camloc train`, localizing under the prior
-    /// `camera_height`.
+    // Reads a model file written by `camloc train`, localizing under the prior `camera_height`.
+    #[doc = include_str!(concat!(env!("OUT_DIR"), "/doc/Localizer.load.txt"))]
     #[staticmethod]
     #[pyo3(signature = (path, camera_height = "from-input"))]
     fn load(path: PathBuf, camera_height: &str) -> PyResult<Self> {
@@ -136,8 +138,8 @@ impl Localizer {
         Ok((rebuild, (bytes, self.camera_height())))
     }
 
-    /// The prior over the camera's height this localizer applies (`"from-input"`, `"any"`
-    /// or `"eye-level"`).
+    // The prior over the camera's height this localizer applies.
+    #[doc = include_str!(concat!(env!("OUT_DIR"), "/doc/Localizer.camera_height.txt"))]
     #[getter]
     fn camera_height(&self) -> &'static str {
         if self.from_input {
@@ -147,8 +149,8 @@ impl Localizer {
         }
     }
 
-    /// The camera classes, one dict per label (1-based, the column `label - 1` of
-    /// `probabilities`): label, level, side, azimuth_deg, elevation_deg, rotation (3, 3).
+    // The camera classes, one dict per label.
+    #[doc = include_str!(concat!(env!("OUT_DIR"), "/doc/Localizer.cameras.txt"))]
     #[getter]
     fn cameras<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
         let cameras = self
@@ -172,7 +174,8 @@ impl Localizer {
         PyList::new(py, cameras)
     }
 
-    /// Localizes the camera of every pose; see `camloc.pyi`.
+    // Localizes the camera of every pose.
+    #[doc = include_str!(concat!(env!("OUT_DIR"), "/doc/Localizer.localize.txt"))]
     #[pyo3(signature = (points, layout = "camloc15", scores = None, min_score = 0.0, sequence = false))]
     fn localize<'py>(
         &self,

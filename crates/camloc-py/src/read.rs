@@ -65,7 +65,9 @@ fn read_options(
     Ok(options)
 }
 
-/// Reads a keypoint file, or every keypoint file of a folder; see `camloc.pyi`.
+// Reads a keypoint file, or every keypoint file of a folder: its docstring is camloc.pyi's
+// (build.rs).
+#[doc = include_str!(concat!(env!("OUT_DIR"), "/doc/read_keypoints.txt"))]
 #[pyfunction]
 #[pyo3(signature = (path, format = None, layout = None, min_score = 0.0, image_size = None, lsp_invisible = "missing", derive_torso = true, recursive = false))]
 #[allow(clippy::too_many_arguments)]

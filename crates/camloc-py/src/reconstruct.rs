@@ -76,7 +76,17 @@ pub(crate) fn bone_lengths(value: &Bound<'_, PyAny>, name: &str) -> PyResult<Bon
     BoneLengths::from_array(lengths).map_err(invalid)
 }
 
-/// Reconstructs the 3D pose of every pose; see `camloc.pyi`.
+// A bone lengths argument as the JSON file `bone_lengths=PATH` and `camloc reconstruct
+// --bone-lengths` read: its docstring is camloc.pyi's (build.rs).
+#[doc = include_str!(concat!(env!("OUT_DIR"), "/doc/bone_lengths_json.txt"))]
+#[pyfunction]
+#[pyo3(name = "bone_lengths_json")]
+pub(crate) fn bone_lengths_json_text(lengths: Bound<'_, PyAny>) -> PyResult<String> {
+    Ok(bone_lengths(&lengths, "lengths")?.to_json_string())
+}
+
+// Reconstructs the 3D pose of every pose: its docstring is camloc.pyi's (build.rs).
+#[doc = include_str!(concat!(env!("OUT_DIR"), "/doc/reconstruct.txt"))]
 #[pyfunction]
 #[pyo3(signature = (points, layout = "camloc15", camera = None, scores = None, min_score = 0.0, localizer = None, basis = None, bone_lengths = None, focal_px = None, principal_point = None, sequence = false, camera_height = None, lifter = true))]
 #[allow(clippy::too_many_arguments)]

@@ -10,7 +10,9 @@ use crate::value_error;
 /// Azimuths and elevations, degrees, one per frame.
 type Degrees<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>);
 
-/// Smooths one person's viewpoints over the frames of a video; see `camloc.pyi`.
+// Smooths one person's viewpoints over the frames of a video: its docstring is camloc.pyi's
+// (build.rs).
+#[doc = include_str!(concat!(env!("OUT_DIR"), "/doc/smooth_viewpoints.txt"))]
 #[pyfunction]
 #[pyo3(signature = (azimuth_deg, elevation_deg, frames = None))]
 pub(crate) fn smooth_viewpoints<'py>(

@@ -734,3 +734,37 @@ def test_arguments_as_users_write_them():
     camloc.to_bvh(pose3d)
     with pytest.raises(ValueError, match="must be in metres"):
         camloc.to_bvh(pose3d * 1000.0)
+
+
+def test_help_shows_the_stubs_docstrings():
+    """A notebook's help() and ? read __doc__, which build.rs takes from camloc.pyi."""
+    import inspect
+
+    stub = (ROOT / "crates" / "camloc-py" / "camloc.pyi").read_text()
+    for obj, phrase in [
+        (camloc, "where the camera stood"),
+        (camloc.reconstruct, "projected matching pursuit"),
+        (camloc.Localizer, "A trained camera localizer"),
+        (camloc.Localizer.localize, None),
+        (camloc.read_keypoints, None),
+        (camloc.to_bvh, None),
+    ]:
+        doc = inspect.getdoc(obj)
+        assert doc and "see `camloc.pyi`" not in doc, obj
+        assert phrase is None or phrase in doc, (obj, doc[:200])
+        assert doc.splitlines()[0].strip() in stub, obj
+    assert str(inspect.signature(camloc.read_bvh)) == "(path, unit_m=0.05644444444444444)"
+
+
+def test_bone_lengths_json_is_the_file_reconstruct_reads(tmp_path, cli):
+    got = camloc.reconstruct(example_points(), sequence=True)["person_bone_lengths"]
+    path = tmp_path / "lengths.json"
+    path.write_text(camloc.bone_lengths_json(got))
+    again = camloc.reconstruct(example_points(), bone_lengths=path)["bone_lengths"]
+    np.testing.assert_allclose(again, np.tile(got, (len(again), 1)), rtol=1e-12)
+    code, rows = cli("reconstruct", "--input", KEYPOINTS / "example.json", "--bone-lengths", path)
+    assert code == 0
+    keys = camloc.BONE_KEYS
+    np.testing.assert_allclose([rows[0]["bone_lengths_m"][k] for k in keys], got, rtol=1e-9)
+    with pytest.raises(ValueError, match="14"):
+        camloc.bone_lengths_json([0.3] * 13)
