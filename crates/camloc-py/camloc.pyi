@@ -161,14 +161,16 @@ def reconstruct(
     points, layout, scores, min_score: as for ``Localizer.localize``.
     camera: ``opt`` (Procrustes camera), ``classified`` (the rotation of the classified
     camera) or ``hybrid`` (the camera of the localized continuous viewpoint refined by
-    Procrustes, the default, as on the command line; about 1.7 times the time of ``opt``).
+    Procrustes, the default, as on the command line; with the embedded lifter about the time
+    of ``opt``).
       With ``classified`` and ``hybrid`` and the embedded model, each pose is rebuilt from the
       depths the embedded depth lifter predicts for the classified camera (docs/conventions.md
       section 6) rather than from the pursuit's pose: the two modes then give the same shape
-      (the same error after a similarity alignment), and ``hybrid`` orients it by its
-      Procrustes camera levelled to the localized elevation where ``classified`` keeps the
-      class's camera. Without the lifter (``lifter=False``) ``hybrid`` has the lower 3D
-      error.
+      (the same error after a similarity alignment), and ``hybrid`` holds the rotation of the
+      localized continuous viewpoint (one solve, as ``classified``) and levels the pose to
+      the localized elevation, where ``classified`` keeps the class's camera, 30-45 degrees
+      off at the class's edges. Without the lifter (``lifter=False``) ``hybrid`` refines its
+      rotation by Procrustes and has the lower 3D error.
     localizer: the model that classifies the camera (default: the embedded one; another model
       reconstructs without the embedded depth lifter, which belongs to the embedded model;
       ``Localizer()`` and ``Localizer.load`` of the embedded model's file keep it).
@@ -239,8 +241,8 @@ def reconstruct(
     OSError / CamlocError for an unreadable or invalid basis.
 
     Ctrl-C raises ``KeyboardInterrupt`` after the block of 1,024 poses being reconstructed
-    (0.4 s on two idle cores); with ``sequence`` only when the person's frames are solved (a
-    20,000-frame sequence: 16 s on two idle cores, twice that on a loaded machine).
+    (0.2 s on two idle cores); with ``sequence`` only when the person's frames are solved (a
+    20,000-frame sequence: 12 s on two idle cores, twice that on a loaded machine).
     """
 
 def bone_lengths_json(

@@ -17,7 +17,7 @@ use camloc::reconstruct::{
     ReconstructConfig, Reconstructor, mpjpe_after_similarity,
 };
 use camloc::skeleton::NUM_LIMBS;
-use camloc::{CameraLocalizer, DepthLifter, PartialPose2, Pose2, Pose3};
+use camloc::{CameraLocalizer, DepthLifter, PartialPose2, Pose2, Pose3, hybrid_camera};
 use rayon::prelude::*;
 
 use people::{Frames, HEAD_FACTOR, LIMB_FACTOR, factors, rescale, single_poses, windows};
@@ -291,10 +291,11 @@ fn mode_of(
     match kind {
         ModeKind::Opt => (Some(CameraMode::Opt), None),
         ModeKind::Hybrid => match localizer.and_then(|l| l.localize(pose2).ok()) {
-            Some(l) => (
-                Some(CameraMode::Hybrid(l.viewpoint_rotation())),
-                lifter.and_then(|f| f.depths(pose2, l.label.index()).ok()),
-            ),
+            Some(l) => {
+                // As camloc reconstruct chooses its camera (camloc::hybrid_camera).
+                let depths = lifter.and_then(|f| f.depths(pose2, l.label.index()).ok());
+                (Some(hybrid_camera(&l, depths.is_some())), depths)
+            }
             None => (None, None),
         },
         _ => (None, None),

@@ -245,9 +245,16 @@ fn draw_direction(svg: &mut String, sphere: &SphereView, d: Direction) {
         r#"<path d="{path}Z" fill="{DIRECTION}" fill-opacity="0.2" stroke="{DIRECTION}" stroke-dasharray="3 2"/>"#
     );
     let (o, p) = (sphere.to_svg(Vector3::zeros()), sphere.to_svg(centre));
+    // Paler on the far side of the sphere, as the cameras there are (it would read as the
+    // near camera it is drawn over).
+    let opacity = if (sphere.view * centre).z > 0.0 {
+        r#" opacity="0.45""#
+    } else {
+        ""
+    };
     let _ = writeln!(
         svg,
-        r#"<line x1="{:.1}" y1="{:.1}" x2="{:.1}" y2="{:.1}" stroke="{DIRECTION}" stroke-width="2"/><circle cx="{:.1}" cy="{:.1}" r="4.5" fill="{DIRECTION}"/>"#,
+        r#"<line x1="{:.1}" y1="{:.1}" x2="{:.1}" y2="{:.1}" stroke="{DIRECTION}" stroke-width="2"{opacity}/><circle cx="{:.1}" cy="{:.1}" r="4.5" fill="{DIRECTION}"{opacity}/>"#,
         o[0], o[1], p[0], p[1], p[0], p[1]
     );
     // From the panel's left edge, so that a negative elevation and a two-digit uncertainty

@@ -109,9 +109,9 @@ fn train_evaluate_and_reconstruct_succeed_on_fixture_data() {
     }
 
     // --hypotheses 2: the depth mirror beside the preferred one, both scored; hybrid has 2
-    // solves of 2 each.
-    for (camera, n) in [("opt", 2), ("hybrid", 4)] {
-        let out = camloc(&[
+    // solves of 2 each, 1 with the lifter (its rotation held at the localized viewpoint).
+    for (camera, lifter, n) in [("opt", true, 2), ("hybrid", false, 4), ("hybrid", true, 2)] {
+        let mut args = vec![
             "reconstruct",
             "--input",
             input,
@@ -120,7 +120,11 @@ fn train_evaluate_and_reconstruct_succeed_on_fixture_data() {
             "--hypotheses",
             "4",
             "--json",
-        ]);
+        ];
+        if !lifter {
+            args.push("--no-lifter");
+        }
+        let out = camloc(&args);
         let poses: serde_json::Value = serde_json::from_str(&success(&out)).unwrap();
         for p in poses.as_array().unwrap() {
             let alternatives = p["alternatives"].as_array().unwrap();

@@ -212,6 +212,7 @@ mod tests {
             r#"[{{"image_id": 12.0, "track_id": "3", "keypoints": {kp}}},
                 {{"image_id": "frames/cam2_frame_000013.jpg", "track_id": 4.0, "keypoints": {kp}}},
                 {{"image_id": "0014", "track_id": "walker", "keypoints": {kp}}},
+                {{"image_id": "000015_cam2.jpg", "keypoints": {kp}}},
                 {{"image_id": 1.5, "track_id": -2.0, "keypoints": {kp}}}]"#
         );
         let keys: Vec<_> = parse(&written)
@@ -225,6 +226,7 @@ mod tests {
                 (Some(12), Some(3)),
                 (Some(13), Some(4)),
                 (Some(14), None),
+                (Some(15), None),
                 (None, None)
             ]
         );

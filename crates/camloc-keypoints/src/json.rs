@@ -331,18 +331,21 @@ pub(crate) fn tracking_number(value: &Json) -> Option<u64> {
 }
 
 /// A frame number a detector wrote beside the keypoints (COCO's `image_id`): as
-/// [`tracking_number`], and for an image's file name (`"frame_000012.jpg"`, `"12.png"`) the
-/// last run of digits before its extension; `None` for a string without digits.
+/// [`tracking_number`], and for an image's file name (`"frame_000012.jpg"`,
+/// `"000012_cam2.png"`, `"cam2_frame_13.jpg"`) the longest run of digits before its extension
+/// (the last of equally long ones: a frame counter is usually the longest number in the
+/// name, a camera or take number shorter); `None` for a string without digits.
 pub(crate) fn frame_number(value: &Json) -> Option<u64> {
     match value {
         Json::String(s) => {
             let stem = s.rsplit(['/', '\\']).next().unwrap_or(s);
             let stem = stem.rsplit_once('.').map_or(stem, |(stem, _)| stem);
-            let end = stem.rfind(|c: char| c.is_ascii_digit())? + 1;
-            let start = stem[..end]
-                .rfind(|c: char| !c.is_ascii_digit())
-                .map_or(0, |i| i + 1);
-            stem[start..end]
+            stem.split(|c: char| !c.is_ascii_digit())
+                .filter(|run| !run.is_empty())
+                .fold(None, |best: Option<&str>, run| match best {
+                    Some(b) if b.len() > run.len() => Some(b),
+                    _ => Some(run),
+                })?
                 .parse::<u64>()
                 .ok()
                 .filter(|&v| v <= crate::MAX_FRAME_NUMBER)

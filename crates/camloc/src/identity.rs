@@ -123,23 +123,39 @@ fn elapsed(frames: &[Option<u64>], j: usize, k: usize) -> f64 {
 /// while those two agree with each other: one frame that holds another person's detection (two
 /// tracked people's ids swapped for one frame) or a detection a detector misplaced. The median
 /// of [`identity_jumps`] does not count such a frame as a change of person; its pose is still
-/// not this person's. The first and the last frame with an anchor are never reported.
+/// not this person's. The first (last) frame with an anchor is judged by the two after (before)
+/// it: apart from both while they agree.
 pub fn outlier_frames(frames: &[Option<u64>], anchors: &[Option<TorsoAnchor>]) -> Vec<usize> {
     let present: Vec<(usize, TorsoAnchor)> = anchors
         .iter()
         .enumerate()
         .filter_map(|(k, a)| a.map(|a| (k, a)))
         .collect();
-    present
+    // Whether `b` lies apart from `a` and `c`, which agree (each an anchor and its position,
+    // in time order or reversed).
+    let apart = |(i, a): (usize, TorsoAnchor),
+                 (k, b): (usize, TorsoAnchor),
+                 (l, c): (usize, TorsoAnchor)| {
+        let steps = |x: usize, y: usize| elapsed(frames, x.min(y), x.max(y));
+        jumps(&a, &b, steps(i, k)) && jumps(&b, &c, steps(k, l)) && !jumps(&a, &c, steps(i, l))
+    };
+    let mut found: Vec<usize> = present
         .windows(3)
-        .filter(|w| {
-            let [(i, a), (k, b), (l, c)] = [w[0], w[1], w[2]];
-            jumps(&a, &b, elapsed(frames, i, k))
-                && jumps(&b, &c, elapsed(frames, k, l))
-                && !jumps(&a, &c, elapsed(frames, i, l))
-        })
+        .filter(|w| apart(w[0], w[1], w[2]))
         .map(|w| w[1].0)
-        .collect()
+        .collect();
+    let n = present.len();
+    if n >= 3 {
+        // The ends: the first against the second and third (the second standing between),
+        // the last against the two before it.
+        if apart(present[2], present[0], present[1]) {
+            found.insert(0, present[0].0);
+        }
+        if apart(present[n - 3], present[n - 1], present[n - 2]) {
+            found.push(present[n - 1].0);
+        }
+    }
+    found
 }
 
 #[cfg(test)]
@@ -188,6 +204,13 @@ mod tests {
         std::mem::swap(&mut a[3], &mut b[3]);
         assert_eq!(outlier_frames(&frames, &a), vec![3]);
         assert_eq!(outlier_frames(&frames, &b), vec![3]);
+        // At either end of a track.
+        for end in [0, 9] {
+            let (mut a, mut b) = (walk.clone(), other.clone());
+            std::mem::swap(&mut a[end], &mut b[end]);
+            assert_eq!(outlier_frames(&frames, &a), vec![end]);
+            assert_eq!(outlier_frames(&frames, &b), vec![end]);
+        }
         // A person running past a camera filmed at a low frame rate moves far every frame:
         // no outlier, as the frames before and after disagree too.
         let fast: Vec<_> = (0..10).map(|t| at(150.0 * f64::from(t), 100.0)).collect();

@@ -79,7 +79,7 @@ pub use identity::{
 };
 pub use reconstruction::{
     PoseReconstruction, PoseReconstructor, PoseSequenceReconstruction, SEQUENCE_BREAK_FRAMES,
-    default_basis, evaluation_samples,
+    default_basis, evaluation_samples, hybrid_camera,
 };
 pub use select::{DescriptorCv, cross_validate};
 pub use sequence::{

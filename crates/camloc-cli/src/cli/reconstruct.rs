@@ -30,9 +30,9 @@ use crate::html::ViewFrame;
 fn camera_modes() -> [PossibleValue; 3] {
     [
         PossibleValue::new("opt").help(
-            "Procrustes camera re-estimated at every step (Ramakrishna et al.): about 0.6 of \
-             the time of hybrid, less accurate (docs/RESULTS.md: 73.6 against 55.8 mm on \
-             rescaled held-out people filmed by the rig)",
+            "Procrustes camera re-estimated at every step (Ramakrishna et al.): no faster than \
+             hybrid with the embedded model, less accurate (docs/RESULTS.md: 73.6 against 55.8 \
+             mm on rescaled held-out people filmed by the rig); the mode without a localizer",
         ),
         PossibleValue::new("classified").help(
             "The pursuit's rotation fixed to the classified Table-1 camera (the paper's section \
@@ -41,16 +41,17 @@ fn camera_modes() -> [PossibleValue; 3] {
         ),
         PossibleValue::new("hybrid").help(
             "The localized viewpoint (the continuous direction, else the classified camera) \
-             as the start, refined by Procrustes: the lowest 3D error measured \
-             (docs/RESULTS.md), about twice the time of opt; the default",
+             as the start, refined by Procrustes (with the embedded model's depth lifter, held \
+             and refined with the skeleton): the lowest 3D error measured (docs/RESULTS.md); \
+             the default",
         ),
     ]
 }
 
 /// The camera mode of a run: `--camera`, else `hybrid`, the lower 3D error in
 /// docs/RESULTS.md (held-out CMU subjects, rescaled people, sequences; the closing paragraph
-/// of its "Measured in this version" says why). `opt` takes about 0.6 of the time (5,000
-/// COCO poses on 2 cores: 1.3 s against 2.1 s).
+/// of its "Measured in this version" says why), and with the embedded lifter no slower than
+/// `opt` (5,000 COCO poses on 2 cores: 1.20 s against 1.31 s).
 fn camera_of(args: &Args) -> ModeKind {
     args.camera.unwrap_or(ModeKind::Hybrid)
 }
@@ -94,9 +95,9 @@ pub struct Args {
     /// mirror in depth), the one within the learned joint-angle limits comes first; the
     /// others follow in the text output and under "alternatives" in JSON, each with its
     /// reprojection error and limit violation. Each solve has 2 (as found and
-    /// depth-reflected); hybrid runs 2 solves. With the lifter (hybrid's default) the first
-    /// is the lifted pose and the first of the other reflection its mirror in depth. The .npy
-    /// and SVG outputs hold the first.
+    /// depth-reflected); hybrid runs 2 solves, 1 with the lifter (its default), where the
+    /// first is the lifted pose and the first of the other reflection its mirror in depth. The
+    /// .npy and SVG outputs hold the first.
     #[arg(long, default_value_t = 1, value_name = "N",
           value_parser = clap::value_parser!(u8).range(1..=4))]
     pub hypotheses: u8,

@@ -250,7 +250,8 @@ pub fn run(
             *person,
             &numbers,
             &anchors,
-            "left out of the person's smoothing (its smoothed camera is the frames around it's)",
+            "left out of the person's smoothing (its smoothed camera comes from the frames \
+             around it, and it has no smoothed viewpoint)",
         );
         let viewpoints: Vec<Option<Viewpoint>> = members
             .iter()
@@ -472,7 +473,7 @@ pub fn warn_of_identity_jumps(
          from one frame to the next {} (first at {at}): these may be several people \
          (the detector's order of people changed?), or not consecutive frames of a video; \
          several people need an id each (`person` in camloc JSON, `track_id` in COCO or \
-         MMPose)",
+         MMPose, `person_id` in OpenPose)",
         if jumps.len() == 1 {
             "once".to_owned()
         } else {
