@@ -66,6 +66,30 @@ pub fn mpjpe_after_similarity(estimate: &Pose3, truth: &Pose3) -> f64 {
     }
 }
 
+/// Mean per-joint position error between `estimate` and `truth` (metres, both in the canonical
+/// body frame) with both pelvises at the origin and `estimate` scaled by the least-squares
+/// factor, but not rotated, in millimetres: the error of the pose as the body frame orients
+/// it (which way is up and front), what a BVH file or a world placement shows, where
+/// [`mpjpe_after_similarity`] measures the shape alone (sizes cannot be told from one camera,
+/// so the scale is aligned). NaN for a non-finite coordinate or an estimate of no extent.
+pub fn mpjpe_after_scale(estimate: &Pose3, truth: &Pose3) -> f64 {
+    let root = |p: &Pose3, i: usize| Vector3::from(p.points[i]) - Vector3::from(p.points[0]);
+    let (mut cross, mut own) = (0.0, 0.0);
+    for i in 0..NUM_LANDMARKS {
+        let (e, t) = (root(estimate, i), root(truth, i));
+        cross += e.dot(&t);
+        own += e.norm_squared();
+    }
+    if !(own > 0.0 && own.is_finite() && cross.is_finite()) {
+        return f64::NAN;
+    }
+    let scale = cross / own;
+    let total: f64 = (0..NUM_LANDMARKS)
+        .map(|i| (root(estimate, i) * scale - root(truth, i)).norm())
+        .sum();
+    1000.0 * total / NUM_LANDMARKS as f64
+}
+
 /// The paper's eq. 12: the Euclidean norm of the 30-vector of residuals between `pose2` and the
 /// projection of `recon.pose` by the camera it was fitted with (eq. 6, image units;
 /// [`Reconstruction::reprojection`]: its perspective camera when it has one), divided by `width x
@@ -193,6 +217,24 @@ mod tests {
             *x = [(t * 0.7).sin() * 0.3, (t * 1.3).cos() * 0.2, t * 0.1 - 0.6];
         }
         Pose3::new(p)
+    }
+
+    /// A scaled and moved truth has no error after the scale; a turned one keeps its turn.
+    #[test]
+    fn the_error_after_scale_keeps_the_orientation() {
+        let truth = body();
+        let moved = Pose3::new(
+            truth
+                .points
+                .map(|p| [2.0 * p[0] + 1.0, 2.0 * p[1] - 3.0, 2.0 * p[2]]),
+        );
+        assert!(mpjpe_after_scale(&moved, &truth) < 1e-9);
+        let turn = rotation_about_axis(Vector3::z(), 0.5);
+        let turned = Pose3::new(truth.points.map(|p| (turn * Vector3::from(p)).into()));
+        assert!(mpjpe_after_scale(&turned, &truth) > 50.0);
+        assert!(mpjpe_after_similarity(&turned, &truth) < 1e-6);
+        let flat = Pose3::new([[0.5; 3]; NUM_LANDMARKS]);
+        assert!(mpjpe_after_scale(&flat, &truth).is_nan());
     }
 
     proptest! {
