@@ -139,10 +139,16 @@ pub fn outlier_frames(frames: &[Option<u64>], anchors: &[Option<TorsoAnchor>]) -
         let steps = |x: usize, y: usize| elapsed(frames, x.min(y), x.max(y));
         jumps(&a, &b, steps(i, k)) && jumps(&b, &c, steps(k, l)) && !jumps(&a, &c, steps(i, l))
     };
-    let mut found: Vec<usize> = present
-        .windows(3)
-        .filter(|w| apart(w[0], w[1], w[2]))
-        .map(|w| w[1].0)
+    // Positions in `present` of the frames apart from both neighbours; of three in a row, the
+    // middle one is the person between two misplaced frames (ids swapped at frames 20 and 22
+    // make 21 look apart from both), and stays.
+    let candidates: Vec<usize> = (1..present.len().saturating_sub(1))
+        .filter(|&m| apart(present[m - 1], present[m], present[m + 1]))
+        .collect();
+    let mut found: Vec<usize> = candidates
+        .iter()
+        .filter(|&&m| !(candidates.contains(&(m - 1)) && candidates.contains(&(m + 1))))
+        .map(|&m| present[m].0)
         .collect();
     let n = present.len();
     if n >= 3 {
@@ -204,6 +210,13 @@ mod tests {
         std::mem::swap(&mut a[3], &mut b[3]);
         assert_eq!(outlier_frames(&frames, &a), vec![3]);
         assert_eq!(outlier_frames(&frames, &b), vec![3]);
+        // Ids swapped at two frames with one between: the frame between is the person's.
+        let (mut a, mut b) = (walk.clone(), other.clone());
+        for t in [4, 6] {
+            std::mem::swap(&mut a[t], &mut b[t]);
+        }
+        assert_eq!(outlier_frames(&frames, &a), vec![4, 6]);
+        assert_eq!(outlier_frames(&frames, &b), vec![4, 6]);
         // At either end of a track.
         for end in [0, 9] {
             let (mut a, mut b) = (walk.clone(), other.clone());
