@@ -110,7 +110,10 @@ class Localizer:
           row stays in the smoothing). A row of NaN counts as a frame, where the command line skips a
           frame number no record has: the smoothed probabilities can differ there.
         A ``UserWarning`` says when most of the (first 20,000) poses have the head below both
-        ankles: points with v up (``camloc localize`` warns alike).
+        ankles: points with v up (``camloc localize`` warns alike); another when a pose has a
+        landmark at exactly (0, 0) outside the box of its other landmarks (a detector's
+        placeholder for a joint it did not find: give scores or NaN); another when every pose
+        of the call failed, with the first error.
 
         Returns a dict:
           label (N,) int64: most probable camera, 1..12 (0 where the pose failed);
@@ -193,7 +196,8 @@ def reconstruct(
       --sequence``, which reconstructs such a frame on its own, the row stays in the
       sequence). A row of NaN (nothing detected) gets the error "the pose has no
       landmarks (nothing detected)". Like ``Localizer.localize``, it warns when most poses
-      have the head below both ankles.
+      have the head below both ankles, of landmarks at the image origin, and when every pose
+      failed.
     camera_height: ``"from-input"`` (the camera heights estimated from the poses of this
       call), ``"any"`` or ``"eye-level"``, the prior over the camera's height the localizer
       applies (as ``Localizer(camera_height=...)``; the embedded depth lifter stays).

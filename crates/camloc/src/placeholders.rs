@@ -4,15 +4,31 @@
 
 use camloc_skeleton::PartialPose2;
 
-/// Whether `pose` has at least two landmarks at exactly `(0, 0)`: one joint there may be real,
-/// two are a detector's placeholders.
+/// Whether `pose` has a landmark at exactly `(0, 0)` that lies outside the bounding box of its
+/// other landmarks (grown by a tenth of its size on each side): a detector's placeholder, far
+/// from the body in the image's corner. A pose centred on one of its joints (that joint at the
+/// origin, inside the body) has none.
 pub fn has_origin_placeholders(pose: &PartialPose2) -> bool {
-    pose.points
+    let at_origin = |p: &[f64; 2]| p[0] == 0.0 && p[1] == 0.0;
+    let others: Vec<&[f64; 2]> = pose
+        .points
         .iter()
         .flatten()
-        .filter(|p| p[0] == 0.0 && p[1] == 0.0)
-        .nth(1)
-        .is_some()
+        .filter(|p| !at_origin(p))
+        .collect();
+    if others.len() == pose.points.iter().flatten().count() || others.is_empty() {
+        return false;
+    }
+    let outside = |axis: usize| {
+        let (lo, hi) = others
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                (lo.min(p[axis]), hi.max(p[axis]))
+            });
+        let margin = 0.1 * (hi - lo);
+        0.0 < lo - margin || 0.0 > hi + margin
+    };
+    outside(0) || outside(1)
 }
 
 /// The warning for an input of which `with_placeholders` of the `checked` poses have
@@ -34,13 +50,22 @@ mod tests {
     use camloc_skeleton::Landmark;
 
     #[test]
-    fn two_joints_at_the_origin_are_placeholders() {
+    fn joints_at_the_origin_away_from_the_body_are_placeholders() {
+        // A body in the middle of an image, with one wrist at the origin.
         let mut pose = PartialPose2::empty();
-        pose.points[Landmark::Head.index()] = Some([0.0, 0.0]);
-        pose.points[Landmark::Neck.index()] = Some([0.0, 5.0]);
+        for (k, p) in pose.points.iter_mut().enumerate() {
+            *p = Some([300.0 + 5.0 * k as f64, 200.0 + 20.0 * k as f64]);
+        }
         assert!(!has_origin_placeholders(&pose));
         pose.points[Landmark::LeftWrist.index()] = Some([0.0, 0.0]);
         assert!(has_origin_placeholders(&pose));
+        // A pose centred on its pelvis: the origin is inside the body.
+        let mut centred = PartialPose2::empty();
+        for (k, p) in centred.points.iter_mut().enumerate() {
+            *p = Some([-40.0 + 6.0 * k as f64, -150.0 + 20.0 * k as f64]);
+        }
+        centred.points[Landmark::Pelvis.index()] = Some([0.0, 0.0]);
+        assert!(!has_origin_placeholders(&centred));
         assert!(origin_placeholder_warning(10, 0).is_none());
         assert!(
             origin_placeholder_warning(10, 3)
