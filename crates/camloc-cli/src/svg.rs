@@ -214,7 +214,15 @@ impl SphereView {
             self.centre[1] + self.radius * q.y,
         ]
     }
+
+    /// Whether a point of the sphere lies on its far side, away from the viewer.
+    fn is_far(&self, p: Vector3) -> bool {
+        (self.view * p).z > 0.0
+    }
 }
+
+/// The attribute that pales what lies on the far side of the sphere ([`SphereView::is_far`]).
+const FAR: &str = r#" opacity="0.45""#;
 
 /// Orange of the continuous direction.
 const DIRECTION: &str = "#e6730f";
@@ -247,11 +255,7 @@ fn draw_direction(svg: &mut String, sphere: &SphereView, d: Direction) {
     let (o, p) = (sphere.to_svg(Vector3::zeros()), sphere.to_svg(centre));
     // Paler on the far side of the sphere, as the cameras there are (it would read as the
     // near camera it is drawn over).
-    let opacity = if (sphere.view * centre).z > 0.0 {
-        r#" opacity="0.45""#
-    } else {
-        ""
-    };
+    let opacity = if sphere.is_far(centre) { FAR } else { "" };
     let _ = writeln!(
         svg,
         r#"<line x1="{:.1}" y1="{:.1}" x2="{:.1}" y2="{:.1}" stroke="{DIRECTION}" stroke-width="2"{opacity}/><circle cx="{:.1}" cy="{:.1}" r="4.5" fill="{DIRECTION}"{opacity}/>"#,
@@ -338,9 +342,10 @@ fn draw_sphere(
         let fill = if chosen { RIGHT } else { "#777777" };
         // A camera on the far side of the sphere (away from the viewer) is paler, unless it
         // is the answer or has a share worth reading.
-        let far = (sphere.view * v.position(1.0)).z > 0.0;
-        let faded = far && !chosen && probability.is_none_or(|p| p < SHOWN_PROBABILITY);
-        let opacity = if faded { r#" opacity="0.45""# } else { "" };
+        let faded = sphere.is_far(v.position(1.0))
+            && !chosen
+            && probability.is_none_or(|p| p < SHOWN_PROBABILITY);
+        let opacity = if faded { FAR } else { "" };
         let _ = writeln!(
             svg,
             r#"<circle cx="{:.1}" cy="{:.1}" r="{r:.1}" fill="{fill}"{opacity}/>"#,

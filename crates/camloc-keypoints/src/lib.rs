@@ -408,23 +408,27 @@ pub fn open_keypoints_reader(
         });
     }
     let (limit, rule) = options.byte_limit(format);
-    let too_large = |bytes| KeypointError::TooLarge {
+    let too_large = |bytes, (limit, rule): (u64, &'static str)| KeypointError::TooLarge {
         file: name.to_owned(),
         bytes,
         limit,
         rule,
     };
-    // Refuse known-large files before reading; `take` also bounds pipes and special files.
-    if let Some(size) = size.filter(|&size| size > limit) {
-        return Err(too_large(size));
-    }
+    // Refuse a file of known size beyond `bound` before reading it.
+    let refuse_known = |bound: (u64, &'static str)| match size.filter(|&size| size > bound.0) {
+        Some(size) => Err(too_large(size, bound)),
+        None => Ok(()),
+    };
+    // Known-large files are refused before reading; `take` also bounds pipes and special
+    // files.
+    refuse_known((limit, rule))?;
     // Peek at the start (past a blank lead): input that is not text, or whose format nothing
     // can match, is refused at once; an input that ends within it is parsed whole, a longer
     // JSON document is streamed.
     let mut reader = reader;
     let start = peek::Start::read(&mut reader, limit).map_err(io_error)?;
     if start.len() > limit {
-        return Err(too_large(start.len()));
+        return Err(too_large(start.len(), (limit, rule)));
     }
     if let Some(e) = camloc_file(&start.content, name) {
         return Err(e);
@@ -440,15 +444,7 @@ pub fn open_keypoints_reader(
     }
     // A format found from the content may have a lower limit (one OpenPose frame): a file
     // known to be beyond it is refused before more is read.
-    let (detected_limit, detected_rule) = options.byte_limit(detected);
-    if let Some(size) = size.filter(|&size| size > detected_limit) {
-        return Err(KeypointError::TooLarge {
-            file: name.to_owned(),
-            bytes: size,
-            limit: detected_limit,
-            rule: detected_rule,
-        });
-    }
+    refuse_known(options.byte_limit(detected))?;
     let json = detected.filter(|f| !matches!(f, KeypointFormat::Lsp | KeypointFormat::Npy));
     if let (Some(json), false) = (json, start.ended) {
         let (lead, content) = (start.lead(false), start.content);
@@ -468,7 +464,7 @@ pub fn open_keypoints_reader(
         .read_to_end(&mut bytes)
         .map_err(io_error)?;
     if bytes.len() as u64 > limit {
-        return Err(too_large(bytes.len() as u64));
+        return Err(too_large(bytes.len() as u64, (limit, rule)));
     }
     if !start.ended {
         return stream_text(bytes, name, detected, options);

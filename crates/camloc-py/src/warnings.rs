@@ -49,12 +49,20 @@ pub(crate) fn warn_if_every_pose_failed(
     poses: usize,
     errors: &[(usize, String)],
 ) -> PyResult<()> {
-    let undetected = |m: &str| m.ends_with("(nothing detected)");
+    // The library's own message for a pose without landmarks (a frame the person is missing
+    // from, not a mistake).
+    let undetected = camloc::CamlocError::NothingDetected.to_string();
     match errors.first() {
-        Some((_, first)) if poses >= 2 && errors.len() == poses && !undetected(first) => warn(
-            py,
-            format!("every one of the {poses} poses failed (see \"error\"); the first: {first}"),
-        ),
+        Some((_, first))
+            if poses >= 2 && errors.len() == poses && !first.ends_with(&undetected) =>
+        {
+            warn(
+                py,
+                format!(
+                    "every one of the {poses} poses failed (see \"error\"); the first: {first}"
+                ),
+            )
+        }
         _ => Ok(()),
     }
 }

@@ -1,6 +1,7 @@
 //! How messages quote text that came from the user (pose ids, image names, keys, file names,
-//! array shapes): control and bidirectional formatting characters escaped, so that nothing reaches a terminal or a drawing
-//! raw, and cut to a bounded length, so that a message stays one short line whatever the input.
+//! array shapes): control and bidirectional formatting characters escaped, so that nothing
+//! reaches a terminal or a drawing raw, and cut to a bounded length, so that a message stays
+//! one short line whatever the input.
 
 use std::borrow::Cow;
 use std::fmt::Write;

@@ -9,26 +9,25 @@ use camloc_skeleton::PartialPose2;
 /// from the body in the image's corner. A pose centred on one of its joints (that joint at the
 /// origin, inside the body) has none.
 pub fn has_origin_placeholders(pose: &PartialPose2) -> bool {
+    // Called for every pose read: no allocation, and one pass when none is at the origin.
     let at_origin = |p: &[f64; 2]| p[0] == 0.0 && p[1] == 0.0;
-    let others: Vec<&[f64; 2]> = pose
-        .points
-        .iter()
-        .flatten()
-        .filter(|p| !at_origin(p))
-        .collect();
-    if others.len() == pose.points.iter().flatten().count() || others.is_empty() {
+    if !pose.points.iter().flatten().any(at_origin) {
         return false;
     }
-    let outside = |axis: usize| {
-        let (lo, hi) = others
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
-                (lo.min(p[axis]), hi.max(p[axis]))
-            });
-        let margin = 0.1 * (hi - lo);
-        0.0 < lo - margin || 0.0 > hi + margin
-    };
-    outside(0) || outside(1)
+    let (mut lo, mut hi, mut others) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2], 0);
+    for p in pose.points.iter().flatten().filter(|p| !at_origin(p)) {
+        others += 1;
+        for axis in 0..2 {
+            lo[axis] = lo[axis].min(p[axis]);
+            hi[axis] = hi[axis].max(p[axis]);
+        }
+    }
+    // No other landmark: no body to be outside of.
+    others > 0
+        && (0..2).any(|axis| {
+            let margin = 0.1 * (hi[axis] - lo[axis]);
+            0.0 < lo[axis] - margin || 0.0 > hi[axis] + margin
+        })
 }
 
 /// The warning for an input of which `with_placeholders` of the `checked` poses have
@@ -66,6 +65,11 @@ mod tests {
         }
         centred.points[Landmark::Pelvis.index()] = Some([0.0, 0.0]);
         assert!(!has_origin_placeholders(&centred));
+        // Every landmark at the origin: no body to be outside of.
+        let mut nowhere = PartialPose2::empty();
+        nowhere.points[Landmark::Head.index()] = Some([0.0, 0.0]);
+        nowhere.points[Landmark::Neck.index()] = Some([0.0, 0.0]);
+        assert!(!has_origin_placeholders(&nowhere));
         assert!(origin_placeholder_warning(10, 0).is_none());
         assert!(
             origin_placeholder_warning(10, 3)

@@ -387,13 +387,10 @@ pub fn left_out_of_sequence(
     };
     if let Some(first) = left.iter().position(|&l| l) {
         stderr_line!(
-            "camloc: warning: person {person}: {} a second pose (first at {}): the second is \
-             {treated}",
-            if seconds == 1 {
-                "1 frame holds".to_owned()
-            } else {
-                format!("{seconds} frames hold")
-            },
+            "camloc: warning: person {person}: {} hold{} a second pose (first at {}): the \
+             second is {treated}",
+            counted(seconds as u64, "frame"),
+            if seconds == 1 { "s" } else { "" },
             at(first)
         );
     }
