@@ -105,9 +105,10 @@ class Localizer:
           where the person was missed): the result also has each frame's camera and viewpoint
           smoothed over the frames, as ``camloc localize --sequence`` gives them, and a
           ``UserWarning`` says where the pose jumps across the image as one person cannot (rows
-          of several people), and another where one row lies apart from the rows before and
-          after it while those agree (another person's detection; unlike the command line, the
-          row stays in the smoothing). A row of NaN counts as a frame, where the command line skips a
+          of several people), and another where rows (up to 10 in a row) lie apart from the
+          rows before and after them while those agree (another person's detection): as the
+          command line does, they are left out of the smoothing (their smoothed camera comes
+          from the rows around them, their smoothed viewpoint is NaN). A row of NaN counts as a frame, where the command line skips a
           frame number no record has: the smoothed probabilities can differ there.
         A ``UserWarning`` says when most of the (first 20,000) poses have the head below both
         ankles: points with v up (``camloc localize`` warns alike); another when a pose has a
@@ -131,8 +132,10 @@ class Localizer:
             within 3 rows (``smooth_viewpoints``), NaN where the frame has no viewpoint;
           error: list of N messages, None where the pose was localized.
 
-        Raises ValueError for a wrong shape, an unknown layout or a bad ``min_score``. Ctrl-C
-        raises ``KeyboardInterrupt`` after the block of 65,536 poses being localized.
+        Raises ValueError for a wrong shape, an unknown layout or a bad ``min_score``;
+        MemoryError, before any work, for more poses than the outputs can be allocated for (a
+        broadcast view of 10^9 poses). Ctrl-C raises ``KeyboardInterrupt`` after the block of
+        65,536 poses being localized.
         """
 
     def __repr__(self) -> str: ...
@@ -191,11 +194,12 @@ def reconstruct(
       for all of them, depths chosen consistently over time, temporal smoothness. A
       ``UserWarning`` says where the pose jumps across the image or changes size as one person
       cannot from one row to the next (rows of several people: split them by the ``persons``
-      of ``read_keypoints``), and another where one row lies apart from the rows before and
-      after it while those agree (another person's detection; unlike ``camloc reconstruct
-      --sequence``, which reconstructs such a frame on its own, the row stays in the
-      sequence). A row of NaN (nothing detected) gets the error "the pose has no
-      landmarks (nothing detected)". Like ``Localizer.localize``, it warns when most poses
+      of ``read_keypoints``), and another where rows (up to 10 in a row) lie apart from the
+      rows before and after them while those agree (another person's detection): as
+      ``camloc reconstruct --sequence`` does, they are reconstructed on their own, outside
+      the sequence's bone lengths, smoothness and world placement (``world_points3d`` NaN).
+      A row of NaN (nothing detected) gets the error "the pose has no landmarks (nothing
+      detected)". Like ``Localizer.localize``, it warns when most poses
       have the head below both ankles, of landmarks at the image origin, and when every pose
       failed.
     camera_height: ``"from-input"`` (the camera heights estimated from the poses of this
@@ -242,7 +246,10 @@ def reconstruct(
     (a missing or unknown key, not 14 numbers, a length outside 0.01-1.5 m, a bone lengths file
     that cannot be read or is malformed), a focal length that is not finite and positive, or a
     principal point without a focal length or an unknown ``camera_height`` (as ``Localizer``);
-    OSError / CamlocError for an unreadable or invalid basis.
+    OSError / CamlocError for an unreadable or invalid basis; MemoryError, before any work,
+    for more poses than the outputs can be allocated for. A focal length or principal point
+    wrong by orders of magnitude (the pose over 100 focal lengths from its centroid or the
+    principal point) is each pose's error.
 
     Ctrl-C raises ``KeyboardInterrupt`` after the block of 1,024 poses being reconstructed
     (0.2 s on two idle cores); with ``sequence`` only when the person's frames are solved (a
@@ -318,6 +325,8 @@ def read_keypoints(
         person before ``reconstruct(..., sequence=True)``;
       file_errors: for a folder, (file, message) of each file that could not be read (the
         others are still read); empty for a file.
+    A file or folder without poses gives empty arrays and a ``UserWarning`` ("no poses in
+    ...", which ``camloc`` on the command line makes an error).
 
     Raises OSError if the file cannot be read, CamlocError if it is malformed (the message
     names the file and place), ValueError for bad options (also a ``layout`` the file's format
@@ -345,7 +354,8 @@ def to_bvh(
       them (a mapping of ``BONE_KEYS``, 14 numbers in that order, or a bone lengths JSON file;
       each 0.01-1.5 m); default: the mean of each limb over the complete frames, held to the
       same range (points in millimetres raise ValueError).
-    unit_m: metres per file unit (0.01: centimetres; Blender imports them with scale 0.01).
+    unit_m: metres per file unit (0.01: centimetres; Blender imports them with scale 0.01),
+      from 1e-6 to 1000.
 
     The skeleton is a T-pose in MotionBuilder naming (``Hips``, ``LeftUpLeg``, ``LeftLeg``,
     ``LeftFoot``, ``Neck``, ``Head``, ``LeftArm``, ``LeftForeArm``, ``LeftHand``, ...) whose
@@ -356,7 +366,8 @@ def to_bvh(
     stand as ``camloc reconstruct --bvh`` does, lift it: ``p[..., 2] -= p[..., 2].min()``.
 
     Raises ValueError for a wrong shape, a frame with some (not all) NaN, no complete frame, a
-    limb without direction, or a non-positive fps, unit or length.
+    limb without direction, or a non-positive fps, unit or length, or a unit out of range;
+    MemoryError, before any work, for more frames than can be allocated.
     """
 
 def read_bvh(path: _Path, unit_m: float = 0.0254 / 0.45) -> Dict[str, Any]:
@@ -371,5 +382,5 @@ def read_bvh(path: _Path, unit_m: float = 0.0254 / 0.45) -> Dict[str, Any]:
       frame_time_s: seconds between frames.
 
     Raises OSError if the file cannot be read, CamlocError if it is malformed (the message names
-    the line), ValueError for a non-positive unit.
+    the line) or larger than 1 GiB, ValueError for a non-positive unit.
     """

@@ -132,10 +132,11 @@ pub fn page(
         groups,
         frames,
     };
-    // In a script element only `</` could end it early: JSON allows `<\/` for it.
+    // In a script element `</script` ends it and `<!--` changes how the parser looks for
+    // that end: every `<` (only ever inside a JSON string) is written `\u003c`.
     let json = serde_json::to_string(&data)
         .unwrap_or_else(|_| "{}".to_owned())
-        .replace("</", "<\\/");
+        .replace('<', "\\u003c");
     let title = escape_html(title);
     format!(
         r#"<!DOCTYPE html>
@@ -183,7 +184,7 @@ mod tests {
     #[test]
     fn the_page_holds_its_data_safely_and_the_script() {
         let groups = [Group {
-            name: "all".into(),
+            name: "<!--<script> </script>".into(),
             frames: vec![],
         }];
         let html = page(
@@ -202,5 +203,9 @@ mod tests {
         let data: serde_json::Value = serde_json::from_str(&html[start..end]).unwrap();
         assert_eq!(data["cameras"].as_array().map(Vec::len), Some(12));
         assert_eq!(data["limbs"].as_array().map(Vec::len), Some(14));
+        // A name that opens an HTML comment in the script element (which kept the page from
+        // loading) is kept as it was, in an escape.
+        assert!(!html.contains("<!--"));
+        assert_eq!(data["groups"][0]["name"], "<!--<script> </script>");
     }
 }

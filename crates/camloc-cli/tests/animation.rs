@@ -387,8 +387,10 @@ fn a_duplicate_and_a_swapped_frame_are_left_out_of_the_sequence() {
     };
     let duplicate = moved(&poses[5], 3.0, "dup5");
     poses.insert(6, duplicate);
-    // Frame 14 (now at position 15) holds someone 900 px away.
-    poses[15] = moved(&poses[15], 900.0, "other14");
+    // Frames 13 to 15 (now at positions 14 to 16) hold someone 900 px away.
+    for (frame, pose) in (13..16).zip(&mut poses[14..17]) {
+        *pose = moved(pose, 900.0, &format!("other{frame}"));
+    }
     let file = dir.file("left-out.json", &document.to_string());
     let bvh = dir.0.join("left-out.bvh");
     let out = camloc(&[
@@ -406,20 +408,25 @@ fn a_duplicate_and_a_swapped_frame_are_left_out_of_the_sequence() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     for expected in [
         "person 0: 1 frame holds a second pose (first at frame 5)",
-        "person 0: the pose of 1 frame lies apart from the frames before and after it (first \
-         at frame 14",
+        "person 0: the pose of 3 frames lies apart from the frames before and after it (first \
+         at frame 13",
     ] {
         assert!(stderr.contains(expected), "{stderr}");
     }
+    // The jumps into and out of the other person's frames are those frames, not a change of
+    // person.
+    assert!(!stderr.contains("jumps across the image"), "{stderr}");
     let clip = read_bvh_with_unit(&bvh, BVH_CENTIMETRE).unwrap();
     assert_eq!(clip.frames.len(), 20);
-    // Frame 14 is filled halfway between its neighbours, which the walk keeps one step
-    // apart on each side.
+    // Frames 13 to 15 are filled in even steps between their neighbours, which the walk
+    // keeps one step apart on each side.
     let pelvis = |t: usize| clip.frames[t].get(Landmark::Pelvis);
-    let (before, after) = (pelvis(14)[0] - pelvis(13)[0], pelvis(15)[0] - pelvis(14)[0]);
+    let steps: Vec<f64> = (13..17).map(|t| pelvis(t)[0] - pelvis(t - 1)[0]).collect();
     assert!(
-        (before - after).abs() < 1e-6 && before.abs() < 0.1,
-        "steps {before} m and {after} m"
+        steps
+            .iter()
+            .all(|s| (s - steps[0]).abs() < 1e-6 && s.abs() < 0.1),
+        "steps {steps:?} m"
     );
 }
 

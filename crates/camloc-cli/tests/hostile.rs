@@ -246,7 +246,19 @@ fn outputs_that_are_the_input_or_standard_input_are_refused() {
     // A hard link elsewhere to a file of the input folder.
     let linked = dir.0.join("linked.json").to_string_lossy().into_owned();
     std::fs::hard_link(&folder_file, &linked).unwrap();
-    let cases: [&[&str]; 8] = [
+    // A file of the input folder named as a numbered output's file (a trial's --force run
+    // replaced it).
+    let numbered_in_folder = dir.file("frames/bl-001.json", &original);
+    let numbered_out = dir.0.join("frames/bl.json").to_string_lossy().into_owned();
+    let cases: [&[&str]; 9] = [
+        &[
+            "reconstruct",
+            "--sequence",
+            "--bone-lengths-out",
+            &numbered_out,
+            "--input",
+            &folder,
+        ],
         &["reconstruct", "--npy", &linked, "--input", &folder],
         &["convert", "--to", "camloc", "--out", &same],
         &["convert", "--to", "npy", "--out", "-"],
@@ -269,7 +281,7 @@ fn outputs_that_are_the_input_or_standard_input_are_refused() {
             text.contains("reads (") || text.contains("not standard output"),
             "{text}"
         );
-        for file in [&input, &folder_file] {
+        for file in [&input, &folder_file, &numbered_in_folder] {
             assert_eq!(std::fs::read_to_string(file).unwrap(), original);
         }
     }

@@ -345,7 +345,7 @@ pub enum KeypointError {
     },
     /// A keypoint score outside the range its format defines (OpenPose confidences and
     /// MediaPipe visibilities are in [0, 1], as are the scores of `(N, J, 3)` arrays).
-    #[error("{}: {at}: {what} {score} is outside [0, 1]{hint}", file_name(.file))]
+    #[error("{}: {at}: {what} {score:?} is outside [0, 1]{hint}", file_name(.file))]
     ScoreOutOfRange {
         /// Name of the input.
         file: String,
@@ -362,7 +362,7 @@ pub enum KeypointError {
     /// are not range-checked (COCO, MMPose) while `min_score` is in (0, 1]: the scores are on
     /// another scale (0-100) than the threshold, which would keep every joint.
     #[error(
-        "{}: {at}: score {score} is on another scale than the minimum score {min_score} (0-1): \
+        "{}: {at}: score {score:?} is on another scale than the minimum score {min_score:?} (0-1): \
          give the minimum on the scores' scale (--min-score; e.g. 30 for scores of 0-100)",
         file_name(.file)
     )]

@@ -3,6 +3,7 @@
 /// What can go wrong when validating data, fitting, predicting, cross-validating or
 /// validating a decoded model.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum LearningError {
     /// The feature matrix has no columns.
     #[error("feature matrix has zero features per sample")]
@@ -18,7 +19,7 @@ pub enum LearningError {
         n_features: usize,
     },
     /// A non-finite feature value.
-    #[error("feature value at row {row}, column {column} is not finite ({value})")]
+    #[error("feature value at row {row}, column {column} is not finite ({value:?})")]
     NonFinite {
         /// Sample (row) index.
         row: usize,

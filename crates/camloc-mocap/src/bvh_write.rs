@@ -41,6 +41,10 @@ impl BvhOptions {
 /// a longer one (an hour a frame) is no animation.
 pub const BVH_FRAME_TIME_RANGE_S: (f64, f64) = (1e-6, 3600.0);
 
+/// The file units, metres per unit, a BVH file is written in: from a micrometre to a
+/// kilometre (a smaller one made every coordinate infinite, a file camloc's reader refused).
+pub const BVH_UNIT_RANGE_M: (f64, f64) = (1e-6, 1e3);
+
 /// Why [`write_bvh`] cannot write a sequence.
 #[derive(Debug, Error, PartialEq)]
 #[non_exhaustive]
@@ -56,9 +60,9 @@ pub enum BvhWriteError {
         /// The length given.
         value: f64,
     },
-    /// The unit is not a positive finite number, or the frame time is outside
+    /// The unit is outside [`BVH_UNIT_RANGE_M`], or the frame time outside
     /// [`BVH_FRAME_TIME_RANGE_S`].
-    #[error("BVH: {what} is {value}, not a positive finite number in range")]
+    #[error("BVH: {what} is {value:e}, not a positive finite number in range")]
     Option {
         /// `frame time` or `metres per unit`.
         what: &'static str,
@@ -129,7 +133,11 @@ pub fn write_bvh(
             options.frame_time_s,
             (shortest..=longest).contains(&options.frame_time_s),
         ),
-        ("metres per unit", options.metres_per_unit, true),
+        (
+            "metres per unit",
+            options.metres_per_unit,
+            (BVH_UNIT_RANGE_M.0..=BVH_UNIT_RANGE_M.1).contains(&options.metres_per_unit),
+        ),
     ] {
         if !(value > 0.0 && value.is_finite() && in_range) {
             return Err(BvhWriteError::Option { what, value });

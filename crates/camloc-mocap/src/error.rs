@@ -23,6 +23,19 @@ pub enum MocapError {
         #[source]
         source: std::io::Error,
     },
+    /// A file larger than [`MAX_MOCAP_FILE_BYTES`](crate::MAX_MOCAP_FILE_BYTES) (or endless,
+    /// as `/dev/zero`), refused after reading that much.
+    #[error(
+        "{}: larger than {} MiB, more than a motion-capture file holds; not read",
+        path.display(),
+        limit >> 20
+    )]
+    TooLarge {
+        /// The file.
+        path: PathBuf,
+        /// The limit, bytes.
+        limit: u64,
+    },
     /// The content of a file is malformed at `line`.
     #[error("{file}:{line}: {problem}")]
     Parse {

@@ -58,7 +58,8 @@ pub use amc::{parse_amc, read_amc};
 pub use asf::{AsfSkeleton, parse_asf, read_asf};
 pub use bvh::{parse_bvh, parse_bvh_with_unit, read_bvh, read_bvh_with_unit};
 pub use bvh_write::{
-    BVH_CENTIMETRE, BVH_FRAME_TIME_RANGE_S, BvhOptions, BvhWriteError, write_bvh, write_person_bvh,
+    BVH_CENTIMETRE, BVH_FRAME_TIME_RANGE_S, BVH_UNIT_RANGE_M, BvhOptions, BvhWriteError, write_bvh,
+    write_person_bvh,
 };
 pub use canonical::canonicalise;
 pub use category::{CATEGORY_RULES, CategorySource, MocapIndex, MotionCategory};
@@ -73,6 +74,10 @@ pub const CMU_UNIT_M: f64 = 0.0254 / 0.45;
 
 /// Frame period of CMU AMC motions, in seconds (120 Hz). AMC files do not record it.
 pub const CMU_FRAME_TIME_S: f64 = 1.0 / 120.0;
+
+/// The largest motion-capture file (BVH, ASF, AMC) the readers take, bytes: 1 GiB, hundreds of
+/// times the largest CMU clip (an hour at 120 frames a second is about 300 MiB of BVH).
+pub const MAX_MOCAP_FILE_BYTES: u64 = 1 << 30;
 
 /// One motion clip: a sequence of 3D poses with its subject and clip ids.
 #[derive(Clone, Debug, PartialEq)]
@@ -100,10 +105,28 @@ fn subject_and_clip(source_name: &str) -> (String, String) {
 
 /// Reads a whole file, mapping failures to [`MocapError::Io`].
 fn read_file(path: &Path) -> Result<Vec<u8>, MocapError> {
-    std::fs::read(path).map_err(|source| MocapError::Io {
+    read_capped(path, MAX_MOCAP_FILE_BYTES)
+}
+
+/// The bytes of the file at `path`, refused ([`MocapError::TooLarge`]) beyond `limit` bytes
+/// without reading further.
+fn read_capped(path: &Path, limit: u64) -> Result<Vec<u8>, MocapError> {
+    use std::io::Read;
+    let io = |source| MocapError::Io {
         path: path.to_owned(),
         source,
-    })
+    };
+    let mut bytes = Vec::new();
+    std::fs::File::open(path)
+        .and_then(|file| file.take(limit + 1).read_to_end(&mut bytes))
+        .map_err(io)?;
+    if bytes.len() as u64 > limit {
+        return Err(MocapError::TooLarge {
+            path: path.to_owned(),
+            limit,
+        });
+    }
+    Ok(bytes)
 }
 
 #[cfg(test)]
@@ -120,6 +143,25 @@ mod tests {
         assert_eq!(
             subject_and_clip("118_3_b.amc"),
             ("118".into(), "118_3_b".into())
+        );
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn an_endless_file_is_refused_at_the_limit() {
+        let path = Path::new("/dev/zero");
+        match read_capped(path, 1 << 20) {
+            Err(MocapError::TooLarge { limit, .. }) => assert_eq!(limit, 1 << 20),
+            other => panic!("{other:?}"),
+        }
+        let message = MocapError::TooLarge {
+            path: path.to_owned(),
+            limit: MAX_MOCAP_FILE_BYTES,
+        }
+        .to_string();
+        assert_eq!(
+            message,
+            "/dev/zero: larger than 1024 MiB, more than a motion-capture file holds; not read"
         );
     }
 

@@ -18,12 +18,41 @@ const MAX_JOINTS: usize = 25;
 pub(crate) type ArrayArg<'py> = PyArrayLikeDyn<'py, f64, AllowTypeChange>;
 
 /// The numbers of an array in C order, borrowed when the array is C-contiguous (`as_slice`
-/// alone also accepts Fortran order, whose memory order is not C's).
-pub(crate) fn c_order<'a>(array: &'a ArrayArg<'_>) -> Cow<'a, [f64]> {
+/// alone also accepts Fortran order, whose memory order is not C's); a copy this process
+/// cannot allocate (a broadcast view of 10^9 poses is a few bytes in NumPy) is a
+/// `MemoryError`, not an abort of the interpreter.
+pub(crate) fn c_order<'a>(array: &'a ArrayArg<'_>) -> PyResult<Cow<'a, [f64]>> {
     match array.as_slice() {
-        Ok(slice) if array.is_c_contiguous() => Cow::Borrowed(slice),
-        _ => Cow::Owned(array.as_array().iter().copied().collect()),
+        Ok(slice) if array.is_c_contiguous() => Ok(Cow::Borrowed(slice)),
+        _ => {
+            let mut copy = Vec::new();
+            copy.try_reserve_exact(array.len()).map_err(|_| {
+                too_large(array.len(), std::mem::size_of::<f64>(), "numbers copied")
+            })?;
+            copy.extend(array.as_array().iter().copied());
+            Ok(Cow::Owned(copy))
+        }
     }
+}
+
+/// Refuses with a `MemoryError`, before any work, a call on `items` poses or frames (`what`)
+/// whose outputs and working copies take about `bytes_per_item` each and that this process
+/// cannot allocate (it would otherwise abort the interpreter when the allocation fails
+/// midway).
+pub(crate) fn ensure_memory(items: usize, bytes_per_item: usize, what: &str) -> PyResult<()> {
+    let mut probe: Vec<u8> = Vec::new();
+    items
+        .checked_mul(bytes_per_item)
+        .and_then(|bytes| probe.try_reserve_exact(bytes).ok())
+        .ok_or_else(|| too_large(items, bytes_per_item, what))
+}
+
+/// The `MemoryError` of [`ensure_memory`] and [`c_order`].
+fn too_large(items: usize, bytes_per_item: usize, what: &str) -> PyErr {
+    let gib = items as f64 * bytes_per_item as f64 / f64::from(1u32 << 30);
+    pyo3::exceptions::PyMemoryError::new_err(format!(
+        "{items} {what} need about {gib:.1} GiB, which cannot be allocated; give fewer per call"
+    ))
 }
 
 /// A checked batch of raw poses: N poses of J joints (the layout's count) with C = 2 (x, y)
@@ -43,11 +72,13 @@ pub(crate) struct PoseBatch<'a> {
 impl<'a> PoseBatch<'a> {
     /// Checks `points` ((N, J, C) or (J, C)), `scores` ((N, J) or (J,), only with C = 2), the
     /// layout name and `min_score`; every problem is a `ValueError` saying what was expected.
+    /// `output_bytes` is what the caller's outputs take per pose ([`ensure_memory`]).
     pub(crate) fn new(
         points: &'a ArrayArg<'_>,
         layout: &str,
         scores: Option<&'a ArrayArg<'_>>,
         min_score: f64,
+        output_bytes: usize,
     ) -> PyResult<Self> {
         let layout: Layout = layout.parse().map_err(|e| value_error(format!("{e}")))?;
         let joints = layout.joint_count();
@@ -95,9 +126,10 @@ impl<'a> PoseBatch<'a> {
             min_score,
             ..ReadOptions::default()
         };
+        ensure_memory(poses, output_bytes, "poses")?;
         Ok(PoseBatch {
-            values: c_order(points),
-            scores: scores.map(c_order),
+            values: c_order(points)?,
+            scores: scores.map(c_order).transpose()?,
             layout,
             channels,
             poses,

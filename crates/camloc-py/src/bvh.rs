@@ -11,7 +11,7 @@ use pyo3::exceptions::PyOSError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::arrays::{ArrayArg, Output, c_order};
+use crate::arrays::{ArrayArg, Output, c_order, ensure_memory};
 use crate::reconstruct::bone_lengths;
 use crate::value_error;
 
@@ -40,7 +40,13 @@ fn frames(points3d: &ArrayArg<'_>) -> PyResult<Vec<Option<Pose3>>> {
             "points3d must have shape (N, 15, 3) or (15, 3), got {shape:?}"
         )));
     }
-    let values = c_order(points3d);
+    // Per frame: the pose, and its line of the BVH text (31 joints' channels, about 1 kB).
+    ensure_memory(
+        shape[0],
+        std::mem::size_of::<Option<Pose3>>() + 1024,
+        "frames",
+    )?;
+    let values = c_order(points3d)?;
     let mut out = Vec::with_capacity(values.len() / 45);
     for (n, chunk) in values.chunks_exact(45).enumerate() {
         if chunk.iter().all(|v| v.is_nan()) {

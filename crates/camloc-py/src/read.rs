@@ -103,6 +103,16 @@ pub(crate) fn read_keypoints<'py>(
             Ok((records, file_errors))
         })
         .map_err(to_py_err)?;
+    // The command line refuses such an input ("no poses in ..."); here the arrays are empty.
+    if records.is_empty() {
+        crate::warnings::warn(
+            py,
+            format!(
+                "no poses in {}: the arrays are empty",
+                camloc::store::quoted_path(&path)
+            ),
+        )?;
+    }
     records_dict(py, &records, file_errors)
 }
 

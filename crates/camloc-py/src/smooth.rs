@@ -4,7 +4,7 @@
 use numpy::{PyArray1, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 
-use crate::arrays::{ArrayArg, c_order};
+use crate::arrays::{ArrayArg, c_order, ensure_memory};
 use crate::value_error;
 
 /// Azimuths and elevations, degrees, one per frame.
@@ -35,7 +35,13 @@ pub(crate) fn smooth_viewpoints<'py>(
             )));
         }
     }
-    let (azimuth, elevation) = (c_order(&azimuth_deg), c_order(&elevation_deg));
+    // Per frame: its number, viewpoint given and smoothed (with the library's working copies).
+    ensure_memory(
+        azimuth_deg.len(),
+        16 * std::mem::size_of::<f64>(),
+        "viewpoints",
+    )?;
+    let (azimuth, elevation) = (c_order(&azimuth_deg)?, c_order(&elevation_deg)?);
     if let Some(e) = elevation.iter().find(|e| e.abs() > 90.0) {
         return Err(value_error(format!(
             "elevation_deg must lie in [-90, 90] (NaN: no viewpoint), got {e}"
@@ -51,7 +57,7 @@ pub(crate) fn smooth_viewpoints<'py>(
     let frames: Vec<Option<u64>> = match &frames {
         None => vec![None; n],
         Some(given) => {
-            let given = c_order(given);
+            let given = c_order(given)?;
             if given.len() != n {
                 return Err(value_error(format!(
                     "frames must have one number per viewpoint ({n}), got {}",

@@ -4,13 +4,13 @@
 
 use camloc::{
     HEIGHT_SHARE_MAX_POSES, PartialPose2, TorsoAnchor, has_origin_placeholders, head_below_ankles,
-    identity_jumps, origin_placeholder_warning, outlier_frames, upside_down_warning,
+    identity_jumps, left_out_of_sequence, origin_placeholder_warning, upside_down_warning,
 };
 use pyo3::exceptions::PyUserWarning;
 use pyo3::prelude::*;
 
 /// Gives `message` as a `UserWarning`.
-fn warn(py: Python<'_>, message: String) -> PyResult<()> {
+pub(crate) fn warn(py: Python<'_>, message: String) -> PyResult<()> {
     let message = std::ffi::CString::new(message).unwrap_or_default();
     PyErr::warn(py, &py.get_type::<PyUserWarning>(), &message, 1)
 }
@@ -70,13 +70,33 @@ pub(crate) fn warn_if_every_pose_failed(
 /// Warns (`UserWarning`) when the rows of a sequence jump across the image or change size as
 /// one person cannot (`camloc::identity_jumps`, as `camloc reconstruct --sequence` warns):
 /// rows of several people, or a detector's order of people that changed. `poses` are the
-/// rows in order, `None` for one that could not be mapped.
+/// rows in order, `None` for one that could not be mapped; the rows that lie apart from the
+/// rows around them (`camloc::left_out_of_sequence`: another person's detection, a misplaced
+/// one) are warned of as `treated`, and the jumps are looked for among the others. Returns,
+/// per row, whether it is left out so, as the command line leaves it out.
 pub(crate) fn warn_of_identity_jumps<'a>(
     py: Python<'_>,
     poses: impl Iterator<Item = Option<&'a PartialPose2>>,
-) -> PyResult<()> {
+    treated: &str,
+) -> PyResult<Vec<bool>> {
     let anchors: Vec<Option<TorsoAnchor>> = poses.map(|p| p.and_then(TorsoAnchor::of)).collect();
-    if let Some(first) = identity_jumps(&[], &anchors).first() {
+    let left_out = left_out_of_sequence(&[], &anchors);
+    if let Some(first) = left_out.outliers.first() {
+        let message = format!(
+            "{} row(s) lie apart from the rows before and after them while those agree (first \
+             at row {first}): another person's detection, or a misplaced one? They are \
+             {treated}",
+            left_out.outliers.len()
+        );
+        warn(py, message)?;
+    }
+    let mask = left_out.mask(anchors.len());
+    let kept: Vec<Option<TorsoAnchor>> = anchors
+        .iter()
+        .zip(&mask)
+        .map(|(a, &left)| a.filter(|_| !left))
+        .collect();
+    if let Some(first) = identity_jumps(&[], &kept).first() {
         let message = format!(
             "the pose jumps across the image or changes size from one row to the next (first \
              at row {first}): these may be several people, or not consecutive frames of a \
@@ -84,15 +104,5 @@ pub(crate) fn warn_of_identity_jumps<'a>(
         );
         warn(py, message)?;
     }
-    let outliers = outlier_frames(&[], &anchors);
-    if let Some(first) = outliers.first() {
-        let message = format!(
-            "{} row(s) lie apart from the rows before and after them while those agree (first \
-             at row {first}): another person's detection, or a misplaced one? (the command \
-             line leaves such frames out of the sequence; here they stay in)",
-            outliers.len()
-        );
-        warn(py, message)?;
-    }
-    Ok(())
+    Ok(mask)
 }

@@ -581,7 +581,17 @@ def test_a_sequence_that_jumps_between_people_warns_and_nothing_detected_says_so
     swapped = rows.copy()
     swapped[2] = other[2]
     with pytest.warns(UserWarning, match="lie apart from the rows before and after them"):
-        camloc.reconstruct(swapped, sequence=True)
+        got = camloc.reconstruct(swapped, sequence=True, camera_height="any")
+    # That row is reconstructed on its own, as the command line does, and not placed in the
+    # world; the others are.
+    alone = camloc.reconstruct(swapped[2], camera_height="any")
+    np.testing.assert_allclose(got["points3d"][2], alone["points3d"], atol=1e-9)
+    assert np.isnan(got["world_points3d"][2]).all()
+    assert np.isfinite(np.delete(got["world_points3d"], 2, axis=0)).all()
+    with pytest.warns(UserWarning, match="left out of the smoothing"):
+        smoothed = camloc.Localizer().localize(swapped, sequence=True)
+    assert np.isnan(smoothed["smoothed_azimuth_deg"][2])
+    assert np.isfinite(np.delete(smoothed["smoothed_azimuth_deg"], 2)).all()
     # One person, with a row of NaN where nothing was detected: no warning, and that row's
     # error says what happened.
     rows[3] = np.nan
@@ -768,3 +778,31 @@ def test_bone_lengths_json_is_the_file_reconstruct_reads(tmp_path, cli):
     np.testing.assert_allclose([rows[0]["bone_lengths_m"][k] for k in keys], got, rtol=1e-9)
     with pytest.raises(ValueError, match="14"):
         camloc.bone_lengths_json([0.3] * 13)
+
+
+def test_hostile_sizes_and_units_raise_instead_of_aborting(tmp_path):
+    # Broadcast views of 10^9 poses or frames are a few bytes in NumPy; copying them or
+    # their outputs had aborted the interpreter.
+    pose = example_points()[0]
+    with pytest.raises(MemoryError):
+        camloc.Localizer().localize(np.broadcast_to(pose, (10**9, 15, 2)))
+    with pytest.raises(MemoryError):
+        camloc.reconstruct(np.broadcast_to(pose, (10**9, 15, 2)))
+    angles = np.broadcast_to(np.float64(10.0), (10**10,))
+    with pytest.raises(MemoryError):
+        camloc.smooth_viewpoints(angles, angles)
+    points3d = camloc.reconstruct(pose)["points3d"]
+    with pytest.raises(MemoryError):
+        camloc.to_bvh(np.broadcast_to(points3d, (10**9, 15, 3)))
+    # A unit that made every coordinate infinite.
+    with pytest.raises(ValueError, match="metres per unit"):
+        camloc.to_bvh(points3d, unit_m=5e-324)
+    # A focal length wrong by orders of magnitude is the pose's error, not NaN results.
+    got = camloc.reconstruct(pose, focal_px=5e-324)
+    assert "focal lengths" in got["error"]
+    # A file without poses: empty arrays, and a warning (the command line refuses it).
+    empty = tmp_path / "empty.json"
+    empty.write_text('{"format": "camloc-keypoints", "version": 1, "poses": []}')
+    with pytest.warns(UserWarning, match="no poses in"):
+        read = camloc.read_keypoints(empty)
+    assert read["points"].shape == (0, 15, 2)

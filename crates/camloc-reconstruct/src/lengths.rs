@@ -70,7 +70,7 @@ pub struct BoneLengths([f64; NUM_LIMBS]);
 #[derive(Debug, thiserror::Error)]
 pub enum BoneLengthError {
     /// A length is NaN or infinite.
-    #[error("bone lengths: {limb} is not a finite number ({value})")]
+    #[error("bone lengths: {limb} is not a finite number ({value:?})")]
     NotFinite {
         /// The limb's name ([`camloc_skeleton::LIMB_NAMES`]).
         limb: &'static str,
@@ -79,7 +79,7 @@ pub enum BoneLengthError {
     },
     /// A length is outside the plausible range.
     #[error(
-        "bone lengths: {limb} = {value} m is not a plausible bone length ({MIN_BONE_LENGTH_M} \
+        "bone lengths: {limb} = {value:?} m is not a plausible bone length ({MIN_BONE_LENGTH_M} \
          to {MAX_BONE_LENGTH_M} m; lengths are in metres)"
     )]
     Implausible {

@@ -121,7 +121,7 @@ impl Refinement {
     pub(crate) fn check(&self) -> Result<(), ReconstructError> {
         let invalid = |field, value: f64, reason| ReconstructError::InvalidConfig {
             field,
-            value: value.to_string(),
+            value: format!("{value:?}"),
             reason,
         };
         for (field, value) in [
@@ -227,7 +227,7 @@ impl Intrinsics {
         if !(self.focal_px.is_finite() && self.focal_px > 0.0) {
             return Err(ReconstructError::InvalidConfig {
                 field: "the focal length (pixels)",
-                value: self.focal_px.to_string(),
+                value: format!("{:?}", self.focal_px),
                 reason: "it must be finite and > 0",
             });
         }
@@ -237,7 +237,7 @@ impl Intrinsics {
         {
             return Err(ReconstructError::InvalidConfig {
                 field: "the principal point (pixels)",
-                value: format!("{}, {}", point[0], point[1]),
+                value: format!("{:?}, {:?}", point[0], point[1]),
                 reason: "it must be finite",
             });
         }
@@ -250,18 +250,40 @@ impl Intrinsics {
 /// so a smaller pose would be more than about 400 m away.
 pub const MIN_POSE_SPREAD_PER_FOCAL: f64 = 1e-3;
 
+/// The largest root mean square radius of a 2D pose, and the largest distance of its centroid
+/// from the principal point, in focal lengths, that [`Intrinsics::check_pose`] accepts: a
+/// person's landmarks 0.4 m from their centroid spread over 10 focal lengths only 4 cm from
+/// the lens, and a centroid 100 focal lengths off the axis lies 89.4 deg from it.
+pub const MAX_POSE_REACH_PER_FOCAL: f64 = 100.0;
+
 impl Intrinsics {
-    /// Checks that `pose` is in the units of the focal length: its root mean square radius
-    /// about its centroid is at least [`MIN_POSE_SPREAD_PER_FOCAL`] of the focal length.
+    /// Checks that `pose` is in the units of the focal length and in the camera's view: its
+    /// root mean square radius about its centroid is at least [`MIN_POSE_SPREAD_PER_FOCAL`]
+    /// of the focal length, and neither that radius nor the centroid's distance from the
+    /// principal point (when given) exceeds [`MAX_POSE_REACH_PER_FOCAL`] focal lengths.
     ///
     /// # Errors
     /// [`ReconstructError::ScaleMismatch`] for a smaller pose (normalised coordinates with a
-    /// focal length in pixels).
+    /// focal length in pixels); [`ReconstructError::OutsideView`] for a pose a camera of this
+    /// focal length and principal point cannot see (a focal length or principal point wrong
+    /// by orders of magnitude).
     pub fn check_pose(&self, pose: &Pose2) -> Result<(), ReconstructError> {
         let spread = rms_radius(&pose.points);
         if spread < MIN_POSE_SPREAD_PER_FOCAL * self.focal_px {
             return Err(ReconstructError::ScaleMismatch {
                 spread,
+                focal: self.focal_px,
+            });
+        }
+        let n = pose.points.len() as f64;
+        let centroid = [0, 1].map(|k| pose.points.iter().map(|p| p[k]).sum::<f64>() / n);
+        let off_axis = self
+            .principal_point
+            .map_or(0.0, |c| (centroid[0] - c[0]).hypot(centroid[1] - c[1]));
+        let reach = spread.max(off_axis) / self.focal_px;
+        if !(reach <= MAX_POSE_REACH_PER_FOCAL) {
+            return Err(ReconstructError::OutsideView {
+                reach,
                 focal: self.focal_px,
             });
         }

@@ -400,6 +400,21 @@ fn a_known_focal_length_fits_a_close_camera_in_full_perspective() {
         rec.reconstruct_with(&normalised, &CameraMode::Opt, 1, &full),
         Err(ReconstructError::ScaleMismatch { .. })
     ));
+    // A focal length or principal point wrong by orders of magnitude: refused, where they
+    // gave non-finite cameras.
+    for (focal_px, principal_point) in [(5e-324, None), (1000.0, Some([1e308, 1e308]))] {
+        let wrong = Given {
+            intrinsics: Some(Intrinsics {
+                focal_px,
+                principal_point,
+            }),
+            ..weak
+        };
+        assert!(matches!(
+            rec.reconstruct_with(&pose2, &CameraMode::Opt, 1, &wrong),
+            Err(ReconstructError::OutsideView { .. })
+        ));
+    }
     let frames = [(normalised, CameraMode::Opt), (pose2, CameraMode::Opt)];
     let sequence = rec.reconstruct_sequence(&frames, &full).unwrap();
     assert!(matches!(

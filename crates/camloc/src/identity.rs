@@ -118,50 +118,129 @@ fn elapsed(frames: &[Option<u64>], j: usize, k: usize) -> f64 {
     }
 }
 
+/// The most frames in a row that [`outlier_frames`] leaves out as another person's: a tracker
+/// that gave one person's id to another for a third of a second at 30 frames a second (an
+/// occluder passing by). A longer stretch is a change of person ([`identity_jumps`] warns).
+pub const OUTLIER_RUN_FRAMES: usize = 10;
+
 /// The positions of one person's frames (in time order; `frames` and `anchors` as for
-/// [`identity_jumps`]) whose pose is not where the frames before and after it put the person
-/// while those two agree with each other: one frame that holds another person's detection (two
-/// tracked people's ids swapped for one frame) or a detection a detector misplaced. The median
-/// of [`identity_jumps`] does not count such a frame as a change of person; its pose is still
-/// not this person's. The first (last) frame with an anchor is judged by the two after (before)
-/// it: apart from both while they agree.
+/// [`identity_jumps`]) whose pose is not where the frames before and after them put the person
+/// while those agree with each other: up to [`OUTLIER_RUN_FRAMES`] frames in a row that hold
+/// another person's detection (two tracked people's ids swapped for a few frames) or a
+/// detection a detector misplaced. The median of [`identity_jumps`] does not count such frames
+/// as a change of person; their poses are still not this person's. The first (last) frame
+/// of a track is judged by the two frames after (before) it.
 pub fn outlier_frames(frames: &[Option<u64>], anchors: &[Option<TorsoAnchor>]) -> Vec<usize> {
     let present: Vec<(usize, TorsoAnchor)> = anchors
         .iter()
         .enumerate()
         .filter_map(|(k, a)| a.map(|a| (k, a)))
         .collect();
-    // Whether `b` lies apart from `a` and `c`, which agree (each an anchor and its position,
-    // in time order or reversed).
-    let apart = |(i, a): (usize, TorsoAnchor),
-                 (k, b): (usize, TorsoAnchor),
-                 (l, c): (usize, TorsoAnchor)| {
-        let steps = |x: usize, y: usize| elapsed(frames, x.min(y), x.max(y));
-        jumps(&a, &b, steps(i, k)) && jumps(&b, &c, steps(k, l)) && !jumps(&a, &c, steps(i, l))
-    };
-    // Positions in `present` of the frames apart from both neighbours; of three in a row, the
-    // middle one is the person between two misplaced frames (ids swapped at frames 20 and 22
-    // make 21 look apart from both), and stays.
-    let candidates: Vec<usize> = (1..present.len().saturating_sub(1))
-        .filter(|&m| apart(present[m - 1], present[m], present[m + 1]))
-        .collect();
-    let mut found: Vec<usize> = candidates
-        .iter()
-        .filter(|&&m| !(candidates.contains(&(m - 1)) && candidates.contains(&(m + 1))))
-        .map(|&m| present[m].0)
-        .collect();
     let n = present.len();
-    if n >= 3 {
-        // The ends: the first against the second and third (the second standing between),
-        // the last against the two before it.
-        if apart(present[2], present[0], present[1]) {
-            found.insert(0, present[0].0);
-        }
-        if apart(present[n - 3], present[n - 1], present[n - 2]) {
-            found.push(present[n - 1].0);
+    // Whether the frames at positions `x` and `y` of `present` are too far apart for one
+    // person.
+    let apart = |x: usize, y: usize| {
+        let (a, b) = (x.min(y), x.max(y));
+        jumps(
+            &present[a].1,
+            &present[b].1,
+            elapsed(frames, present[a].0, present[b].0),
+        )
+    };
+    let mut out = vec![false; n];
+    // The ends: the first (last) frame apart from the two frames after (before) it, which
+    // agree, when the track does not come back to its person within OUTLIER_RUN_FRAMES + 1
+    // frames. A longer stretch at an end is not told from a person who moved fast between
+    // sparse frames (two of a simulated user's 12 clips of 25 frames spread over long takes).
+    let first = n >= 3
+        && apart(0, 1)
+        && !apart(1, 2)
+        && !(2..(3 + OUTLIER_RUN_FRAMES).min(n)).any(|f| apart(f - 1, f) && !apart(0, f));
+    let last_frame = n >= 3
+        && apart(n - 2, n - 1)
+        && !apart(n - 3, n - 2)
+        && !((n - 2).saturating_sub(OUTLIER_RUN_FRAMES + 1).max(1)..n - 2)
+            .any(|f| apart(f - 1, f) && !apart(f - 1, n - 1));
+    if first {
+        out[0] = true;
+    }
+    if last_frame {
+        out[n - 1] = true;
+    }
+    // In between: a stretch that leaves the person's last agreeing frame and comes back.
+    let mut last = usize::from(first);
+    let mut m = last + 1;
+    while m + 1 < n && !out[m] {
+        let back = apart(last, m)
+            .then(|| {
+                (m..(m + OUTLIER_RUN_FRAMES).min(n - 1))
+                    .find(|&e| apart(e, e + 1) && !apart(last, e + 1))
+            })
+            .flatten();
+        match back {
+            Some(e) => {
+                out[m..=e].fill(true);
+                last = e + 1;
+                m = e + 2;
+            }
+            None => {
+                last = m;
+                m += 1;
+            }
         }
     }
-    found
+    (0..n).filter(|&m| out[m]).map(|m| present[m].0).collect()
+}
+
+/// The frames of one person that are not the person's frame of the sequence
+/// ([`left_out_of_sequence`]), as positions in the person's frames.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct LeftOut {
+    /// A second (third, ...) pose of a frame number the pose before it has: a tracker's
+    /// duplicate; the first pose of the frame is the person's.
+    pub second_poses: Vec<usize>,
+    /// Poses apart from the frames before and after them ([`outlier_frames`]).
+    pub outliers: Vec<usize>,
+}
+
+impl LeftOut {
+    /// Per position of the person's `n` frames, whether it is left out.
+    pub fn mask(&self, n: usize) -> Vec<bool> {
+        let mut mask = vec![false; n];
+        for &m in self.second_poses.iter().chain(&self.outliers) {
+            if let Some(left) = mask.get_mut(m) {
+                *left = true;
+            }
+        }
+        mask
+    }
+}
+
+/// The frames of one person (their `frames` numbers, `None` where unknown, and `anchors`, in
+/// time order; a frame's poses in input order) to leave out of the person's sequence: a
+/// second pose of a frame, and the poses that lie apart from the frames around them
+/// ([`outlier_frames`], judged without the second poses). `camloc reconstruct --sequence`
+/// reconstructs them on their own
+/// ([`PoseReconstructor::reconstruct_sequence_with_breaks`](crate::PoseReconstructor::reconstruct_sequence_with_breaks))
+/// and `camloc localize --sequence` leaves them out of the smoothing.
+pub fn left_out_of_sequence(frames: &[Option<u64>], anchors: &[Option<TorsoAnchor>]) -> LeftOut {
+    let second_poses: Vec<usize> = (1..frames.len())
+        .filter(|&m| frames[m].is_some() && frames[m] == frames[m - 1])
+        .collect();
+    let second = LeftOut {
+        second_poses: second_poses.clone(),
+        outliers: Vec::new(),
+    }
+    .mask(anchors.len());
+    let others: Vec<Option<TorsoAnchor>> = anchors
+        .iter()
+        .zip(&second)
+        .map(|(a, &s)| a.filter(|_| !s))
+        .collect();
+    LeftOut {
+        outliers: outlier_frames(frames, &others),
+        second_poses,
+    }
 }
 
 #[cfg(test)]
@@ -224,6 +303,48 @@ mod tests {
             assert_eq!(outlier_frames(&frames, &a), vec![end]);
             assert_eq!(outlier_frames(&frames, &b), vec![end]);
         }
+        // Ids swapped for the first frame of the track and for three later: the frames of
+        // the other person in each. A switch for the last four of ten frames is a change of
+        // person, not an outlier.
+        let frames: Vec<Option<u64>> = (0..20).map(Some).collect();
+        let walk: Vec<_> = (0..20).map(|t| at(20.0 * f64::from(t), 100.0)).collect();
+        let other: Vec<_> = (0..20)
+            .map(|t| at(900.0 - 10.0 * f64::from(t), 100.0))
+            .collect();
+        let (mut a, mut b) = (walk.clone(), other.clone());
+        for t in [0, 16, 17, 18] {
+            std::mem::swap(&mut a[t], &mut b[t]);
+        }
+        assert_eq!(outlier_frames(&frames, &a), vec![0, 16, 17, 18]);
+        assert_eq!(outlier_frames(&frames, &b), vec![0, 16, 17, 18]);
+        let frames: Vec<Option<u64>> = (0..10).map(Some).collect();
+        let walk: Vec<_> = (0..10).map(|t| at(20.0 * f64::from(t), 100.0)).collect();
+        let other: Vec<_> = (0..10)
+            .map(|t| at(900.0 - 10.0 * f64::from(t), 100.0))
+            .collect();
+        let (mut a, mut b) = (walk.clone(), other.clone());
+        for t in 6..10 {
+            std::mem::swap(&mut a[t], &mut b[t]);
+        }
+        assert!(outlier_frames(&frames, &a).is_empty());
+        assert!(outlier_frames(&frames, &b).is_empty());
+        // Away for longer than OUTLIER_RUN_FRAMES in a long track: a change of person (and the
+        // frames before it are the person's, whom the track comes back to).
+        let frames: Vec<Option<u64>> = (0..40).map(Some).collect();
+        let long_walk: Vec<_> = (0..40).map(|t| at(20.0 * f64::from(t), 100.0)).collect();
+        let mut away = long_walk.clone();
+        for a in &mut away[10..10 + OUTLIER_RUN_FRAMES + 1] {
+            a.as_mut().unwrap().pelvis[0] += 2000.0;
+        }
+        assert!(outlier_frames(&frames, &away).is_empty());
+        for a in &mut away[10 + OUTLIER_RUN_FRAMES..10 + OUTLIER_RUN_FRAMES + 1] {
+            a.as_mut().unwrap().pelvis[0] -= 2000.0;
+        }
+        assert_eq!(
+            outlier_frames(&frames, &away),
+            (10..10 + OUTLIER_RUN_FRAMES).collect::<Vec<_>>()
+        );
+        let frames: Vec<Option<u64>> = (0..10).map(Some).collect();
         // A person running past a camera filmed at a low frame rate moves far every frame:
         // no outlier, as the frames before and after disagree too.
         let fast: Vec<_> = (0..10).map(|t| at(150.0 * f64::from(t), 100.0)).collect();

@@ -48,7 +48,7 @@ fn frames_after_a_gap_are_solved_apart_with_the_shared_lengths() {
     let mut breaks = vec![false; frames.len()];
     breaks[5] = true;
     let split = rec
-        .reconstruct_sequence_with_breaks(&frames, &breaks)
+        .reconstruct_sequence_with_breaks(&frames, &breaks, &[])
         .unwrap();
     let whole = rec.reconstruct_sequence(&frames).unwrap();
     // The lengths are those of all frames together.
@@ -103,7 +103,7 @@ fn a_frame_or_two_that_fail_keep_their_neighbours_tied_and_three_split_them() {
     let mut breaks = vec![false; 7];
     breaks[4] = true;
     let split = rec
-        .reconstruct_sequence_with_breaks(&without(&gone), &breaks)
+        .reconstruct_sequence_with_breaks(&without(&gone), &breaks, &[])
         .unwrap();
     let kept: Vec<Pose3> = result
         .frames

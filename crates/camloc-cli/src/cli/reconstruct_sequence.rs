@@ -134,7 +134,6 @@ pub fn run(
         let poses: Vec<PartialPose2> = members.iter().map(|&i| kept[i].pose).collect();
         let numbers = super::sequence::frame_numbers(&keys, members);
         let anchors: Vec<_> = poses.iter().map(TorsoAnchor::of).collect();
-        super::sequence::warn_of_identity_jumps(*person, &numbers, &anchors);
         // A second pose of a frame, and a frame whose pose is not where the frames around it
         // put the person, are reconstructed on their own, outside the sequence.
         let left_out = super::sequence::left_out_of_sequence(
@@ -146,17 +145,12 @@ pub fn run(
         );
         let in_sequence: Vec<usize> = (0..members.len()).filter(|&m| !left_out[m]).collect();
         // A frame after SEQUENCE_BREAK_FRAMES or more frame numbers the person is missing
-        // from starts a new run.
-        let breaks: Vec<bool> = in_sequence
-            .iter()
-            .enumerate()
-            .map(|(s, &m)| {
-                s > 0
-                    && matches!((numbers[in_sequence[s - 1]], numbers[m]), (Some(a), Some(b))
-                        if b.saturating_sub(a) > SEQUENCE_BREAK_FRAMES as u64)
-            })
-            .collect();
-        let sequence_poses: Vec<PartialPose2> = in_sequence.iter().map(|&m| poses[m]).collect();
+        // from starts a new run (by member position; the left-out frames count for none).
+        let mut breaks = vec![false; members.len()];
+        for pair in in_sequence.windows(2) {
+            breaks[pair[1]] = matches!((numbers[pair[0]], numbers[pair[1]]), (Some(a), Some(b))
+                if b.saturating_sub(a) > SEQUENCE_BREAK_FRAMES as u64);
+        }
         // The solve of a long sequence takes a while (20,000 frames: tens of seconds) and
         // counts nothing: a spinner says whose it is, when the reading's bar was shown.
         let solving = if bar.is_hidden() {
@@ -172,32 +166,30 @@ pub fn run(
                 ),
             )
         };
-        let result = reconstructor.reconstruct_sequence_with_breaks(&sequence_poses, &breaks);
+        let result = reconstructor.reconstruct_sequence_with_breaks(&poses, &breaks, &left_out);
         solving.finish_and_clear();
-        let (solved, lengths): (Vec<Result<_, String>>, Option<BoneLengths>) = match result {
-            Ok(r) => (
-                r.frames
-                    .into_iter()
-                    .map(|f| f.map_err(|e| e.to_string()))
-                    .collect(),
-                Some(r.lengths),
-            ),
-            Err(e) => (
-                in_sequence.iter().map(|_| Err(e.to_string())).collect(),
-                None,
-            ),
-        };
-        let mut solved = solved.into_iter();
-        let frames: Vec<Result<PoseReconstruction, String>> = (0..members.len())
-            .map(|m| match left_out[m] {
-                true => reconstructor
-                    .reconstruct(&poses[m])
-                    .map_err(|e| e.to_string()),
-                false => solved
-                    .next()
-                    .unwrap_or_else(|| Err("no reconstruction".to_owned())),
-            })
-            .collect();
+        // The left-out frames are reconstructed on their own, also when the sequence failed.
+        let (frames, lengths): (Vec<Result<PoseReconstruction, String>>, Option<BoneLengths>) =
+            match result {
+                Ok(r) => (
+                    r.frames
+                        .into_iter()
+                        .map(|f| f.map_err(|e| e.to_string()))
+                        .collect(),
+                    Some(r.lengths),
+                ),
+                Err(e) => (
+                    (0..members.len())
+                        .map(|m| match left_out[m] {
+                            true => reconstructor
+                                .reconstruct(&poses[m])
+                                .map_err(|e| e.to_string()),
+                            false => Err(e.to_string()),
+                        })
+                        .collect(),
+                    None,
+                ),
+            };
         // A failed sequence is reported once on standard error, not once per frame (the JSON
         // outputs still hold an error object per frame).
         let whole_failed = lengths.is_none();

@@ -17,7 +17,7 @@ use std::process::ExitCode;
 use camloc::keypoints::KeypointRecord;
 use camloc::{
     CameraLabel, Localization, SequenceModel, SmoothedFrame, TorsoAnchor, Viewpoint,
-    identity_jumps, outlier_frames, sequences, smooth_viewpoints,
+    identity_jumps, sequences, smooth_viewpoints,
 };
 use indicatif::ProgressBar;
 use rayon::prelude::*;
@@ -245,7 +245,6 @@ pub fn run(
             })
             .collect();
         let numbers = frame_numbers(&keys, members);
-        warn_of_identity_jumps(*person, &numbers, &anchors);
         let left_out = left_out_of_sequence(
             *person,
             &numbers,
@@ -366,26 +365,22 @@ pub fn warn_of_repeated_frames(keys: &[(Option<u64>, Option<u64>)]) {
 }
 
 /// The frames of `person` (their `frames` numbers and `anchors`, in time order; a frame's
-/// poses in input order) that are left out of the person's sequence, with a warning on
-/// standard error saying that each is `treated` so: a second pose of a frame (the first is
-/// the person's), and a pose that lies apart from the frames before and after it while those
-/// agree ([`outlier_frames`]: one frame of another person's detection, as a tracker swapping
-/// two people's ids for one frame gives, or a misplaced one).
+/// poses in input order) that are left out of the person's sequence
+/// ([`camloc::left_out_of_sequence`]), with a warning on standard error saying that each is
+/// `treated` so, and the warning of [`warn_of_identity_jumps`] over the frames kept.
 pub fn left_out_of_sequence(
     person: u64,
     frames: &[Option<u64>],
     anchors: &[Option<TorsoAnchor>],
     treated: &str,
 ) -> Vec<bool> {
-    let mut left: Vec<bool> = (0..frames.len())
-        .map(|m| m > 0 && frames[m].is_some() && frames[m] == frames[m - 1])
-        .collect();
-    let seconds = left.iter().filter(|&&l| l).count();
+    let left_out = camloc::left_out_of_sequence(frames, anchors);
     let at = |m: usize| match frames[m] {
         Some(frame) => format!("frame {frame}"),
         None => format!("its frame {}", m + 1),
     };
-    if let Some(first) = left.iter().position(|&l| l) {
+    if let Some(&first) = left_out.second_poses.first() {
+        let seconds = left_out.second_poses.len();
         stderr_line!(
             "camloc: warning: person {person}: {} hold{} a second pose (first at {}): the \
              second is {treated}",
@@ -394,25 +389,23 @@ pub fn left_out_of_sequence(
             at(first)
         );
     }
-    let others: Vec<Option<TorsoAnchor>> = anchors
-        .iter()
-        .zip(&left)
-        .map(|(a, &l)| a.filter(|_| !l))
-        .collect();
-    let outliers = outlier_frames(frames, &others);
-    if let Some(&first) = outliers.first() {
+    if let Some(&first) = left_out.outliers.first() {
         stderr_line!(
             "camloc: warning: person {person}: the pose of {} lies apart from the frames before \
              and after it (first at {}: another person's detection, or a misplaced one?): it \
              is {treated}",
-            counted(outliers.len() as u64, "frame"),
+            counted(left_out.outliers.len() as u64, "frame"),
             at(first)
         );
     }
-    for m in outliers {
-        left[m] = true;
-    }
-    left
+    let mask = left_out.mask(frames.len());
+    let kept: Vec<Option<TorsoAnchor>> = anchors
+        .iter()
+        .zip(&mask)
+        .map(|(a, &left)| a.filter(|_| !left))
+        .collect();
+    warn_of_identity_jumps(person, frames, &kept);
+    mask
 }
 
 /// Says on standard error which person each numbered file of `out` is, when there are
@@ -452,11 +445,7 @@ pub fn frame_numbers(keys: &[(Option<u64>, Option<u64>)], members: &[usize]) -> 
 /// `anchors`, in time order) jump across the image or change size as one person cannot
 /// ([`identity_jumps`]): a detector's order of people (OpenPose's `people[i]`) changed, or two
 /// people share an id, and one person's smoothing, bone lengths and animation would mix them.
-pub fn warn_of_identity_jumps(
-    person: u64,
-    frames: &[Option<u64>],
-    anchors: &[Option<TorsoAnchor>],
-) {
+fn warn_of_identity_jumps(person: u64, frames: &[Option<u64>], anchors: &[Option<TorsoAnchor>]) {
     let jumps = identity_jumps(frames, anchors);
     let Some(&first) = jumps.first() else {
         return;

@@ -133,7 +133,7 @@ fn check_distinct(outputs: &[Output]) -> Result<(), CliError> {
 /// but would be a file named `-` here), and an output that names a file the run reads, even
 /// with `--force` (the run would replace what it reads): one of `inputs` (an option and its
 /// path, if given), or, for an input folder, a file in it that the folder's reader reads
-/// (`.json`, `.csv`, `.npy`).
+/// (`.json`, `.csv`, `.npy`), the existing numbered files of a numbered output included.
 fn check_not_input(
     outputs: &[Output],
     inputs: &[(&'static str, Option<&Path>)],
@@ -155,15 +155,20 @@ fn check_not_input(
                 numbered: None,
             };
             let clash = if path.is_dir() {
-                reads_in_folder(out, path)
+                // A numbered output may replace any of its existing numbered files.
+                let targets = match out.numbered {
+                    Some(ext) => numbered_targets(out.path, ext),
+                    None => vec![out.path.to_path_buf()],
+                };
+                targets.into_iter().find(|file| reads_in_folder(file, path))
             } else {
-                path.is_file() && same_file(&read, out)
+                (path.is_file() && same_file(&read, out)).then(|| out.path.to_path_buf())
             };
-            if clash {
+            if let Some(file) = clash {
                 return Err(CliError::Usage(format!(
                     "{} names a file {option} reads ({}); write the output elsewhere",
                     out.option,
-                    quoted_path(out.path)
+                    quoted_path(&file)
                 )));
             }
         }
@@ -174,25 +179,21 @@ fn check_not_input(
 /// `true` when `out` names an existing file in `folder` (or below it) that a folder input
 /// reads (`.json`, `.csv` or `.npy`), through any path or link: a hard link elsewhere to
 /// one of them included.
-fn reads_in_folder(out: &Output, folder: &Path) -> bool {
+fn reads_in_folder(out: &Path, folder: &Path) -> bool {
     let read = out
-        .path
         .extension()
         .and_then(|e| e.to_str())
         .is_some_and(|e| ["json", "csv", "npy"].contains(&e.to_ascii_lowercase().as_str()));
-    let (Ok(file), Ok(folder)) = (
-        std::fs::canonicalize(out.path),
-        std::fs::canonicalize(folder),
-    ) else {
+    let (Ok(file), Ok(folder)) = (std::fs::canonicalize(out), std::fs::canonicalize(folder)) else {
         return false;
     };
     if file.starts_with(&folder) {
         return read;
     }
     // The folder's reader picks its files by their own names, whatever `out` is called.
-    hard_linked(out.path)
+    hard_linked(out)
         && camloc::keypoints::keypoint_files(&folder, true)
-            .is_ok_and(|files| files.iter().any(|f| same_inode(out.path, f)))
+            .is_ok_and(|files| files.iter().any(|f| same_inode(out, f)))
 }
 
 /// `true` when `a` (or, if `b` is numbered, one of `b`'s numbered names) is the file `b` names.

@@ -23,7 +23,12 @@ impl PoseReconstructor {
     /// be reconstructed: the choice of depths over time and the smoothness tie a frame only to
     /// the frames of its run (across a gap of 28 frames in a user's walk, the frames at its
     /// ends had turned 17 and 35 deg to meet each other). The bone lengths are the given ones,
-    /// or estimated from all frames together (which solves them once more).
+    /// or estimated from all frames together (which solves them once more). A frame where
+    /// `left_out[t]` (missing entries: no) is not the person's frame of the sequence (a
+    /// tracker's second pose of the frame, another person's detection:
+    /// [`left_out_of_sequence`](crate::left_out_of_sequence)): it is reconstructed on its own,
+    /// as [`reconstruct`](Self::reconstruct) does, and neither ties its neighbours over time
+    /// nor counts towards the lengths.
     ///
     /// # Errors
     /// As [`reconstruct_sequence`](Self::reconstruct_sequence).
@@ -31,7 +36,9 @@ impl PoseReconstructor {
         &self,
         poses: &[PartialPose2],
         breaks: &[bool],
+        left_out: &[bool],
     ) -> Result<PoseSequenceReconstruction, CamlocError> {
+        let left = |t: usize| left_out.get(t).copied().unwrap_or(false);
         let prepared: Vec<Result<Prepared, CamlocError>> =
             poses.iter().map(|p| self.prepare(p)).collect();
         // Runs of frames that were prepared, split at gaps and at as many frames in a row
@@ -39,6 +46,9 @@ impl PoseReconstructor {
         let mut runs: Vec<Vec<usize>> = Vec::new();
         let mut failed_in_a_row = 0;
         for (t, p) in prepared.iter().enumerate() {
+            if left(t) {
+                continue;
+            }
             if p.is_err() {
                 failed_in_a_row += 1;
                 continue;
@@ -97,7 +107,14 @@ impl PoseReconstructor {
             .into_iter()
             .zip(solved)
             .zip(viewpoints)
-            .map(|((p, solved), viewpoint)| {
+            .enumerate()
+            .map(|(t, ((p, solved), viewpoint))| {
+                if left(t) {
+                    return self.reconstruct(&poses[t]).map(|mut r| {
+                        r.alternatives.clear();
+                        r
+                    });
+                }
                 let Prepared {
                     localization,
                     imputed,
