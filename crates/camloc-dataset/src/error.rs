@@ -5,6 +5,7 @@ use camloc_store::StoreError;
 
 /// Errors of dataset handling.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum DatasetError {
     /// Reading or writing the file failed (missing, exists, wrong kind/version, corrupt).
     #[error(transparent)]

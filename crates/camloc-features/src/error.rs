@@ -2,6 +2,7 @@
 
 /// Why a descriptor could not be computed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum FeatureError {
     /// A landmark coordinate is NaN or infinite.
     #[error("landmark {landmark} has a non-finite coordinate")]

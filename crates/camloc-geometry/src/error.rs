@@ -2,6 +2,7 @@
 
 /// What can go wrong in camera geometry.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum GeometryError {
     /// The eq. 4 look-at is undefined for a camera on the z axis (straight above or below).
     #[error(

@@ -96,10 +96,7 @@ pub(crate) fn for_poses(
         .flatten()
         .copied()
         .collect();
-    let estimate = localizer.estimate_height_shares(&poses);
-    localizer
-        .clone()
-        .with_camera_height(estimate.camera_height())
+    localizer.clone().with_camera_height_from(&poses)
 }
 
 #[pymethods]
@@ -186,7 +183,12 @@ impl Localizer {
         min_score: f64,
         sequence: bool,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let batch = PoseBatch::new(&points, layout, scores.as_ref(), min_score)?;
+        // Per pose: the probabilities and six other numbers out, a mapped pose for the
+        // warnings.
+        let k = self.inner.cameras().len();
+        let output_bytes = (k + 6) * std::mem::size_of::<f64>()
+            + std::mem::size_of::<Option<camloc::PartialPose2>>();
+        let batch = PoseBatch::new(&points, layout, scores.as_ref(), min_score, output_bytes)?;
         // Mapped once for the warnings and the height estimate: a sequence's every pose.
         let leading = batch.leading_poses(if sequence {
             batch.len()
@@ -194,11 +196,17 @@ impl Localizer {
             HEIGHT_SHARE_MAX_POSES
         });
         warn_of_input_conventions(py, &leading)?;
-        if sequence {
-            warn_of_identity_jumps(py, leading.iter().map(|p| p.as_ref()))?;
-        }
+        let left_out = if sequence {
+            warn_of_identity_jumps(
+                py,
+                leading.iter().map(|p| p.as_ref()),
+                "left out of the smoothing (their smoothed camera comes from the rows around \
+                 them, and they have no smoothed viewpoint), as the command line does",
+            )?
+        } else {
+            Vec::new()
+        };
         let n = batch.len();
-        let k = self.inner.cameras().len();
         let estimated = self.from_input.then(|| for_poses(&self.inner, &leading));
         let (localizer, filler) = (
             estimated.as_ref().unwrap_or(&self.inner),
@@ -262,7 +270,7 @@ impl Localizer {
             |c: usize| -> Vec<f64> { viewpoint.iter().skip(c).step_by(3).copied().collect() };
         let (azimuth, elevation) = (column(0), column(1));
         let smoothed = if sequence {
-            Some(self.smoothed(&label, &probabilities, (&azimuth, &elevation))?)
+            Some(self.smoothed(&label, &probabilities, (&azimuth, &elevation), &left_out)?)
         } else {
             None
         };
@@ -317,17 +325,20 @@ impl Localizer {
     /// The smoothed values of a sequence (`localize(..., sequence=True)`): the rows are one
     /// person's frames in time order; each frame's camera smoothed by the hidden Markov model
     /// of `camloc localize --sequence` (`camloc::SequenceModel`, a frame that was not
-    /// localized counting as a flat one) and its viewpoint by `camloc::smooth_viewpoints`.
+    /// localized counting as a flat one) and its viewpoint by `camloc::smooth_viewpoints`; a
+    /// row where `left_out` (missing entries: no) counts as not localized.
     fn smoothed(
         &self,
         label: &[i64],
         probabilities: &[f64],
         (azimuth, elevation): (&[f64], &[f64]),
+        left_out: &[bool],
     ) -> PyResult<Smoothed> {
         let n = label.len();
         let k = self.inner.cameras().len();
+        let kept = |i: usize| !left_out.get(i).copied().unwrap_or(false);
         let frames: Vec<Option<&[f64]>> = (0..n)
-            .map(|i| (label[i] > 0).then(|| &probabilities[i * k..(i + 1) * k]))
+            .map(|i| (label[i] > 0 && kept(i)).then(|| &probabilities[i * k..(i + 1) * k]))
             .collect();
         // A person none of whose frames was localized has no smoothed camera.
         let cameras = if frames.iter().any(Option::is_some) {
@@ -337,7 +348,13 @@ impl Localizer {
         } else {
             Vec::new()
         };
-        let (azimuth_deg, elevation_deg) = smoothed_columns(&vec![None; n], azimuth, elevation);
+        let without = |column: &[f64]| -> Vec<f64> {
+            (column.iter().enumerate())
+                .map(|(i, &x)| if kept(i) { x } else { f64::NAN })
+                .collect()
+        };
+        let (azimuth_deg, elevation_deg) =
+            smoothed_columns(&vec![None; n], &without(azimuth), &without(elevation));
         Ok(Smoothed {
             label: (0..n)
                 .map(|i| cameras.get(i).map_or(0, |s| i64::from(s.label.get())))

@@ -26,18 +26,11 @@ use crate::{to_py_err, value_error};
 /// the default `hybrid` on two cores.
 const INTERRUPT_POSES: usize = 1024;
 
-/// The reconstructor on the embedded basis with the embedded default model, made once.
+/// The reconstructor of the defaults (`PoseReconstructor::default_reconstructor`), made once.
 fn default_reconstructor() -> PyResult<&'static PoseReconstructor> {
     static DEFAULT: OnceLock<Result<PoseReconstructor, String>> = OnceLock::new();
     DEFAULT
-        .get_or_init(|| {
-            let made = || -> Result<_, CamlocError> {
-                Ok(PoseReconstructor::new(camloc::default_basis()?)?
-                    .with_localizer(CameraLocalizer::default_model()?)
-                    .with_lifter(DepthLifter::default_lifter()?))
-            };
-            made().map_err(|e| e.to_string())
-        })
+        .get_or_init(|| PoseReconstructor::default_reconstructor().map_err(|e| e.to_string()))
         .as_ref()
         .map_err(|message| crate::CamlocError::new_err(message.clone()))
 }
@@ -116,7 +109,14 @@ pub(crate) fn reconstruct<'py>(
                 "unknown camera \"{camera}\" (expected one of: opt, classified, hybrid)"
             ))
         })?;
-    let batch = PoseBatch::new(&points, layout, scores.as_ref(), min_score)?;
+    // Per pose: the 79 numbers and 15 flags out, the reconstruction, its place in the world
+    // and the mapped pose.
+    let output_bytes = 79 * std::mem::size_of::<f64>()
+        + NUM_LANDMARKS
+        + std::mem::size_of::<Result<PoseReconstruction, String>>()
+        + std::mem::size_of::<Option<Pose3>>()
+        + std::mem::size_of::<camloc::PartialPose2>();
+    let batch = PoseBatch::new(&points, layout, scores.as_ref(), min_score, output_bytes)?;
     // Mapped once for the warning and the height estimate.
     let leading = batch.leading_poses(HEIGHT_SHARE_MAX_POSES);
     warn_of_input_conventions(py, &leading)?;
@@ -193,21 +193,26 @@ pub(crate) fn reconstruct<'py>(
             .map_err(|e| value_error(e.to_string()))?;
     }
     let n = batch.len();
-    let (results, person_lengths) = if sequence {
+    let (results, person_lengths, left_out) = if sequence {
         let poses = (0..n)
             .map(|i| batch.pose(i).map(|m| m.pose))
             .collect::<Result<Vec<_>, _>>()
             .map_err(|e| value_error(e.to_string()))?;
-        warn_of_identity_jumps(py, poses.iter().map(Some))?;
+        let left_out = warn_of_identity_jumps(
+            py,
+            poses.iter().map(Some),
+            "reconstructed on their own, left out of the sequence (its lengths, smoothness \
+             and world placement), as the command line does",
+        )?;
         let solved = py
-            .detach(|| reconstructor.reconstruct_sequence(&poses))
+            .detach(|| reconstructor.reconstruct_sequence_with_breaks(&poses, &[], &left_out))
             .map_err(to_py_err)?;
         let frames: Vec<Result<PoseReconstruction, String>> = solved
             .frames
             .into_iter()
             .map(|f| f.map_err(|e| e.to_string()))
             .collect();
-        (frames, Some(solved.lengths))
+        (frames, Some(solved.lengths), left_out)
     } else {
         let mut frames = Vec::with_capacity(n);
         for start in (0..n).step_by(INTERRUPT_POSES) {
@@ -227,7 +232,7 @@ pub(crate) fn reconstruct<'py>(
             // Ctrl-C (a KeyboardInterrupt) between blocks, not only at the end.
             py.check_signals()?;
         }
-        (frames, None)
+        (frames, None, Vec::new())
     };
     let mut points3d = vec![f64::NAN; n * 45];
     let mut rotation = vec![f64::NAN; n * 9];
@@ -243,7 +248,12 @@ pub(crate) fn reconstruct<'py>(
     // With `sequence`, the frames placed where a camera standing still saw them (as
     // `camloc reconstruct --sequence --bvh` animates them).
     let world: Option<Vec<Option<Pose3>>> = sequence.then(|| {
-        let found: Vec<_> = results.iter().map(|r| r.as_ref().ok()).collect();
+        // The left-out rows are not placed: time passes over them, as over a missing frame.
+        let found: Vec<_> = results
+            .iter()
+            .zip(&left_out)
+            .map(|(r, &left)| r.as_ref().ok().filter(|_| !left))
+            .collect();
         reconstructor.place_in_world(&found)
     });
     let mut errors = Vec::new();

@@ -5,6 +5,7 @@ use camloc_geometry::GeometryError;
 /// What can go wrong building a basis, reconstructing a pose or validating a stored basis
 /// (reading and writing basis files fail with [`camloc_store::StoreError`]).
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum ReconstructError {
     /// [`crate::PoseBasis::fit`] was given no training poses.
     #[error("pose basis: the training set is empty")]
@@ -81,6 +82,22 @@ pub enum ReconstructError {
     ScaleMismatch {
         /// The pose's root mean square radius about its centroid (input units).
         spread: f64,
+        /// The focal length given (pixels).
+        focal: f64,
+    },
+    /// A 2D pose spread over, or lying off the optical axis by, more focal lengths than a
+    /// camera sees ([`crate::MAX_POSE_REACH_PER_FOCAL`]): a focal length or principal point
+    /// wrong by orders of magnitude.
+    #[error(
+        "2D pose reaches {reach:.3e} focal lengths (focal length {focal:.3e}) from its centroid \
+         or the principal point, beyond a camera's view ({}); check the focal length and \
+         principal point (pixels)",
+        crate::MAX_POSE_REACH_PER_FOCAL
+    )]
+    OutsideView {
+        /// The larger of the pose's root mean square radius and its centroid's distance from
+        /// the principal point, in focal lengths.
+        reach: f64,
         /// The focal length given (pixels).
         focal: f64,
     },

@@ -220,6 +220,9 @@ impl Pose2 {
     }
 
     /// Euclidean length of limb `limb` (an index into [`LIMBS`]), in the pose's units.
+    ///
+    /// # Panics
+    /// When `limb` is not below [`NUM_LIMBS`].
     pub fn limb_length(&self, limb: usize) -> f64 {
         let (a, b) = LIMBS[limb];
         let (p, q) = (self.get(a), self.get(b));
@@ -302,6 +305,9 @@ impl Pose3 {
     }
 
     /// Euclidean length of limb `limb` (an index into [`LIMBS`]), in metres.
+    ///
+    /// # Panics
+    /// When `limb` is not below [`NUM_LIMBS`].
     pub fn limb_length(&self, limb: usize) -> f64 {
         let (a, b) = LIMBS[limb];
         let (p, q) = (self.get(a), self.get(b));

@@ -55,6 +55,7 @@ pub const MEMORY_ORIGIN: &str = "<memory>";
 /// What can go wrong reading or writing a camloc file. Every variant names the file (or the
 /// origin of the bytes, e.g. `<memory>`).
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum StoreError {
     /// Operating-system error on `path`.
     #[error("{}: {source}", crate::quoted_path(.path))]

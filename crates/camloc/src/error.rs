@@ -10,6 +10,7 @@ use camloc_store::StoreError;
 
 /// Everything that can go wrong in camloc, with what and where.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum CamlocError {
     /// A descriptor could not be computed for a pose.
     #[error("{context}: {source}")]
@@ -34,6 +35,12 @@ pub enum CamlocError {
     /// A keypoint file problem.
     #[error(transparent)]
     Keypoints(#[from] KeypointError),
+    /// A motion-capture file could not be read.
+    #[error(transparent)]
+    Mocap(#[from] camloc_mocap::MocapError),
+    /// A BVH file could not be written from the poses given.
+    #[error(transparent)]
+    Bvh(#[from] camloc_mocap::BvhWriteError),
     /// A reconstruction problem.
     #[error("{context}: {source}")]
     Reconstruct {

@@ -6,18 +6,21 @@
 //!
 //! ```
 //! use camloc::keypoints::{ReadOptions, read_keypoints};
-//! use camloc::{CameraLocalizer, PoseReconstructor, default_basis};
+//! use camloc::{PartialPose2, PoseReconstructor};
 //! # fn main() -> Result<(), camloc::CamlocError> {
+//! # let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../fixtures/keypoints/example.json");
 //! // Three 2D poses (15 landmarks in image coordinates, v down) made by this project.
-//! let records = read_keypoints("../../fixtures/keypoints/example.json", None,
-//!                              &ReadOptions::default())?;
-//! let localizer = CameraLocalizer::default_model()?;
-//! let reconstructor = PoseReconstructor::new(default_basis()?)?;
-//! for record in &records {
-//!     let where_ = localizer.localize_partial(&record.pose)?;
+//! let records = read_keypoints(path, None, &ReadOptions::default())?;
+//! let poses: Vec<PartialPose2> = records.iter().map(|r| r.pose).collect();
+//! // `camloc reconstruct`'s defaults: the embedded basis, model and depth lifter, camera
+//! // mode hybrid, the prior over camera heights estimated from the poses.
+//! let reconstructor = PoseReconstructor::default_reconstructor()?
+//!     .with_camera_height_from(&poses);
+//! for (record, pose) in records.iter().zip(&poses) {
+//!     let where_ = reconstructor.localize(pose)?; // as `camloc localize`
 //!     println!("{}: camera {} ({} {}), p = {:.2}", record.id, where_.label,
 //!              where_.level.name(), where_.side.name(), where_.probability);
-//!     let pose3 = reconstructor.reconstruct(&record.pose)?.reconstruction.pose;
+//!     let pose3 = reconstructor.reconstruct(pose)?.reconstruction.pose;
 //!     assert!(pose3.is_finite()); // metres, canonical body frame (docs/conventions.md)
 //! }
 //! # Ok(()) }
@@ -32,6 +35,7 @@
 //! [`reconstruct`](mod@reconstruct).
 
 mod camera_height;
+mod defaults;
 mod dropout;
 mod error;
 mod evaluate;
@@ -75,7 +79,8 @@ pub use height_shares::{
     HeightShares,
 };
 pub use identity::{
-    IDENTITY_JUMP_TORSOS, IDENTITY_SIZE_RATIO, TorsoAnchor, identity_jumps, outlier_frames,
+    IDENTITY_JUMP_TORSOS, IDENTITY_SIZE_RATIO, LeftOut, OUTLIER_RUN_FRAMES, TorsoAnchor,
+    identity_jumps, left_out_of_sequence, outlier_frames,
 };
 pub use reconstruction::{
     PoseReconstruction, PoseReconstructor, PoseSequenceReconstruction, SEQUENCE_BREAK_FRAMES,

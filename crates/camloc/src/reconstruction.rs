@@ -80,7 +80,9 @@ pub struct PoseSequenceReconstruction {
     /// none.
     pub frames: Vec<Result<PoseReconstruction, CamlocError>>,
     /// The person's bone lengths, which every reconstructed frame has (metres): the given
-    /// ones, or those estimated from all the frames.
+    /// ones, or those estimated from all the frames. When no frame could be reconstructed
+    /// (or none was given) nothing was estimated, and they are the length prior's own: look
+    /// at `frames` before using them.
     pub lengths: BoneLengths,
 }
 
@@ -322,7 +324,7 @@ impl PoseReconstructor {
         &self,
         poses: &[PartialPose2],
     ) -> Result<PoseSequenceReconstruction, CamlocError> {
-        self.reconstruct_sequence_with_breaks(poses, &[])
+        self.reconstruct_sequence_with_breaks(poses, &[], &[])
     }
 
     /// The depths the lifter predicts for `complete` seen by the camera of `localization`

@@ -137,6 +137,9 @@ impl SequenceModel {
     }
 
     /// Probability of camera index `to` at a frame given camera index `from` at the previous.
+    ///
+    /// # Panics
+    /// When `from` or `to` is not below the number of cameras.
     pub fn transition(&self, from: usize, to: usize) -> f64 {
         self.transition[from * self.cameras + to]
     }
