@@ -382,5 +382,5 @@ def read_bvh(path: _Path, unit_m: float = 0.0254 / 0.45) -> Dict[str, Any]:
       frame_time_s: seconds between frames.
 
     Raises OSError if the file cannot be read, CamlocError if it is malformed (the message names
-    the line) or larger than 1 GiB, ValueError for a non-positive unit.
+    the line) or larger than 1 GiB, ValueError for a unit outside 1e-6 to 1000.
     """

@@ -5,7 +5,7 @@
 //! the reconstruction's defaults 0.45 m apart from the command line's).
 
 use camloc::keypoints::{ReadOptions, read_keypoints};
-use camloc::{Landmark, PartialPose2, PoseReconstructor};
+use camloc::{CameraHeight, HEIGHT_SHARE_MIN_POSES, Landmark, PartialPose2, PoseReconstructor};
 use serde_json::Value;
 
 mod common;
@@ -23,10 +23,40 @@ fn inputs(dir: &TempDir) -> Vec<std::path::PathBuf> {
         pose["landmarks"]["pelvis"] = Value::Null;
     }
     let hipless = dir.file("hipless.json", &document.to_string());
+    // 120 poses (the example's, moved and jittered by up to 2 px): enough for the camera
+    // heights to be estimated from the input (HEIGHT_SHARE_MIN_POSES).
+    let mut document: Value =
+        serde_json::from_str(&std::fs::read_to_string(&example).unwrap()).unwrap();
+    let originals = document["poses"].as_array().unwrap().clone();
+    let mut seed = 11u64;
+    let mut jitter = || {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        4.0 * ((seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5)
+    };
+    let many: Vec<Value> = (0..120)
+        .map(|n| {
+            let mut pose = originals[n % originals.len()].clone();
+            pose["id"] = format!("copy-{n}").into();
+            for point in pose["landmarks"].as_object_mut().unwrap().values_mut() {
+                if let Some(xy) = point.as_array_mut() {
+                    for (k, c) in xy.iter_mut().enumerate() {
+                        let shift = if k == 0 { 3.0 * n as f64 } else { 0.0 };
+                        *c = (c.as_f64().unwrap() + shift + jitter()).into();
+                    }
+                }
+            }
+            pose
+        })
+        .collect();
+    document["poses"] = many.into();
+    let many = dir.file("many.json", &document.to_string());
     vec![
         example,
         fixture("keypoints/partial.json"),
         std::path::PathBuf::from(hipless),
+        std::path::PathBuf::from(many),
     ]
 }
 
@@ -40,6 +70,13 @@ fn the_library_defaults_give_the_command_lines_localizations_and_poses() {
         let reconstructor = PoseReconstructor::default_reconstructor()
             .unwrap()
             .with_camera_height_from(&poses);
+        // With enough poses the prior is the input's own, not `any`.
+        let estimated = reconstructor.localizer().unwrap().camera_height();
+        assert_eq!(
+            estimated == CameraHeight::Any,
+            poses.len() < HEIGHT_SHARE_MIN_POSES,
+            "{path}: {estimated:?}"
+        );
         // Printed also when a pose fails (an object with its error; exit 1).
         let json = |command: &str| -> Vec<Value> {
             let out = camloc(&[command, "--input", path, "--json"]);
@@ -66,8 +103,16 @@ fn the_library_defaults_give_the_command_lines_localizations_and_poses() {
                 continue;
             };
             assert_eq!(cli["label"], u64::from(own.label.get()), "{path}");
-            let probability = cli["probability"].as_f64().unwrap();
-            assert!((probability - own.probability).abs() < 1e-12, "{path}");
+            let close = |key: &str, value: Option<f64>| {
+                let value = value.unwrap_or(f64::NAN);
+                assert!(
+                    (cli[key].as_f64().unwrap() - value).abs() < 1e-9,
+                    "{path} {key}"
+                );
+            };
+            close("probability", Some(own.probability));
+            close("azimuth_deg", own.azimuth_deg);
+            close("elevation_deg", own.elevation_deg);
             let result = reconstructor.reconstruct(pose).unwrap();
             for landmark in Landmark::ALL {
                 let cli_point = &cli3d["landmarks_m"][landmark.name()];

@@ -3,7 +3,9 @@
 use std::path::PathBuf;
 
 use camloc::Pose3;
-use camloc::mocap::{BvhOptions, BvhWriteError, CMU_UNIT_M, read_bvh_with_unit, write_person_bvh};
+use camloc::mocap::{
+    BVH_UNIT_RANGE_M, BvhOptions, BvhWriteError, CMU_UNIT_M, read_bvh_with_unit, write_person_bvh,
+};
 use camloc::reconstruct::BoneLengths;
 use camloc::skeleton::NUM_LIMBS;
 use numpy::PyUntypedArrayMethods;
@@ -22,6 +24,19 @@ fn positive(value: f64, what: &str) -> PyResult<f64> {
     } else {
         Err(value_error(format!(
             "{what} must be a positive finite number, got {value}"
+        )))
+    }
+}
+
+/// A BVH file's unit, metres per unit, within `camloc::mocap::BVH_UNIT_RANGE_M`, or a
+/// `ValueError`.
+fn unit(unit_m: f64) -> PyResult<f64> {
+    let (smallest, largest) = BVH_UNIT_RANGE_M;
+    if (smallest..=largest).contains(&unit_m) {
+        Ok(unit_m)
+    } else {
+        Err(value_error(format!(
+            "unit_m must be from {smallest:e} to {largest:e} metres per unit, got {unit_m:?}"
         )))
     }
 }
@@ -76,7 +91,7 @@ pub(crate) fn to_bvh(
     unit_m: f64,
 ) -> PyResult<String> {
     let fps = positive(fps, "fps")?;
-    let unit_m = positive(unit_m, "unit_m")?;
+    let unit_m = unit(unit_m)?;
     let frames = frames(&points3d)?;
     let lengths: Option<[f64; NUM_LIMBS]> = limb_lengths
         .map(|given| bone_lengths(&given, "limb_lengths").map(|l| l.as_array()))
@@ -113,7 +128,7 @@ pub(crate) fn read_bvh<'py>(
     path: PathBuf,
     unit_m: f64,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let unit_m = positive(unit_m, "unit_m")?;
+    let unit_m = unit(unit_m)?;
     let clip = read_bvh_with_unit(&path, unit_m).map_err(|e| match e {
         camloc::mocap::MocapError::Io { .. } => PyOSError::new_err(e.to_string()),
         other => crate::CamlocError::new_err(other.to_string()),

@@ -90,13 +90,7 @@ pub(crate) fn warn_of_identity_jumps<'a>(
         );
         warn(py, message)?;
     }
-    let mask = left_out.mask(anchors.len());
-    let kept: Vec<Option<TorsoAnchor>> = anchors
-        .iter()
-        .zip(&mask)
-        .map(|(a, &left)| a.filter(|_| !left))
-        .collect();
-    if let Some(first) = identity_jumps(&[], &kept).first() {
+    if let Some(first) = identity_jumps(&[], &left_out.kept_anchors(&anchors)).first() {
         let message = format!(
             "the pose jumps across the image or changes size from one row to the next (first \
              at row {first}): these may be several people, or not consecutive frames of a \
@@ -104,5 +98,5 @@ pub(crate) fn warn_of_identity_jumps<'a>(
         );
         warn(py, message)?;
     }
-    Ok(mask)
+    Ok(left_out.mask(anchors.len()))
 }

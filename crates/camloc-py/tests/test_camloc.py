@@ -795,8 +795,10 @@ def test_hostile_sizes_and_units_raise_instead_of_aborting(tmp_path):
     with pytest.raises(MemoryError):
         camloc.to_bvh(np.broadcast_to(points3d, (10**9, 15, 3)))
     # A unit that made every coordinate infinite.
-    with pytest.raises(ValueError, match="metres per unit"):
+    with pytest.raises(ValueError, match="unit_m must be from"):
         camloc.to_bvh(points3d, unit_m=5e-324)
+    with pytest.raises(ValueError, match="unit_m must be from"):
+        camloc.read_bvh(tmp_path / "any.bvh", unit_m=5e-324)
     # A focal length wrong by orders of magnitude is the pose's error, not NaN results.
     got = camloc.reconstruct(pose, focal_px=5e-324)
     assert "focal lengths" in got["error"]

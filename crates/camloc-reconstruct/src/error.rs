@@ -74,7 +74,7 @@ pub enum ReconstructError {
     /// A 2D pose far smaller than the focal length says a person can be: keypoints in other
     /// units than the focal length (normalised 0-1 coordinates with a focal length in pixels).
     #[error(
-        "2D pose spans {spread:.3} (root mean square radius) at a focal length of {focal}, under \
+        "2D pose spans {spread:.3} (root mean square radius) at a focal length of {focal:?}, under \
          1/{} of it: a person hundreds of metres away; give the keypoints in the focal \
          length's units (pixels)",
         crate::MIN_POSE_SPREAD_PER_FOCAL.recip()

@@ -214,6 +214,16 @@ impl LeftOut {
         }
         mask
     }
+
+    /// `anchors` (one per frame of the person) with the left-out frames' taken away (`None`),
+    /// for [`identity_jumps`] among the frames kept.
+    pub fn kept_anchors(&self, anchors: &[Option<TorsoAnchor>]) -> Vec<Option<TorsoAnchor>> {
+        anchors
+            .iter()
+            .zip(self.mask(anchors.len()))
+            .map(|(a, left)| a.filter(|_| !left))
+            .collect()
+    }
 }
 
 /// The frames of one person (their `frames` numbers, `None` where unknown, and `anchors`, in
@@ -227,20 +237,12 @@ pub fn left_out_of_sequence(frames: &[Option<u64>], anchors: &[Option<TorsoAncho
     let second_poses: Vec<usize> = (1..frames.len())
         .filter(|&m| frames[m].is_some() && frames[m] == frames[m - 1])
         .collect();
-    let second = LeftOut {
-        second_poses: second_poses.clone(),
-        outliers: Vec::new(),
-    }
-    .mask(anchors.len());
-    let others: Vec<Option<TorsoAnchor>> = anchors
-        .iter()
-        .zip(&second)
-        .map(|(a, &s)| a.filter(|_| !s))
-        .collect();
-    LeftOut {
-        outliers: outlier_frames(frames, &others),
+    let mut left_out = LeftOut {
         second_poses,
-    }
+        outliers: Vec::new(),
+    };
+    left_out.outliers = outlier_frames(frames, &left_out.kept_anchors(anchors));
+    left_out
 }
 
 #[cfg(test)]

@@ -112,3 +112,48 @@ fn a_frame_or_two_that_fail_keep_their_neighbours_tied_and_three_split_them() {
         .collect();
     assert_eq!(kept, poses(&split));
 }
+
+#[test]
+fn left_out_frames_are_reconstructed_alone_and_three_in_a_row_split_the_runs() {
+    let frames = frames();
+    let rec = reconstructor();
+    let kept_poses = |result: &camloc::PoseSequenceReconstruction, gone: &[usize]| {
+        (result.frames.iter().enumerate())
+            .filter(|(t, _)| !gone.contains(t))
+            .map(|(_, f)| f.as_ref().unwrap().reconstruction.pose)
+            .collect::<Vec<Pose3>>()
+    };
+    let without = |gone: &[usize]| -> Vec<PartialPose2> {
+        (0..frames.len())
+            .filter(|t| !gone.contains(t))
+            .map(|t| frames[t])
+            .collect()
+    };
+    for (gone, split_at) in [(vec![4, 5], None), (vec![4, 5, 6], Some(4))] {
+        let mut left_out = vec![false; frames.len()];
+        for &t in &gone {
+            left_out[t] = true;
+        }
+        let result = rec
+            .reconstruct_sequence_with_breaks(&frames, &[], &left_out)
+            .unwrap();
+        // A left-out frame is its own reconstruction.
+        for &t in &gone {
+            assert_eq!(
+                result.frames[t].as_ref().unwrap().reconstruction.pose,
+                rec.reconstruct(&frames[t]).unwrap().reconstruction.pose
+            );
+        }
+        // The others are the sequence without them: two in a row keep their neighbours
+        // tied, three split them as a gap (the command line's frame numbers would).
+        let mut breaks = vec![false; frames.len() - gone.len()];
+        if let Some(t) = split_at {
+            breaks[t] = true;
+        }
+        let expected = rec
+            .reconstruct_sequence_with_breaks(&without(&gone), &breaks, &[])
+            .unwrap();
+        assert_eq!(kept_poses(&result, &gone), poses(&expected));
+        assert_eq!(result.lengths, expected.lengths);
+    }
+}

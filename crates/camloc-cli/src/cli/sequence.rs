@@ -398,14 +398,8 @@ pub fn left_out_of_sequence(
             at(first)
         );
     }
-    let mask = left_out.mask(frames.len());
-    let kept: Vec<Option<TorsoAnchor>> = anchors
-        .iter()
-        .zip(&mask)
-        .map(|(a, &left)| a.filter(|_| !left))
-        .collect();
-    warn_of_identity_jumps(person, frames, &kept);
-    mask
+    warn_of_identity_jumps(person, frames, &left_out.kept_anchors(anchors));
+    left_out.mask(frames.len())
 }
 
 /// Says on standard error which person each numbered file of `out` is, when there are

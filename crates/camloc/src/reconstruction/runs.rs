@@ -28,7 +28,8 @@ impl PoseReconstructor {
     /// tracker's second pose of the frame, another person's detection:
     /// [`left_out_of_sequence`](crate::left_out_of_sequence)): it is reconstructed on its own,
     /// as [`reconstruct`](Self::reconstruct) does, and neither ties its neighbours over time
-    /// nor counts towards the lengths.
+    /// nor counts towards the lengths; [`SEQUENCE_BREAK_FRAMES`] or more in a row split the
+    /// runs as a gap does.
     ///
     /// # Errors
     /// As [`reconstruct_sequence`](Self::reconstruct_sequence).
@@ -46,7 +47,10 @@ impl PoseReconstructor {
         let mut runs: Vec<Vec<usize>> = Vec::new();
         let mut failed_in_a_row = 0;
         for (t, p) in prepared.iter().enumerate() {
+            // A left-out frame is missing from the sequence: as many in a row as make a gap
+            // split it, as the command line's frame numbers would.
             if left(t) {
+                failed_in_a_row += 1;
                 continue;
             }
             if p.is_err() {
