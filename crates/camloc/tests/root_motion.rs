@@ -253,9 +253,10 @@ fn held_out_walks_filmed_from_a_tripod_move_and_turn_as_they_did() {
             "{}: the pelvis's height spans {height_spread} m",
             clip.clip
         );
-        // Planted feet stay nearly put (without planting, 2.1 cm a frame on 141_19).
+        // Planted feet stay nearly put (without planting, 2.1 cm a frame on 141_19; planted
+        // but not locked, 1.0 cm; locked, 0.6 cm).
         assert!(
-            slide < 0.018,
+            slide < 0.008,
             "{}: planted feet slide {slide} m a frame",
             clip.clip
         );
