@@ -108,10 +108,13 @@ class Localizer:
           of several people), and another where rows (up to 10 in a row) lie apart from the
           rows before and after them while those agree (another person's detection): as the
           command line does, they are left out of the smoothing (their smoothed camera comes
-          from the rows around them, their smoothed viewpoint is NaN). A row of NaN counts as a frame, where the command line skips a
-          frame number no record has: the smoothed probabilities can differ there.
+          from the rows around them, their smoothed viewpoint is NaN). A row of NaN counts as
+          a frame, where the command line skips a frame number no record has: the smoothed
+          probabilities can differ there.
         A ``UserWarning`` says when most of the (first 20,000) poses have the head below both
-        ankles: points with v up (``camloc localize`` warns alike); another when a pose has a
+        ankles: points with v up (``camloc localize`` warns alike); another when their torsos
+        lean alike by 20 degrees or more (a rolled camera: turn the points upright); another
+        when a pose has a
         landmark at exactly (0, 0) outside the box of its other landmarks (a detector's
         placeholder for a joint it did not find: give scores or NaN); another when every pose
         of the call failed, with the first error.
@@ -199,8 +202,8 @@ def reconstruct(
       ``camloc reconstruct --sequence`` does, they are reconstructed on their own, outside
       the sequence's bone lengths, smoothness and world placement (``world_points3d`` NaN).
       A row of NaN (nothing detected) gets the error "the pose has no landmarks (nothing
-      detected)". Like ``Localizer.localize``, it warns when most poses
-      have the head below both ankles, of landmarks at the image origin, and when every pose
+      detected)". Like ``Localizer.localize``, it warns when most poses have the head below
+      both ankles, of a rolled camera, of landmarks at the image origin, and when every pose
       failed.
     camera_height: ``"from-input"`` (the camera heights estimated from the poses of this
       call), ``"any"`` or ``"eye-level"``, the prior over the camera's height the localizer

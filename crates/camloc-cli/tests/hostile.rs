@@ -590,3 +590,37 @@ fn an_input_with_v_up_is_warned_of() {
         assert!(!String::from_utf8_lossy(&out.stderr).contains("below"));
     }
 }
+
+/// Poses whose torsos lean alike (a camera rolled about its axis) are warned of, with the turn
+/// that sets them upright; the same people upright are not.
+#[test]
+fn a_rolled_camera_is_warned_of() {
+    let dir = TempDir::new("hostile-rolled");
+    let fixture =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/keypoints/example.json");
+    let mut doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(fixture).unwrap()).unwrap();
+    // The example's three poses twice, then turned 90 degrees clockwise as shown (v down):
+    // a portrait video read as landscape.
+    let poses = doc["poses"].as_array().unwrap().clone();
+    doc["poses"] = poses.iter().chain(&poses).cloned().collect();
+    let upright = dir.file("upright.json", &doc.to_string());
+    for pose in doc["poses"].as_array_mut().unwrap() {
+        for point in pose["landmarks"].as_object_mut().unwrap().values_mut() {
+            if let (Some(u), Some(v)) = (point[0].as_f64(), point[1].as_f64()) {
+                *point = serde_json::json!([-v, u]);
+            }
+        }
+    }
+    let rolled = dir.file("rolled.json", &doc.to_string());
+    for command in ["localize", "reconstruct"] {
+        let out = camloc(&[command, "--input", &rolled, "--jsonl", "-q"]);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            stderr.contains("lean") && stderr.contains("deg counterclockwise"),
+            "{command}: {stderr}"
+        );
+        let out = camloc(&[command, "--input", &upright, "--jsonl", "-q"]);
+        assert!(!String::from_utf8_lossy(&out.stderr).contains("lean"));
+    }
+}

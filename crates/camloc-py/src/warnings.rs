@@ -1,10 +1,11 @@
 //! The warnings the Python functions give (`UserWarning`), as the command line gives them on
-//! standard error: points with v up or joints at the image origin, rows of a sequence that
-//! jump between people, and a call whose every pose failed.
+//! standard error: points with v up, a rolled camera or joints at the image origin, rows of a
+//! sequence that jump between people, and a call whose every pose failed.
 
 use camloc::{
-    HEIGHT_SHARE_MAX_POSES, PartialPose2, TorsoAnchor, has_origin_placeholders, head_below_ankles,
-    identity_jumps, left_out_of_sequence, origin_placeholder_warning, upside_down_warning,
+    HEIGHT_SHARE_MAX_POSES, LeanHistogram, PartialPose2, TorsoAnchor, has_origin_placeholders,
+    head_below_ankles, identity_jumps, left_out_of_sequence, origin_placeholder_warning,
+    tilted_camera_warning, upside_down_warning,
 };
 use pyo3::exceptions::PyUserWarning;
 use pyo3::prelude::*;
@@ -17,15 +18,18 @@ pub(crate) fn warn(py: Python<'_>, message: String) -> PyResult<()> {
 
 /// Warns (`UserWarning`) when most of the first [`HEIGHT_SHARE_MAX_POSES`] poses of a call
 /// (`leading`, [`PoseBatch::leading_poses`](crate::arrays::PoseBatch::leading_poses)) have the
-/// head below both ankles (`camloc::upside_down_warning`), and when any has joints at the
-/// image origin (`camloc::origin_placeholder_warning`), as the command line warns.
+/// head below both ankles (`camloc::upside_down_warning`), when their torsos lean alike (a
+/// rolled camera: `camloc::tilted_camera_warning`) and when any has joints at the image
+/// origin (`camloc::origin_placeholder_warning`), as the command line warns.
 pub(crate) fn warn_of_input_conventions(
     py: Python<'_>,
     leading: &[Option<PartialPose2>],
 ) -> PyResult<()> {
     let (mut checked, mut below, mut mapped, mut placeholders) = (0, 0, 0, 0);
+    let mut leans = LeanHistogram::default();
     for pose in leading.iter().take(HEIGHT_SHARE_MAX_POSES).flatten() {
         mapped += 1;
+        leans.add(pose);
         placeholders += u64::from(has_origin_placeholders(pose));
         if let Some(b) = head_below_ankles(pose) {
             checked += 1;
@@ -33,6 +37,9 @@ pub(crate) fn warn_of_input_conventions(
         }
     }
     if let Some(warning) = upside_down_warning(checked, below) {
+        warn(py, warning)?;
+    }
+    if let Some(warning) = tilted_camera_warning(&leans) {
         warn(py, warning)?;
     }
     match origin_placeholder_warning(mapped, placeholders) {

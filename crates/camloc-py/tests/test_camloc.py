@@ -808,3 +808,20 @@ def test_hostile_sizes_and_units_raise_instead_of_aborting(tmp_path):
     with pytest.warns(UserWarning, match="no poses in"):
         read = camloc.read_keypoints(empty)
     assert read["points"].shape == (0, 15, 2)
+
+
+def test_a_rolled_camera_is_warned_of():
+    # The example's poses turned 40 degrees clockwise as shown (v down) about their centre,
+    # six times over: their torsos lean alike, as from a phone held askew.
+    points = np.tile(example_points(), (2, 1, 1))
+    centre = np.nanmean(points.reshape(-1, 2), axis=0)
+    a = np.radians(40.0)
+    turn = np.array([[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]])
+    rolled = (points - centre) @ turn.T + centre
+    with pytest.warns(UserWarning, match="lean 4[0-9] deg.*counterclockwise"):
+        camloc.Localizer().localize(rolled)
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        camloc.Localizer().localize(points)

@@ -42,6 +42,7 @@ mod evaluate;
 mod filled;
 mod height_shares;
 mod identity;
+mod lean;
 mod lifter;
 mod localizer;
 mod placeholders;
@@ -92,6 +93,9 @@ pub use sequence::{
     frame_slots, sequences,
 };
 
+pub use lean::{
+    LeanHistogram, TILT_MIN_POSES, TILT_WARNING_DEG, tilted_camera_warning, torso_lean_deg,
+};
 pub use lifter::{DEFAULT_LIFTER_LAMBDA, DepthLifter, depth_targets};
 pub use localizer::{CameraLocalizer, Localization};
 pub use placeholders::{has_origin_placeholders, origin_placeholder_warning};

@@ -143,6 +143,8 @@ pub struct Summary {
     pub upside_down: (u64, u64),
     /// Poses with landmarks at the image origin ([`camloc::has_origin_placeholders`]).
     pub origin_placeholders: u64,
+    /// The poses' torso leans ([`camloc::torso_lean_deg`]), for the rolled-camera warning.
+    pub leans: camloc::LeanHistogram,
 }
 
 /// Whether `pose` has no landmark at all.
@@ -153,11 +155,13 @@ pub fn nothing_detected(pose: &camloc::PartialPose2) -> bool {
 impl Summary {
     /// Counts a pose read, whether it stands on its head in the image (`v` up rather than
     /// down, as some plotting conventions have it) and whether it has joints at the image
-    /// origin (a detector's placeholders): [`Summary::exit_code`] warns when most poses stand
-    /// on their heads, or any has placeholders.
+    /// origin (a detector's placeholders) and how its torso leans: [`Summary::exit_code`] warns
+    /// when most poses stand on their heads, any has placeholders, or the torsos lean alike (a
+    /// rolled camera).
     pub fn count(&mut self, pose: &camloc::PartialPose2) {
         self.poses += 1;
         self.origin_placeholders += u64::from(camloc::has_origin_placeholders(pose));
+        self.leans.add(pose);
         if let Some(below) = camloc::head_below_ankles(pose) {
             self.upside_down.0 += 1;
             self.upside_down.1 += u64::from(below);
@@ -168,6 +172,9 @@ impl Summary {
     /// an error when a pose failed, a file could not be read, or no pose had a landmark.
     pub fn exit_code(&self, verb: &str) -> ExitCode {
         if let Some(warning) = camloc::upside_down_warning(self.upside_down.0, self.upside_down.1) {
+            stderr_line!("camloc: warning: {warning}");
+        }
+        if let Some(warning) = camloc::tilted_camera_warning(&self.leans) {
             stderr_line!("camloc: warning: {warning}");
         }
         if let Some(warning) =
