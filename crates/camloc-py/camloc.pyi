@@ -90,6 +90,8 @@ class Localizer:
         scores: Optional[npt.ArrayLike] = None,
         min_score: float = 0.0,
         sequence: bool = False,
+        focal_px: Optional[float] = None,
+        principal_point: Optional[Sequence[float]] = None,
     ) -> Dict[str, Any]:
         """Localizes the camera of every pose.
 
@@ -111,6 +113,13 @@ class Localizer:
           from the rows around them, their smoothed viewpoint is NaN). A row of NaN counts as
           a frame, where the command line skips a frame number no record has: the smoothed
           probabilities can differ there.
+        focal_px, principal_point: the camera's focal length and principal point (u, v),
+          pixels, when known (the points must be in pixels): each pose is localized as the
+          camera turned to aim at the person would see it, as ``camloc localize --focal-px``
+          does (a person near the edge of a wide-angle image is otherwise drawn out by the
+          perspective: 59% against 77% 12-class accuracy on a trial's views at f = 500 px,
+          500 px off-centre); without a principal point nothing changes. ``reconstruct``'s
+          ``focal_px`` and ``principal_point`` aim its localizations alike.
         A ``UserWarning`` says when most of the (first 20,000) poses have the head below both
         ankles: points with v up (``camloc localize`` warns alike); another when their torsos
         lean alike by 20 degrees or more (a rolled camera: turn the points upright); another
@@ -190,9 +199,10 @@ def reconstruct(
       from motion capture (proportions only; the size is the prior's).
     focal_px, principal_point: the camera's focal length and principal point (pixels; the
       principal point, two numbers as a tuple, list or array, defaults to the centre of each
-      pose's 2D bounding box): a final
-      full-perspective refinement. The poses must be in pixels too: a pose whose root mean
-      square radius is under 1/1000 of ``focal_px`` (normalised coordinates) fails.
+      pose's 2D bounding box): a final full-perspective refinement, and each pose localized
+      as the camera aimed at it would see it (as ``Localizer.localize``'s). The poses must be
+      in pixels too: a pose whose root mean square radius is under 1/1000 of ``focal_px``
+      (normalised coordinates) fails.
     sequence: the poses are the frames of one person, in time order: one set of bone lengths
       for all of them, depths chosen consistently over time, temporal smoothness. A
       ``UserWarning`` says where the pose jumps across the image or changes size as one person

@@ -408,3 +408,58 @@ fn the_default_estimates_the_camera_heights_from_the_input() {
     let three = example.to_str().unwrap();
     assert_eq!(run(three, &[]), run(three, &["--camera-height", "any"]));
 }
+
+/// With the camera's intrinsics each pose is localized as the camera aimed at it would see it
+/// (`CameraLocalizer::with_intrinsics`): the same as the library gives, different from the
+/// pose as drawn when it lies far from the principal point, and unchanged without a principal
+/// point (the centre of each pose's box).
+#[test]
+fn a_known_camera_aims_at_each_pose() {
+    use camloc::keypoints::{ReadOptions, read_keypoints};
+    use camloc::reconstruct::Intrinsics;
+    let input = fixture("keypoints/example.json");
+    let path = input.to_str().unwrap();
+    let probabilities = |extra: &[&str]| -> Vec<serde_json::Value> {
+        let mut args = vec![
+            "localize",
+            "--input",
+            path,
+            "--json",
+            "--camera-height",
+            "any",
+        ];
+        args.extend(extra);
+        let out = camloc(&args);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let objects: Vec<serde_json::Value> = serde_json::from_slice(&out.stdout).unwrap();
+        objects
+            .into_iter()
+            .map(|o| o["probabilities"].clone())
+            .collect()
+    };
+    let plain = probabilities(&[]);
+    assert_eq!(probabilities(&["--focal-px", "500"]), plain);
+    let aimed = probabilities(&["--focal-px", "500", "--principal-point", "-400,-300"]);
+    assert_ne!(aimed, plain);
+    let localizer = camloc::CameraLocalizer::default_model()
+        .unwrap()
+        .with_intrinsics(Some(Intrinsics {
+            focal_px: 500.0,
+            principal_point: Some([-400.0, -300.0]),
+        }))
+        .unwrap();
+    let records = read_keypoints(&input, None, &ReadOptions::default()).unwrap();
+    for (record, cli) in records.iter().zip(&aimed) {
+        let own = localizer.localize_partial(&record.pose).unwrap();
+        for (k, p) in own.probabilities.iter().enumerate() {
+            let given = cli[format!("{:02}", k + 1)].as_f64().unwrap();
+            assert!((given - p).abs() < 1e-12);
+        }
+    }
+    let out = camloc(&["localize", "--input", path, "--principal-point", "1,2"]);
+    assert_eq!(out.status.code(), Some(2));
+}

@@ -173,7 +173,9 @@ impl Localizer {
 
     // Localizes the camera of every pose.
     #[doc = include_str!(concat!(env!("OUT_DIR"), "/doc/Localizer.localize.txt"))]
-    #[pyo3(signature = (points, layout = "camloc15", scores = None, min_score = 0.0, sequence = false))]
+    #[pyo3(signature = (points, layout = "camloc15", scores = None, min_score = 0.0, sequence = false, focal_px = None, principal_point = None))]
+    // Python's keyword arguments, as the stub names them.
+    #[allow(clippy::too_many_arguments)]
     fn localize<'py>(
         &self,
         py: Python<'py>,
@@ -182,7 +184,21 @@ impl Localizer {
         scores: Option<ArrayArg<'py>>,
         min_score: f64,
         sequence: bool,
+        focal_px: Option<f64>,
+        principal_point: Option<Vec<f64>>,
     ) -> PyResult<Bound<'py, PyDict>> {
+        // With the camera's intrinsics each pose is localized as seen by the camera aimed at
+        // it (a person near the edge of a wide-angle image).
+        let aimed;
+        let inner = match crate::reconstruct::intrinsics_arg(focal_px, principal_point)? {
+            Some(k) => {
+                aimed = (self.inner.clone())
+                    .with_intrinsics(Some(k))
+                    .map_err(|e| value_error(e.to_string()))?;
+                &aimed
+            }
+            None => &self.inner,
+        };
         // Per pose: the probabilities and six other numbers out, a mapped pose for the
         // warnings.
         let k = self.inner.cameras().len();
@@ -207,11 +223,8 @@ impl Localizer {
             Vec::new()
         };
         let n = batch.len();
-        let estimated = self.from_input.then(|| for_poses(&self.inner, &leading));
-        let (localizer, filler) = (
-            estimated.as_ref().unwrap_or(&self.inner),
-            self.filler.as_ref(),
-        );
+        let estimated = self.from_input.then(|| for_poses(inner, &leading));
+        let (localizer, filler) = (estimated.as_ref().unwrap_or(inner), self.filler.as_ref());
         let mut label = vec![0i64; n];
         let mut folded = vec![0i64; n];
         let mut probability = vec![f64::NAN; n];

@@ -35,6 +35,32 @@ fn default_reconstructor() -> PyResult<&'static PoseReconstructor> {
         .map_err(|message| crate::CamlocError::new_err(message.clone()))
 }
 
+/// The camera's intrinsics of the `focal_px` and `principal_point` arguments (a tuple, list
+/// or array of the two pixel coordinates), `None` without a focal length; a `ValueError` for
+/// a principal point without a focal length or not of two numbers.
+pub(crate) fn intrinsics_arg(
+    focal_px: Option<f64>,
+    principal_point: Option<Vec<f64>>,
+) -> PyResult<Option<Intrinsics>> {
+    let principal_point = match principal_point.as_deref() {
+        None => None,
+        Some(_) if focal_px.is_none() => {
+            return Err(value_error("principal_point needs focal_px"));
+        }
+        Some(&[u, v]) => Some([u, v]),
+        Some(other) => {
+            return Err(value_error(format!(
+                "principal_point: 2 numbers (u, v), got {}",
+                other.len()
+            )));
+        }
+    };
+    Ok(focal_px.map(|focal_px| Intrinsics {
+        focal_px,
+        principal_point,
+    }))
+}
+
 /// A bone lengths argument named `name` (`reconstruct`'s `bone_lengths`, `to_bvh`'s
 /// `limb_lengths`): a mapping of the 14 JSON keys, 14 numbers in the library's limb order
 /// (`BONE_KEYS`), or the path of a bone lengths JSON file.
@@ -170,26 +196,9 @@ pub(crate) fn reconstruct<'py>(
     if let Some(value) = &bone_lengths {
         reconstructor = reconstructor.with_bone_lengths(self::bone_lengths(value, "bone_lengths")?);
     }
-    if principal_point.is_some() && focal_px.is_none() {
-        return Err(value_error("principal_point needs focal_px"));
-    }
-    // A tuple, list or array of the two pixel coordinates.
-    let principal_point = match principal_point.as_deref() {
-        None => None,
-        Some(&[u, v]) => Some([u, v]),
-        Some(other) => {
-            return Err(value_error(format!(
-                "principal_point: 2 numbers (u, v), got {}",
-                other.len()
-            )));
-        }
-    };
-    if let Some(focal_px) = focal_px {
+    if let Some(intrinsics) = intrinsics_arg(focal_px, principal_point)? {
         reconstructor = reconstructor
-            .with_intrinsics(Intrinsics {
-                focal_px,
-                principal_point,
-            })
+            .with_intrinsics(intrinsics)
             .map_err(|e| value_error(e.to_string()))?;
     }
     let n = batch.len();

@@ -825,3 +825,25 @@ def test_a_rolled_camera_is_warned_of():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         camloc.Localizer().localize(points)
+
+
+def test_a_known_camera_aims_the_localization(cli):
+    points = example_points()
+    localizer = camloc.Localizer(camera_height="any")
+    plain = localizer.localize(points)
+    aimed = localizer.localize(points, focal_px=500.0, principal_point=[-400.0, -300.0])
+    assert not np.allclose(plain["probabilities"], aimed["probabilities"])
+    # As the command line gives it.
+    path = KEYPOINTS / "example.json"
+    _, rows = cli(
+        "localize", "--input", path, "--camera-height", "any",
+        "--focal-px", "500", "--principal-point", "-400,-300",
+    )
+    for row, probabilities in zip(rows, aimed["probabilities"]):
+        expected = [row["probabilities"][f"{k:02d}"] for k in range(1, 13)]
+        np.testing.assert_allclose(probabilities, expected, atol=1e-12)
+    # Without a principal point nothing changes; one without a focal length is refused.
+    same = localizer.localize(points, focal_px=500.0)
+    np.testing.assert_array_equal(same["probabilities"], plain["probabilities"])
+    with pytest.raises(ValueError, match="principal_point needs focal_px"):
+        localizer.localize(points, principal_point=[1.0, 2.0])

@@ -34,6 +34,7 @@
 //! [`dataset`], [`features`], [`learning`], [`keypoints`] and
 //! [`reconstruct`](mod@reconstruct).
 
+mod aim;
 mod camera_height;
 mod defaults;
 mod dropout;
@@ -66,6 +67,7 @@ pub use camloc_reconstruct as reconstruct;
 pub use camloc_skeleton as skeleton;
 pub use camloc_store as store;
 
+pub use aim::aimed_at_pelvis;
 pub use camera_height::{CameraHeight, EYE_LEVEL_WEIGHT};
 pub use camloc_features::Descriptor;
 pub use camloc_geometry::CameraLabel;

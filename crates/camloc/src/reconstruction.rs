@@ -128,7 +128,10 @@ impl PoseReconstructor {
 
     /// Reconstructs with a known camera: a final full-perspective refinement with these
     /// intrinsics (pixels, in the input's image coordinates; without a principal point, the
-    /// centre of each pose's 2D bounding box).
+    /// centre of each pose's 2D bounding box), and the localizer aiming each pose
+    /// ([`CameraLocalizer::with_intrinsics`]: a simulated user's views at f = 500 px with the
+    /// pelvis 500 px off-centre, labels 58.8% -> 78.5%, PA-MPJPE 37 -> 36 mm against the
+    /// refinement alone).
     ///
     /// # Errors
     /// [`CamlocError::InvalidOption`] for a focal length that is not finite and positive or
@@ -144,6 +147,9 @@ impl PoseReconstructor {
             });
         }
         self.given.intrinsics = Some(intrinsics);
+        if let Some(localizer) = self.localizer.take() {
+            self.localizer = Some(localizer.with_intrinsics(Some(intrinsics))?);
+        }
         Ok(self)
     }
 
@@ -153,9 +159,18 @@ impl PoseReconstructor {
     }
 
     /// Uses `localizer` to classify the camera (needed by the `classified` and `hybrid` modes
-    /// and by [`PoseReconstructor::evaluate`]).
+    /// and by [`PoseReconstructor::evaluate`]), aiming its poses with this reconstructor's
+    /// intrinsics when they were given ([`with_intrinsics`](Self::with_intrinsics)).
     pub fn with_localizer(mut self, localizer: CameraLocalizer) -> PoseReconstructor {
-        self.localizer = Some(localizer);
+        // Known intrinsics aim its poses too (they were checked when given); else it keeps
+        // its own.
+        self.localizer = Some(match self.given.intrinsics {
+            Some(k) => localizer
+                .clone()
+                .with_intrinsics(Some(k))
+                .unwrap_or(localizer),
+            None => localizer,
+        });
         self
     }
 

@@ -169,6 +169,7 @@ impl CameraLocalizer {
             viewpoint: None,
             viewpoint_expansion: None,
             camera_height: CameraHeight::Any,
+            intrinsics: None,
         };
         if let Some(lambda) = options.viewpoint_lambda {
             match options.viewpoint_capacity {

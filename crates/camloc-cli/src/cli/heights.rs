@@ -6,21 +6,26 @@ use std::io::IsTerminal;
 use std::path::Path;
 
 use camloc::dataset::Dataset;
+use camloc::reconstruct::Intrinsics;
 use camloc::skeleton::PartialPose2;
 use camloc::{CameraLocalizer, HEIGHT_SHARE_MAX_POSES, HEIGHT_SHARE_MIN_POSES, HeightEstimate};
 
 use super::input::Inputs;
 use super::{CameraHeightArg, CameraHeightArgs, CliError, InputArgs, load_model};
 
-/// The model at `model` (or the embedded one) under the prior `height` asks for, and the
-/// input to localize with it: [`load_model`], then [`for_input`].
+/// The model at `model` (or the embedded one) under the prior `height` asks for, aiming the
+/// poses with the camera's `intrinsics` when given
+/// ([`CameraLocalizer::with_intrinsics`]), and the input to localize with it:
+/// [`load_model`], then [`for_input`] (whose estimate sees the poses aimed).
 pub fn load_for_input(
     model: Option<&Path>,
     height: &CameraHeightArgs,
     input: &InputArgs,
+    intrinsics: Option<Intrinsics>,
     quiet: bool,
 ) -> Result<(CameraLocalizer, Inputs), CliError> {
-    for_input(load_model(model, height)?, height, input, quiet)
+    let localizer = load_model(model, height)?.with_intrinsics(intrinsics)?;
+    for_input(localizer, height, input, quiet)
 }
 
 /// The localizer `height` asks for and the input to localize with it. Under

@@ -14,6 +14,7 @@ use camloc::store::escaped;
 use crate::html::ViewFrame;
 use crate::svg;
 
+use super::camera::IntrinsicsArgs;
 use super::export;
 use super::heights;
 use super::localize_json::LocalizationJson;
@@ -35,6 +36,8 @@ pub struct Args {
     pub height: CameraHeightArgs,
     #[command(flatten)]
     pub input: InputArgs,
+    #[command(flatten)]
+    pub intrinsics: IntrinsicsArgs,
     #[command(flatten)]
     pub format: FormatArgs,
     /// Draw each pose and its predicted viewpoint as SVG to this file (several poses:
@@ -109,6 +112,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         args.model.as_deref(),
         &args.height,
         &args.input,
+        args.intrinsics.intrinsics(args.input.image_size),
         args.progress.quiet,
     )?;
     let format = args.format.format();
@@ -144,10 +148,13 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
                 .clone()
                 .ok_or(CamlocError::NoDefault("basis"))?
                 .with_localizer(localizer.clone());
-            let reconstructor = match lifter_for_model(args.model.as_deref())? {
+            let mut reconstructor = match lifter_for_model(args.model.as_deref())? {
                 Some(lifter) => reconstructor.with_lifter(lifter),
                 None => reconstructor,
             };
+            if let Some(intrinsics) = args.intrinsics.intrinsics(args.input.image_size) {
+                reconstructor = reconstructor.with_intrinsics(intrinsics)?;
+            }
             Some(reconstructor.with_mode(ModeKind::Hybrid)?)
         }
         None => None,

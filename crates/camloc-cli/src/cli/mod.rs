@@ -13,6 +13,7 @@ use camloc::{
 use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use clap::{Parser, Subcommand, ValueEnum};
 
+mod camera;
 mod convert;
 mod evaluate;
 mod export;

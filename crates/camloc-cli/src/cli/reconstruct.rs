@@ -4,7 +4,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use camloc::keypoints::KeypointRecord;
-use camloc::reconstruct::{BoneLengths, Intrinsics, PoseBasis};
+use camloc::reconstruct::{BoneLengths, PoseBasis};
 use camloc::store::Persist;
 use camloc::{
     CameraLocalizer, CamlocError, DepthLifter, ModeKind, Pose3, PoseReconstruction,
@@ -12,6 +12,7 @@ use camloc::{
 };
 use clap::builder::{PossibleValue, TypedValueParser};
 
+use super::camera::IntrinsicsArgs;
 use super::export::{self, Kept};
 use super::heights;
 use super::input::Inputs;
@@ -106,17 +107,8 @@ pub struct Args {
     /// under a prior learned from motion capture (with --sequence, one set per person).
     #[arg(long, value_name = "FILE")]
     pub bone_lengths: Option<PathBuf>,
-    /// The camera's focal length in pixels: a final full-perspective refinement with it
-    /// (close cameras, wide lenses); the keypoints must be in pixels too. Without it the
-    /// refinement estimates the camera's distance (and so a focal length); the JSON output
-    /// has that perspective camera.
-    #[arg(long, value_name = "F", value_parser = parse_focal)]
-    pub focal_px: Option<f64>,
-    /// With --focal-px: the principal point in pixels [default: the centre of --image-size
-    /// if given, else of each pose's 2D bounding box].
-    #[arg(long, value_name = "U,V", requires = "focal_px", value_parser = parse_point,
-          allow_hyphen_values = true)]
-    pub principal_point: Option<[f64; 2]>,
+    #[command(flatten)]
+    pub intrinsics: IntrinsicsArgs,
     /// Treat the input as the frames of a video: group the poses by person, order them by
     /// frame, and reconstruct each person's frames together: one set of bone lengths per
     /// person, the depths chosen consistently over time, temporal smoothness (a person whose
@@ -218,30 +210,6 @@ fn to_json<T: serde::Serialize>(value: &T) -> Result<String, CamlocError> {
     })
 }
 
-/// Parses `--focal-px`: a finite number > 0.
-fn parse_focal(text: &str) -> Result<f64, String> {
-    text.trim()
-        .parse::<f64>()
-        .ok()
-        .filter(|f| f.is_finite() && *f > 0.0)
-        .ok_or_else(|| format!("not a finite number of pixels > 0: {text:?}"))
-}
-
-/// Parses `--principal-point`: `U,V`, two finite numbers.
-fn parse_point(text: &str) -> Result<[f64; 2], String> {
-    let numbers: Vec<f64> = text
-        .split(',')
-        .filter_map(|t| t.trim().parse::<f64>().ok())
-        .filter(|v| v.is_finite())
-        .collect();
-    match (numbers.as_slice(), text.split(',').count()) {
-        (&[u, v], 2) => Ok([u, v]),
-        _ => Err(format!(
-            "not U,V with two finite numbers of pixels: {text:?}"
-        )),
-    }
-}
-
 /// The reconstructor `args` ask for: basis, camera mode, localizer, given bone lengths and
 /// intrinsics.
 fn reconstructor(args: &Args, localizer: CameraLocalizer) -> Result<PoseReconstructor, CliError> {
@@ -274,15 +242,8 @@ fn reconstructor(args: &Args, localizer: CameraLocalizer) -> Result<PoseReconstr
         })?;
         reconstructor = reconstructor.with_bone_lengths(lengths);
     }
-    if let Some(focal_px) = args.focal_px {
-        let centre = args
-            .input
-            .image_size
-            .map(|size| [0.5 * size.width, 0.5 * size.height]);
-        reconstructor = reconstructor.with_intrinsics(Intrinsics {
-            focal_px,
-            principal_point: args.principal_point.or(centre),
-        })?;
+    if let Some(intrinsics) = args.intrinsics.intrinsics(args.input.image_size) {
+        reconstructor = reconstructor.with_intrinsics(intrinsics)?;
     }
     Ok(reconstructor)
 }
@@ -324,6 +285,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         args.model.as_deref(),
         &height,
         &args.input,
+        args.intrinsics.intrinsics(args.input.image_size),
         args.progress.quiet,
     )?;
     let reconstructor = reconstructor(args, localizer)?;
