@@ -67,7 +67,20 @@ pub(crate) fn intrinsics_arg(
 pub(crate) fn bone_lengths(value: &Bound<'_, PyAny>, name: &str) -> PyResult<BoneLengths> {
     let invalid = |e: camloc::reconstruct::BoneLengthError| value_error(format!("{name}: {e}"));
     if let Ok(mapping) = value.cast::<PyMapping>() {
-        let named: HashMap<String, f64> = mapping.extract()?;
+        let given: HashMap<String, Bound<'_, PyAny>> = mapping.extract()?;
+        let mut named: HashMap<String, f64> = HashMap::with_capacity(given.len());
+        for (key, value) in given {
+            let number = value.extract::<f64>().map_err(|_| {
+                value_error(format!(
+                    "{name}: {key:?} must be a number of metres, got {}",
+                    value
+                        .get_type()
+                        .name()
+                        .map_or_else(|_| "?".to_owned(), |n| n.to_string())
+                ))
+            })?;
+            named.insert(key, number);
+        }
         if let Some(unknown) = named.keys().find(|k| !BONE_KEYS.contains(&k.as_str())) {
             return Err(value_error(format!(
                 "{name}: unknown key {unknown:?} (expected the 14 keys of BONE_KEYS)"
@@ -182,6 +195,12 @@ pub(crate) fn reconstruct<'py>(
             reconstructor = reconstructor.with_localizer(localizer.with_camera_height(height));
         }
     }
+    // Before the estimate, which sees the poses aimed as they are localized.
+    if let Some(intrinsics) = intrinsics_arg(focal_px, principal_point)? {
+        reconstructor = reconstructor
+            .with_intrinsics(intrinsics)
+            .map_err(|e| value_error(e.to_string()))?;
+    }
     // `opt` localizes no complete pose: no estimate, as `camloc reconstruct --camera opt`.
     if from_input
         && mode != ModeKind::Opt
@@ -195,11 +214,6 @@ pub(crate) fn reconstruct<'py>(
         .map_err(|e| value_error(e.to_string()))?;
     if let Some(value) = &bone_lengths {
         reconstructor = reconstructor.with_bone_lengths(self::bone_lengths(value, "bone_lengths")?);
-    }
-    if let Some(intrinsics) = intrinsics_arg(focal_px, principal_point)? {
-        reconstructor = reconstructor
-            .with_intrinsics(intrinsics)
-            .map_err(|e| value_error(e.to_string()))?;
     }
     let n = batch.len();
     let (results, person_lengths, left_out) = if sequence {

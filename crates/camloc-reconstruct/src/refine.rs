@@ -268,15 +268,27 @@ impl Intrinsics {
     /// focal length and principal point cannot see (a focal length or principal point wrong
     /// by orders of magnitude).
     pub fn check_pose(&self, pose: &Pose2) -> Result<(), ReconstructError> {
-        let spread = rms_radius(&pose.points);
+        self.check_points(&pose.points)
+    }
+
+    /// [`check_pose`](Self::check_pose) on the landmarks `points` of a pose (those present
+    /// of a partial one; none: nothing to check).
+    ///
+    /// # Errors
+    /// As [`check_pose`](Self::check_pose).
+    pub fn check_points(&self, points: &[[f64; 2]]) -> Result<(), ReconstructError> {
+        if points.is_empty() {
+            return Ok(());
+        }
+        let spread = rms_radius(points);
         if spread < MIN_POSE_SPREAD_PER_FOCAL * self.focal_px {
             return Err(ReconstructError::ScaleMismatch {
                 spread,
                 focal: self.focal_px,
             });
         }
-        let n = pose.points.len() as f64;
-        let centroid = [0, 1].map(|k| pose.points.iter().map(|p| p[k]).sum::<f64>() / n);
+        let n = points.len() as f64;
+        let centroid = [0, 1].map(|k| points.iter().map(|p| p[k]).sum::<f64>() / n);
         let off_axis = self
             .principal_point
             .map_or(0.0, |c| (centroid[0] - c[0]).hypot(centroid[1] - c[1]));

@@ -5,7 +5,7 @@
 //! views at f = 500 px with the pelvis 500 px off-centre: 12-class accuracy 58% against 77%
 //! centred).
 
-use camloc_reconstruct::Intrinsics;
+use camloc_reconstruct::{Intrinsics, ReconstructError};
 use camloc_skeleton::{Landmark, PartialPose2};
 
 /// `pose` (pixels) as the camera of `intrinsics` would see it turned about its centre so that
@@ -15,13 +15,24 @@ use camloc_skeleton::{Landmark, PartialPose2};
 /// with the same focal length and principal point. Without a principal point (its default,
 /// the centre of the pose's box) the pose is its own; a landmark whose turned ray points
 /// behind the camera is left out.
-pub fn aimed_at_pelvis(pose: &PartialPose2, intrinsics: &Intrinsics) -> PartialPose2 {
+///
+/// # Errors
+/// As [`Intrinsics::check_points`] on the landmarks present: a pose far smaller than the
+/// focal length says a person can be ([`ReconstructError::ScaleMismatch`]: normalised
+/// coordinates), or spread over or lying off the principal point by more than 100 focal
+/// lengths ([`ReconstructError::OutsideView`]: a focal length or principal point wrong by
+/// orders of magnitude, which gave confident answers).
+pub fn aimed_at_pelvis(
+    pose: &PartialPose2,
+    intrinsics: &Intrinsics,
+) -> Result<PartialPose2, ReconstructError> {
+    let present: Vec<[f64; 2]> = pose.points.iter().flatten().copied().collect();
+    intrinsics.check_points(&present)?;
     let Some(centre) = intrinsics.principal_point else {
-        return *pose;
+        return Ok(*pose);
     };
     let f = intrinsics.focal_px;
     let at = |l: Landmark| pose.points[l.index()];
-    let present: Vec<[f64; 2]> = pose.points.iter().flatten().copied().collect();
     let pelvis = at(Landmark::Pelvis)
         .or_else(|| {
             let (a, b) = (at(Landmark::LeftHip)?, at(Landmark::RightHip)?);
@@ -32,7 +43,7 @@ pub fn aimed_at_pelvis(pose: &PartialPose2, intrinsics: &Intrinsics) -> PartialP
             (n > 0.0).then(|| [0, 1].map(|k| present.iter().map(|p| p[k]).sum::<f64>() / n))
         });
     let Some(pelvis) = pelvis else {
-        return *pose;
+        return Ok(*pose);
     };
     let ray = |p: [f64; 2]| {
         let r = [(p[0] - centre[0]) / f, (p[1] - centre[1]) / f, 1.0];
@@ -46,7 +57,7 @@ pub fn aimed_at_pelvis(pose: &PartialPose2, intrinsics: &Intrinsics) -> PartialP
     let sin = (axis[0] * axis[0] + axis[1] * axis[1]).sqrt();
     let cos = a[2];
     if sin < 1e-12 {
-        return *pose;
+        return Ok(*pose);
     }
     let k = axis.map(|c| c / sin);
     let turn = |v: [f64; 3]| -> [f64; 3] {
@@ -65,7 +76,7 @@ pub fn aimed_at_pelvis(pose: &PartialPose2, intrinsics: &Intrinsics) -> PartialP
             (r[2] > 1e-9).then(|| [centre[0] + f * r[0] / r[2], centre[1] + f * r[1] / r[2]])
         });
     }
-    aimed
+    Ok(aimed)
 }
 
 #[cfg(test)]
@@ -108,7 +119,7 @@ mod tests {
         let off = seen(0.7);
         // The off-centre pose differs from the centred one beyond a shift; aimed, it is the
         // centred one (the turn about the camera's y axis is the smallest one).
-        let aimed = aimed_at_pelvis(&off, &intrinsics);
+        let aimed = aimed_at_pelvis(&off, &intrinsics).unwrap();
         for (a, b) in aimed.points.iter().zip(&centred.points) {
             let (a, b) = (a.unwrap(), b.unwrap());
             assert!(
@@ -121,11 +132,20 @@ mod tests {
             principal_point: None,
             ..intrinsics
         };
-        assert_eq!(aimed_at_pelvis(&off, &no_point), off);
-        let again = aimed_at_pelvis(&centred, &intrinsics);
+        assert_eq!(aimed_at_pelvis(&off, &no_point).unwrap(), off);
+        let again = aimed_at_pelvis(&centred, &intrinsics).unwrap();
         for (a, b) in again.points.iter().zip(&centred.points) {
             let (a, b) = (a.unwrap(), b.unwrap());
             assert!((a[0] - b[0]).abs() < 1e-9 && (a[1] - b[1]).abs() < 1e-9);
         }
+        // A focal length of 1 px with the principal point far off: refused.
+        let absurd = Intrinsics {
+            focal_px: 1.0,
+            principal_point: Some([0.0, 0.0]),
+        };
+        assert!(matches!(
+            aimed_at_pelvis(&off, &absurd),
+            Err(ReconstructError::OutsideView { .. })
+        ));
     }
 }

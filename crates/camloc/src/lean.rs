@@ -5,7 +5,7 @@
 
 use camloc_skeleton::{Landmark, PartialPose2};
 
-/// The smallest median lean of an input's torsos, degrees, that [`tilted_camera_warning`]
+/// The smallest mean lean of an input's torsos, degrees, that [`tilted_camera_warning`]
 /// warns of (at 20 deg of roll a simulated user's views lost 6 points of accuracy; upright
 /// walking and sitting people lean a few degrees).
 pub const TILT_WARNING_DEG: f64 = 20.0;
@@ -66,26 +66,36 @@ impl LeanHistogram {
         self.count
     }
 
-    /// The median lean, degrees (the middle of its 1-degree bin); `None` before any pose.
-    pub fn median_deg(&self) -> Option<f64> {
-        let half = self.count.div_ceil(2).max(1);
-        let mut seen = 0;
-        for (k, &n) in self.bins.iter().enumerate() {
-            seen += n;
-            if seen >= half && self.count > 0 {
-                return Some(k as f64 - 179.5);
-            }
+    /// The mean lean, degrees in (-180, 180]: the direction of the mean of the leans' unit
+    /// vectors (each the middle of its 1-degree bin), which does not wrap at ±180 as a median
+    /// does; `None` before any pose or when the leans spread too evenly to have a direction
+    /// (the mean vector shorter than [`TILT_MIN_AGREEMENT`]).
+    pub fn mean_deg(&self) -> Option<f64> {
+        if self.count == 0 {
+            return None;
         }
-        None
+        let (mut x, mut y) = (0.0, 0.0);
+        for (k, &n) in self.bins.iter().enumerate() {
+            let angle = (k as f64 - 179.5).to_radians();
+            x += n as f64 * angle.cos();
+            y += n as f64 * angle.sin();
+        }
+        let n = self.count as f64;
+        ((x / n).hypot(y / n) >= TILT_MIN_AGREEMENT).then(|| y.atan2(x).to_degrees())
     }
 }
 
-/// The warning for an input whose median torso lean ([`LeanHistogram::median_deg`]) is
+/// How much the torsos of an input must agree for [`LeanHistogram::mean_deg`] to give their
+/// lean: the length of the mean of their unit vectors (1 when all lean alike, 0.7 for leans
+/// spread evenly over ±80 deg).
+pub const TILT_MIN_AGREEMENT: f64 = 0.5;
+
+/// The warning for an input whose mean torso lean ([`LeanHistogram::mean_deg`]) is
 /// [`TILT_WARNING_DEG`] or more from upright but not upside down (within 45 deg of it, which
 /// [`upside_down_warning`](crate::upside_down_warning) covers), over at least
 /// [`TILT_MIN_POSES`] poses; `None` otherwise.
 pub fn tilted_camera_warning(leans: &LeanHistogram) -> Option<String> {
-    let median = leans.median_deg()?;
+    let median = leans.mean_deg()?;
     let tilted = (TILT_WARNING_DEG..=135.0).contains(&median.abs());
     (leans.count() >= TILT_MIN_POSES && tilted).then(|| {
         let turn = if median > 0.0 {
@@ -94,7 +104,7 @@ pub fn tilted_camera_warning(leans: &LeanHistogram) -> Option<String> {
             "clockwise"
         };
         format!(
-            "the poses' torsos lean {:.0} deg from the image's vertical (median of {}): was \
+            "the poses' torsos lean {:.0} deg from the image's vertical (mean of {}): was \
              the camera rolled (a phone held askew, a portrait video read as landscape)? camloc \
              takes the image upright; turn the keypoints {:.0} deg {turn} (as the image is \
              shown) about the image centre. People lying, crawling or bent over lean too: then \
@@ -131,24 +141,34 @@ mod tests {
             leans.add(&torso([3.0, -50.0]));
         }
         assert!(tilted_camera_warning(&leans).is_none());
-        // Most torsos leaning 30 deg to the right: turn the keypoints back counterclockwise.
-        let right = (
-            30f64.to_radians().sin() * 50.0,
-            -30f64.to_radians().cos() * 50.0,
-        );
-        for _ in 0..11 {
-            leans.add(&torso([right.0, right.1]));
+        // Torsos leaning about 30 deg to the right: turn the keypoints back counterclockwise.
+        let at = |deg: f64| {
+            let a = deg.to_radians();
+            torso([a.sin() * 50.0, -a.cos() * 50.0])
+        };
+        let mut rolled = LeanHistogram::default();
+        for k in 0..10 {
+            rolled.add(&at(25.0 + k as f64));
         }
-        let warning = tilted_camera_warning(&leans).unwrap();
+        let warning = tilted_camera_warning(&rolled).unwrap();
         assert!(warning.contains("lean 30 deg") && warning.contains("counterclockwise"));
-        // Too few poses, or upside down (the other warning's): none.
+        // Too few poses: none.
         let mut few = LeanHistogram::default();
-        few.add(&torso([right.0, right.1]));
+        few.add(&at(30.0));
         assert!(tilted_camera_warning(&few).is_none());
-        let mut upside_down = LeanHistogram::default();
-        for _ in 0..10 {
-            upside_down.add(&torso([0.0, 50.0]));
+        // Leans spread evenly all round have no direction.
+        let mut spread = LeanHistogram::default();
+        for k in 0..36 {
+            spread.add(&at(10.0 * k as f64));
         }
-        assert!(tilted_camera_warning(&upside_down).is_none());
+        assert_eq!(spread.mean_deg(), None);
+        // A camera upside down (leans about ±180, which a median put near 0 and called a
+        // roll of 72 deg): the upside-down warning's, not this one.
+        let mut turned = LeanHistogram::default();
+        for k in 0..10 {
+            turned.add(&at(if k % 2 == 0 { 178.0 } else { -178.0 }));
+        }
+        assert!(turned.mean_deg().unwrap().abs() > 179.0);
+        assert!(tilted_camera_warning(&turned).is_none());
     }
 }

@@ -319,7 +319,19 @@ impl CameraLocalizer {
             let d = self.descriptor.len();
             descriptor.resize(d, 0.0);
             undefined.resize(d, false);
-            let aimed = self.intrinsics.map(|k| crate::aimed_at_pelvis(pose, &k));
+            let aimed = match self
+                .intrinsics
+                .map(|k| crate::aimed_at_pelvis(pose, &k))
+                .transpose()
+            {
+                Ok(aimed) => aimed,
+                Err(source) => {
+                    return Err(CamlocError::Reconstruct {
+                        context: context(),
+                        source,
+                    });
+                }
+            };
             self.descriptor
                 .extract_partial_into(aimed.as_ref().unwrap_or(pose), descriptor, undefined)
                 .map_err(|source| CamlocError::Feature {

@@ -28,8 +28,10 @@ pub fn upside_down_warning(checked: u64, upside_down: u64) -> Option<String> {
     (2 * upside_down > checked).then(|| {
         format!(
             "{upside_down} of {checked} poses have the head below both ankles: camloc takes \
-             image coordinates with v down (image rows); flip v if the input's v points up \
-             (people on their hands are seen as they are)"
+             image coordinates with v down (image rows); flip v if the input's v points up, \
+             but if the camera was upside down (the image turned, v down) turn the keypoints \
+             180 deg about the image centre instead: flipping would mirror the people, front \
+             for back (people on their hands are seen as they are)"
         )
     })
 }

@@ -12,7 +12,7 @@ pub struct IntrinsicsArgs {
     /// edge of a wide-angle image is otherwise drawn out by the perspective); `reconstruct`
     /// also ends with a full-perspective refinement with it (close cameras, wide lenses).
     /// Without it `reconstruct` estimates the camera's distance (and so a focal length).
-    #[arg(long, value_name = "F", value_parser = parse_focal)]
+    #[arg(long, value_name = "F", value_parser = parse_focal, allow_hyphen_values = true)]
     pub focal_px: Option<f64>,
     /// With --focal-px: the principal point in pixels [default: the centre of --image-size
     /// if given, else of each pose's 2D bounding box, which leaves the localization as it is].

@@ -15,6 +15,10 @@ const FADE_FRAMES: usize = 2;
 /// frames a second).
 const BLEND_FRAMES: usize = 30;
 
+/// The straightest a lock makes a knee (the angle between thigh and shin, degrees) unless it
+/// was straighter: where the foot's place needs more, the foot is left short of it.
+const MAX_KNEE_DEG: f64 = 165.0;
+
 /// The legs: hip, knee and ankle.
 const LEGS: [[Landmark; 3]; 2] = [
     [Landmark::LeftHip, Landmark::LeftKnee, Landmark::LeftAnkle],
@@ -153,8 +157,20 @@ fn move_ankle(pose: &mut Pose3, leg: [Landmark; 3], shift: [f64; 3]) {
     if !(thigh > 0.0 && shin > 0.0 && reach > 0.0) {
         return;
     }
-    // Within the leg's reach (a straight leg at most, folded at least).
-    let d = reach.clamp((thigh - shin).abs() * 1.001, (thigh + shin) * 0.999);
+    // Within the leg's reach, and not straighter than the knee was or MAX_KNEE_DEG (a trailing
+    // leg pulled back to its footprint straightened to the limit, then bent 27 deg in two
+    // frames).
+    let old_reach = {
+        let a = sub(ankle, hip);
+        dot(a, a).sqrt()
+    };
+    let straightest = (thigh * thigh + shin * shin
+        - 2.0 * thigh * shin * MAX_KNEE_DEG.to_radians().cos())
+    .sqrt()
+    .max(old_reach);
+    let d = reach
+        .min(straightest)
+        .clamp((thigh - shin).abs() * 1.001, (thigh + shin) * 0.999);
     let axis = wanted.map(|c| c / reach);
     // The knee's side: the old knee's offset across the new hip-ankle line.
     let old = sub(knee, hip);
