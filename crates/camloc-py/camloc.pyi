@@ -261,7 +261,7 @@ def reconstruct(
     principal point without a focal length or an unknown ``camera_height`` (as ``Localizer``);
     OSError / CamlocError for an unreadable or invalid basis; MemoryError, before any work,
     for more poses than the outputs can be allocated for. A focal length or principal point
-    wrong by orders of magnitude (the pose over 100 focal lengths from its centroid or the
+    wrong by orders of magnitude (the pose over 10 focal lengths from its centroid or the
     principal point) is each pose's error.
 
     Ctrl-C raises ``KeyboardInterrupt`` after the block of 1,024 poses being reconstructed

@@ -4,8 +4,8 @@
 
 use camloc::{
     HEIGHT_SHARE_MAX_POSES, LeanHistogram, PartialPose2, TorsoAnchor, has_origin_placeholders,
-    head_below_ankles, identity_jumps, left_out_of_sequence, origin_placeholder_warning,
-    tilted_camera_warning, upside_down_warning,
+    head_below_ankles, identity_jumps, left_out_of_sequence, orientation_warning,
+    origin_placeholder_warning,
 };
 use pyo3::exceptions::PyUserWarning;
 use pyo3::prelude::*;
@@ -18,9 +18,9 @@ pub(crate) fn warn(py: Python<'_>, message: String) -> PyResult<()> {
 
 /// Warns (`UserWarning`) when most of the first [`HEIGHT_SHARE_MAX_POSES`] poses of a call
 /// (`leading`, [`PoseBatch::leading_poses`](crate::arrays::PoseBatch::leading_poses)) have the
-/// head below both ankles (`camloc::upside_down_warning`), when their torsos lean alike (a
-/// rolled camera: `camloc::tilted_camera_warning`) and when any has joints at the image
-/// origin (`camloc::origin_placeholder_warning`), as the command line warns.
+/// head below both ankles or their torsos lean alike (points with v up, a camera upside down
+/// or rolled: `camloc::orientation_warning`) and when any has joints at the image origin
+/// (`camloc::origin_placeholder_warning`), as the command line warns.
 pub(crate) fn warn_of_input_conventions(
     py: Python<'_>,
     leading: &[Option<PartialPose2>],
@@ -36,10 +36,7 @@ pub(crate) fn warn_of_input_conventions(
             below += u64::from(b);
         }
     }
-    if let Some(warning) = upside_down_warning(checked, below) {
-        warn(py, warning)?;
-    }
-    if let Some(warning) = tilted_camera_warning(&leans) {
+    if let Some(warning) = orientation_warning(checked, below, &leans) {
         warn(py, warning)?;
     }
     match origin_placeholder_warning(mapped, placeholders) {

@@ -252,9 +252,11 @@ pub const MIN_POSE_SPREAD_PER_FOCAL: f64 = 1e-3;
 
 /// The largest root mean square radius of a 2D pose, and the largest distance of its centroid
 /// from the principal point, in focal lengths, that [`Intrinsics::check_pose`] accepts: a
-/// person's landmarks 0.4 m from their centroid spread over 10 focal lengths only 4 cm from
-/// the lens, and a centroid 100 focal lengths off the axis lies 89.4 deg from it.
-pub const MAX_POSE_REACH_PER_FOCAL: f64 = 100.0;
+/// centroid 10 focal lengths off the axis lies 84 deg from it (a wide lens's corner is about
+/// 1 to 2 focal lengths off), and a person's landmarks 0.4 m from their centroid spread over
+/// 10 focal lengths 4 cm from the lens. A re-test found 100 too wide: a focal length of 5
+/// px gave confident labels.
+pub const MAX_POSE_REACH_PER_FOCAL: f64 = 10.0;
 
 impl Intrinsics {
     /// Checks that `pose` is in the units of the focal length and in the camera's view: its

@@ -55,11 +55,12 @@ pub const SMOOTHING_FRAMES: usize = 2;
 ///   carried) or is above the floor. Across `None` frames the path only bends.
 /// - **Locked feet**: within each run of frames where an ankle is planted, the ankle is put
 ///   at the run's mean place by turning the thigh and shin about the hip (the knee in its
-///   plane, the lengths kept, the knee not straightened beyond 165 deg), the correction going
+///   plane, the lengths kept, the knee straightened by at most 5 deg and not beyond 165
+///   deg), the correction going
 ///   in even steps between two runs of a foot and fading over 2 frames at the ends
 ///   (`world/foot_lock.rs`), after the floor below: after the path's move the planted feet
 ///   still slid by 1.0-2.1 cm a frame on a simulated user's five tripod walks (the truth's
-///   0.25-0.3 cm), locked by 0.15-1.4 cm, the poses' PA-MPJPE within 1.7 mm. These poses are
+///   0.25-0.3 cm), locked by 0.16-1.4 cm, the poses' PA-MPJPE within 1.4 mm. These poses are
 ///   the animation's; the reconstructions themselves are not changed.
 /// - **Floor**: a slope of the planted ankles' heights along the path gentler than 6 deg
 ///   (from the depth's error, which grows with the distance) is taken out by moving each

@@ -19,7 +19,7 @@ use camloc_skeleton::{Landmark, PartialPose2};
 /// # Errors
 /// As [`Intrinsics::check_points`] on the landmarks present: a pose far smaller than the
 /// focal length says a person can be ([`ReconstructError::ScaleMismatch`]: normalised
-/// coordinates), or spread over or lying off the principal point by more than 100 focal
+/// coordinates), or spread over or lying off the principal point by more than 10 focal
 /// lengths ([`ReconstructError::OutsideView`]: a focal length or principal point wrong by
 /// orders of magnitude, which gave confident answers).
 pub fn aimed_at_pelvis(

@@ -5,12 +5,12 @@
 
 use camloc_skeleton::{Landmark, PartialPose2};
 
-/// The smallest mean lean of an input's torsos, degrees, that [`tilted_camera_warning`]
+/// The smallest lean of an input's torsos, degrees, that [`orientation_warning`]
 /// warns of (at 20 deg of roll a simulated user's views lost 6 points of accuracy; upright
 /// walking and sitting people lean a few degrees).
 pub const TILT_WARNING_DEG: f64 = 20.0;
 
-/// The fewest poses with a torso for [`tilted_camera_warning`] to judge an input: one person
+/// The fewest poses with a torso for [`orientation_warning`] to judge a roll: one person
 /// bending over is not a rolled camera.
 pub const TILT_MIN_POSES: u64 = 5;
 
@@ -66,54 +66,93 @@ impl LeanHistogram {
         self.count
     }
 
-    /// The mean lean, degrees in (-180, 180]: the direction of the mean of the leans' unit
-    /// vectors (each the middle of its 1-degree bin), which does not wrap at ±180 as a median
-    /// does; `None` before any pose or when the leans spread too evenly to have a direction
-    /// (the mean vector shorter than [`TILT_MIN_AGREEMENT`]).
-    pub fn mean_deg(&self) -> Option<f64> {
+    /// The input's lean, degrees in (-180, 180]: the circular median of the leans (the
+    /// middle of the 1-degree bin whose summed angular distance to all of them is least),
+    /// which neither wraps at ±180 deg as a median of numbers does nor follows a minority of
+    /// people lying down as a mean does; `None` before any pose or when the leans spread too
+    /// evenly to have a direction (the mean of their unit vectors shorter than
+    /// [`TILT_MIN_AGREEMENT`]).
+    pub fn typical_deg(&self) -> Option<f64> {
         if self.count == 0 {
             return None;
         }
+        let centre = |k: usize| (k as f64 - 179.5).to_radians();
         let (mut x, mut y) = (0.0, 0.0);
         for (k, &n) in self.bins.iter().enumerate() {
-            let angle = (k as f64 - 179.5).to_radians();
-            x += n as f64 * angle.cos();
-            y += n as f64 * angle.sin();
+            x += n as f64 * centre(k).cos();
+            y += n as f64 * centre(k).sin();
         }
         let n = self.count as f64;
-        ((x / n).hypot(y / n) >= TILT_MIN_AGREEMENT).then(|| y.atan2(x).to_degrees())
+        if (x / n).hypot(y / n) < TILT_MIN_AGREEMENT {
+            return None;
+        }
+        // Angular distance between bins, in bins (degrees).
+        let apart = |a: usize, b: usize| {
+            let d = a.abs_diff(b);
+            d.min(360 - d) as f64
+        };
+        let cost = |c: usize| -> f64 {
+            (self.bins.iter().enumerate())
+                .map(|(k, &n)| n as f64 * apart(c, k))
+                .sum()
+        };
+        let best = (0..360).min_by(|&a, &b| cost(a).total_cmp(&cost(b)))?;
+        Some(best as f64 - 179.5)
     }
 }
 
-/// How much the torsos of an input must agree for [`LeanHistogram::mean_deg`] to give their
-/// lean: the length of the mean of their unit vectors (1 when all lean alike, 0.7 for leans
-/// spread evenly over ±80 deg).
+/// How much the torsos of an input must agree for [`LeanHistogram::typical_deg`] to give
+/// their lean: the length of the mean of their unit vectors (1 when all lean alike, 0.7 for
+/// leans spread evenly over ±80 deg).
 pub const TILT_MIN_AGREEMENT: f64 = 0.5;
 
-/// The warning for an input whose mean torso lean ([`LeanHistogram::mean_deg`]) is
-/// [`TILT_WARNING_DEG`] or more from upright but not upside down (within 45 deg of it, which
-/// [`upside_down_warning`](crate::upside_down_warning) covers), over at least
-/// [`TILT_MIN_POSES`] poses; `None` otherwise.
-pub fn tilted_camera_warning(leans: &LeanHistogram) -> Option<String> {
-    let median = leans.mean_deg()?;
-    let tilted = (TILT_WARNING_DEG..=135.0).contains(&median.abs());
-    (leans.count() >= TILT_MIN_POSES && tilted).then(|| {
-        let turn = if median > 0.0 {
+/// The warning for an input whose poses are not upright in the image, `None` otherwise:
+/// - when most of the `checked` poses that have a head and both ankles have the head below
+///   both (`upside_down` of them, [`head_below_ankles`](crate::head_below_ankles)): points
+///   given with `v` up (to be flipped), or a camera upside down (to be turned by the
+///   input's lean, [`LeanHistogram::typical_deg`]; flipping would mirror the people, front
+///   for back);
+/// - else when the input's lean is [`TILT_WARNING_DEG`] or more from upright over at least
+///   [`TILT_MIN_POSES`] poses: a camera rolled about its axis.
+pub fn orientation_warning(
+    checked: u64,
+    upside_down: u64,
+    leans: &LeanHistogram,
+) -> Option<String> {
+    let lean = leans.typical_deg();
+    let turn = |lean: f64| {
+        let way = if lean > 0.0 {
             "counterclockwise"
         } else {
             "clockwise"
         };
         format!(
-            "the poses' torsos lean {:.0} deg from the image's vertical (mean of {}): was \
-             the camera rolled (a phone held askew, a portrait video read as landscape)? camloc \
-             takes the image upright; turn the keypoints {:.0} deg {turn} (as the image is \
-             shown) about the image centre. People lying, crawling or bent over lean too: then \
-             ignore this",
-            median.abs(),
-            leans.count(),
-            median.abs()
+            "{:.0} deg {way} (as the image is shown) about the image centre",
+            lean.abs()
         )
-    })
+    };
+    if 2 * upside_down > checked {
+        let by = lean
+            .filter(|l| l.abs() >= 90.0)
+            .map_or_else(|| "180 deg about the image centre".to_owned(), turn);
+        return Some(format!(
+            "{upside_down} of {checked} poses have the head below both ankles: camloc takes \
+             image coordinates with v down (image rows); flip v if the input's v points up, \
+             but if the camera was upside down (the image turned, v down) turn the keypoints \
+             {by} instead: flipping would mirror the people, front for back (people on their \
+             hands are seen as they are)"
+        ));
+    }
+    let lean = lean.filter(|l| leans.count() >= TILT_MIN_POSES && l.abs() >= TILT_WARNING_DEG)?;
+    Some(format!(
+        "the poses' torsos lean {:.0} deg from the image's vertical (of {} poses): was the \
+         camera rolled (a phone held askew, a portrait video read as landscape)? camloc takes \
+         the image upright; turn the keypoints {}. People lying, crawling or bent over lean \
+         too: then ignore this",
+        lean.abs(),
+        leans.count(),
+        turn(lean)
+    ))
 }
 
 #[cfg(test)]
@@ -140,7 +179,7 @@ mod tests {
         for _ in 0..10 {
             leans.add(&torso([3.0, -50.0]));
         }
-        assert!(tilted_camera_warning(&leans).is_none());
+        assert!(orientation_warning(0, 0, &leans).is_none());
         // Torsos leaning about 30 deg to the right: turn the keypoints back counterclockwise.
         let at = |deg: f64| {
             let a = deg.to_radians();
@@ -150,25 +189,44 @@ mod tests {
         for k in 0..10 {
             rolled.add(&at(25.0 + k as f64));
         }
-        let warning = tilted_camera_warning(&rolled).unwrap();
-        assert!(warning.contains("lean 30 deg") && warning.contains("counterclockwise"));
+        let warning = orientation_warning(0, 0, &rolled).unwrap();
+        assert!(warning.contains("lean 30 deg") && warning.contains("30 deg counterclockwise"));
         // Too few poses: none.
         let mut few = LeanHistogram::default();
         few.add(&at(30.0));
-        assert!(tilted_camera_warning(&few).is_none());
+        assert!(orientation_warning(0, 0, &few).is_none());
         // Leans spread evenly all round have no direction.
         let mut spread = LeanHistogram::default();
         for k in 0..36 {
             spread.add(&at(10.0 * k as f64));
         }
-        assert_eq!(spread.mean_deg(), None);
-        // A camera upside down (leans about ±180, which a median put near 0 and called a
-        // roll of 72 deg): the upside-down warning's, not this one.
+        assert_eq!(spread.typical_deg(), None);
+        // A third of the people lying down does not make upright ones rolled (a mean of
+        // directions had said 22-39 deg).
+        let mut lying = LeanHistogram::default();
+        for k in 0..10 {
+            lying.add(&at(if k < 7 { 2.0 } else { 90.0 }));
+        }
+        assert!(lying.typical_deg().unwrap().abs() < 3.0);
+        assert!(orientation_warning(0, 0, &lying).is_none());
+        // A camera upside down, about ±180 (which a median of numbers put near 0 and called
+        // a roll of 72 deg), or at 150: the upside-down warning, with the turn that helps.
         let mut turned = LeanHistogram::default();
         for k in 0..10 {
             turned.add(&at(if k % 2 == 0 { 178.0 } else { -178.0 }));
         }
-        assert!(turned.mean_deg().unwrap().abs() > 179.0);
-        assert!(tilted_camera_warning(&turned).is_none());
+        assert!(turned.typical_deg().unwrap().abs() > 178.0);
+        let warning = orientation_warning(10, 10, &turned).unwrap();
+        assert!(warning.contains("head below") && warning.contains("turn the keypoints 18"));
+        let mut tilted = LeanHistogram::default();
+        for _ in 0..10 {
+            tilted.add(&at(150.0));
+        }
+        let warning = orientation_warning(10, 10, &tilted).unwrap();
+        assert!(
+            warning.contains("turn the keypoints 150 deg counterclockwise"),
+            "{warning}"
+        );
+        assert!(orientation_warning(10, 5, &leans).is_none());
     }
 }

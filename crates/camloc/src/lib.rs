@@ -96,7 +96,8 @@ pub use sequence::{
 };
 
 pub use lean::{
-    LeanHistogram, TILT_MIN_POSES, TILT_WARNING_DEG, tilted_camera_warning, torso_lean_deg,
+    LeanHistogram, TILT_MIN_AGREEMENT, TILT_MIN_POSES, TILT_WARNING_DEG, orientation_warning,
+    torso_lean_deg,
 };
 pub use lifter::{DEFAULT_LIFTER_LAMBDA, DepthLifter, depth_targets};
 pub use localizer::{CameraLocalizer, Localization};
@@ -106,5 +107,5 @@ pub use train_options::{
     DEFAULT_QUADRATIC_COMPONENTS, DEFAULT_QUADRATIC_LAMBDA, DEFAULT_VIEWPOINT_LAMBDA,
     LandmarkDropout, MAX_DROPOUT_COPIES, QUADRATIC_GRADIENT_TOLERANCE, TrainOptions, TrainingInfo,
 };
-pub use upside_down::{head_below_ankles, upside_down_warning};
+pub use upside_down::head_below_ankles;
 pub use viewpoint_smoothing::{VIEWPOINT_HALF_WINDOW, Viewpoint, smooth_viewpoints};

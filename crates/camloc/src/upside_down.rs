@@ -1,6 +1,6 @@
 //! Whether the poses of an input stand on their heads in the image: points given with `v` up
 //! (a plot's convention) rather than down (image rows), which camloc reads as people upside
-//! down and answers for confidently.
+//! down and answers for confidently ([`orientation_warning`](crate::orientation_warning) warns).
 
 use camloc_skeleton::{Landmark, PartialPose2};
 
@@ -21,27 +21,12 @@ pub fn head_below_ankles(pose: &PartialPose2) -> Option<bool> {
     Some(head > left && head > right)
 }
 
-/// The warning for an input of which `upside_down` of the `checked` poses that have a head
-/// and both ankles have the head below both ([`head_below_ankles`]), when that is most of
-/// them; `None` otherwise.
-pub fn upside_down_warning(checked: u64, upside_down: u64) -> Option<String> {
-    (2 * upside_down > checked).then(|| {
-        format!(
-            "{upside_down} of {checked} poses have the head below both ankles: camloc takes \
-             image coordinates with v down (image rows); flip v if the input's v points up, \
-             but if the camera was upside down (the image turned, v down) turn the keypoints \
-             180 deg about the image centre instead: flipping would mirror the people, front \
-             for back (people on their hands are seen as they are)"
-        )
-    })
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
-    fn a_pose_upside_down_is_told_and_most_of_an_input_warned_of() {
+    fn a_pose_upside_down_is_told() {
         let mut pose = PartialPose2::empty();
         pose.points[Landmark::Head.index()] = Some([0.0, 10.0]);
         assert_eq!(head_below_ankles(&pose), None);
@@ -50,11 +35,5 @@ mod tests {
         assert_eq!(head_below_ankles(&pose), Some(false));
         pose.points[Landmark::Head.index()] = Some([0.0, 250.0]);
         assert_eq!(head_below_ankles(&pose), Some(true));
-        assert!(upside_down_warning(10, 5).is_none());
-        assert!(
-            upside_down_warning(10, 6)
-                .unwrap()
-                .starts_with("6 of 10 poses")
-        );
     }
 }

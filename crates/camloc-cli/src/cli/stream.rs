@@ -171,10 +171,8 @@ impl Summary {
     /// Reports failures on standard error (`verb`: "localized", ...) and gives the exit code:
     /// an error when a pose failed, a file could not be read, or no pose had a landmark.
     pub fn exit_code(&self, verb: &str) -> ExitCode {
-        if let Some(warning) = camloc::upside_down_warning(self.upside_down.0, self.upside_down.1) {
-            stderr_line!("camloc: warning: {warning}");
-        }
-        if let Some(warning) = camloc::tilted_camera_warning(&self.leans) {
+        let (checked, upside_down) = self.upside_down;
+        if let Some(warning) = camloc::orientation_warning(checked, upside_down, &self.leans) {
             stderr_line!("camloc: warning: {warning}");
         }
         if let Some(warning) =

@@ -18,6 +18,8 @@ const BLEND_FRAMES: usize = 30;
 /// The straightest a lock makes a knee (the angle between thigh and shin, degrees) unless it
 /// was straighter: where the foot's place needs more, the foot is left short of it.
 const MAX_KNEE_DEG: f64 = 165.0;
+/// The most a lock straightens a knee, degrees.
+const MAX_KNEE_STRAIGHTEN_DEG: f64 = 5.0;
 
 /// The legs: hip, knee and ankle.
 const LEGS: [[Landmark; 3]; 2] = [
@@ -157,19 +159,20 @@ fn move_ankle(pose: &mut Pose3, leg: [Landmark; 3], shift: [f64; 3]) {
     if !(thigh > 0.0 && shin > 0.0 && reach > 0.0) {
         return;
     }
-    // Within the leg's reach, and not straighter than the knee was or MAX_KNEE_DEG (a trailing
-    // leg pulled back to its footprint straightened to the limit, then bent 27 deg in two
-    // frames).
-    let old_reach = {
-        let a = sub(ankle, hip);
-        dot(a, a).sqrt()
+    // Within the leg's reach, and straightened by at most MAX_KNEE_STRAIGHTEN_DEG, to at
+    // most MAX_KNEE_DEG (a trailing leg pulled back to its footprint went to the limit, then
+    // bent 27 deg in two frames; a cap at 165 deg alone raised knees bent to 139-155 deg).
+    let reach_at = |angle_deg: f64| {
+        (thigh * thigh + shin * shin - 2.0 * thigh * shin * angle_deg.to_radians().cos()).sqrt()
     };
-    let straightest = (thigh * thigh + shin * shin
-        - 2.0 * thigh * shin * MAX_KNEE_DEG.to_radians().cos())
-    .sqrt()
-    .max(old_reach);
+    let own_deg = {
+        let a = sub(ankle, hip);
+        let cos = (thigh * thigh + shin * shin - dot(a, a)) / (2.0 * thigh * shin);
+        cos.clamp(-1.0, 1.0).acos().to_degrees()
+    };
+    let straightest = own_deg.max((own_deg + MAX_KNEE_STRAIGHTEN_DEG).min(MAX_KNEE_DEG));
     let d = reach
-        .min(straightest)
+        .min(reach_at(straightest))
         .clamp((thigh - shin).abs() * 1.001, (thigh + shin) * 0.999);
     let axis = wanted.map(|c| c / reach);
     // The knee's side: the old knee's offset across the new hip-ankle line.
