@@ -101,6 +101,17 @@ pub enum ReconstructError {
         /// The focal length given (pixels).
         focal: f64,
     },
+    /// A 2D pose that spans 90 deg or more of the view under a focal length: turned to aim at
+    /// its pelvis, a landmark lies behind the camera (a focal length far too short).
+    #[error(
+        "2D pose spans 90 deg or more of the view at a focal length of {focal:?} (aimed at its \
+         pelvis, a landmark lies behind the camera); check the focal length and principal \
+         point (pixels)"
+    )]
+    BeyondView {
+        /// The focal length given (pixels).
+        focal: f64,
+    },
     /// The 2D input cannot be reconstructed (zero torso, all points coinciding).
     #[error("2D pose is degenerate: {0}")]
     DegenerateInput(&'static str),

@@ -13,15 +13,16 @@ use camloc_skeleton::{Landmark, PartialPose2};
 /// the mean of the landmarks present without either): each landmark's ray turned by the
 /// smallest rotation that takes the pelvis's ray to the optical axis, and projected again
 /// with the same focal length and principal point. Without a principal point (its default,
-/// the centre of the pose's box) the pose is its own; a landmark whose turned ray points
-/// behind the camera is left out.
+/// the centre of the pose's box) the pose is its own.
 ///
 /// # Errors
 /// As [`Intrinsics::check_points`] on the landmarks present: a pose far smaller than the
 /// focal length says a person can be ([`ReconstructError::ScaleMismatch`]: normalised
 /// coordinates), or spread over or lying off the principal point by more than 10 focal
 /// lengths ([`ReconstructError::OutsideView`]: a focal length or principal point wrong by
-/// orders of magnitude, which gave confident answers).
+/// orders of magnitude, which gave confident answers); [`ReconstructError::BeyondView`]
+/// when a landmark's turned ray points behind the camera (the pose spans 90 deg or more of
+/// the view).
 pub fn aimed_at_pelvis(
     pose: &PartialPose2,
     intrinsics: &Intrinsics,
@@ -70,11 +71,12 @@ pub fn aimed_at_pelvis(
         std::array::from_fn(|i| v[i] * cos + cross[i] * sin + k[i] * dot * (1.0 - cos))
     };
     let mut aimed = *pose;
-    for point in aimed.points.iter_mut() {
-        *point = point.and_then(|p| {
-            let r = turn(ray(p));
-            (r[2] > 1e-9).then(|| [centre[0] + f * r[0] / r[2], centre[1] + f * r[1] / r[2]])
-        });
+    for point in aimed.points.iter_mut().flatten() {
+        let r = turn(ray(*point));
+        if r[2] <= 1e-9 {
+            return Err(ReconstructError::BeyondView { focal: f });
+        }
+        *point = [centre[0] + f * r[0] / r[2], centre[1] + f * r[1] / r[2]];
     }
     Ok(aimed)
 }
@@ -146,6 +148,20 @@ mod tests {
         assert!(matches!(
             aimed_at_pelvis(&off, &absurd),
             Err(ReconstructError::OutsideView { .. })
+        ));
+        // Within that reach, but spanning more than 90 deg of the view (at 20 px, the pelvis
+        // 72 deg to one side, a wrist 56 deg to the other): refused, not a landmark dropped
+        // (which had read "landmark neck is missing").
+        let mut wide = PartialPose2::empty();
+        wide.points[Landmark::Pelvis.index()] = Some([960.0, 540.0]);
+        wide.points[Landmark::LeftWrist.index()] = Some([870.0, 540.0]);
+        let short = Intrinsics {
+            focal_px: 20.0,
+            principal_point: Some([900.0, 540.0]),
+        };
+        assert!(matches!(
+            aimed_at_pelvis(&wide, &short),
+            Err(ReconstructError::BeyondView { .. })
         ));
     }
 }

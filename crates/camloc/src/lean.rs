@@ -67,7 +67,8 @@ impl LeanHistogram {
     }
 
     /// The input's lean, degrees in (-180, 180]: the circular median of the leans (the
-    /// middle of the 1-degree bin whose summed angular distance to all of them is least),
+    /// 1-degree bin whose summed angular distance to all of them is least, refined to the
+    /// mean direction of the leans within [`TILT_NEAR_DEG`] of it),
     /// which neither wraps at ±180 deg as a median of numbers does nor follows a minority of
     /// people lying down as a mean does; `None` before any pose or when the leans spread too
     /// evenly to have a direction (the mean of their unit vectors shorter than
@@ -97,9 +98,37 @@ impl LeanHistogram {
                 .sum()
         };
         let best = (0..360).min_by(|&a, &b| cost(a).total_cmp(&cost(b)))?;
-        Some(best as f64 - 179.5)
+        // The mean direction of the leans within TILT_NEAR_DEG of that bin: its degree, not
+        // the bin's middle.
+        let (mut x, mut y) = (0.0, 0.0);
+        for (k, &n) in self.bins.iter().enumerate() {
+            if apart(best, k) <= TILT_NEAR_DEG {
+                x += n as f64 * centre(k).cos();
+                y += n as f64 * centre(k).sin();
+            }
+        }
+        Some(y.atan2(x).to_degrees())
+    }
+
+    /// The share of the poses whose lean is within [`TILT_NEAR_DEG`] of `lean_deg`.
+    pub fn share_near(&self, lean_deg: f64) -> f64 {
+        if self.count == 0 {
+            return 0.0;
+        }
+        let near: u64 = (self.bins.iter().enumerate())
+            .filter(|(k, _)| {
+                let d = (*k as f64 - 179.5 - lean_deg).rem_euclid(360.0);
+                d.min(360.0 - d) <= TILT_NEAR_DEG + 0.5
+            })
+            .map(|(_, &n)| n)
+            .sum();
+        near as f64 / self.count as f64
     }
 }
+
+/// How near a pose's lean must be to the input's, degrees, to count as leaning alike
+/// ([`LeanHistogram::share_near`]; upright walking and sitting people lean within about 10).
+pub const TILT_NEAR_DEG: f64 = 15.0;
 
 /// How much the torsos of an input must agree for [`LeanHistogram::typical_deg`] to give
 /// their lean: the length of the mean of their unit vectors (1 when all lean alike, 0.7 for
@@ -113,7 +142,8 @@ pub const TILT_MIN_AGREEMENT: f64 = 0.5;
 ///   input's lean, [`LeanHistogram::typical_deg`]; flipping would mirror the people, front
 ///   for back);
 /// - else when the input's lean is [`TILT_WARNING_DEG`] or more from upright over at least
-///   [`TILT_MIN_POSES`] poses: a camera rolled about its axis.
+///   [`TILT_MIN_POSES`] poses, more than half of them within [`TILT_NEAR_DEG`] of it: a
+///   camera rolled about its axis.
 pub fn orientation_warning(
     checked: u64,
     upside_down: u64,
@@ -143,7 +173,12 @@ pub fn orientation_warning(
              hands are seen as they are)"
         ));
     }
-    let lean = lean.filter(|l| leans.count() >= TILT_MIN_POSES && l.abs() >= TILT_WARNING_DEG)?;
+    // Most poses must lean alike: a large minority lying down moves the median of the rest.
+    let lean = lean.filter(|&l| {
+        leans.count() >= TILT_MIN_POSES
+            && l.abs() >= TILT_WARNING_DEG
+            && 2.0 * leans.share_near(l) > 1.0
+    })?;
     Some(format!(
         "the poses' torsos lean {:.0} deg from the image's vertical (of {} poses): was the \
          camera rolled (a phone held askew, a portrait video read as landscape)? camloc takes \

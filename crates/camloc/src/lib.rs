@@ -96,8 +96,8 @@ pub use sequence::{
 };
 
 pub use lean::{
-    LeanHistogram, TILT_MIN_AGREEMENT, TILT_MIN_POSES, TILT_WARNING_DEG, orientation_warning,
-    torso_lean_deg,
+    LeanHistogram, TILT_MIN_AGREEMENT, TILT_MIN_POSES, TILT_NEAR_DEG, TILT_WARNING_DEG,
+    orientation_warning, torso_lean_deg,
 };
 pub use lifter::{DEFAULT_LIFTER_LAMBDA, DepthLifter, depth_targets};
 pub use localizer::{CameraLocalizer, Localization};
