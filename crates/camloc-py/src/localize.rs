@@ -211,7 +211,7 @@ impl Localizer {
         } else {
             HEIGHT_SHARE_MAX_POSES
         });
-        warn_of_input_conventions(py, &leading)?;
+        warn_of_input_conventions(py, &leading, inner.intrinsics())?;
         let left_out = if sequence {
             warn_of_identity_jumps(
                 py,

@@ -158,7 +158,8 @@ pub(crate) fn reconstruct<'py>(
     let batch = PoseBatch::new(&points, layout, scores.as_ref(), min_score, output_bytes)?;
     // Mapped once for the warning and the height estimate.
     let leading = batch.leading_poses(HEIGHT_SHARE_MAX_POSES);
-    warn_of_input_conventions(py, &leading)?;
+    let intrinsics = intrinsics_arg(focal_px, principal_point)?;
+    warn_of_input_conventions(py, &leading, intrinsics)?;
     let mut reconstructor = match basis {
         Some(path) => PoseBasis::load(&path)
             .map_err(CamlocError::from)
@@ -196,7 +197,7 @@ pub(crate) fn reconstruct<'py>(
         }
     }
     // Before the estimate, which sees the poses aimed as they are localized.
-    if let Some(intrinsics) = intrinsics_arg(focal_px, principal_point)? {
+    if let Some(intrinsics) = intrinsics {
         reconstructor = reconstructor
             .with_intrinsics(intrinsics)
             .map_err(|e| value_error(e.to_string()))?;

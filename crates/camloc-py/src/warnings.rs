@@ -2,6 +2,7 @@
 //! standard error: points with v up, a rolled camera or joints at the image origin, rows of a
 //! sequence that jump between people, and a call whose every pose failed.
 
+use camloc::reconstruct::Intrinsics;
 use camloc::{
     HEIGHT_SHARE_MAX_POSES, LeanHistogram, PartialPose2, TorsoAnchor, has_origin_placeholders,
     head_below_ankles, identity_jumps, left_out_of_sequence, orientation_warning,
@@ -24,12 +25,16 @@ pub(crate) fn warn(py: Python<'_>, message: String) -> PyResult<()> {
 pub(crate) fn warn_of_input_conventions(
     py: Python<'_>,
     leading: &[Option<PartialPose2>],
+    aim: Option<Intrinsics>,
 ) -> PyResult<()> {
     let (mut checked, mut below, mut mapped, mut placeholders) = (0, 0, 0, 0);
     let mut leans = LeanHistogram::default();
     for pose in leading.iter().take(HEIGHT_SHARE_MAX_POSES).flatten() {
         mapped += 1;
-        leans.add(pose);
+        // As the command line: the leans of the poses as localized (aimed with known
+        // intrinsics).
+        let aimed = aim.and_then(|k| camloc::aimed_at_pelvis(pose, &k).ok());
+        leans.add(aimed.as_ref().unwrap_or(pose));
         placeholders += u64::from(has_origin_placeholders(pose));
         if let Some(b) = head_below_ankles(pose) {
             checked += 1;

@@ -850,3 +850,28 @@ def test_a_known_camera_aims_the_localization(cli):
     np.testing.assert_array_equal(same["probabilities"], plain["probabilities"])
     with pytest.raises(ValueError, match="principal_point needs focal_px"):
         localizer.localize(points, principal_point=[1.0, 2.0])
+
+
+def test_a_person_off_the_axis_of_a_known_camera_is_not_called_rolled():
+    # The example's upright poses seen by a camera turned away from them (the smallest
+    # rotation taking the pelvis's ray 75 degrees off the axis, up and to the right in the
+    # image): they lean in the image, with no roll. With the intrinsics the lean is measured on the poses
+    # as the camera aimed at them sees them, as they are localized.
+    points = np.tile(example_points()[:2], (3, 1, 1))
+    f, centre = 300.0, np.array([320.0, 240.0])
+    d = np.array([3.0, -2.0, 1.0]) / np.sqrt(14.0)
+    v = np.cross([0.0, 0.0, 1.0], d)
+    k = np.array([[0, -v[2], v[1]], [v[2], 0, -v[0]], [-v[1], v[0], 0]])
+    turn = np.eye(3) + k + k @ k * ((1 - d[2]) / (v @ v))
+    seen = []
+    for pose in points:
+        rays = np.c_[(pose - pose[0]) / f, np.ones(len(pose))] @ turn.T
+        seen.append(centre + f * rays[:, :2] / rays[:, 2:3])
+    seen = np.array(seen)
+    with pytest.warns(UserWarning, match="torsos lean"):
+        camloc.Localizer().localize(seen)
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        camloc.Localizer().localize(seen, focal_px=f, principal_point=centre)

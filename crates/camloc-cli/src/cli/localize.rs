@@ -207,60 +207,68 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         };
         return sequence::run(locator, inputs, out, format, &files, &bar, &view);
     }
-    let summary = stream::run(inputs, out, format, files, &bar, |record| {
-        let loc = locator.localize(&record.pose).map_err(|e| {
-            let message = e.to_string();
-            Failed {
-                keep: view(record, None, Some(message.clone())).map(Box::new),
-                message,
+    let summary = stream::run(
+        inputs,
+        out,
+        format,
+        files,
+        &bar,
+        localizer.intrinsics(),
+        |record| {
+            let loc = locator.localize(&record.pose).map_err(|e| {
+                let message = e.to_string();
+                Failed {
+                    keep: view(record, None, Some(message.clone())).map(Box::new),
+                    message,
+                }
+            })?;
+            if let Some(count) = counts.get(loc.label.index()) {
+                count.fetch_add(1, Ordering::Relaxed);
             }
-        })?;
-        if let Some(count) = counts.get(loc.label.index()) {
-            count.fetch_add(1, Ordering::Relaxed);
-        }
-        let text = if !print {
-            String::new()
-        } else if format.is_json() {
-            objects.object(record, &loc)
-        } else {
-            localization_text(&localizer, record, &loc)
-        };
-        let svg = args.svg.as_ref().map(|_| {
-            let mut caption = format!(
-                "{}: camera {} ({} {}), p = {:.2}",
-                record.id,
-                loc.label,
-                loc.level.name(),
-                loc.side.name(),
-                loc.probability
-            );
-            // The runner-up of a close call.
-            let next = (loc.probabilities.iter().enumerate())
-                .filter(|&(k, _)| k != loc.label.index())
-                .max_by(|a, b| a.1.total_cmp(b.1));
-            if let Some((k, &p)) = next.filter(|(_, p)| **p >= svg::SHOWN_PROBABILITY) {
-                let _ = write!(caption, "; next {:02}, p = {p:.2}", k + 1);
-            }
-            if !loc.missing.is_empty() {
-                let names: Vec<&str> = loc.missing.iter().map(|l| l.name()).collect();
-                let _ = write!(caption, "; missing: {}", names.join(", "));
-            }
-            svg::localization_svg(
-                &record.pose,
-                localizer.cameras(),
-                &loc.probabilities,
-                loc.label,
-                svg::Direction::of(&loc),
-                &caption,
-            )
-        });
-        Ok(Done {
-            text,
-            svg,
-            keep: view(record, Some(&loc), None),
-            row: args.npz.as_ref().map(|_| loc),
-        })
-    })?;
+            let text = if !print {
+                String::new()
+            } else if format.is_json() {
+                objects.object(record, &loc)
+            } else {
+                localization_text(&localizer, record, &loc)
+            };
+            let svg = args.svg.as_ref().map(|_| {
+                let mut caption = format!(
+                    "{}: camera {} ({} {}), p = {:.2}",
+                    record.id,
+                    loc.label,
+                    loc.level.name(),
+                    loc.side.name(),
+                    loc.probability
+                );
+                // The runner-up of a close call.
+                let next = (loc.probabilities.iter().enumerate())
+                    .filter(|&(k, _)| k != loc.label.index())
+                    .max_by(|a, b| a.1.total_cmp(b.1));
+                if let Some((k, &p)) = next.filter(|(_, p)| **p >= svg::SHOWN_PROBABILITY) {
+                    let _ = write!(caption, "; next {:02}, p = {p:.2}", k + 1);
+                }
+                if !loc.missing.is_empty() {
+                    let names: Vec<&str> = loc.missing.iter().map(|l| l.name()).collect();
+                    let _ = write!(caption, "; missing: {}", names.join(", "));
+                }
+                svg::localization_svg(
+                    &record.pose,
+                    localizer.cameras(),
+                    &loc.probabilities,
+                    loc.label,
+                    svg::Direction::of(&loc),
+                    &caption,
+                )
+            });
+            Ok(Done {
+                text,
+                svg,
+                keep: view(record, Some(&loc), None),
+                row: args.npz.as_ref().map(|_| loc),
+            })
+        },
+    )?;
     Ok(summary.exit_code("localized"))
 }
 

@@ -333,7 +333,8 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         force: args.force.force,
     };
     let keep = args.bvh.is_some() || args.html.is_some();
-    let summary = stream::run(inputs, out, format, files, &bar, |record| {
+    let aim = reconstructor.given().intrinsics;
+    let summary = stream::run(inputs, out, format, files, &bar, aim, |record| {
         let result = reconstructor
             .reconstruct_hypotheses(&record.pose, usize::from(args.hypotheses))
             .map_err(|e| {

@@ -96,7 +96,10 @@ pub fn run(
     let keeps = options.finish.is_some();
     check_kept_input(keeps, &inputs)?;
     let mut emit = Emitter::new(format);
-    let mut summary = Summary::default();
+    let mut summary = Summary {
+        aim: reconstructor.given().intrinsics,
+        ..Summary::default()
+    };
     let mut kept: Vec<KeypointRecord> = Vec::new();
     for item in inputs.by_ref() {
         match item {

@@ -159,7 +159,10 @@ pub fn run(
     }
     let mut emit = Emitter::new(format);
     check_kept_input(files.html.is_some(), &inputs)?;
-    let mut summary = Summary::default();
+    let mut summary = Summary {
+        aim: localizer.intrinsics(),
+        ..Summary::default()
+    };
     let mut frames: Vec<Frame> = Vec::new();
     let mut failures = Failures::default();
     loop {

@@ -8,6 +8,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use camloc::keypoints::{KeypointError, KeypointRecord};
+use camloc::reconstruct::Intrinsics;
 use camloc::store::{StagedFiles, check_target, escaped, quoted, quoted_path};
 use indicatif::ProgressBar;
 use rayon::prelude::*;
@@ -145,6 +146,10 @@ pub struct Summary {
     pub origin_placeholders: u64,
     /// The poses' torso leans ([`camloc::torso_lean_deg`]), for the rolled-camera warning.
     pub leans: camloc::LeanHistogram,
+    /// The camera's intrinsics, when given: the leans are those of the poses as the camera
+    /// aimed at each would see them ([`camloc::aimed_at_pelvis`]), as they are localized (a
+    /// person in a corner of a wide-angle image leans in the image without any roll).
+    pub aim: Option<Intrinsics>,
 }
 
 /// Whether `pose` has no landmark at all.
@@ -161,7 +166,10 @@ impl Summary {
     pub fn count(&mut self, pose: &camloc::PartialPose2) {
         self.poses += 1;
         self.origin_placeholders += u64::from(camloc::has_origin_placeholders(pose));
-        self.leans.add(pose);
+        let aimed = self
+            .aim
+            .and_then(|k| camloc::aimed_at_pelvis(pose, &k).ok());
+        self.leans.add(aimed.as_ref().unwrap_or(pose));
         if let Some(below) = camloc::head_below_ankles(pose) {
             self.upside_down.0 += 1;
             self.upside_down.1 += u64::from(below);
@@ -396,6 +404,7 @@ pub fn run<P, K, F>(
     format: Format,
     files: Files<P, K>,
     bar: &ProgressBar,
+    aim: Option<Intrinsics>,
     compute: F,
 ) -> Result<Summary, CliError>
 where
@@ -426,7 +435,10 @@ where
     let mut rows = files.rows;
     let has_files =
         files.svg.is_some() || rows.is_some() || files.summary.is_some() || files.finish.is_some();
-    let mut summary = Summary::default();
+    let mut summary = Summary {
+        aim,
+        ..Summary::default()
+    };
     // The staged drawings: (pose index, staged file).
     let mut drawn: Vec<(usize, usize)> = Vec::new();
     let mut emitter = Emitter::new(format);
