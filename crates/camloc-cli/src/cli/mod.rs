@@ -261,7 +261,8 @@ pub struct InputArgs {
     /// Image size in pixels that normalised coordinates are scaled by (MediaPipe), e.g.
     /// 1920,1080; `--focal-px` also takes its centre as the principal point (and so does a
     /// sequence's root motion).
-    #[arg(long, value_name = "W,H", value_parser = |s: &str| s.parse::<ImageSize>())]
+    #[arg(long, value_name = "W,H", value_parser = |s: &str| s.parse::<ImageSize>(),
+          allow_hyphen_values = true)]
     pub image_size: Option<ImageSize>,
     /// With a folder --input: read its sub-folders too.
     #[arg(long)]
