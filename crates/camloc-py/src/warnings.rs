@@ -4,9 +4,8 @@
 
 use camloc::reconstruct::Intrinsics;
 use camloc::{
-    HEIGHT_SHARE_MAX_POSES, LeanHistogram, PartialPose2, TorsoAnchor, has_origin_placeholders,
-    head_below_ankles, identity_jumps, left_out_of_sequence, orientation_warning,
-    origin_placeholder_warning,
+    HEIGHT_SHARE_MAX_POSES, InputConventions, PartialPose2, TorsoAnchor, identity_jumps,
+    left_out_of_sequence,
 };
 use pyo3::exceptions::PyUserWarning;
 use pyo3::prelude::*;
@@ -20,34 +19,21 @@ pub(crate) fn warn(py: Python<'_>, message: String) -> PyResult<()> {
 /// Warns (`UserWarning`) when most of the first [`HEIGHT_SHARE_MAX_POSES`] poses of a call
 /// (`leading`, [`PoseBatch::leading_poses`](crate::arrays::PoseBatch::leading_poses)) have the
 /// head below both ankles or their torsos lean alike (points with v up, a camera upside down
-/// or rolled: `camloc::orientation_warning`) and when any has joints at the image origin
-/// (`camloc::origin_placeholder_warning`), as the command line warns.
+/// or rolled) and when any has joints at the image origin, as the command line warns
+/// (`camloc::InputConventions`, with the camera's intrinsics `aim` when given).
 pub(crate) fn warn_of_input_conventions(
     py: Python<'_>,
     leading: &[Option<PartialPose2>],
     aim: Option<Intrinsics>,
 ) -> PyResult<()> {
-    let (mut checked, mut below, mut mapped, mut placeholders) = (0, 0, 0, 0);
-    let mut leans = LeanHistogram::default();
+    let mut conventions = InputConventions::aimed(aim);
     for pose in leading.iter().take(HEIGHT_SHARE_MAX_POSES).flatten() {
-        mapped += 1;
-        // As the command line: the leans of the poses as localized (aimed with known
-        // intrinsics).
-        let aimed = aim.and_then(|k| camloc::aimed_at_pelvis(pose, &k).ok());
-        leans.add(aimed.as_ref().unwrap_or(pose));
-        placeholders += u64::from(has_origin_placeholders(pose));
-        if let Some(b) = head_below_ankles(pose) {
-            checked += 1;
-            below += u64::from(b);
-        }
+        conventions.add(pose);
     }
-    if let Some(warning) = orientation_warning(checked, below, &leans) {
+    for warning in conventions.warnings() {
         warn(py, warning)?;
     }
-    match origin_placeholder_warning(mapped, placeholders) {
-        Some(warning) => warn(py, warning),
-        None => Ok(()),
-    }
+    Ok(())
 }
 
 /// Warns (`UserWarning`) when every one of `poses` (two or more) failed (`errors`: the

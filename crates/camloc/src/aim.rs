@@ -5,6 +5,8 @@
 //! views at f = 500 px with the pelvis 500 px off-centre: 12-class accuracy 58% against 77%
 //! centred).
 
+use camloc_geometry::{Vector3, rotation_about_axis};
+use camloc_keypoints::derive_torso;
 use camloc_reconstruct::{Intrinsics, ReconstructError};
 use camloc_skeleton::{Landmark, PartialPose2};
 
@@ -33,47 +35,29 @@ pub fn aimed_at_pelvis(
         return Ok(*pose);
     };
     let f = intrinsics.focal_px;
-    let at = |l: Landmark| pose.points[l.index()];
-    let pelvis = at(Landmark::Pelvis)
-        .or_else(|| {
-            let (a, b) = (at(Landmark::LeftHip)?, at(Landmark::RightHip)?);
-            Some([(a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0])
-        })
-        .or_else(|| {
-            let n = present.len() as f64;
-            (n > 0.0).then(|| [0, 1].map(|k| present.iter().map(|p| p[k]).sum::<f64>() / n))
-        });
+    // The pelvis, or the hips' midpoint (the torso rule of docs/conventions.md section 3).
+    let mut derived = *pose;
+    derive_torso(&mut derived);
+    let pelvis = derived.points[Landmark::Pelvis.index()].or_else(|| {
+        let n = present.len() as f64;
+        (n > 0.0).then(|| [0, 1].map(|k| present.iter().map(|p| p[k]).sum::<f64>() / n))
+    });
     let Some(pelvis) = pelvis else {
         return Ok(*pose);
     };
-    let ray = |p: [f64; 2]| {
-        let r = [(p[0] - centre[0]) / f, (p[1] - centre[1]) / f, 1.0];
-        let n = (r[0] * r[0] + r[1] * r[1] + 1.0).sqrt();
-        r.map(|c| c / n)
-    };
-    // The smallest rotation taking the pelvis's ray a to the axis z: about a x z, by the
-    // angle between them (Rodrigues' formula).
+    let ray = |p: [f64; 2]| Vector3::new((p[0] - centre[0]) / f, (p[1] - centre[1]) / f, 1.0);
+    // The smallest rotation taking the pelvis's ray to the optical axis: about their cross
+    // product, by the angle between them (none when the ray is the axis).
     let a = ray(pelvis);
-    let axis = [a[1], -a[0], 0.0];
-    let sin = (axis[0] * axis[0] + axis[1] * axis[1]).sqrt();
-    let cos = a[2];
-    if sin < 1e-12 {
+    let axis = a.cross(&Vector3::z());
+    if axis.norm() < 1e-12 * a.norm() {
         return Ok(*pose);
     }
-    let k = axis.map(|c| c / sin);
-    let turn = |v: [f64; 3]| -> [f64; 3] {
-        let dot = k[0] * v[0] + k[1] * v[1] + k[2] * v[2];
-        let cross = [
-            k[1] * v[2] - k[2] * v[1],
-            k[2] * v[0] - k[0] * v[2],
-            k[0] * v[1] - k[1] * v[0],
-        ];
-        std::array::from_fn(|i| v[i] * cos + cross[i] * sin + k[i] * dot * (1.0 - cos))
-    };
+    let turn = rotation_about_axis(axis, axis.norm().atan2(a.z));
     let mut aimed = *pose;
     for point in aimed.points.iter_mut().flatten() {
-        let r = turn(ray(*point));
-        if r[2] <= 1e-9 {
+        let r = turn * ray(*point);
+        if r[2] <= 1e-9 * r.norm() {
             return Err(ReconstructError::BeyondView { focal: f });
         }
         *point = [centre[0] + f * r[0] / r[2], centre[1] + f * r[1] / r[2]];

@@ -60,11 +60,7 @@ impl TorsoAnchor {
 /// `frames[k]` is frame `k`'s number (`None`: one frame after the previous one) and
 /// `anchors[k]` its [`TorsoAnchor`] (`None`: skipped, as a frame without a torso).
 pub fn identity_jumps(frames: &[Option<u64>], anchors: &[Option<TorsoAnchor>]) -> Vec<usize> {
-    let present: Vec<(usize, TorsoAnchor)> = anchors
-        .iter()
-        .enumerate()
-        .filter_map(|(k, a)| a.map(|a| (k, a)))
-        .collect();
+    let present = present(anchors);
     let median = |values: [f64; 3]| {
         let mut v = values;
         v.sort_by(f64::total_cmp);
@@ -92,6 +88,15 @@ pub fn identity_jumps(frames: &[Option<u64>], anchors: &[Option<TorsoAnchor>]) -
         previous = Some((k, anchor));
     }
     found
+}
+
+/// The frames of `anchors` that have one, with their positions.
+fn present(anchors: &[Option<TorsoAnchor>]) -> Vec<(usize, TorsoAnchor)> {
+    anchors
+        .iter()
+        .enumerate()
+        .filter_map(|(k, a)| a.map(|a| (k, a)))
+        .collect()
 }
 
 /// Whether the step from `before` to `after` (`elapsed` frames apart) is not one person
@@ -131,11 +136,7 @@ pub const OUTLIER_RUN_FRAMES: usize = 10;
 /// as a change of person; their poses are still not this person's. The first (last) frame
 /// of a track is judged by the two frames after (before) it.
 pub fn outlier_frames(frames: &[Option<u64>], anchors: &[Option<TorsoAnchor>]) -> Vec<usize> {
-    let present: Vec<(usize, TorsoAnchor)> = anchors
-        .iter()
-        .enumerate()
-        .filter_map(|(k, a)| a.map(|a| (k, a)))
-        .collect();
+    let present = present(anchors);
     let n = present.len();
     // Whether the frames at positions `x` and `y` of `present` are too far apart for one
     // person.

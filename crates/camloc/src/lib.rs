@@ -36,6 +36,7 @@
 
 mod aim;
 mod camera_height;
+mod conventions;
 mod defaults;
 mod dropout;
 mod error;
@@ -74,6 +75,7 @@ pub use camloc_geometry::CameraLabel;
 pub use camloc_geometry::{CameraSet, Level, Side};
 pub use camloc_reconstruct::ModeKind;
 pub use camloc_skeleton::{Landmark, PartialPose2, Pose2, Pose3};
+pub use conventions::InputConventions;
 pub use error::CamlocError;
 pub use evaluate::{CameraAccuracy, Evaluation, LevelAccuracy, evaluate};
 pub use filled::MIN_PRESENT_FOR_FILL;

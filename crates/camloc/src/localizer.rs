@@ -99,6 +99,15 @@ pub struct CameraLocalizer {
     pub(crate) intrinsics: Option<Intrinsics>,
 }
 
+/// [`Intrinsics::check`] as a [`CamlocError::InvalidOption`] (the localizer's and the
+/// reconstructor's `with_intrinsics`).
+pub(crate) fn check_intrinsics(intrinsics: &Intrinsics) -> Result<(), CamlocError> {
+    intrinsics.check().map_err(|e| CamlocError::InvalidOption {
+        name: "intrinsics",
+        detail: e.to_string(),
+    })
+}
+
 impl CameraLocalizer {
     /// The descriptor rows of `poses` (row-major), in parallel, undefined values imputed.
     /// Errors name a pose by `first` plus its index in `poses`.
@@ -193,11 +202,8 @@ impl CameraLocalizer {
     /// [`CamlocError::InvalidOption`] for a focal length that is not finite and positive or a
     /// principal point that is not finite.
     pub fn with_intrinsics(mut self, intrinsics: Option<Intrinsics>) -> Result<Self, CamlocError> {
-        if let Some(Err(e)) = intrinsics.map(|k| k.check()) {
-            return Err(CamlocError::InvalidOption {
-                name: "intrinsics",
-                detail: e.to_string(),
-            });
+        if let Some(k) = &intrinsics {
+            check_intrinsics(k)?;
         }
         self.intrinsics = intrinsics;
         Ok(self)

@@ -140,15 +140,10 @@ impl PoseReconstructor {
         mut self,
         intrinsics: Intrinsics,
     ) -> Result<PoseReconstructor, CamlocError> {
-        if let Err(e) = intrinsics.check() {
-            return Err(CamlocError::InvalidOption {
-                name: "intrinsics",
-                detail: e.to_string(),
-            });
-        }
+        crate::localizer::check_intrinsics(&intrinsics)?;
         self.given.intrinsics = Some(intrinsics);
-        if let Some(localizer) = self.localizer.take() {
-            self.localizer = Some(localizer.with_intrinsics(Some(intrinsics))?);
+        if let Some(localizer) = &mut self.localizer {
+            localizer.intrinsics = Some(intrinsics);
         }
         Ok(self)
     }
@@ -161,16 +156,12 @@ impl PoseReconstructor {
     /// Uses `localizer` to classify the camera (needed by the `classified` and `hybrid` modes
     /// and by [`PoseReconstructor::evaluate`]), aiming its poses with this reconstructor's
     /// intrinsics when they were given ([`with_intrinsics`](Self::with_intrinsics)).
-    pub fn with_localizer(mut self, localizer: CameraLocalizer) -> PoseReconstructor {
-        // Known intrinsics aim its poses too (they were checked when given); else it keeps
-        // its own.
-        self.localizer = Some(match self.given.intrinsics {
-            Some(k) => localizer
-                .clone()
-                .with_intrinsics(Some(k))
-                .unwrap_or(localizer),
-            None => localizer,
-        });
+    pub fn with_localizer(mut self, mut localizer: CameraLocalizer) -> PoseReconstructor {
+        // Known intrinsics (checked when given) aim its poses too; else it keeps its own.
+        if let Some(k) = self.given.intrinsics {
+            localizer.intrinsics = Some(k);
+        }
+        self.localizer = Some(localizer);
         self
     }
 
@@ -275,13 +266,24 @@ impl PoseReconstructor {
         pose: &PartialPose2,
         max: usize,
     ) -> Result<PoseReconstruction, CamlocError> {
+        self.reconstruct_prepared(pose, self.prepare(pose)?, max)
+    }
+
+    /// [`reconstruct_hypotheses`](Self::reconstruct_hypotheses) of `pose` from what
+    /// [`prepare`](Self::prepare) made of it.
+    fn reconstruct_prepared(
+        &self,
+        pose: &PartialPose2,
+        prepared: Prepared,
+        max: usize,
+    ) -> Result<PoseReconstruction, CamlocError> {
         let Prepared {
             complete,
             localization,
             mode,
             depths,
             imputed,
-        } = self.prepare(pose)?;
+        } = prepared;
         let mask = pose.missing_mask();
         let solve = |pose: &Pose2, depths: Option<&LiftedDepths>| {
             self.reconstructor

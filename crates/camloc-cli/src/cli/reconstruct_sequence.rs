@@ -97,7 +97,7 @@ pub fn run(
     check_kept_input(keeps, &inputs)?;
     let mut emit = Emitter::new(format);
     let mut summary = Summary {
-        aim: reconstructor.given().intrinsics,
+        conventions: camloc::InputConventions::aimed(reconstructor.given().intrinsics),
         ..Summary::default()
     };
     let mut kept: Vec<KeypointRecord> = Vec::new();

@@ -160,7 +160,7 @@ pub fn run(
     let mut emit = Emitter::new(format);
     check_kept_input(files.html.is_some(), &inputs)?;
     let mut summary = Summary {
-        aim: localizer.intrinsics(),
+        conventions: camloc::InputConventions::aimed(localizer.intrinsics()),
         ..Summary::default()
     };
     let mut frames: Vec<Frame> = Vec::new();
@@ -378,10 +378,7 @@ pub fn left_out_of_sequence(
     treated: &str,
 ) -> Vec<bool> {
     let left_out = camloc::left_out_of_sequence(frames, anchors);
-    let at = |m: usize| match frames[m] {
-        Some(frame) => format!("frame {frame}"),
-        None => format!("its frame {}", m + 1),
-    };
+    let at = |m: usize| frame_name(frames, m);
     if let Some(&first) = left_out.second_poses.first() {
         let seconds = left_out.second_poses.len();
         stderr_line!(
@@ -403,6 +400,15 @@ pub fn left_out_of_sequence(
     }
     warn_of_identity_jumps(person, frames, &left_out.kept_anchors(anchors));
     left_out.mask(frames.len())
+}
+
+/// How a warning names the frame at position `m` of a person's frames (`frames` their
+/// numbers): by its number, else by its place among the person's frames.
+fn frame_name(frames: &[Option<u64>], m: usize) -> String {
+    match frames[m] {
+        Some(frame) => format!("frame {frame}"),
+        None => format!("its frame {}", m + 1),
+    }
 }
 
 /// Says on standard error which person each numbered file of `out` is, when there are
@@ -447,10 +453,7 @@ fn warn_of_identity_jumps(person: u64, frames: &[Option<u64>], anchors: &[Option
     let Some(&first) = jumps.first() else {
         return;
     };
-    let at = match frames[first] {
-        Some(frame) => format!("frame {frame}"),
-        None => format!("its frame {}", first + 1),
-    };
+    let at = frame_name(frames, first);
     stderr_line!(
         "camloc: warning: person {person}: the pose jumps across the image or changes size \
          from one frame to the next {} (first at {at}): these may be several people \

@@ -139,17 +139,9 @@ pub struct Summary {
     /// Frames of a sequence without a single landmark ([`nothing_detected`]: the library's
     /// `CamlocError::NothingDetected`): frames the person is missing from, not failures.
     pub undetected: u64,
-    /// Poses with a head and both ankles, and of those the poses whose head is below both
-    /// ankles in the image ([`camloc::head_below_ankles`]).
-    pub upside_down: (u64, u64),
-    /// Poses with landmarks at the image origin ([`camloc::has_origin_placeholders`]).
-    pub origin_placeholders: u64,
-    /// The poses' torso leans ([`camloc::torso_lean_deg`]), for the rolled-camera warning.
-    pub leans: camloc::LeanHistogram,
-    /// The camera's intrinsics, when given: the leans are those of the poses as the camera
-    /// aimed at each would see them ([`camloc::aimed_at_pelvis`]), as they are localized (a
-    /// person in a corner of a wide-angle image leans in the image without any roll).
-    pub aim: Option<Intrinsics>,
+    /// What the poses say of how they were given, for the warnings of [`Summary::exit_code`]
+    /// (with the camera's intrinsics when given: [`camloc::InputConventions::aimed`]).
+    pub conventions: camloc::InputConventions,
 }
 
 /// Whether `pose` has no landmark at all.
@@ -158,34 +150,18 @@ pub fn nothing_detected(pose: &camloc::PartialPose2) -> bool {
 }
 
 impl Summary {
-    /// Counts a pose read, whether it stands on its head in the image (`v` up rather than
-    /// down, as some plotting conventions have it) and whether it has joints at the image
-    /// origin (a detector's placeholders) and how its torso leans: [`Summary::exit_code`] warns
-    /// when most poses stand on their heads, any has placeholders, or the torsos lean alike (a
-    /// rolled camera).
+    /// Counts a pose read, and what it says of the input's conventions
+    /// ([`camloc::InputConventions`]: `v` up, a rolled camera, placeholders at the image
+    /// origin), which [`Summary::exit_code`] warns of.
     pub fn count(&mut self, pose: &camloc::PartialPose2) {
         self.poses += 1;
-        self.origin_placeholders += u64::from(camloc::has_origin_placeholders(pose));
-        let aimed = self
-            .aim
-            .and_then(|k| camloc::aimed_at_pelvis(pose, &k).ok());
-        self.leans.add(aimed.as_ref().unwrap_or(pose));
-        if let Some(below) = camloc::head_below_ankles(pose) {
-            self.upside_down.0 += 1;
-            self.upside_down.1 += u64::from(below);
-        }
+        self.conventions.add(pose);
     }
 
     /// Reports failures on standard error (`verb`: "localized", ...) and gives the exit code:
     /// an error when a pose failed, a file could not be read, or no pose had a landmark.
     pub fn exit_code(&self, verb: &str) -> ExitCode {
-        let (checked, upside_down) = self.upside_down;
-        if let Some(warning) = camloc::orientation_warning(checked, upside_down, &self.leans) {
-            stderr_line!("camloc: warning: {warning}");
-        }
-        if let Some(warning) =
-            camloc::origin_placeholder_warning(self.poses, self.origin_placeholders)
-        {
+        for warning in self.conventions.warnings() {
             stderr_line!("camloc: warning: {warning}");
         }
         if self.undetected > 0 {
@@ -436,7 +412,7 @@ where
     let has_files =
         files.svg.is_some() || rows.is_some() || files.summary.is_some() || files.finish.is_some();
     let mut summary = Summary {
-        aim,
+        conventions: camloc::InputConventions::aimed(aim),
         ..Summary::default()
     };
     // The staged drawings: (pose index, staged file).

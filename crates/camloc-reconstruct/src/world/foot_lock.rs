@@ -4,6 +4,7 @@
 //! centimetre or two a frame (the legs' steps and the path from the scale disagree), which an
 //! animation shows as skating.
 
+use camloc_geometry::Vector3;
 use camloc_skeleton::{Landmark, Pose3};
 
 /// Frames after (before) a locked run over which the lock's correction fades out (in), so
@@ -35,9 +36,11 @@ const LEGS: [[Landmark; 3]; 2] = [
 /// frame) to the mean place of its run of consecutive planted frames (`contacts`: the planted
 /// ankles, frame and landmark); between two runs the correction goes from the one's to the
 /// other's in even steps, and it fades over [`FADE_FRAMES`] frames before the first run,
-/// after the last and across gaps longer than [`BLEND_FRAMES`]; the knee is placed so that the thigh and shin keep their lengths, in the plane of
-/// the hip, the new ankle and the old knee (an ankle out of the leg's reach goes as far as it
-/// reaches). The hips and every other landmark stay.
+/// after the last and across gaps longer than [`BLEND_FRAMES`]; the knee is placed so that
+/// the thigh and shin keep their lengths, in the plane of the hip, the new ankle and the old
+/// knee (an ankle the leg cannot reach, or only by straightening the knee more than
+/// [`MAX_KNEE_STRAIGHTEN_DEG`] or beyond [`MAX_KNEE_DEG`], goes as far as it may). The hips
+/// and every other landmark stay.
 pub(super) fn lock_feet(placed: &mut [Option<Pose3>], contacts: &[(usize, Landmark)]) {
     let n = placed.len();
     for leg in LEGS {
@@ -87,51 +90,35 @@ pub(super) fn lock_feet(placed: &mut [Option<Pose3>], contacts: &[(usize, Landma
             let weight = 1.0 - steps as f64 / (FADE_FRAMES + 1) as f64;
             (weight > 0.0).then(|| edge.map(|c| c * weight))
         };
-        // The last run's end before each frame and the next run's start after it.
-        let (mut ends, mut starts) = (vec![false; n], vec![false; n]);
-        for &(first, last) in &runs {
-            (starts[first], ends[last]) = (true, true);
-        }
-        let (mut before, mut after) = (vec![None; n], vec![None; n]);
-        let mut last = None;
-        for u in 0..n {
-            before[u] = last;
-            if ends[u] {
-                last = Some(u);
-            }
-        }
-        let mut next = None;
-        for u in (0..n).rev() {
-            after[u] = next;
-            if starts[u] {
-                next = Some(u);
-            }
-        }
         let mut between: Vec<Option<[f64; 3]>> = vec![None; n];
-        for (u, out) in between.iter_mut().enumerate() {
-            if shift[u].is_some() || placed[u].is_none() {
-                continue;
-            }
-            let (before, after) = (before[u], after[u]);
-            *out = match (before, after) {
-                (Some(e), Some(s)) if s - e <= BLEND_FRAMES => {
-                    let (Some(a), Some(b)) = (shift[e], shift[s]) else {
-                        continue;
-                    };
-                    let w = (u - e) as f64 / (s - e) as f64;
-                    Some(std::array::from_fn(|k| a[k] + (b[k] - a[k]) * w))
+        // Each gap: before the first run, between two runs, after the last.
+        for w in 0..=runs.len() {
+            let before = w.checked_sub(1).map(|v| runs[v].1);
+            let after = runs.get(w).map(|r| r.0);
+            for u in before.map_or(0, |e| e + 1)..after.unwrap_or(n) {
+                if placed[u].is_none() {
+                    continue;
                 }
-                (before, after) => {
-                    let (x, y) = (
-                        before.and_then(|e| fade(e, u)),
-                        after.and_then(|s| fade(s, u)),
-                    );
-                    match (x, y) {
-                        (Some(x), Some(y)) => Some(std::array::from_fn(|k| x[k] + y[k])),
-                        (x, y) => x.or(y),
+                between[u] = match (before, after) {
+                    (Some(e), Some(s)) if s - e <= BLEND_FRAMES => {
+                        let (Some(a), Some(b)) = (shift[e], shift[s]) else {
+                            continue;
+                        };
+                        let w = (u - e) as f64 / (s - e) as f64;
+                        Some(std::array::from_fn(|k| a[k] + (b[k] - a[k]) * w))
                     }
-                }
-            };
+                    (before, after) => {
+                        let (x, y) = (
+                            before.and_then(|e| fade(e, u)),
+                            after.and_then(|s| fade(s, u)),
+                        );
+                        match (x, y) {
+                            (Some(x), Some(y)) => Some(std::array::from_fn(|k| x[k] + y[k])),
+                            (x, y) => x.or(y),
+                        }
+                    }
+                };
+            }
         }
         for (s, b) in shift.iter_mut().zip(between) {
             if s.is_none() {
@@ -149,13 +136,10 @@ pub(super) fn lock_feet(placed: &mut [Option<Pose3>], contacts: &[(usize, Landma
 /// Moves the ankle of `leg` in `pose` by `shift` (metres), the knee following so that the
 /// thigh and shin keep their lengths (two-bone inverse kinematics about the fixed hip).
 fn move_ankle(pose: &mut Pose3, leg: [Landmark; 3], shift: [f64; 3]) {
-    let [hip, knee, ankle] = leg.map(|l| pose.get(l));
-    let sub = |a: [f64; 3], b: [f64; 3]| -> [f64; 3] { std::array::from_fn(|k| a[k] - b[k]) };
-    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-    let norm = |a: [f64; 3]| dot(a, a).sqrt();
-    let (thigh, shin) = (norm(sub(knee, hip)), norm(sub(ankle, knee)));
-    let wanted: [f64; 3] = std::array::from_fn(|k| ankle[k] + shift[k] - hip[k]);
-    let reach = norm(wanted);
+    let [hip, knee, ankle] = leg.map(|l| Vector3::from(pose.get(l)));
+    let (thigh, shin) = ((knee - hip).norm(), (ankle - knee).norm());
+    let wanted = ankle + Vector3::from(shift) - hip;
+    let reach = wanted.norm();
     if !(thigh > 0.0 && shin > 0.0 && reach > 0.0) {
         return;
     }
@@ -166,30 +150,27 @@ fn move_ankle(pose: &mut Pose3, leg: [Landmark; 3], shift: [f64; 3]) {
         (thigh * thigh + shin * shin - 2.0 * thigh * shin * angle_deg.to_radians().cos()).sqrt()
     };
     let own_deg = {
-        let a = sub(ankle, hip);
-        let cos = (thigh * thigh + shin * shin - dot(a, a)) / (2.0 * thigh * shin);
+        let cos =
+            (thigh * thigh + shin * shin - (ankle - hip).norm_squared()) / (2.0 * thigh * shin);
         cos.clamp(-1.0, 1.0).acos().to_degrees()
     };
     let straightest = own_deg.max((own_deg + MAX_KNEE_STRAIGHTEN_DEG).min(MAX_KNEE_DEG));
     let d = reach
         .min(reach_at(straightest))
         .clamp((thigh - shin).abs() * 1.001, (thigh + shin) * 0.999);
-    let axis = wanted.map(|c| c / reach);
+    let axis = wanted / reach;
     // The knee's side: the old knee's offset across the new hip-ankle line.
-    let old = sub(knee, hip);
-    let along = dot(old, axis);
-    let across: [f64; 3] = std::array::from_fn(|k| old[k] - along * axis[k]);
-    let across_norm = norm(across);
+    let old = knee - hip;
+    let across = old - axis * old.dot(&axis);
+    let across_norm = across.norm();
     if across_norm < 1e-9 {
         return;
     }
-    let side = across.map(|c| c / across_norm);
+    let side = across / across_norm;
     let a = (thigh * thigh - shin * shin + d * d) / (2.0 * d);
     let h = (thigh * thigh - a * a).max(0.0).sqrt();
-    let new_knee: [f64; 3] = std::array::from_fn(|k| hip[k] + a * axis[k] + h * side[k]);
-    let new_ankle: [f64; 3] = std::array::from_fn(|k| hip[k] + d * axis[k]);
-    pose.points[leg[1].index()] = new_knee;
-    pose.points[leg[2].index()] = new_ankle;
+    pose.points[leg[1].index()] = (hip + axis * a + side * h).into();
+    pose.points[leg[2].index()] = (hip + axis * d).into();
 }
 
 #[cfg(test)]

@@ -49,11 +49,7 @@ impl PoseReconstructor {
         for (t, p) in prepared.iter().enumerate() {
             // A left-out frame is missing from the sequence: as many in a row as make a gap
             // split it, as the command line's frame numbers would.
-            if left(t) {
-                failed_in_a_row += 1;
-                continue;
-            }
-            if p.is_err() {
+            if left(t) || p.is_err() {
                 failed_in_a_row += 1;
                 continue;
             }
@@ -114,10 +110,7 @@ impl PoseReconstructor {
             .enumerate()
             .map(|(t, ((p, solved), viewpoint))| {
                 if left(t) {
-                    return self.reconstruct(&poses[t]).map(|mut r| {
-                        r.alternatives.clear();
-                        r
-                    });
+                    return self.reconstruct_prepared(&poses[t], p?, 1);
                 }
                 let Prepared {
                     localization,
