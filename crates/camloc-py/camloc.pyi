@@ -107,8 +107,9 @@ class Localizer:
           where the person was missed): the result also has each frame's camera and viewpoint
           smoothed over the frames, as ``camloc localize --sequence`` gives them, and a
           ``UserWarning`` says where the pose jumps across the image as one person cannot (rows
-          of several people), and another where rows (up to 10 in a row) lie apart from the
-          rows before and after them while those agree (another person's detection): as the
+          of several people), and another where rows (up to 10 in a row, at an end too: the
+          rows are consecutive frames) lie apart from the rows before and after them while
+          those agree (another person's detection): as the
           command line does, they are left out of the smoothing (their smoothed camera comes
           from the rows around them, their smoothed viewpoint is NaN). A row of NaN counts as
           a frame, where the command line skips a frame number no record has: the smoothed
@@ -207,8 +208,9 @@ def reconstruct(
       for all of them, depths chosen consistently over time, temporal smoothness. A
       ``UserWarning`` says where the pose jumps across the image or changes size as one person
       cannot from one row to the next (rows of several people: split them by the ``persons``
-      of ``read_keypoints``), and another where rows (up to 10 in a row) lie apart from the
-      rows before and after them while those agree (another person's detection): as
+      of ``read_keypoints``), and another where rows (up to 10 in a row, at an end too: the
+      rows are consecutive frames) lie apart from the rows before and after them while those
+      agree (another person's detection): as
       ``camloc reconstruct --sequence`` does, they are reconstructed on their own, outside
       the sequence's bone lengths, smoothness and world placement (``world_points3d`` NaN).
       A row of NaN (nothing detected) gets the error "the pose has no landmarks (nothing

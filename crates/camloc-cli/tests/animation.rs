@@ -430,6 +430,54 @@ fn a_duplicate_and_a_swapped_frame_are_left_out_of_the_sequence() {
     );
 }
 
+/// A tracker's swap for the last frames of a track (numbered frames, so the jump happens
+/// from one frame to the next) is left out as well: the BVH holds the person's last frame
+/// instead of carrying the root to the other person (1.4-7.3 m in a trial).
+#[test]
+fn a_swap_at_the_end_of_a_track_is_left_out() {
+    let dir = TempDir::new("bvh-end-swap");
+    let input = walk_across(&dir, 0..20);
+    let mut document: Value =
+        serde_json::from_str(&std::fs::read_to_string(&input).unwrap()).unwrap();
+    for pose in &mut document["poses"].as_array_mut().unwrap()[16..] {
+        for p in pose["landmarks"].as_object_mut().unwrap().values_mut() {
+            p[0] = (p[0].as_f64().unwrap() + 900.0).into();
+        }
+    }
+    let file = dir.file("end-swap.json", &document.to_string());
+    let bvh = dir.0.join("end-swap.bvh");
+    let out = camloc(&[
+        "reconstruct",
+        "--input",
+        &file,
+        "--json",
+        "--sequence",
+        "--quiet",
+        "--bvh",
+        bvh.to_str().unwrap(),
+    ]);
+    assert_eq!(success(&out).len(), 20);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains(
+            "the pose of 4 frames lies apart from the frames before and after it (first at frame 16"
+        ),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("jumps across the image"), "{stderr}");
+    let clip = read_bvh_with_unit(&bvh, BVH_CENTIMETRE).unwrap();
+    assert_eq!(clip.frames.len(), 20);
+    let pelvis = |t: usize| clip.frames[t].get(Landmark::Pelvis);
+    let walked = (pelvis(15)[0] - pelvis(0)[0]).abs();
+    for t in 16..20 {
+        let past = (pelvis(t)[0] - pelvis(15)[0]).abs();
+        assert!(
+            past < 0.1 * walked.max(0.1),
+            "frame {t}: {past} m past frame 15"
+        );
+    }
+}
+
 /// Chromium's command, when installed.
 fn chromium() -> Option<&'static str> {
     ["chromium", "chromium-browser"].into_iter().find(|name| {

@@ -438,6 +438,18 @@ pub enum KeypointError {
         /// The missing torso landmarks (pelvis, neck or both).
         missing: Vec<Landmark>,
     },
+    /// [`ReadOptions::min_score`](crate::ReadOptions::min_score) is NaN, infinite or
+    /// negative: a NaN would mark every joint missing.
+    #[error(
+        "{}: the minimum score {value:?} is not a finite number >= 0 (ReadOptions::min_score)",
+        file_name(.file)
+    )]
+    InvalidMinScore {
+        /// The input being opened.
+        file: String,
+        /// The minimum score given.
+        value: f64,
+    },
 }
 
 pub use camloc_store::{MAX_QUOTED_CHARS, MAX_QUOTED_PATH_CHARS};

@@ -153,6 +153,7 @@ pub fn read_folder(
     options: &ReadOptions,
     recursive: bool,
 ) -> Result<FolderRecords, KeypointError> {
+    options.check_min_score(&dir.as_ref().display().to_string())?;
     Ok(FolderRecords {
         files: keypoint_files(dir.as_ref(), recursive)?.into_iter(),
         format,

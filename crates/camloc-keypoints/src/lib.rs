@@ -249,7 +249,8 @@ pub struct ReadOptions {
     /// Joints whose score is below this are missing, in every format with scores: COCO
     /// (visibility flag or confidence), OpenPose (confidence), MMPose (`keypoint_scores`),
     /// MediaPipe (`visibility`), `.npy` (N, J, 3). A score of 0 always means missing. Default 0;
-    /// meant to be finite and at least 0 (COCO dataset flags go up to 2).
+    /// finite and at least 0 (COCO dataset flags go up to 2): the readers refuse another
+    /// value with [`KeypointError::InvalidMinScore`].
     pub min_score: f64,
     /// The image size that normalised coordinates are scaled by (MediaPipe needs it; other
     /// formats ignore it). Default `None`.
@@ -267,6 +268,19 @@ pub struct ReadOptions {
 impl ReadOptions {
     /// The default input size limit: 1 GiB, room for the largest COCO keypoint files.
     pub const DEFAULT_MAX_BYTES: u64 = 1 << 30;
+
+    /// [`KeypointError::InvalidMinScore`] (naming the input `file`) unless `min_score` is
+    /// finite and at least 0.
+    pub(crate) fn check_min_score(&self, file: &str) -> Result<(), KeypointError> {
+        if self.min_score.is_finite() && self.min_score >= 0.0 {
+            Ok(())
+        } else {
+            Err(KeypointError::InvalidMinScore {
+                file: file.to_owned(),
+                value: self.min_score,
+            })
+        }
+    }
 
     /// The size limit for an input of `format` (`None`: not known yet).
     fn byte_limit(&self, format: Option<KeypointFormat>) -> (u64, &'static str) {
@@ -385,6 +399,7 @@ pub fn open_keypoints_reader(
     format: Option<KeypointFormat>,
     options: &ReadOptions,
 ) -> Result<KeypointStream, KeypointError> {
+    options.check_min_score(name)?;
     let io_error = |source| KeypointError::Io {
         file: name.to_owned(),
         source,
@@ -676,6 +691,7 @@ fn parse_items_bytes(
     format: Option<KeypointFormat>,
     options: &ReadOptions,
 ) -> Result<Vec<stream::Item>, KeypointError> {
+    options.check_min_score(source_name)?;
     let npy = match format {
         Some(format) => format == KeypointFormat::Npy,
         None => bytes.starts_with(format::NPY_MAGIC),
@@ -738,6 +754,7 @@ fn parse_items(
     format: Option<KeypointFormat>,
     options: &ReadOptions,
 ) -> Result<Vec<stream::Item>, KeypointError> {
+    options.check_min_score(source_name)?;
     let file = source_name;
     let too_large = |(limit, rule)| KeypointError::TooLarge {
         file: file.to_owned(),

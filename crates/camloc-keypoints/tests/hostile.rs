@@ -60,6 +60,36 @@ fn openpose_and_mmpose_refuse_repeated_keys() {
 }
 
 #[test]
+fn a_minimum_score_that_no_joint_can_pass_is_refused() {
+    let text = format!("[{}]", mmpose_instance(""));
+    for value in [f64::NAN, f64::INFINITY, -0.5] {
+        let options = ReadOptions {
+            min_score: value,
+            ..ReadOptions::default()
+        };
+        let e =
+            parse_keypoints(&text, "t.json", Some(KeypointFormat::MmPose), &options).unwrap_err();
+        assert!(matches!(e, KeypointError::InvalidMinScore { .. }), "{e:?}");
+        assert!(e.to_string().contains("not a finite number >= 0"), "{e}");
+        let reader = std::io::Cursor::new(text.clone().into_bytes());
+        let e = open_keypoints_reader(reader, "t.json", None, None, &options)
+            .err()
+            .unwrap();
+        assert!(matches!(e, KeypointError::InvalidMinScore { .. }), "{e:?}");
+    }
+    let options = ReadOptions {
+        min_score: 0.3,
+        ..ReadOptions::default()
+    };
+    assert_eq!(
+        parse_keypoints(&text, "t.json", Some(KeypointFormat::MmPose), &options)
+            .unwrap()
+            .len(),
+        1
+    );
+}
+
+#[test]
 fn a_version_given_as_text_says_so() {
     let e = parse(r#"{"version": "1", "poses": []}"#, KeypointFormat::Camloc).unwrap_err();
     let message = e.to_string();

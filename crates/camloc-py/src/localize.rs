@@ -185,12 +185,12 @@ impl Localizer {
         min_score: f64,
         sequence: bool,
         focal_px: Option<f64>,
-        principal_point: Option<Vec<f64>>,
+        principal_point: Option<Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyDict>> {
         // With the camera's intrinsics each pose is localized as seen by the camera aimed at
         // it (a person near the edge of a wide-angle image).
         let aimed;
-        let inner = match crate::reconstruct::intrinsics_arg(focal_px, principal_point)? {
+        let inner = match crate::reconstruct::intrinsics_arg(focal_px, principal_point.as_ref())? {
             Some(k) => {
                 aimed = (self.inner.clone())
                     .with_intrinsics(Some(k))

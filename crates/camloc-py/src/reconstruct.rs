@@ -37,12 +37,28 @@ fn default_reconstructor() -> PyResult<&'static PoseReconstructor> {
 
 /// The camera's intrinsics of the `focal_px` and `principal_point` arguments (a tuple, list
 /// or array of the two pixel coordinates), `None` without a focal length; a `ValueError` for
-/// a principal point without a focal length or not of two numbers.
+/// a principal point without a focal length or not of two numbers, a `TypeError` saying what
+/// is expected for one that is not a sequence of numbers (a text "960,540", say).
 pub(crate) fn intrinsics_arg(
     focal_px: Option<f64>,
-    principal_point: Option<Vec<f64>>,
+    principal_point: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<Option<Intrinsics>> {
-    let principal_point = match principal_point.as_deref() {
+    let numbers = |point: &Bound<'_, PyAny>| -> PyResult<Vec<f64>> {
+        let numbers = (!point.is_instance_of::<pyo3::types::PyString>())
+            .then(|| point.extract::<Vec<f64>>().ok())
+            .flatten();
+        numbers.ok_or_else(|| {
+            let given = point
+                .get_type()
+                .name()
+                .map_or_else(|_| "another type".to_owned(), |n| n.to_string());
+            pyo3::exceptions::PyTypeError::new_err(format!(
+                "principal_point: two numbers (u, v) in pixels, as a tuple, list or array such \
+                 as (960, 540); got a {given}"
+            ))
+        })
+    };
+    let principal_point = match principal_point.map(numbers).transpose()?.as_deref() {
         None => None,
         Some(_) if focal_px.is_none() => {
             return Err(value_error("principal_point needs focal_px"));
@@ -133,7 +149,7 @@ pub(crate) fn reconstruct<'py>(
     basis: Option<PathBuf>,
     bone_lengths: Option<Bound<'py, PyAny>>,
     focal_px: Option<f64>,
-    principal_point: Option<Vec<f64>>,
+    principal_point: Option<Bound<'py, PyAny>>,
     sequence: bool,
     camera_height: Option<&str>,
     lifter: bool,
@@ -158,7 +174,7 @@ pub(crate) fn reconstruct<'py>(
     let batch = PoseBatch::new(&points, layout, scores.as_ref(), min_score, output_bytes)?;
     // Mapped once for the warning and the height estimate.
     let leading = batch.leading_poses(HEIGHT_SHARE_MAX_POSES);
-    let intrinsics = intrinsics_arg(focal_px, principal_point)?;
+    let intrinsics = intrinsics_arg(focal_px, principal_point.as_ref())?;
     warn_of_input_conventions(py, &leading, intrinsics)?;
     let mut reconstructor = match basis {
         Some(path) => PoseBasis::load(&path)

@@ -75,7 +75,9 @@ pub(crate) fn warn_of_identity_jumps<'a>(
     treated: &str,
 ) -> PyResult<Vec<bool>> {
     let anchors: Vec<Option<TorsoAnchor>> = poses.map(|p| p.and_then(TorsoAnchor::of)).collect();
-    let left_out = left_out_of_sequence(&[], &anchors);
+    // A sequence's rows are consecutive frames (a missing frame is a row of NaN).
+    let rows: Vec<Option<u64>> = (0..anchors.len() as u64).map(Some).collect();
+    let left_out = left_out_of_sequence(&rows, &anchors);
     if let Some(first) = left_out.outliers.first() {
         let message = format!(
             "{} row(s) lie apart from the rows before and after them while those agree (first \
@@ -85,7 +87,7 @@ pub(crate) fn warn_of_identity_jumps<'a>(
         );
         warn(py, message)?;
     }
-    if let Some(first) = identity_jumps(&[], &left_out.kept_anchors(&anchors)).first() {
+    if let Some(first) = identity_jumps(&rows, &left_out.kept_anchors(&anchors)).first() {
         let message = format!(
             "the pose jumps across the image or changes size from one row to the next (first \
              at row {first}): these may be several people, or not consecutive frames of a \

@@ -595,6 +595,14 @@ def test_a_sequence_that_jumps_between_people_warns_and_nothing_detected_says_so
         smoothed = camloc.Localizer().localize(swapped, sequence=True)
     assert np.isnan(smoothed["smoothed_azimuth_deg"][2])
     assert np.isfinite(np.delete(smoothed["smoothed_azimuth_deg"], 2)).all()
+    # The other person's rows at the end of a sequence (ids swapped for its last 3 frames):
+    # left out too, as the rows are consecutive frames.
+    long_rows = np.stack([pose + [2.0 * t, 0.0] for t in range(12)])
+    long_rows[9:] += [600.0, 0.0]
+    with pytest.warns(UserWarning, match=r"3 row\(s\) lie apart .*first at row 9"):
+        got = camloc.reconstruct(long_rows, sequence=True, camera_height="any")
+    assert np.isnan(got["world_points3d"][9:]).all()
+    assert np.isfinite(got["world_points3d"][:9]).all()
     # One person, with a row of NaN where nothing was detected: no warning, and that row's
     # error says what happened.
     rows[3] = np.nan
@@ -736,6 +744,17 @@ def test_arguments_as_users_write_them():
     np.testing.assert_array_equal(as_list["points3d"], as_tuple["points3d"])
     with pytest.raises(ValueError, match="principal_point: 2 numbers"):
         camloc.reconstruct(points, focal_px=1500.0, principal_point=[1, 2, 3])
+    # The command line's "U,V" is not a Python pair: the error says what is.
+    with pytest.raises(TypeError, match=r"two numbers \(u, v\) in pixels.*got a str"):
+        camloc.reconstruct(points, focal_px=1500.0, principal_point="320,240")
+    with pytest.raises(TypeError, match="got a dict"):
+        camloc.Localizer().localize(points, focal_px=1500.0, principal_point={"u": 1})
+    np.testing.assert_array_equal(
+        camloc.reconstruct(points, focal_px=1500.0, principal_point=np.array([320, 240]))[
+            "points3d"
+        ],
+        as_list["points3d"],
+    )
     # read_keypoints' frames of an input without frame numbers are -1.
     azimuth, elevation = np.linspace(0, 90, 5), np.zeros(5)
     np.testing.assert_array_equal(
@@ -802,9 +821,12 @@ def test_hostile_sizes_and_units_raise_instead_of_aborting(tmp_path):
         camloc.to_bvh(points3d, unit_m=5e-324)
     with pytest.raises(ValueError, match="unit_m must be from"):
         camloc.read_bvh(tmp_path / "any.bvh", unit_m=5e-324)
-    # A focal length wrong by orders of magnitude is the pose's error, not NaN results.
-    got = camloc.reconstruct(pose, focal_px=5e-324)
+    # A focal length wrong by orders of magnitude is the pose's error, not NaN results; one
+    # under a pixel is refused.
+    got = camloc.reconstruct(pose, focal_px=2.0)
     assert "focal lengths" in got["error"]
+    with pytest.raises(ValueError, match="at least 1 pixel"):
+        camloc.reconstruct(pose, focal_px=5e-324)
     # A file without poses: empty arrays, and a warning (the command line refuses it).
     empty = tmp_path / "empty.json"
     empty.write_text('{"format": "camloc-keypoints", "version": 1, "poses": []}')

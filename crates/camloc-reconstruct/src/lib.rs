@@ -95,8 +95,8 @@ pub use pursuit::{
     SequenceReconstruction, depths_along_axis,
 };
 pub use refine::{
-    DistancePrior, Given, Intrinsics, MAX_POSE_REACH_PER_FOCAL, MIN_POSE_SPREAD_PER_FOCAL,
-    PerspectiveCamera, Refinement,
+    DistancePrior, Given, Intrinsics, MAX_POSE_REACH_PER_FOCAL, MIN_FOCAL_PX,
+    MIN_POSE_SPREAD_PER_FOCAL, PerspectiveCamera, Refinement,
 };
 pub use world::{SMOOTHING_FRAMES, world_poses};
 

@@ -207,10 +207,14 @@ impl Default for DistancePrior {
     }
 }
 
+/// The shortest focal length, pixels, that [`Intrinsics::check`] accepts: an image a few
+/// pixels wide would see the whole half-space in front of the camera.
+pub const MIN_FOCAL_PX: f64 = 1.0;
+
 /// A pinhole camera's intrinsics, in the input's image units (pixels).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Intrinsics {
-    /// Focal length, pixels; finite and > 0.
+    /// Focal length, pixels; finite and at least [`MIN_FOCAL_PX`].
     pub focal_px: f64,
     /// Principal point `(u, v)`, pixels (`u` right, `v` down, as the input); `None`: the
     /// centre of each pose's 2D bounding box (the person taken to be near the image centre).
@@ -221,14 +225,14 @@ impl Intrinsics {
     /// Checks the intrinsics.
     ///
     /// # Errors
-    /// [`ReconstructError::InvalidConfig`] when the focal length is not finite and positive
-    /// or the principal point is not finite.
+    /// [`ReconstructError::InvalidConfig`] when the focal length is not finite and at least
+    /// [`MIN_FOCAL_PX`] or the principal point is not finite.
     pub fn check(&self) -> Result<(), ReconstructError> {
-        if !(self.focal_px.is_finite() && self.focal_px > 0.0) {
+        if !(self.focal_px.is_finite() && self.focal_px >= MIN_FOCAL_PX) {
             return Err(ReconstructError::InvalidConfig {
                 field: "the focal length (pixels)",
                 value: format!("{:?}", self.focal_px),
-                reason: "it must be finite and > 0",
+                reason: "it must be finite and at least 1 pixel",
             });
         }
         if let Some(point) = self

@@ -134,7 +134,8 @@ pub const OUTLIER_RUN_FRAMES: usize = 10;
 /// another person's detection (two tracked people's ids swapped for a few frames) or a
 /// detection a detector misplaced. The median of [`identity_jumps`] does not count such frames
 /// as a change of person; their poses are still not this person's. The first (last) frame
-/// of a track is judged by the two frames after (before) it.
+/// of a track is judged by the two frames after (before) it; a longer stretch at an end only
+/// where the frame numbers say it follows the rest of the track from one frame to the next.
 pub fn outlier_frames(frames: &[Option<u64>], anchors: &[Option<TorsoAnchor>]) -> Vec<usize> {
     let present = present(anchors);
     let n = present.len();
@@ -151,8 +152,9 @@ pub fn outlier_frames(frames: &[Option<u64>], anchors: &[Option<TorsoAnchor>]) -
     let mut out = vec![false; n];
     // The ends: the first (last) frame apart from the two frames after (before) it, which
     // agree, when the track does not come back to its person within OUTLIER_RUN_FRAMES + 1
-    // frames. A longer stretch at an end is not told from a person who moved fast between
-    // sparse frames (two of a simulated user's 12 clips of 25 frames spread over long takes).
+    // frames. Without consecutive frame numbers, a longer stretch at an end is not told from a
+    // person who moved fast between sparse frames (two of a simulated user's 12 clips of 25
+    // frames spread over long takes).
     let first = n >= 3
         && apart(0, 1)
         && !apart(1, 2)
@@ -162,14 +164,27 @@ pub fn outlier_frames(frames: &[Option<u64>], anchors: &[Option<TorsoAnchor>]) -
         && !apart(n - 3, n - 2)
         && !((n - 2).saturating_sub(OUTLIER_RUN_FRAMES + 1).max(1)..n - 2)
             .any(|f| apart(f - 1, f) && !apart(f - 1, n - 1));
-    if first {
-        out[0] = true;
-    }
-    if last_frame {
-        out[n - 1] = true;
-    }
+    // Longer stretches at an end where the frame numbers say that the stretch begins (ends)
+    // one frame after (before) the rest of the track: no one moves a torso length in a frame.
+    let consecutive = |x: usize, y: usize| {
+        let (a, b) = (x.min(y), x.max(y));
+        let number = |m: usize| frames.get(present[m].0).copied().flatten();
+        matches!((number(a), number(b)), (Some(p), Some(q)) if q == p + 1)
+    };
+    let head = if first {
+        1
+    } else {
+        numbered_end_stretch(n, |e| e, apart, consecutive)
+    };
+    let tail = if last_frame {
+        1
+    } else {
+        numbered_end_stretch(n, |e| n - 1 - e, apart, consecutive)
+    };
+    out[..head].fill(true);
+    out[n - tail..].fill(true);
     // In between: a stretch that leaves the person's last agreeing frame and comes back.
-    let mut last = usize::from(first);
+    let mut last = head;
     let mut m = last + 1;
     while m + 1 < n && !out[m] {
         let back = apart(last, m)
@@ -191,6 +206,31 @@ pub fn outlier_frames(frames: &[Option<u64>], anchors: &[Option<TorsoAnchor>]) -
         }
     }
     (0..n).filter(|&m| out[m]).map(|m| present[m].0).collect()
+}
+
+/// The length (2 to [`OUTLIER_RUN_FRAMES`]) of a stretch of frames at one end of a track of
+/// `n` frames that holds another person: it jumps in from the rest of the track over one
+/// numbered frame (`consecutive`), its frames agree with each other, and the rest (at least
+/// twice as long, and 3 frames) has no jump within [`OUTLIER_RUN_FRAMES`] + 1 frames of it (else
+/// the stretch may be the person and the rest's start another's). `at(e)` is the position of
+/// the `e`-th frame from that end; 0 when there is no such stretch.
+fn numbered_end_stretch(
+    n: usize,
+    at: impl Fn(usize) -> usize,
+    apart: impl Fn(usize, usize) -> bool,
+    consecutive: impl Fn(usize, usize) -> bool,
+) -> usize {
+    (2..=OUTLIER_RUN_FRAMES)
+        .take_while(|&len| n >= 2 * len + 3)
+        .find(|&len| {
+            let (inside, outside) = (at(len - 1), at(len));
+            apart(inside, outside)
+                && consecutive(inside, outside)
+                && (0..len - 1).all(|e| !apart(at(e), at(e + 1)))
+                && (len..(len + OUTLIER_RUN_FRAMES + 1).min(n - 1))
+                    .all(|e| !apart(at(e), at(e + 1)))
+        })
+        .unwrap_or(0)
 }
 
 /// The frames of one person that are not the person's frame of the sequence
@@ -352,6 +392,42 @@ mod tests {
         // no outlier, as the frames before and after disagree too.
         let fast: Vec<_> = (0..10).map(|t| at(150.0 * f64::from(t), 100.0)).collect();
         assert!(outlier_frames(&frames, &fast).is_empty());
+    }
+
+    #[test]
+    fn a_swap_at_an_end_of_a_numbered_track_is_left_out() {
+        let walk: Vec<_> = (0..30).map(|t| at(20.0 * f64::from(t), 100.0)).collect();
+        let other: Vec<_> = (0..30)
+            .map(|t| at(1500.0 - 10.0 * f64::from(t), 100.0))
+            .collect();
+        let numbered: Vec<Option<u64>> = (0..30).map(|t| Some(1000 + t)).collect();
+        for (swapped, len) in [(25..30, 5), (0..4, 4), (20..30, 10)] {
+            let (mut a, mut b) = (walk.clone(), other.clone());
+            for t in swapped.clone() {
+                std::mem::swap(&mut a[t], &mut b[t]);
+            }
+            let expected: Vec<usize> = swapped.collect();
+            assert_eq!(expected.len(), len);
+            assert_eq!(outlier_frames(&numbered, &a), expected);
+            assert_eq!(outlier_frames(&numbered, &b), expected);
+            // Without frame numbers, or with frames far apart in time (a person may have
+            // walked there), only the one-frame rule holds.
+            let sparse: Vec<Option<u64>> = (0..30).map(|t| Some(100 * t)).collect();
+            assert!(outlier_frames(&[], &a).is_empty());
+            assert!(outlier_frames(&sparse, &a).is_empty());
+        }
+        // Eleven frames are a change of person; so is a stretch that moves on its own.
+        let (mut a, mut b) = (walk.clone(), other.clone());
+        for t in 19..30 {
+            std::mem::swap(&mut a[t], &mut b[t]);
+        }
+        assert!(outlier_frames(&numbered, &a).is_empty());
+        assert!(outlier_frames(&numbered, &b).is_empty());
+        let mut runs_off = walk.clone();
+        for (k, a) in runs_off.iter_mut().enumerate().skip(26) {
+            a.as_mut().unwrap().pelvis[0] += 500.0 * (k - 25) as f64;
+        }
+        assert!(outlier_frames(&numbered, &runs_off).is_empty());
     }
 
     #[test]

@@ -2,7 +2,7 @@
 //! `--principal-point`).
 
 use camloc::keypoints::ImageSize;
-use camloc::reconstruct::Intrinsics;
+use camloc::reconstruct::{Intrinsics, MIN_FOCAL_PX};
 
 /// The camera's focal length and principal point, when the user knows them.
 #[derive(clap::Args, Debug, Clone, Copy)]
@@ -33,13 +33,13 @@ impl IntrinsicsArgs {
     }
 }
 
-/// Parses `--focal-px`: a finite number > 0.
+/// Parses `--focal-px`: a finite number of at least [`MIN_FOCAL_PX`] pixels.
 fn parse_focal(text: &str) -> Result<f64, String> {
     text.trim()
         .parse::<f64>()
         .ok()
-        .filter(|f| f.is_finite() && *f > 0.0)
-        .ok_or_else(|| format!("not a finite number of pixels > 0: {text:?}"))
+        .filter(|f| f.is_finite() && *f >= MIN_FOCAL_PX)
+        .ok_or_else(|| format!("not a finite number of pixels >= {MIN_FOCAL_PX}: {text:?}"))
 }
 
 /// Parses `--principal-point`: `U,V`, two finite numbers.
