@@ -259,7 +259,7 @@ def reconstruct(
 
     Raises ValueError for a wrong shape, layout or camera mode, bone lengths that are refused
     (a missing or unknown key, not 14 numbers, a length outside 0.01-1.5 m, a bone lengths file
-    that cannot be read or is malformed), a focal length that is not finite and positive, or a
+    that cannot be read or is malformed), a focal length that is not finite or under 1 pixel, or a
     principal point without a focal length or an unknown ``camera_height`` (as ``Localizer``);
     OSError / CamlocError for an unreadable or invalid basis; MemoryError, before any work,
     for more poses than the outputs can be allocated for. A focal length or principal point

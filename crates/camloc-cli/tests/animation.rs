@@ -408,8 +408,8 @@ fn a_duplicate_and_a_swapped_frame_are_left_out_of_the_sequence() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     for expected in [
         "person 0: 1 frame holds a second pose (first at frame 5)",
-        "person 0: the pose of 3 frames lies apart from the frames before and after it (first \
-         at frame 13",
+        "person 0: the poses of 3 frames lie apart from the frames before and after them \
+         (first at frame 13",
     ] {
         assert!(stderr.contains(expected), "{stderr}");
     }
@@ -456,11 +456,16 @@ fn a_swap_at_the_end_of_a_track_is_left_out() {
         "--bvh",
         bvh.to_str().unwrap(),
     ]);
-    assert_eq!(success(&out).len(), 20);
+    let objects = success(&out);
+    assert_eq!(objects.len(), 20);
+    for (t, object) in objects.iter().enumerate() {
+        let marked = object.get("left_out_of_sequence") == Some(&Value::Bool(true));
+        assert_eq!(marked, t >= 16, "frame {t}: {object}");
+    }
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(
         stderr.contains(
-            "the pose of 4 frames lies apart from the frames before and after it (first at frame 16"
+            "the poses of 4 frames lie apart from the frames before and after them (first at frame 16"
         ),
         "{stderr}"
     );

@@ -460,6 +460,9 @@ pub fn open_keypoints_reader(
     // A format found from the content may have a lower limit (one OpenPose frame): a file
     // known to be beyond it is refused before more is read.
     refuse_known(options.byte_limit(detected))?;
+    if detected == Some(KeypointFormat::Lsp) && !start.ended {
+        lsp::check_header_of_start(text, start.newlines, name)?;
+    }
     let json = detected.filter(|f| !matches!(f, KeypointFormat::Lsp | KeypointFormat::Npy));
     if let (Some(json), false) = (json, start.ended) {
         let (lead, content) = (start.lead(false), start.content);

@@ -241,6 +241,24 @@ fn record(image: &Image, joints: &[Row], file: &str, options: &ReadOptions) -> K
     finish(image.name.to_owned(), pose, derived, source, options)
 }
 
+/// Checks the header of the start of a longer LSP CSV input (`text`, after `lead_lines`
+/// blank lines), which is read whole before it is parsed: a first line that does not name the
+/// five columns is refused before the rest is read. A start without a whole line passes.
+pub(crate) fn check_header_of_start(
+    text: &str,
+    lead_lines: u64,
+    file: &str,
+) -> Result<(), KeypointError> {
+    let whole_lines = text.rfind('\n').map_or("", |end| &text[..end]);
+    match rows(whole_lines).next() {
+        Some((line, header)) => {
+            let line = usize::try_from(lead_lines).map_or(usize::MAX, |l| l.saturating_add(line));
+            parse_header(header, line, file).map(|_| ())
+        }
+        None => Ok(()),
+    }
+}
+
 /// Finds the five columns in the header, in any order (names compared ignoring ASCII case).
 fn parse_header(text: &str, line: usize, file: &str) -> Result<Header, KeypointError> {
     let names: Vec<&str> = text.split(',').map(str::trim).collect();

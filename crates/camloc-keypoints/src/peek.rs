@@ -23,7 +23,7 @@ pub(crate) struct Start {
     /// White-space bytes before the last newline of the lead, other than newlines.
     blanks: u64,
     /// Newlines in the lead.
-    newlines: u64,
+    pub(crate) newlines: u64,
     /// White-space bytes after the last newline of the lead (the column of the content).
     column: u64,
     /// Up to [`STREAM_PEEK_BYTES`] of content after the lead.

@@ -60,6 +60,24 @@ fn openpose_and_mmpose_refuse_repeated_keys() {
 }
 
 #[test]
+fn a_long_lsp_input_with_a_wrong_header_is_refused_before_it_is_read_whole() {
+    let options = ReadOptions {
+        max_bytes: 64 << 20,
+        ..ReadOptions::default()
+    };
+    let (reader, given) = endless(b"\nimage,joint,x,y\n", b"im1,head,1,2\n");
+    let e = open_keypoints_reader(reader, "s.csv", None, Some(KeypointFormat::Lsp), &options)
+        .err()
+        .unwrap();
+    assert!(
+        matches!(&e, KeypointError::CsvHeader { line: 2, missing, .. } if missing == &["visible"]),
+        "{e:?}"
+    );
+    let given = given.load(Ordering::Relaxed);
+    assert!(given < 1 << 20, "{given} bytes read");
+}
+
+#[test]
 fn a_minimum_score_that_no_joint_can_pass_is_refused() {
     let text = format!("[{}]", mmpose_instance(""));
     for value in [f64::NAN, f64::INFINITY, -0.5] {

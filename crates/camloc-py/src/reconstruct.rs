@@ -4,7 +4,7 @@ use std::collections::HashMap;
 use std::path::PathBuf;
 use std::sync::OnceLock;
 
-use camloc::reconstruct::{BONE_KEYS, BoneLengths, Intrinsics, PoseBasis};
+use camloc::reconstruct::{BONE_KEYS, BoneLengths, Intrinsics, MIN_FOCAL_PX, PoseBasis};
 use camloc::skeleton::{NUM_LANDMARKS, NUM_LIMBS};
 use camloc::store::Persist;
 use camloc::{
@@ -48,16 +48,27 @@ pub(crate) fn intrinsics_arg(
             .then(|| point.extract::<Vec<f64>>().ok())
             .flatten();
         numbers.ok_or_else(|| {
-            let given = point
+            let type_name = point
                 .get_type()
                 .name()
                 .map_or_else(|_| "another type".to_owned(), |n| n.to_string());
+            let shown: String = point
+                .repr()
+                .map_or_else(|_| String::new(), |r| r.to_string())
+                .chars()
+                .take(60)
+                .collect();
             pyo3::exceptions::PyTypeError::new_err(format!(
                 "principal_point: two numbers (u, v) in pixels, as a tuple, list or array such \
-                 as (960, 540); got a {given}"
+                 as (960, 540); got a {type_name}: {shown}"
             ))
         })
     };
+    if let Some(focal) = focal_px.filter(|f| !(f.is_finite() && *f >= MIN_FOCAL_PX)) {
+        return Err(value_error(format!(
+            "focal_px must be a finite number of pixels >= {MIN_FOCAL_PX}, got {focal}"
+        )));
+    }
     let principal_point = match principal_point.map(numbers).transpose()?.as_deref() {
         None => None,
         Some(_) if focal_px.is_none() => {

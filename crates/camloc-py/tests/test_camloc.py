@@ -747,6 +747,8 @@ def test_arguments_as_users_write_them():
     # The command line's "U,V" is not a Python pair: the error says what is.
     with pytest.raises(TypeError, match=r"two numbers \(u, v\) in pixels.*got a str"):
         camloc.reconstruct(points, focal_px=1500.0, principal_point="320,240")
+    with pytest.raises(TypeError, match=r"got a list: \[960, '540'\]"):
+        camloc.reconstruct(points, focal_px=1500.0, principal_point=[960, "540"])
     with pytest.raises(TypeError, match="got a dict"):
         camloc.Localizer().localize(points, focal_px=1500.0, principal_point={"u": 1})
     np.testing.assert_array_equal(
@@ -825,7 +827,7 @@ def test_hostile_sizes_and_units_raise_instead_of_aborting(tmp_path):
     # under a pixel is refused.
     got = camloc.reconstruct(pose, focal_px=2.0)
     assert "focal lengths" in got["error"]
-    with pytest.raises(ValueError, match="at least 1 pixel"):
+    with pytest.raises(ValueError, match="focal_px must be a finite number of pixels >= 1"):
         camloc.reconstruct(pose, focal_px=5e-324)
     # A file without poses: empty arrays, and a warning (the command line refuses it).
     empty = tmp_path / "empty.json"

@@ -382,17 +382,21 @@ fn a_known_focal_length_fits_a_close_camera_in_full_perspective() {
     // With the true lengths the depth is absolute: the pelvis is about 2.2 m away.
     let depth = perspective.translation[2];
     assert!((depth - 2.2).abs() < 0.25, "depth {depth}");
-    let bad = Given {
-        intrinsics: Some(Intrinsics {
-            focal_px: -1.0,
-            principal_point: None,
-        }),
-        ..weak
-    };
-    assert!(matches!(
-        rec.reconstruct_with(&pose2, &CameraMode::Opt, 1, &bad),
-        Err(ReconstructError::InvalidConfig { .. })
-    ));
+    // A focal length under a pixel (5e-324 had put the pose an infinite number of focal
+    // lengths off the axis).
+    for focal_px in [-1.0, 0.0, 5e-324, 0.5] {
+        let bad = Given {
+            intrinsics: Some(Intrinsics {
+                focal_px,
+                principal_point: None,
+            }),
+            ..weak
+        };
+        assert!(matches!(
+            rec.reconstruct_with(&pose2, &CameraMode::Opt, 1, &bad),
+            Err(ReconstructError::InvalidConfig { .. })
+        ));
+    }
     // The same pose in normalised image coordinates (divided by the image width) with the
     // focal length in pixels: refused, single frame and sequence alike.
     let normalised = Pose2::new(points.map(|p| [p[0] / 640.0, p[1] / 640.0]));
@@ -402,7 +406,7 @@ fn a_known_focal_length_fits_a_close_camera_in_full_perspective() {
     ));
     // A focal length or principal point wrong by orders of magnitude: refused, where they
     // gave non-finite cameras.
-    for (focal_px, principal_point) in [(5e-324, None), (1000.0, Some([1e308, 1e308]))] {
+    for (focal_px, principal_point) in [(2.0, None), (1000.0, Some([1e308, 1e308]))] {
         let wrong = Given {
             intrinsics: Some(Intrinsics {
                 focal_px,

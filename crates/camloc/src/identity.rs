@@ -133,9 +133,14 @@ pub const OUTLIER_RUN_FRAMES: usize = 10;
 /// while those agree with each other: up to [`OUTLIER_RUN_FRAMES`] frames in a row that hold
 /// another person's detection (two tracked people's ids swapped for a few frames) or a
 /// detection a detector misplaced. The median of [`identity_jumps`] does not count such frames
-/// as a change of person; their poses are still not this person's. The first (last) frame
-/// of a track is judged by the two frames after (before) it; a longer stretch at an end only
-/// where the frame numbers say it follows the rest of the track from one frame to the next.
+/// as a change of person; their poses are still not this person's. A stretch counts only when
+/// each of its frames lies more than a torso length off the line through the person's frames
+/// on each side of it (a steady runner's frames may each be more than a torso length apart).
+/// The first (last) frame of a track is judged by the two frames after (before) it; a longer
+/// stretch at an end only where the frame numbers say it follows the rest of the track within
+/// [`OUTLIER_END_GAP_FRAMES`] frames. When more than a third of the frames would be left
+/// out, none is: such frames are not a tracker's swap but a track of several people, or
+/// frames sampled far apart and numbered one after another ([`identity_jumps`] warns).
 pub fn outlier_frames(frames: &[Option<u64>], anchors: &[Option<TorsoAnchor>]) -> Vec<usize> {
     let present = present(anchors);
     let n = present.len();
@@ -149,37 +154,59 @@ pub fn outlier_frames(frames: &[Option<u64>], anchors: &[Option<TorsoAnchor>]) -
             elapsed(frames, present[a].0, present[b].0),
         )
     };
+    // Whether the frame at position `k` lies more than a torso length (of the frames at `a`
+    // and `b`) off where the line through the frames at positions `a` and `b` (`a != b`) puts
+    // the person at its time, between them or beyond them, or differs from their size by
+    // more than IDENTITY_SIZE_RATIO.
+    let off_line = |k: usize, a: usize, b: usize| {
+        let time = |x: usize, y: usize| {
+            if x <= y {
+                elapsed(frames, present[x].0, present[y].0)
+            } else {
+                -elapsed(frames, present[y].0, present[x].0)
+            }
+        };
+        let (pa, pb, pk) = (present[a].1, present[b].1, present[k].1);
+        let s = time(a, k) / time(a, b);
+        let size = 0.5 * (pa.torso + pb.torso);
+        let off = [0, 1].map(|i| pk.pelvis[i] - pa.pelvis[i] - s * (pb.pelvis[i] - pa.pelvis[i]));
+        off[0].hypot(off[1]) > IDENTITY_JUMP_TORSOS * size
+            || pk.torso.max(size) / pk.torso.min(size) > IDENTITY_SIZE_RATIO
+    };
     let mut out = vec![false; n];
     // The ends: the first (last) frame apart from the two frames after (before) it, which
     // agree, when the track does not come back to its person within OUTLIER_RUN_FRAMES + 1
-    // frames. Without consecutive frame numbers, a longer stretch at an end is not told from a
-    // person who moved fast between sparse frames (two of a simulated user's 12 clips of 25
-    // frames spread over long takes).
+    // frames. Without frame numbers, a longer stretch at an end is not told from a person who
+    // moved fast between sparse frames (two of a simulated user's 12 clips of 25 frames
+    // spread over long takes).
     let first = n >= 3
         && apart(0, 1)
         && !apart(1, 2)
+        && off_line(0, 1, 2)
         && !(2..(3 + OUTLIER_RUN_FRAMES).min(n)).any(|f| apart(f - 1, f) && !apart(0, f));
     let last_frame = n >= 3
         && apart(n - 2, n - 1)
         && !apart(n - 3, n - 2)
+        && off_line(n - 1, n - 2, n - 3)
         && !((n - 2).saturating_sub(OUTLIER_RUN_FRAMES + 1).max(1)..n - 2)
             .any(|f| apart(f - 1, f) && !apart(f - 1, n - 1));
     // Longer stretches at an end where the frame numbers say that the stretch begins (ends)
-    // one frame after (before) the rest of the track: no one moves a torso length in a frame.
-    let consecutive = |x: usize, y: usize| {
+    // within OUTLIER_END_GAP_FRAMES of the rest of the track.
+    let numbered_near = |x: usize, y: usize| {
         let (a, b) = (x.min(y), x.max(y));
         let number = |m: usize| frames.get(present[m].0).copied().flatten();
-        matches!((number(a), number(b)), (Some(p), Some(q)) if q == p + 1)
+        matches!((number(a), number(b)), (Some(p), Some(q)) if q > p && q - p <= OUTLIER_END_GAP_FRAMES)
     };
-    let head = if first {
-        1
-    } else {
-        numbered_end_stretch(n, |e| e, apart, consecutive)
+    let end = EndJudges {
+        apart,
+        off_line,
+        numbered_near,
     };
+    let head = if first { 1 } else { end.stretch(n, |e| e) };
     let tail = if last_frame {
         1
     } else {
-        numbered_end_stretch(n, |e| n - 1 - e, apart, consecutive)
+        end.stretch(n, |e| n - 1 - e)
     };
     out[..head].fill(true);
     out[n - tail..].fill(true);
@@ -192,7 +219,8 @@ pub fn outlier_frames(frames: &[Option<u64>], anchors: &[Option<TorsoAnchor>]) -
                 (m..(m + OUTLIER_RUN_FRAMES).min(n - 1))
                     .find(|&e| apart(e, e + 1) && !apart(last, e + 1))
             })
-            .flatten();
+            .flatten()
+            .filter(|&e| (m..=e).all(|k| off_line(k, last, e + 1)));
         match back {
             Some(e) => {
                 out[m..=e].fill(true);
@@ -205,32 +233,55 @@ pub fn outlier_frames(frames: &[Option<u64>], anchors: &[Option<TorsoAnchor>]) -
             }
         }
     }
-    (0..n).filter(|&m| out[m]).map(|m| present[m].0).collect()
+    let left_out: Vec<usize> = (0..n).filter(|&m| out[m]).map(|m| present[m].0).collect();
+    if 3 * left_out.len() > n {
+        return Vec::new();
+    }
+    left_out
 }
 
-/// The length (2 to [`OUTLIER_RUN_FRAMES`]) of a stretch of frames at one end of a track of
-/// `n` frames that holds another person: it jumps in from the rest of the track over one
-/// numbered frame (`consecutive`), its frames agree with each other, and the rest (at least
-/// twice as long, and 3 frames) has no jump within [`OUTLIER_RUN_FRAMES`] + 1 frames of it (else
-/// the stretch may be the person and the rest's start another's). `at(e)` is the position of
-/// the `e`-th frame from that end; 0 when there is no such stretch.
-fn numbered_end_stretch(
-    n: usize,
-    at: impl Fn(usize) -> usize,
-    apart: impl Fn(usize, usize) -> bool,
-    consecutive: impl Fn(usize, usize) -> bool,
-) -> usize {
-    (2..=OUTLIER_RUN_FRAMES)
-        .take_while(|&len| n >= 2 * len + 3)
-        .find(|&len| {
-            let (inside, outside) = (at(len - 1), at(len));
-            apart(inside, outside)
-                && consecutive(inside, outside)
-                && (0..len - 1).all(|e| !apart(at(e), at(e + 1)))
-                && (len..(len + OUTLIER_RUN_FRAMES + 1).min(n - 1))
-                    .all(|e| !apart(at(e), at(e + 1)))
-        })
-        .unwrap_or(0)
+/// The most frame numbers between a stretch at an end of a track and the rest of the track
+/// for [`outlier_frames`] to judge the stretch (a detector that missed a frame or two where
+/// the tracker swapped two people's ids).
+pub const OUTLIER_END_GAP_FRAMES: u64 = 3;
+
+/// The tests [`outlier_frames`] judges a stretch at an end of a track with, on positions of
+/// the track's frames: two frames too far apart for one person, a frame off the line through
+/// two others, two frames numbered at most [`OUTLIER_END_GAP_FRAMES`] apart.
+struct EndJudges<A, O, N> {
+    apart: A,
+    off_line: O,
+    numbered_near: N,
+}
+
+impl<A, O, N> EndJudges<A, O, N>
+where
+    A: Fn(usize, usize) -> bool,
+    O: Fn(usize, usize, usize) -> bool,
+    N: Fn(usize, usize) -> bool,
+{
+    /// The length (2 to [`OUTLIER_RUN_FRAMES`]) of a stretch of frames at one end of a track
+    /// of `n` frames that holds another person: it jumps in from the rest of the track within
+    /// a few numbered frames, its frames agree with each other and lie off the line through
+    /// the rest's two nearest frames, and the rest (at least twice as long, and 3 frames) has
+    /// no jump within [`OUTLIER_RUN_FRAMES`] + 1 frames of it (else the stretch may be the
+    /// person and the rest's start another's). `at(e)` is the position of the `e`-th frame
+    /// from that end; 0 when there is no such stretch.
+    fn stretch(&self, n: usize, at: impl Fn(usize) -> usize) -> usize {
+        let apart = &self.apart;
+        (2..=OUTLIER_RUN_FRAMES)
+            .take_while(|&len| n >= 2 * len + 3)
+            .find(|&len| {
+                let (inside, outside) = (at(len - 1), at(len));
+                apart(inside, outside)
+                    && (self.numbered_near)(inside, outside)
+                    && (0..len - 1).all(|e| !apart(at(e), at(e + 1)))
+                    && (0..len).all(|e| (self.off_line)(at(e), outside, at(len + 1)))
+                    && (len..(len + OUTLIER_RUN_FRAMES + 1).min(n - 1))
+                        .all(|e| !apart(at(e), at(e + 1)))
+            })
+            .unwrap_or(0)
+    }
 }
 
 /// The frames of one person that are not the person's frame of the sequence
@@ -395,6 +446,31 @@ mod tests {
     }
 
     #[test]
+    fn a_steady_runner_and_sparse_frames_numbered_in_a_row_lose_no_frame() {
+        // A runner whose pelvis moves a little more than a torso length in some frames and a
+        // little less in others (a simulated user's side view of a sprint lost 10 of 18).
+        let frames: Vec<Option<u64>> = (0..18).map(Some).collect();
+        let runner: Vec<_> = (0..18)
+            .map(|t| {
+                let step = if t % 2 == 0 { 1.15 } else { 0.9 };
+                at(100.0 * f64::from(t) + 10.0 * step, 100.0)
+            })
+            .collect();
+        assert!(outlier_frames(&frames, &runner).is_empty());
+        let uneven: Vec<_> = (0..18)
+            .map(|t| at(104.0 * f64::from(t) + 12.0 * f64::from(t % 2), 100.0))
+            .collect();
+        assert!(outlier_frames(&frames, &uneven).is_empty());
+        // A person pacing back and forth, sampled once a second but numbered 0, 1, 2...:
+        // most frames are far from their neighbours; none is left out as another person's.
+        let pacing: Vec<_> = (0..35)
+            .map(|t| at(800.0 * (0.7 * f64::from(t)).sin(), 100.0))
+            .collect();
+        let numbered: Vec<Option<u64>> = (0..35).map(Some).collect();
+        assert!(outlier_frames(&numbered, &pacing).is_empty());
+    }
+
+    #[test]
     fn a_swap_at_an_end_of_a_numbered_track_is_left_out() {
         let walk: Vec<_> = (0..30).map(|t| at(20.0 * f64::from(t), 100.0)).collect();
         let other: Vec<_> = (0..30)
@@ -416,6 +492,16 @@ mod tests {
             assert!(outlier_frames(&[], &a).is_empty());
             assert!(outlier_frames(&sparse, &a).is_empty());
         }
+        // Where the detector also missed a frame next to the swap (numbers 2 apart).
+        let (mut a, mut b) = (walk.clone(), other.clone());
+        for t in 26..30 {
+            std::mem::swap(&mut a[t], &mut b[t]);
+        }
+        let mut missed = numbered.clone();
+        for number in &mut missed[26..] {
+            *number = number.map(|f| f + 1);
+        }
+        assert_eq!(outlier_frames(&missed, &a), vec![26, 27, 28, 29]);
         // Eleven frames are a change of person; so is a stretch that moves on its own.
         let (mut a, mut b) = (walk.clone(), other.clone());
         for t in 19..30 {

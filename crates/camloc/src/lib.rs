@@ -84,8 +84,8 @@ pub use height_shares::{
     HeightShares,
 };
 pub use identity::{
-    IDENTITY_JUMP_TORSOS, IDENTITY_SIZE_RATIO, LeftOut, OUTLIER_RUN_FRAMES, TorsoAnchor,
-    identity_jumps, left_out_of_sequence, outlier_frames,
+    IDENTITY_JUMP_TORSOS, IDENTITY_SIZE_RATIO, LeftOut, OUTLIER_END_GAP_FRAMES, OUTLIER_RUN_FRAMES,
+    TorsoAnchor, identity_jumps, left_out_of_sequence, outlier_frames,
 };
 pub use reconstruction::{
     PoseReconstruction, PoseReconstructor, PoseSequenceReconstruction, SEQUENCE_BREAK_FRAMES,

@@ -259,8 +259,8 @@ pub struct InputArgs {
           allow_hyphen_values = true)]
     pub min_score: f64,
     /// Image size in pixels that normalised coordinates are scaled by (MediaPipe), e.g.
-    /// 1920,1080; `--focal-px` also takes its centre as the principal point (and so does a
-    /// sequence's root motion).
+    /// 1920,1080 (or 1920x1080); `--focal-px` also takes its centre as the principal point
+    /// (and so does a sequence's root motion).
     #[arg(long, value_name = "W,H", value_parser = |s: &str| s.parse::<ImageSize>(),
           allow_hyphen_values = true)]
     pub image_size: Option<ImageSize>,

@@ -355,6 +355,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
             source: &record.source,
             frame: record.frame,
             person: record.person,
+            left_out: false,
         };
         let r = &result.reconstruction;
         Ok(Done {

@@ -22,6 +22,9 @@ pub struct PoseMeta<'a> {
     pub frame: Option<u64>,
     /// Its person, if the input has persons.
     pub person: Option<u64>,
+    /// Left out of its person's sequence (`reconstruct --sequence`: a second pose of a frame,
+    /// or a pose apart from the frames around it) and reconstructed on its own.
+    pub left_out: bool,
 }
 
 /// The camera of one pose of `reconstruct --json`.
@@ -112,6 +115,9 @@ struct ReconstructionJson<'a> {
     frame: Option<u64>,
     #[serde(skip_serializing_if = "Option::is_none")]
     person: Option<u64>,
+    /// Left out of the person's sequence (`PoseMeta::left_out`); absent when not.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    left_out_of_sequence: bool,
     camera_mode: &'static str,
     classified_label: Option<CameraLabel>,
     #[serde(flatten)]
@@ -168,6 +174,7 @@ pub fn pose_output(
             source: meta.source,
             frame: meta.frame,
             person: meta.person,
+            left_out_of_sequence: meta.left_out,
             camera_mode: choice.name(),
             classified_label: result.localization.as_ref().map(|l| l.label),
             best: HypothesisJson::new(r),
@@ -186,6 +193,9 @@ pub fn pose_output(
     }
     if let Some(p) = meta.person {
         let _ = write!(title, " person {p}");
+    }
+    if meta.left_out {
+        title.push_str(" (left out of the sequence)");
     }
     let mut text = reconstruction_text(&heading(&title, choice, result), r);
     for (k, alternative) in result.alternatives.iter().enumerate() {

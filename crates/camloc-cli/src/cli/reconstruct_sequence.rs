@@ -273,6 +273,7 @@ pub fn run(
                         source: &k.source,
                         frame: k.frame,
                         person: k.person,
+                        left_out: left,
                     };
                     emit.write(out, &pose_output(format, &meta, options.choice, &r))?;
                     if let Some(svg) = options.svg {

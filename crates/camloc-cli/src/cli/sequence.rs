@@ -390,11 +390,27 @@ pub fn left_out_of_sequence(
         );
     }
     if let Some(&first) = left_out.outliers.first() {
+        let count = left_out.outliers.len();
+        let stretches = 1 + left_out
+            .outliers
+            .windows(2)
+            .filter(|w| w[1] > w[0] + 1)
+            .count();
+        let (verb, pronoun, each) = if count == 1 {
+            ("lies", "it", "it is")
+        } else {
+            ("lie", "them", "each is")
+        };
+        let in_stretches = if stretches > 1 && stretches < count {
+            format!(" in {stretches} stretches")
+        } else {
+            String::new()
+        };
         stderr_line!(
-            "camloc: warning: person {person}: the pose of {} lies apart from the frames before \
-             and after it (first at {}: another person's detection, or a misplaced one?): it \
-             is {treated}",
-            counted(left_out.outliers.len() as u64, "frame"),
+            "camloc: warning: person {person}: the poses of {}{in_stretches} {verb} apart from \
+             the frames before and after {pronoun} (first at {}: another person's detection, \
+             or a misplaced one?): {each} {treated}",
+            counted(count as u64, "frame"),
             at(first)
         );
     }
@@ -403,11 +419,12 @@ pub fn left_out_of_sequence(
 }
 
 /// How a warning names the frame at position `m` of a person's frames (`frames` their
-/// numbers): by its number, else by its place among the person's frames.
+/// numbers): by its number, else by its place among the person's poses, counted from 0 as
+/// the input's `poses[i]` are.
 fn frame_name(frames: &[Option<u64>], m: usize) -> String {
     match frames[m] {
         Some(frame) => format!("frame {frame}"),
-        None => format!("its frame {}", m + 1),
+        None => format!("the person's pose {m} (counted from 0)"),
     }
 }
 
