@@ -21,7 +21,10 @@ mod interrupt;
 mod svg;
 
 fn main() -> ExitCode {
-    let args = cli::Cli::parse();
+    let args = match cli::Cli::try_parse() {
+        Ok(args) => args,
+        Err(e) => return parse_failure(&e),
+    };
     interrupt::install();
     let stdout = match standard_output() {
         Ok(stdout) => stdout,
@@ -44,6 +47,21 @@ fn main() -> ExitCode {
                 _ => cli::EXIT_ERROR,
             })
         }
+    }
+}
+
+/// Prints clap's answer to arguments it did not run (`--help`, `--version`, a usage error)
+/// and gives its exit code, unless the help or version could not be written to standard
+/// output (`camloc --help >/dev/full`): clap's own `exit` ignores that and exits 0. A reader
+/// that went away (`camloc --help | head`) is not an error, as for the commands' output.
+fn parse_failure(e: &clap::Error) -> ExitCode {
+    let printed = e.print().and_then(|()| std::io::stdout().flush());
+    match printed {
+        Err(write) if !e.use_stderr() && write.kind() != std::io::ErrorKind::BrokenPipe => {
+            stderr_line!("camloc: error: {}", cli::CliError::Stdout(write));
+            ExitCode::from(cli::EXIT_ERROR)
+        }
+        _ => ExitCode::from(u8::try_from(e.exit_code()).unwrap_or(cli::EXIT_USAGE)),
     }
 }
 

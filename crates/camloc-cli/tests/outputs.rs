@@ -70,6 +70,20 @@ fn multi_file_svg_output_is_all_or_nothing() {
             assert_clean_failure(&out, "cannot write to standard output");
             assert!(listing().is_empty(), "{command}: {:?}", listing());
         }
+        // The help and the version, which clap writes, too.
+        for args in [&["--help"][..], &["localize", "--help"], &["--version"]] {
+            let out = Command::new(env!("CARGO_BIN_EXE_camloc"))
+                .args(args)
+                .stdout(full.try_clone().unwrap())
+                .output()
+                .unwrap();
+            let stderr = String::from_utf8_lossy(&out.stderr);
+            assert_eq!(out.status.code(), Some(1), "{args:?}: {stderr}");
+            assert!(
+                stderr.contains("cannot write to standard output"),
+                "{stderr}"
+            );
+        }
     }
     let out = camloc(&["localize", "--input", example, "--svg", svg]);
     success(&out);
