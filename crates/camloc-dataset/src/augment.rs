@@ -322,7 +322,7 @@ fn move_subtree(pose: &mut Pose3, root: Landmark, f: impl Fn([f64; 3]) -> [f64; 
 /// section 2 (azimuth 180 = front, 270 = left, 0 = back, 90 = right; elevation + above).
 pub fn camera_direction_deg(rotation: &Matrix3) -> (f64, f64) {
     let (x, y, z) = (-rotation[(2, 0)], -rotation[(2, 1)], -rotation[(2, 2)]);
-    let azimuth = y.atan2(x).to_degrees().rem_euclid(360.0);
+    let azimuth = y.atan2(x).to_degrees().rem_euclid(360.0) % 360.0;
     let elevation = z.clamp(-1.0, 1.0).asin().to_degrees();
     (azimuth, elevation)
 }

@@ -24,6 +24,7 @@ pub use label::CameraLabel;
 pub use procrustes::procrustes_camera;
 pub use rotation::{
     check_rotation, roll_about_optical_axis, rotation_about_axis, rotation_about_z,
+    rotation_between,
 };
 pub use sphere::{
     CameraSet, Level, Side, Viewpoint, azimuth_gap_deg, look_at_origin, sphere_point,

@@ -68,18 +68,30 @@ impl Standardiser {
         let inv_n = 1.0 / n as f64;
         let (mut means, max_abs): (Vec<f64>, Vec<f64>) = first_pass.into_iter().unzip();
         means.iter_mut().for_each(|m| *m *= inv_n);
+        // The deviations in units of the column's largest value, so that their squares
+        // neither overflow (columns of 1e155) nor underflow (1e-200).
+        let units: Vec<f64> = max_abs
+            .iter()
+            .map(|&a| if a > 0.0 && a.is_finite() { a } else { 1.0 })
+            .collect();
         let mut variances = vec![0.0; d];
         sum_columns(x, selected, &mut variances, |sums, first, row| {
-            for ((s, m), &v) in sums.iter_mut().zip(&means[first..]).zip(&row[first..]) {
-                let c = v - m;
+            for (((s, m), u), &v) in sums
+                .iter_mut()
+                .zip(&means[first..])
+                .zip(&units[first..])
+                .zip(&row[first..])
+            {
+                let c = (v - m) / u;
                 *s += c * c;
             }
         });
         let scales = variances
             .iter()
             .zip(&max_abs)
-            .map(|(&var, &a)| {
-                let sd = (var * inv_n).sqrt();
+            .zip(&units)
+            .map(|((&var, &a), &unit)| {
+                let sd = (var * inv_n).sqrt() * unit;
                 if sd > CONSTANT_COLUMN_RELATIVE_SPREAD * a && sd.is_finite() {
                     sd
                 } else {
@@ -297,6 +309,27 @@ mod tests {
             .map(|v| (v * (1.0 / n as f64)).sqrt())
             .collect();
         assert_eq!(fitted.means, means);
-        assert_eq!(fitted.scales, scales);
+        // (The deviations are summed in units of each column's largest value.)
+        for (f, s) in fitted.scales.iter().zip(&scales) {
+            assert!((f - s).abs() <= 1e-14 * s, "{f} vs {s}");
+        }
+    }
+
+    /// Columns of huge or tiny values are standardised as the same values at unit scale (a
+    /// review found the variance infinite at 1e155 and zero at 1e-200).
+    #[test]
+    fn the_scale_follows_the_column_at_any_magnitude() {
+        let base: Vec<f64> = (0..40).map(|i| (i as f64 * 0.37).sin() + 0.2).collect();
+        let unit = Standardiser::fit(&Features::new(&base, 1).unwrap());
+        for factor in [1e160, 1e-200, 1e300, 1e-300] {
+            let x: Vec<f64> = base.iter().map(|v| v * factor).collect();
+            let fitted = Standardiser::fit(&Features::new(&x, 1).unwrap());
+            let expected = unit.scales[0] * factor;
+            assert!(
+                (fitted.scales[0] - expected).abs() <= 1e-12 * expected,
+                "{factor}: {} vs {expected}",
+                fitted.scales[0]
+            );
+        }
     }
 }

@@ -327,7 +327,7 @@ impl JointLimits {
                     d
                 };
             let new = frame.transpose() * target;
-            let Some(rotation) = nalgebra::Rotation3::rotation_between(&old, &new) else {
+            let Some(rotation) = camloc_geometry::rotation_between(&old, &new) else {
                 continue;
             };
             let pivot = point(&out, b.from);

@@ -194,8 +194,7 @@ fn tilt_to(frames: &[Option<&Reconstruction>], verticals: &[Option<[f64; 3]>]) -
             vertical += r.camera.rotation.transpose() * Vector3::from(*v);
         }
     }
-    nalgebra::Rotation3::rotation_between(&Vector3::z(), &vertical)
-        .map_or_else(Matrix3::identity, |q| q.into_inner())
+    camloc_geometry::rotation_between(&Vector3::z(), &vertical).unwrap_or_else(Matrix3::identity)
 }
 
 /// How [`world_poses`] places a frame in the camera frame.
@@ -260,8 +259,8 @@ impl Placement {
                 let pelvis = Vector3::new(across[0], across[1], f / s);
                 // The rotation was fitted along the ray to the pelvis: turn that ray onto the
                 // optical axis's place.
-                let ray = nalgebra::Rotation3::rotation_between(&Vector3::z(), &pelvis)
-                    .map_or_else(Matrix3::identity, |q| q.into_inner());
+                let ray = camloc_geometry::rotation_between(&Vector3::z(), &pelvis)
+                    .unwrap_or_else(Matrix3::identity);
                 (ray * r.camera.rotation, pelvis)
             }
             None => (r.camera.rotation, Vector3::new(across[0], across[1], 0.0)),

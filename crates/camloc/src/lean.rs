@@ -19,7 +19,8 @@ pub const TILT_MIN_POSES: u64 = 5;
 /// when the neck is straight above the pelvis (`v` down), positive when it is to the right of
 /// the pelvis (the person turned clockwise as the image is shown), ±180 upside down. The
 /// pelvis stands in for the hips' midpoint and the neck for the shoulders' where missing;
-/// `None` without them (or with a point at exactly `(0, 0)`, a detector's placeholder).
+/// `None` without them (or with a point at exactly `(0, 0)`, a detector's placeholder, or
+/// one not finite).
 pub fn torso_lean_deg(pose: &PartialPose2) -> Option<f64> {
     // The torso rule of docs/conventions.md section 3, placeholders left out.
     let mut torso = *pose;
@@ -30,7 +31,8 @@ pub fn torso_lean_deg(pose: &PartialPose2) -> Option<f64> {
     let pelvis = torso.points[Landmark::Pelvis.index()]?;
     let neck = torso.points[Landmark::Neck.index()]?;
     let (dx, dy) = (neck[0] - pelvis[0], neck[1] - pelvis[1]);
-    (dx != 0.0 || dy != 0.0).then(|| dx.atan2(-dy).to_degrees())
+    ((dx != 0.0 || dy != 0.0) && dx.is_finite() && dy.is_finite())
+        .then(|| dx.atan2(-dy).to_degrees())
 }
 
 /// The torso leans of an input's poses ([`torso_lean_deg`]) counted in 1-degree bins: the

@@ -386,7 +386,8 @@ impl CameraLocalizer {
         let (mut azimuth_deg, mut elevation_deg, mut uncertainty_deg) = (None, None, None);
         if let Some(heads) = &self.viewpoint {
             let u = heads.predict(best, heads_x)?;
-            azimuth_deg = Some(u[1].atan2(u[0]).to_degrees().rem_euclid(360.0));
+            // (`% 360`: a tiny negative angle rounds to 360 under `rem_euclid`.)
+            azimuth_deg = Some(u[1].atan2(u[0]).to_degrees().rem_euclid(360.0) % 360.0);
             elevation_deg = Some(u[2].clamp(-1.0, 1.0).asin().to_degrees());
             uncertainty_deg =
                 Some(heads.uncertainty_deg(own.as_ref().map_or(probability, |o| o[best])));
