@@ -205,7 +205,10 @@ def reconstruct(
       in pixels too: a pose whose root mean square radius is under 1/1000 of ``focal_px``
       (normalised coordinates) fails.
     sequence: the poses are the frames of one person, in time order: one set of bone lengths
-      for all of them, depths chosen consistently over time, temporal smoothness. A
+      for all of them, depths chosen consistently over time, temporal smoothness. Legs or arms
+      a detector read with the left and right sides swapped for up to 5 rows in a row are
+      swapped back first, with a ``UserWarning``, as ``camloc reconstruct --sequence`` does
+      (docs/cli.md section Sequences). A
       ``UserWarning`` says where the pose jumps across the image or changes size as one person
       cannot from one row to the next (rows of several people: split them by the ``persons``
       of ``read_keypoints``), and another where rows (up to 10 in a row, at an end too: the

@@ -483,6 +483,49 @@ fn a_swap_at_the_end_of_a_track_is_left_out() {
     }
 }
 
+/// Frames whose left and right legs a detector swapped are swapped back before the
+/// sequence is solved, with a warning: their 3D is the clean walk's.
+#[test]
+fn legs_a_detector_swapped_for_two_frames_are_swapped_back() {
+    let dir = TempDir::new("sides-swapped");
+    let clean = walk_across(&dir, 0..20);
+    let mut document: Value =
+        serde_json::from_str(&std::fs::read_to_string(&clean).unwrap()).unwrap();
+    for pose in &mut document["poses"].as_array_mut().unwrap()[5..7] {
+        let landmarks = pose["landmarks"].as_object_mut().unwrap();
+        for side in ["hip", "knee", "ankle"] {
+            let left = landmarks[&format!("left_{side}")].clone();
+            let right = landmarks[&format!("right_{side}")].clone();
+            landmarks.insert(format!("left_{side}"), right);
+            landmarks.insert(format!("right_{side}"), left);
+        }
+    }
+    let swapped = dir.file("swapped.json", &document.to_string());
+    let run = |input: &str| {
+        camloc(&[
+            "reconstruct",
+            "--input",
+            input,
+            "--json",
+            "--sequence",
+            "-q",
+        ])
+    };
+    let (clean_out, swapped_out) = (run(&clean), run(&swapped));
+    let stderr = String::from_utf8_lossy(&swapped_out.stderr);
+    assert!(
+        stderr.contains(
+            "person 0: the left and right legs of 2 frames are swapped against the frames around \
+             them (first at frame 5"
+        ),
+        "{stderr}"
+    );
+    assert!(!String::from_utf8_lossy(&clean_out.stderr).contains("swapped"));
+    for (a, b) in success(&clean_out).iter().zip(success(&swapped_out)) {
+        assert_eq!(a["landmarks_m"], b["landmarks_m"]);
+    }
+}
+
 /// Chromium's command, when installed.
 fn chromium() -> Option<&'static str> {
     ["chromium", "chromium-browser"].into_iter().find(|name| {

@@ -19,6 +19,7 @@ use crate::arrays::{ArrayArg, Output, PoseBatch};
 use crate::localize::{Localizer, for_poses, parse_height};
 use crate::warnings::{
     warn_if_every_pose_failed, warn_of_identity_jumps, warn_of_input_conventions,
+    warn_of_swapped_sides,
 };
 use crate::{to_py_err, value_error};
 
@@ -249,6 +250,7 @@ pub(crate) fn reconstruct<'py>(
             .map(|i| batch.pose(i).map(|m| m.pose))
             .collect::<Result<Vec<_>, _>>()
             .map_err(|e| value_error(e.to_string()))?;
+        let poses = warn_of_swapped_sides(py, poses)?;
         let left_out = warn_of_identity_jumps(
             py,
             poses.iter().map(Some),

@@ -5,7 +5,7 @@
 use camloc::reconstruct::Intrinsics;
 use camloc::{
     HEIGHT_SHARE_MAX_POSES, InputConventions, PartialPose2, TorsoAnchor, identity_jumps,
-    left_out_of_sequence,
+    left_out_of_sequence, swapped_sides, with_sides_swapped,
 };
 use pyo3::exceptions::PyUserWarning;
 use pyo3::prelude::*;
@@ -60,6 +60,33 @@ pub(crate) fn warn_if_every_pose_failed(
         }
         _ => Ok(()),
     }
+}
+
+/// The rows of a sequence (consecutive frames, in order) with the limbs a detector swapped
+/// for a few rows swapped back (`camloc::swapped_sides`, as `camloc reconstruct --sequence`
+/// does), with a `UserWarning` per chain.
+pub(crate) fn warn_of_swapped_sides(
+    py: Python<'_>,
+    mut poses: Vec<PartialPose2>,
+) -> PyResult<Vec<PartialPose2>> {
+    let rows: Vec<Option<u64>> = (0..poses.len() as u64).map(Some).collect();
+    for (chain, swapped) in swapped_sides(&rows, &poses) {
+        let Some(&first) = swapped.first() else {
+            continue;
+        };
+        for &m in &swapped {
+            poses[m] = with_sides_swapped(&poses[m], chain);
+        }
+        let message = format!(
+            "the left and right {} of {} row(s) are swapped against the rows around them \
+             (first at row {first}: a detector's confusion?): they are swapped back, as the \
+             command line does",
+            chain.name(),
+            swapped.len()
+        );
+        warn(py, message)?;
+    }
+    Ok(poses)
 }
 
 /// Warns (`UserWarning`) when the rows of a sequence jump across the image or change size as

@@ -595,6 +595,18 @@ def test_a_sequence_that_jumps_between_people_warns_and_nothing_detected_says_so
         smoothed = camloc.Localizer().localize(swapped, sequence=True)
     assert np.isnan(smoothed["smoothed_azimuth_deg"][2])
     assert np.isfinite(np.delete(smoothed["smoothed_azimuth_deg"], 2)).all()
+    # Legs a detector read with the sides swapped for two rows: swapped back, as the command
+    # line does.
+    walking = np.stack([pose + [2.0 * t, 0.0] for t in range(12)])
+    legs = [camloc.LANDMARKS.index(f"{side}_{joint}") for joint in ("hip", "knee", "ankle")
+            for side in ("left", "right")]
+    crossed = walking.copy()
+    crossed[4:6, legs] = walking[4:6][:, [legs[i ^ 1] for i in range(6)]]
+    with pytest.warns(UserWarning, match=r"left and right legs of 2 row\(s\) are swapped"):
+        repaired = camloc.reconstruct(crossed, sequence=True)
+    np.testing.assert_array_equal(
+        repaired["points3d"], camloc.reconstruct(walking, sequence=True)["points3d"]
+    )
     # The other person's rows at the end of a sequence (ids swapped for its last 3 frames):
     # left out too, as the rows are consecutive frames.
     long_rows = np.stack([pose + [2.0 * t, 0.0] for t in range(12)])

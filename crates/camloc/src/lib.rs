@@ -52,6 +52,7 @@ mod reconstruction;
 mod rows;
 mod select;
 mod sequence;
+mod sides;
 mod train;
 mod train_options;
 mod upside_down;
@@ -95,6 +96,10 @@ pub use select::{DescriptorCv, cross_validate};
 pub use sequence::{
     DEFAULT_SWITCH_PROBABILITY, NEIGHBOUR_SHARE, OUTLIER_SHARE, SequenceModel, SmoothedFrame,
     frame_slots, sequences,
+};
+pub use sides::{
+    SIDE_SWAP_GAP_FRAMES, SIDE_SWAP_MOTION_FACTOR, SIDE_SWAP_PENALTY, SIDE_SWAP_RUN_FRAMES,
+    SideChain, swapped_sides, with_sides_swapped,
 };
 
 pub use lean::{

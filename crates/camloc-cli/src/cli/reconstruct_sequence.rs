@@ -14,8 +14,8 @@ use camloc::reconstruct::BoneLengths;
 use camloc::skeleton::Landmark;
 use camloc::store::{StagedFiles, check_target};
 use camloc::{
-    ModeKind, PartialPose2, Pose3, PoseReconstruction, PoseReconstructor, SEQUENCE_BREAK_FRAMES,
-    TorsoAnchor, frame_slots, sequences,
+    ModeKind, Pose3, PoseReconstruction, PoseReconstructor, SEQUENCE_BREAK_FRAMES, TorsoAnchor,
+    frame_slots, sequences,
 };
 use indicatif::ProgressBar;
 
@@ -134,8 +134,12 @@ pub fn run(
     // The staged drawings: (pose index, staged file).
     let mut drawn: Vec<(usize, usize)> = Vec::new();
     for (n, (person, members)) in groups.iter().enumerate() {
-        let poses: Vec<PartialPose2> = members.iter().map(|&i| kept[i].pose).collect();
         let numbers = super::sequence::frame_numbers(&keys, members);
+        let poses = super::sequence::sides_swapped_back(
+            *person,
+            &numbers,
+            members.iter().map(|&i| kept[i].pose).collect(),
+        );
         let anchors: Vec<_> = poses.iter().map(TorsoAnchor::of).collect();
         // A second pose of a frame, and a frame whose pose is not where the frames around it
         // put the person, are reconstructed on their own, outside the sequence.

@@ -16,7 +16,7 @@ use std::process::ExitCode;
 
 use camloc::keypoints::KeypointRecord;
 use camloc::{
-    CameraLabel, Localization, SequenceModel, SmoothedFrame, TorsoAnchor, Viewpoint,
+    CameraLabel, Localization, PartialPose2, SequenceModel, SmoothedFrame, TorsoAnchor, Viewpoint,
     identity_jumps, sequences, smooth_viewpoints,
 };
 use indicatif::ProgressBar;
@@ -416,6 +416,33 @@ pub fn left_out_of_sequence(
     }
     warn_of_identity_jumps(person, frames, &left_out.kept_anchors(anchors));
     left_out.mask(frames.len())
+}
+
+/// `poses` of `person` (their `frames` numbers, in time order) with the limbs a detector
+/// swapped for a few frames swapped back ([`camloc::swapped_sides`]), with a warning on
+/// standard error per chain.
+pub fn sides_swapped_back(
+    person: u64,
+    frames: &[Option<u64>],
+    mut poses: Vec<PartialPose2>,
+) -> Vec<PartialPose2> {
+    for (chain, swapped) in camloc::swapped_sides(frames, &poses) {
+        let Some(&first) = swapped.first() else {
+            continue;
+        };
+        for &m in &swapped {
+            poses[m] = camloc::with_sides_swapped(&poses[m], chain);
+        }
+        stderr_line!(
+            "camloc: warning: person {person}: the left and right {} of {} are swapped against \
+             the frames around them (first at {}: a detector's confusion?): they are swapped \
+             back",
+            chain.name(),
+            counted(swapped.len() as u64, "frame"),
+            frame_name(frames, first)
+        );
+    }
+    poses
 }
 
 /// How a warning names the frame at position `m` of a person's frames (`frames` their
