@@ -6,8 +6,8 @@
 mod common;
 
 use std::io::Write;
-use std::path::Path;
-use std::process::Command;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
 
 use camloc::Pose3;
 use camloc::dataset::max_joint_distance_mm;
@@ -365,6 +365,24 @@ fn frames_the_person_is_missing_from_keep_the_timing_of_the_bvh() {
     }
 }
 
+/// `camloc reconstruct --sequence --json --bvh` of `document` written to `NAME.json` in
+/// `dir`: the run's output and the BVH's path (`NAME.bvh`).
+fn sequence_with_bvh(dir: &TempDir, name: &str, document: &Value) -> (Output, PathBuf) {
+    let file = dir.file(&format!("{name}.json"), &document.to_string());
+    let bvh = dir.0.join(format!("{name}.bvh"));
+    let out = camloc(&[
+        "reconstruct",
+        "--input",
+        &file,
+        "--json",
+        "--sequence",
+        "--quiet",
+        "--bvh",
+        bvh.to_str().unwrap(),
+    ]);
+    (out, bvh)
+}
+
 /// A second pose of a frame (a tracker's duplicate) and a frame holding another person's
 /// pose (two people's ids swapped for one frame) are left out of the sequence, with warnings
 /// naming the person and the frames: the BVH keeps the video's timing (the duplicate had made
@@ -391,18 +409,7 @@ fn a_duplicate_and_a_swapped_frame_are_left_out_of_the_sequence() {
     for (frame, pose) in (13..16).zip(&mut poses[14..17]) {
         *pose = moved(pose, 900.0, &format!("other{frame}"));
     }
-    let file = dir.file("left-out.json", &document.to_string());
-    let bvh = dir.0.join("left-out.bvh");
-    let out = camloc(&[
-        "reconstruct",
-        "--input",
-        &file,
-        "--json",
-        "--sequence",
-        "--quiet",
-        "--bvh",
-        bvh.to_str().unwrap(),
-    ]);
+    let (out, bvh) = sequence_with_bvh(&dir, "left-out", &document);
     let objects = success(&out);
     assert_eq!(objects.len(), 21);
     let stderr = String::from_utf8_lossy(&out.stderr);
@@ -444,18 +451,7 @@ fn a_swap_at_the_end_of_a_track_is_left_out() {
             p[0] = (p[0].as_f64().unwrap() + 900.0).into();
         }
     }
-    let file = dir.file("end-swap.json", &document.to_string());
-    let bvh = dir.0.join("end-swap.bvh");
-    let out = camloc(&[
-        "reconstruct",
-        "--input",
-        &file,
-        "--json",
-        "--sequence",
-        "--quiet",
-        "--bvh",
-        bvh.to_str().unwrap(),
-    ]);
+    let (out, bvh) = sequence_with_bvh(&dir, "end-swap", &document);
     let objects = success(&out);
     assert_eq!(objects.len(), 20);
     for (t, object) in objects.iter().enumerate() {
