@@ -248,6 +248,8 @@ def reconstruct(
       imputed (N, 15) bool: the landmarks that were missing and filled in (their 3D is the
         basis's guess, not a measurement);
       person_bone_lengths (14,): with ``sequence``, the person's lengths (given or estimated);
+      swapped_sides (N, 2) bool: with ``sequence``, whether the row's legs (column 0) and arms
+        (column 1) were read with the left and right sides swapped and swapped back;
       world_points3d (N, 15, 3): with ``sequence``, the frames placed where a camera standing
         still saw them, as ``camloc reconstruct --sequence --bvh`` animates them (a z-up world
         of the camera, the first pelvis above the origin, planted feet kept in place on the

@@ -517,8 +517,15 @@ fn legs_a_detector_swapped_for_two_frames_are_swapped_back() {
         "{stderr}"
     );
     assert!(!String::from_utf8_lossy(&clean_out.stderr).contains("swapped"));
-    for (a, b) in success(&clean_out).iter().zip(success(&swapped_out)) {
+    for (t, (a, b)) in success(&clean_out)
+        .iter()
+        .zip(success(&swapped_out))
+        .enumerate()
+    {
         assert_eq!(a["landmarks_m"], b["landmarks_m"]);
+        let marked = b.get("swapped_sides").cloned();
+        let expected = (5..7).contains(&t).then(|| serde_json::json!(["legs"]));
+        assert_eq!(marked, expected, "frame {t}");
     }
 }
 

@@ -245,12 +245,15 @@ pub(crate) fn reconstruct<'py>(
         reconstructor = reconstructor.with_bone_lengths(self::bone_lengths(value, "bone_lengths")?);
     }
     let n = batch.len();
+    // With `sequence`: per row, whether its legs and its arms were swapped back.
+    let mut swapped_sides: Option<Vec<[bool; 2]>> = None;
     let (results, person_lengths, left_out) = if sequence {
         let poses = (0..n)
             .map(|i| batch.pose(i).map(|m| m.pose))
             .collect::<Result<Vec<_>, _>>()
             .map_err(|e| value_error(e.to_string()))?;
-        let poses = warn_of_swapped_sides(py, poses)?;
+        let (poses, marks) = warn_of_swapped_sides(py, poses)?;
+        swapped_sides = Some(marks);
         let left_out = warn_of_identity_jumps(
             py,
             poses.iter().map(Some),
@@ -354,6 +357,9 @@ pub(crate) fn reconstruct<'py>(
     out.array("focal_px", focal_px, &[])?;
     out.array("principal_point", principal_point, &[2])?;
     out.array("imputed", imputed, &[NUM_LANDMARKS])?;
+    if let Some(marks) = swapped_sides {
+        out.array("swapped_sides", marks.as_flattened().to_vec(), &[2])?;
+    }
     if let Some(world) = world {
         let mut placed = vec![f64::NAN; n * 45];
         for (out, pose) in placed.chunks_exact_mut(45).zip(&world) {

@@ -64,29 +64,32 @@ pub(crate) fn warn_if_every_pose_failed(
 
 /// The rows of a sequence (consecutive frames, in order) with the limbs a detector swapped
 /// for a few rows swapped back (`camloc::swapped_sides`, as `camloc reconstruct --sequence`
-/// does), with a `UserWarning` per chain.
+/// does), with a `UserWarning` per chain, and per row whether its legs and its arms were
+/// swapped back (`[legs, arms]`, the order of `camloc::SideChain::ALL`).
 pub(crate) fn warn_of_swapped_sides(
     py: Python<'_>,
     mut poses: Vec<PartialPose2>,
-) -> PyResult<Vec<PartialPose2>> {
+) -> PyResult<(Vec<PartialPose2>, Vec<[bool; 2]>)> {
     let rows: Vec<Option<u64>> = (0..poses.len() as u64).map(Some).collect();
-    for (chain, swapped) in swapped_sides(&rows, &poses) {
+    let mut marks = vec![[false; 2]; poses.len()];
+    for (c, (chain, swapped)) in swapped_sides(&rows, &poses).into_iter().enumerate() {
         let Some(&first) = swapped.first() else {
             continue;
         };
         for &m in &swapped {
             poses[m] = with_sides_swapped(&poses[m], chain);
+            marks[m][c] = true;
         }
         let message = format!(
             "the left and right {} of {} row(s) are swapped against the rows around them \
              (first at row {first}: a detector's confusion?): they are swapped back, as the \
-             command line does",
+             command line does (the result's swapped_sides)",
             chain.name(),
             swapped.len()
         );
         warn(py, message)?;
     }
-    Ok(poses)
+    Ok((poses, marks))
 }
 
 /// Warns (`UserWarning`) when the rows of a sequence jump across the image or change size as

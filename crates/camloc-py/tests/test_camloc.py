@@ -607,6 +607,9 @@ def test_a_sequence_that_jumps_between_people_warns_and_nothing_detected_says_so
     np.testing.assert_array_equal(
         repaired["points3d"], camloc.reconstruct(walking, sequence=True)["points3d"]
     )
+    expected = np.zeros((12, 2), bool)
+    expected[4:6, 0] = True
+    np.testing.assert_array_equal(repaired["swapped_sides"], expected)
     # The other person's rows at the end of a sequence (ids swapped for its last 3 frames):
     # left out too, as the rows are consecutive frames.
     long_rows = np.stack([pose + [2.0 * t, 0.0] for t in range(12)])

@@ -98,8 +98,8 @@ pub use sequence::{
     frame_slots, sequences,
 };
 pub use sides::{
-    SIDE_SWAP_GAP_FRAMES, SIDE_SWAP_MOTION_FACTOR, SIDE_SWAP_PENALTY, SIDE_SWAP_RUN_FRAMES,
-    SideChain, swapped_sides, with_sides_swapped,
+    SIDE_SWAP_GAP_FRAMES, SIDE_SWAP_JOIN_RATIO, SIDE_SWAP_MOTION_FACTOR, SIDE_SWAP_PENALTY,
+    SIDE_SWAP_RUN_FRAMES, SideChain, swapped_sides, with_sides_swapped,
 };
 
 pub use lean::{

@@ -112,7 +112,9 @@ pub struct Args {
     /// Treat the input as the frames of a video: group the poses by person, order them by
     /// frame, and reconstruct each person's frames together: one set of bone lengths per
     /// person, the depths chosen consistently over time, temporal smoothness (a person whose
-    /// pose jumps across the image, two people under one id, is warned of). Output (per
+    /// pose jumps across the image, two people under one id, is warned of; another person's
+    /// frames are left out, and legs or arms a detector swapped left for right for a few
+    /// frames are swapped back: docs/cli.md, section Sequences). Output (per
     /// frame, by person then frame) as without it; the .npy rows stay in input order. Every
     /// pose is kept until its person is done (about 500 bytes a pose), and a person's frames
     /// take about 15 KB each while they are solved together (20,000 frames: about 300 MB).
@@ -356,6 +358,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
             frame: record.frame,
             person: record.person,
             left_out: false,
+            swapped_sides: &[],
         };
         let r = &result.reconstruction;
         Ok(Done {

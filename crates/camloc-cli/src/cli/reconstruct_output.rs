@@ -25,6 +25,9 @@ pub struct PoseMeta<'a> {
     /// Left out of its person's sequence (`reconstruct --sequence`: a second pose of a frame,
     /// or a pose apart from the frames around it) and reconstructed on its own.
     pub left_out: bool,
+    /// The limb chains (`legs`, `arms`) whose left and right sides were swapped back before
+    /// the sequence was solved ([`camloc::swapped_sides`]).
+    pub swapped_sides: &'a [&'static str],
 }
 
 /// The camera of one pose of `reconstruct --json`.
@@ -118,6 +121,9 @@ struct ReconstructionJson<'a> {
     /// Left out of the person's sequence (`PoseMeta::left_out`); absent when not.
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     left_out_of_sequence: bool,
+    /// `PoseMeta::swapped_sides`; absent when none.
+    #[serde(skip_serializing_if = "<[_]>::is_empty")]
+    swapped_sides: &'a [&'static str],
     camera_mode: &'static str,
     classified_label: Option<CameraLabel>,
     #[serde(flatten)]
@@ -175,6 +181,7 @@ pub fn pose_output(
             frame: meta.frame,
             person: meta.person,
             left_out_of_sequence: meta.left_out,
+            swapped_sides: meta.swapped_sides,
             camera_mode: choice.name(),
             classified_label: result.localization.as_ref().map(|l| l.label),
             best: HypothesisJson::new(r),
@@ -196,6 +203,9 @@ pub fn pose_output(
     }
     if meta.left_out {
         title.push_str(" (left out of the sequence)");
+    }
+    if !meta.swapped_sides.is_empty() {
+        let _ = write!(title, " ({} swapped back)", meta.swapped_sides.join(", "));
     }
     let mut text = reconstruction_text(&heading(&title, choice, result), r);
     for (k, alternative) in result.alternatives.iter().enumerate() {

@@ -135,7 +135,7 @@ pub fn run(
     let mut drawn: Vec<(usize, usize)> = Vec::new();
     for (n, (person, members)) in groups.iter().enumerate() {
         let numbers = super::sequence::frame_numbers(&keys, members);
-        let poses = super::sequence::sides_swapped_back(
+        let (poses, swapped_sides) = super::sequence::sides_swapped_back(
             *person,
             &numbers,
             members.iter().map(|&i| kept[i].pose).collect(),
@@ -257,7 +257,8 @@ pub fn run(
                 })
                 .collect()
         };
-        for (((&i, frame), pose), left) in members.iter().zip(frames).zip(animated).zip(left_out) {
+        let outputs = members.iter().zip(frames).zip(animated).zip(left_out);
+        for ((((&i, frame), pose), left), sides) in outputs.zip(&swapped_sides) {
             let k = &kept[i];
             if options.finish.is_some() {
                 let (r, error) = match &frame {
@@ -278,6 +279,7 @@ pub fn run(
                         frame: k.frame,
                         person: k.person,
                         left_out: left,
+                        swapped_sides: sides,
                     };
                     emit.write(out, &pose_output(format, &meta, options.choice, &r))?;
                     if let Some(svg) = options.svg {

@@ -406,10 +406,11 @@ pub fn left_out_of_sequence(
         } else {
             String::new()
         };
+        let poses = if count == 1 { "pose" } else { "poses" };
         stderr_line!(
-            "camloc: warning: person {person}: the poses of {}{in_stretches} {verb} apart from \
-             the frames before and after {pronoun} (first at {}: another person's detection, \
-             or a misplaced one?): {each} {treated}",
+            "camloc: warning: person {person}: the {poses} of {}{in_stretches} {verb} apart \
+             from the frames before and after {pronoun} (first at {}: another person's \
+             detection, or a misplaced one?): {each} {treated}",
             counted(count as u64, "frame"),
             at(first)
         );
@@ -420,29 +421,31 @@ pub fn left_out_of_sequence(
 
 /// `poses` of `person` (their `frames` numbers, in time order) with the limbs a detector
 /// swapped for a few frames swapped back ([`camloc::swapped_sides`]), with a warning on
-/// standard error per chain.
+/// standard error per chain, and per frame the names of the chains swapped back.
 pub fn sides_swapped_back(
     person: u64,
     frames: &[Option<u64>],
     mut poses: Vec<PartialPose2>,
-) -> Vec<PartialPose2> {
+) -> (Vec<PartialPose2>, Vec<Vec<&'static str>>) {
+    let mut chains = vec![Vec::new(); poses.len()];
     for (chain, swapped) in camloc::swapped_sides(frames, &poses) {
         let Some(&first) = swapped.first() else {
             continue;
         };
         for &m in &swapped {
             poses[m] = camloc::with_sides_swapped(&poses[m], chain);
+            chains[m].push(chain.name());
         }
         stderr_line!(
             "camloc: warning: person {person}: the left and right {} of {} are swapped against \
              the frames around them (first at {}: a detector's confusion?): they are swapped \
-             back",
+             back (`swapped_sides` in the JSON output)",
             chain.name(),
             counted(swapped.len() as u64, "frame"),
             frame_name(frames, first)
         );
     }
-    poses
+    (poses, chains)
 }
 
 /// How a warning names the frame at position `m` of a person's frames (`frames` their
