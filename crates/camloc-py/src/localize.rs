@@ -184,13 +184,16 @@ impl Localizer {
         scores: Option<ArrayArg<'py>>,
         min_score: f64,
         sequence: bool,
-        focal_px: Option<f64>,
+        focal_px: Option<Bound<'py, PyAny>>,
         principal_point: Option<Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyDict>> {
         // With the camera's intrinsics each pose is localized as seen by the camera aimed at
         // it (a person near the edge of a wide-angle image).
         let aimed;
-        let inner = match crate::reconstruct::intrinsics_arg(focal_px, principal_point.as_ref())? {
+        let inner = match crate::reconstruct::intrinsics_arg(
+            focal_px.as_ref(),
+            principal_point.as_ref(),
+        )? {
             Some(k) => {
                 aimed = (self.inner.clone())
                     .with_intrinsics(Some(k))

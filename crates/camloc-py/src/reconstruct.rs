@@ -41,9 +41,26 @@ fn default_reconstructor() -> PyResult<&'static PoseReconstructor> {
 /// a principal point without a focal length or not of two numbers, a `TypeError` saying what
 /// is expected for one that is not a sequence of numbers (a text "960,540", say).
 pub(crate) fn intrinsics_arg(
-    focal_px: Option<f64>,
+    focal_px: Option<&Bound<'_, PyAny>>,
     principal_point: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<Option<Intrinsics>> {
+    // A number (a NumPy scalar too), named in the error otherwise; `True` is not a focal
+    // length.
+    let focal_px = focal_px
+        .map(|f| {
+            let number = (!f.is_instance_of::<pyo3::types::PyBool>())
+                .then(|| f.extract::<f64>().ok())
+                .flatten();
+            number.ok_or_else(|| {
+                pyo3::exceptions::PyTypeError::new_err(format!(
+                    "focal_px: a number of pixels such as 1000.0; got a {}",
+                    f.get_type()
+                        .name()
+                        .map_or_else(|_| "another type".to_owned(), |n| n.to_string())
+                ))
+            })
+        })
+        .transpose()?;
     let numbers = |point: &Bound<'_, PyAny>| -> PyResult<Vec<f64>> {
         let numbers = (!point.is_instance_of::<pyo3::types::PyString>())
             .then(|| point.extract::<Vec<f64>>().ok())
@@ -160,7 +177,7 @@ pub(crate) fn reconstruct<'py>(
     localizer: Option<PyRef<'py, Localizer>>,
     basis: Option<PathBuf>,
     bone_lengths: Option<Bound<'py, PyAny>>,
-    focal_px: Option<f64>,
+    focal_px: Option<Bound<'py, PyAny>>,
     principal_point: Option<Bound<'py, PyAny>>,
     sequence: bool,
     camera_height: Option<&str>,
@@ -186,7 +203,7 @@ pub(crate) fn reconstruct<'py>(
     let batch = PoseBatch::new(&points, layout, scores.as_ref(), min_score, output_bytes)?;
     // Mapped once for the warning and the height estimate.
     let leading = batch.leading_poses(HEIGHT_SHARE_MAX_POSES);
-    let intrinsics = intrinsics_arg(focal_px, principal_point.as_ref())?;
+    let intrinsics = intrinsics_arg(focal_px.as_ref(), principal_point.as_ref())?;
     warn_of_input_conventions(py, &leading, intrinsics)?;
     let mut reconstructor = match basis {
         Some(path) => PoseBasis::load(&path)

@@ -764,6 +764,16 @@ def test_arguments_as_users_write_them():
         camloc.reconstruct(points, focal_px=1500.0, principal_point="320,240")
     with pytest.raises(TypeError, match=r"got a list: \[960, '540'\]"):
         camloc.reconstruct(points, focal_px=1500.0, principal_point=[960, "540"])
+    with pytest.raises(TypeError, match="focal_px: a number of pixels.*got a str"):
+        camloc.reconstruct(points, focal_px="1000")
+    with pytest.raises(TypeError, match="focal_px: .*got a bool"):
+        camloc.Localizer().localize(points, focal_px=True)
+    np.testing.assert_array_equal(
+        camloc.reconstruct(points, focal_px=np.float32(1500.0), principal_point=[320, 240])[
+            "points3d"
+        ],
+        as_list["points3d"],
+    )
     with pytest.raises(TypeError, match="got a dict"):
         camloc.Localizer().localize(points, focal_px=1500.0, principal_point={"u": 1})
     np.testing.assert_array_equal(
