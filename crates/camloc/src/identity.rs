@@ -51,8 +51,10 @@ impl TorsoAnchor {
 
 /// The positions `k` (from 1) of one person's frames, in time order, at which the step from
 /// the previous frame with an anchor is not one person moving: the pelvis moves more than
-/// [`IDENTITY_JUMP_TORSOS`] torso lengths (their mean) per frame elapsed, or, between
-/// consecutive frame numbers, the torso length changes by more than [`IDENTITY_SIZE_RATIO`].
+/// [`IDENTITY_JUMP_TORSOS`] torso lengths (their mean) per frame elapsed, from where it was
+/// and from where the step before would have carried it (a steady runner moves more than a
+/// torso length every frame), or, between consecutive frame numbers, the torso length changes
+/// by more than [`IDENTITY_SIZE_RATIO`].
 /// The anchors are compared after a median of three (each with the frames with anchors before
 /// and after it), so that one frame whose hips or shoulders a detector misplaced is not a jump
 /// while a change of person that lasts two frames or more is.
@@ -77,15 +79,46 @@ pub fn identity_jumps(frames: &[Option<u64>], anchors: &[Option<TorsoAnchor>]) -
         };
         (k, smoothed)
     });
-    let mut found = Vec::new();
-    let mut previous: Option<(usize, TorsoAnchor)> = None;
-    for (k, anchor) in filtered {
-        if let Some((j, before)) = previous {
-            if jumps(&before, &anchor, elapsed(frames, j, k)) {
-                found.push(k);
+    let filtered: Vec<(usize, TorsoAnchor)> = filtered.collect();
+    // Where the steady motion from the frame at `from` to the one at `to` (positions in
+    // `filtered`) carries the person at the frame at `at`: a steady runner (or a jogger seen
+    // from above, the torso foreshortened) moves more than a torso length every frame without
+    // jumping.
+    let carried = |from: usize, to: usize, at: usize| {
+        let ((i, first), (j, second)) = (filtered[from], filtered[to]);
+        let k = filtered[at].0;
+        let signed = |a: usize, b: usize| {
+            if a <= b {
+                elapsed(frames, a, b)
+            } else {
+                -elapsed(frames, b, a)
             }
+        };
+        let share = signed(j, k) / signed(i, j);
+        TorsoAnchor {
+            pelvis: [0, 1].map(|d| second.pelvis[d] + share * (second.pelvis[d] - first.pelvis[d])),
+            torso: second.torso,
         }
-        previous = Some((k, anchor));
+    };
+    let mut found = Vec::new();
+    let mut jumped_before = false;
+    for m in 1..filtered.len() {
+        let ((j, before), (k, anchor)) = (filtered[m - 1], filtered[m]);
+        let span = elapsed(frames, j, k);
+        // The steady motion of the step before (when it was no jump), or else (the first
+        // step, the step after a jump) that of the step after, carried back.
+        let steady = if m >= 2 && !jumped_before {
+            Some(jumps(&carried(m - 2, m - 1, m), &anchor, span))
+        } else if m + 1 < filtered.len() {
+            Some(jumps(&carried(m + 1, m, m - 1), &before, span))
+        } else {
+            None
+        };
+        let jumped = jumps(&before, &anchor, span) && steady.unwrap_or(true);
+        if jumped {
+            found.push(k);
+        }
+        jumped_before = jumped;
     }
     found
 }
@@ -443,6 +476,33 @@ mod tests {
         // no outlier, as the frames before and after disagree too.
         let fast: Vec<_> = (0..10).map(|t| at(150.0 * f64::from(t), 100.0)).collect();
         assert!(outlier_frames(&frames, &fast).is_empty());
+    }
+
+    #[test]
+    fn a_steady_runner_is_no_jump_and_a_switch_while_running_is_one() {
+        // A torso and a half a frame: a sprint, or a jogger seen from steeply above (a
+        // simulated user's such views were warned of 24-36 times).
+        let frames: Vec<Option<u64>> = (0..30).map(Some).collect();
+        let runner: Vec<_> = (0..30)
+            .map(|t| at(150.0 * f64::from(t) + 10.0 * f64::from(t % 2), 100.0))
+            .collect();
+        assert!(identity_jumps(&frames, &runner).is_empty());
+        // Starting to run from standing: the speed grows by a fifth of a torso a frame.
+        let starting: Vec<_> = (0..30)
+            .map(|t| at(10.0 * f64::from(t * t), 100.0))
+            .collect();
+        assert!(identity_jumps(&frames, &starting).is_empty());
+        // Another person, 600 px away, from frame 12 on; and the runner stopping dead.
+        let mut switched = runner.clone();
+        for a in switched.iter_mut().skip(12) {
+            a.as_mut().unwrap().pelvis[1] += 600.0;
+        }
+        assert_eq!(identity_jumps(&frames, &switched), vec![12]);
+        let mut stopping = runner.clone();
+        for a in stopping.iter_mut().skip(12) {
+            a.as_mut().unwrap().pelvis[0] = 150.0 * 11.0;
+        }
+        assert!(identity_jumps(&frames, &stopping).is_empty());
     }
 
     #[test]
