@@ -105,7 +105,10 @@ class Localizer:
         min_score: joints scoring below it are missing (finite, >= 0).
         sequence: the poses are one person's frames of a video, in time order (a row of NaN
           where the person was missed): the result also has each frame's camera and viewpoint
-          smoothed over the frames, as ``camloc localize --sequence`` gives them, and a
+          smoothed over the frames, as ``camloc localize --sequence`` gives them, and
+          ``swapped_sides`` (N, 2) bool: the rows whose legs (column 0) or arms (column 1) a
+          detector read with the left and right sides swapped, swapped back and localized
+          again, with a ``UserWarning`` (docs/cli.md section Sequences); and a
           ``UserWarning`` says where the pose jumps across the image as one person cannot (rows
           of several people), and another where rows (up to 10 in a row, at an end too: the
           rows are consecutive frames) lie apart from the rows before and after them while

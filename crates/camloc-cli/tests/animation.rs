@@ -480,7 +480,8 @@ fn a_swap_at_the_end_of_a_track_is_left_out() {
 }
 
 /// Frames whose left and right legs a detector swapped are swapped back before the
-/// sequence is solved, with a warning: their 3D is the clean walk's.
+/// sequence is solved, with a warning: their 3D is the clean walk's, and so are their cameras
+/// in `localize --sequence`.
 #[test]
 fn legs_a_detector_swapped_for_two_frames_are_swapped_back() {
     let dir = TempDir::new("sides-swapped");
@@ -526,6 +527,27 @@ fn legs_a_detector_swapped_for_two_frames_are_swapped_back() {
         let marked = b.get("swapped_sides").cloned();
         let expected = (5..7).contains(&t).then(|| serde_json::json!(["legs"]));
         assert_eq!(marked, expected, "frame {t}");
+    }
+    // `localize --sequence` localizes them again, swapped back.
+    let localize =
+        |input: &str| camloc(&["localize", "--input", input, "--json", "--sequence", "-q"]);
+    let (clean_view, swapped_view) = (localize(&clean), localize(&swapped));
+    assert!(String::from_utf8_lossy(&swapped_view.stderr).contains("legs of 2 frames"));
+    for (t, (a, b)) in success(&clean_view)
+        .iter()
+        .zip(success(&swapped_view))
+        .enumerate()
+    {
+        for key in ["label", "smoothed_label"] {
+            assert_eq!(a[key], b[key], "frame {t}: {key}");
+        }
+        // (The pose localized again was kept in single precision.)
+        for (key, tolerance) in [("probability", 1e-6), ("azimuth_deg", 1e-3)] {
+            let (x, y) = (a[key].as_f64().unwrap(), b[key].as_f64().unwrap());
+            assert!((x - y).abs() < tolerance, "frame {t}: {key} {x} vs {y}");
+        }
+        let expected = (5..7).contains(&t).then(|| serde_json::json!(["legs"]));
+        assert_eq!(b.get("swapped_sides").cloned(), expected, "frame {t}");
     }
 }
 

@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use camloc::store::Persist;
 use camloc::{
-    CameraHeight, CameraLocalizer, CamlocError, HEIGHT_SHARE_MAX_POSES, PartialPose2,
+    CameraHeight, CameraLocalizer, CamlocError, HEIGHT_SHARE_MAX_POSES, Localization, PartialPose2,
     PoseReconstructor, SequenceModel, default_basis,
 };
 use numpy::{PyArray1, PyArrayMethods};
@@ -16,6 +16,7 @@ use crate::arrays::{ArrayArg, Output, PoseBatch};
 use crate::smooth::smoothed_columns;
 use crate::warnings::{
     warn_if_every_pose_failed, warn_of_identity_jumps, warn_of_input_conventions,
+    warn_of_swapped_sides,
 };
 use crate::{to_py_err, value_error};
 
@@ -262,14 +263,9 @@ impl Localizer {
                                     });
                                 match result {
                                     Ok(loc) => {
-                                        label[j] = i64::from(loc.label.get());
-                                        folded[j] = i64::from(loc.folded_label.get());
-                                        probability[j] = loc.probability;
+                                        (label[j], folded[j], probability[j]) = numbers(&loc);
                                         row.copy_from_slice(&loc.probabilities);
-                                        let nan = f64::NAN;
-                                        view[3 * j] = loc.azimuth_deg.unwrap_or(nan);
-                                        view[3 * j + 1] = loc.elevation_deg.unwrap_or(nan);
-                                        view[3 * j + 2] = loc.uncertainty_deg.unwrap_or(nan);
+                                        view[3 * j..3 * j + 3].copy_from_slice(&angles(&loc));
                                     }
                                     Err(message) => errors.push((i, message)),
                                 }
@@ -281,6 +277,33 @@ impl Localizer {
             });
             errors.extend(block_errors);
             py.check_signals()?;
+        }
+        // A sequence's limbs that a detector swapped left for right: swapped back and
+        // localized again, as the command line does.
+        let mut swapped_sides = None;
+        if sequence {
+            let read = leading.iter().map(|p| p.unwrap_or(PartialPose2::empty()));
+            let (repaired, marks) = warn_of_swapped_sides(py, read.collect())?;
+            for (i, (pose, mark)) in repaired.iter().zip(&marks).enumerate() {
+                if !mark.contains(&true) {
+                    continue;
+                }
+                let result = match filler {
+                    Some(f) => localizer.localize_filled(pose, f.reconstructor()),
+                    None => localizer.localize_partial(pose),
+                };
+                errors.retain(|(row, _)| *row != i);
+                match result {
+                    Ok(loc) => {
+                        (label[i], folded[i], probability[i]) = numbers(&loc);
+                        probabilities[i * k..(i + 1) * k].copy_from_slice(&loc.probabilities);
+                        viewpoint[3 * i..3 * i + 3].copy_from_slice(&angles(&loc));
+                    }
+                    Err(e) => errors.push((i, e.to_string())),
+                }
+            }
+            errors.sort_by_key(|(row, _)| *row);
+            swapped_sides = Some(marks);
         }
         let column =
             |c: usize| -> Vec<f64> { viewpoint.iter().skip(c).step_by(3).copied().collect() };
@@ -298,6 +321,9 @@ impl Localizer {
         out.array("azimuth_deg", azimuth, &[])?;
         out.array("elevation_deg", elevation, &[])?;
         out.array("uncertainty_deg", column(2), &[])?;
+        if let Some(marks) = swapped_sides {
+            out.array("swapped_sides", marks.as_flattened().to_vec(), &[2])?;
+        }
         if let Some(Smoothed {
             label,
             probability,
@@ -323,6 +349,20 @@ impl Localizer {
             self.camera_height()
         )
     }
+}
+
+/// The camera, folded camera (1-based numbers) and probability of a localization.
+fn numbers(loc: &Localization) -> (i64, i64, f64) {
+    (
+        i64::from(loc.label.get()),
+        i64::from(loc.folded_label.get()),
+        loc.probability,
+    )
+}
+
+/// The azimuth, elevation and uncertainty of a localization, degrees (NaN where it has none).
+fn angles(loc: &Localization) -> [f64; 3] {
+    [loc.azimuth_deg, loc.elevation_deg, loc.uncertainty_deg].map(|a| a.unwrap_or(f64::NAN))
 }
 
 /// A sequence's smoothed cameras and viewpoints, per row ([`Localizer::smoothed`]).

@@ -610,6 +610,12 @@ def test_a_sequence_that_jumps_between_people_warns_and_nothing_detected_says_so
     expected = np.zeros((12, 2), bool)
     expected[4:6, 0] = True
     np.testing.assert_array_equal(repaired["swapped_sides"], expected)
+    with pytest.warns(UserWarning, match=r"left and right legs of 2 row\(s\) are swapped"):
+        located = camloc.Localizer().localize(crossed, sequence=True)
+    clean = camloc.Localizer().localize(walking, sequence=True)
+    np.testing.assert_array_equal(located["swapped_sides"], expected)
+    for key in ("label", "probabilities", "azimuth_deg", "smoothed_label"):
+        np.testing.assert_array_equal(located[key], clean[key])
     # The other person's rows at the end of a sequence (ids swapped for its last 3 frames):
     # left out too, as the rows are consecutive frames.
     long_rows = np.stack([pose + [2.0 * t, 0.0] for t in range(12)])

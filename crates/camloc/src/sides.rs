@@ -4,7 +4,7 @@
 //! with the legs swapped and 115 mm with the arms, against 42), and a sequence's bone lengths
 //! and smoothness take it in.
 
-use camloc_skeleton::{Landmark, NUM_LANDMARKS, PartialPose2};
+use camloc_skeleton::{Landmark, PartialPose2};
 
 /// A chain of landmarks whose left and right sides a detector can confuse.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -93,59 +93,75 @@ pub fn swapped_sides(
     frames: &[Option<u64>],
     poses: &[PartialPose2],
 ) -> Vec<(SideChain, Vec<usize>)> {
-    let present: Vec<(usize, [Option<[f64; 2]>; NUM_LANDMARKS])> = poses
+    // The frames with a torso: their positions, pelvis and torso length (the landmarks are
+    // taken relative to them as they are needed: a video of a million frames holds no copy).
+    let present: Vec<Torso> = poses
         .iter()
         .enumerate()
-        .filter_map(|(k, pose)| torso_relative(pose).map(|r| (k, r)))
+        .filter_map(|(k, pose)| Torso::of(k, pose))
         .collect();
     let number = |k: usize| frames.get(k).copied().flatten();
     let linked: Vec<bool> = present
         .windows(2)
         .map(|w| {
-            let (j, k) = (w[0].0, w[1].0);
+            let (j, k) = (w[0].at, w[1].at);
             match (number(j), number(k)) {
                 (Some(a), Some(b)) => b > a && b - a <= SIDE_SWAP_GAP_FRAMES,
                 _ => (k - j) as u64 <= SIDE_SWAP_GAP_FRAMES,
             }
         })
         .collect();
-    let relative: Vec<_> = present.iter().map(|(_, r)| *r).collect();
     SideChain::ALL
         .into_iter()
         .map(|chain| {
-            let swapped = swapped_frames(chain, &relative, &linked)
+            let swapped = swapped_frames(chain, poses, &present, &linked)
                 .into_iter()
-                .map(|m| present[m].0)
+                .map(|m| present[m].at)
                 .collect();
             (chain, swapped)
         })
         .collect()
 }
 
-/// A pose's landmarks relative to its pelvis, in its torso lengths (pelvis to neck); `None`
-/// without a pelvis, a neck or a torso of finite, non-zero length.
-fn torso_relative(pose: &PartialPose2) -> Option<[Option<[f64; 2]>; NUM_LANDMARKS]> {
-    let pelvis = pose.points[Landmark::Pelvis.index()]?;
-    let neck = pose.points[Landmark::Neck.index()]?;
-    let torso = (neck[0] - pelvis[0]).hypot(neck[1] - pelvis[1]);
-    if !(torso.is_finite() && torso > 0.0) {
-        return None;
-    }
-    Some(
-        pose.points
-            .map(|p| p.map(|[x, y]| [(x - pelvis[0]) / torso, (y - pelvis[1]) / torso])),
-    )
+/// A frame with a torso: its position among the person's frames, its pelvis and its torso
+/// length (pelvis to neck, finite and non-zero).
+#[derive(Clone, Copy)]
+struct Torso {
+    at: usize,
+    pelvis: [f64; 2],
+    length: f64,
 }
 
-/// The positions (in `relative`, the torso-relative frames with a torso) of the frames whose
-/// `chain` is swapped back ([`swapped_sides`]); `linked[m - 1]`: frames `m - 1` and `m`
-/// constrain each other.
+impl Torso {
+    /// The torso of `pose`, the frame at position `at`; `None` without a pelvis, a neck or a
+    /// torso of finite, non-zero length.
+    fn of(at: usize, pose: &PartialPose2) -> Option<Torso> {
+        let pelvis = pose.points[Landmark::Pelvis.index()]?;
+        let neck = pose.points[Landmark::Neck.index()]?;
+        let length = (neck[0] - pelvis[0]).hypot(neck[1] - pelvis[1]);
+        (length.is_finite() && length > 0.0).then_some(Torso { at, pelvis, length })
+    }
+
+    /// `landmark` of `pose` relative to the pelvis, in torso lengths.
+    fn relative(&self, pose: &PartialPose2, landmark: Landmark) -> Option<[f64; 2]> {
+        let [x, y] = pose.points[landmark.index()]?;
+        Some([
+            (x - self.pelvis[0]) / self.length,
+            (y - self.pelvis[1]) / self.length,
+        ])
+    }
+}
+
+/// The positions (in `present`, the frames with a torso) of the frames whose `chain` is
+/// swapped back ([`swapped_sides`]); `linked[m - 1]`: frames `m - 1` and `m` constrain each
+/// other.
 fn swapped_frames(
     chain: SideChain,
-    relative: &[[Option<[f64; 2]>; NUM_LANDMARKS]],
+    poses: &[PartialPose2],
+    present: &[Torso],
     linked: &[bool],
 ) -> Vec<usize> {
-    let n = relative.len();
+    let n = present.len();
     if n == 0 {
         return Vec::new();
     }
@@ -155,23 +171,31 @@ fn swapped_frames(
         if !linked[m - 1] {
             return 0.0;
         }
-        let (a, b) = (&relative[m - 1], &relative[m]);
-        // The point of the left (or right) landmark of `pair` in a frame read swapped or not.
-        let side =
-            |points: &[Option<[f64; 2]>; NUM_LANDMARKS],
-             (l, r): (Landmark, Landmark),
-             swapped: bool,
-             left: bool| points[if left != swapped { l } else { r }.index()];
+        let (a, b) = (&present[m - 1], &present[m]);
+        // The left (or right) landmark of `pair` in a frame read swapped or not.
+        let side = |(l, r): (Landmark, Landmark), swapped: bool, left: bool| {
+            if left != swapped { l } else { r }
+        };
         chain
             .pairs()
             .into_iter()
             .flat_map(|pair| [(pair, true), (pair, false)])
             .filter_map(|(pair, left)| {
-                let p = side(a, pair, before, left)?;
-                let q = side(b, pair, after, left)?;
+                let p = a.relative(&poses[a.at], side(pair, before, left))?;
+                let q = b.relative(&poses[b.at], side(pair, after, left))?;
                 Some((q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2))
             })
             .sum()
+    };
+    // Each step's four motions (as read or swapped, before and after), computed once.
+    let steps: Vec<[f64; 4]> = (1..n)
+        .map(|m| {
+            [(false, false), (false, true), (true, false), (true, true)]
+                .map(|(b, a)| motion(m, b, a))
+        })
+        .collect();
+    let motion = |m: usize, before: bool, after: bool| {
+        steps[m - 1][2 * usize::from(before) + usize::from(after)]
     };
     let mut steady: Vec<f64> = (1..n)
         .filter(|&m| linked[m - 1])

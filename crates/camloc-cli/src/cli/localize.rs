@@ -49,12 +49,13 @@ pub struct Args {
     /// frame and smooth the viewpoint over time (a hidden Markov model over the cameras, the
     /// mean direction over 7 frames). Output (per frame, by person then frame) has the raw
     /// and the smoothed camera and viewpoint; a person whose pose jumps across the image
-    /// (two people under one id) is warned of. Every frame's 12 probabilities are kept until
-    /// the end (not the poses).
+    /// (two people under one id) is warned of, and legs or arms a detector swapped left for
+    /// right for a few frames are swapped back (docs/cli.md, section Sequences). Every frame's
+    /// 12 probabilities and landmarks are kept until the end.
     #[arg(long)]
     pub sequence: bool,
     /// With --sequence: refuse an input of more than N poses (each is kept until the end:
-    /// about 600 to 700 bytes a pose, docs/cli.md).
+    /// about 1.3 KB a pose, docs/cli.md).
     #[arg(
         long,
         value_name = "N",

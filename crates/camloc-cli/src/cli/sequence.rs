@@ -4,10 +4,10 @@
 //! input for `--summary-svg`).
 //!
 //! A sequence needs all its frames before it can be smoothed: the run keeps, per pose, its id,
-//! source, frame, person and the 12 class probabilities (not the poses; a failure keeps the
-//! number of its message, each distinct message once), and refuses an input of more than
-//! `--sequence-max-poses` poses (1,000,000 by default) when it gets there; with the smoothing,
-//! about 600 to 700 bytes a pose (docs/cli.md).
+//! source, frame, person, the 12 class probabilities and the landmarks in single precision (a
+//! failure keeps the number of its message, each distinct message once), and refuses an input
+//! of more than `--sequence-max-poses` poses (1,000,000 by default) when it gets there; with
+//! the smoothing and the limbs swapped back, about 1.3 KB a pose (docs/cli.md).
 
 use std::collections::HashMap;
 use std::fmt::Write;
@@ -15,9 +15,10 @@ use std::path::Path;
 use std::process::ExitCode;
 
 use camloc::keypoints::KeypointRecord;
+use camloc::skeleton::NUM_LANDMARKS;
 use camloc::{
-    CameraLabel, Localization, PartialPose2, SequenceModel, SmoothedFrame, TorsoAnchor, Viewpoint,
-    identity_jumps, sequences, smooth_viewpoints,
+    CameraLabel, Localization, PartialPose2, SequenceModel, SideChain, SmoothedFrame, TorsoAnchor,
+    Viewpoint, identity_jumps, sequences, smooth_viewpoints,
 };
 use indicatif::ProgressBar;
 use rayon::prelude::*;
@@ -37,8 +38,13 @@ use super::{CliError, Locator, numbered_path};
 use camloc::store::{StagedFiles, check_target, escaped};
 
 /// One localized (or failed) pose of a sequence: what is kept until the sequence is smoothed
-/// (at most 120 bytes, with the id, source and probabilities on the heap).
+/// (at most 250 bytes, with the id, source and probabilities on the heap).
 struct Frame {
+    /// The pose's landmarks (single precision, NaN where missing), for the limbs a detector
+    /// swapped left for right ([`sides_swapped_back`]).
+    points: [[f32; 2]; NUM_LANDMARKS],
+    /// The chains swapped back ([`camloc::SideChain::ALL`] order, bit per chain).
+    swapped_sides: u8,
     id: Box<str>,
     source: Box<str>,
     frame: Option<u64>,
@@ -55,6 +61,25 @@ struct Frame {
 }
 
 impl Frame {
+    /// The pose kept, in double precision.
+    fn pose(&self) -> PartialPose2 {
+        PartialPose2 {
+            points: self.points.map(|[x, y]| {
+                (x.is_finite() && y.is_finite()).then(|| [f64::from(x), f64::from(y)])
+            }),
+        }
+    }
+
+    /// The names of the chains swapped back.
+    fn swapped_side_names(&self) -> Vec<&'static str> {
+        SideChain::ALL
+            .iter()
+            .enumerate()
+            .filter(|(c, _)| self.swapped_sides & (1 << c) != 0)
+            .map(|(_, chain)| chain.name())
+            .collect()
+    }
+
     /// The most probable camera and its probability.
     fn best(&self) -> Option<(CameraLabel, f64)> {
         let (label, p) = self.result.as_ref().ok()?;
@@ -107,6 +132,9 @@ struct FrameJson<'a> {
     elevation_deg: Option<f32>,
     #[serde(skip_serializing_if = "Option::is_none")]
     error: Option<&'a str>,
+    /// The chains whose left and right sides were swapped back before the frame was localized.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    swapped_sides: Vec<&'static str>,
     smoothed_label: Option<CameraLabel>,
     smoothed_probability: Option<f64>,
     /// Single precision: smoothed from the frames' single-precision angles.
@@ -210,6 +238,11 @@ pub fn run(
                 });
                 summary.count(&record.pose);
                 frames.push(Frame {
+                    points: record
+                        .pose
+                        .points
+                        .map(|p| p.map_or([f32::NAN; 2], |[x, y]| [x as f32, y as f32])),
+                    swapped_sides: 0,
                     id: record.id.as_str().into(),
                     source: record.source.as_str().into(),
                     frame: record.frame,
@@ -238,6 +271,46 @@ pub fn run(
     }
     let mut staged = StagedFiles::new(force);
     for (n, (person, members)) in groups.iter().enumerate() {
+        let numbers = frame_numbers(&keys, members);
+        // The limbs a detector swapped left for right: swapped back and localized again.
+        let read: Vec<PartialPose2> = members.iter().map(|&i| frames[i].pose()).collect();
+        let (repaired, chains) = sides_swapped_back(*person, &numbers, read);
+        for ((&i, pose), names) in members.iter().zip(&repaired).zip(&chains) {
+            if names.is_empty() {
+                continue;
+            }
+            let frame = &mut frames[i];
+            frame.swapped_sides = SideChain::ALL
+                .iter()
+                .enumerate()
+                .filter(|(_, chain)| names.contains(&chain.name()))
+                .fold(0, |bits, (c, _)| bits | 1 << c);
+            let found = locator.localize(pose);
+            if let Some(view) = views.get_mut(i) {
+                let record = KeypointRecord {
+                    id: frame.id.to_string(),
+                    pose: *pose,
+                    derived: Vec::new(),
+                    source: frame.source.to_string(),
+                    frame: frame.frame,
+                    person: frame.person,
+                };
+                let again = match &found {
+                    Ok(loc) => page(&record, Some(loc), None),
+                    Err(e) => page(&record, None, Some(e.to_string())),
+                };
+                if let Some(again) = again {
+                    *view = again;
+                }
+            }
+            frame.viewpoint = found
+                .as_ref()
+                .ok()
+                .and_then(|loc| Some([loc.azimuth_deg? as f32, loc.elevation_deg? as f32]));
+            frame.result = found
+                .map(|loc| (loc.label, loc.probabilities.into_boxed_slice()))
+                .map_err(|e| failures.number(e.to_string()));
+        }
         let anchors: Vec<Option<TorsoAnchor>> = members
             .iter()
             .map(|&i| {
@@ -247,7 +320,6 @@ pub fn run(
                 })
             })
             .collect();
-        let numbers = frame_numbers(&keys, members);
         let left_out = left_out_of_sequence(
             *person,
             &numbers,
@@ -535,6 +607,7 @@ fn frame_output(
             azimuth_deg: frame.viewpoint.map(|v| v[0]),
             elevation_deg: frame.viewpoint.map(|v| v[1]),
             error: frame.result.as_ref().err().map(|&n| failures.message(n)),
+            swapped_sides: frame.swapped_side_names(),
             smoothed_label: s.map(|s| s.label),
             smoothed_probability: s.map(|s| s.probability),
             smoothed_azimuth_deg: viewpoint.map(|v| v.0 as f32),
