@@ -5,7 +5,7 @@
 use camloc::reconstruct::Intrinsics;
 use camloc::{
     HEIGHT_SHARE_MAX_POSES, InputConventions, PartialPose2, TorsoAnchor, identity_jumps,
-    left_out_of_sequence, swapped_sides, with_sides_swapped,
+    left_out_of_sequence, swap_sides_back,
 };
 use pyo3::exceptions::PyUserWarning;
 use pyo3::prelude::*;
@@ -72,12 +72,11 @@ pub(crate) fn warn_of_swapped_sides(
 ) -> PyResult<(Vec<PartialPose2>, Vec<[bool; 2]>)> {
     let rows: Vec<Option<u64>> = (0..poses.len() as u64).map(Some).collect();
     let mut marks = vec![[false; 2]; poses.len()];
-    for (c, (chain, swapped)) in swapped_sides(&rows, &poses).into_iter().enumerate() {
+    for (c, (chain, swapped)) in swap_sides_back(&rows, &mut poses).into_iter().enumerate() {
         let Some(&first) = swapped.first() else {
             continue;
         };
         for &m in &swapped {
-            poses[m] = with_sides_swapped(&poses[m], chain);
             marks[m][c] = true;
         }
         let message = format!(

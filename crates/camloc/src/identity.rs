@@ -84,21 +84,9 @@ pub fn identity_jumps(frames: &[Option<u64>], anchors: &[Option<TorsoAnchor>]) -
     // `filtered`) carries the person at the frame at `at`: a steady runner (or a jogger seen
     // from above, the torso foreshortened) moves more than a torso length every frame without
     // jumping.
-    let carried = |from: usize, to: usize, at: usize| {
-        let ((i, first), (j, second)) = (filtered[from], filtered[to]);
-        let k = filtered[at].0;
-        let signed = |a: usize, b: usize| {
-            if a <= b {
-                elapsed(frames, a, b)
-            } else {
-                -elapsed(frames, b, a)
-            }
-        };
-        let share = signed(j, k) / signed(i, j);
-        TorsoAnchor {
-            pelvis: [0, 1].map(|d| second.pelvis[d] + share * (second.pelvis[d] - first.pelvis[d])),
-            torso: second.torso,
-        }
+    let carried = |from: usize, to: usize, at: usize| TorsoAnchor {
+        pelvis: pelvis_along(frames, filtered[to], filtered[from], filtered[at].0),
+        torso: filtered[to].1.torso,
     };
     let mut found = Vec::new();
     let mut jumped_before = false;
@@ -156,6 +144,29 @@ fn elapsed(frames: &[Option<u64>], j: usize, k: usize) -> f64 {
     }
 }
 
+/// Frames elapsed from position `j` to position `k` of one person's frames ([`elapsed`]),
+/// negative when `k` comes before `j`.
+fn signed_elapsed(frames: &[Option<u64>], j: usize, k: usize) -> f64 {
+    if j <= k {
+        elapsed(frames, j, k)
+    } else {
+        -elapsed(frames, k, j)
+    }
+}
+
+/// Where the line through the pelvises of two of a person's frames, `base` and `other` (their
+/// positions and anchors), puts the pelvis at the time of the frame at position `at`: between
+/// them, or beyond either (the steady motion carried on).
+fn pelvis_along(
+    frames: &[Option<u64>],
+    (j, base): (usize, TorsoAnchor),
+    (k, other): (usize, TorsoAnchor),
+    at: usize,
+) -> [f64; 2] {
+    let share = signed_elapsed(frames, j, at) / signed_elapsed(frames, j, k);
+    [0, 1].map(|d| base.pelvis[d] + share * (other.pelvis[d] - base.pelvis[d]))
+}
+
 /// The most frames in a row that [`outlier_frames`] leaves out as another person's: a tracker
 /// that gave one person's id to another for a third of a second at 30 frames a second (an
 /// occluder passing by). A longer stretch is a change of person ([`identity_jumps`] warns).
@@ -192,17 +203,10 @@ pub fn outlier_frames(frames: &[Option<u64>], anchors: &[Option<TorsoAnchor>]) -
     // the person at its time, between them or beyond them, or differs from their size by
     // more than IDENTITY_SIZE_RATIO.
     let off_line = |k: usize, a: usize, b: usize| {
-        let time = |x: usize, y: usize| {
-            if x <= y {
-                elapsed(frames, present[x].0, present[y].0)
-            } else {
-                -elapsed(frames, present[y].0, present[x].0)
-            }
-        };
         let (pa, pb, pk) = (present[a].1, present[b].1, present[k].1);
-        let s = time(a, k) / time(a, b);
+        let on_line = pelvis_along(frames, present[a], present[b], present[k].0);
         let size = 0.5 * (pa.torso + pb.torso);
-        let off = [0, 1].map(|i| pk.pelvis[i] - pa.pelvis[i] - s * (pb.pelvis[i] - pa.pelvis[i]));
+        let off = [0, 1].map(|i| pk.pelvis[i] - on_line[i]);
         off[0].hypot(off[1]) > IDENTITY_JUMP_TORSOS * size
             || pk.torso.max(size) / pk.torso.min(size) > IDENTITY_SIZE_RATIO
     };

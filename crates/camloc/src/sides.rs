@@ -123,6 +123,21 @@ pub fn swapped_sides(
         .collect()
 }
 
+/// [`swapped_sides`] of one person's frames, the chains found swapped back in `poses`
+/// ([`with_sides_swapped`]); returns them.
+pub fn swap_sides_back(
+    frames: &[Option<u64>],
+    poses: &mut [PartialPose2],
+) -> Vec<(SideChain, Vec<usize>)> {
+    let found = swapped_sides(frames, poses);
+    for (chain, swapped) in &found {
+        for &m in swapped {
+            poses[m] = with_sides_swapped(&poses[m], *chain);
+        }
+    }
+    found
+}
+
 /// A frame with a torso: its position among the person's frames, its pelvis and its torso
 /// length (pelvis to neck, finite and non-zero).
 #[derive(Clone, Copy)]

@@ -14,8 +14,8 @@ use camloc::reconstruct::BoneLengths;
 use camloc::skeleton::Landmark;
 use camloc::store::{StagedFiles, check_target};
 use camloc::{
-    ModeKind, Pose3, PoseReconstruction, PoseReconstructor, SEQUENCE_BREAK_FRAMES, TorsoAnchor,
-    frame_slots, sequences,
+    ModeKind, PartialPose2, Pose3, PoseReconstruction, PoseReconstructor, SEQUENCE_BREAK_FRAMES,
+    TorsoAnchor, frame_slots, sequences,
 };
 use indicatif::ProgressBar;
 
@@ -135,11 +135,8 @@ pub fn run(
     let mut drawn: Vec<(usize, usize)> = Vec::new();
     for (n, (person, members)) in groups.iter().enumerate() {
         let numbers = super::sequence::frame_numbers(&keys, members);
-        let (poses, swapped_sides) = super::sequence::sides_swapped_back(
-            *person,
-            &numbers,
-            members.iter().map(|&i| kept[i].pose).collect(),
-        );
+        let mut poses: Vec<PartialPose2> = members.iter().map(|&i| kept[i].pose).collect();
+        let swapped_sides = super::sequence::sides_swapped_back(*person, &numbers, &mut poses);
         let anchors: Vec<_> = poses.iter().map(TorsoAnchor::of).collect();
         // A second pose of a frame, and a frame whose pose is not where the frames around it
         // put the person, are reconstructed on their own, outside the sequence.
@@ -258,7 +255,7 @@ pub fn run(
                 .collect()
         };
         let outputs = members.iter().zip(frames).zip(animated).zip(left_out);
-        for ((((&i, frame), pose), left), sides) in outputs.zip(&swapped_sides) {
+        for ((((&i, frame), pose), left), &sides) in outputs.zip(&swapped_sides) {
             let k = &kept[i];
             if options.finish.is_some() {
                 let (r, error) = match &frame {
@@ -279,7 +276,7 @@ pub fn run(
                         frame: k.frame,
                         person: k.person,
                         left_out: left,
-                        swapped_sides: sides,
+                        swapped_sides: &super::sequence::side_names(sides),
                     };
                     emit.write(out, &pose_output(format, &meta, options.choice, &r))?;
                     if let Some(svg) = options.svg {

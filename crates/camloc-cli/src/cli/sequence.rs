@@ -57,8 +57,11 @@ struct Frame {
     viewpoint: Option<[f32; 2]>,
     /// The most probable camera and every camera's probability, or the number of the failure's
     /// message in [`Failures`].
-    result: Result<(CameraLabel, Box<[f64]>), u32>,
+    result: Result<Cameras, u32>,
 }
+
+/// A localization's most probable camera and every camera's probability.
+type Cameras = (CameraLabel, Box<[f64]>);
 
 impl Frame {
     /// The pose kept, in double precision.
@@ -68,16 +71,6 @@ impl Frame {
                 (x.is_finite() && y.is_finite()).then(|| [f64::from(x), f64::from(y)])
             }),
         }
-    }
-
-    /// The names of the chains swapped back.
-    fn swapped_side_names(&self) -> Vec<&'static str> {
-        SideChain::ALL
-            .iter()
-            .enumerate()
-            .filter(|(c, _)| self.swapped_sides & (1 << c) != 0)
-            .map(|(_, chain)| chain.name())
-            .collect()
     }
 
     /// The most probable camera and its probability.
@@ -202,18 +195,7 @@ pub fn run(
             .par_iter()
             .map(|item| {
                 let record = item.as_ref().ok()?;
-                let found = locator.localize(&record.pose);
-                let view = match &found {
-                    Ok(loc) => page(record, Some(loc), None),
-                    Err(e) => page(record, None, Some(e.to_string())),
-                };
-                let viewpoint = found
-                    .as_ref()
-                    .ok()
-                    .and_then(|loc| Some([loc.azimuth_deg? as f32, loc.elevation_deg? as f32]));
-                let result = found
-                    .map(|loc| (loc.label, loc.probabilities.into_boxed_slice()))
-                    .map_err(|e| e.to_string());
+                let (result, view, viewpoint) = localized(&locator, page, record);
                 Some((record, result, view, viewpoint))
             })
             .collect();
@@ -273,43 +255,28 @@ pub fn run(
     for (n, (person, members)) in groups.iter().enumerate() {
         let numbers = frame_numbers(&keys, members);
         // The limbs a detector swapped left for right: swapped back and localized again.
-        let read: Vec<PartialPose2> = members.iter().map(|&i| frames[i].pose()).collect();
-        let (repaired, chains) = sides_swapped_back(*person, &numbers, read);
-        for ((&i, pose), names) in members.iter().zip(&repaired).zip(&chains) {
-            if names.is_empty() {
+        let mut poses: Vec<PartialPose2> = members.iter().map(|&i| frames[i].pose()).collect();
+        let sides = sides_swapped_back(*person, &numbers, &mut poses);
+        for ((&i, pose), &bits) in members.iter().zip(&poses).zip(&sides) {
+            if bits == 0 {
                 continue;
             }
             let frame = &mut frames[i];
-            frame.swapped_sides = SideChain::ALL
-                .iter()
-                .enumerate()
-                .filter(|(_, chain)| names.contains(&chain.name()))
-                .fold(0, |bits, (c, _)| bits | 1 << c);
-            let found = locator.localize(pose);
-            if let Some(view) = views.get_mut(i) {
-                let record = KeypointRecord {
-                    id: frame.id.to_string(),
-                    pose: *pose,
-                    derived: Vec::new(),
-                    source: frame.source.to_string(),
-                    frame: frame.frame,
-                    person: frame.person,
-                };
-                let again = match &found {
-                    Ok(loc) => page(&record, Some(loc), None),
-                    Err(e) => page(&record, None, Some(e.to_string())),
-                };
-                if let Some(again) = again {
-                    *view = again;
-                }
+            let record = KeypointRecord {
+                id: frame.id.to_string(),
+                pose: *pose,
+                derived: Vec::new(),
+                source: frame.source.to_string(),
+                frame: frame.frame,
+                person: frame.person,
+            };
+            let (result, view, viewpoint) = localized(&locator, page, &record);
+            if let (Some(kept), Some(view)) = (views.get_mut(i), view) {
+                *kept = view;
             }
-            frame.viewpoint = found
-                .as_ref()
-                .ok()
-                .and_then(|loc| Some([loc.azimuth_deg? as f32, loc.elevation_deg? as f32]));
-            frame.result = found
-                .map(|loc| (loc.label, loc.probabilities.into_boxed_slice()))
-                .map_err(|e| failures.number(e.to_string()));
+            frame.swapped_sides = bits;
+            frame.viewpoint = viewpoint;
+            frame.result = result.map_err(|message| failures.number(message));
         }
         let anchors: Vec<Option<TorsoAnchor>> = members
             .iter()
@@ -491,22 +458,48 @@ pub fn left_out_of_sequence(
     left_out.mask(frames.len())
 }
 
-/// `poses` of `person` (their `frames` numbers, in time order) with the limbs a detector
-/// swapped for a few frames swapped back ([`camloc::swapped_sides`]), with a warning on
-/// standard error per chain, and per frame the names of the chains swapped back.
+/// A pose's localization as a sequence keeps it (the camera and probabilities, or the error's
+/// message), the page's record of it (`None` without `--html`) and its continuous viewpoint
+/// (single precision).
+fn localized(
+    locator: &Locator<'_>,
+    page: &PageFrame,
+    record: &KeypointRecord,
+) -> (Result<Cameras, String>, Option<ViewFrame>, Option<[f32; 2]>) {
+    let found = locator.localize(&record.pose);
+    let view = match &found {
+        Ok(loc) => page(record, Some(loc), None),
+        Err(e) => page(record, None, Some(e.to_string())),
+    };
+    let viewpoint = found
+        .as_ref()
+        .ok()
+        .and_then(|loc| Some([loc.azimuth_deg? as f32, loc.elevation_deg? as f32]));
+    let result = found
+        .map(|loc| (loc.label, loc.probabilities.into_boxed_slice()))
+        .map_err(|e| e.to_string());
+    (result, view, viewpoint)
+}
+
+/// Swaps back in `poses` of `person` (their `frames` numbers, in time order) the limbs a
+/// detector swapped for a few frames ([`camloc::swap_sides_back`]), with a warning on standard
+/// error per chain; per frame, the chains swapped back (bit `c` for
+/// [`SideChain::ALL`]`[c]`, named by [`side_names`]).
 pub fn sides_swapped_back(
     person: u64,
     frames: &[Option<u64>],
-    mut poses: Vec<PartialPose2>,
-) -> (Vec<PartialPose2>, Vec<Vec<&'static str>>) {
-    let mut chains = vec![Vec::new(); poses.len()];
-    for (chain, swapped) in camloc::swapped_sides(frames, &poses) {
+    poses: &mut [PartialPose2],
+) -> Vec<u8> {
+    let mut bits = vec![0u8; poses.len()];
+    for (c, (chain, swapped)) in camloc::swap_sides_back(frames, poses)
+        .into_iter()
+        .enumerate()
+    {
         let Some(&first) = swapped.first() else {
             continue;
         };
         for &m in &swapped {
-            poses[m] = camloc::with_sides_swapped(&poses[m], chain);
-            chains[m].push(chain.name());
+            bits[m] |= 1 << c;
         }
         stderr_line!(
             "camloc: warning: person {person}: the left and right {} of {} are swapped against \
@@ -517,7 +510,17 @@ pub fn sides_swapped_back(
             frame_name(frames, first)
         );
     }
-    (poses, chains)
+    bits
+}
+
+/// The names of the chains of `bits` ([`sides_swapped_back`]).
+pub fn side_names(bits: u8) -> Vec<&'static str> {
+    SideChain::ALL
+        .iter()
+        .enumerate()
+        .filter(|(c, _)| bits & (1 << c) != 0)
+        .map(|(_, chain)| chain.name())
+        .collect()
 }
 
 /// How a warning names the frame at position `m` of a person's frames (`frames` their
@@ -607,7 +610,7 @@ fn frame_output(
             azimuth_deg: frame.viewpoint.map(|v| v[0]),
             elevation_deg: frame.viewpoint.map(|v| v[1]),
             error: frame.result.as_ref().err().map(|&n| failures.message(n)),
-            swapped_sides: frame.swapped_side_names(),
+            swapped_sides: side_names(frame.swapped_sides),
             smoothed_label: s.map(|s| s.label),
             smoothed_probability: s.map(|s| s.probability),
             smoothed_azimuth_deg: viewpoint.map(|v| v.0 as f32),
