@@ -253,3 +253,122 @@ fn npz_and_svg_may_not_name_one_file() {
     assert!(String::from_utf8_lossy(&run.stderr).contains("name the same file"));
     assert!(!dir.0.join("x.npz").exists());
 }
+
+/// A standing person facing the camera in Human3.6M's 17 joints (pixels, y down): the
+/// pelvis, right leg, left hip (first five), left leg, spine, thorax, nose, head top, arms.
+const H36M_STANDING: [[f64; 2]; 17] = [
+    [100.0, 130.0],
+    [85.0, 130.0],
+    [84.0, 185.0],
+    [83.0, 240.0],
+    [115.0, 130.0],
+    [116.0, 185.0],
+    [117.0, 240.0],
+    [100.0, 90.0],
+    [100.0, 50.0],
+    [100.0, 20.0],
+    [100.0, 5.0],
+    [125.0, 50.0],
+    [130.0, 90.0],
+    [132.0, 125.0],
+    [75.0, 50.0],
+    [70.0, 90.0],
+    [68.0, 125.0],
+];
+
+/// A pose the reader refuses (declared Human3.6M, its first five joints gathered as a face's)
+/// keeps its row: marked failed in `--npz`, an error object with its id and frame in JSON, a
+/// NaN row in `reconstruct --npy`, with or without `--sequence`; the rows after it stay the
+/// rows of their poses.
+#[test]
+fn a_pose_the_reader_refuses_keeps_its_row() {
+    let dir = TempDir::new("npz-refused");
+    let mut face = H36M_STANDING;
+    for (j, point) in face.iter_mut().take(5).enumerate() {
+        *point = [100.0 + 2.0 * j as f64, 20.0 - j as f64];
+    }
+    let mut bytes = npy_head("{'descr': '<f8', 'fortran_order': False, 'shape': (3, 17, 2), }");
+    for pose in [H36M_STANDING, face, H36M_STANDING] {
+        bytes.extend(pose.as_flattened().iter().flat_map(|v| v.to_le_bytes()));
+    }
+    let input = dir.0.join("h36m.npy");
+    std::fs::write(&input, bytes).unwrap();
+    let input = input.to_str().unwrap();
+    let npz = dir.0.join("h36m.npz");
+    let run = camloc(&["localize", "--input", input, "--layout", "h36m17"]);
+    assert_eq!(run.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(stderr.contains("error: 1 ("), "{stderr}");
+    assert!(
+        stderr.contains("h36m.npy: [1]): the first five joints"),
+        "{stderr}"
+    );
+    let lines = success_or_failure_lines(&[
+        "localize", "--input", input, "--layout", "h36m17", "--jsonl",
+    ]);
+    assert_eq!(lines.len(), 3);
+    assert_eq!(
+        (lines[1]["id"].as_str(), lines[1]["frame"].as_u64()),
+        (Some("1"), Some(1))
+    );
+    assert!(
+        lines[1]["error"]
+            .as_str()
+            .unwrap()
+            .contains("likely coco17")
+    );
+    assert_eq!(lines[2]["frame"].as_u64(), Some(2));
+    let npz_out = camloc(&[
+        "localize",
+        "--input",
+        input,
+        "--layout",
+        "h36m17",
+        "--npz",
+        npz.to_str().unwrap(),
+    ]);
+    assert_eq!(npz_out.status.code(), Some(1));
+    let archive = Npz::parse(&std::fs::read(&npz).unwrap());
+    assert_eq!(archive.array::<bool>("failed").1, [false, true, false]);
+    assert_eq!(archive.array::<i64>("frame").1, [0, 1, 2]);
+    for sequence in [false, true] {
+        let npy = dir.0.join(format!("poses3-{sequence}.npy"));
+        let mut args = vec![
+            "reconstruct",
+            "-q",
+            "--input",
+            input,
+            "--layout",
+            "h36m17",
+            "--npy",
+        ];
+        args.push(npy.to_str().unwrap());
+        if sequence {
+            args.push("--sequence");
+        }
+        assert_eq!(camloc(&args).status.code(), Some(1));
+        let bytes = std::fs::read(&npy).unwrap();
+        let header_end = bytes.iter().position(|&b| b == b'\n').unwrap() + 1;
+        let values: Vec<f64> = bytes[header_end..]
+            .chunks_exact(8)
+            .map(|b| f64::from_le_bytes(b.try_into().unwrap()))
+            .collect();
+        assert_eq!(values.len(), 3 * 15 * 3, "sequence {sequence}");
+        let nan_rows: Vec<bool> = values
+            .chunks_exact(45)
+            .map(|row| row.iter().all(|v| v.is_nan()))
+            .collect();
+        assert_eq!(nan_rows, [false, true, false], "sequence {sequence}");
+    }
+}
+
+/// The JSON lines a run with `args` writes, whether it succeeded or some poses failed.
+fn success_or_failure_lines(args: &[&str]) -> Vec<Value> {
+    let run = camloc(args);
+    assert!(matches!(run.status.code(), Some(0 | 1)));
+    String::from_utf8(run.stdout)
+        .unwrap()
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect()
+}

@@ -315,6 +315,8 @@ pub enum KeypointError {
         at: Location,
         /// What the joints look like.
         source: ArrayPoseError,
+        /// The refused pose's place, so that outputs of one row per pose keep its row.
+        place: Box<PosePlace>,
     },
     /// A coordinate is NaN or infinite.
     #[error("{}: {at}: {field} \"{}\" is not a finite number",
@@ -513,12 +515,46 @@ fn landmark_list(items: &[Landmark]) -> String {
         .join(" and ")
 }
 
+/// Where a pose a reader refused ([`KeypointError::LayoutMismatch`]) lies in its input: the
+/// fields its [`KeypointRecord`](crate::KeypointRecord) would have had, but the landmarks.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct PosePlace {
+    /// The pose's identifier, as its record's `id`.
+    pub id: String,
+    /// Where the pose is in the input, as its record's `source`.
+    pub source: String,
+    /// The pose's video frame, as its record's `frame`.
+    pub frame: Option<u64>,
+    /// The person, as its record's `person`.
+    pub person: Option<u64>,
+}
+
 impl KeypointError {
     /// `true` for an error of one pose whose record was read whole
     /// ([`KeypointError::LayoutMismatch`]): the readers pass it on in the pose's place and read
     /// on; any other error ends the input.
     pub fn is_pose_error(&self) -> bool {
         matches!(self, KeypointError::LayoutMismatch { .. })
+    }
+
+    /// The place of the pose a reader refused ([`is_pose_error`](Self::is_pose_error)) and
+    /// why, without the file and location its place names; `None` for other errors.
+    pub fn refused_pose(&self) -> Option<(&PosePlace, String)> {
+        match self {
+            KeypointError::LayoutMismatch { source, place, .. } => {
+                Some((place, format!("{source} (--layout; Python layout=)")))
+            }
+            _ => None,
+        }
+    }
+
+    /// [`refused_pose`](Self::refused_pose)'s place, to be completed by the reader that knows
+    /// more of it (an MMPose frame's number and person).
+    pub(crate) fn refused_place_mut(&mut self) -> Option<&mut PosePlace> {
+        match self {
+            KeypointError::LayoutMismatch { place, .. } => Some(place),
+            _ => None,
+        }
     }
 }
 

@@ -157,7 +157,7 @@ pub use array_pose::{ArrayPoseError, pose_from_array};
 pub use camloc_skeleton::{Landmark, PartialPose2, Pose3};
 pub use coco::COCO_KEYPOINTS;
 pub use error::{
-    KeypointError, Location, MAX_QUOTED_CHARS, MAX_QUOTED_ITEMS, MAX_QUOTED_PATH_CHARS,
+    KeypointError, Location, MAX_QUOTED_CHARS, MAX_QUOTED_ITEMS, MAX_QUOTED_PATH_CHARS, PosePlace,
 };
 pub use folder::{FolderRecords, keypoint_files, open_folder_file, read_folder};
 pub use format::{KeypointFormat, UnknownFormatName};

@@ -9,7 +9,7 @@ use serde::de::{MapAccess, SeqAccess};
 use crate::ReadOptions;
 use crate::array_pose::ArrayPoseError;
 use crate::emit::{self, ListReader, Sink, TopLevel};
-use crate::error::{KeypointError, Location};
+use crate::error::{KeypointError, Location, PosePlace};
 use crate::json::{
     self, Json, array, index_path, key_path, number_array, numbers, object, optional, required,
 };
@@ -67,10 +67,7 @@ fn entry_records(
     let fields = object(entry, "an instance or frame object", file, path)?;
     let Some(instances) = optional(fields, "instances", file, path)? else {
         let record = instance_record(entry, path, i.to_string(), file, options);
-        return Ok(vec![record.map(|record| KeypointRecord {
-            person: record.person.or(Some(i as u64)),
-            ..record
-        })]);
+        return Ok(vec![placed(record, None, i)]);
     };
     let frame_path = key_path(path, "frame_id");
     let frame = match optional(fields, "frame_id", file, path)? {
@@ -90,13 +87,28 @@ fn entry_records(
                 file,
                 options,
             );
-            record.map(|record| KeypointRecord {
-                frame: Some(frame),
-                person: record.person.or(Some(n as u64)),
-                ..record
-            })
+            placed(record, Some(frame), n)
         })
         .collect())
+}
+
+/// An instance's record, or the error of its pose, with the frame `frame` (when the entry
+/// is a frame) and, without a `track_id`, the person `n` (its position).
+fn placed(item: Item, frame: Option<u64>, n: usize) -> Item {
+    match item {
+        Ok(record) => Ok(KeypointRecord {
+            frame: frame.or(record.frame),
+            person: record.person.or(Some(n as u64)),
+            ..record
+        }),
+        Err(mut e) => {
+            if let Some(place) = e.refused_place_mut() {
+                place.frame = frame.or(place.frame);
+                place.person = place.person.or(Some(n as u64));
+            }
+            Err(e)
+        }
+    }
 }
 
 /// One instance at `path`; its person is the instance's `track_id` (a tracker's person id)
@@ -152,8 +164,15 @@ fn instance_record(
         let kept = scores.as_ref().is_none_or(|s| keeps(s[k], options));
         points.push(kept.then_some(xy));
     }
+    let person = optional(fields, "track_id", file, path)?.and_then(json::tracking_number);
     if let Some((likely, spread)) = contradicted(layout, &points, scores.as_deref()) {
         return Err(KeypointError::LayoutMismatch {
+            place: Box::new(PosePlace {
+                id,
+                source: format!("{file}: {}", Location::Path(path.to_owned())),
+                frame: None,
+                person,
+            }),
             file: file.to_owned(),
             at: Location::Path(kp_path),
             source: ArrayPoseError::LayoutMismatch {
@@ -164,8 +183,5 @@ fn instance_record(
         });
     }
     let record = from_joints(layout.joints(), points, id, file, path, options);
-    Ok(KeypointRecord {
-        person: optional(fields, "track_id", file, path)?.and_then(json::tracking_number),
-        ..record
-    })
+    Ok(KeypointRecord { person, ..record })
 }

@@ -13,7 +13,7 @@ use npyz::WriterBuilder;
 
 use crate::ReadOptions;
 use crate::array_pose::{ArrayPoseError, pose_from_array};
-use crate::error::{KeypointError, Location};
+use crate::error::{KeypointError, Location, PosePlace};
 use crate::format::NPY_MAGIC;
 use crate::layout::{Layout, resolve_layout};
 use crate::record::KeypointRecord;
@@ -243,14 +243,16 @@ impl<R: Read> NpyPoses<R> {
         self.next += 1;
         let mapped = pose_from_array(self.layout, &self.row, self.channels, &self.options)
             .map_err(|e| pose_error(&self.file, n, e));
-        Some(mapped.map(|mapped| KeypointRecord {
-            id: n.to_string(),
-            pose: mapped.pose,
-            derived: mapped.derived,
-            // As `Location::Array([n])` displays, without its allocations.
-            source: format!("{}: [{n}]", self.file),
-            frame: Some(n),
-            person: None,
+        Some(mapped.map(|mapped| {
+            let place = row_place(&self.file, n);
+            KeypointRecord {
+                id: place.id,
+                pose: mapped.pose,
+                derived: mapped.derived,
+                source: place.source,
+                frame: place.frame,
+                person: place.person,
+            }
         }))
     }
 }
@@ -295,6 +297,7 @@ fn pose_error(file: &str, pose: u64, error: ArrayPoseError) -> KeypointError {
             hint: "; (N, J, 3) keypoint arrays hold x, y, score, not 3D points",
         },
         mismatch @ ArrayPoseError::LayoutMismatch { .. } => KeypointError::LayoutMismatch {
+            place: Box::new(row_place(&file, pose)),
             file,
             at: Location::Array(Box::new([pose])),
             source: mismatch,
@@ -303,6 +306,17 @@ fn pose_error(file: &str, pose: u64, error: ArrayPoseError) -> KeypointError {
             file,
             problem: format!("[{pose}]: {shape}"),
         },
+    }
+}
+
+/// The place of row `n` of the array `file`: its number is its id and its frame.
+fn row_place(file: &str, n: u64) -> PosePlace {
+    PosePlace {
+        id: n.to_string(),
+        // As `Location::Array([n])` displays, without its allocations.
+        source: format!("{file}: [{n}]"),
+        frame: Some(n),
+        person: None,
     }
 }
 

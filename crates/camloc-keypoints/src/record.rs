@@ -3,7 +3,7 @@
 use camloc_skeleton::{Landmark, PartialPose2};
 
 use crate::ReadOptions;
-use crate::error::{KeypointError, Location};
+use crate::error::{KeypointError, Location, PosePlace};
 use crate::layout::{Joint, map_joints};
 use crate::torso::derive_torso;
 
@@ -32,6 +32,18 @@ pub struct KeypointRecord {
 }
 
 impl KeypointRecord {
+    /// The record of a pose a reader refused, at `place`: no landmark, nothing derived.
+    pub fn refused(place: &PosePlace) -> KeypointRecord {
+        KeypointRecord {
+            id: place.id.clone(),
+            pose: PartialPose2::empty(),
+            derived: Vec::new(),
+            source: place.source.clone(),
+            frame: place.frame,
+            person: place.person,
+        }
+    }
+
     /// `true` when `landmark` was derived rather than read (see [`KeypointRecord::derived`]).
     pub fn is_derived(&self, landmark: Landmark) -> bool {
         self.derived.contains(&landmark)

@@ -26,8 +26,8 @@ use super::input::Inputs;
 use super::output::{NpyStage, Out};
 use super::reconstruct_output::{PoseMeta, lengths_text, pose_output, pose_svg};
 use super::stream::{
-    Emitter, ErrorJson, Finish, Format, KEEP_MAX_POSES, Summary, check_kept, check_kept_input,
-    counted, json_line, nothing_detected, report_pose_error,
+    Emitter, Finish, Format, KEEP_MAX_POSES, Summary, check_kept, check_kept_input, counted,
+    nothing_detected, report_pose_error,
 };
 use super::{CliError, numbered_path};
 
@@ -101,9 +101,16 @@ pub fn run(
         ..Summary::default()
     };
     let mut kept: Vec<KeypointRecord> = Vec::new();
+    // The poses the reader refused, each after the kept poses before it: their .npy rows.
+    let mut refused: Vec<(usize, KeypointRecord)> = Vec::new();
     for item in inputs.by_ref() {
         match item {
-            Err(e) => emit.file_error(out, &mut summary, bar, &e)?,
+            Err(e) => {
+                if let (Some((place, _)), Some(_)) = (e.refused_pose(), options.npy) {
+                    refused.push((kept.len(), KeypointRecord::refused(place)));
+                }
+                emit.file_error(out, &mut summary, bar, &e)?;
+            }
             Ok(record) => {
                 if summary.poses == options.max_poses {
                     return Err(CliError::TooManyPoses(options.max_poses));
@@ -299,16 +306,7 @@ pub fn run(
                             report_pose_error(bar, &k.id, &k.source, &message);
                         }
                     }
-                    if format.is_json() {
-                        let object = ErrorJson {
-                            id: Some(&k.id),
-                            source: Some(&k.source),
-                            frame: k.frame,
-                            person: k.person,
-                            error: &message,
-                        };
-                        emit.write(out, &json_line(&object))?;
-                    }
+                    emit.pose_error(out, k, &message)?;
                 }
             }
         }
@@ -339,8 +337,15 @@ pub fn run(
     emit.end(out)?;
     out.flush()?;
     if let Some(mut npy) = NpyStage::<Pose3>::boxed(options.npy)? {
-        for (record, row) in kept.iter().zip(&rows) {
+        let mut refused = refused.into_iter().peekable();
+        for (i, (record, row)) in kept.iter().zip(&rows).enumerate() {
+            while let Some((_, place)) = refused.next_if(|(before, _)| *before == i) {
+                npy.push(&place, None)?;
+            }
             npy.push(record, row.as_ref())?;
+        }
+        for (_, place) in refused {
+            npy.push(&place, None)?;
         }
         npy.finish(&mut staged)?;
     }

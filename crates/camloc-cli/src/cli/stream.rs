@@ -261,16 +261,15 @@ impl Emitter {
         error: &KeypointError,
     ) -> Result<(), CliError> {
         // A pose the reader refused for its layout is a failed pose of a file still read.
-        let kind = if error.is_pose_error() {
+        if let Some((place, message)) = error.refused_pose() {
             summary.poses += 1;
             summary.failed_poses += 1;
-            &POSE_ERRORS
-        } else {
-            summary.failed_files += 1;
-            &FILE_ERRORS
-        };
+            report_pose_error(bar, &place.id, &place.source, &message);
+            return self.pose_error(out, &KeypointRecord::refused(place), &message);
+        }
+        summary.failed_files += 1;
         let message = error.to_string();
-        report_error(kind, bar, || message.clone());
+        report_error(&FILE_ERRORS, bar, || message.clone());
         if self.format.is_json() {
             let object = ErrorJson {
                 id: None,
@@ -278,6 +277,27 @@ impl Emitter {
                 frame: None,
                 person: None,
                 error: &message,
+            };
+            self.write(out, &json_line(&object))?;
+        }
+        Ok(())
+    }
+
+    /// In JSON output, writes the error object of the pose `record` that failed with
+    /// `message`.
+    pub fn pose_error(
+        &mut self,
+        out: &mut Out,
+        record: &KeypointRecord,
+        message: &str,
+    ) -> Result<(), CliError> {
+        if self.format.is_json() {
+            let object = ErrorJson {
+                id: Some(&record.id),
+                source: Some(&record.source),
+                frame: record.frame,
+                person: record.person,
+                error: message,
             };
             self.write(out, &json_line(&object))?;
         }
@@ -464,12 +484,20 @@ where
         });
         for (batch, results) in done_batches {
             for (item, result) in batch.iter().zip(results) {
-                let record = match item {
-                    Ok(record) => record,
-                    Err(e) => {
-                        emitter.file_error(out, &mut summary, bar, e)?;
-                        continue;
-                    }
+                // A pose the reader refused is a failed pose in its place (its row kept).
+                let refused;
+                let (record, result) = match item {
+                    Ok(record) => (record, result),
+                    Err(e) => match e.refused_pose() {
+                        Some((place, message)) => {
+                            refused = KeypointRecord::refused(place);
+                            (&refused, Err(Failed::from(message)))
+                        }
+                        None => {
+                            emitter.file_error(out, &mut summary, bar, e)?;
+                            continue;
+                        }
+                    },
                 };
                 let index = summary.poses;
                 summary.count(&record.pose);
@@ -494,16 +522,7 @@ where
                         kept.extend(keep.map(|k| *k));
                         summary.failed_poses += 1;
                         report_pose_error(bar, &record.id, &record.source, &message);
-                        if format.is_json() {
-                            let object = ErrorJson {
-                                id: Some(&record.id),
-                                source: Some(&record.source),
-                                frame: record.frame,
-                                person: record.person,
-                                error: &message,
-                            };
-                            emitter.write(out, &json_line(&object))?;
-                        }
+                        emitter.pose_error(out, record, &message)?;
                         if let Some(rows) = &mut rows {
                             rows.push(record, None)?;
                         }
