@@ -462,4 +462,13 @@ fn a_known_camera_aims_at_each_pose() {
     }
     let out = camloc(&["localize", "--input", path, "--principal-point", "1,2"]);
     assert_eq!(out.status.code(), Some(2));
+    // A focal length alone changes nothing, and says so.
+    let warning = "--focal-px without --principal-point or --image-size changes no localization";
+    let stderr = |extra: &[&str]| {
+        let out = camloc(&[&["localize", "--input", path, "-q"], extra].concat());
+        String::from_utf8(out.stderr).unwrap()
+    };
+    assert!(stderr(&["--focal-px", "500"]).contains(warning));
+    assert!(!stderr(&["--focal-px", "500", "--image-size", "640,480"]).contains(warning));
+    assert!(!stderr(&["--focal-px", "500", "--principal-point", "1,2"]).contains(warning));
 }

@@ -108,7 +108,7 @@ fn say(estimate: &HeightEstimate, whole: bool, quiet: bool) {
         None => stderr_line!(
             "camloc: too few poses to estimate the camera heights of the input ({poses}{localized}; \
              at least {HEIGHT_SHARE_MIN_POSES} with a torso are needed): each pose is localized \
-             on its own"
+             on its own (--camera-height eye-level if the camera stood at about eye level)"
         ),
     }
 }

@@ -109,11 +109,18 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
             ("--model", args.model.as_deref()),
         ],
     )?;
+    let intrinsics = args.intrinsics.intrinsics(args.input.image_size);
+    if intrinsics.is_some_and(|k| k.principal_point.is_none()) {
+        stderr_line!(
+            "camloc: warning: --focal-px without --principal-point or --image-size changes no \
+             localization: the aim at the person needs where the optical axis meets the image"
+        );
+    }
     let (localizer, inputs) = heights::load_for_input(
         args.model.as_deref(),
         &args.height,
         &args.input,
-        args.intrinsics.intrinsics(args.input.image_size),
+        intrinsics,
         args.progress.quiet,
     )?;
     let format = args.format.format();
