@@ -175,9 +175,23 @@ fn bad_bone_lengths_files_are_refused_with_what_and_where() {
     let mut centimetres = LENGTHS;
     centimetres[6] = 52.0;
     let missing = document(&LENGTHS).replace("\"torso\"", "\"trunk\"");
+    let two_missing = document(&LENGTHS[..6]);
+    let all_centimetres = LENGTHS.map(|l| 100.0 * l);
     let cases = [
         (document(&centimetres), "torso"),
         (missing, "trunk"),
+        (
+            two_missing,
+            "missing limb(s) \"torso\", \"neck_head\", \"left_collar\"",
+        ),
+        (
+            format!("{{\"lengths\": {}}}", Value::from(LENGTHS.to_vec())),
+            "expected an object of the 14 limbs' lengths by name",
+        ),
+        (
+            document(&all_centimetres),
+            "look like centimetres: divide by 100",
+        ),
         ("{\"lengths\": ".to_string(), "line 1"),
         (
             document(&LENGTHS).replace("\"unit\":\"m\"", "\"unit\":\"mm\""),

@@ -110,7 +110,14 @@ pub(crate) fn intrinsics_arg(
 /// `limb_lengths`): a mapping of the 14 JSON keys, 14 numbers in the library's limb order
 /// (`BONE_KEYS`), or the path of a bone lengths JSON file.
 pub(crate) fn bone_lengths(value: &Bound<'_, PyAny>, name: &str) -> PyResult<BoneLengths> {
-    let invalid = |e: camloc::reconstruct::BoneLengthError| value_error(format!("{name}: {e}"));
+    // (The library's messages begin with what the argument's name already says.)
+    let invalid = |e: camloc::reconstruct::BoneLengthError| {
+        let message = e.to_string();
+        value_error(format!(
+            "{name}: {}",
+            message.strip_prefix("bone lengths: ").unwrap_or(&message)
+        ))
+    };
     if let Ok(mapping) = value.cast::<PyMapping>() {
         let given: HashMap<String, Bound<'_, PyAny>> = mapping.extract()?;
         let mut named: HashMap<String, f64> = HashMap::with_capacity(given.len());
@@ -131,13 +138,18 @@ pub(crate) fn bone_lengths(value: &Bound<'_, PyAny>, name: &str) -> PyResult<Bon
                 "{name}: unknown key {unknown:?} (expected the 14 keys of BONE_KEYS)"
             )));
         }
-        let mut lengths = [0.0; NUM_LIMBS];
-        for (out, key) in lengths.iter_mut().zip(BONE_KEYS) {
-            *out = *named
-                .get(key)
-                .ok_or_else(|| value_error(format!("{name}: missing key {key:?}")))?;
+        let missing: Vec<String> = BONE_KEYS
+            .iter()
+            .filter(|k| !named.contains_key(**k))
+            .map(|k| format!("{k:?}"))
+            .collect();
+        if !missing.is_empty() {
+            return Err(value_error(format!(
+                "{name}: missing key(s) {} (all 14 are needed)",
+                missing.join(", ")
+            )));
         }
-        return BoneLengths::from_array(lengths).map_err(invalid);
+        return BoneLengths::from_array(BONE_KEYS.map(|k| named[k])).map_err(invalid);
     }
     if let Ok(path) = value.extract::<PathBuf>() {
         return BoneLengths::read_json(&path).map_err(invalid);

@@ -80,13 +80,16 @@ pub enum BoneLengthError {
     /// A length is outside the plausible range.
     #[error(
         "bone lengths: {limb} = {value:?} m is not a plausible bone length ({MIN_BONE_LENGTH_M} \
-         to {MAX_BONE_LENGTH_M} m; lengths are in metres)"
+         to {MAX_BONE_LENGTH_M} m; lengths are in metres{unit_hint})"
     )]
     Implausible {
         /// The limb's name ([`camloc_skeleton::LIMB_NAMES`]).
         limb: &'static str,
         /// The value given, metres.
         value: f64,
+        /// `""`, or what the lengths look like when every one of them would be plausible in
+        /// centimetres or millimetres (`"; all 14 look like centimetres: divide by 100"`).
+        unit_hint: &'static str,
     },
     /// The JSON text is malformed or does not have the documented keys.
     #[error("bone lengths JSON: {0}")]
@@ -107,6 +110,11 @@ pub enum BoneLengthError {
     NoPoses,
 }
 
+/// `true` for a length in [`MIN_BONE_LENGTH_M`]..=[`MAX_BONE_LENGTH_M`] metres.
+fn plausible(length_m: f64) -> bool {
+    (MIN_BONE_LENGTH_M..=MAX_BONE_LENGTH_M).contains(&length_m)
+}
+
 impl BoneLengths {
     /// The lengths `lengths` (metres, [`camloc_skeleton::LIMBS`] order), validated.
     ///
@@ -121,10 +129,19 @@ impl BoneLengths {
                     value: *value,
                 });
             }
-            if !(MIN_BONE_LENGTH_M..=MAX_BONE_LENGTH_M).contains(value) {
+            if !plausible(*value) {
+                let all_in = |per_m: f64| lengths.iter().all(|v| plausible(v / per_m));
+                let unit_hint = if all_in(100.0) {
+                    "; all 14 look like centimetres: divide by 100"
+                } else if all_in(1000.0) {
+                    "; all 14 look like millimetres: divide by 1000"
+                } else {
+                    ""
+                };
                 return Err(BoneLengthError::Implausible {
                     limb,
                     value: *value,
+                    unit_hint,
                 });
             }
         }

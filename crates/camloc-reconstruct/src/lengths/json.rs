@@ -1,8 +1,11 @@
 //! The JSON form of [`BoneLengths`] (see there): reading, writing, serde.
 
+use std::fmt;
 use std::io::Read;
 use std::path::Path;
 
+use serde::de::{self, MapAccess, Visitor};
+use serde::ser::SerializeMap;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
 use super::{BONE_KEYS, BoneLengthError, BoneLengths};
@@ -17,80 +20,67 @@ pub const BONE_LENGTHS_VERSION: u32 = 1;
 /// hundred bytes).
 pub const MAX_BONE_LENGTHS_FILE_BYTES: u64 = 64 * 1024;
 
-/// The `"lengths"` object: one field per limb, every one required, no other key, none twice
-/// (serde's derive refuses duplicates and, with `deny_unknown_fields`, unknown keys).
-#[derive(Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct Named {
-    left_pelvis_hip: f64,
-    left_thigh: f64,
-    left_shin: f64,
-    right_pelvis_hip: f64,
-    right_thigh: f64,
-    right_shin: f64,
-    torso: f64,
-    neck_head: f64,
-    left_collar: f64,
-    left_upper_arm: f64,
-    left_forearm: f64,
-    right_collar: f64,
-    right_upper_arm: f64,
-    right_forearm: f64,
+/// The `"lengths"` object: one number per limb by its [`BONE_KEYS`] name, every one required,
+/// no other key, none twice (a list is refused: its order would be a guess).
+struct Named([f64; 14]);
+
+impl Serialize for Named {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        let mut map = serializer.serialize_map(Some(BONE_KEYS.len()))?;
+        for (key, value) in BONE_KEYS.iter().zip(&self.0) {
+            map.serialize_entry(key, value)?;
+        }
+        map.end()
+    }
 }
 
-impl Named {
-    fn from_array(a: [f64; 14]) -> Named {
-        let [
-            left_pelvis_hip,
-            left_thigh,
-            left_shin,
-            right_pelvis_hip,
-            right_thigh,
-            right_shin,
-            torso,
-            neck_head,
-            left_collar,
-            left_upper_arm,
-            left_forearm,
-            right_collar,
-            right_upper_arm,
-            right_forearm,
-        ] = a;
-        Named {
-            left_pelvis_hip,
-            left_thigh,
-            left_shin,
-            right_pelvis_hip,
-            right_thigh,
-            right_shin,
-            torso,
-            neck_head,
-            left_collar,
-            left_upper_arm,
-            left_forearm,
-            right_collar,
-            right_upper_arm,
-            right_forearm,
-        }
+impl<'de> Deserialize<'de> for Named {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        deserializer.deserialize_map(NamedVisitor)
+    }
+}
+
+/// Reads [`Named`], naming every key that is missing, unknown or repeated.
+struct NamedVisitor;
+
+impl<'de> Visitor<'de> for NamedVisitor {
+    type Value = Named;
+
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        write!(
+            f,
+            "an object of the 14 limbs' lengths by name ({})",
+            BONE_KEYS.join(", ")
+        )
     }
 
-    fn to_array(&self) -> [f64; 14] {
-        [
-            self.left_pelvis_hip,
-            self.left_thigh,
-            self.left_shin,
-            self.right_pelvis_hip,
-            self.right_thigh,
-            self.right_shin,
-            self.torso,
-            self.neck_head,
-            self.left_collar,
-            self.left_upper_arm,
-            self.left_forearm,
-            self.right_collar,
-            self.right_upper_arm,
-            self.right_forearm,
-        ]
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Named, A::Error> {
+        let mut values = [None; 14];
+        while let Some(key) = map.next_key::<String>()? {
+            let Some(i) = BONE_KEYS.iter().position(|k| *k == key) else {
+                return Err(de::Error::custom(format!(
+                    "unknown limb {key:?} (the limbs: {})",
+                    BONE_KEYS.join(", ")
+                )));
+            };
+            if values[i].is_some() {
+                return Err(de::Error::custom(format!("limb {key:?} given twice")));
+            }
+            values[i] = Some(map.next_value::<f64>()?);
+        }
+        let missing: Vec<String> = BONE_KEYS
+            .iter()
+            .zip(&values)
+            .filter(|(_, v)| v.is_none())
+            .map(|(k, _)| format!("{k:?}"))
+            .collect();
+        if !missing.is_empty() {
+            return Err(de::Error::custom(format!(
+                "missing limb(s) {} (all 14 are needed)",
+                missing.join(", ")
+            )));
+        }
+        Ok(Named(values.map(|v| v.unwrap_or_default())))
     }
 }
 
@@ -136,7 +126,7 @@ impl BoneLengths {
         if let Some(unit) = document.unit.filter(|u| u != "m") {
             return Err(header("\"unit\"", format!("{unit:?}"), "\"m\"".into()));
         }
-        BoneLengths::from_array(document.lengths.to_array())
+        BoneLengths::from_array(document.lengths.0)
     }
 
     /// The JSON form (see [`BoneLengths`]), with `format`, `version` and `unit`, one length a
@@ -147,7 +137,7 @@ impl BoneLengths {
             format: Some(BONE_LENGTHS_FORMAT.into()),
             version: Some(BONE_LENGTHS_VERSION),
             unit: Some("m".into()),
-            lengths: Named::from_array(self.0),
+            lengths: Named(self.0),
         };
         // A struct of strings and finite numbers always serialises.
         let mut text = serde_json::to_string_pretty(&document).unwrap_or_default();
@@ -191,7 +181,7 @@ impl BoneLengths {
 /// Serialises as the `"lengths"` object of the JSON form.
 impl Serialize for BoneLengths {
     fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
-        Named::from_array(self.0).serialize(serializer)
+        Named(self.0).serialize(serializer)
     }
 }
 
@@ -199,6 +189,6 @@ impl Serialize for BoneLengths {
 impl<'de> Deserialize<'de> for BoneLengths {
     fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
         let named = Named::deserialize(deserializer)?;
-        BoneLengths::from_array(named.to_array()).map_err(serde::de::Error::custom)
+        BoneLengths::from_array(named.0).map_err(de::Error::custom)
     }
 }
