@@ -6,8 +6,10 @@
 use camloc_skeleton::{Landmark, Pose3};
 
 /// The steepest slope of the planted ankles' heights along the path that is taken out,
-/// degrees; steeper, the person climbed (stairs, a ramp) and the heights are kept.
-const MAX_SLOPE_DEG: f64 = 6.0;
+/// degrees; steeper, the person climbed (stairs) and the heights are kept. (It was 6 deg; a
+/// simulated user's child filmed from 3 m up walked on a floor sloping 12 deg, from the
+/// localizer's elevation for a body of a child's proportions.)
+const MAX_SLOPE_DEG: f64 = 20.0;
 /// The fewest planted ankles that place the floor.
 const MIN_CONTACTS: usize = 10;
 /// The share of the planted ankles put below the floor: the floor is at this quantile of
@@ -30,27 +32,13 @@ pub(super) fn level(placed: &mut [Option<Pose3>], contacts: &[(usize, Landmark)]
     if points.len() < MIN_CONTACTS {
         return None;
     }
-    let n = points.len() as f64;
-    let mean: [f64; 3] = std::array::from_fn(|k| points.iter().map(|p| p[k]).sum::<f64>() / n);
-    let (mut sxx, mut sxy, mut syy, mut sxz, mut syz) = (0.0, 0.0, 0.0, 0.0, 0.0);
-    for p in &points {
-        let (x, y, z) = (p[0] - mean[0], p[1] - mean[1], p[2] - mean[2]);
-        sxx += x * x;
-        sxy += x * y;
-        syy += y * y;
-        sxz += x * z;
-        syz += y * z;
-    }
-    let ridge = SLOPE_RIDGE_M2 * n;
-    let (sxx, syy) = (sxx + ridge, syy + ridge);
-    let det = sxx * syy - sxy * sxy;
-    // Height = a x + b y + c.
-    let (a, b) = ((syy * sxz - sxy * syz) / det, (sxx * syz - sxy * sxz) / det);
+    let plane = Plane::fit(points.iter().copied());
+    let [a, b] = plane.slope;
     let slope = a.hypot(b).atan().to_degrees();
     if slope.is_finite() && slope < MAX_SLOPE_DEG {
         for p in placed.iter_mut().flatten() {
             let pelvis = p.get(Landmark::Pelvis);
-            let rise = a * (pelvis[0] - mean[0]) + b * (pelvis[1] - mean[1]);
+            let rise = plane.height_at(pelvis[0], pelvis[1]) - plane.mean[2];
             for q in &mut p.points {
                 q[2] -= rise;
             }
@@ -62,6 +50,46 @@ pub(super) fn level(placed: &mut [Option<Pose3>], contacts: &[(usize, Landmark)]
         .collect();
     heights.sort_by(f64::total_cmp);
     Some(heights[((heights.len() - 1) as f64 * BELOW_SHARE).round() as usize])
+}
+
+/// A plane `z = mean_z + a (x - mean_x) + b (y - mean_y)` fitted to points by least squares,
+/// its slope ridged by [`SLOPE_RIDGE_M2`] per point.
+pub(super) struct Plane {
+    /// `[a, b]`: the rise per metre along x and y.
+    pub(super) slope: [f64; 2],
+    /// The points' mean.
+    pub(super) mean: [f64; 3],
+}
+
+impl Plane {
+    /// The plane of `points` (at least one; x, y across the floor and z up, metres).
+    pub(super) fn fit(points: impl Iterator<Item = [f64; 3]> + Clone) -> Plane {
+        let n = points.clone().count() as f64;
+        let mean = points
+            .clone()
+            .fold([0.0; 3], |m, p| std::array::from_fn(|k| m[k] + p[k] / n));
+        let (mut sxx, mut sxy, mut syy, mut sxz, mut syz) = (0.0, 0.0, 0.0, 0.0, 0.0);
+        for p in points {
+            let (x, y, z) = (p[0] - mean[0], p[1] - mean[1], p[2] - mean[2]);
+            sxx += x * x;
+            sxy += x * y;
+            syy += y * y;
+            sxz += x * z;
+            syz += y * z;
+        }
+        let ridge = SLOPE_RIDGE_M2 * n;
+        let (sxx, syy) = (sxx + ridge, syy + ridge);
+        let det = sxx * syy - sxy * sxy;
+        Plane {
+            slope: [(syy * sxz - sxy * syz) / det, (sxx * syz - sxy * sxz) / det],
+            mean,
+        }
+    }
+
+    /// The plane's height at `(x, y)`.
+    pub(super) fn height_at(&self, x: f64, y: f64) -> f64 {
+        self.mean[2] + self.slope[0] * (x - self.mean[0]) + self.slope[1] * (y - self.mean[1])
+    }
 }
 
 #[cfg(test)]
