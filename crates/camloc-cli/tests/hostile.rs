@@ -286,6 +286,19 @@ fn outputs_that_are_the_input_or_standard_input_are_refused() {
         }
     }
     assert!(!dir.0.join("-").exists());
+    // Standard input redirected from the file an output names.
+    #[cfg(unix)]
+    {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_camloc"))
+            .args(["localize", "--input", "-", "--svg", &input, "--force"])
+            .stdin(std::fs::File::open(&input).unwrap())
+            .output()
+            .unwrap();
+        let text = short_clean_lines(&out);
+        assert_eq!(out.status.code(), Some(2), "{text}");
+        assert!(text.contains("reads ("), "{text}");
+        assert_eq!(std::fs::read_to_string(&input).unwrap(), original);
+    }
 }
 
 /// An output named like a file of another format (`--svg view.png` would be an SVG file

@@ -1,5 +1,7 @@
 //! camloc JSON: the project's own keypoint format (see the crate documentation).
 
+use std::collections::HashSet;
+
 use camloc_skeleton::{Landmark, NUM_LANDMARKS, PartialPose2};
 
 use serde::de::{MapAccess, SeqAccess};
@@ -98,8 +100,10 @@ impl TopLevel for Document {
 
     fn object<'de, A: MapAccess<'de>>(self, mut map: A, sink: &mut Sink) -> Result<(), A::Error> {
         let mut fields: Vec<(String, Json)> = Vec::new();
+        // The keys so far (a document of a million unknown keys is read in linear time).
+        let mut seen: HashSet<String> = HashSet::new();
         while let Some(key) = map.next_key::<String>()? {
-            let first = get(&fields, &key).is_none();
+            let first = seen.insert(key.clone());
             let value = if key == "poses" && first && {
                 // Stream the poses only if the keys so far pass the document checks.
                 fields.push((key.clone(), Json::Array(Vec::new())));

@@ -140,7 +140,7 @@ pub enum KeypointError {
         file_name(.file),
         clip(header),
         list_or_none(missing),
-        list_or_none(extra)
+        counted_list_or_none(extra, *extra_count)
     )]
     CsvHeader {
         /// Name of the input.
@@ -151,8 +151,10 @@ pub enum KeypointError {
         header: String,
         /// Required columns that are absent.
         missing: Vec<String>,
-        /// Columns that are not expected, or named twice.
+        /// Columns that are not expected, or named twice: the first [`MAX_QUOTED_ITEMS`].
         extra: Vec<String>,
+        /// How many columns are not expected or named twice.
+        extra_count: usize,
     },
     /// A CSV row has a different number of fields than the header.
     #[error(
@@ -476,6 +478,11 @@ pub(crate) fn file_name(file: &str) -> String {
 /// [`MAX_QUOTED_CHARS`] characters), each [`clip`]ped and formatted by `item`, separated by
 /// commas, then `… and N more`.
 fn capped_list(items: &[String], item: impl Fn(String) -> String) -> String {
+    capped_list_of(items, items.len(), item)
+}
+
+/// [`capped_list`] of the first `items` of `total`.
+fn capped_list_of(items: &[String], total: usize, item: impl Fn(String) -> String) -> String {
     let mut shown: Vec<String> = Vec::new();
     let mut length = 0;
     for text in items.iter().take(MAX_QUOTED_ITEMS) {
@@ -486,8 +493,8 @@ fn capped_list(items: &[String], item: impl Fn(String) -> String) -> String {
         }
         shown.push(text);
     }
-    if items.len() > shown.len() {
-        shown.push(format!("… and {} more", items.len() - shown.len()));
+    if total > shown.len() {
+        shown.push(format!("… and {} more", total - shown.len()));
     }
     shown.join(", ")
 }
@@ -498,6 +505,15 @@ fn list_or_none(items: &[String]) -> String {
         "none".to_owned()
     } else {
         capped_list(items, |i| i)
+    }
+}
+
+/// [`list_or_none`] of the first `items` of `total`.
+fn counted_list_or_none(items: &[String], total: usize) -> String {
+    if total == 0 {
+        "none".to_owned()
+    } else {
+        capped_list_of(items, total, |i| i)
     }
 }
 
@@ -580,6 +596,7 @@ mod tests {
             header: "image,joint,x,y".into(),
             missing: vec!["visible".into()],
             extra: vec![],
+            extra_count: 0,
         };
         let msg = e.to_string();
         assert!(msg.starts_with("b.csv: line 1: "), "{msg}");

@@ -3,6 +3,7 @@
 //! their JSON path.
 
 use std::cell::Cell;
+use std::collections::HashSet;
 use std::fmt;
 
 use serde::de::{self, Deserialize, DeserializeSeed, Deserializer, MapAccess, SeqAccess, Visitor};
@@ -226,6 +227,9 @@ pub(crate) fn index_path(parent: &str, index: usize) -> String {
     format!("{parent}[{index}]")
 }
 
+/// Objects of at most this many keys are checked for a repeated key pair by pair.
+const SHORT_OBJECT_KEYS: usize = 16;
+
 /// Checks that the object at `path` uses only `allowed` keys, each at most once.
 ///
 /// Every unknown key is named in the error. Once all keys are known, a repeat is found within
@@ -249,15 +253,20 @@ pub(crate) fn check_keys(
             allowed: allowed.join(", "),
         });
     }
-    for (i, (key, _)) in fields.iter().enumerate() {
-        if fields[..i].iter().any(|(k, _)| k == key) {
-            return Err(KeypointError::DuplicateKey {
-                file: file.to_owned(),
-                at: Location::Path(key_path(path, key)),
-            });
-        }
+    // The first key that repeats one before it (a set for long objects: linear time).
+    let repeated = if fields.len() <= SHORT_OBJECT_KEYS {
+        (1..fields.len()).find(|&i| fields[..i].iter().any(|(k, _)| *k == fields[i].0))
+    } else {
+        let mut seen = HashSet::with_capacity(fields.len());
+        fields.iter().position(|(k, _)| !seen.insert(k.as_str()))
+    };
+    match repeated {
+        Some(i) => Err(KeypointError::DuplicateKey {
+            file: file.to_owned(),
+            at: Location::Path(key_path(path, &fields[i].0)),
+        }),
+        None => Ok(()),
     }
-    Ok(())
 }
 
 /// The value of `key` in `fields`, if present.

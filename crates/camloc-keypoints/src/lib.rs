@@ -464,7 +464,10 @@ pub fn open_keypoints_reader(
         lsp::check_header_of_start(text, start.newlines, name)?;
     }
     let json = detected.filter(|f| !matches!(f, KeypointFormat::Lsp | KeypointFormat::Npy));
-    if let (Some(json), false) = (json, start.ended) {
+    // A short document after a long blank lead is streamed too: read whole, its lead would
+    // be held in memory.
+    let long_lead = start.lead_len() > STREAM_PEEK_BYTES;
+    if let (Some(json), true) = (json, !start.ended || long_lead) {
         let (lead, content) = (start.lead(false), start.content);
         return stream_json(
             lead.chain(io::Cursor::new(content)).chain(reader),

@@ -4,7 +4,7 @@ use std::collections::HashMap;
 
 use camloc_skeleton::{Landmark, PartialPose2};
 
-use crate::error::{KeypointError, Location};
+use crate::error::{KeypointError, Location, MAX_QUOTED_CHARS, MAX_QUOTED_ITEMS};
 use crate::record::{KeypointRecord, finish};
 use crate::torso::derive_torso;
 use crate::{Invisible, ReadOptions};
@@ -96,13 +96,14 @@ pub(crate) fn read(
     let mut fields = Vec::with_capacity(header.width);
     for (line, row) in lines {
         fields.clear();
-        fields.extend(row.split(',').map(str::trim));
+        // (One field past the header's width tells; the rest are only counted.)
+        fields.extend(row.split(',').map(str::trim).take(header.width + 1));
         if fields.len() != header.width {
             return Err(KeypointError::CsvFieldCount {
                 file: file.to_owned(),
                 line,
                 expected: header.width,
-                found: fields.len(),
+                found: row.matches(',').count() + 1,
             });
         }
         let at = || Location::Line(line);
@@ -260,31 +261,40 @@ pub(crate) fn check_header_of_start(
 }
 
 /// Finds the five columns in the header, in any order (names compared ignoring ASCII case).
+/// The unknown or repeated names are kept up to [`MAX_QUOTED_ITEMS`] (the message shows no
+/// more), and only counted beyond: a header of a hundred million empty names must not take
+/// gigabytes.
 fn parse_header(text: &str, line: usize, file: &str) -> Result<Header, KeypointError> {
-    let names: Vec<&str> = text.split(',').map(str::trim).collect();
     let mut found: [Option<usize>; 5] = [None; 5];
-    let mut extra = Vec::new();
-    for (i, name) in names.iter().enumerate() {
+    let (mut extra, mut extra_count, mut width) = (Vec::new(), 0, 0);
+    for (i, name) in text.split(',').map(str::trim).enumerate() {
+        width += 1;
         match COLUMNS.iter().position(|c| c.eq_ignore_ascii_case(name)) {
             Some(c) if found[c].is_none() => found[c] = Some(i),
-            _ => extra.push((*name).to_owned()),
+            _ => {
+                extra_count += 1;
+                if extra.len() < MAX_QUOTED_ITEMS {
+                    extra.push(name.to_owned());
+                }
+            }
         }
     }
     match found {
-        [Some(image), Some(joint), Some(x), Some(y), Some(visible)] if extra.is_empty() => {
+        [Some(image), Some(joint), Some(x), Some(y), Some(visible)] if extra_count == 0 => {
             Ok(Header {
                 image,
                 joint,
                 x,
                 y,
                 visible,
-                width: names.len(),
+                width,
             })
         }
         _ => Err(KeypointError::CsvHeader {
             file: file.to_owned(),
             line,
-            header: text.to_owned(),
+            // (As much as the message quotes, and one character to say there is more.)
+            header: text.chars().take(MAX_QUOTED_CHARS + 1).collect(),
             missing: COLUMNS
                 .iter()
                 .zip(&found)
@@ -292,6 +302,7 @@ fn parse_header(text: &str, line: usize, file: &str) -> Result<Header, KeypointE
                 .map(|(c, _)| (*c).to_owned())
                 .collect(),
             extra,
+            extra_count,
         }),
     }
 }

@@ -89,7 +89,7 @@ impl Start {
     }
 
     /// Bytes of white space before the content.
-    fn lead_len(&self) -> u64 {
+    pub(crate) fn lead_len(&self) -> u64 {
         self.blanks + self.newlines + self.column
     }
 

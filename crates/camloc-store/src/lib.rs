@@ -49,6 +49,10 @@ pub const HEADER_LEN: usize = 28;
 /// [`FileKind::max_payload`] of the kinds below); a second bound besides the payload length.
 const DECODE_LIMIT: usize = 1 << 31;
 
+/// The most bytes reserved up front for the payload of a stream whose length is unknown (a
+/// pipe): its header's declared length is not trusted with memory before the bytes arrive.
+const UNKNOWN_LENGTH_RESERVE: u64 = 1 << 20;
+
 /// Origin named in errors for values decoded from memory rather than from a file.
 pub const MEMORY_ORIGIN: &str = "<memory>";
 
@@ -452,8 +456,13 @@ fn read_envelope<T: DeserializeOwned>(
             )));
         }
     }
-    // `len` is at most `max_payload` (and the file's length when known): safe to reserve.
-    let mut payload = Vec::with_capacity(usize::try_from(len).unwrap_or(0));
+    // A file's length is known: reserve it. A pipe's header may lie (a 31-byte stream
+    // declaring 2 GiB): reserve a little and let the bytes that come grow it.
+    let reserve = match known_len {
+        Some(_) => len,
+        None => len.min(UNKNOWN_LENGTH_RESERVE),
+    };
+    let mut payload = Vec::with_capacity(usize::try_from(reserve).unwrap_or(0));
     reader.take(len).read_to_end(&mut payload).map_err(io)?;
     if (payload.len() as u64) < len {
         return Err(corrupt(format!(

@@ -146,7 +146,11 @@ fn check_not_input(
             )));
         }
         for &(option, path) in inputs {
-            let Some(path) = path.filter(|p| *p != Path::new("-")) else {
+            // Standard input redirected from a file is that file (`/dev/stdin` names it).
+            let Some(path) = path.and_then(|p| match p == Path::new("-") {
+                true => cfg!(unix).then(|| Path::new("/dev/stdin")),
+                false => Some(p),
+            }) else {
                 continue;
             };
             let read = Output {
