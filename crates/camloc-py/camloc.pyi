@@ -320,7 +320,7 @@ def read_keypoints(
     format: Optional[str] = None,
     layout: Optional[str] = None,
     min_score: float = 0.0,
-    image_size: Optional[Union[Tuple[float, float], str]] = None,
+    image_size: Optional[Union[Tuple[float, float], Sequence[float], str]] = None,
     lsp_invisible: str = "missing",
     derive_torso: bool = True,
     recursive: bool = False,
@@ -331,7 +331,8 @@ def read_keypoints(
       None detects it from the extension and content.
     layout: the joint layout of .npy arrays and MMPose keypoints (None: from the joint count).
     min_score: joints scoring below it are missing (formats with scores).
-    image_size: (width, height) in pixels or "W,H", to scale MediaPipe's normalised coordinates.
+    image_size: (width, height) in pixels (a tuple, list or array) or "W,H", to scale MediaPipe's
+        normalised coordinates.
     lsp_invisible: ``missing`` or ``use`` (LSP joints marked visible=0; with ``use``, a joint
       with a coordinate <= 0 is a placeholder without a position and stays missing).
     derive_torso: derive a missing pelvis / neck from the hips / shoulders.

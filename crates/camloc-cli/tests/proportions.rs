@@ -221,6 +221,20 @@ fn bad_bone_lengths_files_are_refused_with_what_and_where() {
         &path(&dir, "absent.json"),
     ]);
     assert!(!out.status.success());
+    // A byte-order mark, as some editors write, is no error.
+    let marked = dir.file("bom.json", &format!("\u{feff}{}", document(&LENGTHS)));
+    let out = camloc(&[
+        "reconstruct",
+        "--input",
+        &example(),
+        "--bone-lengths",
+        &marked,
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
 }
 
 /// The embedded depth lifter is the default of `hybrid`; `--no-lifter` gives the pursuit's

@@ -1,10 +1,11 @@
 //! Errors of the motion-capture readers and of [`canonicalise`](super::canonicalise).
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use thiserror::Error;
 
 use camloc_skeleton::Landmark;
+use camloc_store::{quoted, quoted_path};
 
 /// Why a motion-capture file or folder could not be turned into poses.
 ///
@@ -37,7 +38,7 @@ pub enum MocapError {
         limit: u64,
     },
     /// The content of a file is malformed at `line`.
-    #[error("{file}:{line}: {problem}")]
+    #[error("{}:{line}: {problem}", quoted_path(Path::new(file)))]
     Parse {
         /// The file (its path, or the source name given to a `parse_*` function).
         file: String,
@@ -47,7 +48,7 @@ pub enum MocapError {
         problem: ParseProblem,
     },
     /// The skeleton has no joint (BVH) or bone (ASF) for one of the 15 landmarks.
-    #[error("{file}: no {expected} for landmark {}", landmark.name())]
+    #[error("{}: no {} for landmark {}", quoted_path(Path::new(file)), quoted(expected), landmark.name())]
     MissingLandmark {
         /// The file.
         file: String,
@@ -78,7 +79,7 @@ pub enum ParseProblem {
     #[error("the file is not valid UTF-8 text")]
     NotUtf8,
     /// A different token was expected.
-    #[error("expected {expected}, found '{found}'")]
+    #[error("expected {}, found '{}'", quoted(expected), quoted(found))]
     Expected {
         /// What the grammar requires here.
         expected: String,
@@ -86,19 +87,19 @@ pub enum ParseProblem {
         found: String,
     },
     /// A line ends where a value is required.
-    #[error("missing {expected}")]
+    #[error("missing {}", quoted(expected))]
     Missing {
         /// What the line lacks, e.g. `a bone name`.
         expected: String,
     },
     /// The file ends where more content is required.
-    #[error("expected {expected}, found the end of the file")]
+    #[error("expected {}, found the end of the file", quoted(expected))]
     UnexpectedEnd {
         /// What the grammar requires here.
         expected: String,
     },
     /// A token that should be a number is not one.
-    #[error("expected a number for {what}, found '{found}'")]
+    #[error("expected a number for {}, found '{}'", quoted(what), quoted(found))]
     NotANumber {
         /// The quantity, e.g. `channel Zrotation of joint LeftKnee`.
         what: String,
@@ -106,7 +107,7 @@ pub enum ParseProblem {
         found: String,
     },
     /// A number is infinite or NaN.
-    #[error("{what} is not finite: '{found}'")]
+    #[error("{} is not finite: '{}'", quoted(what), quoted(found))]
     NotFinite {
         /// The quantity.
         what: String,
@@ -114,7 +115,7 @@ pub enum ParseProblem {
         found: String,
     },
     /// A line holds the wrong number of values.
-    #[error("{what} has {found} values, expected {expected}")]
+    #[error("{} has {found} values, expected {expected}", quoted(what))]
     ValueCount {
         /// The line's content, e.g. `frame 3`.
         what: String,
@@ -138,19 +139,19 @@ pub enum ParseProblem {
         declared: usize,
     },
     /// A name is defined or listed twice where it must be unique.
-    #[error("{what} appears twice")]
+    #[error("{} appears twice", quoted(what))]
     Duplicate {
         /// The duplicated item, e.g. `joint 'LeftKnee'`.
         what: String,
     },
     /// A name does not refer to anything known.
-    #[error("unknown {what}")]
+    #[error("unknown {}", quoted(what))]
     Unknown {
         /// The unknown item, e.g. `bone 'lfemr'`.
         what: String,
     },
     /// A value is syntactically fine but not acceptable.
-    #[error("invalid {what}: {reason}")]
+    #[error("invalid {}: {reason}", quoted(what))]
     Invalid {
         /// The value.
         what: String,

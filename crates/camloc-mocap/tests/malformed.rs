@@ -509,3 +509,16 @@ fn amc_frame_number_errors() {
         matches!(p, ParseProblem::Expected { .. })
     });
 }
+
+/// A token of the file is quoted short and escaped: a 100,000-character token and terminal
+/// control characters had gone whole and raw into the message.
+#[test]
+fn bvh_tokens_are_quoted_short_and_escaped() {
+    let long = format!("HIERARCHY\nROOT Hips {{\n{}\n}}\n", "X".repeat(100_000));
+    let message = parse_bvh(&long, "long.bvh").unwrap_err().to_string();
+    assert!(message.len() < 400, "{} characters", message.len());
+    assert!(message.contains('…'), "{message}");
+    let control = "\u{1b}[31mHIERARCHY\u{7}\n";
+    let message = parse_bvh(control, "esc.bvh").unwrap_err().to_string();
+    assert!(!message.contains(['\u{1b}', '\u{7}']), "{message:?}");
+}

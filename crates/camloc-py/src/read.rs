@@ -13,11 +13,12 @@ use pyo3::types::{PyDict, PyList};
 use crate::arrays::Output;
 use crate::{to_py_err, value_error};
 
-/// `image_size` as given: `(W, H)` in pixels or the text `"W,H"`.
+/// `image_size` as given: `(W, H)` in pixels (a tuple, list or array), or the text `"W,H"`.
 #[derive(FromPyObject)]
 pub(crate) enum ImageSizeArg {
     Pair(f64, f64),
     Text(String),
+    Numbers(Vec<f64>),
 }
 
 /// The reader options from the Python arguments; bad values are `ValueError`s.
@@ -41,6 +42,15 @@ fn read_options(
         None => None,
         Some(ImageSizeArg::Text(text)) => Some(text),
         Some(ImageSizeArg::Pair(w, h)) => Some(format!("{w},{h}")),
+        Some(ImageSizeArg::Numbers(numbers)) => match numbers[..] {
+            [w, h] => Some(format!("{w},{h}")),
+            _ => {
+                return Err(value_error(format!(
+                    "image_size: two numbers (width, height) in pixels, got {}",
+                    numbers.len()
+                )));
+            }
+        },
     }
     .map(|text| text.parse::<ImageSize>())
     .transpose()

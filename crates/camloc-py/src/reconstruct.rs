@@ -84,7 +84,7 @@ pub(crate) fn intrinsics_arg(
     };
     if let Some(focal) = focal_px.filter(|f| !(f.is_finite() && *f >= MIN_FOCAL_PX)) {
         return Err(value_error(format!(
-            "focal_px must be a finite number of pixels >= {MIN_FOCAL_PX}, got {focal}"
+            "focal_px must be a finite number of pixels >= {MIN_FOCAL_PX}, got {focal:?}"
         )));
     }
     let principal_point = match principal_point.map(numbers).transpose()?.as_deref() {
@@ -150,6 +150,12 @@ pub(crate) fn bone_lengths(value: &Bound<'_, PyAny>, name: &str) -> PyResult<Bon
             )));
         }
         return BoneLengths::from_array(BONE_KEYS.map(|k| named[k])).map_err(invalid);
+    }
+    if value.is_instance_of::<pyo3::types::PyBytes>() {
+        return Err(pyo3::exceptions::PyTypeError::new_err(format!(
+            "{name}: bytes are neither a path nor lengths; give a str or pathlib.Path, a \
+             mapping of BONE_KEYS or 14 numbers"
+        )));
     }
     if let Ok(path) = value.extract::<PathBuf>() {
         return BoneLengths::read_json(&path).map_err(invalid);

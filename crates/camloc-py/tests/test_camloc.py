@@ -214,6 +214,18 @@ def test_proportions_options_equal_the_command_line(cli, tmp_path):
     # A value that is not a number is named (it was a bare TypeError).
     with pytest.raises(ValueError, match='"torso" must be a number of metres, got str'):
         camloc.reconstruct(example_points(), bone_lengths={**named, "torso": "0.5"})
+    # Every missing key is named; a path given as bytes is not read as numbers.
+    with pytest.raises(ValueError, match='missing key\\(s\\) "left_pelvis_hip", "torso"'):
+        camloc.reconstruct(
+            example_points(),
+            bone_lengths={k: v for k, v in named.items() if k not in ("left_pelvis_hip", "torso")},
+        )
+    with pytest.raises(TypeError, match="bytes are neither a path nor lengths"):
+        camloc.reconstruct(example_points(), bone_lengths=bytes(str(lengths_file), "utf-8"))
+    with pytest.raises(ValueError, match=r"^bone_lengths: right thigh = -0.4 m"):
+        camloc.reconstruct(example_points(), bone_lengths={**named, "right_thigh": -0.4})
+    with pytest.raises(ValueError, match="got 1e-300"):
+        camloc.reconstruct(example_points(), focal_px=1e-300)
     _, expected = cli("reconstruct", "--input", path, "--sequence")
     got = camloc.reconstruct(example_points(), sequence=True)
     assert got["person_bone_lengths"].shape == (14,)
@@ -521,6 +533,10 @@ def test_mediapipe_needs_and_uses_the_image_size():
     text = camloc.read_keypoints(path, image_size="640,480")["points"]
     np.testing.assert_array_equal(pixels, text)
     assert np.nanmax(pixels[..., 0]) > 1.5  # scaled from [0, 1] to pixels
+    for given in ([640, 480], np.array([640.0, 480.0])):
+        np.testing.assert_array_equal(camloc.read_keypoints(path, image_size=given)["points"], text)
+    with pytest.raises(ValueError, match="two numbers"):
+        camloc.read_keypoints(path, image_size=[640, 480, 3])
 
 
 def test_a_100k_pose_batch(alone):

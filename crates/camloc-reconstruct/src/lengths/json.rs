@@ -8,6 +8,8 @@ use serde::de::{self, MapAccess, Visitor};
 use serde::ser::SerializeMap;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
+use camloc_store::quoted;
+
 use super::{BONE_KEYS, BoneLengthError, BoneLengths};
 
 /// The `"format"` of a bone lengths document.
@@ -59,7 +61,8 @@ impl<'de> Visitor<'de> for NamedVisitor {
         while let Some(key) = map.next_key::<String>()? {
             let Some(i) = BONE_KEYS.iter().position(|k| *k == key) else {
                 return Err(de::Error::custom(format!(
-                    "unknown limb {key:?} (the limbs: {})",
+                    "unknown limb \"{}\" (the limbs: {})",
+                    quoted(&key),
                     BONE_KEYS.join(", ")
                 )));
             };
@@ -112,7 +115,7 @@ impl BoneLengths {
         if let Some(format) = document.format.filter(|f| f != BONE_LENGTHS_FORMAT) {
             return Err(header(
                 "\"format\"",
-                format!("{format:?}"),
+                format!("\"{}\"", quoted(&format)),
                 format!("{BONE_LENGTHS_FORMAT:?}"),
             ));
         }
@@ -124,7 +127,11 @@ impl BoneLengths {
             ));
         }
         if let Some(unit) = document.unit.filter(|u| u != "m") {
-            return Err(header("\"unit\"", format!("{unit:?}"), "\"m\"".into()));
+            return Err(header(
+                "\"unit\"",
+                format!("\"{}\"", quoted(&unit)),
+                "\"m\"".into(),
+            ));
         }
         BoneLengths::from_array(document.lengths.0)
     }
@@ -169,7 +176,9 @@ impl BoneLengths {
             )));
         }
         let text = String::from_utf8(bytes).map_err(|_| file_error("not UTF-8 text".into()))?;
-        BoneLengths::from_json_str(&text).map_err(|e| file_error(e.to_string()))
+        // (A byte-order mark, as some editors write, is not part of the document.)
+        let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
+        BoneLengths::from_json_str(text).map_err(|e| file_error(e.to_string()))
     }
 
     /// The JSON key of limb `limb` ([`BONE_KEYS`]); `None` for an index of 14 or more.
