@@ -363,6 +363,32 @@ fn frames_the_person_is_missing_from_keep_the_timing_of_the_bvh() {
             "frame {t}: {across} m across, expected {expected} m"
         );
     }
+    // Frames far apart are not filled by the thousand: 8 frames spanning 2,004 play one after
+    // another (beyond 100 frames filled for each, plus 1,000), and a message says so.
+    let sparse = walk_across(&dir, (0..4).chain(2000..2004));
+    let far = dir.0.join("far.bvh");
+    let out = camloc(&[
+        "reconstruct",
+        "--input",
+        &sparse,
+        "--sequence",
+        "--quiet",
+        "--bvh",
+        far.to_str().unwrap(),
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("plays its 8 frames one after another"),
+        "{stderr}"
+    );
+    assert_eq!(
+        read_bvh_with_unit(&far, BVH_CENTIMETRE)
+            .unwrap()
+            .frames
+            .len(),
+        8
+    );
 }
 
 /// `camloc reconstruct --sequence --json --bvh` of `document` written to `NAME.json` in

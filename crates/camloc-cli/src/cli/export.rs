@@ -47,6 +47,14 @@ pub fn groups(
     }
 }
 
+/// A person's BVH is on the video's timeline when that fills at most this many frames for
+/// each frame the person has, plus [`FILL_MIN_FRAMES`] (and [`KEEP_MAX_POSES`] in all);
+/// beyond, its frames play one after another: a person seen at frames 0 and 99,999 had
+/// made a 60 MB file, and a dozen such persons 800 MB of memory.
+const FILL_PER_FRAME: usize = 100;
+/// See [`FILL_PER_FRAME`].
+const FILL_MIN_FRAMES: usize = 1_000;
+
 /// The BVH files of `kept` at `out` (numbered as `--svg` drawings when there are several:
 /// per person with `sequence`, else per pose by its position in the input): each group's
 /// frames as [`write_person_bvh`] writes them (a frame that could not be reconstructed is
@@ -72,11 +80,14 @@ pub fn bvh_files(
         // A person's frames on the video's timeline: a frame where they were not detected
         // is filled, as one that could not be reconstructed is.
         let slots = if sequence {
-            let slots = frame_slots(&keys, members, KEEP_MAX_POSES as usize);
+            let most =
+                (FILL_PER_FRAME * members.len() + FILL_MIN_FRAMES).min(KEEP_MAX_POSES as usize);
+            let slots = frame_slots(&keys, members, most);
             if slots.is_none() && members.iter().all(|&i| keys[i].0.is_some()) {
                 stderr_line!(
-                    "camloc: the BVH of {name} plays its frames one after another: their \
-                     frame numbers span more than {KEEP_MAX_POSES} frames"
+                    "camloc: the BVH of {name} plays its {} one after another: their frame \
+                     numbers span more than {most} frames",
+                    super::stream::counted(members.len() as u64, "frame")
                 );
             }
             slots
