@@ -95,6 +95,17 @@ pub enum KeypointError {
         /// What kind of camloc file ("dataset", "model", ...).
         what: &'static str,
     },
+    /// The input is a file of another kind that is often taken for keypoints (a ZIP archive
+    /// such as an `.npz`, UTF-16 or UTF-32 text).
+    #[error("{}: this is {what}, not keypoints: {hint}", file_name(.file))]
+    NotKeypoints {
+        /// Name of the input.
+        file: String,
+        /// What it is: `a ZIP archive`, `UTF-16 text`, ...
+        what: &'static str,
+        /// What to do instead.
+        hint: &'static str,
+    },
     /// The input is not valid UTF-8.
     #[error("{}: line {line}: not valid UTF-8 (invalid byte at offset {offset})",
         file_name(.file))]

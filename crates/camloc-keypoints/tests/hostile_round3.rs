@@ -78,3 +78,23 @@ fn a_short_document_after_a_long_blank_lead_is_streamed() {
     let e = stream.last().unwrap().unwrap_err();
     assert!(matches!(e, KeypointError::Json { line: 2, .. }), "{e:?}");
 }
+
+/// An `.npz` archive and UTF-16 or UTF-32 text say what they are (they had been "not valid
+/// UTF-8").
+#[test]
+fn an_archive_and_text_in_utf16_say_what_they_are() {
+    let cases: [(&[u8], &str); 4] = [
+        (b"PK\x03\x04\x14\x00", "a ZIP archive"),
+        (b"\xFF\xFE{\x00}\x00", "UTF-16 text"),
+        (b"\xFE\xFF\x00{\x00}", "UTF-16 text"),
+        (b"\xFF\xFE\x00\x00{\x00\x00\x00", "UTF-32 text"),
+    ];
+    for (bytes, what) in cases {
+        let reader = std::io::Cursor::new(bytes.to_vec());
+        let e = open_keypoints_reader(reader, "in.json", None, None, &ReadOptions::default())
+            .err()
+            .unwrap();
+        assert!(matches!(e, KeypointError::NotKeypoints { .. }), "{e:?}");
+        assert!(e.to_string().contains(what), "{e}");
+    }
+}
