@@ -24,6 +24,16 @@ const OUTLIER_MEDIANS: f64 = 3.0;
 /// The floor's plane is fitted to each frame's contact averaged over the frames within this
 /// many frames of it.
 const PLANE_FRAMES: usize = 15;
+/// A frame's distance from the floor is taken as the depth's error in two parts: its
+/// mean over the frames within this many frames of it (its slow part), and the rest.
+const SLOW_FRAMES: usize = 8;
+/// The slow part of a frame's distance from the floor is the depth's error up to this many
+/// metres and the person's own motion (a jump, kept) from twice as many, in proportion
+/// between. (On a simulated user's jumps of 28-49 cm filmed from 1.5-6 m up, the flight's
+/// height, mean absolute error: 10.2 cm with every part taken for the depth's error, the
+/// jumps flattened under the steep cameras; 8.7 cm so; 6.7 cm with no slow part taken,
+/// which left the child of [`onto_floor`] 4.7 cm above the floor against 1.2 cm so.)
+const SLOW_ERROR_M: f64 = 0.05;
 /// The fewest frames that place a floor.
 const MIN_FRAMES: usize = 10;
 
@@ -114,8 +124,15 @@ pub(super) fn onto_floor(
     if contacts.iter().filter(|c| near(c)).count() >= MIN_FRAMES {
         plane = fit(&near);
     }
-    for c in &contacts {
-        let off = distance(c, &plane);
+    let offs: Vec<f64> = contacts.iter().map(|c| distance(c, &plane)).collect();
+    for (c, own) in contacts.iter().zip(&offs) {
+        // The distance's slow part, its mean over the frames near: a depth error while small,
+        // a jump (kept) from twice that.
+        let from = contacts.partition_point(|d| d.frame + SLOW_FRAMES < c.frame);
+        let to = contacts.partition_point(|d| d.frame <= c.frame + SLOW_FRAMES);
+        let slow = offs[from..to].iter().sum::<f64>() / (to - from) as f64;
+        let kept = ((slow.abs() - SLOW_ERROR_M) / SLOW_ERROR_M).clamp(0.0, 1.0);
+        let off = own - kept * slow;
         // The distance's change per unit of depth factor: the pelvis moves along its ray,
         // and so does its place under the plane.
         let gain = up.dot(&c.pelvis) - (plane.slope[0] * c.place[0] + plane.slope[1] * c.place[1]);
