@@ -18,21 +18,23 @@ pub struct Args {
     /// Motion capture folders [default: $CAMLOC_DATA/cmu, else ../shared/data/cmu].
     #[arg(long = "mocap", value_name = "DIR")]
     pub mocap: Vec<PathBuf>,
-    /// Where to write the model.
+    /// Where to write the model (a relative path is taken from the repository's root, as
+    /// the defaults are, wherever xtask runs).
     #[arg(
         long,
         default_value = "fixtures/default-model.bin",
         value_name = "FILE"
     )]
     pub out: PathBuf,
-    /// Where to write the reconstruction basis.
+    /// Where to write the reconstruction basis (relative: from the repository's root).
     #[arg(
         long,
         default_value = "fixtures/default-basis.bin",
         value_name = "FILE"
     )]
     pub basis_out: PathBuf,
-    /// Where to write the depth lifter (trained with the model).
+    /// Where to write the depth lifter, trained with the model (relative: from the
+    /// repository's root).
     #[arg(
         long,
         default_value = "fixtures/default-lifter.bin",

@@ -238,8 +238,9 @@ fn bad_bone_lengths_files_are_refused_with_what_and_where() {
 }
 
 /// The embedded depth lifter is the default of `hybrid`; `--no-lifter` gives the pursuit's
-/// pose (another answer), `--lifter FILE` with the embedded file the default's answer, and
-/// a lifter with `--camera opt` or a file of another kind is refused.
+/// pose (another answer), `--lifter FILE` with the embedded file and `--model FILE` with the
+/// embedded model's file the default's answer, and a lifter with `--camera opt` or a file of
+/// another kind is refused.
 #[test]
 fn the_depth_lifter_is_the_default_and_can_be_chosen_or_refused() {
     let example = example();
@@ -260,6 +261,8 @@ fn the_depth_lifter_is_the_default_and_can_be_chosen_or_refused() {
     assert!(!opt.status.success());
     assert!(String::from_utf8_lossy(&opt.stderr).contains("--lifter"));
     let model = fixture("default-model.bin").to_string_lossy().into_owned();
+    // A model file of Table 1's cameras keeps the lifter (as Python's reconstruct does).
+    assert_eq!(run(&["--model", &model]).stdout, default.stdout);
     let wrong = run(&["--lifter", &model]);
     assert!(!wrong.status.success());
     assert!(String::from_utf8_lossy(&wrong.stderr).contains("depth lifter"));

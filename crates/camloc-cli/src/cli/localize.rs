@@ -77,7 +77,8 @@ pub struct Args {
     #[arg(long, value_name = "OUT")]
     pub html: Option<PathBuf>,
     /// With --html: the page's play rate, frames per second.
-    #[arg(long, value_name = "FPS", default_value = "30", value_parser = export::parse_fps)]
+    #[arg(long, value_name = "FPS", default_value = "30", value_parser = export::parse_fps,
+          requires = "html")]
     pub fps: f64,
     /// Write the results as NumPy arrays to this .npz archive (numpy.load reads it without
     /// pickle), row n for the n-th pose read: label, folded_label, probabilities, azimuth_deg,
@@ -156,10 +157,11 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
                 .clone()
                 .ok_or(CamlocError::NoDefault("basis"))?
                 .with_localizer(localizer.clone());
-            let mut reconstructor = match lifter_for_model(args.model.as_deref())? {
-                Some(lifter) => reconstructor.with_lifter(lifter),
-                None => reconstructor,
-            };
+            let mut reconstructor =
+                match lifter_for_model(args.model.as_deref(), localizer.cameras())? {
+                    Some(lifter) => reconstructor.with_lifter(lifter),
+                    None => reconstructor,
+                };
             if let Some(intrinsics) = args.intrinsics.intrinsics(args.input.image_size) {
                 reconstructor = reconstructor.with_intrinsics(intrinsics)?;
             }

@@ -259,8 +259,8 @@ pub struct InputArgs {
           allow_hyphen_values = true)]
     pub min_score: f64,
     /// Image size in pixels that normalised coordinates are scaled by (MediaPipe), e.g.
-    /// 1920,1080 (or 1920x1080); `--focal-px` also takes its centre as the principal point
-    /// (and so does a sequence's root motion).
+    /// 1920,1080 (or 1920x1080); in `localize` and `reconstruct`, `--focal-px` also takes its
+    /// centre as the principal point.
     #[arg(long, value_name = "W,H", value_parser = |s: &str| s.parse::<ImageSize>(),
           allow_hyphen_values = true)]
     pub image_size: Option<ImageSize>,
@@ -419,11 +419,17 @@ pub fn load_model(
     Ok(localizer.with_camera_height(height.height()))
 }
 
-/// The depth lifter that goes with the model `path` names: the embedded lifter with the
-/// embedded model (`None`), none with another model (the embedded lifter is fitted on the
-/// embedded model's cameras and features).
-pub fn lifter_for_model(path: Option<&Path>) -> Result<Option<DepthLifter>, CamlocError> {
-    path.is_none().then(DepthLifter::default_lifter).transpose()
+/// The depth lifter that goes with the model `path` names, whose cameras are `cameras`: the
+/// embedded lifter with the embedded model (`None`) and with any model of Table 1's cameras
+/// (the lifter has its own descriptor and features, one head per Table-1 camera; as Python's
+/// `reconstruct` does with such a localizer), none with a model of other cameras.
+pub fn lifter_for_model(
+    path: Option<&Path>,
+    cameras: &camloc::geometry::CameraSet,
+) -> Result<Option<DepthLifter>, CamlocError> {
+    (path.is_none() || *cameras == camloc::geometry::CameraSet::table1())
+        .then(DepthLifter::default_lifter)
+        .transpose()
 }
 
 /// The embedded basis with the default pursuit settings: it fills in the torso of a pose that

@@ -75,7 +75,8 @@ pub struct Args {
     pub height: CameraHeightArgs,
     /// Depth lifter file: the refinement of `classified` and `hybrid` starts from the depths
     /// it predicts for the classified camera (docs/conventions.md section 6) [default: the
-    /// embedded lifter with the embedded model; none with --model].
+    /// embedded lifter, with any model of Table 1's cameras; none with a --model of other
+    /// cameras].
     #[arg(long, value_name = "LIFTER", conflicts_with = "no_lifter")]
     pub lifter: Option<PathBuf>,
     /// Reconstruct without a depth lifter (the pose basis's pose starts the refinement, as
@@ -218,6 +219,7 @@ fn reconstructor(args: &Args, localizer: CameraLocalizer) -> Result<PoseReconstr
     let choice = camera_of(args);
     // Every mode has the localizer: `opt` does not localize complete poses, but it fills in
     // missing landmarks with the localized camera.
+    let cameras = localizer.cameras().clone();
     let mut reconstructor = PoseReconstructor::new(load_basis(args.basis.as_deref())?)?
         .with_localizer(localizer)
         .with_mode(choice)?;
@@ -232,7 +234,7 @@ fn reconstructor(args: &Args, localizer: CameraLocalizer) -> Result<PoseReconstr
     let lifter = match &args.lifter {
         _ if args.no_lifter || choice == ModeKind::Opt => None,
         Some(path) => Some(DepthLifter::load(super::existing(path, "--lifter")?)?),
-        None => lifter_for_model(args.model.as_deref())?,
+        None => lifter_for_model(args.model.as_deref(), &cameras)?,
     };
     if let Some(lifter) = lifter {
         reconstructor = reconstructor.with_lifter(lifter);
