@@ -259,6 +259,7 @@ fn input_that_is_not_text_or_no_format_is_refused_from_its_start() {
                     offset: 0,
                     ..
                 } | KeypointError::UnknownFormat { .. }
+                    | KeypointError::NotKeypoints { .. }
             ),
             "{e:?}"
         );

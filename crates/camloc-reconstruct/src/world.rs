@@ -31,6 +31,13 @@ pub const SMOOTHING_FRAMES: usize = 2;
 ///   place across the image, and its rotation, fitted as if the optical axis went through
 ///   the pelvis, is turned from that ray to the optical axis. Without any focal length the
 ///   depth is the same in every frame and the rotations are taken as they are.
+/// - **Estimated focal length**: without `intrinsics`, the estimated focal length is scaled
+///   by the factor that puts the frames' lowest landmarks at one height (`world/contact.rs`,
+///   `depth_factor`: every depth scales with it, and so does the floor's rise with the
+///   depth), weighed in logarithms against the estimate by its own error and the
+///   localizer's vertical's, when the person's depth changed enough to tell. A simulated
+///   user's walks towards and away from cameras 1.5-6 m high: the extent in depth 0.51-10.5
+///   times the truth's before, 0.74-1.87 times after.
 /// - **Floor contact**: with a depth per frame (a focal length known or estimated), each
 ///   frame's pelvis is first moved along its ray from the camera, weighing the depth from its
 ///   scale against the depth that puts its lowest landmark on the plane fitted to all frames'
@@ -96,19 +103,22 @@ pub fn world_poses(
     if found.is_empty() {
         return vec![None; frames.len()];
     }
-    let place = Placement::of(&found, intrinsics);
+    let mut place = Placement::of(&found, intrinsics);
     let tilt = tilt_to(frames, verticals);
     // Each frame's body -> camera rotation and pelvis in the camera frame, the pelvis
     // averaged over the frames within SMOOTHING_FRAMES of it.
-    let mut seen: Vec<Option<(Matrix3, Vector3)>> = frames
-        .iter()
-        .map(|f| {
-            f.map(|r| {
-                let (rotation, pelvis) = place.frame(r);
-                (rotation * tilt, pelvis)
+    let seen_by = |place: &Placement| -> Vec<Option<(Matrix3, Vector3)>> {
+        frames
+            .iter()
+            .map(|f| {
+                f.map(|r| {
+                    let (rotation, pelvis) = place.frame(r);
+                    (rotation * tilt, pelvis)
+                })
             })
-        })
-        .collect();
+            .collect()
+    };
+    let mut seen = seen_by(&place);
     let up_sum: Vector3 = seen
         .iter()
         .flatten()
@@ -119,6 +129,14 @@ pub fn world_poses(
     } else {
         -Vector3::y()
     };
+    // An estimated focal length scales every depth: the floor under the frames says by how
+    // much, when the person's depth changed enough for it to tell.
+    if let (None, Placement::Weak { focal: Some(f), .. }) = (intrinsics, &mut place)
+        && let Some(factor) = contact::depth_factor(frames, &seen, &up)
+    {
+        *f *= factor;
+        seen = seen_by(&place);
+    }
     if place.has_depth() {
         contact::onto_floor(frames, &mut seen, &up);
     }
