@@ -22,13 +22,30 @@ const SLOPE_RIDGE_M2: f64 = 0.01;
 /// Takes a slope gentler than [`MAX_SLOPE_DEG`] out of the heights of `placed` (z-up world,
 /// metres): the plane fitted to the `contacts` (frame, planted ankle) is made level by
 /// moving each frame up or down by the plane's height under its pelvis (the bodies keep
-/// their orientation). Returns the floor's height, the [`BELOW_SHARE`] quantile of the
-/// contacts' heights; `None` with fewer than [`MIN_CONTACTS`] contacts (nothing is moved).
+/// their orientation). With fewer than [`MIN_CONTACTS`] contacts the plane is fitted to each
+/// frame's lowest landmark (a simulated user's walks under a camera 3 m up found no planted
+/// foot and kept floors sloping 5-7 deg; nothing moves with fewer such frames). Returns the
+/// floor's height, the [`BELOW_SHARE`] quantile of the contacts' heights; `None` with fewer
+/// than [`MIN_CONTACTS`] contacts.
 pub(super) fn level(placed: &mut [Option<Pose3>], contacts: &[(usize, Landmark)]) -> Option<f64> {
-    let points: Vec<[f64; 3]> = contacts
+    let planted: Vec<[f64; 3]> = contacts
         .iter()
         .filter_map(|&(t, l)| placed.get(t).copied().flatten().map(|p| p.get(l)))
         .collect();
+    let points: Vec<[f64; 3]> = if planted.len() >= MIN_CONTACTS {
+        planted
+    } else {
+        placed
+            .iter()
+            .flatten()
+            .filter_map(|p| {
+                p.points
+                    .iter()
+                    .copied()
+                    .min_by(|a, b| a[2].total_cmp(&b[2]))
+            })
+            .collect()
+    };
     if points.len() < MIN_CONTACTS {
         return None;
     }
@@ -48,6 +65,9 @@ pub(super) fn level(placed: &mut [Option<Pose3>], contacts: &[(usize, Landmark)]
         .iter()
         .filter_map(|&(t, l)| placed.get(t).copied().flatten().map(|p| p.get(l)[2]))
         .collect();
+    if heights.len() < MIN_CONTACTS {
+        return None;
+    }
     heights.sort_by(f64::total_cmp);
     Some(heights[((heights.len() - 1) as f64 * BELOW_SHARE).round() as usize])
 }
@@ -125,6 +145,22 @@ mod tests {
                 (p.get(Landmark::Pelvis)[2] - p.get(Landmark::LeftAnkle)[2] - 0.9).abs() < 1e-12
             );
         }
+    }
+
+    /// Without planted ankles the slope is fitted to each frame's lowest landmark: a gentle
+    /// one is still levelled.
+    #[test]
+    fn a_gentle_slope_without_planted_feet_is_levelled_by_the_lowest_landmarks() {
+        let (mut placed, _) = climbing(0.1);
+        assert_eq!(level(&mut placed, &[]), None);
+        let heights: Vec<f64> = placed
+            .iter()
+            .flatten()
+            .map(|p| p.get(Landmark::LeftAnkle)[2])
+            .collect();
+        let spread = heights.iter().copied().fold(f64::NEG_INFINITY, f64::max)
+            - heights.iter().copied().fold(f64::INFINITY, f64::min);
+        assert!(spread < 0.01, "{spread}");
     }
 
     #[test]
