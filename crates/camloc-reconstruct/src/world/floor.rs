@@ -10,6 +10,11 @@ use camloc_skeleton::{Landmark, Pose3};
 /// simulated user's child filmed from 3 m up walked on a floor sloping 12 deg, from the
 /// localizer's elevation for a body of a child's proportions.)
 const MAX_SLOPE_DEG: f64 = 20.0;
+/// The planted ankles set the slope only when they spread over at least this share of the
+/// path (the extent of the frames' lowest landmarks); else the frames' lowest landmarks do (a
+/// simulated user's diagonal walk under a camera 4 m up had 12 planted ankles in one place
+/// and kept a floor sloping 10 deg).
+const CONTACTS_EXTENT_SHARE: f64 = 0.5;
 /// The fewest planted ankles that place the floor.
 const MIN_CONTACTS: usize = 10;
 /// The share of the planted ankles put below the floor: the floor is at this quantile of
@@ -22,8 +27,8 @@ const SLOPE_RIDGE_M2: f64 = 0.01;
 /// Takes a slope gentler than [`MAX_SLOPE_DEG`] out of the heights of `placed` (z-up world,
 /// metres): the plane fitted to the `contacts` (frame, planted ankle) is made level by
 /// moving each frame up or down by the plane's height under its pelvis (the bodies keep
-/// their orientation). With fewer than [`MIN_CONTACTS`] contacts the plane is fitted to each
-/// frame's lowest landmark (a simulated user's walks under a camera 3 m up found no planted
+/// their orientation). With fewer than [`MIN_CONTACTS`] contacts, or contacts over less than
+/// [`CONTACTS_EXTENT_SHARE`] of the path, the plane is fitted to each frame's lowest landmark (a simulated user's walks under a camera 3 m up found no planted
 /// foot and kept floors sloping 5-7 deg; nothing moves with fewer such frames). Returns the
 /// floor's height, the [`BELOW_SHARE`] quantile of the contacts' heights; `None` with fewer
 /// than [`MIN_CONTACTS`] contacts.
@@ -32,19 +37,23 @@ pub(super) fn level(placed: &mut [Option<Pose3>], contacts: &[(usize, Landmark)]
         .iter()
         .filter_map(|&(t, l)| placed.get(t).copied().flatten().map(|p| p.get(l)))
         .collect();
-    let points: Vec<[f64; 3]> = if planted.len() >= MIN_CONTACTS {
+    let lowest: Vec<[f64; 3]> = placed
+        .iter()
+        .flatten()
+        .filter_map(|p| {
+            p.points
+                .iter()
+                .copied()
+                .min_by(|a, b| a[2].total_cmp(&b[2]))
+        })
+        .collect();
+    // Planted ankles gathered in a part of the path tell nothing of the slope along the rest.
+    let points = if planted.len() >= MIN_CONTACTS
+        && extent(&planted) >= CONTACTS_EXTENT_SHARE * extent(&lowest)
+    {
         planted
     } else {
-        placed
-            .iter()
-            .flatten()
-            .filter_map(|p| {
-                p.points
-                    .iter()
-                    .copied()
-                    .min_by(|a, b| a[2].total_cmp(&b[2]))
-            })
-            .collect()
+        lowest
     };
     if points.len() < MIN_CONTACTS {
         return None;
@@ -70,6 +79,18 @@ pub(super) fn level(placed: &mut [Option<Pose3>], contacts: &[(usize, Landmark)]
     }
     heights.sort_by(f64::total_cmp);
     Some(heights[((heights.len() - 1) as f64 * BELOW_SHARE).round() as usize])
+}
+
+/// The diagonal of the box of `points` across the floor (x, y), metres.
+fn extent(points: &[[f64; 3]]) -> f64 {
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for p in points {
+        for k in 0..2 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    (hi[0] - lo[0]).hypot(hi[1] - lo[1])
 }
 
 /// A plane `z = mean_z + a (x - mean_x) + b (y - mean_y)` fitted to points by least squares,
@@ -147,20 +168,26 @@ mod tests {
         }
     }
 
-    /// Without planted ankles the slope is fitted to each frame's lowest landmark: a gentle
-    /// one is still levelled.
+    /// Without planted ankles, or with planted ankles in one part of the path, the slope is
+    /// fitted to each frame's lowest landmark: a gentle one is still levelled.
     #[test]
     fn a_gentle_slope_without_planted_feet_is_levelled_by_the_lowest_landmarks() {
+        let spread = |placed: &[Option<Pose3>]| {
+            let heights: Vec<f64> = placed
+                .iter()
+                .flatten()
+                .map(|p| p.get(Landmark::LeftAnkle)[2])
+                .collect();
+            heights.iter().copied().fold(f64::NEG_INFINITY, f64::max)
+                - heights.iter().copied().fold(f64::INFINITY, f64::min)
+        };
         let (mut placed, _) = climbing(0.1);
         assert_eq!(level(&mut placed, &[]), None);
-        let heights: Vec<f64> = placed
-            .iter()
-            .flatten()
-            .map(|p| p.get(Landmark::LeftAnkle)[2])
-            .collect();
-        let spread = heights.iter().copied().fold(f64::NEG_INFINITY, f64::max)
-            - heights.iter().copied().fold(f64::INFINITY, f64::min);
-        assert!(spread < 0.01, "{spread}");
+        assert!(spread(&placed) < 0.01, "{}", spread(&placed));
+        // Planted ankles in the first quarter of the path only: the lowest landmarks decide.
+        let (mut placed, contacts) = climbing(0.1);
+        assert!(level(&mut placed, &contacts[..12]).is_some());
+        assert!(spread(&placed) < 0.01, "{}", spread(&placed));
     }
 
     #[test]
