@@ -47,7 +47,9 @@ _Path = Union[str, PathLike]
 
 class Localizer:
     """A trained camera localizer. It can be pickled and copied (``pickle``, ``copy``,
-    multiprocessing): the copy holds the same model and camera height."""
+    multiprocessing): the copy holds the same model and camera height. Processes forked from
+    one that has already run camloc (``multiprocessing``'s ``fork`` start method) run their
+    work on thread pools of their own."""
 
     def __init__(self, camera_height: str = "from-input") -> None:
         """The default model embedded in camloc (trained on CMU motion capture).

@@ -15,6 +15,7 @@ use pyo3::prelude::*;
 mod arrays;
 mod bvh;
 mod localize;
+mod pool;
 mod read;
 mod reconstruct;
 mod smooth;
@@ -54,6 +55,7 @@ pub(crate) fn value_error(message: impl Into<String>) -> PyErr {
 #[pymodule]
 #[pyo3(name = "camloc")]
 fn camloc_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    pool::note_importing_process();
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add("CamlocError", m.py().get_type::<CamlocError>())?;
     m.add(

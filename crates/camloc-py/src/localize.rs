@@ -97,7 +97,7 @@ pub(crate) fn for_poses(
         .flatten()
         .copied()
         .collect();
-    localizer.clone().with_camera_height_from(&poses)
+    crate::pool::run(|| localizer.clone().with_camera_height_from(&poses))
 }
 
 #[pymethods]
@@ -240,40 +240,42 @@ impl Localizer {
         for start in (0..n).step_by(INTERRUPT_POSES) {
             let end = (start + INTERRUPT_POSES).min(n);
             let block_errors: Vec<(usize, String)> = py.detach(|| {
-                label[start..end]
-                    .par_chunks_mut(CHUNK)
-                    .zip(folded[start..end].par_chunks_mut(CHUNK))
-                    .zip(probability[start..end].par_chunks_mut(CHUNK))
-                    .zip(probabilities[start * k..end * k].par_chunks_mut(CHUNK * k))
-                    .zip(viewpoint[start * 3..end * 3].par_chunks_mut(CHUNK * 3))
-                    .enumerate()
-                    .flat_map_iter(
-                        |(c, ((((label, folded), probability), probabilities), view))| {
-                            let mut errors = Vec::new();
-                            for (j, row) in probabilities.chunks_exact_mut(k).enumerate() {
-                                let i = start + c * CHUNK + j;
-                                let result =
-                                    batch.pose(i).map_err(|e| e.to_string()).and_then(|m| {
-                                        match filler {
-                                            Some(f) => localizer
-                                                .localize_filled(&m.pose, f.reconstructor()),
-                                            None => localizer.localize_partial(&m.pose),
+                crate::pool::run(|| {
+                    label[start..end]
+                        .par_chunks_mut(CHUNK)
+                        .zip(folded[start..end].par_chunks_mut(CHUNK))
+                        .zip(probability[start..end].par_chunks_mut(CHUNK))
+                        .zip(probabilities[start * k..end * k].par_chunks_mut(CHUNK * k))
+                        .zip(viewpoint[start * 3..end * 3].par_chunks_mut(CHUNK * 3))
+                        .enumerate()
+                        .flat_map_iter(
+                            |(c, ((((label, folded), probability), probabilities), view))| {
+                                let mut errors = Vec::new();
+                                for (j, row) in probabilities.chunks_exact_mut(k).enumerate() {
+                                    let i = start + c * CHUNK + j;
+                                    let result =
+                                        batch.pose(i).map_err(|e| e.to_string()).and_then(|m| {
+                                            match filler {
+                                                Some(f) => localizer
+                                                    .localize_filled(&m.pose, f.reconstructor()),
+                                                None => localizer.localize_partial(&m.pose),
+                                            }
+                                            .map_err(|e| e.to_string())
+                                        });
+                                    match result {
+                                        Ok(loc) => {
+                                            (label[j], folded[j], probability[j]) = numbers(&loc);
+                                            row.copy_from_slice(&loc.probabilities);
+                                            view[3 * j..3 * j + 3].copy_from_slice(&angles(&loc));
                                         }
-                                        .map_err(|e| e.to_string())
-                                    });
-                                match result {
-                                    Ok(loc) => {
-                                        (label[j], folded[j], probability[j]) = numbers(&loc);
-                                        row.copy_from_slice(&loc.probabilities);
-                                        view[3 * j..3 * j + 3].copy_from_slice(&angles(&loc));
+                                        Err(message) => errors.push((i, message)),
                                     }
-                                    Err(message) => errors.push((i, message)),
                                 }
-                            }
-                            errors
-                        },
-                    )
-                    .collect()
+                                errors
+                            },
+                        )
+                        .collect()
+                })
             });
             errors.extend(block_errors);
             py.check_signals()?;

@@ -98,19 +98,21 @@ pub(crate) fn read_keypoints<'py>(
         .map_err(|e| value_error(e.to_string()))?;
     let options = read_options(layout, min_score, image_size, lsp_invisible, derive_torso)?;
     let (records, file_errors) = py
-        .detach(|| -> Result<_, CamlocError> {
-            if !path.is_dir() {
-                return Ok((read_file(&path, format, &options)?, Vec::new()));
-            }
-            let mut records = Vec::new();
-            let mut file_errors = Vec::new();
-            for (file, result) in read_folder(&path, format, &options, recursive)? {
-                match result {
-                    Ok(mut read) => records.append(&mut read),
-                    Err(e) => file_errors.push((file.display().to_string(), e.to_string())),
+        .detach(|| {
+            crate::pool::run(|| -> Result<_, CamlocError> {
+                if !path.is_dir() {
+                    return Ok((read_file(&path, format, &options)?, Vec::new()));
                 }
-            }
-            Ok((records, file_errors))
+                let mut records = Vec::new();
+                let mut file_errors = Vec::new();
+                for (file, result) in read_folder(&path, format, &options, recursive)? {
+                    match result {
+                        Ok(mut read) => records.append(&mut read),
+                        Err(e) => file_errors.push((file.display().to_string(), e.to_string())),
+                    }
+                }
+                Ok((records, file_errors))
+            })
         })
         .map_err(to_py_err)?;
     // The command line refuses such an input ("no poses in ..."); here the arrays are empty.

@@ -296,7 +296,11 @@ pub(crate) fn reconstruct<'py>(
              and world placement), as the command line does",
         )?;
         let solved = py
-            .detach(|| reconstructor.reconstruct_sequence_with_breaks(&poses, &[], &left_out))
+            .detach(|| {
+                crate::pool::run(|| {
+                    reconstructor.reconstruct_sequence_with_breaks(&poses, &[], &left_out)
+                })
+            })
             .map_err(to_py_err)?;
         let frames: Vec<Result<PoseReconstruction, String>> = solved
             .frames
@@ -309,16 +313,18 @@ pub(crate) fn reconstruct<'py>(
         for start in (0..n).step_by(INTERRUPT_POSES) {
             let block = start..(start + INTERRUPT_POSES).min(n);
             frames.extend(py.detach(|| {
-                block
-                    .into_par_iter()
-                    .with_max_len(8)
-                    .map(|i| {
-                        let mapped = batch.pose(i).map_err(|e| e.to_string())?;
-                        reconstructor
-                            .reconstruct(&mapped.pose)
-                            .map_err(|e| e.to_string())
-                    })
-                    .collect::<Vec<_>>()
+                crate::pool::run(|| {
+                    block
+                        .into_par_iter()
+                        .with_max_len(8)
+                        .map(|i| {
+                            let mapped = batch.pose(i).map_err(|e| e.to_string())?;
+                            reconstructor
+                                .reconstruct(&mapped.pose)
+                                .map_err(|e| e.to_string())
+                        })
+                        .collect::<Vec<_>>()
+                })
             }));
             // Ctrl-C (a KeyboardInterrupt) between blocks, not only at the end.
             py.check_signals()?;

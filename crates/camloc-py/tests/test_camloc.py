@@ -751,6 +751,25 @@ def test_localizers_pickle_and_copy_to_the_same_answers(localizer):
     assert pickle.loads(pickle.dumps(eye)).camera_height == "eye-level"
 
 
+def _localize_in_a_worker(points):
+    return camloc.Localizer().localize(points)["label"]
+
+
+def test_a_process_forked_after_parallel_work_localizes(localizer):
+    # rayon's threads, started by the parent's batch, do not exist in a forked child: its work
+    # had waited for them forever (a simulated user's multiprocessing pipeline hung).
+    import multiprocessing
+
+    points = np.repeat(example_points(), 5_000, axis=0)
+    want = localizer.localize(points)["label"]
+    pool = multiprocessing.get_context("fork").Pool(1)
+    try:
+        got = pool.apply_async(_localize_in_a_worker, (points,)).get(timeout=120)
+    finally:
+        pool.terminate()
+    np.testing.assert_array_equal(got, want)
+
+
 def test_input_mistakes_warn_where_every_pose_would_fail_quietly(localizer):
     import warnings
 
