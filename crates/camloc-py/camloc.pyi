@@ -132,7 +132,8 @@ class Localizer:
         when a pose has a
         landmark at exactly (0, 0) outside the box of its other landmarks (a detector's
         placeholder for a joint it did not find: give scores or NaN); another when every pose
-        of the call failed, with the first error.
+        of the call failed, with the first error other than "nothing detected", or, when no
+        pose has a landmark, asking whether ``min_score`` is on the scale of the scores.
 
         Returns a dict:
           label (N,) int64: most probable camera, 1..12 (0 where the pose failed);

@@ -37,29 +37,30 @@ pub(crate) fn warn_of_input_conventions(
 }
 
 /// Warns (`UserWarning`) when every one of `poses` (two or more) failed (`errors`: the
-/// failures, by pose), for a reason other than nothing detected: an input mistake (a layout
-/// that is not the array's, scores on another scale) otherwise shows only in `error`.
+/// failures, by pose): with the first failure that is not "nothing detected" (an input
+/// mistake, a layout that is not the array's, otherwise shows only in `error`), or, when no
+/// pose had a landmark, as the command line says it (a `min_score` above the scores' scale).
 pub(crate) fn warn_if_every_pose_failed(
     py: Python<'_>,
     poses: usize,
     errors: &[(usize, String)],
 ) -> PyResult<()> {
-    // The library's own message for a pose without landmarks (a frame the person is missing
-    // from, not a mistake).
-    let undetected = camloc::CamlocError::NothingDetected.to_string();
-    match errors.first() {
-        Some((_, first))
-            if poses >= 2 && errors.len() == poses && !first.ends_with(&undetected) =>
-        {
-            warn(
-                py,
-                format!(
-                    "every one of the {poses} poses failed (see \"error\"); the first: {first}"
-                ),
-            )
-        }
-        _ => Ok(()),
+    if poses < 2 || errors.len() != poses {
+        return Ok(());
     }
+    // The library's own message for a pose without landmarks (a frame the person is missing
+    // from, not a mistake on its own).
+    let undetected = camloc::CamlocError::NothingDetected.to_string();
+    let message = match errors.iter().find(|(_, e)| !e.ends_with(&undetected)) {
+        Some((_, first)) => {
+            format!("every one of the {poses} poses failed (see \"error\"); the first: {first}")
+        }
+        None => format!(
+            "none of the {poses} poses has a landmark (nothing detected); if min_score was \
+             given, is it on the scale of the scores?"
+        ),
+    };
+    warn(py, message)
 }
 
 /// The rows of a sequence (consecutive frames, in order) with the limbs a detector swapped

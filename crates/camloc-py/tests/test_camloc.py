@@ -702,7 +702,8 @@ def test_a_sequence_is_smoothed_as_the_command_line_smooths_it(cli, localizer):
         np.testing.assert_allclose(got[key], [r[key] for r in rows], atol=1e-4)
     # Without `sequence` there are no smoothed keys; a person never localized has none.
     assert "smoothed_label" not in localizer.localize(example_points())
-    empty = localizer.localize(np.full((3, 15, 2), np.nan), sequence=True)
+    with pytest.warns(UserWarning, match="none of the 3 poses has a landmark"):
+        empty = localizer.localize(np.full((3, 15, 2), np.nan), sequence=True)
     assert list(empty["smoothed_label"]) == [0, 0, 0]
     assert np.isnan(empty["smoothed_probability"]).all()
 
@@ -778,6 +779,10 @@ def test_input_mistakes_warn_where_every_pose_would_fail_quietly(localizer):
     with pytest.warns(UserWarning, match="every one of the 3 poses failed"):
         out = localizer.localize(points, scores=np.full(points.shape[:2], 95.0))
     assert all(e is not None for e in out["error"])
+    # A minimum score above every score leaves no landmark: said, as the command line does.
+    for call in (localizer.localize, camloc.reconstruct):
+        with pytest.warns(UserWarning, match="none of the 3 poses has a landmark"):
+            call(points, scores=np.full(points.shape[:2], 0.5), min_score=0.9)
     # Joints at (0, 0), where detectors put the ones they did not find.
     zeros = points.copy()
     zeros[:, [3, 6]] = 0.0

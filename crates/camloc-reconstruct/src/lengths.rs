@@ -130,7 +130,12 @@ impl BoneLengths {
                 });
             }
             if !plausible(*value) {
-                let all_in = |per_m: f64| lengths.iter().all(|v| plausible(v / per_m));
+                // Every length plausible in that unit, and the longest a body's (at least
+                // 0.2 m: fourteen lengths of 2 are not 2 cm bones).
+                let all_in = |per_m: f64| {
+                    lengths.iter().all(|v| plausible(v / per_m))
+                        && lengths.iter().any(|v| v / per_m >= 0.2)
+                };
                 let unit_hint = if all_in(100.0) {
                     "; all 14 look like centimetres: divide by 100"
                 } else if all_in(1000.0) {
