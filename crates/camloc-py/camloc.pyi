@@ -260,7 +260,9 @@ def reconstruct(
         still saw them, as ``camloc reconstruct --sequence --bvh`` animates them (a z-up world
         of the camera, the first pelvis above the origin, planted feet kept in place on the
         floor; docs/cli.md section Animation): ``to_bvh(r["world_points3d"], fps,
-        r["person_bone_lengths"])`` walks and turns; NaN where a frame failed. The rows are
+        r["person_bone_lengths"])`` walks and turns (the command line's file, whose limbs are
+        the mean lengths of its frames' poses, has its root up to a few millimetres higher);
+        NaN where a frame failed. The rows are
         taken as consecutive video frames: give a frame the person is missing from as a row
         of NaN, so that time passes there (the frames on each side of 3 or more frames in a
         row that fail are solved as runs of their own, with the person's one set of bone
