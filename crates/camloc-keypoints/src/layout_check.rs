@@ -116,7 +116,7 @@ pub(crate) fn mismatch(layout: Layout, likely: Layout, spread: f64) -> String {
     format!(
         "the {measured} spread over {spread:.2} of the other joints' size ({side} {limit}), as \
          {likely}'s {} do, not {layout}'s {}: the layout is likely {likely}, not {layout} (if \
-         the layout is right, joints 0-4 of this pose are misplaced: --min-score drops weak ones)",
+         the layout is right, joints 0-4 of this pose are misplaced: --min-score, Python min_score=, drops weak ones)",
         first_five(likely),
         first_five(layout),
     )
