@@ -3,6 +3,8 @@
 use std::fmt;
 use std::str::FromStr;
 
+use crate::error::KeypointError;
+
 /// A keypoint file format this crate reads.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum KeypointFormat {
@@ -158,6 +160,40 @@ impl FromStr for KeypointFormat {
             .find(|f| f.name().eq_ignore_ascii_case(s.trim()))
             .ok_or_else(|| UnknownFormatName(s.to_owned()))
     }
+}
+
+/// [`KeypointError::CamlocFile`] when `start` (an input's first bytes) begins with the magic
+/// bytes of a file camloc writes (`camloc_store::KINDS`);
+/// [`KeypointError::NotKeypoints`] when it begins as a ZIP archive (an `.npz`) or text in
+/// UTF-16 or UTF-32 does.
+pub(crate) fn not_keypoints(start: &[u8], file: &str) -> Option<KeypointError> {
+    if let Some(kind) = camloc_store::KINDS
+        .iter()
+        .find(|k| start.starts_with(&k.magic))
+    {
+        return Some(KeypointError::CamlocFile {
+            file: file.to_owned(),
+            what: kind.what,
+        });
+    }
+    // (UTF-32's little-endian mark begins as UTF-16's.)
+    let (what, hint) = if start.starts_with(b"PK\x03\x04") {
+        (
+            "a ZIP archive",
+            "an .npz holds several .npy arrays: give the one of keypoints",
+        )
+    } else if start.starts_with(b"\xFF\xFE\0\0") || start.starts_with(b"\0\0\xFE\xFF") {
+        ("UTF-32 text", "save it as UTF-8")
+    } else if start.starts_with(b"\xFF\xFE") || start.starts_with(b"\xFE\xFF") {
+        ("UTF-16 text", "save it as UTF-8")
+    } else {
+        return None;
+    };
+    Some(KeypointError::NotKeypoints {
+        file: file.to_owned(),
+        what,
+        hint,
+    })
 }
 
 #[cfg(test)]

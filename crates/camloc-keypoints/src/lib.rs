@@ -445,7 +445,7 @@ pub fn open_keypoints_reader(
     if start.len() > limit {
         return Err(too_large(start.len(), (limit, rule)));
     }
-    if let Some(e) = not_keypoints(&start.content, name) {
+    if let Some(e) = format::not_keypoints(&start.content, name) {
         return Err(e);
     }
     if let Some(e) = start.utf8_error(name) {
@@ -706,7 +706,7 @@ fn parse_items_bytes(
         let size = Some(bytes.len() as u64);
         return until_fatal(NpyPoses::new(bytes, source_name, size, options)?);
     }
-    if let Some(e) = not_keypoints(bytes, source_name) {
+    if let Some(e) = format::not_keypoints(bytes, source_name) {
         return Err(e);
     }
     parse_items(utf8_text(bytes, source_name)?, source_name, format, options)
@@ -724,40 +724,6 @@ fn until_fatal(
             item => Ok(item),
         })
         .collect()
-}
-
-/// [`KeypointError::CamlocFile`] when `start` (an input's first bytes) begins with the magic
-/// bytes of a file camloc writes (`camloc_store::KINDS`);
-/// [`KeypointError::NotKeypoints`] when it begins as a ZIP archive (an `.npz`) or text in
-/// UTF-16 or UTF-32 does.
-fn not_keypoints(start: &[u8], file: &str) -> Option<KeypointError> {
-    if let Some(kind) = camloc_store::KINDS
-        .iter()
-        .find(|k| start.starts_with(&k.magic))
-    {
-        return Some(KeypointError::CamlocFile {
-            file: file.to_owned(),
-            what: kind.what,
-        });
-    }
-    // (UTF-32's little-endian mark begins as UTF-16's.)
-    let (what, hint) = if start.starts_with(b"PK\x03\x04") {
-        (
-            "a ZIP archive",
-            "an .npz holds several .npy arrays: give the one of keypoints",
-        )
-    } else if start.starts_with(b"\xFF\xFE\0\0") || start.starts_with(b"\0\0\xFE\xFF") {
-        ("UTF-32 text", "save it as UTF-8")
-    } else if start.starts_with(b"\xFF\xFE") || start.starts_with(b"\xFE\xFF") {
-        ("UTF-16 text", "save it as UTF-8")
-    } else {
-        return None;
-    };
-    Some(KeypointError::NotKeypoints {
-        file: file.to_owned(),
-        what,
-        hint,
-    })
 }
 
 /// Parses keypoint text. `source_name` names the input in record sources and errors, and its
