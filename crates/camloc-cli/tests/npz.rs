@@ -277,9 +277,9 @@ const H36M_STANDING: [[f64; 2]; 17] = [
 ];
 
 /// A pose the reader refuses (declared Human3.6M, its first five joints gathered as a face's)
-/// keeps its row: marked failed in `--npz`, an error object with its id and frame in JSON, a
-/// NaN row in `reconstruct --npy`, with or without `--sequence`; the rows after it stay the
-/// rows of their poses.
+/// keeps its row: marked failed in `--npz`, an error object with its id and frame in JSON (in
+/// its frame's place with `--sequence`), a NaN row in `reconstruct --npy` and `convert`, with or
+/// without `--sequence`; the rows after it stay the rows of their poses.
 #[test]
 fn a_pose_the_reader_refuses_keeps_its_row() {
     let dir = TempDir::new("npz-refused");
@@ -331,6 +331,50 @@ fn a_pose_the_reader_refuses_keeps_its_row() {
     let archive = Npz::parse(&std::fs::read(&npz).unwrap());
     assert_eq!(archive.array::<bool>("failed").1, [false, true, false]);
     assert_eq!(archive.array::<i64>("frame").1, [0, 1, 2]);
+    // With --sequence, in its frame's place (it had been written first).
+    for command in ["localize", "reconstruct"] {
+        let lines = success_or_failure_lines(&[
+            command,
+            "-q",
+            "--input",
+            input,
+            "--layout",
+            "h36m17",
+            "--sequence",
+            "--jsonl",
+        ]);
+        let frames: Vec<(u64, bool)> = lines
+            .iter()
+            .map(|l| (l["frame"].as_u64().unwrap(), l.get("error").is_some()))
+            .collect();
+        assert_eq!(frames, [(0, false), (1, true), (2, false)], "{command}");
+    }
+    // `convert` writes it in its place without landmarks.
+    let converted = dir.0.join("converted.npy");
+    let run = camloc(&[
+        "convert",
+        "--input",
+        input,
+        "--layout",
+        "h36m17",
+        "--to",
+        "npy",
+        "--out",
+        converted.to_str().unwrap(),
+    ]);
+    assert_eq!(run.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&run.stderr).contains("written without landmarks"));
+    let bytes = std::fs::read(&converted).unwrap();
+    let header_end = bytes.iter().position(|&b| b == b'\n').unwrap() + 1;
+    let values: Vec<f64> = bytes[header_end..]
+        .chunks_exact(8)
+        .map(|b| f64::from_le_bytes(b.try_into().unwrap()))
+        .collect();
+    let empty: Vec<bool> = values
+        .chunks_exact(30)
+        .map(|r| r.iter().all(|v| v.is_nan()))
+        .collect();
+    assert_eq!(empty, [false, true, false]);
     for sequence in [false, true] {
         let npy = dir.0.join(format!("poses3-{sequence}.npy"));
         let mut args = vec![

@@ -283,10 +283,16 @@ pub(crate) fn reconstruct<'py>(
     // With `sequence`: per row, whether its legs and its arms were swapped back.
     let mut swapped_sides: Option<Vec<[bool; 2]>> = None;
     let (results, person_lengths, left_out) = if sequence {
-        let poses = (0..n)
-            .map(|i| batch.pose(i).map(|m| m.pose))
-            .collect::<Result<Vec<_>, _>>()
-            .map_err(|e| value_error(e.to_string()))?;
+        // A row that cannot be read (a pose refused for its layout, a half-missing joint) is
+        // a frame without landmarks in the sequence, and its error in its place, as the
+        // command line and `Localizer.localize(sequence=True)` have it.
+        let read: Vec<Result<camloc::PartialPose2, String>> = (0..n)
+            .map(|i| batch.pose(i).map(|m| m.pose).map_err(|e| e.to_string()))
+            .collect();
+        let poses = read
+            .iter()
+            .map(|r| r.as_ref().map_or(camloc::PartialPose2::empty(), |p| *p))
+            .collect();
         let (poses, marks) = warn_of_swapped_sides(py, poses)?;
         swapped_sides = Some(marks);
         let left_out = warn_of_identity_jumps(
@@ -305,7 +311,8 @@ pub(crate) fn reconstruct<'py>(
         let frames: Vec<Result<PoseReconstruction, String>> = solved
             .frames
             .into_iter()
-            .map(|f| f.map_err(|e| e.to_string()))
+            .zip(read)
+            .map(|(f, read)| read.and_then(|_| f.map_err(|e| e.to_string())))
             .collect();
         (frames, Some(solved.lengths), left_out)
     } else {

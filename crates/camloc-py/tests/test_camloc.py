@@ -752,6 +752,25 @@ def test_localizers_pickle_and_copy_to_the_same_answers(localizer):
     assert pickle.loads(pickle.dumps(eye)).camera_height == "eye-level"
 
 
+def test_a_sequence_row_refused_for_its_layout_is_a_failed_frame_in_its_place():
+    # Human3.6M's 17 joints of a standing person, and the same with the first five gathered
+    # as a face's: that row is refused for its layout (it had failed the whole sequence).
+    standing = np.array(
+        [[100, 130], [85, 130], [84, 185], [83, 240], [115, 130], [116, 185], [117, 240],
+         [100, 90], [100, 50], [100, 20], [100, 5], [125, 50], [130, 90], [132, 125],
+         [75, 50], [70, 90], [68, 125]],
+        dtype=float,
+    )
+    face = standing.copy()
+    face[:5] = [[100 + 2 * j, 20 - j] for j in range(5)]
+    rows = np.stack([standing + [4.0 * t, 0.0] for t in range(6)])
+    rows[2] = face + [8.0, 0.0]
+    got = camloc.reconstruct(rows, layout="h36m17", sequence=True)
+    assert [e is not None for e in got["error"]] == [False, False, True, False, False, False]
+    assert "likely coco17" in got["error"][2]
+    assert np.isnan(got["points3d"][2]).all() and not np.isnan(got["points3d"][3]).any()
+
+
 def _localize_in_a_worker(points):
     return camloc.Localizer().localize(points)["label"]
 

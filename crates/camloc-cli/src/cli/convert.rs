@@ -83,10 +83,26 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
                     None => poses.push(record),
                 }
             }
-            Err(e) => {
-                summary.failed_files += 1;
-                super::stream::report_error(&super::stream::FILE_ERRORS, &bar, || e.to_string());
-            }
+            // A pose refused for its layout is written in its place without landmarks.
+            Err(e) => match e.refused_pose() {
+                Some((place, message)) => {
+                    summary.poses += 1;
+                    summary.failed_poses += 1;
+                    let message = format!("{message}; written without landmarks");
+                    report_pose_error(&bar, &place.id, &place.source, &message);
+                    let record = KeypointRecord::refused(place);
+                    match &mut npy {
+                        Some(npy) => npy.push(&record, Some(&record.pose))?,
+                        None => poses.push(record),
+                    }
+                }
+                None => {
+                    summary.failed_files += 1;
+                    super::stream::report_error(&super::stream::FILE_ERRORS, &bar, || {
+                        e.to_string()
+                    });
+                }
+            },
         }
     }
     bar.finish_and_clear();

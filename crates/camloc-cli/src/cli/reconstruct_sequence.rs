@@ -6,6 +6,7 @@
 //! order; `--bone-lengths-out` gets each person's lengths; `--bvh` one animation per person
 //! (its frames have the person's shared lengths) and `--html` one page.
 
+use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -101,16 +102,22 @@ pub fn run(
         ..Summary::default()
     };
     let mut kept: Vec<KeypointRecord> = Vec::new();
-    // The poses the reader refused, each after the kept poses before it: their .npy rows.
-    let mut refused: Vec<(usize, KeypointRecord)> = Vec::new();
+    // The poses the reader refused (kept in their places without landmarks) and why.
+    let mut refused: HashMap<usize, String> = HashMap::new();
     for item in inputs.by_ref() {
-        match item {
-            Err(e) => {
-                if let (Some((place, _)), Some(_)) = (e.refused_pose(), options.npy) {
-                    refused.push((kept.len(), KeypointRecord::refused(place)));
+        let record = match item {
+            Err(e) => match e.refused_pose() {
+                Some((place, message)) => {
+                    report_pose_error(bar, &place.id, &place.source, &message);
+                    refused.insert(kept.len(), message);
+                    Ok(KeypointRecord::refused(place))
                 }
-                emit.file_error(out, &mut summary, bar, &e)?;
-            }
+                None => Err(e),
+            },
+            Ok(record) => Ok(record),
+        };
+        match record {
+            Err(e) => emit.file_error(out, &mut summary, bar, &e)?,
             Ok(record) => {
                 if summary.poses == options.max_poses {
                     return Err(CliError::TooManyPoses(options.max_poses));
@@ -298,7 +305,10 @@ pub fn run(
                     }
                 }
                 Err(message) => {
-                    if nothing_detected(&k.pose) {
+                    let message = refused.get(&i).cloned().unwrap_or(message);
+                    if refused.contains_key(&i) {
+                        summary.failed_poses += 1;
+                    } else if nothing_detected(&k.pose) {
                         summary.undetected += 1;
                     } else {
                         summary.failed_poses += 1;
@@ -337,15 +347,8 @@ pub fn run(
     emit.end(out)?;
     out.flush()?;
     if let Some(mut npy) = NpyStage::<Pose3>::boxed(options.npy)? {
-        let mut refused = refused.into_iter().peekable();
-        for (i, (record, row)) in kept.iter().zip(&rows).enumerate() {
-            while let Some((_, place)) = refused.next_if(|(before, _)| *before == i) {
-                npy.push(&place, None)?;
-            }
+        for (record, row) in kept.iter().zip(&rows) {
             npy.push(record, row.as_ref())?;
-        }
-        for (_, place) in refused {
-            npy.push(&place, None)?;
         }
         npy.finish(&mut staged)?;
     }

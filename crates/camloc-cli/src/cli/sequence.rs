@@ -200,41 +200,54 @@ pub fn run(
             })
             .collect();
         for (item, frame) in batch.iter().zip(results) {
-            if let Err(e) = item {
-                emit.file_error(out, &mut summary, bar, e)?;
-            }
-            if let Some((record, result, view, viewpoint)) = frame {
-                views.extend(view);
-                if summary.poses == files.max_poses {
-                    return Err(CliError::TooManyPoses(files.max_poses));
+            // A pose the reader refused is a failed frame in its place, without landmarks.
+            let refused_record;
+            let (record, result, view, viewpoint, refused) = match (item, frame) {
+                (_, Some((record, result, view, viewpoint))) => {
+                    (record, result, view, viewpoint, false)
                 }
-                check_kept(files.html.is_some(), summary.poses + 1)?;
-                let result = result.map_err(|message| {
-                    if nothing_detected(&record.pose) {
-                        summary.undetected += 1;
-                        return failures.number(message);
+                (Err(e), None) => match e.refused_pose() {
+                    Some((place, message)) => {
+                        refused_record = KeypointRecord::refused(place);
+                        (&refused_record, Err(message), None, None, true)
                     }
-                    summary.failed_poses += 1;
-                    report_pose_error(bar, &record.id, &record.source, &message);
-                    failures.number(message)
-                });
-                summary.count(&record.pose);
-                frames.push(Frame {
-                    points: record
-                        .pose
-                        .points
-                        .map(|p| p.map_or([f32::NAN; 2], |[x, y]| [x as f32, y as f32])),
-                    swapped_sides: 0,
-                    id: record.id.as_str().into(),
-                    source: record.source.as_str().into(),
-                    frame: record.frame,
-                    person: record.person,
-                    anchor: TorsoAnchor::of(&record.pose)
-                        .map(|a| [a.pelvis[0] as f32, a.pelvis[1] as f32, a.torso as f32]),
-                    viewpoint,
-                    result,
-                });
+                    None => {
+                        emit.file_error(out, &mut summary, bar, e)?;
+                        continue;
+                    }
+                },
+                (Ok(_), None) => continue,
+            };
+            views.extend(view);
+            if summary.poses == files.max_poses {
+                return Err(CliError::TooManyPoses(files.max_poses));
             }
+            check_kept(files.html.is_some(), summary.poses + 1)?;
+            let result = result.map_err(|message| {
+                if !refused && nothing_detected(&record.pose) {
+                    summary.undetected += 1;
+                    return failures.number(message);
+                }
+                summary.failed_poses += 1;
+                report_pose_error(bar, &record.id, &record.source, &message);
+                failures.number(message)
+            });
+            summary.count(&record.pose);
+            frames.push(Frame {
+                points: record
+                    .pose
+                    .points
+                    .map(|p| p.map_or([f32::NAN; 2], |[x, y]| [x as f32, y as f32])),
+                swapped_sides: 0,
+                id: record.id.as_str().into(),
+                source: record.source.as_str().into(),
+                frame: record.frame,
+                person: record.person,
+                anchor: TorsoAnchor::of(&record.pose)
+                    .map(|a| [a.pelvis[0] as f32, a.pelvis[1] as f32, a.torso as f32]),
+                viewpoint,
+                result,
+            });
         }
         bar.inc(batch.len() as u64);
     }
