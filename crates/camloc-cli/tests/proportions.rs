@@ -192,6 +192,10 @@ fn bad_bone_lengths_files_are_refused_with_what_and_where() {
             document(&all_centimetres),
             "look like centimetres: divide by 100",
         ),
+        (
+            Value::from(LENGTHS.to_vec()).to_string(),
+            "the document is a list",
+        ),
         ("{\"lengths\": ".to_string(), "line 1"),
         (
             document(&LENGTHS).replace("\"unit\":\"m\"", "\"unit\":\"mm\""),

@@ -18,7 +18,19 @@ use crate::{to_py_err, value_error};
 pub(crate) enum ImageSizeArg {
     Pair(f64, f64),
     Text(String),
+    /// Bytes (not read as numbers): refused.
+    Bytes(Py<pyo3::types::PyBytes>),
     Numbers(Vec<f64>),
+    /// Anything else: refused with its type's name.
+    Other(Py<PyAny>),
+}
+
+/// The `TypeError` of an `image_size` of type `given`.
+fn image_size_type(given: &str) -> PyErr {
+    pyo3::exceptions::PyTypeError::new_err(format!(
+        "image_size: (width, height) in pixels, as a tuple, list or array of two numbers, or \
+         the text \"W,H\"; got {given}"
+    ))
 }
 
 /// The reader options from the Python arguments; bad values are `ValueError`s.
@@ -42,6 +54,22 @@ fn read_options(
         None => None,
         Some(ImageSizeArg::Text(text)) => Some(text),
         Some(ImageSizeArg::Pair(w, h)) => Some(format!("{w},{h}")),
+        Some(ImageSizeArg::Bytes(given)) => {
+            let length = Python::attach(|py| given.bind(py).as_bytes().len());
+            return Err(image_size_type(&format!(
+                "{length} bytes (give the text as a str)"
+            )));
+        }
+        Some(ImageSizeArg::Other(given)) => {
+            let name = Python::attach(|py| {
+                given
+                    .bind(py)
+                    .get_type()
+                    .name()
+                    .map_or_else(|_| "?".to_owned(), |n| n.to_string())
+            });
+            return Err(image_size_type(&name));
+        }
         Some(ImageSizeArg::Numbers(numbers)) => match numbers[..] {
             [w, h] => Some(format!("{w},{h}")),
             _ => {

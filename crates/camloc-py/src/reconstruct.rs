@@ -151,7 +151,10 @@ pub(crate) fn bone_lengths(value: &Bound<'_, PyAny>, name: &str) -> PyResult<Bon
         }
         return BoneLengths::from_array(BONE_KEYS.map(|k| named[k])).map_err(invalid);
     }
-    if value.is_instance_of::<pyo3::types::PyBytes>() {
+    if value.is_instance_of::<pyo3::types::PyBytes>()
+        || value.is_instance_of::<pyo3::types::PyByteArray>()
+        || value.is_instance_of::<pyo3::types::PyMemoryView>()
+    {
         return Err(pyo3::exceptions::PyTypeError::new_err(format!(
             "{name}: bytes are neither a path nor lengths; give a str or pathlib.Path, a \
              mapping of BONE_KEYS or 14 numbers"

@@ -220,8 +220,9 @@ def test_proportions_options_equal_the_command_line(cli, tmp_path):
             example_points(),
             bone_lengths={k: v for k, v in named.items() if k not in ("left_pelvis_hip", "torso")},
         )
-    with pytest.raises(TypeError, match="bytes are neither a path nor lengths"):
-        camloc.reconstruct(example_points(), bone_lengths=bytes(str(lengths_file), "utf-8"))
+    for given in (bytes(str(lengths_file), "utf-8"), bytearray(b"\x01" * 14)):
+        with pytest.raises(TypeError, match="bytes are neither a path nor lengths"):
+            camloc.reconstruct(example_points(), bone_lengths=given)
     with pytest.raises(ValueError, match=r"^bone_lengths: right thigh = -0.4 m"):
         camloc.reconstruct(example_points(), bone_lengths={**named, "right_thigh": -0.4})
     with pytest.raises(ValueError, match="got 1e-300"):
@@ -537,6 +538,9 @@ def test_mediapipe_needs_and_uses_the_image_size():
         np.testing.assert_array_equal(camloc.read_keypoints(path, image_size=given)["points"], text)
     with pytest.raises(ValueError, match="two numbers"):
         camloc.read_keypoints(path, image_size=[640, 480, 3])
+    for wrong, what in ((b"640,480", "7 bytes"), (np.ones((2, 2)), "got ndarray")):
+        with pytest.raises(TypeError, match=what):
+            camloc.read_keypoints(path, image_size=wrong)
 
 
 def test_a_100k_pose_batch(alone):

@@ -94,7 +94,7 @@ pub enum BoneLengthError {
     /// The JSON text is malformed or does not have the documented keys.
     #[error("bone lengths JSON: {0}")]
     Json(#[from] serde_json::Error),
-    /// The JSON names another format, version or unit.
+    /// The JSON names another format, version or unit, or is not an object.
     #[error("bone lengths JSON: {0}")]
     Header(String),
     /// A bone lengths file cannot be read (or is too large to be one).

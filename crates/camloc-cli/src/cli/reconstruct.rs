@@ -67,6 +67,7 @@ fn parse_camera(text: &str) -> Result<ModeKind, String> {
 
 /// Arguments of `camloc reconstruct`.
 #[derive(clap::Args)]
+#[group(id = "animation", multiple = true, args = ["bvh", "html"])]
 pub struct Args {
     /// Model file for the classified camera [default: the embedded model].
     #[arg(long, value_name = "MODEL")]
@@ -167,9 +168,10 @@ pub struct Args {
     /// most 100,000 poses: split larger inputs).
     #[arg(long, value_name = "OUT")]
     pub html: Option<PathBuf>,
-    /// Frames per second of the input video: the BVH frame time and the page's play rate.
+    /// Frames per second of the input video: the BVH frame time and the page's play rate
+    /// (with --bvh or --html).
     #[arg(long, value_name = "FPS", default_value = "30", value_parser = export::parse_fps,
-          allow_hyphen_values = true)]
+          allow_hyphen_values = true, requires = "animation")]
     pub fps: f64,
     #[command(flatten)]
     pub force: ForceArgs,

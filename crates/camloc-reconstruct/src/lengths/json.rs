@@ -106,8 +106,16 @@ impl BoneLengths {
     /// # Errors
     /// [`BoneLengthError::Json`] for malformed JSON, a missing, unknown or repeated key (the
     /// message names it, with line and column); [`BoneLengthError::Header`] for another
-    /// `format`, `version` or `unit`; as [`BoneLengths::from_array`] for the values.
+    /// `format`, `version` or `unit`, or a document that is a list; as
+    /// [`BoneLengths::from_array`] for the values.
     pub fn from_json_str(text: &str) -> Result<BoneLengths, BoneLengthError> {
+        // (serde would read a list as the document's fields in order.)
+        if text.trim_start().starts_with('[') {
+            return Err(BoneLengthError::Header(
+                "the document is a list; it is an object whose \"lengths\" names the 14 limbs"
+                    .into(),
+            ));
+        }
         let document: Document = serde_json::from_str(text)?;
         let header = |what: &str, found: String, expected: String| {
             BoneLengthError::Header(format!("{what} is {found}, expected {expected}"))
