@@ -49,9 +49,9 @@ pub const SMOOTHING_FRAMES: usize = 2;
 ///   percentile, -0.7 / 1.2 / 3.2 cm against -0.9 / 8.0 / 16.7 cm before (the truth's 2.6-4.8
 ///   cm), the path walked 12.27 m against 13.01 (the truth's 12.35). Another's CMU walks,
 ///   runs and stairs from five tripods at 0.5-6 m (35 clips and cameras, focal length
-///   given): the pelvis 6.5 cm from the truth on average against 8.2 cm, the lower ankle's
-///   median height 7.3 cm against 11.6; its jumps' height 8.7 cm off on average, as before,
-///   but -2.9 cm on average against +6.6 (`SLOW_ERROR_M`).
+///   given): the pelvis 6.4 cm from the truth on average against 8.2 cm, the lower ankle's
+///   median height 7.5 cm against 11.6; its jumps' height 8.7 cm off on average, as before,
+///   but -3.1 cm on average against +6.6 (`SLOW_ERROR_M`; with every change of this list).
 /// - **Smoothing**: the pelvis's place is averaged over [`SMOOTHING_FRAMES`] frames on each
 ///   side (fewer near the ends, as many on both sides; where some are `None`, the straight
 ///   line through those present, taken at the frame; the frames' own poses and rotations are
