@@ -124,7 +124,8 @@ class Localizer:
           camera turned to aim at the person would see it, as ``camloc localize --focal-px``
           does (a person near the edge of a wide-angle image is otherwise drawn out by the
           perspective: 59% against 77% 12-class accuracy on a trial's views at f = 500 px,
-          500 px off-centre); without a principal point nothing changes. ``reconstruct``'s
+          500 px off-centre); without a principal point nothing changes (a ``UserWarning``
+          says so). ``reconstruct``'s
           ``focal_px`` and ``principal_point`` aim its localizations alike.
         A ``UserWarning`` says when most of the (first 20,000) poses have the head below both
         ankles: points with v up (``camloc localize`` warns alike); another when their torsos

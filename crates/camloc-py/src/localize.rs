@@ -196,6 +196,14 @@ impl Localizer {
             principal_point.as_ref(),
         )? {
             Some(k) => {
+                if k.principal_point.is_none() {
+                    crate::warnings::warn(
+                        py,
+                        "focal_px without principal_point changes no localization: the aim \
+                         at the person needs where the optical axis meets the image"
+                            .to_owned(),
+                    )?;
+                }
                 aimed = (self.inner.clone())
                     .with_intrinsics(Some(k))
                     .map_err(|e| value_error(e.to_string()))?;

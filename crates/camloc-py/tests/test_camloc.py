@@ -775,6 +775,18 @@ def test_a_sequence_row_refused_for_its_layout_is_a_failed_frame_in_its_place():
     assert np.isnan(got["points3d"][2]).all() and not np.isnan(got["points3d"][3]).any()
 
 
+def test_a_focal_length_alone_changes_no_localization_and_says_so(localizer):
+    import warnings
+
+    points = example_points()
+    with pytest.warns(UserWarning, match="focal_px without principal_point"):
+        alone = localizer.localize(points, focal_px=900.0)
+    np.testing.assert_array_equal(alone["probabilities"], localizer.localize(points)["probabilities"])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        localizer.localize(points, focal_px=900.0, principal_point=(320, 240))
+
+
 def _localize_in_a_worker(points):
     return camloc.Localizer().localize(points)["label"]
 
@@ -964,7 +976,8 @@ def test_a_known_camera_aims_the_localization(cli):
         expected = [row["probabilities"][f"{k:02d}"] for k in range(1, 13)]
         np.testing.assert_allclose(probabilities, expected, atol=1e-12)
     # Without a principal point nothing changes; one without a focal length is refused.
-    same = localizer.localize(points, focal_px=500.0)
+    with pytest.warns(UserWarning, match="focal_px without principal_point"):
+        same = localizer.localize(points, focal_px=500.0)
     np.testing.assert_array_equal(same["probabilities"], plain["probabilities"])
     with pytest.raises(ValueError, match="principal_point needs focal_px"):
         localizer.localize(points, principal_point=[1.0, 2.0])
