@@ -165,7 +165,7 @@ impl FromStr for KeypointFormat {
 /// [`KeypointError::CamlocFile`] when `start` (an input's first bytes) begins with the magic
 /// bytes of a file camloc writes (`camloc_store::KINDS`);
 /// [`KeypointError::NotKeypoints`] when it begins as a ZIP archive (an `.npz`) or text in
-/// UTF-16 or UTF-32 does.
+/// UTF-16 (with or without a byte-order mark) or UTF-32 does.
 pub(crate) fn not_keypoints(start: &[u8], file: &str) -> Option<KeypointError> {
     if let Some(kind) = camloc_store::KINDS
         .iter()
@@ -184,7 +184,7 @@ pub(crate) fn not_keypoints(start: &[u8], file: &str) -> Option<KeypointError> {
         )
     } else if start.starts_with(b"\xFF\xFE\0\0") || start.starts_with(b"\0\0\xFE\xFF") {
         ("UTF-32 text", "save it as UTF-8")
-    } else if start.starts_with(b"\xFF\xFE") || start.starts_with(b"\xFE\xFF") {
+    } else if start.starts_with(b"\xFF\xFE") || start.starts_with(b"\xFE\xFF") || utf16(start) {
         ("UTF-16 text", "save it as UTF-8")
     } else {
         return None;
@@ -194,6 +194,16 @@ pub(crate) fn not_keypoints(start: &[u8], file: &str) -> Option<KeypointError> {
         what,
         hint,
     })
+}
+
+/// `true` when `start` begins as UTF-16 text without a byte-order mark: two ASCII characters
+/// (a JSON document's `{` or `[` and the next), each beside a zero byte.
+fn utf16(start: &[u8]) -> bool {
+    let ascii = |b: u8| (0x09..0x7F).contains(&b);
+    match start {
+        [a, 0, b, 0, ..] | [0, a, 0, b, ..] => ascii(*a) && ascii(*b),
+        _ => false,
+    }
 }
 
 #[cfg(test)]

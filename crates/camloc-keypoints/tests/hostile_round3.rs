@@ -83,11 +83,13 @@ fn a_short_document_after_a_long_blank_lead_is_streamed() {
 /// UTF-8").
 #[test]
 fn an_archive_and_text_in_utf16_say_what_they_are() {
-    let cases: [(&[u8], &str); 4] = [
+    let cases: [(&[u8], &str); 6] = [
         (b"PK\x03\x04\x14\x00", "a ZIP archive"),
         (b"\xFF\xFE{\x00}\x00", "UTF-16 text"),
         (b"\xFE\xFF\x00{\x00}", "UTF-16 text"),
         (b"\xFF\xFE\x00\x00{\x00\x00\x00", "UTF-32 text"),
+        (b"{\x00\"\x00p\x00", "UTF-16 text"),
+        (b"\x00{\x00\"\x00p", "UTF-16 text"),
     ];
     for (bytes, what) in cases {
         let reader = std::io::Cursor::new(bytes.to_vec());

@@ -76,6 +76,8 @@ pub fn bvh_files(
         super::sequence::name_numbered_persons(&base, &names);
     }
     let mut files = Vec::new();
+    // Persons whose BVH plays its frames one after another: the first few named.
+    let mut unfilled = 0u64;
     for (n, (name, members)) in groups.iter().enumerate() {
         // A person's frames on the video's timeline: a frame where they were not detected
         // is filled, as one that could not be reconstructed is.
@@ -84,11 +86,14 @@ pub fn bvh_files(
                 (FILL_PER_FRAME * members.len() + FILL_MIN_FRAMES).min(KEEP_MAX_POSES as usize);
             let slots = frame_slots(&keys, members, most);
             if slots.is_none() && members.iter().all(|&i| keys[i].0.is_some()) {
-                stderr_line!(
-                    "camloc: the BVH of {name} plays its {} one after another: their frame \
-                     numbers span more than {most} frames",
-                    super::stream::counted(members.len() as u64, "frame")
-                );
+                unfilled += 1;
+                if unfilled <= super::stream::ERRORS_SHOWN {
+                    stderr_line!(
+                        "camloc: the BVH of {name} plays its {} one after another: their \
+                         frame numbers span more than {most} frames",
+                        super::stream::counted(members.len() as u64, "frame")
+                    );
+                }
             }
             slots
         } else {
@@ -113,6 +118,11 @@ pub fn bvh_files(
             Err(e) => return Err(CliError::Export(format!("{name}: {e}"))),
         };
         files.push((numbered_path(&base, n, groups.len()), text.into_bytes()));
+    }
+    if unfilled > super::stream::ERRORS_SHOWN {
+        stderr_line!(
+            "camloc: the BVHs of {unfilled} persons in all play their frames one after another"
+        );
     }
     Ok(files)
 }
