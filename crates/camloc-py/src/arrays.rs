@@ -87,8 +87,13 @@ impl<'a> PoseBatch<'a> {
             3 => (shape[0], false),
             2 => (1, true),
             _ => {
+                // (None and plain numbers become arrays without a dimension.)
+                let got = match shape.len() {
+                    0 => "a single value, not an array of points".to_owned(),
+                    _ => format!("shape {shape:?}"),
+                };
                 return Err(value_error(format!(
-                    "points must have shape (N, J, 2) or one pose (J, 2), got {shape:?}"
+                    "points must have shape (N, J, 2) or one pose (J, 2), got {got}"
                 )));
             }
         };

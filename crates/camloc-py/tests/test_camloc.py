@@ -787,6 +787,14 @@ def test_a_focal_length_alone_changes_no_localization_and_says_so(localizer):
         localizer.localize(points, focal_px=900.0, principal_point=(320, 240))
 
 
+def test_points_that_are_no_array_say_so(localizer):
+    for given in (None, 3.0):
+        with pytest.raises(ValueError, match="got a single value, not an array of points"):
+            localizer.localize(given)
+    with pytest.raises(ValueError, match=r"got shape \[2\]"):
+        localizer.localize(np.zeros(2))
+
+
 def _localize_in_a_worker(points):
     return camloc.Localizer().localize(points)["label"]
 
