@@ -129,6 +129,7 @@ pub fn world_poses(
     } else {
         -Vector3::y()
     };
+    let [right, away] = horizontal_axes(&up);
     // An estimated focal length scales every depth: the floor under the frames says by how
     // much, when the person's depth changed enough for it to tell.
     if let (None, Placement::Weak { focal: Some(f), .. }) = (intrinsics, &mut place)
@@ -138,7 +139,7 @@ pub fn world_poses(
         seen = seen_by(&place);
     }
     if place.has_depth() {
-        contact::onto_floor(frames, &mut seen, &up);
+        contact::onto_floor(frames, &mut seen, &up, [right, away]);
     }
     let pelvis: Vec<Option<Vector3>> = seen.iter().map(|s| s.map(|(_, p)| p)).collect();
     for (t, s) in seen.iter_mut().enumerate() {
@@ -146,13 +147,6 @@ pub fn world_poses(
             *p = smoothed(&pelvis, t);
         }
     }
-    let right = Vector3::x() - up * up.x;
-    let right = if right.norm() > 1e-9 {
-        right.normalize()
-    } else {
-        Vector3::z().cross(&up).normalize()
-    };
-    let away = up.cross(&right);
     // Rows: the world axes in camera coordinates (camera -> world).
     let to_world = Matrix3::from_rows(&[right.transpose(), away.transpose(), up.transpose()]);
     let mut placed: Vec<Option<Pose3>> = frames
@@ -191,6 +185,18 @@ pub fn world_poses(
             })
         })
         .collect()
+}
+
+/// The world's axes across the floor in camera coordinates, for the world vertical `up`
+/// (unit): x the camera's right made horizontal, y away from the camera (up x right).
+fn horizontal_axes(up: &Vector3) -> [Vector3; 2] {
+    let right = Vector3::x() - up * up.x;
+    let right = if right.norm() > 1e-9 {
+        right.normalize()
+    } else {
+        Vector3::z().cross(up).normalize()
+    };
+    [right, up.cross(&right)]
 }
 
 /// The pelvis's place at frame `t` (present) of `pelvis` (`None`: a missing frame) averaged

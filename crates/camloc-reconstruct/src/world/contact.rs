@@ -49,7 +49,8 @@ const ESTIMATED_FOCAL_LOG_DEVIATION: f64 = std::f64::consts::LN_2;
 const MIN_FRAMES: usize = 10;
 
 /// Moves each frame's pelvis (`seen`: body -> camera rotation and pelvis, camera frame,
-/// metres; the camera at the origin) along its ray from the camera, weighing the depth from
+/// metres; the camera at the origin; `horizontal`: two axes across the floor, orthonormal
+/// with `up`) along its ray from the camera, weighing the depth from
 /// its scale ([`DEPTH_DEVIATION`]) against the depth that puts its lowest landmark along `up`
 /// (the world's vertical in camera coordinates) on the floor ([`CONTACT_DEVIATION_M`]). The
 /// floor is the plane fitted to the frames' lowest landmarks (its slope is the floor
@@ -62,16 +63,11 @@ pub(super) fn onto_floor(
     frames: &[Option<&Reconstruction>],
     seen: &mut [Option<(Matrix3, Vector3)>],
     up: &Vector3,
+    horizontal: [Vector3; 2],
 ) {
-    // Per frame: the pelvis, its height along `up` and its place across the floor (two
-    // horizontal axes), and the height of its lowest landmark.
-    let across = up.cross(&Vector3::x());
-    let across = if across.norm() > 1e-9 {
-        across.normalize()
-    } else {
-        up.cross(&Vector3::y()).normalize()
-    };
-    let along = up.cross(&across);
+    // Per frame: the pelvis, its height along `up` and its place across the floor (along the
+    // two horizontal axes), and the height of its lowest landmark.
+    let [across, along] = horizontal;
     let contacts: Vec<Contact> = frames
         .iter()
         .zip(seen.iter())
@@ -110,9 +106,7 @@ pub(super) fn onto_floor(
     };
     let distance = |c: &Contact, plane: &Plane| c.height - plane.height_at(c.place[0], c.place[1]);
     let mut plane = fit(&|_| true);
-    let mut distances: Vec<f64> = contacts.iter().map(|c| distance(c, &plane).abs()).collect();
-    distances.sort_by(f64::total_cmp);
-    let bound = OUTLIER_MEDIANS * distances[distances.len() / 2];
+    let bound = outlier_bound(contacts.iter().map(|c| distance(c, &plane)));
     let near = |c: &Contact| distance(c, &plane).abs() <= bound;
     if contacts.iter().filter(|c| near(c)).count() >= MIN_FRAMES {
         plane = fit(&near);
@@ -199,9 +193,7 @@ pub(super) fn depth_factor(
     };
     let (k, mean, _) = fit(&|_| true)?;
     let first = residuals(k, mean);
-    let mut sizes: Vec<f64> = first.iter().map(|r| r.abs()).collect();
-    sizes.sort_by(f64::total_cmp);
-    let bound = OUTLIER_MEDIANS * sizes[sizes.len() / 2];
+    let bound = outlier_bound(first.iter().copied());
     let kept = |i: usize| first[i].abs() <= bound;
     let (k, mean, _) = fit(&kept)?;
     if !(k.is_finite() && k > 0.0) {
@@ -268,6 +260,14 @@ fn window_means<const N: usize>(
         .collect()
 }
 
+/// [`OUTLIER_MEDIANS`] times the median of the sizes of `residuals` (at least one): a
+/// residual beyond it is left out of the second fit.
+fn outlier_bound(residuals: impl Iterator<Item = f64>) -> f64 {
+    let mut sizes: Vec<f64> = residuals.map(f64::abs).collect();
+    sizes.sort_by(f64::total_cmp);
+    OUTLIER_MEDIANS * sizes[sizes.len() / 2]
+}
+
 /// The height along `up` of the lowest landmark of `r` turned by `rotation` (from its pelvis).
 fn lowest_along(r: &Reconstruction, rotation: &Matrix3, up: &Vector3) -> f64 {
     r.pose
@@ -291,6 +291,7 @@ struct Contact {
 
 #[cfg(test)]
 mod tests {
+    use super::super::horizontal_axes;
     use super::*;
     use camloc_geometry::WeakPerspective;
     use camloc_skeleton::{NUM_LANDMARKS, Pose3};
@@ -377,7 +378,7 @@ mod tests {
         // A jump: frame 20 half a metre up (along the vertical, not the ray).
         let jump = seen[20].unwrap().1 + 0.5 * up;
         seen[20] = Some((seen[20].unwrap().0, jump));
-        onto_floor(&refs, &mut seen, &up);
+        onto_floor(&refs, &mut seen, &up, horizontal_axes(&up));
         assert_eq!(seen[20].unwrap().1, jump);
         let mut after = lowest(&frames, &seen, &up);
         after.remove(20);
@@ -391,7 +392,7 @@ mod tests {
         let (frames, mut few, up) = walk(&noise[..MIN_FRAMES - 1]);
         let refs: Vec<Option<&Reconstruction>> = frames.iter().map(Some).collect();
         let unchanged = few.clone();
-        onto_floor(&refs, &mut few, &up);
+        onto_floor(&refs, &mut few, &up, horizontal_axes(&up));
         assert_eq!(few, unchanged);
     }
 
