@@ -32,16 +32,26 @@ pub struct KeypointRecord {
 }
 
 impl KeypointRecord {
-    /// The record of a pose a reader refused, at `place`: no landmark, nothing derived.
-    pub fn refused(place: &PosePlace) -> KeypointRecord {
-        KeypointRecord {
-            id: place.id.clone(),
+    /// The record of the pose a reader refused with `error`
+    /// ([`KeypointError::refused_pose`]): its place, no landmark, nothing derived; and why.
+    /// `None` for other errors.
+    pub fn of_refused_pose(error: &KeypointError) -> Option<(KeypointRecord, String)> {
+        let (place, message) = error.refused_pose()?;
+        let PosePlace {
+            id,
+            source,
+            frame,
+            person,
+        } = place.clone();
+        let record = KeypointRecord {
+            id,
             pose: PartialPose2::empty(),
             derived: Vec::new(),
-            source: place.source.clone(),
-            frame: place.frame,
-            person: place.person,
-        }
+            source,
+            frame,
+            person,
+        };
+        Some((record, message))
     }
 
     /// `true` when `landmark` was derived rather than read (see [`KeypointRecord::derived`]).

@@ -84,13 +84,12 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
                 }
             }
             // A pose refused for its layout is written in its place without landmarks.
-            Err(e) => match e.refused_pose() {
-                Some((place, message)) => {
+            Err(e) => match KeypointRecord::of_refused_pose(&e) {
+                Some((record, message)) => {
                     summary.poses += 1;
                     summary.failed_poses += 1;
                     let message = format!("{message}; written without landmarks");
-                    report_pose_error(&bar, &place.id, &place.source, &message);
-                    let record = KeypointRecord::refused(place);
+                    report_pose_error(&bar, &record.id, &record.source, &message);
                     match &mut npy {
                         Some(npy) => npy.push(&record, Some(&record.pose))?,
                         None => poses.push(record),

@@ -106,11 +106,11 @@ pub fn run(
     let mut refused: HashMap<usize, String> = HashMap::new();
     for item in inputs.by_ref() {
         let record = match item {
-            Err(e) => match e.refused_pose() {
-                Some((place, message)) => {
-                    report_pose_error(bar, &place.id, &place.source, &message);
+            Err(e) => match KeypointRecord::of_refused_pose(&e) {
+                Some((record, message)) => {
+                    report_pose_error(bar, &record.id, &record.source, &message);
                     refused.insert(kept.len(), message);
-                    Ok(KeypointRecord::refused(place))
+                    Ok(record)
                 }
                 None => Err(e),
             },

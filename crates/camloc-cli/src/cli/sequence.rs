@@ -206,9 +206,9 @@ pub fn run(
                 (_, Some((record, result, view, viewpoint))) => {
                     (record, result, view, viewpoint, false)
                 }
-                (Err(e), None) => match e.refused_pose() {
-                    Some((place, message)) => {
-                        refused_record = KeypointRecord::refused(place);
+                (Err(e), None) => match KeypointRecord::of_refused_pose(e) {
+                    Some((record, message)) => {
+                        refused_record = record;
                         (&refused_record, Err(message), None, None, true)
                     }
                     None => {

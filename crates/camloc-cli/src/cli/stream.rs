@@ -250,9 +250,10 @@ impl Emitter {
         Ok(())
     }
 
-    /// Reports an input file that could not be read, or a pose its reader refused (a 17-joint
-    /// pose of the other layout): counted in `summary`, printed on standard error (above the
-    /// progress bar) and, in JSON output, written as an error object.
+    /// Reports an input file that could not be read: counted in `summary`, printed on
+    /// standard error (above the progress bar) and, in JSON output, written as an error object.
+    /// (A pose its reader refused is a failed pose in its place, which its caller reports:
+    /// `KeypointRecord::of_refused_pose`.)
     pub fn file_error(
         &mut self,
         out: &mut Out,
@@ -260,13 +261,6 @@ impl Emitter {
         bar: &ProgressBar,
         error: &KeypointError,
     ) -> Result<(), CliError> {
-        // A pose the reader refused for its layout is a failed pose of a file still read.
-        if let Some((place, message)) = error.refused_pose() {
-            summary.poses += 1;
-            summary.failed_poses += 1;
-            report_pose_error(bar, &place.id, &place.source, &message);
-            return self.pose_error(out, &KeypointRecord::refused(place), &message);
-        }
         summary.failed_files += 1;
         let message = error.to_string();
         report_error(&FILE_ERRORS, bar, || message.clone());
@@ -488,9 +482,9 @@ where
                 let refused;
                 let (record, result) = match item {
                     Ok(record) => (record, result),
-                    Err(e) => match e.refused_pose() {
-                        Some((place, message)) => {
-                            refused = KeypointRecord::refused(place);
+                    Err(e) => match KeypointRecord::of_refused_pose(e) {
+                        Some((record, message)) => {
+                            refused = record;
                             (&refused, Err(Failed::from(message)))
                         }
                         None => {
