@@ -364,12 +364,7 @@ fn a_pose_the_reader_refuses_keeps_its_row() {
     ]);
     assert_eq!(run.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&run.stderr).contains("written without landmarks"));
-    let bytes = std::fs::read(&converted).unwrap();
-    let header_end = bytes.iter().position(|&b| b == b'\n').unwrap() + 1;
-    let values: Vec<f64> = bytes[header_end..]
-        .chunks_exact(8)
-        .map(|b| f64::from_le_bytes(b.try_into().unwrap()))
-        .collect();
+    let (_, values) = read_npy_f64(&converted);
     let empty: Vec<bool> = values
         .chunks_exact(30)
         .map(|r| r.iter().all(|v| v.is_nan()))
@@ -391,12 +386,7 @@ fn a_pose_the_reader_refuses_keeps_its_row() {
             args.push("--sequence");
         }
         assert_eq!(camloc(&args).status.code(), Some(1));
-        let bytes = std::fs::read(&npy).unwrap();
-        let header_end = bytes.iter().position(|&b| b == b'\n').unwrap() + 1;
-        let values: Vec<f64> = bytes[header_end..]
-            .chunks_exact(8)
-            .map(|b| f64::from_le_bytes(b.try_into().unwrap()))
-            .collect();
+        let (_, values) = read_npy_f64(&npy);
         assert_eq!(values.len(), 3 * 15 * 3, "sequence {sequence}");
         let nan_rows: Vec<bool> = values
             .chunks_exact(45)

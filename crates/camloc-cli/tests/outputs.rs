@@ -171,15 +171,9 @@ fn reconstruct_writes_the_3d_poses_as_npy() {
         npy.to_str().unwrap(),
     ]);
     assert_eq!(out.status.code(), Some(1));
-    let bytes = std::fs::read(&npy).unwrap();
-    let header_end = bytes.iter().position(|&b| b == b'\n').unwrap() + 1;
-    let header = String::from_utf8_lossy(&bytes[..header_end]).into_owned();
-    let rows = (bytes.len() - header_end) / (15 * 3 * 8);
+    let (header, values) = read_npy_f64(&npy);
+    let rows = values.len() / (15 * 3);
     assert!(header.contains(&format!("({rows}, 15, 3")), "{header}");
-    let values: Vec<f64> = bytes[header_end..]
-        .chunks_exact(8)
-        .map(|c| f64::from_le_bytes(c.try_into().unwrap()))
-        .collect();
     let nan_rows = values
         .chunks_exact(45)
         .filter(|row| row.iter().all(|v| v.is_nan()))

@@ -139,6 +139,19 @@ pub fn empty_npy() -> Vec<u8> {
     npy_head("{'descr': '<f8', 'fortran_order': False, 'shape': (0, 15, 2), }")
 }
 
+/// The header line (up to its newline) and the little-endian float64 values of the version 1
+/// .npy file at `path`, as the command line writes them.
+pub fn read_npy_f64(path: &Path) -> (String, Vec<f64>) {
+    let bytes = std::fs::read(path).unwrap();
+    let header_end = bytes.iter().position(|&b| b == b'\n').unwrap() + 1;
+    let header = String::from_utf8_lossy(&bytes[..header_end]).into_owned();
+    let values = bytes[header_end..]
+        .chunks_exact(8)
+        .map(|c| f64::from_le_bytes(c.try_into().unwrap()))
+        .collect();
+    (header, values)
+}
+
 /// The magic, version, length and `header` (padded as NumPy pads it) of a version 1 .npy file.
 pub fn npy_head(header: &str) -> Vec<u8> {
     let mut header = header.to_owned();
