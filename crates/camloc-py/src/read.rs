@@ -16,7 +16,6 @@ use crate::{to_py_err, value_error};
 /// `image_size` as given: `(W, H)` in pixels (a tuple, list or array), or the text `"W,H"`.
 #[derive(FromPyObject)]
 pub(crate) enum ImageSizeArg {
-    Pair(f64, f64),
     Text(String),
     /// Bytes (not read as numbers): refused.
     Bytes(Py<pyo3::types::PyBytes>),
@@ -53,7 +52,6 @@ fn read_options(
     let image_size = match image_size {
         None => None,
         Some(ImageSizeArg::Text(text)) => Some(text),
-        Some(ImageSizeArg::Pair(w, h)) => Some(format!("{w},{h}")),
         Some(ImageSizeArg::Bytes(given)) => {
             let length = Python::attach(|py| given.bind(py).as_bytes().len());
             return Err(image_size_type(&format!(
