@@ -162,7 +162,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
                     Some(lifter) => reconstructor.with_lifter(lifter),
                     None => reconstructor,
                 };
-            if let Some(intrinsics) = args.intrinsics.intrinsics(args.input.image_size) {
+            if let Some(intrinsics) = intrinsics {
                 reconstructor = reconstructor.with_intrinsics(intrinsics)?;
             }
             Some(reconstructor.with_mode(ModeKind::Hybrid)?)
