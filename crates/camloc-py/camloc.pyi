@@ -174,6 +174,7 @@ def reconstruct(
     sequence: bool = False,
     camera_height: Optional[str] = None,
     lifter: bool = True,
+    person_height: Optional[float] = None,
 ) -> Dict[str, Any]:
     """Reconstructs the 3D pose of every pose by projected matching pursuit on camloc's pose
     basis (principal components and cluster centres), then rebuilds each pose with the
@@ -204,7 +205,13 @@ def reconstruct(
     bone_lengths: the person's 14 limb lengths in metres, as a mapping of ``BONE_KEYS``, 14
       numbers in ``BONE_KEYS`` order, or the path of a bone lengths JSON file (docs/cli.md);
       every pose then has exactly these. Default: estimated from the 2D under a prior learned
-      from motion capture (proportions only; the size is the prior's).
+      from motion capture (proportions only; the size is the prior's, people of about 1.7 m).
+    person_height: the person's standing height in metres (soles to the top of the head,
+      0.5-2.6), as ``camloc reconstruct --person-height``: the estimated lengths keep their
+      proportions and each answer is scaled, with its camera, so that its legs (thigh plus
+      shin) are 0.491 of it (Winter's proportions); the image is unchanged. With
+      ``sequence``, ``world_points3d`` then walks real distances (with ``focal_px`` too).
+      Not with ``bone_lengths``, which give the size.
     focal_px, principal_point: the camera's focal length and principal point (pixels; the
       principal point, two numbers as a tuple, list or array, defaults to the centre of each
       pose's 2D bounding box): a final full-perspective refinement, and each pose localized
@@ -236,8 +243,8 @@ def reconstruct(
 
     Returns a dict:
       points3d (N, 15, 3) float64: the 3D landmarks in metres (the given bone lengths, else
-        the estimated ones at the prior's size), in the basis's canonical body frame (pelvis at the origin, z up; see
-        docs/conventions.md), ``LANDMARKS`` order;
+        the estimated ones at the prior's size or ``person_height``), in the basis's canonical
+        body frame (pelvis at the origin, z up; see docs/conventions.md), ``LANDMARKS`` order;
       rotation (N, 3, 3), scale (N,) (image units per metre), translation (N, 2) (image units):
         the weak-perspective camera, image = scale * rotation[:2] @ X + translation (after a
         perspective refinement, that camera's approximation at the pelvis;
@@ -251,7 +258,7 @@ def reconstruct(
         estimated distance, the pelvis on its optical axis, mostly the prior's distance for a
         single pose), image = focal_px * (R X + T)[:2] / (R X + T)[2] + principal_point with
         R = rotation, T = translation_m: the pelvis in the camera's frame in metres (absolute
-        only with given ``bone_lengths``); NaN where there is none (weak perspective);
+        only with given ``bone_lengths`` or ``person_height``); NaN where there is none (weak perspective);
       imputed (N, 15) bool: the landmarks that were missing and filled in (their 3D is the
         basis's guess, not a measurement);
       person_bone_lengths (14,): with ``sequence``, the person's lengths (given or estimated);
@@ -271,7 +278,8 @@ def reconstruct(
       camera: the mode used;
       error: list of N messages, None where the pose was reconstructed.
 
-    Raises ValueError for a wrong shape, layout or camera mode, bone lengths that are refused
+    Raises ValueError for a wrong shape, layout or camera mode, a ``person_height`` outside
+    0.5-2.6 m or given with ``bone_lengths``, bone lengths that are refused
     (a missing or unknown key, not 14 numbers, a length outside 0.01-1.5 m, a bone lengths file
     that cannot be read or is malformed), a focal length that is not finite or under 1 pixel, or a
     principal point without a focal length or an unknown ``camera_height`` (as ``Localizer``);

@@ -130,6 +130,83 @@ fn a_sequence_shares_one_set_of_lengths_and_writes_them() {
     );
 }
 
+/// The standing height of lengths in [`KEYS`] order: the legs over 0.491.
+fn standing_height(lengths: &[f64]) -> f64 {
+    (lengths[1] + lengths[2] + lengths[4] + lengths[5]) / 2.0 / 0.491
+}
+
+#[test]
+fn a_person_height_scales_every_answer_and_the_sequence_lengths() {
+    let dir = TempDir::new("prop-height");
+    let lengths_out = path(&dir, "person.json");
+    let out = camloc(&[
+        "reconstruct",
+        "--input",
+        &example(),
+        "--person-height",
+        "1.62",
+        "--jsonl",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let poses = lengths_of(&out.stdout);
+    assert_eq!(poses.len(), 3);
+    for pose in &poses {
+        assert!((standing_height(pose) - 1.62).abs() < 1e-9, "{pose:?}");
+    }
+    let sequence = camloc(&[
+        "reconstruct",
+        "--input",
+        &example(),
+        "--sequence",
+        "--person-height",
+        "0.95",
+        "--bone-lengths-out",
+        &lengths_out,
+    ]);
+    assert!(
+        sequence.status.success(),
+        "{}",
+        String::from_utf8_lossy(&sequence.stderr)
+    );
+    let written: Value =
+        serde_json::from_str(&std::fs::read_to_string(&lengths_out).unwrap()).unwrap();
+    let lengths: Vec<f64> = KEYS
+        .iter()
+        .map(|k| written["lengths"][k].as_f64().unwrap())
+        .collect();
+    assert!(
+        (standing_height(&lengths) - 0.95).abs() < 1e-4,
+        "{lengths:?}"
+    );
+    // Centimetres are refused with the metres they meant; given lengths give the size.
+    let cm = camloc(&[
+        "reconstruct",
+        "--input",
+        &example(),
+        "--person-height",
+        "175",
+    ]);
+    assert!(!cm.status.success());
+    let message = String::from_utf8_lossy(&cm.stderr);
+    assert!(message.contains("175 cm is 1.75 m"), "{message}");
+    let file = dir.file("lengths.json", &document(&LENGTHS));
+    let both = camloc(&[
+        "reconstruct",
+        "--input",
+        &example(),
+        "--person-height",
+        "1.7",
+        "--bone-lengths",
+        &file,
+    ]);
+    assert!(!both.status.success());
+    assert!(String::from_utf8_lossy(&both.stderr).contains("cannot be used with"));
+}
+
 #[test]
 fn a_focal_length_adds_the_perspective_camera() {
     let out = camloc(&[

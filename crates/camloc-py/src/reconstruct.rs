@@ -186,7 +186,7 @@ pub(crate) fn bone_lengths_json_text(lengths: Bound<'_, PyAny>) -> PyResult<Stri
 // Reconstructs the 3D pose of every pose: its docstring is camloc.pyi's (build.rs).
 #[doc = include_str!(concat!(env!("OUT_DIR"), "/doc/reconstruct.txt"))]
 #[pyfunction]
-#[pyo3(signature = (points, layout = "camloc15", camera = None, scores = None, min_score = 0.0, localizer = None, basis = None, bone_lengths = None, focal_px = None, principal_point = None, sequence = false, camera_height = None, lifter = true))]
+#[pyo3(signature = (points, layout = "camloc15", camera = None, scores = None, min_score = 0.0, localizer = None, basis = None, bone_lengths = None, focal_px = None, principal_point = None, sequence = false, camera_height = None, lifter = true, person_height = None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn reconstruct<'py>(
     py: Python<'py>,
@@ -203,6 +203,7 @@ pub(crate) fn reconstruct<'py>(
     sequence: bool,
     camera_height: Option<&str>,
     lifter: bool,
+    person_height: Option<f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
     // The command line's default.
     let camera = camera.unwrap_or("hybrid");
@@ -281,6 +282,11 @@ pub(crate) fn reconstruct<'py>(
         .map_err(|e| value_error(e.to_string()))?;
     if let Some(value) = &bone_lengths {
         reconstructor = reconstructor.with_bone_lengths(self::bone_lengths(value, "bone_lengths")?);
+    }
+    if let Some(height_m) = person_height {
+        reconstructor = reconstructor
+            .with_person_height(height_m)
+            .map_err(|e| value_error(e.to_string()))?;
     }
     let n = batch.len();
     // With `sequence`: per row, whether its legs and its arms were swapped back.

@@ -243,6 +243,41 @@ def test_proportions_options_equal_the_command_line(cli, tmp_path):
             assert np.isnan(got["translation_m"][i]).all() and np.isnan(got["focal_px"][i])
 
 
+def test_a_person_height_scales_the_answer_as_the_command_line_does(cli):
+    """person_height gives the command line's --person-height answer: legs of 0.491 of the
+    height, the same image, and a sequence's lengths and world scaled alike."""
+    path = KEYPOINTS / "example.json"
+    _, expected = cli("reconstruct", "--input", path, "--person-height", "1.9")
+    got = camloc.reconstruct(example_points(), person_height=1.9)
+    own = camloc.reconstruct(example_points())
+
+    def legs(lengths):
+        return (lengths[..., 1] + lengths[..., 2] + lengths[..., 4] + lengths[..., 5]) / 2
+
+    np.testing.assert_allclose(legs(got["bone_lengths"]) / 0.491, 1.9, rtol=1e-12)
+    np.testing.assert_allclose(got["projection_error"], own["projection_error"], rtol=1e-12)
+    # The same image: the scale (image units per metre) falls as the person grows.
+    np.testing.assert_allclose(
+        got["scale"] * legs(got["bone_lengths"]),
+        own["scale"] * legs(own["bone_lengths"]),
+        rtol=1e-9,
+    )
+    for i, want in enumerate(expected):
+        landmarks = [want["landmarks_m"][name] for name in camloc.LANDMARKS]
+        np.testing.assert_allclose(got["points3d"][i], landmarks, rtol=1e-9, atol=1e-12)
+    seq = camloc.reconstruct(example_points(), sequence=True, person_height=0.9)
+    own = camloc.reconstruct(example_points(), sequence=True)
+    factor = 0.9 / (legs(own["person_bone_lengths"]) / 0.491)
+    np.testing.assert_allclose(
+        seq["person_bone_lengths"], own["person_bone_lengths"] * factor, rtol=1e-9
+    )
+    np.testing.assert_allclose(seq["points3d"], own["points3d"] * factor, rtol=1e-9, atol=1e-12)
+    with pytest.raises(ValueError, match="175 cm is 1.75 m"):
+        camloc.reconstruct(example_points(), person_height=175)
+    with pytest.raises(ValueError, match="bone lengths given already give the size"):
+        camloc.reconstruct(example_points(), person_height=1.7, bone_lengths=LENGTHS)
+
+
 @pytest.mark.parametrize(
     "options",
     [

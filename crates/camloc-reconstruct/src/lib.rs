@@ -81,7 +81,8 @@ pub use eval::{EvalReport, EvalSample, ModeReport, evaluate};
 pub use length_prior::{LengthPrior, LengthWidening};
 pub use lengths::{
     BONE_KEYS, BONE_LENGTHS_FORMAT, BONE_LENGTHS_VERSION, BoneLengthError, BoneLengths,
-    MAX_BONE_LENGTH_M, MAX_BONE_LENGTHS_FILE_BYTES, MIN_BONE_LENGTH_M,
+    LEGS_SHARE_OF_HEIGHT, MAX_BONE_LENGTH_M, MAX_BONE_LENGTHS_FILE_BYTES, MAX_HEIGHT_M,
+    MIN_BONE_LENGTH_M, MIN_HEIGHT_M,
 };
 pub use lsq::{ConstrainedSolution, QuadraticConstraint, constrained_least_squares};
 pub use metrics::{

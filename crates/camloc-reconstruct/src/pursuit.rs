@@ -24,6 +24,7 @@ mod reconstructor;
 mod refined;
 mod reflection;
 mod sequence;
+mod size;
 #[cfg(test)]
 mod tests;
 

@@ -318,8 +318,9 @@ pub struct PerspectiveCamera {
     /// `R`: rows are the camera's axes in the body frame (row 3 the optical axis).
     pub rotation: Matrix3,
     /// `T`: the pelvis in the camera frame, metres (`T_z` its depth). Absolute only when the
-    /// bone lengths were given: with estimated lengths the size, hence the depth, is the
-    /// length prior's.
+    /// bone lengths were given or the reconstruction was resized to the person's height
+    /// ([`Reconstruction::resize_to_height`](crate::Reconstruction::resize_to_height)): with
+    /// estimated lengths the size, hence the depth, is the length prior's.
     pub translation: [f64; 3],
     /// The focal length `f`, pixels (the given one, or the estimated one).
     pub focal_px: f64,

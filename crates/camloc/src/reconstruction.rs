@@ -2,8 +2,9 @@
 
 use camloc_dataset::Dataset;
 use camloc_reconstruct::{
-    BoneLengths, CameraMode, EvalReport, EvalSample, Given, Intrinsics, LiftedDepths, ModeKind,
-    PoseBasis, ReconstructConfig, ReconstructError, Reconstruction, Reconstructor,
+    BoneLengths, CameraMode, EvalReport, EvalSample, Given, Intrinsics, LiftedDepths, MAX_HEIGHT_M,
+    MIN_HEIGHT_M, ModeKind, PoseBasis, ReconstructConfig, ReconstructError, Reconstruction,
+    Reconstructor,
 };
 use camloc_skeleton::{Landmark, PartialPose2, Pose2};
 use camloc_store::Persist;
@@ -71,6 +72,9 @@ pub struct PoseReconstructor {
     /// `hybrid`).
     lifter: Option<DepthLifter>,
     given: Given,
+    /// The person's standing height, metres, that estimated lengths are scaled to
+    /// ([`with_person_height`](PoseReconstructor::with_person_height)).
+    height_m: Option<f64>,
 }
 
 /// The reconstruction of one person's frames ([`PoseReconstructor::reconstruct_sequence`]).
@@ -116,14 +120,58 @@ impl PoseReconstructor {
             localizer: None,
             lifter: None,
             given: Given::default(),
+            height_m: None,
         })
     }
 
     /// Reconstructs with the person's own bone lengths `lengths` (metres): every
-    /// reconstruction then has exactly these (docs/conventions.md section 6).
+    /// reconstruction then has exactly these (docs/conventions.md section 6). They give the
+    /// size: a height given before ([`with_person_height`](Self::with_person_height)) is dropped.
     pub fn with_bone_lengths(mut self, lengths: BoneLengths) -> PoseReconstructor {
         self.given.lengths = Some(lengths);
+        self.height_m = None;
         self
+    }
+
+    /// Reconstructs a person `height_m` metres tall standing (soles to the top of the head):
+    /// the estimated lengths keep their proportions, and each answer (a single pose, or a
+    /// sequence with its one set of lengths) is scaled with its camera so that
+    /// [`BoneLengths::standing_height_m`] of its lengths is `height_m`; the image is
+    /// unchanged ([`Reconstruction::resize`]). Without it, the size is the length prior's
+    /// (about 1.7 m): one camera cannot tell a size.
+    ///
+    /// # Errors
+    /// [`CamlocError::InvalidOption`] for a height that is not a number from
+    /// [`MIN_HEIGHT_M`] to [`MAX_HEIGHT_M`], or when bone lengths were given (they give the
+    /// size already).
+    pub fn with_person_height(mut self, height_m: f64) -> Result<PoseReconstructor, CamlocError> {
+        if !(MIN_HEIGHT_M..=MAX_HEIGHT_M).contains(&height_m) {
+            let hint = if (100.0 * MIN_HEIGHT_M..=100.0 * MAX_HEIGHT_M).contains(&height_m) {
+                format!(": {height_m} cm is {} m", height_m / 100.0)
+            } else {
+                String::new()
+            };
+            return Err(CamlocError::InvalidOption {
+                name: "person height",
+                detail: format!(
+                    "{height_m} m is not a person's standing height (in metres, {MIN_HEIGHT_M} \
+                     to {MAX_HEIGHT_M}{hint})"
+                ),
+            });
+        }
+        if self.given.lengths.is_some() {
+            return Err(CamlocError::InvalidOption {
+                name: "person height",
+                detail: "the bone lengths given already give the size".into(),
+            });
+        }
+        self.height_m = Some(height_m);
+        Ok(self)
+    }
+
+    /// The standing height the estimated lengths are scaled to, metres, if one was given.
+    pub fn person_height_m(&self) -> Option<f64> {
+        self.height_m
     }
 
     /// Reconstructs with a known camera: a final full-perspective refinement with these
@@ -310,6 +358,12 @@ impl PoseReconstructor {
         {
             for h in &mut hypotheses {
                 h.level_to_viewpoint(azimuth, elevation);
+            }
+        }
+        if let Some(height_m) = self.height_m {
+            for h in &mut hypotheses {
+                h.resize_to_height(height_m)
+                    .map_err(|e| pose_error(ReconstructError::from(e)))?;
             }
         }
         let mut hypotheses = hypotheses.into_iter();

@@ -109,6 +109,14 @@ pub struct Args {
     /// under a prior learned from motion capture (with --sequence, one set per person).
     #[arg(long, value_name = "FILE")]
     pub bone_lengths: Option<PathBuf>,
+    /// The person's standing height, metres (soles to the top of the head): the estimated
+    /// lengths keep their proportions and are scaled, with each pose and its camera, so
+    /// that the legs (thigh plus shin) are 0.491 of it (Winter's proportions); the image is
+    /// unchanged. With --sequence, and in the BVH, walks and jumps then have real distances
+    /// (with --focal-px too). Without it the size is the prior's (legs of about 1.7 m
+    /// people): one camera cannot tell a child near it from an adult farther away.
+    #[arg(long, value_name = "METRES", conflicts_with = "bone_lengths")]
+    pub person_height: Option<f64>,
     #[command(flatten)]
     pub intrinsics: IntrinsicsArgs,
     /// Treat the input as the frames of a video: group the poses by person, order them by
@@ -247,6 +255,9 @@ fn reconstructor(args: &Args, localizer: CameraLocalizer) -> Result<PoseReconstr
             source: e.into(),
         })?;
         reconstructor = reconstructor.with_bone_lengths(lengths);
+    }
+    if let Some(height_m) = args.person_height {
+        reconstructor = reconstructor.with_person_height(height_m)?;
     }
     if let Some(intrinsics) = args.intrinsics.intrinsics(args.input.image_size) {
         reconstructor = reconstructor.with_intrinsics(intrinsics)?;

@@ -102,6 +102,17 @@ impl PoseReconstructor {
             }
             lengths
         };
+        // A height given scales the estimated lengths and every frame solved with them alike
+        // (a left-out frame, solved on its own, is scaled to the height in
+        // `reconstruct_prepared`).
+        let size = match self.height_m {
+            Some(height_m) => height_m / lengths.standing_height_m(),
+            None => 1.0,
+        };
+        let lengths = lengths.scaled(size).map_err(|e| CamlocError::Reconstruct {
+            context: "sequence".into(),
+            source: e.into(),
+        })?;
         let viewpoints = self.levelling_viewpoints(&prepared, &runs);
         let frames = prepared
             .into_iter()
@@ -122,6 +133,9 @@ impl PoseReconstructor {
                     .map_err(pose_error)?;
                 if let Some((azimuth, elevation)) = viewpoint {
                     reconstruction.level_to_viewpoint(azimuth, elevation);
+                }
+                if self.height_m.is_some() {
+                    reconstruction.resize(size);
                 }
                 Ok(PoseReconstruction {
                     reconstruction,
