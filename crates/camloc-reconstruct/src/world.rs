@@ -74,7 +74,9 @@ pub const SMOOTHING_FRAMES: usize = 2;
 ///   planted ankle seen from the pelvis and which bends little from frame to frame
 ///   (`world/planted.rs`). In each step the planted foot
 ///   is the one that moves less, unless it moves with the pelvis (a person gliding or
-///   carried) or is above the floor. Across `None` frames the path only bends.
+///   carried) or is above the floor; a foot that keeps its place on average, in the world
+///   or in the image (each frame's reprojection), is planted too, both feet when both do
+///   (a person standing or sitting still). Across `None` frames the path only bends.
 /// - **Locked feet**: within each run of frames where an ankle is planted, the ankle is put
 ///   at the run's mean place by turning the thigh and shin about the hip (the knee in its
 ///   plane, the lengths kept, the knee straightened by at most 5 deg and not beyond 165
@@ -161,9 +163,15 @@ pub fn world_poses(
             Some(Pose3 { points })
         })
         .collect();
-    let contacts = planted::plant_feet(&mut placed);
-    let floor = floor::level(&mut placed, &contacts);
-    foot_lock::lock_feet(&mut placed, &contacts);
+    // Each frame's landmarks as its camera saw them: a foot still there is planted whatever
+    // depth the frame's scale gave it.
+    let images: Vec<Option<[[f64; 2]; NUM_LANDMARKS]>> = frames
+        .iter()
+        .map(|f| f.map(Reconstruction::reprojection))
+        .collect();
+    let planted = planted::plant_feet(&mut placed, &images);
+    let floor = floor::level(&mut placed, &planted.stepping);
+    foot_lock::lock_feet(&mut placed, &planted.all);
     let first = placed
         .iter()
         .flatten()
