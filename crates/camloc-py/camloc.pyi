@@ -59,8 +59,9 @@ class Localizer:
         ``"from-input"`` (each ``localize`` call first estimates from its first 20,000 poses
         how their cameras divide among the three heights, then localizes every pose under
         those shares: a pose's answer depends on the other poses of the call, as with
-        ``camloc localize``; a call with fewer than 100 poses that can be localized leaves
-        each on its own),
+        ``camloc localize``; a call with fewer than 100 poses with a torso (a pelvis and a
+        neck, or the hips and shoulders to stand in for them) leaves each on its own, as
+        ``"any"`` does: give ``"eye-level"`` for a few frames of a tripod's camera),
         ``"any"`` (the model's own priors; each pose on its own) or ``"eye-level"`` (a
         tripod, handheld phone or studio camera at about a standing person's eye level, a
         few metres away: a middle-ring camera is 8 times as likely a priori). Raises
@@ -98,7 +99,8 @@ class Localizer:
         """Localizes the camera of every pose.
 
         points: (N, J, 2) or (N, J, 3) with scores, or one pose (J, 2) / (J, 3); J is the
-        layout's joint count; NaN coordinates mark a missing joint. Converted to float64.
+        layout's joint count; NaN coordinates mark a missing joint, and so do the masked
+        entries of a ``numpy.ma.MaskedArray``. Converted to float64.
         A pose whose torso cannot be found (pelvis or neck missing, and a hip or shoulder to
         stand in for it) is localized with its missing landmarks filled in from the embedded
         pose basis seen by camera hypotheses (docs/conventions.md section 6); with fewer than
@@ -261,7 +263,8 @@ def reconstruct(
         only with given ``bone_lengths`` or ``person_height``); NaN where there is none (weak perspective);
       imputed (N, 15) bool: the landmarks that were missing and filled in (their 3D is the
         basis's guess, not a measurement);
-      person_bone_lengths (14,): with ``sequence``, the person's lengths (given or estimated);
+      person_bone_lengths (14,): with ``sequence``, the person's lengths (given or estimated;
+        NaN when none were given and no frame of the sequence was reconstructed);
       swapped_sides (N, 2) bool: with ``sequence``, whether the row's legs (column 0) and arms
         (column 1) were read with the left and right sides swapped and swapped back;
       world_points3d (N, 15, 3): with ``sequence``, the frames placed where a camera standing

@@ -6,6 +6,7 @@ use std::borrow::Cow;
 use camloc::PartialPose2;
 use camloc::keypoints::{ArrayPoseError, Layout, MappedPose, ReadOptions, pose_from_array};
 use numpy::{AllowTypeChange, PyArrayDyn, PyArrayLikeDyn, PyArrayMethods, PyUntypedArrayMethods};
+use pyo3::Borrowed;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
@@ -16,6 +17,35 @@ const MAX_JOINTS: usize = 25;
 
 /// Points as given (any array-like of numbers, converted to float64 by NumPy when needed).
 pub(crate) type ArrayArg<'py> = PyArrayLikeDyn<'py, f64, AllowTypeChange>;
+
+/// An array argument whose masked entries (`numpy.ma.MaskedArray`) are NaN, not given, as
+/// the mask says (NumPy's conversion would read the values under the mask); any other
+/// array-like as [`ArrayArg`].
+pub(crate) struct Unmasked<'py>(ArrayArg<'py>);
+
+impl<'py> std::ops::Deref for Unmasked<'py> {
+    type Target = ArrayArg<'py>;
+
+    fn deref(&self) -> &ArrayArg<'py> {
+        &self.0
+    }
+}
+
+impl<'a, 'py> FromPyObject<'a, 'py> for Unmasked<'py> {
+    type Error = PyErr;
+
+    fn extract(ob: Borrowed<'a, 'py, PyAny>) -> PyResult<Self> {
+        let ma = ob.py().import("numpy.ma")?;
+        if !ob.is_instance(&ma.getattr("MaskedArray")?)? {
+            return Ok(Unmasked(ob.extract()?));
+        }
+        let kwargs = PyDict::new(ob.py());
+        kwargs.set_item("dtype", "float64")?;
+        let numbers = ma.call_method("asarray", (ob,), Some(&kwargs))?;
+        let filled = ma.call_method1("filled", (numbers, f64::NAN))?;
+        Ok(Unmasked(filled.extract()?))
+    }
+}
 
 /// The numbers of an array in C order, borrowed when the array is C-contiguous (`as_slice`
 /// alone also accepts Fortran order, whose memory order is not C's); a copy this process

@@ -12,7 +12,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use rayon::prelude::*;
 
-use crate::arrays::{ArrayArg, Output, PoseBatch};
+use crate::arrays::{Output, PoseBatch, Unmasked};
 use crate::smooth::smoothed_columns;
 use crate::warnings::{
     warn_if_every_pose_failed, warn_of_identity_jumps, warn_of_input_conventions,
@@ -180,9 +180,9 @@ impl Localizer {
     fn localize<'py>(
         &self,
         py: Python<'py>,
-        points: ArrayArg<'py>,
+        points: Unmasked<'py>,
         layout: &str,
-        scores: Option<ArrayArg<'py>>,
+        scores: Option<Unmasked<'py>>,
         min_score: f64,
         sequence: bool,
         focal_px: Option<Bound<'py, PyAny>>,
@@ -216,7 +216,7 @@ impl Localizer {
         let k = self.inner.cameras().len();
         let output_bytes = (k + 6) * std::mem::size_of::<f64>()
             + std::mem::size_of::<Option<camloc::PartialPose2>>();
-        let batch = PoseBatch::new(&points, layout, scores.as_ref(), min_score, output_bytes)?;
+        let batch = PoseBatch::new(&points, layout, scores.as_deref(), min_score, output_bytes)?;
         // Mapped once for the warnings and the height estimate: a sequence's every pose.
         let leading = batch.leading_poses(if sequence {
             batch.len()

@@ -15,7 +15,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyMapping};
 use rayon::prelude::*;
 
-use crate::arrays::{ArrayArg, Output, PoseBatch};
+use crate::arrays::{Output, PoseBatch, Unmasked};
 use crate::localize::{Localizer, for_poses, parse_height};
 use crate::warnings::{
     warn_if_every_pose_failed, warn_of_identity_jumps, warn_of_input_conventions,
@@ -190,10 +190,10 @@ pub(crate) fn bone_lengths_json_text(lengths: Bound<'_, PyAny>) -> PyResult<Stri
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn reconstruct<'py>(
     py: Python<'py>,
-    points: ArrayArg<'py>,
+    points: Unmasked<'py>,
     layout: &str,
     camera: Option<&str>,
-    scores: Option<ArrayArg<'py>>,
+    scores: Option<Unmasked<'py>>,
     min_score: f64,
     localizer: Option<PyRef<'py, Localizer>>,
     basis: Option<PathBuf>,
@@ -222,7 +222,7 @@ pub(crate) fn reconstruct<'py>(
         + std::mem::size_of::<Result<PoseReconstruction, String>>()
         + std::mem::size_of::<Option<Pose3>>()
         + std::mem::size_of::<camloc::PartialPose2>();
-    let batch = PoseBatch::new(&points, layout, scores.as_ref(), min_score, output_bytes)?;
+    let batch = PoseBatch::new(&points, layout, scores.as_deref(), min_score, output_bytes)?;
     // Mapped once for the warning and the height estimate.
     let leading = batch.leading_poses(HEIGHT_SHARE_MAX_POSES);
     let intrinsics = intrinsics_arg(focal_px.as_ref(), principal_point.as_ref())?;
@@ -323,7 +323,18 @@ pub(crate) fn reconstruct<'py>(
             .zip(read)
             .map(|(f, read)| read.and_then(|_| f.map_err(|e| e.to_string())))
             .collect();
-        (frames, Some(solved.lengths), left_out)
+        // Lengths estimated from no frame are the prior's, not the person's: NaN, as the
+        // command line writes no lengths for such a person.
+        let estimated_from_frames = frames
+            .iter()
+            .zip(&left_out)
+            .any(|(f, &left)| f.is_ok() && !left);
+        let lengths = if estimated_from_frames || bone_lengths.is_some() {
+            solved.lengths.as_array()
+        } else {
+            [f64::NAN; NUM_LIMBS]
+        };
+        (frames, Some(lengths), left_out)
     } else {
         let mut frames = Vec::with_capacity(n);
         for start in (0..n).step_by(INTERRUPT_POSES) {
@@ -427,7 +438,7 @@ pub(crate) fn reconstruct<'py>(
         out.array("world_points3d", placed, &[15, 3])?;
     }
     if let Some(l) = person_lengths {
-        let array = numpy::PyArray1::from_vec(py, l.as_array().to_vec());
+        let array = numpy::PyArray1::from_vec(py, l.to_vec());
         out.set("person_bone_lengths", array)?;
     }
     warn_if_every_pose_failed(py, n, &errors)?;

@@ -1049,3 +1049,29 @@ def test_a_person_off_the_axis_of_a_known_camera_is_not_called_rolled():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         camloc.Localizer().localize(seen, focal_px=f, principal_point=centre)
+
+
+def test_masked_entries_are_missing_landmarks():
+    """A numpy.ma.MaskedArray's masked joints are missing (NaN), not the values under the
+    mask; a sequence of which no frame was reconstructed has no lengths (NaN)."""
+    points = example_points()
+    masked = np.ma.masked_array(points.copy(), mask=np.zeros(points.shape, bool))
+    masked[0, 11] = [0.0, 0.0]
+    masked.mask[0, 11] = True
+    missing = np.where(masked.mask, np.nan, masked.data)
+    got, want = camloc.Localizer().localize(masked), camloc.Localizer().localize(missing)
+    np.testing.assert_array_equal(got["label"], want["label"])
+    np.testing.assert_array_equal(got["probabilities"], want["probabilities"])
+    # The values under the mask, read as joints, would give another answer.
+    unmasked = camloc.Localizer().localize(masked.data)
+    assert not np.array_equal(unmasked["probabilities"], want["probabilities"])
+    rebuilt = camloc.reconstruct(masked)
+    assert rebuilt["imputed"][0, 11] and rebuilt["imputed"].sum() == 1
+    with pytest.warns(UserWarning):
+        empty = camloc.reconstruct(np.full((5, 15, 2), np.nan), sequence=True)
+    assert np.isnan(empty["person_bone_lengths"]).all()
+    with pytest.warns(UserWarning):
+        given = camloc.reconstruct(
+            np.full((5, 15, 2), np.nan), sequence=True, bone_lengths=LENGTHS
+        )
+    np.testing.assert_allclose(given["person_bone_lengths"], LENGTHS)
