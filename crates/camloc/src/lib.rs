@@ -99,7 +99,8 @@ pub use sequence::{
 };
 pub use sides::{
     SIDE_SWAP_GAP_FRAMES, SIDE_SWAP_JOIN_RATIO, SIDE_SWAP_MOTION_FACTOR, SIDE_SWAP_PENALTY,
-    SIDE_SWAP_RUN_FRAMES, SideChain, swap_sides_back, swapped_sides, with_sides_swapped,
+    SIDE_SWAP_RUN_FRAMES, SideChain, SwappedPart, swap_sides_back, swapped_sides,
+    with_part_swapped, with_sides_swapped,
 };
 
 pub use lean::{

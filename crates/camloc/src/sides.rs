@@ -44,6 +44,28 @@ impl SideChain {
     }
 }
 
+/// Which landmarks of a chain a frame read with its sides swapped has exchanged.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SwappedPart {
+    /// The whole chain: hips, knees and ankles (shoulders, elbows and wrists), a body read
+    /// as seen from the other side.
+    Whole,
+    /// The limbs beyond the torso: knees and ankles (elbows and wrists), the hips (shoulders)
+    /// as they are: a detector confusing crossing shins or forearms.
+    Distal,
+}
+
+impl SwappedPart {
+    /// Whether the chain's `pair`-th (left, right) pair ([`SideChain::pairs`], from the
+    /// torso out) is exchanged.
+    const fn exchanges(self, pair: usize) -> bool {
+        match self {
+            SwappedPart::Whole => true,
+            SwappedPart::Distal => pair > 0,
+        }
+    }
+}
+
 /// The least cost of reading one frame's chain with its sides swapped, in squared torso
 /// lengths: a swap must take away at least this much motion between the frames around it.
 pub const SIDE_SWAP_PENALTY: f64 = 0.1;
@@ -70,18 +92,26 @@ pub const SIDE_SWAP_GAP_FRAMES: u64 = 3;
 
 /// `pose` with the left and right landmarks of `chain` exchanged.
 pub fn with_sides_swapped(pose: &PartialPose2, chain: SideChain) -> PartialPose2 {
+    with_part_swapped(pose, chain, SwappedPart::Whole)
+}
+
+/// `pose` with the left and right landmarks of `part` of `chain` exchanged.
+pub fn with_part_swapped(pose: &PartialPose2, chain: SideChain, part: SwappedPart) -> PartialPose2 {
     let mut swapped = *pose;
-    for (left, right) in chain.pairs() {
-        swapped.points.swap(left.index(), right.index());
+    for (i, (left, right)) in chain.pairs().into_iter().enumerate() {
+        if part.exchanges(i) {
+            swapped.points.swap(left.index(), right.index());
+        }
     }
     swapped
 }
 
 /// Per chain, the positions of one person's frames (`frames` their numbers, `None` for one
 /// frame after the previous one; `poses` in time order) whose chain is read with its left and
-/// right sides swapped against the frames around them, to be swapped back
-/// ([`with_sides_swapped`]). The sides of the frames with a torso are chosen together (a
-/// Viterbi path over swapped or not): the least motion of the chain relative to the pelvis
+/// right sides swapped against the frames around them, and the part swapped, to be swapped
+/// back ([`with_part_swapped`]). The sides of the frames with a torso are chosen together (a
+/// Viterbi path over as read, the whole chain swapped, or its limbs beyond the torso
+/// swapped): the least motion of the chain relative to the pelvis
 /// (in torso lengths, squared) between consecutive such frames, plus [`SIDE_SWAP_PENALTY`]
 /// (or [`SIDE_SWAP_MOTION_FACTOR`] times the median motion) for each frame swapped, in runs
 /// of at most [`SIDE_SWAP_RUN_FRAMES`] frames. A run is swapped back only between frames
@@ -92,7 +122,7 @@ pub fn with_sides_swapped(pose: &PartialPose2, chain: SideChain) -> PartialPose2
 pub fn swapped_sides(
     frames: &[Option<u64>],
     poses: &[PartialPose2],
-) -> Vec<(SideChain, Vec<usize>)> {
+) -> Vec<(SideChain, Vec<(usize, SwappedPart)>)> {
     // The frames with a torso: their positions, pelvis and torso length (the landmarks are
     // taken relative to them as they are needed: a video of a million frames holds no copy).
     let present: Vec<Torso> = poses
@@ -116,26 +146,28 @@ pub fn swapped_sides(
         .map(|chain| {
             let swapped = swapped_frames(chain, poses, &present, &linked)
                 .into_iter()
-                .map(|m| present[m].at)
+                .map(|(m, part)| (present[m].at, part))
                 .collect();
             (chain, swapped)
         })
         .collect()
 }
 
-/// [`swapped_sides`] of one person's frames, the chains found swapped back in `poses`
-/// ([`with_sides_swapped`]); returns them.
+/// [`swapped_sides`] of one person's frames, the parts found swapped back in `poses`
+/// ([`with_part_swapped`]); returns, per chain, the positions swapped back.
 pub fn swap_sides_back(
     frames: &[Option<u64>],
     poses: &mut [PartialPose2],
 ) -> Vec<(SideChain, Vec<usize>)> {
-    let found = swapped_sides(frames, poses);
-    for (chain, swapped) in &found {
-        for &m in swapped {
-            poses[m] = with_sides_swapped(&poses[m], *chain);
-        }
-    }
-    found
+    swapped_sides(frames, poses)
+        .into_iter()
+        .map(|(chain, swapped)| {
+            for &(m, part) in &swapped {
+                poses[m] = with_part_swapped(&poses[m], chain, part);
+            }
+            (chain, swapped.into_iter().map(|(m, _)| m).collect())
+        })
+        .collect()
 }
 
 /// A frame with a torso: its position among the person's frames, its pelvis and its torso
@@ -168,65 +200,81 @@ impl Torso {
 }
 
 /// The positions (in `present`, the frames with a torso) of the frames whose `chain` is
-/// swapped back ([`swapped_sides`]); `linked[m - 1]`: frames `m - 1` and `m` constrain each
-/// other.
+/// swapped back and the part ([`swapped_sides`]); `linked[m - 1]`: frames `m - 1` and `m`
+/// constrain each other.
 fn swapped_frames(
     chain: SideChain,
     poses: &[PartialPose2],
     present: &[Torso],
     linked: &[bool],
-) -> Vec<usize> {
+) -> Vec<(usize, SwappedPart)> {
     let n = present.len();
     if n == 0 {
         return Vec::new();
     }
-    // The chain's squared motion from frame m - 1 (read swapped if `before`) to frame m
-    // (swapped if `after`), over the landmarks both have; 0 where the frames are not linked.
-    let motion = |m: usize, before: bool, after: bool| -> f64 {
+    // How a frame is read: as read (None) or with a part swapped.
+    const READINGS: [Option<SwappedPart>; 3] =
+        [None, Some(SwappedPart::Whole), Some(SwappedPart::Distal)];
+    // The chain's squared motion from frame m - 1 (read `before`) to frame m (read `after`),
+    // over the landmarks both have; 0 where the frames are not linked.
+    let motion = |m: usize, before: Option<SwappedPart>, after: Option<SwappedPart>| -> f64 {
         if !linked[m - 1] {
             return 0.0;
         }
         let (a, b) = (&present[m - 1], &present[m]);
-        // The left (or right) landmark of `pair` in a frame read swapped or not.
-        let side = |(l, r): (Landmark, Landmark), swapped: bool, left: bool| {
+        // The left (or right) landmark of the `i`-th pair in a frame read so.
+        let side = |i: usize, reading: Option<SwappedPart>, left: bool| {
+            let (l, r) = chain.pairs()[i];
+            let swapped = reading.is_some_and(|part| part.exchanges(i));
             if left != swapped { l } else { r }
         };
-        chain
-            .pairs()
-            .into_iter()
-            .flat_map(|pair| [(pair, true), (pair, false)])
-            .filter_map(|(pair, left)| {
-                let p = a.relative(&poses[a.at], side(pair, before, left))?;
-                let q = b.relative(&poses[b.at], side(pair, after, left))?;
+        (0..3)
+            .flat_map(|i| [(i, true), (i, false)])
+            .filter_map(|(i, left)| {
+                let p = a.relative(&poses[a.at], side(i, before, left))?;
+                let q = b.relative(&poses[b.at], side(i, after, left))?;
                 Some((q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2))
             })
             .sum()
     };
-    // Each step's four motions (as read or swapped, before and after), computed once.
-    let steps: Vec<[f64; 4]> = (1..n)
-        .map(|m| {
-            [(false, false), (false, true), (true, false), (true, true)]
-                .map(|(b, a)| motion(m, b, a))
-        })
+    // Each step's nine motions (each reading before and after), computed once.
+    let steps: Vec<[f64; 9]> = (1..n)
+        .map(|m| std::array::from_fn(|k| motion(m, READINGS[k / 3], READINGS[k % 3])))
         .collect();
-    let motion = |m: usize, before: bool, after: bool| {
-        steps[m - 1][2 * usize::from(before) + usize::from(after)]
+    let index = |reading: Option<SwappedPart>| match reading {
+        None => 0,
+        Some(SwappedPart::Whole) => 1,
+        Some(SwappedPart::Distal) => 2,
+    };
+    let motion = |m: usize, before: Option<SwappedPart>, after: Option<SwappedPart>| {
+        steps[m - 1][3 * index(before) + index(after)]
     };
     let mut steady: Vec<f64> = (1..n)
         .filter(|&m| linked[m - 1])
-        .map(|m| motion(m, false, false))
+        .map(|m| motion(m, None, None))
         .filter(|v| v.is_finite())
         .collect();
     steady.sort_by(f64::total_cmp);
     let median = steady.get(steady.len() / 2).copied().unwrap_or(0.0);
     let penalty = SIDE_SWAP_PENALTY.max(SIDE_SWAP_MOTION_FACTOR * median);
-    // Viterbi over the states of a frame: 0 as read, r in 1..=SIDE_SWAP_RUN_FRAMES the r-th
-    // frame of a run read swapped; a track starts as read or at a run's first frame.
-    const STATES: usize = SIDE_SWAP_RUN_FRAMES + 1;
+    // Viterbi over the states of a frame: 0 as read; r in 1..=SIDE_SWAP_RUN_FRAMES the r-th
+    // frame of a run with the whole chain swapped, SIDE_SWAP_RUN_FRAMES + r of a run with
+    // the limbs beyond the torso swapped; a track starts as read or at a run's first frame.
+    const RUN: usize = SIDE_SWAP_RUN_FRAMES;
+    const STATES: usize = 2 * RUN + 1;
+    let reading = |state: usize| match state {
+        0 => None,
+        s if s <= RUN => Some(SwappedPart::Whole),
+        _ => Some(SwappedPart::Distal),
+    };
+    let first_of_run = |state: usize| state == 1 || state == RUN + 1;
     let own = |state: usize| if state == 0 { 0.0 } else { penalty };
-    let mut cost: [f64; STATES] = std::array::from_fn(|state| match state {
-        0 | 1 => own(state),
-        _ => f64::INFINITY,
+    let mut cost: [f64; STATES] = std::array::from_fn(|state| {
+        if state == 0 || first_of_run(state) {
+            own(state)
+        } else {
+            f64::INFINITY
+        }
     });
     let mut back: Vec<[usize; STATES]> = Vec::with_capacity(n - 1);
     for m in 1..n {
@@ -237,11 +285,11 @@ fn swapped_frames(
             // frame), the run's frame before.
             let before = match state {
                 0 => 0..STATES,
-                1 => 0..1,
-                r => r - 1..r,
+                s if first_of_run(s) => 0..1,
+                s => s - 1..s,
             };
             for b in before {
-                let total = cost[b] + motion(m, b > 0, state > 0);
+                let total = cost[b] + motion(m, reading(b), reading(state));
                 if total < next[state] {
                     next[state] = total;
                     from[state] = b;
@@ -255,9 +303,9 @@ fn swapped_frames(
     let mut state = (0..STATES)
         .min_by(|&a, &b| cost[a].total_cmp(&cost[b]))
         .unwrap_or(0);
-    let mut path = vec![false; n];
+    let mut path = vec![None; n];
     for m in (0..n).rev() {
-        path[m] = state > 0;
+        path[m] = reading(state);
         if m > 0 {
             state = back[m - 1][state];
         }
@@ -267,21 +315,25 @@ fn swapped_frames(
     // also move the ends of a longer stretch read swapped to where the limbs cross (a walk's
     // legs, twice a stride), or follow noise at a track's end (a simulated user's runners at
     // 10 frames a second), and such a run is left as read.
-    let mends = |at: usize, into: bool| {
-        let jump = motion(at, false, false);
-        let join = motion(at, !into, into);
+    let mends = |at: usize, part: SwappedPart, into: bool| {
+        let jump = motion(at, None, None);
+        let join = if into {
+            motion(at, None, Some(part))
+        } else {
+            motion(at, Some(part), None)
+        };
         linked[at - 1] && jump > penalty && join <= SIDE_SWAP_JOIN_RATIO * jump
     };
     let mut swapped = Vec::new();
     let mut m = 0;
     while m < n {
-        if !path[m] {
+        let Some(part) = path[m] else {
             m += 1;
             continue;
-        }
-        let end = (m..n).find(|&e| !path[e]).unwrap_or(n);
-        if m > 0 && end < n && mends(m, true) && mends(end, false) {
-            swapped.extend(m..end);
+        };
+        let end = (m..n).find(|&e| path[e] != Some(part)).unwrap_or(n);
+        if m > 0 && end < n && mends(m, part, true) && mends(end, part, false) {
+            swapped.extend((m..end).map(|k| (k, part)));
         }
         m = end;
     }
@@ -322,12 +374,54 @@ mod tests {
             .collect()
     }
 
+    /// The frames of `chain` found swapped, whatever the part.
     fn found(frames: &[Option<u64>], poses: &[PartialPose2], chain: SideChain) -> Vec<usize> {
+        found_parts(frames, poses, chain)
+            .into_iter()
+            .map(|(m, _)| m)
+            .collect()
+    }
+
+    fn found_parts(
+        frames: &[Option<u64>],
+        poses: &[PartialPose2],
+        chain: SideChain,
+    ) -> Vec<(usize, SwappedPart)> {
         swapped_sides(frames, poses)
             .into_iter()
             .find(|(c, _)| *c == chain)
             .map(|(_, f)| f)
             .unwrap()
+    }
+
+    #[test]
+    fn shins_or_forearms_swapped_alone_are_swapped_back_alone() {
+        let clean = walk(60);
+        let numbers: Vec<Option<u64>> = (0..60).map(Some).collect();
+        let mut read = clean.clone();
+        // A detector's crossing shins (knees and ankles, the hips right) for two frames, and
+        // a forearm swap for one.
+        for k in [27, 28] {
+            read[k] = with_part_swapped(&read[k], SideChain::Legs, SwappedPart::Distal);
+        }
+        read[37] = with_part_swapped(&read[37], SideChain::Arms, SwappedPart::Distal);
+        // The whole legs of another frame.
+        read[10] = with_sides_swapped(&read[10], SideChain::Legs);
+        assert_eq!(
+            found_parts(&numbers, &read, SideChain::Legs),
+            vec![
+                (10, SwappedPart::Whole),
+                (27, SwappedPart::Distal),
+                (28, SwappedPart::Distal)
+            ]
+        );
+        assert_eq!(
+            found_parts(&numbers, &read, SideChain::Arms),
+            vec![(37, SwappedPart::Distal)]
+        );
+        let mut repaired = read.clone();
+        swap_sides_back(&numbers, &mut repaired);
+        assert_eq!(repaired, clean);
     }
 
     #[test]
