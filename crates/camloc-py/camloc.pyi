@@ -99,13 +99,14 @@ class Localizer:
         """Localizes the camera of every pose.
 
         points: (N, J, 2) or (N, J, 3) with scores, or one pose (J, 2) / (J, 3); J is the
-        layout's joint count; NaN coordinates mark a missing joint, and so do the masked
-        entries of a ``numpy.ma.MaskedArray``. Converted to float64.
+        layout's joint count; NaN coordinates mark a missing joint, and so does a masked
+        coordinate of a ``numpy.ma.MaskedArray`` (a masked score is 0). Converted to float64.
         A pose whose torso cannot be found (pelvis or neck missing, and a hip or shoulder to
         stand in for it) is localized with its missing landmarks filled in from the embedded
         pose basis seen by camera hypotheses (docs/conventions.md section 6); with fewer than
         8 landmarks present it gets an error.
-        scores: optional (N, J) (or (J,)) confidences in [0, 1] for 2-channel points.
+        scores: optional (N, J) (or (J,)) confidences in [0, 1] for 2-channel points (a
+          masked entry of a ``numpy.ma.MaskedArray`` is 0: the joint is missing).
         min_score: joints scoring below it are missing (finite, >= 0).
         sequence: the poses are one person's frames of a video, in time order (a row of NaN
           where the person was missed): the result also has each frame's camera and viewpoint
@@ -209,11 +210,12 @@ def reconstruct(
       every pose then has exactly these. Default: estimated from the 2D under a prior learned
       from motion capture (proportions only; the size is the prior's, people of about 1.7 m).
     person_height: the person's standing height in metres (soles to the top of the head,
-      0.5-2.6), as ``camloc reconstruct --person-height``: the estimated lengths keep their
-      proportions and each answer is scaled, with its camera, so that its legs (thigh plus
-      shin) are 0.491 of it (Winter's proportions); the image is unchanged. With
-      ``sequence``, ``world_points3d`` then walks real distances (with ``focal_px`` too).
-      Not with ``bone_lengths``, which give the size.
+      0.5-2.6; not a bool), as ``camloc reconstruct --person-height``: the estimated lengths
+      keep their proportions and each answer is scaled, with its camera, so that its legs
+      (thigh plus shin) are 0.491 of it (Winter's proportions for adults: a young child
+      comes out about 12% large, docs/cli.md); the image is unchanged. With ``sequence``,
+      ``world_points3d`` then walks real distances (with ``focal_px`` too). Not with
+      ``bone_lengths``, which give the size.
     focal_px, principal_point: the camera's focal length and principal point (pixels; the
       principal point, two numbers as a tuple, list or array, defaults to the centre of each
       pose's 2D bounding box): a final full-perspective refinement, and each pose localized
@@ -318,8 +320,8 @@ def smooth_viewpoints(
     within 3 of its own (7 frames; docs/cli.md, "Sequences").
 
     azimuth_deg, elevation_deg (N,): each frame's viewpoint, e.g. ``Localizer.localize``'s
-      ``azimuth_deg`` and ``elevation_deg`` of one person's rows in time order; NaN where the
-      frame has none.
+      ``azimuth_deg`` and ``elevation_deg`` of one person's rows in time order; NaN (or
+      masked, in a ``numpy.ma.MaskedArray``) where the frame has none.
     frames (N,): the frames' numbers (whole numbers from 0 to 2^53, increasing: ValueError
       otherwise; default: 0, 1, 2, ...), so that frames far apart in time are not averaged.
       All -1 (``read_keypoints``' frames of an input without frame numbers) is the default.
@@ -385,7 +387,8 @@ def to_bvh(
     3D packages (the writer of ``camloc reconstruct --bvh``; docs/cli.md).
 
     points3d: (N, 15, 3) frames (or one pose (15, 3)) in metres, z up, ``LANDMARKS`` order, as
-      ``reconstruct`` returns them; a frame that is all NaN (a pose that could not be
+      ``reconstruct`` returns them (masked entries of a ``numpy.ma.MaskedArray`` are NaN); a
+      frame that is all NaN (a pose that could not be
       reconstructed, or a video frame the person is missing from) is filled: between two
       complete frames it turns from one to the other (the pelvis along a straight line, each
       limb's direction along the great circle), before the first and after the last it holds

@@ -190,9 +190,22 @@ fn a_person_height_scales_every_answer_and_the_sequence_lengths() {
         "--person-height",
         "175",
     ]);
-    assert!(!cm.status.success());
+    assert_eq!(cm.status.code(), Some(2));
     let message = String::from_utf8_lossy(&cm.stderr);
     assert!(message.contains("175 cm is 1.75 m"), "{message}");
+    // A negative value is the option's (not another option), a tiny one is shown short.
+    for (value, shown) in [("-1.7", "-1.7 m is not"), ("1e-300", "1e-300 m is not")] {
+        let out = camloc(&[
+            "reconstruct",
+            "--input",
+            &example(),
+            "--person-height",
+            value,
+        ]);
+        assert_eq!(out.status.code(), Some(2));
+        let message = String::from_utf8_lossy(&out.stderr);
+        assert!(message.contains(shown), "{message}");
+    }
     let file = dir.file("lengths.json", &document(&LENGTHS));
     let both = camloc(&[
         "reconstruct",

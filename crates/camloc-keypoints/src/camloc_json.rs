@@ -67,7 +67,7 @@ fn document_poses<'a>(
     let wrong_version = |version: &&Json| !matches!(version, Json::Number(n) if n.as_u64() == Some(CAMLOC_FORMAT_VERSION));
     if let Some(version) = get(fields, "version").filter(wrong_version) {
         let found = match version {
-            Json::String(text) => format!("\"{text}\" (a string)"),
+            Json::String(text) => format!("\"{}\" (a string)", camloc_store::quoted(text)),
             other => json_text(other),
         };
         return Err(KeypointError::UnsupportedVersion {
@@ -120,8 +120,7 @@ impl TopLevel for Document {
             fields.push((key, value));
         }
         if is_bare_pose(&fields) {
-            let root = Json::Object(fields);
-            let record = pose(&root, "", 0, sink.file, sink.options);
+            let record = pose(Json::Object(fields), "", 0, sink.file, sink.options);
             return sink.send(record);
         }
         match document_poses(&fields, sink.file) {
@@ -138,28 +137,32 @@ impl ListReader for Poses {
     fn read<'de, A: SeqAccess<'de>>(self, seq: A, sink: &mut Sink) -> Result<(), A::Error> {
         let (file, options) = (sink.file, sink.options);
         emit::entries(seq, sink, |value, index| {
-            pose(&value, &index_path("poses", index), index, file, options).map(Some)
+            pose(value, &index_path("poses", index), index, file, options).map(Some)
         })
     }
 }
 
-/// The pose object `value` at JSON path `path`, the `index`-th of the input.
+/// The pose object `value` at JSON path `path`, the `index`-th of the input (taken: its id
+/// is moved into the record, not copied, whatever its length).
 fn pose(
-    value: &Json,
+    value: Json,
     path: &str,
     index: usize,
     file: &str,
     options: &ReadOptions,
 ) -> Result<KeypointRecord, KeypointError> {
-    let Json::Object(fields) = value else {
-        return Err(wrong_type(file, path, "a pose object", value));
+    let Json::Object(mut fields) = value else {
+        return Err(wrong_type(file, path, "a pose object", &value));
     };
-    check_keys(fields, &POSE_KEYS, file, path)?;
-    let id = match get(fields, "id") {
-        Some(Json::String(id)) => id.clone(),
-        Some(other) => return Err(wrong_type(file, &key_path(path, "id"), "a string", other)),
+    check_keys(&fields, &POSE_KEYS, file, path)?;
+    let id = match fields.iter().position(|(key, _)| key == "id") {
+        Some(at) => match fields.swap_remove(at).1 {
+            Json::String(id) => id,
+            other => return Err(wrong_type(file, &key_path(path, "id"), "a string", &other)),
+        },
         None => format!("pose-{index}"),
     };
+    let fields = &fields;
     let landmarks_path = key_path(path, "landmarks");
     let landmarks = match get(fields, "landmarks") {
         Some(Json::Object(landmarks)) => landmarks,
@@ -207,7 +210,7 @@ fn pose(
 /// A short rendering of a JSON value for error messages.
 fn json_text(value: &Json) -> String {
     match value {
-        Json::String(s) => s.clone(),
+        Json::String(s) => camloc_store::quoted(s),
         Json::Number(n) => n.to_string(),
         other => other.kind().to_owned(),
     }

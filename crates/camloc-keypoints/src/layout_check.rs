@@ -120,7 +120,7 @@ pub(crate) fn mismatch(layout: Layout, likely: Layout, spread: f64) -> String {
         ("first five joints", "under", H36M_HIPS_SPREAD_MIN)
     };
     format!(
-        "the {measured} spread over {spread:.2} of the other joints' size ({side} {limit}), as \
+        "the {measured} spread over {spread:.3} of the other joints' size ({side} {limit}), as \
          {likely}'s {} do, not {layout}'s {}: the layout is likely {likely}, not {layout} (if \
          the layout is right, joints 0-4 of this pose are misplaced: --min-score, Python min_score=, drops weak ones)",
         first_five(likely),
@@ -128,17 +128,26 @@ pub(crate) fn mismatch(layout: Layout, likely: Layout, spread: f64) -> String {
     )
 }
 
-/// The root mean square distance of `points` from their centroid.
+/// The root mean square distance of `points` from their centroid, computed on the distances
+/// over the largest one so that coordinates near the ends of f64's range (1e154 squared
+/// overflows, 1e-300 squared underflows) give the same spreads as any other scale.
 fn rms_radius(points: &[[f64; 2]]) -> f64 {
     let n = points.len() as f64;
     let mean = points
         .iter()
         .fold([0.0, 0.0], |m, p| [m[0] + p[0] / n, m[1] + p[1] / n]);
-    let squares: f64 = points
-        .iter()
-        .map(|p| (p[0] - mean[0]).powi(2) + (p[1] - mean[1]).powi(2))
+    let offsets = points.iter().map(|p| [p[0] - mean[0], p[1] - mean[1]]);
+    let largest = offsets
+        .clone()
+        .map(|[x, y]| x.abs().max(y.abs()))
+        .fold(0.0, f64::max);
+    if !(largest > 0.0 && largest.is_finite()) {
+        return largest;
+    }
+    let squares: f64 = offsets
+        .map(|[x, y]| (x / largest).powi(2) + (y / largest).powi(2))
         .sum();
-    (squares / n).sqrt()
+    largest * (squares / n).sqrt()
 }
 
 #[cfg(test)]
@@ -231,6 +240,12 @@ mod tests {
         squat[2] = Some([87.0, 150.0]);
         squat[3] = Some([87.0, 170.0]);
         assert_eq!(contradicted(Layout::H36m17, &squat, None), None);
+        // Any scale tells alike, up to the ends of f64's range.
+        for scale in [1e-300, 1e154, 1e300] {
+            let scaled = COCO_STANDING.map(|[x, y]| Some([x * scale, y * scale]));
+            let (likely, _) = contradicted(Layout::H36m17, &scaled, None).unwrap();
+            assert_eq!(likely, Layout::Coco17, "{scale}");
+        }
         // Too few joints: no answer; other layouts are not checked.
         let mut few = h36m;
         few[..2].fill(None);

@@ -100,3 +100,35 @@ fn an_archive_and_text_in_utf16_say_what_they_are() {
         assert!(e.to_string().contains(what), "{e}");
     }
 }
+
+/// A long text where a camloc JSON document names its format or version is quoted short in
+/// the message (it was copied whole: a megabyte of message), and a long id is the pose's.
+#[test]
+fn long_texts_of_a_camloc_document_are_quoted_short_and_a_long_id_is_kept() {
+    let long = "x".repeat(1_000_000);
+    for document in [
+        format!(r#"{{"format": "{long}", "version": 1, "poses": []}}"#),
+        format!(r#"{{"format": "camloc-keypoints", "version": "{long}", "poses": []}}"#),
+    ] {
+        let e = parse_keypoints(
+            &document,
+            "long.json",
+            Some(KeypointFormat::Camloc),
+            &ReadOptions::default(),
+        )
+        .unwrap_err();
+        let message = e.to_string();
+        assert!(message.len() < 1_000, "{}", message.len());
+    }
+    let pose = format!(
+        r#"{{"format": "camloc-keypoints", "version": 1, "poses": [{{"id": "{long}", "landmarks": {{"pelvis": [1, 2]}}}}]}}"#
+    );
+    let records = parse_keypoints(
+        &pose,
+        "id.json",
+        Some(KeypointFormat::Camloc),
+        &ReadOptions::default(),
+    )
+    .unwrap();
+    assert_eq!(records[0].id, long);
+}

@@ -23,6 +23,13 @@ pub(crate) type ArrayArg<'py> = PyArrayLikeDyn<'py, f64, AllowTypeChange>;
 /// array-like as [`ArrayArg`].
 pub(crate) struct Unmasked<'py>(ArrayArg<'py>);
 
+/// Points whose masked joints are missing and masked scores 0 ([`FILL_MASKED`]), as
+/// [`Unmasked`].
+pub(crate) struct UnmaskedPoints<'py>(ArrayArg<'py>);
+
+/// Scores whose masked entries are 0 (the joint not seen, hence missing), as [`Unmasked`].
+pub(crate) struct UnmaskedScores<'py>(ArrayArg<'py>);
+
 impl<'py> std::ops::Deref for Unmasked<'py> {
     type Target = ArrayArg<'py>;
 
@@ -31,19 +38,73 @@ impl<'py> std::ops::Deref for Unmasked<'py> {
     }
 }
 
+impl<'py> std::ops::Deref for UnmaskedPoints<'py> {
+    type Target = ArrayArg<'py>;
+
+    fn deref(&self) -> &ArrayArg<'py> {
+        &self.0
+    }
+}
+
+impl<'py> std::ops::Deref for UnmaskedScores<'py> {
+    type Target = ArrayArg<'py>;
+
+    fn deref(&self) -> &ArrayArg<'py> {
+        &self.0
+    }
+}
+
+/// How a masked array's masked entries are filled, by kind: `points` (`(..., 2)` or
+/// `(..., 3)` with scores: a joint with a masked coordinate is missing, NaN, and a masked
+/// score is 0), `scores` (0, not seen) or `numbers` (NaN).
+const FILL_MASKED: &std::ffi::CStr = cr#"
+import numpy as np
+
+def filled(array, kind):
+    mask = np.ma.getmaskarray(array)
+    out = np.ma.filled(np.ma.asarray(array, dtype=np.float64), 0.0 if kind == "scores" else np.nan)
+    if kind == "points" and out.ndim >= 1 and out.shape[-1] in (2, 3):
+        gone = mask[..., 0] | mask[..., 1]
+        out[..., 0][gone] = np.nan
+        out[..., 1][gone] = np.nan
+        if out.shape[-1] == 3:
+            out[..., 2][mask[..., 2]] = 0.0
+    return out
+"#;
+
+/// `ob` as an [`ArrayArg`], a masked array's masked entries filled as [`FILL_MASKED`] says for
+/// `kind` (`points`, `scores` or `numbers`).
+fn filled<'py>(ob: Borrowed<'_, 'py, PyAny>, kind: &str) -> PyResult<ArrayArg<'py>> {
+    let py = ob.py();
+    let ma = py.import("numpy.ma")?;
+    if !ob.is_instance(&ma.getattr("MaskedArray")?)? {
+        return ob.extract();
+    }
+    let helper = PyModule::from_code(py, FILL_MASKED, c"camloc_masked.py", c"camloc_masked")?;
+    helper.getattr("filled")?.call1((ob, kind))?.extract()
+}
+
 impl<'a, 'py> FromPyObject<'a, 'py> for Unmasked<'py> {
     type Error = PyErr;
 
     fn extract(ob: Borrowed<'a, 'py, PyAny>) -> PyResult<Self> {
-        let ma = ob.py().import("numpy.ma")?;
-        if !ob.is_instance(&ma.getattr("MaskedArray")?)? {
-            return Ok(Unmasked(ob.extract()?));
-        }
-        let kwargs = PyDict::new(ob.py());
-        kwargs.set_item("dtype", "float64")?;
-        let numbers = ma.call_method("asarray", (ob,), Some(&kwargs))?;
-        let filled = ma.call_method1("filled", (numbers, f64::NAN))?;
-        Ok(Unmasked(filled.extract()?))
+        filled(ob, "numbers").map(Unmasked)
+    }
+}
+
+impl<'a, 'py> FromPyObject<'a, 'py> for UnmaskedPoints<'py> {
+    type Error = PyErr;
+
+    fn extract(ob: Borrowed<'a, 'py, PyAny>) -> PyResult<Self> {
+        filled(ob, "points").map(UnmaskedPoints)
+    }
+}
+
+impl<'a, 'py> FromPyObject<'a, 'py> for UnmaskedScores<'py> {
+    type Error = PyErr;
+
+    fn extract(ob: Borrowed<'a, 'py, PyAny>) -> PyResult<Self> {
+        filled(ob, "scores").map(UnmaskedScores)
     }
 }
 

@@ -13,7 +13,7 @@ use pyo3::exceptions::PyOSError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::arrays::{ArrayArg, Output, c_order, ensure_memory};
+use crate::arrays::{ArrayArg, Output, Unmasked, c_order, ensure_memory};
 use crate::reconstruct::bone_lengths;
 use crate::value_error;
 
@@ -85,7 +85,7 @@ fn frames(points3d: &ArrayArg<'_>) -> PyResult<Vec<Option<Pose3>>> {
 #[pyfunction]
 #[pyo3(signature = (points3d, fps = 30.0, limb_lengths = None, unit_m = 0.01))]
 pub(crate) fn to_bvh(
-    points3d: ArrayArg<'_>,
+    points3d: Unmasked<'_>,
     fps: f64,
     limb_lengths: Option<Bound<'_, PyAny>>,
     unit_m: f64,

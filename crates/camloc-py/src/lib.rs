@@ -15,6 +15,7 @@ use pyo3::prelude::*;
 mod arrays;
 mod bvh;
 mod localize;
+mod number;
 mod pool;
 mod read;
 mod reconstruct;

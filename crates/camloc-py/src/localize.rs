@@ -12,7 +12,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use rayon::prelude::*;
 
-use crate::arrays::{Output, PoseBatch, Unmasked};
+use crate::arrays::{Output, PoseBatch, UnmaskedPoints, UnmaskedScores};
 use crate::smooth::smoothed_columns;
 use crate::warnings::{
     warn_if_every_pose_failed, warn_of_identity_jumps, warn_of_input_conventions,
@@ -180,9 +180,9 @@ impl Localizer {
     fn localize<'py>(
         &self,
         py: Python<'py>,
-        points: Unmasked<'py>,
+        points: UnmaskedPoints<'py>,
         layout: &str,
-        scores: Option<Unmasked<'py>>,
+        scores: Option<UnmaskedScores<'py>>,
         min_score: f64,
         sequence: bool,
         focal_px: Option<Bound<'py, PyAny>>,

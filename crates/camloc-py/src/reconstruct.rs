@@ -15,8 +15,9 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyMapping};
 use rayon::prelude::*;
 
-use crate::arrays::{Output, PoseBatch, Unmasked};
+use crate::arrays::{Output, PoseBatch, UnmaskedPoints, UnmaskedScores};
 use crate::localize::{Localizer, for_poses, parse_height};
+use crate::number::Number;
 use crate::warnings::{
     warn_if_every_pose_failed, warn_of_identity_jumps, warn_of_input_conventions,
     warn_of_swapped_sides,
@@ -190,10 +191,10 @@ pub(crate) fn bone_lengths_json_text(lengths: Bound<'_, PyAny>) -> PyResult<Stri
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn reconstruct<'py>(
     py: Python<'py>,
-    points: Unmasked<'py>,
+    points: UnmaskedPoints<'py>,
     layout: &str,
     camera: Option<&str>,
-    scores: Option<Unmasked<'py>>,
+    scores: Option<UnmaskedScores<'py>>,
     min_score: f64,
     localizer: Option<PyRef<'py, Localizer>>,
     basis: Option<PathBuf>,
@@ -203,7 +204,7 @@ pub(crate) fn reconstruct<'py>(
     sequence: bool,
     camera_height: Option<&str>,
     lifter: bool,
-    person_height: Option<f64>,
+    person_height: Option<Number>,
 ) -> PyResult<Bound<'py, PyDict>> {
     // The command line's default.
     let camera = camera.unwrap_or("hybrid");
@@ -283,7 +284,7 @@ pub(crate) fn reconstruct<'py>(
     if let Some(value) = &bone_lengths {
         reconstructor = reconstructor.with_bone_lengths(self::bone_lengths(value, "bone_lengths")?);
     }
-    if let Some(height_m) = person_height {
+    if let Some(Number(height_m)) = person_height {
         reconstructor = reconstructor
             .with_person_height(height_m)
             .map_err(|e| value_error(e.to_string()))?;

@@ -4,7 +4,7 @@
 use numpy::{PyArray1, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 
-use crate::arrays::{ArrayArg, c_order, ensure_memory};
+use crate::arrays::{Unmasked, c_order, ensure_memory};
 use crate::value_error;
 
 /// Azimuths and elevations, degrees, one per frame.
@@ -17,9 +17,9 @@ type Degrees<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>);
 #[pyo3(signature = (azimuth_deg, elevation_deg, frames = None))]
 pub(crate) fn smooth_viewpoints<'py>(
     py: Python<'py>,
-    azimuth_deg: ArrayArg<'py>,
-    elevation_deg: ArrayArg<'py>,
-    frames: Option<ArrayArg<'py>>,
+    azimuth_deg: Unmasked<'py>,
+    elevation_deg: Unmasked<'py>,
+    frames: Option<Unmasked<'py>>,
 ) -> PyResult<Degrees<'py>> {
     for (name, array) in [
         ("azimuth_deg", &azimuth_deg),

@@ -276,6 +276,9 @@ def test_a_person_height_scales_the_answer_as_the_command_line_does(cli):
         camloc.reconstruct(example_points(), person_height=175)
     with pytest.raises(ValueError, match="bone lengths given already give the size"):
         camloc.reconstruct(example_points(), person_height=1.7, bone_lengths=LENGTHS)
+    for flag in (True, np.True_):
+        with pytest.raises(TypeError, match="not a bool"):
+            camloc.reconstruct(example_points(), person_height=flag)
 
 
 @pytest.mark.parametrize(
@@ -1068,6 +1071,21 @@ def test_masked_entries_are_missing_landmarks():
     assert not np.array_equal(unmasked["probabilities"], want["probabilities"])
     rebuilt = camloc.reconstruct(masked)
     assert rebuilt["imputed"][0, 11] and rebuilt["imputed"].sum() == 1
+    # With a score channel, a masked joint (or one masked coordinate) is missing, and a
+    # masked score is 0; a masked scores array likewise.
+    scored = np.ma.masked_array(np.concatenate([points, np.ones(points.shape[:2] + (1,))], -1))
+    scored[0, 11, 0] = np.ma.masked
+    got = camloc.Localizer().localize(scored)
+    np.testing.assert_array_equal(got["probabilities"], want["probabilities"])
+    scores = np.ma.masked_array(np.ones(points.shape[:2]))
+    scores[0, 11] = np.ma.masked
+    got = camloc.Localizer().localize(points, scores=scores)
+    np.testing.assert_array_equal(got["probabilities"], want["probabilities"])
+    # Masked viewpoints are none, as NaN ones.
+    azimuth = np.ma.masked_array([10.0, 20.0, 300.0, 40.0], mask=[0, 0, 1, 0])
+    smoothed, _ = camloc.smooth_viewpoints(azimuth, np.full(4, 5.0))
+    nan_smoothed, _ = camloc.smooth_viewpoints([10.0, 20.0, np.nan, 40.0], np.full(4, 5.0))
+    np.testing.assert_array_equal(smoothed, nan_smoothed)
     with pytest.warns(UserWarning):
         empty = camloc.reconstruct(np.full((5, 15, 2), np.nan), sequence=True)
     assert np.isnan(empty["person_bone_lengths"]).all()

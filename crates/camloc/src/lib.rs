@@ -90,7 +90,7 @@ pub use identity::{
 };
 pub use reconstruction::{
     PoseReconstruction, PoseReconstructor, PoseSequenceReconstruction, SEQUENCE_BREAK_FRAMES,
-    default_basis, evaluation_samples, hybrid_camera,
+    default_basis, evaluation_samples, hybrid_camera, person_height_problem,
 };
 pub use select::{DescriptorCv, cross_validate};
 pub use sequence::{

@@ -51,6 +51,30 @@ pub fn default_basis() -> Result<PoseBasis, CamlocError> {
     )?)
 }
 
+/// Why `height_m` is not a person's standing height in metres
+/// ([`MIN_HEIGHT_M`]..=[`MAX_HEIGHT_M`]), for [`PoseReconstructor::with_person_height`] and the
+/// command line's `--person-height`; `None` when it is one. A value that would be one in
+/// centimetres is named in metres.
+pub fn person_height_problem(height_m: f64) -> Option<String> {
+    if (MIN_HEIGHT_M..=MAX_HEIGHT_M).contains(&height_m) {
+        return None;
+    }
+    let shown = if height_m != 0.0 && (height_m.abs() >= 1e6 || height_m.abs() < 1e-3) {
+        format!("{height_m:e}")
+    } else {
+        height_m.to_string()
+    };
+    let hint = if (100.0 * MIN_HEIGHT_M..=100.0 * MAX_HEIGHT_M).contains(&height_m) {
+        format!(": {height_m} cm is {} m", height_m / 100.0)
+    } else {
+        String::new()
+    };
+    Some(format!(
+        "{shown} m is not a person's standing height (in metres, {MIN_HEIGHT_M} to \
+         {MAX_HEIGHT_M}{hint})"
+    ))
+}
+
 /// 3D reconstruction of 2D poses: a pose basis, the pursuit settings, the camera mode, and
 /// (for the `classified` and `hybrid` modes) the camera localizer that classifies the camera.
 ///
@@ -145,18 +169,10 @@ impl PoseReconstructor {
     /// [`MIN_HEIGHT_M`] to [`MAX_HEIGHT_M`], or when bone lengths were given (they give the
     /// size already).
     pub fn with_person_height(mut self, height_m: f64) -> Result<PoseReconstructor, CamlocError> {
-        if !(MIN_HEIGHT_M..=MAX_HEIGHT_M).contains(&height_m) {
-            let hint = if (100.0 * MIN_HEIGHT_M..=100.0 * MAX_HEIGHT_M).contains(&height_m) {
-                format!(": {height_m} cm is {} m", height_m / 100.0)
-            } else {
-                String::new()
-            };
+        if let Some(detail) = person_height_problem(height_m) {
             return Err(CamlocError::InvalidOption {
                 name: "person height",
-                detail: format!(
-                    "{height_m} m is not a person's standing height (in metres, {MIN_HEIGHT_M} \
-                     to {MAX_HEIGHT_M}{hint})"
-                ),
+                detail,
             });
         }
         if self.given.lengths.is_some() {

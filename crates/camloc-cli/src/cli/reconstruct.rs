@@ -113,9 +113,12 @@ pub struct Args {
     /// lengths keep their proportions and are scaled, with each pose and its camera, so
     /// that the legs (thigh plus shin) are 0.491 of it (Winter's proportions); the image is
     /// unchanged. With --sequence, and in the BVH, walks and jumps then have real distances
-    /// (with --focal-px too). Without it the size is the prior's (legs of about 1.7 m
-    /// people): one camera cannot tell a child near it from an adult farther away.
-    #[arg(long, value_name = "METRES", conflicts_with = "bone_lengths")]
+    /// (with --focal-px too). Every person of the input gets this height; the rule is an
+    /// adult's (a young child comes out about 12% large: docs/cli.md). Without it the size
+    /// is the prior's (legs of about 1.7 m people): one camera cannot tell a child near it
+    /// from an adult farther away.
+    #[arg(long, value_name = "METRES", conflicts_with = "bone_lengths",
+          value_parser = parse_person_height, allow_hyphen_values = true)]
     pub person_height: Option<f64>,
     #[command(flatten)]
     pub intrinsics: IntrinsicsArgs,
@@ -456,4 +459,16 @@ pub fn run_evaluation(args: &EvalArgs, out: &mut Out) -> Result<ExitCode, CliErr
     }
     out.flush()?;
     Ok(ExitCode::SUCCESS)
+}
+
+/// `--person-height`: a standing height in metres ([`camloc::person_height_problem`]).
+fn parse_person_height(text: &str) -> Result<f64, String> {
+    let height_m: f64 = text
+        .trim()
+        .parse()
+        .map_err(|_| format!("not a number of metres: {text:?}"))?;
+    match camloc::person_height_problem(height_m) {
+        Some(problem) => Err(problem),
+        None => Ok(height_m),
+    }
 }
