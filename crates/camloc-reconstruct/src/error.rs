@@ -112,6 +112,13 @@ pub enum ReconstructError {
         /// The focal length given (pixels).
         focal: f64,
     },
+    /// The camera fitted to a 2D pose sees some of its landmarks behind it: a landmark lies
+    /// far from where the others put it (a detection misplaced by most of the image).
+    #[error(
+        "the camera fitted to the 2D pose has landmarks behind it: a landmark is likely \
+         misplaced far from the others (give it as missing)"
+    )]
+    BehindFittedCamera,
     /// The 2D input cannot be reconstructed (zero torso, all points coinciding).
     #[error("2D pose is degenerate: {0}")]
     DegenerateInput(&'static str),

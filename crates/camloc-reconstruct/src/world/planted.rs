@@ -41,6 +41,16 @@ const STILL_SHARE: f64 = 0.005;
 /// or in the image (where a depth the scale got wrong does not move it): its frames jitter
 /// by a centimetre or more with 2 px of detector noise.
 const KEPT_SHARE: f64 = 0.005;
+/// A foot kept in place on average stays so only while its averaged place stays within this
+/// share of the legs' length of where it was when the stretch began (in the image where
+/// known, else in the world: 2 cm for an adult), and
+/// only for stretches of at least [`MIN_KEPT_STEPS`] steps: a foot moving slowly (a slow
+/// walk, a walk filmed at 120 frames a second) passes the step bound frame by frame, and
+/// locked at its stretch's mean it had jumped by 17 cm at the stretch's end (a simulated
+/// user's quarter-speed walk).
+const KEPT_SPAN_SHARE: f64 = 0.025;
+/// See [`KEPT_SPAN_SHARE`]: twice [`COARSE_FRAMES`] and one.
+const MIN_KEPT_STEPS: usize = 2 * COARSE_FRAMES + 1;
 /// A foot still in the image is kept in place when its averaged place in the world moves by
 /// less than this many times the [`KEPT_SHARE`] step (a depth the scale got wrong moves it
 /// by centimetres; a foot running towards the camera, still in the image, by a decimetre).
@@ -204,26 +214,45 @@ fn pelvis_shifts(
         })
         .collect();
     leg_lengths.sort_by(f64::total_cmp);
-    let kept_step = KEPT_SHARE * leg_lengths[leg_lengths.len() / 2];
-    let kept_in_image = still_in_image(images, n);
+    let leg = leg_lengths[leg_lengths.len() / 2];
+    let kept_step = KEPT_SHARE * leg;
+    let image = ImageAnkles::of(images, n);
     // Per step between two frames present: the weight (1 / m^2) of the planted foot and the
     // pelvis's step it makes.
     let mut weight = vec![0.0; n + 1];
     let mut step = vec![[0.0; 3]; n + 1];
     let mut planted = PlantedAnkles::default();
+    // Per step, the feet that keep their place on average while the person stands, sits or
+    // kneels still: its frames' jitter (a centimetre or more a frame from 2 px of noise) is
+    // larger than a still foot's step test allows.
+    let mut kept: Vec<[bool; 2]> = (0..n)
+        .map(|t| {
+            std::array::from_fn(|f| {
+                let present = t > 0 && coarse[t].is_some() && coarse[t - 1].is_some();
+                let step = || distance(smooth_ankle(t, f), smooth_ankle(t - 1, f));
+                let still_in_image = || image.apart(t - 1, t, f).is_some_and(|d| d <= KEPT_SHARE);
+                present
+                    && (step() <= kept_step
+                        || (still_in_image() && step() <= IMAGE_KEPT_SLACK * kept_step))
+            })
+        })
+        .collect();
+    for f in 0..2 {
+        // In the image where known (the depth of a still foot's frames jitters by
+        // centimetres), else in the world.
+        let left_span = |origin: usize, t: usize| match image.apart(origin, t, f) {
+            Some(d) => d > KEPT_SPAN_SHARE,
+            None => distance(smooth_ankle(origin, f), smooth_ankle(t, f)) > KEPT_SPAN_SHARE * leg,
+        };
+        keep_still_stretches(&mut kept, f, left_span);
+    }
     for t in 1..n {
         let (Some(now), Some(before)) = (coarse[t], coarse[t - 1]) else {
             continue;
         };
         let moved: [f64; 2] =
             std::array::from_fn(|f| distance(coarse_ankle(t, f), coarse_ankle(t - 1, f)));
-        // A foot that keeps its place on average while the person stands, sits or kneels
-        // still: its frames' jitter (a centimetre or more a frame from 2 px of noise) is
-        // larger than a still foot's step test allows.
-        let kept: [bool; 2] = std::array::from_fn(|f| {
-            let step = distance(smooth_ankle(t, f), smooth_ankle(t - 1, f));
-            step <= kept_step || (kept_in_image[t][f] && step <= IMAGE_KEPT_SLACK * kept_step)
-        });
+        let kept = kept[t];
         let on_floor = |f: usize| {
             let height = coarse_ankle(t, f)[2].max(coarse_ankle(t - 1, f)[2]) - floor[t];
             (-(height - ON_FLOOR_M).max(0.0) / LIFTED_M).exp()
@@ -290,47 +319,91 @@ fn pelvis_shifts(
     (shifts, planted)
 }
 
-/// Per step between frame `t - 1` and `t` (index `t`; `n` entries), whether each ankle's
-/// image position (`images`), averaged over the frames within [`COARSE_FRAMES`] on each side
-/// where it is known, moves by less than [`KEPT_SHARE`] of the legs' median length in the
-/// image (hip to knee to ankle, the left leg).
-fn still_in_image(images: &[Option<[[f64; 2]; NUM_LANDMARKS]>], n: usize) -> Vec<[bool; 2]> {
-    let image = |t: usize| images.get(t).copied().flatten();
-    let length = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).hypot(a[1] - b[1]);
-    let mut legs: Vec<f64> = (0..n)
-        .filter_map(image)
-        .map(|p| {
-            let [hip, knee, ankle] =
-                [Landmark::LeftHip, Landmark::LeftKnee, Landmark::LeftAnkle].map(|l| p[l.index()]);
-            length(hip, knee) + length(knee, ankle)
-        })
-        .filter(|l| l.is_finite())
-        .collect();
-    let mut kept = vec![[false; 2]; n];
-    if legs.is_empty() {
-        return kept;
+/// Clears `kept[t][foot]` (per step, whether the foot keeps its place) outside stretches of
+/// consecutive kept steps in which the foot stays near where the stretch began
+/// (`left_span(start, t)`: whether step `t` has left the place of step `start`) and which last
+/// [`MIN_KEPT_STEPS`] steps or more: each run of kept steps is cut where the foot leaves, and
+/// the pieces too short are cleared.
+fn keep_still_stretches(
+    kept: &mut [[bool; 2]],
+    foot: usize,
+    left_span: impl Fn(usize, usize) -> bool,
+) {
+    let n = kept.len();
+    let mut t = 0;
+    while t < n {
+        if !kept[t][foot] {
+            t += 1;
+            continue;
+        }
+        let start = t;
+        let mut end = t + 1;
+        while end < n && kept[end][foot] && !left_span(start, end) {
+            end += 1;
+        }
+        if end - start < MIN_KEPT_STEPS {
+            for k in &mut kept[start..end] {
+                k[foot] = false;
+            }
+        }
+        // The step that left the place starts the next stretch.
+        t = end;
     }
-    legs.sort_by(f64::total_cmp);
-    let bound = KEPT_SHARE * legs[legs.len() / 2];
-    let ankles = [Landmark::LeftAnkle, Landmark::RightAnkle];
-    let smooth: Vec<Option<[[f64; 2]; 2]>> = (0..n)
-        .map(|t| {
-            image(t)?;
-            let half = COARSE_FRAMES.min(t).min(n - 1 - t);
-            let near: Vec<[[f64; 2]; NUM_LANDMARKS]> =
-                (t - half..=t + half).filter_map(image).collect();
-            let m = near.len() as f64;
-            Some(ankles.map(|a| {
-                std::array::from_fn(|k| near.iter().map(|p| p[a.index()][k]).sum::<f64>() / m)
-            }))
-        })
-        .collect();
-    for t in 1..n {
-        if let (Some(now), Some(before)) = (smooth[t], smooth[t - 1]) {
-            kept[t] = std::array::from_fn(|f| length(now[f], before[f]) <= bound);
+}
+
+/// The ankles' image positions (each frame's reprojection) averaged over the frames within
+/// [`COARSE_FRAMES`] on each side where they are known, and the legs' median length in the
+/// image (hip to knee to ankle, the left leg): where a depth the scale got wrong does not
+/// move a still foot.
+struct ImageAnkles {
+    /// Per frame, the averaged left and right ankle, image units.
+    smooth: Vec<Option<[[f64; 2]; 2]>>,
+    /// The legs' median length, image units (0 without images).
+    legs: f64,
+}
+
+impl ImageAnkles {
+    /// The averaged ankles of `images` (`n` frames; `None` where unknown).
+    fn of(images: &[Option<[[f64; 2]; NUM_LANDMARKS]>], n: usize) -> ImageAnkles {
+        let image = |t: usize| images.get(t).copied().flatten();
+        let length = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).hypot(a[1] - b[1]);
+        let mut legs: Vec<f64> = (0..n)
+            .filter_map(image)
+            .map(|p| {
+                let [hip, knee, ankle] =
+                    [Landmark::LeftHip, Landmark::LeftKnee, Landmark::LeftAnkle]
+                        .map(|l| p[l.index()]);
+                length(hip, knee) + length(knee, ankle)
+            })
+            .filter(|l| l.is_finite())
+            .collect();
+        legs.sort_by(f64::total_cmp);
+        let ankles = [Landmark::LeftAnkle, Landmark::RightAnkle];
+        let smooth = (0..n)
+            .map(|t| {
+                image(t)?;
+                let half = COARSE_FRAMES.min(t).min(n - 1 - t);
+                let near: Vec<[[f64; 2]; NUM_LANDMARKS]> =
+                    (t - half..=t + half).filter_map(image).collect();
+                let m = near.len() as f64;
+                Some(ankles.map(|a| {
+                    std::array::from_fn(|k| near.iter().map(|p| p[a.index()][k]).sum::<f64>() / m)
+                }))
+            })
+            .collect();
+        ImageAnkles {
+            smooth,
+            legs: legs.get(legs.len() / 2).copied().unwrap_or(0.0),
         }
     }
-    kept
+
+    /// How far `foot`'s averaged image place at frame `b` is from frame `a`'s, in legs'
+    /// lengths; `None` where either is unknown.
+    fn apart(&self, a: usize, b: usize, foot: usize) -> Option<f64> {
+        let (p, q) = (self.smooth.get(a).copied()??, self.smooth.get(b).copied()??);
+        let d = (p[foot][0] - q[foot][0]).hypot(p[foot][1] - q[foot][1]) / self.legs;
+        d.is_finite().then_some(d)
+    }
 }
 
 /// The solution of the symmetric positive definite system whose row `t` has the entries
@@ -444,6 +517,30 @@ mod tests {
             let planted = contacts.iter().filter(|(_, a)| *a == ankle).count();
             assert!(planted > 80, "{ankle:?}: {planted} of 89 steps");
         }
+    }
+
+    #[test]
+    fn a_foot_moving_slowly_is_not_kept_in_place() {
+        // 90 frames: the left foot still, the right one sliding 0.3 cm a frame (under the
+        // still step's bound frame by frame, 27 cm in all), legs 0.85 m.
+        let mut placed: Vec<Option<Pose3>> = (0..90)
+            .map(|t| {
+                let mut points = [[0.0, 0.0, 0.9]; NUM_LANDMARKS];
+                points[Landmark::LeftAnkle.index()] = [0.0, 0.1, 0.05];
+                points[Landmark::RightAnkle.index()] = [0.003 * t as f64, -0.1, 0.05];
+                points[Landmark::LeftKnee.index()] = [0.0, 0.1, 0.475];
+                points[Landmark::RightKnee.index()] = [0.0015 * t as f64, -0.1, 0.475];
+                Some(Pose3 { points })
+            })
+            .collect();
+        let planted = plant_feet(&mut placed, &[]).all;
+        let count = |ankle| planted.iter().filter(|(_, a)| *a == ankle).count();
+        assert!(
+            count(Landmark::LeftAnkle) > 80,
+            "{}",
+            count(Landmark::LeftAnkle)
+        );
+        assert_eq!(count(Landmark::RightAnkle), 0);
     }
 
     #[test]

@@ -130,6 +130,14 @@ impl PoseReconstructor {
                 } = p?;
                 let mut reconstruction = solved
                     .unwrap_or(Err(ReconstructError::Numerical("no hypothesis was solved")))
+                    .and_then(|r| {
+                        // As a single pose's: landmarks behind the fitted camera.
+                        if r.projection_error.is_finite() {
+                            Ok(r)
+                        } else {
+                            Err(ReconstructError::BehindFittedCamera)
+                        }
+                    })
                     .map_err(pose_error)?;
                 if let Some((azimuth, elevation)) = viewpoint {
                     reconstruction.level_to_viewpoint(azimuth, elevation);
