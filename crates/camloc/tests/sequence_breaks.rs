@@ -2,35 +2,17 @@
 //! on each side are solved as runs of their own, with the bone lengths of all frames.
 
 mod common;
+#[path = "common/moving.rs"]
+mod moving;
 
-use camloc::skeleton::Pose2;
-use camloc::{
-    CameraLocalizer, DepthLifter, ModeKind, PartialPose2, Pose3, PoseReconstructor, default_basis,
-};
+use camloc::{PartialPose2, Pose3, PoseReconstructor};
 
-/// Ten frames: the example's first pose, moved and bent a little more in each.
 fn frames() -> Vec<PartialPose2> {
-    let pose = common::example_records()[0].pose.complete().unwrap();
-    (0..10)
-        .map(|t| {
-            let f = t as f64;
-            let mut points = pose.points;
-            for (j, p) in points.iter_mut().enumerate() {
-                p[0] += 4.0 * f + 3.0 * (0.7 * f + j as f64).sin();
-                p[1] += 2.0 * (1.3 * f + 2.0 * j as f64).cos();
-            }
-            PartialPose2::from(Pose2::new(points))
-        })
-        .collect()
+    moving::frames(10)
 }
 
 fn reconstructor() -> PoseReconstructor {
-    PoseReconstructor::new(default_basis().unwrap())
-        .unwrap()
-        .with_localizer(CameraLocalizer::default_model().unwrap())
-        .with_lifter(DepthLifter::default_lifter().unwrap())
-        .with_mode(ModeKind::Hybrid)
-        .unwrap()
+    moving::hybrid_reconstructor()
 }
 
 fn poses(result: &camloc::PoseSequenceReconstruction) -> Vec<Pose3> {
