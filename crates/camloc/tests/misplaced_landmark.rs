@@ -3,6 +3,8 @@
 //! detector glitch had been answered with the pelvis 0.4 m from the camera, exit 0).
 
 mod common;
+#[path = "common/moving.rs"]
+mod moving;
 
 use camloc::reconstruct::{Intrinsics, ReconstructError};
 use camloc::skeleton::Pose2;
@@ -50,5 +52,47 @@ fn a_landmark_far_off_under_a_known_camera_fails_the_pose_with_a_reason() {
             }) => {}
             other => panic!("{wrist:?}: {other:?}"),
         }
+    }
+}
+
+#[test]
+fn a_frame_with_a_landmark_far_off_is_left_out_of_the_sequence() {
+    // Eight frames placed about 190 px tall near (840, 570), a known camera.
+    let frames: Vec<PartialPose2> = moving::frames(8)
+        .into_iter()
+        .map(|f| {
+            let points = f.complete().unwrap().points;
+            PartialPose2::from(Pose2::new(
+                points.map(|p| [(p[0] - 300.0) * 0.7 + 840.0, (p[1] - 270.0) * 0.7 + 570.0]),
+            ))
+        })
+        .collect();
+    let reconstructor = moving::hybrid_reconstructor()
+        .with_intrinsics(Intrinsics {
+            focal_px: 1000.0,
+            principal_point: Some([960.0, 540.0]),
+        })
+        .unwrap();
+    let mut glitch = frames.clone();
+    glitch[4].points[14] = Some([1400.0, 900.0]);
+    let mut missing = frames.clone();
+    missing[4] = PartialPose2::empty();
+    let with_glitch = reconstructor.reconstruct_sequence(&glitch).unwrap();
+    let without = reconstructor.reconstruct_sequence(&missing).unwrap();
+    assert!(matches!(
+        &with_glitch.frames[4],
+        Err(CamlocError::Reconstruct {
+            source: ReconstructError::BehindFittedCamera,
+            ..
+        })
+    ));
+    // The others are solved as if the frame were missing.
+    assert_eq!(with_glitch.lengths, without.lengths);
+    for t in (0..8).filter(|&t| t != 4) {
+        let (a, b) = (&with_glitch.frames[t], &without.frames[t]);
+        assert_eq!(
+            a.as_ref().unwrap().reconstruction.pose,
+            b.as_ref().unwrap().reconstruction.pose
+        );
     }
 }

@@ -2,13 +2,23 @@
 //! the depths' consistency and the smoothness tie a frame only to frames of its own run, the
 //! bone lengths are shared by all.
 
-use camloc_reconstruct::{CameraMode, Given, LiftedDepths, ReconstructError, Reconstruction};
+use camloc_reconstruct::{
+    BoneLengths, CameraMode, Given, LiftedDepths, ReconstructError, Reconstruction,
+};
 use camloc_skeleton::{PartialPose2, Pose2};
 
 use super::{
     PoseReconstruction, PoseReconstructor, PoseSequenceReconstruction, Prepared, pose_error,
 };
 use crate::{CamlocError, VIEWPOINT_HALF_WINDOW, Viewpoint, smooth_viewpoints};
+
+/// The runs of one person's frames (positions), each frame's solve (`None` where none) and
+/// the person's lengths.
+type SolvedRuns = (
+    Vec<Vec<usize>>,
+    Vec<Option<Result<Reconstruction, ReconstructError>>>,
+    BoneLengths,
+);
 
 /// The fewest frames in a row, missing or not reconstructed, that split one person's frames
 /// into runs solved apart (fewer: the frames on each side stay neighbours, as they nearly
@@ -40,8 +50,88 @@ impl PoseReconstructor {
         left_out: &[bool],
     ) -> Result<PoseSequenceReconstruction, CamlocError> {
         let left = |t: usize| left_out.get(t).copied().unwrap_or(false);
-        let prepared: Vec<Result<Prepared, CamlocError>> =
+        let mut prepared: Vec<Result<Prepared, CamlocError>> =
             poses.iter().map(|p| self.prepare(p)).collect();
+        let (mut runs, mut solved, mut lengths) =
+            self.solve_runs(poses, &prepared, breaks, left_out)?;
+        // A frame whose fitted camera sees landmarks behind it (a landmark misplaced far off)
+        // fails, and the others are solved again without it: its misplaced landmark had
+        // pulled the person's lengths and smoothness (a simulated user's wrist 1000 px off in
+        // one frame of 120 moved every other frame by 8 cm).
+        let behind: Vec<usize> = (0..poses.len())
+            .filter(|&t| matches!(&solved[t], Some(Ok(r)) if !r.projection_error.is_finite()))
+            .collect();
+        if !behind.is_empty() {
+            for &t in &behind {
+                prepared[t] = Err(pose_error(ReconstructError::BehindFittedCamera));
+            }
+            (runs, solved, lengths) = self.solve_runs(poses, &prepared, breaks, left_out)?;
+        }
+        // A height given scales the estimated lengths and every frame solved with them alike
+        // (a left-out frame, solved on its own, is scaled to the height in
+        // `reconstruct_prepared`).
+        let size = match self.height_m {
+            Some(height_m) => height_m / lengths.standing_height_m(),
+            None => 1.0,
+        };
+        let lengths = lengths.scaled(size).map_err(|e| CamlocError::Reconstruct {
+            context: "sequence".into(),
+            source: e.into(),
+        })?;
+        let viewpoints = self.levelling_viewpoints(&prepared, &runs);
+        let frames = prepared
+            .into_iter()
+            .zip(solved)
+            .zip(viewpoints)
+            .enumerate()
+            .map(|(t, ((p, solved), viewpoint))| {
+                if left(t) {
+                    return self.reconstruct_prepared(&poses[t], p?, 1);
+                }
+                let Prepared {
+                    localization,
+                    imputed,
+                    ..
+                } = p?;
+                let mut reconstruction = solved
+                    .unwrap_or(Err(ReconstructError::Numerical("no hypothesis was solved")))
+                    .and_then(|r| {
+                        // As a single pose's: landmarks behind the fitted camera.
+                        if r.projection_error.is_finite() {
+                            Ok(r)
+                        } else {
+                            Err(ReconstructError::BehindFittedCamera)
+                        }
+                    })
+                    .map_err(pose_error)?;
+                if let Some((azimuth, elevation)) = viewpoint {
+                    reconstruction.level_to_viewpoint(azimuth, elevation);
+                }
+                if self.height_m.is_some() {
+                    reconstruction.resize(size);
+                }
+                Ok(PoseReconstruction {
+                    reconstruction,
+                    alternatives: Vec::new(),
+                    localization,
+                    imputed,
+                })
+            })
+            .collect();
+        Ok(PoseSequenceReconstruction { frames, lengths })
+    }
+
+    /// The runs of `prepared` frames (split at `breaks`, at left-out frames and at frames not
+    /// prepared, as [`reconstruct_sequence_with_breaks`](Self::reconstruct_sequence_with_breaks)
+    /// says), each frame's solve (`None` where none) and the person's lengths.
+    fn solve_runs(
+        &self,
+        poses: &[PartialPose2],
+        prepared: &[Result<Prepared, CamlocError>],
+        breaks: &[bool],
+        left_out: &[bool],
+    ) -> Result<SolvedRuns, CamlocError> {
+        let left = |t: usize| left_out.get(t).copied().unwrap_or(false);
         // Runs of frames that were prepared, split at gaps and at as many frames in a row
         // that were not.
         let mut runs: Vec<Vec<usize>> = Vec::new();
@@ -102,58 +192,7 @@ impl PoseReconstructor {
             }
             lengths
         };
-        // A height given scales the estimated lengths and every frame solved with them alike
-        // (a left-out frame, solved on its own, is scaled to the height in
-        // `reconstruct_prepared`).
-        let size = match self.height_m {
-            Some(height_m) => height_m / lengths.standing_height_m(),
-            None => 1.0,
-        };
-        let lengths = lengths.scaled(size).map_err(|e| CamlocError::Reconstruct {
-            context: "sequence".into(),
-            source: e.into(),
-        })?;
-        let viewpoints = self.levelling_viewpoints(&prepared, &runs);
-        let frames = prepared
-            .into_iter()
-            .zip(solved)
-            .zip(viewpoints)
-            .enumerate()
-            .map(|(t, ((p, solved), viewpoint))| {
-                if left(t) {
-                    return self.reconstruct_prepared(&poses[t], p?, 1);
-                }
-                let Prepared {
-                    localization,
-                    imputed,
-                    ..
-                } = p?;
-                let mut reconstruction = solved
-                    .unwrap_or(Err(ReconstructError::Numerical("no hypothesis was solved")))
-                    .and_then(|r| {
-                        // As a single pose's: landmarks behind the fitted camera.
-                        if r.projection_error.is_finite() {
-                            Ok(r)
-                        } else {
-                            Err(ReconstructError::BehindFittedCamera)
-                        }
-                    })
-                    .map_err(pose_error)?;
-                if let Some((azimuth, elevation)) = viewpoint {
-                    reconstruction.level_to_viewpoint(azimuth, elevation);
-                }
-                if self.height_m.is_some() {
-                    reconstruction.resize(size);
-                }
-                Ok(PoseReconstruction {
-                    reconstruction,
-                    alternatives: Vec::new(),
-                    localization,
-                    imputed,
-                })
-            })
-            .collect();
-        Ok(PoseSequenceReconstruction { frames, lengths })
+        Ok((runs, solved, lengths))
     }
 
     /// Per frame, the viewpoint its reconstruction is levelled to (as a single pose's,
