@@ -41,6 +41,7 @@ mod defaults;
 mod dropout;
 mod error;
 mod evaluate;
+mod far_off;
 mod filled;
 mod height_shares;
 mod identity;
@@ -79,6 +80,7 @@ pub use camloc_skeleton::{Landmark, PartialPose2, Pose2, Pose3};
 pub use conventions::InputConventions;
 pub use error::CamlocError;
 pub use evaluate::{CameraAccuracy, Evaluation, LevelAccuracy, evaluate};
+pub use far_off::{FAR_OFF_RATIO, without_far_off_landmarks};
 pub use filled::MIN_PRESENT_FOR_FILL;
 pub use height_shares::{
     HEIGHT_SHARE_MAX_POSES, HEIGHT_SHARE_MIN_POSES, HEIGHT_SHARE_PSEUDO_VIEWS, HeightEstimate,

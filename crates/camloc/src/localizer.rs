@@ -268,13 +268,17 @@ impl CameraLocalizer {
     }
 
     /// Localizes the camera of a 2D pose with possibly missing landmarks; values of the
-    /// descriptor that depend on a missing landmark are replaced by their training mean.
+    /// descriptor that depend on a missing landmark are replaced by their training mean. A
+    /// landmark far off the others ([`crate::without_far_off_landmarks`]) is missing too.
     ///
     /// # Errors
     /// [`CamlocError::Feature`] when the pelvis or neck is missing, for non-finite landmarks
     /// or a degenerate torso.
     pub fn localize_partial(&self, pose: &PartialPose2) -> Result<Localization, CamlocError> {
-        self.with_pose_rows(
+        // A landmark far off the others is read as missing (and so listed).
+        let (cleaned, _) = crate::without_far_off_landmarks(pose);
+        let pose = &cleaned;
+        self.with_clean_pose_rows(
             pose,
             || "input pose".into(),
             |rows| {
@@ -309,6 +313,19 @@ impl CameraLocalizer {
     /// (undefined values imputed) and the classifier's features (expanded if the model has
     /// an expansion). A descriptor error is given `context()` (which names the pose).
     pub(crate) fn with_pose_rows<R>(
+        &self,
+        pose: &PartialPose2,
+        context: impl FnOnce() -> String,
+        f: impl FnOnce(PoseRows<'_>) -> Result<R, CamlocError>,
+    ) -> Result<R, CamlocError> {
+        // A landmark far off the others is read as missing.
+        let (cleaned, _) = crate::without_far_off_landmarks(pose);
+        self.with_clean_pose_rows(&cleaned, context, f)
+    }
+
+    /// [`with_pose_rows`](Self::with_pose_rows) of a pose whose landmarks far off the others
+    /// were already taken out ([`crate::without_far_off_landmarks`]).
+    fn with_clean_pose_rows<R>(
         &self,
         pose: &PartialPose2,
         context: impl FnOnce() -> String,

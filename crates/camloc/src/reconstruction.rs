@@ -330,7 +330,9 @@ impl PoseReconstructor {
         pose: &PartialPose2,
         max: usize,
     ) -> Result<PoseReconstruction, CamlocError> {
-        self.reconstruct_prepared(pose, self.prepare(pose)?, max)
+        // A landmark far off the others is read as missing, and filled in as missing ones.
+        let (pose, _) = crate::without_far_off_landmarks(pose);
+        self.reconstruct_prepared(&pose, self.prepare(&pose)?, max)
     }
 
     /// [`reconstruct_hypotheses`](Self::reconstruct_hypotheses) of `pose` from what

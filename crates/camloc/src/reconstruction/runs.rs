@@ -49,6 +49,12 @@ impl PoseReconstructor {
         breaks: &[bool],
         left_out: &[bool],
     ) -> Result<PoseSequenceReconstruction, CamlocError> {
+        // A landmark far off the others is read as missing, and filled in as missing ones.
+        let cleaned: Vec<PartialPose2> = poses
+            .iter()
+            .map(|p| crate::without_far_off_landmarks(p).0)
+            .collect();
+        let poses = &cleaned[..];
         let left = |t: usize| left_out.get(t).copied().unwrap_or(false);
         let mut prepared: Vec<Result<Prepared, CamlocError>> =
             poses.iter().map(|p| self.prepare(p)).collect();
