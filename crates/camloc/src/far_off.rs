@@ -46,7 +46,8 @@ pub fn without_far_off_landmarks(pose: &PartialPose2) -> (PartialPose2, Vec<Land
         if let (Some(p), Some(q)) = (pose.points[a.index()], pose.points[b.index()]) {
             let (du, dv) = (p[0] - q[0], p[1] - q[1]);
             let squared = (du * du + dv * dv) * INVERSE_SQUARED_LIMB[k];
-            if squared.is_finite() {
+            // (A square that overflows is a limb longer than any: kept, as infinity.)
+            if !squared.is_nan() {
                 ratios[k] = Some(squared);
                 present[count] = squared;
                 count += 1;
