@@ -196,7 +196,9 @@ def reconstruct(
       With ``classified`` and ``hybrid`` and the embedded model, each pose is rebuilt from the
       depths the embedded depth lifter predicts for the classified camera (docs/conventions.md
       section 6) rather than from the pursuit's pose: the two modes then give the same shape
-      (the same error after a similarity alignment), and ``hybrid`` holds the rotation of the
+      for a complete pose (the same error after a similarity alignment, to a few mm; a pose
+      with landmarks filled in may differ more, its fill being made with each mode's
+      camera), and ``hybrid`` holds the rotation of the
       localized continuous viewpoint (one solve, as ``classified``) and levels the pose to
       the localized elevation, where ``classified`` keeps the class's camera, 30-45 degrees
       off at the class's edges. Without the lifter (``lifter=False``) ``hybrid`` refines its
@@ -254,7 +256,9 @@ def reconstruct(
         perspective refinement, that camera's approximation at the pelvis;
         docs/conventions.md section 6);
       projection_error (N,): norm of the reprojection residuals of the fitted camera (the
-        perspective one when there is one), image units;
+        perspective one when there is one), image units, over all 15 landmarks: with
+        landmarks filled in (``imputed``), theirs count too, so it does not compare with a
+        complete pose's;
       label (N,) int64: the classified camera (0 for ``opt`` and failed poses);
       bone_lengths (N, 14): each pose's limb lengths in metres, ``BONE_KEYS`` order;
       translation_m (N, 3), focal_px (N,), principal_point (N, 2): the perspective camera the
