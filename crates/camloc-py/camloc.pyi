@@ -197,8 +197,8 @@ def reconstruct(
       depths the embedded depth lifter predicts for the classified camera (docs/conventions.md
       section 6) rather than from the pursuit's pose: the two modes then give the same shape
       for a complete pose (the same error after a similarity alignment, to a few mm; a pose
-      with landmarks filled in may differ more, its fill being made with each mode's
-      camera), and ``hybrid`` holds the rotation of the
+      with landmarks filled in may differ more: they are filled in again from each mode's
+      first solve), and ``hybrid`` holds the rotation of the
       localized continuous viewpoint (one solve, as ``classified``) and levels the pose to
       the localized elevation, where ``classified`` keeps the class's camera, 30-45 degrees
       off at the class's edges. Without the lifter (``lifter=False``) ``hybrid`` refines its
