@@ -10,6 +10,7 @@ use crate::Reconstruction;
 mod contact;
 mod floor;
 mod foot_lock;
+mod image_ankles;
 mod planted;
 
 /// [`world_poses`] places the pelvis at the mean of its places in the frames within this many

@@ -4,6 +4,8 @@
 
 use camloc_skeleton::{Landmark, NUM_LANDMARKS, Pose3};
 
+use super::image_ankles::ImageAnkles;
+
 /// How far the camera's place of the pelvis may be off, metres, along the world's x (across
 /// the camera's view), y (away from it, the depth from the scale) and z (up).
 /// (Chosen on tripod views of eight CMU walks of training subjects, before the glide test and
@@ -216,7 +218,7 @@ fn pelvis_shifts(
     leg_lengths.sort_by(f64::total_cmp);
     let leg = leg_lengths[leg_lengths.len() / 2];
     let kept_step = KEPT_SHARE * leg;
-    let image = ImageAnkles::of(images, n);
+    let image = ImageAnkles::of(images, n, COARSE_FRAMES);
     // Per step between two frames present: the weight (1 / m^2) of the planted foot and the
     // pelvis's step it makes.
     let mut weight = vec![0.0; n + 1];
@@ -348,61 +350,6 @@ fn keep_still_stretches(
         }
         // The step that left the place starts the next stretch.
         t = end;
-    }
-}
-
-/// The ankles' image positions (each frame's reprojection) averaged over the frames within
-/// [`COARSE_FRAMES`] on each side where they are known, and the legs' median length in the
-/// image (hip to knee to ankle, the left leg): where a depth the scale got wrong does not
-/// move a still foot.
-struct ImageAnkles {
-    /// Per frame, the averaged left and right ankle, image units.
-    smooth: Vec<Option<[[f64; 2]; 2]>>,
-    /// The legs' median length, image units (0 without images).
-    legs: f64,
-}
-
-impl ImageAnkles {
-    /// The averaged ankles of `images` (`n` frames; `None` where unknown).
-    fn of(images: &[Option<[[f64; 2]; NUM_LANDMARKS]>], n: usize) -> ImageAnkles {
-        let image = |t: usize| images.get(t).copied().flatten();
-        let length = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).hypot(a[1] - b[1]);
-        let mut legs: Vec<f64> = (0..n)
-            .filter_map(image)
-            .map(|p| {
-                let [hip, knee, ankle] =
-                    [Landmark::LeftHip, Landmark::LeftKnee, Landmark::LeftAnkle]
-                        .map(|l| p[l.index()]);
-                length(hip, knee) + length(knee, ankle)
-            })
-            .filter(|l| l.is_finite())
-            .collect();
-        legs.sort_by(f64::total_cmp);
-        let ankles = [Landmark::LeftAnkle, Landmark::RightAnkle];
-        let smooth = (0..n)
-            .map(|t| {
-                image(t)?;
-                let half = COARSE_FRAMES.min(t).min(n - 1 - t);
-                let near: Vec<[[f64; 2]; NUM_LANDMARKS]> =
-                    (t - half..=t + half).filter_map(image).collect();
-                let m = near.len() as f64;
-                Some(ankles.map(|a| {
-                    std::array::from_fn(|k| near.iter().map(|p| p[a.index()][k]).sum::<f64>() / m)
-                }))
-            })
-            .collect();
-        ImageAnkles {
-            smooth,
-            legs: legs.get(legs.len() / 2).copied().unwrap_or(0.0),
-        }
-    }
-
-    /// How far `foot`'s averaged image place at frame `b` is from frame `a`'s, in legs'
-    /// lengths; `None` where either is unknown.
-    fn apart(&self, a: usize, b: usize, foot: usize) -> Option<f64> {
-        let (p, q) = (self.smooth.get(a).copied()??, self.smooth.get(b).copied()??);
-        let d = (p[foot][0] - q[foot][0]).hypot(p[foot][1] - q[foot][1]) / self.legs;
-        d.is_finite().then_some(d)
     }
 }
 
