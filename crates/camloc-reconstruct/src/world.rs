@@ -7,6 +7,7 @@ use camloc_skeleton::{NUM_LANDMARKS, Pose3};
 
 use crate::Reconstruction;
 
+mod centred;
 mod contact;
 mod floor;
 mod foot_lock;

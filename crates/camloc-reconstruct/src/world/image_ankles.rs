@@ -4,6 +4,8 @@
 
 use camloc_skeleton::{Landmark, NUM_LANDMARKS};
 
+use super::centred::centred_means;
+
 /// The ankles' image positions (each frame's reprojection) averaged over the frames within
 /// `half` on each side where they are known, and the legs' median length in the
 /// image (hip to knee to ankle, the left leg): where a depth the scale got wrong does not
@@ -35,18 +37,13 @@ impl ImageAnkles {
             .filter(|l| l.is_finite())
             .collect();
         legs.sort_by(f64::total_cmp);
-        let ankles = [Landmark::LeftAnkle, Landmark::RightAnkle];
-        let smooth = (0..n)
-            .map(|t| {
-                image(t)?;
-                let half = half.min(t).min(n - 1 - t);
-                let near: Vec<[[f64; 2]; NUM_LANDMARKS]> =
-                    (t - half..=t + half).filter_map(image).collect();
-                let m = near.len() as f64;
-                Some(ankles.map(|a| {
-                    std::array::from_fn(|k| near.iter().map(|p| p[a.index()][k]).sum::<f64>() / m)
-                }))
-            })
+        let [left, right] = [Landmark::LeftAnkle, Landmark::RightAnkle].map(Landmark::index);
+        let ankles: Vec<Option<[f64; 4]>> = (0..n)
+            .map(|t| image(t).map(|p| [p[left][0], p[left][1], p[right][0], p[right][1]]))
+            .collect();
+        let smooth = centred_means(&ankles, half)
+            .into_iter()
+            .map(|a| a.map(|[lu, lv, ru, rv]| [[lu, lv], [ru, rv]]))
             .collect();
         ImageAnkles {
             smooth,

@@ -4,6 +4,7 @@
 
 use camloc_skeleton::{Landmark, NUM_LANDMARKS, Pose3};
 
+use super::centred::centred_means;
 use super::image_ankles::ImageAnkles;
 
 /// How far the camera's place of the pelvis may be off, metres, along the world's x (across
@@ -121,21 +122,7 @@ fn pelvis_shifts(
         .map(|p| p.map(|p| p.get(Landmark::Pelvis)))
         .collect();
     // The mean of the frames present within as many frames on both sides.
-    let coarse: Vec<Option<[f64; 3]>> = (0..n)
-        .map(|t| {
-            pelvis[t]?;
-            let half = COARSE_FRAMES.min(t).min(n - 1 - t);
-            let near: Vec<[f64; 3]> = pelvis[t - half..=t + half]
-                .iter()
-                .flatten()
-                .copied()
-                .collect();
-            let m = near.len() as f64;
-            Some(std::array::from_fn(|k| {
-                near.iter().map(|p| p[k]).sum::<f64>() / m
-            }))
-        })
-        .collect();
+    let coarse = centred_means(&pelvis, COARSE_FRAMES);
     let ankles = [Landmark::LeftAnkle, Landmark::RightAnkle];
     // Each ankle seen from the pelvis, and its place on the coarse path (frames present).
     let offset = |t: usize, f: usize| -> [f64; 3] {
@@ -153,20 +140,14 @@ fn pelvis_shifts(
     // [`COARSE_FRAMES`] on each side, and its place on the coarse path so: the jitter of a
     // still foot's frames (the detector's pixels, the depth from the scale) averages out,
     // a step does not.
-    let smooth_offset: Vec<[[f64; 3]; 2]> = (0..n)
-        .map(|t| {
-            let half = COARSE_FRAMES.min(t).min(n - 1 - t);
-            let near: Vec<usize> = (t - half..=t + half)
-                .filter(|&s| frames[s].is_some())
-                .collect();
-            let m = near.len().max(1) as f64;
-            std::array::from_fn(|f| {
-                std::array::from_fn(|k| near.iter().map(|&s| offset(s, f)[k]).sum::<f64>() / m)
-            })
-        })
-        .collect();
+    let smooth_offsets: [Vec<Option<[f64; 3]>>; 2] = std::array::from_fn(|f| {
+        let offsets: Vec<Option<[f64; 3]>> =
+            (0..n).map(|t| frames[t].map(|_| offset(t, f))).collect();
+        centred_means(&offsets, COARSE_FRAMES)
+    });
+    let smooth_offset = |t: usize, f: usize| smooth_offsets[f][t].unwrap_or([0.0; 3]);
     let smooth_ankle = |t: usize, f: usize| -> [f64; 3] {
-        let (o, c) = (smooth_offset[t][f], coarse[t].unwrap_or([0.0; 3]));
+        let (o, c) = (smooth_offset(t, f), coarse[t].unwrap_or([0.0; 3]));
         std::array::from_fn(|k| c[k] + o[k])
     };
     let lowest: Vec<f64> = (0..n)
@@ -266,7 +247,7 @@ fn pelvis_shifts(
             (offset(t - 1, f), offset(t, f))
         } else if kept[f] || kept[1 - f] {
             f = if kept[f] { f } else { 1 - f };
-            (smooth_offset[t - 1][f], smooth_offset[t][f])
+            (smooth_offset(t - 1, f), smooth_offset(t, f))
         } else {
             continue;
         };
