@@ -2,12 +2,14 @@
 //! by [`pose_from_array`]; and the conversion of outputs back to NumPy.
 
 use std::borrow::Cow;
+use std::marker::PhantomData;
 
 use camloc::PartialPose2;
 use camloc::keypoints::{ArrayPoseError, Layout, MappedPose, ReadOptions, pose_from_array};
 use numpy::{AllowTypeChange, PyArrayDyn, PyArrayLikeDyn, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::Borrowed;
 use pyo3::prelude::*;
+use pyo3::sync::PyOnceLock;
 use pyo3::types::{PyDict, PyList};
 
 use crate::value_error;
@@ -18,35 +20,45 @@ const MAX_JOINTS: usize = 25;
 /// Points as given (any array-like of numbers, converted to float64 by NumPy when needed).
 pub(crate) type ArrayArg<'py> = PyArrayLikeDyn<'py, f64, AllowTypeChange>;
 
-/// An array argument whose masked entries (`numpy.ma.MaskedArray`) are NaN, not given, as
-/// the mask says (NumPy's conversion would read the values under the mask); any other
-/// array-like as [`ArrayArg`].
-pub(crate) struct Unmasked<'py>(ArrayArg<'py>);
+/// An array argument whose masked entries (`numpy.ma.MaskedArray`) are filled as its `K`
+/// says ([`FILL_MASKED`]): not given, as the mask says (NumPy's conversion would read the
+/// values under the mask); any other array-like as [`ArrayArg`].
+pub(crate) struct Unmasked<'py, K: MaskedKind = Numbers>(ArrayArg<'py>, PhantomData<K>);
 
-/// Points whose masked joints are missing and masked scores 0 ([`FILL_MASKED`]), as
-/// [`Unmasked`].
-pub(crate) struct UnmaskedPoints<'py>(ArrayArg<'py>);
-
-/// Scores whose masked entries are 0 (the joint not seen, hence missing), as [`Unmasked`].
-pub(crate) struct UnmaskedScores<'py>(ArrayArg<'py>);
-
-impl<'py> std::ops::Deref for Unmasked<'py> {
-    type Target = ArrayArg<'py>;
-
-    fn deref(&self) -> &ArrayArg<'py> {
-        &self.0
-    }
+/// How [`Unmasked`] fills masked entries: the `kind` of [`FILL_MASKED`].
+pub(crate) trait MaskedKind {
+    /// `numbers`, `points` or `scores`.
+    const KIND: &'static str;
 }
 
-impl<'py> std::ops::Deref for UnmaskedPoints<'py> {
-    type Target = ArrayArg<'py>;
+/// Masked entries are NaN.
+pub(crate) struct Numbers;
 
-    fn deref(&self) -> &ArrayArg<'py> {
-        &self.0
-    }
+/// Points: a joint with a masked coordinate is missing (NaN), a masked score 0.
+pub(crate) struct Points;
+
+/// Scores: a masked one is 0 (the joint not seen, hence missing).
+pub(crate) struct Scores;
+
+impl MaskedKind for Numbers {
+    const KIND: &'static str = "numbers";
 }
 
-impl<'py> std::ops::Deref for UnmaskedScores<'py> {
+impl MaskedKind for Points {
+    const KIND: &'static str = "points";
+}
+
+impl MaskedKind for Scores {
+    const KIND: &'static str = "scores";
+}
+
+/// Points whose masked joints are missing and masked scores 0.
+pub(crate) type UnmaskedPoints<'py> = Unmasked<'py, Points>;
+
+/// Scores whose masked entries are 0.
+pub(crate) type UnmaskedScores<'py> = Unmasked<'py, Scores>;
+
+impl<'py, K: MaskedKind> std::ops::Deref for Unmasked<'py, K> {
     type Target = ArrayArg<'py>;
 
     fn deref(&self) -> &ArrayArg<'py> {
@@ -72,39 +84,26 @@ def filled(array, kind):
     return out
 "#;
 
-/// `ob` as an [`ArrayArg`], a masked array's masked entries filled as [`FILL_MASKED`] says for
-/// `kind` (`points`, `scores` or `numbers`).
-fn filled<'py>(ob: Borrowed<'_, 'py, PyAny>, kind: &str) -> PyResult<ArrayArg<'py>> {
-    let py = ob.py();
-    let ma = py.import("numpy.ma")?;
-    if !ob.is_instance(&ma.getattr("MaskedArray")?)? {
-        return ob.extract();
-    }
-    let helper = PyModule::from_code(py, FILL_MASKED, c"camloc_masked.py", c"camloc_masked")?;
-    helper.getattr("filled")?.call1((ob, kind))?.extract()
-}
+/// [`FILL_MASKED`]'s function, compiled once.
+static FILL_MASKED_FN: PyOnceLock<Py<PyAny>> = PyOnceLock::new();
 
-impl<'a, 'py> FromPyObject<'a, 'py> for Unmasked<'py> {
+impl<'a, 'py, K: MaskedKind> FromPyObject<'a, 'py> for Unmasked<'py, K> {
     type Error = PyErr;
 
     fn extract(ob: Borrowed<'a, 'py, PyAny>) -> PyResult<Self> {
-        filled(ob, "numbers").map(Unmasked)
-    }
-}
-
-impl<'a, 'py> FromPyObject<'a, 'py> for UnmaskedPoints<'py> {
-    type Error = PyErr;
-
-    fn extract(ob: Borrowed<'a, 'py, PyAny>) -> PyResult<Self> {
-        filled(ob, "points").map(UnmaskedPoints)
-    }
-}
-
-impl<'a, 'py> FromPyObject<'a, 'py> for UnmaskedScores<'py> {
-    type Error = PyErr;
-
-    fn extract(ob: Borrowed<'a, 'py, PyAny>) -> PyResult<Self> {
-        filled(ob, "scores").map(UnmaskedScores)
+        let py = ob.py();
+        let ma = py.import("numpy.ma")?;
+        let array = if ob.is_instance(&ma.getattr("MaskedArray")?)? {
+            let fill = FILL_MASKED_FN.get_or_try_init(py, || {
+                PyModule::from_code(py, FILL_MASKED, c"camloc_masked.py", c"camloc_masked")?
+                    .getattr("filled")
+                    .map(Bound::unbind)
+            })?;
+            fill.bind(py).call1((ob, K::KIND))?.extract()?
+        } else {
+            ob.extract()?
+        };
+        Ok(Unmasked(array, PhantomData))
     }
 }
 
