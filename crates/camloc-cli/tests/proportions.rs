@@ -6,7 +6,7 @@ mod common;
 use camloc::reconstruct::BONE_KEYS as KEYS;
 use serde_json::Value;
 
-use common::{TempDir, camloc, fixture};
+use common::{TempDir, camloc, fixture, success};
 
 /// The path of `name` in `dir` (not created).
 fn path(dir: &TempDir, name: &str) -> String {
@@ -147,12 +147,7 @@ fn a_person_height_scales_every_answer_and_the_sequence_lengths() {
         "1.62",
         "--jsonl",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let poses = lengths_of(&out.stdout);
+    let poses = lengths_of(success(&out).as_bytes());
     assert_eq!(poses.len(), 3);
     for pose in &poses {
         assert!((standing_height(pose) - 1.62).abs() < 1e-9, "{pose:?}");
@@ -167,11 +162,7 @@ fn a_person_height_scales_every_answer_and_the_sequence_lengths() {
         "--bone-lengths-out",
         &lengths_out,
     ]);
-    assert!(
-        sequence.status.success(),
-        "{}",
-        String::from_utf8_lossy(&sequence.stderr)
-    );
+    success(&sequence);
     let written: Value =
         serde_json::from_str(&std::fs::read_to_string(&lengths_out).unwrap()).unwrap();
     let lengths: Vec<f64> = KEYS

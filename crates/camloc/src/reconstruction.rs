@@ -371,8 +371,8 @@ impl PoseReconstructor {
             let depths = self.lifted_depths(&refilled, localization.as_ref())?;
             hypotheses = solve(&refilled, depths.as_ref())?;
         }
-        // A camera that sees landmarks behind it fitted a landmark misplaced far off (its
-        // reprojection error is not finite): such a hypothesis is no answer.
+        // A camera that sees landmarks behind it (its reprojection error is not finite: a
+        // landmark misplaced, a very close wide-angle view) makes no answer.
         hypotheses.retain(|h| h.projection_error.is_finite());
         if hypotheses.is_empty() {
             return Err(pose_error(ReconstructError::BehindFittedCamera));

@@ -60,10 +60,11 @@ impl PoseReconstructor {
             poses.iter().map(|p| self.prepare(p)).collect();
         let (mut runs, mut solved, mut lengths) =
             self.solve_runs(poses, &prepared, breaks, left_out)?;
-        // A frame whose fitted camera sees landmarks behind it (a landmark misplaced far off)
-        // fails, and the others are solved again without it: its misplaced landmark had
+        // A frame whose fitted camera sees landmarks behind it (a landmark misplaced, a very
+        // close wide-angle view) fails, and the others are solved again without it: it had
         // pulled the person's lengths and smoothness (a simulated user's wrist 1000 px off in
-        // one frame of 120 moved every other frame by 8 cm).
+        // one frame of 120, before such landmarks were read as missing, moved every other
+        // frame by 8 cm).
         let behind: Vec<usize> = (0..poses.len())
             .filter(|&t| matches!(&solved[t], Some(Ok(r)) if !r.projection_error.is_finite()))
             .collect();
