@@ -20,6 +20,7 @@ missing.
 Batch calls never fail for one bad pose: each result dict has an ``error`` list with ``None``
 where the pose is fine and the library's message where it is not (NaN and label 0 in that
 pose's rows). Wrong shapes, unknown layouts and bad option values raise ``ValueError``;
+values of the wrong type (a bool given for a number, complex numbers) ``TypeError``;
 unreadable files ``OSError``; other library errors ``CamlocError``. For one pose (J, 2) the
 leading N axis is left out of every array and ``error`` is a single value.
 """
@@ -100,7 +101,9 @@ class Localizer:
 
         points: (N, J, 2) or (N, J, 3) with scores, or one pose (J, 2) / (J, 3); J is the
         layout's joint count; NaN coordinates mark a missing joint, and so does a masked
-        coordinate of a ``numpy.ma.MaskedArray`` (a masked score is 0). Converted to float64.
+        coordinate of a ``numpy.ma.MaskedArray`` (or of a list of them, one per pose; a
+        masked score is 0). Converted to float64; complex numbers and bools given for numbers
+        (``min_score=True``) are ``TypeError``s.
         A pose whose torso cannot be found (pelvis or neck missing, and a hip or shoulder to
         stand in for it) is localized with its missing landmarks filled in from the embedded
         pose basis seen by camera hypotheses (docs/conventions.md section 6); with fewer than
@@ -148,6 +151,11 @@ class Localizer:
             person's canonical frame (azimuth 180 = front, 270 = left, 0 = back, 90 = right;
             elevation + above); NaN where the pose failed or the model has no direction heads;
           uncertainty_deg (N,) float64: angular radius holding about 68% of the viewpoint error;
+          camera_height_shares (3,) float64: with ``camera_height="from-input"``, how the
+            call's cameras were estimated to divide among the lower, middle and upper rings
+            (the prior every pose was localized under, as ``camloc localize --npz`` writes
+            it); NaN when no estimate was used (fewer than 100 poses with a torso, ``"any"``,
+            ``"eye-level"``);
           with ``sequence``: smoothed_label (N,) int64 and smoothed_probability (N,), the
             camera on the hidden Markov model's most probable path and its posterior (0 and NaN
             when no frame was localized; a frame that was not counts as a flat one);
@@ -284,6 +292,8 @@ def reconstruct(
         of NaN, so that time passes there (the frames on each side of 3 or more frames in a
         row that fail are solved as runs of their own, with the person's one set of bone
         lengths);
+      camera_height_shares (3,): as ``Localizer.localize`` returns it (NaN for ``opt``,
+        which localizes no complete pose);
       camera: the mode used;
       error: list of N messages, None where the pose was reconstructed.
 

@@ -10,7 +10,7 @@ use numpy::{AllowTypeChange, PyArrayDyn, PyArrayLikeDyn, PyArrayMethods, PyUntyp
 use pyo3::Borrowed;
 use pyo3::prelude::*;
 use pyo3::sync::PyOnceLock;
-use pyo3::types::{PyDict, PyList};
+use pyo3::types::{PyDict, PyList, PyTuple};
 
 use crate::value_error;
 
@@ -73,8 +73,9 @@ const FILL_MASKED: &std::ffi::CStr = cr#"
 import numpy as np
 
 def filled(array, kind):
+    array = np.ma.asarray(array, dtype=np.float64)
     mask = np.ma.getmaskarray(array)
-    out = np.ma.filled(np.ma.asarray(array, dtype=np.float64), 0.0 if kind == "scores" else np.nan)
+    out = np.ma.filled(array, 0.0 if kind == "scores" else np.nan)
     if kind == "points" and out.ndim >= 1 and out.shape[-1] in (2, 3):
         gone = mask[..., 0] | mask[..., 1]
         out[..., 0][gone] = np.nan
@@ -92,8 +93,16 @@ impl<'a, 'py, K: MaskedKind> FromPyObject<'a, 'py> for Unmasked<'py, K> {
 
     fn extract(ob: Borrowed<'a, 'py, PyAny>) -> PyResult<Self> {
         let py = ob.py();
+        refuse_complex(&ob)?;
         let ma = py.import("numpy.ma")?;
-        let array = if ob.is_instance(&ma.getattr("MaskedArray")?)? {
+        let masked_array = ma.getattr("MaskedArray")?;
+        // A list or tuple of masked arrays (one per pose) keeps its masks too.
+        let masked = ob.is_instance(&masked_array)?
+            || (ob.is_instance_of::<PyList>() || ob.is_instance_of::<PyTuple>())
+                && ob.try_iter()?.any(|item| {
+                    item.is_ok_and(|item| item.is_instance(&masked_array).unwrap_or(false))
+                });
+        let array = if masked {
             let fill = FILL_MASKED_FN.get_or_try_init(py, || {
                 PyModule::from_code(py, FILL_MASKED, c"camloc_masked.py", c"camloc_masked")?
                     .getattr("filled")
@@ -105,6 +114,25 @@ impl<'a, 'py, K: MaskedKind> FromPyObject<'a, 'py> for Unmasked<'py, K> {
         };
         Ok(Unmasked(array, PhantomData))
     }
+}
+
+/// A `TypeError` for a NumPy array or scalar of complex numbers, whose conversion to float64
+/// would drop the imaginary parts with only a `ComplexWarning` (a list of Python complex
+/// numbers is refused by the conversion itself).
+fn refuse_complex(ob: &Borrowed<'_, '_, PyAny>) -> PyResult<()> {
+    let Ok(dtype) = ob.getattr("dtype") else {
+        return Ok(());
+    };
+    if dtype
+        .getattr("kind")
+        .is_ok_and(|kind| kind.eq("c").unwrap_or(false))
+    {
+        return Err(pyo3::exceptions::PyTypeError::new_err(format!(
+            "an array of complex numbers ({}): expected real ones (the imaginary parts would be dropped)",
+            dtype.str()?
+        )));
+    }
+    Ok(())
 }
 
 /// The numbers of an array in C order, borrowed when the array is C-contiguous (`as_slice`

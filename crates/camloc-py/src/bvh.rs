@@ -86,9 +86,9 @@ fn frames(points3d: &ArrayArg<'_>) -> PyResult<Vec<Option<Pose3>>> {
 #[pyo3(signature = (points3d, fps = 30.0, limb_lengths = None, unit_m = 0.01))]
 pub(crate) fn to_bvh(
     points3d: Unmasked<'_>,
-    fps: f64,
+    #[pyo3(from_py_with = crate::number::fps)] fps: f64,
     limb_lengths: Option<Bound<'_, PyAny>>,
-    unit_m: f64,
+    #[pyo3(from_py_with = crate::number::unit_m)] unit_m: f64,
 ) -> PyResult<String> {
     let fps = positive(fps, "fps")?;
     let unit_m = unit(unit_m)?;
@@ -126,7 +126,7 @@ pub(crate) fn to_bvh(
 pub(crate) fn read_bvh<'py>(
     py: Python<'py>,
     path: PathBuf,
-    unit_m: f64,
+    #[pyo3(from_py_with = crate::number::unit_m)] unit_m: f64,
 ) -> PyResult<Bound<'py, PyDict>> {
     let unit_m = unit(unit_m)?;
     let clip = read_bvh_with_unit(&path, unit_m).map_err(|e| match e {

@@ -100,6 +100,20 @@ pub(crate) fn for_poses(
     crate::pool::run(|| localizer.clone().with_camera_height_from(&poses))
 }
 
+/// The `camera_height_shares` output: how the call's cameras divide among the three heights
+/// (low, middle, high rings; `from-input`'s estimate), NaN when the localizer used none (too
+/// few poses, `any`, `eye-level`), as `camloc localize --npz` writes it.
+pub(crate) fn height_shares<'py>(
+    py: Python<'py>,
+    localizer: Option<&CameraLocalizer>,
+) -> Bound<'py, PyArray1<f64>> {
+    let shares = match localizer.map(CameraLocalizer::camera_height) {
+        Some(CameraHeight::Shares(shares)) => shares.to_array(),
+        _ => [f64::NAN; 3],
+    };
+    PyArray1::from_vec(py, shares.to_vec())
+}
+
 #[pymethods]
 impl Localizer {
     /// The default model embedded in this build, localizing under the prior `camera_height`
@@ -183,7 +197,7 @@ impl Localizer {
         points: UnmaskedPoints<'py>,
         layout: &str,
         scores: Option<UnmaskedScores<'py>>,
-        min_score: f64,
+        #[pyo3(from_py_with = crate::number::min_score)] min_score: f64,
         sequence: bool,
         focal_px: Option<Bound<'py, PyAny>>,
         principal_point: Option<Bound<'py, PyAny>>,
@@ -331,6 +345,7 @@ impl Localizer {
         out.array("azimuth_deg", azimuth, &[])?;
         out.array("elevation_deg", elevation, &[])?;
         out.array("uncertainty_deg", column(2), &[])?;
+        out.set("camera_height_shares", height_shares(py, Some(localizer)))?;
         if let Some(marks) = swapped_sides {
             out.array("swapped_sides", marks.as_flattened().to_vec(), &[2])?;
         }

@@ -112,7 +112,7 @@ pub(crate) fn read_keypoints<'py>(
     path: PathBuf,
     format: Option<&str>,
     layout: Option<&str>,
-    min_score: f64,
+    #[pyo3(from_py_with = crate::number::min_score)] min_score: f64,
     image_size: Option<ImageSizeArg>,
     lsp_invisible: &str,
     derive_torso: bool,

@@ -16,8 +16,7 @@ use pyo3::types::{PyDict, PyMapping};
 use rayon::prelude::*;
 
 use crate::arrays::{Output, PoseBatch, UnmaskedPoints, UnmaskedScores};
-use crate::localize::{Localizer, for_poses, parse_height};
-use crate::number::Number;
+use crate::localize::{Localizer, for_poses, height_shares, parse_height};
 use crate::warnings::{
     warn_if_every_pose_failed, warn_of_identity_jumps, warn_of_input_conventions,
     warn_of_swapped_sides,
@@ -195,7 +194,7 @@ pub(crate) fn reconstruct<'py>(
     layout: &str,
     camera: Option<&str>,
     scores: Option<UnmaskedScores<'py>>,
-    min_score: f64,
+    #[pyo3(from_py_with = crate::number::min_score)] min_score: f64,
     localizer: Option<PyRef<'py, Localizer>>,
     basis: Option<PathBuf>,
     bone_lengths: Option<Bound<'py, PyAny>>,
@@ -204,7 +203,7 @@ pub(crate) fn reconstruct<'py>(
     sequence: bool,
     camera_height: Option<&str>,
     lifter: bool,
-    person_height: Option<Number>,
+    #[pyo3(from_py_with = crate::number::person_height)] person_height: Option<f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
     // The command line's default.
     let camera = camera.unwrap_or("hybrid");
@@ -284,7 +283,7 @@ pub(crate) fn reconstruct<'py>(
     if let Some(value) = &bone_lengths {
         reconstructor = reconstructor.with_bone_lengths(self::bone_lengths(value, "bone_lengths")?);
     }
-    if let Some(Number(height_m)) = person_height {
+    if let Some(height_m) = person_height {
         reconstructor = reconstructor
             .with_person_height(height_m)
             .map_err(|e| value_error(e.to_string()))?;
@@ -445,5 +444,9 @@ pub(crate) fn reconstruct<'py>(
     warn_if_every_pose_failed(py, n, &errors)?;
     out.errors(errors)?;
     out.set("camera", mode.name())?;
+    out.set(
+        "camera_height_shares",
+        height_shares(py, reconstructor.localizer()),
+    )?;
     Ok(out.into_dict())
 }

@@ -277,7 +277,7 @@ def test_a_person_height_scales_the_answer_as_the_command_line_does(cli):
     with pytest.raises(ValueError, match="bone lengths given already give the size"):
         camloc.reconstruct(example_points(), person_height=1.7, bone_lengths=LENGTHS)
     for flag in (True, np.True_):
-        with pytest.raises(TypeError, match="not a bool"):
+        with pytest.raises(TypeError, match="person_height: expected a number, not a bool"):
             camloc.reconstruct(example_points(), person_height=flag)
 
 
@@ -1071,6 +1071,9 @@ def test_masked_entries_are_missing_landmarks():
     assert not np.array_equal(unmasked["probabilities"], want["probabilities"])
     rebuilt = camloc.reconstruct(masked)
     assert rebuilt["imputed"][0, 11] and rebuilt["imputed"].sum() == 1
+    # A list of masked poses keeps their masks.
+    listed = camloc.Localizer().localize(list(masked))
+    np.testing.assert_array_equal(listed["probabilities"], want["probabilities"])
     # With a score channel, a masked joint (or one masked coordinate) is missing, and a
     # masked score is 0; a masked scores array likewise.
     scored = np.ma.masked_array(np.concatenate([points, np.ones(points.shape[:2] + (1,))], -1))
@@ -1094,3 +1097,43 @@ def test_masked_entries_are_missing_landmarks():
             np.full((5, 15, 2), np.nan), sequence=True, bone_lengths=LENGTHS
         )
     np.testing.assert_allclose(given["person_bone_lengths"], LENGTHS)
+
+
+def test_bools_and_complex_numbers_are_refused_not_converted():
+    """A bool given for a number (it would be read as 1 or 0) and complex coordinates (their
+    imaginary parts would be dropped) are TypeErrors naming what they are."""
+    points = example_points()
+    for call, name in [
+        (lambda flag: camloc.reconstruct(points, min_score=flag), "min_score"),
+        (lambda flag: camloc.Localizer().localize(points, min_score=flag), "min_score"),
+        (lambda flag: camloc.read_keypoints(KEYPOINTS / "example.json", min_score=flag), "min_score"),
+        (lambda flag: camloc.to_bvh(np.zeros((2, 15, 3)), fps=flag), "fps"),
+        (lambda flag: camloc.to_bvh(np.zeros((2, 15, 3)), unit_m=flag), "unit_m"),
+    ]:
+        for flag in (True, np.False_):
+            with pytest.raises(TypeError, match=f"{name}: expected a number, not a bool"):
+                call(flag)
+    with pytest.raises(TypeError, match="complex"):
+        camloc.Localizer().localize(points.astype(np.complex128))
+    with pytest.raises(TypeError, match="complex"):
+        camloc.reconstruct(np.ma.masked_array(points.astype(np.complex64)))
+
+
+def test_the_camera_height_shares_are_returned_as_the_command_line_writes_them(cli, tmp_path):
+    """``camera_height_shares`` is the estimate every pose was localized under: NaN for a call
+    of a few poses, the command line's ``--npz`` shares for 100 or more."""
+    few = example_points()
+    assert np.isnan(camloc.Localizer().localize(few)["camera_height_shares"]).all()
+    many = np.concatenate([few] * 40)
+    path = tmp_path / "many.npy"
+    np.save(path, many)
+    code, _ = cli("localize", "--input", path, "--npz", tmp_path / "out.npz", "-q")
+    assert code == 0
+    want = np.load(tmp_path / "out.npz")["camera_height_shares"]
+    assert np.isfinite(want).all() and want.sum() == pytest.approx(1.0)
+    for got in (
+        camloc.Localizer().localize(many)["camera_height_shares"],
+        camloc.reconstruct(many)["camera_height_shares"],
+    ):
+        np.testing.assert_allclose(got, want, rtol=1e-12)
+    assert np.isnan(camloc.Localizer("eye-level").localize(many)["camera_height_shares"]).all()
