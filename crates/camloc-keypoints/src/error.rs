@@ -331,6 +331,18 @@ pub enum KeypointError {
         /// The refused pose's place, so that outputs of one row per pose keep its row.
         place: Box<PosePlace>,
     },
+    /// A row of a keypoint array with a value no pose holds (an infinity, a NaN score, one
+    /// coordinate NaN): that row's error, `error` naming the file and the element; the rows
+    /// after it are read.
+    #[error("{error}")]
+    BadRow {
+        /// The error naming the file and the element.
+        error: Box<KeypointError>,
+        /// What is wrong, without the file and the row its place names.
+        why: String,
+        /// The refused row's place.
+        place: Box<PosePlace>,
+    },
     /// A coordinate is NaN or infinite.
     #[error("{}: {at}: {field} \"{}\" is not a finite number",
         file_name(.file), clip(text))]
@@ -558,10 +570,13 @@ pub struct PosePlace {
 
 impl KeypointError {
     /// `true` for an error of one pose whose record was read whole
-    /// ([`KeypointError::LayoutMismatch`]): the readers pass it on in the pose's place and read
-    /// on; any other error ends the input.
+    /// ([`KeypointError::LayoutMismatch`], [`KeypointError::BadRow`]): the readers pass it on
+    /// in the pose's place and read on; any other error ends the input.
     pub fn is_pose_error(&self) -> bool {
-        matches!(self, KeypointError::LayoutMismatch { .. })
+        matches!(
+            self,
+            KeypointError::LayoutMismatch { .. } | KeypointError::BadRow { .. }
+        )
     }
 
     /// The place of the pose a reader refused ([`is_pose_error`](Self::is_pose_error)) and
@@ -571,6 +586,7 @@ impl KeypointError {
             KeypointError::LayoutMismatch { source, place, .. } => {
                 Some((place, format!("{source} (--layout; Python layout=)")))
             }
+            KeypointError::BadRow { why, place, .. } => Some((place, why.clone())),
             _ => None,
         }
     }
@@ -579,7 +595,9 @@ impl KeypointError {
     /// more of it (an MMPose frame's number and person).
     pub(crate) fn refused_place_mut(&mut self) -> Option<&mut PosePlace> {
         match self {
-            KeypointError::LayoutMismatch { place, .. } => Some(place),
+            KeypointError::LayoutMismatch { place, .. } | KeypointError::BadRow { place, .. } => {
+                Some(place)
+            }
             _ => None,
         }
     }

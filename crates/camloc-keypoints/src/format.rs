@@ -66,7 +66,8 @@ impl KeypointFormat {
     /// * `json`, or any other or no extension when the content starts with `{` or `[`: by the
     ///   first of these object keys found: `"people"` → OpenPose; `"poses"` or `"landmarks"` →
     ///   camloc; `"keypoint_scores"`, `"instance_info"` or `"instances"` → MMPose;
-    ///   `"joints_vis"` → MPII; `"visibility"` or `"x"`, or a list whose first element is a list or
+    ///   `"joints_vis"`, or `"center"` and `"scale"` without `"keypoints"` or `"image_id"` (the
+    ///   test split, which has no joints) → MPII; `"visibility"` or `"x"`, or a list whose first element is a list or
     ///   `null` → MediaPipe; `"annotations"` or `"keypoints"`, or any other top-level list →
     ///   COCO.
     /// * Other extensions: content whose first non-blank line names the columns `image` and
@@ -105,7 +106,10 @@ fn sniff_json(content: &str) -> Option<KeypointFormat> {
         Some(Camloc)
     } else if any(&["keypoint_scores", "instance_info", "instances"]) {
         Some(MmPose)
-    } else if any(&["joints_vis"]) {
+    } else if any(&["joints_vis"])
+        // MPII's test split: its entries have a person's box but no joints.
+        || (any(&["center"]) && any(&["scale"]) && !any(&["keypoints", "image_id"]))
+    {
         Some(Mpii)
     } else if list_of_lists || any(&["visibility", "x"]) {
         Some(MediaPipe)
@@ -258,6 +262,13 @@ mod tests {
         );
         assert_eq!(
             detect(Some("json"), r#"[{"image": "a.jpg", "joints_vis": []}]"#),
+            Some(KeypointFormat::Mpii)
+        );
+        assert_eq!(
+            detect(
+                Some("json"),
+                r#"[{"image": "a.jpg", "center": [1, 2], "scale": 1.0}]"#
+            ),
             Some(Mpii)
         );
         assert_eq!(detect(Some("json"), " [ [{\"x\": 0.5}]]"), Some(MediaPipe));

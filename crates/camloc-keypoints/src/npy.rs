@@ -103,7 +103,9 @@ impl<R: Read> Values<R> {
 /// missing joint, scores must lie in [0, 1] and below [`ReadOptions::min_score`] mark it missing.
 /// Record ids are the row numbers (`"0"`, `"1"`, ...), which are also the records' `frame`.
 /// Iteration stops after the first error, but for a pose whose joints contradict its layout
-/// ([`KeypointError::LayoutMismatch`], that pose's error).
+/// ([`KeypointError::LayoutMismatch`]) or a row with an infinity, a NaN score or one NaN
+/// coordinate ([`KeypointError::BadRow`]): those are that pose's error. A score outside
+/// [0, 1] ends the array (scores on another scale, or 3D points read as keypoints).
 pub struct NpyPoses<R: Read> {
     file: String,
     /// Buffered here (whatever `R` is) so that reading one pose is a copy from the buffer.
@@ -271,8 +273,24 @@ impl<R: Read> Iterator for NpyPoses<R> {
     }
 }
 
-/// A pose error as a [`KeypointError`] naming the file and the element.
+/// A pose error as a [`KeypointError`] naming the file and the element; a value no pose holds
+/// is that row's own ([`KeypointError::BadRow`]).
 fn pose_error(file: &str, pose: u64, error: ArrayPoseError) -> KeypointError {
+    if matches!(
+        error,
+        ArrayPoseError::NonFinite { .. } | ArrayPoseError::HalfMissing { .. }
+    ) {
+        return KeypointError::BadRow {
+            why: error.to_string(),
+            place: Box::new(row_place(file, pose)),
+            error: Box::new(element_error(file, pose, error)),
+        };
+    }
+    element_error(file, pose, error)
+}
+
+/// [`pose_error`]'s error naming the file and the element.
+fn element_error(file: &str, pose: u64, error: ArrayPoseError) -> KeypointError {
     let file = file.to_owned();
     match error {
         ArrayPoseError::NonFinite {

@@ -1,5 +1,6 @@
 //! `.npy` keypoint arrays in every dtype the reader takes (`float64` and `float32`, little- or
-//! big-endian) give the same records, and a truncated stream fails at the same pose in each.
+//! big-endian) give the same records, and a truncated stream fails at the same pose in each;
+//! a row with a value no pose holds is that row's error, the rows after it read.
 
 use std::io::Cursor;
 
@@ -75,4 +76,51 @@ fn a_truncated_stream_fails_at_the_same_pose_in_every_dtype() {
             "{descr}"
         );
     }
+}
+
+#[test]
+fn a_row_with_a_value_no_pose_holds_is_its_own_error_and_the_rows_after_it_are_read() {
+    let (_, bytes) = &arrays()[0];
+    let body_at = bytes.len() - 2 * 15 * 2 * 8;
+    // Row 0, joint 3: x NaN, y not; row 1, joint 5: y infinite. Then a clean copy of row 0.
+    let mut numbers: Vec<f64> = bytes[body_at..]
+        .chunks_exact(8)
+        .map(|b| f64::from_le_bytes(b.try_into().unwrap()))
+        .collect();
+    let clean_first: Vec<f64> = numbers[..30].to_vec();
+    numbers[3 * 2] = f64::NAN;
+    numbers[30 + 5 * 2 + 1] = f64::INFINITY;
+    numbers.extend(clean_first);
+    let mut array = bytes[..body_at].to_vec();
+    let shape = array.windows(4).position(|w| w == b"(2, ").unwrap();
+    array[shape + 1] = b'3';
+    array.extend(numbers.iter().flat_map(|v| v.to_le_bytes()));
+    let options = ReadOptions::default();
+    let items: Vec<_> = open_keypoints_reader(Cursor::new(array), "a.npy", None, None, &options)
+        .unwrap()
+        .collect();
+    assert_eq!(items.len(), 3);
+    let refused: Vec<(String, String)> = items[..2]
+        .iter()
+        .map(|item| {
+            let e = item.as_ref().unwrap_err();
+            assert!(e.is_pose_error(), "{e}");
+            let (place, why) = e.refused_pose().unwrap();
+            (format!("{}: {why}", place.source), e.to_string())
+        })
+        .collect();
+    assert_eq!(
+        refused[0].0,
+        "a.npy: [0]: joint 3: one coordinate is NaN and the other is not (NaN, NaN marks a missing joint)"
+    );
+    assert!(
+        refused[0].1.starts_with("a.npy: [0, 3]: "),
+        "{}",
+        refused[0].1
+    );
+    assert_eq!(
+        refused[1].0,
+        "a.npy: [1]: joint 5, channel 1: inf is not a finite number"
+    );
+    assert_eq!(items[2].as_ref().unwrap().pose, poses()[0]);
 }

@@ -94,7 +94,7 @@ pub struct Args {
           value_parser = clap::builder::PossibleValuesParser::new(camera_modes())
               .try_map(|s| parse_camera(&s)))]
     pub camera: Option<ModeKind>,
-    /// Keep up to N hypotheses per pose. Where the 2D fits two poses about equally (the
+    /// Keep up to N hypotheses per pose, N from 1 to 4. Where the 2D fits two poses about equally (the
     /// mirror in depth), the one within the learned joint-angle limits comes first; the
     /// others follow in the text output and under "alternatives" in JSON, each with its
     /// reprojection error and limit violation. Each solve has 2 (as found and
