@@ -267,6 +267,13 @@ def reconstruct(
         perspective one when there is one), image units, over all 15 landmarks: with
         landmarks filled in (``imputed``), theirs count too, so it does not compare with a
         complete pose's;
+      outside_limits_rad (N,): how far the pose lies outside the joint-angle limits learned
+        from the motion capture (the sum over thighs, shins, upper arms and forearms of the
+        angle beyond them, radians; 0 within them): a pose the 2D bends beyond them (a knee
+        seen bent backwards) has it above 0, check such poses before using them; NaN where
+        the pose failed;
+      reflected (N,) bool: whether the pose is the depth-mirrored reading of the 2D (the
+        command line's ``reflected``);
       label (N,) int64: the classified camera (0 for ``opt`` and failed poses);
       bone_lengths (N, 14): each pose's limb lengths in metres, ``BONE_KEYS`` order;
       translation_m (N, 3), focal_px (N,), principal_point (N, 2): the perspective camera the

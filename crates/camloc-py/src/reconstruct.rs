@@ -363,6 +363,8 @@ pub(crate) fn reconstruct<'py>(
     let mut scale = vec![f64::NAN; n];
     let mut translation = vec![f64::NAN; n * 2];
     let mut projection_error = vec![f64::NAN; n];
+    let mut outside_limits = vec![f64::NAN; n];
+    let mut reflected = vec![false; n];
     let mut label = vec![0i64; n];
     let mut lengths = vec![f64::NAN; n * NUM_LIMBS];
     let mut translation_m = vec![f64::NAN; n * 3];
@@ -397,6 +399,8 @@ pub(crate) fn reconstruct<'py>(
         scale[i] = rec.camera.scale;
         translation[i * 2..(i + 1) * 2].copy_from_slice(&rec.camera.translation);
         projection_error[i] = rec.projection_error;
+        outside_limits[i] = rec.outside_limits_rad;
+        reflected[i] = rec.reflected;
         if let Ok(l) = BoneLengths::of_pose(&rec.pose) {
             lengths[i * NUM_LIMBS..(i + 1) * NUM_LIMBS].copy_from_slice(&l.as_array());
         }
@@ -419,6 +423,8 @@ pub(crate) fn reconstruct<'py>(
     out.array("scale", scale, &[])?;
     out.array("translation", translation, &[2])?;
     out.array("projection_error", projection_error, &[])?;
+    out.array("outside_limits_rad", outside_limits, &[])?;
+    out.array("reflected", reflected, &[])?;
     out.array("label", label, &[])?;
     out.array("bone_lengths", lengths, &[NUM_LIMBS])?;
     out.array("translation_m", translation_m, &[3])?;

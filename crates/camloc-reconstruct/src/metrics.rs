@@ -300,6 +300,7 @@ mod tests {
             iterations: 0,
             reflected: false,
             limit_violation_rad: 0.0,
+            outside_limits_rad: 0.0,
             perspective: None,
         };
         let e = projection_error_eq12(&pose2, &recon, 640.0, 480.0).unwrap();
@@ -344,6 +345,7 @@ mod tests {
             iterations: 0,
             reflected: false,
             limit_violation_rad: 0.0,
+            outside_limits_rad: 0.0,
             perspective: Some(perspective),
         };
         assert!(projection_error_eq12_bbox(&pose2, &recon).unwrap() < 1e-12);

@@ -153,6 +153,28 @@ fn point(pose: &Pose3, l: Landmark) -> Vector3<f64> {
     Vector3::from(pose.points[l.index()])
 }
 
+/// How far outside the limits (radians of violation, its two bones summed) a limb must lie
+/// for [`JointLimits::flip_depths`] to try its flips: only clear cases, for the limits,
+/// learned on the motion capture's proportions, misjudge a few limbs of other skeletons
+/// (docs/RESULTS.md).
+const FLIP_MIN_VIOLATION_RAD: f64 = 0.3;
+
+/// How much further into the limits (radians of violation) a flip must take a limb for
+/// [`JointLimits::flip_depths`] to keep it.
+const FLIP_MARGIN_RAD: f64 = 0.2;
+
+/// Flips the depth of bone `b` of `pose` along the optical axis of a camera with `rotation`
+/// (body frame to camera frame), the bones below it following.
+fn flip_depth(pose: &mut Pose3, b: &LimitedBone, rotation: &Matrix3<f64>) {
+    let bone = point(pose, b.to) - point(pose, b.from);
+    let mut seen = rotation * bone;
+    seen.z = -seen.z;
+    let shift = rotation.transpose() * seen - bone;
+    for l in b.to.subtree() {
+        pose.points[l.index()] = (point(pose, l) + shift).into();
+    }
+}
+
 /// The unit part of `v` orthogonal to the unit vector `axis`, `None` when (nearly) zero.
 fn orthogonal_unit(v: Vector3<f64>, axis: &Vector3<f64>) -> Option<Vector3<f64>> {
     (v - axis * axis.dot(&v)).try_normalize(1e-12)
@@ -280,6 +302,58 @@ impl JointLimits {
                 Some((a - self.radii[k]).max(0.0))
             })
             .sum()
+    }
+
+    /// How far the bone `b` of `pose` lies outside the limits (radians; 0 within them or
+    /// when it has no direction).
+    fn bone_violation(&self, pose: &Pose3, b: &LimitedBone) -> f64 {
+        local_direction(pose, b)
+            .and_then(|(d, _)| {
+                let k = b.bone.index();
+                let (_, a) = self.nearest(k, &d)?;
+                Some((a - self.radii[k]).max(0.0))
+            })
+            .unwrap_or(0.0)
+    }
+
+    /// `pose` with, in each limb (thigh and shin, upper arm and forearm), the depth of its
+    /// two bones along the optical axis of a camera with `rotation` (body frame to camera
+    /// frame) flipped where the limb lies at least 0.3 rad outside the limits and a flip
+    /// takes it at least 0.2 rad further into them: of the four ways (neither, the proximal bone, the distal one, both)
+    /// the one with the smallest violation. A flip leaves the limb's image under weak
+    /// perspective as it was: it is the depth ambiguity of each bone that one view leaves
+    /// (a knee seen bent backwards or forwards), which the limits decide. A limb with a
+    /// landmark whose bit is set in `imputed` (filled in, not seen: its image is no evidence
+    /// of either reading) is left as it is. Bone lengths are kept; the bones below a flipped
+    /// one follow it.
+    pub fn flip_depths(&self, pose: &Pose3, rotation: &Matrix3<f64>, imputed: u16) -> Pose3 {
+        let mut out = *pose;
+        for limb in LIMITED.chunks_exact(2) {
+            let seen = |l: Landmark| imputed & (1 << l.index()) == 0;
+            if !(seen(limb[0].from) && seen(limb[0].to) && seen(limb[1].to)) {
+                continue;
+            }
+            let violation = |p: &Pose3| limb.iter().map(|b| self.bone_violation(p, b)).sum::<f64>();
+            let original = violation(&out);
+            if original <= FLIP_MIN_VIOLATION_RAD {
+                continue;
+            }
+            let mut best = (original - FLIP_MARGIN_RAD, None);
+            for flips in [[true, false], [false, true], [true, true]] {
+                let mut flipped = out;
+                for (b, _) in limb.iter().zip(flips).filter(|(_, flip)| *flip) {
+                    flip_depth(&mut flipped, b, rotation);
+                }
+                let v = violation(&flipped);
+                if v < best.0 {
+                    best = (v, Some(flipped));
+                }
+            }
+            if let (_, Some(flipped)) = best {
+                out = flipped;
+            }
+        }
+        out
     }
 
     /// The representative of bone kind `k` nearest to `d` (largest cosine), and the angle to
@@ -443,6 +517,42 @@ mod tests {
         assert!((shin(&fixed) - shin(&wrong)).abs() < 1e-12);
         assert!(JointLimits::fit(&training, 0).is_err());
         assert!(JointLimits::fit(&[], 4).is_err());
+    }
+
+    /// A camera looking along +x (from behind the body, whose front faces -x) cannot tell a
+    /// knee bent 60 degrees backwards from one bent the human way: the flip finds the human
+    /// one and leaves the image as it was; a knee filled in is left alone, and a camera
+    /// looking from the side (the bend across its axis) flips nothing.
+    #[test]
+    fn a_knee_bent_backwards_along_the_camera_axis_is_flipped_into_the_limits() {
+        let training: Vec<Pose3> = (0..=90)
+            .map(|d| standing((d as f64).to_radians()))
+            .collect();
+        let limits = JointLimits::fit(&training, 16).unwrap();
+        let wrong = standing(-60f64.to_radians());
+        // Body to camera: camera x = -body y, camera y = -body z, camera z (depth) = body x.
+        let behind: Matrix3<f64> = Matrix3::new(0.0, -1.0, 0.0, 0.0, 0.0, -1.0, 1.0, 0.0, 0.0);
+        assert!((behind.determinant() - 1.0).abs() < 1e-12);
+        let flipped = limits.flip_depths(&wrong, &behind, 0);
+        assert!(
+            limits.violation(&flipped) < 1e-9,
+            "{}",
+            limits.violation(&flipped)
+        );
+        let right = standing(60f64.to_radians());
+        for (a, b) in flipped.points.iter().zip(&right.points) {
+            assert!((Vector3::from(*a) - Vector3::from(*b)).norm() < 1e-12);
+        }
+        let image = |p: &Pose3| p.points.map(|x| (behind * Vector3::from(x)).xy());
+        for (a, b) in image(&flipped).iter().zip(&image(&wrong)) {
+            assert!((a - b).norm() < 1e-12);
+        }
+        let ankles = (1 << Landmark::LeftAnkle.index()) | (1 << Landmark::RightAnkle.index());
+        assert_eq!(limits.flip_depths(&wrong, &behind, ankles), wrong);
+        // From the side the bend is in the image: no flip reaches the limits.
+        let side = Matrix3::new(1.0, 0.0, 0.0, 0.0, 0.0, -1.0, 0.0, 1.0, 0.0);
+        assert_eq!(limits.flip_depths(&wrong, &side, 0), wrong);
+        assert_eq!(limits.flip_depths(&right, &behind, 0), right);
     }
 
     #[test]

@@ -73,6 +73,7 @@ struct HypothesisJson<'a> {
     projection_error: f64,
     reflected: bool,
     limit_violation_rad: f64,
+    outside_limits_rad: f64,
     #[serde(skip_serializing_if = "Option::is_none")]
     bone_lengths_m: Option<BoneLengths>,
     landmarks_m: Landmarks<'a>,
@@ -90,6 +91,7 @@ impl<'a> HypothesisJson<'a> {
             projection_error: r.projection_error,
             reflected: r.reflected,
             limit_violation_rad: r.limit_violation_rad,
+            outside_limits_rad: r.outside_limits_rad,
             bone_lengths_m: BoneLengths::of_pose(&r.pose).ok(),
             landmarks_m: Landmarks(&r.pose),
         }
@@ -248,9 +250,10 @@ fn reconstruction_text(heading: &str, r: &Reconstruction) -> String {
     let _ = writeln!(
         out,
         "{heading}; reprojection error {:.3} (image units, eq. 6); joint-limit violation \
-         {:.3} rad{}",
+         {:.3} rad before the limits, the pose {:.3} rad outside them{}",
         r.projection_error,
         r.limit_violation_rad,
+        r.outside_limits_rad,
         if r.reflected {
             " (depth-reflected)"
         } else {

@@ -49,8 +49,11 @@ pub struct ReconstructConfig {
     pub symmetry: bool,
     /// Prior: turn limb bones outside the basis's learned joint-angle limits onto their border
     /// after the pursuit ([`JointLimits::project`](crate::JointLimits::project)), then refit
-    /// the camera; and prefer, between hypotheses that fit the 2D about equally, the one the
-    /// limits like better.
+    /// the camera; prefer, between hypotheses that fit the 2D about equally, the one the
+    /// limits like better; and flip limbs read the wrong way in depth into the limits
+    /// ([`JointLimits::flip_depths`](crate::JointLimits::flip_depths)) in the lifted pose
+    /// the refinement starts from and, for single poses, after the refinement (refined again
+    /// from the flip).
     pub joint_limits: bool,
     /// The final skeleton refinement: the pose rebuilt with the person's own bone lengths
     /// (given, or estimated under the length prior) and fitted to the 2D again, in sequences

@@ -56,6 +56,11 @@ pub struct Reconstruction {
     /// prior's projection: the sum over the 8 limb bones of the angle beyond the limits,
     /// radians (0: within them).
     pub limit_violation_rad: f64,
+    /// How far this pose (the one returned, after the refinement) lies outside the learned
+    /// joint-angle limits, measured as [`limit_violation_rad`](Self::limit_violation_rad):
+    /// a pose that the 2D bends beyond them (a knee seen bent backwards) has it above 0;
+    /// check such poses before using them.
+    pub outside_limits_rad: f64,
     /// The full perspective camera of the final refinement (`camera` is then its
     /// weak-perspective approximation at the pelvis): with known intrinsics
     /// ([`Given::intrinsics`]) theirs; without them, when the refinement estimated the
@@ -81,6 +86,7 @@ impl Reconstruction {
             iterations: 0,
             reflected: false,
             limit_violation_rad: 0.0,
+            outside_limits_rad: 0.0,
             perspective: None,
         }
     }

@@ -91,19 +91,51 @@ impl Reconstructor {
             .map(|(c, start)| {
                 let refined = if self.refines(given) {
                     let frame = self.refine_frame(&obs, &c, given, start.as_ref(), imputed);
-                    let (mut out, _) = refine(
-                        &[frame],
-                        self.length_input(given),
-                        &self.config.refinement,
-                        false,
-                    )?;
-                    out.pop()
+                    self.refine_within_limits(frame, given)?
                 } else {
                     None
                 };
                 Ok(self.reconstruction(&obs, c, refined, given, iterations))
             })
             .collect()
+    }
+
+    /// The refinement of one `frame`; with the joint-angle limits on, when the refined pose
+    /// has a limb that a flip of its bones' depths takes into the limits
+    /// ([`JointLimits::flip_depths`](crate::JointLimits::flip_depths): the 2D fits both, the
+    /// direction prior held it near the start's reading), refined again from that flip and
+    /// kept if it ends within the limits by more.
+    fn refine_within_limits(
+        &self,
+        frame: RefineFrame,
+        given: &Given,
+    ) -> Result<Option<RefinedFrame>, ReconstructError> {
+        let settings = &self.config.refinement;
+        let retry = frame.clone();
+        let (mut out, _) = refine(&[frame], self.length_input(given), settings, false)?;
+        let Some(first) = out.pop() else {
+            return Ok(None);
+        };
+        if !self.config.joint_limits {
+            return Ok(Some(first));
+        }
+        let limits = self.basis.joint_limits();
+        let flipped = limits.flip_depths(&first.pose, &first.camera.rotation, retry.imputed);
+        if flipped == first.pose {
+            return Ok(Some(first));
+        }
+        let frame = RefineFrame {
+            pose: flipped,
+            camera: first.camera,
+            ..retry
+        };
+        let (mut out, _) = refine(&[frame], self.length_input(given), settings, false)?;
+        Ok(match out.pop() {
+            Some(second) if limits.violation(&second.pose) < limits.violation(&first.pose) => {
+                Some(second)
+            }
+            _ => Some(first),
+        })
     }
 
     /// Whether the refinement runs: lengths or intrinsics given, or lengths to estimate.
@@ -151,7 +183,22 @@ impl Reconstructor {
     ) -> RefineFrame {
         let camera = candidate.fit.camera;
         let (points, lifted) = match depths {
-            Some(z) if z.iter().all(|v| v.is_finite()) => (lifted_points(obs, z, &camera), true),
+            Some(z) if z.iter().all(|v| v.is_finite()) => {
+                let points = lifted_points(obs, z, &camera);
+                // The lifter is not held to the joint-angle limits: a limb it bends the
+                // wrong way in depth (a knee backwards) is flipped in depth where that
+                // takes it into them, the 2D unchanged; the refinement's direction prior
+                // then holds that reading.
+                let points = if self.config.joint_limits {
+                    let limits = self.basis.joint_limits();
+                    limits
+                        .flip_depths(&Pose3 { points }, &camera.rotation, imputed)
+                        .points
+                } else {
+                    points
+                };
+                (points, true)
+            }
             _ => (candidate.fit.points, false),
         };
         RefineFrame {
@@ -203,6 +250,7 @@ impl Reconstructor {
             iterations,
             reflected: candidate.reflected,
             limit_violation_rad: candidate.violation,
+            outside_limits_rad: self.basis.joint_limits().violation(&pose),
             perspective,
         }
     }

@@ -13,7 +13,7 @@
 //! smoothness deviation; directions, not positions, so that the smoothness does not prefer
 //! short bones).
 
-use camloc_skeleton::{NUM_LANDMARKS, NUM_LIMBS};
+use camloc_skeleton::{LIMBS, Landmark, NUM_LANDMARKS, NUM_LIMBS};
 use nalgebra::{Matrix2x3, Matrix3, SMatrix, SVector, Vector2, Vector3};
 
 use super::kinematics::{MAX_CHAIN, chains, forward, moved, tangent_basis};
@@ -87,6 +87,11 @@ pub(super) struct Weights {
     pub(super) direction: f64,
     /// 1 / the smoothness deviation (of unit directions); 0 without smoothness.
     pub(super) smooth: f64,
+    /// The head's limit: the angle between the neck-to-head and pelvis-to-neck bones beyond
+    /// which [`head`](Self::head) holds it back (radians; infinite for none).
+    pub(super) head_limit: f64,
+    /// 1 / the deviation of the head's angle beyond the limit (radians).
+    pub(super) head: f64,
 }
 
 /// Depths in front of a perspective camera must exceed this (metres).
@@ -247,6 +252,51 @@ fn huber(rho: f64, k: f64) -> (f64, f64) {
     }
 }
 
+/// The limbs whose angle the head's limit bounds: the pelvis-to-neck bone (torso) and the
+/// neck-to-head one.
+fn head_limbs() -> (usize, usize) {
+    let limb = |from: Landmark, to: Landmark| LIMBS.iter().position(|&l| l == (from, to));
+    match (
+        limb(Landmark::Pelvis, Landmark::Neck),
+        limb(Landmark::Neck, Landmark::Head),
+    ) {
+        (Some(torso), Some(head)) => (torso, head),
+        _ => unreachable!("the skeleton has a torso and a neck-to-head bone"),
+    }
+}
+
+/// The cost of the head's angle beyond [`Weights::head_limit`] (half its square in
+/// deviations), with its Gauss-Newton terms added to `normal`.
+fn head_tilt(
+    state: &FrameState,
+    weights: &Weights,
+    tangents: &[[Vector3<f64>; 2]; NUM_LIMBS],
+    normal: Option<&mut (&mut Hessian, &mut Gradient)>,
+) -> f64 {
+    let (torso, head) = head_limbs();
+    let (t, h) = (state.directions[torso], state.directions[head]);
+    let cos = t.dot(&h).clamp(-1.0, 1.0);
+    let angle = cos.acos();
+    let excess = angle - weights.head_limit;
+    if !(excess > 0.0) {
+        return 0.0;
+    }
+    let r = excess * weights.head;
+    if let Some((hessian, gradient)) = normal {
+        // d angle = -d cos / sin angle; a tangent step e of one bone changes cos by e . other.
+        let sin = angle.sin().max(1e-9);
+        let mut row = Row::new();
+        for (k, e_k) in tangents[head].iter().enumerate() {
+            row.push(DIR + 2 * head + k, -e_k.dot(&t) / sin * weights.head);
+        }
+        for (k, e_k) in tangents[torso].iter().enumerate() {
+            row.push(DIR + 2 * torso + k, -e_k.dot(&h) / sin * weights.head);
+        }
+        row.accumulate(hessian, gradient, r);
+    }
+    0.5 * r * r
+}
+
 /// A frame's shared parameters: the bone lengths (metres) and the inverse distance of a
 /// weak-perspective camera (1/m).
 #[derive(Clone, Copy, Debug)]
@@ -342,6 +392,7 @@ pub(super) fn evaluate(
             }
         }
     }
+    cost += head_tilt(state, weights, &tangents, normal.as_mut());
     if let (Some(target), true) = (target, weights.smooth > 0.0) {
         for (b, d) in state.directions.iter().enumerate() {
             let e = (state.rotation * d - target[b]) * weights.smooth;
@@ -394,6 +445,8 @@ mod tests {
             huber: 1e9,
             direction: 5.0,
             smooth: 3.0,
+            head_limit: 0.2,
+            head: 4.0,
         };
         for (projection, camera) in [
             (Projection::OnAxis, [0.2, 0.1, -0.05]),

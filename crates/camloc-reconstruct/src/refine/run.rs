@@ -14,6 +14,7 @@ use crate::{BoneLengths, ReconstructError};
 
 /// One frame to refine: the 2D, the pursuit's answer, the camera model (all in the frame's
 /// normalised image units).
+#[derive(Clone)]
 pub(crate) struct RefineFrame {
     /// The 2D landmarks.
     pub(crate) observed: [[f64; 2]; NUM_LANDMARKS],
@@ -184,6 +185,8 @@ pub(crate) fn refine(
             } else {
                 0.0
             },
+            head_limit: settings.head_tilt_limit_rad,
+            head: 1.0 / settings.head_tilt_sigma_rad,
         },
         lengths: unknowns,
         kappa,
