@@ -1117,6 +1117,10 @@ def test_bools_and_complex_numbers_are_refused_not_converted():
         camloc.Localizer().localize(points.astype(np.complex128))
     with pytest.raises(TypeError, match="complex"):
         camloc.reconstruct(np.ma.masked_array(points.astype(np.complex64)))
+    with pytest.raises(TypeError, match="complex"):
+        camloc.Localizer().localize([pose + 50j for pose in points])
+    with pytest.raises(TypeError, match="complex"):
+        camloc.to_bvh([np.zeros((15, 3)) + 1j, np.zeros((15, 3))])
 
 
 def test_the_camera_height_shares_are_returned_as_the_command_line_writes_them(cli, tmp_path):

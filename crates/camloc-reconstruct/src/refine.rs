@@ -106,7 +106,8 @@ impl Default for Refinement {
     /// default widening, the camera's distance estimated under [`DistancePrior::default`], 10
     /// steps; in sequences smoothness 0.07 (0.1 before; docs/RESULTS.md), the length prior's
     /// deviations halved (`sequence_prior` 2) and made to keep pace with the frames beyond 60
-    /// (`length_evidence_frames`), the Viterbi choice of depths with motion deviation 0.1 m.
+    /// (`length_evidence_frames`), the Viterbi choice of depths with motion deviation 0.1 m;
+    /// the head held back beyond 75 deg from the torso's line with a deviation of 0.05 rad.
     fn default() -> Self {
         Refinement {
             estimate_lengths: true,
@@ -122,7 +123,7 @@ impl Default for Refinement {
             length_evidence_frames: 60.0,
             consistent_depth: true,
             motion_m: 0.1,
-            head_tilt_limit_rad: 60f64.to_radians(),
+            head_tilt_limit_rad: 75f64.to_radians(),
             head_tilt_sigma_rad: 0.05,
         }
     }
