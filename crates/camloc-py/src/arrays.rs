@@ -119,7 +119,7 @@ impl<'a, 'py, K: MaskedKind> FromPyObject<'a, 'py> for Unmasked<'py, K> {
 /// A `TypeError` for a NumPy array or scalar of complex numbers, or a list or tuple of them,
 /// whose conversion to float64 would drop the imaginary parts with only a `ComplexWarning` (a
 /// list of Python complex numbers is refused by the conversion itself).
-fn refuse_complex(ob: &Bound<'_, PyAny>) -> PyResult<()> {
+pub(crate) fn refuse_complex(ob: &Bound<'_, PyAny>) -> PyResult<()> {
     // A list or tuple (of arrays, one per pose): its elements as NumPy would read them.
     if ob.is_instance_of::<PyList>() || ob.is_instance_of::<PyTuple>() {
         return match ob.py().import("numpy")?.call_method1("asarray", (ob,)) {

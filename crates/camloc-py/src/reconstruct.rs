@@ -48,6 +48,7 @@ pub(crate) fn intrinsics_arg(
     // length.
     let focal_px = focal_px
         .map(|f| {
+            crate::arrays::refuse_complex(f)?;
             let number = (!f.is_instance_of::<pyo3::types::PyBool>())
                 .then(|| f.extract::<f64>().ok())
                 .flatten();
@@ -62,6 +63,7 @@ pub(crate) fn intrinsics_arg(
         })
         .transpose()?;
     let numbers = |point: &Bound<'_, PyAny>| -> PyResult<Vec<f64>> {
+        crate::arrays::refuse_complex(point)?;
         let numbers = (!point.is_instance_of::<pyo3::types::PyString>())
             .then(|| point.extract::<Vec<f64>>().ok())
             .flatten();

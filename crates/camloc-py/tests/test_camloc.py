@@ -1121,6 +1121,10 @@ def test_bools_and_complex_numbers_are_refused_not_converted():
         camloc.Localizer().localize([pose + 50j for pose in points])
     with pytest.raises(TypeError, match="complex"):
         camloc.to_bvh([np.zeros((15, 3)) + 1j, np.zeros((15, 3))])
+    with pytest.raises(TypeError, match="complex"):
+        camloc.reconstruct(points, focal_px=1000.0, principal_point=np.array([500 + 1j, 500]))
+    with pytest.raises(TypeError, match="complex"):
+        camloc.reconstruct(points, focal_px=np.complex128(1000 + 5j))
 
 
 def test_the_camera_height_shares_are_returned_as_the_command_line_writes_them(cli, tmp_path):
