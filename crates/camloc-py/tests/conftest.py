@@ -1,4 +1,5 @@
-"""Fixtures shared by the tests: `cli` runs the `camloc` command line.
+"""Fixtures shared by the tests: `cli` runs the `camloc` command line; `localizer` is the
+embedded model under the default camera height, `alone` localizes each pose on its own.
 
 `cli` runs the `camloc` binary named by the environment variable CAMLOC_BIN (.ci/run sets it),
 else `target/debug/camloc` of the repository; without either the tests that use it are skipped
@@ -11,6 +12,8 @@ import subprocess
 from pathlib import Path
 
 import pytest
+
+import camloc
 
 ROOT = Path(__file__).resolve().parents[3]
 
@@ -33,3 +36,14 @@ def cli():
         return done.returncode, json.loads(done.stdout)
 
     return run
+
+
+@pytest.fixture(scope="module")
+def localizer():
+    return camloc.Localizer()
+
+
+@pytest.fixture(scope="module")
+def alone():
+    """Each pose on its own (the default reads a call's poses together)."""
+    return camloc.Localizer(camera_height="any")
