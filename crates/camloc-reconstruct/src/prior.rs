@@ -293,15 +293,7 @@ impl JointLimits {
     /// angle (radians) beyond the radius of the nearest representative direction; 0 for a
     /// pose within the limits.
     pub fn violation(&self, pose: &Pose3) -> f64 {
-        LIMITED
-            .iter()
-            .filter_map(|b| {
-                let (d, _) = local_direction(pose, b)?;
-                let k = b.bone.index();
-                let (_, a) = self.nearest(k, &d)?;
-                Some((a - self.radii[k]).max(0.0))
-            })
-            .sum()
+        LIMITED.iter().map(|b| self.bone_violation(pose, b)).sum()
     }
 
     /// How far the bone `b` of `pose` lies outside the limits (radians; 0 within them or

@@ -12,6 +12,6 @@ pub mod data;
 mod pose;
 
 pub use pose::{
-    LIMB_NAMES, LIMBS, Landmark, NUM_LANDMARKS, NUM_LIMBS, PartialPose2, Pose2, Pose3,
-    SAFE_EXPONENT, TORSO_LIMB, mean_limb_lengths, mirror_landmark_index,
+    LIMB_NAMES, LIMBS, Landmark, NECK_HEAD_LIMB, NUM_LANDMARKS, NUM_LIMBS, PartialPose2, Pose2,
+    Pose3, SAFE_EXPONENT, TORSO_LIMB, mean_limb_lengths, mirror_landmark_index,
 };

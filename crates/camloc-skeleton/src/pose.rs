@@ -174,6 +174,9 @@ pub const LIMBS: [(Landmark, Landmark); NUM_LIMBS] = [
 /// Position of the torso (pelvis to neck) in [`LIMBS`]; the reference length in 2D.
 pub const TORSO_LIMB: usize = 6;
 
+/// Position of the neck-to-head bone in [`LIMBS`].
+pub const NECK_HEAD_LIMB: usize = 7;
+
 /// Human-readable limb names, parallel to [`LIMBS`].
 pub const LIMB_NAMES: [&str; NUM_LIMBS] = [
     "left pelvis-hip",
@@ -557,6 +560,7 @@ mod tests {
         assert_eq!(parents[0], 0);
         assert!(parents[1..].iter().all(|&n| n == 1));
         assert_eq!(LIMBS[TORSO_LIMB], (Landmark::Pelvis, Landmark::Neck));
+        assert_eq!(LIMBS[NECK_HEAD_LIMB], (Landmark::Neck, Landmark::Head));
         // Parents come before their children (what Landmark::subtree relies on).
         for (k, (parent, _)) in LIMBS.iter().enumerate() {
             assert!(

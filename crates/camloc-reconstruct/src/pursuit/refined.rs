@@ -111,8 +111,12 @@ impl Reconstructor {
         given: &Given,
     ) -> Result<Option<RefinedFrame>, ReconstructError> {
         let settings = &self.config.refinement;
-        let retry = frame.clone();
-        let (mut out, _) = refine(&[frame], self.length_input(given), settings, false)?;
+        let (mut out, _) = refine(
+            std::slice::from_ref(&frame),
+            self.length_input(given),
+            settings,
+            false,
+        )?;
         let Some(first) = out.pop() else {
             return Ok(None);
         };
@@ -120,14 +124,14 @@ impl Reconstructor {
             return Ok(Some(first));
         }
         let limits = self.basis.joint_limits();
-        let flipped = limits.flip_depths(&first.pose, &first.camera.rotation, retry.imputed);
+        let flipped = limits.flip_depths(&first.pose, &first.camera.rotation, frame.imputed);
         if flipped == first.pose {
             return Ok(Some(first));
         }
         let frame = RefineFrame {
             pose: flipped,
             camera: first.camera,
-            ..retry
+            ..frame
         };
         let (mut out, _) = refine(&[frame], self.length_input(given), settings, false)?;
         Ok(match out.pop() {

@@ -8,12 +8,13 @@
 //!
 //! Residuals: the 15 landmarks' reprojection (2 each, in units of the image noise, with a
 //! Huber loss), each bone direction's distance from its anchor (the pursuit's direction, in
-//! units of the direction deviation) and, in sequences, each bone's direction in the
+//! units of the direction deviation), the head's angle to the torso beyond its limit (in
+//! units of its deviation) and, in sequences, each bone's direction in the
 //! camera's orientation against the mean of its neighbouring frames' (in units of the
 //! smoothness deviation; directions, not positions, so that the smoothness does not prefer
 //! short bones).
 
-use camloc_skeleton::{LIMBS, Landmark, NUM_LANDMARKS, NUM_LIMBS};
+use camloc_skeleton::{NECK_HEAD_LIMB, NUM_LANDMARKS, NUM_LIMBS, TORSO_LIMB};
 use nalgebra::{Matrix2x3, Matrix3, SMatrix, SVector, Vector2, Vector3};
 
 use super::kinematics::{MAX_CHAIN, chains, forward, moved, tangent_basis};
@@ -252,19 +253,6 @@ fn huber(rho: f64, k: f64) -> (f64, f64) {
     }
 }
 
-/// The limbs whose angle the head's limit bounds: the pelvis-to-neck bone (torso) and the
-/// neck-to-head one.
-fn head_limbs() -> (usize, usize) {
-    let limb = |from: Landmark, to: Landmark| LIMBS.iter().position(|&l| l == (from, to));
-    match (
-        limb(Landmark::Pelvis, Landmark::Neck),
-        limb(Landmark::Neck, Landmark::Head),
-    ) {
-        (Some(torso), Some(head)) => (torso, head),
-        _ => unreachable!("the skeleton has a torso and a neck-to-head bone"),
-    }
-}
-
 /// The cost of the head's angle beyond [`Weights::head_limit`] (half its square in
 /// deviations), with its Gauss-Newton terms added to `normal`.
 fn head_tilt(
@@ -273,7 +261,7 @@ fn head_tilt(
     tangents: &[[Vector3<f64>; 2]; NUM_LIMBS],
     normal: Option<&mut (&mut Hessian, &mut Gradient)>,
 ) -> f64 {
-    let (torso, head) = head_limbs();
+    let (torso, head) = (TORSO_LIMB, NECK_HEAD_LIMB);
     let (t, h) = (state.directions[torso], state.directions[head]);
     let cos = t.dot(&h).clamp(-1.0, 1.0);
     let angle = cos.acos();

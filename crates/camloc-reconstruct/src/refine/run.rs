@@ -14,7 +14,6 @@ use crate::{BoneLengths, ReconstructError};
 
 /// One frame to refine: the 2D, the pursuit's answer, the camera model (all in the frame's
 /// normalised image units).
-#[derive(Clone)]
 pub(crate) struct RefineFrame {
     /// The 2D landmarks.
     pub(crate) observed: [[f64; 2]; NUM_LANDMARKS],
