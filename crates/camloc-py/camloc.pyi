@@ -150,7 +150,10 @@ class Localizer:
           azimuth_deg, elevation_deg (N,) float64: the continuous viewpoint, degrees, in the
             person's canonical frame (azimuth 180 = front, 270 = left, 0 = back, 90 = right;
             elevation + above); NaN where the pose failed or the model has no direction heads;
-          uncertainty_deg (N,) float64: angular radius holding about 68% of the viewpoint error;
+          uncertainty_deg (N,) float64: angular radius calibrated to hold about 68% of the
+            viewpoint error over the training views' mix of postures and cameras; it held
+            63-84% of held-out views by protocol, less for acrobatics (30-50%) and for low
+            frames under ``jittered`` views (45-64%; docs/RESULTS.md);
           camera_height_shares (3,) float64: with ``camera_height="from-input"``, how the
             call's cameras were estimated to divide among the lower, middle and upper rings
             (the prior every pose was localized under, as ``camloc localize --npz`` writes
@@ -227,8 +230,8 @@ def reconstruct(
       ``world_points3d`` then walks real distances (with ``focal_px`` too). Not with
       ``bone_lengths``, which give the size.
     focal_px, principal_point: the camera's focal length and principal point (pixels; the
-      principal point, two numbers as a tuple, list or array, defaults to the centre of each
-      pose's 2D bounding box): a final full-perspective refinement, and each pose localized
+      principal point, two numbers as a tuple, list or array, defaults to the centre of the
+      bounding box of each pose's given landmarks): a final full-perspective refinement, and each pose localized
       as the camera aimed at it would see it (as ``Localizer.localize``'s). The poses must be
       in pixels too: a pose whose root mean square radius is under 1/1000 of ``focal_px``
       (normalised coordinates) fails.

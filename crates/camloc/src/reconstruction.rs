@@ -192,7 +192,7 @@ impl PoseReconstructor {
 
     /// Reconstructs with a known camera: a final full-perspective refinement with these
     /// intrinsics (pixels, in the input's image coordinates; without a principal point, the
-    /// centre of each pose's 2D bounding box), and the localizer aiming each pose
+    /// centre of the bounding box of each pose's given landmarks, not those filled in), and the localizer aiming each pose
     /// ([`CameraLocalizer::with_intrinsics`]: a simulated user's views at f = 500 px with the
     /// pelvis 500 px off-centre, labels 58.8% -> 78.5%, PA-MPJPE 37 -> 36 mm against the
     /// refinement alone).

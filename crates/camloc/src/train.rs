@@ -131,8 +131,10 @@ impl CameraLocalizer {
         let problem = NewtonProblem::from_rows(&rows, &y, n_classes, &options.regression)?;
         // The problem holds its own copy of the rows: before its iterations, free every row
         // but the samples' own, which only linear viewpoint heads read.
-        let linear_heads =
-            options.viewpoint_lambda.is_some() && options.viewpoint_capacity == Capacity::Linear;
+        // (Mirror images are made again by the heads' own fit, their rows being spread out.)
+        let linear_heads = options.viewpoint_lambda.is_some()
+            && options.viewpoint_capacity == Capacity::Linear
+            && !options.mirror;
         x.truncate(if linear_heads {
             dataset.samples.len() * d
         } else {
@@ -172,13 +174,13 @@ impl CameraLocalizer {
             intrinsics: None,
         };
         if let Some(lambda) = options.viewpoint_lambda {
-            match options.viewpoint_capacity {
-                Capacity::Linear => {
-                    // The heads see the classifier's rows of the samples themselves (the
-                    // first rows, before mirror images and dropout copies: kept above).
-                    localizer.fit_viewpoint_rows(&x, dataset, lambda)?;
-                }
-                capacity => localizer.fit_viewpoint_with_capacity(dataset, lambda, capacity)?,
+            if linear_heads {
+                // The heads see the classifier's rows of the samples themselves (the first
+                // rows, before dropout copies: kept above).
+                localizer.fit_viewpoint_rows(&x, dataset, lambda, false)?;
+            } else {
+                let capacity = options.viewpoint_capacity;
+                localizer.fit_viewpoint_with_capacity(dataset, lambda, capacity)?;
             }
         }
         Ok((localizer, report))
@@ -186,8 +188,10 @@ impl CameraLocalizer {
 
     /// Fits (or refits) the continuous-viewpoint heads on `dataset`: per camera class, a
     /// ridge regression (weight `lambda`) from the descriptor to the unit direction of the
-    /// sample's camera (from its rotation), fitted on the samples labelled with that class;
-    /// then the uncertainty is calibrated on the same samples, by the class this
+    /// sample's camera (from its rotation), fitted on the samples labelled with that class
+    /// and, when the classifier was trained on mirror images ([`TrainOptions::mirror`]), on
+    /// the mirror images labelled with it (so that a mirrored pose gets the mirrored
+    /// direction); then the uncertainty is calibrated on the same samples, by the class this
     /// localizer chooses and its probability. A dataset whose directions cover the sphere
     /// band (protocol `sphere`) gives heads that resolve directions between the cameras.
     ///
@@ -224,8 +228,17 @@ impl CameraLocalizer {
                 detail: "its cameras are not the model's".into(),
             });
         }
-        let poses: Vec<PartialPose2> = dataset.samples.iter().map(sample_pose).collect();
+        // Mirror images as the classifier saw them, so that mirror-image poses get
+        // mirror-image directions.
+        let mirror = self.info.mirror;
+        let mut poses: Vec<PartialPose2> = dataset.samples.iter().map(sample_pose).collect();
+        if mirror {
+            poses.extend_from_within(..);
+            let n = dataset.samples.len();
+            poses[n..].iter_mut().for_each(|p| *p = p.mirrored());
+        }
         let descriptors = self.descriptor_rows(&poses, 0)?;
+        drop(poses);
         let d = self.descriptor.len();
         self.viewpoint_expansion = match (capacity, &self.expansion) {
             (Capacity::Linear, _) => None,
@@ -236,17 +249,18 @@ impl CameraLocalizer {
                 components,
             )?),
         };
-        self.fit_viewpoint_rows(&descriptors, dataset, lambda)
+        self.fit_viewpoint_rows(&descriptors, dataset, lambda, mirror)
     }
 
-    /// The viewpoint heads fitted on the samples' imputed descriptor rows `descriptors`
-    /// (row-major, expanded as the heads read them), and calibrated by the classes the
-    /// classifier chooses for them.
+    /// The viewpoint heads fitted on the imputed descriptor rows `descriptors` (row-major,
+    /// expanded as the heads read them) of the samples of `dataset`, then (`mirror`) of their
+    /// mirror images, and calibrated by the classes the classifier chooses for them.
     fn fit_viewpoint_rows(
         &mut self,
         descriptors: &[f64],
         dataset: &Dataset,
         lambda: f64,
+        mirror: bool,
     ) -> Result<(), CamlocError> {
         check_viewpoint_lambda(lambda)?;
         let x = Features::new(descriptors, self.descriptor.len())?;
@@ -255,20 +269,8 @@ impl CameraLocalizer {
             Some(e) => DesignRows::expanded(x, e)?,
             None => classifier,
         };
-        let directions: Vec<[f64; 3]> = dataset
-            .samples
-            .iter()
-            .map(|s| {
-                let (azimuth, elevation) = camera_direction_deg(&s.rotation);
-                direction_vector(azimuth, elevation)
-            })
-            .collect();
         check_every_camera_seen(dataset, "viewpoint dataset")?;
-        let classes: Vec<usize> = dataset
-            .samples
-            .iter()
-            .map(|s| usize::from(s.label) - 1)
-            .collect();
+        let (directions, classes) = self.viewpoint_targets(dataset, mirror);
         let mut heads =
             DirectionHeads::fit(&features, &directions, &classes, self.cameras.len(), lambda)?;
         let mut classes = vec![0.0; self.model.n_classes()];
@@ -282,6 +284,34 @@ impl CameraLocalizer {
         heads.calibrate(&features, &chosen, &directions)?;
         self.viewpoint = Some(heads);
         Ok(())
+    }
+}
+
+impl CameraLocalizer {
+    /// The heads' targets of the samples of `dataset`, then (`mirror`) of their mirror
+    /// images: each one's camera direction (a unit vector in the canonical frame) and its
+    /// class (0-based). The mirror image of a view is the body reflected through its sagittal
+    /// plane seen from the reflected camera (y -> -y, azimuth -> -azimuth; the label
+    /// [`CameraSet::mirror_left_right`](camloc_geometry::CameraSet::mirror_left_right)).
+    fn viewpoint_targets(&self, dataset: &Dataset, mirror: bool) -> (Vec<[f64; 3]>, Vec<usize>) {
+        let rows = dataset.samples.len() * if mirror { 2 } else { 1 };
+        let mut directions = Vec::with_capacity(rows);
+        let mut classes = Vec::with_capacity(rows);
+        for s in &dataset.samples {
+            let (azimuth, elevation) = camera_direction_deg(&s.rotation);
+            directions.push(direction_vector(azimuth, elevation));
+            classes.push(usize::from(s.label) - 1);
+        }
+        if mirror {
+            directions.extend_from_within(..);
+            classes.extend_from_within(..);
+            let n = dataset.samples.len();
+            directions[n..].iter_mut().for_each(|d| d[1] = -d[1]);
+            for (class, s) in classes[n..].iter_mut().zip(&dataset.samples) {
+                *class = usize::from(self.cameras.mirror_left_right(s.label)) - 1;
+            }
+        }
+        (directions, classes)
     }
 }
 

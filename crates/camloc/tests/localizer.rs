@@ -439,7 +439,7 @@ fn mirror_training_gives_a_mirror_symmetric_model() {
     let (localizer, report) = CameraLocalizer::train(&dataset, &options, |_| {}).unwrap();
     assert!(report.converged, "{report:?}");
     let cameras = localizer.cameras();
-    let mut largest = 0.0f64;
+    let (mut largest, mut largest_deg) = (0.0f64, 0.0f64);
     for sample in &dataset.samples {
         let pose = PartialPose2::from(sample.landmarks);
         let (a, b) = (
@@ -447,6 +447,9 @@ fn mirror_training_gives_a_mirror_symmetric_model() {
             localizer.localize_partial(&pose.mirrored()).unwrap(),
         );
         assert_eq!(b.side, a.side.mirrored());
+        // The viewpoint heads too are fitted on the mirror images: azimuth a -> -a.
+        let azimuths = a.azimuth_deg.unwrap() + b.azimuth_deg.unwrap();
+        largest_deg = largest_deg.max(((azimuths % 360.0 + 540.0) % 360.0 - 180.0).abs());
         for (k, p) in a.probabilities.iter().enumerate() {
             let mirrored = usize::from(cameras.mirror_left_right(k as u16 + 1)) - 1;
             largest = largest.max((p - b.probabilities[mirrored]).abs());
@@ -455,6 +458,10 @@ fn mirror_training_gives_a_mirror_symmetric_model() {
     assert!(
         largest < 1e-9,
         "probabilities of mirror images differ by {largest:e}"
+    );
+    assert!(
+        largest_deg < 1e-6,
+        "mirrored azimuths off by {largest_deg:e} deg"
     );
 }
 

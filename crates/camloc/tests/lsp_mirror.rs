@@ -1,5 +1,5 @@
 //! The default model on real photos (LSP, skipped without ../shared/data): a mirrored photo
-//! is seen from the mirrored side.
+//! is seen from the mirrored side and the mirrored continuous viewpoint.
 
 use camloc::keypoints::{ReadOptions, read_keypoints};
 use camloc::{CameraLocalizer, MIN_PRESENT_FOR_FILL, PartialPose2, PoseReconstructor};
@@ -7,7 +7,9 @@ use camloc::{CameraLocalizer, MIN_PRESENT_FOR_FILL, PartialPose2, PoseReconstruc
 /// A horizontally mirrored photo with left/right labels swapped is seen from the mirrored side:
 /// the default model is mirror-symmetric (trained on mirror image pairs,
 /// `mirror_training_gives_a_mirror_symmetric_model` in localizer.rs), so every pose but a tie
-/// between two cameras must agree.
+/// between two cameras must agree; its viewpoint heads are fitted on the mirror images too,
+/// so the continuous viewpoint of a mirrored pose with a torso is the mirrored viewpoint
+/// (azimuth `a` -> `-a`, the same elevation).
 #[test]
 fn mirrored_lsp_poses_get_the_mirrored_side() {
     let Some(file) = camloc::skeleton::data::data_path_or_skip(
@@ -33,16 +35,33 @@ fn mirrored_lsp_poses_get_the_mirrored_side() {
     let localize = |pose: &PartialPose2| localizer.localize_filled(pose, filler.reconstructor());
     // [with a torso, filled in]: poses localized, and of those seen from the mirrored side.
     let (mut ok, mut consistent) = ([0usize; 2], [0usize; 2]);
+    // Poses with a torso: the largest viewpoint mismatch (degrees) and those over 0.01 deg.
+    let (mut worst_deg, mut mismatched) = (0.0f64, 0usize);
     for r in &records {
         let filled = usize::from(r.require_torso().is_err());
         if let (Ok(a), Ok(b)) = (localize(&r.pose), localize(&r.pose.mirrored())) {
             ok[filled] += 1;
             consistent[filled] += usize::from(b.side == a.side.mirrored());
+            if filled == 0 {
+                let (az_a, az_b) = (a.azimuth_deg.unwrap(), b.azimuth_deg.unwrap());
+                let azimuth = ((az_a + az_b) % 360.0 + 540.0) % 360.0 - 180.0;
+                let elevation = a.elevation_deg.unwrap() - b.elevation_deg.unwrap();
+                let mismatch = azimuth.abs().max(elevation.abs());
+                worst_deg = worst_deg.max(mismatch);
+                mismatched += usize::from(mismatch > 0.01);
+            }
         }
     }
     eprintln!(
-        "LSP mirror check: {} of {} poses with a torso, {} of {} with it filled in",
+        "LSP mirror check: {} of {} poses with a torso, {} of {} with it filled in; \
+         viewpoint of the mirrored pose off by more than 0.01 deg in {mismatched} poses with a \
+         torso (at most {worst_deg:.3} deg)",
         consistent[0], ok[0], consistent[1], ok[1]
+    );
+    assert_eq!(
+        mismatched, 0,
+        "mirrored poses with a torso whose viewpoint is not the mirrored one (up to \
+         {worst_deg:.2} deg)"
     );
     assert!(
         ok[0] == with_torso && with_torso >= 240,

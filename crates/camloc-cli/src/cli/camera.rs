@@ -15,7 +15,8 @@ pub struct IntrinsicsArgs {
     #[arg(long, value_name = "F", value_parser = parse_focal, allow_hyphen_values = true)]
     pub focal_px: Option<f64>,
     /// With --focal-px: the principal point in pixels [default: the centre of --image-size
-    /// if given, else of each pose's 2D bounding box, which leaves the localization as it is].
+    /// if given, else of the bounding box of each pose's given landmarks, which leaves the
+    /// localization as it is].
     #[arg(long, value_name = "U,V", requires = "focal_px", value_parser = parse_point,
           allow_hyphen_values = true)]
     pub principal_point: Option<[f64; 2]>,

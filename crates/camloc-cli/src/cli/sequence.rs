@@ -52,9 +52,9 @@ struct Frame {
     /// The pose's [`TorsoAnchor`] (pelvis x, y and torso length, single precision), for
     /// [`warn_of_identity_jumps`].
     anchor: Option<[f32; 3]>,
-    /// The localization's continuous viewpoint (azimuth, elevation, degrees, single
-    /// precision), for [`smooth_viewpoints`].
-    viewpoint: Option<[f32; 2]>,
+    /// The localization's continuous viewpoint (azimuth, elevation, its uncertainty;
+    /// degrees, single precision), for [`smooth_viewpoints`].
+    viewpoint: Option<[f32; 3]>,
     /// The most probable camera and every camera's probability, or the number of the failure's
     /// message in [`Failures`].
     result: Result<Cameras, u32>,
@@ -123,6 +123,8 @@ struct FrameJson<'a> {
     azimuth_deg: Option<f32>,
     #[serde(skip_serializing_if = "Option::is_none")]
     elevation_deg: Option<f32>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    uncertainty_deg: Option<f32>,
     #[serde(skip_serializing_if = "Option::is_none")]
     error: Option<&'a str>,
     /// The chains whose left and right sides were swapped back before the frame was localized.
@@ -313,7 +315,7 @@ pub fn run(
             .map(|(&i, &left)| {
                 (frames[i].viewpoint)
                     .filter(|_| !left)
-                    .map(|[a, e]| (f64::from(a), f64::from(e)))
+                    .map(|[a, e, _]| (f64::from(a), f64::from(e)))
             })
             .collect();
         let smoothed_viewpoints = smooth_viewpoints(&numbers, &viewpoints);
@@ -473,21 +475,21 @@ pub fn left_out_of_sequence(
 
 /// A pose's localization as a sequence keeps it (the camera and probabilities, or the error's
 /// message), the page's record of it (`None` without `--html`) and its continuous viewpoint
-/// (single precision).
+/// with its uncertainty (single precision).
 fn localized(
     locator: &Locator<'_>,
     page: &PageFrame,
     record: &KeypointRecord,
-) -> (Result<Cameras, String>, Option<ViewFrame>, Option<[f32; 2]>) {
+) -> (Result<Cameras, String>, Option<ViewFrame>, Option<[f32; 3]>) {
     let found = locator.localize(&record.pose);
     let view = match &found {
         Ok(loc) => page(record, Some(loc), None),
         Err(e) => page(record, None, Some(e.to_string())),
     };
-    let viewpoint = found
-        .as_ref()
-        .ok()
-        .and_then(|loc| Some([loc.azimuth_deg? as f32, loc.elevation_deg? as f32]));
+    let viewpoint = found.as_ref().ok().and_then(|loc| {
+        let viewpoint = [loc.azimuth_deg?, loc.elevation_deg?, loc.uncertainty_deg?];
+        Some(viewpoint.map(|v| v as f32))
+    });
     let result = found
         .map(|loc| (loc.label, loc.probabilities.into_boxed_slice()))
         .map_err(|e| e.to_string());
@@ -622,6 +624,7 @@ fn frame_output(
             probability: raw.map(|r| r.1),
             azimuth_deg: frame.viewpoint.map(|v| v[0]),
             elevation_deg: frame.viewpoint.map(|v| v[1]),
+            uncertainty_deg: frame.viewpoint.map(|v| v[2]),
             error: frame.result.as_ref().err().map(|&n| failures.message(n)),
             swapped_sides: side_names(frame.swapped_sides),
             smoothed_label: s.map(|s| s.label),
@@ -641,6 +644,13 @@ fn frame_output(
     match raw {
         Some((label, p)) => {
             let _ = write!(text, ": camera {label} ({p:.3})");
+            if let Some([azimuth, elevation, uncertainty]) = frame.viewpoint {
+                let _ = write!(
+                    text,
+                    ", viewpoint azimuth {azimuth:.1} deg, elevation {elevation:.1} deg, \
+                     +- {uncertainty:.1} deg"
+                );
+            }
         }
         None => text.push_str(": not localized"),
     }

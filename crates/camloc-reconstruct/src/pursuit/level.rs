@@ -16,9 +16,8 @@ impl Reconstruction {
     /// (`azimuth_deg`, `elevation_deg`; degrees, the body frame's azimuth) when the camera's
     /// azimuth lies within [`LEVEL_AZIMUTH_AGREEMENT_DEG`] of its; returns whether it did.
     pub fn level_to_viewpoint(&mut self, azimuth_deg: f64, elevation_deg: f64) -> bool {
-        let rotation = &self.camera.rotation;
-        let (x, y) = (-rotation[(2, 0)], -rotation[(2, 1)]);
-        let own = y.atan2(x).to_degrees();
+        let towards_camera = self.towards_camera();
+        let own = towards_camera.y.atan2(towards_camera.x).to_degrees();
         let apart = (own - azimuth_deg + 540.0).rem_euclid(360.0) - 180.0;
         if !(apart.abs() <= LEVEL_AZIMUTH_AGREEMENT_DEG) {
             return false;
@@ -32,16 +31,19 @@ impl Reconstruction {
     /// at `elevation_deg` (degrees above the body frame's horizontal plane, z up), keeping its
     /// azimuth. Every landmark is seen where it was (the rotation cancels between pose and
     /// camera) and the pose keeps its shape: only which way is up in the body frame changes.
+    /// The direction is to the perspective camera's centre when there is one (with known
+    /// intrinsics and the person off the optical axis it is not the optical axis: levelling
+    /// the axis tilted the world by the pelvis's angle off it), else along the
+    /// weak-perspective camera's axis.
     ///
     /// A single view leaves the camera's elevation and the body's lean partly exchangeable;
     /// the localizer's continuous viewpoint tells the elevation better than the refined
     /// camera (docs/RESULTS.md), which this gives to the pose. Nothing changes for a
     /// non-finite elevation or a camera looking straight up or down.
     pub fn level_to_elevation(&mut self, elevation_deg: f64) {
-        let rotation = &self.camera.rotation;
-        let towards_camera = -Vector3::new(rotation[(2, 0)], rotation[(2, 1)], rotation[(2, 2)]);
+        let towards_camera = self.towards_camera();
         let across = towards_camera.x.hypot(towards_camera.y);
-        if !elevation_deg.is_finite() || across < 1e-9 {
+        if !elevation_deg.is_finite() || !(across >= 1e-9) {
             return;
         }
         let e = elevation_deg.clamp(-90.0, 90.0).to_radians();
@@ -61,6 +63,19 @@ impl Reconstruction {
             perspective.rotation *= q.transpose();
         }
     }
+
+    /// The unit direction from the pelvis to the camera in the body frame (NaN for a camera
+    /// at the pelvis): to the perspective camera's centre (`-R^T T`), else along the
+    /// weak-perspective camera's axis.
+    fn towards_camera(&self) -> Vector3 {
+        match &self.perspective {
+            Some(p) => -(p.rotation.transpose() * Vector3::from(p.translation)).normalize(),
+            None => {
+                let rotation = &self.camera.rotation;
+                -Vector3::new(rotation[(2, 0)], rotation[(2, 1)], rotation[(2, 2)])
+            }
+        }
+    }
 }
 
 #[cfg(test)]
@@ -69,6 +84,7 @@ mod tests {
     use camloc_skeleton::Pose3;
 
     use super::*;
+    use crate::PerspectiveCamera;
 
     #[test]
     fn levelling_keeps_the_image_and_sets_the_elevation() {
@@ -127,5 +143,43 @@ mod tests {
                 assert!((Vector3::from(*a) - Vector3::from(*b)).norm() < 1e-6);
             }
         }
+    }
+
+    /// A known camera with the person off its optical axis: what is levelled is the direction
+    /// from the pelvis to the camera's centre, not the axis (trial52: the axis took the
+    /// viewpoint's elevation and the world was tilted by the pelvis's 8 deg off the axis).
+    #[test]
+    fn a_perspective_camera_is_levelled_by_the_direction_to_its_centre() {
+        let points: [[f64; 3]; 15] = std::array::from_fn(|i| {
+            let t = i as f64;
+            [0.05 * t.cos(), 0.2 * (0.7 * t).sin(), 0.1 * t - 0.5]
+        });
+        let rotation = look_at_origin(sphere_point(200.0, 10.0, 1.0)).unwrap();
+        let camera = WeakPerspective {
+            scale: 300.0,
+            rotation,
+            translation: [0.0, 0.0],
+        };
+        let mut r = Reconstruction::seen_by(Pose3 { points }, camera);
+        // The pelvis 0.6 m right of the axis and 0.3 m below it, 3.5 m deep.
+        r.perspective = Some(PerspectiveCamera {
+            rotation,
+            translation: [0.6, 0.3, 3.5],
+            focal_px: 1000.0,
+            principal_point: [960.0, 540.0],
+        });
+        let before = r.reprojection();
+        assert!(r.level_to_viewpoint(190.0, 5.0));
+        for (a, b) in before.iter().zip(&r.reprojection()) {
+            assert!((a[0] - b[0]).abs() < 1e-9 && (a[1] - b[1]).abs() < 1e-9);
+        }
+        let p = r.perspective.unwrap();
+        let centre = -(p.rotation.transpose() * Vector3::from(p.translation));
+        let elevation = (centre.z / centre.norm()).asin().to_degrees();
+        assert!((elevation - 5.0).abs() < 1e-9, "{elevation}");
+        // The axis is not at 5 deg: the pelvis is seen below it.
+        let axis = -Vector3::new(p.rotation[(2, 0)], p.rotation[(2, 1)], p.rotation[(2, 2)]);
+        assert!((axis.z.asin().to_degrees() - 5.0).abs() > 2.0);
+        assert!((p.rotation.determinant() - 1.0).abs() < 1e-12);
     }
 }

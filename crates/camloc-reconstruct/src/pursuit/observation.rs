@@ -44,19 +44,25 @@ impl Observation {
         })
     }
 
-    /// Intrinsics in the normalised units: the focal length and the principal point (the
-    /// centre of the points' bounding box when the intrinsics have none).
-    pub(super) fn normalise_intrinsics(&self, intrinsics: &Intrinsics) -> (f64, [f64; 2]) {
+    /// Intrinsics in the normalised units: the focal length and the principal point (when the
+    /// intrinsics have none, the centre of the bounding box of the points given: those with
+    /// bit `i` set in `imputed` were filled in and are left out, unless all were).
+    pub(super) fn normalise_intrinsics(
+        &self,
+        intrinsics: &Intrinsics,
+        imputed: u16,
+    ) -> (f64, [f64; 2]) {
+        let given = |i: usize| imputed & (1 << i) == 0;
+        let all = (0..self.points.len()).all(|i| !given(i));
         let principal = match intrinsics.principal_point {
             Some(c) => [
                 (c[0] - self.centroid[0]) / self.scale,
                 (c[1] - self.centroid[1]) / self.scale,
             ],
             None => std::array::from_fn(|k| {
-                let (lo, hi) = self
-                    .points
-                    .iter()
-                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                let (lo, hi) = (self.points.iter().enumerate())
+                    .filter(|(i, _)| all || given(*i))
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), (_, p)| {
                         (lo.min(p[k]), hi.max(p[k]))
                     });
                 0.5 * (lo + hi)

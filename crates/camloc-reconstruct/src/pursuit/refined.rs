@@ -209,7 +209,9 @@ impl Reconstructor {
             observed: obs.points,
             pose: Pose3 { points },
             camera,
-            intrinsics: given.intrinsics.map(|i| obs.normalise_intrinsics(&i)),
+            intrinsics: given
+                .intrinsics
+                .map(|i| obs.normalise_intrinsics(&i, imputed)),
             lifted,
             imputed,
         }
