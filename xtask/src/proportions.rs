@@ -293,7 +293,9 @@ fn mode_of(
         ModeKind::Hybrid => match localizer.and_then(|l| l.localize(pose2).ok()) {
             Some(l) => {
                 // As camloc reconstruct chooses its camera (camloc::hybrid_camera).
-                let depths = lifter.and_then(|f| f.depths(pose2, l.label.index()).ok());
+                let depths = localizer.zip(lifter).and_then(|(localizer, f)| {
+                    (f.mirror_symmetric_depths(pose2, localizer.cameras(), l.label)).ok()
+                });
                 (Some(hybrid_camera(&l, depths.is_some())), depths)
             }
             None => (None, None),

@@ -422,27 +422,33 @@ impl PoseReconstructor {
         self.reconstruct_sequence_with_breaks(poses, &[], &[])
     }
 
-    /// The depths the lifter predicts for `complete` seen by the camera of `localization`
-    /// (none without a lifter or a localization).
+    /// The depths the lifter predicts for `complete` seen by the camera of `localization`,
+    /// mirror-symmetric ([`DepthLifter::mirror_symmetric_depths`]; none without a lifter or a
+    /// localization).
     fn lifted_depths(
         &self,
         complete: &Pose2,
         localization: Option<&Localization>,
     ) -> Result<Option<LiftedDepths>, CamlocError> {
-        let (Some(l), Some(lifter)) = (localization, &self.lifter) else {
+        let (Some(l), Some(lifter), Some(localizer)) =
+            (localization, &self.lifter, &self.localizer)
+        else {
             return Ok(None);
         };
-        let cameras = self.localizer.as_ref().map_or(0, |l| l.cameras().len());
-        if lifter.n_classes() != cameras {
+        let cameras = localizer.cameras();
+        if lifter.n_classes() != cameras.len() {
             return Err(CamlocError::InvalidOption {
                 name: "depth lifter",
                 detail: format!(
-                    "it has {} camera classes, the localizer {cameras} cameras",
-                    lifter.n_classes()
+                    "it has {} camera classes, the localizer {} cameras",
+                    lifter.n_classes(),
+                    cameras.len()
                 ),
             });
         }
-        Ok(Some(lifter.depths(complete, l.label.index())?))
+        Ok(Some(
+            lifter.mirror_symmetric_depths(complete, cameras, l.label)?,
+        ))
     }
 
     /// What a reconstruction of `pose` needs ([`Prepared`]).
