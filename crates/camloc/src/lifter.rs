@@ -122,8 +122,9 @@ impl DepthLifter {
     /// `cameras` and of those of its mirror image (`pose.mirrored()`) seen by the mirrored
     /// camera ([`CameraSet::mirror_left_right`]), with left and right swapped back: a pose and
     /// its mirror image get mirror-image depths, which the lifter, fitted on people as
-    /// recorded, does not give them (held-out subjects, `hybrid`: single poses 0.1-0.9 mm
-    /// better, sequences 0.4 mm better to 0.1 mm worse; docs/RESULTS.md).
+    /// recorded, does not give them (held-out subjects with 3% noise, `hybrid`: single poses
+    /// 0.1-0.9 mm better, sequences 0.4 mm better to 0.1 mm worse; clean tripod views 0.4 mm
+    /// worse; docs/RESULTS.md).
     ///
     /// # Errors
     /// As [`depths`](Self::depths), for either camera.
