@@ -285,9 +285,7 @@ impl CameraLocalizer {
         self.viewpoint = Some(heads);
         Ok(())
     }
-}
 
-impl CameraLocalizer {
     /// The heads' targets of the samples of `dataset`, then (`mirror`) of their mirror
     /// images: each one's camera direction (a unit vector in the canonical frame) and its
     /// class (0-based). The mirror image of a view is the body reflected through its sagittal
