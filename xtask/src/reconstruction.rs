@@ -74,7 +74,7 @@ fn cell(report: &EvalReport, mode: ModeKind) -> String {
         .modes
         .iter()
         .find(|m| m.mode == mode)
-        .and_then(|m| m.mean_mpjpe_mm)
+        .and_then(|m| m.mean_pa_mpjpe_mm)
         .map_or("-".into(), |v| format!("{v:.1}"))
 }
 
@@ -406,7 +406,7 @@ pub fn best_without_truth(report: &EvalReport) -> Option<(ModeKind, f64)> {
         .modes
         .iter()
         .filter(|m| m.mode != ModeKind::Oracle)
-        .filter_map(|m| m.mean_mpjpe_mm.map(|e| (m.mode, e)))
+        .filter_map(|m| m.mean_pa_mpjpe_mm.map(|e| (m.mode, e)))
         .min_by(|a, b| a.1.total_cmp(&b.1))
 }
 
@@ -569,7 +569,7 @@ fn cross_validated_mpjpe(
         let reconstructor = Reconstructor::new(basis, config).map_err(|e| e.to_string())?;
         let samples = jittered_samples(&held, 10 + fold as u64)?;
         let report = evaluate(&samples, &reconstructor, &[ModeKind::Opt]);
-        if let Some(m) = report.modes.first().and_then(|m| m.mean_mpjpe_mm) {
+        if let Some(m) = report.modes.first().and_then(|m| m.mean_pa_mpjpe_mm) {
             total += m * samples.len() as f64;
             count += samples.len();
         }

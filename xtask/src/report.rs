@@ -526,8 +526,8 @@ fn reconstruction_section(
                 "| {protocol} | {} | {n} | {} | {} | {} | {} | {} | {ms:.2} ms |",
                 m.mode.name(),
                 m.failures,
-                opt(m.mean_mpjpe_mm, 1.0, 1),
-                opt(m.median_mpjpe_mm, 1.0, 1),
+                opt(m.mean_pa_mpjpe_mm, 1.0, 1),
+                opt(m.median_pa_mpjpe_mm, 1.0, 1),
                 opt(m.mean_projection_error_eq12, 1.0, 6),
                 opt(m.beats_opt_share, 100.0, 1) + "%",
             );

@@ -49,10 +49,11 @@ pub struct ModeReport {
     pub failures: usize,
     /// Samples skipped because they have no classified rotation (classified and hybrid).
     pub unavailable: usize,
-    /// Mean MPJPE after similarity alignment, millimetres (`None` without evaluated samples).
-    pub mean_mpjpe_mm: Option<f64>,
-    /// Median MPJPE after similarity alignment, millimetres.
-    pub median_mpjpe_mm: Option<f64>,
+    /// Mean PA-MPJPE (the mean per-landmark error after similarity alignment), millimetres
+    /// (`None` without evaluated samples).
+    pub mean_pa_mpjpe_mm: Option<f64>,
+    /// Median PA-MPJPE, millimetres.
+    pub median_pa_mpjpe_mm: Option<f64>,
     /// Mean eq. 12 projection error with each pose's bounding box as `w x h`
     /// ([`crate::projection_error_eq12_bbox`]), 1 / image unit.
     pub mean_projection_error_eq12: Option<f64>,
@@ -60,7 +61,7 @@ pub struct ModeReport {
     /// ([`crate::rms_error_in_torsos`]).
     pub mean_rms_error_torsos: Option<f64>,
     /// Share (0..=1) of the samples reconstructed by both this mode and `opt` where this mode's
-    /// MPJPE is strictly lower; `None` for `opt` itself or when no sample qualifies.
+    /// PA-MPJPE is strictly lower; `None` for `opt` itself or when no sample qualifies.
     pub beats_opt_share: Option<f64>,
     /// Share (0..=1) of evaluated samples where the depth-reflected hypothesis won.
     pub reflected_share: Option<f64>,
@@ -78,7 +79,7 @@ pub struct EvalReport {
 /// Metrics of one successful reconstruction.
 #[derive(Clone, Copy, Debug)]
 struct Scores {
-    mpjpe_mm: f64,
+    pa_mpjpe_mm: f64,
     eq12: f64,
     rms_torsos: f64,
     reflected: bool,
@@ -145,7 +146,7 @@ pub fn evaluate(
                 (!done.is_empty())
                     .then(|| done.iter().map(|s| f(s)).sum::<f64>() / done.len() as f64)
             };
-            let mut mpjpe: Vec<f64> = done.iter().map(|s| s.mpjpe_mm).collect();
+            let mut mpjpe: Vec<f64> = done.iter().map(|s| s.pa_mpjpe_mm).collect();
             mpjpe.sort_by(f64::total_cmp);
             let median = (!mpjpe.is_empty()).then(|| {
                 let mid = mpjpe.len() / 2;
@@ -160,7 +161,10 @@ pub fn evaluate(
                     let pairs: Vec<(f64, f64)> = outcomes
                         .iter()
                         .filter_map(|row| {
-                            Some((row[column].scores()?.mpjpe_mm, row[opt].scores()?.mpjpe_mm))
+                            Some((
+                                row[column].scores()?.pa_mpjpe_mm,
+                                row[opt].scores()?.pa_mpjpe_mm,
+                            ))
                         })
                         .collect();
                     (!pairs.is_empty()).then(|| {
@@ -180,8 +184,8 @@ pub fn evaluate(
                     .iter()
                     .filter(|o| matches!(o, Outcome::Unavailable))
                     .count(),
-                mean_mpjpe_mm: mean(|s| s.mpjpe_mm),
-                median_mpjpe_mm: median,
+                mean_pa_mpjpe_mm: mean(|s| s.pa_mpjpe_mm),
+                median_pa_mpjpe_mm: median,
                 mean_projection_error_eq12: mean(|s| s.eq12),
                 mean_rms_error_torsos: mean(|s| s.rms_torsos),
                 beats_opt_share,
@@ -202,12 +206,12 @@ fn score(
     mode: &CameraMode,
 ) -> Result<Scores, ReconstructError> {
     let recon = reconstructor.reconstruct(&sample.pose2, mode)?;
-    let mpjpe_mm = mpjpe_after_similarity(&recon.pose, &sample.truth);
-    if !mpjpe_mm.is_finite() {
+    let pa_mpjpe_mm = mpjpe_after_similarity(&recon.pose, &sample.truth);
+    if !pa_mpjpe_mm.is_finite() {
         return Err(ReconstructError::Numerical("non-finite MPJPE"));
     }
     Ok(Scores {
-        mpjpe_mm,
+        pa_mpjpe_mm,
         eq12: projection_error_eq12_bbox(&sample.pose2, &recon)?,
         rms_torsos: rms_error_in_torsos(&sample.pose2, &recon)?,
         reflected: recon.reflected,
@@ -223,13 +227,13 @@ impl fmt::Display for EvalReport {
         };
         writeln!(
             f,
-            "{} samples\n{:<11} {:>6} {:>6} {:>6} {:>10} {:>10} {:>12} {:>10} {:>9} {:>9}",
+            "{} samples\n{:<11} {:>6} {:>6} {:>6} {:>11} {:>10} {:>12} {:>10} {:>9} {:>9}",
             self.samples,
             "mode",
             "ok",
             "failed",
             "n/a",
-            "MPJPE mm",
+            "PA-MPJPE mm",
             "median mm",
             "eq12 (bbox)",
             "rms/torso",
@@ -239,13 +243,13 @@ impl fmt::Display for EvalReport {
         for m in &self.modes {
             writeln!(
                 f,
-                "{:<11} {:>6} {:>6} {:>6} {:>10} {:>10} {:>12} {:>10} {:>8}% {:>8}%",
+                "{:<11} {:>6} {:>6} {:>6} {:>11} {:>10} {:>12} {:>10} {:>8}% {:>8}%",
                 m.mode.name(),
                 m.evaluated,
                 m.failures,
                 m.unavailable,
-                opt(m.mean_mpjpe_mm, 1.0, 1),
-                opt(m.median_mpjpe_mm, 1.0, 1),
+                opt(m.mean_pa_mpjpe_mm, 1.0, 1),
+                opt(m.median_pa_mpjpe_mm, 1.0, 1),
                 opt(m.mean_projection_error_eq12, 1.0, 5),
                 opt(m.mean_rms_error_torsos, 1.0, 4),
                 opt(m.beats_opt_share, 100.0, 1),

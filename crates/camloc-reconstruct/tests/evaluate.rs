@@ -71,8 +71,8 @@ fn report_counts_and_oracle_accuracy() {
         assert_eq!(m.failures, 1, "{:?}: the NaN sample", m.mode);
         let needs_class = matches!(m.mode, ModeKind::Classified | ModeKind::Hybrid);
         assert_eq!(m.unavailable, if needs_class { 8 } else { 0 });
-        let mean = m.mean_mpjpe_mm.unwrap();
-        let median = m.median_mpjpe_mm.unwrap();
+        let mean = m.mean_pa_mpjpe_mm.unwrap();
+        let median = m.median_pa_mpjpe_mm.unwrap();
         assert!(mean >= 0.0 && median >= 0.0);
         match m.mode {
             ModeKind::Opt => assert_eq!(m.beats_opt_share, None),
@@ -82,7 +82,7 @@ fn report_counts_and_oracle_accuracy() {
     }
     // Oracle camera, poses in the span: exact recovery.
     let oracle = &report.modes[2];
-    assert!(oracle.mean_mpjpe_mm.unwrap() < 1e-3, "{oracle:?}");
+    assert!(oracle.mean_pa_mpjpe_mm.unwrap() < 1e-3, "{oracle:?}");
     assert!(oracle.mean_rms_error_torsos.unwrap() < 1e-6);
     assert!(oracle.mean_projection_error_eq12.unwrap() < 1e-6);
     // Deterministic whatever the thread scheduling.
@@ -106,5 +106,5 @@ fn opt_is_the_reference_even_when_not_requested() {
     assert!(report.modes[0].beats_opt_share.is_some());
     let empty = evaluate(&[], &reconstructor, &[ModeKind::Opt]);
     assert_eq!(empty.modes[0].evaluated, 0);
-    assert_eq!(empty.modes[0].mean_mpjpe_mm, None);
+    assert_eq!(empty.modes[0].mean_pa_mpjpe_mm, None);
 }
