@@ -52,8 +52,8 @@ pub struct ReconstructConfig {
     /// the camera; prefer, between hypotheses that fit the 2D about equally, the one the
     /// limits like better; and flip limbs read the wrong way in depth into the limits
     /// ([`JointLimits::flip_depths`](crate::JointLimits::flip_depths)) in the lifted pose
-    /// the refinement starts from and, for single poses, after the refinement (refined again
-    /// from the flip).
+    /// the refinement starts from and after the refinement (refined again from the flip,
+    /// single poses and sequences alike).
     pub joint_limits: bool,
     /// The final skeleton refinement: the pose rebuilt with the person's own bone lengths
     /// (given, or estimated under the length prior) and fitted to the 2D again, in sequences

@@ -100,45 +100,70 @@ impl Reconstructor {
             .collect()
     }
 
-    /// The refinement of one `frame`; with the joint-angle limits on, when the refined pose
-    /// has a limb that a flip of its bones' depths takes into the limits
-    /// ([`JointLimits::flip_depths`](crate::JointLimits::flip_depths): the 2D fits both, the
-    /// direction prior held it near the start's reading), refined again from that flip and
-    /// kept if it ends within the limits by more.
+    /// The refinement of one `frame`, refined again from a flip of its limbs' depths into the
+    /// joint-angle limits where that helps ([`refine_again_within_limits`](Self::refine_again_within_limits)).
     fn refine_within_limits(
         &self,
         frame: RefineFrame,
         given: &Given,
     ) -> Result<Option<RefinedFrame>, ReconstructError> {
         let settings = &self.config.refinement;
-        let (mut out, _) = refine(
+        let (first, _) = refine(
             std::slice::from_ref(&frame),
             self.length_input(given),
             settings,
             false,
         )?;
-        let Some(first) = out.pop() else {
-            return Ok(None);
-        };
+        let mut out =
+            self.refine_again_within_limits(vec![frame], first, self.length_input(given), false)?;
+        Ok(out.pop())
+    }
+
+    /// The refined frames `refined` of `inputs` (one pose, or one person's frames with
+    /// `sequence`), refined again with `lengths` where the joint-angle limits are on and a
+    /// frame's refined pose has a limb that a flip of its bones' depths takes into them
+    /// ([`JointLimits::flip_depths`](crate::JointLimits::flip_depths): the 2D fits both, the
+    /// direction prior held it near the start's reading): those frames restart from their
+    /// flips, the others as they first started, and the second refinement is kept when the
+    /// frames end further within the limits, summed over the frames.
+    pub(super) fn refine_again_within_limits(
+        &self,
+        inputs: Vec<RefineFrame>,
+        refined: Vec<RefinedFrame>,
+        lengths: LengthInput,
+        sequence: bool,
+    ) -> Result<Vec<RefinedFrame>, ReconstructError> {
         if !self.config.joint_limits {
-            return Ok(Some(first));
+            return Ok(refined);
         }
         let limits = self.basis.joint_limits();
-        let flipped = limits.flip_depths(&first.pose, &first.camera.rotation, frame.imputed);
-        if flipped == first.pose {
-            return Ok(Some(first));
+        let mut flipped_any = false;
+        let again: Vec<RefineFrame> = (inputs.into_iter().zip(&refined))
+            .map(|(input, first)| {
+                let flipped =
+                    limits.flip_depths(&first.pose, &first.camera.rotation, input.imputed);
+                if flipped == first.pose {
+                    return input;
+                }
+                flipped_any = true;
+                RefineFrame {
+                    pose: flipped,
+                    camera: first.camera,
+                    ..input
+                }
+            })
+            .collect();
+        if !flipped_any {
+            return Ok(refined);
         }
-        let frame = RefineFrame {
-            pose: flipped,
-            camera: first.camera,
-            ..frame
+        let (second, _) = refine(&again, lengths, &self.config.refinement, sequence)?;
+        let outside = |frames: &[RefinedFrame]| -> f64 {
+            frames.iter().map(|f| limits.violation(&f.pose)).sum()
         };
-        let (mut out, _) = refine(&[frame], self.length_input(given), settings, false)?;
-        Ok(match out.pop() {
-            Some(second) if limits.violation(&second.pose) < limits.violation(&first.pose) => {
-                Some(second)
-            }
-            _ => Some(first),
+        Ok(if outside(&second) < outside(&refined) {
+            second
+        } else {
+            refined
         })
     }
 

@@ -11,7 +11,7 @@ use super::mode::CameraMode;
 use super::reconstructor::Reconstructor;
 use super::refined::LiftedDepths;
 use crate::Refinement;
-use crate::refine::{LengthInput, RefineFrame, RefinedFrame, refine};
+use crate::refine::{LengthInput, RefinedFrame, refine};
 use crate::viterbi::cheapest_path;
 use crate::{BoneLengths, Given, ReconstructError};
 
@@ -145,7 +145,12 @@ impl Reconstructor {
             } else {
                 refine(&inputs, self.length_input(given), settings, true)?
             };
-            let refined = self.refine_sequence_within_limits(inputs, refined, lengths)?;
+            let refined = self.refine_again_within_limits(
+                inputs,
+                refined,
+                LengthInput::Given(lengths),
+                true,
+            )?;
             (refined.into_iter().map(Some).collect(), lengths)
         } else {
             let poses: Vec<Pose3> = chosen
@@ -165,53 +170,6 @@ impl Reconstructor {
         Ok(SequenceReconstruction {
             frames: out,
             lengths,
-        })
-    }
-
-    /// The refined frames `refined` of `inputs` (one person's, refined with `lengths`), refined
-    /// again where the joint-angle limits are on and a frame has a limb that a flip of its
-    /// bones' depths takes into them, as single poses are
-    /// ([`JointLimits::flip_depths`](crate::JointLimits::flip_depths)): those frames restart
-    /// from their flips, the others as they first started, and the second refinement is kept
-    /// when the frames end further within the limits, summed over the frames.
-    fn refine_sequence_within_limits(
-        &self,
-        inputs: Vec<RefineFrame>,
-        refined: Vec<RefinedFrame>,
-        lengths: BoneLengths,
-    ) -> Result<Vec<RefinedFrame>, ReconstructError> {
-        if !self.config.joint_limits {
-            return Ok(refined);
-        }
-        let limits = self.basis.joint_limits();
-        let mut flipped_any = false;
-        let again: Vec<RefineFrame> = (inputs.into_iter().zip(&refined))
-            .map(|(input, first)| {
-                let flipped =
-                    limits.flip_depths(&first.pose, &first.camera.rotation, input.imputed);
-                if flipped == first.pose {
-                    return input;
-                }
-                flipped_any = true;
-                RefineFrame {
-                    pose: flipped,
-                    camera: first.camera,
-                    ..input
-                }
-            })
-            .collect();
-        if !flipped_any {
-            return Ok(refined);
-        }
-        let settings = &self.config.refinement;
-        let (second, _) = refine(&again, LengthInput::Given(lengths), settings, true)?;
-        let outside = |frames: &[RefinedFrame]| -> f64 {
-            frames.iter().map(|f| limits.violation(&f.pose)).sum()
-        };
-        Ok(if outside(&second) < outside(&refined) {
-            second
-        } else {
-            refined
         })
     }
 
