@@ -66,14 +66,11 @@ impl CameraLocalizer {
             *g = present.iter().position(|p| p == g).unwrap_or(0);
         }
         let posture_groups = present.len().max(1);
-        // The samples' poses and labels, then (mirror) their mirror images, in room made once.
+        // The samples' poses and labels, then (mirror) their mirror images.
         let (n, images) = (dataset.samples.len(), if options.mirror { 2 } else { 1 });
-        let mut poses: Vec<PartialPose2> = Vec::with_capacity(images * n);
-        poses.extend(dataset.samples.iter().map(sample_pose));
+        let poses = poses_with_mirror_images(dataset, options.mirror);
         let mut labels: Vec<u16> = dataset.samples.iter().map(|s| s.label).collect();
         if options.mirror {
-            poses.extend_from_within(..);
-            poses[n..].iter_mut().for_each(|p| *p = p.mirrored());
             labels.extend_from_within(..);
             labels[n..]
                 .iter_mut()
@@ -231,12 +228,7 @@ impl CameraLocalizer {
         // Mirror images as the classifier saw them, so that mirror-image poses get
         // mirror-image directions.
         let mirror = self.info.mirror;
-        let mut poses: Vec<PartialPose2> = dataset.samples.iter().map(sample_pose).collect();
-        if mirror {
-            poses.extend_from_within(..);
-            let n = dataset.samples.len();
-            poses[n..].iter_mut().for_each(|p| *p = p.mirrored());
-        }
+        let poses = poses_with_mirror_images(dataset, mirror);
         let descriptors = self.descriptor_rows(&poses, 0)?;
         drop(poses);
         let d = self.descriptor.len();
@@ -311,6 +303,19 @@ impl CameraLocalizer {
         }
         (directions, classes)
     }
+}
+
+/// The poses of the samples of `dataset` (their dropped landmarks missing), then, with
+/// `mirror`, their mirror images ([`PartialPose2::mirrored`]), in room made once.
+fn poses_with_mirror_images(dataset: &Dataset, mirror: bool) -> Vec<PartialPose2> {
+    let n = dataset.samples.len();
+    let mut poses = Vec::with_capacity(if mirror { 2 * n } else { n });
+    poses.extend(dataset.samples.iter().map(sample_pose));
+    if mirror {
+        poses.extend_from_within(..);
+        poses[n..].iter_mut().for_each(|p| *p = p.mirrored());
+    }
+    poses
 }
 
 /// [`CamlocError::Inconsistent`] (about `what`) naming the first camera of the dataset's set
