@@ -165,6 +165,46 @@ fn train_evaluate_and_reconstruct_succeed_on_fixture_data() {
     // Camera modes are named as `--camera` names them.
     assert!(report.to_string().contains("\"hybrid\""), "{report}");
     assert!(!report.to_string().contains("\"Hybrid\""), "{report}");
+    // The last row is `reconstruct`'s default pipeline, on every sample the modes had.
+    let modes = report["modes"].as_array().unwrap();
+    let pipeline = &report["pipeline"];
+    assert_eq!(pipeline["name"], "hybrid + lifter", "{report}");
+    assert_eq!(pipeline["mode"], "hybrid", "{report}");
+    let counted = |row: &serde_json::Value| {
+        ["evaluated", "failures", "unavailable"]
+            .iter()
+            .filter_map(|k| row[k].as_u64())
+            .sum::<u64>()
+    };
+    assert_eq!(counted(pipeline), counted(&modes[0]), "{report}");
+    assert!(
+        pipeline["mean_pa_mpjpe_mm"].as_f64().unwrap() > 0.0,
+        "{report}"
+    );
+    let text = camloc(&[
+        "evaluate-reconstruction",
+        "--model",
+        model,
+        "--dataset",
+        &data,
+        "-q",
+    ]);
+    let text = success(&text);
+    assert!(
+        text.lines().last().unwrap().starts_with("hybrid + lifter "),
+        "{text}"
+    );
+    let bare = camloc(&[
+        "evaluate-reconstruction",
+        "--model",
+        model,
+        "--dataset",
+        &data,
+        "--no-lifter",
+        "--json",
+    ]);
+    let bare: serde_json::Value = serde_json::from_str(&success(&bare)).unwrap();
+    assert_eq!(bare["pipeline"]["name"], "hybrid", "{bare}");
 
     // The model is moved into place only after standard output was written.
     if let Ok(full) = std::fs::OpenOptions::new().write(true).open("/dev/full") {

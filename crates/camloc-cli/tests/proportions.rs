@@ -248,6 +248,16 @@ fn a_focal_length_adds_the_perspective_camera() {
         !out.status.success(),
         "--principal-point without --focal-px"
     );
+    // A focal length alone puts each pose's principal point at its own box, and says so.
+    let warning = "--focal-px without --principal-point or --image-size: each pose's principal";
+    let stderr = |extra: &[&str]| {
+        let out = camloc(&[&["reconstruct", "--input", &example(), "-q"], extra].concat());
+        assert!(out.status.success());
+        String::from_utf8(out.stderr).unwrap()
+    };
+    assert!(stderr(&["--focal-px", "800"]).contains(warning));
+    assert!(!stderr(&["--focal-px", "800", "--image-size", "640,480"]).contains(warning));
+    assert!(!stderr(&["--focal-px", "800", "--principal-point", "1,2"]).contains(warning));
 }
 
 #[test]

@@ -77,7 +77,9 @@ pub use basis::{
     BasisConfig, BasisKind, DEFAULT_ATOMS, MAX_ATOMS, POSE_DIM, PoseBasis, sum_squared_limb_lengths,
 };
 pub use error::ReconstructError;
-pub use eval::{EvalReport, EvalSample, ModeReport, evaluate};
+pub use eval::{
+    EvalReport, EvalSample, ModeReport, Pipeline, PipelineReport, evaluate, evaluate_with_pipeline,
+};
 pub use length_prior::{LengthPrior, LengthWidening};
 pub use lengths::{
     BONE_KEYS, BONE_LENGTHS_FORMAT, BONE_LENGTHS_VERSION, BoneLengthError, BoneLengths,

@@ -4,8 +4,8 @@ mod common;
 
 use camloc_geometry::WeakPerspective;
 use camloc_reconstruct::{
-    BasisConfig, BasisKind, EvalSample, ModeKind, PoseBasis, ReconstructConfig, Reconstructor,
-    evaluate,
+    BasisConfig, BasisKind, CameraMode, EvalSample, ModeKind, Pipeline, PoseBasis,
+    ReconstructConfig, Reconstructor, evaluate, evaluate_with_pipeline,
 };
 use camloc_skeleton::Pose2;
 
@@ -107,4 +107,46 @@ fn opt_is_the_reference_even_when_not_requested() {
     let empty = evaluate(&[], &reconstructor, &[ModeKind::Opt]);
     assert_eq!(empty.modes[0].evaluated, 0);
     assert_eq!(empty.modes[0].mean_pa_mpjpe_mm, None);
+}
+
+/// A pipeline is measured as the modes are: one that reconstructs with the `opt` camera gets
+/// `opt`'s row, and one that fails on some samples counts them as failures.
+#[test]
+fn a_pipeline_is_measured_beside_the_modes() {
+    let (reconstructor, samples) = setup();
+    let as_opt = |pose: &Pose2| reconstructor.reconstruct(pose, &CameraMode::Opt).ok();
+    let pipeline = Pipeline {
+        name: "opt again".into(),
+        mode: ModeKind::Opt,
+        run: &as_opt,
+    };
+    let report = evaluate_with_pipeline(&samples, &reconstructor, &ModeKind::ALL, Some(&pipeline));
+    let measured = report.pipeline.as_ref().unwrap();
+    assert_eq!(measured.name, "opt again");
+    let opt = &report.modes[0];
+    assert_eq!(measured.report.mean_pa_mpjpe_mm, opt.mean_pa_mpjpe_mm);
+    assert_eq!(measured.report.failures, opt.failures);
+    // Compared with `opt`, it never beats it (the same errors are not strictly lower).
+    assert_eq!(measured.report.beats_opt_share, Some(0.0));
+    assert!(
+        report
+            .to_string()
+            .lines()
+            .last()
+            .unwrap()
+            .starts_with("opt again ")
+    );
+    // Without a pipeline, the report has none, and the JSON no key for it.
+    let bare = evaluate(&samples, &reconstructor, &ModeKind::ALL);
+    assert_eq!(bare.pipeline, None);
+    let failing = |pose: &Pose2| (pose.points[0][0] > 60.0).then(|| as_opt(pose)).flatten();
+    let pipeline = Pipeline {
+        name: "half".into(),
+        mode: ModeKind::Opt,
+        run: &failing,
+    };
+    let half = evaluate_with_pipeline(&samples, &reconstructor, &[], Some(&pipeline));
+    let half = half.pipeline.unwrap().report;
+    assert!(half.failures > opt.failures, "{half:?}");
+    assert_eq!(half.evaluated + half.failures, samples.len());
 }

@@ -3,8 +3,8 @@
 use camloc_dataset::Dataset;
 use camloc_reconstruct::{
     BoneLengths, CameraMode, EvalReport, EvalSample, Given, Intrinsics, LiftedDepths, MAX_HEIGHT_M,
-    MIN_HEIGHT_M, ModeKind, PoseBasis, ReconstructConfig, ReconstructError, Reconstruction,
-    Reconstructor,
+    MIN_HEIGHT_M, ModeKind, Pipeline, PoseBasis, ReconstructConfig, ReconstructError,
+    Reconstruction, Reconstructor,
 };
 use camloc_skeleton::{Landmark, PartialPose2, Pose2};
 use camloc_store::Persist;
@@ -534,18 +534,69 @@ impl PoseReconstructor {
     /// [`CamlocError::InvalidOption`] without a localizer; [`CamlocError::Dataset`] for an
     /// invalid sample label or clip index; localization errors naming the sample.
     pub fn evaluate(&self, dataset: &Dataset) -> Result<EvalReport, CamlocError> {
+        let samples = self.evaluation_samples(dataset)?;
+        Ok(camloc_reconstruct::evaluate(
+            &samples,
+            &self.reconstructor,
+            &ModeKind::ALL,
+        ))
+    }
+
+    /// [`evaluate`](Self::evaluate), and this reconstructor's own [`reconstruct`](Self::reconstruct)
+    /// (its mode, lifter, given or estimated bone lengths, intrinsics) run on every complete
+    /// sample and measured as the modes are ([`EvalReport::pipeline`], named by
+    /// [`pipeline_name`](Self::pipeline_name)): what `camloc reconstruct` gives, which none of
+    /// the pursuit's bare modes is.
+    ///
+    /// # Errors
+    /// As [`evaluate`](Self::evaluate).
+    pub fn evaluate_with_own_pipeline(&self, dataset: &Dataset) -> Result<EvalReport, CamlocError> {
+        let samples = self.evaluation_samples(dataset)?;
+        let run = |pose: &Pose2| {
+            self.reconstruct(&PartialPose2::from(*pose))
+                .ok()
+                .map(|r| r.reconstruction)
+        };
+        let pipeline = Pipeline {
+            name: self.pipeline_name(),
+            mode: self.mode,
+            run: &run,
+        };
+        Ok(camloc_reconstruct::evaluate_with_pipeline(
+            &samples,
+            &self.reconstructor,
+            &ModeKind::ALL,
+            Some(&pipeline),
+        ))
+    }
+
+    /// What [`reconstruct`](Self::reconstruct) does, in a few words: the camera mode, `+
+    /// lifter` with a depth lifter, `+ lengths` with given bone lengths (e.g. `"hybrid +
+    /// lifter"`), `+ focal` with intrinsics.
+    pub fn pipeline_name(&self) -> String {
+        let mut name = self.mode.name().to_string();
+        if self.lifter.is_some() && self.mode != ModeKind::Opt {
+            name.push_str(" + lifter");
+        }
+        if self.given.lengths.is_some() {
+            name.push_str(" + lengths");
+        }
+        if self.given.intrinsics.is_some() {
+            name.push_str(" + focal");
+        }
+        name
+    }
+
+    /// The complete samples of `dataset` as [`evaluation_samples`] gives them with this
+    /// reconstructor's localizer.
+    fn evaluation_samples(&self, dataset: &Dataset) -> Result<Vec<EvalSample>, CamlocError> {
         let Some(localizer) = &self.localizer else {
             return Err(CamlocError::InvalidOption {
                 name: "localizer",
                 detail: "evaluating the classified and hybrid modes needs a localizer".into(),
             });
         };
-        let samples = evaluation_samples(dataset, localizer)?;
-        Ok(camloc_reconstruct::evaluate(
-            &samples,
-            &self.reconstructor,
-            &ModeKind::ALL,
-        ))
+        evaluation_samples(dataset, localizer)
     }
 }
 

@@ -99,11 +99,11 @@ enum Command {
     /// refused with fewer than 8 present (most of its 3D would be the basis's guess).
     #[command(after_help = EXIT_CODES)]
     Reconstruct(reconstruct::Args),
-    /// Measure 3D error (PA-MPJPE: mm, after similarity alignment) and projection error of
-    /// the pursuit's camera modes (opt, classified, oracle, hybrid) on a labelled dataset made
-    /// by `cargo xtask gen-dataset`, without the depth lifter: its hybrid is `reconstruct
-    /// --no-lifter`'s, not `reconstruct`'s default (measured by `cargo xtask reconstruction
-    /// --proportions-only`).
+    /// Measure 3D error (PA-MPJPE: mm, after similarity alignment) and projection error on a
+    /// labelled dataset made by `cargo xtask gen-dataset`: one row for each of the pursuit's
+    /// camera modes alone (opt, classified, oracle with the true rotation, hybrid; no depth
+    /// lifter, the template's bone lengths), and a last row for what `reconstruct` gives by
+    /// default (hybrid with the depth lifter and the bone lengths estimated).
     #[command(after_help = EXIT_CODES)]
     EvaluateReconstruction(reconstruct::EvalArgs),
     /// Write any readable keypoint input in camloc's own formats: camloc JSON or a

@@ -204,7 +204,15 @@ pub struct EvalArgs {
     /// Pose basis file [default: the embedded basis].
     #[arg(long, value_name = "BASIS")]
     pub basis: Option<PathBuf>,
-    /// Print one JSON object.
+    /// Depth lifter of the last row, `reconstruct`'s own pipeline [default: the embedded
+    /// lifter, with any model of Table 1's cameras; none with a --model of other cameras].
+    #[arg(long, value_name = "LIFTER", conflicts_with = "no_lifter")]
+    pub lifter: Option<PathBuf>,
+    /// Measure `reconstruct --no-lifter` in the last row.
+    #[arg(long)]
+    pub no_lifter: bool,
+    /// Print one JSON object (keys: samples; modes, one object per mode; pipeline, the last
+    /// row's).
     #[arg(long)]
     pub json: bool,
     #[command(flatten)]
@@ -301,11 +309,19 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         (_, given) => given,
     };
     let height = CameraHeightArgs { camera_height };
+    let intrinsics = args.intrinsics.intrinsics(args.input.image_size);
+    if intrinsics.is_some_and(|k| k.principal_point.is_none()) {
+        stderr_line!(
+            "camloc: warning: --focal-px without --principal-point or --image-size: each pose's \
+             principal point is the centre of its own landmarks' box, so its `perspective` \
+             camera (translation_m) places it on the optical axis, not where it stands in the image"
+        );
+    }
     let (localizer, inputs) = heights::load_for_input(
         args.model.as_deref(),
         &height,
         &args.input,
-        args.intrinsics.intrinsics(args.input.image_size),
+        intrinsics,
         args.progress.quiet,
     )?;
     let reconstructor = reconstructor(args, localizer)?;
@@ -441,15 +457,27 @@ pub fn run_evaluation(args: &EvalArgs, out: &mut Out) -> Result<ExitCode, CliErr
     let localizer = load_model(args.model.as_deref(), &args.height)?;
     let dataset = load_dataset(&args.dataset)?;
     let localizer = heights::for_dataset(localizer, &args.height, &dataset, args.progress.quiet);
-    let reconstructor = PoseReconstructor::new(basis)?.with_localizer(localizer);
+    let lifter = match &args.lifter {
+        _ if args.no_lifter => None,
+        Some(path) => Some(DepthLifter::load(super::existing(path, "--lifter")?)?),
+        None => lifter_for_model(args.model.as_deref(), localizer.cameras())?,
+    };
+    // The last row is `reconstruct`'s default pipeline: `hybrid`, the lifter, bone lengths
+    // estimated.
+    let mut reconstructor = PoseReconstructor::new(basis)?
+        .with_localizer(localizer)
+        .with_mode(ModeKind::Hybrid)?;
+    if let Some(lifter) = lifter {
+        reconstructor = reconstructor.with_lifter(lifter);
+    }
     let bar = progress::spinner(
         args.progress.quiet,
         &format!(
-            "reconstructing {} samples with every camera mode",
+            "reconstructing {} samples with every camera mode and as `reconstruct` does",
             dataset.samples.len()
         ),
     );
-    let report = reconstructor.evaluate(&dataset);
+    let report = reconstructor.evaluate_with_own_pipeline(&dataset);
     bar.finish_and_clear();
     let report = report?;
     if args.json {
