@@ -60,6 +60,26 @@ fn each_pose_is_a_bvh_that_reads_back_to_its_landmarks() {
         assert!(error < 1e-3, "pose {n}: {error} m");
     }
     assert!(!bvh.exists());
+    // --fps times a sequence or an animation: alone it is refused; with --sequence it keeps
+    // the smoothing's windows in time, so the answers differ from 30 frames a second's.
+    let path = input.to_str().unwrap();
+    let alone = camloc(&["reconstruct", "--input", path, "--fps", "60"]);
+    assert_eq!(alone.status.code(), Some(2));
+    let at = |fps: &str| {
+        success(&camloc(&[
+            "reconstruct",
+            "--input",
+            path,
+            "--json",
+            "--sequence",
+            "--fps",
+            fps,
+        ]))
+    };
+    let (slow, fast) = (at("30"), at("120"));
+    assert_eq!(slow.len(), fast.len());
+    assert_ne!(slow[1]["landmarks_m"], fast[1]["landmarks_m"]);
+    assert_eq!(slow, at("24"));
     // The files exist now: without --force the run is refused before any work.
     let again = camloc(&[
         "reconstruct",

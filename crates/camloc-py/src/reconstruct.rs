@@ -188,7 +188,7 @@ pub(crate) fn bone_lengths_json_text(lengths: Bound<'_, PyAny>) -> PyResult<Stri
 // Reconstructs the 3D pose of every pose: its docstring is camloc.pyi's (build.rs).
 #[doc = include_str!(concat!(env!("OUT_DIR"), "/doc/reconstruct.txt"))]
 #[pyfunction]
-#[pyo3(signature = (points, layout = "camloc15", camera = None, scores = None, min_score = 0.0, localizer = None, basis = None, bone_lengths = None, focal_px = None, principal_point = None, sequence = false, camera_height = None, lifter = true, person_height = None))]
+#[pyo3(signature = (points, layout = "camloc15", camera = None, scores = None, min_score = 0.0, localizer = None, basis = None, bone_lengths = None, focal_px = None, principal_point = None, sequence = false, camera_height = None, lifter = true, person_height = None, fps = 30.0))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn reconstruct<'py>(
     py: Python<'py>,
@@ -206,6 +206,7 @@ pub(crate) fn reconstruct<'py>(
     camera_height: Option<&str>,
     lifter: bool,
     #[pyo3(from_py_with = crate::number::person_height)] person_height: Option<f64>,
+    #[pyo3(from_py_with = crate::number::fps)] fps: f64,
 ) -> PyResult<Bound<'py, PyDict>> {
     // The command line's default.
     let camera = camera.unwrap_or("hybrid");
@@ -290,6 +291,9 @@ pub(crate) fn reconstruct<'py>(
             .with_person_height(height_m)
             .map_err(|e| value_error(e.to_string()))?;
     }
+    reconstructor = reconstructor
+        .with_frame_rate(fps)
+        .map_err(|e| value_error(e.to_string()))?;
     let n = batch.len();
     // With `sequence`: per row, whether its legs and its arms were swapped back.
     let mut swapped_sides: Option<Vec<[bool; 2]>> = None;

@@ -180,7 +180,7 @@ def test_the_command_line_makes_the_walk_bvh_both_readers_read_back(
     assert code == 0 and len(objects) == 200
     points3d = np.array([[o["landmarks_m"][n] for n in camloc.LANDMARKS] for o in objects])
     # In place, each pelvis is above the origin at the height root motion gives it.
-    world = camloc.reconstruct(points2d, sequence=True)["world_points3d"]
+    world = camloc.reconstruct(points2d, sequence=True, fps=120)["world_points3d"]
     points3d[..., 2] += world[:, :1, 2]
     assert_walk_reads_back(name, path, points3d, "camloc reconstruct --sequence --bvh")
 
@@ -194,7 +194,7 @@ def test_the_command_line_s_walk_moves_as_python_s_world_points3d(tmp_path, walk
     path = tmp_path / "walk.bvh"
     code, _ = cli("reconstruct", "--input", keypoints, "--sequence", "--fps", "120", "--bvh", path)
     assert code == 0
-    rec = camloc.reconstruct(points2d, sequence=True)
+    rec = camloc.reconstruct(points2d, sequence=True, fps=120)
     world = rec["world_points3d"]
     assert world.shape == (200, 15, 3) and not np.isnan(world).any()
     assert "world_points3d" not in camloc.reconstruct(points2d[:3])

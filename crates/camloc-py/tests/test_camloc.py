@@ -223,6 +223,15 @@ def test_proportions_options_equal_the_command_line(cli, tmp_path):
                 np.testing.assert_allclose(got[key][i], want["perspective"][key], rtol=1e-9)
         else:
             assert np.isnan(got["translation_m"][i]).all() and np.isnan(got["focal_px"][i])
+    # A faster video keeps the smoothing's windows in time, as --fps does.
+    _, expected = cli("reconstruct", "--input", path, "--sequence", "--fps", "120")
+    fast = camloc.reconstruct(example_points(), sequence=True, fps=120)
+    for i, want in enumerate(expected):
+        landmarks = [want["landmarks_m"][name] for name in camloc.LANDMARKS]
+        np.testing.assert_allclose(fast["points3d"][i], landmarks, rtol=1e-9, atol=1e-12)
+    assert not np.allclose(fast["points3d"], got["points3d"])
+    with pytest.raises(ValueError, match="frame rate"):
+        camloc.reconstruct(example_points(), sequence=True, fps=0)
 
 
 def test_a_person_height_scales_the_answer_as_the_command_line_does(cli):

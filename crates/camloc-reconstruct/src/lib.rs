@@ -63,6 +63,7 @@ mod basis;
 mod dense;
 mod error;
 mod eval;
+mod frame_rate;
 mod length_prior;
 mod lengths;
 mod lsq;
@@ -80,6 +81,7 @@ pub use error::ReconstructError;
 pub use eval::{
     EvalReport, EvalSample, ModeReport, Pipeline, PipelineReport, evaluate, evaluate_with_pipeline,
 };
+pub use frame_rate::{FrameRate, REFERENCE_FRAME_RATE_HZ};
 pub use length_prior::{LengthPrior, LengthWidening};
 pub use lengths::{
     BONE_KEYS, BONE_LENGTHS_FORMAT, BONE_LENGTHS_VERSION, BoneLengthError, BoneLengths,

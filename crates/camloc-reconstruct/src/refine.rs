@@ -28,7 +28,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::length_prior::LengthWidening;
 use crate::pursuit::rms_radius;
-use crate::{BoneLengths, ReconstructError};
+use crate::{BoneLengths, FrameRate, ReconstructError};
 
 pub(crate) use run::{LengthInput, RefineFrame, RefinedFrame, refine};
 
@@ -65,8 +65,14 @@ pub struct Refinement {
     /// Most Levenberg-Marquardt steps (at least 1).
     pub iterations: usize,
     /// Sequences: deviation of each bone's unit direction in the camera's orientation from
-    /// the mean of the frames before and after it; 0 turns the smoothness off.
+    /// the mean of the frames before and after it; 0 turns the smoothness off. At frame
+    /// rates above [`REFERENCE_FRAME_RATE_HZ`](crate::REFERENCE_FRAME_RATE_HZ) the frames
+    /// within 1/30 s on each side and the deviation times
+    /// [`FrameRate::deviation_factor`] ([`frame_rate`](Self::frame_rate)).
     pub smoothness: f64,
+    /// Sequences: their frames a second, which scales [`smoothness`](Self::smoothness)
+    /// ([`FrameRate`]; the reference rate, 30, by default).
+    pub frame_rate: FrameRate,
     /// Sequences with unknown lengths: the length prior's deviations are divided by
     /// `min(sequence_prior, sqrt(frames))` (a one-frame sequence keeps the single frame's
     /// prior); >= 1. The frames of one video share their errors (a camera elevation misjudged
@@ -104,7 +110,8 @@ impl Default for Refinement {
     /// Lengths estimated; image deviation 0.04 (about 4% of a torso), Huber at 2.5
     /// deviations, direction deviation 0.15 (0.10 from a single frame's lifted pose), the
     /// default widening, the camera's distance estimated under [`DistancePrior::default`], 10
-    /// steps; in sequences smoothness 0.07 (0.1 before; docs/RESULTS.md), the length prior's
+    /// steps; in sequences smoothness 0.07 (0.1 before; docs/RESULTS.md) at 30 frames a
+    /// second, the length prior's
     /// deviations halved (`sequence_prior` 2) and made to keep pace with the frames beyond 60
     /// (`length_evidence_frames`), the Viterbi choice of depths with motion deviation 0.1 m;
     /// the head held back beyond 75 deg from the torso's line with a deviation of 0.05 rad.
@@ -119,6 +126,7 @@ impl Default for Refinement {
             distance: Some(DistancePrior::default()),
             iterations: 10,
             smoothness: 0.07,
+            frame_rate: FrameRate::default(),
             sequence_prior: 2.0,
             length_evidence_frames: 60.0,
             consistent_depth: true,
@@ -159,6 +167,7 @@ impl Refinement {
                 "must be finite and >= 0",
             ));
         }
+        FrameRate::new(self.frame_rate.hz())?;
         if !(self.sequence_prior.is_finite() && self.sequence_prior >= 1.0) {
             return Err(invalid(
                 "Refinement::sequence_prior",

@@ -5,7 +5,7 @@
 use camloc_geometry::{Matrix3, Vector3};
 use camloc_skeleton::{NUM_LANDMARKS, Pose3};
 
-use crate::Reconstruction;
+use crate::{FrameRate, Reconstruction};
 
 mod centred;
 mod contact;
@@ -15,7 +15,7 @@ mod image_ankles;
 mod planted;
 
 /// [`world_poses`] places the pelvis at the mean of its places in the frames within this many
-/// frames before and after (the straight line through them where some are missing): the
+/// frames (at 30 frames a second; within as long a time at faster rates, [`FrameRate`]) before and after (the straight line through them where some are missing): the
 /// depth from one frame's scale jitters (on tripod views of CMU walks, 30 frames a second, the
 /// path walked came out 30% long without it).
 pub const SMOOTHING_FRAMES: usize = 2;
@@ -102,6 +102,7 @@ pub fn world_poses(
     frames: &[Option<&Reconstruction>],
     verticals: &[Option<[f64; 3]>],
     intrinsics: Option<(f64, [f64; 2])>,
+    rate: FrameRate,
 ) -> Vec<Option<Pose3>> {
     let found: Vec<&Reconstruction> = frames.iter().flatten().copied().collect();
     if found.is_empty() {
@@ -137,18 +138,18 @@ pub fn world_poses(
     // An estimated focal length scales every depth: the floor under the frames says by how
     // much, when the person's depth changed enough for it to tell.
     if let (None, Placement::Weak { focal: Some(f), .. }) = (intrinsics, &mut place)
-        && let Some(factor) = contact::depth_factor(frames, &seen, &up)
+        && let Some(factor) = contact::depth_factor(frames, &seen, &up, rate)
     {
         *f *= factor;
         seen = seen_by(&place);
     }
     if place.has_depth() {
-        contact::onto_floor(frames, &mut seen, &up, [right, away]);
+        contact::onto_floor(frames, &mut seen, &up, [right, away], rate);
     }
     let pelvis: Vec<Option<Vector3>> = seen.iter().map(|s| s.map(|(_, p)| p)).collect();
     for (t, s) in seen.iter_mut().enumerate() {
         if let Some((_, p)) = s {
-            *p = smoothed(&pelvis, t);
+            *p = smoothed(&pelvis, t, SMOOTHING_FRAMES * rate.step());
         }
     }
     // Rows: the world axes in camera coordinates (camera -> world).
@@ -171,9 +172,9 @@ pub fn world_poses(
         .iter()
         .map(|f| f.map(Reconstruction::reprojection))
         .collect();
-    let planted = planted::plant_feet(&mut placed, &images);
+    let planted = planted::plant_feet(&mut placed, &images, rate);
     let floor = floor::level(&mut placed, &planted.stepping);
-    foot_lock::lock_feet(&mut placed, &planted.all);
+    foot_lock::lock_feet(&mut placed, &planted.all, rate);
     let first = placed
         .iter()
         .flatten()
@@ -210,11 +211,11 @@ fn horizontal_axes(up: &Vector3) -> [Vector3; 2] {
 }
 
 /// The pelvis's place at frame `t` (present) of `pelvis` (`None`: a missing frame) averaged
-/// over [`SMOOTHING_FRAMES`] frames on each side, as many on both sides: the straight line
+/// over `side` frames on each side, as many on both sides: the straight line
 /// through the frames present there, taken at `t` (their mean where none is missing; where
 /// some are, the frames at a gap's side are not drawn towards the other side).
-fn smoothed(pelvis: &[Option<Vector3>], t: usize) -> Vector3 {
-    let half = SMOOTHING_FRAMES.min(t).min(pelvis.len() - 1 - t);
+fn smoothed(pelvis: &[Option<Vector3>], t: usize, side: usize) -> Vector3 {
+    let half = side.min(t).min(pelvis.len() - 1 - t);
     let near: Vec<(f64, Vector3)> = (t - half..=t + half)
         .filter_map(|u| pelvis[u].map(|q| (u as f64 - t as f64, q)))
         .collect();
@@ -410,11 +411,17 @@ mod tests {
             let (a, b) = (placed[0].unwrap(), placed[1].unwrap());
             b.get(Landmark::Pelvis)[2] - a.get(Landmark::Pelvis)[2]
         };
-        let own = rise(world_poses(&[Some(&near), Some(&far)], &[], camera));
+        let own = rise(world_poses(
+            &[Some(&near), Some(&far)],
+            &[],
+            camera,
+            FrameRate::default(),
+        ));
         let told = rise(world_poses(
             &[Some(&near), Some(&far)],
             &[Some(upright), Some(upright)],
             camera,
+            FrameRate::default(),
         ));
         // Alone, the floor slopes by the lean over the 10 m walked; told, it is level.
         assert!((own.abs() - 10.0 * pitch.sin()).abs() < 1e-6, "{own}");
@@ -425,7 +432,7 @@ mod tests {
     fn a_person_walking_across_and_turning_moves_and_turns_in_the_world() {
         let a = seen(0.0, [0.0, 0.0]);
         let b = seen(std::f64::consts::FRAC_PI_2, [100.0, 0.0]);
-        let placed = world_poses(&[Some(&a), None, Some(&b)], &[], None);
+        let placed = world_poses(&[Some(&a), None, Some(&b)], &[], None, FrameRate::default());
         assert!(placed[1].is_none());
         let (p, q) = (placed[0].unwrap(), placed[2].unwrap());
         // Feet on the floor, upright: the head above the pelvis by the pose's 0.75 m.

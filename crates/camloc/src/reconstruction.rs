@@ -2,8 +2,8 @@
 
 use camloc_dataset::Dataset;
 use camloc_reconstruct::{
-    BoneLengths, CameraMode, EvalReport, EvalSample, Given, Intrinsics, LiftedDepths, MAX_HEIGHT_M,
-    MIN_HEIGHT_M, ModeKind, Pipeline, PoseBasis, ReconstructConfig, ReconstructError,
+    BoneLengths, CameraMode, EvalReport, EvalSample, FrameRate, Given, Intrinsics, LiftedDepths,
+    MAX_HEIGHT_M, MIN_HEIGHT_M, ModeKind, Pipeline, PoseBasis, ReconstructConfig, ReconstructError,
     Reconstruction, Reconstructor,
 };
 use camloc_skeleton::{Landmark, PartialPose2, Pose2};
@@ -182,6 +182,22 @@ impl PoseReconstructor {
             });
         }
         self.height_m = Some(height_m);
+        Ok(self)
+    }
+
+    /// Reconstructs sequences filmed at `hz` frames a second (30 by default): above 30 their
+    /// smoothness and their placement in the world keep their windows in time
+    /// ([`FrameRate`]: without it a 120 frames a second video came out with 16 times the
+    /// accelerations of the same motion at 30); single poses do not depend on it.
+    ///
+    /// # Errors
+    /// [`CamlocError::InvalidOption`] unless `hz` is finite and > 0.
+    pub fn with_frame_rate(mut self, hz: f64) -> Result<PoseReconstructor, CamlocError> {
+        let rate = FrameRate::new(hz).map_err(|e| CamlocError::InvalidOption {
+            name: "frame rate",
+            detail: e.to_string(),
+        })?;
+        self.reconstructor = self.reconstructor.with_frame_rate(rate);
         Ok(self)
     }
 

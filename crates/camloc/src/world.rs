@@ -30,6 +30,7 @@ impl PoseReconstructor {
             .intrinsics
             .as_ref()
             .and_then(|i| i.principal_point.map(|c| (i.focal_px, c)));
-        world_poses(&reconstructions, &verticals, fixed)
+        let rate = self.reconstructor().config().refinement.frame_rate;
+        world_poses(&reconstructions, &verticals, fixed, rate)
     }
 }

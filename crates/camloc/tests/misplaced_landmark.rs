@@ -4,6 +4,8 @@
 //! without it.
 
 mod common;
+#[path = "common/hybrid.rs"]
+mod hybrid;
 #[path = "common/moving.rs"]
 mod moving;
 
@@ -32,7 +34,7 @@ const CLOSE_SQUAT: [[f64; 2]; 15] = [
 ];
 
 fn wide_angle() -> PoseReconstructor {
-    moving::hybrid_reconstructor()
+    hybrid::hybrid_reconstructor()
         .with_intrinsics(Intrinsics {
             focal_px: 500.0,
             principal_point: Some([960.0, 540.0]),
@@ -95,7 +97,7 @@ fn a_landmark_far_off_without_a_camera_is_read_as_missing() {
     glitch.points[14] = Some([5000.0, 4000.0]);
     let mut missing = pose;
     missing.points[14] = None;
-    let reconstructor = moving::hybrid_reconstructor();
+    let reconstructor = hybrid::hybrid_reconstructor();
     let localizer = reconstructor.localizer().unwrap();
     // Localized and reconstructed as the pose without it, the wrist filled in.
     assert_eq!(

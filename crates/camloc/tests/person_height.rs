@@ -3,6 +3,8 @@
 //! the image is unchanged.
 
 mod common;
+#[path = "common/hybrid.rs"]
+mod hybrid;
 #[path = "common/moving.rs"]
 mod moving;
 
@@ -14,7 +16,7 @@ fn frames() -> Vec<PartialPose2> {
 }
 
 fn reconstructor() -> PoseReconstructor {
-    moving::hybrid_reconstructor()
+    hybrid::hybrid_reconstructor()
 }
 
 /// `a` is `b` made `factor` times as large: the pose about its pelvis, the weak-perspective

@@ -4,14 +4,11 @@
 //! pelvis's path across the floor, the body's facing and the planted feet against the truth. Skipped, visibly,
 //! without the data. Which clips are walks comes from the CMU index, not from a folder.
 
-mod held_out;
+mod tripod;
 
-use camloc::mocap::{MocapIndex, MotionCategory, discover};
-use camloc::skeleton::{Landmark, Pose2};
-use camloc::{
-    CameraLocalizer, DepthLifter, ModeKind, PartialPose2, Pose3, PoseReconstructor, default_basis,
-};
-use held_out::HELD_OUT;
+use camloc::skeleton::Landmark;
+use camloc::{PartialPose2, Pose3};
+use tripod::{held_out_walks, hybrid_reconstructor, tripod};
 
 /// Walks measured.
 const WALKS: usize = 3;
@@ -19,59 +16,6 @@ const WALKS: usize = 3;
 const FRAMES: usize = 150;
 /// Frames of the clip per frame filmed.
 const STEP: usize = 4;
-/// Focal length of the tripod camera, pixels.
-const FOCAL_PX: f64 = 1000.0;
-/// Principal point of the tripod camera, pixels.
-const PRINCIPAL: [f64; 2] = [960.0, 540.0];
-
-/// The 2D keypoints of `poses` (metres, z-up world) seen by a camera standing still 1.5 m above
-/// the floor (the lowest ankle of the clip) and 5 m across the floor from the clip's mean
-/// pelvis, aimed at that pelvis.
-fn tripod(poses: &[Pose3]) -> Vec<Pose2> {
-    let n = poses.len() as f64;
-    let mean: [f64; 3] =
-        std::array::from_fn(|k| poses.iter().map(|p| p.points[0][k]).sum::<f64>() / n);
-    let floor = poses
-        .iter()
-        .flat_map(|p| {
-            [
-                p.get(Landmark::LeftAnkle)[2],
-                p.get(Landmark::RightAnkle)[2],
-            ]
-        })
-        .fold(f64::INFINITY, f64::min);
-    let eye = [mean[0] + 5.0, mean[1] + 1.0, floor + 1.5];
-    let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
-    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-    let unit = |a: [f64; 3]| {
-        let n = dot(a, a).sqrt();
-        a.map(|c| c / n)
-    };
-    let cross = |a: [f64; 3], b: [f64; 3]| {
-        [
-            a[1] * b[2] - a[2] * b[1],
-            a[2] * b[0] - a[0] * b[2],
-            a[0] * b[1] - a[1] * b[0],
-        ]
-    };
-    let z = unit(sub(mean, eye));
-    let x = unit(cross(z, [0.0, 0.0, 1.0]));
-    let y = cross(z, x);
-    poses
-        .iter()
-        .map(|p| {
-            Pose2::new(p.points.map(|q| {
-                let d = sub(q, eye);
-                let depth = dot(d, z);
-                [
-                    PRINCIPAL[0] + FOCAL_PX * dot(d, x) / depth,
-                    PRINCIPAL[1] + FOCAL_PX * dot(d, y) / depth,
-                ]
-            }))
-        })
-        .collect()
-}
-
 /// The horizontal pelvis path `a` aligned to `b` by a rotation about the vertical, a
 /// translation and a scale (sizes are the length prior's when lengths are estimated): the
 /// mean and largest distance, metres, and the scale.
@@ -124,22 +68,8 @@ fn held_out_walks_filmed_from_a_tripod_move_and_turn_as_they_did() {
     let Some(cmu) = camloc::skeleton::data::data_path_or_skip("cmu", test) else {
         return;
     };
-    let index = MocapIndex::load(&cmu.join("cmu-mocap-index-text.txt")).unwrap();
-    let mut walks: Vec<_> = discover(&cmu)
-        .unwrap()
-        .into_iter()
-        .filter(|s| {
-            HELD_OUT.contains(&s.subject().as_str())
-                && index.category(&s.subject(), &s.clip()).0 == MotionCategory::Walk
-        })
-        .collect();
-    walks.sort_by_key(|s| s.clip());
-    let reconstructor = PoseReconstructor::new(default_basis().unwrap())
-        .unwrap()
-        .with_localizer(CameraLocalizer::default_model().unwrap())
-        .with_lifter(DepthLifter::default_lifter().unwrap())
-        .with_mode(ModeKind::Hybrid)
-        .unwrap();
+    let walks = held_out_walks(&cmu);
+    let reconstructor = hybrid_reconstructor();
     let mut measured = 0;
     for source in &walks {
         let clip = source.read().unwrap();

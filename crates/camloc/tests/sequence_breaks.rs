@@ -2,6 +2,8 @@
 //! on each side are solved as runs of their own, with the bone lengths of all frames.
 
 mod common;
+#[path = "common/hybrid.rs"]
+mod hybrid;
 #[path = "common/moving.rs"]
 mod moving;
 
@@ -12,7 +14,7 @@ fn frames() -> Vec<PartialPose2> {
 }
 
 fn reconstructor() -> PoseReconstructor {
-    moving::hybrid_reconstructor()
+    hybrid::hybrid_reconstructor()
 }
 
 fn poses(result: &camloc::PoseSequenceReconstruction) -> Vec<Pose3> {

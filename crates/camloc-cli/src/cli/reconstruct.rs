@@ -67,7 +67,7 @@ fn parse_camera(text: &str) -> Result<ModeKind, String> {
 
 /// Arguments of `camloc reconstruct`.
 #[derive(clap::Args)]
-#[group(id = "animation", multiple = true, args = ["bvh", "html"])]
+#[group(id = "timed", multiple = true, args = ["bvh", "html", "sequence"])]
 pub struct Args {
     /// Model file for the classified camera [default: the embedded model].
     #[arg(long, value_name = "MODEL")]
@@ -179,10 +179,12 @@ pub struct Args {
     /// most 100,000 poses: split larger inputs).
     #[arg(long, value_name = "OUT")]
     pub html: Option<PathBuf>,
-    /// Frames per second of the input video: the BVH frame time and the page's play rate
-    /// (with --bvh or --html).
+    /// Frames per second of the input video (with --sequence, --bvh or --html): with
+    /// --sequence the time scale of the smoothing over frames (its windows are 1/30 s and
+    /// longer at faster rates: give the video's rate), the BVH frame time and the page's play
+    /// rate.
     #[arg(long, value_name = "FPS", default_value = "30", value_parser = export::parse_fps,
-          allow_hyphen_values = true, requires = "animation")]
+          allow_hyphen_values = true, requires = "timed")]
     pub fps: f64,
     #[command(flatten)]
     pub force: ForceArgs,
@@ -270,6 +272,7 @@ fn reconstructor(args: &Args, localizer: CameraLocalizer) -> Result<PoseReconstr
     if let Some(height_m) = args.person_height {
         reconstructor = reconstructor.with_person_height(height_m)?;
     }
+    reconstructor = reconstructor.with_frame_rate(args.fps)?;
     if let Some(intrinsics) = args.intrinsics.intrinsics(args.input.image_size) {
         reconstructor = reconstructor.with_intrinsics(intrinsics)?;
     }

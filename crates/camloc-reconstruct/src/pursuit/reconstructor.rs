@@ -6,7 +6,7 @@ use nalgebra::{DMatrix, DVector};
 use super::config::{LengthTarget, ReconstructConfig};
 use crate::basis::{LIMB_DIM, limb_vectors};
 use crate::length_prior::LimbMatrix;
-use crate::{BoneLengths, PoseBasis, ReconstructError};
+use crate::{BoneLengths, FrameRate, PoseBasis, ReconstructError};
 
 /// Reconstructs 3D poses from 2D landmarks with a [`PoseBasis`].
 #[derive(Clone, Debug)]
@@ -142,6 +142,13 @@ impl Reconstructor {
     /// The configuration.
     pub fn config(&self) -> &ReconstructConfig {
         &self.config
+    }
+
+    /// The reconstructor with its sequences' frame rate set
+    /// ([`Refinement::frame_rate`](crate::Refinement::frame_rate)).
+    pub fn with_frame_rate(mut self, rate: FrameRate) -> Reconstructor {
+        self.config.refinement.frame_rate = rate;
+        self
     }
 
     /// The bone lengths a reconstruction has without given or estimated lengths: the length

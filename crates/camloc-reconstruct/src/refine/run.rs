@@ -180,7 +180,7 @@ pub(crate) fn refine(
             huber: settings.huber,
             direction: 1.0 / direction_sigma(frames, settings, sequence),
             smooth: if sequence && settings.smoothness > 0.0 {
-                1.0 / settings.smoothness
+                1.0 / (settings.smoothness * settings.frame_rate.deviation_factor())
             } else {
                 0.0
             },
@@ -190,6 +190,7 @@ pub(crate) fn refine(
         lengths: unknowns,
         kappa,
         iterations: settings.iterations,
+        smoothing_frames: settings.frame_rate.step(),
     };
     problem.solve(&mut states, &mut shared);
     // Given lengths stay exactly as given (not through their logarithms).

@@ -69,6 +69,9 @@ pub(super) struct Problem<'a> {
     pub(super) kappa: Option<KappaUnknown>,
     /// Most Levenberg-Marquardt steps.
     pub(super) iterations: usize,
+    /// Sequences: frames on each side whose mean bone directions a frame's smoothness holds
+    /// it to (at least 1; [`FrameRate::step`](crate::FrameRate::step)).
+    pub(super) smoothing_frames: usize,
 }
 
 /// One frame's damped normal equations `[A B; B^T D]`, `g`, with the frame's block
@@ -93,21 +96,21 @@ impl Problem<'_> {
     }
 
     /// Each frame's smoothness target: the mean camera-oriented bone directions of the
-    /// frames before and after it.
+    /// [`smoothing_frames`](Self::smoothing_frames) frames before and after it.
     fn targets(&self, states: &[FrameState]) -> Option<Vec<[Vector3<f64>; NUM_LIMBS]>> {
         if !(self.weights.smooth > 0.0) || states.len() < 2 {
             return None;
         }
         let seen: Vec<_> = states.iter().map(FrameState::camera_directions).collect();
+        let side = self.smoothing_frames;
         Some(
             (0..states.len())
                 .map(|t| {
-                    let neighbours: Vec<&[Vector3<f64>; NUM_LIMBS]> =
-                        [t.checked_sub(1), Some(t + 1)]
-                            .into_iter()
-                            .flatten()
-                            .filter_map(|n| seen.get(n))
-                            .collect();
+                    let neighbours: Vec<&[Vector3<f64>; NUM_LIMBS]> = (t.saturating_sub(side)
+                        ..=t + side)
+                        .filter(|&n| n != t)
+                        .filter_map(|n| seen.get(n))
+                        .collect();
                     let k = neighbours.len() as f64;
                     std::array::from_fn(|i| {
                         neighbours.iter().map(|p| p[i]).sum::<Vector3<f64>>() / k

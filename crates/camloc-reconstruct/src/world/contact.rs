@@ -6,7 +6,7 @@
 use camloc_geometry::{Matrix3, Vector3};
 
 use super::floor::Plane;
-use crate::Reconstruction;
+use crate::{FrameRate, Reconstruction};
 
 /// How far a frame's depth from its scale may be off, as a share of the depth (a simulated
 /// user's child filmed from 3 m up: measured over true depth 0.93-1.01, 5th to 95th
@@ -58,12 +58,14 @@ const MIN_FRAMES: usize = 10;
 /// [`OFF_FLOOR_DEVIATIONS`] keeps its depth. The floor weighs the more the steeper the camera
 /// looks down: from 3 m up at a child 5 m away, a height error of 3 cm is a depth error of 1.2%;
 /// from eye level at a pelvis 0.5 m below, 6%. Nothing moves with fewer than [`MIN_FRAMES`]
-/// frames.
+/// frames. The windows ([`PLANE_FRAMES`], [`SLOW_FRAMES`]) are at 30 frames a second,
+/// `rate.step()` times as many at `rate`'s faster ones ([`FrameRate`]).
 pub(super) fn onto_floor(
     frames: &[Option<&Reconstruction>],
     seen: &mut [Option<(Matrix3, Vector3)>],
     up: &Vector3,
     horizontal: [Vector3; 2],
+    rate: FrameRate,
 ) {
     // Per frame: the pelvis, its height along `up` and its place across the floor (along the
     // two horizontal axes), and the height of its lowest landmark.
@@ -94,7 +96,7 @@ pub(super) fn onto_floor(
         .iter()
         .map(|c| [c.place[0], c.place[1], c.height])
         .collect();
-    let averaged = window_means(&numbers, &points, PLANE_FRAMES);
+    let averaged = window_means(&numbers, &points, PLANE_FRAMES * rate.step());
     let fit = |kept: &dyn Fn(&Contact) -> bool| {
         Plane::fit(
             contacts
@@ -114,7 +116,7 @@ pub(super) fn onto_floor(
     let offs: Vec<[f64; 1]> = contacts.iter().map(|c| [distance(c, &plane)]).collect();
     // The distance's slow part, its mean over the frames near: a depth error while small, a
     // jump (kept) from twice that.
-    let slow_parts = window_means(&numbers, &offs, SLOW_FRAMES);
+    let slow_parts = window_means(&numbers, &offs, SLOW_FRAMES * rate.step());
     for ((c, [own]), [slow]) in contacts.iter().zip(&offs).zip(&slow_parts) {
         let kept = ((slow.abs() - SLOW_ERROR_M) / SLOW_ERROR_M).clamp(0.0, 1.0);
         let off = own - kept * slow;
@@ -144,11 +146,12 @@ pub(super) fn onto_floor(
 /// ([`VERTICAL_DEVIATION_RAD`], [`ESTIMATED_FOCAL_LOG_DEVIATION`]): a person who kept their
 /// distance says little. `None` with fewer than [`MIN_FRAMES`] frames or no depth change. A
 /// floor that really slopes towards the camera (stairs, a ramp) is taken for a focal
-/// length's error.
+/// length's error. `rate` as [`onto_floor`] takes it.
 pub(super) fn depth_factor(
     frames: &[Option<&Reconstruction>],
     seen: &[Option<(Matrix3, Vector3)>],
     up: &Vector3,
+    rate: FrameRate,
 ) -> Option<f64> {
     let (numbers, lines): (Vec<usize>, Vec<[f64; 2]>) = frames
         .iter()
@@ -166,7 +169,7 @@ pub(super) fn depth_factor(
     }
     // Fitted to the lines averaged over a second or so: a frame's scale error moves its
     // pelvis along its ray, which changes `a` and `b` together (a factor of its own).
-    let averaged = window_means(&numbers, &lines, PLANE_FRAMES);
+    let averaged = window_means(&numbers, &lines, PLANE_FRAMES * rate.step());
     let fit = |kept: &dyn Fn(usize) -> bool| -> Option<(f64, [f64; 2], f64)> {
         let chosen: Vec<[f64; 2]> = (0..lines.len())
             .filter(|&i| kept(i))
@@ -378,7 +381,13 @@ mod tests {
         // A jump: frame 20 half a metre up (along the vertical, not the ray).
         let jump = seen[20].unwrap().1 + 0.5 * up;
         seen[20] = Some((seen[20].unwrap().0, jump));
-        onto_floor(&refs, &mut seen, &up, horizontal_axes(&up));
+        onto_floor(
+            &refs,
+            &mut seen,
+            &up,
+            horizontal_axes(&up),
+            FrameRate::default(),
+        );
         assert_eq!(seen[20].unwrap().1, jump);
         let mut after = lowest(&frames, &seen, &up);
         after.remove(20);
@@ -392,7 +401,13 @@ mod tests {
         let (frames, mut few, up) = walk(&noise[..MIN_FRAMES - 1]);
         let refs: Vec<Option<&Reconstruction>> = frames.iter().map(Some).collect();
         let unchanged = few.clone();
-        onto_floor(&refs, &mut few, &up, horizontal_axes(&up));
+        onto_floor(
+            &refs,
+            &mut few,
+            &up,
+            horizontal_axes(&up),
+            FrameRate::default(),
+        );
         assert_eq!(few, unchanged);
     }
 
@@ -412,12 +427,12 @@ mod tests {
         };
         let (frames, seen, up) = tripled(walk_along(&noise, [0.0, 0.08]));
         let refs: Vec<Option<&Reconstruction>> = frames.iter().map(Some).collect();
-        let factor = depth_factor(&refs, &seen, &up).unwrap();
+        let factor = depth_factor(&refs, &seen, &up, FrameRate::default()).unwrap();
         // Most of the way to 1/3 in logarithms (the rest is the vertical's possible tilt).
         let share = factor.ln() / (1.0f64 / 3.0).ln();
         assert!((0.8..=1.0).contains(&share), "{factor}");
         let (frames, seen, up) = tripled(walk(&noise));
         let refs: Vec<Option<&Reconstruction>> = frames.iter().map(Some).collect();
-        assert_eq!(depth_factor(&refs, &seen, &up), None);
+        assert_eq!(depth_factor(&refs, &seen, &up, FrameRate::default()), None);
     }
 }

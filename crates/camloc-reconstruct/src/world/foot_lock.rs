@@ -7,6 +7,8 @@
 use camloc_geometry::Vector3;
 use camloc_skeleton::{Landmark, Pose3};
 
+use crate::FrameRate;
+
 /// Frames after (before) a locked run over which the lock's correction fades out (in), so
 /// that the foot does not jump when it leaves (lands on) the floor, where no other run of the
 /// same foot is within [`BLEND_FRAMES`].
@@ -41,8 +43,17 @@ const LEGS: [[Landmark; 3]; 2] = [
 /// knee (an ankle the leg cannot reach, or only by straightening the knee more than
 /// [`MAX_KNEE_STRAIGHTEN_DEG`] or beyond [`MAX_KNEE_DEG`], goes as far as it may). The hips
 /// and every other landmark stay.
-pub(super) fn lock_feet(placed: &mut [Option<Pose3>], contacts: &[(usize, Landmark)]) {
+///
+/// [`FADE_FRAMES`] and [`BLEND_FRAMES`] are at 30 frames a second, `rate.step()` times as many
+/// at `rate`'s faster ones ([`FrameRate`]).
+pub(super) fn lock_feet(
+    placed: &mut [Option<Pose3>],
+    contacts: &[(usize, Landmark)],
+    rate: FrameRate,
+) {
     let n = placed.len();
+    // Counted at 30 frames a second, kept in time at faster rates.
+    let (fade_frames, blend_frames) = (FADE_FRAMES * rate.step(), BLEND_FRAMES * rate.step());
     for leg in LEGS {
         let ankle = leg[2];
         let mut planted = vec![false; n];
@@ -87,7 +98,7 @@ pub(super) fn lock_feet(placed: &mut [Option<Pose3>], contacts: &[(usize, Landma
         let fade = |from: usize, to: usize| -> Option<[f64; 3]> {
             let steps = from.abs_diff(to);
             let edge = shift[from]?;
-            let weight = 1.0 - steps as f64 / (FADE_FRAMES + 1) as f64;
+            let weight = 1.0 - steps as f64 / (fade_frames + 1) as f64;
             (weight > 0.0).then(|| edge.map(|c| c * weight))
         };
         let mut between: Vec<Option<[f64; 3]>> = vec![None; n];
@@ -100,7 +111,7 @@ pub(super) fn lock_feet(placed: &mut [Option<Pose3>], contacts: &[(usize, Landma
                     continue;
                 }
                 between[u] = match (before, after) {
-                    (Some(e), Some(s)) if s - e <= BLEND_FRAMES => {
+                    (Some(e), Some(s)) if s - e <= blend_frames => {
                         let (Some(a), Some(b)) = (shift[e], shift[s]) else {
                             continue;
                         };
@@ -204,7 +215,7 @@ mod tests {
         let mut placed = before.clone();
         // Planted in frames 3 to 8.
         let contacts: Vec<(usize, Landmark)> = (3..9).map(|t| (t, Landmark::LeftAnkle)).collect();
-        lock_feet(&mut placed, &contacts);
+        lock_feet(&mut placed, &contacts, FrameRate::default());
         let ankle = |t: usize| placed[t].unwrap().get(Landmark::LeftAnkle);
         // The mean of frames 3-8 along x is 0.055 m; every planted frame is there.
         for t in 3..9 {
@@ -226,7 +237,7 @@ mod tests {
         let mut two = before.clone();
         let mut contacts = contacts;
         contacts.extend((13..17).map(|t| (t, Landmark::LeftAnkle)));
-        lock_feet(&mut two, &contacts);
+        lock_feet(&mut two, &contacts, FrameRate::default());
         let moved = |t: usize| {
             two[t].unwrap().get(Landmark::LeftAnkle)[0]
                 - before[t].unwrap().get(Landmark::LeftAnkle)[0]

@@ -6,6 +6,7 @@ use camloc_skeleton::{Landmark, NUM_LANDMARKS, Pose3};
 
 use super::centred::centred_means;
 use super::image_ankles::ImageAnkles;
+use crate::FrameRate;
 
 /// How far the camera's place of the pelvis may be off, metres, along the world's x (across
 /// the camera's view), y (away from it, the depth from the scale) and z (up).
@@ -47,13 +48,11 @@ const KEPT_SHARE: f64 = 0.005;
 /// A foot kept in place on average stays so only while its averaged place stays within this
 /// share of the legs' length of where it was when the stretch began (in the image where
 /// known, else in the world: 2 cm for an adult), and
-/// only for stretches of at least [`MIN_KEPT_STEPS`] steps: a foot moving slowly (a slow
+/// only for stretches of at least twice [`COARSE_FRAMES`] and one steps: a foot moving slowly (a slow
 /// walk, a walk filmed at 120 frames a second) passes the step bound frame by frame, and
 /// locked at its stretch's mean it had jumped by 17 cm at the stretch's end (a simulated
 /// user's quarter-speed walk).
 const KEPT_SPAN_SHARE: f64 = 0.025;
-/// See [`KEPT_SPAN_SHARE`]: twice [`COARSE_FRAMES`] and one.
-const MIN_KEPT_STEPS: usize = 2 * COARSE_FRAMES + 1;
 /// A foot still in the image is kept in place when its averaged place in the world moves by
 /// less than this many times the [`KEPT_SHARE`] step (a depth the scale got wrong moves it
 /// by centimetres; a foot running towards the camera, still in the image, by a decimetre).
@@ -77,15 +76,20 @@ const FLOOR_FRAMES: usize = 15;
 /// them, image units; `None` where unknown) is planted too, its steps averaged alike; both
 /// feet may be.
 ///
+/// The windows and per-frame bounds above are at 30 frames a second; at `rate`'s faster
+/// ones they are kept in time ([`FrameRate`]: windows `step()` times longer, steps `step()`
+/// times shorter, the path's bend deviation times `deviation_factor()`).
+///
 /// Returns the planted ankles counted at least half.
 pub(super) fn plant_feet(
     placed: &mut [Option<Pose3>],
     images: &[Option<[[f64; 2]; NUM_LANDMARKS]>],
+    rate: FrameRate,
 ) -> PlantedAnkles {
     if placed.iter().flatten().count() < 3 {
         return PlantedAnkles::default();
     }
-    let (shifts, planted) = pelvis_shifts(placed, images);
+    let (shifts, planted) = pelvis_shifts(placed, images, rate);
     for (p, d) in placed.iter_mut().zip(shifts) {
         if let Some(p) = p {
             for q in &mut p.points {
@@ -115,14 +119,20 @@ pub(super) struct PlantedAnkles {
 fn pelvis_shifts(
     frames: &[Option<Pose3>],
     images: &[Option<[[f64; 2]; NUM_LANDMARKS]>],
+    rate: FrameRate,
 ) -> (Vec<[f64; 3]>, PlantedAnkles) {
     let n = frames.len();
+    // The windows below are counted at 30 frames a second and kept in time at faster rates.
+    let coarse_frames = COARSE_FRAMES * rate.step();
+    // Steps from frame to frame shorten as the frames come faster.
+    let per_frame = rate.step() as f64;
+    let floor_frames = FLOOR_FRAMES * rate.step();
     let pelvis: Vec<Option<[f64; 3]>> = frames
         .iter()
         .map(|p| p.map(|p| p.get(Landmark::Pelvis)))
         .collect();
     // The mean of the frames present within as many frames on both sides.
-    let coarse = centred_means(&pelvis, COARSE_FRAMES);
+    let coarse = centred_means(&pelvis, coarse_frames);
     let ankles = [Landmark::LeftAnkle, Landmark::RightAnkle];
     // Each ankle seen from the pelvis, and its place on the coarse path (frames present).
     let offset = |t: usize, f: usize| -> [f64; 3] {
@@ -143,7 +153,7 @@ fn pelvis_shifts(
     let smooth_offsets: [Vec<Option<[f64; 3]>>; 2] = std::array::from_fn(|f| {
         let offsets: Vec<Option<[f64; 3]>> =
             (0..n).map(|t| frames[t].map(|_| offset(t, f))).collect();
-        centred_means(&offsets, COARSE_FRAMES)
+        centred_means(&offsets, coarse_frames)
     });
     let smooth_offset = |t: usize, f: usize| smooth_offsets[f][t].unwrap_or([0.0; 3]);
     let smooth_ankle = |t: usize, f: usize| -> [f64; 3] {
@@ -163,8 +173,8 @@ fn pelvis_shifts(
     let floor: Vec<f64> = (0..n)
         .map(|t| {
             let (lo, hi) = (
-                t.saturating_sub(FLOOR_FRAMES),
-                (t + FLOOR_FRAMES).min(n - 1),
+                t.saturating_sub(floor_frames),
+                (t + floor_frames).min(n - 1),
             );
             lowest[lo..=hi]
                 .iter()
@@ -185,7 +195,7 @@ fn pelvis_shifts(
         })
         .collect();
     legs.sort_by(f64::total_cmp);
-    let still = STILL_SHARE * legs[legs.len() / 2].max(0.0);
+    let still = STILL_SHARE * legs[legs.len() / 2].max(0.0) / per_frame;
     // The legs' length, thigh plus shin (the median of the frames' left legs), metres.
     let mut leg_lengths: Vec<f64> = frames
         .iter()
@@ -198,8 +208,8 @@ fn pelvis_shifts(
         .collect();
     leg_lengths.sort_by(f64::total_cmp);
     let leg = leg_lengths[leg_lengths.len() / 2];
-    let kept_step = KEPT_SHARE * leg;
-    let image = ImageAnkles::of(images, n, COARSE_FRAMES);
+    let kept_step = KEPT_SHARE * leg / per_frame;
+    let image = ImageAnkles::of(images, n, coarse_frames);
     // Per step between two frames present: the weight (1 / m^2) of the planted foot and the
     // pelvis's step it makes.
     let mut weight = vec![0.0; n + 1];
@@ -213,7 +223,11 @@ fn pelvis_shifts(
             std::array::from_fn(|f| {
                 let present = t > 0 && coarse[t].is_some() && coarse[t - 1].is_some();
                 let step = || distance(smooth_ankle(t, f), smooth_ankle(t - 1, f));
-                let still_in_image = || image.apart(t - 1, t, f).is_some_and(|d| d <= KEPT_SHARE);
+                let still_in_image = || {
+                    image
+                        .apart(t - 1, t, f)
+                        .is_some_and(|d| d <= KEPT_SHARE / per_frame)
+                };
                 present
                     && (step() <= kept_step
                         || (still_in_image() && step() <= IMAGE_KEPT_SLACK * kept_step))
@@ -227,7 +241,7 @@ fn pelvis_shifts(
             Some(d) => d > KEPT_SPAN_SHARE,
             None => distance(smooth_ankle(origin, f), smooth_ankle(t, f)) > KEPT_SPAN_SHARE * leg,
         };
-        keep_still_stretches(&mut kept, f, left_span);
+        keep_still_stretches(&mut kept, f, left_span, 2 * coarse_frames + 1);
     }
     for t in 1..n {
         let (Some(now), Some(before)) = (coarse[t], coarse[t - 1]) else {
@@ -267,7 +281,7 @@ fn pelvis_shifts(
     // Per axis, the banded normal equations of sum_t a_t (r_t - c_t)^2 (a_t = 0 for a missing
     // frame) + sum_t W_t (r_t - r_{t-1} - s_t)^2 + b sum_t (r_{t+1} - 2 r_t + r_{t-1})^2;
     // row t holds the entries (t, t-2), (t, t-1), (t, t).
-    let b = ACCELERATION_DEVIATION_M.powi(-2);
+    let b = (ACCELERATION_DEVIATION_M * rate.deviation_factor()).powi(-2);
     let mut shifts = vec![[0.0; 3]; n];
     for k in 0..3 {
         let a = CAMERA_DEVIATION_M[k].powi(-2);
@@ -305,12 +319,13 @@ fn pelvis_shifts(
 /// Clears `kept[t][foot]` (per step, whether the foot keeps its place) outside stretches of
 /// consecutive kept steps in which the foot stays near where the stretch began
 /// (`left_span(start, t)`: whether step `t` has left the place of step `start`) and which last
-/// [`MIN_KEPT_STEPS`] steps or more: each run of kept steps is cut where the foot leaves, and
+/// `min_steps` steps or more: each run of kept steps is cut where the foot leaves, and
 /// the pieces too short are cleared.
 fn keep_still_stretches(
     kept: &mut [[bool; 2]],
     foot: usize,
     left_span: impl Fn(usize, usize) -> bool,
+    min_steps: usize,
 ) {
     let n = kept.len();
     let mut t = 0;
@@ -324,7 +339,7 @@ fn keep_still_stretches(
         while end < n && kept[end][foot] && !left_span(start, end) {
             end += 1;
         }
-        if end - start < MIN_KEPT_STEPS {
+        if end - start < min_steps {
             for k in &mut kept[start..end] {
                 k[foot] = false;
             }
@@ -440,7 +455,7 @@ mod tests {
                 Some(Pose3 { points })
             })
             .collect();
-        let contacts = plant_feet(&mut placed, &[]).all;
+        let contacts = plant_feet(&mut placed, &[], FrameRate::default()).all;
         for ankle in [Landmark::LeftAnkle, Landmark::RightAnkle] {
             let planted = contacts.iter().filter(|(_, a)| *a == ankle).count();
             assert!(planted > 80, "{ankle:?}: {planted} of 89 steps");
@@ -461,7 +476,7 @@ mod tests {
                 Some(Pose3 { points })
             })
             .collect();
-        let planted = plant_feet(&mut placed, &[]).all;
+        let planted = plant_feet(&mut placed, &[], FrameRate::default()).all;
         let count = |ankle| planted.iter().filter(|(_, a)| *a == ankle).count();
         assert!(
             count(Landmark::LeftAnkle) > 80,
@@ -510,7 +525,7 @@ mod tests {
             (slide / poses.len() as f64, path / poses.len() as f64)
         };
         let (slide_before, path_before) = slide_and_path(&placed);
-        let contacts = plant_feet(&mut placed, &[]).stepping;
+        let contacts = plant_feet(&mut placed, &[], FrameRate::default()).stepping;
         assert!(contacts.len() > 40, "{}", contacts.len());
         let (slide_after, path_after) = slide_and_path(&placed);
         assert!(
@@ -538,7 +553,11 @@ mod tests {
         let (truth, _) = walk(5);
         let mut placed: Vec<Option<Pose3>> = vec![Some(truth[0]), None, None, Some(truth[3])];
         let before = placed.clone();
-        assert!(plant_feet(&mut placed, &[]).all.is_empty());
+        assert!(
+            plant_feet(&mut placed, &[], FrameRate::default())
+                .all
+                .is_empty()
+        );
         assert_eq!(placed, before);
     }
 }

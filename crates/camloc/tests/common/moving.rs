@@ -1,10 +1,9 @@
-//! A few frames of one person for the sequence tests, and the reconstructor they use (included
-//! by the tests that need them: `#[path = "common/moving.rs"] mod moving;`).
+//! A few frames of one person for the sequence tests (included by the tests that need them:
+//! `#[path = "common/moving.rs"] mod moving;`; the reconstructor they use is
+//! `common/hybrid.rs`'s).
 
+use camloc::PartialPose2;
 use camloc::skeleton::Pose2;
-use camloc::{
-    CameraLocalizer, DepthLifter, ModeKind, PartialPose2, PoseReconstructor, default_basis,
-};
 
 /// `count` frames: the example's first pose, moved and bent a little more in each.
 pub fn frames(count: usize) -> Vec<PartialPose2> {
@@ -20,14 +19,4 @@ pub fn frames(count: usize) -> Vec<PartialPose2> {
             PartialPose2::from(Pose2::new(points))
         })
         .collect()
-}
-
-/// The embedded basis, model and lifter, `hybrid` (the command line's default).
-pub fn hybrid_reconstructor() -> PoseReconstructor {
-    PoseReconstructor::new(default_basis().unwrap())
-        .unwrap()
-        .with_localizer(CameraLocalizer::default_model().unwrap())
-        .with_lifter(DepthLifter::default_lifter().unwrap())
-        .with_mode(ModeKind::Hybrid)
-        .unwrap()
 }
