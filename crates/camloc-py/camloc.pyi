@@ -96,6 +96,7 @@ class Localizer:
         sequence: bool = False,
         focal_px: Optional[float] = None,
         principal_point: Optional[Sequence[float]] = None,
+        fps: float = 30.0,
     ) -> Dict[str, Any]:
         """Localizes the camera of every pose.
 
@@ -133,6 +134,10 @@ class Localizer:
           500 px off-centre); without a principal point nothing changes (a ``UserWarning``
           says so). ``reconstruct``'s
           ``focal_px`` and ``principal_point`` aim its localizations alike.
+        fps: with ``sequence``, the video's frames a second (30 by default), as ``camloc
+          localize --sequence --fps``: the smoothing, the side swaps swapped back and the
+          rows left out are judged over as long a time at faster rates (7 rows at 30 frames a
+          second, 28 at 120). Without ``sequence`` it changes nothing.
         A ``UserWarning`` says when most of the (first 20,000) poses have the head below both
         ankles: points with v up (``camloc localize`` warns alike); another when their torsos
         lean alike by 20 degrees or more (a rolled camera: turn the points upright); another
@@ -238,12 +243,14 @@ def reconstruct(
       (normalised coordinates) fails.
     sequence: the poses are the frames of one person, in time order: one set of bone lengths
       for all of them, depths chosen consistently over time, temporal smoothness. Legs or arms
-      a detector read with the left and right sides swapped for up to 5 rows in a row are
+      a detector read with the left and right sides swapped for up to 5 rows in a row (at 30
+      frames a second; as long in time at a faster ``fps``) are
       swapped back first, with a ``UserWarning``, as ``camloc reconstruct --sequence`` does
       (docs/cli.md section Sequences). A
       ``UserWarning`` says where the pose jumps across the image or changes size as one person
       cannot from one row to the next (rows of several people: split them by the ``persons``
-      of ``read_keypoints``), and another where rows (up to 10 in a row, at an end too: the
+      of ``read_keypoints``), and another where rows (up to 10 in a row at 30 frames a second,
+      as long in time at a faster ``fps``, at an end too: the
       rows are consecutive frames) lie apart from the rows before and after them while those
       agree (another person's detection): as
       ``camloc reconstruct --sequence`` does, they are reconstructed on their own, outside
@@ -259,10 +266,11 @@ def reconstruct(
     lifter: ``False`` reconstructs without the embedded depth lifter (the pursuit's pose starts
       the refinement), as ``camloc reconstruct --no-lifter``.
     fps: with ``sequence``, the video's frames a second (30 by default), as ``camloc
-      reconstruct --sequence --fps``: above 30 the smoothing over frames and the placement in
-      the world keep their windows in time (1/30 s and longer), so give the video's rate (a
-      held-out walk at 120 frames a second: accelerations 483 m/s^2 told 30, 34 told 120).
-      Without ``sequence`` it changes nothing.
+      reconstruct --sequence --fps``: above 30 the smoothing over frames, the side swaps
+      swapped back, the rows left out and the placement in the world keep their windows in
+      time (1/30 s and longer), so give the video's rate (a held-out walk at 120 frames a
+      second: accelerations 483 m/s^2 told 30, 34 told 120). Without ``sequence`` it changes
+      nothing.
 
     Returns a dict:
       points3d (N, 15, 3) float64: the 3D landmarks in metres (the given bone lengths, else
@@ -343,6 +351,7 @@ def smooth_viewpoints(
     azimuth_deg: npt.ArrayLike,
     elevation_deg: npt.ArrayLike,
     frames: Optional[npt.ArrayLike] = None,
+    fps: float = 30.0,
 ) -> Tuple[np.ndarray, np.ndarray]:
     """One person's continuous viewpoints smoothed over the frames of a video, as ``camloc
     localize --sequence`` smooths them (its ``smoothed_azimuth_deg``, ``smoothed_elevation_deg``):
@@ -355,6 +364,8 @@ def smooth_viewpoints(
     frames (N,): the frames' numbers (whole numbers from 0 to 2^53, increasing: ValueError
       otherwise; default: 0, 1, 2, ...), so that frames far apart in time are not averaged.
       All -1 (``read_keypoints``' frames of an input without frame numbers) is the default.
+    fps: the video's frames a second (30 by default): at faster rates the frames within as
+      long a time (3 x round(fps / 30) numbers on each side).
 
     Returns (azimuth_deg, elevation_deg), (N,) each, degrees (azimuth in [0, 360)); NaN where
     the frame had no viewpoint or the directions around it cancel (opposite views). Raises

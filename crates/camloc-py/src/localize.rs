@@ -2,6 +2,7 @@
 
 use std::path::PathBuf;
 
+use camloc::reconstruct::FrameRate;
 use camloc::store::Persist;
 use camloc::{
     CameraHeight, CameraLocalizer, CamlocError, HEIGHT_SHARE_MAX_POSES, Localization, PartialPose2,
@@ -188,7 +189,7 @@ impl Localizer {
 
     // Localizes the camera of every pose.
     #[doc = include_str!(concat!(env!("OUT_DIR"), "/doc/Localizer.localize.txt"))]
-    #[pyo3(signature = (points, layout = "camloc15", scores = None, min_score = 0.0, sequence = false, focal_px = None, principal_point = None))]
+    #[pyo3(signature = (points, layout = "camloc15", scores = None, min_score = 0.0, sequence = false, focal_px = None, principal_point = None, fps = 30.0))]
     // Python's keyword arguments, as the stub names them.
     #[allow(clippy::too_many_arguments)]
     fn localize<'py>(
@@ -201,7 +202,9 @@ impl Localizer {
         sequence: bool,
         focal_px: Option<Bound<'py, PyAny>>,
         principal_point: Option<Bound<'py, PyAny>>,
+        #[pyo3(from_py_with = crate::number::fps)] fps: f64,
     ) -> PyResult<Bound<'py, PyDict>> {
+        let rate = crate::smooth::frame_rate(fps)?;
         // With the camera's intrinsics each pose is localized as seen by the camera aimed at
         // it (a person near the edge of a wide-angle image).
         let aimed;
@@ -242,6 +245,7 @@ impl Localizer {
             warn_of_identity_jumps(
                 py,
                 leading.iter().map(|p| p.as_ref()),
+                rate,
                 "left out of the smoothing (their smoothed camera comes from the rows around \
                  them, and they have no smoothed viewpoint), as the command line does",
             )?
@@ -307,7 +311,7 @@ impl Localizer {
         let mut swapped_sides = None;
         if sequence {
             let read = leading.iter().map(|p| p.unwrap_or(PartialPose2::empty()));
-            let (repaired, marks) = warn_of_swapped_sides(py, read.collect())?;
+            let (repaired, marks) = warn_of_swapped_sides(py, read.collect(), rate)?;
             for (i, (pose, mark)) in repaired.iter().zip(&marks).enumerate() {
                 if !mark.contains(&true) {
                     continue;
@@ -333,7 +337,13 @@ impl Localizer {
             |c: usize| -> Vec<f64> { viewpoint.iter().skip(c).step_by(3).copied().collect() };
         let (azimuth, elevation) = (column(0), column(1));
         let smoothed = if sequence {
-            Some(self.smoothed(&label, &probabilities, (&azimuth, &elevation), &left_out)?)
+            Some(self.smoothed(
+                &label,
+                &probabilities,
+                (&azimuth, &elevation),
+                &left_out,
+                rate,
+            )?)
         } else {
             None
         };
@@ -407,13 +417,15 @@ impl Localizer {
     /// person's frames in time order; each frame's camera smoothed by the hidden Markov model
     /// of `camloc localize --sequence` (`camloc::SequenceModel`, a frame that was not
     /// localized counting as a flat one) and its viewpoint by `camloc::smooth_viewpoints`; a
-    /// row where `left_out` (missing entries: no) counts as not localized.
+    /// row where `left_out` (missing entries: no) counts as not localized; `rate`: the rows'
+    /// frames a second.
     fn smoothed(
         &self,
         label: &[i64],
         probabilities: &[f64],
         (azimuth, elevation): (&[f64], &[f64]),
         left_out: &[bool],
+        rate: FrameRate,
     ) -> PyResult<Smoothed> {
         let n = label.len();
         let k = self.inner.cameras().len();
@@ -435,7 +447,7 @@ impl Localizer {
                 .collect()
         };
         let (azimuth_deg, elevation_deg) =
-            smoothed_columns(&vec![None; n], &without(azimuth), &without(elevation));
+            smoothed_columns(&vec![None; n], &without(azimuth), &without(elevation), rate);
         Ok(Smoothed {
             label: (0..n)
                 .map(|i| cameras.get(i).map_or(0, |s| i64::from(s.label.get())))

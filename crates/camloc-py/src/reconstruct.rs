@@ -308,11 +308,13 @@ pub(crate) fn reconstruct<'py>(
             .iter()
             .map(|r| r.as_ref().map_or(camloc::PartialPose2::empty(), |p| *p))
             .collect();
-        let (poses, marks) = warn_of_swapped_sides(py, poses)?;
+        let rate = reconstructor.frame_rate();
+        let (poses, marks) = warn_of_swapped_sides(py, poses, rate)?;
         swapped_sides = Some(marks);
         let left_out = warn_of_identity_jumps(
             py,
             poses.iter().map(Some),
+            rate,
             "reconstructed on their own, left out of the sequence (its lengths, smoothness \
              and world placement), as the command line does",
         )?;

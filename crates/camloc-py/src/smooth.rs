@@ -1,6 +1,7 @@
 //! `camloc.smooth_viewpoints`: one person's per-frame viewpoints smoothed over time, as
 //! `camloc localize --sequence` smooths them ([`camloc::smooth_viewpoints`]).
 
+use camloc::reconstruct::FrameRate;
 use numpy::{PyArray1, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 
@@ -14,13 +15,15 @@ type Degrees<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>);
 // (build.rs).
 #[doc = include_str!(concat!(env!("OUT_DIR"), "/doc/smooth_viewpoints.txt"))]
 #[pyfunction]
-#[pyo3(signature = (azimuth_deg, elevation_deg, frames = None))]
+#[pyo3(signature = (azimuth_deg, elevation_deg, frames = None, fps = 30.0))]
 pub(crate) fn smooth_viewpoints<'py>(
     py: Python<'py>,
     azimuth_deg: Unmasked<'py>,
     elevation_deg: Unmasked<'py>,
     frames: Option<Unmasked<'py>>,
+    #[pyo3(from_py_with = crate::number::fps)] fps: f64,
 ) -> PyResult<Degrees<'py>> {
+    let rate = frame_rate(fps)?;
     for (name, array) in [
         ("azimuth_deg", &azimuth_deg),
         ("elevation_deg", &elevation_deg),
@@ -67,7 +70,7 @@ pub(crate) fn smooth_viewpoints<'py>(
             // read_keypoints' frames of an input without frame numbers (LSP, MPII) are all
             // -1: no numbers, as without `frames`.
             if given.iter().all(|&f| f == -1.0) {
-                return smoothed_arrays(py, &vec![None; n], &azimuth, &elevation);
+                return smoothed_arrays(py, &vec![None; n], &azimuth, &elevation, rate);
             }
             given
                 .iter()
@@ -94,7 +97,12 @@ pub(crate) fn smooth_viewpoints<'py>(
                 )?
         }
     };
-    smoothed_arrays(py, &frames, &azimuth, &elevation)
+    smoothed_arrays(py, &frames, &azimuth, &elevation, rate)
+}
+
+/// The `fps` argument as a frame rate (`ValueError` unless finite and > 0).
+pub(crate) fn frame_rate(fps: f64) -> PyResult<FrameRate> {
+    FrameRate::new(fps).map_err(|e| value_error(format!("fps: {e}")))
 }
 
 /// [`smoothed_columns`] as NumPy arrays.
@@ -103,8 +111,9 @@ fn smoothed_arrays<'py>(
     frames: &[Option<u64>],
     azimuth: &[f64],
     elevation: &[f64],
+    rate: FrameRate,
 ) -> PyResult<Degrees<'py>> {
-    let (azimuth, elevation) = smoothed_columns(frames, azimuth, elevation);
+    let (azimuth, elevation) = smoothed_columns(frames, azimuth, elevation, rate);
     Ok((
         PyArray1::from_vec(py, azimuth),
         PyArray1::from_vec(py, elevation),
@@ -113,18 +122,19 @@ fn smoothed_arrays<'py>(
 
 /// [`camloc::smooth_viewpoints`] of per-frame `azimuth` and `elevation` (degrees; a frame with
 /// a non-finite one has no viewpoint) at frame numbers `frames`, as azimuth and elevation
-/// columns, NaN where a frame has no smoothed viewpoint.
+/// columns, NaN where a frame has no smoothed viewpoint; `rate`: the frames a second.
 pub(crate) fn smoothed_columns(
     frames: &[Option<u64>],
     azimuth: &[f64],
     elevation: &[f64],
+    rate: FrameRate,
 ) -> (Vec<f64>, Vec<f64>) {
     let viewpoints: Vec<Option<(f64, f64)>> = azimuth
         .iter()
         .zip(elevation)
         .map(|(&a, &e)| (a.is_finite() && e.is_finite()).then_some((a, e)))
         .collect();
-    camloc::smooth_viewpoints(frames, &viewpoints)
+    camloc::smooth_viewpoints(frames, &viewpoints, rate)
         .into_iter()
         .map(|v| v.unwrap_or((f64::NAN, f64::NAN)))
         .unzip()

@@ -2,7 +2,7 @@
 //! standard error: points with v up, a rolled camera or joints at the image origin, rows of a
 //! sequence that jump between people, and a call whose every pose failed.
 
-use camloc::reconstruct::Intrinsics;
+use camloc::reconstruct::{FrameRate, Intrinsics};
 use camloc::{
     HEIGHT_SHARE_MAX_POSES, InputConventions, PartialPose2, TorsoAnchor, identity_jumps,
     left_out_of_sequence, swap_sides_back,
@@ -70,10 +70,14 @@ pub(crate) fn warn_if_every_pose_failed(
 pub(crate) fn warn_of_swapped_sides(
     py: Python<'_>,
     mut poses: Vec<PartialPose2>,
+    rate: FrameRate,
 ) -> PyResult<(Vec<PartialPose2>, Vec<[bool; 2]>)> {
     let rows: Vec<Option<u64>> = (0..poses.len() as u64).map(Some).collect();
     let mut marks = vec![[false; 2]; poses.len()];
-    for (c, (chain, swapped)) in swap_sides_back(&rows, &mut poses).into_iter().enumerate() {
+    for (c, (chain, swapped)) in swap_sides_back(&rows, &mut poses, rate)
+        .into_iter()
+        .enumerate()
+    {
         let Some(&first) = swapped.first() else {
             continue;
         };
@@ -102,12 +106,13 @@ pub(crate) fn warn_of_swapped_sides(
 pub(crate) fn warn_of_identity_jumps<'a>(
     py: Python<'_>,
     poses: impl Iterator<Item = Option<&'a PartialPose2>>,
+    rate: FrameRate,
     treated: &str,
 ) -> PyResult<Vec<bool>> {
     let anchors: Vec<Option<TorsoAnchor>> = poses.map(|p| p.and_then(TorsoAnchor::of)).collect();
     // A sequence's rows are consecutive frames (a missing frame is a row of NaN).
     let rows: Vec<Option<u64>> = (0..anchors.len() as u64).map(Some).collect();
-    let left_out = left_out_of_sequence(&rows, &anchors);
+    let left_out = left_out_of_sequence(&rows, &anchors, rate);
     if let Some(first) = left_out.outliers.first() {
         let message = format!(
             "{} row(s) lie apart from the rows before and after them while those agree (first \

@@ -115,6 +115,17 @@ def test_smooth_viewpoints_equals_the_command_line(cli, localizer):
         camloc.smooth_viewpoints([[1.0]], [[1.0]])
     with pytest.raises(ValueError, match=r"\[-90, 90\]"):
         camloc.smooth_viewpoints([1.0], [120.0])
+    # At 120 frames a second the window is as long in time: 12 numbers on each side, as
+    # `localize --sequence --fps 120` smooths.
+    az, _ = camloc.smooth_viewpoints([10.0, 20.0, 30.0], [0.0, 0.0, 0.0], [0, 5, 10])
+    np.testing.assert_allclose(az, [10.0, 20.0, 30.0], atol=1e-9)
+    az, _ = camloc.smooth_viewpoints([10.0, 20.0, 30.0], [0.0, 0.0, 0.0], [0, 5, 10], fps=120)
+    np.testing.assert_allclose(az, [20.0, 20.0, 20.0], atol=1e-9)
+    _, fast = cli("localize", "--input", path, "--sequence", "--fps", "120")
+    got = camloc.smooth_viewpoints(azimuth, elevation, frames, fps=120)
+    np.testing.assert_allclose(got[0], [r["smoothed_azimuth_deg"] for r in fast], atol=1e-4)
+    with pytest.raises(ValueError, match="fps"):
+        camloc.smooth_viewpoints([1.0], [1.0], fps=0)
 
 
 def test_points_with_v_up_warn_as_the_command_line_does(localizer):

@@ -3,6 +3,7 @@
 //! what a detector's order of people does when it changes (OpenPose's `people[i]` is that
 //! order, not a tracked identity) or when two people share one id.
 
+use camloc_reconstruct::FrameRate;
 use camloc_skeleton::{Landmark, PartialPose2};
 
 /// The distance, in 2D torso lengths (pelvis to neck) per frame elapsed, that a pelvis may move
@@ -191,8 +192,16 @@ pub const OUTLIER_RUN_FRAMES: usize = 10;
 /// stretch at an end only where the frame numbers say it follows the rest of the track within
 /// [`OUTLIER_END_GAP_FRAMES`] frames. When more than a third of the frames would be left
 /// out, none is: such frames are not a tracker's swap but a track of several people, or
-/// frames sampled far apart and numbered one after another ([`identity_jumps`] warns).
-pub fn outlier_frames(frames: &[Option<u64>], anchors: &[Option<TorsoAnchor>]) -> Vec<usize> {
+/// frames sampled far apart and numbered one after another ([`identity_jumps`] warns). The
+/// frame counts are at 30 frames a second, [`FrameRate::step`] times as many at `rate`'s
+/// faster ones (as long in time).
+pub fn outlier_frames(
+    frames: &[Option<u64>],
+    anchors: &[Option<TorsoAnchor>],
+    rate: FrameRate,
+) -> Vec<usize> {
+    let run = OUTLIER_RUN_FRAMES * rate.step();
+    let end_gap = OUTLIER_END_GAP_FRAMES * rate.step() as u64;
     let present = present(anchors);
     let n = present.len();
     // Whether the frames at positions `x` and `y` of `present` are too far apart for one
@@ -227,21 +236,22 @@ pub fn outlier_frames(frames: &[Option<u64>], anchors: &[Option<TorsoAnchor>]) -
         && apart(0, 1)
         && !apart(1, 2)
         && off_line(0, 1, 2)
-        && !(2..(3 + OUTLIER_RUN_FRAMES).min(n)).any(|f| apart(f - 1, f) && !apart(0, f));
+        && !(2..(3 + run).min(n)).any(|f| apart(f - 1, f) && !apart(0, f));
     let last_frame = n >= 3
         && apart(n - 2, n - 1)
         && !apart(n - 3, n - 2)
         && off_line(n - 1, n - 2, n - 3)
-        && !((n - 2).saturating_sub(OUTLIER_RUN_FRAMES + 1).max(1)..n - 2)
+        && !((n - 2).saturating_sub(run + 1).max(1)..n - 2)
             .any(|f| apart(f - 1, f) && !apart(f - 1, n - 1));
     // Longer stretches at an end where the frame numbers say that the stretch begins (ends)
     // within OUTLIER_END_GAP_FRAMES of the rest of the track.
     let numbered_near = |x: usize, y: usize| {
         let (a, b) = (x.min(y), x.max(y));
         let number = |m: usize| frames.get(present[m].0).copied().flatten();
-        matches!((number(a), number(b)), (Some(p), Some(q)) if q > p && q - p <= OUTLIER_END_GAP_FRAMES)
+        matches!((number(a), number(b)), (Some(p), Some(q)) if q > p && q - p <= end_gap)
     };
     let end = EndJudges {
+        run,
         apart,
         off_line,
         numbered_near,
@@ -259,10 +269,7 @@ pub fn outlier_frames(frames: &[Option<u64>], anchors: &[Option<TorsoAnchor>]) -
     let mut m = last + 1;
     while m + 1 < n && !out[m] {
         let back = apart(last, m)
-            .then(|| {
-                (m..(m + OUTLIER_RUN_FRAMES).min(n - 1))
-                    .find(|&e| apart(e, e + 1) && !apart(last, e + 1))
-            })
+            .then(|| (m..(m + run).min(n - 1)).find(|&e| apart(e, e + 1) && !apart(last, e + 1)))
             .flatten()
             .filter(|&e| (m..=e).all(|k| off_line(k, last, e + 1)));
         match back {
@@ -293,6 +300,8 @@ pub const OUTLIER_END_GAP_FRAMES: u64 = 3;
 /// the track's frames: two frames too far apart for one person, a frame off the line through
 /// two others, two frames numbered at most [`OUTLIER_END_GAP_FRAMES`] apart.
 struct EndJudges<A, O, N> {
+    /// The longest stretch ([`OUTLIER_RUN_FRAMES`] at the sequence's rate).
+    run: usize,
     apart: A,
     off_line: O,
     numbered_near: N,
@@ -304,16 +313,16 @@ where
     O: Fn(usize, usize, usize) -> bool,
     N: Fn(usize, usize) -> bool,
 {
-    /// The length (2 to [`OUTLIER_RUN_FRAMES`]) of a stretch of frames at one end of a track
+    /// The length (2 to [`run`](Self::run)) of a stretch of frames at one end of a track
     /// of `n` frames that holds another person: it jumps in from the rest of the track within
     /// a few numbered frames, its frames agree with each other and lie off the line through
     /// the rest's two nearest frames, and the rest (at least twice as long, and 3 frames) has
-    /// no jump within [`OUTLIER_RUN_FRAMES`] + 1 frames of it (else the stretch may be the
+    /// no jump within `run` + 1 frames of it (else the stretch may be the
     /// person and the rest's start another's). `at(e)` is the position of the `e`-th frame
     /// from that end; 0 when there is no such stretch.
     fn stretch(&self, n: usize, at: impl Fn(usize) -> usize) -> usize {
         let apart = &self.apart;
-        (2..=OUTLIER_RUN_FRAMES)
+        (2..=self.run)
             .take_while(|&len| n >= 2 * len + 3)
             .find(|&len| {
                 let (inside, outside) = (at(len - 1), at(len));
@@ -321,8 +330,7 @@ where
                     && (self.numbered_near)(inside, outside)
                     && (0..len - 1).all(|e| !apart(at(e), at(e + 1)))
                     && (0..len).all(|e| (self.off_line)(at(e), outside, at(len + 1)))
-                    && (len..(len + OUTLIER_RUN_FRAMES + 1).min(n - 1))
-                        .all(|e| !apart(at(e), at(e + 1)))
+                    && (len..(len + self.run + 1).min(n - 1)).all(|e| !apart(at(e), at(e + 1)))
             })
             .unwrap_or(0)
     }
@@ -368,8 +376,13 @@ impl LeftOut {
 /// ([`outlier_frames`], judged without the second poses). `camloc reconstruct --sequence`
 /// reconstructs them on their own
 /// ([`PoseReconstructor::reconstruct_sequence_with_breaks`](crate::PoseReconstructor::reconstruct_sequence_with_breaks))
-/// and `camloc localize --sequence` leaves them out of the smoothing.
-pub fn left_out_of_sequence(frames: &[Option<u64>], anchors: &[Option<TorsoAnchor>]) -> LeftOut {
+/// and `camloc localize --sequence` leaves them out of the smoothing. `rate`: the frames a
+/// second, as [`outlier_frames`] takes it.
+pub fn left_out_of_sequence(
+    frames: &[Option<u64>],
+    anchors: &[Option<TorsoAnchor>],
+    rate: FrameRate,
+) -> LeftOut {
     let second_poses: Vec<usize> = (1..frames.len())
         .filter(|&m| frames[m].is_some() && frames[m] == frames[m - 1])
         .collect();
@@ -377,7 +390,7 @@ pub fn left_out_of_sequence(frames: &[Option<u64>], anchors: &[Option<TorsoAncho
         second_poses,
         outliers: Vec::new(),
     };
-    left_out.outliers = outlier_frames(frames, &left_out.kept_anchors(anchors));
+    left_out.outliers = outlier_frames(frames, &left_out.kept_anchors(anchors), rate);
     left_out
 }
 
@@ -415,31 +428,40 @@ mod tests {
         let mut misplaced = walk.clone();
         misplaced[5] = at(400.0, 40.0);
         assert!(identity_jumps(&frames, &misplaced).is_empty());
-        assert_eq!(outlier_frames(&frames, &misplaced), vec![5]);
+        assert_eq!(
+            outlier_frames(&frames, &misplaced, FrameRate::default()),
+            vec![5]
+        );
         // Neither a walk nor a lasting switch has an outlier; two people's ids swapped for
         // one frame give one in each.
-        assert!(outlier_frames(&frames, &walk).is_empty());
-        assert!(outlier_frames(&frames, &switched).is_empty());
+        assert!(outlier_frames(&frames, &walk, FrameRate::default()).is_empty());
+        assert!(outlier_frames(&frames, &switched, FrameRate::default()).is_empty());
         let other: Vec<_> = (0..10)
             .map(|t| at(900.0 - 10.0 * f64::from(t), 100.0))
             .collect();
         let (mut a, mut b) = (walk.clone(), other.clone());
         std::mem::swap(&mut a[3], &mut b[3]);
-        assert_eq!(outlier_frames(&frames, &a), vec![3]);
-        assert_eq!(outlier_frames(&frames, &b), vec![3]);
+        assert_eq!(outlier_frames(&frames, &a, FrameRate::default()), vec![3]);
+        assert_eq!(outlier_frames(&frames, &b, FrameRate::default()), vec![3]);
         // Ids swapped at two frames with one between: the frame between is the person's.
         let (mut a, mut b) = (walk.clone(), other.clone());
         for t in [4, 6] {
             std::mem::swap(&mut a[t], &mut b[t]);
         }
-        assert_eq!(outlier_frames(&frames, &a), vec![4, 6]);
-        assert_eq!(outlier_frames(&frames, &b), vec![4, 6]);
+        assert_eq!(
+            outlier_frames(&frames, &a, FrameRate::default()),
+            vec![4, 6]
+        );
+        assert_eq!(
+            outlier_frames(&frames, &b, FrameRate::default()),
+            vec![4, 6]
+        );
         // At either end of a track.
         for end in [0, 9] {
             let (mut a, mut b) = (walk.clone(), other.clone());
             std::mem::swap(&mut a[end], &mut b[end]);
-            assert_eq!(outlier_frames(&frames, &a), vec![end]);
-            assert_eq!(outlier_frames(&frames, &b), vec![end]);
+            assert_eq!(outlier_frames(&frames, &a, FrameRate::default()), vec![end]);
+            assert_eq!(outlier_frames(&frames, &b, FrameRate::default()), vec![end]);
         }
         // Ids swapped for the first frame of the track and for three later: the frames of
         // the other person in each. A switch for the last four of ten frames is a change of
@@ -453,8 +475,14 @@ mod tests {
         for t in [0, 16, 17, 18] {
             std::mem::swap(&mut a[t], &mut b[t]);
         }
-        assert_eq!(outlier_frames(&frames, &a), vec![0, 16, 17, 18]);
-        assert_eq!(outlier_frames(&frames, &b), vec![0, 16, 17, 18]);
+        assert_eq!(
+            outlier_frames(&frames, &a, FrameRate::default()),
+            vec![0, 16, 17, 18]
+        );
+        assert_eq!(
+            outlier_frames(&frames, &b, FrameRate::default()),
+            vec![0, 16, 17, 18]
+        );
         let frames: Vec<Option<u64>> = (0..10).map(Some).collect();
         let walk: Vec<_> = (0..10).map(|t| at(20.0 * f64::from(t), 100.0)).collect();
         let other: Vec<_> = (0..10)
@@ -464,8 +492,8 @@ mod tests {
         for t in 6..10 {
             std::mem::swap(&mut a[t], &mut b[t]);
         }
-        assert!(outlier_frames(&frames, &a).is_empty());
-        assert!(outlier_frames(&frames, &b).is_empty());
+        assert!(outlier_frames(&frames, &a, FrameRate::default()).is_empty());
+        assert!(outlier_frames(&frames, &b, FrameRate::default()).is_empty());
         // Away for longer than OUTLIER_RUN_FRAMES in a long track: a change of person (and the
         // frames before it are the person's, whom the track comes back to).
         let frames: Vec<Option<u64>> = (0..40).map(Some).collect();
@@ -474,19 +502,32 @@ mod tests {
         for a in &mut away[10..10 + OUTLIER_RUN_FRAMES + 1] {
             a.as_mut().unwrap().pelvis[0] += 2000.0;
         }
-        assert!(outlier_frames(&frames, &away).is_empty());
+        assert!(outlier_frames(&frames, &away, FrameRate::default()).is_empty());
         for a in &mut away[10 + OUTLIER_RUN_FRAMES..10 + OUTLIER_RUN_FRAMES + 1] {
             a.as_mut().unwrap().pelvis[0] -= 2000.0;
         }
         assert_eq!(
-            outlier_frames(&frames, &away),
+            outlier_frames(&frames, &away, FrameRate::default()),
             (10..10 + OUTLIER_RUN_FRAMES).collect::<Vec<_>>()
         );
+        // At 120 frames a second another person's 0.1 s is 12 frames: left out told the
+        // rate, a change of person not told.
+        let frames: Vec<Option<u64>> = (0..120).map(Some).collect();
+        let mut away: Vec<_> = (0..120).map(|t| at(5.0 * f64::from(t), 100.0)).collect();
+        for a in &mut away[40..52] {
+            a.as_mut().unwrap().pelvis[0] += 2000.0;
+        }
+        let rate = FrameRate::new(120.0).unwrap();
+        assert_eq!(
+            outlier_frames(&frames, &away, rate),
+            (40..52).collect::<Vec<_>>()
+        );
+        assert!(outlier_frames(&frames, &away, FrameRate::default()).is_empty());
         let frames: Vec<Option<u64>> = (0..10).map(Some).collect();
         // A person running past a camera filmed at a low frame rate moves far every frame:
         // no outlier, as the frames before and after disagree too.
         let fast: Vec<_> = (0..10).map(|t| at(150.0 * f64::from(t), 100.0)).collect();
-        assert!(outlier_frames(&frames, &fast).is_empty());
+        assert!(outlier_frames(&frames, &fast, FrameRate::default()).is_empty());
     }
 
     #[test]
@@ -527,18 +568,18 @@ mod tests {
                 at(100.0 * f64::from(t) + 10.0 * step, 100.0)
             })
             .collect();
-        assert!(outlier_frames(&frames, &runner).is_empty());
+        assert!(outlier_frames(&frames, &runner, FrameRate::default()).is_empty());
         let uneven: Vec<_> = (0..18)
             .map(|t| at(104.0 * f64::from(t) + 12.0 * f64::from(t % 2), 100.0))
             .collect();
-        assert!(outlier_frames(&frames, &uneven).is_empty());
+        assert!(outlier_frames(&frames, &uneven, FrameRate::default()).is_empty());
         // A person pacing back and forth, sampled once a second but numbered 0, 1, 2...:
         // most frames are far from their neighbours; none is left out as another person's.
         let pacing: Vec<_> = (0..35)
             .map(|t| at(800.0 * (0.7 * f64::from(t)).sin(), 100.0))
             .collect();
         let numbered: Vec<Option<u64>> = (0..35).map(Some).collect();
-        assert!(outlier_frames(&numbered, &pacing).is_empty());
+        assert!(outlier_frames(&numbered, &pacing, FrameRate::default()).is_empty());
     }
 
     #[test]
@@ -555,13 +596,19 @@ mod tests {
             }
             let expected: Vec<usize> = swapped.collect();
             assert_eq!(expected.len(), len);
-            assert_eq!(outlier_frames(&numbered, &a), expected);
-            assert_eq!(outlier_frames(&numbered, &b), expected);
+            assert_eq!(
+                outlier_frames(&numbered, &a, FrameRate::default()),
+                expected
+            );
+            assert_eq!(
+                outlier_frames(&numbered, &b, FrameRate::default()),
+                expected
+            );
             // Without frame numbers, or with frames far apart in time (a person may have
             // walked there), only the one-frame rule holds.
             let sparse: Vec<Option<u64>> = (0..30).map(|t| Some(100 * t)).collect();
-            assert!(outlier_frames(&[], &a).is_empty());
-            assert!(outlier_frames(&sparse, &a).is_empty());
+            assert!(outlier_frames(&[], &a, FrameRate::default()).is_empty());
+            assert!(outlier_frames(&sparse, &a, FrameRate::default()).is_empty());
         }
         // Where the detector also missed a frame next to the swap (numbers 2 apart).
         let (mut a, mut b) = (walk.clone(), other.clone());
@@ -572,19 +619,22 @@ mod tests {
         for number in &mut missed[26..] {
             *number = number.map(|f| f + 1);
         }
-        assert_eq!(outlier_frames(&missed, &a), vec![26, 27, 28, 29]);
+        assert_eq!(
+            outlier_frames(&missed, &a, FrameRate::default()),
+            vec![26, 27, 28, 29]
+        );
         // Eleven frames are a change of person; so is a stretch that moves on its own.
         let (mut a, mut b) = (walk.clone(), other.clone());
         for t in 19..30 {
             std::mem::swap(&mut a[t], &mut b[t]);
         }
-        assert!(outlier_frames(&numbered, &a).is_empty());
-        assert!(outlier_frames(&numbered, &b).is_empty());
+        assert!(outlier_frames(&numbered, &a, FrameRate::default()).is_empty());
+        assert!(outlier_frames(&numbered, &b, FrameRate::default()).is_empty());
         let mut runs_off = walk.clone();
         for (k, a) in runs_off.iter_mut().enumerate().skip(26) {
             a.as_mut().unwrap().pelvis[0] += 500.0 * (k - 25) as f64;
         }
-        assert!(outlier_frames(&numbered, &runs_off).is_empty());
+        assert!(outlier_frames(&numbered, &runs_off, FrameRate::default()).is_empty());
     }
 
     #[test]

@@ -201,6 +201,11 @@ impl PoseReconstructor {
         Ok(self)
     }
 
+    /// The frames a second of the sequences it reconstructs ([`with_frame_rate`](Self::with_frame_rate)).
+    pub fn frame_rate(&self) -> FrameRate {
+        self.reconstructor.config().refinement.frame_rate
+    }
+
     /// The standing height the estimated lengths are scaled to, metres, if one was given.
     pub fn person_height_m(&self) -> Option<f64> {
         self.height_m

@@ -4,6 +4,7 @@
 //! with the legs swapped and 115 mm with the arms, against 42), and a sequence's bone lengths
 //! and smoothness take it in.
 
+use camloc_reconstruct::FrameRate;
 use camloc_skeleton::{Landmark, PartialPose2};
 
 /// A chain of landmarks whose left and right sides a detector can confuse.
@@ -118,11 +119,16 @@ pub fn with_part_swapped(pose: &PartialPose2, chain: SideChain, part: SwappedPar
 /// of the track as read (not at its first or last frame), where at each end the frames as
 /// read jump by more than the penalty and swapped join with at most
 /// [`SIDE_SWAP_JOIN_RATIO`] of that. Frames more than [`SIDE_SWAP_GAP_FRAMES`] numbers apart
-/// do not constrain each other; a frame without a torso is left as read and skipped.
+/// do not constrain each other; a frame without a torso is left as read and skipped. The
+/// frame counts are at 30 frames a second: at `rate`'s faster ones the runs and gaps are
+/// [`FrameRate::step`] times as many frames and a swapped frame costs the penalty divided by
+/// it (a swap of 0.1 s is 3 frames at 30 a second, 12 at 120, and costs as much).
 pub fn swapped_sides(
     frames: &[Option<u64>],
     poses: &[PartialPose2],
+    rate: FrameRate,
 ) -> Vec<(SideChain, Vec<(usize, SwappedPart)>)> {
+    let gap = SIDE_SWAP_GAP_FRAMES * rate.step() as u64;
     // The frames with a torso: their positions, pelvis and torso length (the landmarks are
     // taken relative to them as they are needed: a video of a million frames holds no copy).
     let present: Vec<Torso> = poses
@@ -136,15 +142,15 @@ pub fn swapped_sides(
         .map(|w| {
             let (j, k) = (w[0].at, w[1].at);
             match (number(j), number(k)) {
-                (Some(a), Some(b)) => b > a && b - a <= SIDE_SWAP_GAP_FRAMES,
-                _ => (k - j) as u64 <= SIDE_SWAP_GAP_FRAMES,
+                (Some(a), Some(b)) => b > a && b - a <= gap,
+                _ => (k - j) as u64 <= gap,
             }
         })
         .collect();
     SideChain::ALL
         .into_iter()
         .map(|chain| {
-            let swapped = swapped_frames(chain, poses, &present, &linked)
+            let swapped = swapped_frames(chain, poses, &present, &linked, rate.step())
                 .into_iter()
                 .map(|(m, part)| (present[m].at, part))
                 .collect();
@@ -153,13 +159,14 @@ pub fn swapped_sides(
         .collect()
 }
 
-/// [`swapped_sides`] of one person's frames, the parts found swapped back in `poses`
-/// ([`with_part_swapped`]); returns, per chain, the positions swapped back.
+/// [`swapped_sides`] of one person's frames (at `rate`), the parts found swapped back in
+/// `poses` ([`with_part_swapped`]); returns, per chain, the positions swapped back.
 pub fn swap_sides_back(
     frames: &[Option<u64>],
     poses: &mut [PartialPose2],
+    rate: FrameRate,
 ) -> Vec<(SideChain, Vec<usize>)> {
-    swapped_sides(frames, poses)
+    swapped_sides(frames, poses, rate)
         .into_iter()
         .map(|(chain, swapped)| {
             for &(m, part) in &swapped {
@@ -201,12 +208,14 @@ impl Torso {
 
 /// The positions (in `present`, the frames with a torso) of the frames whose `chain` is
 /// swapped back and the part ([`swapped_sides`]); `linked[m - 1]`: frames `m - 1` and `m`
-/// constrain each other.
+/// constrain each other; `step`: frames per frame at 30 frames a second
+/// ([`FrameRate::step`]).
 fn swapped_frames(
     chain: SideChain,
     poses: &[PartialPose2],
     present: &[Torso],
     linked: &[bool],
+    step: usize,
 ) -> Vec<(usize, SwappedPart)> {
     let n = present.len();
     if n == 0 {
@@ -257,34 +266,42 @@ fn swapped_frames(
     steady.sort_by(f64::total_cmp);
     let median = steady.get(steady.len() / 2).copied().unwrap_or(0.0);
     let penalty = SIDE_SWAP_PENALTY.max(SIDE_SWAP_MOTION_FACTOR * median);
+    // Each swapped frame costs the penalty per 30th of a second: a swap as long in time costs
+    // as much at any rate (the noise between frames, which sets the penalty, does not shrink
+    // with them).
+    let per_frame = penalty / step as f64;
     // Viterbi over the states of a frame: 0 as read; r in 1..=SIDE_SWAP_RUN_FRAMES the r-th
     // frame of a run with the whole chain swapped, SIDE_SWAP_RUN_FRAMES + r of a run with
     // the limbs beyond the torso swapped; a track starts as read or at a run's first frame.
-    const RUN: usize = SIDE_SWAP_RUN_FRAMES;
-    const STATES: usize = 2 * RUN + 1;
+    let run = SIDE_SWAP_RUN_FRAMES * step;
+    let states = 2 * run + 1;
     let reading = |state: usize| match state {
         0 => None,
-        s if s <= RUN => Some(SwappedPart::Whole),
+        s if s <= run => Some(SwappedPart::Whole),
         _ => Some(SwappedPart::Distal),
     };
-    let first_of_run = |state: usize| state == 1 || state == RUN + 1;
-    let own = |state: usize| if state == 0 { 0.0 } else { penalty };
-    let mut cost: [f64; STATES] = std::array::from_fn(|state| {
-        if state == 0 || first_of_run(state) {
-            own(state)
-        } else {
-            f64::INFINITY
-        }
-    });
-    let mut back: Vec<[usize; STATES]> = Vec::with_capacity(n - 1);
+    let first_of_run = |state: usize| state == 1 || state == run + 1;
+    let own = |state: usize| if state == 0 { 0.0 } else { per_frame };
+    let mut cost: Vec<f64> = (0..states)
+        .map(|state| {
+            if state == 0 || first_of_run(state) {
+                own(state)
+            } else {
+                f64::INFINITY
+            }
+        })
+        .collect();
+    // The state each frame's state came from (`states` entries per step; at most 10,001
+    // states, FrameRate::step being at most 1,000).
+    let mut back: Vec<u16> = Vec::with_capacity((n - 1) * states);
     for m in 1..n {
-        let mut next = [f64::INFINITY; STATES];
-        let mut from = [0; STATES];
-        for state in 0..STATES {
+        let mut next = vec![f64::INFINITY; states];
+        let mut from = vec![0u16; states];
+        for state in 0..states {
             // The states a frame in `state` can follow: any (as read), as read (a run's first
             // frame), the run's frame before.
             let before = match state {
-                0 => 0..STATES,
+                0 => 0..states,
                 s if first_of_run(s) => 0..1,
                 s => s - 1..s,
             };
@@ -292,22 +309,22 @@ fn swapped_frames(
                 let total = cost[b] + motion(m, reading(b), reading(state));
                 if total < next[state] {
                     next[state] = total;
-                    from[state] = b;
+                    from[state] = b as u16;
                 }
             }
             next[state] += own(state);
         }
         cost = next;
-        back.push(from);
+        back.extend(from);
     }
-    let mut state = (0..STATES)
+    let mut state = (0..states)
         .min_by(|&a, &b| cost[a].total_cmp(&cost[b]))
         .unwrap_or(0);
     let mut path = vec![None; n];
     for m in (0..n).rev() {
         path[m] = reading(state);
         if m > 0 {
-            state = back[m - 1][state];
+            state = usize::from(back[(m - 1) * states + state]);
         }
     }
     // A run is kept only inside the track, where at each end the frames as read jump by more
@@ -346,10 +363,15 @@ mod tests {
 
     /// A side view of a walk: the legs swing in opposite phases, the arms too.
     fn walk(frames: usize) -> Vec<PartialPose2> {
+        walk_at(frames, 1.0)
+    }
+
+    /// [`walk`] filmed `faster` times as many frames a second.
+    fn walk_at(frames: usize, faster: f64) -> Vec<PartialPose2> {
         (0..frames)
             .map(|t| {
-                let phase = 0.35 * t as f64 + 1.2;
-                let x0 = 6.0 * t as f64;
+                let phase = 0.35 * t as f64 / faster + 1.2;
+                let x0 = 6.0 * t as f64 / faster;
                 let mut pose = PartialPose2::empty();
                 let mut set =
                     |l: Landmark, x: f64, y: f64| pose.points[l.index()] = Some([x0 + x, y]);
@@ -387,7 +409,7 @@ mod tests {
         poses: &[PartialPose2],
         chain: SideChain,
     ) -> Vec<(usize, SwappedPart)> {
-        swapped_sides(frames, poses)
+        swapped_sides(frames, poses, FrameRate::default())
             .into_iter()
             .find(|(c, _)| *c == chain)
             .map(|(_, f)| f)
@@ -420,7 +442,7 @@ mod tests {
             vec![(37, SwappedPart::Distal)]
         );
         let mut repaired = read.clone();
-        swap_sides_back(&numbers, &mut repaired);
+        swap_sides_back(&numbers, &mut repaired, FrameRate::default());
         assert_eq!(repaired, clean);
     }
 
@@ -465,6 +487,34 @@ mod tests {
             found(&numbers, &headless, SideChain::Legs),
             vec![27, 28, 55]
         );
-        assert!(swapped_sides(&[], &[]).iter().all(|(_, f)| f.is_empty()));
+        assert!(
+            swapped_sides(&[], &[], FrameRate::default())
+                .iter()
+                .all(|(_, f)| f.is_empty())
+        );
+    }
+
+    #[test]
+    fn a_swap_of_a_tenth_of_a_second_is_found_at_120_frames_a_second_told_the_rate() {
+        let clean = walk_at(240, 4.0);
+        let numbers: Vec<Option<u64>> = (0..240).map(Some).collect();
+        let rate = FrameRate::new(120.0).unwrap();
+        let legs = |poses: &[PartialPose2], rate: FrameRate| -> Vec<usize> {
+            swapped_sides(&numbers, poses, rate)
+                .into_iter()
+                .find(|(c, _)| *c == SideChain::Legs)
+                .map(|(_, f)| f.into_iter().map(|(m, _)| m).collect())
+                .unwrap_or_default()
+        };
+        assert!(legs(&clean, rate).is_empty());
+        // 12 frames (0.1 s) where the legs are apart: more than SIDE_SWAP_RUN_FRAMES frames,
+        // as many in time as 3 at 30 frames a second.
+        let mut read = clean.clone();
+        let swapped: Vec<usize> = (70..82).collect();
+        for &k in &swapped {
+            read[k] = with_sides_swapped(&read[k], SideChain::Legs);
+        }
+        assert_eq!(legs(&read, rate), swapped);
+        assert!(legs(&read, FrameRate::default()).is_empty());
     }
 }

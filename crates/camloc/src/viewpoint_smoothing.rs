@@ -2,8 +2,11 @@
 //! ([`smooth_viewpoints`]): each frame's direction averaged with its neighbours', as the
 //! camera and the person move little from one frame to the next.
 
-/// Frames on each side of a frame that [`smooth_viewpoints`] averages with it (a window of 7
-/// frames, about a quarter of a second at 30 frames a second).
+use camloc_reconstruct::FrameRate;
+
+/// Frames on each side of a frame that [`smooth_viewpoints`] averages with it at 30 frames a
+/// second (a window of 7 frames, about a quarter of a second; at faster rates as long in
+/// time, [`FrameRate::step`] times as many frames).
 pub const VIEWPOINT_HALF_WINDOW: u64 = 3;
 
 /// A viewpoint: azimuth and elevation, degrees, in the person's canonical frame
@@ -13,13 +16,15 @@ pub type Viewpoint = (f64, f64);
 
 /// The viewpoints of one person's frames, in time order, smoothed: frame `k`'s is the
 /// direction of the mean of the unit directions of the frames whose frame numbers lie within
-/// [`VIEWPOINT_HALF_WINDOW`] of its own (`frames[k]`; `None`: its position), itself included.
-/// `None` where the frame has no viewpoint (`viewpoints[k]` is `None`: not localized) or the
-/// directions cancel.
+/// [`VIEWPOINT_HALF_WINDOW`] (at `rate`) of its own (`frames[k]`; `None`: its position),
+/// itself included. `None` where the frame has no viewpoint (`viewpoints[k]` is `None`: not
+/// localized) or the directions cancel.
 pub fn smooth_viewpoints(
     frames: &[Option<u64>],
     viewpoints: &[Option<Viewpoint>],
+    rate: FrameRate,
 ) -> Vec<Option<Viewpoint>> {
+    let half = VIEWPOINT_HALF_WINDOW * rate.step() as u64;
     let number = |k: usize| frames.get(k).copied().flatten().unwrap_or(k as u64);
     let unit = |(azimuth, elevation): Viewpoint| {
         let (a, e) = (azimuth.to_radians(), elevation.to_radians());
@@ -29,7 +34,7 @@ pub fn smooth_viewpoints(
         .map(|k| {
             viewpoints[k]?;
             let centre = number(k);
-            let near = |j: &usize| number(*j).abs_diff(centre) <= VIEWPOINT_HALF_WINDOW;
+            let near = |j: &usize| number(*j).abs_diff(centre) <= half;
             // Frames are in time order: the window's frames are a run around k.
             let start = (0..k).rev().take_while(near).last().unwrap_or(k);
             let sum = (start..viewpoints.len())
@@ -63,7 +68,7 @@ mod tests {
             .map(|t| Some(((350.0 + 2.0 * f64::from(t)).rem_euclid(360.0), 10.0)))
             .collect();
         let frames: Vec<Option<u64>> = vec![None; 20];
-        let smoothed = smooth_viewpoints(&frames, &turn);
+        let smoothed = smooth_viewpoints(&frames, &turn, FrameRate::default());
         // Away from the ends a centred window of a steady turn keeps the azimuth.
         for t in 3..17 {
             let (a, e) = smoothed[t].unwrap();
@@ -75,7 +80,7 @@ mod tests {
         let jitter: Vec<Option<Viewpoint>> = (0..7)
             .map(|t| Some((if t % 2 == 0 { 94.0 } else { 86.0 }, 0.0)))
             .collect();
-        let middle = smooth_viewpoints(&frames[..7], &jitter)[3].unwrap();
+        let middle = smooth_viewpoints(&frames[..7], &jitter, FrameRate::default())[3].unwrap();
         assert!((middle.0 - 90.0 - 4.0 / 7.0).abs() < 0.01, "{middle:?}");
     }
 
@@ -83,7 +88,7 @@ mod tests {
     fn frames_far_apart_in_time_and_frames_without_a_viewpoint_are_not_mixed() {
         let viewpoints = [Some((10.0, 0.0)), None, Some((200.0, 0.0))];
         let frames = [Some(0), Some(1), Some(50)];
-        let smoothed = smooth_viewpoints(&frames, &viewpoints);
+        let smoothed = smooth_viewpoints(&frames, &viewpoints, FrameRate::default());
         assert!(close(smoothed[0].unwrap(), (10.0, 0.0)));
         assert_eq!(smoothed[1], None);
         assert!(close(smoothed[2].unwrap(), (200.0, 0.0)));

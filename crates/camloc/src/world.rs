@@ -30,7 +30,6 @@ impl PoseReconstructor {
             .intrinsics
             .as_ref()
             .and_then(|i| i.principal_point.map(|c| (i.focal_px, c)));
-        let rate = self.reconstructor().config().refinement.frame_rate;
-        world_poses(&reconstructions, &verticals, fixed, rate)
+        world_poses(&reconstructions, &verticals, fixed, self.frame_rate())
     }
 }

@@ -285,6 +285,7 @@ fn hybrid_from_lifted_depths_is_levelled_to_the_localizer_s_elevation() {
     let smoothed = camloc::smooth_viewpoints(
         &[],
         &elevations.iter().map(|v| Some(*v)).collect::<Vec<_>>(),
+        camloc::reconstruct::FrameRate::default(),
     );
     for (f, s) in sequence.frames.iter().zip(&smoothed) {
         let elevation = camera_elevation(&f.as_ref().unwrap().reconstruction.camera.rotation);

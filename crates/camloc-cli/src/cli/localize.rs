@@ -7,6 +7,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use camloc::keypoints::KeypointRecord;
+use camloc::reconstruct::FrameRate;
 use camloc::{CameraLocalizer, CamlocError, Localization, ModeKind};
 
 use camloc::store::escaped;
@@ -28,6 +29,7 @@ use super::{
 
 /// Arguments of `camloc localize`.
 #[derive(clap::Args)]
+#[group(id = "timed", multiple = true, args = ["html", "sequence"])]
 pub struct Args {
     /// Model file [default: the model embedded in this binary].
     #[arg(long, value_name = "MODEL")]
@@ -76,9 +78,11 @@ pub struct Args {
     /// holds every pose (about 2.5 KB each; at most 100,000 poses: split larger inputs).
     #[arg(long, value_name = "OUT")]
     pub html: Option<PathBuf>,
-    /// With --html: the page's play rate, frames per second.
+    /// Frames per second of the input video (with --sequence or --html): with --sequence the
+    /// time scale of the smoothing over frames (7 frames at 30 frames a second, as long in
+    /// time at faster rates: give the video's rate), and the page's play rate.
     #[arg(long, value_name = "FPS", default_value = "30", value_parser = export::parse_fps,
-          requires = "html")]
+          requires = "timed")]
     pub fps: f64,
     /// Write the results as NumPy arrays to this .npz archive (numpy.load reads it without
     /// pickle), row n for the n-th pose read: label, folded_label, probabilities, azimuth_deg,
@@ -214,6 +218,10 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
             force: args.force.force,
             max_poses: args.sequence_max_poses,
             html: args.html.as_deref().map(|path| (path, args.fps)),
+            rate: FrameRate::new(args.fps).map_err(|e| CamlocError::InvalidOption {
+                name: "--fps",
+                detail: e.to_string(),
+            })?,
         };
         return sequence::run(locator, inputs, out, format, &files, &bar, &view);
     }

@@ -150,7 +150,9 @@ pub fn run(
     for (n, (person, members)) in groups.iter().enumerate() {
         let numbers = super::sequence::frame_numbers(&keys, members);
         let mut poses: Vec<PartialPose2> = members.iter().map(|&i| kept[i].pose).collect();
-        let swapped_sides = super::sequence::sides_swapped_back(*person, &numbers, &mut poses);
+        let rate = reconstructor.frame_rate();
+        let swapped_sides =
+            super::sequence::sides_swapped_back(*person, &numbers, &mut poses, rate);
         let anchors: Vec<_> = poses.iter().map(TorsoAnchor::of).collect();
         // A second pose of a frame, and a frame whose pose is not where the frames around it
         // put the person, are reconstructed on their own, outside the sequence.
@@ -158,6 +160,7 @@ pub fn run(
             *person,
             &numbers,
             &anchors,
+            rate,
             "reconstructed on its own, left out of the sequence (its lengths, smoothness and \
              animation)",
         );
@@ -167,7 +170,7 @@ pub fn run(
         let mut breaks = vec![false; members.len()];
         for pair in in_sequence.windows(2) {
             breaks[pair[1]] = matches!((numbers[pair[0]], numbers[pair[1]]), (Some(a), Some(b))
-                if b.saturating_sub(a) > SEQUENCE_BREAK_FRAMES as u64);
+                if b.saturating_sub(a) > (SEQUENCE_BREAK_FRAMES * rate.step()) as u64);
         }
         // The solve of a long sequence takes a while (20,000 frames: tens of seconds) and
         // counts nothing: a spinner says whose it is, when the reading's bar was shown.

@@ -15,6 +15,7 @@ use std::path::Path;
 use std::process::ExitCode;
 
 use camloc::keypoints::KeypointRecord;
+use camloc::reconstruct::FrameRate;
 use camloc::skeleton::NUM_LANDMARKS;
 use camloc::{
     CameraLabel, Localization, PartialPose2, SequenceModel, SideChain, SmoothedFrame, TorsoAnchor,
@@ -150,6 +151,9 @@ pub struct SequenceOptions<'a> {
     pub max_poses: u64,
     /// `--html` and its play rate: one page, one timeline per person.
     pub html: Option<(&'a Path, f64)>,
+    /// `--fps`: the video's frames a second, the time scale of the smoothing and of the
+    /// windows that judge frames ([`FrameRate`]).
+    pub rate: FrameRate,
 }
 
 /// The page's record of a pose from its localization or failure (`None` without `--html`).
@@ -271,7 +275,7 @@ pub fn run(
         let numbers = frame_numbers(&keys, members);
         // The limbs a detector swapped left for right: swapped back and localized again.
         let mut poses: Vec<PartialPose2> = members.iter().map(|&i| frames[i].pose()).collect();
-        let sides = sides_swapped_back(*person, &numbers, &mut poses);
+        let sides = sides_swapped_back(*person, &numbers, &mut poses, files.rate);
         for ((&i, pose), &bits) in members.iter().zip(&poses).zip(&sides) {
             if bits == 0 {
                 continue;
@@ -306,6 +310,7 @@ pub fn run(
             *person,
             &numbers,
             &anchors,
+            files.rate,
             "left out of the person's smoothing (its smoothed camera comes from the frames \
              around it, and it has no smoothed viewpoint)",
         );
@@ -318,7 +323,7 @@ pub fn run(
                     .map(|[a, e, _]| (f64::from(a), f64::from(e)))
             })
             .collect();
-        let smoothed_viewpoints = smooth_viewpoints(&numbers, &viewpoints);
+        let smoothed_viewpoints = smooth_viewpoints(&numbers, &viewpoints, files.rate);
         let probabilities: Vec<Option<&[f64]>> = members
             .iter()
             .zip(&left_out)
@@ -421,17 +426,18 @@ pub fn warn_of_repeated_frames(keys: &[(Option<u64>, Option<u64>)]) {
     );
 }
 
-/// The frames of `person` (their `frames` numbers and `anchors`, in time order; a frame's
-/// poses in input order) that are left out of the person's sequence
+/// The frames of `person` (their `frames` numbers and `anchors`, in time order, at `rate`; a
+/// frame's poses in input order) that are left out of the person's sequence
 /// ([`camloc::left_out_of_sequence`]), with a warning on standard error saying that each is
 /// `treated` so, and the warning of [`warn_of_identity_jumps`] over the frames kept.
 pub fn left_out_of_sequence(
     person: u64,
     frames: &[Option<u64>],
     anchors: &[Option<TorsoAnchor>],
+    rate: FrameRate,
     treated: &str,
 ) -> Vec<bool> {
-    let left_out = camloc::left_out_of_sequence(frames, anchors);
+    let left_out = camloc::left_out_of_sequence(frames, anchors, rate);
     let at = |m: usize| frame_name(frames, m);
     if let Some(&first) = left_out.second_poses.first() {
         let seconds = left_out.second_poses.len();
@@ -496,17 +502,18 @@ fn localized(
     (result, view, viewpoint)
 }
 
-/// Swaps back in `poses` of `person` (their `frames` numbers, in time order) the limbs a
-/// detector swapped for a few frames ([`camloc::swap_sides_back`]), with a warning on standard
-/// error per chain; per frame, the chains swapped back (bit `c` for
+/// Swaps back in `poses` of `person` (their `frames` numbers, in time order, at `rate`) the
+/// limbs a detector swapped for a few frames ([`camloc::swap_sides_back`]), with a warning on
+/// standard error per chain; per frame, the chains swapped back (bit `c` for
 /// [`SideChain::ALL`]`[c]`, named by [`side_names`]).
 pub fn sides_swapped_back(
     person: u64,
     frames: &[Option<u64>],
     poses: &mut [PartialPose2],
+    rate: FrameRate,
 ) -> Vec<u8> {
     let mut bits = vec![0u8; poses.len()];
-    for (c, (chain, swapped)) in camloc::swap_sides_back(frames, poses)
+    for (c, (chain, swapped)) in camloc::swap_sides_back(frames, poses, rate)
         .into_iter()
         .enumerate()
     {

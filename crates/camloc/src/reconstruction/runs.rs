@@ -22,7 +22,9 @@ type SolvedRuns = (
 
 /// The fewest frames in a row, missing or not reconstructed, that split one person's frames
 /// into runs solved apart (fewer: the frames on each side stay neighbours, as they nearly
-/// are; a detector that misses every other frame keeps its smoothness).
+/// are; a detector that misses every other frame keeps its smoothness), at 30 frames a
+/// second; [`FrameRate::step`](camloc_reconstruct::FrameRate::step) times as many at the
+/// reconstructor's faster rate ([`PoseReconstructor::with_frame_rate`]).
 pub const SEQUENCE_BREAK_FRAMES: usize = 3;
 
 impl PoseReconstructor {
@@ -150,8 +152,8 @@ impl PoseReconstructor {
                 failed_in_a_row += 1;
                 continue;
             }
-            let gap =
-                failed_in_a_row >= SEQUENCE_BREAK_FRAMES || breaks.get(t).copied().unwrap_or(false);
+            let gap = failed_in_a_row >= SEQUENCE_BREAK_FRAMES * self.frame_rate().step()
+                || breaks.get(t).copied().unwrap_or(false);
             failed_in_a_row = 0;
             match runs.last_mut() {
                 Some(run) if !gap => run.push(t),
@@ -230,12 +232,13 @@ impl PoseReconstructor {
                 viewpoints.push(viewpoint);
                 number += 1;
             }
-            number += 2 * VIEWPOINT_HALF_WINDOW + 1;
+            number += 2 * VIEWPOINT_HALF_WINDOW * self.frame_rate().step() as u64 + 1;
         }
         let mut smoothed = vec![None; prepared.len()];
-        for (t, v) in members
-            .into_iter()
-            .zip(smooth_viewpoints(&numbers, &viewpoints))
+        for (t, v) in
+            members
+                .into_iter()
+                .zip(smooth_viewpoints(&numbers, &viewpoints, self.frame_rate()))
         {
             smoothed[t] = v;
         }
