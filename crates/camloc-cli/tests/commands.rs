@@ -168,7 +168,7 @@ fn train_evaluate_and_reconstruct_succeed_on_fixture_data() {
     // The last row is `reconstruct`'s default pipeline, on every sample the modes had.
     let modes = report["modes"].as_array().unwrap();
     let pipeline = &report["pipeline"];
-    assert_eq!(pipeline["name"], "hybrid + lifter", "{report}");
+    assert_eq!(pipeline["name"], "reconstruct: hybrid + lifter", "{report}");
     assert_eq!(pipeline["mode"], "hybrid", "{report}");
     let counted = |row: &serde_json::Value| {
         ["evaluated", "failures", "unavailable"]
@@ -191,7 +191,10 @@ fn train_evaluate_and_reconstruct_succeed_on_fixture_data() {
     ]);
     let text = success(&text);
     assert!(
-        text.lines().last().unwrap().starts_with("hybrid + lifter "),
+        text.lines()
+            .last()
+            .unwrap()
+            .starts_with("reconstruct: hybrid + lifter "),
         "{text}"
     );
     let bare = camloc(&[
@@ -204,7 +207,7 @@ fn train_evaluate_and_reconstruct_succeed_on_fixture_data() {
         "--json",
     ]);
     let bare: serde_json::Value = serde_json::from_str(&success(&bare)).unwrap();
-    assert_eq!(bare["pipeline"]["name"], "hybrid", "{bare}");
+    assert_eq!(bare["pipeline"]["name"], "reconstruct: hybrid", "{bare}");
 
     // The model is moved into place only after standard output was written.
     if let Ok(full) = std::fs::OpenOptions::new().write(true).open("/dev/full") {

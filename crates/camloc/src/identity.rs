@@ -336,12 +336,70 @@ where
     }
 }
 
+/// The positions of the poses of one person's frames (`frames` numbers and `anchors` as for
+/// [`left_out_of_sequence`]) that share a frame number with another pose and are not the
+/// person's: of each frame's poses the person's is the one nearest (pelvis distance in torso
+/// lengths, and the torsos' size ratio) the person's last pose before it, or, before any, its
+/// first pose of a frame of its own after it; the first in the input when neither has a
+/// torso. An untracked second person listed first in some frames was taken for the person
+/// there (a simulated user's animation jumped 4 m for 15 frames).
+fn other_poses_of_frames(frames: &[Option<u64>], anchors: &[Option<TorsoAnchor>]) -> Vec<usize> {
+    let n = frames.len();
+    let same = |a: usize, b: usize| frames[a].is_some() && frames[a] == frames[b];
+    // How far `candidate` is from `reference`, in torso lengths and sizes.
+    let distance = |candidate: usize, reference: &TorsoAnchor| {
+        anchors.get(candidate).copied().flatten().map(|a| {
+            let torso = 0.5 * (a.torso + reference.torso);
+            let moved =
+                (a.pelvis[0] - reference.pelvis[0]).hypot(a.pelvis[1] - reference.pelvis[1]);
+            moved / torso + (a.torso.max(reference.torso) / a.torso.min(reference.torso)).ln()
+        })
+    };
+    let alone = |start: usize, end: usize| end - start == 1;
+    let mut others = Vec::new();
+    let mut last: Option<TorsoAnchor> = None;
+    let mut start = 0;
+    while start < n {
+        let end = (start + 1..n).find(|&m| !same(start, m)).unwrap_or(n);
+        let chosen = if alone(start, end) {
+            start
+        } else {
+            // The reference: the person's last pose, else the next frame with one pose.
+            let ahead = || {
+                let mut k = end;
+                while k < n {
+                    let e = (k + 1..n).find(|&m| !same(k, m)).unwrap_or(n);
+                    if alone(k, e) {
+                        return anchors.get(k).copied().flatten();
+                    }
+                    k = e;
+                }
+                None
+            };
+            match last.or_else(ahead) {
+                Some(reference) => (start..end)
+                    .filter_map(|m| distance(m, &reference).map(|d| (m, d)))
+                    .min_by(|a, b| a.1.total_cmp(&b.1))
+                    .map_or(start, |(m, _)| m),
+                None => start,
+            }
+        };
+        others.extend((start..end).filter(|&m| m != chosen));
+        if let Some(a) = anchors.get(chosen).copied().flatten() {
+            last = Some(a);
+        }
+        start = end;
+    }
+    others
+}
+
 /// The frames of one person that are not the person's frame of the sequence
 /// ([`left_out_of_sequence`]), as positions in the person's frames.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct LeftOut {
-    /// A second (third, ...) pose of a frame number the pose before it has: a tracker's
-    /// duplicate; the first pose of the frame is the person's.
+    /// The poses of a frame number that another pose has too (a tracker's duplicate, an
+    /// untracked second person) other than the person's: the one nearest the person's
+    /// track (see [`left_out_of_sequence`]).
     pub second_poses: Vec<usize>,
     /// Poses apart from the frames before and after them ([`outlier_frames`]).
     pub outliers: Vec<usize>,
@@ -371,8 +429,9 @@ impl LeftOut {
 }
 
 /// The frames of one person (their `frames` numbers, `None` where unknown, and `anchors`, in
-/// time order; a frame's poses in input order) to leave out of the person's sequence: a
-/// second pose of a frame, and the poses that lie apart from the frames around them
+/// time order; a frame's poses in input order) to leave out of the person's sequence: the
+/// poses of a frame other than the person's (the one nearest the person's track), and the
+/// poses that lie apart from the frames around them
 /// ([`outlier_frames`], judged without the second poses). `camloc reconstruct --sequence`
 /// reconstructs them on their own
 /// ([`PoseReconstructor::reconstruct_sequence_with_breaks`](crate::PoseReconstructor::reconstruct_sequence_with_breaks))
@@ -383,9 +442,7 @@ pub fn left_out_of_sequence(
     anchors: &[Option<TorsoAnchor>],
     rate: FrameRate,
 ) -> LeftOut {
-    let second_poses: Vec<usize> = (1..frames.len())
-        .filter(|&m| frames[m].is_some() && frames[m] == frames[m - 1])
-        .collect();
+    let second_poses = other_poses_of_frames(frames, anchors);
     let mut left_out = LeftOut {
         second_poses,
         outliers: Vec::new(),
@@ -670,5 +727,36 @@ mod tests {
         let frames: Vec<Option<u64>> = (0..5).map(Some).collect();
         assert_eq!(identity_jumps(&frames, &anchors), vec![3]);
         assert!(identity_jumps(&[None, None, None], &[at(0.0, 100.0), at(90.0, 100.0)]).is_empty());
+    }
+
+    #[test]
+    fn of_a_frame_s_poses_the_one_nearest_the_track_is_the_person_s() {
+        // A walk, 20 px a frame; frame 3 lists another person (900 px away) first, frame 0
+        // too (the reference is then frame 1, the next frame of one pose).
+        let frames = [0, 0, 1, 2, 3, 3, 4].map(Some);
+        let anchors = [
+            at(900.0, 100.0),
+            at(0.0, 100.0),
+            at(20.0, 100.0),
+            at(40.0, 100.0),
+            at(960.0, 100.0),
+            at(60.0, 100.0),
+            at(80.0, 100.0),
+        ];
+        let left = left_out_of_sequence(&frames, &anchors, FrameRate::default());
+        assert_eq!(left.second_poses, vec![0, 4]);
+        assert!(left.outliers.is_empty(), "{left:?}");
+        // Listed second, the other person is left out as before; without torsos the first
+        // pose is the person's.
+        let swapped = [1, 0, 2, 3, 5, 4, 6].map(|k| anchors[k]);
+        assert_eq!(
+            left_out_of_sequence(&frames, &swapped, FrameRate::default()).second_poses,
+            vec![1, 5]
+        );
+        let none = [None; 7];
+        assert_eq!(
+            left_out_of_sequence(&frames, &none, FrameRate::default()).second_poses,
+            vec![1, 5]
+        );
     }
 }

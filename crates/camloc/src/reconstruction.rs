@@ -565,9 +565,9 @@ impl PoseReconstructor {
 
     /// [`evaluate`](Self::evaluate), and this reconstructor's own [`reconstruct`](Self::reconstruct)
     /// (its mode, lifter, given or estimated bone lengths, intrinsics) run on every complete
-    /// sample and measured as the modes are ([`EvalReport::pipeline`], named by
-    /// [`pipeline_name`](Self::pipeline_name)): what `camloc reconstruct` gives, which none of
-    /// the pursuit's bare modes is.
+    /// sample and measured as the modes are ([`EvalReport::pipeline`], named `reconstruct: `
+    /// and its [`pipeline_name`](Self::pipeline_name)): what `camloc reconstruct` gives, which
+    /// none of the pursuit's bare modes is.
     ///
     /// # Errors
     /// As [`evaluate`](Self::evaluate).
@@ -579,7 +579,7 @@ impl PoseReconstructor {
                 .map(|r| r.reconstruction)
         };
         let pipeline = Pipeline {
-            name: self.pipeline_name(),
+            name: format!("reconstruct: {}", self.pipeline_name()),
             mode: self.mode,
             run: &run,
         };

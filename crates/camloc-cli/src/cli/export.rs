@@ -177,7 +177,12 @@ pub fn parse_fps(text: &str) -> Result<f64, String> {
         .parse::<f64>()
         .ok()
         .filter(|f| (1.0 / longest..=1.0 / shortest).contains(f))
-        .ok_or_else(|| format!("not a frame rate from 1/3600 to 1000000 frames a second: {text:?}"))
+        .ok_or_else(|| {
+            format!(
+                "not a frame rate: a number of frames a second from 0.000278 (one an hour) to \
+                 1000000, got {text:?}"
+            )
+        })
 }
 
 #[cfg(test)]

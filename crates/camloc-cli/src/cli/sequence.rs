@@ -443,7 +443,7 @@ pub fn left_out_of_sequence(
         let seconds = left_out.second_poses.len();
         stderr_line!(
             "camloc: warning: person {person}: {} hold{} a second pose (first at {}): the \
-             second is {treated}",
+             pose further from the person's frames around it is {treated}",
             counted(seconds as u64, "frame"),
             if seconds == 1 { "s" } else { "" },
             at(first)
