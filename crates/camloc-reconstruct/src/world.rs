@@ -146,10 +146,15 @@ pub fn world_poses(
     if place.has_depth() {
         contact::onto_floor(frames, &mut seen, &up, [right, away], rate);
     }
-    let pelvis: Vec<Option<Vector3>> = seen.iter().map(|s| s.map(|(_, p)| p)).collect();
-    for (t, s) in seen.iter_mut().enumerate() {
-        if let Some((_, p)) = s {
-            *p = smoothed(&pelvis, t, SMOOTHING_FRAMES * rate.step());
+    // The pelvis's place averaged over SMOOTHING_FRAMES (at the rate) on each side: the
+    // straight line through the frames present there, taken at the frame.
+    let pelvis: Vec<Option<[f64; 3]>> = seen.iter().map(|s| s.map(|(_, p)| p.into())).collect();
+    for (s, p) in seen.iter_mut().zip(centred::centred_lines(
+        &pelvis,
+        SMOOTHING_FRAMES * rate.step(),
+    )) {
+        if let (Some((_, place)), Some(p)) = (s, p) {
+            *place = Vector3::from(p);
         }
     }
     // Rows: the world axes in camera coordinates (camera -> world).
@@ -208,33 +213,6 @@ fn horizontal_axes(up: &Vector3) -> [Vector3; 2] {
         Vector3::z().cross(up).normalize()
     };
     [right, up.cross(&right)]
-}
-
-/// The pelvis's place at frame `t` (present) of `pelvis` (`None`: a missing frame) averaged
-/// over `side` frames on each side, as many on both sides: the straight line
-/// through the frames present there, taken at `t` (their mean where none is missing; where
-/// some are, the frames at a gap's side are not drawn towards the other side).
-fn smoothed(pelvis: &[Option<Vector3>], t: usize, side: usize) -> Vector3 {
-    let half = side.min(t).min(pelvis.len() - 1 - t);
-    let near: Vec<(f64, Vector3)> = (t - half..=t + half)
-        .filter_map(|u| pelvis[u].map(|q| (u as f64 - t as f64, q)))
-        .collect();
-    let n = near.len() as f64;
-    let (mean_dt, mean_p) = near
-        .iter()
-        .fold((0.0, Vector3::zeros()), |(a, b), (dt, q)| {
-            (a + dt / n, b + q / n)
-        });
-    let spread: f64 = near.iter().map(|(dt, _)| (dt - mean_dt).powi(2)).sum();
-    if spread == 0.0 {
-        return mean_p;
-    }
-    let slope: Vector3 = near
-        .iter()
-        .map(|(dt, q)| (q - mean_p) * (dt - mean_dt))
-        .sum::<Vector3>()
-        / spread;
-    mean_p - slope * mean_dt
 }
 
 /// The rotation `T` of the body frame that makes the frames' bodies upright as `verticals`
