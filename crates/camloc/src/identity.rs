@@ -338,15 +338,15 @@ where
 
 /// The positions of the poses of one person's frames (`frames` numbers and `anchors` as for
 /// [`left_out_of_sequence`]) that share a frame number with another pose and are not the
-/// person's: of each frame's poses the person's is the one nearest (pelvis distance in torso
-/// lengths, and the torsos' size ratio) the person's last pose before it, or, before any, its
-/// first pose of a frame of its own after it; the first in the input when neither has a
-/// torso. After the person's last pose, a frame none of whose poses is within reach of it (a
-/// jump of [`identity_jumps`]'s for the frames elapsed) holds none of the person's: all its
-/// poses are left out. An untracked second person listed first in some frames was taken for
-/// the person there (a simulated user's animation jumped 4 m for 15 frames); without the
-/// reach, one missed detection handed an untracked scene to another person (another's three
-/// people: 22 changes of person in 600 frames, 19 where the person was not detected).
+/// person's. Of each frame's poses the person's is, of those within reach of the person's
+/// last pose (not a jump of [`identity_jumps`]'s for the frames elapsed), the nearest it
+/// (pelvis distance in torso lengths, and the torsos' size ratio), or none when none is (the
+/// person was not detected there); before the person's first pose with a torso, the first
+/// in the input. The person's last
+/// pose is the last chosen one, a frame of one pose counting only when within reach (another
+/// person detected alone where the person was missed is left to [`outlier_frames`]). An
+/// untracked second person listed first in some frames was taken for the person there (a
+/// simulated user's animation jumped 4 m for 15 frames).
 fn other_poses_of_frames(frames: &[Option<u64>], anchors: &[Option<TorsoAnchor>]) -> Vec<usize> {
     let n = frames.len();
     let same = |a: usize, b: usize| frames[a].is_some() && frames[a] == frames[b];
@@ -360,18 +360,9 @@ fn other_poses_of_frames(frames: &[Option<u64>], anchors: &[Option<TorsoAnchor>]
             moved / torso + (a.torso.max(reference.torso) / a.torso.min(reference.torso)).ln()
         })
     };
-    let alone = |start: usize, end: usize| end - start == 1;
-    // The first pose after `end` of a frame of its own.
-    let ahead = |end: usize| {
-        let mut k = end;
-        while k < n {
-            let e = (k + 1..n).find(|&m| !same(k, m)).unwrap_or(n);
-            if alone(k, e) {
-                return anchor(k);
-            }
-            k = e;
-        }
-        None
+    // Whether the pose at `m` is within reach of the person's last pose, at `at`.
+    let reachable = |(at, reference): (usize, TorsoAnchor), m: usize| {
+        anchor(m).is_some_and(|a| !jumps(&reference, &a, elapsed(frames, at, m)))
     };
     let mut others = Vec::new();
     // The person's last pose with a torso: its position and anchor.
@@ -379,29 +370,19 @@ fn other_poses_of_frames(frames: &[Option<u64>], anchors: &[Option<TorsoAnchor>]
     let mut start = 0;
     while start < n {
         let end = (start + 1..n).find(|&m| !same(start, m)).unwrap_or(n);
-        let chosen = if alone(start, end) {
-            Some(start)
-        } else {
-            let nearest = |reference: &TorsoAnchor, reachable: &dyn Fn(usize) -> bool| {
-                (start..end)
-                    .filter(|&m| reachable(m))
-                    .filter_map(|m| distance(m, reference).map(|d| (m, d)))
-                    .min_by(|a, b| a.1.total_cmp(&b.1))
-                    .map(|(m, _)| m)
-            };
-            match (last, ahead(end)) {
-                // None within reach of the person's last pose: the person is missing from the
-                // frame (its poses are other people's).
-                (Some((at, reference)), _) => nearest(&reference, &|m| {
-                    anchor(m).is_some_and(|a| !jumps(&reference, &a, elapsed(frames, at, m)))
-                }),
-                (None, Some(reference)) => nearest(&reference, &|_| true).or(Some(start)),
-                (None, None) => Some(start),
-            }
+        let chosen = match last {
+            _ if end - start == 1 => Some(start),
+            Some(person) => (start..end)
+                .filter(|&m| reachable(person, m))
+                .filter_map(|m| distance(m, &person.1).map(|d| (m, d)))
+                .min_by(|a, b| a.1.total_cmp(&b.1))
+                .map(|(m, _)| m),
+            None => Some(start),
         };
         others.extend((start..end).filter(|&m| Some(m) != chosen));
         if let Some(m) = chosen
             && let Some(a) = anchor(m)
+            && (end - start > 1 || last.is_none_or(|person| reachable(person, m)))
         {
             last = Some((m, a));
         }
@@ -748,12 +729,11 @@ mod tests {
 
     #[test]
     fn of_a_frame_s_poses_the_one_nearest_the_track_is_the_person_s() {
-        // A walk, 20 px a frame; frame 3 lists another person (900 px away) first, frame 0
-        // too (the reference is then frame 1, the next frame of one pose).
+        // A walk, 20 px a frame; frame 3 lists another person (900 px away) first.
         let frames = [0, 0, 1, 2, 3, 3, 4].map(Some);
         let anchors = [
-            at(900.0, 100.0),
             at(0.0, 100.0),
+            at(900.0, 100.0),
             at(20.0, 100.0),
             at(40.0, 100.0),
             at(960.0, 100.0),
@@ -761,15 +741,28 @@ mod tests {
             at(80.0, 100.0),
         ];
         let left = left_out_of_sequence(&frames, &anchors, FrameRate::default());
-        assert_eq!(left.second_poses, vec![0, 4]);
+        assert_eq!(left.second_poses, vec![1, 4]);
         assert!(left.outliers.is_empty(), "{left:?}");
         // Listed second, the other person is left out as before; without torsos the first
         // pose is the person's.
-        let swapped = [1, 0, 2, 3, 5, 4, 6].map(|k| anchors[k]);
+        let swapped = [0, 1, 2, 3, 5, 4, 6].map(|k| anchors[k]);
         assert_eq!(
             left_out_of_sequence(&frames, &swapped, FrameRate::default()).second_poses,
             vec![1, 5]
         );
+        // The other person alone where the person was missed (frame 2) does not become the
+        // person: frame 3's first pose, the person's, is within reach of frame 1's.
+        let missed_alone = [0, 1, 2, 3, 3, 4].map(Some);
+        let poses = [
+            at(0.0, 100.0),
+            at(20.0, 100.0),
+            at(900.0, 100.0),
+            at(60.0, 100.0),
+            at(905.0, 100.0),
+            at(80.0, 100.0),
+        ];
+        let left = left_out_of_sequence(&missed_alone, &poses, FrameRate::default());
+        assert_eq!(left.second_poses, vec![4]);
         let none = [None; 7];
         assert_eq!(
             left_out_of_sequence(&frames, &none, FrameRate::default()).second_poses,
