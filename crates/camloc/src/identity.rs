@@ -342,11 +342,11 @@ where
 /// last pose (not a jump of [`identity_jumps`]'s for the frames elapsed), the nearest it
 /// (pelvis distance in torso lengths, and the torsos' size ratio), or none when none is (the
 /// person was not detected there); before the person's first pose with a torso, the first
-/// in the input. The person's last
-/// pose is the last chosen one, a frame of one pose counting only when within reach (another
-/// person detected alone where the person was missed is left to [`outlier_frames`]). An
-/// untracked second person listed first in some frames was taken for the person there (a
-/// simulated user's animation jumped 4 m for 15 frames).
+/// in the input. The person's last pose is the last chosen one, a frame of one pose counting
+/// only when within reach (another person detected alone where the person was missed is left
+/// to [`outlier_frames`]). The first in the input had been the person's: an untracked second
+/// person listed first in some frames was taken for the person there (a simulated user's
+/// animation jumped 4 m for 15 frames).
 fn other_poses_of_frames(frames: &[Option<u64>], anchors: &[Option<TorsoAnchor>]) -> Vec<usize> {
     let n = frames.len();
     let same = |a: usize, b: usize| frames[a].is_some() && frames[a] == frames[b];
