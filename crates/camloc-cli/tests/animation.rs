@@ -469,6 +469,22 @@ fn a_duplicate_and_a_swapped_frame_are_left_out_of_the_sequence() {
     // The jumps into and out of the other person's frames are those frames, not a change of
     // person.
     assert!(!stderr.contains("jumps across the image"), "{stderr}");
+    // `localize --sequence` leaves the same poses out of its smoothing and says so per pose.
+    let file = dir.0.join("left-out.json");
+    let localized = success(&camloc(&[
+        "localize",
+        "--input",
+        file.to_str().unwrap(),
+        "--json",
+        "--sequence",
+        "-q",
+    ]));
+    let left: Vec<&str> = localized
+        .iter()
+        .filter(|o| o["left_out_of_sequence"] == true)
+        .map(|o| o["id"].as_str().unwrap())
+        .collect();
+    assert_eq!(left, ["dup5", "other13", "other14", "other15"]);
     let clip = read_bvh_with_unit(&bvh, BVH_CENTIMETRE).unwrap();
     assert_eq!(clip.frames.len(), 20);
     // Frames 13 to 15 are filled in even steps between their neighbours, which the walk

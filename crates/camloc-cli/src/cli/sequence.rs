@@ -115,6 +115,10 @@ struct FrameJson<'a> {
     frame: Option<u64>,
     #[serde(skip_serializing_if = "Option::is_none")]
     person: Option<u64>,
+    /// Left out of the person's smoothing (a second pose of a frame, another person's
+    /// detection); absent when not.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    left_out_of_sequence: bool,
     #[serde(skip_serializing_if = "Option::is_none")]
     label: Option<CameraLabel>,
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -342,7 +346,8 @@ pub fn run(
         };
         for (k, &i) in members.iter().enumerate() {
             let s = smoothed.get(k);
-            let text = frame_output(format, &frames[i], (s, smoothed_viewpoints[k]), &failures);
+            let smoothed = (s, smoothed_viewpoints[k]);
+            let text = frame_output(format, &frames[i], left_out[k], smoothed, &failures);
             emit.write(out, &text)?;
             if let (Some(view), Some(s)) = (views.get_mut(i), s) {
                 view.set_smoothed(s.label, smoothed_viewpoints[k]);
@@ -612,11 +617,13 @@ fn warn_of_identity_jumps(person: u64, frames: &[Option<u64>], anchors: &[Option
     );
 }
 
-/// The output of one frame: a JSON object (no newline) or a line of text; `s` is the frame's
-/// smoothed camera and smoothed viewpoint.
+/// The output of one frame: a JSON object (no newline) or a line of text; `left_out`: the
+/// frame is left out of its person's smoothing; `s` is the frame's smoothed camera and
+/// smoothed viewpoint.
 fn frame_output(
     format: Format,
     frame: &Frame,
+    left_out: bool,
     (s, viewpoint): (Option<&SmoothedFrame>, Option<Viewpoint>),
     failures: &Failures,
 ) -> String {
@@ -627,6 +634,7 @@ fn frame_output(
             source: &frame.source,
             frame: frame.frame,
             person: frame.person,
+            left_out_of_sequence: left_out,
             label: raw.map(|r| r.0),
             probability: raw.map(|r| r.1),
             azimuth_deg: frame.viewpoint.map(|v| v[0]),
@@ -647,6 +655,9 @@ fn frame_output(
     }
     if let Some(p) = frame.person {
         let _ = write!(text, " person {p}");
+    }
+    if left_out {
+        text.push_str(" (left out of the sequence)");
     }
     match raw {
         Some((label, p)) => {
