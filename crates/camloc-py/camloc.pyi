@@ -117,7 +117,8 @@ class Localizer:
           smoothed over the frames, as ``camloc localize --sequence`` gives them, and
           ``swapped_sides`` (N, 2) bool: the rows whose legs (column 0) or arms (column 1) a
           detector read with the left and right sides swapped, swapped back and localized
-          again, with a ``UserWarning`` (docs/cli.md section Sequences); and a
+          again, with a ``UserWarning`` (docs/cli.md section Sequences), and
+          ``left_out_of_sequence`` (N,) bool: the rows left out of the smoothing (below); and a
           ``UserWarning`` says where the pose jumps across the image as one person cannot (rows
           of several people), and another where rows (up to 10 in a row, at an end too: the
           rows are consecutive frames) lie apart from the rows before and after them while
@@ -305,6 +306,9 @@ def reconstruct(
         NaN when none were given and no frame of the sequence was reconstructed);
       swapped_sides (N, 2) bool: with ``sequence``, whether the row's legs (column 0) and arms
         (column 1) were read with the left and right sides swapped and swapped back;
+      left_out_of_sequence (N,) bool: with ``sequence``, the rows reconstructed on their own,
+        outside the sequence (another person's detection: the ``UserWarning`` above; their
+        ``world_points3d`` NaN), as the command line's ``left_out_of_sequence``;
       world_points3d (N, 15, 3): with ``sequence``, the frames placed where a camera standing
         still saw them, as ``camloc reconstruct --sequence --bvh`` animates them (a z-up world
         of the camera, the first pelvis above the origin, planted feet kept in place on the

@@ -359,6 +359,9 @@ impl Localizer {
         if let Some(marks) = swapped_sides {
             out.array("swapped_sides", marks.as_flattened().to_vec(), &[2])?;
         }
+        if sequence {
+            out.array("left_out_of_sequence", left_out.clone(), &[])?;
+        }
         if let Some(Smoothed {
             label,
             probability,

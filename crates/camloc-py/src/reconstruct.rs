@@ -442,6 +442,9 @@ pub(crate) fn reconstruct<'py>(
     if let Some(marks) = swapped_sides {
         out.array("swapped_sides", marks.as_flattened().to_vec(), &[2])?;
     }
+    if sequence {
+        out.array("left_out_of_sequence", left_out.clone(), &[])?;
+    }
     if let Some(world) = world {
         let mut placed = vec![f64::NAN; n * 45];
         for (out, pose) in placed.chunks_exact_mut(45).zip(&world) {

@@ -48,8 +48,11 @@ def test_a_sequence_that_jumps_between_people_warns_and_nothing_detected_says_so
     np.testing.assert_allclose(got["points3d"][2], alone["points3d"], atol=1e-9)
     assert np.isnan(got["world_points3d"][2]).all()
     assert np.isfinite(np.delete(got["world_points3d"], 2, axis=0)).all()
+    assert got["left_out_of_sequence"].tolist() == [False, False, True, False, False, False]
     with pytest.warns(UserWarning, match="left out of the smoothing"):
         smoothed = camloc.Localizer().localize(swapped, sequence=True)
+    assert smoothed["left_out_of_sequence"].tolist() == [False, False, True, False, False, False]
+    assert "left_out_of_sequence" not in camloc.Localizer().localize(rows)
     assert np.isnan(smoothed["smoothed_azimuth_deg"][2])
     assert np.isfinite(np.delete(smoothed["smoothed_azimuth_deg"], 2)).all()
     # Legs a detector read with the sides swapped for two rows: swapped back, as the command
