@@ -15,8 +15,9 @@ mod image_ankles;
 mod planted;
 
 /// [`world_poses`] places the pelvis at the mean of its places in the frames within this many
-/// frames (at 30 frames a second; within as long a time at faster rates, [`FrameRate`]) before and after (the straight line through them where some are missing): the
-/// depth from one frame's scale jitters (on tripod views of CMU walks, 30 frames a second, the
+/// frames before and after (at 30 frames a second; within as long a time at faster rates,
+/// [`FrameRate`]; the straight line through them where some are missing): the depth from one
+/// frame's scale jitters (on tripod views of CMU walks, 30 frames a second, the
 /// path walked came out 30% long without it).
 pub const SMOOTHING_FRAMES: usize = 2;
 

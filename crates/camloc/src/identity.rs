@@ -133,11 +133,17 @@ fn present(anchors: &[Option<TorsoAnchor>]) -> Vec<(usize, TorsoAnchor)> {
 /// frame elapsed, or, over one frame, the torso length changes by more than
 /// [`IDENTITY_SIZE_RATIO`].
 fn jumps(before: &TorsoAnchor, after: &TorsoAnchor, elapsed: f64) -> bool {
+    let (moved, ratio) = torso_step(before, after);
+    moved > IDENTITY_JUMP_TORSOS * elapsed || (elapsed <= 1.0 && ratio > IDENTITY_SIZE_RATIO)
+}
+
+/// How far the pelvis moves from `before` to `after`, in their mean torso length, and the
+/// ratio of the larger torso to the smaller.
+fn torso_step(before: &TorsoAnchor, after: &TorsoAnchor) -> (f64, f64) {
     let moved = (after.pelvis[0] - before.pelvis[0]).hypot(after.pelvis[1] - before.pelvis[1]);
     let torso = 0.5 * (after.torso + before.torso);
     let ratio = after.torso.max(before.torso) / after.torso.min(before.torso);
-    moved > IDENTITY_JUMP_TORSOS * elapsed * torso
-        || (elapsed <= 1.0 && ratio > IDENTITY_SIZE_RATIO)
+    (moved / torso, ratio)
 }
 
 /// Frames elapsed from position `j` to position `k` (`k > j`) of one person's frames: by their
@@ -354,10 +360,8 @@ fn other_poses_of_frames(frames: &[Option<u64>], anchors: &[Option<TorsoAnchor>]
     // How far the pose at `candidate` is from `reference`, in torso lengths and sizes.
     let distance = |candidate: usize, reference: &TorsoAnchor| {
         anchor(candidate).map(|a| {
-            let torso = 0.5 * (a.torso + reference.torso);
-            let moved =
-                (a.pelvis[0] - reference.pelvis[0]).hypot(a.pelvis[1] - reference.pelvis[1]);
-            moved / torso + (a.torso.max(reference.torso) / a.torso.min(reference.torso)).ln()
+            let (moved, ratio) = torso_step(reference, &a);
+            moved + ratio.ln()
         })
     };
     // Whether the pose at `m` is within reach of the person's last pose, at `at`.

@@ -118,4 +118,6 @@ pub use train_options::{
     LandmarkDropout, MAX_DROPOUT_COPIES, QUADRATIC_GRADIENT_TOLERANCE, TrainOptions, TrainingInfo,
 };
 pub use upside_down::head_below_ankles;
-pub use viewpoint_smoothing::{VIEWPOINT_HALF_WINDOW, Viewpoint, smooth_viewpoints};
+pub use viewpoint_smoothing::{
+    VIEWPOINT_HALF_WINDOW, Viewpoint, smooth_viewpoints, viewpoint_half_window,
+};

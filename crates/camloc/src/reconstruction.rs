@@ -201,7 +201,8 @@ impl PoseReconstructor {
         Ok(self)
     }
 
-    /// The frames a second of the sequences it reconstructs ([`with_frame_rate`](Self::with_frame_rate)).
+    /// The frames a second of the sequences it reconstructs
+    /// ([`with_frame_rate`](Self::with_frame_rate)).
     pub fn frame_rate(&self) -> FrameRate {
         self.reconstructor.config().refinement.frame_rate
     }
@@ -213,7 +214,8 @@ impl PoseReconstructor {
 
     /// Reconstructs with a known camera: a final full-perspective refinement with these
     /// intrinsics (pixels, in the input's image coordinates; without a principal point, the
-    /// centre of the bounding box of each pose's given landmarks, not those filled in), and the localizer aiming each pose
+    /// centre of the bounding box of each pose's given landmarks, not those filled in), and
+    /// the localizer aiming each pose
     /// ([`CameraLocalizer::with_intrinsics`]: a simulated user's views at f = 500 px with the
     /// pelvis 500 px off-centre, labels 58.8% -> 78.5%, PA-MPJPE 37 -> 36 mm against the
     /// refinement alone).
@@ -563,8 +565,8 @@ impl PoseReconstructor {
         ))
     }
 
-    /// [`evaluate`](Self::evaluate), and this reconstructor's own [`reconstruct`](Self::reconstruct)
-    /// (its mode, lifter, given or estimated bone lengths, intrinsics) run on every complete
+    /// [`evaluate`](Self::evaluate), and this reconstructor's own
+    /// [`reconstruct`](Self::reconstruct) (its mode, lifter, given or estimated bone lengths, intrinsics) run on every complete
     /// sample and measured as the modes are ([`EvalReport::pipeline`], named `reconstruct: `
     /// and its [`pipeline_name`](Self::pipeline_name)): what `camloc reconstruct` gives, which
     /// none of the pursuit's bare modes is.

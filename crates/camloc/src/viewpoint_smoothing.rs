@@ -9,6 +9,12 @@ use camloc_reconstruct::FrameRate;
 /// time, [`FrameRate::step`] times as many frames).
 pub const VIEWPOINT_HALF_WINDOW: u64 = 3;
 
+/// [`VIEWPOINT_HALF_WINDOW`] at `rate`: frame numbers on each side of a frame that
+/// [`smooth_viewpoints`] averages with it.
+pub fn viewpoint_half_window(rate: FrameRate) -> u64 {
+    VIEWPOINT_HALF_WINDOW * rate.step() as u64
+}
+
 /// A viewpoint: azimuth and elevation, degrees, in the person's canonical frame
 /// (docs/conventions.md section 2: azimuth 180 = front, 270 = the person's left; elevation
 /// positive above).
@@ -24,7 +30,7 @@ pub fn smooth_viewpoints(
     viewpoints: &[Option<Viewpoint>],
     rate: FrameRate,
 ) -> Vec<Option<Viewpoint>> {
-    let half = VIEWPOINT_HALF_WINDOW * rate.step() as u64;
+    let half = viewpoint_half_window(rate);
     let number = |k: usize| frames.get(k).copied().flatten().unwrap_or(k as u64);
     let unit = |(azimuth, elevation): Viewpoint| {
         let (a, e) = (azimuth.to_radians(), elevation.to_radians());

@@ -236,6 +236,21 @@ fn to_json<T: serde::Serialize>(value: &T) -> Result<String, CamlocError> {
     })
 }
 
+/// The depth lifter `--lifter` / `--no-lifter` ask for: none with `none`, the file `path`,
+/// else the embedded one for `model`'s `cameras` ([`lifter_for_model`]).
+fn chosen_lifter(
+    path: Option<&std::path::Path>,
+    none: bool,
+    model: Option<&std::path::Path>,
+    cameras: &camloc::geometry::CameraSet,
+) -> Result<Option<DepthLifter>, CamlocError> {
+    match path {
+        _ if none => Ok(None),
+        Some(path) => Ok(Some(DepthLifter::load(super::existing(path, "--lifter")?)?)),
+        None => lifter_for_model(model, cameras),
+    }
+}
+
 /// The reconstructor `args` ask for: basis, camera mode, localizer, given bone lengths and
 /// intrinsics.
 fn reconstructor(args: &Args, localizer: CameraLocalizer) -> Result<PoseReconstructor, CliError> {
@@ -254,11 +269,12 @@ fn reconstructor(args: &Args, localizer: CameraLocalizer) -> Result<PoseReconstr
         }
         .into());
     }
-    let lifter = match &args.lifter {
-        _ if args.no_lifter || choice == ModeKind::Opt => None,
-        Some(path) => Some(DepthLifter::load(super::existing(path, "--lifter")?)?),
-        None => lifter_for_model(args.model.as_deref(), &cameras)?,
-    };
+    let lifter = chosen_lifter(
+        args.lifter.as_deref(),
+        args.no_lifter || choice == ModeKind::Opt,
+        args.model.as_deref(),
+        &cameras,
+    )?;
     if let Some(lifter) = lifter {
         reconstructor = reconstructor.with_lifter(lifter);
     }
@@ -460,11 +476,12 @@ pub fn run_evaluation(args: &EvalArgs, out: &mut Out) -> Result<ExitCode, CliErr
     let localizer = load_model(args.model.as_deref(), &args.height)?;
     let dataset = load_dataset(&args.dataset)?;
     let localizer = heights::for_dataset(localizer, &args.height, &dataset, args.progress.quiet);
-    let lifter = match &args.lifter {
-        _ if args.no_lifter => None,
-        Some(path) => Some(DepthLifter::load(super::existing(path, "--lifter")?)?),
-        None => lifter_for_model(args.model.as_deref(), localizer.cameras())?,
-    };
+    let lifter = chosen_lifter(
+        args.lifter.as_deref(),
+        args.no_lifter,
+        args.model.as_deref(),
+        localizer.cameras(),
+    )?;
     // The last row is `reconstruct`'s default pipeline: `hybrid`, the lifter, bone lengths
     // estimated.
     let mut reconstructor = PoseReconstructor::new(basis)?

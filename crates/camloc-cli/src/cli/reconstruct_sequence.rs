@@ -15,8 +15,8 @@ use camloc::reconstruct::BoneLengths;
 use camloc::skeleton::Landmark;
 use camloc::store::{StagedFiles, check_target};
 use camloc::{
-    ModeKind, PartialPose2, Pose3, PoseReconstruction, PoseReconstructor, SEQUENCE_BREAK_FRAMES,
-    TorsoAnchor, frame_slots, sequences,
+    ModeKind, PartialPose2, Pose3, PoseReconstruction, PoseReconstructor, TorsoAnchor, frame_slots,
+    sequences,
 };
 use indicatif::ProgressBar;
 
@@ -170,7 +170,7 @@ pub fn run(
         let mut breaks = vec![false; members.len()];
         for pair in in_sequence.windows(2) {
             breaks[pair[1]] = matches!((numbers[pair[0]], numbers[pair[1]]), (Some(a), Some(b))
-                if b.saturating_sub(a) > (SEQUENCE_BREAK_FRAMES * rate.step()) as u64);
+                if b.saturating_sub(a) > reconstructor.sequence_break_frames() as u64);
         }
         // The solve of a long sequence takes a while (20,000 frames: tens of seconds) and
         // counts nothing: a spinner says whose it is, when the reading's bar was shown.

@@ -101,7 +101,8 @@ impl Reconstructor {
     }
 
     /// The refinement of one `frame`, refined again from a flip of its limbs' depths into the
-    /// joint-angle limits where that helps ([`refine_again_within_limits`](Self::refine_again_within_limits)).
+    /// joint-angle limits where that helps
+    /// ([`refine_again_within_limits`](Self::refine_again_within_limits)).
     fn refine_within_limits(
         &self,
         frame: RefineFrame,

@@ -53,9 +53,9 @@ const STILL_SHARE: f64 = 0.005;
 const KEPT_SHARE: f64 = 0.005;
 /// A foot kept in place on average stays so only while its averaged place stays within this
 /// share of the legs' length of where it was when the stretch began (in the image where
-/// known, else in the world: 2 cm for an adult), and
-/// only for stretches of at least twice [`COARSE_FRAMES`] and one steps: a foot moving slowly (a slow
-/// walk, a walk filmed at 120 frames a second) passes the step bound frame by frame, and
+/// known, else in the world: 2 cm for an adult), and only for stretches of at least twice
+/// [`COARSE_FRAMES`] and one steps: a foot moving slowly (a slow walk, a walk filmed at 120
+/// frames a second) passes the step bound frame by frame, and
 /// locked at its stretch's mean it had jumped by 17 cm at the stretch's end (a simulated
 /// user's quarter-speed walk).
 const KEPT_SPAN_SHARE: f64 = 0.025;
@@ -141,7 +141,7 @@ fn pelvis_shifts(
     // The mean of the frames present within as many frames on both sides.
     let coarse = centred_means(&pelvis, coarse_frames);
     let ankles = [Landmark::LeftAnkle, Landmark::RightAnkle];
-    // Each ankle seen from the pelvis, and its place on the coarse path (frames present).
+    // Each ankle seen from the pelvis.
     let offset = |t: usize, f: usize| -> [f64; 3] {
         let (a, p) = (
             frames[t].map_or([0.0; 3], |p| p.get(ankles[f])),
@@ -149,34 +149,29 @@ fn pelvis_shifts(
         );
         std::array::from_fn(|k| a[k] - p[k])
     };
-    let coarse_ankle = |t: usize, f: usize| -> [f64; 3] {
-        let (o, c) = (offset(t, f), coarse[t].unwrap_or([0.0; 3]));
+    // An ankle's offset from the pelvis placed on the coarse path at frame `t`.
+    let on_coarse = |t: usize, o: [f64; 3]| -> [f64; 3] {
+        let c = coarse[t].unwrap_or([0.0; 3]);
         std::array::from_fn(|k| c[k] + o[k])
     };
+    let coarse_ankle = |t: usize, f: usize| on_coarse(t, offset(t, f));
+    // Each ankle seen from the pelvis (frames present), once per foot for the two averages
+    // below.
+    let offsets: [Vec<Option<[f64; 3]>>; 2] =
+        std::array::from_fn(|f| (0..n).map(|t| frames[t].map(|_| offset(t, f))).collect());
     // Each ankle seen from the pelvis averaged over the frames present within
     // [`COARSE_FRAMES`] on each side, and its place on the coarse path so: the jitter of a
     // still foot's frames (the detector's pixels, the depth from the scale) averages out,
     // a step does not.
-    let smooth_offsets: [Vec<Option<[f64; 3]>>; 2] = std::array::from_fn(|f| {
-        let offsets: Vec<Option<[f64; 3]>> =
-            (0..n).map(|t| frames[t].map(|_| offset(t, f))).collect();
-        centred_means(&offsets, coarse_frames)
-    });
+    let smooth_offsets = offsets.each_ref().map(|o| centred_means(o, coarse_frames));
     let smooth_offset = |t: usize, f: usize| smooth_offsets[f][t].unwrap_or([0.0; 3]);
-    let step_offsets: [Vec<Option<[f64; 3]>>; 2] = std::array::from_fn(|f| {
-        let offsets: Vec<Option<[f64; 3]>> =
-            (0..n).map(|t| frames[t].map(|_| offset(t, f))).collect();
-        centred_lines(&offsets, STEP_FRAMES * rate.step())
-    });
+    let smooth_ankle = |t: usize, f: usize| on_coarse(t, smooth_offset(t, f));
+    // The same over [`STEP_FRAMES`], a straight line: which foot is planted, and its step.
+    let step_offsets = offsets
+        .each_ref()
+        .map(|o| centred_lines(o, STEP_FRAMES * rate.step()));
     let step_offset = |t: usize, f: usize| step_offsets[f][t].unwrap_or([0.0; 3]);
-    let step_ankle = |t: usize, f: usize| -> [f64; 3] {
-        let (o, c) = (step_offset(t, f), coarse[t].unwrap_or([0.0; 3]));
-        std::array::from_fn(|k| c[k] + o[k])
-    };
-    let smooth_ankle = |t: usize, f: usize| -> [f64; 3] {
-        let (o, c) = (smooth_offset(t, f), coarse[t].unwrap_or([0.0; 3]));
-        std::array::from_fn(|k| c[k] + o[k])
-    };
+    let step_ankle = |t: usize, f: usize| on_coarse(t, step_offset(t, f));
     let lowest: Vec<f64> = (0..n)
         .map(|t| {
             if frames[t].is_none() {

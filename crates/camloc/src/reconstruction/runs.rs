@@ -10,7 +10,7 @@ use camloc_skeleton::{PartialPose2, Pose2};
 use super::{
     PoseReconstruction, PoseReconstructor, PoseSequenceReconstruction, Prepared, pose_error,
 };
-use crate::{CamlocError, VIEWPOINT_HALF_WINDOW, Viewpoint, smooth_viewpoints};
+use crate::{CamlocError, Viewpoint, smooth_viewpoints, viewpoint_half_window};
 
 /// The runs of one person's frames (positions), each frame's solve (`None` where none) and
 /// the person's lengths.
@@ -28,6 +28,12 @@ type SolvedRuns = (
 pub const SEQUENCE_BREAK_FRAMES: usize = 3;
 
 impl PoseReconstructor {
+    /// [`SEQUENCE_BREAK_FRAMES`] at this reconstructor's frame rate: the fewest frames in a
+    /// row, missing or not reconstructed, that split a person's frames into runs.
+    pub fn sequence_break_frames(&self) -> usize {
+        SEQUENCE_BREAK_FRAMES * self.frame_rate().step()
+    }
+
     /// [`reconstruct_sequence`](Self::reconstruct_sequence) of frames where `breaks[t]` says
     /// that frame `t` follows at least [`SEQUENCE_BREAK_FRAMES`] frames the person is missing
     /// from (a gap in the video; missing entries: no gap). The frames are solved in runs that
@@ -152,7 +158,7 @@ impl PoseReconstructor {
                 failed_in_a_row += 1;
                 continue;
             }
-            let gap = failed_in_a_row >= SEQUENCE_BREAK_FRAMES * self.frame_rate().step()
+            let gap = failed_in_a_row >= self.sequence_break_frames()
                 || breaks.get(t).copied().unwrap_or(false);
             failed_in_a_row = 0;
             match runs.last_mut() {
@@ -232,7 +238,7 @@ impl PoseReconstructor {
                 viewpoints.push(viewpoint);
                 number += 1;
             }
-            number += 2 * VIEWPOINT_HALF_WINDOW * self.frame_rate().step() as u64 + 1;
+            number += 2 * viewpoint_half_window(self.frame_rate()) + 1;
         }
         let mut smoothed = vec![None; prepared.len()];
         for (t, v) in
