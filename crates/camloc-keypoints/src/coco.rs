@@ -1,9 +1,10 @@
 //! COCO-17 keypoints: a COCO dataset file (`{"annotations": [...]}`) or a results list
 //! (`[{"image_id": .., "keypoints": [..], "score": ..}]`).
 //!
-//! The top level and the annotations are streamed: only `image_id`, `id`, `track_id` and
-//! `keypoints` of each annotation are kept, so that segmentation polygons and image lists of
-//! large dataset files are skipped rather than held in memory. An integer `image_id` is the
+//! The top level and the annotations are streamed: only `image_id`, `id`, `track_id`,
+//! `keypoints`, `iscrowd` and `num_keypoints` of each annotation are kept (an annotation with
+//! `iscrowd` 1 or `num_keypoints` 0 holds no keypoint and is skipped), so that segmentation
+//! polygons and image lists of large dataset files are skipped rather than held in memory. An integer `image_id` is the
 //! record's frame and an integer `track_id` (a tracker's person id) its person, so that the
 //! poses of a video's detections are ordered and kept apart by person.
 
@@ -38,6 +39,19 @@ struct Annotation {
     id: Option<Json>,
     track_id: Option<Json>,
     keypoints: Option<Json>,
+    /// A dataset's `iscrowd` (1: a crowd's region, without keypoints).
+    iscrowd: Option<Json>,
+    /// A dataset's `num_keypoints` (0: a person without a labelled keypoint).
+    num_keypoints: Option<Json>,
+}
+
+impl Annotation {
+    /// A dataset's annotation that holds no keypoint by its own account (`iscrowd` 1 or
+    /// `num_keypoints` 0): not a pose, skipped (a COCO dataset file has thousands).
+    fn without_keypoints(&self) -> bool {
+        let is = |value: &Option<Json>, n: f64| matches!(value, Some(Json::Number(v)) if v.as_f64() == Some(n));
+        is(&self.iscrowd, 1.0) || is(&self.num_keypoints, 0.0)
+    }
 }
 
 impl<'de> Deserialize<'de> for Annotation {
@@ -63,6 +77,8 @@ impl<'de> Visitor<'de> for AnnotationVisitor {
                 "id" => (&mut annotation.id, "id"),
                 "track_id" => (&mut annotation.track_id, "track_id"),
                 "keypoints" => (&mut annotation.keypoints, "keypoints"),
+                "iscrowd" => (&mut annotation.iscrowd, "iscrowd"),
+                "num_keypoints" => (&mut annotation.num_keypoints, "num_keypoints"),
                 _ => {
                     map.next_value::<IgnoredAny>()?;
                     continue;
@@ -102,9 +118,12 @@ impl ListReader for Annotations {
         let mut index = 0;
         while let Some(annotation) = seq.next_element::<Annotation>()? {
             let path = index_path(self.0, index);
-            let record = record(&annotation, &path, index, sink.file, sink.options);
-            sink.send(record)?;
             index += 1;
+            if annotation.without_keypoints() {
+                continue;
+            }
+            let record = record(&annotation, &path, index - 1, sink.file, sink.options);
+            sink.send(record)?;
         }
         Ok(())
     }

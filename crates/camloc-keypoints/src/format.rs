@@ -64,11 +64,12 @@ impl KeypointFormat {
     ///   recognise arrays by them before looking at text.)
     /// * `csv` → [`Lsp`](KeypointFormat::Lsp).
     /// * `json`, or any other or no extension when the content starts with `{` or `[`: by the
-    ///   first of these object keys found: `"people"` → OpenPose; `"poses"` or `"landmarks"` →
-    ///   camloc; `"keypoint_scores"`, `"instance_info"` or `"instances"` → MMPose;
+    ///   first of these object keys found: `"people"` → OpenPose; `"poses"`, or `"landmarks"`
+    ///   holding an object → camloc; `"keypoint_scores"`, `"instance_info"` or `"instances"` → MMPose;
     ///   `"joints_vis"`, or `"center"` and `"scale"` without `"keypoints"` or `"image_id"` (the
-    ///   test split, which has no joints) → MPII; `"visibility"` or `"x"`, or a list whose first element is a list or
-    ///   `null` → MediaPipe; `"annotations"` or `"keypoints"`, or any other top-level list →
+    ///   test split, which has no joints) → MPII; `"visibility"` or `"x"`, `"landmark"` or
+    ///   `"landmarks"` holding a list, or a list whose first element is a list or `null` →
+    ///   MediaPipe; `"annotations"` or `"keypoints"`, or any other top-level list →
     ///   COCO.
     /// * Other extensions: content whose first non-blank line names the columns `image` and
     ///   `joint` is LSP CSV.
@@ -100,9 +101,13 @@ fn sniff_json(content: &str) -> Option<KeypointFormat> {
     let list_of_lists = content
         .strip_prefix('[')
         .is_some_and(|rest| rest.trim_start().starts_with(['[', 'n']));
+    // MediaPipe frames wrapped in objects hold a list of landmarks; camloc's an object.
+    let landmark_lists = ["landmarks", "landmark"]
+        .iter()
+        .any(|k| value_starts(content, k, '['));
     if any(&["people"]) {
         Some(OpenPose)
-    } else if any(&["poses", "landmarks"]) {
+    } else if any(&["poses"]) || (any(&["landmarks"]) && !landmark_lists) {
         Some(Camloc)
     } else if any(&["keypoint_scores", "instance_info", "instances"]) {
         Some(MmPose)
@@ -111,7 +116,7 @@ fn sniff_json(content: &str) -> Option<KeypointFormat> {
         || (any(&["center"]) && any(&["scale"]) && !any(&["keypoints", "image_id"]))
     {
         Some(Mpii)
-    } else if list_of_lists || any(&["visibility", "x"]) {
+    } else if list_of_lists || landmark_lists || any(&["visibility", "x"]) {
         Some(MediaPipe)
     } else if content.starts_with('[') || any(&["annotations", "keypoints"]) {
         Some(Coco)
@@ -122,10 +127,27 @@ fn sniff_json(content: &str) -> Option<KeypointFormat> {
 
 /// `true` when `"key"` appears followed by `:` (an object key, not a string value).
 fn has_key(content: &str, key: &str) -> bool {
+    key_values(content, key).next().is_some()
+}
+
+/// `true` when `"key"` appears as an object key whose value starts with `start`.
+fn value_starts(content: &str, key: &str, start: char) -> bool {
+    key_values(content, key).any(|value| value.starts_with(start))
+}
+
+/// The text after each `"key":` of `content` (white space removed).
+fn key_values<'a>(content: &'a str, key: &str) -> impl Iterator<Item = &'a str> {
     let quoted = format!("\"{key}\"");
-    content
+    let after: Vec<usize> = content
         .match_indices(&quoted)
-        .any(|(at, _)| content[at + quoted.len()..].trim_start().starts_with(':'))
+        .map(|(at, _)| at + quoted.len())
+        .collect();
+    after.into_iter().filter_map(move |at| {
+        content[at..]
+            .trim_start()
+            .strip_prefix(':')
+            .map(str::trim_start)
+    })
 }
 
 /// LSP CSV when the first non-blank line has `image` and `joint` columns.

@@ -1,12 +1,15 @@
 //! MediaPipe Pose: a list of frames, each a list of 33 landmarks `{x, y, z, visibility}` with
 //! `x`, `y` normalised to [0, 1] by the image width and height.
 
-use serde::de::SeqAccess;
+use serde::Deserialize;
+use serde::de::value::MapAccessDeserializer;
+use serde::de::{MapAccess, SeqAccess};
 
 use crate::emit::{Sink, TopLevel};
 use crate::error::{KeypointError, Location};
 use crate::json::{
-    Json, array, check_keys, get, index_path, key_path, number, object, required, unit_score,
+    Json, array, check_keys, get, index_path, key_path, number, object, required, tracking_number,
+    unit_score, wrong_type,
 };
 use crate::layout::{MEDIAPIPE33, keeps};
 use crate::record::{KeypointRecord, from_joints};
@@ -24,15 +27,15 @@ impl TopLevel for Frames {
 
     fn list<'de, A: SeqAccess<'de>>(self, mut seq: A, sink: &mut Sink) -> Result<(), A::Error> {
         let (file, options) = (sink.file, sink.options);
-        let Some(size) = options.image_size else {
-            let format = "MediaPipe";
-            let file = file.to_owned();
-            return Err(sink.fail(KeypointError::ImageSizeNeeded { file, format }));
-        };
+        let size = image_size(sink)?;
         let Some(first) = seq.next_element::<Json>()? else {
             return Ok(());
         };
-        if let Json::Object(_) = first {
+        if let Json::Object(fields) = &first
+            && !fields
+                .iter()
+                .any(|(key, _)| key == "landmark" || key == "landmarks")
+        {
             // A bare list of landmark objects is one frame: keep one more landmark than a frame
             // has (for the error), count the rest.
             let mut landmarks = vec![first];
@@ -50,11 +53,13 @@ impl TopLevel for Frames {
         loop {
             if !matches!(value, Json::Null) {
                 let path = index_path("", i);
-                let record = array(&value, "a list of 33 landmarks, or null", file, &path)
-                    .and_then(|landmarks| {
-                        frame(landmarks, landmarks.len(), &path, i, size, file, options)
+                // (A wrapped frame without landmarks has nobody, as a null frame.)
+                if let Some(record) = frame_landmarks(&value, i, file, &path).transpose() {
+                    let record = record.and_then(|(list, at, n)| {
+                        frame(list, list.len(), &at, n, size, file, options)
                     });
-                sink.send(record)?;
+                    sink.send(record)?;
+                }
             }
             i += 1;
             match seq.next_element::<Json>()? {
@@ -63,6 +68,99 @@ impl TopLevel for Frames {
             }
         }
     }
+
+    /// One frame as an object (`{"landmark": [...]}`, protobuf's `MessageToDict` of one
+    /// result): frame 0.
+    fn object<'de, A: MapAccess<'de>>(self, map: A, sink: &mut Sink) -> Result<(), A::Error> {
+        let (file, options) = (sink.file, sink.options);
+        let size = image_size(sink)?;
+        let value = Json::deserialize(MapAccessDeserializer::new(map))?;
+        match frame_landmarks(&value, 0, file, "").transpose() {
+            Some(record) => sink
+                .send(record.and_then(|(list, at, n)| {
+                    frame(list, list.len(), &at, n, size, file, options)
+                })),
+            None => Ok(()),
+        }
+    }
+}
+
+/// The image size that scales the coordinates (`--image-size`), or the reading's error
+/// without one.
+fn image_size<E: serde::de::Error>(sink: &mut Sink) -> Result<ImageSize, E> {
+    match sink.options.image_size {
+        Some(size) => Ok(size),
+        None => {
+            let (format, file) = ("MediaPipe", sink.file.to_owned());
+            Err(sink.fail(KeypointError::ImageSizeNeeded { file, format }))
+        }
+    }
+}
+
+/// A frame's landmarks, the JSON path of their list and the frame's number.
+type FrameLandmarks<'a> = (&'a [Json], String, usize);
+
+/// What a frame of a list may be: its 33 landmarks, or an object holding them.
+const FRAME: &str = "a list of 33 landmarks, an object with one (\"landmark\" or \"landmarks\"), \
+                     or null";
+
+/// The landmarks of the frame `value` at `path`, the `index`-th of the list: the list itself,
+/// or the list of an object's `landmark` (protobuf's `MessageToDict` of a
+/// `NormalizedLandmarkList`) or `landmarks` key (a frame wrapped with its number: an integer
+/// `frame` key is the frame's number, else its place in the list; other keys are the user's
+/// and ignored); with the path of the list and the frame's number. `None` for an object whose
+/// landmarks are `null` (nobody in the frame).
+fn frame_landmarks<'a>(
+    value: &'a Json,
+    index: usize,
+    file: &str,
+    path: &str,
+) -> Result<Option<FrameLandmarks<'a>>, KeypointError> {
+    let Json::Object(fields) = value else {
+        return Ok(Some((
+            array(value, FRAME, file, path)?,
+            path.to_owned(),
+            index,
+        )));
+    };
+    let Some((key, list)) = fields
+        .iter()
+        .find(|(key, _)| key == "landmark" || key == "landmarks")
+    else {
+        return Err(wrong_type(file, path, FRAME, value));
+    };
+    let at = key_path(path, key);
+    let number = get(fields, "frame")
+        .and_then(tracking_number)
+        .and_then(|n| usize::try_from(n).ok())
+        .unwrap_or(index);
+    if let Json::Null = list {
+        return Ok(None);
+    }
+    let list = array(list, "a list of 33 landmarks, or null", file, &at)?;
+    Ok(Some((list, at, number)))
+}
+
+/// Farthest a normalised coordinate may lie outside the image (in image sides): MediaPipe
+/// places landmarks it guesses beyond the image's edges a little outside [0, 1], and pixel
+/// coordinates lie hundreds of sides away.
+const NORMALISED_REACH: f64 = 5.0;
+
+/// `value` of coordinate `key` at `at`, unless it lies over [`NORMALISED_REACH`] image sides
+/// outside [0, 1] (pixels, not normalised coordinates).
+fn normalised(value: f64, key: &'static str, file: &str, at: &str) -> Result<f64, KeypointError> {
+    if (-NORMALISED_REACH..=1.0 + NORMALISED_REACH).contains(&value) {
+        return Ok(value);
+    }
+    Err(KeypointError::InvalidValue {
+        file: file.to_owned(),
+        at: Location::Path(at.to_owned()),
+        field: key,
+        text: value.to_string(),
+        expected: "a normalised coordinate (MediaPipe's lie near [0, 1], a fraction of the \
+                   image's side; coordinates already in pixels: --image-size 1,1, Python \
+                   image_size=(1, 1))",
+    })
 }
 
 /// The frame `index` at `path`, of `found` landmarks (the first of which are `landmarks`).
@@ -90,16 +188,12 @@ fn frame(
         let path = index_path(path, k);
         let fields = object(landmark, "a landmark {x, y, z, visibility}", file, &path)?;
         check_keys(fields, &LANDMARK_KEYS, file, &path)?;
-        let x = number(
-            required(fields, "x", file, &path)?,
-            file,
-            &key_path(&path, "x"),
-        )?;
-        let y = number(
-            required(fields, "y", file, &path)?,
-            file,
-            &key_path(&path, "y"),
-        )?;
+        let [x, y] = ["x", "y"].map(|key| {
+            let at = key_path(&path, key);
+            let value = number(required(fields, key, file, &path)?, file, &at)?;
+            normalised(value, key, file, &at)
+        });
+        let (x, y) = (x?, y?);
         if let Some(z) = get(fields, "z") {
             number(z, file, &key_path(&path, "z"))?;
         }

@@ -1,5 +1,6 @@
-//! OpenPose JSON (`--write_json`): one file per frame, `people[].pose_keypoints_2d` as x, y, c
-//! triples, BODY_25 (75 numbers) or COCO-18 (54 numbers).
+//! OpenPose JSON (`--write_json`): one file per frame, `people[].pose_keypoints_2d` (OpenPose
+//! 1.0 and 1.1: `pose_keypoints`) as x, y, c triples, BODY_25 (75 numbers) or COCO-18 (54
+//! numbers).
 
 use std::path::Path;
 
@@ -9,7 +10,8 @@ use crate::ReadOptions;
 use crate::emit::{self, ListReader, Sink, TopLevel};
 use crate::error::{KeypointError, Location};
 use crate::json::{
-    Json, index_path, key_path, numbers, object, optional, required, tracking_number, unit_score,
+    Json, get, index_path, key_path, numbers, object, optional, required, tracking_number,
+    unit_score,
 };
 use crate::layout::{COCO18, Joint, Layout, keeps};
 use crate::record::{KeypointRecord, from_joints};
@@ -82,16 +84,23 @@ fn person_record(
 ) -> Result<KeypointRecord, KeypointError> {
     let path = index_path("people", p);
     let fields = object(person, "a person object", file, &path)?;
-    let kp_path = key_path(&path, "pose_keypoints_2d");
+    // OpenPose 1.0 and 1.1 named the keypoints `pose_keypoints`.
+    let key = match get(fields, "pose_keypoints_2d") {
+        None if get(fields, "pose_keypoints").is_some() => "pose_keypoints",
+        _ => "pose_keypoints_2d",
+    };
+    let kp_path = key_path(&path, key);
     let values = numbers(
-        required(fields, "pose_keypoints_2d", file, &path)?,
+        required(fields, key, file, &path)?,
         "an array of x, y, c numbers",
         file,
         &kp_path,
     )?;
+    // `--layout body25` (the format's own) says which of the two a person must have.
+    let body25_only = options.layout == Some(Layout::Body25);
     let table: &[Joint] = match values.len() {
         75 => Layout::Body25.joints(),
-        54 => &COCO18,
+        54 if !body25_only => &COCO18,
         found => {
             return Err(KeypointError::WrongLength {
                 file: file.to_owned(),
@@ -99,7 +108,12 @@ fn person_record(
                 expected: 75,
                 found,
                 items: "numbers",
-                what: "BODY_25 x, y, c triples, or 54 for COCO-18",
+                what: if body25_only {
+                    "BODY_25 x, y, c triples, as --layout body25 says; 54 are COCO-18's: leave \
+                     out --layout"
+                } else {
+                    "BODY_25 x, y, c triples, or 54 for COCO-18"
+                },
             });
         }
     };

@@ -1,0 +1,130 @@
+//! Files as detectors and their users write them (a simulated user's trial): MediaPipe frames
+//! wrapped in objects, COCO dataset annotations without keypoints, OpenPose's older key, and
+//! the near misses that must be refused rather than read wrongly.
+
+use camloc_keypoints::{ImageSize, KeypointError, KeypointFormat, ReadOptions, parse_keypoints};
+
+/// 33 MediaPipe landmarks of a standing person (normalised), as JSON text.
+fn mediapipe_frame(scale: f64) -> String {
+    let landmarks: Vec<String> = (0..33)
+        .map(|k| {
+            let x = 0.4 + 0.005 * f64::from(k % 2) + 0.002 * f64::from(k);
+            let y = 0.2 + 0.018 * f64::from(k);
+            format!(
+                r#"{{"x": {}, "y": {}, "z": 0.0, "visibility": 0.9}}"#,
+                x * scale,
+                y * scale
+            )
+        })
+        .collect();
+    format!("[{}]", landmarks.join(", "))
+}
+
+fn with_size() -> ReadOptions {
+    ReadOptions {
+        image_size: Some(ImageSize {
+            width: 1920.0,
+            height: 1080.0,
+        }),
+        ..ReadOptions::default()
+    }
+}
+
+#[test]
+fn mediapipe_frames_wrapped_in_objects_read_as_plain_ones() {
+    let frame = mediapipe_frame(1.0);
+    let plain = format!("[{frame}, null, {frame}]");
+    let want = parse_keypoints(&plain, "mp.json", None, &with_size()).unwrap();
+    assert_eq!(want.len(), 2);
+    // protobuf's MessageToDict of each result, and a list of numbered frames (detected as
+    // MediaPipe, not as camloc JSON, whose `landmarks` is an object).
+    let message = format!(r#"[{{"landmark": {frame}}}, null, {{"landmark": {frame}}}]"#);
+    let wrapped = format!(
+        r#"[{{"frame": 0, "landmarks": {frame}, "time_ms": 0}},
+            {{"frame": 1, "landmarks": null}},
+            {{"frame": 2, "landmarks": {frame}}}]"#
+    );
+    for text in [&message, &wrapped] {
+        assert_eq!(
+            KeypointFormat::from_extension_and_content(Some("json"), text),
+            Some(KeypointFormat::MediaPipe)
+        );
+        let got = parse_keypoints(text, "mp.json", None, &with_size()).unwrap();
+        assert_eq!(got.len(), 2, "{text}");
+        for (g, w) in got.iter().zip(&want) {
+            assert_eq!(g.pose, w.pose);
+            assert_eq!(g.frame, w.frame);
+        }
+    }
+    // One result on its own.
+    let one = parse_keypoints(
+        &format!(r#"{{"landmark": {frame}}}"#),
+        "one.json",
+        Some(KeypointFormat::MediaPipe),
+        &with_size(),
+    )
+    .unwrap();
+    assert_eq!(one.len(), 1);
+    assert_eq!(one[0].pose, want[0].pose);
+}
+
+#[test]
+fn mediapipe_coordinates_in_pixels_are_refused() {
+    let pixels = format!("[{}]", mediapipe_frame(1000.0));
+    let e = parse_keypoints(&pixels, "px.json", None, &with_size()).unwrap_err();
+    let message = e.to_string();
+    assert!(matches!(e, KeypointError::InvalidValue { .. }), "{e:?}");
+    assert!(message.contains("--image-size 1,1"), "{message}");
+    // Landmarks a little outside the image are MediaPipe's guesses, and read.
+    let outside = format!("[{}]", mediapipe_frame(1.6));
+    assert_eq!(
+        parse_keypoints(&outside, "out.json", None, &with_size())
+            .unwrap()
+            .len(),
+        1
+    );
+}
+
+#[test]
+fn coco_annotations_without_keypoints_are_skipped() {
+    let keypoints: Vec<String> = (0..17)
+        .map(|k| format!("{}, {}, 2", 100 + 3 * k, 50 + 20 * k))
+        .collect();
+    let zeros = vec!["0"; 51].join(", ");
+    let text = format!(
+        r#"{{"images": [], "annotations": [
+            {{"image_id": 1, "id": 10, "num_keypoints": 17, "iscrowd": 0, "keypoints": [{}]}},
+            {{"image_id": 1, "id": 11, "num_keypoints": 0, "iscrowd": 0, "keypoints": [{zeros}]}},
+            {{"image_id": 2, "id": 12, "iscrowd": 1, "segmentation": {{"counts": []}},
+              "num_keypoints": 0, "keypoints": [{zeros}]}}]}}"#,
+        keypoints.join(", ")
+    );
+    let records = parse_keypoints(&text, "val.json", None, &ReadOptions::default()).unwrap();
+    let ids: Vec<&str> = records.iter().map(|r| r.id.as_str()).collect();
+    assert_eq!(ids, ["1/10"]);
+}
+
+#[test]
+fn openpose_s_older_key_is_read_and_a_declared_body25_insists() {
+    let coco18: Vec<String> = (0..18)
+        .map(|k| format!("{}, {}, 0.9", 300 + 2 * k, 100 + 20 * k))
+        .collect();
+    let new = format!(
+        r#"{{"people": [{{"pose_keypoints_2d": [{}]}}]}}"#,
+        coco18.join(", ")
+    );
+    let old = new.replace("pose_keypoints_2d", "pose_keypoints");
+    let name = "video_000000000004_keypoints.json";
+    let options = ReadOptions::default();
+    let want = parse_keypoints(&new, name, None, &options).unwrap();
+    let got = parse_keypoints(&old, name, None, &options).unwrap();
+    assert_eq!(got[0].pose, want[0].pose);
+    assert_eq!(got[0].frame, Some(4));
+    // COCO-18 people with --layout body25: refused, not read as COCO-18 regardless.
+    let body25 = ReadOptions {
+        layout: Some("body25".parse().unwrap()),
+        ..ReadOptions::default()
+    };
+    let e = parse_keypoints(&new, name, None, &body25).unwrap_err();
+    assert!(e.to_string().contains("leave out --layout"), "{e}");
+}
