@@ -5,7 +5,9 @@ pose, with probabilities, and a plausible 3D skeleton for it. NumPy arrays in, d
 arrays out; the work is done by camloc's Rust library, in parallel, without holding the GIL.
 
 Poses are arrays of shape (N, J, 2) (or one pose (J, 2)) in image coordinates (x to the right,
-y down, any unit, usually pixels), J joints in a ``layout``:
+y down, any unit the same on both axes, usually pixels: coordinates divided by an image's
+width and by its height squash the pose, and all within [0, 1] are warned of), J joints in a
+``layout``:
 
 - ``camloc15``: camloc's 15 landmarks in ``LANDMARKS`` order (pelvis first);
 - ``coco17``, ``h36m17``, ``body25``, ``mpii16``, ``lsp14``: detector and dataset layouts,
@@ -97,6 +99,7 @@ class Localizer:
         focal_px: Optional[float] = None,
         principal_point: Optional[Sequence[float]] = None,
         fps: float = 30.0,
+        frames: Optional[npt.ArrayLike] = None,
     ) -> Dict[str, Any]:
         """Localizes the camera of every pose.
 
@@ -139,6 +142,14 @@ class Localizer:
           localize --sequence --fps``: the smoothing, the side swaps swapped back and the
           rows left out are judged over as long a time at faster rates (7 rows at 30 frames a
           second, 28 at 120). Without ``sequence`` it changes nothing.
+        frames: with ``sequence``, each row's video frame number (N,) (whole numbers from 0 to
+          2^53 that do not decrease; all -1, ``read_keypoints``' frames of an input without
+          numbers, are none), as ``reconstruct``'s ``frames``: the frame numbers between rows
+          count as time passing, and of several rows of one frame (an untracked detector's
+          people) the one nearest the person's rows around it is the person's, the others left
+          out (a ``UserWarning``), as ``camloc localize --sequence`` reads the poses of one
+          person number with their ``frame``s. Default: the rows are consecutive frames.
+          A ``ValueError`` without ``sequence``.
         A ``UserWarning`` says when most of the (first 20,000) poses have the head below both
         ankles: points with v up (``camloc localize`` warns alike); another when their torsos
         lean alike by 20 degrees or more (a rolled camera: turn the points upright); another
@@ -196,6 +207,7 @@ def reconstruct(
     lifter: bool = True,
     person_height: Optional[float] = None,
     fps: float = 30.0,
+    frames: Optional[npt.ArrayLike] = None,
 ) -> Dict[str, Any]:
     """Reconstructs the 3D pose of every pose by projected matching pursuit on camloc's pose
     basis (principal components and cluster centres), then rebuilds each pose with the
@@ -221,9 +233,10 @@ def reconstruct(
       the localized elevation, where ``classified`` keeps the class's camera, 30-45 degrees
       off at the class's edges. Without the lifter (``lifter=False``) ``hybrid`` refines its
       rotation by Procrustes and has the lower 3D error.
-    localizer: the model that classifies the camera (default: the embedded one; another model
-      reconstructs without the embedded depth lifter, which belongs to the embedded model;
-      ``Localizer()`` and ``Localizer.load`` of the embedded model's file keep it).
+    localizer: the model that classifies the camera (default: the embedded one). The
+      embedded depth lifter predicts depths per Table-1 camera: a model of Table 1's cameras
+      (the embedded one, or one trained with ``camloc train``) keeps it, as ``camloc
+      reconstruct --model`` does; a model of other cameras reconstructs without it.
     basis: a pose basis file (default: the embedded one).
     bone_lengths: the person's 14 limb lengths in metres, as a mapping of ``BONE_KEYS``, 14
       numbers in ``BONE_KEYS`` order, or the path of a bone lengths JSON file (docs/cli.md);
@@ -272,6 +285,18 @@ def reconstruct(
       time (1/30 s and longer), so give the video's rate (a held-out walk at 120 frames a
       second: accelerations 483 m/s^2 told 30, 34 told 120). Without ``sequence`` it changes
       nothing.
+    frames: with ``sequence``, each row's video frame number (N,) (whole numbers from 0 to
+      2^53 that do not decrease; all -1, ``read_keypoints``' frames of an input without
+      numbers, are none), so that rows are read as ``camloc reconstruct --sequence`` reads one
+      person number's poses with their ``frame``s: the numbers between rows are frames the
+      person is missing from (time passes there; more than 3 at 30 frames a second split the
+      sequence into runs), and of several rows of one frame (an untracked detector's people:
+      ``read_keypoints(path)["frames"]`` of a file without track ids) the one nearest the
+      person's rows around it is the person's, the others are reconstructed on their own and
+      marked in ``left_out_of_sequence`` (a ``UserWarning``). ``world_points3d`` is placed on
+      that timeline (rows spread over more than 100 frame numbers each are placed as
+      consecutive frames). Default: the rows are consecutive frames. A ``ValueError`` without
+      ``sequence``.
 
     Returns a dict:
       points3d (N, 15, 3) float64: the 3D landmarks in metres (the given bone lengths, else
@@ -315,11 +340,11 @@ def reconstruct(
         floor; docs/cli.md section Animation): ``to_bvh(r["world_points3d"], fps,
         r["person_bone_lengths"])`` walks and turns (the command line's file, whose limbs are
         the mean lengths of its frames' poses, has its root up to a few millimetres higher);
-        NaN where a frame failed. The rows are
+        NaN where a frame failed. Without ``frames`` the rows are
         taken as consecutive video frames: give a frame the person is missing from as a row
-        of NaN, so that time passes there (the frames on each side of 3 or more frames in a
-        row that fail are solved as runs of their own, with the person's one set of bone
-        lengths);
+        of NaN, or the rows' ``frames``, so that time passes there (the frames on each side of
+        3 or more frames in a row that fail are solved as runs of their own, with the person's
+        one set of bone lengths);
       camera_height_shares (3,): as ``Localizer.localize`` returns it (NaN for ``opt``,
         which localizes no complete pose);
       camera: the mode used;

@@ -13,7 +13,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use rayon::prelude::*;
 
-use crate::arrays::{Output, PoseBatch, UnmaskedPoints, UnmaskedScores};
+use crate::arrays::{Output, PoseBatch, Unmasked, UnmaskedPoints, UnmaskedScores};
 use crate::smooth::smoothed_columns;
 use crate::warnings::{
     warn_if_every_pose_failed, warn_of_identity_jumps, warn_of_input_conventions,
@@ -189,7 +189,7 @@ impl Localizer {
 
     // Localizes the camera of every pose.
     #[doc = include_str!(concat!(env!("OUT_DIR"), "/doc/Localizer.localize.txt"))]
-    #[pyo3(signature = (points, layout = "camloc15", scores = None, min_score = 0.0, sequence = false, focal_px = None, principal_point = None, fps = 30.0))]
+    #[pyo3(signature = (points, layout = "camloc15", scores = None, min_score = 0.0, sequence = false, focal_px = None, principal_point = None, fps = 30.0, frames = None))]
     // Python's keyword arguments, as the stub names them.
     #[allow(clippy::too_many_arguments)]
     fn localize<'py>(
@@ -203,6 +203,7 @@ impl Localizer {
         focal_px: Option<Bound<'py, PyAny>>,
         principal_point: Option<Bound<'py, PyAny>>,
         #[pyo3(from_py_with = crate::number::fps)] fps: f64,
+        frames: Option<Unmasked<'py>>,
     ) -> PyResult<Bound<'py, PyDict>> {
         let rate = crate::smooth::frame_rate(fps)?;
         // With the camera's intrinsics each pose is localized as seen by the camera aimed at
@@ -241,10 +242,13 @@ impl Localizer {
             HEIGHT_SHARE_MAX_POSES
         });
         warn_of_input_conventions(py, &leading, inner.intrinsics())?;
+        // The rows' video frame numbers (default: consecutive frames).
+        let frame_numbers = crate::smooth::sequence_frames(frames.as_ref(), sequence, batch.len())?;
         let left_out = if sequence {
             warn_of_identity_jumps(
                 py,
                 leading.iter().map(|p| p.as_ref()),
+                &frame_numbers,
                 rate,
                 "left out of the smoothing (their smoothed camera comes from the rows around \
                  them, and they have no smoothed viewpoint), as the command line does",
@@ -311,7 +315,8 @@ impl Localizer {
         let mut swapped_sides = None;
         if sequence {
             let read = leading.iter().map(|p| p.unwrap_or(PartialPose2::empty()));
-            let (repaired, marks) = warn_of_swapped_sides(py, read.collect(), rate)?;
+            let (repaired, marks) =
+                warn_of_swapped_sides(py, read.collect(), &frame_numbers, rate)?;
             for (i, (pose, mark)) in repaired.iter().zip(&marks).enumerate() {
                 if !mark.contains(&true) {
                     continue;
@@ -341,7 +346,7 @@ impl Localizer {
                 &label,
                 &probabilities,
                 (&azimuth, &elevation),
-                &left_out,
+                (&frame_numbers, &left_out),
                 rate,
             )?)
         } else {
@@ -419,15 +424,15 @@ impl Localizer {
     /// The smoothed values of a sequence (`localize(..., sequence=True)`): the rows are one
     /// person's frames in time order; each frame's camera smoothed by the hidden Markov model
     /// of `camloc localize --sequence` (`camloc::SequenceModel`, a frame that was not
-    /// localized counting as a flat one) and its viewpoint by `camloc::smooth_viewpoints`; a
-    /// row where `left_out` (missing entries: no) counts as not localized; `rate`: the rows'
-    /// frames a second.
+    /// localized counting as a flat one) and its viewpoint by `camloc::smooth_viewpoints` over
+    /// the rows' frame `numbers`; a row where `left_out` (missing entries: no) counts as not
+    /// localized; `rate`: the rows' frames a second.
     fn smoothed(
         &self,
         label: &[i64],
         probabilities: &[f64],
         (azimuth, elevation): (&[f64], &[f64]),
-        left_out: &[bool],
+        (numbers, left_out): (&[Option<u64>], &[bool]),
         rate: FrameRate,
     ) -> PyResult<Smoothed> {
         let n = label.len();
@@ -450,7 +455,7 @@ impl Localizer {
                 .collect()
         };
         let (azimuth_deg, elevation_deg) =
-            smoothed_columns(&vec![None; n], &without(azimuth), &without(elevation), rate);
+            smoothed_columns(numbers, &without(azimuth), &without(elevation), rate);
         Ok(Smoothed {
             label: (0..n)
                 .map(|i| cameras.get(i).map_or(0, |s| i64::from(s.label.get())))

@@ -123,24 +123,50 @@ pub(crate) fn read_keypoints<'py>(
         .transpose()
         .map_err(|e| value_error(e.to_string()))?;
     let options = read_options(layout, min_score, image_size, lsp_invisible, derive_torso)?;
-    let (records, file_errors) = py
+    // Of a folder: the poses read, each file that failed and its message, the files read.
+    let (records, file_errors, read_files) = py
         .detach(|| {
             crate::pool::run(|| -> Result<_, CamlocError> {
                 if !path.is_dir() {
-                    return Ok((read_file(&path, format, &options)?, Vec::new()));
+                    return Ok((read_file(&path, format, &options)?, Vec::new(), 1));
                 }
                 let mut records = Vec::new();
                 let mut file_errors = Vec::new();
+                let mut first_error = None;
+                let mut read_files = 0;
                 for (file, result) in read_folder(&path, format, &options, recursive)? {
                     match result {
-                        Ok(mut read) => records.append(&mut read),
-                        Err(e) => file_errors.push((file.display().to_string(), e.to_string())),
+                        Ok(mut read) => {
+                            records.append(&mut read);
+                            read_files += 1;
+                        }
+                        Err(e) => {
+                            file_errors.push((file.display().to_string(), e.to_string()));
+                            first_error.get_or_insert(e);
+                        }
                     }
                 }
-                Ok((records, file_errors))
+                // A folder none of whose files could be read: the first file's error, as
+                // reading that file alone gives it (a layout the format does not take
+                // fails every file alike).
+                match first_error {
+                    Some(e) if read_files == 0 => Err(e.into()),
+                    _ => Ok((records, file_errors, read_files)),
+                }
             })
         })
         .map_err(to_py_err)?;
+    if let Some((file, message)) = file_errors.first() {
+        crate::warnings::warn(
+            py,
+            format!(
+                "{} of the {} files could not be read and are left out (file_errors); the \
+                 first, {file}: {message}",
+                file_errors.len(),
+                file_errors.len() + read_files
+            ),
+        )?;
+    }
     // The command line refuses such an input ("no poses in ..."); here the arrays are empty.
     if records.is_empty() {
         crate::warnings::warn(

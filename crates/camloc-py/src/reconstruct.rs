@@ -8,15 +8,16 @@ use camloc::reconstruct::{BONE_KEYS, BoneLengths, Intrinsics, MIN_FOCAL_PX, Pose
 use camloc::skeleton::{NUM_LANDMARKS, NUM_LIMBS};
 use camloc::store::Persist;
 use camloc::{
-    CameraHeight, CameraLocalizer, CamlocError, DepthLifter, HEIGHT_SHARE_MAX_POSES, ModeKind,
-    Pose3, PoseReconstruction, PoseReconstructor,
+    CameraLocalizer, CamlocError, DepthLifter, HEIGHT_SHARE_MAX_POSES, ModeKind, Pose3,
+    PoseReconstruction, PoseReconstructor,
 };
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyMapping};
 use rayon::prelude::*;
 
-use crate::arrays::{Output, PoseBatch, UnmaskedPoints, UnmaskedScores};
+use crate::arrays::{Output, PoseBatch, Unmasked, UnmaskedPoints, UnmaskedScores};
 use crate::localize::{Localizer, for_poses, height_shares, parse_height};
+use crate::smooth::{sequence_frames, timeline_max_slots};
 use crate::warnings::{
     warn_if_every_pose_failed, warn_of_identity_jumps, warn_of_input_conventions,
     warn_of_swapped_sides,
@@ -188,7 +189,7 @@ pub(crate) fn bone_lengths_json_text(lengths: Bound<'_, PyAny>) -> PyResult<Stri
 // Reconstructs the 3D pose of every pose: its docstring is camloc.pyi's (build.rs).
 #[doc = include_str!(concat!(env!("OUT_DIR"), "/doc/reconstruct.txt"))]
 #[pyfunction]
-#[pyo3(signature = (points, layout = "camloc15", camera = None, scores = None, min_score = 0.0, localizer = None, basis = None, bone_lengths = None, focal_px = None, principal_point = None, sequence = false, camera_height = None, lifter = true, person_height = None, fps = 30.0))]
+#[pyo3(signature = (points, layout = "camloc15", camera = None, scores = None, min_score = 0.0, localizer = None, basis = None, bone_lengths = None, focal_px = None, principal_point = None, sequence = false, camera_height = None, lifter = true, person_height = None, fps = 30.0, frames = None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn reconstruct<'py>(
     py: Python<'py>,
@@ -207,6 +208,7 @@ pub(crate) fn reconstruct<'py>(
     lifter: bool,
     #[pyo3(from_py_with = crate::number::person_height)] person_height: Option<f64>,
     #[pyo3(from_py_with = crate::number::fps)] fps: f64,
+    frames: Option<Unmasked<'py>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     // The command line's default.
     let camera = camera.unwrap_or("hybrid");
@@ -239,19 +241,14 @@ pub(crate) fn reconstruct<'py>(
             .with_lifter(DepthLifter::default_lifter().map_err(to_py_err)?),
         None => default_reconstructor()?.clone(),
     };
-    // The embedded lifter is the embedded model's: another localizer reconstructs without.
-    // (The embedded model loaded again, whatever its camera height, keeps it.)
+    // The embedded lifter serves a localizer of Table 1's cameras (the embedded model, or one
+    // trained with `camloc train`), as `camloc reconstruct --model` has it; another
+    // reconstructs without.
     let mut from_input = true;
     if let Some(localizer) = localizer {
         from_input = localizer.from_input;
-        let embedded = default_reconstructor()?.localizer().is_some_and(|own| {
-            *own == localizer
-                .inner
-                .clone()
-                .with_camera_height(CameraHeight::Any)
-        });
         reconstructor = reconstructor.with_localizer(localizer.inner.clone());
-        if !embedded {
+        if !DepthLifter::serves(localizer.inner.cameras()) {
             reconstructor = reconstructor.without_lifter();
         }
     }
@@ -295,6 +292,8 @@ pub(crate) fn reconstruct<'py>(
         .with_frame_rate(fps)
         .map_err(|e| value_error(e.to_string()))?;
     let n = batch.len();
+    // The rows' video frame numbers (default: consecutive frames).
+    let numbers: Vec<Option<u64>> = sequence_frames(frames.as_ref(), sequence, n)?;
     // With `sequence`: per row, whether its legs and its arms were swapped back.
     let mut swapped_sides: Option<Vec<[bool; 2]>> = None;
     let (results, person_lengths, left_out) = if sequence {
@@ -309,11 +308,12 @@ pub(crate) fn reconstruct<'py>(
             .map(|r| r.as_ref().map_or(camloc::PartialPose2::empty(), |p| *p))
             .collect();
         let rate = reconstructor.frame_rate();
-        let (poses, marks) = warn_of_swapped_sides(py, poses, rate)?;
+        let (poses, marks) = warn_of_swapped_sides(py, poses, &numbers, rate)?;
         swapped_sides = Some(marks);
         let left_out = warn_of_identity_jumps(
             py,
             poses.iter().map(Some),
+            &numbers,
             rate,
             "reconstructed on their own, left out of the sequence (its lengths, smoothness \
              and world placement), as the command line does",
@@ -321,7 +321,7 @@ pub(crate) fn reconstruct<'py>(
         let solved = py
             .detach(|| {
                 crate::pool::run(|| {
-                    reconstructor.reconstruct_sequence_with_breaks(&poses, &[], &left_out)
+                    reconstructor.reconstruct_sequence_at_frames(&numbers, &poses, &left_out)
                 })
             })
             .map_err(to_py_err)?;
@@ -388,7 +388,7 @@ pub(crate) fn reconstruct<'py>(
             .zip(&left_out)
             .map(|(r, &left)| r.as_ref().ok().filter(|_| !left))
             .collect();
-        reconstructor.place_in_world(&found)
+        reconstructor.place_on_timeline(&numbers, &found, timeline_max_slots(n))
     });
     let mut errors = Vec::new();
     for (i, result) in results.into_iter().enumerate() {

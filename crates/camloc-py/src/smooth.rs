@@ -57,52 +57,118 @@ pub(crate) fn smooth_viewpoints<'py>(
             elevation.len()
         )));
     }
-    let frames: Vec<Option<u64>> = match &frames {
-        None => vec![None; n],
-        Some(given) => {
-            let given = c_order(given)?;
-            if given.len() != n {
-                return Err(value_error(format!(
-                    "frames must have one number per viewpoint ({n}), got {}",
-                    given.len()
-                )));
-            }
-            // read_keypoints' frames of an input without frame numbers (LSP, MPII) are all
-            // -1: no numbers, as without `frames`.
-            if given.iter().all(|&f| f == -1.0) {
-                return smoothed_arrays(py, &vec![None; n], &azimuth, &elevation, rate);
-            }
-            given
-                .iter()
-                .map(|&f| {
-                    (f.is_finite() && f >= 0.0 && f.fract() == 0.0 && f <= 2f64.powi(53))
-                        .then_some(Some(f as u64))
-                        .ok_or_else(|| {
-                            value_error(format!(
-                                "frames must be whole numbers from 0 to 2^53, got {f}"
-                            ))
-                        })
-                })
-                .collect::<PyResult<Vec<Option<u64>>>>()
-                .and_then(
-                    |frames| match frames.windows(2).position(|w| w[1] <= w[0]) {
-                        Some(k) => Err(value_error(format!(
-                            "frames must increase, got {:?} then {:?} at {}",
-                            frames[k].unwrap_or_default(),
-                            frames[k + 1].unwrap_or_default(),
-                            k + 1
-                        ))),
-                        None => Ok(frames),
-                    },
-                )?
-        }
-    };
+    let frames = frame_numbers(frames.as_ref(), n, "viewpoint", Order::Increasing)?.map_or_else(
+        || vec![None; n],
+        |numbers| numbers.into_iter().map(Some).collect(),
+    );
     smoothed_arrays(py, &frames, &azimuth, &elevation, rate)
 }
 
 /// The `fps` argument as a frame rate (`ValueError` unless finite and > 0).
 pub(crate) fn frame_rate(fps: f64) -> PyResult<FrameRate> {
     FrameRate::new(fps).map_err(|e| value_error(format!("fps: {e}")))
+}
+
+/// How the `frames` argument's numbers must follow each other ([`frame_numbers`]).
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Order {
+    /// Each greater than the one before (one number per frame).
+    Increasing,
+    /// None smaller than the one before (several rows of one frame: an untracked
+    /// detector's people).
+    NotDecreasing,
+}
+
+/// The `frames` argument (one number per row, `n` rows, each a `row` in messages): the video
+/// frame numbers, whole numbers from 0 to 2^53 in `order`; `None` when not given or all -1
+/// (`read_keypoints`' frames of an input without frame numbers). `ValueError` for a
+/// wrong length, a number that is not such a whole number, or numbers out of order.
+pub(crate) fn frame_numbers(
+    frames: Option<&Unmasked<'_>>,
+    n: usize,
+    row: &str,
+    order: Order,
+) -> PyResult<Option<Vec<u64>>> {
+    let Some(given) = frames else {
+        return Ok(None);
+    };
+    if given.ndim() != 1 {
+        return Err(value_error(format!(
+            "frames must be one-dimensional (one number per {row}), got shape {:?}",
+            given.shape()
+        )));
+    }
+    let given = c_order(given)?;
+    if given.len() != n {
+        return Err(value_error(format!(
+            "frames must have one number per {row} ({n}), got {}",
+            given.len()
+        )));
+    }
+    if given.iter().all(|&f| f == -1.0) {
+        return Ok(None);
+    }
+    let numbers = given
+        .iter()
+        .map(|&f| {
+            (f.is_finite() && f >= 0.0 && f.fract() == 0.0 && f <= 2f64.powi(53))
+                .then_some(f as u64)
+                .ok_or_else(|| {
+                    value_error(format!(
+                        "frames must be whole numbers from 0 to 2^53, got {f}"
+                    ))
+                })
+        })
+        .collect::<PyResult<Vec<u64>>>()?;
+    let out_of_order = |w: &[u64]| match order {
+        Order::Increasing => w[1] <= w[0],
+        Order::NotDecreasing => w[1] < w[0],
+    };
+    if let Some(k) = numbers.windows(2).position(out_of_order) {
+        let must = match order {
+            Order::Increasing => "increase",
+            Order::NotDecreasing => "not decrease (rows in time order)",
+        };
+        return Err(value_error(format!(
+            "frames must {must}, got {} then {} at {}",
+            numbers[k],
+            numbers[k + 1],
+            k + 1
+        )));
+    }
+    Ok(Some(numbers))
+}
+
+/// The video frame numbers of the `n` rows of a `sequence` call (`reconstruct`,
+/// `Localizer.localize`): `frames` as [`frame_numbers`] reads them (several rows of one frame
+/// allowed), else consecutive frames. `ValueError` for `frames` without `sequence`.
+pub(crate) fn sequence_frames(
+    frames: Option<&Unmasked<'_>>,
+    sequence: bool,
+    n: usize,
+) -> PyResult<Vec<Option<u64>>> {
+    if frames.is_some() && !sequence {
+        return Err(value_error(
+            "frames is for sequence=True (the rows' video frame numbers); single poses have \
+             no time"
+                .to_owned(),
+        ));
+    }
+    let numbers = frame_numbers(frames, n, "row", Order::NotDecreasing)?;
+    Ok(match numbers {
+        Some(numbers) => numbers.into_iter().map(Some).collect(),
+        None => (0..n as u64).map(Some).collect(),
+    })
+}
+
+/// Most frame numbers a sequence of `n` rows is placed in the world over
+/// (`PoseReconstructor::place_on_timeline`): 100 per row and 1,000 more, and at most 100,000
+/// more than the rows (the memory of the frames the person is missing from); rows spread
+/// wider are placed as consecutive frames.
+pub(crate) fn timeline_max_slots(n: usize) -> usize {
+    n.saturating_mul(100)
+        .saturating_add(1_000)
+        .min(n.saturating_add(100_000))
 }
 
 /// [`smoothed_columns`] as NumPy arrays.

@@ -63,18 +63,18 @@ pub(crate) fn warn_if_every_pose_failed(
     warn(py, message)
 }
 
-/// The rows of a sequence (consecutive frames, in order) with the limbs a detector swapped
-/// for a few rows swapped back (`camloc::swapped_sides`, as `camloc reconstruct --sequence`
-/// does), with a `UserWarning` per chain, and per row whether its legs and its arms were
-/// swapped back (`[legs, arms]`, the order of `camloc::SideChain::ALL`).
+/// The rows of a sequence (in time order, at frame numbers `rows`) with the limbs a detector
+/// swapped for a few frames swapped back (`camloc::swapped_sides`, as `camloc reconstruct
+/// --sequence` does), with a `UserWarning` per chain, and per row whether its legs and its
+/// arms were swapped back (`[legs, arms]`, the order of `camloc::SideChain::ALL`).
 pub(crate) fn warn_of_swapped_sides(
     py: Python<'_>,
     mut poses: Vec<PartialPose2>,
+    rows: &[Option<u64>],
     rate: FrameRate,
 ) -> PyResult<(Vec<PartialPose2>, Vec<[bool; 2]>)> {
-    let rows: Vec<Option<u64>> = (0..poses.len() as u64).map(Some).collect();
     let mut marks = vec![[false; 2]; poses.len()];
-    for (c, (chain, swapped)) in swap_sides_back(&rows, &mut poses, rate)
+    for (c, (chain, swapped)) in swap_sides_back(rows, &mut poses, rate)
         .into_iter()
         .enumerate()
     {
@@ -99,20 +99,30 @@ pub(crate) fn warn_of_swapped_sides(
 /// Warns (`UserWarning`) when the rows of a sequence jump across the image or change size as
 /// one person cannot (`camloc::identity_jumps`, as `camloc reconstruct --sequence` warns):
 /// rows of several people, or a detector's order of people that changed. `poses` are the
-/// rows in order, `None` for one that could not be mapped; the rows that lie apart from the
-/// rows around them (`camloc::left_out_of_sequence`: another person's detection, a misplaced
-/// one) are warned of as `treated`, and the jumps are looked for among the others. Returns,
-/// per row, whether it is left out so, as the command line leaves it out.
+/// rows in time order at frame numbers `rows`, `None` for one that could not be mapped; the
+/// rows of a frame other than the person's (`camloc::left_out_of_sequence`: the pose nearest
+/// the person's track is the person's) and those that lie apart from the rows around them
+/// (another person's detection, a misplaced one) are warned of as `treated`, and the jumps
+/// are looked for among the others. Returns, per row, whether it is left out so, as the
+/// command line leaves it out.
 pub(crate) fn warn_of_identity_jumps<'a>(
     py: Python<'_>,
     poses: impl Iterator<Item = Option<&'a PartialPose2>>,
+    rows: &[Option<u64>],
     rate: FrameRate,
     treated: &str,
 ) -> PyResult<Vec<bool>> {
     let anchors: Vec<Option<TorsoAnchor>> = poses.map(|p| p.and_then(TorsoAnchor::of)).collect();
-    // A sequence's rows are consecutive frames (a missing frame is a row of NaN).
-    let rows: Vec<Option<u64>> = (0..anchors.len() as u64).map(Some).collect();
-    let left_out = left_out_of_sequence(&rows, &anchors, rate);
+    let left_out = left_out_of_sequence(rows, &anchors, rate);
+    if let Some(first) = left_out.second_poses.first() {
+        let message = format!(
+            "{} row(s) share their frame number with another row (first at row {first}): of a \
+             frame's rows the one nearest the person's rows around it is the person's, the \
+             others are {treated}",
+            left_out.second_poses.len()
+        );
+        warn(py, message)?;
+    }
     if let Some(first) = left_out.outliers.first() {
         let message = format!(
             "{} row(s) lie apart from the rows before and after them while those agree (first \
@@ -122,7 +132,7 @@ pub(crate) fn warn_of_identity_jumps<'a>(
         );
         warn(py, message)?;
     }
-    if let Some(first) = identity_jumps(&rows, &left_out.kept_anchors(&anchors)).first() {
+    if let Some(first) = identity_jumps(rows, &left_out.kept_anchors(&anchors)).first() {
         let message = format!(
             "the pose jumps across the image or changes size from one row to the next (first \
              at row {first}): these may be several people, or not consecutive frames of a \

@@ -1,8 +1,8 @@
 //! What an input's poses say of how they were given, counted pose by pose as they are read
 //! ([`InputConventions`]), for the warnings `camloc localize`, `camloc reconstruct` and Python
 //! give alike: points with `v` up, a camera upside down or rolled
-//! ([`orientation_warning`]), and detectors' placeholders at the image origin
-//! ([`origin_placeholder_warning`]).
+//! ([`orientation_warning`]), detectors' placeholders at the image origin
+//! ([`origin_placeholder_warning`]), and coordinates normalised by the image's sides.
 
 use camloc_reconstruct::Intrinsics;
 use camloc_skeleton::PartialPose2;
@@ -22,6 +22,8 @@ pub struct InputConventions {
     upside_down: (u64, u64),
     /// Poses with landmarks at the image origin ([`has_origin_placeholders`]).
     origin_placeholders: u64,
+    /// Poses whose landmarks all lie within the unit square ([`within_unit_square`]).
+    unit_square: u64,
     /// The poses' torso leans.
     leans: LeanHistogram,
     /// The camera's intrinsics, when given: the leans are those of the poses as the camera
@@ -43,6 +45,7 @@ impl InputConventions {
     pub fn add(&mut self, pose: &PartialPose2) {
         self.poses += 1;
         self.origin_placeholders += u64::from(has_origin_placeholders(pose));
+        self.unit_square += u64::from(within_unit_square(pose));
         let aimed = self.aim.and_then(|k| aimed_at_pelvis(pose, &k).ok());
         self.leans.add(aimed.as_ref().unwrap_or(pose));
         if let Some(below) = head_below_ankles(pose) {
@@ -51,8 +54,9 @@ impl InputConventions {
         }
     }
 
-    /// The warnings of the poses counted: [`orientation_warning`], then
-    /// [`origin_placeholder_warning`].
+    /// The warnings of the poses counted: [`orientation_warning`],
+    /// [`origin_placeholder_warning`], then the warning of an input whose every coordinate
+    /// lies within [0, 1] (normalised by the image's sides).
     pub fn warnings(&self) -> impl Iterator<Item = String> {
         let (checked, upside_down) = self.upside_down;
         orientation_warning(checked, upside_down, &self.leans)
@@ -61,5 +65,68 @@ impl InputConventions {
                 self.poses,
                 self.origin_placeholders,
             ))
+            .chain(normalised_coordinates_warning(self.poses, self.unit_square))
+    }
+}
+
+/// Whether every landmark of `pose` (two or more) lies within [0, 1] in both coordinates:
+/// image coordinates divided by the image's sides (YOLO pose labels, OpenPose's
+/// `--keypoint_scale 3`, MediaPipe's before `--image-size`), which no pixel pose has.
+fn within_unit_square(pose: &PartialPose2) -> bool {
+    let mut present = 0;
+    let within = pose.points.iter().flatten().all(|point| {
+        present += 1;
+        point.iter().all(|c| (0.0..=1.0).contains(c))
+    });
+    within && present >= 2
+}
+
+/// The warning for an input of which every one of the `checked` poses lies within the unit
+/// square ([`within_unit_square`]): only a scale shared by both axes leaves the answer
+/// unchanged, and coordinates divided by an image's width and by its height squash the pose
+/// (a simulated user's 16:9 views: diagonal and high cameras 22-36 deg off). `None`
+/// otherwise.
+fn normalised_coordinates_warning(checked: u64, within: u64) -> Option<String> {
+    (checked > 0 && within == checked).then(|| {
+        format!(
+            "every coordinate of the {checked} pose(s) lies within [0, 1]: normalised by the \
+             image's width and height? That squashes the pose unless the image is \
+             square (diagonal and high views of a 16:9 image came out 22-36 deg off): give \
+             pixels (x times the width, y times the height), or coordinates divided by one \
+             number for both"
+        )
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn coordinates_normalised_by_the_image_s_sides_are_warned_of() {
+        let mut pose = PartialPose2::empty();
+        for (k, p) in pose.points.iter_mut().enumerate() {
+            *p = Some([0.4 + 0.01 * k as f64, 0.2 + 0.04 * k as f64]);
+        }
+        let mut normalised = InputConventions::default();
+        normalised.add(&pose);
+        let said: Vec<String> = normalised.warnings().collect();
+        assert!(
+            said.iter().any(|w| w.contains("lies within [0, 1]")),
+            "{said:?}"
+        );
+        // The same pose in pixels, or one pixel pose among them: no such warning.
+        let pixels = PartialPose2 {
+            points: pose
+                .points
+                .map(|p| p.map(|[x, y]| [1920.0 * x, 1080.0 * y])),
+        };
+        for poses in [vec![pixels], vec![pose, pixels]] {
+            let mut counted = InputConventions::default();
+            for p in &poses {
+                counted.add(p);
+            }
+            assert!(counted.warnings().all(|w| !w.contains("[0, 1]")));
+        }
     }
 }

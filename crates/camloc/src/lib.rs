@@ -97,7 +97,7 @@ pub use reconstruction::{
 pub use select::{DescriptorCv, cross_validate};
 pub use sequence::{
     DEFAULT_SWITCH_PROBABILITY, NEIGHBOUR_SHARE, OUTLIER_SHARE, SequenceModel, SmoothedFrame,
-    frame_slots, sequences,
+    frame_slots, sequences, timeline_slots,
 };
 pub use sides::{
     SIDE_SWAP_GAP_FRAMES, SIDE_SWAP_JOIN_RATIO, SIDE_SWAP_MOTION_FACTOR, SIDE_SWAP_PENALTY,

@@ -161,6 +161,14 @@ impl DepthLifter {
         }
         Self::from_bytes_named(bytes, "embedded default depth lifter").map_err(CamlocError::from)
     }
+
+    /// Whether the embedded lifter ([`default_lifter`](Self::default_lifter)) serves a
+    /// localizer of `cameras`: its depths are predicted per Table-1 camera, so it serves any
+    /// model of Table 1's cameras (the embedded one, or one trained with `camloc train`), and
+    /// no other.
+    pub fn serves(cameras: &CameraSet) -> bool {
+        *cameras == CameraSet::table1()
+    }
 }
 
 /// The depths [`DepthLifter`] learns for `sample`: each landmark's coordinate along the

@@ -305,6 +305,17 @@ impl PoseReconstructor {
         self.mode
     }
 
+    /// Most hypotheses [`reconstruct_hypotheses`](Self::reconstruct_hypotheses) can keep: 2
+    /// per solve (as found and depth-reflected); `hybrid` without a lifter solves twice (4),
+    /// every other mode once (2).
+    pub fn most_hypotheses(&self) -> usize {
+        if self.mode == ModeKind::Hybrid && self.lifter().is_none() {
+            4
+        } else {
+            2
+        }
+    }
+
     /// The camera localizer, if one was given.
     pub fn localizer(&self) -> Option<&CameraLocalizer> {
         self.localizer.as_ref()

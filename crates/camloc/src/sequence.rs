@@ -306,18 +306,34 @@ pub fn sequences(keys: &[(Option<u64>, Option<u64>)]) -> Vec<(u64, Vec<usize>)> 
 /// `keys` of the records as there): slot `f - first` holds the position in `members` of the
 /// record of frame `f`, `None` for a frame of which no record holds that person (not
 /// detected), so that outputs keep the video's timing across such gaps; of members with the
-/// same frame number the first holds the slot (the others are off the timeline: one
-/// duplicated detection used to cost the whole sequence its timing). `None` when a member has
-/// no frame number, they are out of frame order, or the frames span more than `max_slots`.
+/// same frame number the first for which `kept(position)` holds the slot, else the first (the
+/// others are off the timeline: one duplicated detection used to cost the whole sequence its
+/// timing, and an untracked second person listed first took the person's frame). `None` when
+/// a member has no frame number, they are out of frame order, or the frames span more than
+/// `max_slots`.
 pub fn frame_slots(
     keys: &[(Option<u64>, Option<u64>)],
     members: &[usize],
     max_slots: usize,
+    kept: impl Fn(usize) -> bool,
 ) -> Option<Vec<Option<usize>>> {
-    let frames: Vec<u64> = members
+    let numbers: Vec<Option<u64>> = members
         .iter()
         .map(|&i| keys.get(i).and_then(|k| k.0))
-        .collect::<Option<_>>()?;
+        .collect();
+    timeline_slots(&numbers, max_slots, kept)
+}
+
+/// [`frame_slots`] of one person's frames given by their frame `numbers` (in time order):
+/// slot `f - first` holds the position of a frame numbered `f` (of several, the first for
+/// which `kept(position)`, else the first), `None` where the person has no frame. `None` when
+/// a frame has no number, they are out of order, or they span more than `max_slots`.
+pub fn timeline_slots(
+    numbers: &[Option<u64>],
+    max_slots: usize,
+    kept: impl Fn(usize) -> bool,
+) -> Option<Vec<Option<usize>>> {
+    let frames: Vec<u64> = numbers.iter().copied().collect::<Option<_>>()?;
     let (&first, &last) = (frames.first()?, frames.last()?);
     let span = usize::try_from(last.checked_sub(first)?)
         .ok()?
@@ -325,12 +341,12 @@ pub fn frame_slots(
     if span > max_slots {
         return None;
     }
-    let mut slots = vec![None; span];
+    let mut slots: Vec<Option<usize>> = vec![None; span];
     for (position, frame) in frames.iter().enumerate() {
         // (Out of order, a frame before the first has no slot.)
         let offset = usize::try_from(frame.checked_sub(first)?).ok()?;
         let slot = slots.get_mut(offset)?;
-        if slot.is_none() {
+        if slot.is_none_or(|held| !kept(held) && kept(position)) {
             *slot = Some(position);
         }
     }
@@ -348,24 +364,30 @@ mod tests {
         let members = &sequences(&keys)[0].1;
         assert_eq!(members, &vec![1, 2, 0]);
         assert_eq!(
-            frame_slots(&keys, members, 10),
+            frame_slots(&keys, members, 10, |_| true),
             Some(vec![Some(0), Some(1), None, None, Some(2)])
         );
         // A repeated frame: the first record holds it.
         let repeated = [(Some(3), None), (Some(3), None), (Some(4), None)];
         assert_eq!(
-            frame_slots(&repeated, &[0, 1, 2], 10),
+            frame_slots(&repeated, &[0, 1, 2], 10, |_| true),
             Some(vec![Some(0), Some(2)])
         );
+        // ... unless it is not kept (an untracked second person listed first, left out of
+        // the sequence) and a later one is.
+        assert_eq!(
+            frame_slots(&repeated, &[0, 1, 2], 10, |m| m != 0),
+            Some(vec![Some(1), Some(2)])
+        );
         // Too long a span, a record without a frame: no timeline.
-        assert_eq!(frame_slots(&keys, members, 4), None);
+        assert_eq!(frame_slots(&keys, members, 4, |_| true), None);
         let unnumbered = [(Some(3), None), (None, None)];
-        assert_eq!(frame_slots(&unnumbered, &[0, 1], 10), None);
+        assert_eq!(frame_slots(&unnumbered, &[0, 1], 10, |_| true), None);
         let far = [(Some(0), None), (Some(u64::MAX), None)];
-        assert_eq!(frame_slots(&far, &[0, 1], 100_000), None);
+        assert_eq!(frame_slots(&far, &[0, 1], 100_000, |_| true), None);
         // Members out of frame order have no timeline either.
-        assert_eq!(frame_slots(&keys, &[2, 1, 0], 10), None);
-        assert_eq!(frame_slots(&keys, &[0, 1, 2], 10), None);
+        assert_eq!(frame_slots(&keys, &[2, 1, 0], 10, |_| true), None);
+        assert_eq!(frame_slots(&keys, &[0, 1, 2], 10, |_| true), None);
     }
 
     /// Confident probabilities of camera index `c` (0.9 there, the rest shared).

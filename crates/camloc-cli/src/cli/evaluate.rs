@@ -7,7 +7,7 @@ use std::process::ExitCode;
 use camloc::{CamlocError, evaluate};
 
 use super::heights;
-use super::{CameraHeightArgs, CliError, Out, load_dataset, load_model, targets};
+use super::{CameraHeightArgs, CliError, Out, ProgressArgs, load_dataset, load_model, targets};
 use camloc::store::{StagedFiles, check_target};
 
 /// Arguments of `camloc evaluate`.
@@ -32,6 +32,8 @@ pub struct Args {
     /// Replace an existing SVG file (see `camloc localize --help`).
     #[arg(long)]
     pub force: bool,
+    #[command(flatten)]
+    pub progress: ProgressArgs,
 }
 
 /// Runs `camloc evaluate`.
@@ -48,7 +50,7 @@ pub fn run(args: &Args, stdout: &mut Out) -> Result<ExitCode, CliError> {
     }
     let localizer = load_model(args.model.as_deref(), &args.height)?;
     let dataset = load_dataset(&args.dataset)?;
-    let localizer = heights::for_dataset(localizer, &args.height, &dataset, false);
+    let localizer = heights::for_dataset(localizer, &args.height, &dataset, args.progress.quiet);
     let e = evaluate(&localizer, &dataset)?;
     let mut staged = StagedFiles::new(args.force);
     if let Some(svg) = &args.svg {

@@ -84,7 +84,7 @@ pub fn bvh_files(
         let slots = if sequence {
             let most =
                 (FILL_PER_FRAME * members.len() + FILL_MIN_FRAMES).min(KEEP_MAX_POSES as usize);
-            let slots = frame_slots(&keys, members, most);
+            let slots = frame_slots(&keys, members, most, |m| kept[members[m]].pose.is_some());
             if slots.is_none() && members.iter().all(|&i| keys[i].0.is_some()) {
                 unfilled += 1;
                 if unfilled <= super::stream::ERRORS_SHOWN {

@@ -128,7 +128,9 @@ pub enum CliError {
     /// `localize --sequence` met more poses than it may keep.
     #[error(
         "more than {0} poses for --sequence, which keeps every pose until the end: split the \
-         input or raise --sequence-max-poses"
+         input by person or by time (in camloc JSON, whose `frame` numbers go on across \
+         files; a folder of .npy files numbers each file's rows from 0 again), or raise \
+         --sequence-max-poses if the memory is there (docs/cli.md, Memory and speed)"
     )]
     TooManyPoses(u64),
     /// `--bvh` or `--html` met more poses than they may keep.
@@ -424,13 +426,13 @@ pub fn load_model(
 
 /// The depth lifter that goes with the model `path` names, whose cameras are `cameras`: the
 /// embedded lifter with the embedded model (`None`) and with any model of Table 1's cameras
-/// (the lifter has its own descriptor and features, one head per Table-1 camera; as Python's
-/// `reconstruct` does with such a localizer), none with a model of other cameras.
+/// ([`DepthLifter::serves`]; as Python's `reconstruct` does with such a localizer), none with
+/// a model of other cameras.
 pub fn lifter_for_model(
     path: Option<&Path>,
     cameras: &camloc::geometry::CameraSet,
 ) -> Result<Option<DepthLifter>, CamlocError> {
-    (path.is_none() || *cameras == camloc::geometry::CameraSet::table1())
+    (path.is_none() || DepthLifter::serves(cameras))
         .then(DepthLifter::default_lifter)
         .transpose()
 }

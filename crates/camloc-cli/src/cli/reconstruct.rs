@@ -129,15 +129,17 @@ pub struct Args {
     /// frames are left out, and legs or arms a detector swapped left for right for a few
     /// frames are swapped back: docs/cli.md, section Sequences). Output (per
     /// frame, by person then frame) as without it; the .npy rows stay in input order. Every
-    /// pose is kept until its person is done (about 500 bytes a pose), and a person's frames
-    /// take about 15 KB each while they are solved together (20,000 frames: about 300 MB).
+    /// pose is kept until its person is done (about 3 KB a pose), and a person's frames
+    /// take about 12-15 KB each while they are solved together (20,000 frames: about 300 MB).
     #[arg(long, conflicts_with = "hypotheses")]
     pub sequence: bool,
-    /// With --sequence: refuse an input of more than N poses.
+    /// With --sequence: refuse an input of more than N poses. A person's frames take about
+    /// 12-15 KB each while they are solved together (100,000 frames: 1.2 GB), hence a fifth
+    /// of `localize --sequence`'s default.
     #[arg(
         long,
         value_name = "N",
-        default_value_t = 1_000_000,
+        default_value_t = 200_000,
         requires = "sequence"
     )]
     pub sequence_max_poses: u64,
@@ -387,6 +389,15 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         finish,
         force: args.force.force,
     };
+    let most = reconstructor.most_hypotheses();
+    if usize::from(args.hypotheses) > most {
+        stderr_line!(
+            "camloc: warning: --hypotheses {}: this camera mode keeps at most {most} (one \
+             solve, as found and reflected in depth); `--camera hybrid --no-lifter` solves \
+             twice, for up to 4",
+            args.hypotheses
+        );
+    }
     let keep = args.bvh.is_some() || args.html.is_some();
     let aim = reconstructor.given().intrinsics;
     let summary = stream::run(inputs, out, format, files, &bar, aim, |record| {

@@ -15,8 +15,7 @@ use camloc::reconstruct::BoneLengths;
 use camloc::skeleton::Landmark;
 use camloc::store::{StagedFiles, check_target};
 use camloc::{
-    ModeKind, PartialPose2, Pose3, PoseReconstruction, PoseReconstructor, TorsoAnchor, frame_slots,
-    sequences,
+    ModeKind, PartialPose2, Pose3, PoseReconstruction, PoseReconstructor, TorsoAnchor, sequences,
 };
 use indicatif::ProgressBar;
 
@@ -165,13 +164,6 @@ pub fn run(
              animation)",
         );
         let in_sequence: Vec<usize> = (0..members.len()).filter(|&m| !left_out[m]).collect();
-        // A frame after SEQUENCE_BREAK_FRAMES or more frame numbers the person is missing
-        // from starts a new run (by member position; the left-out frames count for none).
-        let mut breaks = vec![false; members.len()];
-        for pair in in_sequence.windows(2) {
-            breaks[pair[1]] = matches!((numbers[pair[0]], numbers[pair[1]]), (Some(a), Some(b))
-                if b.saturating_sub(a) > reconstructor.sequence_break_frames() as u64);
-        }
         // The solve of a long sequence takes a while (20,000 frames: tens of seconds) and
         // counts nothing: a spinner says whose it is, when the reading's bar was shown.
         let solving = if bar.is_hidden() {
@@ -187,7 +179,9 @@ pub fn run(
                 ),
             )
         };
-        let result = reconstructor.reconstruct_sequence_with_breaks(&poses, &breaks, &left_out);
+        // A frame after more than `sequence_break_frames` frame numbers the person is missing
+        // from starts a new run (the left-out frames count for none).
+        let result = reconstructor.reconstruct_sequence_at_frames(&numbers, &poses, &left_out);
         solving.finish_and_clear();
         // The left-out frames are reconstructed on their own, also when the sequence failed.
         let (frames, lengths): (Vec<Result<PoseReconstruction, String>>, Option<BoneLengths>) =
@@ -237,17 +231,8 @@ pub fn run(
         let reconstructed = found.iter().flatten().count();
         let placed: Vec<Option<Pose3>> = if options.finish.is_none() {
             vec![None; members.len()]
-        } else if let Some(slots) = frame_slots(&keys, members, KEEP_MAX_POSES as usize) {
-            let on_timeline: Vec<_> = slots.iter().map(|s| s.and_then(|m| found[m])).collect();
-            let mut placed = vec![None; members.len()];
-            for (slot, pose) in slots.iter().zip(reconstructor.place_in_world(&on_timeline)) {
-                if let Some(m) = slot {
-                    placed[*m] = pose;
-                }
-            }
-            placed
         } else {
-            reconstructor.place_in_world(&found)
+            reconstructor.place_on_timeline(&numbers, &found, KEEP_MAX_POSES as usize)
         };
         // The poses the BVH gets: as placed, or in place (the body frame, facing one way, the
         // pelvis above the origin at the height the placement gives it: the feet on the floor,

@@ -34,6 +34,32 @@ impl PoseReconstructor {
         SEQUENCE_BREAK_FRAMES * self.frame_rate().step()
     }
 
+    /// [`reconstruct_sequence_with_breaks`](Self::reconstruct_sequence_with_breaks) of one
+    /// person's poses at their video frame `numbers` (in time order; `None` where unknown): a
+    /// frame after more than [`sequence_break_frames`](Self::sequence_break_frames) frame
+    /// numbers since the person's last frame kept in the sequence (`left_out[t]`: not kept)
+    /// starts a new run, as `camloc reconstruct --sequence` splits a video's gaps.
+    ///
+    /// # Errors
+    /// As [`reconstruct_sequence`](Self::reconstruct_sequence).
+    pub fn reconstruct_sequence_at_frames(
+        &self,
+        numbers: &[Option<u64>],
+        poses: &[PartialPose2],
+        left_out: &[bool],
+    ) -> Result<PoseSequenceReconstruction, CamlocError> {
+        let kept: Vec<usize> = (0..poses.len())
+            .filter(|&t| !left_out.get(t).copied().unwrap_or(false))
+            .collect();
+        let mut breaks = vec![false; poses.len()];
+        for pair in kept.windows(2) {
+            let (a, b) = (numbers.get(pair[0]).copied(), numbers.get(pair[1]).copied());
+            breaks[pair[1]] = matches!((a, b), (Some(Some(a)), Some(Some(b)))
+                if b.saturating_sub(a) > self.sequence_break_frames() as u64);
+        }
+        self.reconstruct_sequence_with_breaks(poses, &breaks, left_out)
+    }
+
     /// [`reconstruct_sequence`](Self::reconstruct_sequence) of frames where `breaks[t]` says
     /// that frame `t` follows at least [`SEQUENCE_BREAK_FRAMES`] frames the person is missing
     /// from (a gap in the video; missing entries: no gap). The frames are solved in runs that

@@ -1,0 +1,94 @@
+"""A video's rows given with their frame numbers (``frames=``): frames the person is missing
+from, and an untracked second person in some frames, read as the command line reads the same
+poses with their ``frame`` numbers (``camloc reconstruct --sequence``, ``camloc localize
+--sequence``)."""
+
+import json
+
+import numpy as np
+import pytest
+
+import camloc
+from helpers import example_points
+
+
+def untracked_video():
+    """(rows (N, 15, 2), frame numbers (N,), the rows of the second person): one person
+    walking 3 px a frame at frames 0-11 and 17-28 (missing from 12-16), and another person
+    600 px to the right at frames 4 and 20, listed before the walker there (a detector
+    without a tracker)."""
+    pose = example_points()[0]
+    sway = np.array([[0.0, 4.0]]) * np.sin(np.linspace(0, 1, 15))[:, None]
+    rows, numbers, second = [], [], []
+    for t in list(range(12)) + list(range(17, 29)):
+        walker = pose + [3.0 * t, 0.0] + sway * np.sin(0.5 * t)
+        if t in (4, 20):
+            second.append(len(rows))
+            rows.append(walker + [600.0, 10.0])
+            numbers.append(t)
+        rows.append(walker)
+        numbers.append(t)
+    return np.array(rows), np.array(numbers), second
+
+
+def write_keypoints(path, rows, numbers):
+    poses = [
+        {"id": f"pose-{i}", "frame": int(f), "landmarks": dict(zip(camloc.LANDMARKS, p.tolist()))}
+        for i, (p, f) in enumerate(zip(rows, numbers))
+    ]
+    path.write_text(json.dumps({"format": "camloc-keypoints", "version": 1, "poses": poses}))
+    return path
+
+
+def test_frame_numbers_give_the_command_line_s_sequence(tmp_path, cli):
+    rows, numbers, second = untracked_video()
+    path = write_keypoints(tmp_path / "video.json", rows, numbers)
+    _, expected = cli("reconstruct", "--input", path, "--sequence", "--camera-height", "any")
+    by_id = {o["id"]: o for o in expected}
+    with pytest.warns(UserWarning, match="2 row\\(s\\) share their frame number"):
+        got = camloc.reconstruct(rows, sequence=True, frames=numbers, camera_height="any")
+    assert got["left_out_of_sequence"].tolist() == [i in second for i in range(len(rows))]
+    for i in range(len(rows)):
+        want = by_id[f"pose-{i}"]
+        assert want.get("left_out_of_sequence", False) == (i in second)
+        landmarks = [want["landmarks_m"][name] for name in camloc.LANDMARKS]
+        np.testing.assert_allclose(got["points3d"][i], landmarks, rtol=1e-9, atol=1e-12)
+    # The second person is not placed in the world; the walker is, in every frame.
+    assert np.isnan(got["world_points3d"][second]).all()
+    assert np.isfinite(np.delete(got["world_points3d"], second, axis=0)).all()
+    # The same rows as consecutive frames (no numbers) are another sequence: the gap is no
+    # longer a break between runs, and the second person's rows are frames of their own.
+    consecutive = camloc.reconstruct(rows, sequence=True, camera_height="any")
+    assert not np.allclose(consecutive["points3d"], got["points3d"])
+
+    _, expected = cli("localize", "--input", path, "--sequence", "--camera-height", "any")
+    by_id = {o["id"]: o for o in expected}
+    localizer = camloc.Localizer(camera_height="any")
+    with pytest.warns(UserWarning, match="share their frame number"):
+        smoothed = localizer.localize(rows, sequence=True, frames=numbers)
+    for i in range(len(rows)):
+        want = by_id[f"pose-{i}"]
+        assert bool(smoothed["left_out_of_sequence"][i]) == want.get("left_out_of_sequence", False)
+        assert smoothed["smoothed_label"][i] == want["smoothed_label"]
+        if i in second:
+            assert np.isnan(smoothed["smoothed_azimuth_deg"][i])
+        else:
+            for key in ["smoothed_azimuth_deg", "smoothed_elevation_deg"]:
+                np.testing.assert_allclose(smoothed[key][i], want[key], atol=1e-4)
+
+
+def test_bad_frame_numbers_are_refused():
+    rows, numbers, _ = untracked_video()
+    with pytest.raises(ValueError, match="frames is for sequence=True"):
+        camloc.reconstruct(rows, frames=numbers)
+    with pytest.raises(ValueError, match="frames must not decrease"):
+        camloc.reconstruct(rows, sequence=True, frames=numbers[::-1])
+    with pytest.raises(ValueError, match="one number per row \\(26\\), got 25"):
+        camloc.Localizer().localize(rows, sequence=True, frames=numbers[:-1])
+    with pytest.raises(ValueError, match="whole numbers"):
+        camloc.reconstruct(rows, sequence=True, frames=numbers + 0.5)
+    # read_keypoints' frames of an input without numbers (all -1) are consecutive rows.
+    same = camloc.reconstruct(rows[:4], sequence=True, frames=np.full(4, -1))
+    np.testing.assert_array_equal(
+        same["points3d"], camloc.reconstruct(rows[:4], sequence=True)["points3d"]
+    )
