@@ -46,11 +46,29 @@ struct Annotation {
 }
 
 impl Annotation {
-    /// A dataset's annotation that holds no keypoint by its own account (`iscrowd` 1 or
-    /// `num_keypoints` 0): not a pose, skipped (a COCO dataset file has thousands).
+    /// A dataset's annotation that is no pose: a crowd's region (`iscrowd` 1, `true` or
+    /// `"1"`) or a person without a labelled keypoint (`num_keypoints` 0), whose keypoints
+    /// are indeed all unlabelled (absent, or every flag 0): skipped (a COCO dataset file has
+    /// thousands). One that says so but has labelled keypoints is read.
     fn without_keypoints(&self) -> bool {
-        let is = |value: &Option<Json>, n: f64| matches!(value, Some(Json::Number(v)) if v.as_f64() == Some(n));
-        is(&self.iscrowd, 1.0) || is(&self.num_keypoints, 0.0)
+        let crowd = match &self.iscrowd {
+            Some(Json::Number(v)) => v.as_f64() == Some(1.0),
+            Some(Json::Bool(crowd)) => *crowd,
+            Some(Json::String(text)) => text == "1" || text.eq_ignore_ascii_case("true"),
+            _ => false,
+        };
+        let none_labelled =
+            matches!(&self.num_keypoints, Some(Json::Number(v)) if v.as_f64() == Some(0.0));
+        let unlabelled = match &self.keypoints {
+            None => true,
+            Some(Json::Array(values)) => values
+                .iter()
+                .skip(2)
+                .step_by(3)
+                .all(|v| matches!(v, Json::Number(n) if n.as_f64() == Some(0.0))),
+            Some(_) => false,
+        };
+        (crowd || none_labelled) && unlabelled
     }
 }
 

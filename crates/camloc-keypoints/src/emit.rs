@@ -310,7 +310,7 @@ impl<'de, T: TopLevel> Visitor<'de> for Top<'_, '_, T> {
 
     refuse_scalar! {
         visit_unit() => Json::Null;
-        visit_bool(bool) => Json::Bool;
+        visit_bool(bool) => Json::Bool(false);
         visit_i64(i64) => Json::Number(0.into());
         visit_u64(u64) => Json::Number(0.into());
         visit_f64(f64) => Json::Number(0.into());

@@ -71,7 +71,8 @@ pub enum KeypointError {
         bytes: u64,
         /// The limit in bytes.
         limit: u64,
-        /// Which limit: `ReadOptions::max_bytes` or `OPENPOSE_FRAME_MAX_BYTES, one frame`.
+        /// Which limit: `--max-input-bytes; Rust ReadOptions::max_bytes` or
+        /// `OPENPOSE_FRAME_MAX_BYTES, one frame`.
         rule: &'static str,
     },
     /// A file of a folder listing that is not a regular file once links are followed (read
@@ -219,9 +220,10 @@ pub enum KeypointError {
     },
     /// A JSON object has keys the format does not define (all of them are listed).
     #[error(
-        "{}: {at}: unknown key(s) {} (allowed: {})",
+        "{}: {at}: unknown key(s) {}{} (allowed: {})",
         file_name(.file),
         quoted_list(keys),
+        .suggestion.map(|s| format!(", did you mean \"{s}\"?")).unwrap_or_default(),
         clip(allowed)
     )]
     UnknownKeys {
@@ -231,6 +233,9 @@ pub enum KeypointError {
         at: Location,
         /// The unknown keys, in the order found.
         keys: Vec<String>,
+        /// The allowed key nearest the first unknown one (at most 2 letters changed,
+        /// inserted or deleted, case aside), if any: the allowed list is cut at 80 characters.
+        suggestion: Option<&'static str>,
         /// The allowed keys, comma-separated.
         allowed: String,
     },
@@ -613,6 +618,7 @@ mod tests {
             file: "a.json".into(),
             at: Location::Path("poses[1].landmarks".into()),
             keys: vec!["nose".into(), "left_kne".into()],
+            suggestion: None,
             allowed: "pelvis, left_hip".into(),
         };
         assert_eq!(

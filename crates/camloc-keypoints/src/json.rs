@@ -14,8 +14,8 @@ use crate::error::{KeypointError, Location};
 #[derive(Debug)]
 pub(crate) enum Json {
     Null,
-    /// A boolean (no format uses its value, only its type).
-    Bool,
+    /// A boolean (COCO's `iscrowd` may be written `true`).
+    Bool(bool),
     /// Kept as `serde_json::Number` so that integer ids print exactly.
     Number(serde_json::Number),
     String(String),
@@ -29,7 +29,7 @@ impl Json {
     pub(crate) fn kind(&self) -> &'static str {
         match self {
             Json::Null => "null",
-            Json::Bool => "a boolean",
+            Json::Bool(_) => "a boolean",
             Json::Number(_) => "a number",
             Json::String(_) => "a string",
             Json::Array(_) => "an array",
@@ -90,9 +90,9 @@ impl<'de> Visitor<'de> for Bounded<'_> {
         Ok(Json::Null)
     }
 
-    fn visit_bool<E: de::Error>(self, _: bool) -> Result<Json, E> {
+    fn visit_bool<E: de::Error>(self, value: bool) -> Result<Json, E> {
         self.take()?;
-        Ok(Json::Bool)
+        Ok(Json::Bool(value))
     }
 
     fn visit_i64<E: de::Error>(self, v: i64) -> Result<Json, E> {
@@ -182,8 +182,8 @@ impl<'de> Visitor<'de> for SkipVisitor {
         Ok(Json::Null)
     }
 
-    fn visit_bool<E: de::Error>(self, _: bool) -> Result<Json, E> {
-        Ok(Json::Bool)
+    fn visit_bool<E: de::Error>(self, value: bool) -> Result<Json, E> {
+        Ok(Json::Bool(value))
     }
 
     fn visit_i64<E: de::Error>(self, v: i64) -> Result<Json, E> {
@@ -230,13 +230,42 @@ pub(crate) fn index_path(parent: &str, index: usize) -> String {
 /// Objects of at most this many keys are checked for a repeated key pair by pair.
 const SHORT_OBJECT_KEYS: usize = 16;
 
+/// Of `allowed`, the key nearest `key` (case aside) if at most 2 letters must be changed,
+/// inserted or deleted to make it (a typo: `nek` for `neck`, `Left_Knee` for `left_knee`).
+fn nearest(key: &str, allowed: &[&'static str]) -> Option<&'static str> {
+    let key: Vec<char> = key.to_lowercase().chars().take(64).collect();
+    allowed
+        .iter()
+        .map(|&a| (a, edit_distance(&key, &a.chars().collect::<Vec<_>>())))
+        .filter(|&(_, d)| d <= 2)
+        .min_by_key(|&(_, d)| d)
+        .map(|(a, _)| a)
+}
+
+/// The fewest letters changed, inserted or deleted to turn `a` into `b` (Levenshtein).
+fn edit_distance(a: &[char], b: &[char]) -> usize {
+    let mut row: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.iter().enumerate() {
+        let mut diagonal = row[0];
+        row[0] = i + 1;
+        for (j, cb) in b.iter().enumerate() {
+            let above = row[j + 1];
+            row[j + 1] = (above + 1)
+                .min(row[j] + 1)
+                .min(diagonal + usize::from(ca != cb));
+            diagonal = above;
+        }
+    }
+    row[b.len()]
+}
+
 /// Checks that the object at `path` uses only `allowed` keys, each at most once.
 ///
 /// Every unknown key is named in the error. Once all keys are known, a repeat is found within
 /// the first `allowed.len() + 1` keys, so the check is cheap even on hostile input.
 pub(crate) fn check_keys(
     fields: &[(String, Json)],
-    allowed: &[&str],
+    allowed: &[&'static str],
     file: &str,
     path: &str,
 ) -> Result<(), KeypointError> {
@@ -246,10 +275,12 @@ pub(crate) fn check_keys(
         .map(|(k, _)| k.clone())
         .collect();
     if !unknown.is_empty() {
+        let suggestion = unknown.first().and_then(|key| nearest(key, allowed));
         return Err(KeypointError::UnknownKeys {
             file: file.to_owned(),
             at: Location::Path(path.to_owned()),
             keys: unknown,
+            suggestion,
             allowed: allowed.join(", "),
         });
     }

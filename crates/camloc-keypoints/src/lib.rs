@@ -289,7 +289,10 @@ impl ReadOptions {
                 OPENPOSE_FRAME_MAX_BYTES,
                 "OPENPOSE_FRAME_MAX_BYTES, one frame",
             ),
-            _ => (self.max_bytes, "ReadOptions::max_bytes"),
+            _ => (
+                self.max_bytes,
+                "--max-input-bytes; Rust ReadOptions::max_bytes",
+            ),
         }
     }
 }

@@ -31,10 +31,10 @@ impl TopLevel for Frames {
         let Some(first) = seq.next_element::<Json>()? else {
             return Ok(());
         };
+        // A list of landmark objects (an "x" key) is one bare frame; other objects are
+        // frames wrapped in objects.
         if let Json::Object(fields) = &first
-            && !fields
-                .iter()
-                .any(|(key, _)| key == "landmark" || key == "landmarks")
+            && get(fields, "x").is_some()
         {
             // A bare list of landmark objects is one frame: keep one more landmark than a frame
             // has (for the error), count the rest.
@@ -123,17 +123,35 @@ fn frame_landmarks<'a>(
             index,
         )));
     };
-    let Some((key, list)) = fields
+    let mut lists = fields
         .iter()
-        .find(|(key, _)| key == "landmark" || key == "landmarks")
-    else {
+        .filter(|(key, _)| key == "landmark" || key == "landmarks");
+    let (Some((key, list)), None) = (lists.next(), lists.next()) else {
         return Err(wrong_type(file, path, FRAME, value));
     };
     let at = key_path(path, key);
-    let number = get(fields, "frame")
-        .and_then(tracking_number)
-        .and_then(|n| usize::try_from(n).ok())
-        .unwrap_or(index);
+    if fields.iter().filter(|(key, _)| key == "frame").count() > 1 {
+        return Err(KeypointError::DuplicateKey {
+            file: file.to_owned(),
+            at: Location::Path(key_path(path, "frame")),
+        });
+    }
+    let number = match get(fields, "frame") {
+        None => index,
+        Some(frame) => tracking_number(frame)
+            .and_then(|n| usize::try_from(n).ok())
+            .ok_or_else(|| KeypointError::InvalidValue {
+                file: file.to_owned(),
+                at: Location::Path(key_path(path, "frame")),
+                field: "frame",
+                text: match frame {
+                    Json::Number(n) => n.to_string(),
+                    Json::String(text) => text.clone(),
+                    other => other.kind().to_owned(),
+                },
+                expected: "a frame number (a whole number from 0)",
+            })?,
+    };
     if let Json::Null = list {
         return Ok(None);
     }
@@ -141,22 +159,35 @@ fn frame_landmarks<'a>(
     Ok(Some((list, at, number)))
 }
 
-/// Farthest a normalised coordinate may lie outside the image (in image sides): MediaPipe
-/// places landmarks it guesses beyond the image's edges a little outside [0, 1], and pixel
-/// coordinates lie hundreds of sides away.
+/// Farthest the middle of a frame's normalised coordinates may lie outside the image (in image
+/// sides): MediaPipe places landmarks it guesses beyond the image's edges a little outside
+/// [0, 1] (a close-up's ankles 6.5 sides below), and pixel coordinates lie hundreds of sides
+/// away.
 const NORMALISED_REACH: f64 = 5.0;
 
-/// `value` of coordinate `key` at `at`, unless it lies over [`NORMALISED_REACH`] image sides
-/// outside [0, 1] (pixels, not normalised coordinates).
-fn normalised(value: f64, key: &'static str, file: &str, at: &str) -> Result<f64, KeypointError> {
-    if (-NORMALISED_REACH..=1.0 + NORMALISED_REACH).contains(&value) {
-        return Ok(value);
+/// [`KeypointError::InvalidValue`] for the frame at `path` whose landmarks' median `key`
+/// coordinate (`coordinates`, normalised) lies over [`NORMALISED_REACH`] image sides outside
+/// [0, 1]: pixels, not normalised coordinates. `size` (1, 1) says that they are pixels.
+fn check_normalised(
+    mut coordinates: Vec<f64>,
+    key: &'static str,
+    size: ImageSize,
+    file: &str,
+    path: &str,
+) -> Result<(), KeypointError> {
+    if size.width == 1.0 && size.height == 1.0 {
+        return Ok(());
+    }
+    coordinates.sort_by(f64::total_cmp);
+    let median = coordinates[coordinates.len() / 2];
+    if (-NORMALISED_REACH..=1.0 + NORMALISED_REACH).contains(&median) {
+        return Ok(());
     }
     Err(KeypointError::InvalidValue {
         file: file.to_owned(),
-        at: Location::Path(at.to_owned()),
+        at: Location::Path(path.to_owned()),
         field: key,
-        text: value.to_string(),
+        text: format!("{median} (the frame's median)"),
         expected: "a normalised coordinate (MediaPipe's lie near [0, 1], a fraction of the \
                    image's side; coordinates already in pixels: --image-size 1,1, Python \
                    image_size=(1, 1))",
@@ -184,16 +215,22 @@ fn frame(
         });
     }
     let mut points = Vec::with_capacity(landmarks.len());
+    let mut coordinates = Vec::with_capacity(landmarks.len());
     for (k, landmark) in landmarks.iter().enumerate() {
         let path = index_path(path, k);
         let fields = object(landmark, "a landmark {x, y, z, visibility}", file, &path)?;
         check_keys(fields, &LANDMARK_KEYS, file, &path)?;
-        let [x, y] = ["x", "y"].map(|key| {
-            let at = key_path(&path, key);
-            let value = number(required(fields, key, file, &path)?, file, &at)?;
-            normalised(value, key, file, &at)
-        });
-        let (x, y) = (x?, y?);
+        let x = number(
+            required(fields, "x", file, &path)?,
+            file,
+            &key_path(&path, "x"),
+        )?;
+        let y = number(
+            required(fields, "y", file, &path)?,
+            file,
+            &key_path(&path, "y"),
+        )?;
+        coordinates.push([x, y]);
         if let Some(z) = get(fields, "z") {
             number(z, file, &key_path(&path, "z"))?;
         }
@@ -206,6 +243,10 @@ fn frame(
             }
         }
         points.push(kept.then_some([x * size.width, y * size.height]));
+    }
+    for (c, key) in ["x", "y"].into_iter().enumerate() {
+        let column = coordinates.iter().map(|xy| xy[c]).collect();
+        check_normalised(column, key, size, file, path)?;
     }
     Ok(KeypointRecord {
         frame: Some(index as u64),

@@ -128,3 +128,21 @@ fn openpose_s_older_key_is_read_and_a_declared_body25_insists() {
     let e = parse_keypoints(&new, name, None, &body25).unwrap_err();
     assert!(e.to_string().contains("leave out --layout"), "{e}");
 }
+
+#[test]
+fn a_misspelt_landmark_is_named_with_the_one_meant() {
+    let read = |landmarks: &str| {
+        let text = format!(r#"{{"id": "a", "landmarks": {{"pelvis": [1, 2], {landmarks}}}}}"#);
+        parse_keypoints(&text, "a.json", None, &ReadOptions::default())
+            .unwrap_err()
+            .to_string()
+    };
+    let message = read(r#""Left_Kne": [3, 4]"#);
+    assert!(
+        message.contains(r#""Left_Kne", did you mean "left_knee"?"#),
+        "{message}"
+    );
+    // Nothing within two letters: the list alone.
+    let message = read(r#""nose": [3, 4]"#);
+    assert!(!message.contains("did you mean"), "{message}");
+}

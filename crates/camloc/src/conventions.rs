@@ -69,14 +69,21 @@ impl InputConventions {
     }
 }
 
-/// Whether every landmark of `pose` (two or more) lies within [0, 1] in both coordinates:
-/// image coordinates divided by the image's sides (YOLO pose labels, OpenPose's
-/// `--keypoint_scale 3`, MediaPipe's before `--image-size`), which no pixel pose has.
+/// How far outside [0, 1] a normalised landmark may lie (in image sides): people partly out of
+/// the image have some a little outside it.
+const UNIT_SQUARE_MARGIN: f64 = 0.5;
+
+/// Whether every landmark of `pose` (two or more) lies within [0, 1] in both coordinates,
+/// give or take [`UNIT_SQUARE_MARGIN`]: image coordinates divided by the image's sides (YOLO
+/// pose labels, OpenPose's `--keypoint_scale 3`, MediaPipe's before `--image-size`), which no
+/// pixel pose has.
 fn within_unit_square(pose: &PartialPose2) -> bool {
     let mut present = 0;
     let within = pose.points.iter().flatten().all(|point| {
         present += 1;
-        point.iter().all(|c| (0.0..=1.0).contains(c))
+        point
+            .iter()
+            .all(|c| (-UNIT_SQUARE_MARGIN..=1.0 + UNIT_SQUARE_MARGIN).contains(c))
     });
     within && present >= 2
 }
@@ -89,11 +96,11 @@ fn within_unit_square(pose: &PartialPose2) -> bool {
 fn normalised_coordinates_warning(checked: u64, within: u64) -> Option<String> {
     (checked > 0 && within == checked).then(|| {
         format!(
-            "every coordinate of the {checked} pose(s) lies within [0, 1]: normalised by the \
-             image's width and height? That squashes the pose unless the image is \
+            "every coordinate of the {checked} pose(s) lies within about [0, 1]: normalised by \
+             the image's width and height? That squashes the pose unless the image is \
              square (diagonal and high views of a 16:9 image came out 22-36 deg off): give \
-             pixels (x times the width, y times the height), or coordinates divided by one \
-             number for both"
+             pixels (x times the width, y times the height); coordinates divided by one \
+             number for both are right as they are"
         )
     })
 }
@@ -112,7 +119,7 @@ mod tests {
         normalised.add(&pose);
         let said: Vec<String> = normalised.warnings().collect();
         assert!(
-            said.iter().any(|w| w.contains("lies within [0, 1]")),
+            said.iter().any(|w| w.contains("lies within about [0, 1]")),
             "{said:?}"
         );
         // The same pose in pixels, or one pixel pose among them: no such warning.
