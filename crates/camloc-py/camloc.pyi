@@ -287,16 +287,22 @@ def reconstruct(
       nothing.
     frames: with ``sequence``, each row's video frame number (N,) (whole numbers from 0 to
       2^53 that do not decrease; all -1, ``read_keypoints``' frames of an input without
-      numbers, are none), so that rows are read as ``camloc reconstruct --sequence`` reads one
-      person number's poses with their ``frame``s: the numbers between rows are frames the
-      person is missing from (time passes there; more than 3 at 30 frames a second split the
-      sequence into runs), and of several rows of one frame (an untracked detector's people:
+      numbers, are none; booleans and text are a ``TypeError``), so that rows are read as
+      ``camloc reconstruct --sequence`` reads one person number's poses with their
+      ``frame``s: the numbers between rows are frames the person is missing from (time passes
+      there; 3 or more missing in a row at 30 frames a second split the sequence into runs),
+      and of several rows of one frame (an untracked detector's people:
       ``read_keypoints(path)["frames"]`` of a file without track ids) the one nearest the
       person's rows around it is the person's, the others are reconstructed on their own and
-      marked in ``left_out_of_sequence`` (a ``UserWarning``). ``world_points3d`` is placed on
-      that timeline (rows spread over more than 100 frame numbers each are placed as
-      consecutive frames). Default: the rows are consecutive frames. A ``ValueError`` without
-      ``sequence``.
+      marked in ``left_out_of_sequence`` (a ``UserWarning``; no tracker: a person missed for
+      a while may be taken for another one within reach when seen again). ``world_points3d``
+      is placed on that timeline (rows spread over more than 100 frame numbers each are
+      placed as consecutive frames) but keeps one entry per row: for ``to_bvh``, put the rows
+      on the video's frames first (``t = frames - frames.min(); keep =
+      ~r["left_out_of_sequence"]; timeline = np.full((t.max() + 1, 15, 3), np.nan);
+      timeline[t[keep]] = r["world_points3d"][keep]``; ``to_bvh`` fills the NaN frames, as the
+      command line's BVH has them). Default: the rows are consecutive frames. A
+      ``ValueError`` without ``sequence``.
 
     Returns a dict:
       points3d (N, 15, 3) float64: the 3D landmarks in metres (the given bone lengths, else
@@ -337,7 +343,7 @@ def reconstruct(
       world_points3d (N, 15, 3): with ``sequence``, the frames placed where a camera standing
         still saw them, as ``camloc reconstruct --sequence --bvh`` animates them (a z-up world
         of the camera, the first pelvis above the origin, planted feet kept in place on the
-        floor; docs/cli.md section Animation): ``to_bvh(r["world_points3d"], fps,
+        floor; docs/animation.md): ``to_bvh(r["world_points3d"], fps,
         r["person_bone_lengths"])`` walks and turns (the command line's file, whose limbs are
         the mean lengths of its frames' poses, has its root up to a few millimetres higher);
         NaN where a frame failed. Without ``frames`` the rows are
@@ -437,9 +443,10 @@ def read_keypoints(
         ``frame_id`` and ``track_id`` or position in the frame); split a video's rows by
         person before ``reconstruct(..., sequence=True)``;
       file_errors: for a folder, (file, message) of each file that could not be read (the
-        others are still read); empty for a file.
+        others are still read, and a ``UserWarning`` names the first); empty for a file.
     A file or folder without poses gives empty arrays and a ``UserWarning`` ("no poses in
-    ...", which ``camloc`` on the command line makes an error).
+    ...", which ``camloc`` on the command line makes an error); a folder without poses where
+    a file could not be read raises that file's error, as reading it alone does.
 
     Raises OSError if the file cannot be read, CamlocError if it is malformed (the message
     names the file and place), ValueError for bad options (also a ``layout`` the file's format

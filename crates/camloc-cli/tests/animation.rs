@@ -460,7 +460,7 @@ fn a_duplicate_and_a_swapped_frame_are_left_out_of_the_sequence() {
     assert_eq!(objects.len(), 21);
     let stderr = String::from_utf8_lossy(&out.stderr);
     for expected in [
-        "person 0: 1 frame holds a second pose (first at frame 5)",
+        "person 0: 1 pose shares a frame with another pose (first at frame 5)",
         "person 0: the poses of 3 frames lie apart from the frames before and after them \
          (first at frame 13",
     ] {

@@ -13,7 +13,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use rayon::prelude::*;
 
-use crate::arrays::{Output, PoseBatch, Unmasked, UnmaskedPoints, UnmaskedScores};
+use crate::arrays::{Output, PoseBatch, UnmaskedPoints, UnmaskedScores};
 use crate::smooth::smoothed_columns;
 use crate::warnings::{
     warn_if_every_pose_failed, warn_of_identity_jumps, warn_of_input_conventions,
@@ -203,7 +203,7 @@ impl Localizer {
         focal_px: Option<Bound<'py, PyAny>>,
         principal_point: Option<Bound<'py, PyAny>>,
         #[pyo3(from_py_with = crate::number::fps)] fps: f64,
-        frames: Option<Unmasked<'py>>,
+        frames: Option<Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyDict>> {
         let rate = crate::smooth::frame_rate(fps)?;
         // With the camera's intrinsics each pose is localized as seen by the camera aimed at

@@ -146,11 +146,12 @@ pub(crate) fn read_keypoints<'py>(
                         }
                     }
                 }
-                // A folder none of whose files could be read: the first file's error, as
-                // reading that file alone gives it (a layout the format does not take
-                // fails every file alike).
+                // A folder without a pose read and with a file that could not be read (the
+                // others, if any, empty: OpenPose's frames without people): the first file's
+                // error, as reading that file alone gives it (a layout the format does not
+                // take fails every file alike).
                 match first_error {
-                    Some(e) if read_files == 0 => Err(e.into()),
+                    Some(e) if records.is_empty() => Err(e.into()),
                     _ => Ok((records, file_errors, read_files)),
                 }
             })

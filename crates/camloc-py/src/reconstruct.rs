@@ -15,7 +15,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyMapping};
 use rayon::prelude::*;
 
-use crate::arrays::{Output, PoseBatch, Unmasked, UnmaskedPoints, UnmaskedScores};
+use crate::arrays::{Output, PoseBatch, UnmaskedPoints, UnmaskedScores};
 use crate::localize::{Localizer, for_poses, height_shares, parse_height};
 use crate::smooth::{sequence_frames, timeline_max_slots};
 use crate::warnings::{
@@ -208,7 +208,7 @@ pub(crate) fn reconstruct<'py>(
     lifter: bool,
     #[pyo3(from_py_with = crate::number::person_height)] person_height: Option<f64>,
     #[pyo3(from_py_with = crate::number::fps)] fps: f64,
-    frames: Option<Unmasked<'py>>,
+    frames: Option<Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     // The command line's default.
     let camera = camera.unwrap_or("hybrid");

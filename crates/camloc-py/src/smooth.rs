@@ -110,12 +110,14 @@ pub(crate) fn frame_numbers(
     }
     let numbers = given
         .iter()
-        .map(|&f| {
+        .enumerate()
+        .map(|(k, &f)| {
             (f.is_finite() && f >= 0.0 && f.fract() == 0.0 && f <= 2f64.powi(53))
                 .then_some(f as u64)
                 .ok_or_else(|| {
+                    let masked = if f.is_nan() { " (masked?)" } else { "" };
                     value_error(format!(
-                        "frames must be whole numbers from 0 to 2^53, got {f}"
+                        "frames must be whole numbers from 0 to 2^53, got {f}{masked} at {k}"
                     ))
                 })
         })
@@ -141,9 +143,10 @@ pub(crate) fn frame_numbers(
 
 /// The video frame numbers of the `n` rows of a `sequence` call (`reconstruct`,
 /// `Localizer.localize`): `frames` as [`frame_numbers`] reads them (several rows of one frame
-/// allowed), else consecutive frames. `ValueError` for `frames` without `sequence`.
+/// allowed), else consecutive frames. `ValueError` for `frames` without `sequence`,
+/// `TypeError` for booleans or text (NumPy would read them as numbers).
 pub(crate) fn sequence_frames(
-    frames: Option<&Unmasked<'_>>,
+    frames: Option<&Bound<'_, PyAny>>,
     sequence: bool,
     n: usize,
 ) -> PyResult<Vec<Option<u64>>> {
@@ -154,7 +157,26 @@ pub(crate) fn sequence_frames(
                 .to_owned(),
         ));
     }
-    let numbers = frame_numbers(frames, n, "row", Order::NotDecreasing)?;
+    let frames = match frames {
+        Some(given) => {
+            let kind: String = given
+                .py()
+                .import("numpy")?
+                .call_method1("asarray", (given,))?
+                .getattr("dtype")?
+                .getattr("kind")?
+                .extract()?;
+            if !matches!(kind.as_str(), "i" | "u" | "f") {
+                return Err(pyo3::exceptions::PyTypeError::new_err(format!(
+                    "frames must be frame numbers (integers), got an array of NumPy kind \
+                     {kind:?}"
+                )));
+            }
+            Some(given.extract::<Unmasked<'_>>()?)
+        }
+        None => None,
+    };
+    let numbers = frame_numbers(frames.as_ref(), n, "row", Order::NotDecreasing)?;
     Ok(match numbers {
         Some(numbers) => numbers.into_iter().map(Some).collect(),
         None => (0..n as u64).map(Some).collect(),

@@ -85,8 +85,15 @@ def test_bad_frame_numbers_are_refused():
         camloc.reconstruct(rows, sequence=True, frames=numbers[::-1])
     with pytest.raises(ValueError, match="one number per row \\(26\\), got 25"):
         camloc.Localizer().localize(rows, sequence=True, frames=numbers[:-1])
-    with pytest.raises(ValueError, match="whole numbers"):
+    with pytest.raises(ValueError, match="whole numbers from 0 to 2\\^53, got 0.5 at 0"):
         camloc.reconstruct(rows, sequence=True, frames=numbers + 0.5)
+    masked = np.ma.masked_array(numbers, mask=np.arange(len(numbers)) == 3)
+    with pytest.raises(ValueError, match="got NaN \\(masked\\?\\) at 3"):
+        camloc.reconstruct(rows, sequence=True, frames=masked)
+    # Booleans and text are no frame numbers (NumPy would read them as 0/1 and numbers).
+    for given in (numbers > 5, numbers.astype(str)):
+        with pytest.raises(TypeError, match="frames must be frame numbers"):
+            camloc.reconstruct(rows, sequence=True, frames=given)
     # read_keypoints' frames of an input without numbers (all -1) are consecutive rows.
     same = camloc.reconstruct(rows[:4], sequence=True, frames=np.full(4, -1))
     np.testing.assert_array_equal(

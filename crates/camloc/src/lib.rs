@@ -88,7 +88,7 @@ pub use height_shares::{
 };
 pub use identity::{
     IDENTITY_JUMP_TORSOS, IDENTITY_SIZE_RATIO, LeftOut, OUTLIER_END_GAP_FRAMES, OUTLIER_RUN_FRAMES,
-    TorsoAnchor, identity_jumps, left_out_of_sequence, outlier_frames,
+    PERSON_STEP_TORSOS, TorsoAnchor, identity_jumps, left_out_of_sequence, outlier_frames,
 };
 pub use reconstruction::{
     PoseReconstruction, PoseReconstructor, PoseSequenceReconstruction, SEQUENCE_BREAK_FRAMES,

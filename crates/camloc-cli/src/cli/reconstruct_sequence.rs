@@ -11,12 +11,8 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use camloc::keypoints::KeypointRecord;
-use camloc::reconstruct::BoneLengths;
-use camloc::skeleton::Landmark;
 use camloc::store::{StagedFiles, check_target};
-use camloc::{
-    ModeKind, PartialPose2, Pose3, PoseReconstruction, PoseReconstructor, TorsoAnchor, sequences,
-};
+use camloc::{ModeKind, Pose3, PoseReconstruction, PoseReconstructor, sequences};
 use indicatif::ProgressBar;
 
 use crate::html::ViewFrame;
@@ -24,10 +20,11 @@ use crate::html::ViewFrame;
 use super::export::Kept;
 use super::input::Inputs;
 use super::output::{NpyStage, Out};
+use super::person_solve::{PARALLEL_FRAMES, Prepared, Solved, solve_persons};
 use super::reconstruct_output::{PoseMeta, lengths_text, pose_output, pose_svg};
 use super::stream::{
-    Emitter, Finish, Format, KEEP_MAX_POSES, Summary, check_kept, check_kept_input, counted,
-    nothing_detected, report_pose_error,
+    Emitter, Finish, Format, Summary, check_kept, check_kept_input, counted, nothing_detected,
+    report_pose_error,
 };
 use super::{CliError, numbered_path};
 
@@ -146,191 +143,156 @@ pub fn run(
     let mut exported: Vec<Kept> = Vec::new();
     // The staged drawings: (pose index, staged file).
     let mut drawn: Vec<(usize, usize)> = Vec::new();
-    for (n, (person, members)) in groups.iter().enumerate() {
-        let numbers = super::sequence::frame_numbers(&keys, members);
-        let mut poses: Vec<PartialPose2> = members.iter().map(|&i| kept[i].pose).collect();
-        let rate = reconstructor.frame_rate();
-        let swapped_sides =
-            super::sequence::sides_swapped_back(*person, &numbers, &mut poses, rate);
-        let anchors: Vec<_> = poses.iter().map(TorsoAnchor::of).collect();
-        // A second pose of a frame, and a frame whose pose is not where the frames around it
-        // put the person, are reconstructed on their own, outside the sequence.
-        let left_out = super::sequence::left_out_of_sequence(
-            *person,
-            &numbers,
-            &anchors,
-            rate,
-            "reconstructed on its own, left out of the sequence (its lengths, smoothness and \
-             animation)",
-        );
-        let in_sequence: Vec<usize> = (0..members.len()).filter(|&m| !left_out[m]).collect();
+    let mut next = 0;
+    while next < groups.len() {
+        // Persons of a few frames each are solved side by side, in groups of at most
+        // PARALLEL_FRAMES frames; a larger person alone.
+        let mut end = next + 1;
+        let mut frames_in_group = groups[next].1.len();
+        while let Some((_, members)) = groups.get(end)
+            && frames_in_group + members.len() <= PARALLEL_FRAMES
+        {
+            frames_in_group += members.len();
+            end += 1;
+        }
+        let group = &groups[next..end];
+        let prepared: Vec<Prepared> = group
+            .iter()
+            .map(|(person, members)| {
+                let numbers = super::sequence::frame_numbers(&keys, members);
+                let poses = members.iter().map(|&i| kept[i].pose).collect();
+                Prepared::of(*person, numbers, poses, reconstructor)
+            })
+            .collect();
         // The solve of a long sequence takes a while (20,000 frames: tens of seconds) and
         // counts nothing: a spinner says whose it is, when the reading's bar was shown.
         let solving = if bar.is_hidden() {
             ProgressBar::hidden()
         } else {
-            super::progress::spinner(
-                false,
-                &format!(
-                    "reconstructing person {person} ({} of {}, {})",
-                    n + 1,
-                    groups.len(),
-                    counted(members.len() as u64, "frame")
-                ),
-            )
-        };
-        // A frame after more than `sequence_break_frames` frame numbers the person is missing
-        // from starts a new run (the left-out frames count for none).
-        let result = reconstructor.reconstruct_sequence_at_frames(&numbers, &poses, &left_out);
-        solving.finish_and_clear();
-        // The left-out frames are reconstructed on their own, also when the sequence failed.
-        let (frames, lengths): (Vec<Result<PoseReconstruction, String>>, Option<BoneLengths>) =
-            match result {
-                Ok(r) => (
-                    r.frames
-                        .into_iter()
-                        .map(|f| f.map_err(|e| e.to_string()))
-                        .collect(),
-                    Some(r.lengths),
-                ),
-                Err(e) => (
-                    (0..members.len())
-                        .map(|m| match left_out[m] {
-                            true => reconstructor
-                                .reconstruct(&poses[m])
-                                .map_err(|e| e.to_string()),
-                            false => Err(e.to_string()),
-                        })
-                        .collect(),
-                    None,
-                ),
+            let whose = match group {
+                [(person, _)] => format!("person {person} ({} of {}", next + 1, groups.len()),
+                _ => format!("persons {} to {} of {}", next + 1, end, groups.len()),
             };
-        // A failed sequence is reported once on standard error, not once per frame (the JSON
-        // outputs still hold an error object per frame).
-        let whole_failed = lengths.is_none();
-        if let (true, Some(&first)) = (whole_failed, in_sequence.first()) {
-            let message = frames[first].as_ref().err();
-            report_pose_error(
-                bar,
-                &format!(
-                    "person {person}, {}",
-                    counted(in_sequence.len() as u64, "frame")
-                ),
-                &kept[members[first]].source,
-                message.map_or("", String::as_str),
-            );
-        }
-        // Placed where the camera saw them, on the video's timeline (frames where the person
-        // was not detected count as time passing, as do the frames left out of the sequence);
-        // only for the files made at the end.
-        let found: Vec<_> = frames
+            let frames = counted(frames_in_group as u64, "frame");
+            super::progress::spinner(false, &format!("reconstructing {whose}, {frames})"))
+        };
+        let solved = solve_persons(
+            reconstructor,
+            &prepared,
+            options.finish.is_some(),
+            options.root_motion,
+        );
+        solving.finish_and_clear();
+        for (k, ((person, members), (prepared, solved))) in group
             .iter()
-            .zip(&left_out)
-            .map(|(f, &left)| f.as_ref().ok().filter(|_| !left))
-            .collect();
-        let reconstructed = found.iter().flatten().count();
-        let placed: Vec<Option<Pose3>> = if options.finish.is_none() {
-            vec![None; members.len()]
-        } else {
-            reconstructor.place_on_timeline(&numbers, &found, KEEP_MAX_POSES as usize)
-        };
-        // The poses the BVH gets: as placed, or in place (the body frame, facing one way, the
-        // pelvis above the origin at the height the placement gives it: the feet on the floor,
-        // the body bobbing as it did).
-        let animated: Vec<Option<Pose3>> = if options.root_motion {
-            placed
-        } else {
-            found
-                .iter()
-                .zip(&placed)
-                .map(|(r, world)| {
-                    let (r, world) = (r.as_ref()?, world.as_ref()?);
-                    let height = world.get(Landmark::Pelvis)[2];
-                    Some(Pose3 {
-                        points: r
-                            .reconstruction
-                            .pose
-                            .points
-                            .map(|q| [q[0], q[1], q[2] + height]),
-                    })
-                })
-                .collect()
-        };
-        let outputs = members.iter().zip(frames).zip(animated).zip(left_out);
-        for ((((&i, frame), pose), left), &sides) in outputs.zip(&swapped_sides) {
-            let k = &kept[i];
-            if options.finish.is_some() {
-                let (r, error) = match &frame {
-                    Ok(r) => (Some(r), None),
-                    Err(message) => (None, Some(message.clone())),
-                };
-                exported.push(Kept {
-                    key: (k.frame, k.person),
-                    pose,
-                    view: (options.view)(k, r, error),
-                });
+            .zip(prepared.into_iter().zip(solved))
+            .enumerate()
+        {
+            let n = next + k;
+            let Prepared {
+                swapped_sides,
+                left_out,
+                ..
+            } = prepared;
+            let Solved {
+                frames,
+                lengths,
+                animated,
+                reconstructed,
+            } = solved;
+            let in_sequence: Vec<usize> = (0..members.len()).filter(|&m| !left_out[m]).collect();
+            // A failed sequence is reported once on standard error, not once per frame (the
+            // JSON outputs still hold an error object per frame).
+            let whole_failed = lengths.is_none();
+            if let (true, Some(&first)) = (whole_failed, in_sequence.first()) {
+                let message = frames[first].as_ref().err();
+                report_pose_error(
+                    bar,
+                    &format!(
+                        "person {person}, {}",
+                        counted(in_sequence.len() as u64, "frame")
+                    ),
+                    &kept[members[first]].source,
+                    message.map_or("", String::as_str),
+                );
             }
-            match frame {
-                Ok(r) => {
-                    let meta = PoseMeta {
-                        id: &k.id,
-                        source: &k.source,
-                        frame: k.frame,
-                        person: k.person,
-                        left_out: left,
-                        swapped_sides: &super::sequence::side_names(sides),
+            let outputs = members.iter().zip(frames).zip(animated).zip(left_out);
+            for ((((&i, frame), pose), left), &sides) in outputs.zip(&swapped_sides) {
+                let k = &kept[i];
+                if options.finish.is_some() {
+                    let (r, error) = match &frame {
+                        Ok(r) => (Some(r), None),
+                        Err(message) => (None, Some(message.clone())),
                     };
-                    emit.write(out, &pose_output(format, &meta, options.choice, &r))?;
-                    if let Some(svg) = options.svg {
-                        let drawing = pose_svg(&k.pose, &k.id, options.choice, &r);
-                        // Numbered by the pose's position in the input, as without
-                        // --sequence; an input of one pose is renamed to `svg` below.
-                        let path = numbered_path(svg, i, 2);
-                        drawn.push((i, staged.add(&path, drawing.as_bytes())?));
-                    }
-                    if let Some(row) = rows.get_mut(i) {
-                        *row = Some(r.reconstruction.pose);
-                    }
+                    exported.push(Kept {
+                        key: (k.frame, k.person),
+                        pose,
+                        view: (options.view)(k, r, error),
+                    });
                 }
-                Err(message) => {
-                    let message = refused.get(&i).cloned().unwrap_or(message);
-                    if refused.contains_key(&i) {
-                        summary.failed_poses += 1;
-                    } else if nothing_detected(&k.pose) {
-                        summary.undetected += 1;
-                    } else {
-                        summary.failed_poses += 1;
-                        if !whole_failed || left {
-                            report_pose_error(bar, &k.id, &k.source, &message);
+                match frame {
+                    Ok(r) => {
+                        let meta = PoseMeta {
+                            id: &k.id,
+                            source: &k.source,
+                            frame: k.frame,
+                            person: k.person,
+                            left_out: left,
+                            swapped_sides: &super::sequence::side_names(sides),
+                        };
+                        emit.write(out, &pose_output(format, &meta, options.choice, &r))?;
+                        if let Some(svg) = options.svg {
+                            let drawing = pose_svg(&k.pose, &k.id, options.choice, &r);
+                            // Numbered by the pose's position in the input, as without
+                            // --sequence; an input of one pose is renamed to `svg` below.
+                            let path = numbered_path(svg, i, 2);
+                            drawn.push((i, staged.add(&path, drawing.as_bytes())?));
+                        }
+                        if let Some(row) = rows.get_mut(i) {
+                            *row = Some(r.reconstruction.pose);
                         }
                     }
-                    emit.pose_error(out, k, &message)?;
+                    Err(message) => {
+                        let message = refused.get(&i).cloned().unwrap_or(message);
+                        if refused.contains_key(&i) {
+                            summary.failed_poses += 1;
+                        } else if nothing_detected(&k.pose) {
+                            summary.undetected += 1;
+                        } else {
+                            summary.failed_poses += 1;
+                            if !whole_failed || left {
+                                report_pose_error(bar, &k.id, &k.source, &message);
+                            }
+                        }
+                        emit.pose_error(out, k, &message)?;
+                    }
+                }
+            }
+            if let (Some(_), 0) = (&lengths, reconstructed) {
+                stderr_line!(
+                    "camloc: no bone lengths for person {person}: none of its frames was reconstructed"
+                );
+            }
+            if let Some(lengths) = lengths.filter(|_| reconstructed > 0) {
+                if format == Format::Text {
+                    emit.write(
+                        out,
+                        &format!(
+                            "person {person} ({}): bone lengths (m): {}\n",
+                            counted(members.len() as u64, "frame"),
+                            lengths_text(&lengths)
+                        ),
+                    )?;
+                }
+                if let Some(path) = options.lengths_out {
+                    staged.add(
+                        &numbered_path(&lengths_base(path, groups.len()), n, groups.len()),
+                        lengths.to_json_string().as_bytes(),
+                    )?;
                 }
             }
         }
-        if let (Some(_), 0) = (&lengths, reconstructed) {
-            stderr_line!(
-                "camloc: no bone lengths for person {person}: none of its frames was reconstructed"
-            );
-        }
-        if let Some(lengths) = lengths.filter(|_| reconstructed > 0) {
-            if format == Format::Text {
-                emit.write(
-                    out,
-                    &format!(
-                        "person {person} ({}): bone lengths (m): {}\n",
-                        counted(members.len() as u64, "frame"),
-                        lengths_text(&lengths)
-                    ),
-                )?;
-            }
-            if let Some(path) = options.lengths_out {
-                staged.add(
-                    &numbered_path(&lengths_base(path, groups.len()), n, groups.len()),
-                    lengths.to_json_string().as_bytes(),
-                )?;
-            }
-        }
+        next = end;
     }
     emit.end(out)?;
     out.flush()?;

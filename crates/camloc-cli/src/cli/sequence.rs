@@ -447,9 +447,10 @@ pub fn left_out_of_sequence(
     if let Some(&first) = left_out.second_poses.first() {
         let seconds = left_out.second_poses.len();
         stderr_line!(
-            "camloc: warning: person {person}: {} hold{} a second pose (first at {}): the \
-             pose further from the person's frames around it is {treated}",
-            counted(seconds as u64, "frame"),
+            "camloc: warning: person {person}: {} share{} a frame with another pose (first at \
+             {}): of a frame's poses the one nearest the person's frames around it is the \
+             person's, each other is {treated}",
+            counted(seconds as u64, "pose"),
             if seconds == 1 { "s" } else { "" },
             at(first)
         );
