@@ -316,7 +316,7 @@ impl Localizer {
         if sequence {
             let read = leading.iter().map(|p| p.unwrap_or(PartialPose2::empty()));
             let (repaired, marks) =
-                warn_of_swapped_sides(py, read.collect(), &frame_numbers, rate)?;
+                warn_of_swapped_sides(py, read.collect(), &frame_numbers, &left_out, rate)?;
             for (i, (pose, mark)) in repaired.iter().zip(&marks).enumerate() {
                 if !mark.contains(&true) {
                     continue;

@@ -303,13 +303,11 @@ pub(crate) fn reconstruct<'py>(
         let read: Vec<Result<camloc::PartialPose2, String>> = (0..n)
             .map(|i| batch.pose(i).map(|m| m.pose).map_err(|e| e.to_string()))
             .collect();
-        let poses = read
+        let poses: Vec<camloc::PartialPose2> = read
             .iter()
             .map(|r| r.as_ref().map_or(camloc::PartialPose2::empty(), |p| *p))
             .collect();
         let rate = reconstructor.frame_rate();
-        let (poses, marks) = warn_of_swapped_sides(py, poses, &numbers, rate)?;
-        swapped_sides = Some(marks);
         let left_out = warn_of_identity_jumps(
             py,
             poses.iter().map(Some),
@@ -318,6 +316,9 @@ pub(crate) fn reconstruct<'py>(
             "reconstructed on their own, left out of the sequence (its lengths, smoothness \
              and world placement), as the command line does",
         )?;
+        // The limbs swapped in the rows kept (another person's are not judged).
+        let (poses, marks) = warn_of_swapped_sides(py, poses, &numbers, &left_out, rate)?;
+        swapped_sides = Some(marks);
         let solved = py
             .detach(|| {
                 crate::pool::run(|| {

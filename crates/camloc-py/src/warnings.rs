@@ -63,18 +63,20 @@ pub(crate) fn warn_if_every_pose_failed(
     warn(py, message)
 }
 
-/// The rows of a sequence (in time order, at frame numbers `rows`) with the limbs a detector
-/// swapped for a few frames swapped back (`camloc::swapped_sides`, as `camloc reconstruct
-/// --sequence` does), with a `UserWarning` per chain, and per row whether its legs and its
-/// arms were swapped back (`[legs, arms]`, the order of `camloc::SideChain::ALL`).
+/// The rows of a sequence (in time order, at frame numbers `rows`; those `left_out` of it
+/// aside) with the limbs a detector swapped for a few frames swapped back
+/// (`camloc::swap_sides_back`, as `camloc reconstruct --sequence` does), with a `UserWarning`
+/// per chain, and per row whether its legs and its arms were swapped back (`[legs, arms]`,
+/// the order of `camloc::SideChain::ALL`).
 pub(crate) fn warn_of_swapped_sides(
     py: Python<'_>,
     mut poses: Vec<PartialPose2>,
     rows: &[Option<u64>],
+    left_out: &[bool],
     rate: FrameRate,
 ) -> PyResult<(Vec<PartialPose2>, Vec<[bool; 2]>)> {
     let mut marks = vec![[false; 2]; poses.len()];
-    for (c, (chain, swapped)) in swap_sides_back(rows, &mut poses, rate)
+    for (c, (chain, swapped)) in swap_sides_back(rows, &mut poses, left_out, rate)
         .into_iter()
         .enumerate()
     {

@@ -12,13 +12,13 @@ use camloc_skeleton::{Landmark, PartialPose2};
 /// frame.
 pub const IDENTITY_JUMP_TORSOS: f64 = 1.0;
 
-/// The farthest a person's pelvis is taken to move in 1/30 s, in 2D torso lengths, when a
-/// frame's poses are told apart ([`left_out_of_sequence`]): a person running past a camera
-/// moves about a third of a torso. After the person was missed for a while, a pose is the
+/// How far beyond where it is expected (carried on at its own velocity) a person's pelvis is
+/// taken to move in 1/30 s, in 2D torso lengths, when a frame's poses are told apart
+/// ([`left_out_of_sequence`]). After the person was missed for a while, a pose is the
 /// person's only within [`IDENTITY_JUMP_TORSOS`] (a detector's slack) plus this for every
-/// further 1/30 s: a reach of a whole torso per frame had taken another person 2.8 torsos
-/// away for the person after 3 missed frames, and kept them (a simulated user's three
-/// untracked walkers).
+/// further 1/30 s: a reach of a whole torso per frame from the last pose had taken another
+/// person 2.8 torsos away for the person after 3 missed frames, and kept them (a simulated
+/// user's three untracked walkers).
 pub const PERSON_STEP_TORSOS: f64 = 0.4;
 
 /// The ratio of two consecutive frames' 2D torso lengths above which [`identity_jumps`]
@@ -351,17 +351,60 @@ where
     }
 }
 
+/// The person's chosen poses [`other_poses_of_frames`] carries the velocity over: at most
+/// this many, newest last, spanning at most [`TRACK_SPAN_STEPS`].
+const TRACK_POSES: usize = 4;
+
+/// The longest time, in 1/30 s, over which the person's velocity is measured and carried on.
+const TRACK_SPAN_STEPS: f64 = 8.0;
+
+/// Where the person's pelvis is expected at position `m` of the person's frames (`frames`
+/// numbers, at `rate`), from `track` (the person's last chosen poses, newest last): the
+/// newest's, carried on for at most [`TRACK_SPAN_STEPS`] at the velocity from the oldest to
+/// the newest (when they span at most that); with the newest's torso, and the time elapsed
+/// since it in 1/30 s.
+fn expected(
+    track: &[(usize, TorsoAnchor)],
+    frames: &[Option<u64>],
+    m: usize,
+    rate: FrameRate,
+) -> Option<(TorsoAnchor, f64)> {
+    let step = rate.step() as f64;
+    let &(at, newest) = track.last()?;
+    let steps = elapsed(frames, at, m) / step;
+    let &(first_at, oldest) = track.first()?;
+    let span = elapsed(frames, first_at, at) / step;
+    let mut pelvis = newest.pelvis;
+    if first_at != at && span <= TRACK_SPAN_STEPS {
+        let carried = steps.min(TRACK_SPAN_STEPS) / span;
+        for (p, (n, o)) in pelvis
+            .iter_mut()
+            .zip(newest.pelvis.iter().zip(&oldest.pelvis))
+        {
+            *p += (n - o) * carried;
+        }
+    }
+    let anchor = TorsoAnchor {
+        pelvis,
+        torso: newest.torso,
+    };
+    Some((anchor, steps))
+}
+
 /// The positions of the poses of one person's frames (`frames` numbers and `anchors` as for
 /// [`left_out_of_sequence`]) that share a frame number with another pose and are not the
-/// person's. Of each frame's poses the person's is, of those within reach of the person's
-/// last pose ([`PERSON_STEP_TORSOS`], in time at `rate`), the nearest it
-/// (pelvis distance in torso lengths, and the torsos' size ratio), or none when none is (the
-/// person was not detected there); before the person's first pose with a torso, the first
-/// in the input. The person's last pose is the last chosen one, a frame of one pose counting
-/// only when within reach (another person detected alone where the person was missed is left
-/// to [`outlier_frames`]). The first in the input had been the person's: an untracked second
-/// person listed first in some frames was taken for the person there (a simulated user's
-/// animation jumped 4 m for 15 frames).
+/// person's. Of each frame's poses the person's is, of those within reach of where the
+/// person is expected (the last chosen pose carried on at the person's velocity over the last
+/// few: [`expected`]; the reach a torso length and [`PERSON_STEP_TORSOS`] for every further
+/// 1/30 s at `rate`), the nearest it (pelvis distance in torso lengths, and the torsos' size
+/// ratio), or none when none is (the person was not detected there); before the person's
+/// first pose with a torso, the first in the input. The person's poses are the chosen ones, a
+/// frame of one pose counting only when within reach (another person detected alone where
+/// the person was missed is left to [`outlier_frames`]). The first in the input had been the
+/// person's: an untracked second person listed first in some frames was taken for the person
+/// there (a simulated user's animation jumped 4 m for 15 frames); then a reach of a torso per
+/// frame from the last pose took a bystander 2.8 torsos away for a walker missed for 3
+/// frames, and a reach in time without the velocity lost a sprinter passing a walker.
 fn other_poses_of_frames(
     frames: &[Option<u64>],
     anchors: &[Option<TorsoAnchor>],
@@ -370,44 +413,39 @@ fn other_poses_of_frames(
     let n = frames.len();
     let same = |a: usize, b: usize| frames[a].is_some() && frames[a] == frames[b];
     let anchor = |m: usize| anchors.get(m).copied().flatten();
-    // How far the pose at `candidate` is from `reference`, in torso lengths and sizes.
-    let distance = |candidate: usize, reference: &TorsoAnchor| {
-        anchor(candidate).map(|a| {
-            let (moved, ratio) = torso_step(reference, &a);
-            moved + ratio.ln()
-        })
-    };
-    // Whether the pose at `m` is within reach of the person's last pose, at `at`: a
-    // detector's slack and a person's step for every further 1/30 s.
-    let reachable = |(at, reference): (usize, TorsoAnchor), m: usize| {
-        anchor(m).is_some_and(|a| {
-            let steps = elapsed(frames, at, m) / rate.step() as f64;
-            let reach = IDENTITY_JUMP_TORSOS + PERSON_STEP_TORSOS * (steps - 1.0).max(0.0);
-            let (moved, ratio) = torso_step(&reference, &a);
-            moved <= reach && (steps > 1.0 || ratio <= IDENTITY_SIZE_RATIO)
-        })
+    // How far the pose at `m` is from where the person is expected (`track`), in torso
+    // lengths and sizes, when within reach: a detector's slack and a person's step for every
+    // further 1/30 s.
+    let distance = |track: &[(usize, TorsoAnchor)], m: usize| {
+        let (there, steps) = expected(track, frames, m, rate)?;
+        let (moved, ratio) = torso_step(&there, &anchor(m)?);
+        let reach = IDENTITY_JUMP_TORSOS + PERSON_STEP_TORSOS * (steps - 1.0).max(0.0);
+        (moved <= reach && (steps > 1.0 || ratio <= IDENTITY_SIZE_RATIO))
+            .then(|| moved + ratio.ln())
     };
     let mut others = Vec::new();
-    // The person's last pose with a torso: its position and anchor.
-    let mut last: Option<(usize, TorsoAnchor)> = None;
+    // The person's last chosen poses with a torso: position and anchor, newest last.
+    let mut track: Vec<(usize, TorsoAnchor)> = Vec::new();
     let mut start = 0;
     while start < n {
         let end = (start + 1..n).find(|&m| !same(start, m)).unwrap_or(n);
-        let chosen = match last {
-            _ if end - start == 1 => Some(start),
-            Some(person) => (start..end)
-                .filter(|&m| reachable(person, m))
-                .filter_map(|m| distance(m, &person.1).map(|d| (m, d)))
+        let chosen = if end - start == 1 || track.is_empty() {
+            Some(start)
+        } else {
+            (start..end)
+                .filter_map(|m| distance(&track, m).map(|d| (m, d)))
                 .min_by(|a, b| a.1.total_cmp(&b.1))
-                .map(|(m, _)| m),
-            None => Some(start),
+                .map(|(m, _)| m)
         };
         others.extend((start..end).filter(|&m| Some(m) != chosen));
         if let Some(m) = chosen
             && let Some(a) = anchor(m)
-            && (end - start > 1 || last.is_none_or(|person| reachable(person, m)))
+            && (end - start > 1 || track.is_empty() || distance(&track, m).is_some())
         {
-            last = Some((m, a));
+            track.push((m, a));
+            if track.len() > TRACK_POSES {
+                track.remove(0);
+            }
         }
         start = end;
     }

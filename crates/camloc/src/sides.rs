@@ -160,19 +160,34 @@ pub fn swapped_sides(
 }
 
 /// [`swapped_sides`] of one person's frames (at `rate`), the parts found swapped back in
-/// `poses` ([`with_part_swapped`]); returns, per chain, the positions swapped back.
+/// `poses` ([`with_part_swapped`]); returns, per chain, the positions swapped back. The frames
+/// where `left_out` (missing entries: none; [`left_out_of_sequence`](crate::left_out_of_sequence):
+/// another person's, a second pose of a frame) are neither judged nor neighbours of those
+/// judged (another person's legs had been "swapped back" before the frame was left out).
 pub fn swap_sides_back(
     frames: &[Option<u64>],
     poses: &mut [PartialPose2],
+    left_out: &[bool],
     rate: FrameRate,
 ) -> Vec<(SideChain, Vec<usize>)> {
-    swapped_sides(frames, poses, rate)
+    let kept: Vec<usize> = (0..poses.len())
+        .filter(|&m| !left_out.get(m).copied().unwrap_or(false))
+        .collect();
+    // (A frame without a number keeps its position as one, so that the left-out frames
+    // still count as time passing.)
+    let kept_frames: Vec<Option<u64>> = kept
+        .iter()
+        .map(|&m| frames.get(m).copied().flatten().or(Some(m as u64)))
+        .collect();
+    let kept_poses: Vec<PartialPose2> = kept.iter().map(|&m| poses[m]).collect();
+    swapped_sides(&kept_frames, &kept_poses, rate)
         .into_iter()
         .map(|(chain, swapped)| {
-            for &(m, part) in &swapped {
+            for &(k, part) in &swapped {
+                let m = kept[k];
                 poses[m] = with_part_swapped(&poses[m], chain, part);
             }
-            (chain, swapped.into_iter().map(|(m, _)| m).collect())
+            (chain, swapped.into_iter().map(|(k, _)| kept[k]).collect())
         })
         .collect()
 }
@@ -442,8 +457,50 @@ mod tests {
             vec![(37, SwappedPart::Distal)]
         );
         let mut repaired = read.clone();
-        swap_sides_back(&numbers, &mut repaired, FrameRate::default());
+        swap_sides_back(&numbers, &mut repaired, &[], FrameRate::default());
         assert_eq!(repaired, clean);
+    }
+
+    #[test]
+    fn frames_left_out_are_neither_judged_nor_neighbours() {
+        // The walk with its legs swapped at frames 20-22, and another person (the same walk
+        // 450 px away, its legs swapped at every frame) beside it at frames 15-29, each of
+        // whose rows is left out of the person's sequence.
+        let clean = walk(60);
+        let mut poses = Vec::new();
+        let mut numbers = Vec::new();
+        let mut left_out = Vec::new();
+        let mut person = Vec::new();
+        for (t, pose) in clean.iter().enumerate() {
+            if (15..30).contains(&t) {
+                let other = PartialPose2 {
+                    points: pose.points.map(|p| p.map(|[x, y]| [x + 450.0, y])),
+                };
+                poses.push(with_sides_swapped(&other, SideChain::Legs));
+                numbers.push(Some(t as u64));
+                left_out.push(true);
+            }
+            let read = if (20..23).contains(&t) {
+                with_sides_swapped(pose, SideChain::Legs)
+            } else {
+                *pose
+            };
+            person.push(poses.len());
+            poses.push(read);
+            numbers.push(Some(t as u64));
+            left_out.push(false);
+        }
+        let mut repaired = poses.clone();
+        let swapped = swap_sides_back(&numbers, &mut repaired, &left_out, FrameRate::default());
+        let legs = &swapped[0].1;
+        assert_eq!(legs, &[person[20], person[21], person[22]]);
+        for (t, &m) in person.iter().enumerate() {
+            assert_eq!(repaired[m], clean[t], "frame {t}");
+        }
+        // The other person's rows are as read.
+        for m in (0..poses.len()).filter(|&m| left_out[m]) {
+            assert_eq!(repaired[m], poses[m]);
+        }
     }
 
     #[test]

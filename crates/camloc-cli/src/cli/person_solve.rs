@@ -1,7 +1,7 @@
-//! One person's frames of `camloc reconstruct --sequence`, prepared (limbs swapped back,
-//! frames left out, each with its warning, in the persons' order) and solved (the sequence's
-//! reconstruction and its placement in the world), the persons of a few frames each solved
-//! side by side ([`solve_persons`]).
+//! One person's frames of `camloc reconstruct --sequence`, prepared (frames left out, limbs
+//! swapped back in the others, each with its warning, in the persons' order) and solved (the
+//! sequence's reconstruction and its placement in the world), the persons of a few frames
+//! each solved side by side ([`solve_persons`]).
 
 use camloc::reconstruct::BoneLengths;
 use camloc::skeleton::Landmark;
@@ -31,8 +31,8 @@ pub struct Prepared {
 
 impl Prepared {
     /// The frames of `person` (their frame `numbers` and `poses`, in time order), with the
-    /// limbs swapped back and the frames left out of the sequence, each warned of on
-    /// standard error.
+    /// frames left out of the sequence and the limbs swapped back in the others, each warned
+    /// of on standard error.
     pub fn of(
         person: u64,
         numbers: Vec<Option<u64>>,
@@ -40,7 +40,6 @@ impl Prepared {
         reconstructor: &PoseReconstructor,
     ) -> Prepared {
         let rate = reconstructor.frame_rate();
-        let swapped_sides = super::sequence::sides_swapped_back(person, &numbers, &mut poses, rate);
         let anchors: Vec<_> = poses.iter().map(TorsoAnchor::of).collect();
         // A second pose of a frame, and a frame whose pose is not where the frames around it
         // put the person, are reconstructed on their own, outside the sequence.
@@ -52,6 +51,8 @@ impl Prepared {
             "reconstructed on its own, left out of the sequence (its lengths, smoothness and \
              animation)",
         );
+        let swapped_sides =
+            super::sequence::sides_swapped_back(person, &numbers, &mut poses, &left_out, rate);
         Prepared {
             numbers,
             poses,

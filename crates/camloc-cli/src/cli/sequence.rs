@@ -277,9 +277,27 @@ pub fn run(
     let mut staged = StagedFiles::new(force);
     for (n, (person, members)) in groups.iter().enumerate() {
         let numbers = frame_numbers(&keys, members);
-        // The limbs a detector swapped left for right: swapped back and localized again.
+        let anchors: Vec<Option<TorsoAnchor>> = members
+            .iter()
+            .map(|&i| {
+                frames[i].anchor.map(|[x, y, torso]| TorsoAnchor {
+                    pelvis: [f64::from(x), f64::from(y)],
+                    torso: f64::from(torso),
+                })
+            })
+            .collect();
+        let left_out = left_out_of_sequence(
+            *person,
+            &numbers,
+            &anchors,
+            files.rate,
+            "left out of the person's smoothing (its smoothed camera comes from the frames \
+             around it, and it has no smoothed viewpoint)",
+        );
+        // The limbs a detector swapped left for right (in the frames kept): swapped back and
+        // localized again.
         let mut poses: Vec<PartialPose2> = members.iter().map(|&i| frames[i].pose()).collect();
-        let sides = sides_swapped_back(*person, &numbers, &mut poses, files.rate);
+        let sides = sides_swapped_back(*person, &numbers, &mut poses, &left_out, files.rate);
         for ((&i, pose), &bits) in members.iter().zip(&poses).zip(&sides) {
             if bits == 0 {
                 continue;
@@ -301,23 +319,6 @@ pub fn run(
             frame.viewpoint = viewpoint;
             frame.result = result.map_err(|message| failures.number(message));
         }
-        let anchors: Vec<Option<TorsoAnchor>> = members
-            .iter()
-            .map(|&i| {
-                frames[i].anchor.map(|[x, y, torso]| TorsoAnchor {
-                    pelvis: [f64::from(x), f64::from(y)],
-                    torso: f64::from(torso),
-                })
-            })
-            .collect();
-        let left_out = left_out_of_sequence(
-            *person,
-            &numbers,
-            &anchors,
-            files.rate,
-            "left out of the person's smoothing (its smoothed camera comes from the frames \
-             around it, and it has no smoothed viewpoint)",
-        );
         let viewpoints: Vec<Option<Viewpoint>> = members
             .iter()
             .zip(&left_out)
@@ -508,18 +509,19 @@ fn localized(
     (result, view, viewpoint)
 }
 
-/// Swaps back in `poses` of `person` (their `frames` numbers, in time order, at `rate`) the
-/// limbs a detector swapped for a few frames ([`camloc::swap_sides_back`]), with a warning on
-/// standard error per chain; per frame, the chains swapped back (bit `c` for
-/// [`SideChain::ALL`]`[c]`, named by [`side_names`]).
+/// Swaps back in `poses` of `person` (their `frames` numbers, in time order, at `rate`; the
+/// frames `left_out` of the sequence aside) the limbs a detector swapped for a few frames
+/// ([`camloc::swap_sides_back`]), with a warning on standard error per chain; per frame, the
+/// chains swapped back (bit `c` for [`SideChain::ALL`]`[c]`, named by [`side_names`]).
 pub fn sides_swapped_back(
     person: u64,
     frames: &[Option<u64>],
     poses: &mut [PartialPose2],
+    left_out: &[bool],
     rate: FrameRate,
 ) -> Vec<u8> {
     let mut bits = vec![0u8; poses.len()];
-    for (c, (chain, swapped)) in camloc::swap_sides_back(frames, poses, rate)
+    for (c, (chain, swapped)) in camloc::swap_sides_back(frames, poses, left_out, rate)
         .into_iter()
         .enumerate()
     {
