@@ -208,6 +208,7 @@ def reconstruct(
     person_height: Optional[float] = None,
     fps: float = 30.0,
     frames: Optional[npt.ArrayLike] = None,
+    sequence_max_rows: int = 200_000,
 ) -> Dict[str, Any]:
     """Reconstructs the 3D pose of every pose by projected matching pursuit on camloc's pose
     basis (principal components and cluster centres), then rebuilds each pose with the
@@ -303,6 +304,9 @@ def reconstruct(
       timeline[t[keep]] = r["world_points3d"][keep]``; ``to_bvh`` fills the NaN frames, as the
       command line's BVH has them). Default: the rows are consecutive frames. A
       ``ValueError`` without ``sequence``.
+    sequence_max_rows: with ``sequence``, more rows are a ``ValueError`` before any work (as
+      ``camloc reconstruct --sequence-max-poses``, 200,000 by default): a person's frames take
+      12-15 KB each while they are solved together (100,000 frames: 1.2 GB).
 
     Returns a dict:
       points3d (N, 15, 3) float64: the 3D landmarks in metres (the given bone lengths, else
@@ -419,6 +423,7 @@ def read_keypoints(
     lsp_invisible: str = "missing",
     derive_torso: bool = True,
     recursive: bool = False,
+    max_input_bytes: int = 1 << 30,
 ) -> Dict[str, Any]:
     """Reads a keypoint file, or every keypoint file (.json, .csv, .npy) of a folder.
 
@@ -432,6 +437,9 @@ def read_keypoints(
       with a coordinate <= 0 is a placeholder without a position and stays missing).
     derive_torso: derive a missing pelvis / neck from the hips / shoulders.
     recursive: for a folder, read its sub-folders too.
+    max_input_bytes: a text input (JSON, CSV) longer than this is refused (1 GiB by default,
+      as the command line's ``--max-input-bytes``; the readers stream, so a larger limit
+      costs no memory of its own).
 
     Returns a dict:
       points (N, 15, 2) float64: the 15 landmarks (``LANDMARKS`` order), NaN where missing;
@@ -461,7 +469,7 @@ def to_bvh(
     unit_m: float = 0.01,
 ) -> str:
     """The 3D poses as the text of a BVH animation file, for Blender, MotionBuilder and other
-    3D packages (the writer of ``camloc reconstruct --bvh``; docs/cli.md).
+    3D packages (the writer of ``camloc reconstruct --bvh``; docs/animation.md).
 
     points3d: (N, 15, 3) frames (or one pose (15, 3)) in metres, z up, ``LANDMARKS`` order, as
       ``reconstruct`` returns them (masked entries of a ``numpy.ma.MaskedArray`` are NaN); a

@@ -2,11 +2,12 @@
 //! (`[{"image_id": .., "keypoints": [..], "score": ..}]`).
 //!
 //! The top level and the annotations are streamed: only `image_id`, `id`, `track_id`,
-//! `keypoints`, `iscrowd` and `num_keypoints` of each annotation are kept (an annotation with
-//! `iscrowd` 1 or `num_keypoints` 0 holds no keypoint and is skipped), so that segmentation
-//! polygons and image lists of large dataset files are skipped rather than held in memory. An integer `image_id` is the
-//! record's frame and an integer `track_id` (a tracker's person id) its person, so that the
-//! poses of a video's detections are ordered and kept apart by person.
+//! `keypoints`, `iscrowd` and `num_keypoints` of each annotation are kept (a crowd's region or
+//! a person without a labelled keypoint, whose keypoints are all unlabelled, is skipped), so
+//! that segmentation polygons and image lists of large dataset files are skipped rather than
+//! held in memory. An integer `image_id` is the record's frame and an integer `track_id` (a
+//! tracker's person id) its person, so that the poses of a video's detections are ordered
+//! and kept apart by person.
 
 use std::fmt;
 

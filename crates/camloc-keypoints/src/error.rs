@@ -71,8 +71,8 @@ pub enum KeypointError {
         bytes: u64,
         /// The limit in bytes.
         limit: u64,
-        /// Which limit: `--max-input-bytes; Rust ReadOptions::max_bytes` or
-        /// `OPENPOSE_FRAME_MAX_BYTES, one frame`.
+        /// Which limit: `--max-input-bytes; Python max_input_bytes=; Rust
+        /// ReadOptions::max_bytes` or `OPENPOSE_FRAME_MAX_BYTES, one frame`.
         rule: &'static str,
     },
     /// A file of a folder listing that is not a regular file once links are followed (read

@@ -65,7 +65,8 @@ impl KeypointFormat {
     /// * `csv` → [`Lsp`](KeypointFormat::Lsp).
     /// * `json`, or any other or no extension when the content starts with `{` or `[`: by the
     ///   first of these object keys found: `"people"` → OpenPose; `"poses"`, or `"landmarks"`
-    ///   holding an object → camloc; `"keypoint_scores"`, `"instance_info"` or `"instances"` → MMPose;
+    ///   holding an object → camloc; `"keypoint_scores"`, `"instance_info"` or `"instances"`
+    ///   → MMPose;
     ///   `"joints_vis"`, or `"center"` and `"scale"` without `"keypoints"` or `"image_id"` (the
     ///   test split, which has no joints) → MPII; `"visibility"` or `"x"`, `"landmark"` or
     ///   `"landmarks"` holding a list, or a list whose first element is a list or `null` →

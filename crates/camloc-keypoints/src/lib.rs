@@ -291,7 +291,7 @@ impl ReadOptions {
             ),
             _ => (
                 self.max_bytes,
-                "--max-input-bytes; Rust ReadOptions::max_bytes",
+                "--max-input-bytes; Python max_input_bytes=; Rust ReadOptions::max_bytes",
             ),
         }
     }

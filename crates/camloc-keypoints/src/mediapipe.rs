@@ -1,5 +1,6 @@
 //! MediaPipe Pose: a list of frames, each a list of 33 landmarks `{x, y, z, visibility}` with
-//! `x`, `y` normalised to [0, 1] by the image width and height.
+//! `x`, `y` normalised to [0, 1] by the image width and height, or such a list in an object
+//! (`{"landmark": [...]}`, `{"frame": n, "landmarks": [...]}`).
 
 use serde::Deserialize;
 use serde::de::value::MapAccessDeserializer;
@@ -106,10 +107,11 @@ const FRAME: &str = "a list of 33 landmarks, an object with one (\"landmark\" or
 
 /// The landmarks of the frame `value` at `path`, the `index`-th of the list: the list itself,
 /// or the list of an object's `landmark` (protobuf's `MessageToDict` of a
-/// `NormalizedLandmarkList`) or `landmarks` key (a frame wrapped with its number: an integer
-/// `frame` key is the frame's number, else its place in the list; other keys are the user's
-/// and ignored); with the path of the list and the frame's number. `None` for an object whose
-/// landmarks are `null` (nobody in the frame).
+/// `NormalizedLandmarkList`) or `landmarks` key, one of them (a frame wrapped with its number:
+/// a `frame` key, at most once, must be a frame number and is the frame's number, else the
+/// frame's place in the list counts; other keys are the user's and ignored); with the path of
+/// the list and the frame's number. `None` for an object whose landmarks are `null` (nobody in
+/// the frame).
 fn frame_landmarks<'a>(
     value: &'a Json,
     index: usize,

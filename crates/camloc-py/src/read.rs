@@ -105,7 +105,7 @@ fn read_options(
 // (build.rs).
 #[doc = include_str!(concat!(env!("OUT_DIR"), "/doc/read_keypoints.txt"))]
 #[pyfunction]
-#[pyo3(signature = (path, format = None, layout = None, min_score = 0.0, image_size = None, lsp_invisible = "missing", derive_torso = true, recursive = false))]
+#[pyo3(signature = (path, format = None, layout = None, min_score = 0.0, image_size = None, lsp_invisible = "missing", derive_torso = true, recursive = false, max_input_bytes = ReadOptions::DEFAULT_MAX_BYTES))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn read_keypoints<'py>(
     py: Python<'py>,
@@ -117,12 +117,19 @@ pub(crate) fn read_keypoints<'py>(
     lsp_invisible: &str,
     derive_torso: bool,
     recursive: bool,
+    max_input_bytes: u64,
 ) -> PyResult<Bound<'py, PyDict>> {
     let format = format
         .map(str::parse::<KeypointFormat>)
         .transpose()
         .map_err(|e| value_error(e.to_string()))?;
-    let options = read_options(layout, min_score, image_size, lsp_invisible, derive_torso)?;
+    let mut options = read_options(layout, min_score, image_size, lsp_invisible, derive_torso)?;
+    if max_input_bytes == 0 {
+        return Err(value_error(
+            "max_input_bytes: at least 1 byte (the default: 1 GiB)".to_owned(),
+        ));
+    }
+    options.max_bytes = max_input_bytes;
     // Of a folder: the poses read, each file that failed and its message, the files read.
     let (records, file_errors, read_files) = py
         .detach(|| {

@@ -28,6 +28,10 @@ use crate::{to_py_err, value_error};
 /// the default `hybrid` on two cores.
 const INTERRUPT_POSES: usize = 1024;
 
+/// Most rows `reconstruct(sequence=True)` takes by default (`sequence_max_rows`), as `camloc
+/// reconstruct --sequence-max-poses`: a person's frames take 12-15 KB each while solved.
+const SEQUENCE_MAX_ROWS: usize = 200_000;
+
 /// The reconstructor of the defaults (`PoseReconstructor::default_reconstructor`), made once.
 fn default_reconstructor() -> PyResult<&'static PoseReconstructor> {
     static DEFAULT: OnceLock<Result<PoseReconstructor, String>> = OnceLock::new();
@@ -189,7 +193,7 @@ pub(crate) fn bone_lengths_json_text(lengths: Bound<'_, PyAny>) -> PyResult<Stri
 // Reconstructs the 3D pose of every pose: its docstring is camloc.pyi's (build.rs).
 #[doc = include_str!(concat!(env!("OUT_DIR"), "/doc/reconstruct.txt"))]
 #[pyfunction]
-#[pyo3(signature = (points, layout = "camloc15", camera = None, scores = None, min_score = 0.0, localizer = None, basis = None, bone_lengths = None, focal_px = None, principal_point = None, sequence = false, camera_height = None, lifter = true, person_height = None, fps = 30.0, frames = None))]
+#[pyo3(signature = (points, layout = "camloc15", camera = None, scores = None, min_score = 0.0, localizer = None, basis = None, bone_lengths = None, focal_px = None, principal_point = None, sequence = false, camera_height = None, lifter = true, person_height = None, fps = 30.0, frames = None, sequence_max_rows = SEQUENCE_MAX_ROWS))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn reconstruct<'py>(
     py: Python<'py>,
@@ -209,6 +213,7 @@ pub(crate) fn reconstruct<'py>(
     #[pyo3(from_py_with = crate::number::person_height)] person_height: Option<f64>,
     #[pyo3(from_py_with = crate::number::fps)] fps: f64,
     frames: Option<Bound<'py, PyAny>>,
+    sequence_max_rows: usize,
 ) -> PyResult<Bound<'py, PyDict>> {
     // The command line's default.
     let camera = camera.unwrap_or("hybrid");
@@ -292,6 +297,14 @@ pub(crate) fn reconstruct<'py>(
         .with_frame_rate(fps)
         .map_err(|e| value_error(e.to_string()))?;
     let n = batch.len();
+    if sequence && n > sequence_max_rows {
+        return Err(value_error(format!(
+            "{n} rows for sequence=True, more than sequence_max_rows ({sequence_max_rows}): a \
+             person's frames take 12-15 KB each while they are solved together (100,000: \
+             1.2 GB); give parts of the video apart (split at a gap), or raise \
+             sequence_max_rows if the memory is there"
+        )));
+    }
     // The rows' video frame numbers (default: consecutive frames).
     let numbers: Vec<Option<u64>> = sequence_frames(frames.as_ref(), sequence, n)?;
     // With `sequence`: per row, whether its legs and its arms were swapped back.

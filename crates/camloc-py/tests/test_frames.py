@@ -99,3 +99,17 @@ def test_bad_frame_numbers_are_refused():
     np.testing.assert_array_equal(
         same["points3d"], camloc.reconstruct(rows[:4], sequence=True)["points3d"]
     )
+
+
+def test_long_sequences_and_large_files_have_limits_that_can_be_raised(tmp_path):
+    """A sequence longer than sequence_max_rows (the command line's --sequence-max-poses) is
+    refused before any work; a text file longer than max_input_bytes too."""
+    rows, _, _ = untracked_video()
+    with pytest.raises(ValueError, match="more than sequence_max_rows \\(10\\)"):
+        camloc.reconstruct(rows, sequence=True, sequence_max_rows=10)
+    assert camloc.reconstruct(rows[:4], sequence=True, sequence_max_rows=4)["points3d"].shape == (
+        4, 15, 3)
+    path = write_keypoints(tmp_path / "video.json", rows, np.arange(len(rows)))
+    with pytest.raises(camloc.CamlocError, match="max_input_bytes"):
+        camloc.read_keypoints(path, max_input_bytes=100)
+    assert len(camloc.read_keypoints(path, max_input_bytes=10**9)["ids"]) == len(rows)

@@ -37,8 +37,9 @@ impl PoseReconstructor {
     /// `numbers` (in time order; see [`timeline_slots`]): the frame numbers the person is
     /// missing from count as time passing for the placement's windows (its smoothing, planted
     /// feet), as `camloc reconstruct --sequence --bvh` places a video's frames; of several
-    /// frames at one number only the first reconstructed one is placed. Without numbers for every frame, in order,
-    /// within `max_slots` frame numbers, the frames are placed as consecutive ones.
+    /// frames at one number only the first reconstructed one is placed. Without numbers for
+    /// every frame, in order, within `max_slots` frame numbers, the frames are placed as
+    /// consecutive ones.
     pub fn place_on_timeline(
         &self,
         numbers: &[Option<u64>],

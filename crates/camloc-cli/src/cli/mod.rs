@@ -128,10 +128,10 @@ pub enum CliError {
     Usage(String),
     /// `localize --sequence` met more poses than it may keep.
     #[error(
-        "more than {0} poses for --sequence, which keeps every pose until the end: split the \
-         input by person or by time (in camloc JSON, whose `frame` numbers go on across \
-         files; a folder of .npy files numbers each file's rows from 0 again), or raise \
-         --sequence-max-poses if the memory is there (docs/cli.md, Memory and speed)"
+        "more than {0} poses for --sequence, which keeps every pose until the end (reconstruct: \
+         12-15 KB a frame while a person's frames are solved): run parts of the input by \
+         person or by time apart (camloc JSON keeps the `frame` numbers), or raise \
+         --sequence-max-poses if the memory is there (docs/cli.md, Sequences)"
     )]
     TooManyPoses(u64),
     /// `--bvh` or `--html` met more poses than they may keep.

@@ -169,12 +169,23 @@ pub fn run(
         let solving = if bar.is_hidden() {
             ProgressBar::hidden()
         } else {
-            let whose = match group {
-                [(person, _)] => format!("person {person} ({} of {}", next + 1, groups.len()),
-                _ => format!("persons {} to {} of {}", next + 1, end, groups.len()),
-            };
             let frames = counted(frames_in_group as u64, "frame");
-            super::progress::spinner(false, &format!("reconstructing {whose}, {frames})"))
+            let whose = match group {
+                [(person, _)] => {
+                    format!(
+                        "person {person} ({} of {}, {frames})",
+                        next + 1,
+                        groups.len()
+                    )
+                }
+                _ => format!(
+                    "persons {} to {} of {} ({frames})",
+                    next + 1,
+                    end,
+                    groups.len()
+                ),
+            };
+            super::progress::spinner(false, &format!("reconstructing {whose}"))
         };
         let solved = solve_persons(
             reconstructor,

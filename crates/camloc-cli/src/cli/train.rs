@@ -180,17 +180,19 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     options.validate()?;
     let start = Instant::now();
     let dataset = load_dataset(&args.dataset)?;
-    stderr_line!(
-        "training on {} samples of {} subjects ({} protocol, {} cameras), descriptor {}, {} classifier, lambda {}",
-        dataset.samples.len(),
-        dataset.subjects().len(),
-        dataset.header.protocol,
-        dataset.header.cameras.len(),
-        descriptor.name(),
-        args.capacity.name(),
-        options.regression.lambda
-    );
     let quiet = args.quiet;
+    if !quiet {
+        stderr_line!(
+            "training on {} samples of {} subjects ({} protocol, {} cameras), descriptor {}, {} classifier, lambda {}",
+            dataset.samples.len(),
+            dataset.subjects().len(),
+            dataset.header.protocol,
+            dataset.header.cameras.len(),
+            descriptor.name(),
+            args.capacity.name(),
+            options.regression.lambda
+        );
+    }
     let bar = progress::spinner(quiet, "training: descriptors and Newton iterations");
     let trained = CameraLocalizer::train(&dataset, &options, |log| {
         bar.set_message(format!(
