@@ -1,5 +1,7 @@
 //! `camloc.smooth_viewpoints`: one person's per-frame viewpoints smoothed over time, as
-//! `camloc localize --sequence` smooths them ([`camloc::smooth_viewpoints`]).
+//! `camloc localize --sequence` smooths them ([`camloc::smooth_viewpoints`]); and the time
+//! arguments of the sequence calls: `fps` ([`frame_rate`]) and `frames` ([`frame_numbers`],
+//! [`sequence_frames`]).
 
 use camloc::reconstruct::FrameRate;
 use numpy::{PyArray1, PyUntypedArrayMethods};
