@@ -119,7 +119,7 @@ pub(crate) fn warn_of_identity_jumps<'a>(
     if let Some(first) = left_out.second_poses.first() {
         let message = format!(
             "{} row(s) share their frame number with another row (first at row {first}): of a \
-             frame's rows the one nearest the person's rows around it is the person's, the \
+             frame's rows the one nearest where the person is expected is the person's, the \
              others are {treated}",
             left_out.second_poses.len()
         );

@@ -113,3 +113,30 @@ def test_long_sequences_and_large_files_have_limits_that_can_be_raised(tmp_path)
     with pytest.raises(camloc.CamlocError, match="max_input_bytes"):
         camloc.read_keypoints(path, max_input_bytes=100)
     assert len(camloc.read_keypoints(path, max_input_bytes=10**9)["ids"]) == len(rows)
+
+
+def test_other_people_s_rows_leave_the_person_s_3d_as_it_is():
+    """Rows of other people in the person's frames (an untracked detector's crowd) are left out
+    and change nothing of the person's sequence: they had counted as missing frames, split the
+    sequence into runs and moved the person's 3D by up to 16 cm."""
+    pose = example_points()[0]
+    rng = np.random.default_rng(7)
+    walker = np.stack([pose + [3.0 * t, 0.0] + rng.normal(0, 0.5, (15, 2)) for t in range(20)])
+    rows, numbers, mine = [], [], []
+    for t in range(20):
+        people = [walker[t], walker[t] + [700.0, 5.0], walker[t] + [-700.0, -5.0]]
+        for k in rng.permutation(3):
+            if k == 0:
+                mine.append(len(rows))
+            rows.append(people[k])
+            numbers.append(t)
+    # The person is the first pose of the first frame.
+    first = int(np.argmax(np.array(numbers) == 0))
+    rows[first], rows[mine[0]] = rows[mine[0]], rows[first]
+    mine[0] = first
+    with pytest.warns(UserWarning, match="share their frame number"):
+        crowd = camloc.reconstruct(np.array(rows), sequence=True, frames=np.array(numbers),
+                                   camera_height="any")
+    alone = camloc.reconstruct(walker, sequence=True, camera_height="any")
+    assert not crowd["left_out_of_sequence"][mine].any()
+    np.testing.assert_allclose(crowd["points3d"][mine], alone["points3d"], atol=1e-9)

@@ -449,7 +449,7 @@ pub fn left_out_of_sequence(
         let seconds = left_out.second_poses.len();
         stderr_line!(
             "camloc: warning: person {person}: {} share{} a frame with another pose (first at \
-             {}): of a frame's poses the one nearest the person's frames around it is the \
+             {}): of a frame's poses the one nearest where the person is expected is the \
              person's, each other is {treated}",
             counted(seconds as u64, "pose"),
             if seconds == 1 { "s" } else { "" },

@@ -34,11 +34,16 @@ impl PoseReconstructor {
         SEQUENCE_BREAK_FRAMES * self.frame_rate().step()
     }
 
-    /// [`reconstruct_sequence_with_breaks`](Self::reconstruct_sequence_with_breaks) of one
-    /// person's poses at their video frame `numbers` (in time order; `None` where unknown): a
-    /// frame after more than [`sequence_break_frames`](Self::sequence_break_frames) frame
-    /// numbers since the person's last frame kept in the sequence (`left_out[t]`: not kept)
-    /// starts a new run, as `camloc reconstruct --sequence` splits a video's gaps.
+    /// One person's poses at their video frame `numbers` (in time order; `None` where
+    /// unknown: the position) reconstructed as `camloc reconstruct --sequence` does: the frames kept in the
+    /// sequence (not `left_out[t]`) by
+    /// [`reconstruct_sequence_with_breaks`](Self::reconstruct_sequence_with_breaks), a frame
+    /// after more than [`sequence_break_frames`](Self::sequence_break_frames) frame numbers
+    /// since the last kept one starting a new run; the left-out frames each on its own, as
+    /// [`reconstruct`](Self::reconstruct) does. The left-out frames count for no time of
+    /// their own: an untracked detector's other people, rows of the same frames as the
+    /// person's, had split a crowd's sequence into runs of a frame or two (three or more of
+    /// them in a row counted as missing frames), changing the person's 3D by up to 19 cm.
     ///
     /// # Errors
     /// As [`reconstruct_sequence`](Self::reconstruct_sequence).
@@ -48,16 +53,30 @@ impl PoseReconstructor {
         poses: &[PartialPose2],
         left_out: &[bool],
     ) -> Result<PoseSequenceReconstruction, CamlocError> {
-        let kept: Vec<usize> = (0..poses.len())
-            .filter(|&t| !left_out.get(t).copied().unwrap_or(false))
-            .collect();
-        let mut breaks = vec![false; poses.len()];
-        for pair in kept.windows(2) {
-            let (a, b) = (numbers.get(pair[0]).copied(), numbers.get(pair[1]).copied());
-            breaks[pair[1]] = matches!((a, b), (Some(Some(a)), Some(Some(b)))
+        let left = |t: usize| left_out.get(t).copied().unwrap_or(false);
+        let kept: Vec<usize> = (0..poses.len()).filter(|&t| !left(t)).collect();
+        // (Without a number, a frame's position counts as one, as in `camloc::sequences`.)
+        let number = |t: usize| numbers.get(t).copied().flatten().or(Some(t as u64));
+        let mut breaks = vec![false; kept.len()];
+        for (k, pair) in kept.windows(2).enumerate() {
+            breaks[k + 1] = matches!((number(pair[0]), number(pair[1])), (Some(a), Some(b))
                 if b.saturating_sub(a) > self.sequence_break_frames() as u64);
         }
-        self.reconstruct_sequence_with_breaks(poses, &breaks, left_out)
+        let kept_poses: Vec<PartialPose2> = kept.iter().map(|&t| poses[t]).collect();
+        let solved = self.reconstruct_sequence_with_breaks(&kept_poses, &breaks, &[])?;
+        let mut in_sequence = solved.frames.into_iter();
+        let frames = (0..poses.len())
+            .map(|t| match left(t) {
+                true => self.reconstruct(&poses[t]),
+                false => in_sequence
+                    .next()
+                    .unwrap_or(Err(CamlocError::NothingDetected)),
+            })
+            .collect();
+        Ok(PoseSequenceReconstruction {
+            frames,
+            lengths: solved.lengths,
+        })
     }
 
     /// [`reconstruct_sequence`](Self::reconstruct_sequence) of frames where `breaks[t]` says
