@@ -288,8 +288,8 @@ def reconstruct(
       nothing.
     frames: with ``sequence``, each row's video frame number (N,) (whole numbers from 0 to
       2^53 that do not decrease; all -1, ``read_keypoints``' frames of an input without
-      numbers, are none; booleans and text are a ``TypeError``), so that rows are read as
-      ``camloc reconstruct --sequence`` reads one person number's poses with their
+      numbers, are none; booleans, text and float16 are a ``TypeError``), so that rows are
+      read as ``camloc reconstruct --sequence`` reads one person number's poses with their
       ``frame``s: the numbers between rows are frames the person is missing from (time passes
       there; 3 or more missing in a row at 30 frames a second split the sequence into runs),
       and of several rows of one frame (an untracked detector's people:
@@ -302,8 +302,9 @@ def reconstruct(
       on the video's frames first (``t = frames - frames.min(); keep =
       ~r["left_out_of_sequence"]; timeline = np.full((t.max() + 1, 15, 3), np.nan);
       timeline[t[keep]] = r["world_points3d"][keep]``; ``to_bvh`` fills the NaN frames, as the
-      command line's BVH has them). Default: the rows are consecutive frames. A
-      ``ValueError`` without ``sequence``.
+      command line's BVH has them; for rows more than 100 frame numbers apart each, which the
+      command line plays one after another, pass ``r["world_points3d"][keep]`` itself).
+      Default: the rows are consecutive frames. A ``ValueError`` without ``sequence``.
     sequence_max_rows: with ``sequence``, more rows are a ``ValueError`` before any work (as
       ``camloc reconstruct --sequence-max-poses``, 200,000 by default): a person's frames take
       12-15 KB each while they are solved together (100,000 frames: 1.2 GB).

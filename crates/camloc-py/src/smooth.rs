@@ -161,18 +161,26 @@ pub(crate) fn sequence_frames(
     }
     let frames = match frames {
         Some(given) => {
-            let kind: String = given
+            let dtype = given
                 .py()
                 .import("numpy")?
                 .call_method1("asarray", (given,))?
-                .getattr("dtype")?
-                .getattr("kind")?
-                .extract()?;
+                .getattr("dtype")?;
+            let kind: String = dtype.getattr("kind")?.extract()?;
+            let bytes: usize = dtype.getattr("itemsize")?.extract()?;
             if !matches!(kind.as_str(), "i" | "u" | "f") {
                 return Err(pyo3::exceptions::PyTypeError::new_err(format!(
                     "frames must be frame numbers (integers), got an array of NumPy kind \
                      {kind:?}"
                 )));
+            }
+            // float16 holds whole numbers exactly only up to 2048 (frames beyond merge).
+            if kind == "f" && bytes < 4 {
+                return Err(pyo3::exceptions::PyTypeError::new_err(
+                    "frames must be frame numbers (integers): float16 cannot hold frame \
+                     numbers above 2048"
+                        .to_owned(),
+                ));
             }
             Some(given.extract::<Unmasked<'_>>()?)
         }

@@ -91,7 +91,7 @@ def test_bad_frame_numbers_are_refused():
     with pytest.raises(ValueError, match="got NaN \\(masked\\?\\) at 3"):
         camloc.reconstruct(rows, sequence=True, frames=masked)
     # Booleans and text are no frame numbers (NumPy would read them as 0/1 and numbers).
-    for given in (numbers > 5, numbers.astype(str)):
+    for given in (numbers > 5, numbers.astype(str), numbers.astype(np.float16)):
         with pytest.raises(TypeError, match="frames must be frame numbers"):
             camloc.reconstruct(rows, sequence=True, frames=given)
     # read_keypoints' frames of an input without numbers (all -1) are consecutive rows.
