@@ -242,7 +242,7 @@ impl Localizer {
             HEIGHT_SHARE_MAX_POSES
         });
         warn_of_input_conventions(py, &leading, inner.intrinsics())?;
-        // The rows' video frame numbers (default: consecutive frames).
+        // With `sequence`, the rows' video frame numbers (default: consecutive frames).
         let frame_numbers = crate::smooth::sequence_frames(frames.as_ref(), sequence, batch.len())?;
         let left_out = if sequence {
             warn_of_identity_jumps(

@@ -305,7 +305,7 @@ pub(crate) fn reconstruct<'py>(
              sequence_max_rows if the memory is there"
         )));
     }
-    // The rows' video frame numbers (default: consecutive frames).
+    // With `sequence`, the rows' video frame numbers (default: consecutive frames).
     let numbers: Vec<Option<u64>> = sequence_frames(frames.as_ref(), sequence, n)?;
     // With `sequence`: per row, whether its legs and its arms were swapped back.
     let mut swapped_sides: Option<Vec<[bool; 2]>> = None;

@@ -145,8 +145,9 @@ pub(crate) fn frame_numbers(
 
 /// The video frame numbers of the `n` rows of a `sequence` call (`reconstruct`,
 /// `Localizer.localize`): `frames` as [`frame_numbers`] reads them (several rows of one frame
-/// allowed), else consecutive frames. `ValueError` for `frames` without `sequence`,
-/// `TypeError` for booleans or text (NumPy would read them as numbers).
+/// allowed), else consecutive frames; none without `sequence`. `ValueError` for `frames`
+/// without `sequence`, `TypeError` for booleans, text or float16 (NumPy would read them as
+/// numbers).
 pub(crate) fn sequence_frames(
     frames: Option<&Bound<'_, PyAny>>,
     sequence: bool,
@@ -158,6 +159,9 @@ pub(crate) fn sequence_frames(
              no time"
                 .to_owned(),
         ));
+    }
+    if !sequence {
+        return Ok(Vec::new());
     }
     let frames = match frames {
         Some(given) => {

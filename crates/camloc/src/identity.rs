@@ -489,11 +489,11 @@ impl LeftOut {
 
 /// The frames of one person (their `frames` numbers, `None` where unknown, and `anchors`, in
 /// time order; a frame's poses in input order) to leave out of the person's sequence: the
-/// poses of a frame other than the person's (the one nearest the person's track), and the
-/// poses that lie apart from the frames around them
+/// poses of a frame other than the person's (the one nearest where the person is expected),
+/// and the poses that lie apart from the frames around them
 /// ([`outlier_frames`], judged without the second poses). `camloc reconstruct --sequence`
 /// reconstructs them on their own
-/// ([`PoseReconstructor::reconstruct_sequence_with_breaks`](crate::PoseReconstructor::reconstruct_sequence_with_breaks))
+/// ([`PoseReconstructor::reconstruct_sequence_at_frames`](crate::PoseReconstructor::reconstruct_sequence_at_frames))
 /// and `camloc localize --sequence` leaves them out of the smoothing. `rate`: the frames a
 /// second, as [`outlier_frames`] takes it.
 pub fn left_out_of_sequence(

@@ -453,7 +453,7 @@ impl PoseReconstructor {
         &self,
         poses: &[PartialPose2],
     ) -> Result<PoseSequenceReconstruction, CamlocError> {
-        self.reconstruct_sequence_with_breaks(poses, &[], &[])
+        self.reconstruct_sequence_with_breaks(poses, &[])
     }
 
     /// The depths the lifter predicts for `complete` seen by the camera of `localization`,

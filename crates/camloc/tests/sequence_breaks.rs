@@ -32,7 +32,7 @@ fn frames_after_a_gap_are_solved_apart_with_the_shared_lengths() {
     let mut breaks = vec![false; frames.len()];
     breaks[5] = true;
     let split = rec
-        .reconstruct_sequence_with_breaks(&frames, &breaks, &[])
+        .reconstruct_sequence_with_breaks(&frames, &breaks)
         .unwrap();
     let whole = rec.reconstruct_sequence(&frames).unwrap();
     // The lengths are those of all frames together.
@@ -87,7 +87,7 @@ fn a_frame_or_two_that_fail_keep_their_neighbours_tied_and_three_split_them() {
     let mut breaks = vec![false; 7];
     breaks[4] = true;
     let split = rec
-        .reconstruct_sequence_with_breaks(&without(&gone), &breaks, &[])
+        .reconstruct_sequence_with_breaks(&without(&gone), &breaks)
         .unwrap();
     let kept: Vec<Pose3> = result
         .frames
@@ -118,8 +118,11 @@ fn left_out_frames_are_reconstructed_alone_and_three_in_a_row_split_the_runs() {
         for &t in &gone {
             left_out[t] = true;
         }
+        // Consecutive frame numbers: the left-out frames count for frames the person is
+        // missing from.
+        let numbers: Vec<Option<u64>> = (0..frames.len() as u64).map(Some).collect();
         let result = rec
-            .reconstruct_sequence_with_breaks(&frames, &[], &left_out)
+            .reconstruct_sequence_at_frames(&numbers, &frames, &left_out)
             .unwrap();
         // A left-out frame is its own reconstruction.
         for &t in &gone {
@@ -135,7 +138,7 @@ fn left_out_frames_are_reconstructed_alone_and_three_in_a_row_split_the_runs() {
             breaks[t] = true;
         }
         let expected = rec
-            .reconstruct_sequence_with_breaks(&without(&gone), &breaks, &[])
+            .reconstruct_sequence_with_breaks(&without(&gone), &breaks)
             .unwrap();
         assert_eq!(kept_poses(&result, &gone), poses(&expected));
         assert_eq!(result.lengths, expected.lengths);

@@ -63,7 +63,7 @@ impl PoseReconstructor {
                 if b.saturating_sub(a) > self.sequence_break_frames() as u64);
         }
         let kept_poses: Vec<PartialPose2> = kept.iter().map(|&t| poses[t]).collect();
-        let solved = self.reconstruct_sequence_with_breaks(&kept_poses, &breaks, &[])?;
+        let solved = self.reconstruct_sequence_with_breaks(&kept_poses, &breaks)?;
         let mut in_sequence = solved.frames.into_iter();
         let frames = (0..poses.len())
             .map(|t| match left(t) {
@@ -86,13 +86,9 @@ impl PoseReconstructor {
     /// be reconstructed: the choice of depths over time and the smoothness tie a frame only to
     /// the frames of its run (across a gap of 28 frames in a user's walk, the frames at its
     /// ends had turned 17 and 35 deg to meet each other). The bone lengths are the given ones,
-    /// or estimated from all frames together (which solves them once more). A frame where
-    /// `left_out[t]` (missing entries: no) is not the person's frame of the sequence (a
-    /// tracker's second pose of the frame, another person's detection:
-    /// [`left_out_of_sequence`](crate::left_out_of_sequence)): it is reconstructed on its own,
-    /// as [`reconstruct`](Self::reconstruct) does, and neither ties its neighbours over time
-    /// nor counts towards the lengths; [`SEQUENCE_BREAK_FRAMES`] or more in a row split the
-    /// runs as a gap does.
+    /// or estimated from all frames together (which solves them once more). Every frame is the
+    /// person's: frames left out of the sequence (a tracker's second pose of a frame, another
+    /// person's detection) are [`reconstruct_sequence_at_frames`](Self::reconstruct_sequence_at_frames)'s.
     ///
     /// # Errors
     /// As [`reconstruct_sequence`](Self::reconstruct_sequence).
@@ -100,7 +96,6 @@ impl PoseReconstructor {
         &self,
         poses: &[PartialPose2],
         breaks: &[bool],
-        left_out: &[bool],
     ) -> Result<PoseSequenceReconstruction, CamlocError> {
         // A landmark far off the others is read as missing, and filled in as missing ones.
         let cleaned: Vec<PartialPose2> = poses
@@ -108,11 +103,9 @@ impl PoseReconstructor {
             .map(|p| crate::without_far_off_landmarks(p).0)
             .collect();
         let poses = &cleaned[..];
-        let left = |t: usize| left_out.get(t).copied().unwrap_or(false);
         let mut prepared: Vec<Result<Prepared, CamlocError>> =
             poses.iter().map(|p| self.prepare(p)).collect();
-        let (mut runs, mut solved, mut lengths) =
-            self.solve_runs(poses, &prepared, breaks, left_out)?;
+        let (mut runs, mut solved, mut lengths) = self.solve_runs(poses, &prepared, breaks)?;
         // A frame whose fitted camera sees landmarks behind it (a landmark misplaced, a very
         // close wide-angle view) fails, and the others are solved again without it: it had
         // pulled the person's lengths and smoothness (a simulated user's wrist 1000 px off in
@@ -125,11 +118,9 @@ impl PoseReconstructor {
             for &t in &behind {
                 prepared[t] = Err(pose_error(ReconstructError::BehindFittedCamera));
             }
-            (runs, solved, lengths) = self.solve_runs(poses, &prepared, breaks, left_out)?;
+            (runs, solved, lengths) = self.solve_runs(poses, &prepared, breaks)?;
         }
-        // A height given scales the estimated lengths and every frame solved with them alike
-        // (a left-out frame, solved on its own, is scaled to the height in
-        // `reconstruct_prepared`).
+        // A height given scales the estimated lengths and every frame solved with them alike.
         let size = match self.height_m {
             Some(height_m) => height_m / lengths.standing_height_m(),
             None => 1.0,
@@ -143,11 +134,7 @@ impl PoseReconstructor {
             .into_iter()
             .zip(solved)
             .zip(viewpoints)
-            .enumerate()
-            .map(|(t, ((p, solved), viewpoint))| {
-                if left(t) {
-                    return self.reconstruct_prepared(&poses[t], p?, 1);
-                }
+            .map(|((p, solved), viewpoint)| {
                 let Prepared {
                     localization,
                     imputed,
@@ -181,25 +168,20 @@ impl PoseReconstructor {
         Ok(PoseSequenceReconstruction { frames, lengths })
     }
 
-    /// The runs of `prepared` frames (split at `breaks`, at left-out frames and at frames not
-    /// prepared, as [`reconstruct_sequence_with_breaks`](Self::reconstruct_sequence_with_breaks)
+    /// The runs of `prepared` frames (split at `breaks` and at frames not prepared, as [`reconstruct_sequence_with_breaks`](Self::reconstruct_sequence_with_breaks)
     /// says), each frame's solve (`None` where none) and the person's lengths.
     fn solve_runs(
         &self,
         poses: &[PartialPose2],
         prepared: &[Result<Prepared, CamlocError>],
         breaks: &[bool],
-        left_out: &[bool],
     ) -> Result<SolvedRuns, CamlocError> {
-        let left = |t: usize| left_out.get(t).copied().unwrap_or(false);
         // Runs of frames that were prepared, split at gaps and at as many frames in a row
         // that were not.
         let mut runs: Vec<Vec<usize>> = Vec::new();
         let mut failed_in_a_row = 0;
         for (t, p) in prepared.iter().enumerate() {
-            // A left-out frame is missing from the sequence: as many in a row as make a gap
-            // split it, as the command line's frame numbers would.
-            if left(t) || p.is_err() {
+            if p.is_err() {
                 failed_in_a_row += 1;
                 continue;
             }
