@@ -15,9 +15,10 @@ width and by its height squash the pose, and all within [0, 1] are warned of), J
   COCO-17 and BODY_25 is the mean of the face points; a missing pelvis or neck is the midpoint
   of the hips or shoulders).
 
-A joint whose two coordinates are NaN is missing. Scores, either a third channel (N, J, 3) or
-``scores`` of shape (N, J), must lie in [0, 1]; a joint scoring 0 or below ``min_score`` is
-missing.
+A joint whose two coordinates are NaN is missing (a pose with fewer than 8 of the 15
+landmarks is localized from those it has, with a ``UserWarning``, and not reconstructed).
+Scores, either a third channel (N, J, 3) or ``scores`` of shape (N, J), must lie in [0, 1]; a
+joint scoring 0 or below ``min_score`` is missing.
 
 Batch calls never fail for one bad pose: each result dict has an ``error`` list with ``None``
 where the pose is fine and the library's message where it is not (NaN and label 0 in that
@@ -62,9 +63,10 @@ class Localizer:
         ``"from-input"`` (each ``localize`` call first estimates from its first 20,000 poses
         how their cameras divide among the three heights, then localizes every pose under
         those shares: a pose's answer depends on the other poses of the call, as with
-        ``camloc localize``; a call with fewer than 100 poses with a torso (a pelvis and a
-        neck, or the hips and shoulders to stand in for them) leaves each on its own, as
-        ``"any"`` does: give ``"eye-level"`` for a few frames of a tripod's camera),
+        ``camloc localize``; the estimate starts from 10 views of a camera at eye level and
+        a video's frames count little each, so a few photos or a short clip are read about as
+        ``"eye-level"`` reads them; a call without a pose with a torso leaves each on its
+        own, as ``"any"`` does),
         ``"any"`` (the model's own priors; each pose on its own) or ``"eye-level"`` (a
         tripod, handheld phone or studio camera at about a standing person's eye level, a
         few metres away: a middle-ring camera is 8 times as likely a priori). Raises
@@ -174,7 +176,7 @@ class Localizer:
           camera_height_shares (3,) float64: with ``camera_height="from-input"``, how the
             call's cameras were estimated to divide among the lower, middle and upper rings
             (the prior every pose was localized under, as ``camloc localize --npz`` writes
-            it); NaN when no estimate was used (fewer than 100 poses with a torso, ``"any"``,
+            it); NaN when no estimate was used (no pose with a torso, ``"any"``,
             ``"eye-level"``);
           with ``sequence``: smoothed_label (N,) int64 and smoothed_probability (N,), the
             camera on the hidden Markov model's most probable path and its posterior (0 and NaN

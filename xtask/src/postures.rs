@@ -397,8 +397,9 @@ pub fn report_section(mocap: &[PathBuf], folds: usize) -> Result<String, String>
          `{FROM_INPUT}` is today's model given each table's test views as one input: it \
          estimates how the input's cameras divide among the three heights from all its views \
          (`CameraLocalizer::estimate_height_shares`: its first {HEIGHT_SHARE_MAX_POSES} \
-         views, expectation-maximisation with the model's probabilities held fixed, \
-         {HEIGHT_SHARE_PSEUDO_VIEWS} views of the model's own priors added), then localizes \
+         views, each weighing the share of an independent view it is worth (a video's \
+         frames little), expectation-maximisation with the model's probabilities held fixed, \
+         {HEIGHT_SHARE_PSEUDO_VIEWS} views of a camera at eye level added), then localizes \
          every view under those shares, as `camloc localize` and Python's `Localizer` do by \
          default with the poses of one input or call. \
          `{EYE_LEVEL}` is today's model told that the camera stands at about eye level \

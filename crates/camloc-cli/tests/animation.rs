@@ -603,8 +603,9 @@ fn legs_a_detector_swapped_for_two_frames_are_swapped_back() {
         for key in ["label", "smoothed_label"] {
             assert_eq!(a[key], b[key], "frame {t}: {key}");
         }
-        // (The pose localized again was kept in single precision.)
-        for (key, tolerance) in [("probability", 1e-6), ("azimuth_deg", 1e-3)] {
+        // (The pose localized again was kept in single precision, and the input's camera
+        // heights are estimated from its poses as given, two of them swapped.)
+        for (key, tolerance) in [("probability", 1e-3), ("azimuth_deg", 0.1)] {
             let (x, y) = (a[key].as_f64().unwrap(), b[key].as_f64().unwrap());
             assert!((x - y).abs() < tolerance, "frame {t}: {key} {x} vs {y}");
         }

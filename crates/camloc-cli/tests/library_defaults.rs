@@ -5,7 +5,7 @@
 //! the reconstruction's defaults 0.45 m apart from the command line's).
 
 use camloc::keypoints::{ReadOptions, read_keypoints};
-use camloc::{CameraHeight, HEIGHT_SHARE_MIN_POSES, Landmark, PartialPose2, PoseReconstructor};
+use camloc::{CameraHeight, Landmark, PartialPose2, PoseReconstructor};
 use serde_json::Value;
 
 mod common;
@@ -23,8 +23,7 @@ fn inputs(dir: &TempDir) -> Vec<std::path::PathBuf> {
         pose["landmarks"]["pelvis"] = Value::Null;
     }
     let hipless = dir.file("hipless.json", &document.to_string());
-    // 120 poses (the example's, moved and jittered by up to 2 px): enough for the camera
-    // heights to be estimated from the input (HEIGHT_SHARE_MIN_POSES).
+    // 120 poses (the example's, moved and jittered by up to 2 px).
     let mut document: Value =
         serde_json::from_str(&std::fs::read_to_string(&example).unwrap()).unwrap();
     let originals = document["poses"].as_array().unwrap().clone();
@@ -70,11 +69,15 @@ fn the_library_defaults_give_the_command_lines_localizations_and_poses() {
         let reconstructor = PoseReconstructor::default_reconstructor()
             .unwrap()
             .with_camera_height_from(&poses);
-        // With enough poses the prior is the input's own, not `any`.
+        // The prior is the input's own, not `any`, unless no pose has a torso to estimate it.
         let estimated = reconstructor.localizer().unwrap().camera_height();
+        let with_torso = camloc::CameraLocalizer::default_model()
+            .unwrap()
+            .estimate_height_shares(&poses)
+            .localized;
         assert_eq!(
-            estimated == CameraHeight::Any,
-            poses.len() < HEIGHT_SHARE_MIN_POSES,
+            matches!(estimated, CameraHeight::Shares(_)),
+            with_torso > 0,
             "{path}: {estimated:?}"
         );
         // Printed also when a pose fails (an object with its error; exit 1).

@@ -334,13 +334,12 @@ fn repeated_example(copies: usize) -> (String, Vec<camloc::PartialPose2>) {
 /// `--camera-height from-input` (the default) localizes every pose under the shares of the
 /// camera heights the library estimates from the input's first poses: from a file, from
 /// standard input and from a named pipe alike (each read once); `any` localizes each pose
-/// on its own, as the library's default does, and so does the default for an input of too
-/// few poses.
+/// on its own, as the library's default does. Three poses are read near eye level.
 #[test]
 fn the_default_estimates_the_camera_heights_from_the_input() {
-    use camloc::{CameraHeight, CameraLocalizer, HEIGHT_SHARE_MIN_POSES};
+    use camloc::{CameraHeight, CameraLocalizer};
     let dir = TempDir::new("from-input");
-    let copies = HEIGHT_SHARE_MIN_POSES.div_ceil(3) + 1;
+    let copies = 34;
     let (text, poses) = repeated_example(copies);
     let path = dir.file("many.json", &text);
     let any = CameraLocalizer::default_model().unwrap();
@@ -403,10 +402,26 @@ fn the_default_estimates_the_camera_heights_from_the_input() {
         assert_eq!(run(fifo.to_str().unwrap(), &[]), default);
         writer.join().unwrap();
     }
-    // Three poses are too few to tell the heights: each is localized on its own.
+    // Three poses are worth at most three views against the estimate's ten at eye level:
+    // their shares stay within a few points of eye level's.
     let example = fixture("keypoints/example.json");
-    let three = example.to_str().unwrap();
-    assert_eq!(run(three, &[]), run(three, &["--camera-height", "any"]));
+    let three: Vec<camloc::PartialPose2> = camloc::keypoints::read_keypoints(
+        &example,
+        None,
+        &camloc::keypoints::ReadOptions::default(),
+    )
+    .unwrap()
+    .iter()
+    .map(|r| r.pose)
+    .collect();
+    let few = any.estimate_height_shares(&three);
+    let centre = camloc::eye_level_shares(&any.model_height_shares());
+    assert!((1.0..=3.0).contains(&few.views), "{few:?}");
+    for (a, b) in few.shares.unwrap().to_array().iter().zip(centre.to_array()) {
+        assert!((a - b).abs() < 3.0 / 13.0, "{few:?} against {centre:?}");
+    }
+    let path = example.to_str().unwrap();
+    assert_ne!(run(path, &[]), run(path, &["--camera-height", "any"]));
 }
 
 /// With the camera's intrinsics each pose is localized as the camera aimed at it would see it
@@ -471,4 +486,49 @@ fn a_known_camera_aims_at_each_pose() {
     assert!(stderr(&["--focal-px", "500"]).contains(warning));
     assert!(!stderr(&["--focal-px", "500", "--image-size", "640,480"]).contains(warning));
     assert!(!stderr(&["--focal-px", "500", "--principal-point", "1,2"]).contains(warning));
+}
+
+/// The keypoints may be the command's one argument, as ripgrep's paths are: the same answer as
+/// `--input`; both at once, or neither, is a usage error (exit 2).
+#[test]
+fn the_input_may_be_given_as_the_argument() {
+    let example = fixture("keypoints/example.json");
+    let example = example.to_str().unwrap();
+    for command in ["localize", "reconstruct"] {
+        let flag = camloc(&[command, "-q", "--json", "--input", example]);
+        let argument = camloc(&[command, "-q", "--json", example]);
+        assert!(flag.status.success(), "{command}");
+        assert_eq!(flag.stdout, argument.stdout, "{command}");
+        let both = camloc(&[command, "--input", example, example]);
+        assert_eq!(both.status.code(), Some(2), "{command}");
+        let neither = camloc(&[command]);
+        assert_eq!(neither.status.code(), Some(2), "{command}");
+        assert!(
+            String::from_utf8_lossy(&neither.stderr).contains("<--input <FILE|DIR|->|INPUT>"),
+            "{command}"
+        );
+    }
+}
+
+/// A pose of a pelvis and a neck is localized (its camera rests on them) with a warning;
+/// `reconstruct` refuses it.
+#[test]
+fn a_pose_of_too_few_landmarks_is_warned_of() {
+    let dir = TempDir::new("few");
+    let input = dir.file(
+        "two.json",
+        r#"{"poses":[{"landmarks":{"pelvis":[100,200],"neck":[100,100]}}]}"#,
+    );
+    let out = camloc(&["localize", &input]);
+    assert!(out.status.success());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("1 of the 1 pose(s) have fewer than 8 of the 15 landmarks"),
+        "{stderr}"
+    );
+    let full = camloc(&[
+        "localize",
+        fixture("keypoints/example.json").to_str().unwrap(),
+    ]);
+    assert!(!String::from_utf8_lossy(&full.stderr).contains("fewer than 8"));
 }

@@ -74,8 +74,12 @@ def test_a_sequence_that_jumps_between_people_warns_and_nothing_detected_says_so
         located = camloc.Localizer().localize(crossed, sequence=True)
     clean = camloc.Localizer().localize(walking, sequence=True)
     np.testing.assert_array_equal(located["swapped_sides"], expected)
-    for key in ("label", "probabilities", "azimuth_deg", "smoothed_label"):
+    # The call's camera heights are estimated from its rows as given (two of them swapped):
+    # the probabilities may differ a little, the answers not.
+    for key in ("label", "smoothed_label"):
         np.testing.assert_array_equal(located[key], clean[key])
+    np.testing.assert_allclose(located["probabilities"], clean["probabilities"], atol=1e-3)
+    np.testing.assert_allclose(located["azimuth_deg"], clean["azimuth_deg"], atol=0.1)
     # The other person's rows at the end of a sequence (ids swapped for its last 3 frames):
     # left out too, as the rows are consecutive frames.
     long_rows = np.stack([pose + [2.0 * t, 0.0] for t in range(12)])
@@ -541,10 +545,11 @@ def test_bools_and_complex_numbers_are_refused_not_converted():
 
 
 def test_the_camera_height_shares_are_returned_as_the_command_line_writes_them(cli, tmp_path):
-    """``camera_height_shares`` is the estimate every pose was localized under: NaN for a call
-    of a few poses, the command line's ``--npz`` shares for 100 or more."""
+    """``camera_height_shares`` is the estimate every pose was localized under, the command
+    line's ``--npz`` shares: near eye level's for a call of a few poses."""
     few = example_points()
-    assert np.isnan(camloc.Localizer().localize(few)["camera_height_shares"]).all()
+    shares = camloc.Localizer().localize(few)["camera_height_shares"]
+    assert shares.sum() == pytest.approx(1.0) and shares[1] > 0.6
     many = np.concatenate([few] * 40)
     path = tmp_path / "many.npy"
     np.save(path, many)

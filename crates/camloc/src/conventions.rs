@@ -2,14 +2,15 @@
 //! ([`InputConventions`]), for the warnings `camloc localize`, `camloc reconstruct` and Python
 //! give alike: points with `v` up, a camera upside down or rolled
 //! ([`orientation_warning`]), detectors' placeholders at the image origin
-//! ([`origin_placeholder_warning`]), and coordinates normalised by the image's sides.
+//! ([`origin_placeholder_warning`]), coordinates normalised by the image's sides, and poses
+//! of too few landmarks to be more than guessed at.
 
 use camloc_reconstruct::Intrinsics;
 use camloc_skeleton::PartialPose2;
 
 use crate::{
-    LeanHistogram, aimed_at_pelvis, has_origin_placeholders, head_below_ankles,
-    orientation_warning, origin_placeholder_warning,
+    LeanHistogram, MIN_PRESENT_FOR_FILL, aimed_at_pelvis, has_origin_placeholders,
+    head_below_ankles, orientation_warning, origin_placeholder_warning,
 };
 
 /// The counts behind an input's warnings (the memory of a million poses is that of one).
@@ -24,6 +25,8 @@ pub struct InputConventions {
     origin_placeholders: u64,
     /// Poses whose landmarks all lie within the unit square ([`within_unit_square`]).
     unit_square: u64,
+    /// Poses with at least one landmark and fewer than [`MIN_PRESENT_FOR_FILL`].
+    few_landmarks: u64,
     /// The poses' torso leans.
     leans: LeanHistogram,
     /// The camera's intrinsics, when given: the leans are those of the poses as the camera
@@ -46,6 +49,8 @@ impl InputConventions {
         self.poses += 1;
         self.origin_placeholders += u64::from(has_origin_placeholders(pose));
         self.unit_square += u64::from(within_unit_square(pose));
+        let present = pose.points.iter().flatten().count();
+        self.few_landmarks += u64::from((1..MIN_PRESENT_FOR_FILL).contains(&present));
         let aimed = self.aim.and_then(|k| aimed_at_pelvis(pose, &k).ok());
         self.leans.add(aimed.as_ref().unwrap_or(pose));
         if let Some(below) = head_below_ankles(pose) {
@@ -55,8 +60,9 @@ impl InputConventions {
     }
 
     /// The warnings of the poses counted: [`orientation_warning`],
-    /// [`origin_placeholder_warning`], then the warning of an input whose every coordinate
-    /// lies within [0, 1] (normalised by the image's sides).
+    /// [`origin_placeholder_warning`], the warning of an input whose every coordinate lies
+    /// within [0, 1] (normalised by the image's sides), then that of poses with fewer than
+    /// [`MIN_PRESENT_FOR_FILL`] landmarks.
     pub fn warnings(&self) -> impl Iterator<Item = String> {
         let (checked, upside_down) = self.upside_down;
         orientation_warning(checked, upside_down, &self.leans)
@@ -66,6 +72,7 @@ impl InputConventions {
                 self.origin_placeholders,
             ))
             .chain(normalised_coordinates_warning(self.poses, self.unit_square))
+            .chain(few_landmarks_warning(self.poses, self.few_landmarks))
     }
 }
 
@@ -105,6 +112,20 @@ fn normalised_coordinates_warning(checked: u64, within: u64) -> Option<String> {
     })
 }
 
+/// The warning for `few` of the `checked` poses having landmarks but fewer than
+/// [`MIN_PRESENT_FOR_FILL`]: a camera localized from a pelvis and a neck (13 landmarks
+/// imputed) had been answered like any other, 21% probable, without a word. `None` when no
+/// pose is that sparse.
+fn few_landmarks_warning(checked: u64, few: u64) -> Option<String> {
+    (few > 0).then(|| {
+        format!(
+            "{few} of the {checked} pose(s) have fewer than {MIN_PRESENT_FOR_FILL} of the 15 \
+             landmarks: their camera rests on the few given (the others imputed), and they \
+             cannot be reconstructed"
+        )
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -135,5 +156,26 @@ mod tests {
             }
             assert!(counted.warnings().all(|w| !w.contains("[0, 1]")));
         }
+    }
+
+    #[test]
+    fn poses_of_too_few_landmarks_are_warned_of() {
+        let mut counted = InputConventions::default();
+        let mut pose = PartialPose2::empty();
+        counted.add(&pose);
+        for k in 0..pose.points.len() {
+            pose.points[k] = Some([100.0 + k as f64, 50.0 + 20.0 * k as f64]);
+            counted.add(&pose);
+        }
+        // 7 of the 16 poses hold 1 to 7 landmarks; the empty one is nobody, not a sparse pose.
+        let said: Vec<String> = counted.warnings().collect();
+        assert!(
+            said.iter()
+                .any(|w| w.starts_with("7 of the 16 pose(s) have fewer than 8")),
+            "{said:?}"
+        );
+        let mut full = InputConventions::default();
+        full.add(&pose);
+        assert!(full.warnings().all(|w| !w.contains("fewer than")));
     }
 }

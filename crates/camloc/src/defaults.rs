@@ -16,9 +16,8 @@ impl CameraLocalizer {
     /// This localizer under the shares of the camera heights among `poses` (the first
     /// [`HEIGHT_SHARE_MAX_POSES`](crate::HEIGHT_SHARE_MAX_POSES) of them, in input order:
     /// [`CameraLocalizer::estimate_height_shares`]), as `camloc localize` and `camloc
-    /// reconstruct` localize by default (`--camera-height from-input`). Fewer than
-    /// [`HEIGHT_SHARE_MIN_POSES`](crate::HEIGHT_SHARE_MIN_POSES) poses that can be localized
-    /// leave each pose on its own ([`CameraHeight::Any`](crate::CameraHeight::Any)).
+    /// reconstruct` localize by default (`--camera-height from-input`). Without a pose that
+    /// can be localized each pose is on its own ([`CameraHeight::Any`](crate::CameraHeight::Any)).
     pub fn with_camera_height_from(self, poses: &[PartialPose2]) -> CameraLocalizer {
         let estimate = self.estimate_height_shares(poses);
         self.with_camera_height(estimate.camera_height())

@@ -7,11 +7,13 @@ use camloc_skeleton::PartialPose2;
 use rayon::prelude::*;
 
 use crate::rows::sample_pose;
-use crate::{CameraLocalizer, CamlocError};
+use crate::view_weights::view_weights;
+use crate::{CameraLocalizer, CamlocError, EYE_LEVEL_WEIGHT};
 
-/// Views of the model's own priors added to an input's views when its camera heights are
-/// estimated ([`CameraLocalizer::estimate_height_shares`]): an input of a few poses moves the
-/// estimate little from the model's priors, one of thousands settles it.
+/// Views of a camera at eye level added to an input's views when its camera heights are
+/// estimated ([`CameraLocalizer::estimate_height_shares`]; shares [`eye_level_shares`]): an
+/// input worth a few views (a photo, a short clip) moves the estimate little from eye level,
+/// one worth thousands settles it.
 pub const HEIGHT_SHARE_PSEUDO_VIEWS: f64 = 10.0;
 
 /// The estimate reads at most this many poses: the first ones of an input (three shares: a
@@ -19,23 +21,19 @@ pub const HEIGHT_SHARE_PSEUDO_VIEWS: f64 = 10.0;
 /// localized once they are read, and gives the same answer whatever the input's source.
 pub const HEIGHT_SHARE_MAX_POSES: usize = 20_000;
 
-/// An input with fewer poses that can be localized than this gets no estimate: its poses are
-/// localized on their own ([`CameraHeight::Any`](crate::CameraHeight::Any)). In a small
-/// input a pose's own probabilities would weigh noticeably in the prior it is then judged
-/// under (one pose would be pushed towards its own most probable height); from this many on,
-/// a pose weighs at most 1/110 of the estimate.
-pub const HEIGHT_SHARE_MIN_POSES: usize = 100;
-
 /// What [`CameraLocalizer::estimate_height_shares`] found in an input.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct HeightEstimate {
-    /// The shares of the heights, or `None` when fewer than [`HEIGHT_SHARE_MIN_POSES`] of the
-    /// poses read could be localized.
+    /// The shares of the heights, or `None` when none of the poses read could be localized.
     pub shares: Option<HeightShares>,
     /// The poses read: the first ones, at most [`HEIGHT_SHARE_MAX_POSES`].
     pub read: usize,
     /// Of those, the poses that could be localized (the others are left out of the estimate).
     pub localized: usize,
+    /// The independent views the localized poses are worth (a video's frames are nearly the
+    /// same view again and again): the weight of the input's evidence against
+    /// [`HEIGHT_SHARE_PSEUDO_VIEWS`].
+    pub views: f64,
 }
 
 impl HeightEstimate {
@@ -148,33 +146,51 @@ impl std::fmt::Display for HeightShares {
     }
 }
 
+/// The shares of a camera at eye level: the model's own shares of the heights (`model`) with
+/// the middle ring [`EYE_LEVEL_WEIGHT`] times as likely, as
+/// [`CameraHeight::EyeLevel`](crate::CameraHeight::EyeLevel) weighs it.
+pub fn eye_level_shares(model: &HeightShares) -> HeightShares {
+    let [lower, middle, upper] = model.to_array();
+    let total = lower + EYE_LEVEL_WEIGHT * middle + upper;
+    HeightShares::from_array([lower, EYE_LEVEL_WEIGHT * middle, upper].map(|s| s / total))
+}
+
 /// The shares of the heights that best explain `probabilities` (rows of one probability per
-/// camera of `cameras`, under the model's own per-camera `priors`): expectation-maximisation
-/// of the heights' shares with the classifier's probabilities held fixed (Saerens, Latinne and
-/// Decaestecker 2002, "Adjusting the outputs of a classifier to new a priori probabilities"),
-/// with [`HEIGHT_SHARE_PSEUDO_VIEWS`] views of the model's own shares added.
-pub(crate) fn estimate(cameras: &CameraSet, priors: &[f64], probabilities: &[f64]) -> HeightShares {
+/// camera of `cameras`, under the model's own per-camera `priors`), each row weighing as
+/// much as its entry of `weights` (the share of an independent view it is worth):
+/// expectation-maximisation of the heights' shares with the classifier's probabilities held
+/// fixed (Saerens, Latinne and Decaestecker 2002, "Adjusting the outputs of a classifier to
+/// new a priori probabilities"), with [`HEIGHT_SHARE_PSEUDO_VIEWS`] views of a camera at eye
+/// level ([`eye_level_shares`]) added: real footage is mostly filmed from about eye level, and
+/// the model's own shares (its training views, from every height alike) are no prior for it.
+pub(crate) fn estimate(
+    cameras: &CameraSet,
+    priors: &[f64],
+    probabilities: &[f64],
+    weights: &[f64],
+) -> HeightShares {
     let model = HeightShares::of_priors(cameras, priors);
+    let centre = eye_level_shares(&model);
     let levels: Vec<usize> = cameras
         .viewpoints()
         .iter()
         .map(|v| v.level.index())
         .collect();
     let k = levels.len();
-    let views = (probabilities.len() / k.max(1)) as f64;
-    let mut shares = model;
+    let views: f64 = weights.iter().sum();
+    let mut shares = centre;
     for _ in 0..MAX_ROUNDS {
-        let weights = shares.weights_against(&model);
+        let by_level = shares.weights_against(&model);
         let mut sums = [0.0; 3];
-        for row in probabilities.chunks_exact(k) {
-            let total: f64 = row.iter().zip(&levels).map(|(p, &l)| p * weights[l]).sum();
+        for (row, weight) in probabilities.chunks_exact(k).zip(weights) {
+            let total: f64 = row.iter().zip(&levels).map(|(p, &l)| p * by_level[l]).sum();
             if total > 0.0 {
                 for (p, &l) in row.iter().zip(&levels) {
-                    sums[l] += p * weights[l] / total;
+                    sums[l] += weight * p * by_level[l] / total;
                 }
             }
         }
-        let (before, prior) = (shares.to_array(), model.to_array());
+        let (before, prior) = (shares.to_array(), centre.to_array());
         let next = [0, 1, 2].map(|l| {
             (sums[l] + HEIGHT_SHARE_PSEUDO_VIEWS * prior[l]) / (views + HEIGHT_SHARE_PSEUDO_VIEWS)
         });
@@ -192,35 +208,52 @@ pub(crate) fn estimate(cameras: &CameraSet, priors: &[f64], probabilities: &[f64
 impl CameraLocalizer {
     /// The shares of the camera heights among the first [`HEIGHT_SHARE_MAX_POSES`] of `poses`,
     /// as the model reads them: the classifier's probabilities of every pose under its own
-    /// priors, then the shares that best explain them all (expectation-maximisation with the
-    /// probabilities held fixed, Saerens, Latinne and Decaestecker 2002, with
-    /// [`HEIGHT_SHARE_PSEUDO_VIEWS`] views of the model's own shares added). Poses that
+    /// priors, each pose weighing the share of an independent view it is worth (the frames
+    /// of a video little each: [`NEW_VIEW_TORSOS`](crate::NEW_VIEW_TORSOS)), then the shares
+    /// that best explain them all (expectation-maximisation with the probabilities held
+    /// fixed, Saerens, Latinne and Decaestecker 2002, with [`HEIGHT_SHARE_PSEUDO_VIEWS`] views
+    /// of a camera at eye level added: an input worth a few views is read about as
+    /// [`CameraHeight::EyeLevel`](crate::CameraHeight::EyeLevel) reads it). Poses that
     /// cannot be localized (no pelvis or neck, non-finite or degenerate landmarks) are left
-    /// out; with fewer than [`HEIGHT_SHARE_MIN_POSES`] left there are no shares. Give the
-    /// estimate's [`camera_height`](HeightEstimate::camera_height) to
+    /// out; with none left there are no shares. Give the estimate's
+    /// [`camera_height`](HeightEstimate::camera_height) to
     /// [`CameraLocalizer::with_camera_height`] to localize the input under it: then each
     /// pose's answer depends on the others. Runs in parallel.
     pub fn estimate_height_shares(&self, poses: &[PartialPose2]) -> HeightEstimate {
         let read = &poses[..poses.len().min(HEIGHT_SHARE_MAX_POSES)];
         let k = self.cameras.len();
-        let rows: Vec<Vec<f64>> = read
+        let rows: Vec<(&PartialPose2, Vec<f64>)> = read
             .par_iter()
             .filter_map(|pose| {
                 self.with_pose_rows(pose, String::new, |rows| {
                     let mut p = vec![0.0; k];
                     self.model_camera_probabilities_into(rows.classifier, rows.classes, &mut p)?;
-                    Ok(p)
+                    Ok((pose, p))
                 })
                 .ok()
             })
             .collect();
-        let shares = (rows.len() >= HEIGHT_SHARE_MIN_POSES)
-            .then(|| estimate(&self.cameras, &self.info.camera_priors, &rows.concat()));
+        let (kept, probabilities): (Vec<&PartialPose2>, Vec<Vec<f64>>) = rows.into_iter().unzip();
+        let weights = view_weights(&kept);
+        let shares = (!kept.is_empty()).then(|| {
+            estimate(
+                &self.cameras,
+                &self.info.camera_priors,
+                &probabilities.concat(),
+                &weights,
+            )
+        });
         HeightEstimate {
             shares,
             read: read.len(),
-            localized: rows.len(),
+            localized: kept.len(),
+            views: weights.iter().sum(),
         }
+    }
+
+    /// The shares of the heights under the model's own priors (its training views').
+    pub fn model_height_shares(&self) -> HeightShares {
+        HeightShares::of_priors(&self.cameras, &self.info.camera_priors)
     }
 
     /// [`estimate_height_shares`](Self::estimate_height_shares) of the samples of `dataset`
@@ -270,29 +303,41 @@ mod tests {
         for truth in 0..8 {
             rows.extend(answers(truth, if truth < 4 { 110 } else { 1100 }));
         }
-        let shares = estimate(&cameras, &priors, &rows);
+        let ones = vec![1.0; rows.len() / 12];
+        let shares = estimate(&cameras, &priors, &rows, &ones);
         assert!((shares.lower + shares.middle + shares.upper - 1.0).abs() < 1e-12);
         // Within 2 points: the rounds settle slowly towards a share of 0 (upper).
         assert!((shares.middle - 10.0 / 11.0).abs() < 0.02, "{shares:?}");
         assert!((shares.lower - 1.0 / 11.0).abs() < 0.02, "{shares:?}");
-        // An even input stays even.
+        // An even input stays about even (10 views at eye level against its 1,200).
         let even: Vec<f64> = (0..1200).flat_map(|i| row(i % 12, 0.6)).collect();
-        let shares = estimate(&cameras, &priors, &even);
+        let shares = estimate(&cameras, &priors, &even, &[1.0; 1200]);
         for s in [shares.lower, shares.middle, shares.upper] {
-            assert!((s - 1.0 / 3.0).abs() < 1e-6, "{shares:?}");
+            assert!((s - 1.0 / 3.0).abs() < 0.02, "{shares:?}");
         }
+        // The same 1,200 rows worth 12 views (a video's frames): eye level holds more.
+        let shares_of_video = estimate(&cameras, &priors, &even, &[0.01; 1200]);
+        assert!(shares_of_video.middle > 0.5, "{shares_of_video:?}");
     }
 
     #[test]
-    fn few_views_move_the_estimate_little_and_none_keep_the_model_shares() {
+    fn few_views_move_the_estimate_little_from_eye_level() {
         let cameras = CameraSet::table1();
-        // A model that saw the middle ring twice as often.
+        // A model that saw the middle ring twice as often: at eye level, the middle ring is 16
+        // times as likely as each other one.
         let mut priors = vec![1.0 / 16.0; 12];
         priors[4..8].iter_mut().for_each(|p| *p = 1.0 / 8.0);
-        let none = estimate(&cameras, &priors, &[]);
-        assert!((none.middle - 0.5).abs() < 1e-12 && (none.lower - 0.25).abs() < 1e-12);
-        let one = estimate(&cameras, &priors, &row(0, 0.9));
-        assert!(one.lower > 0.25 && one.lower < 0.25 + 1.0 / 11.0, "{one:?}");
+        let centre = eye_level_shares(&HeightShares::of_priors(&cameras, &priors));
+        assert!((centre.middle - 16.0 / 18.0).abs() < 1e-12, "{centre:?}");
+        let none = estimate(&cameras, &priors, &[], &[]).to_array();
+        for (a, b) in none.iter().zip(centre.to_array()) {
+            assert!((a - b).abs() < 1e-12, "{none:?}");
+        }
+        let one = estimate(&cameras, &priors, &row(0, 0.9), &[1.0]);
+        assert!(
+            one.lower > centre.lower && one.lower < centre.lower + 1.0 / 11.0,
+            "{one:?}"
+        );
     }
 
     #[test]

@@ -57,6 +57,7 @@ mod sides;
 mod train;
 mod train_options;
 mod upside_down;
+mod view_weights;
 mod viewpoint_smoothing;
 mod world;
 
@@ -83,8 +84,8 @@ pub use evaluate::{CameraAccuracy, Evaluation, LevelAccuracy, evaluate};
 pub use far_off::{FAR_OFF_RATIO, without_far_off_landmarks};
 pub use filled::MIN_PRESENT_FOR_FILL;
 pub use height_shares::{
-    HEIGHT_SHARE_MAX_POSES, HEIGHT_SHARE_MIN_POSES, HEIGHT_SHARE_PSEUDO_VIEWS, HeightEstimate,
-    HeightShares,
+    HEIGHT_SHARE_MAX_POSES, HEIGHT_SHARE_PSEUDO_VIEWS, HeightEstimate, HeightShares,
+    eye_level_shares,
 };
 pub use identity::{
     IDENTITY_JUMP_TORSOS, IDENTITY_SIZE_RATIO, LeftOut, OUTLIER_END_GAP_FRAMES, OUTLIER_RUN_FRAMES,
@@ -118,6 +119,7 @@ pub use train_options::{
     LandmarkDropout, MAX_DROPOUT_COPIES, QUADRATIC_GRADIENT_TOLERANCE, TrainOptions, TrainingInfo,
 };
 pub use upside_down::head_below_ankles;
+pub use view_weights::NEW_VIEW_TORSOS;
 pub use viewpoint_smoothing::{
     VIEWPOINT_HALF_WINDOW, Viewpoint, smooth_viewpoints, viewpoint_half_window,
 };

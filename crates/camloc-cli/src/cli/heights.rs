@@ -8,7 +8,7 @@ use std::path::Path;
 use camloc::dataset::Dataset;
 use camloc::reconstruct::Intrinsics;
 use camloc::skeleton::PartialPose2;
-use camloc::{CameraLocalizer, HEIGHT_SHARE_MAX_POSES, HEIGHT_SHARE_MIN_POSES, HeightEstimate};
+use camloc::{CameraLocalizer, HEIGHT_SHARE_MAX_POSES, HEIGHT_SHARE_PSEUDO_VIEWS, HeightEstimate};
 
 use super::input::Inputs;
 use super::{CameraHeightArg, CameraHeightArgs, CliError, InputArgs, load_model};
@@ -102,13 +102,14 @@ fn say(estimate: &HeightEstimate, whole: bool, quiet: bool) {
     };
     match estimate.shares {
         Some(shares) => stderr_line!(
-            "camloc: camera heights of the input, from {poses}{localized}: {shares} \
-             (--camera-height any: each pose on its own)"
+            "camloc: camera heights of the input, from {poses}{localized}, worth {:.0} \
+             independent view(s) against {HEIGHT_SHARE_PSEUDO_VIEWS} at eye level: {shares} \
+             (--camera-height any: each pose on its own)",
+            estimate.views
         ),
         None => stderr_line!(
-            "camloc: too few poses to estimate the camera heights of the input ({poses}{localized}; \
-             at least {HEIGHT_SHARE_MIN_POSES} with a torso are needed): each pose is localized \
-             on its own (--camera-height eye-level if the camera stood at about eye level)"
+            "camloc: no pose with a torso to estimate the camera heights of the input from \
+             ({poses}): each pose is localized on its own"
         ),
     }
 }

@@ -48,25 +48,25 @@ impl Inputs {
             unread_folders: false,
             folder: false,
         };
-        if args.input == Path::new("-") {
+        if args.path() == Path::new("-") {
             inputs.name = STDIN_NAME.to_owned();
             let stream =
                 open_keypoints_reader(std::io::stdin(), STDIN_NAME, None, args.format, &options)?;
             inputs.len_hint = stream.size_hint().1.map(|n| n as u64);
             inputs.current = Some(stream);
-        } else if args.input.is_dir() {
-            inputs.name = args.input.display().to_string();
+        } else if args.path().is_dir() {
+            inputs.name = args.path().display().to_string();
             inputs.folder = true;
-            inputs.files = keypoint_files(&args.input, args.recursive)?.into_iter();
+            inputs.files = keypoint_files(args.path(), args.recursive)?.into_iter();
             inputs.unread_folders = !args.recursive
-                && std::fs::read_dir(&args.input).is_ok_and(|entries| {
+                && std::fs::read_dir(args.path()).is_ok_and(|entries| {
                     entries
                         .flatten()
                         .any(|e| e.file_type().is_ok_and(|t| t.is_dir()))
                 });
         } else {
-            inputs.name = args.input.display().to_string();
-            let stream = open_keypoints(&args.input, args.format, &options)?;
+            inputs.name = args.path().display().to_string();
+            let stream = open_keypoints(args.path(), args.format, &options)?;
             inputs.len_hint = stream.size_hint().1.map(|n| n as u64);
             inputs.current = Some(stream);
         }

@@ -110,7 +110,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     targets::check(
         outputs,
         &[
-            ("--input", Some(&args.input.input)),
+            ("--input", Some(args.input.path())),
             ("--model", args.model.as_deref()),
         ],
     )?;

@@ -239,13 +239,24 @@ fn parse_min_score(text: &str) -> Result<f64, String> {
         .ok_or_else(|| format!("not a finite number >= 0: {text:?}"))
 }
 
+/// Where the keypoints are: `--input PATH` or the command's one argument (one of them).
+#[derive(clap::Args)]
+#[group(required = true, multiple = false)]
+pub struct KeypointsPath {
+    /// Keypoints: a file, a folder (its .json, .csv and .npy files in natural order; a bad
+    /// file is reported and the others are read, exit 1 at the end) or - for standard input.
+    #[arg(long = "input", value_name = "FILE|DIR|-")]
+    input_flag: Option<PathBuf>,
+    /// The keypoints as the command's one argument, as --input: `camloc localize poses.json`.
+    #[arg(value_name = "INPUT")]
+    input_path: Option<PathBuf>,
+}
+
 /// Input options shared by the commands that read keypoints.
 #[derive(clap::Args)]
 pub struct InputArgs {
-    /// Keypoints: a file, a folder (its .json, .csv and .npy files in natural order; a bad
-    /// file is reported and the others are read, exit 1 at the end) or - for standard input.
-    #[arg(long, value_name = "FILE|DIR|-")]
-    pub input: PathBuf,
+    #[command(flatten)]
+    keypoints: KeypointsPath,
     /// Input format [default: from the extension and content, for each file].
     #[arg(long, value_name = "NAME",
           value_parser = PossibleValuesParser::new(format_values())
@@ -285,6 +296,16 @@ pub struct InputArgs {
 }
 
 impl InputArgs {
+    /// The keypoints' path (`-` for standard input), given as --input or as the argument.
+    pub fn path(&self) -> &Path {
+        // clap requires exactly one of the two.
+        self.keypoints
+            .input_flag
+            .as_deref()
+            .or(self.keypoints.input_path.as_deref())
+            .unwrap_or(Path::new("-"))
+    }
+
     /// The reader options these arguments ask for.
     pub fn options(&self) -> ReadOptions {
         let mut options = ReadOptions {
@@ -354,8 +375,8 @@ pub fn load_dataset(path: &Path) -> Result<Dataset, CliError> {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum CameraHeightArg {
     /// The shares of the three heights among the input's cameras, estimated from its first
-    /// 20,000 poses before any is localized: each pose's answer then depends on the others
-    /// (fewer than 100 poses with a torso: each on its own).
+    /// 20,000 poses before any is localized, starting from a camera at eye level: each pose's
+    /// answer then depends on the others.
     FromInput,
     /// Nothing known: the model's own priors; each pose is localized on its own.
     Any,
@@ -371,8 +392,8 @@ pub struct CameraHeightArgs {
     /// model's probabilities (docs/conventions.md section 5, "What the caller knows of the
     /// camera"). `from-input` first reads the input's first 20,000 poses and estimates how
     /// its cameras divide among the three heights (a video or a studio's views: mostly one),
-    /// then localizes every pose under those shares (an input of fewer than 100 poses with a
-    /// torso, or `reconstruct --camera opt`: no estimate); `any` localizes each pose on its
+    /// then localizes every pose under those shares (a photo or a short clip: about as
+    /// `eye-level`; `reconstruct --camera opt`: no estimate); `any` localizes each pose on its
     /// own; `eye-level` suits studios, tripods and phones: on views of such
     /// cameras it turns more of the level mistakes near the middle ring's edge into right
     /// answers, and it costs views from far above or below.
