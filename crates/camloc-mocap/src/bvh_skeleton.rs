@@ -7,7 +7,7 @@ use super::euler::EulerOrder;
 use super::rotation::Axis;
 
 /// What a joint's rotation does.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum JointRole {
     /// It takes the frame of the body part (its `up` bone and the line from the right to the
     /// left landmark of `lateral`, or of `fallback` where that runs along `up`).
@@ -23,25 +23,9 @@ pub(crate) enum JointRole {
     Bone {
         /// The limb.
         limb: usize,
-        /// For a thigh, the knee below it ([`Hinge`]): its twist is the one that makes the
-        /// knee bend about one axis of its frame.
-        hinge: Option<Hinge>,
     },
     /// It has no landmark below it: its rotation is its parent's.
     Leaf,
-}
-
-/// The hinge a bone carries (the knee of a thigh): the limb below it, and the direction, in
-/// the bone's own frame across its rest axis, that the limb bends towards (back for a knee).
-/// Elbows are left ball joints: a forearm's depth is the least certain of the limbs', and
-/// upper arms twisted to keep reconstructed elbows hinged turned by up to 55 degrees a frame
-/// on a simulated user's takes (23 without).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) struct Hinge {
-    /// The limb below the hinge (an index into `LIMBS`).
-    pub(crate) limb: usize,
-    /// The direction it bends towards, a unit vector across the bone's `rest`.
-    pub(crate) bends: [f64; 3],
 }
 
 /// One joint of the written skeleton.
@@ -69,7 +53,6 @@ const DOWN: [f64; 3] = [0.0, -1.0, 0.0];
 const LEFT: [f64; 3] = [1.0, 0.0, 0.0];
 const RIGHT: [f64; 3] = [-1.0, 0.0, 0.0];
 const FORWARD: [f64; 3] = [0.0, 0.0, 1.0];
-const BACK: [f64; 3] = [0.0, 0.0, -1.0];
 
 /// Channel order of the root: yaw about the vertical first, so that pitch (the middle) is
 /// the angle that rarely reaches a quarter turn.
@@ -114,24 +97,10 @@ const fn bone(
     JointSpec {
         name,
         parent: Some(parent),
-        role: JointRole::Bone { limb, hinge: None },
+        role: JointRole::Bone { limb },
         rest,
         offset_limb,
         order,
-    }
-}
-
-/// A [`bone`] whose child limb `below` bends towards `bends` ([`Hinge`]).
-const fn hinged(spec: JointSpec, below: usize, bends: [f64; 3]) -> JointSpec {
-    let JointRole::Bone { limb, .. } = spec.role else {
-        panic!("only a bone carries a hinge");
-    };
-    JointSpec {
-        role: JointRole::Bone {
-            limb,
-            hinge: Some(Hinge { limb: below, bends }),
-        },
-        ..spec
     }
 }
 
@@ -179,17 +148,13 @@ pub(crate) const JOINTS: [JointSpec; 20] = [
         order: YAW_PITCH_ROLL,
     },
     bone("LHipJoint", 0, limb::L_HIP, LEFT, None, ALONG_X),
-    hinged(
-        bone(
-            "LeftUpLeg",
-            1,
-            limb::L_THIGH,
-            DOWN,
-            Some(limb::L_HIP),
-            ALONG_Y,
-        ),
-        limb::L_SHIN,
-        BACK,
+    bone(
+        "LeftUpLeg",
+        1,
+        limb::L_THIGH,
+        DOWN,
+        Some(limb::L_HIP),
+        ALONG_Y,
     ),
     bone(
         "LeftLeg",
@@ -201,17 +166,13 @@ pub(crate) const JOINTS: [JointSpec; 20] = [
     ),
     leaf("LeftFoot", 3, FORWARD, limb::L_SHIN),
     bone("RHipJoint", 0, limb::R_HIP, RIGHT, None, ALONG_X),
-    hinged(
-        bone(
-            "RightUpLeg",
-            5,
-            limb::R_THIGH,
-            DOWN,
-            Some(limb::R_HIP),
-            ALONG_Y,
-        ),
-        limb::R_SHIN,
-        BACK,
+    bone(
+        "RightUpLeg",
+        5,
+        limb::R_THIGH,
+        DOWN,
+        Some(limb::R_HIP),
+        ALONG_Y,
     ),
     bone(
         "RightLeg",
@@ -310,7 +271,7 @@ mod tests {
         for k in 0..NUM_LIMBS {
             let turning = JOINTS
                 .iter()
-                .filter(|j| matches!(j.role, JointRole::Bone { limb, .. } if limb == k))
+                .filter(|j| j.role == JointRole::Bone { limb: k })
                 .count();
             let body = matches!(k, limb::TORSO | limb::HEAD);
             assert_eq!(turning, usize::from(!body), "limb {k}");
@@ -322,7 +283,7 @@ mod tests {
         }
         for (j, joint) in JOINTS.iter().enumerate() {
             assert!(joint.parent.is_none_or(|p| p < j), "{}", joint.name);
-            if let JointRole::Bone { limb, .. } = joint.role {
+            if let JointRole::Bone { limb } = joint.role {
                 // The joint sits at the limb's parent landmark: its own offset limb ends there.
                 let parent_landmark = LIMBS[limb].0;
                 let placed_at = |j: usize| {
