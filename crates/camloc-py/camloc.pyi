@@ -65,8 +65,8 @@ class Localizer:
         those shares: a pose's answer depends on the other poses of the call, as with
         ``camloc localize``; the estimate starts from 10 views of a camera at eye level and
         a video's frames count little each, so a few photos or a short clip are read about as
-        ``"eye-level"`` reads them; a call without a pose with a torso leaves each on its
-        own, as ``"any"`` does),
+        ``"eye-level"`` reads them: give ``"any"`` for single photos from well above or below;
+        a call without a pose with a torso leaves each on its own, as ``"any"`` does),
         ``"any"`` (the model's own priors; each pose on its own) or ``"eye-level"`` (a
         tripod, handheld phone or studio camera at about a standing person's eye level, a
         few metres away: a middle-ring camera is 8 times as likely a priori). Raises
@@ -182,7 +182,8 @@ class Localizer:
             camera on the hidden Markov model's most probable path and its posterior (0 and NaN
             when no frame was localized; a frame that was not counts as a flat one);
             smoothed_azimuth_deg, smoothed_elevation_deg (N,): the mean direction of the frames
-            within 3 rows (``smooth_viewpoints``), NaN where the frame has no viewpoint;
+            within 3 rows (``smooth_viewpoints``; those within 45 deg of the row's own when at
+            least half are: a cut), NaN where the frame has no viewpoint;
           error: list of N messages, None where the pose was localized.
 
         Raises ValueError for a wrong shape, an unknown layout or a bad ``min_score``;

@@ -121,5 +121,5 @@ pub use train_options::{
 pub use upside_down::head_below_ankles;
 pub use view_weights::NEW_VIEW_TORSOS;
 pub use viewpoint_smoothing::{
-    VIEWPOINT_HALF_WINDOW, Viewpoint, smooth_viewpoints, viewpoint_half_window,
+    VIEWPOINT_CUT_DEG, VIEWPOINT_HALF_WINDOW, Viewpoint, smooth_viewpoints, viewpoint_half_window,
 };

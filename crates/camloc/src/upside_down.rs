@@ -4,21 +4,26 @@
 
 use camloc_skeleton::{Landmark, PartialPose2};
 
-/// Whether `pose` has its head below both ankles in the image (`v` larger), `None` when its
-/// head or an ankle is missing or at exactly `(0, 0)` (a detector's placeholder for a joint it
-/// did not find: [`has_origin_placeholders`](crate::has_origin_placeholders)).
+/// Whether `pose` stands on its head in the image: the head below both ankles (`v` larger),
+/// by at least half its distance from the ankles' midpoint (the body within 60 deg of upside
+/// down; a person lying across the image, head a little lower than the feet, is not: a
+/// simulated user's person lying on their back had been warned of in every frame). `None`
+/// when its head or an ankle is missing or at exactly `(0, 0)` (a detector's placeholder for
+/// a joint it did not find: [`has_origin_placeholders`](crate::has_origin_placeholders)).
 pub fn head_below_ankles(pose: &PartialPose2) -> Option<bool> {
-    let v = |l: Landmark| {
-        pose.points[l.index()]
-            .filter(|p| *p != [0.0, 0.0])
-            .map(|p| p[1])
-    };
+    let point = |l: Landmark| pose.points[l.index()].filter(|p| *p != [0.0, 0.0]);
+    let v = |l: Landmark| point(l).map(|p| p[1]);
+    let x = |l: Landmark| point(l).map(|p| p[0]);
     let (head, left, right) = (
         v(Landmark::Head)?,
         v(Landmark::LeftAnkle)?,
         v(Landmark::RightAnkle)?,
     );
-    Some(head > left && head > right)
+    let head_x = x(Landmark::Head)?;
+    let (left_x, right_x) = (x(Landmark::LeftAnkle)?, x(Landmark::RightAnkle)?);
+    let ankles = [(left_x + right_x) / 2.0, (left + right) / 2.0];
+    let reach = (head_x - ankles[0]).hypot(head - ankles[1]);
+    Some(head - left.max(right) >= 0.5 * reach && reach > 0.0)
 }
 
 #[cfg(test)]
@@ -35,5 +40,8 @@ mod tests {
         assert_eq!(head_below_ankles(&pose), Some(false));
         pose.points[Landmark::Head.index()] = Some([0.0, 250.0]);
         assert_eq!(head_below_ankles(&pose), Some(true));
+        // Lying across the image, the head a little lower than the feet: not upside down.
+        pose.points[Landmark::Head.index()] = Some([300.0, 230.0]);
+        assert_eq!(head_below_ankles(&pose), Some(false));
     }
 }

@@ -15,6 +15,12 @@ pub fn viewpoint_half_window(rate: FrameRate) -> u64 {
     VIEWPOINT_HALF_WINDOW * rate.step() as u64
 }
 
+/// Angle (degrees) beyond which a neighbour's viewpoint is taken as another camera's (a cut in
+/// the video) and left out of a frame's mean, when at least half of the window lies within
+/// it of the frame's own (45: a smoothed viewpoint had averaged the two sides of a simulated
+/// user's 180 deg cuts into one 29-35 deg off either, for 3 frames on each side).
+pub const VIEWPOINT_CUT_DEG: f64 = 45.0;
+
 /// A viewpoint: azimuth and elevation, degrees, in the person's canonical frame
 /// (docs/conventions.md section 2: azimuth 180 = front, 270 = the person's left; elevation
 /// positive above).
@@ -23,8 +29,10 @@ pub type Viewpoint = (f64, f64);
 /// The viewpoints of one person's frames, in time order, smoothed: frame `k`'s is the
 /// direction of the mean of the unit directions of the frames whose frame numbers lie within
 /// [`VIEWPOINT_HALF_WINDOW`] (at `rate`) of its own (`frames[k]`; `None`: its position),
-/// itself included. `None` where the frame has no viewpoint (`viewpoints[k]` is `None`: not
-/// localized) or the directions cancel.
+/// itself included, and whose viewpoints lie within [`VIEWPOINT_CUT_DEG`] of its own when at
+/// least half of them do (a cut: the other camera's frames are left out; a frame far from
+/// most of its neighbours, an outlier, is averaged with all of them). `None` where the frame
+/// has no viewpoint (`viewpoints[k]` is `None`: not localized) or the directions cancel.
 pub fn smooth_viewpoints(
     frames: &[Option<u64>],
     viewpoints: &[Option<Viewpoint>],
@@ -43,9 +51,19 @@ pub fn smooth_viewpoints(
             let near = |j: &usize| number(*j).abs_diff(centre) <= half;
             // Frames are in time order: the window's frames are a run around k.
             let start = (0..k).rev().take_while(near).last().unwrap_or(k);
-            let sum = (start..viewpoints.len())
+            let window: Vec<[f64; 3]> = (start..viewpoints.len())
                 .take_while(|j| *j <= k || near(j))
                 .filter_map(|j| viewpoints[j].map(unit))
+                .collect();
+            let own = viewpoints[k].map(unit)?;
+            let same_camera = |u: &&[f64; 3]| {
+                u[0] * own[0] + u[1] * own[1] + u[2] * own[2]
+                    >= VIEWPOINT_CUT_DEG.to_radians().cos()
+            };
+            let kept = window.iter().filter(same_camera).count();
+            let sum = window
+                .iter()
+                .filter(|u| 2 * kept < window.len() || same_camera(u))
                 .fold([0.0; 3], |s, u| [s[0] + u[0], s[1] + u[1], s[2] + u[2]]);
             let norm = (sum[0] * sum[0] + sum[1] * sum[1] + sum[2] * sum[2]).sqrt();
             (norm > 1e-9 * (viewpoints.len() as f64)).then(|| {
@@ -88,6 +106,25 @@ mod tests {
             .collect();
         let middle = smooth_viewpoints(&frames[..7], &jitter, FrameRate::default())[3].unwrap();
         assert!((middle.0 - 90.0 - 4.0 / 7.0).abs() < 0.01, "{middle:?}");
+    }
+
+    #[test]
+    fn a_cut_is_not_averaged_across_and_an_outlier_is() {
+        // Ten frames from the back (0 deg), then ten from the front (180 deg): every frame
+        // keeps its own camera's viewpoint, also next to the cut.
+        let cut: Vec<Option<Viewpoint>> = (0..20)
+            .map(|t| Some((if t < 10 { 0.0 } else { 180.0 }, 5.0)))
+            .collect();
+        let frames: Vec<Option<u64>> = vec![None; 20];
+        let smoothed = smooth_viewpoints(&frames, &cut, FrameRate::default());
+        for (t, (got, given)) in smoothed.iter().zip(&cut).enumerate() {
+            assert!(close(got.unwrap(), given.unwrap()), "{t}: {got:?}");
+        }
+        // One frame 100 deg off among steady neighbours is pulled towards them.
+        let mut outlier = vec![Some((90.0, 0.0)); 7];
+        outlier[3] = Some((190.0, 0.0));
+        let middle = smooth_viewpoints(&frames[..7], &outlier, FrameRate::default())[3].unwrap();
+        assert!((middle.0 - 90.0).abs() < 20.0, "{middle:?}");
     }
 
     #[test]
