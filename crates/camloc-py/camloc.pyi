@@ -15,8 +15,8 @@ width and by its height squash the pose, and all within [0, 1] are warned of), J
   COCO-17 and BODY_25 is the mean of the face points; a missing pelvis or neck is the midpoint
   of the hips or shoulders).
 
-A joint whose two coordinates are NaN is missing (a pose with fewer than 8 of the 15
-landmarks is localized from those it has, with a ``UserWarning``, and not reconstructed).
+A joint whose two coordinates are NaN is missing (a pose with a torso but fewer than 8 of the
+15 landmarks is localized from those it has, with a ``UserWarning``, and not reconstructed).
 Scores, either a third channel (N, J, 3) or ``scores`` of shape (N, J), must lie in [0, 1]; a
 joint scoring 0 or below ``min_score`` is missing.
 
@@ -153,10 +153,10 @@ class Localizer:
           person number with their ``frame``s. Default: the rows are consecutive frames.
           A ``ValueError`` without ``sequence``.
         A ``UserWarning`` says when most of the (first 20,000) poses have the head below both
-        ankles: points with v up (``camloc localize`` warns alike); another when their torsos
-        lean alike by 20 degrees or more (a rolled camera: turn the points upright); another
-        when a pose has a
-        landmark at exactly (0, 0) outside the box of its other landmarks (a detector's
+        ankles, the body within about 60 degrees of upside down: points with v up (``camloc
+        localize`` warns alike); another when their torsos lean alike by 20 degrees or more (a
+        rolled camera: turn the points upright); another when a pose has a landmark at
+        exactly (0, 0) outside the box of its other landmarks (a detector's
         placeholder for a joint it did not find: give scores or NaN); another when every pose
         of the call failed, with the first error other than "nothing detected", or, when no
         pose has a landmark, asking whether ``min_score`` is on the scale of the scores.

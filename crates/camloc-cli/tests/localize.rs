@@ -523,7 +523,7 @@ fn a_pose_of_too_few_landmarks_is_warned_of() {
     assert!(out.status.success());
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(
-        stderr.contains("1 of the 1 pose(s) have fewer than 8 of the 15 landmarks"),
+        stderr.contains("1 of the 1 pose(s) have a torso but fewer than 8 of the 15 landmarks"),
         "{stderr}"
     );
     let full = camloc(&[

@@ -5,8 +5,9 @@
 //! ([`origin_placeholder_warning`]), coordinates normalised by the image's sides, and poses
 //! of too few landmarks to be more than guessed at.
 
+use camloc_keypoints::derive_torso;
 use camloc_reconstruct::Intrinsics;
-use camloc_skeleton::PartialPose2;
+use camloc_skeleton::{Landmark, PartialPose2};
 
 use crate::{
     LeanHistogram, MIN_PRESENT_FOR_FILL, aimed_at_pelvis, has_origin_placeholders,
@@ -25,7 +26,8 @@ pub struct InputConventions {
     origin_placeholders: u64,
     /// Poses whose landmarks all lie within the unit square ([`within_unit_square`]).
     unit_square: u64,
-    /// Poses with at least one landmark and fewer than [`MIN_PRESENT_FOR_FILL`].
+    /// Poses with a torso and fewer than [`MIN_PRESENT_FOR_FILL`] landmarks
+    /// ([`localized_from_few`]).
     few_landmarks: u64,
     /// The poses' torso leans.
     leans: LeanHistogram,
@@ -49,8 +51,7 @@ impl InputConventions {
         self.poses += 1;
         self.origin_placeholders += u64::from(has_origin_placeholders(pose));
         self.unit_square += u64::from(within_unit_square(pose));
-        let present = pose.points.iter().flatten().count();
-        self.few_landmarks += u64::from((1..MIN_PRESENT_FOR_FILL).contains(&present));
+        self.few_landmarks += u64::from(localized_from_few(pose));
         let aimed = self.aim.and_then(|k| aimed_at_pelvis(pose, &k).ok());
         self.leans.add(aimed.as_ref().unwrap_or(pose));
         if let Some(below) = head_below_ankles(pose) {
@@ -112,16 +113,30 @@ fn normalised_coordinates_warning(checked: u64, within: u64) -> Option<String> {
     })
 }
 
-/// The warning for `few` of the `checked` poses having landmarks but fewer than
-/// [`MIN_PRESENT_FOR_FILL`]: a camera localized from a pelvis and a neck (13 landmarks
-/// imputed) had been answered like any other, 21% probable, without a word. `None` when no
-/// pose is that sparse.
+/// Whether `pose` has a torso (its pelvis and neck, or the hips and shoulders they are
+/// derived from) but fewer than [`MIN_PRESENT_FOR_FILL`] landmarks: `localize` reads its
+/// camera from those few, the others imputed (a pose without a torso and as few landmarks
+/// fails with its own error instead, and `reconstruct` refuses both).
+fn localized_from_few(pose: &PartialPose2) -> bool {
+    let present = pose.points.iter().flatten().count();
+    if present >= MIN_PRESENT_FOR_FILL {
+        return false;
+    }
+    let mut torso = *pose;
+    derive_torso(&mut torso);
+    torso.points[Landmark::Pelvis.index()].is_some()
+        && torso.points[Landmark::Neck.index()].is_some()
+}
+
+/// The warning for `few` of the `checked` poses being [`localized_from_few`]: a camera
+/// localized from a pelvis and a neck (13 landmarks imputed) had been answered like any other,
+/// 21% probable, without a word. `None` when no pose is.
 fn few_landmarks_warning(checked: u64, few: u64) -> Option<String> {
     (few > 0).then(|| {
         format!(
-            "{few} of the {checked} pose(s) have fewer than {MIN_PRESENT_FOR_FILL} of the 15 \
-             landmarks: their camera rests on the few given (the others imputed), and they \
-             cannot be reconstructed"
+            "{few} of the {checked} pose(s) have a torso but fewer than {MIN_PRESENT_FOR_FILL} \
+             of the 15 landmarks: `localize` reads their camera from those few (the others \
+             imputed), `reconstruct` refuses them"
         )
     })
 }
@@ -167,11 +182,20 @@ mod tests {
             pose.points[k] = Some([100.0 + k as f64, 50.0 + 20.0 * k as f64]);
             counted.add(&pose);
         }
-        // 7 of the 16 poses hold 1 to 7 landmarks; the empty one is nobody, not a sparse pose.
+        // The poses of 1 to 7 landmarks here (the pelvis, then the legs, in `LANDMARKS` order)
+        // have no neck and no shoulders to derive one from: no torso, not counted (they fail
+        // with their own error).
+        let said: Vec<String> = counted.warnings().collect();
+        assert!(said.iter().all(|w| !w.contains("fewer than")), "{said:?}");
+        // A pelvis and a neck, with up to 5 more: warned of.
+        let mut sparse = PartialPose2::empty();
+        sparse.points[Landmark::Pelvis.index()] = Some([100.0, 200.0]);
+        sparse.points[Landmark::Neck.index()] = Some([100.0, 100.0]);
+        counted.add(&sparse);
         let said: Vec<String> = counted.warnings().collect();
         assert!(
             said.iter()
-                .any(|w| w.starts_with("7 of the 16 pose(s) have fewer than 8")),
+                .any(|w| w.starts_with("1 of the 17 pose(s) have a torso but fewer than 8")),
             "{said:?}"
         );
         let mut full = InputConventions::default();
