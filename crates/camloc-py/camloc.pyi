@@ -63,7 +63,7 @@ class Localizer:
         ``"from-input"`` (each ``localize`` call first estimates from its first 20,000 poses
         how their cameras divide among the three heights, then localizes every pose under
         those shares: a pose's answer depends on the other poses of the call, as with
-        ``camloc localize``; the estimate starts from 10 views of a camera at eye level and
+        ``camloc localize``; the estimate starts from 5 views of a camera at eye level and
         a video's frames count little each, so a few photos or a short clip are read about as
         ``"eye-level"`` reads them: give ``"any"`` for single photos from well above or below;
         a call without a pose with a torso leaves each on its own, as ``"any"`` does),

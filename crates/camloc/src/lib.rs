@@ -119,7 +119,7 @@ pub use train_options::{
     LandmarkDropout, MAX_DROPOUT_COPIES, QUADRATIC_GRADIENT_TOLERANCE, TrainOptions, TrainingInfo,
 };
 pub use upside_down::head_below_ankles;
-pub use view_weights::NEW_VIEW_TORSOS;
+pub use view_weights::NEW_VIEW_SIZES;
 pub use viewpoint_smoothing::{
     VIEWPOINT_CUT_DEG, VIEWPOINT_HALF_WINDOW, Viewpoint, smooth_viewpoints, viewpoint_half_window,
 };

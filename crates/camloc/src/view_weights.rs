@@ -5,58 +5,84 @@
 //! each 47% upper back under the model's priors made the estimate 83% upper cameras, and every
 //! frame came out upper back).
 
-use camloc_keypoints::derive_torso;
-use camloc_skeleton::{Landmark, NUM_LANDMARKS, PartialPose2};
+use camloc_skeleton::{NUM_LANDMARKS, PartialPose2};
 
-/// How far (torso lengths, the landmarks' mean move) a pose must differ from the one before it
-/// to count as a new view: a walker's limbs move about that far in a quarter of a second;
-/// unrelated photos (other people, poses and sides) differ by about as much or more.
-pub const NEW_VIEW_TORSOS: f64 = 0.5;
+/// How far (in pose sizes: the root mean square distance of the landmarks from their centroid)
+/// the landmarks of two smoothed poses must have moved on average, per frame between them, for
+/// the later to count as a whole new view: a walker's limbs move about that far in a quarter
+/// of a second.
+pub const NEW_VIEW_SIZES: f64 = 0.25;
 
-/// Poses averaged, centred on each, before poses are compared (5): a detector's noise of a few
-/// pixels moves a landmark of a 30 fps video about as far a frame as its motion does, and
+/// Poses averaged, centred on each, before poses are compared (9): a detector's noise of a few
+/// pixels moves a landmark of a 30 fps video farther a frame than its motion does, and
 /// averaging keeps the motion while it damps the noise.
-const SMOOTHED_POSES: usize = 5;
+const SMOOTHED_POSES: usize = 9;
+
+/// Frames back (10, fewer at the input's start) that a pose is compared with: over a third of
+/// a second a motion moves the landmarks well beyond what the averaged noise does.
+const COMPARED_BACK: usize = 10;
+
+/// Two consecutive poses are of one video (one person, one camera) when their centroids are
+/// less than this many pose sizes apart (0.5) and their sizes within [`SAME_VIDEO_SIZE_RATIO`]
+/// of each other; otherwise (unrelated photos, another person) the later is a whole new view.
+const SAME_VIDEO_MOVE_SIZES: f64 = 0.5;
+
+/// See [`SAME_VIDEO_MOVE_SIZES`] (1.25).
+const SAME_VIDEO_SIZE_RATIO: f64 = 1.25;
 
 /// A pose's landmarks, each present or not.
 type Landmarks = [Option<[f64; 2]>; NUM_LANDMARKS];
 
-/// A pose's landmarks relative to its pelvis, in torso lengths (the pelvis and neck derived
-/// from the hips and shoulders where missing); `None` without a torso of finite, non-zero
-/// length.
-fn torso_frame(pose: &PartialPose2) -> Option<Landmarks> {
-    let mut pose = *pose;
-    derive_torso(&mut pose);
-    let pelvis = pose.points[Landmark::Pelvis.index()]?;
-    let neck = pose.points[Landmark::Neck.index()]?;
-    let torso = (neck[0] - pelvis[0]).hypot(neck[1] - pelvis[1]);
-    (torso.is_finite() && torso > 0.0).then(|| {
-        pose.points.map(|point| {
+/// A pose's landmarks relative to their centroid, in pose sizes (the root mean square distance
+/// of the landmarks from the centroid), with the centroid and the size in the image's units;
+/// `None` without two distinct finite landmarks.
+fn size_frame(pose: &PartialPose2) -> Option<(Landmarks, [f64; 2], f64)> {
+    let points: Vec<[f64; 2]> = pose
+        .points
+        .iter()
+        .flatten()
+        .filter(|p| p.iter().all(|c| c.is_finite()))
+        .copied()
+        .collect();
+    let n = points.len() as f64;
+    let centre = points
+        .iter()
+        .fold([0.0, 0.0], |s, p| [s[0] + p[0] / n, s[1] + p[1] / n]);
+    let size = (points
+        .iter()
+        .map(|p| (p[0] - centre[0]).powi(2) + (p[1] - centre[1]).powi(2))
+        .sum::<f64>()
+        / n)
+        .sqrt();
+    (points.len() >= 2 && size.is_finite() && size > 0.0).then(|| {
+        let framed = pose.points.map(|point| {
             point
-                .map(|[x, y]| [(x - pelvis[0]) / torso, (y - pelvis[1]) / torso])
                 .filter(|p| p.iter().all(|c| c.is_finite()))
-        })
+                .map(|[x, y]| [(x - centre[0]) / size, (y - centre[1]) / size])
+        });
+        (framed, centre, size)
     })
 }
 
 /// Per pose of `poses` (in the input's order), the share of a new view it is worth, in
-/// [0, 1]: the first 1; each other 1 when the mean move of the landmarks present in both
-/// between it and the pose before is [`NEW_VIEW_TORSOS`] or more, else
-/// `min(1, d / NEW_VIEW_TORSOS)` with `d` the same move between the two poses each averaged
-/// with its neighbours ([`SMOOTHED_POSES`]: a video's noise). A pose without a torso, or
-/// sharing no landmark with the one before, is worth a whole view. The weights sum to the
-/// input's number of independent views: a few for every second of a video, about one a pose
-/// for unrelated photos.
+/// [0, 1]: the first 1; a pose that is not of the same video as the one before (centroids
+/// [`SAME_VIDEO_MOVE_SIZES`] or more apart, sizes more than [`SAME_VIDEO_SIZE_RATIO`] apart:
+/// unrelated photos, another person) or that cannot be framed ([`size_frame`]) 1; else
+/// `min(1, d / (k NEW_VIEW_SIZES))` with `d` the mean move of the landmarks present in both
+/// between it and the pose `k` = [`COMPARED_BACK`] before it (fewer at the start), each
+/// averaged with its neighbours ([`SMOOTHED_POSES`]: a video's noise). The weights sum to the
+/// input's number of independent views: a few for every second of a video, whatever the
+/// detector's noise, and one a pose for unrelated photos.
 pub(crate) fn view_weights(poses: &[&PartialPose2]) -> Vec<f64> {
-    let framed: Vec<_> = poses.iter().map(|p| torso_frame(p)).collect();
+    let framed: Vec<_> = poses.iter().map(|p| size_frame(p)).collect();
     let half = SMOOTHED_POSES / 2;
     let smoothed: Vec<Option<Landmarks>> = (0..framed.len())
         .map(|t| {
-            framed[t]?;
+            framed[t].as_ref()?;
             let window = &framed[t.saturating_sub(half)..(t + half + 1).min(framed.len())];
             Some(std::array::from_fn(|l| {
                 let (mut sum, mut n) = ([0.0, 0.0], 0.0);
-                for point in window.iter().flatten().filter_map(|f| f[l]) {
+                for point in window.iter().flatten().filter_map(|f| f.0[l]) {
                     sum = [sum[0] + point[0], sum[1] + point[1]];
                     n += 1.0;
                 }
@@ -66,15 +92,24 @@ pub(crate) fn view_weights(poses: &[&PartialPose2]) -> Vec<f64> {
         .collect();
     (0..framed.len())
         .map(|t| {
-            let Some(before) = t.checked_sub(1) else {
+            let (Some(before), Some((_, centre, size))) = (t.checked_sub(1), &framed[t]) else {
                 return 1.0;
             };
-            let moved = |now: &Option<Landmarks>, before: &Option<Landmarks>| {
-                mean_move(now.as_ref()?, before.as_ref()?)
+            let Some((_, centre_before, size_before)) = &framed[before] else {
+                return 1.0;
             };
-            match moved(&framed[t], &framed[before]) {
-                Some(raw) if raw < NEW_VIEW_TORSOS => moved(&smoothed[t], &smoothed[before])
-                    .map_or(1.0, |d| (d / NEW_VIEW_TORSOS).min(1.0)),
+            let apart = (centre[0] - centre_before[0]).hypot(centre[1] - centre_before[1])
+                / size.max(*size_before);
+            let ratio = size / size_before;
+            let same_video = apart < SAME_VIDEO_MOVE_SIZES
+                && (1.0 / SAME_VIDEO_SIZE_RATIO..SAME_VIDEO_SIZE_RATIO).contains(&ratio);
+            if !same_video {
+                return 1.0;
+            }
+            let back = COMPARED_BACK.min(t);
+            match (&smoothed[t], &smoothed[t - back]) {
+                (Some(now), Some(then)) => mean_move(now, then)
+                    .map_or(1.0, |d| (d / (back as f64 * NEW_VIEW_SIZES)).min(1.0)),
                 _ => 1.0,
             }
         })
@@ -96,6 +131,7 @@ fn mean_move(a: &Landmarks, b: &Landmarks) -> Option<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use camloc_skeleton::Landmark;
 
     /// A standing pose (pixels, y down) with its legs swung by `swing` torso lengths.
     fn pose(swing: f64, x0: f64) -> PartialPose2 {
@@ -122,16 +158,32 @@ mod tests {
     #[test]
     fn a_video_counts_as_few_views_and_unrelated_poses_as_one_each() {
         // Four seconds of a walk at 30 fps (legs swinging 0.3 torsos at 1 Hz), walking across
-        // the image: a few views a second, not 30.
+        // the image: a few views a second, not 30, and as few with a detector's noise (up to
+        // 8 px on a person 100 px from pelvis to neck).
         let walk: Vec<PartialPose2> = (0..120)
             .map(|t| {
                 let s = t as f64 / 30.0;
-                pose(0.3 * (std::f64::consts::TAU * s).sin(), 40.0 * t as f64)
+                pose(0.3 * (std::f64::consts::TAU * s).sin(), 10.0 * t as f64)
             })
             .collect();
         let weights = view_weights(&walk.iter().collect::<Vec<_>>());
         let views: f64 = weights.iter().sum();
         assert!((2.0..30.0).contains(&views), "{views}");
+        // Up to 8 px of noise, uncorrelated from frame to frame (a fixed irrational pattern).
+        let noise = |t: usize, k: usize| 8.0 * ((t * 15 + k) as f64 * 2.399_963).sin();
+        let noisy: Vec<PartialPose2> = walk
+            .iter()
+            .enumerate()
+            .map(|(t, p)| {
+                let mut points = p.points;
+                for (l, point) in points.iter_mut().enumerate() {
+                    *point = point.map(|[x, y]| [x + noise(t, 2 * l), y + noise(t, 2 * l + 1)]);
+                }
+                PartialPose2 { points }
+            })
+            .collect();
+        let noisy_views: f64 = view_weights(&noisy.iter().collect::<Vec<_>>()).iter().sum();
+        assert!(noisy_views < 2.0 * views, "{noisy_views} against {views}");
         // Unrelated photos: people seen from other sides (hips and shoulders 0.1 to 0.5 torsos
         // wide), legs and arms elsewhere: nearly a view each.
         let photos: Vec<PartialPose2> = (0..120)
