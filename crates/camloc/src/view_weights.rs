@@ -99,8 +99,8 @@ fn size_frame(pose: &PartialPose2) -> Option<(Landmarks, [f64; 2], f64)> {
 /// `min(1, d / (k NEW_VIEW_SIZES))` with `d` the mean move of the landmarks present in both
 /// between it and the pose `k` = [`COMPARED_BACK`] before it (fewer at the start), each
 /// averaged with its neighbours ([`SMOOTHED_POSES`]: a video's noise). The weights sum to the
-/// input's number of independent views: a few for every second of a video, whatever the
-/// detector's noise, and one a pose for unrelated photos.
+/// input's number of independent views: a few for every second of a video (more when the
+/// detector's noise is large against a small torso), and one a pose for unrelated photos.
 pub(crate) fn view_weights(poses: &[&PartialPose2]) -> Vec<f64> {
     let framed: Vec<_> = poses.iter().map(|p| size_frame(p)).collect();
     let half = SMOOTHED_POSES / 2;
