@@ -276,6 +276,13 @@ fn argmax(values: &[f64]) -> usize {
         .0
 }
 
+/// The frame number of position `t` of one person's frames (`numbers`, `None` where
+/// unknown): its own, or, without one, its position (as [`sequences`] counts a record without
+/// a frame), so that frames left out of a sequence still count as time passing.
+pub(crate) fn number_or_position(numbers: &[Option<u64>], t: usize) -> u64 {
+    numbers.get(t).copied().flatten().unwrap_or(t as u64)
+}
+
 /// The sequences of an input: the positions of the records of each person, ordered by frame.
 ///
 /// `keys[n]` is the `(frame, person)` of the n-th record (see

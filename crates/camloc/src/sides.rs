@@ -7,6 +7,8 @@
 use camloc_reconstruct::FrameRate;
 use camloc_skeleton::{Landmark, PartialPose2};
 
+use crate::sequence::number_or_position;
+
 /// A chain of landmarks whose left and right sides a detector can confuse.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SideChain {
@@ -173,11 +175,9 @@ pub fn swap_sides_back(
     let kept: Vec<usize> = (0..poses.len())
         .filter(|&m| !left_out.get(m).copied().unwrap_or(false))
         .collect();
-    // (A frame without a number keeps its position as one, so that the left-out frames
-    // still count as time passing.)
     let kept_frames: Vec<Option<u64>> = kept
         .iter()
-        .map(|&m| frames.get(m).copied().flatten().or(Some(m as u64)))
+        .map(|&m| Some(number_or_position(frames, m)))
         .collect();
     let kept_poses: Vec<PartialPose2> = kept.iter().map(|&m| poses[m]).collect();
     swapped_sides(&kept_frames, &kept_poses, rate)

@@ -7,8 +7,9 @@
 
 use camloc_skeleton::{Landmark, NUM_LANDMARKS, PartialPose2};
 
-/// How far (in pose sizes: the root mean square distance of the landmarks from their centroid)
-/// the landmarks of two smoothed poses must have moved on average, per frame between them, for
+/// How far (in pose sizes: the root mean square distance of the torso's landmarks, pelvis,
+/// neck, hips and shoulders, from their centroid) the landmarks of two smoothed poses must
+/// have moved on average, per frame between them, for
 /// the later to count as a whole new view: a walker's limbs move about that far in a quarter
 /// of a second.
 pub const NEW_VIEW_SIZES: f64 = 0.5;

@@ -4,6 +4,8 @@
 
 use camloc_reconstruct::FrameRate;
 
+use crate::sequence::number_or_position;
+
 /// Frames on each side of a frame that [`smooth_viewpoints`] averages with it at 30 frames a
 /// second (a window of 7 frames, about a quarter of a second; at faster rates as long in
 /// time, [`FrameRate::step`] times as many frames).
@@ -39,7 +41,7 @@ pub fn smooth_viewpoints(
     rate: FrameRate,
 ) -> Vec<Option<Viewpoint>> {
     let half = viewpoint_half_window(rate);
-    let number = |k: usize| frames.get(k).copied().flatten().unwrap_or(k as u64);
+    let number = |k: usize| number_or_position(frames, k);
     let unit = |(azimuth, elevation): Viewpoint| {
         let (a, e) = (azimuth.to_radians(), elevation.to_radians());
         [e.cos() * a.cos(), e.cos() * a.sin(), e.sin()]

@@ -10,6 +10,7 @@ use camloc_skeleton::{PartialPose2, Pose2};
 use super::{
     PoseReconstruction, PoseReconstructor, PoseSequenceReconstruction, Prepared, pose_error,
 };
+use crate::sequence::number_or_position;
 use crate::{CamlocError, Viewpoint, smooth_viewpoints, viewpoint_half_window};
 
 /// The runs of one person's frames (positions), each frame's solve (`None` where none) and
@@ -55,12 +56,13 @@ impl PoseReconstructor {
     ) -> Result<PoseSequenceReconstruction, CamlocError> {
         let left = |t: usize| left_out.get(t).copied().unwrap_or(false);
         let kept: Vec<usize> = (0..poses.len()).filter(|&t| !left(t)).collect();
-        // (Without a number, a frame's position counts as one, as in `camloc::sequences`.)
-        let number = |t: usize| numbers.get(t).copied().flatten().or(Some(t as u64));
         let mut breaks = vec![false; kept.len()];
         for (k, pair) in kept.windows(2).enumerate() {
-            breaks[k + 1] = matches!((number(pair[0]), number(pair[1])), (Some(a), Some(b))
-                if b.saturating_sub(a) > self.sequence_break_frames() as u64);
+            let (a, b) = (
+                number_or_position(numbers, pair[0]),
+                number_or_position(numbers, pair[1]),
+            );
+            breaks[k + 1] = b.saturating_sub(a) > self.sequence_break_frames() as u64;
         }
         let kept_poses: Vec<PartialPose2> = kept.iter().map(|&t| poses[t]).collect();
         let solved = self.reconstruct_sequence_with_breaks(&kept_poses, &breaks)?;
