@@ -178,6 +178,10 @@ class Localizer:
             (the prior every pose was localized under, as ``camloc localize --npz`` writes
             it); NaN when no estimate was used (no pose with a torso, ``"any"``,
             ``"eye-level"``);
+          camera_height_views float: the number of independent views the estimate counted
+            its poses as worth (a video's frames little each, unrelated photos one each; the
+            estimate starts from 5 views of a camera at eye level), as ``camloc localize``
+            says it on a terminal; NaN when no estimate was made;
           with ``sequence``: smoothed_label (N,) int64 and smoothed_probability (N,), the
             camera on the hidden Markov model's most probable path and its posterior (0 and NaN
             when no frame was localized; a frame that was not counts as a flat one);
@@ -359,8 +363,8 @@ def reconstruct(
         of NaN, or the rows' ``frames``, so that time passes there (the frames on each side of
         3 or more frames in a row that fail are solved as runs of their own, with the person's
         one set of bone lengths);
-      camera_height_shares (3,): as ``Localizer.localize`` returns it (NaN for ``opt``,
-        which localizes no complete pose);
+      camera_height_shares (3,), camera_height_views: as ``Localizer.localize`` returns
+        them (NaN for ``opt``, which localizes no complete pose);
       camera: the mode used;
       error: list of N messages, None where the pose was reconstructed.
 
@@ -429,14 +433,15 @@ def read_keypoints(
     recursive: bool = False,
     max_input_bytes: int = 1 << 30,
 ) -> Dict[str, Any]:
-    """Reads a keypoint file, or every keypoint file (.json, .csv, .npy) of a folder.
+    """Reads a keypoint file, or every keypoint file (.json, .csv, .npy; YOLO's .txt in a folder
+    without those) of a folder.
 
-    format: one of ``FORMATS`` (camloc, lsp, coco, openpose, mmpose, mediapipe, npy, mpii);
-      None detects it from the extension and content.
+    format: one of ``FORMATS`` (camloc, lsp, coco, openpose, mmpose, mediapipe, npy, mpii,
+      yolo); None detects it from the extension and content.
     layout: the joint layout of .npy arrays and MMPose keypoints (None: from the joint count).
     min_score: joints scoring below it are missing (formats with scores).
     image_size: (width, height) in pixels (a tuple, list or array) or "W,H", to scale MediaPipe's
-        normalised coordinates.
+        and YOLO's normalised coordinates.
     lsp_invisible: ``missing`` or ``use`` (LSP joints marked visible=0; with ``use``, a joint
       with a coordinate <= 0 is a placeholder without a position and stays missing).
     derive_torso: derive a missing pelvis / neck from the hips / shoulders.

@@ -126,6 +126,7 @@ fn every_sample_format_gives_the_example_labels() {
         vec![s("mmpose.json"), "--format".into(), "mmpose".into()],
         vec![s("mpii.json")],
         vec![s("openpose")],
+        vec![s("yolo"), "--image-size".into(), "640,480".into()],
     ];
     for case in cases {
         let mut args = vec!["localize", "--jsonl", "--input"];
@@ -133,10 +134,14 @@ fn every_sample_format_gives_the_example_labels() {
         let labels = jsonl_labels(&success(&camloc(&args)));
         assert_eq!(labels, expected, "{case:?}");
     }
-    // MediaPipe without the image size: one clear error.
+    // MediaPipe and YOLO without the image size: a clear error.
     assert_clean_failure(
         &camloc(&["localize", "--input", &s("mediapipe.json")]),
         "mediapipe.json",
+    );
+    assert_clean_failure(
+        &camloc(&["localize", "--input", &s("yolo/clip_0.txt")]),
+        "clip_0.txt: YOLO coordinates are normalised",
     );
 }
 
@@ -379,6 +384,10 @@ fn the_default_estimates_the_camera_heights_from_the_input() {
     let (_, shares) = archive.array::<f64>("camera_height_shares");
     let want = estimate.shares.unwrap();
     assert_eq!(shares, [want.lower, want.middle, want.upper]);
+    assert_eq!(
+        archive.array::<f64>("camera_height_views").1,
+        [estimate.views]
+    );
     let alone = run(&path, &["--camera-height", "any"]);
     close(&alone, &any);
     assert_eq!(default, run(&path, &["--camera-height", "from-input"]));

@@ -11,14 +11,18 @@ use crate::{KeypointFormat, KeypointStream, ReadOptions, open_keypoints};
 /// Extensions of the files a folder is read for (any case).
 const EXTENSIONS: [&str; 3] = ["json", "csv", "npy"];
 
-/// The keypoint files (`.json`, `.csv`, `.npy`, any case) in `dir`, in natural order of their
-/// paths (digit runs compare as numbers: `frame_2` before `frame_10`), files of sub-folders too
-/// when `recursive`. Names starting with `.` are skipped, and symbolic links to folders are not
-/// followed (no cycles). Entries with these extensions that are not regular files (a dangling
-/// link, a link to a device, a FIFO) are listed too: [`open_folder_file`] refuses them, so that
-/// they are reported rather than skipped in silence.
+/// Extension of YOLO pose text files, read in a folder that has none of [`EXTENSIONS`] (a
+/// folder of notes beside JSON frames is not read for them).
+const YOLO_EXTENSION: &str = "txt";
+
+/// The keypoint files (`.json`, `.csv`, `.npy`, any case; `.txt` when there is none of those) in
+/// `dir`, in natural order of their paths (digit runs compare as numbers: `frame_2` before
+/// `frame_10`), files of sub-folders too when `recursive`. Names starting with `.` are skipped, and
+/// symbolic links to folders are not followed (no cycles). Entries with these extensions that are
+/// not regular files (a dangling link, a link to a device, a FIFO) are listed too:
+/// [`open_folder_file`] refuses them, so that they are reported rather than skipped in silence.
 pub fn keypoint_files(dir: &Path, recursive: bool) -> Result<Vec<PathBuf>, KeypointError> {
-    let mut files = Vec::new();
+    let (mut files, mut texts) = (Vec::new(), Vec::new());
     let mut pending = vec![dir.to_path_buf()];
     while let Some(dir) = pending.pop() {
         let io = |source| KeypointError::Io {
@@ -36,15 +40,18 @@ pub fn keypoint_files(dir: &Path, recursive: bool) -> Result<Vec<PathBuf>, Keypo
                 if recursive {
                     pending.push(path);
                 }
-            } else if !path.is_dir()
-                && path
-                    .extension()
-                    .and_then(|e| e.to_str())
-                    .is_some_and(|e| EXTENSIONS.iter().any(|x| x.eq_ignore_ascii_case(e)))
-            {
-                files.push(path);
+            } else if !path.is_dir() {
+                let extension = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+                if EXTENSIONS.iter().any(|x| x.eq_ignore_ascii_case(extension)) {
+                    files.push(path);
+                } else if YOLO_EXTENSION.eq_ignore_ascii_case(extension) {
+                    texts.push(path);
+                }
             }
         }
+    }
+    if files.is_empty() {
+        files = texts;
     }
     files.sort_by(|a, b| natural_cmp(&a.to_string_lossy(), &b.to_string_lossy()));
     Ok(files)

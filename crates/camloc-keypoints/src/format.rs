@@ -1,6 +1,7 @@
 //! The supported formats and their detection.
 
 use std::fmt;
+use std::ops::RangeInclusive;
 use std::str::FromStr;
 
 use crate::error::KeypointError;
@@ -24,11 +25,14 @@ pub enum KeypointFormat {
     Npy,
     /// MPII annotations in their common JSON form: `[{"image", "joints", "joints_vis"}]`.
     Mpii,
+    /// Ultralytics YOLO pose text, one `.txt` file per image or frame: a line per person of
+    /// class, box and 17 COCO keypoints, normalised.
+    Yolo,
 }
 
 impl KeypointFormat {
     /// All formats.
-    pub const ALL: [KeypointFormat; 8] = [
+    pub const ALL: [KeypointFormat; 9] = [
         KeypointFormat::Camloc,
         KeypointFormat::Lsp,
         KeypointFormat::Coco,
@@ -37,13 +41,15 @@ impl KeypointFormat {
         KeypointFormat::MediaPipe,
         KeypointFormat::Npy,
         KeypointFormat::Mpii,
+        KeypointFormat::Yolo,
     ];
 
     /// The names of [`KeypointFormat::ALL`], comma-separated (for messages and help texts).
-    pub const NAMES: &'static str = "camloc, lsp, coco, openpose, mmpose, mediapipe, npy, mpii";
+    pub const NAMES: &'static str =
+        "camloc, lsp, coco, openpose, mmpose, mediapipe, npy, mpii, yolo";
 
     /// Short lower-case name (`camloc`, `lsp`, `coco`, `openpose`, `mmpose`, `mediapipe`, `npy`,
-    /// `mpii`), as accepted by [`str::parse`].
+    /// `mpii`, `yolo`), as accepted by [`str::parse`].
     pub const fn name(self) -> &'static str {
         match self {
             KeypointFormat::Camloc => "camloc",
@@ -54,7 +60,16 @@ impl KeypointFormat {
             KeypointFormat::MediaPipe => "mediapipe",
             KeypointFormat::Npy => "npy",
             KeypointFormat::Mpii => "mpii",
+            KeypointFormat::Yolo => "yolo",
         }
+    }
+
+    /// `true` for the JSON formats (all but LSP CSV, `.npy` arrays and YOLO text).
+    pub const fn is_json(self) -> bool {
+        !matches!(
+            self,
+            KeypointFormat::Lsp | KeypointFormat::Npy | KeypointFormat::Yolo
+        )
     }
 
     /// Guesses the format of a file from its extension (without the dot, any case) and content.
@@ -72,8 +87,10 @@ impl KeypointFormat {
     ///   `"landmarks"` holding a list, or a list whose first element is a list or `null` →
     ///   MediaPipe; `"annotations"` or `"keypoints"`, or any other top-level list →
     ///   COCO.
+    /// * `txt` not starting with `{` or `[`: LSP CSV when its first line names LSP's columns,
+    ///   else [`Yolo`](KeypointFormat::Yolo) when that line is numbers or the text is blank.
     /// * Other extensions: content whose first non-blank line names the columns `image` and
-    ///   `joint` is LSP CSV.
+    ///   `joint` is LSP CSV; one of 39-41 or 56-58 numbers is YOLO pose text.
     ///
     /// Returns `None` when nothing matches. Only looks at the text; it does not validate it.
     pub fn from_extension_and_content(
@@ -85,9 +102,14 @@ impl KeypointFormat {
         match extension.as_deref() {
             Some("npy") => Some(KeypointFormat::Npy),
             Some("csv") => Some(KeypointFormat::Lsp),
+            // A YOLO frame where nobody was detected is an empty file.
+            Some("txt") if content.is_empty() => Some(KeypointFormat::Yolo),
+            Some("txt") if !content.starts_with(['{', '[']) => {
+                sniff_csv(content).or_else(|| sniff_yolo(content, 1..=usize::MAX))
+            }
             Some("json") => sniff_json(content),
             _ if content.starts_with(['{', '[']) => sniff_json(content),
-            _ => sniff_csv(content),
+            _ => sniff_csv(content).or_else(|| sniff_yolo(content, 39..=58)),
         }
     }
 }
@@ -160,6 +182,17 @@ fn sniff_csv(content: &str) -> Option<KeypointFormat> {
             .any(|c| c.trim().eq_ignore_ascii_case(column))
     };
     (has("image") && has("joint")).then_some(KeypointFormat::Lsp)
+}
+
+/// YOLO pose text when the first non-blank line is numbers, as many as `counts` allows
+/// (without an extension: 39-41 or 56-58, a class, a box and 17 keypoints of 2 or 3 numbers,
+/// then at most a confidence and a track id).
+fn sniff_yolo(content: &str, counts: RangeInclusive<usize>) -> Option<KeypointFormat> {
+    let line = content.lines().find(|l| !l.trim().is_empty())?;
+    let words: Vec<&str> = line.split_whitespace().collect();
+    let numbers = words.iter().all(|w| w.parse::<f64>().is_ok());
+    let shaped = counts.contains(&words.len()) && !matches!(words.len(), 42..=55);
+    (numbers && shaped).then_some(KeypointFormat::Yolo)
 }
 
 impl fmt::Display for KeypointFormat {
@@ -266,6 +299,9 @@ mod tests {
         assert_eq!(detect(Some("json"), r#"{"a": 1}"#), None);
         assert_eq!(detect(None, "\n image, joint,x,y,visible\n"), Some(Lsp));
         assert_eq!(detect(Some("txt"), r#"{"poses": []}"#), Some(Camloc));
+        assert_eq!(detect(Some("txt"), ""), Some(Yolo));
+        assert_eq!(detect(None, &format!("0{}", " 0.5".repeat(55))), Some(Yolo));
+        assert_eq!(detect(None, &format!("0{}", " 0.5".repeat(50))), None);
         assert_eq!(detect(None, "hello"), None);
         assert_eq!(detect(Some("NPY"), ""), Some(Npy));
         assert_eq!(

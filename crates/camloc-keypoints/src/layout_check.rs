@@ -4,9 +4,12 @@
 //! pose that is no body (the nose read as the pelvis, the eyes as hips) and a confident wrong
 //! camera, so the readers refuse a pose whose first five joints clearly contradict its layout.
 //! A detector's misplaced face point must not make a COCO-17 pose look like Human3.6M's, so
-//! the test of a COCO-17 pose leaves out the face point that spreads the face most.
+//! the test of a COCO-17 pose leaves out the face point that spreads the face most. And
+//! [`layout_applies`]: a layout given for a format that fixes its own.
 
+use crate::error::KeypointError;
 use crate::layout::Layout;
+use crate::{KeypointFormat, ReadOptions};
 
 /// A pose declared COCO-17 is refused when its face points, the one that spreads them most
 /// left out, spread over more than this share of the other twelve joints' spread (root mean
@@ -148,6 +151,38 @@ fn rms_radius(points: &[[f64; 2]]) -> f64 {
         .map(|[x, y]| (x / largest).powi(2) + (y / largest).powi(2))
         .sum();
     largest * (squares / n).sqrt()
+}
+
+/// [`KeypointError::LayoutNotUsed`] when [`ReadOptions::layout`] is given for a `format` that does
+/// not take one (only `.npy` arrays and MMPose keypoints do) and is not the format's own layout
+/// (COCO's and YOLO's `coco17`, LSP's `lsp14`, MPII's `mpii16`, camloc's `camloc15`, OpenPose's
+/// `body25`).
+pub(crate) fn layout_applies(
+    format: KeypointFormat,
+    options: &ReadOptions,
+    file: &str,
+) -> Result<(), KeypointError> {
+    let Some(layout) = options.layout else {
+        return Ok(());
+    };
+    let own = match format {
+        KeypointFormat::Npy | KeypointFormat::MmPose => return Ok(()),
+        KeypointFormat::Coco => Some(Layout::Coco17),
+        KeypointFormat::Lsp => Some(Layout::Lsp14),
+        KeypointFormat::Mpii => Some(Layout::Mpii16),
+        KeypointFormat::Camloc => Some(Layout::Camloc15),
+        KeypointFormat::OpenPose => Some(Layout::Body25),
+        KeypointFormat::Yolo => Some(Layout::Coco17),
+        KeypointFormat::MediaPipe => None,
+    };
+    if own == Some(layout) {
+        return Ok(());
+    }
+    Err(KeypointError::LayoutNotUsed {
+        file: file.to_owned(),
+        format: format.name(),
+        layout: layout.name(),
+    })
 }
 
 #[cfg(test)]

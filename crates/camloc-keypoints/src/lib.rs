@@ -21,15 +21,15 @@
 //!
 //! # Formats
 //!
-//! [`KeypointFormat`] lists the eight formats: camloc JSON, LSP-14 CSV and COCO-17 JSON (below),
+//! [`KeypointFormat`] lists the nine formats: camloc JSON, LSP-14 CSV and COCO-17 JSON (below),
 //! and OpenPose JSON (BODY_25, COCO-18), MMPose predictions, MediaPipe Pose, NumPy `.npy` arrays
-//! in a [`Layout`], and MPII JSON annotations, whose joint mappings are tabled in
-//! docs/keypoints.md. [`KeypointFormat::from_extension_and_content`] picks the format when none
-//! is given. [`read_keypoints`] reads a file, [`open_keypoints`] and [`open_keypoints_reader`]
-//! (standard input) stream its records (`.npy` arrays one pose at a time), [`read_folder`]
-//! reads a folder file by file, each with its own result; [`pose_from_array`] maps one raw
-//! (J, 2) or (J, 3) pose; [`write_npy`] and [`NpyPoseWriter`] write (N, 15, 2) and (N, 15, 3)
-//! arrays.
+//! in a [`Layout`], MPII JSON annotations and Ultralytics YOLO pose text, whose joint mappings
+//! are tabled in docs/keypoints.md. [`KeypointFormat::from_extension_and_content`] picks the
+//! format when none is given. [`read_keypoints`] reads a file, [`open_keypoints`] and
+//! [`open_keypoints_reader`] (standard input) stream its records (`.npy` arrays one pose at a
+//! time), [`read_folder`] reads a folder file by file, each with its own result;
+//! [`pose_from_array`] maps one raw (J, 2) or (J, 3) pose; [`write_npy`] and [`NpyPoseWriter`]
+//! write (N, 15, 2) and (N, 15, 3) arrays.
 //!
 //! ## camloc JSON (version 1)
 //!
@@ -137,6 +137,7 @@ mod peek;
 mod record;
 mod stream;
 mod torso;
+mod yolo;
 
 use std::fmt;
 use std::io::{self, Read};
@@ -466,7 +467,7 @@ pub fn open_keypoints_reader(
     if detected == Some(KeypointFormat::Lsp) && !start.ended {
         lsp::check_header_of_start(text, start.newlines, name)?;
     }
-    let json = detected.filter(|f| !matches!(f, KeypointFormat::Lsp | KeypointFormat::Npy));
+    let json = detected.filter(|f| f.is_json());
     // A short document after a long blank lead is streamed too: read whole, its lead would
     // be held in memory.
     let long_lead = start.lead_len() > STREAM_PEEK_BYTES;
@@ -499,37 +500,6 @@ pub fn open_keypoints_reader(
     })
 }
 
-/// [`KeypointError::LayoutNotUsed`] when [`ReadOptions::layout`] is given for a `format` that
-/// does not take one (only `.npy` arrays and MMPose keypoints do) and is not the format's own
-/// layout (COCO's `coco17`, LSP's `lsp14`, MPII's `mpii16`, camloc's `camloc15`, OpenPose's
-/// `body25`).
-fn layout_applies(
-    format: KeypointFormat,
-    options: &ReadOptions,
-    file: &str,
-) -> Result<(), KeypointError> {
-    let Some(layout) = options.layout else {
-        return Ok(());
-    };
-    let own = match format {
-        KeypointFormat::Npy | KeypointFormat::MmPose => return Ok(()),
-        KeypointFormat::Coco => Some(Layout::Coco17),
-        KeypointFormat::Lsp => Some(Layout::Lsp14),
-        KeypointFormat::Mpii => Some(Layout::Mpii16),
-        KeypointFormat::Camloc => Some(Layout::Camloc15),
-        KeypointFormat::OpenPose => Some(Layout::Body25),
-        KeypointFormat::MediaPipe => None,
-    };
-    if own == Some(layout) {
-        return Ok(());
-    }
-    Err(KeypointError::LayoutNotUsed {
-        file: file.to_owned(),
-        format: format.name(),
-        layout: layout.name(),
-    })
-}
-
 /// [`KeypointError::UnknownFormat`] for input `file` with `extension`.
 fn unknown_format(file: &str, extension: Option<&str>) -> KeypointError {
     KeypointError::UnknownFormat {
@@ -550,7 +520,7 @@ fn stream_json(
     (limit, rule): (u64, &'static str),
     options: &ReadOptions,
 ) -> Result<KeypointStream, KeypointError> {
-    layout_applies(format, options, name)?;
+    layout_check::layout_applies(format, options, name)?;
     let file = name.to_owned();
     let options = *options;
     let received = stream::spawn(name, move |sender| {
@@ -609,7 +579,7 @@ fn stream_text(
     };
     match format {
         KeypointFormat::Lsp => stream_lsp(bytes, name, options),
-        KeypointFormat::Npy => Ok(KeypointStream {
+        KeypointFormat::Npy | KeypointFormat::Yolo => Ok(KeypointStream {
             inner: StreamInner::Parsed(
                 parse_items_bytes(&bytes, name, Some(format), options)?.into_iter(),
             ),
@@ -629,7 +599,7 @@ fn stream_lsp(
     name: &str,
     options: &ReadOptions,
 ) -> Result<KeypointStream, KeypointError> {
-    layout_applies(KeypointFormat::Lsp, options, name)?;
+    layout_check::layout_applies(KeypointFormat::Lsp, options, name)?;
     let file = name.to_owned();
     let options = *options;
     let received = stream::spawn(name, move |sender| {
@@ -675,7 +645,7 @@ fn json_records<'de, R: serde_json::de::Read<'de>>(
         KeypointFormat::MmPose => emit::drive(read, file, options, emit, mmpose::Predictions),
         KeypointFormat::MediaPipe => emit::drive(read, file, options, emit, mediapipe::Frames),
         KeypointFormat::Mpii => emit::drive(read, file, options, emit, mpii::Annotations),
-        KeypointFormat::Lsp | KeypointFormat::Npy => return None,
+        KeypointFormat::Lsp | KeypointFormat::Npy | KeypointFormat::Yolo => return None,
     })
 }
 
@@ -764,12 +734,17 @@ fn parse_items(
         return Err(too_large((limit, rule)));
     }
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-    if text.trim().is_empty() {
-        return Err(KeypointError::Empty {
-            file: file.to_owned(),
-        });
-    }
     let extension = Path::new(source_name).extension().and_then(|e| e.to_str());
+    if text.trim().is_empty() {
+        // A YOLO frame where nobody was detected is an empty file.
+        let detected = format.or_else(|| KeypointFormat::from_extension_and_content(extension, ""));
+        return match detected {
+            Some(KeypointFormat::Yolo) => Ok(Vec::new()),
+            _ => Err(KeypointError::Empty {
+                file: file.to_owned(),
+            }),
+        };
+    }
     let format = match format {
         Some(format) => format,
         None => KeypointFormat::from_extension_and_content(extension, text)
@@ -779,9 +754,13 @@ fn parse_items(
     if text.len() as u64 > limit {
         return Err(too_large((limit, rule)));
     }
-    layout_applies(format, options, file)?;
+    layout_check::layout_applies(format, options, file)?;
     match format {
         KeypointFormat::Lsp => Ok(lsp::parse(text, file, options)?
+            .into_iter()
+            .map(Ok)
+            .collect()),
+        KeypointFormat::Yolo => Ok(yolo::parse(text, file, options)?
             .into_iter()
             .map(Ok)
             .collect()),

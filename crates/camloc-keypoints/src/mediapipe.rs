@@ -167,15 +167,15 @@ fn frame_landmarks<'a>(
 /// away.
 const NORMALISED_REACH: f64 = 5.0;
 
-/// [`KeypointError::InvalidValue`] for the frame at `path` whose landmarks' median `key`
+/// [`KeypointError::InvalidValue`] for the pose at `at` whose landmarks' median `key`
 /// coordinate (`coordinates`, normalised) lies over [`NORMALISED_REACH`] image sides outside
 /// [0, 1]: pixels, not normalised coordinates. `size` (1, 1) says that they are pixels.
-fn check_normalised(
+pub(crate) fn check_normalised(
     mut coordinates: Vec<f64>,
     key: &'static str,
     size: ImageSize,
     file: &str,
-    path: &str,
+    at: Location,
 ) -> Result<(), KeypointError> {
     if size.width == 1.0 && size.height == 1.0 {
         return Ok(());
@@ -187,12 +187,12 @@ fn check_normalised(
     }
     Err(KeypointError::InvalidValue {
         file: file.to_owned(),
-        at: Location::Path(path.to_owned()),
+        at,
         field: key,
         text: format!("{median} (the frame's median)"),
-        expected: "a normalised coordinate (MediaPipe's lie near [0, 1], a fraction of the \
-                   image's side; coordinates already in pixels: --image-size 1,1, Python \
-                   image_size=(1, 1))",
+        expected: "a normalised coordinate (MediaPipe's and YOLO's lie near [0, 1], a fraction \
+                   of the image's side; coordinates already in pixels: --image-size 1,1, \
+                   Python image_size=(1, 1))",
     })
 }
 
@@ -248,7 +248,7 @@ fn frame(
     }
     for (c, key) in ["x", "y"].into_iter().enumerate() {
         let column = coordinates.iter().map(|xy| xy[c]).collect();
-        check_normalised(column, key, size, file, path)?;
+        check_normalised(column, key, size, file, Location::Path(path.to_owned()))?;
     }
     Ok(KeypointRecord {
         frame: Some(index as u64),

@@ -27,9 +27,19 @@ pub const OPENPOSE_FRAME_MAX_BYTES: u64 = 16 << 20;
 /// frame), when the stem does not end in digits, or when their number is above
 /// [`MAX_FRAME_NUMBER`](crate::MAX_FRAME_NUMBER).
 pub fn frame_index(file_name: &str) -> Option<u64> {
-    let name = Path::new(file_name).file_name()?.to_str()?;
-    let stem = strip_suffix_ignore_case(name, ".json")?;
-    let stem = stem.strip_suffix("_keypoints").unwrap_or(stem);
+    let stem = name_without(file_name, ".json")?;
+    trailing_number(stem.strip_suffix("_keypoints").unwrap_or(stem))
+}
+
+/// The file name of the path `file_name` without `extension` (`.json`, any case); `None` when
+/// it does not end in it or is not UTF-8.
+pub(crate) fn name_without<'a>(file_name: &'a str, extension: &str) -> Option<&'a str> {
+    strip_suffix_ignore_case(Path::new(file_name).file_name()?.to_str()?, extension)
+}
+
+/// The number the digits at the end of `stem` make, when there are some and it is at most
+/// [`MAX_FRAME_NUMBER`](crate::MAX_FRAME_NUMBER): a video frame's number in its file's name.
+pub(crate) fn trailing_number(stem: &str) -> Option<u64> {
     let digits = stem.len() - stem.trim_end_matches(|c: char| c.is_ascii_digit()).len();
     stem[stem.len() - digits..]
         .parse()

@@ -282,6 +282,37 @@ fn generated() -> Vec<(String, Vec<u8>)> {
         serde_json::to_string_pretty(&frames).unwrap() + "\n",
     );
 
+    // Ultralytics YOLO pose text normalised by the 640 x 480 image, a folder of frames: pose
+    // 0; poses 1 and 2 with the box's confidence and a tracker's ids 7 and 9; nobody.
+    let line = |p: usize, extra: &str| {
+        let [x, y] = at(&poses[p], L::Pelvis);
+        let mut words = vec![format!(
+            "0 {} {} 0.25 0.75",
+            x / IMAGE.width,
+            y / IMAGE.height
+        )];
+        for c in triples(&poses[p], p, &coco17).chunks(3) {
+            words.push(format!(
+                "{} {} {}",
+                c[0] / IMAGE.width,
+                c[1] / IMAGE.height,
+                c[2]
+            ));
+        }
+        words.push(extra.to_owned());
+        words.join(" ").trim_end().to_owned() + "\n"
+    };
+    for (frame, text) in [
+        line(0, ""),
+        line(1, "0.93 7") + &line(2, "0.88 9"),
+        String::new(),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        add_text(&format!("samples/yolo/clip_{frame}.txt"), text);
+    }
+
     // MPII JSON annotations.
     let mpii16 = layout_names(Layout::Mpii16);
     let entries: Vec<Value> = poses
@@ -435,6 +466,14 @@ fn same_as_example(
     }
 }
 
+/// The id, frame and person of each record.
+fn ids_frames_persons(records: &[KeypointRecord]) -> Vec<(&str, Option<u64>, Option<u64>)> {
+    records
+        .iter()
+        .map(|r| (r.id.as_str(), r.frame, r.person))
+        .collect()
+}
+
 /// The face mean is the head up to rounding.
 const FACE_TOL: f64 = 1e-9;
 
@@ -451,12 +490,8 @@ fn openpose_body25_folder_reads_the_example_poses() {
     assert_eq!(frames.len(), 3, "{frames:?}");
     assert_eq!(frames.iter().map(|f| f.1).collect::<Vec<_>>(), [1, 2, 0]);
     same_as_example(&records, &[0, 1, 2], FACE_TOL, &[L::Head]);
-    let ids: Vec<_> = records
-        .iter()
-        .map(|r| (r.id.as_str(), r.frame, r.person))
-        .collect();
     assert_eq!(
-        ids,
+        ids_frames_persons(&records),
         [
             ("0/0", Some(0), Some(0)),
             ("1/0", Some(1), Some(0)),
@@ -513,6 +548,7 @@ fn min_score_drops_weak_joints_in_every_format_with_scores() {
         ("samples/mmpose.json", 1),
         ("samples/mediapipe.json", 1),
         ("samples/h36m17_scores.npy", 1),
+        ("samples/yolo/clip_1.txt", 0),
     ] {
         assert_eq!(weak_pose(name, index), None, "{name}");
     }
@@ -566,6 +602,42 @@ fn mediapipe_reads_the_example_poses_given_the_image_size() {
 }
 
 #[test]
+fn yolo_folder_reads_the_example_poses_given_the_image_size() {
+    let options = ReadOptions {
+        image_size: Some(IMAGE),
+        ..ReadOptions::default()
+    };
+    let mut records = Vec::new();
+    for (_, result) in read_folder(fixture("samples/yolo"), None, &options, false).unwrap() {
+        records.extend(result.unwrap_or_else(|e| panic!("{e}")));
+    }
+    same_as_example(&records, &[0, 1, 2], 1e-9, &[L::Pelvis, L::Neck, L::Head]);
+    assert_eq!(
+        ids_frames_persons(&records),
+        [
+            ("0/0", Some(0), Some(0)),
+            ("1/0", Some(1), Some(7)),
+            ("1/1", Some(1), Some(9))
+        ]
+    );
+    assert!(
+        records[2].source.ends_with("clip_1.txt: line 2"),
+        "{}",
+        records[2].source
+    );
+    let e = read_keypoints(
+        fixture("samples/yolo/clip_0.txt"),
+        None,
+        &ReadOptions::default(),
+    );
+    let message = e.unwrap_err().to_string();
+    assert!(
+        message.contains("YOLO coordinates are normalised"),
+        "{message}"
+    );
+}
+
+#[test]
 fn mpii_reads_the_example_poses() {
     let records = read("samples/mpii.json");
     same_as_example(&records, &[0, 1, 2], 0.0, &[]);
@@ -608,6 +680,7 @@ fn detection_recognises_every_sample() {
         ("samples/mpii.json", KeypointFormat::Mpii),
         ("samples/camloc15.npy", KeypointFormat::Npy),
         ("samples/h36m17_scores.npy", KeypointFormat::Npy),
+        ("samples/yolo/clip_0.txt", KeypointFormat::Yolo),
     ] {
         let bytes = std::fs::read(fixture(name)).unwrap();
         let text = String::from_utf8_lossy(&bytes);

@@ -85,20 +85,29 @@ pub(crate) fn parse_height(camera_height: &str) -> PyResult<(CameraHeight, bool)
 
 /// `localizer` under the shares of the camera heights among the first poses of a call
 /// (`leading`: [`PoseBatch::leading_poses`], of which the first `HEIGHT_SHARE_MAX_POSES` that
-/// could be mapped are read; `camloc::CameraLocalizer::estimate_height_shares`: too few that
-/// can be localized leave each pose on its own), as `camloc localize` estimates them from the
-/// first records of its input.
+/// could be mapped are read; `camloc::CameraLocalizer::estimate_height_shares`: none that can
+/// be localized leaves each pose on its own), as `camloc localize` estimates them from the
+/// first records of its input; and the number of independent views the estimate counted
+/// (`camloc::HeightEstimate::views`, the `camera_height_views` output).
 pub(crate) fn for_poses(
     localizer: &CameraLocalizer,
     leading: &[Option<PartialPose2>],
-) -> CameraLocalizer {
+) -> (CameraLocalizer, f64) {
     let poses: Vec<PartialPose2> = leading
         .iter()
         .take(HEIGHT_SHARE_MAX_POSES)
         .flatten()
         .copied()
         .collect();
-    crate::pool::run(|| localizer.clone().with_camera_height_from(&poses))
+    crate::pool::run(|| {
+        let estimate = localizer.estimate_height_shares(&poses);
+        (
+            localizer
+                .clone()
+                .with_camera_height(estimate.camera_height()),
+            estimate.views,
+        )
+    })
 }
 
 /// The `camera_height_shares` output: how the call's cameras divide among the three heights
@@ -258,7 +267,11 @@ impl Localizer {
         };
         let n = batch.len();
         let estimated = self.from_input.then(|| for_poses(inner, &leading));
-        let (localizer, filler) = (estimated.as_ref().unwrap_or(inner), self.filler.as_ref());
+        let views = estimated.as_ref().map_or(f64::NAN, |e| e.1);
+        let (localizer, filler) = (
+            estimated.as_ref().map_or(inner, |e| &e.0),
+            self.filler.as_ref(),
+        );
         let mut label = vec![0i64; n];
         let mut folded = vec![0i64; n];
         let mut probability = vec![f64::NAN; n];
@@ -361,6 +374,7 @@ impl Localizer {
         out.array("elevation_deg", elevation, &[])?;
         out.array("uncertainty_deg", column(2), &[])?;
         out.set("camera_height_shares", height_shares(py, Some(localizer)))?;
+        out.set("camera_height_views", views)?;
         if let Some(marks) = swapped_sides {
             out.array("swapped_sides", marks.as_flattened().to_vec(), &[2])?;
         }

@@ -275,11 +275,13 @@ pub(crate) fn reconstruct<'py>(
             .map_err(|e| value_error(e.to_string()))?;
     }
     // `opt` localizes no complete pose: no estimate, as `camloc reconstruct --camera opt`.
+    let mut views = f64::NAN;
     if from_input
         && mode != ModeKind::Opt
         && let Some(localizer) = reconstructor.localizer()
     {
-        let estimated = for_poses(localizer, &leading);
+        let (estimated, counted) = for_poses(localizer, &leading);
+        views = counted;
         reconstructor = reconstructor.with_localizer(estimated);
     }
     let mut reconstructor = reconstructor
@@ -479,5 +481,6 @@ pub(crate) fn reconstruct<'py>(
         "camera_height_shares",
         height_shares(py, reconstructor.localizer()),
     )?;
+    out.set("camera_height_views", views)?;
     Ok(out.into_dict())
 }

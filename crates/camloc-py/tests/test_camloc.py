@@ -84,6 +84,7 @@ NPZ_ARRAYS = {
     "id_utf8": (np.uint8, 1),
     "id_end": (np.uint64, 1),
     "camera_height_shares": (np.float64, 1),
+    "camera_height_views": (np.float64, 1),
 }
 
 
@@ -111,7 +112,10 @@ def test_localize_npz_loads_without_pickle_and_equals_the_json_of_the_same_run(
     assert set(got) == set(NPZ_ARRAYS)
     for name, (dtype, ndim) in NPZ_ARRAYS.items():
         assert got[name].dtype == dtype and got[name].ndim == ndim, name
-        assert name in ("id_utf8", "camera_height_shares") or got[name].shape[0] == n, name
+        assert (
+            name in ("id_utf8", "camera_height_shares", "camera_height_views")
+            or got[name].shape[0] == n
+        ), name
     # The shares the run was localized under: near eye level's for these few poses.
     assert got["camera_height_shares"].shape == (3,)
     shares = got["camera_height_shares"]

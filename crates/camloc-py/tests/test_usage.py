@@ -557,9 +557,12 @@ def test_the_camera_height_shares_are_returned_as_the_command_line_writes_them(c
     assert code == 0
     want = np.load(tmp_path / "out.npz")["camera_height_shares"]
     assert np.isfinite(want).all() and want.sum() == pytest.approx(1.0)
-    for got in (
-        camloc.Localizer().localize(many)["camera_height_shares"],
-        camloc.reconstruct(many)["camera_height_shares"],
-    ):
-        np.testing.assert_allclose(got, want, rtol=1e-12)
-    assert np.isnan(camloc.Localizer("eye-level").localize(many)["camera_height_shares"]).all()
+    views = np.load(tmp_path / "out.npz")["camera_height_views"]
+    # 40 copies of the same few poses: about as many views as the few, not 40 times as many.
+    assert views.shape == (1,) and 0 < views[0] < 2 * len(few), views
+    for got in (camloc.Localizer().localize(many), camloc.reconstruct(many)):
+        np.testing.assert_allclose(got["camera_height_shares"], want, rtol=1e-12)
+        assert got["camera_height_views"] == pytest.approx(views[0], rel=1e-12)
+    eye_level = camloc.Localizer("eye-level").localize(many)
+    assert np.isnan(eye_level["camera_height_shares"]).all()
+    assert np.isnan(eye_level["camera_height_views"])

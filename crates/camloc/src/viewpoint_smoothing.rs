@@ -68,7 +68,7 @@ pub fn smooth_viewpoints(
                 .filter(|u| 2 * kept < window.len() || same_camera(u))
                 .fold([0.0; 3], |s, u| [s[0] + u[0], s[1] + u[1], s[2] + u[2]]);
             let norm = (sum[0] * sum[0] + sum[1] * sum[1] + sum[2] * sum[2]).sqrt();
-            (norm > 1e-9 * (viewpoints.len() as f64)).then(|| {
+            (norm > 1e-9 * (window.len() as f64)).then(|| {
                 // In [0, 360): rem_euclid of a tiny negative angle rounds to 360.
                 let azimuth = sum[1].atan2(sum[0]).to_degrees().rem_euclid(360.0) % 360.0;
                 let elevation = (sum[2] / norm).clamp(-1.0, 1.0).asin().to_degrees();

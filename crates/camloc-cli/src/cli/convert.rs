@@ -47,7 +47,7 @@ pub struct Args {
 pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     targets::check(
         [(Some(args.out.as_path()), "--out", None)],
-        &[("--input", Some(args.input.path()))],
+        &[("the input", Some(args.input.path()))],
     )?;
     match args.to {
         Target::Camloc => {

@@ -15,20 +15,22 @@ use super::{CameraHeightArg, CameraHeightArgs, CliError, InputArgs, load_model};
 
 /// The model at `model` (or the embedded one) under the prior `height` asks for, aiming the
 /// poses with the camera's `intrinsics` when given
-/// ([`CameraLocalizer::with_intrinsics`]), and the input to localize with it:
-/// [`load_model`], then [`for_input`] (whose estimate sees the poses aimed).
+/// ([`CameraLocalizer::with_intrinsics`]), the input to localize with it and the estimate of
+/// its camera heights: [`load_model`], then [`for_input`] (whose estimate sees the poses
+/// aimed).
 pub fn load_for_input(
     model: Option<&Path>,
     height: &CameraHeightArgs,
     input: &InputArgs,
     intrinsics: Option<Intrinsics>,
     quiet: bool,
-) -> Result<(CameraLocalizer, Inputs), CliError> {
+) -> Result<(CameraLocalizer, Inputs, Option<HeightEstimate>), CliError> {
     let localizer = load_model(model, height)?.with_intrinsics(intrinsics)?;
     for_input(localizer, height, input, quiet)
 }
 
-/// The localizer `height` asks for and the input to localize with it. Under
+/// The localizer `height` asks for, the input to localize with it and, under `--camera-height
+/// from-input`, the estimate of its camera heights the localizer is under. Under
 /// `--camera-height from-input` the first [`HEIGHT_SHARE_MAX_POSES`] records of the input are
 /// read and kept for the estimate, then given back in front of the rest (the input is read
 /// once, standard input and pipes alike; the first results come once they are read). The
@@ -38,10 +40,10 @@ pub fn for_input(
     height: &CameraHeightArgs,
     input: &InputArgs,
     quiet: bool,
-) -> Result<(CameraLocalizer, Inputs), CliError> {
+) -> Result<(CameraLocalizer, Inputs, Option<HeightEstimate>), CliError> {
     let mut inputs = Inputs::open(input)?;
     if height.camera_height != CameraHeightArg::FromInput {
-        return Ok((localizer, inputs));
+        return Ok((localizer, inputs, None));
     }
     let mut first: Vec<_> = inputs.by_ref().take(HEIGHT_SHARE_MAX_POSES).collect();
     let poses: Vec<PartialPose2> = first
@@ -59,6 +61,7 @@ pub fn for_input(
     Ok((
         localizer.with_camera_height(estimate.camera_height()),
         inputs,
+        Some(estimate),
     ))
 }
 

@@ -87,8 +87,9 @@ pub struct Args {
     /// Write the results as NumPy arrays to this .npz archive (numpy.load reads it without
     /// pickle), row n for the n-th pose read: label, folded_label, probabilities, azimuth_deg,
     /// elevation_deg, uncertainty_deg, failed, missing, derived, frame, person, the ids as
-    /// id_utf8 and id_end, and camera_height_shares (the run's estimate, NaN without one;
-    /// docs/cli.md gives their types and shapes). Written at the end of the
+    /// id_utf8 and id_end, camera_height_shares and camera_height_views (the run's estimate
+    /// and the independent views it counted, NaN without one; docs/cli.md gives their types
+    /// and shapes). Written at the end of the
     /// run, or not at all. Nothing is printed per pose unless --json or --jsonl asks for it.
     /// Not with --sequence (whose smoothed cameras have no arrays here: use --jsonl).
     #[arg(long, value_name = "OUT", conflicts_with = "sequence")]
@@ -110,7 +111,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     targets::check(
         outputs,
         &[
-            ("--input", Some(args.input.path())),
+            ("the input", Some(args.input.path())),
             ("--model", args.model.as_deref()),
         ],
     )?;
@@ -121,7 +122,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
              localization: the aim at the person needs where the optical axis meets the image"
         );
     }
-    let (localizer, inputs) = heights::load_for_input(
+    let (localizer, inputs, estimate) = heights::load_for_input(
         args.model.as_deref(),
         &args.height,
         &args.input,
@@ -197,6 +198,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
             npz,
             localizer.cameras().len(),
             localizer.camera_height(),
+            estimate.map_or(f64::NAN, |e| e.views),
         )?) as _),
         None => None,
     };

@@ -46,11 +46,14 @@ pub struct LocalizationArrays {
     /// (3,) float64: the shares of the lower, middle and upper cameras the run localized
     /// under (`--camera-height from-input`'s estimate), NaN when it used none.
     camera_height_shares: Column<f64>,
+    /// (1,) float64: the independent views the estimate counted its poses as worth
+    /// ([`HeightEstimate::views`](camloc::HeightEstimate::views)), NaN without an estimate.
+    camera_height_views: Column<f64>,
 }
 
 impl LocalizationArrays {
     /// Starts the arrays of the archive `target`, for `cameras` cameras, localized under the
-    /// prior `height`.
+    /// prior `height`, estimated from `views` independent views (NaN: not estimated).
     ///
     /// # Errors
     /// When the scratch files cannot be made beside `target`.
@@ -58,6 +61,7 @@ impl LocalizationArrays {
         target: &Path,
         cameras: usize,
         height: CameraHeight,
+        views: f64,
     ) -> Result<LocalizationArrays, CliError> {
         let mut camera_height_shares = Column::new(target, "camera_height_shares", None)?;
         let shares = match height {
@@ -67,6 +71,8 @@ impl LocalizationArrays {
         camera_height_shares
             .extend(shares)
             .map_err(io_error(target))?;
+        let mut camera_height_views = Column::new(target, "camera_height_views", None)?;
+        camera_height_views.push(views).map_err(io_error(target))?;
         Ok(LocalizationArrays {
             target: target.to_path_buf(),
             cameras,
@@ -84,6 +90,7 @@ impl LocalizationArrays {
             id_utf8: Column::new(target, "id_utf8", None)?,
             id_end: Column::new(target, "id_end", None)?,
             camera_height_shares,
+            camera_height_views,
         })
     }
 
@@ -157,7 +164,7 @@ impl RowFile<Localization> for LocalizationArrays {
         }
         let entries = entries!(label folded_label probabilities azimuth_deg elevation_deg
             uncertainty_deg failed missing derived frame person id_utf8 id_end
-            camera_height_shares)
+            camera_height_shares camera_height_views)
         .into_iter()
         .collect::<io::Result<Vec<_>>>()
         .map_err(io_error(&a.target))?;

@@ -208,6 +208,9 @@ fn format_values() -> Vec<PossibleValue> {
                 }
                 KeypointFormat::Npy => "NumPy array (N, J, 2) or (N, J, 3) in a --layout",
                 KeypointFormat::Mpii => "MPII annotations JSON (image, joints, joints_vis)",
+                KeypointFormat::Yolo => {
+                    "Ultralytics YOLO pose .txt, one file per frame (COCO-17; needs --image-size)"
+                }
             })
         })
         .collect()

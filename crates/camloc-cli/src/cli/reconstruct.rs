@@ -316,7 +316,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     targets::check(
         outputs,
         &[
-            ("--input", Some(args.input.path())),
+            ("the input", Some(args.input.path())),
             ("--model", args.model.as_deref()),
             ("--lifter", args.lifter.as_deref()),
             ("--basis", args.basis.as_deref()),
@@ -338,7 +338,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
              camera (translation_m) places it on the optical axis, not where it stands in the image"
         );
     }
-    let (localizer, inputs) = heights::load_for_input(
+    let (localizer, inputs, _) = heights::load_for_input(
         args.model.as_deref(),
         &height,
         &args.input,

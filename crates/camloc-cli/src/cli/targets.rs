@@ -24,7 +24,8 @@ pub struct Output<'a> {
 /// Checks a command's outputs before any work: the outputs among `given` (`(path if given,
 /// option, numbered)`, `numbered` as [`Output::numbered`]) are distinct files
 /// (`check_distinct`), none is a file the run reads or `-` (`check_not_input`, with
-/// `inputs` the reading options and their paths, if given), every one's folder exists
+/// `inputs` the reading options, "the input" for the keypoints given as `--input` or as the
+/// argument, and their paths, if given), every one's folder exists
 /// (`check_folders`), and none is named like a file of another format (`check_format`).
 pub fn check<'a>(
     given: impl IntoIterator<Item = (Option<&'a Path>, &'static str, Option<&'static str>)>,
@@ -170,7 +171,8 @@ fn check_not_input(
             };
             if let Some(file) = clash {
                 return Err(CliError::Usage(format!(
-                    "{} names a file {option} reads ({}); write the output elsewhere",
+                    "{} names a file of {option} ({}), which the run reads; write the output \
+                     elsewhere",
                     out.option,
                     quoted_path(&file)
                 )));
