@@ -143,6 +143,15 @@ fn every_sample_format_gives_the_example_labels() {
         &camloc(&["localize", "--input", &s("yolo/clip_0.txt")]),
         "clip_0.txt: YOLO coordinates are normalised",
     );
+    // A folder: said once, not once a file.
+    let folder = camloc(&["localize", "--input", &s("yolo")]);
+    let stderr = String::from_utf8_lossy(&folder.stderr);
+    assert_eq!(
+        stderr.matches("coordinates are normalised").count(),
+        1,
+        "{stderr}"
+    );
+    assert_eq!(folder.status.code(), Some(1), "{stderr}");
 }
 
 /// `-` reads standard input, in any format told from its content (a .npy array included).

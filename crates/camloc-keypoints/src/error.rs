@@ -574,6 +574,16 @@ pub struct PosePlace {
 }
 
 impl KeypointError {
+    /// `true` for an error of the reading options rather than of the input
+    /// ([`ImageSizeNeeded`](Self::ImageSizeNeeded), [`LayoutNotUsed`](Self::LayoutNotUsed)):
+    /// every other file of a folder in that format would repeat it.
+    pub fn is_option_error(&self) -> bool {
+        matches!(
+            self,
+            KeypointError::ImageSizeNeeded { .. } | KeypointError::LayoutNotUsed { .. }
+        )
+    }
+
     /// `true` for an error of one pose whose record was read whole
     /// ([`KeypointError::LayoutMismatch`], [`KeypointError::BadRow`]): the readers pass it on
     /// in the pose's place and read on; any other error ends the input.

@@ -15,12 +15,17 @@ const EXTENSIONS: [&str; 3] = ["json", "csv", "npy"];
 /// folder of notes beside JSON frames is not read for them).
 const YOLO_EXTENSION: &str = "txt";
 
-/// The keypoint files (`.json`, `.csv`, `.npy`, any case; `.txt` when there is none of those) in
-/// `dir`, in natural order of their paths (digit runs compare as numbers: `frame_2` before
-/// `frame_10`), files of sub-folders too when `recursive`. Names starting with `.` are skipped, and
-/// symbolic links to folders are not followed (no cycles). Entries with these extensions that are
-/// not regular files (a dangling link, a link to a device, a FIFO) are listed too:
-/// [`open_folder_file`] refuses them, so that they are reported rather than skipped in silence.
+/// The file of class names that YOLO datasets and labelling tools keep beside their label
+/// files (any case), not read.
+const YOLO_CLASSES: &str = "classes.txt";
+
+/// The keypoint files (`.json`, `.csv`, `.npy`, any case; `.txt` but `classes.txt` when there is
+/// none of those) in `dir`, in natural order of their paths (digit runs compare as numbers:
+/// `frame_2` before `frame_10`), files of sub-folders too when `recursive`. Names starting with `.`
+/// are skipped, and symbolic links to folders are not followed (no cycles). Entries with these
+/// extensions that are not regular files (a dangling link, a link to a device, a FIFO) are listed
+/// too: [`open_folder_file`] refuses them, so that they are reported rather than skipped in
+/// silence.
 pub fn keypoint_files(dir: &Path, recursive: bool) -> Result<Vec<PathBuf>, KeypointError> {
     let (mut files, mut texts) = (Vec::new(), Vec::new());
     let mut pending = vec![dir.to_path_buf()];
@@ -44,7 +49,12 @@ pub fn keypoint_files(dir: &Path, recursive: bool) -> Result<Vec<PathBuf>, Keypo
                 let extension = path.extension().and_then(|e| e.to_str()).unwrap_or("");
                 if EXTENSIONS.iter().any(|x| x.eq_ignore_ascii_case(extension)) {
                     files.push(path);
-                } else if YOLO_EXTENSION.eq_ignore_ascii_case(extension) {
+                } else if YOLO_EXTENSION.eq_ignore_ascii_case(extension)
+                    && !entry
+                        .file_name()
+                        .to_string_lossy()
+                        .eq_ignore_ascii_case(YOLO_CLASSES)
+                {
                     texts.push(path);
                 }
             }

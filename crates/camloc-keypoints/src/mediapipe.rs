@@ -169,7 +169,8 @@ const NORMALISED_REACH: f64 = 5.0;
 
 /// [`KeypointError::InvalidValue`] for the pose at `at` whose landmarks' median `key`
 /// coordinate (`coordinates`, normalised) lies over [`NORMALISED_REACH`] image sides outside
-/// [0, 1]: pixels, not normalised coordinates. `size` (1, 1) says that they are pixels.
+/// [0, 1]: pixels, not normalised coordinates. `size` (1, 1) says that they are pixels; no
+/// coordinate (a pose without any keypoint kept) passes.
 pub(crate) fn check_normalised(
     mut coordinates: Vec<f64>,
     key: &'static str,
@@ -177,7 +178,7 @@ pub(crate) fn check_normalised(
     file: &str,
     at: Location,
 ) -> Result<(), KeypointError> {
-    if size.width == 1.0 && size.height == 1.0 {
+    if (size.width == 1.0 && size.height == 1.0) || coordinates.is_empty() {
         return Ok(());
     }
     coordinates.sort_by(f64::total_cmp);
@@ -193,6 +194,36 @@ pub(crate) fn check_normalised(
         expected: "a normalised coordinate (MediaPipe's and YOLO's lie near [0, 1], a fraction \
                    of the image's side; coordinates already in pixels: --image-size 1,1, \
                    Python image_size=(1, 1))",
+    })
+}
+
+/// Landmarks 23 and 24 of MediaPipe Pose, the hips.
+const HIPS: [usize; 2] = [23, 24];
+
+/// How near (in the landmarks' units) the hips' midpoint must be to (0, 0), with landmarks on
+/// both sides of it, for a frame to be `pose_world_landmarks` (0.005): metres about the hips'
+/// midpoint, which MediaPipe places at the origin, where a person's image coordinates keep the
+/// hips inside the picture.
+const WORLD_ORIGIN_REACH: f64 = 0.005;
+
+/// [`KeypointError::InvalidValue`] for the frame at `path` whose `coordinates` (its 33
+/// landmarks' x and y) are MediaPipe's `pose_world_landmarks` (metres centred on the hips'
+/// midpoint, negative above and to one side of them) rather than `pose_landmarks`: read as
+/// image coordinates they had given a camera with no warning.
+fn check_not_world(coordinates: &[[f64; 2]], file: &str, path: &str) -> Result<(), KeypointError> {
+    let [a, b] = HIPS.map(|h| coordinates[h]);
+    let mid = [(a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0];
+    let negative = |c: usize| coordinates.iter().any(|xy| xy[c] < -WORLD_ORIGIN_REACH);
+    if mid[0].hypot(mid[1]) > WORLD_ORIGIN_REACH || !(negative(0) && negative(1)) {
+        return Ok(());
+    }
+    Err(KeypointError::InvalidValue {
+        file: file.to_owned(),
+        at: Location::Path(path.to_owned()),
+        field: "landmarks",
+        text: format!("hips' midpoint ({:.4}, {:.4})", mid[0], mid[1]),
+        expected: "pose_landmarks: these are centred on the hips, as pose_world_landmarks (metres) \
+                   are; write results.pose_landmarks, normalised to the image",
     })
 }
 
@@ -246,6 +277,7 @@ fn frame(
         }
         points.push(kept.then_some([x * size.width, y * size.height]));
     }
+    check_not_world(&coordinates, file, path)?;
     for (c, key) in ["x", "y"].into_iter().enumerate() {
         let column = coordinates.iter().map(|xy| xy[c]).collect();
         check_normalised(column, key, size, file, Location::Path(path.to_owned()))?;

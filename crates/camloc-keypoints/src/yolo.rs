@@ -22,9 +22,10 @@ const LINE: &str = "a class, a box's 4 numbers, 17 keypoints as x y v (56) or x 
 /// person `n` of the file's frame (its line among the people, or the tracker's id when the
 /// line ends in one), the frame the digits that end the file's name (`video_12.txt` → 12).
 /// Keypoints whose visibility or confidence is 0 or below [`ReadOptions::min_score`], or at
-/// (0, 0) without one, are missing. A line's last number after the keypoints is a track id
-/// when it is a whole number (a confidence of exactly 0 or 1 would be read as one), a
-/// confidence otherwise; two are the confidence and the id.
+/// (0, 0) (where Ultralytics puts keypoints whose confidence is below 0.5), are missing. A
+/// line's last number after the keypoints is a track id when it is a whole number (a
+/// confidence of exactly 0 or 1 would be read as one), a confidence otherwise; two are the
+/// confidence and the id.
 ///
 /// # Errors
 /// [`KeypointError::ImageSizeNeeded`] without [`ReadOptions::image_size`];
@@ -111,10 +112,9 @@ fn person_record(
     let mut present = Vec::with_capacity(COCO17.len());
     for keypoint in keypoints.chunks_exact(per_keypoint) {
         let (x, y) = (keypoint[0], keypoint[1]);
-        let kept = match keypoint.get(2) {
-            Some(&score) => keeps(score, options),
-            None => (x, y) != (0.0, 0.0),
-        };
+        // Ultralytics writes (0, 0), keeping the confidence, for keypoints it is less than
+        // 0.5 sure of: the image's corner would be read as the joint.
+        let kept = (x, y) != (0.0, 0.0) && keypoint.get(2).is_none_or(|&s| keeps(s, options));
         if kept {
             present.push([x, y]);
         }
@@ -191,6 +191,13 @@ mod tests {
         let hidden = line(true, "").replacen("0.55 0.59 2", "0.55 0.59 0", 1);
         let record = &parse(&hidden, "f.txt", &options()).unwrap()[0];
         assert!(record.pose.points[camloc_skeleton::Landmark::LeftHip.index()].is_none());
+        let zeroed = line(true, "").replacen("0.55 0.59 2", "0 0 0.3", 1);
+        let record = &parse(&zeroed, "f.txt", &options()).unwrap()[0];
+        assert!(record.pose.points[camloc_skeleton::Landmark::LeftHip.index()].is_none());
+        // A person of 17 unlabelled keypoints is a pose without landmarks, not a panic.
+        let nobody = format!("0 0.5 0.5 0.2 0.8{}", " 0 0 0".repeat(17));
+        let record = &parse(&nobody, "f.txt", &options()).unwrap()[0];
+        assert!(record.pose.points.iter().all(Option::is_none));
         let short = "0 0.5 0.5 0.2 0.8 0.1 0.2";
         let e = parse(short, "f.txt", &options()).unwrap_err().to_string();
         assert!(e.contains("line 1") && e.contains("found 7"), "{e}");

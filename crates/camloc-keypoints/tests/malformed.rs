@@ -449,7 +449,7 @@ fn detector_formats_report_file_and_place() {
     use KeypointFormat::*;
     let options = with_size();
     // (file, format to name or None to detect, what the message says after the file name)
-    let cases: [(&str, Option<KeypointFormat>, &str); 17] = [
+    let cases: [(&str, Option<KeypointFormat>, &str); 18] = [
         (
             "openpose_truncated_000000000003_keypoints.json",
             None,
@@ -514,6 +514,11 @@ fn detector_formats_report_file_and_place() {
             "mediapipe_empty_frame.json",
             None,
             ": [0]: expected 33 landmarks (MediaPipe Pose, or null for a frame without a person), found 0",
+        ),
+        (
+            "mediapipe_world_landmarks.json",
+            None,
+            ": [0]: landmarks \"hips' midpoint (0.0000, 0.0000)\" is not pose_landmarks",
         ),
         (
             "mpii_joints_vis.json",

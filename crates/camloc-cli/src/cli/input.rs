@@ -114,6 +114,23 @@ impl Inputs {
     }
 }
 
+impl Inputs {
+    /// `item`; when it is an error of the reading options that every other file of a folder
+    /// would repeat ([`KeypointError::is_option_error`]: no `--image-size` for normalised
+    /// coordinates, a `--layout` the format does not take), the folder's other files are not
+    /// read (one message, not one a file).
+    fn stop_at_option_error(
+        &mut self,
+        item: Result<KeypointRecord, KeypointError>,
+    ) -> Result<KeypointRecord, KeypointError> {
+        if item.as_ref().is_err_and(KeypointError::is_option_error) {
+            self.files = Vec::new().into_iter();
+            self.current = None;
+        }
+        item
+    }
+}
+
 impl Iterator for Inputs {
     type Item = Result<KeypointRecord, KeypointError>;
 
@@ -124,14 +141,14 @@ impl Iterator for Inputs {
         loop {
             if let Some(stream) = &mut self.current {
                 if let Some(item) = stream.next() {
-                    return Some(item);
+                    return Some(self.stop_at_option_error(item));
                 }
                 self.current = None;
             }
             let path = self.files.next()?;
             match open_folder_file(&path, self.format, &self.options) {
                 Ok(stream) => self.current = Some(stream),
-                Err(e) => return Some(Err(e)),
+                Err(e) => return Some(self.stop_at_option_error(Err(e))),
             }
         }
     }

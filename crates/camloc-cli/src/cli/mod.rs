@@ -246,8 +246,9 @@ fn parse_min_score(text: &str) -> Result<f64, String> {
 #[derive(clap::Args)]
 #[group(required = true, multiple = false)]
 pub struct KeypointsPath {
-    /// Keypoints: a file, a folder (its .json, .csv and .npy files in natural order; a bad
-    /// file is reported and the others are read, exit 1 at the end) or - for standard input.
+    /// Keypoints: a file, a folder (its .json, .csv and .npy files, or YOLO's .txt files
+    /// when it has none of those, in natural order; a bad file is reported and the others are
+    /// read, exit 1 at the end) or - for standard input.
     #[arg(long = "input", value_name = "FILE|DIR|-")]
     input_flag: Option<PathBuf>,
     /// The keypoints as the command's one argument, as --input: `camloc localize poses.json`.
@@ -273,12 +274,12 @@ pub struct InputArgs {
           value_parser = PossibleValuesParser::new(layout_values())
               .try_map(|s| s.parse::<Layout>()))]
     pub layout: Option<Layout>,
-    /// Joints whose score is below S are missing (COCO, OpenPose, MMPose, MediaPipe,
+    /// Joints whose score is below S are missing (COCO, OpenPose, MMPose, MediaPipe, YOLO,
     /// (N, J, 3) .npy); a score of 0 is always missing. A finite number >= 0.
     #[arg(long, value_name = "S", default_value_t = 0.0, value_parser = parse_min_score,
           allow_hyphen_values = true)]
     pub min_score: f64,
-    /// Image size in pixels that normalised coordinates are scaled by (MediaPipe), e.g.
+    /// Image size in pixels that normalised coordinates are scaled by (MediaPipe, YOLO), e.g.
     /// 1920,1080 (or 1920x1080); in `localize` and `reconstruct`, `--focal-px` also takes its
     /// centre as the principal point.
     #[arg(long, value_name = "W,H", value_parser = |s: &str| s.parse::<ImageSize>(),
