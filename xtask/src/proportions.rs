@@ -304,6 +304,17 @@ fn mode_of(
     }
 }
 
+/// The 2D poses of `views` (a window of consecutive frames at about 30 a second) with their
+/// landmarks smoothed over time ([`camloc::smooth_landmarks`]).
+fn smoothed(views: &[View]) -> Vec<Pose2> {
+    let partial: Vec<PartialPose2> = views.iter().map(|v| PartialPose2::from(v.pose2)).collect();
+    camloc::smooth_landmarks(&partial, &[], camloc::reconstruct::FrameRate::default())
+        .iter()
+        .zip(views)
+        .map(|(p, v)| p.complete().unwrap_or(v.pose2))
+        .collect()
+}
+
 /// Runs `variant` with camera `kind` on every item: each frame alone, or each item as one
 /// sequence.
 fn run(
@@ -343,17 +354,21 @@ fn run(
     let results: Vec<(Vec<Option<f64>>, Vec<BoneLengths>)> = items
         .par_iter()
         .map(|item| {
-            let (modes, depths): (Vec<Option<CameraMode>>, Vec<Option<LiftedDepths>>) = item
-                .views
+            // A sequence's landmarks smoothed over its frames, as `camloc reconstruct
+            // --sequence` smooths them before it localizes and solves.
+            let poses: Vec<Pose2> = match sequence {
+                true => smoothed(&item.views),
+                false => item.views.iter().map(|v| v.pose2).collect(),
+            };
+            let (modes, depths): (Vec<Option<CameraMode>>, Vec<Option<LiftedDepths>>) = poses
                 .iter()
-                .map(|v| mode_of(kind, &v.pose2, localizer, lifter))
+                .map(|p| mode_of(kind, p, localizer, lifter))
                 .unzip();
             if sequence {
-                let frames: Vec<(Pose2, CameraMode)> = item
-                    .views
+                let frames: Vec<(Pose2, CameraMode)> = poses
                     .iter()
                     .zip(&modes)
-                    .map(|(v, m)| (v.pose2, m.unwrap_or(CameraMode::Opt)))
+                    .map(|(p, m)| (*p, m.unwrap_or(CameraMode::Opt)))
                     .collect();
                 match reconstructor.reconstruct_sequence_lifted(
                     &frames,

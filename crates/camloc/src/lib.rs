@@ -54,6 +54,7 @@ mod rows;
 mod select;
 mod sequence;
 mod sides;
+mod spread;
 mod train;
 mod train_options;
 mod upside_down;
@@ -92,8 +93,9 @@ pub use identity::{
     PERSON_STEP_TORSOS, TorsoAnchor, identity_jumps, left_out_of_sequence, outlier_frames,
 };
 pub use reconstruction::{
-    PoseReconstruction, PoseReconstructor, PoseSequenceReconstruction, SEQUENCE_BREAK_FRAMES,
-    default_basis, evaluation_samples, hybrid_camera, person_height_problem,
+    LANDMARK_SMOOTHING_S, PoseReconstruction, PoseReconstructor, PoseSequenceReconstruction,
+    SEQUENCE_BREAK_FRAMES, default_basis, evaluation_samples, hybrid_camera, person_height_problem,
+    smooth_landmarks,
 };
 pub use select::{DescriptorCv, cross_validate};
 pub use sequence::{

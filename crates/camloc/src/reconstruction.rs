@@ -13,8 +13,10 @@ use camloc_store::Validate;
 use crate::rows::sample_pose;
 use crate::{CameraLocalizer, CamlocError, DepthLifter, Localization, MIN_PRESENT_FOR_FILL};
 
+mod landmark_smoothing;
 mod runs;
 
+pub use landmark_smoothing::{LANDMARK_SMOOTHING_S, smooth_landmarks};
 pub use runs::SEQUENCE_BREAK_FRAMES;
 
 /// A reconstructed pose and the camera localization it used (none for `opt`).

@@ -7,6 +7,8 @@
 
 use camloc_skeleton::{Landmark, NUM_LANDMARKS, PartialPose2};
 
+use crate::spread::centroid_and_spread;
+
 /// How far (in pose sizes: the root mean square distance of the torso's landmarks, pelvis,
 /// neck, hips and shoulders, from their centroid) the landmarks of two smoothed poses of a
 /// track must have moved on average, per pose of the track between them, for the later to
@@ -72,24 +74,13 @@ fn size_frame(pose: &PartialPose2) -> Option<(Landmarks, [f64; 2], f64)> {
             .copied()
             .collect()
     };
-    let n = points.len() as f64;
-    let centre = points
-        .iter()
-        .fold([0.0, 0.0], |s, p| [s[0] + p[0] / n, s[1] + p[1] / n]);
-    let size = (points
-        .iter()
-        .map(|p| (p[0] - centre[0]).powi(2) + (p[1] - centre[1]).powi(2))
-        .sum::<f64>()
-        / n)
-        .sqrt();
-    (points.len() >= 2 && size.is_finite() && size > 0.0).then(|| {
-        let framed = pose.points.map(|point| {
-            point
-                .filter(|p| p.iter().all(|c| c.is_finite()))
-                .map(|[x, y]| [(x - centre[0]) / size, (y - centre[1]) / size])
-        });
-        (framed, centre, size)
-    })
+    let (centre, size) = centroid_and_spread(&points)?;
+    let framed = pose.points.map(|point| {
+        point
+            .filter(|p| p.iter().all(|c| c.is_finite()))
+            .map(|[x, y]| [(x - centre[0]) / size, (y - centre[1]) / size])
+    });
+    Some((framed, centre, size))
 }
 
 /// Per pose of `poses` (in the input's order), the share of a new view it is worth, in

@@ -35,8 +35,15 @@ fn frames_after_a_gap_are_solved_apart_with_the_shared_lengths() {
         .reconstruct_sequence_with_breaks(&frames, &breaks)
         .unwrap();
     let whole = rec.reconstruct_sequence(&frames).unwrap();
-    // The lengths are those of all frames together.
-    assert_eq!(split.lengths, whole.lengths);
+    // The lengths are those of all frames together (whose landmarks, smoothed over time
+    // without the gap, differ a little): not either side's own.
+    let close = |a: &camloc::reconstruct::BoneLengths, b: &camloc::reconstruct::BoneLengths| {
+        a.relative_errors(b).iter().all(|e| e.abs() < 0.02)
+    };
+    assert!(close(&split.lengths, &whole.lengths));
+    let first_alone = rec.reconstruct_sequence(&frames[..5]).unwrap().lengths;
+    let second_alone = rec.reconstruct_sequence(&frames[5..]).unwrap().lengths;
+    assert!(split.lengths != first_alone && split.lengths != second_alone);
     // Each side is what that side alone gives with those lengths.
     let given = rec.clone().with_bone_lengths(split.lengths);
     let first = given.reconstruct_sequence(&frames[..5]).unwrap();
@@ -68,7 +75,7 @@ fn a_frame_or_two_that_fail_keep_their_neighbours_tied_and_three_split_them() {
             })
             .collect()
     };
-    // Two failed frames: the others are as if those frames were not there at all.
+    // Two failed frames: the others stay one run, tied across them (not as split there).
     let gone = [4, 5];
     let result = rec.reconstruct_sequence(&failing(&gone)).unwrap();
     assert!(result.frames[4].is_err() && result.frames[5].is_err());
@@ -77,10 +84,13 @@ fn a_frame_or_two_that_fail_keep_their_neighbours_tied_and_three_split_them() {
         .iter()
         .filter_map(|f| f.as_ref().ok().map(|r| r.reconstruction.pose))
         .collect();
-    assert_eq!(
-        kept,
-        poses(&rec.reconstruct_sequence(&without(&gone)).unwrap())
-    );
+    let mut at_the_gap = vec![false; 8];
+    at_the_gap[4] = true;
+    let apart = rec
+        .reconstruct_sequence_with_breaks(&without(&gone), &at_the_gap)
+        .unwrap();
+    assert_eq!(kept.len(), 8);
+    assert_ne!(kept, poses(&apart));
     // Three in a row split the frames into two runs.
     let gone = [4, 5, 6];
     let result = rec.reconstruct_sequence(&failing(&gone)).unwrap();

@@ -7,6 +7,7 @@ use camloc_reconstruct::{
 };
 use camloc_skeleton::{PartialPose2, Pose2};
 
+use super::landmark_smoothing::smooth_landmarks;
 use super::{
     PoseReconstruction, PoseReconstructor, PoseSequenceReconstruction, Prepared, pose_error,
 };
@@ -99,28 +100,35 @@ impl PoseReconstructor {
         poses: &[PartialPose2],
         breaks: &[bool],
     ) -> Result<PoseSequenceReconstruction, CamlocError> {
-        // A landmark far off the others is read as missing, and filled in as missing ones.
+        // A landmark far off the others is read as missing, and filled in as missing ones;
+        // the others are smoothed over time within each run (a detector's noise).
         let cleaned: Vec<PartialPose2> = poses
             .iter()
             .map(|p| crate::without_far_off_landmarks(p).0)
             .collect();
-        let poses = &cleaned[..];
+        let mut smoothed = smooth_landmarks(&cleaned, breaks, self.frame_rate());
         let mut prepared: Vec<Result<Prepared, CamlocError>> =
-            poses.iter().map(|p| self.prepare(p)).collect();
-        let (mut runs, mut solved, mut lengths) = self.solve_runs(poses, &prepared, breaks)?;
+            smoothed.iter().map(|p| self.prepare(p)).collect();
+        let (mut runs, mut solved, mut lengths) = self.solve_runs(&smoothed, &prepared, breaks)?;
         // A frame whose fitted camera sees landmarks behind it (a landmark misplaced, a very
-        // close wide-angle view) fails, and the others are solved again without it: it had
-        // pulled the person's lengths and smoothness (a simulated user's wrist 1000 px off in
-        // one frame of 120, before such landmarks were read as missing, moved every other
-        // frame by 8 cm).
-        let behind: Vec<usize> = (0..poses.len())
+        // close wide-angle view) fails, and the others are smoothed and solved again without
+        // it: it had pulled the person's lengths and smoothness (a simulated user's wrist 1000
+        // px off in one frame of 120, before such landmarks were read as missing, moved every
+        // other frame by 8 cm).
+        let behind: Vec<usize> = (0..smoothed.len())
             .filter(|&t| matches!(&solved[t], Some(Ok(r)) if !r.projection_error.is_finite()))
             .collect();
         if !behind.is_empty() {
+            let mut kept = cleaned;
+            for &t in &behind {
+                kept[t] = PartialPose2::empty();
+            }
+            smoothed = smooth_landmarks(&kept, breaks, self.frame_rate());
+            prepared = smoothed.iter().map(|p| self.prepare(p)).collect();
             for &t in &behind {
                 prepared[t] = Err(pose_error(ReconstructError::BehindFittedCamera));
             }
-            (runs, solved, lengths) = self.solve_runs(poses, &prepared, breaks)?;
+            (runs, solved, lengths) = self.solve_runs(&smoothed, &prepared, breaks)?;
         }
         // A height given scales the estimated lengths and every frame solved with them alike.
         let size = match self.height_m {
