@@ -308,11 +308,16 @@ fn mode_of(
 /// landmarks smoothed over time ([`camloc::smooth_landmarks`]).
 fn smoothed(views: &[View]) -> Vec<Pose2> {
     let partial: Vec<PartialPose2> = views.iter().map(|v| PartialPose2::from(v.pose2)).collect();
-    camloc::smooth_landmarks(&partial, &[], camloc::reconstruct::FrameRate::default())
-        .iter()
-        .zip(views)
-        .map(|(p, v)| p.complete().unwrap_or(v.pose2))
-        .collect()
+    camloc::smooth_landmarks(
+        &partial,
+        None,
+        &[],
+        camloc::reconstruct::FrameRate::default(),
+    )
+    .iter()
+    .zip(views)
+    .map(|(p, v)| p.complete().unwrap_or(v.pose2))
+    .collect()
 }
 
 /// Runs `variant` with camera `kind` on every item: each frame alone, or each item as one

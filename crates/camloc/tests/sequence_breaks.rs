@@ -141,16 +141,39 @@ fn left_out_frames_are_reconstructed_alone_and_three_in_a_row_split_the_runs() {
                 rec.reconstruct(&frames[t]).unwrap().reconstruction.pose
             );
         }
-        // The others are the sequence without them: two in a row keep their neighbours
-        // tied, three split them as a gap (the command line's frame numbers would).
-        let mut breaks = vec![false; frames.len() - gone.len()];
-        if let Some(t) = split_at {
-            breaks[t] = true;
-        }
+        // The others are the sequence of the person's other frames, which miss those frames
+        // (their time passes in the landmarks' smoothing): two in a row keep their
+        // neighbours tied, three split them as a gap.
+        let kept_numbers: Vec<Option<u64>> = (0..frames.len() as u64)
+            .filter(|t| !gone.contains(&(*t as usize)))
+            .map(Some)
+            .collect();
         let expected = rec
-            .reconstruct_sequence_with_breaks(&without(&gone), &breaks)
+            .reconstruct_sequence_at_frames(
+                &kept_numbers,
+                &without(&gone),
+                &vec![false; kept_numbers.len()],
+            )
             .unwrap();
         assert_eq!(kept_poses(&result, &gone), poses(&expected));
         assert_eq!(result.lengths, expected.lengths);
+        let mut breaks = vec![false; frames.len() - gone.len()];
+        if let Some(t) = split_at {
+            breaks[t] = true;
+            // Split, each run's frames are consecutive: as runs given by their breaks.
+            let split = rec
+                .reconstruct_sequence_with_breaks(&without(&gone), &breaks)
+                .unwrap();
+            assert_eq!(poses(&split), poses(&expected));
+        } else {
+            let tied = rec
+                .reconstruct_sequence_with_breaks(&without(&gone), &breaks)
+                .unwrap();
+            assert_ne!(
+                poses(&tied),
+                poses(&expected),
+                "the missed frames' time counts"
+            );
+        }
     }
 }

@@ -39,9 +39,12 @@ const OUTLIER_FRAME_LANDMARKS: usize = 3;
 /// missing stays missing; one farther than 0.3 of the pose's size from the fit of its
 /// neighbours (found in two rounds, the second without the first's; all of a frame with 3
 /// such landmarks), one with fewer than 3 frames to fit, or whose frames leave the fit
-/// undetermined, is kept as it is.
+/// undetermined, is kept as it is. `frames[t]`, when given, is frame `t`'s number in the
+/// video (frames the person is missing from count as time passing); else the frames are
+/// consecutive.
 pub fn smooth_landmarks(
     poses: &[PartialPose2],
+    frames: Option<&[u64]>,
     breaks: &[bool],
     rate: FrameRate,
 ) -> Vec<PartialPose2> {
@@ -49,6 +52,11 @@ pub fn smooth_landmarks(
     if half < 2 {
         return poses.to_vec();
     }
+    let time = |t: usize| {
+        frames
+            .and_then(|f| f.get(t))
+            .map_or(t as f64, |&n| n as f64)
+    };
     let mut run = Vec::with_capacity(poses.len());
     for t in 0..poses.len() {
         let starts = t > 0 && breaks.get(t).copied().unwrap_or(false);
@@ -59,11 +67,14 @@ pub fn smooth_landmarks(
     // The fit at frame `t` of landmark `l` from the frames of its window that `usable`
     // allows.
     let fit = |t: usize, l: usize, usable: &dyn Fn(usize) -> bool| {
-        let window = t.saturating_sub(half)..(t + half + 1).min(poses.len());
+        // Frames are in time order: the window is the run of frames within `half` of t's.
+        let near = |k: &usize| (time(*k) - time(t)).abs() <= half as f64;
+        let start = (0..t).rev().take_while(near).last().unwrap_or(t);
+        let window = (start..poses.len()).take_while(|k| *k <= t || near(k));
         quadratic_at_zero(
             window
                 .filter(|&k| run[k] == run[t] && usable(k))
-                .filter_map(|k| Some((k as f64 - t as f64, point(k, l)?))),
+                .filter_map(|k| Some((time(k) - time(t), point(k, l)?))),
         )
     };
     let far = |t: usize, l: usize, fitted: Option<[f64; 2]>| match (point(t, l), fitted, sizes[t]) {
@@ -177,7 +188,7 @@ mod tests {
         // Constant acceleration: kept exactly, to the edges.
         let motion = |t: f64| [3.0 + 2.0 * t + 0.5 * t * t, 100.0 - 4.0 * t];
         let poses: Vec<_> = (0..20).map(|t| head_at(motion(f64::from(t)))).collect();
-        for (t, pose) in smooth_landmarks(&poses, &[], rate).iter().enumerate() {
+        for (t, pose) in smooth_landmarks(&poses, None, &[], rate).iter().enumerate() {
             let [x, y] = head(pose).unwrap();
             let want = motion(t as f64);
             assert!(
@@ -189,7 +200,7 @@ mod tests {
         let noisy: Vec<_> = (0..20)
             .map(|t| head_at([50.0 + if t % 2 == 0 { 1.0 } else { -1.0 }, 50.0]))
             .collect();
-        let smoothed = smooth_landmarks(&noisy, &[], rate);
+        let smoothed = smooth_landmarks(&noisy, None, &[], rate);
         for pose in &smoothed[2..18] {
             assert!(
                 (head(pose).unwrap()[0] - 50.0).abs() < 0.5,
@@ -197,6 +208,29 @@ mod tests {
                 head(pose)
             );
         }
+    }
+
+    #[test]
+    fn frames_the_person_is_missing_from_count_as_time() {
+        // Accelerating motion seen at frames 0, 1, 2, 5, 6, 7, 9, 10 (missed in between).
+        let numbers: [u64; 8] = [0, 1, 2, 5, 6, 7, 9, 10];
+        let motion = |t: f64| [t * t, 3.0 * t];
+        let poses: Vec<_> = numbers.iter().map(|&n| head_at(motion(n as f64))).collect();
+        let rate = FrameRate::default();
+        for (pose, &n) in smooth_landmarks(&poses, Some(&numbers), &[], rate)
+            .iter()
+            .zip(&numbers)
+        {
+            let [x, y] = head(pose).unwrap();
+            let want = motion(n as f64);
+            assert!(
+                (x - want[0]).abs() < 1e-6 && (y - want[1]).abs() < 1e-6,
+                "{n}"
+            );
+        }
+        // Read as consecutive frames, the same points are bent.
+        let consecutive = smooth_landmarks(&poses, None, &[], rate);
+        assert!((head(&consecutive[3]).unwrap()[0] - 25.0).abs() > 0.1);
     }
 
     #[test]
@@ -219,7 +253,7 @@ mod tests {
         for p in poses[7].points.iter_mut().flatten() {
             p[0] += 300.0;
         }
-        let smoothed = smooth_landmarks(&poses, &[], FrameRate::default());
+        let smoothed = smooth_landmarks(&poses, None, &[], FrameRate::default());
         assert_eq!(smoothed[7], poses[7]);
         for t in (0..15).filter(|&t| t != 7) {
             for (a, b) in smoothed[t].points.iter().zip(still(t).points) {
@@ -241,17 +275,17 @@ mod tests {
         poses.extend((0..10).map(|_| head_at([100.0, 0.0])));
         let mut breaks = vec![false; 20];
         breaks[10] = true;
-        let smoothed = smooth_landmarks(&poses, &breaks, rate);
+        let smoothed = smooth_landmarks(&poses, None, &breaks, rate);
         assert_eq!(head(&smoothed[9]), Some([0.0, 0.0]));
         assert_eq!(head(&smoothed[10]), Some([100.0, 0.0]));
         // A missing landmark stays missing, and the frames around it use the others.
         poses[5] = PartialPose2::empty();
-        let smoothed = smooth_landmarks(&poses, &breaks, rate);
+        let smoothed = smooth_landmarks(&poses, None, &breaks, rate);
         assert_eq!(head(&smoothed[5]), None);
         assert_eq!(head(&smoothed[4]), Some([0.0, 0.0]));
         // At 15 frames a second and below the window is one frame a side: nothing changes.
         let noisy: Vec<_> = (0..9).map(|t| head_at([f64::from(t % 2), 0.0])).collect();
         let slow = FrameRate::new(15.0).unwrap();
-        assert_eq!(smooth_landmarks(&noisy, &[], slow), noisy);
+        assert_eq!(smooth_landmarks(&noisy, None, &[], slow), noisy);
     }
 }

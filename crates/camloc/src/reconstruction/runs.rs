@@ -66,7 +66,11 @@ impl PoseReconstructor {
             breaks[k + 1] = b.saturating_sub(a) > self.sequence_break_frames() as u64;
         }
         let kept_poses: Vec<PartialPose2> = kept.iter().map(|&t| poses[t]).collect();
-        let solved = self.reconstruct_sequence_with_breaks(&kept_poses, &breaks)?;
+        let kept_numbers: Vec<u64> = kept
+            .iter()
+            .map(|&t| number_or_position(numbers, t))
+            .collect();
+        let solved = self.solve_sequence(&kept_poses, Some(&kept_numbers), &breaks)?;
         let mut in_sequence = solved.frames.into_iter();
         let frames = (0..poses.len())
             .map(|t| match left(t) {
@@ -100,13 +104,25 @@ impl PoseReconstructor {
         poses: &[PartialPose2],
         breaks: &[bool],
     ) -> Result<PoseSequenceReconstruction, CamlocError> {
+        self.solve_sequence(poses, None, breaks)
+    }
+
+    /// [`reconstruct_sequence_with_breaks`](Self::reconstruct_sequence_with_breaks) of frames
+    /// numbered `frames` in the video (none: consecutive), which time the smoothing of the
+    /// landmarks ([`smooth_landmarks`]).
+    fn solve_sequence(
+        &self,
+        poses: &[PartialPose2],
+        frames: Option<&[u64]>,
+        breaks: &[bool],
+    ) -> Result<PoseSequenceReconstruction, CamlocError> {
         // A landmark far off the others is read as missing, and filled in as missing ones;
         // the others are smoothed over time within each run (a detector's noise).
         let cleaned: Vec<PartialPose2> = poses
             .iter()
             .map(|p| crate::without_far_off_landmarks(p).0)
             .collect();
-        let mut smoothed = smooth_landmarks(&cleaned, breaks, self.frame_rate());
+        let mut smoothed = smooth_landmarks(&cleaned, frames, breaks, self.frame_rate());
         let mut prepared: Vec<Result<Prepared, CamlocError>> =
             smoothed.iter().map(|p| self.prepare(p)).collect();
         let (mut runs, mut solved, mut lengths) = self.solve_runs(&smoothed, &prepared, breaks)?;
@@ -123,7 +139,7 @@ impl PoseReconstructor {
             for &t in &behind {
                 kept[t] = PartialPose2::empty();
             }
-            smoothed = smooth_landmarks(&kept, breaks, self.frame_rate());
+            smoothed = smooth_landmarks(&kept, frames, breaks, self.frame_rate());
             prepared = smoothed.iter().map(|p| self.prepare(p)).collect();
             for &t in &behind {
                 prepared[t] = Err(pose_error(ReconstructError::BehindFittedCamera));
