@@ -102,6 +102,7 @@ class Localizer:
         principal_point: Optional[Sequence[float]] = None,
         fps: float = 30.0,
         frames: Optional[npt.ArrayLike] = None,
+        camera_height_shares: Optional[npt.ArrayLike] = None,
     ) -> Dict[str, Any]:
         """Localizes the camera of every pose.
 
@@ -152,6 +153,13 @@ class Localizer:
           out (a ``UserWarning``), as ``camloc localize --sequence`` reads the poses of one
           person number with their ``frame``s. Default: the rows are consecutive frames.
           A ``ValueError`` without ``sequence``.
+        camera_height_shares: the shares of the lower, middle and upper cameras to localize
+          under (three numbers, normalised; a ``ValueError`` for a negative one or none > 0,
+          a ``TypeError`` for other than numbers), in place of this call's own estimate: give
+          one person's rows of a video with the shares of a call on all its rows (its
+          ``camera_height_shares``), as ``camloc localize --sequence`` estimates them once
+          for the whole file (estimated from one person's rows, a simulated user's four
+          walkers under a ceiling camera were 85.2% right against the command line's 99.1%).
         A ``UserWarning`` says when most of the (first 20,000) poses have the head below both
         ankles, the body within about 60 degrees of upside down: points with v up (``camloc
         localize`` warns alike); another when their torsos lean alike by 20 degrees or more (a
@@ -216,6 +224,7 @@ def reconstruct(
     fps: float = 30.0,
     frames: Optional[npt.ArrayLike] = None,
     sequence_max_rows: int = 200_000,
+    camera_height_shares: Optional[npt.ArrayLike] = None,
 ) -> Dict[str, Any]:
     """Reconstructs the 3D pose of every pose by projected matching pursuit on camloc's pose
     basis (principal components and cluster centres), then rebuilds each pose with the
@@ -264,14 +273,17 @@ def reconstruct(
       in pixels too: a pose whose root mean square radius is under 1/1000 of ``focal_px``
       (normalised coordinates) fails.
     sequence: the poses are the frames of one person, in time order: one set of bone lengths
-      for all of them, depths chosen consistently over time, temporal smoothness. Legs or arms
+      for all of them, depths chosen consistently over time, temporal smoothness, each
+      landmark first smoothed over the frames within 1/15 s (``smooth_landmarks`` in the
+      Rust library; the limbs' jitter halved, docs/cli.md; not at 15 ``fps`` and below).
+      Legs or arms
       a detector read with the left and right sides swapped for up to 5 rows in a row (at 30
       frames a second; as long in time at a faster ``fps``) are
       swapped back first, with a ``UserWarning``, as ``camloc reconstruct --sequence`` does
       (docs/cli.md section Sequences). A
       ``UserWarning`` says where the pose jumps across the image or changes size as one person
       cannot from one row to the next (rows of several people: split them by the ``persons``
-      of ``read_keypoints``), and another where rows (up to 10 in a row at 30 frames a second,
+      of ``read_keypoints``, each with the ``camera_height_shares`` of a call on all rows), and another where rows (up to 10 in a row at 30 frames a second,
       as long in time at a faster ``fps``, at an end too: the
       rows are consecutive frames) lie apart from the rows before and after them while those
       agree (another person's detection): as
@@ -310,11 +322,16 @@ def reconstruct(
       ~r["left_out_of_sequence"]; timeline = np.full((t.max() + 1, 15, 3), np.nan);
       timeline[t[keep]] = r["world_points3d"][keep]``; ``to_bvh`` fills the NaN frames, as the
       command line's BVH has them; for rows more than 100 frame numbers apart each, which the
-      command line plays one after another, pass ``r["world_points3d"][keep]`` itself).
+      command line plays one after another, and for rows without frame numbers (all -1,
+      which the recipe would put on one frame), pass ``r["world_points3d"][keep]`` itself).
       Default: the rows are consecutive frames. A ``ValueError`` without ``sequence``.
     sequence_max_rows: with ``sequence``, more rows are a ``ValueError`` before any work (as
       ``camloc reconstruct --sequence-max-poses``, 200,000 by default): a person's frames take
       12-15 KB each while they are solved together (100,000 frames: 1.2 GB).
+    camera_height_shares: as ``Localizer.localize``'s: the shares of the camera heights to
+      localize under instead of this call's estimate (give each person's rows of a video the
+      shares of a call on all of them, as ``camloc reconstruct --sequence`` estimates them
+      once for the whole file); with ``camera="opt"`` nothing is localized.
 
     Returns a dict:
       points3d (N, 15, 3) float64: the 3D landmarks in metres (the given bone lengths, else

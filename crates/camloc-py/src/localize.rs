@@ -5,8 +5,8 @@ use std::path::PathBuf;
 use camloc::reconstruct::FrameRate;
 use camloc::store::Persist;
 use camloc::{
-    CameraHeight, CameraLocalizer, CamlocError, HEIGHT_SHARE_MAX_POSES, Localization, PartialPose2,
-    PoseReconstructor, SequenceModel, default_basis,
+    CameraHeight, CameraLocalizer, CamlocError, HEIGHT_SHARE_MAX_POSES, HeightShares, Localization,
+    PartialPose2, PoseReconstructor, SequenceModel, default_basis,
 };
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::prelude::*;
@@ -110,6 +110,30 @@ pub(crate) fn for_poses(
     })
 }
 
+/// The `camera_height_shares` argument: the shares of the lower, middle and upper cameras
+/// to localize under (three numbers, at least one > 0; normalised), as a call's
+/// `camera_height_shares` output gives them; `None` when not given.
+pub(crate) fn given_shares(value: Option<&Bound<'_, PyAny>>) -> PyResult<Option<HeightShares>> {
+    let Some(value) = value.filter(|v| !v.is_none()) else {
+        return Ok(None);
+    };
+    let numbers: Vec<f64> = value.extract().map_err(|_| {
+        pyo3::exceptions::PyTypeError::new_err(
+            "camera_height_shares: expected three numbers (lower, middle, upper), as a call's \
+             camera_height_shares output gives them",
+        )
+    })?;
+    let [lower, middle, upper] = numbers[..] else {
+        return Err(value_error(format!(
+            "camera_height_shares: expected three numbers (lower, middle, upper), got {}",
+            numbers.len()
+        )));
+    };
+    HeightShares::new(lower, middle, upper)
+        .map(Some)
+        .map_err(|e| value_error(format!("camera_height_shares: {e}")))
+}
+
 /// The `camera_height_shares` output: how the call's cameras divide among the three heights
 /// (low, middle, high rings; `from-input`'s estimate), NaN when the localizer used none (too
 /// few poses, `any`, `eye-level`), as `camloc localize --npz` writes it.
@@ -198,7 +222,7 @@ impl Localizer {
 
     // Localizes the camera of every pose.
     #[doc = include_str!(concat!(env!("OUT_DIR"), "/doc/Localizer.localize.txt"))]
-    #[pyo3(signature = (points, layout = "camloc15", scores = None, min_score = 0.0, sequence = false, focal_px = None, principal_point = None, fps = 30.0, frames = None))]
+    #[pyo3(signature = (points, layout = "camloc15", scores = None, min_score = 0.0, sequence = false, focal_px = None, principal_point = None, fps = 30.0, frames = None, camera_height_shares = None))]
     // Python's keyword arguments, as the stub names them.
     #[allow(clippy::too_many_arguments)]
     fn localize<'py>(
@@ -213,8 +237,10 @@ impl Localizer {
         principal_point: Option<Bound<'py, PyAny>>,
         #[pyo3(from_py_with = crate::number::fps)] fps: f64,
         frames: Option<Bound<'py, PyAny>>,
+        camera_height_shares: Option<Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyDict>> {
         let rate = crate::smooth::frame_rate(fps)?;
+        let given = given_shares(camera_height_shares.as_ref())?;
         // With the camera's intrinsics each pose is localized as seen by the camera aimed at
         // it (a person near the edge of a wide-angle image).
         let aimed;
@@ -266,7 +292,16 @@ impl Localizer {
             Vec::new()
         };
         let n = batch.len();
-        let estimated = self.from_input.then(|| for_poses(inner, &leading));
+        // Shares given (another call's, over the whole video) replace this call's estimate.
+        let estimated = match given {
+            Some(shares) => Some((
+                inner
+                    .clone()
+                    .with_camera_height(CameraHeight::Shares(shares)),
+                f64::NAN,
+            )),
+            None => self.from_input.then(|| for_poses(inner, &leading)),
+        };
         let views = estimated.as_ref().map_or(f64::NAN, |e| e.1);
         let (localizer, filler) = (
             estimated.as_ref().map_or(inner, |e| &e.0),

@@ -8,15 +8,15 @@ use camloc::reconstruct::{BONE_KEYS, BoneLengths, Intrinsics, MIN_FOCAL_PX, Pose
 use camloc::skeleton::{NUM_LANDMARKS, NUM_LIMBS};
 use camloc::store::Persist;
 use camloc::{
-    CameraLocalizer, CamlocError, DepthLifter, HEIGHT_SHARE_MAX_POSES, ModeKind, Pose3,
-    PoseReconstruction, PoseReconstructor,
+    CameraHeight, CameraLocalizer, CamlocError, DepthLifter, HEIGHT_SHARE_MAX_POSES, ModeKind,
+    Pose3, PoseReconstruction, PoseReconstructor,
 };
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyMapping};
 use rayon::prelude::*;
 
 use crate::arrays::{Output, PoseBatch, UnmaskedPoints, UnmaskedScores};
-use crate::localize::{Localizer, for_poses, height_shares, parse_height};
+use crate::localize::{Localizer, for_poses, given_shares, height_shares, parse_height};
 use crate::smooth::{sequence_frames, timeline_max_slots};
 use crate::warnings::{
     warn_if_every_pose_failed, warn_of_identity_jumps, warn_of_input_conventions,
@@ -193,7 +193,7 @@ pub(crate) fn bone_lengths_json_text(lengths: Bound<'_, PyAny>) -> PyResult<Stri
 // Reconstructs the 3D pose of every pose: its docstring is camloc.pyi's (build.rs).
 #[doc = include_str!(concat!(env!("OUT_DIR"), "/doc/reconstruct.txt"))]
 #[pyfunction]
-#[pyo3(signature = (points, layout = "camloc15", camera = None, scores = None, min_score = 0.0, localizer = None, basis = None, bone_lengths = None, focal_px = None, principal_point = None, sequence = false, camera_height = None, lifter = true, person_height = None, fps = 30.0, frames = None, sequence_max_rows = SEQUENCE_MAX_ROWS))]
+#[pyo3(signature = (points, layout = "camloc15", camera = None, scores = None, min_score = 0.0, localizer = None, basis = None, bone_lengths = None, focal_px = None, principal_point = None, sequence = false, camera_height = None, lifter = true, person_height = None, fps = 30.0, frames = None, sequence_max_rows = SEQUENCE_MAX_ROWS, camera_height_shares = None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn reconstruct<'py>(
     py: Python<'py>,
@@ -214,6 +214,7 @@ pub(crate) fn reconstruct<'py>(
     #[pyo3(from_py_with = crate::number::fps)] fps: f64,
     frames: Option<Bound<'py, PyAny>>,
     sequence_max_rows: usize,
+    camera_height_shares: Option<Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     // The command line's default.
     let camera = camera.unwrap_or("hybrid");
@@ -273,6 +274,14 @@ pub(crate) fn reconstruct<'py>(
         reconstructor = reconstructor
             .with_intrinsics(intrinsics)
             .map_err(|e| value_error(e.to_string()))?;
+    }
+    // Shares given (another call's, over the whole video) replace this call's estimate.
+    if let Some(shares) = given_shares(camera_height_shares.as_ref())?
+        && let Some(localizer) = reconstructor.localizer().cloned()
+    {
+        reconstructor = reconstructor
+            .with_localizer(localizer.with_camera_height(CameraHeight::Shares(shares)));
+        from_input = false;
     }
     // `opt` localizes no complete pose: no estimate, as `camloc reconstruct --camera opt`.
     let mut views = f64::NAN;

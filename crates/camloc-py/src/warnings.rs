@@ -120,7 +120,9 @@ pub(crate) fn warn_of_identity_jumps<'a>(
         let message = format!(
             "{} row(s) share their frame number with another row (first at row {first}): of a \
              frame's rows the one nearest where the person is expected is the person's, the \
-             others are {treated}",
+             others are {treated} when untracked; for several tracked people give one person's \
+             rows per call (read_keypoints gives each pose's person), with the \
+             camera_height_shares of a call on all rows",
             left_out.second_poses.len()
         );
         warn(py, message)?;

@@ -566,3 +566,26 @@ def test_the_camera_height_shares_are_returned_as_the_command_line_writes_them(c
     eye_level = camloc.Localizer("eye-level").localize(many)
     assert np.isnan(eye_level["camera_height_shares"]).all()
     assert np.isnan(eye_level["camera_height_views"])
+
+
+def test_one_persons_rows_take_the_shares_of_the_whole_video():
+    """``camera_height_shares`` given: a call on one person's rows localizes under the shares
+    of a call on every row, as the command line estimates them once for the whole file."""
+    many = np.concatenate([example_points()] * 40)
+    whole = camloc.Localizer().localize(many)
+    shares = whole["camera_height_shares"]
+    part = many[::3]
+    alone = camloc.Localizer().localize(part)
+    given = camloc.Localizer().localize(part, camera_height_shares=shares)
+    np.testing.assert_allclose(given["camera_height_shares"], shares, rtol=1e-12)
+    assert np.isnan(given["camera_height_views"]) and np.isfinite(alone["camera_height_views"])
+    np.testing.assert_array_equal(given["label"], whole["label"][::3])
+    np.testing.assert_allclose(given["probabilities"], whole["probabilities"][::3], rtol=1e-12)
+    rebuilt = camloc.reconstruct(part, camera_height_shares=list(shares))
+    np.testing.assert_allclose(rebuilt["camera_height_shares"], shares, rtol=1e-12)
+    with pytest.raises(ValueError, match="camera_height_shares: expected three numbers"):
+        camloc.Localizer().localize(part, camera_height_shares=[0.5, 0.5])
+    with pytest.raises(ValueError, match="camera_height_shares"):
+        camloc.reconstruct(part, camera_height_shares=[-1.0, 1.0, 1.0])
+    with pytest.raises(TypeError, match="camera_height_shares"):
+        camloc.Localizer().localize(part, camera_height_shares="middle")
