@@ -304,7 +304,7 @@ def reconstruct(
       swapped back, the rows left out and the placement in the world keep their windows in
       time (1/30 s and longer), so give the video's rate (a held-out walk at 120 frames a
       second: accelerations 483 m/s^2 told 30, 34 told 120). Without ``sequence`` it changes
-      nothing.
+      nothing (but must still be a number > 0).
     frames: with ``sequence``, each row's video frame number (N,) (whole numbers from 0 to
       2^53 that do not decrease; all -1, ``read_keypoints``' frames of an input without
       numbers, are none; booleans, text and float16 are a ``TypeError``), so that rows are

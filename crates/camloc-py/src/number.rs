@@ -8,7 +8,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyBool;
 
 /// `value` as a float (a `float`, an `int`, a NumPy scalar), or a `TypeError` naming the
-/// argument `name` when it is a bool.
+/// argument `name` when it is a bool or not a number (a string such as `"30"`).
 fn number(value: &Bound<'_, PyAny>, name: &str) -> PyResult<f64> {
     let numpy_bool = value.py().import("numpy")?.getattr("bool_")?;
     if value.is_instance_of::<PyBool>() || value.is_instance(&numpy_bool)? {
@@ -16,7 +16,13 @@ fn number(value: &Bound<'_, PyAny>, name: &str) -> PyResult<f64> {
             "{name}: expected a number, not a bool"
         )));
     }
-    value.extract::<f64>()
+    value.extract::<f64>().map_err(|_| {
+        let kind = value
+            .get_type()
+            .name()
+            .map_or_else(|_| "another type".to_owned(), |n| n.to_string());
+        PyTypeError::new_err(format!("{name}: expected a number, got {kind}"))
+    })
 }
 
 /// The `min_score` argument.

@@ -530,6 +530,9 @@ def test_bools_and_complex_numbers_are_refused_not_converted():
         for flag in (True, np.False_):
             with pytest.raises(TypeError, match=f"{name}: expected a number, not a bool"):
                 call(flag)
+        # Text, as a command line would give it, names the argument too.
+        with pytest.raises(TypeError, match=f"{name}: expected a number, got str"):
+            call("30")
     with pytest.raises(TypeError, match="complex"):
         camloc.Localizer().localize(points.astype(np.complex128))
     with pytest.raises(TypeError, match="complex"):
