@@ -109,8 +109,8 @@ class Localizer:
         points: (N, J, 2) or (N, J, 3) with scores, or one pose (J, 2) / (J, 3); J is the
         layout's joint count; NaN coordinates mark a missing joint, and so does a masked
         coordinate of a ``numpy.ma.MaskedArray`` (or of a list of them, one per pose; a
-        masked score is 0). Converted to float64; complex numbers and bools given for numbers
-        (``min_score=True``) are ``TypeError``s.
+        masked score is 0). Converted to float64; complex numbers, points given as booleans
+        or text, and bools given for numbers (``min_score=True``) are ``TypeError``s.
         A pose whose torso cannot be found (pelvis or neck missing, and a hip or shoulder to
         stand in for it) is localized with its missing landmarks filled in from the embedded
         pose basis seen by camera hypotheses (docs/conventions.md section 6); with fewer than

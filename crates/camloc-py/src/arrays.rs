@@ -94,6 +94,7 @@ impl<'a, 'py, K: MaskedKind> FromPyObject<'a, 'py> for Unmasked<'py, K> {
     fn extract(ob: Borrowed<'a, 'py, PyAny>) -> PyResult<Self> {
         let py = ob.py();
         refuse_complex(&ob)?;
+        refuse_text_or_flags(&ob, K::KIND)?;
         let ma = py.import("numpy.ma")?;
         let masked_array = ma.getattr("MaskedArray")?;
         // A list or tuple of masked arrays (one per pose) keeps its masks too.
@@ -129,6 +130,34 @@ pub(crate) fn refuse_complex(ob: &Bound<'_, PyAny>) -> PyResult<()> {
         };
     }
     refuse_complex_dtype(ob)
+}
+
+/// A `TypeError` for an argument of `kind` given as text (NumPy would parse `"12.5"` as a
+/// number without a word) or, for `points`, as booleans (every pose would fail): an array, or
+/// a list or tuple of what NumPy reads as one. Scores may be booleans (visibility flags).
+fn refuse_text_or_flags(ob: &Bound<'_, PyAny>, kind: &str) -> PyResult<()> {
+    let array = if ob.is_instance_of::<PyList>() || ob.is_instance_of::<PyTuple>() {
+        match ob.py().import("numpy")?.call_method1("asarray", (ob,)) {
+            Ok(array) => array,
+            // A ragged list: the conversion says what is wrong.
+            Err(_) => return Ok(()),
+        }
+    } else {
+        ob.clone()
+    };
+    let Ok(dtype) = array.getattr("dtype") else {
+        return Ok(());
+    };
+    let code: String = dtype.getattr("kind")?.extract()?;
+    let what = match code.as_str() {
+        "U" | "S" => "text",
+        "b" if kind == "points" => "booleans",
+        _ => return Ok(()),
+    };
+    Err(pyo3::exceptions::PyTypeError::new_err(format!(
+        "{kind}: an array of {what} ({}): expected numbers",
+        dtype.str()?
+    )))
 }
 
 /// [`refuse_complex`] of an object with a NumPy `dtype` (nothing to refuse without one).

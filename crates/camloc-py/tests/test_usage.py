@@ -535,6 +535,14 @@ def test_bools_and_complex_numbers_are_refused_not_converted():
             call("30")
     with pytest.raises(TypeError, match="complex"):
         camloc.Localizer().localize(points.astype(np.complex128))
+    # Points as booleans or text: refused, not every pose failed or the text parsed.
+    with pytest.raises(TypeError, match="points: an array of booleans"):
+        camloc.Localizer().localize(points > 100)
+    with pytest.raises(TypeError, match="points: an array of text"):
+        camloc.reconstruct(points.astype(str))
+    # Scores may be visibility flags.
+    flags = np.ones(points.shape[:2], dtype=bool)
+    assert camloc.Localizer().localize(points, scores=flags)["label"].shape == (len(points),)
     with pytest.raises(TypeError, match="complex"):
         camloc.reconstruct(np.ma.masked_array(points.astype(np.complex64)))
     with pytest.raises(TypeError, match="complex"):
