@@ -415,7 +415,8 @@ pub fn warn_of_repeated_frames(keys: &[(Option<u64>, Option<u64>)]) {
     let (first, cause) = match person {
         Some(person) => (
             format!("person {person}, frame {frame}"),
-            "one track id given to two detections of a frame?",
+            "one track id given to two detections of a frame, or several videos in one \
+             input (a folder of several videos' frame files)? give one video per run",
         ),
         None => (
             format!("frame {frame}"),
