@@ -55,7 +55,7 @@ class Localizer:
     one that has already run camloc (``multiprocessing``'s ``fork`` start method) run their
     work on thread pools of their own."""
 
-    def __init__(self, camera_height: str = "from-input") -> None:
+    def __init__(self, camera_height: Optional[str] = "from-input") -> None:
         """The default model embedded in camloc (trained on CMU motion capture).
 
         camera_height: what is known of the camera's height, a prior over the cameras that
@@ -69,11 +69,12 @@ class Localizer:
         a call without a pose with a torso leaves each on its own, as ``"any"`` does),
         ``"any"`` (the model's own priors; each pose on its own) or ``"eye-level"`` (a
         tripod, handheld phone or studio camera at about a standing person's eye level, a
-        few metres away: a middle-ring camera is 8 times as likely a priori). Raises
-        ValueError for another value, as for every other bad argument."""
+        few metres away: a middle-ring camera is 8 times as likely a priori); ``None`` is
+        ``"from-input"``, as ``reconstruct``'s ``camera_height=None`` is the localizer's own.
+        Raises ValueError for another value, as for every other bad argument."""
 
     @staticmethod
-    def load(path: _Path, camera_height: str = "from-input") -> "Localizer":
+    def load(path: _Path, camera_height: Optional[str] = "from-input") -> "Localizer":
         """Reads a model file written by ``camloc train``; ``camera_height`` as for the
         default model (not stored in the file).
 

@@ -154,10 +154,10 @@ impl Localizer {
     /// (`"from-input"`, `"any"` or `"eye-level"`, as `camloc localize --camera-height`).
     #[new]
     #[pyo3(signature = (camera_height = "from-input"))]
-    fn new(camera_height: &str) -> PyResult<Self> {
+    fn new(camera_height: Option<&str>) -> PyResult<Self> {
         Localizer::with_filler(
             CameraLocalizer::default_model().map_err(to_py_err)?,
-            camera_height,
+            camera_height.unwrap_or(CameraHeight::FROM_INPUT),
         )
     }
 
@@ -165,10 +165,10 @@ impl Localizer {
     #[doc = include_str!(concat!(env!("OUT_DIR"), "/doc/Localizer.load.txt"))]
     #[staticmethod]
     #[pyo3(signature = (path, camera_height = "from-input"))]
-    fn load(path: PathBuf, camera_height: &str) -> PyResult<Self> {
+    fn load(path: PathBuf, camera_height: Option<&str>) -> PyResult<Self> {
         Localizer::with_filler(
             CameraLocalizer::load(&path).map_err(|e| to_py_err(e.into()))?,
-            camera_height,
+            camera_height.unwrap_or(CameraHeight::FROM_INPUT),
         )
     }
 

@@ -600,3 +600,12 @@ def test_one_persons_rows_take_the_shares_of_the_whole_video():
         camloc.reconstruct(part, camera_height_shares=[-1.0, 1.0, 1.0])
     with pytest.raises(TypeError, match="camera_height_shares"):
         camloc.Localizer().localize(part, camera_height_shares="middle")
+
+
+def test_no_camera_height_is_the_default_one():
+    """``Localizer(camera_height=None)`` is the default ``"from-input"``, as ``reconstruct``'s
+    ``camera_height=None`` is the localizer's own."""
+    assert camloc.Localizer(camera_height=None).camera_height == "from-input"
+    assert camloc.Localizer.load(
+        ROOT / "fixtures" / "default-model.bin", camera_height=None
+    ).camera_height == "from-input"
