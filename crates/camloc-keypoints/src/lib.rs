@@ -131,6 +131,7 @@ mod lsp;
 mod mediapipe;
 mod mmpose;
 mod mpii;
+mod normalised;
 mod npy;
 mod openpose;
 mod peek;

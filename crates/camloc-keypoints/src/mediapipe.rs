@@ -13,6 +13,7 @@ use crate::json::{
     unit_score, wrong_type,
 };
 use crate::layout::{MEDIAPIPE33, keeps};
+use crate::normalised::check_normalised;
 use crate::record::{KeypointRecord, from_joints};
 use crate::{ImageSize, ReadOptions};
 
@@ -161,42 +162,6 @@ fn frame_landmarks<'a>(
     Ok(Some((list, at, number)))
 }
 
-/// Farthest the middle of a frame's normalised coordinates may lie outside the image (in image
-/// sides): MediaPipe places landmarks it guesses beyond the image's edges a little outside
-/// [0, 1] (a close-up's ankles 6.5 sides below), and pixel coordinates lie hundreds of sides
-/// away.
-const NORMALISED_REACH: f64 = 5.0;
-
-/// [`KeypointError::InvalidValue`] for the pose at `at` whose landmarks' median `key`
-/// coordinate (`coordinates`, normalised) lies over [`NORMALISED_REACH`] image sides outside
-/// [0, 1]: pixels, not normalised coordinates. `size` (1, 1) says that they are pixels; no
-/// coordinate (a pose without any keypoint kept) passes.
-pub(crate) fn check_normalised(
-    mut coordinates: Vec<f64>,
-    key: &'static str,
-    size: ImageSize,
-    file: &str,
-    at: Location,
-) -> Result<(), KeypointError> {
-    if (size.width == 1.0 && size.height == 1.0) || coordinates.is_empty() {
-        return Ok(());
-    }
-    coordinates.sort_by(f64::total_cmp);
-    let median = coordinates[coordinates.len() / 2];
-    if (-NORMALISED_REACH..=1.0 + NORMALISED_REACH).contains(&median) {
-        return Ok(());
-    }
-    Err(KeypointError::InvalidValue {
-        file: file.to_owned(),
-        at,
-        field: key,
-        text: format!("{median} (the frame's median)"),
-        expected: "a normalised coordinate (MediaPipe's and YOLO's lie near [0, 1], a fraction \
-                   of the image's side; coordinates already in pixels: --image-size 1,1, \
-                   Python image_size=(1, 1))",
-    })
-}
-
 /// Landmarks 23 and 24 of MediaPipe Pose, the hips.
 const HIPS: [usize; 2] = [23, 24];
 
@@ -278,10 +243,7 @@ fn frame(
         points.push(kept.then_some([x * size.width, y * size.height]));
     }
     check_not_world(&coordinates, file, path)?;
-    for (c, key) in ["x", "y"].into_iter().enumerate() {
-        let column = coordinates.iter().map(|xy| xy[c]).collect();
-        check_normalised(column, key, size, file, Location::Path(path.to_owned()))?;
-    }
+    check_normalised(&coordinates, size, file, Location::Path(path.to_owned()))?;
     Ok(KeypointRecord {
         frame: Some(index as u64),
         ..from_joints(&MEDIAPIPE33, points, index.to_string(), file, path, options)

@@ -6,7 +6,7 @@
 
 use crate::error::{KeypointError, Location};
 use crate::layout::{COCO17, keeps};
-use crate::mediapipe::check_normalised;
+use crate::normalised::check_normalised;
 use crate::openpose::{name_without, trailing_number};
 use crate::record::{KeypointRecord, from_joints};
 use crate::{ImageSize, ReadOptions};
@@ -43,8 +43,9 @@ pub(crate) fn parse(
             format: "YOLO",
         });
     };
-    let frame = name_without(file, ".txt").and_then(trailing_number);
-    let frame_name = match (frame, name_without(file, ".txt")) {
+    let stem = name_without(file, ".txt");
+    let frame = stem.and_then(trailing_number);
+    let frame_name = match (frame, stem) {
         (Some(frame), _) => frame.to_string(),
         (None, Some(stem)) => stem.to_owned(),
         (None, None) => file.to_owned(),
@@ -120,10 +121,7 @@ fn person_record(
         }
         points.push(kept.then_some([x * size.width, y * size.height]));
     }
-    for (c, key) in ["x", "y"].into_iter().enumerate() {
-        let column = present.iter().map(|xy| xy[c]).collect();
-        check_normalised(column, key, size, file, at.clone())?;
-    }
+    check_normalised(&present, size, file, at.clone())?;
     let path = at.to_string();
     Ok(KeypointRecord {
         person: Some(track.unwrap_or(person as u64)),

@@ -93,8 +93,11 @@ impl<'a, 'py, K: MaskedKind> FromPyObject<'a, 'py> for Unmasked<'py, K> {
 
     fn extract(ob: Borrowed<'a, 'py, PyAny>) -> PyResult<Self> {
         let py = ob.py();
-        refuse_complex(&ob)?;
-        refuse_text_or_flags(&ob, K::KIND)?;
+        // One look at the dtype NumPy gives the argument.
+        if let Some(dtype) = numpy_dtype(&ob)? {
+            refuse_complex_dtype(&dtype)?;
+            refuse_text_or_flags(&dtype, K::KIND)?;
+        }
         let ma = py.import("numpy.ma")?;
         let masked_array = ma.getattr("MaskedArray")?;
         // A list or tuple of masked arrays (one per pose) keeps its masks too.
@@ -121,33 +124,31 @@ impl<'a, 'py, K: MaskedKind> FromPyObject<'a, 'py> for Unmasked<'py, K> {
 /// whose conversion to float64 would drop the imaginary parts with only a `ComplexWarning` (a
 /// list of Python complex numbers is refused by the conversion itself).
 pub(crate) fn refuse_complex(ob: &Bound<'_, PyAny>) -> PyResult<()> {
-    // A list or tuple (of arrays, one per pose): its elements as NumPy would read them.
-    if ob.is_instance_of::<PyList>() || ob.is_instance_of::<PyTuple>() {
-        return match ob.py().import("numpy")?.call_method1("asarray", (ob,)) {
-            Ok(array) => refuse_complex_dtype(&array),
-            // A ragged list: the conversion says what is wrong.
-            Err(_) => Ok(()),
-        };
+    match numpy_dtype(ob)? {
+        Some(dtype) => refuse_complex_dtype(&dtype),
+        None => Ok(()),
     }
-    refuse_complex_dtype(ob)
 }
 
-/// A `TypeError` for an argument of `kind` given as text (NumPy would parse `"12.5"` as a
-/// number without a word) or, for `points`, as booleans (every pose would fail): an array, or
-/// a list or tuple of what NumPy reads as one. Scores may be booleans (visibility flags).
-fn refuse_text_or_flags(ob: &Bound<'_, PyAny>, kind: &str) -> PyResult<()> {
+/// The NumPy dtype of `ob`: its own, or for a list or tuple (of arrays, one per pose) that of
+/// its elements as NumPy would read them; `None` without one (a ragged list: the conversion
+/// says what is wrong).
+fn numpy_dtype<'py>(ob: &Bound<'py, PyAny>) -> PyResult<Option<Bound<'py, PyAny>>> {
     let array = if ob.is_instance_of::<PyList>() || ob.is_instance_of::<PyTuple>() {
         match ob.py().import("numpy")?.call_method1("asarray", (ob,)) {
             Ok(array) => array,
-            // A ragged list: the conversion says what is wrong.
-            Err(_) => return Ok(()),
+            Err(_) => return Ok(None),
         }
     } else {
         ob.clone()
     };
-    let Ok(dtype) = array.getattr("dtype") else {
-        return Ok(());
-    };
+    Ok(array.getattr("dtype").ok())
+}
+
+/// A `TypeError` for an argument of `kind` whose `dtype` is text (NumPy would parse `"12.5"`
+/// as a number without a word) or, for `points`, booleans (every pose would fail). Scores may
+/// be booleans (visibility flags).
+fn refuse_text_or_flags(dtype: &Bound<'_, PyAny>, kind: &str) -> PyResult<()> {
     let code: String = dtype.getattr("kind")?.extract()?;
     let what = match code.as_str() {
         "U" | "S" => "text",
@@ -160,11 +161,8 @@ fn refuse_text_or_flags(ob: &Bound<'_, PyAny>, kind: &str) -> PyResult<()> {
     )))
 }
 
-/// [`refuse_complex`] of an object with a NumPy `dtype` (nothing to refuse without one).
-fn refuse_complex_dtype(ob: &Bound<'_, PyAny>) -> PyResult<()> {
-    let Ok(dtype) = ob.getattr("dtype") else {
-        return Ok(());
-    };
+/// [`refuse_complex`] of a NumPy `dtype`.
+fn refuse_complex_dtype(dtype: &Bound<'_, PyAny>) -> PyResult<()> {
     if dtype
         .getattr("kind")
         .is_ok_and(|kind| kind.eq("c").unwrap_or(false))

@@ -1,6 +1,8 @@
 //! Smoothing the viewpoint of one person over the frames of a video: [`SequenceModel`], a hidden
 //! Markov model over the cameras, and [`sequences`], which groups records by person and frame.
 
+use std::ops::Range;
+
 use camloc_geometry::{CameraLabel, CameraSet};
 
 use crate::CamlocError;
@@ -281,6 +283,18 @@ fn argmax(values: &[f64]) -> usize {
 /// a frame), so that frames left out of a sequence still count as time passing.
 pub(crate) fn number_or_position(numbers: &[Option<u64>], t: usize) -> u64 {
     numbers.get(t).copied().flatten().unwrap_or(t as u64)
+}
+
+/// The positions of the frames about position `k` of `len` frames in time order that `near`
+/// accepts: the run of them around `k` (`k` itself included), which is all of them, as frames
+/// near in time are consecutive.
+pub(crate) fn window_around(len: usize, k: usize, near: impl Fn(usize) -> bool) -> Range<usize> {
+    let start = (0..k).rev().take_while(|&j| near(j)).last().unwrap_or(k);
+    let end = (k + 1..len)
+        .take_while(|&j| near(j))
+        .last()
+        .map_or(k + 1, |j| j + 1);
+    start..end
 }
 
 /// The sequences of an input: the positions of the records of each person, ordered by frame.

@@ -4,7 +4,7 @@
 
 use camloc_reconstruct::FrameRate;
 
-use crate::sequence::number_or_position;
+use crate::sequence::{number_or_position, window_around};
 
 /// Frames on each side of a frame that [`smooth_viewpoints`] averages with it at 30 frames a
 /// second (a window of 7 frames, about a quarter of a second; at faster rates as long in
@@ -50,13 +50,10 @@ pub fn smooth_viewpoints(
         .map(|k| {
             viewpoints[k]?;
             let centre = number(k);
-            let near = |j: &usize| number(*j).abs_diff(centre) <= half;
-            // Frames are in time order: the window's frames are a run around k.
-            let start = (0..k).rev().take_while(near).last().unwrap_or(k);
-            let window: Vec<[f64; 3]> = (start..viewpoints.len())
-                .take_while(|j| *j <= k || near(j))
-                .filter_map(|j| viewpoints[j].map(unit))
-                .collect();
+            let window: Vec<[f64; 3]> =
+                window_around(viewpoints.len(), k, |j| number(j).abs_diff(centre) <= half)
+                    .filter_map(|j| viewpoints[j].map(unit))
+                    .collect();
             let own = viewpoints[k].map(unit)?;
             let same_camera = |u: &&[f64; 3]| {
                 u[0] * own[0] + u[1] * own[1] + u[2] * own[2]

@@ -6,6 +6,7 @@
 use camloc_reconstruct::FrameRate;
 use camloc_skeleton::{NUM_LANDMARKS, PartialPose2};
 
+use crate::sequence::window_around;
 use crate::spread::centroid_and_spread;
 
 /// Half the time window each landmark is smoothed over, in seconds (1/15 s: 2 frames on each
@@ -63,22 +64,27 @@ pub fn smooth_landmarks(
         run.push(run.last().copied().unwrap_or(0) + usize::from(starts));
     }
     let sizes: Vec<Option<f64>> = poses.iter().map(size).collect();
+    // Each frame's window: the frames of its run within `half` frames of it.
+    let windows: Vec<_> = (0..poses.len())
+        .map(|t| {
+            window_around(poses.len(), t, |k| {
+                run[k] == run[t] && (time(k) - time(t)).abs() <= half as f64
+            })
+        })
+        .collect();
     let point = |k: usize, l: usize| poses[k].points[l].filter(|p| p.iter().all(|c| c.is_finite()));
     // The fit at frame `t` of landmark `l` from the frames of its window that `usable`
     // allows.
     let fit = |t: usize, l: usize, usable: &dyn Fn(usize) -> bool| {
-        // Frames are in time order: the window is the run of frames within `half` of t's.
-        let near = |k: &usize| (time(*k) - time(t)).abs() <= half as f64;
-        let start = (0..t).rev().take_while(near).last().unwrap_or(t);
-        let window = (start..poses.len()).take_while(|k| *k <= t || near(k));
         quadratic_at_zero(
-            window
-                .filter(|&k| run[k] == run[t] && usable(k))
+            windows[t]
+                .clone()
+                .filter(|&k| usable(k))
                 .filter_map(|k| Some((time(k) - time(t), point(k, l)?))),
         )
     };
-    let far = |t: usize, l: usize, fitted: Option<[f64; 2]>| match (point(t, l), fitted, sizes[t]) {
-        (Some(p), Some(f), Some(size)) => (p[0] - f[0]).hypot(p[1] - f[1]) > OUTLIER_SIZES * size,
+    let far = |t: usize, l: usize, fitted: [f64; 2]| match (point(t, l), sizes[t]) {
+        (Some(p), Some(size)) => (p[0] - fitted[0]).hypot(p[1] - fitted[1]) > OUTLIER_SIZES * size,
         _ => false,
     };
     let mut outlier = vec![[false; NUM_LANDMARKS]; poses.len()];
@@ -88,7 +94,7 @@ pub fn smooth_landmarks(
             for (l, flag) in flags.iter_mut().enumerate() {
                 // Without enough of the others left, the first round's answer stands.
                 *flag = match fit(t, l, &|k| k != t && !previous[k][l]) {
-                    Some(fitted) => far(t, l, Some(fitted)),
+                    Some(fitted) => far(t, l, fitted),
                     None => previous[t][l],
                 };
             }
