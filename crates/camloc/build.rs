@@ -10,6 +10,7 @@ fn main() {
         "default-model.bin",
         "default-basis.bin",
         "default-lifter.bin",
+        "default-lifter-midpoints.bin",
     ] {
         let source = Path::new(&manifest).join("../../fixtures").join(name);
         println!("cargo:rerun-if-changed={}", source.display());

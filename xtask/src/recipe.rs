@@ -27,16 +27,16 @@ pub const DEFAULT_RECIPE: &str = "posture=0.1+rig+balance=0.5+quadratic+photo=1"
 /// to 20%, hip widths 0.45-1.6 and head reach 0.5-1.7, because the lifted depths follow the
 /// proportions the lifter has seen and recorded skeletons differ from camloc's template by
 /// more than the classifier's augmentation covers (issue 23's labs: hip half-width 0.46 and
-/// 0.83, neck-to-head 0.57 and 1.64, torso 1.30 times the template's). The photo landmark
-/// placements stay at [`Augmentation::TRAINING`]'s half of the views whatever the recipe's
-/// share (the default classifier's is every view): the lifter's depths are scored against
-/// both conventions, and a lifter of other shares was not measured.
-pub fn lifter_augmentation(training: Augmentation) -> Augmentation {
+/// 0.83, neck-to-head 0.57 and 1.64, torso 1.30 times the template's); the pelvis and the
+/// neck at the hip and shoulder midpoints in every view (`midpoints`, the lifter of that
+/// placement) or in none (the lifter of skeletons' own placement): one lifter of both had
+/// CMU torsos 30% too deep at 45 deg of elevation (`DepthLifter::with_midpoint_lifter`).
+pub fn lifter_augmentation(training: Augmentation, midpoints: bool) -> Augmentation {
     Augmentation {
         bone_scale: 0.2,
         hip_width: (0.45, 1.6),
         head_reach: (0.5, 1.7),
-        photo_landmarks: Augmentation::TRAINING.photo_landmarks,
+        photo_landmarks: if midpoints { 1.0 } else { 0.0 },
         ..training
     }
 }
@@ -277,7 +277,8 @@ impl Recipe {
     /// Trains the localizer on `sequences` with this recipe: the classifier on
     /// [`Recipe::classifier_views`], then the viewpoint heads on `sphere` views
     /// ([`VIEWPOINT_SEED`]) and the recipe's `rig` views, at the heads' capacity; and the
-    /// depth lifter on the same views of wider people ([`lifter_augmentation`]; the default
+    /// depth lifters of both landmark placements on the same views of wider people
+    /// ([`lifter_augmentation`]; the default
     /// quadratic components and [`camloc::DEFAULT_LIFTER_LAMBDA`]). `log` sees every Newton
     /// iteration.
     pub fn train(
@@ -301,19 +302,24 @@ impl Recipe {
             .map_err(|e| e.to_string())?;
         let head_views = heads.samples.len();
         drop(heads);
-        // The same views of wider people for the lifter.
-        let lifter_recipe = Recipe {
-            augmentation: lifter_augmentation(self.augmentation),
-            ..self.clone()
+        // The same views of wider people for the lifters of both placements.
+        let lifter = |midpoints: bool| {
+            let recipe = Recipe {
+                augmentation: lifter_augmentation(self.augmentation, midpoints),
+                ..self.clone()
+            };
+            let views = recipe.head_views(sequences, min_pose_distance_mm)?;
+            DepthLifter::fit(
+                &views,
+                *localizer.descriptor(),
+                camloc::DEFAULT_QUADRATIC_COMPONENTS,
+                camloc::DEFAULT_LIFTER_LAMBDA,
+            )
+            .map_err(|e| e.to_string())
         };
-        let lifter_views = lifter_recipe.head_views(sequences, min_pose_distance_mm)?;
-        let lifter = DepthLifter::fit(
-            &lifter_views,
-            *localizer.descriptor(),
-            camloc::DEFAULT_QUADRATIC_COMPONENTS,
-            camloc::DEFAULT_LIFTER_LAMBDA,
-        )
-        .map_err(|e| e.to_string())?;
+        let lifter = lifter(false)?
+            .with_midpoint_lifter(lifter(true)?)
+            .map_err(|e| e.to_string())?;
         Ok(Trained {
             localizer,
             lifter,

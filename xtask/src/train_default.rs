@@ -34,7 +34,8 @@ pub struct Args {
     )]
     pub basis_out: PathBuf,
     /// Where to write the depth lifter, trained with the model (relative: from the
-    /// repository's root).
+    /// repository's root); the lifter of poses whose pelvis and neck sit at the hip and
+    /// shoulder midpoints goes beside it, `-midpoints` added to its name.
     #[arg(
         long,
         default_value = "fixtures/default-lifter.bin",
@@ -55,7 +56,8 @@ pub fn run(args: &Args) -> Result<(), String> {
     let out = crate::workspace_root().join(&args.out);
     let basis_out = crate::workspace_root().join(&args.basis_out);
     let lifter_out = crate::workspace_root().join(&args.lifter_out);
-    for path in [&out, &basis_out, &lifter_out] {
+    let midpoints_out = midpoint_lifter_path(&lifter_out);
+    for path in [&out, &basis_out, &lifter_out, &midpoints_out] {
         if path.exists() && !args.force {
             return Err(format!(
                 "{}: already exists (pass --force to replace the defaults)",
@@ -89,7 +91,8 @@ pub fn run(args: &Args) -> Result<(), String> {
 }
 
 /// Trains the default model ([`Recipe::default_model`]) on `sequences` and writes it to `out`,
-/// and its depth lifter to `lifter_out`.
+/// and its depth lifters to `lifter_out` (skeletons' own placement of the pelvis and the neck)
+/// and [`midpoint_lifter_path`] (the midpoint placement).
 fn train_model(
     args: &Args,
     sequences: &[PoseSequence],
@@ -130,15 +133,36 @@ fn train_model(
         recipe.options.regression.lambda,
         start.elapsed().as_secs_f64()
     );
-    trained
-        .lifter
-        .save(lifter_out, args.force)
-        .map_err(|e| e.to_string())?;
-    println!(
-        "wrote {} ({} bytes, depth lifter of {} camera classes)",
-        lifter_out.display(),
-        std::fs::metadata(lifter_out).map(|m| m.len()).unwrap_or(0),
-        trained.lifter.n_classes()
-    );
+    let (lifter, midpoints) = trained.lifter.split_midpoint_lifter();
+    let midpoints = midpoints.ok_or("the recipe trained no midpoint lifter")?;
+    let midpoints_out = midpoint_lifter_path(lifter_out);
+    for (lifter, path, what) in [
+        (&lifter, lifter_out, "skeletons' own placement"),
+        (
+            &midpoints,
+            midpoints_out.as_path(),
+            "pelvis and neck at the midpoints",
+        ),
+    ] {
+        lifter.save(path, args.force).map_err(|e| e.to_string())?;
+        println!(
+            "wrote {} ({} bytes, depth lifter of {} camera classes, {what})",
+            path.display(),
+            std::fs::metadata(path).map(|m| m.len()).unwrap_or(0),
+            lifter.n_classes()
+        );
+    }
     Ok(())
+}
+
+/// Where the midpoint placement's lifter of the lifter file `lifter` goes: beside it,
+/// `-midpoints` added to its stem (`default-lifter.bin` -> `default-lifter-midpoints.bin`, as
+/// the build embeds them).
+fn midpoint_lifter_path(lifter: &Path) -> PathBuf {
+    let stem = lifter.file_stem().unwrap_or_default().to_string_lossy();
+    let name = match lifter.extension() {
+        Some(ext) => format!("{stem}-midpoints.{}", ext.to_string_lossy()),
+        None => format!("{stem}-midpoints"),
+    };
+    lifter.with_file_name(name)
 }

@@ -4,6 +4,7 @@
 mod common;
 
 use camloc::reconstruct::BONE_KEYS as KEYS;
+use camloc::store::Persist;
 use serde_json::Value;
 
 use common::{TempDir, camloc, fixture, success};
@@ -333,9 +334,11 @@ fn bad_bone_lengths_files_are_refused_with_what_and_where() {
 }
 
 /// The embedded depth lifter is the default of `hybrid`; `--no-lifter` gives the pursuit's
-/// pose (another answer), `--lifter FILE` with the embedded file and `--model FILE` with the
-/// embedded model's file the default's answer, and a lifter with `--camera opt` or a file of
-/// another kind is refused.
+/// pose (another answer), `--lifter FILE` with the embedded lifter saved to a file and
+/// `--model FILE` with the embedded model's file the default's answer, the embedded lifter of
+/// skeletons' own placement alone (its file in fixtures/, without the midpoint placement's)
+/// another one for the example's detector landmarks, and a lifter with `--camera opt` or a
+/// file of another kind is refused.
 #[test]
 fn the_depth_lifter_is_the_default_and_can_be_chosen_or_refused() {
     let example = example();
@@ -344,11 +347,21 @@ fn the_depth_lifter_is_the_default_and_can_be_chosen_or_refused() {
         args.extend_from_slice(extra);
         camloc(&args)
     };
-    let lifter = fixture("default-lifter.bin").to_string_lossy().into_owned();
+    let dir = TempDir::new("lifter-choice");
+    let lifter = dir.0.join("both.bin");
+    camloc::DepthLifter::default_lifter()
+        .unwrap()
+        .save(&lifter, false)
+        .unwrap();
+    let lifter = lifter.to_string_lossy().into_owned();
     let default = run(&[]);
     assert!(default.status.success());
     let explicit = run(&["--lifter", &lifter]);
     assert_eq!(default.stdout, explicit.stdout);
+    let own_only = fixture("default-lifter.bin").to_string_lossy().into_owned();
+    let own_only = run(&["--lifter", &own_only]);
+    assert!(own_only.status.success());
+    assert_ne!(default.stdout, own_only.stdout);
     let without = run(&["--no-lifter"]);
     assert!(without.status.success());
     assert_ne!(default.stdout, without.stdout);

@@ -219,11 +219,12 @@ pub const POSE_BASIS_KIND: FileKind = FileKind {
     max_payload: 1 << 20,
 };
 
-/// Depth lifters (`camloc::DepthLifter`): up to 64 MiB (the default one, 12 classes of 15
-/// depths from 519 features, is about 750 KiB).
+/// Depth lifters (`camloc::DepthLifter`): up to 64 MiB (each of the default two, 12 classes
+/// of 15 depths, is about 850 KiB). Version 2 added the lifter of poses
+/// whose pelvis and neck sit at the hip and shoulder midpoints.
 pub const LIFTER_KIND: FileKind = FileKind {
     magic: *b"CAMLOCDL",
-    version: 1,
+    version: 2,
     what: "depth lifter",
     max_payload: 64 << 20,
 };

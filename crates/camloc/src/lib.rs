@@ -55,6 +55,7 @@ mod select;
 mod sequence;
 mod sides;
 mod spread;
+mod torso_placement;
 mod train;
 mod train_options;
 mod upside_down;

@@ -19,6 +19,7 @@ use camloc_store::{FileKind, Persist, Validate};
 use serde::{Deserialize, Serialize};
 
 use crate::CamlocError;
+use crate::torso_placement::own_placement_weight;
 
 /// Ridge weight of the default depth lifter ([`DepthLifter::fit`]): on held-out CMU subjects
 /// lambda 1, 10 and 100 were within 0.1 mm of each other (docs/RESULTS.md).
@@ -32,6 +33,11 @@ pub struct DepthLifter {
     expansion: QuadraticExpansion,
     /// One per camera class, [`NUM_LANDMARKS`] outputs each.
     heads: Vec<RidgeModel>,
+    /// The lifter of poses whose pelvis and neck sit at the hip and shoulder midpoints
+    /// (detectors' and annotations' placement), when this one was fitted on skeletons' own
+    /// placement ([`with_midpoint_lifter`](Self::with_midpoint_lifter)); none: this one
+    /// lifts every pose.
+    midpoints: Option<Box<DepthLifter>>,
 }
 
 impl DepthLifter {
@@ -87,16 +93,83 @@ impl DepthLifter {
             descriptor,
             expansion,
             heads,
+            midpoints: None,
         })
     }
 
+    /// This lifter (fitted on poses in their skeleton's own placement of the pelvis and the
+    /// neck) with `midpoints`, a lifter fitted on the same views with the pelvis at the mid-hip
+    /// point and the neck at the mid-shoulder point, for the poses whose image shows that
+    /// placement ([`depths`](Self::depths)), replacing any it had. The two placements differ
+    /// by about a third of the torso, which a view from above or below cannot tell by its
+    /// depth: one lifter fitted on both gave CMU torsos 30% too deep at 45 deg of elevation
+    /// (docs/RESULTS.md).
+    ///
+    /// # Errors
+    /// [`CamlocError::Inconsistent`] when `midpoints` has a midpoint lifter of its own or
+    /// another number of camera classes.
+    pub fn with_midpoint_lifter(mut self, midpoints: DepthLifter) -> Result<Self, CamlocError> {
+        if midpoints.midpoints.is_some() || midpoints.n_classes() != self.n_classes() {
+            return Err(CamlocError::Inconsistent {
+                what: "midpoint depth lifter",
+                detail: format!(
+                    "{} camera classes{}, expected {} and no midpoint lifter",
+                    midpoints.n_classes(),
+                    if midpoints.midpoints.is_some() {
+                        " and a midpoint lifter of its own"
+                    } else {
+                        ""
+                    },
+                    self.n_classes()
+                ),
+            });
+        }
+        self.midpoints = Some(Box::new(midpoints));
+        Ok(self)
+    }
+
+    /// This lifter without its midpoint lifter, and that lifter (each can be saved on its
+    /// own, as the embedded ones are).
+    pub fn split_midpoint_lifter(mut self) -> (DepthLifter, Option<DepthLifter>) {
+        let midpoints = self.midpoints.take().map(|m| *m);
+        (self, midpoints)
+    }
+
+    /// The lifter of poses in the midpoint placement, if this one has one.
+    pub fn midpoint_lifter(&self) -> Option<&DepthLifter> {
+        self.midpoints.as_deref()
+    }
+
     /// The depths of the landmarks of `pose` (image coordinates, any units) seen by a camera
-    /// of class `class` (0-based), in the units of the module documentation.
+    /// of class `class` (0-based), in the units of the module documentation. With a
+    /// [midpoint lifter](Self::with_midpoint_lifter), the two lifters' depths weighed by
+    /// where the image puts the pelvis and the neck (`own_placement_weight`: the midpoint
+    /// lifter's alone when both lie within 0.08 torso of the hip and shoulder midpoints, this
+    /// one's alone beyond 0.16, docs/conventions.md section 6).
     ///
     /// # Errors
     /// [`CamlocError::Feature`] for non-finite landmarks or a degenerate torso;
     /// [`CamlocError::InvalidOption`] for a class the lifter does not have.
     pub fn depths(&self, pose: &Pose2, class: usize) -> Result<[f64; NUM_LANDMARKS], CamlocError> {
+        let Some(midpoints) = &self.midpoints else {
+            return self.own_depths(pose, class);
+        };
+        let own_weight = own_placement_weight(pose);
+        if own_weight >= 1.0 {
+            return self.own_depths(pose, class);
+        }
+        let at_midpoints = midpoints.own_depths(pose, class)?;
+        if own_weight <= 0.0 {
+            return Ok(at_midpoints);
+        }
+        let own = self.own_depths(pose, class)?;
+        Ok(std::array::from_fn(|j| {
+            own_weight * own[j] + (1.0 - own_weight) * at_midpoints[j]
+        }))
+    }
+
+    /// [`depths`](Self::depths) by this lifter's own heads.
+    fn own_depths(&self, pose: &Pose2, class: usize) -> Result<[f64; NUM_LANDMARKS], CamlocError> {
         let head = self
             .heads
             .get(class)
@@ -156,10 +229,13 @@ impl DepthLifter {
     /// [`CamlocError::NoDefault`] when the build embedded none; decoding errors otherwise.
     pub fn default_lifter() -> Result<DepthLifter, CamlocError> {
         let bytes = include_bytes!(concat!(env!("OUT_DIR"), "/default-lifter.bin"));
-        if bytes.is_empty() {
+        let midpoints = include_bytes!(concat!(env!("OUT_DIR"), "/default-lifter-midpoints.bin"));
+        if bytes.is_empty() || midpoints.is_empty() {
             return Err(CamlocError::NoDefault("depth lifter"));
         }
-        Self::from_bytes_named(bytes, "embedded default depth lifter").map_err(CamlocError::from)
+        let midpoints = Self::from_bytes_named(midpoints, "embedded default midpoint lifter")?;
+        Self::from_bytes_named(bytes, "embedded default depth lifter")?
+            .with_midpoint_lifter(midpoints)
     }
 
     /// Whether the embedded lifter ([`default_lifter`](Self::default_lifter)) serves a
@@ -205,6 +281,18 @@ impl Validate for DepthLifter {
         }
         if self.heads.is_empty() {
             return Err(inconsistent("no class heads".into()));
+        }
+        if let Some(midpoints) = &self.midpoints {
+            midpoints
+                .validate()
+                .map_err(|e| inconsistent(format!("midpoint lifter: {e}")))?;
+            if midpoints.midpoints.is_some() || midpoints.n_classes() != self.n_classes() {
+                return Err(inconsistent(format!(
+                    "the midpoint lifter has {} classes (expected {}) or one of its own",
+                    midpoints.n_classes(),
+                    self.n_classes()
+                )));
+            }
         }
         for (k, head) in self.heads.iter().enumerate() {
             head.validate()

@@ -296,3 +296,59 @@ fn hybrid_from_lifted_depths_is_levelled_to_the_localizer_s_elevation() {
     let localized = plain.localization.as_ref().unwrap().elevation_deg.unwrap();
     assert!((camera_elevation(&plain.reconstruction.camera.rotation) - localized).abs() > 1e-3);
 }
+
+/// Views of `pose` with the pelvis raised `up` metres above where `pose` puts it (`None`: the
+/// pelvis at the mid-hip point and the neck at the mid-shoulder point, as detectors place
+/// them).
+fn placed_views(seed: u64, up: Option<f64>) -> camloc::dataset::Dataset {
+    let mut data = views(seed);
+    for s in &mut data.samples {
+        let mut placed = match up {
+            Some(up) => {
+                let mut p = s.pose3;
+                p.points[0][2] += up;
+                p
+            }
+            None => camloc::dataset::annotated(&s.pose3, 1.0),
+        };
+        std::mem::swap(&mut s.pose3, &mut placed);
+        for (p, x) in s.landmarks.points.iter_mut().zip(&s.pose3.points) {
+            let q = s.rotation * nalgebra::Vector3::from(*x);
+            *p = [q.x, q.y];
+        }
+    }
+    data
+}
+
+/// A lifter with a midpoint lifter lifts a pose whose pelvis and neck sit at the hip and
+/// shoulder midpoints by the midpoint lifter and a pose whose pelvis sits well above them by
+/// its own heads, refuses as a midpoint lifter one with a midpoint lifter of its own, takes a
+/// second one in place of the first, and round-trips through its file with both.
+#[test]
+fn each_placement_is_lifted_by_its_own_lifter() {
+    let own = DepthLifter::fit(&placed_views(1, Some(0.1)), Descriptor::default(), 8, 1.0).unwrap();
+    let midpoints =
+        DepthLifter::fit(&placed_views(1, None), Descriptor::default(), 8, 1.0).unwrap();
+    let both = own.clone().with_midpoint_lifter(midpoints.clone()).unwrap();
+    for (test, alone) in [
+        (placed_views(2, Some(0.1)), &own),
+        (placed_views(2, None), &midpoints),
+    ] {
+        for s in test.samples.iter().step_by(7) {
+            let class = usize::from(s.label) - 1;
+            assert_eq!(
+                both.depths(&s.landmarks, class).unwrap(),
+                alone.depths(&s.landmarks, class).unwrap()
+            );
+        }
+    }
+    // Another midpoint lifter replaces the first.
+    let again = both.clone().with_midpoint_lifter(own.clone()).unwrap();
+    assert_eq!(again.midpoint_lifter(), Some(&own));
+    assert!(own.clone().with_midpoint_lifter(both.clone()).is_err());
+    let back = DepthLifter::from_bytes(&both.to_bytes().unwrap()).unwrap();
+    assert_eq!(back, both);
+    assert_eq!(back.midpoint_lifter(), Some(&midpoints));
+    let (split_own, split_midpoints) = back.split_midpoint_lifter();
+    assert_eq!((split_own, split_midpoints), (own, Some(midpoints)));
+}

@@ -74,10 +74,11 @@ pub struct Args {
     pub model: Option<PathBuf>,
     #[command(flatten)]
     pub height: CameraHeightArgs,
-    /// Depth lifter file: the refinement of `classified` and `hybrid` starts from the depths
-    /// it predicts for the classified camera (docs/conventions.md section 6) [default: the
-    /// embedded lifter, with any model of Table 1's cameras; none with a --model of other
-    /// cameras].
+    /// Depth lifter file (`DepthLifter::save`'s, one lifter or with its lifter of pelvis and
+    /// neck at the hip and shoulder midpoints): the refinement of `classified` and `hybrid`
+    /// starts from the depths it predicts for the classified camera (docs/conventions.md
+    /// section 6) [default: the embedded lifters of both placements, with any model of Table
+    /// 1's cameras; none with a --model of other cameras].
     #[arg(long, value_name = "LIFTER", conflicts_with = "no_lifter")]
     pub lifter: Option<PathBuf>,
     /// Reconstruct without a depth lifter (the pose basis's pose starts the refinement, as
