@@ -109,23 +109,30 @@ impl DepthLifter {
     /// [`CamlocError::Inconsistent`] when `midpoints` has a midpoint lifter of its own or
     /// another number of camera classes.
     pub fn with_midpoint_lifter(mut self, midpoints: DepthLifter) -> Result<Self, CamlocError> {
-        if midpoints.midpoints.is_some() || midpoints.n_classes() != self.n_classes() {
-            return Err(CamlocError::Inconsistent {
-                what: "midpoint depth lifter",
-                detail: format!(
-                    "{} camera classes{}, expected {} and no midpoint lifter",
-                    midpoints.n_classes(),
-                    if midpoints.midpoints.is_some() {
-                        " and a midpoint lifter of its own"
-                    } else {
-                        ""
-                    },
-                    self.n_classes()
-                ),
-            });
-        }
         self.midpoints = Some(Box::new(midpoints));
-        Ok(self)
+        match self.midpoint_mismatch() {
+            Some(detail) => Err(CamlocError::Inconsistent {
+                what: "midpoint depth lifter",
+                detail,
+            }),
+            None => Ok(self),
+        }
+    }
+
+    /// What is wrong with this lifter's midpoint lifter as one: a midpoint lifter of its own,
+    /// or another number of camera classes; none without one.
+    fn midpoint_mismatch(&self) -> Option<String> {
+        let midpoints = self.midpoints.as_ref()?;
+        if midpoints.midpoints.is_some() {
+            return Some("it has a midpoint lifter of its own".into());
+        }
+        (midpoints.n_classes() != self.n_classes()).then(|| {
+            format!(
+                "{} camera classes, the lifter {}",
+                midpoints.n_classes(),
+                self.n_classes()
+            )
+        })
     }
 
     /// This lifter without its midpoint lifter, and that lifter (each can be saved on its
@@ -221,9 +228,9 @@ impl DepthLifter {
         self.heads.len()
     }
 
-    /// The lifter embedded in this build (trained by `cargo xtask train-default` with the
-    /// default model, on its viewpoint heads' views drawn again with wider people:
-    /// docs/conventions.md section 6).
+    /// The lifter embedded in this build, with its midpoint lifter (both trained by `cargo
+    /// xtask train-default` with the default model, on its viewpoint heads' views drawn again
+    /// with wider people: docs/conventions.md section 6).
     ///
     /// # Errors
     /// [`CamlocError::NoDefault`] when the build embedded none; decoding errors otherwise.
@@ -286,13 +293,9 @@ impl Validate for DepthLifter {
             midpoints
                 .validate()
                 .map_err(|e| inconsistent(format!("midpoint lifter: {e}")))?;
-            if midpoints.midpoints.is_some() || midpoints.n_classes() != self.n_classes() {
-                return Err(inconsistent(format!(
-                    "the midpoint lifter has {} classes (expected {}) or one of its own",
-                    midpoints.n_classes(),
-                    self.n_classes()
-                )));
-            }
+        }
+        if let Some(detail) = self.midpoint_mismatch() {
+            return Err(inconsistent(format!("midpoint lifter: {detail}")));
         }
         for (k, head) in self.heads.iter().enumerate() {
             head.validate()
