@@ -354,6 +354,10 @@ def reconstruct(
       reflected (N,) bool: whether the pose is the depth-mirrored reading of the 2D (the
         command line's ``reflected``);
       label (N,) int64: the classified camera (0 for ``opt`` and failed poses);
+      probability, azimuth_deg, elevation_deg (N,) float64: the localization's probability of
+        ``label`` and its continuous viewpoint in degrees (as ``Localizer.localize`` gives
+        them; the camera of ``hybrid`` stands at that elevation); NaN for ``opt`` and failed
+        poses;
       bone_lengths (N, 14): each pose's limb lengths in metres, ``BONE_KEYS`` order;
       translation_m (N, 3), focal_px (N,), principal_point (N, 2): the perspective camera the
         final refinement fitted (with ``focal_px`` that one; without it, the camera at the

@@ -90,6 +90,16 @@ fn train_evaluate_and_reconstruct_succeed_on_fixture_data() {
     let poses: serde_json::Value = serde_json::from_str(&success(&out)).unwrap();
     let poses = poses.as_array().unwrap();
     assert_eq!(poses.len(), 3);
+    // The localization is `localize`'s: its label, probability and continuous viewpoint.
+    let localize = ["localize", "--model", model, "--input", input, "--json"];
+    let localized: serde_json::Value = serde_json::from_str(&success(&camloc(&localize))).unwrap();
+    for (p, l) in poses.iter().zip(localized.as_array().unwrap()) {
+        assert_eq!(p["classified_label"], l["label"]);
+        for key in ["probability", "azimuth_deg", "elevation_deg"] {
+            assert!(p[key].is_f64(), "{key}: {p}");
+            assert_eq!(p[key], l[key], "{key}");
+        }
+    }
     for p in poses {
         assert_eq!(p["camera_mode"], "classified");
         let label = p["classified_label"].as_u64().unwrap();

@@ -399,6 +399,9 @@ pub(crate) fn reconstruct<'py>(
     let mut outside_limits = vec![f64::NAN; n];
     let mut reflected = vec![false; n];
     let mut label = vec![0i64; n];
+    let mut probability = vec![f64::NAN; n];
+    let mut azimuth = vec![f64::NAN; n];
+    let mut elevation = vec![f64::NAN; n];
     let mut lengths = vec![f64::NAN; n * NUM_LIMBS];
     let mut translation_m = vec![f64::NAN; n * 3];
     let mut focal_px = vec![f64::NAN; n];
@@ -445,10 +448,12 @@ pub(crate) fn reconstruct<'py>(
         for l in &r.imputed {
             imputed[i * NUM_LANDMARKS + l.index()] = true;
         }
-        label[i] = r
-            .localization
-            .as_ref()
-            .map_or(0, |l| i64::from(l.label.get()));
+        if let Some(l) = &r.localization {
+            label[i] = i64::from(l.label.get());
+            probability[i] = l.probability;
+            azimuth[i] = l.azimuth_deg.unwrap_or(f64::NAN);
+            elevation[i] = l.elevation_deg.unwrap_or(f64::NAN);
+        }
     }
     let out = Output::new(py, n, batch.single);
     out.array("points3d", points3d, &[15, 3])?;
@@ -459,6 +464,9 @@ pub(crate) fn reconstruct<'py>(
     out.array("outside_limits_rad", outside_limits, &[])?;
     out.array("reflected", reflected, &[])?;
     out.array("label", label, &[])?;
+    out.array("probability", probability, &[])?;
+    out.array("azimuth_deg", azimuth, &[])?;
+    out.array("elevation_deg", elevation, &[])?;
     out.array("bone_lengths", lengths, &[NUM_LIMBS])?;
     out.array("translation_m", translation_m, &[3])?;
     out.array("focal_px", focal_px, &[])?;

@@ -172,6 +172,11 @@ def test_reconstruct_equals_the_command_line(cli, camera, lifter):
         np.testing.assert_allclose(got["translation"][i], want["camera"]["translation"], atol=1e-9)
         assert got["projection_error"][i] == pytest.approx(want["projection_error"], rel=1e-9)
         assert got["label"][i] == (want["classified_label"] or 0)
+        for key in ("probability", "azimuth_deg", "elevation_deg"):
+            if want["classified_label"] is None:
+                assert key not in want and np.isnan(got[key][i])
+            else:
+                assert got[key][i] == pytest.approx(want[key], rel=1e-12)
 
 
 

@@ -128,6 +128,14 @@ struct ReconstructionJson<'a> {
     swapped_sides: &'a [&'static str],
     camera_mode: &'static str,
     classified_label: Option<CameraLabel>,
+    /// The localization's probability of `classified_label` and its continuous viewpoint
+    /// (degrees, as `localize` writes them); absent without a localization.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    probability: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    azimuth_deg: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    elevation_deg: Option<f64>,
     #[serde(flatten)]
     best: HypothesisJson<'a>,
     #[serde(skip_serializing_if = "Vec::is_empty")]
@@ -186,6 +194,9 @@ pub fn pose_output(
             swapped_sides: meta.swapped_sides,
             camera_mode: choice.name(),
             classified_label: result.localization.as_ref().map(|l| l.label),
+            probability: result.localization.as_ref().map(|l| l.probability),
+            azimuth_deg: result.localization.as_ref().and_then(|l| l.azimuth_deg),
+            elevation_deg: result.localization.as_ref().and_then(|l| l.elevation_deg),
             best: HypothesisJson::new(r),
             alternatives: result
                 .alternatives
