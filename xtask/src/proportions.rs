@@ -17,7 +17,10 @@ use camloc::reconstruct::{
     ReconstructConfig, Reconstructor, mpjpe_after_similarity,
 };
 use camloc::skeleton::NUM_LIMBS;
-use camloc::{CameraLocalizer, DepthLifter, PartialPose2, Pose2, Pose3, hybrid_camera};
+use camloc::{
+    CameraLocalizer, DepthLifter, PartialPose2, Pose2, Pose3, hybrid_camera, own_placement_weight,
+    sequence_own_placement_weight,
+};
 use rayon::prelude::*;
 
 use people::{Frames, HEAD_FACTOR, LIMB_FACTOR, factors, rescale, single_poses, windows};
@@ -281,12 +284,14 @@ fn film_all(
 
 /// The camera mode of `pose2` under `kind` (for `hybrid`, the localizer's continuous
 /// viewpoint, as `camloc reconstruct` starts from), and with a `lifter` the depths it predicts
-/// for the localizer's class.
+/// for the localizer's class, with the weight `placement` of the skeleton's own placement of
+/// the pelvis and the neck (a sequence's; none: the pose's own).
 fn mode_of(
     kind: ModeKind,
     pose2: &Pose2,
     localizer: Option<&CameraLocalizer>,
     lifter: Option<&DepthLifter>,
+    placement: Option<f64>,
 ) -> (Option<CameraMode>, Option<LiftedDepths>) {
     match kind {
         ModeKind::Opt => (Some(CameraMode::Opt), None),
@@ -294,7 +299,9 @@ fn mode_of(
             Some(l) => {
                 // As camloc reconstruct chooses its camera (camloc::hybrid_camera).
                 let depths = localizer.zip(lifter).and_then(|(localizer, f)| {
-                    (f.mirror_symmetric_depths(pose2, localizer.cameras(), l.label)).ok()
+                    let own = placement.unwrap_or_else(|| own_placement_weight(pose2));
+                    (f.mirror_symmetric_placed_depths(pose2, localizer.cameras(), l.label, own))
+                        .ok()
                 });
                 (Some(hybrid_camera(&l, depths.is_some())), depths)
             }
@@ -365,9 +372,18 @@ fn run(
                 true => smoothed(&item.views),
                 false => item.views.iter().map(|v| v.pose2).collect(),
             };
+            // A sequence's poses lifted in one placement of the pelvis and the neck, as
+            // `camloc reconstruct --sequence` lifts them.
+            let placement = sequence
+                .then(|| {
+                    let partial: Vec<PartialPose2> =
+                        poses.iter().map(|p| PartialPose2::from(*p)).collect();
+                    sequence_own_placement_weight(&partial)
+                })
+                .flatten();
             let (modes, depths): (Vec<Option<CameraMode>>, Vec<Option<LiftedDepths>>) = poses
                 .iter()
-                .map(|p| mode_of(kind, p, localizer, lifter))
+                .map(|p| mode_of(kind, p, localizer, lifter, placement))
                 .unzip();
             if sequence {
                 let frames: Vec<(Pose2, CameraMode)> = poses

@@ -116,6 +116,10 @@ pub use lean::{
 pub use lifter::{DEFAULT_LIFTER_LAMBDA, DepthLifter, depth_targets};
 pub use localizer::{CameraLocalizer, Localization};
 pub use placeholders::{has_origin_placeholders, origin_placeholder_warning};
+pub use torso_placement::{
+    MIDPOINT_PLACEMENT, OWN_PLACEMENT, SEQUENCE_PLACEMENT_QUANTILE, own_placement_weight,
+    sequence_own_placement_weight,
+};
 pub use train_options::{
     Capacity, DEFAULT_LAMBDA, DEFAULT_PRECONDITIONER_ROWS, DEFAULT_PRODUCT_ROWS,
     DEFAULT_QUADRATIC_COMPONENTS, DEFAULT_QUADRATIC_LAMBDA, DEFAULT_VIEWPOINT_LAMBDA,

@@ -158,11 +158,26 @@ impl DepthLifter {
     /// [`CamlocError::Feature`] for non-finite landmarks or a degenerate torso;
     /// [`CamlocError::InvalidOption`] for a class the lifter does not have.
     pub fn depths(&self, pose: &Pose2, class: usize) -> Result<[f64; NUM_LANDMARKS], CamlocError> {
+        self.placed_depths(pose, class, own_placement_weight(pose))
+    }
+
+    /// [`depths`](Self::depths) with the weight of the own placement given (0: the midpoint
+    /// lifter's depths, 1: this lifter's own; clamped to that range), as a sequence's poses
+    /// are lifted with their person's (`sequence_own_placement_weight`); without a midpoint
+    /// lifter, this lifter's own whatever the weight.
+    ///
+    /// # Errors
+    /// As [`depths`](Self::depths).
+    pub fn placed_depths(
+        &self,
+        pose: &Pose2,
+        class: usize,
+        own_weight: f64,
+    ) -> Result<[f64; NUM_LANDMARKS], CamlocError> {
         let Some(midpoints) = &self.midpoints else {
             return self.own_depths(pose, class);
         };
-        let own_weight = own_placement_weight(pose);
-        if own_weight >= 1.0 {
+        if !(own_weight < 1.0) {
             return self.own_depths(pose, class);
         }
         let at_midpoints = midpoints.own_depths(pose, class)?;
@@ -214,10 +229,27 @@ impl DepthLifter {
         cameras: &CameraSet,
         label: CameraLabel,
     ) -> Result<[f64; NUM_LANDMARKS], CamlocError> {
+        let own_weight = own_placement_weight(pose);
+        self.mirror_symmetric_placed_depths(pose, cameras, label, own_weight)
+    }
+
+    /// [`mirror_symmetric_depths`](Self::mirror_symmetric_depths) with the weight of the own
+    /// placement given ([`placed_depths`](Self::placed_depths); a mirror image keeps its
+    /// pose's placement).
+    ///
+    /// # Errors
+    /// As [`depths`](Self::depths), for either camera.
+    pub fn mirror_symmetric_placed_depths(
+        &self,
+        pose: &Pose2,
+        cameras: &CameraSet,
+        label: CameraLabel,
+        own_weight: f64,
+    ) -> Result<[f64; NUM_LANDMARKS], CamlocError> {
         // Labels are 1-based; the mirrored camera's is in the same set.
         let mirrored_class = usize::from(cameras.mirror_left_right(label.get())).saturating_sub(1);
-        let direct = self.depths(pose, label.index())?;
-        let mirrored = self.depths(&pose.mirrored(), mirrored_class)?;
+        let direct = self.placed_depths(pose, label.index(), own_weight)?;
+        let mirrored = self.placed_depths(&pose.mirrored(), mirrored_class, own_weight)?;
         Ok(std::array::from_fn(|i| {
             0.5 * (direct[i] + mirrored[mirror_landmark_index(i)])
         }))

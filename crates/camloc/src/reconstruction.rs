@@ -11,6 +11,7 @@ use camloc_store::Persist;
 use camloc_store::Validate;
 
 use crate::rows::sample_pose;
+use crate::torso_placement::own_placement_weight;
 use crate::{CameraLocalizer, CamlocError, DepthLifter, Localization, MIN_PRESENT_FOR_FILL};
 
 mod landmark_smoothing;
@@ -368,7 +369,7 @@ impl PoseReconstructor {
     ) -> Result<PoseReconstruction, CamlocError> {
         // A landmark far off the others is read as missing, and filled in as missing ones.
         let (pose, _) = crate::without_far_off_landmarks(pose);
-        self.reconstruct_prepared(&pose, self.prepare(&pose)?, max)
+        self.reconstruct_prepared(&pose, self.prepare(&pose, None)?, max)
     }
 
     /// [`reconstruct_hypotheses`](Self::reconstruct_hypotheses) of `pose` from what
@@ -385,6 +386,7 @@ impl PoseReconstructor {
             mode,
             depths,
             imputed,
+            placement,
         } = prepared;
         let mask = pose.missing_mask();
         let solve = |pose: &Pose2, depths: Option<&LiftedDepths>| {
@@ -404,7 +406,7 @@ impl PoseReconstructor {
             for l in &imputed {
                 refilled.points[l.index()] = projected[l.index()];
             }
-            let depths = self.lifted_depths(&refilled, localization.as_ref())?;
+            let depths = self.lifted_depths(&refilled, localization.as_ref(), placement)?;
             hypotheses = solve(&refilled, depths.as_ref())?;
         }
         // A camera that sees landmarks behind it (its reprojection error is not finite: a
@@ -460,11 +462,13 @@ impl PoseReconstructor {
 
     /// The depths the lifter predicts for `complete` seen by the camera of `localization`,
     /// mirror-symmetric ([`DepthLifter::mirror_symmetric_depths`]; none without a lifter or a
-    /// localization).
+    /// localization), with the weight `placement` of the skeleton's own placement of the
+    /// pelvis and the neck (a sequence's; none: read from `complete`).
     fn lifted_depths(
         &self,
         complete: &Pose2,
         localization: Option<&Localization>,
+        placement: Option<f64>,
     ) -> Result<Option<LiftedDepths>, CamlocError> {
         let (Some(l), Some(lifter), Some(localizer)) =
             (localization, &self.lifter, &self.localizer)
@@ -482,13 +486,19 @@ impl PoseReconstructor {
                 ),
             });
         }
-        Ok(Some(
-            lifter.mirror_symmetric_depths(complete, cameras, l.label)?,
-        ))
+        let own_weight = placement.unwrap_or_else(|| own_placement_weight(complete));
+        Ok(Some(lifter.mirror_symmetric_placed_depths(
+            complete, cameras, l.label, own_weight,
+        )?))
     }
 
-    /// What a reconstruction of `pose` needs ([`Prepared`]).
-    fn prepare(&self, pose: &PartialPose2) -> Result<Prepared, CamlocError> {
+    /// What a reconstruction of `pose` needs ([`Prepared`]), its depths lifted with the weight
+    /// `placement` of the skeleton's own placement (a sequence's; none: the pose's own).
+    fn prepare(
+        &self,
+        pose: &PartialPose2,
+        placement: Option<f64>,
+    ) -> Result<Prepared, CamlocError> {
         let imputed: Vec<Landmark> = pose.missing().collect();
         // A pose with missing landmarks is localized as it is (localization imputes its
         // descriptor; a missing torso is filled in from the basis), and its landmarks are
@@ -546,7 +556,7 @@ impl PoseReconstructor {
                 });
             }
         };
-        let depths = self.lifted_depths(&complete, localization.as_ref())?;
+        let depths = self.lifted_depths(&complete, localization.as_ref(), placement)?;
         let mode = match (&localization, self.mode) {
             (Some(l), ModeKind::Hybrid) => hybrid_camera(l, depths.is_some()),
             (Some(l), _) => CameraMode::Classified(l.rotation),
@@ -558,6 +568,7 @@ impl PoseReconstructor {
             mode,
             depths,
             imputed,
+            placement,
         })
     }
 
@@ -686,6 +697,9 @@ struct Prepared {
     depths: Option<LiftedDepths>,
     /// The landmarks that were filled in.
     imputed: Vec<Landmark>,
+    /// The weight of the skeleton's own placement its depths were lifted with, when given (a
+    /// sequence's).
+    placement: Option<f64>,
 }
 
 /// A reconstruction error of the input pose.

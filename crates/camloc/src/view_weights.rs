@@ -40,14 +40,7 @@ type Landmarks = [Option<[f64; 2]>; NUM_LANDMARKS];
 /// landmark present, a frame without its legs had changed size by more than a quarter and
 /// counted as a new view, and a simulated user's walk with legs missing in 5-15% of its frames
 /// was read from the wrong height again).
-const FRAMING: [Landmark; 6] = [
-    Landmark::Pelvis,
-    Landmark::Neck,
-    Landmark::LeftHip,
-    Landmark::RightHip,
-    Landmark::LeftShoulder,
-    Landmark::RightShoulder,
-];
+const FRAMING: [Landmark; 6] = crate::torso_placement::TORSO;
 
 /// See [`FRAMING`] (4).
 const FRAMING_MIN: usize = 4;

@@ -7,10 +7,29 @@ mod hybrid;
 #[path = "common/moving.rs"]
 mod moving;
 
-use camloc::{PartialPose2, Pose3, PoseReconstructor};
+use camloc::{Landmark, PartialPose2, Pose3, PoseReconstructor};
 
+/// The moving frames with the pelvis and the neck at the hip and shoulder midpoints, so that
+/// every part of the sequence is lifted in the same placement as the whole (a sequence's
+/// placement is its frames', `camloc::sequence_own_placement_weight`).
 fn frames() -> Vec<PartialPose2> {
     moving::frames(10)
+        .into_iter()
+        .map(|f| {
+            let mut p = f.complete().unwrap();
+            let mid = |a: Landmark, b: Landmark| {
+                let (a, b) = (p.get(a), p.get(b));
+                [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])]
+            };
+            let (hips, shoulders) = (
+                mid(Landmark::LeftHip, Landmark::RightHip),
+                mid(Landmark::LeftShoulder, Landmark::RightShoulder),
+            );
+            p.points[Landmark::Pelvis.index()] = hips;
+            p.points[Landmark::Neck.index()] = shoulders;
+            PartialPose2::from(p)
+        })
+        .collect()
 }
 
 fn reconstructor() -> PoseReconstructor {

@@ -12,6 +12,7 @@ use super::{
     PoseReconstruction, PoseReconstructor, PoseSequenceReconstruction, Prepared, pose_error,
 };
 use crate::sequence::number_or_position;
+use crate::torso_placement::sequence_own_placement_weight;
 use crate::{CamlocError, Viewpoint, smooth_viewpoints, viewpoint_half_window};
 
 /// The runs of one person's frames (positions), each frame's solve (`None` where none) and
@@ -123,8 +124,7 @@ impl PoseReconstructor {
             .map(|p| crate::without_far_off_landmarks(p).0)
             .collect();
         let mut smoothed = smooth_landmarks(&cleaned, frames, breaks, self.frame_rate());
-        let mut prepared: Vec<Result<Prepared, CamlocError>> =
-            smoothed.iter().map(|p| self.prepare(p)).collect();
+        let mut prepared = self.prepare_all(&smoothed);
         let (mut runs, mut solved, mut lengths) = self.solve_runs(&smoothed, &prepared, breaks)?;
         // A frame whose fitted camera sees landmarks behind it (a landmark misplaced, a very
         // close wide-angle view) fails, and the others are smoothed and solved again without
@@ -140,7 +140,7 @@ impl PoseReconstructor {
                 kept[t] = PartialPose2::empty();
             }
             smoothed = smooth_landmarks(&kept, frames, breaks, self.frame_rate());
-            prepared = smoothed.iter().map(|p| self.prepare(p)).collect();
+            prepared = self.prepare_all(&smoothed);
             for &t in &behind {
                 prepared[t] = Err(pose_error(ReconstructError::BehindFittedCamera));
             }
@@ -192,6 +192,17 @@ impl PoseReconstructor {
             })
             .collect();
         Ok(PoseSequenceReconstruction { frames, lengths })
+    }
+
+    /// Every frame of `smoothed` prepared, all lifted with one placement of the pelvis and the
+    /// neck (`sequence_own_placement_weight`: a person keeps one, which some views hide; across
+    /// breaks too, as the bone lengths).
+    fn prepare_all(&self, smoothed: &[PartialPose2]) -> Vec<Result<Prepared, CamlocError>> {
+        let placement = sequence_own_placement_weight(smoothed);
+        smoothed
+            .iter()
+            .map(|p| self.prepare(p, placement))
+            .collect()
     }
 
     /// The runs of `prepared` frames (split at `breaks` and at frames not prepared, as [`reconstruct_sequence_with_breaks`](Self::reconstruct_sequence_with_breaks)
