@@ -220,7 +220,7 @@ def reconstruct(
     principal_point: Optional[npt.ArrayLike] = None,
     sequence: bool = False,
     camera_height: Optional[str] = None,
-    lifter: bool = True,
+    lifter: Union[bool, _Path] = True,
     person_height: Optional[float] = None,
     fps: float = 30.0,
     frames: Optional[npt.ArrayLike] = None,
@@ -299,7 +299,12 @@ def reconstruct(
       applies (as ``Localizer(camera_height=...)``; the embedded depth lifter stays).
       Default: the localizer's own (``"from-input"`` for the embedded one).
     lifter: ``False`` reconstructs without the embedded depth lifter (the pursuit's pose starts
-      the refinement), as ``camloc reconstruct --no-lifter``.
+      the refinement), as ``camloc reconstruct --no-lifter``; a path, with the lifter of that
+      file instead (as ``DepthLifter::save`` writes one, with or without its lifter of the
+      midpoint placement; ``camloc reconstruct --lifter FILE``): for instance
+      ``fixtures/default-lifter.bin``, the embedded lifter of CMU's pelvis and neck alone, for
+      poses projected from CMU motion capture that a view from far above or behind could read
+      as a detector's midpoints.
     fps: with ``sequence``, the video's frames a second (30 by default), as ``camloc
       reconstruct --sequence --fps``: above 30 the smoothing over frames, the side swaps
       swapped back, the rows left out and the placement in the world keep their windows in

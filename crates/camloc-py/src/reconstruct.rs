@@ -190,10 +190,17 @@ pub(crate) fn bone_lengths_json_text(lengths: Bound<'_, PyAny>) -> PyResult<Stri
     Ok(bone_lengths(&lengths, "lengths")?.to_json_string())
 }
 
+/// `reconstruct`'s `lifter`: whether to use the embedded depth lifter, or a lifter file.
+#[derive(FromPyObject)]
+pub(crate) enum LifterArg {
+    Use(bool),
+    File(PathBuf),
+}
+
 // Reconstructs the 3D pose of every pose: its docstring is camloc.pyi's (build.rs).
 #[doc = include_str!(concat!(env!("OUT_DIR"), "/doc/reconstruct.txt"))]
 #[pyfunction]
-#[pyo3(signature = (points, layout = "camloc15", camera = None, scores = None, min_score = 0.0, localizer = None, basis = None, bone_lengths = None, focal_px = None, principal_point = None, sequence = false, camera_height = None, lifter = true, person_height = None, fps = 30.0, frames = None, sequence_max_rows = SEQUENCE_MAX_ROWS, camera_height_shares = None))]
+#[pyo3(signature = (points, layout = "camloc15", camera = None, scores = None, min_score = 0.0, localizer = None, basis = None, bone_lengths = None, focal_px = None, principal_point = None, sequence = false, camera_height = None, lifter = LifterArg::Use(true), person_height = None, fps = 30.0, frames = None, sequence_max_rows = SEQUENCE_MAX_ROWS, camera_height_shares = None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn reconstruct<'py>(
     py: Python<'py>,
@@ -209,7 +216,7 @@ pub(crate) fn reconstruct<'py>(
     principal_point: Option<Bound<'py, PyAny>>,
     sequence: bool,
     camera_height: Option<&str>,
-    lifter: bool,
+    lifter: LifterArg,
     #[pyo3(from_py_with = crate::number::person_height)] person_height: Option<f64>,
     #[pyo3(from_py_with = crate::number::fps)] fps: f64,
     frames: Option<Bound<'py, PyAny>>,
@@ -258,8 +265,16 @@ pub(crate) fn reconstruct<'py>(
             reconstructor = reconstructor.without_lifter();
         }
     }
-    if !lifter {
-        reconstructor = reconstructor.without_lifter();
+    match lifter {
+        LifterArg::Use(true) => {}
+        LifterArg::Use(false) => reconstructor = reconstructor.without_lifter(),
+        // A lifter file replaces the embedded one, as `camloc reconstruct --lifter FILE`.
+        LifterArg::File(path) => {
+            let file = DepthLifter::load(&path)
+                .map_err(CamlocError::from)
+                .map_err(to_py_err)?;
+            reconstructor = reconstructor.with_lifter(file);
+        }
     }
     // A camera height given here replaces the localizer's own (the lifter stays).
     if let Some(name) = camera_height {

@@ -181,6 +181,23 @@ def test_reconstruct_equals_the_command_line(cli, camera, lifter):
 
 
 
+def test_a_lifter_file_is_the_command_line_s_lifter_file(cli):
+    """``lifter=PATH`` reconstructs with that lifter, as ``--lifter FILE`` does: the embedded
+    lifter of CMU's placement alone gives the example's detector poses other 3D than the
+    embedded pair; a file that is no lifter is an error naming it."""
+    path = KEYPOINTS / "example.json"
+    own = KEYPOINTS.parent / "default-lifter.bin"
+    _, expected = cli("reconstruct", "--input", path, "--lifter", own)
+    got = camloc.reconstruct(example_points(), lifter=own)
+    default = camloc.reconstruct(example_points())
+    for i, want in enumerate(expected):
+        landmarks = [want["landmarks_m"][name] for name in camloc.LANDMARKS]
+        np.testing.assert_allclose(got["points3d"][i], landmarks, rtol=1e-9, atol=1e-12)
+    assert not np.allclose(got["points3d"], default["points3d"])
+    with pytest.raises(Exception, match="default-model.bin"):
+        camloc.reconstruct(example_points(), lifter=KEYPOINTS.parent / "default-model.bin")
+
+
 def test_proportions_options_equal_the_command_line(cli, tmp_path):
     """Given bone lengths (as a mapping, a list or a file), a focal length and a sequence give
     what the command line gives."""
