@@ -18,7 +18,7 @@ use camloc::reconstruct::{
 };
 use camloc::skeleton::NUM_LIMBS;
 use camloc::{
-    CameraLocalizer, DepthLifter, PartialPose2, Pose2, Pose3, hybrid_camera, own_placement_weight,
+    CameraLocalizer, DepthLifter, PartialPose2, Pose2, Pose3, hybrid_camera,
     sequence_own_placement_weight,
 };
 use rayon::prelude::*;
@@ -299,9 +299,13 @@ fn mode_of(
             Some(l) => {
                 // As camloc reconstruct chooses its camera (camloc::hybrid_camera).
                 let depths = localizer.zip(lifter).and_then(|(localizer, f)| {
-                    let own = placement.unwrap_or_else(|| own_placement_weight(pose2));
-                    (f.mirror_symmetric_placed_depths(pose2, localizer.cameras(), l.label, own))
-                        .ok()
+                    (f.mirror_symmetric_placed_depths(
+                        pose2,
+                        localizer.cameras(),
+                        l.label,
+                        placement,
+                    ))
+                    .ok()
                 });
                 (Some(hybrid_camera(&l, depths.is_some())), depths)
             }

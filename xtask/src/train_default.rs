@@ -68,7 +68,7 @@ pub fn run(args: &Args) -> Result<(), String> {
     let (mut sequences, _, _) = load_sequences(&args.mocap)?;
     categorise(&mut sequences, &args.mocap, None);
     if !args.basis_only {
-        train_model(args, &sequences, &out, &lifter_out)?;
+        train_model(args, &sequences, &out, [&lifter_out, &midpoints_out])?;
     }
     let poses: Vec<camloc::Pose3> = basis_poses(&sequences, DEFAULT_MIN_POSE_DISTANCE_MM)
         .into_iter()
@@ -91,13 +91,13 @@ pub fn run(args: &Args) -> Result<(), String> {
 }
 
 /// Trains the default model ([`Recipe::default_model`]) on `sequences` and writes it to `out`,
-/// and its depth lifters to `lifter_out` (skeletons' own placement of the pelvis and the neck)
-/// and [`midpoint_lifter_path`] (the midpoint placement).
+/// and its depth lifters to `lifter_out` and `midpoints_out` (skeletons' own placement of the
+/// pelvis and the neck, and the midpoint placement: [`midpoint_lifter_path`]).
 fn train_model(
     args: &Args,
     sequences: &[PoseSequence],
     out: &Path,
-    lifter_out: &Path,
+    [lifter_out, midpoints_out]: [&Path; 2],
 ) -> Result<(), String> {
     let start = Instant::now();
     let recipe = Recipe::default_model();
@@ -135,12 +135,11 @@ fn train_model(
     );
     let (lifter, midpoints) = trained.lifter.split_midpoint_lifter();
     let midpoints = midpoints.ok_or("the recipe trained no midpoint lifter")?;
-    let midpoints_out = midpoint_lifter_path(lifter_out);
     for (lifter, path, what) in [
         (&lifter, lifter_out, "skeletons' own placement"),
         (
             &midpoints,
-            midpoints_out.as_path(),
+            midpoints_out,
             "pelvis and neck at the midpoints",
         ),
     ] {

@@ -158,13 +158,14 @@ impl DepthLifter {
     /// [`CamlocError::Feature`] for non-finite landmarks or a degenerate torso;
     /// [`CamlocError::InvalidOption`] for a class the lifter does not have.
     pub fn depths(&self, pose: &Pose2, class: usize) -> Result<[f64; NUM_LANDMARKS], CamlocError> {
-        self.placed_depths(pose, class, own_placement_weight(pose))
+        self.placed_depths(pose, class, None)
     }
 
-    /// [`depths`](Self::depths) with the weight of the own placement given (0: the midpoint
-    /// lifter's depths, 1: this lifter's own; clamped to that range), as a sequence's poses
-    /// are lifted with their person's (`sequence_own_placement_weight`); without a midpoint
-    /// lifter, this lifter's own whatever the weight.
+    /// [`depths`](Self::depths) with the weight `placement` of the own placement given (0:
+    /// the midpoint lifter's depths, 1: this lifter's own; clamped to that range), as a
+    /// sequence's poses are lifted with their person's (`sequence_own_placement_weight`);
+    /// none: read from `pose` (`own_placement_weight`). Without a midpoint lifter, this
+    /// lifter's own whatever the weight.
     ///
     /// # Errors
     /// As [`depths`](Self::depths).
@@ -172,11 +173,12 @@ impl DepthLifter {
         &self,
         pose: &Pose2,
         class: usize,
-        own_weight: f64,
+        placement: Option<f64>,
     ) -> Result<[f64; NUM_LANDMARKS], CamlocError> {
         let Some(midpoints) = &self.midpoints else {
             return self.own_depths(pose, class);
         };
+        let own_weight = placement.unwrap_or_else(|| own_placement_weight(pose));
         if !(own_weight < 1.0) {
             return self.own_depths(pose, class);
         }
@@ -229,13 +231,12 @@ impl DepthLifter {
         cameras: &CameraSet,
         label: CameraLabel,
     ) -> Result<[f64; NUM_LANDMARKS], CamlocError> {
-        let own_weight = own_placement_weight(pose);
-        self.mirror_symmetric_placed_depths(pose, cameras, label, own_weight)
+        self.mirror_symmetric_placed_depths(pose, cameras, label, None)
     }
 
-    /// [`mirror_symmetric_depths`](Self::mirror_symmetric_depths) with the weight of the own
-    /// placement given ([`placed_depths`](Self::placed_depths); a mirror image keeps its
-    /// pose's placement).
+    /// [`mirror_symmetric_depths`](Self::mirror_symmetric_depths) with the weight `placement`
+    /// of the own placement as [`placed_depths`](Self::placed_depths) takes it (none: read
+    /// from `pose`; its mirror image keeps its placement).
     ///
     /// # Errors
     /// As [`depths`](Self::depths), for either camera.
@@ -244,12 +245,15 @@ impl DepthLifter {
         pose: &Pose2,
         cameras: &CameraSet,
         label: CameraLabel,
-        own_weight: f64,
+        placement: Option<f64>,
     ) -> Result<[f64; NUM_LANDMARKS], CamlocError> {
+        // Read once for the pose and its mirror image.
+        let placement =
+            placement.or_else(|| self.midpoints.is_some().then(|| own_placement_weight(pose)));
         // Labels are 1-based; the mirrored camera's is in the same set.
         let mirrored_class = usize::from(cameras.mirror_left_right(label.get())).saturating_sub(1);
-        let direct = self.placed_depths(pose, label.index(), own_weight)?;
-        let mirrored = self.placed_depths(&pose.mirrored(), mirrored_class, own_weight)?;
+        let direct = self.placed_depths(pose, label.index(), placement)?;
+        let mirrored = self.placed_depths(&pose.mirrored(), mirrored_class, placement)?;
         Ok(std::array::from_fn(|i| {
             0.5 * (direct[i] + mirrored[mirror_landmark_index(i)])
         }))

@@ -11,7 +11,6 @@ use camloc_store::Persist;
 use camloc_store::Validate;
 
 use crate::rows::sample_pose;
-use crate::torso_placement::own_placement_weight;
 use crate::{CameraLocalizer, CamlocError, DepthLifter, Localization, MIN_PRESENT_FOR_FILL};
 
 mod landmark_smoothing;
@@ -386,7 +385,6 @@ impl PoseReconstructor {
             mode,
             depths,
             imputed,
-            placement,
         } = prepared;
         let mask = pose.missing_mask();
         let solve = |pose: &Pose2, depths: Option<&LiftedDepths>| {
@@ -406,7 +404,8 @@ impl PoseReconstructor {
             for l in &imputed {
                 refilled.points[l.index()] = projected[l.index()];
             }
-            let depths = self.lifted_depths(&refilled, localization.as_ref(), placement)?;
+            // (A single pose: its placement read from it, as `prepare` read it.)
+            let depths = self.lifted_depths(&refilled, localization.as_ref(), None)?;
             hypotheses = solve(&refilled, depths.as_ref())?;
         }
         // A camera that sees landmarks behind it (its reprojection error is not finite: a
@@ -486,9 +485,8 @@ impl PoseReconstructor {
                 ),
             });
         }
-        let own_weight = placement.unwrap_or_else(|| own_placement_weight(complete));
         Ok(Some(lifter.mirror_symmetric_placed_depths(
-            complete, cameras, l.label, own_weight,
+            complete, cameras, l.label, placement,
         )?))
     }
 
@@ -568,7 +566,6 @@ impl PoseReconstructor {
             mode,
             depths,
             imputed,
-            placement,
         })
     }
 
@@ -697,9 +694,6 @@ struct Prepared {
     depths: Option<LiftedDepths>,
     /// The landmarks that were filled in.
     imputed: Vec<Landmark>,
-    /// The weight of the skeleton's own placement its depths were lifted with, when given (a
-    /// sequence's).
-    placement: Option<f64>,
 }
 
 /// A reconstruction error of the input pose.
