@@ -13,7 +13,7 @@ use crate::height_shares::HeightShares;
 /// [`CameraHeight::EyeLevel`] as under the model's own priors. Chosen on the validation
 /// subjects 07, 13, 14, 75 and 114 among 2, 4, 8 and 16: `rig` views 90.8% without a prior,
 /// then 92.0, 92.7, 92.9 and 93.1%; `jittered` views (every height alike) 94.1%, then 92.3,
-/// 89.8, 86.9 and 83.6% (docs/RESULTS.md, Measured in this version).
+/// 89.8, 86.9 and 83.6% (docs/measured.md).
 pub const EYE_LEVEL_WEIGHT: f64 = 8.0;
 
 /// Where the camera may stand, as the caller knows before seeing the pose: a prior over the

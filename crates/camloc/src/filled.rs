@@ -21,7 +21,7 @@ const STARTS: usize = 3;
 /// The misfit of the basis seen from a converged viewpoint ([`Reconstructor::impute_with_misfit`])
 /// that weighs as much as a factor `e` of its probability when the hypotheses are compared.
 /// Chosen on the validation subjects 07, 13, 14, 75 and 114 among 0.003, 0.01 and the misfit
-/// alone (docs/RESULTS.md, "Measured in this version").
+/// alone (docs/measured.md).
 const MISFIT_SCALE: f64 = 0.01;
 
 /// Most refills of a pose from its latest localization's continuous viewpoint.
