@@ -3,13 +3,24 @@
 //! conventions of other skeletons and detectors.
 
 use camloc_skeleton::{NUM_LIMBS, Pose3};
-use nalgebra::SMatrix;
+use nalgebra::{SMatrix, SVector};
 use serde::{Deserialize, Serialize};
 
 use crate::{BoneLengths, ReconstructError};
 
 /// A 14 x 14 matrix over the limbs.
 pub(crate) type LimbMatrix = SMatrix<f64, NUM_LIMBS, NUM_LIMBS>;
+
+/// A value per limb.
+pub(crate) type LimbVector = SVector<f64, NUM_LIMBS>;
+
+/// The squared Mahalanobis distance of a single pose's estimated log limb lengths from the
+/// widened [`LengthPrior`] beyond which a reconstruction started from lifted depths is solved
+/// again from the pursuit's pose (36.12: 99.9% of the draws of the prior itself lie within, the
+/// chi-squared quantile of 14 degrees of freedom). Over the held-out subjects' 2,577 single
+/// poses of `xtask reconstruction --proportions-only` it was passed twice; over LSP's 400
+/// photos 14 times (docs/RESULTS.md).
+pub const IMPLAUSIBLE_LENGTHS_D2: f64 = 36.12;
 
 /// A Gaussian on the logarithms of the 14 limb lengths (metres, [`camloc_skeleton::LIMBS`]
 /// order) of the people in motion capture: mean and covariance of the log lengths of the

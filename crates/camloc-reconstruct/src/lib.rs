@@ -82,7 +82,7 @@ pub use eval::{
     EvalReport, EvalSample, ModeReport, Pipeline, PipelineReport, evaluate, evaluate_with_pipeline,
 };
 pub use frame_rate::{FrameRate, REFERENCE_FRAME_RATE_HZ};
-pub use length_prior::{LengthPrior, LengthWidening};
+pub use length_prior::{IMPLAUSIBLE_LENGTHS_D2, LengthPrior, LengthWidening};
 pub use lengths::{
     BONE_KEYS, BONE_LENGTHS_FORMAT, BONE_LENGTHS_VERSION, BoneLengthError, BoneLengths,
     LEGS_SHARE_OF_HEIGHT, MAX_BONE_LENGTH_M, MAX_BONE_LENGTHS_FILE_BYTES, MAX_HEIGHT_M,

@@ -235,6 +235,37 @@ fn a_sequence_takes_its_lengths_and_its_poses_from_the_lifted_depths() {
     assert!(moved > 1.0, "{moved} mm");
 }
 
+/// With lifted depths, `reflected` says whether a hypothesis started from the lifted depths
+/// mirrored: the preferred one (the lifter's reading) never, the second always, and no frame
+/// of a sequence (each starts from its lifted depths, whichever of the pursuit's two depth
+/// readings the sequence's path chose; before, the flag was the pursuit's and toggled from
+/// frame to frame with the pose unchanged).
+#[test]
+fn the_lifter_s_reading_is_not_the_reflected_hypothesis() {
+    let with = PoseReconstructor::new(default_basis().unwrap())
+        .unwrap()
+        .with_localizer(CameraLocalizer::default_model().unwrap())
+        .with_mode(ModeKind::Hybrid)
+        .unwrap()
+        .with_lifter(DepthLifter::default_lifter().unwrap());
+    let inputs: Vec<PartialPose2> = views(4)
+        .samples
+        .iter()
+        .take(24)
+        .map(|s| PartialPose2::from(s.landmarks))
+        .collect();
+    for input in &inputs {
+        let r = with.reconstruct_hypotheses(input, 2).unwrap();
+        assert!(!r.reconstruction.reflected);
+        assert_eq!(r.alternatives.len(), 1);
+        assert!(r.alternatives[0].reflected);
+    }
+    let sequence = with.reconstruct_sequence(&inputs).unwrap();
+    for frame in &sequence.frames {
+        assert!(!frame.as_ref().unwrap().reconstruction.reflected);
+    }
+}
+
 /// The elevation of the camera direction (pelvis to camera) of a rotation whose rows are the
 /// camera's axes in the body frame, degrees.
 fn camera_elevation(rotation: &camloc::geometry::Matrix3) -> f64 {

@@ -53,7 +53,8 @@ fn head_tilt_deg(pose: &Pose3) -> f64 {
     head.angle(&torso).to_degrees()
 }
 
-/// On the 400 LSP photos, of the poses `camloc reconstruct` gives by default: before the
+/// On the 400 LSP photos, of the poses `camloc reconstruct` gives by default (all but the 8
+/// without a torso to find or fill in, no torso 2.5 times the median): before the
 /// limbs' depths were flipped towards the joint limits and the head held back (stop 54), 30
 /// knees were bent backwards by more than 45 degrees and 16 heads tilted more than 90
 /// degrees from the torso's line by these measures (20 and 0 after); the motion capture's
@@ -98,11 +99,24 @@ fn reconstructed_lsp_photos_have_few_knees_bent_backwards_and_no_folded_heads() 
          {heads} with the head tilted more than 90 deg from the torso",
         poses.len()
     );
+    // Every photo whose torso can be found or filled in (8 have too few landmarks): an
+    // upside-down gymnast's lifted depths made a torso of 1.9 m, refused as implausible,
+    // before such a reading was solved again from the pursuit's pose.
     assert!(
-        poses.len() >= 390,
+        poses.len() >= 392,
         "{} LSP poses reconstructed",
         poses.len()
     );
+    // No torso 2.5 times the photos' median (before that, 3.0 times: 1.34 m).
+    let torso = camloc::skeleton::LIMB_NAMES
+        .iter()
+        .position(|&n| n == "torso")
+        .unwrap();
+    let mut torsos: Vec<f64> = poses.iter().map(|p| p.limb_length(torso)).collect();
+    torsos.sort_by(f64::total_cmp);
+    let longest = torsos[torsos.len() - 1] / torsos[torsos.len() / 2];
+    eprintln!("longest torso {longest:.2} times the median");
+    assert!(longest < 2.5, "a torso {longest:.2} times the median");
     assert!(
         knees <= 24,
         "{knees} knees bent backwards by more than 45 deg"

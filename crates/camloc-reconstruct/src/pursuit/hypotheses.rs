@@ -50,7 +50,9 @@ pub struct Reconstruction {
     /// Coefficient/camera alternations performed, over every hypothesis tried (both depth
     /// hypotheses; for [`CameraMode::Hybrid`], both solves).
     pub iterations: usize,
-    /// `true` when this is the depth-reflected hypothesis.
+    /// `true` when this is the depth-reflected hypothesis: the pursuit's found pose mirrored
+    /// in depth, or, when the refinement started from lifted depths, those depths mirrored
+    /// (the lifter's reading is `false`, in every frame of a sequence too).
     pub reflected: bool,
     /// How far the pursuit's pose lay outside the learned joint-angle limits, before the
     /// prior's projection: the sum over the 8 limb bones of the angle beyond the limits,

@@ -9,6 +9,7 @@ use super::hypotheses::{Candidate, Ranked, Reconstruction};
 use super::mode::CameraMode;
 use super::observation::Observation;
 use super::reconstructor::Reconstructor;
+use crate::length_prior::{IMPLAUSIBLE_LENGTHS_D2, LimbVector};
 use crate::refine::{LengthInput, RefineFrame, RefinedFrame, refine};
 use crate::{BoneLengths, Given, PerspectiveCamera, ReconstructError};
 
@@ -81,23 +82,67 @@ impl Reconstructor {
         }
         let Ranked {
             obs,
-            candidates,
+            mut candidates,
             iterations,
         } = self.ranked(pose, mode)?;
-        let starts = lifted_starts(&candidates, max.max(1), depths);
+        let starts = lifted_starts(&mut candidates, max.max(1), depths);
         candidates
             .into_iter()
             .zip(starts)
             .map(|(c, start)| {
                 let refined = if self.refines(given) {
-                    let frame = self.refine_frame(&obs, &c, given, start.as_ref(), imputed);
-                    self.refine_within_limits(frame, given)?
+                    self.refine_candidate(&obs, &c, given, start.as_ref(), imputed)?
                 } else {
                     None
                 };
                 Ok(self.reconstruction(&obs, c, refined, given, iterations))
             })
             .collect()
+    }
+
+    /// The refinement of candidate `c` of one pose from `start` (lifted depths), or from its
+    /// pursuit pose without one. A lifted start whose refined bone lengths lie beyond
+    /// [`IMPLAUSIBLE_LENGTHS_D2`] under the widened length prior, or whose refinement fails,
+    /// is refined again from the pursuit's pose, which is kept when its lengths are the more
+    /// plausible: a lifter that reads a pose far from anything it was fitted on (an upside-down
+    /// gymnast of LSP's photos) drew torsos of 1.3 and 1.9 m. Given lengths are never
+    /// implausible.
+    fn refine_candidate(
+        &self,
+        obs: &Observation,
+        c: &Candidate,
+        given: &Given,
+        start: Option<&LiftedDepths>,
+        imputed: u16,
+    ) -> Result<Option<RefinedFrame>, ReconstructError> {
+        let frame = self.refine_frame(obs, c, given, start, imputed);
+        let lifted = self.refine_within_limits(frame, given);
+        if start.is_none() || given.lengths.is_some() {
+            return lifted;
+        }
+        let distance = match &lifted {
+            Ok(Some(r)) => self.length_distance(&r.pose),
+            Ok(None) => return lifted,
+            Err(_) => f64::INFINITY,
+        };
+        if distance <= IMPLAUSIBLE_LENGTHS_D2 {
+            return lifted;
+        }
+        let frame = self.refine_frame(obs, c, given, None, imputed);
+        match self.refine_within_limits(frame, given) {
+            Ok(Some(r)) if self.length_distance(&r.pose) < distance => Ok(Some(r)),
+            _ => lifted,
+        }
+    }
+
+    /// The squared Mahalanobis distance of the limb lengths of `pose` (metres) from the mean
+    /// of the widened length prior the refinement estimates lengths under: about 14 (the
+    /// limbs) for a typical body, beyond [`IMPLAUSIBLE_LENGTHS_D2`] for one in a thousand of
+    /// the prior's own draws.
+    fn length_distance(&self, pose: &Pose3) -> f64 {
+        let mean = self.basis.length_prior().mean_log();
+        let off = LimbVector::from_fn(|limb, _| pose.limb_length(limb).ln() - mean[limb]);
+        (self.whitening * off).norm_squared()
     }
 
     /// The refinement of one `frame`, refined again from a flip of its limbs' depths into the
@@ -293,9 +338,12 @@ impl Reconstructor {
 /// the lifted `depths`; the first candidate of the other depth reflection the same depths
 /// mirrored (negated: the lifted pose's own depth mirror); any further candidate none (its
 /// pursuit pose). Started from the same lifted pose, every hypothesis of a pose ended within
-/// a few centimetres of the first.
+/// a few centimetres of the first. With depths, each candidate's `reflected` is made relative
+/// to the first's (the lifter's reading): a candidate started from the lifted depths is
+/// `reflected` when they are the mirrored ones, whichever of the pursuit's two depth readings
+/// it came from.
 fn lifted_starts(
-    candidates: &[Candidate],
+    candidates: &mut [Candidate],
     max: usize,
     depths: Option<&LiftedDepths>,
 ) -> Vec<Option<LiftedDepths>> {
@@ -305,16 +353,17 @@ fn lifted_starts(
     let first = candidates.first().is_some_and(|c| c.reflected);
     let mut used = [false; 2];
     candidates
-        .iter()
+        .iter_mut()
         .take(max)
         .map(|c| {
-            let slot = &mut used[usize::from(c.reflected)];
-            if std::mem::replace(slot, true) {
+            let mirrored = c.reflected != first;
+            c.reflected = mirrored;
+            if std::mem::replace(&mut used[usize::from(mirrored)], true) {
                 None
-            } else if c.reflected == first {
-                Some(*depths)
-            } else {
+            } else if mirrored {
                 Some(depths.map(|z| -z))
+            } else {
+                Some(*depths)
             }
         })
         .collect()

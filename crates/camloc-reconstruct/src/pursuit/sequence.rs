@@ -127,6 +127,11 @@ impl Reconstructor {
         let (refined, lengths): (Vec<Option<RefinedFrame>>, BoneLengths) = if self.refines(given) {
             let lifted_of = |t: usize| depths.get(t).and_then(Option::as_ref);
             let imputed_of = |t: usize| imputed.get(t).copied().unwrap_or(0);
+            // A frame started from its lifted depths is their reading, whichever of the
+            // pursuit's depth readings the path chose (`lifted_starts`).
+            for (t, _, c) in &mut chosen {
+                c.reflected &= lifted_of(*t).is_none();
+            }
             let inputs: Vec<_> = chosen
                 .iter()
                 .map(|(t, r, c)| self.refine_frame(&r.obs, c, given, lifted_of(*t), imputed_of(*t)))

@@ -197,9 +197,12 @@ pub(crate) fn refine(
     let lengths = match given {
         Some(given) => given,
         None => BoneLengths::from_array(shared.log_lengths.map(f64::exp)).map_err(|_| {
-            ReconstructError::Numerical(
-                "the estimated bone lengths are implausible (give the bone lengths, or reconstruct the frames one by one)",
-            )
+            ReconstructError::Numerical(if sequence {
+                "the estimated bone lengths are implausible (give the bone lengths, or \
+                 reconstruct the frames one by one)"
+            } else {
+                "the estimated bone lengths are implausible (give the bone lengths)"
+            })
         })?,
     };
     let metres = lengths.as_array();
