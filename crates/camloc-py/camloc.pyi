@@ -169,6 +169,8 @@ class Localizer:
         placeholder for a joint it did not find: give scores or NaN); another when every pose
         of the call failed, with the first error other than "nothing detected", or, when no
         pose has a landmark, asking whether ``min_score`` is on the scale of the scores.
+        No poses ((0, J, 2) points) give empty arrays and no warning, where ``camloc
+        localize`` refuses an input without poses (exit 1).
 
         Returns a dict:
           label (N,) int64: most probable camera, 1..12 (0 where the pose failed);
@@ -357,7 +359,8 @@ def reconstruct(
         seen bent backwards) has it above 0, check such poses before using them; NaN where
         the pose failed;
       reflected (N,) bool: whether the pose is the depth-mirrored reading of the 2D (the
-        command line's ``reflected``);
+        command line's ``reflected``: with the lifter, of its depths, so False for every
+        answer; without it, of the pursuit's pose);
       label (N,) int64: the classified camera (0 for ``opt`` and failed poses);
       probability, azimuth_deg, elevation_deg (N,) float64: the localization's probability of
         ``label`` and its continuous viewpoint in degrees (as ``Localizer.localize`` gives

@@ -277,4 +277,31 @@ fn reader_options_are_checked_at_parse_time() {
         let out = camloc(&["localize", "--input", example, option, bad]);
         assert_usage_error(&out, option);
     }
+    // Names in any case, as Python takes them.
+    let out = camloc(&[
+        "localize", "--input", example, "--format", "CAMLOC", "--layout", "Camloc15", "-q",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+/// A threshold that empties every pose (scores from 0 to 1, `--min-score 30`) is asked about
+/// in the run's summary, as when a sequence's every frame is empty; a threshold on the
+/// input's scale fails no pose.
+#[test]
+fn every_pose_emptied_by_min_score_asks_about_its_scale() {
+    let mmpose = fixture("keypoints/samples/mmpose.json");
+    let mmpose = mmpose.to_str().unwrap();
+    let hint = "if --min-score was given, is it on the scale of the input's scores?";
+    for command in ["localize", "reconstruct"] {
+        let out = camloc(&[command, "--input", mmpose, "--min-score", "30", "-q"]);
+        assert_clean_failure(&out, hint);
+        let out = camloc(&[command, "--input", mmpose, "--min-score", "0.3", "-q"]);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{stderr}");
+        assert!(!stderr.contains(hint), "{stderr}");
+    }
 }

@@ -220,3 +220,27 @@ fn symlinks_and_devices_at_output_paths() {
         assert_clean_failure(&out, "not a regular file");
     }
 }
+
+/// An existing file with one of an output's numbered names refuses the run (the count of
+/// poses is known only at the end) with a message that says whose numbered file it is.
+#[test]
+fn an_existing_numbered_file_is_named_as_one() {
+    let dir = TempDir::new("numbered");
+    let example = fixture("keypoints/example.json");
+    let svg = dir.0.join("two.svg");
+    let numbered = dir.0.join("two-001.svg");
+    std::fs::write(&numbered, "mine").unwrap();
+    let args = [
+        "localize",
+        "--input",
+        example.to_str().unwrap(),
+        "--svg",
+        svg.to_str().unwrap(),
+        "-q",
+    ];
+    let out = camloc(&args);
+    assert_clean_failure(&out, "two-001.svg: already exists, a numbered file of");
+    assert_eq!(std::fs::read_to_string(&numbered).unwrap(), "mine");
+    success(&camloc(&[&args[..], &["--force"]].concat()));
+    assert_ne!(std::fs::read(&numbered).unwrap(), b"mine");
+}

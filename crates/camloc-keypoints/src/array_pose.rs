@@ -44,7 +44,7 @@ pub enum ArrayPoseError {
         joint: usize,
     },
     /// A score outside [0, 1].
-    #[error("joint {joint}: score {score} is outside [0, 1]")]
+    #[error("joint {joint}: score {score} is outside [0, 1]{}", score_hint(*.score))]
     ScoreOutOfRange {
         /// Joint index.
         joint: usize,
@@ -62,6 +62,19 @@ pub enum ArrayPoseError {
         /// The spread of the first five joints relative to the pose's.
         spread: f64,
     },
+}
+
+/// What a score outside [0, 1] in the third channel of an `(N, J, 3)` array most likely is,
+/// as a hint starting with `; `: COCO's visibility flags (0, 1, 2), a percentage (2 to 100),
+/// else a third coordinate.
+pub(crate) fn score_hint(score: f64) -> &'static str {
+    if score == 2.0 {
+        "; COCO visibility flags (0, 1, 2)? give (v > 0) as the score, or x and y alone"
+    } else if (2.0..=100.0).contains(&score) {
+        "; scores in percent? divide them by 100"
+    } else {
+        "; (N, J, 3) keypoint arrays hold x, y, score, not 3D points"
+    }
 }
 
 /// Maps one pose given as raw numbers to the 15 landmarks: `values` holds J × C numbers in row
@@ -190,5 +203,27 @@ mod tests {
                 .contains("the layout is likely coco17, not h36m17"),
             "{e}"
         );
+    }
+
+    /// A score out of range names its likely cause: COCO's visibility flag 2, a percentage,
+    /// else a third coordinate.
+    #[test]
+    fn a_score_out_of_range_says_what_it_likely_is() {
+        let options = ReadOptions::default();
+        for (score, cause) in [
+            (2.0, "COCO visibility flags (0, 1, 2)?"),
+            (90.0, "scores in percent?"),
+            (1.5, "not 3D points"),
+            (-3.0, "not 3D points"),
+            (250.0, "not 3D points"),
+        ] {
+            let values: Vec<f64> = (0..15)
+                .flat_map(|j| [j as f64, 2.0 * j as f64, score])
+                .collect();
+            let e = pose_from_array(Layout::Camloc15, &values, 3, &options).unwrap_err();
+            let message = e.to_string();
+            assert!(message.starts_with("joint 0: score "), "{message}");
+            assert!(message.contains(cause), "{score}: {message}");
+        }
     }
 }

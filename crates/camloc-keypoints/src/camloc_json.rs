@@ -83,6 +83,7 @@ fn document_poses<'a>(
             file: file.to_owned(),
             at: Location::Path(String::new()),
             key: "poses",
+            read_as_coco: false,
         }),
     }
 }
@@ -179,6 +180,7 @@ fn pose(
                 file: file.to_owned(),
                 at: Location::Path(path.to_owned()),
                 key: "landmarks",
+                read_as_coco: false,
             });
         }
     };

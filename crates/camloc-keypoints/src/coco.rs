@@ -161,6 +161,7 @@ fn record<'a>(
             file: file.to_owned(),
             at: Location::Path(path.to_owned()),
             key,
+            read_as_coco: true,
         })
     };
     let image_id = required(annotation.image_id.as_ref(), "image_id")?;

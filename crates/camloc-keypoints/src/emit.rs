@@ -276,6 +276,7 @@ pub(crate) fn object_with_list<'de, A: MapAccess<'de>>(
             file: sink.file.to_owned(),
             at: Location::Path(String::new()),
             key,
+            read_as_coco: false,
         },
     };
     Err(sink.fail(error))

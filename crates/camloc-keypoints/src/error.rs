@@ -133,8 +133,8 @@ pub enum KeypointError {
     },
     /// The text is not JSON, or a value has a type a COCO reader cannot take (reported by the
     /// JSON parser, with line and column).
-    #[error("{}: line {line}, column {column}: {}",
-        file_name(.file), clip(message))]
+    #[error("{}: line {line}, column {column}: {}{}",
+        file_name(.file), clip(message), json_hint(message, *line, *column))]
     Json {
         /// Name of the input.
         file: String,
@@ -152,7 +152,7 @@ pub enum KeypointError {
         file_name(.file),
         clip(header),
         list_or_none(missing),
-        counted_list_or_none(extra, *extra_count)
+        header_columns(extra, *extra_count)
     )]
     CsvHeader {
         /// Name of the input.
@@ -220,11 +220,10 @@ pub enum KeypointError {
     },
     /// A JSON object has keys the format does not define (all of them are listed).
     #[error(
-        "{}: {at}: unknown key(s) {}{} (allowed: {})",
+        "{}: {at}: unknown key(s) {}{} (allowed: {allowed})",
         file_name(.file),
         quoted_list(keys),
-        .suggestion.map(|s| format!(", did you mean \"{s}\"?")).unwrap_or_default(),
-        clip(allowed)
+        suggested(keys, suggestions)
     )]
     UnknownKeys {
         /// Name of the input.
@@ -233,10 +232,11 @@ pub enum KeypointError {
         at: Location,
         /// The unknown keys, in the order found.
         keys: Vec<String>,
-        /// The allowed key nearest the first unknown one (at most 2 letters changed,
-        /// inserted or deleted, case aside), if any: the allowed list is cut at 80 characters.
-        suggestion: Option<&'static str>,
-        /// The allowed keys, comma-separated.
+        /// Per unknown key (the first [`MAX_QUOTED_ITEMS`]), the allowed key nearest it (at
+        /// most 2 letters changed, inserted or deleted, case aside, `l_` and `r_` read as
+        /// `left_` and `right_`), if any.
+        suggestions: Box<[Option<&'static str>]>,
+        /// The allowed keys, comma-separated (the format's own list, given whole).
         allowed: String,
     },
     /// A JSON object has the same key twice.
@@ -249,8 +249,8 @@ pub enum KeypointError {
         at: Location,
     },
     /// A required JSON key is absent.
-    #[error("{}: {at}: missing required key \"{key}\"",
-        file_name(.file))]
+    #[error("{}: {at}: missing required key \"{key}\"{}",
+        file_name(.file), if *.read_as_coco { COCO_MISSING_KEY_HINT } else { "" })]
     MissingKey {
         /// Name of the input.
         file: String,
@@ -258,6 +258,9 @@ pub enum KeypointError {
         at: Location,
         /// The missing key.
         key: &'static str,
+        /// The input was read as COCO keypoints, the format any JSON list of objects is taken
+        /// for: another tool's JSON lacks its keys, and the message says so.
+        read_as_coco: bool,
     },
     /// A JSON value has the wrong type.
     #[error("{}: {at}: expected {expected}, found {found}",
@@ -491,6 +494,30 @@ pub use camloc_store::{MAX_QUOTED_CHARS, MAX_QUOTED_PATH_CHARS};
 /// [`MAX_QUOTED_CHARS`] characters in all.
 pub const MAX_QUOTED_ITEMS: usize = 8;
 
+/// The suggestions of [`KeypointError::UnknownKeys`]: `, did you mean "neck"?` for one unknown
+/// key, `, did you mean "neck" for "nek", "left_wrist" for "l_wrist"?` for several (those with
+/// a suggestion, at most [`MAX_QUOTED_ITEMS`]), or nothing.
+fn suggested(keys: &[String], suggestions: &[Option<&'static str>]) -> String {
+    let pairs: Vec<String> = keys
+        .iter()
+        .zip(suggestions)
+        .filter_map(|(key, s)| s.map(|s| (key, s)))
+        .take(MAX_QUOTED_ITEMS)
+        .map(|(key, s)| {
+            if keys.len() == 1 {
+                format!("\"{s}\"")
+            } else {
+                format!("\"{s}\" for \"{}\"", clip(key))
+            }
+        })
+        .collect();
+    if pairs.is_empty() {
+        String::new()
+    } else {
+        format!(", did you mean {}?", pairs.join(", "))
+    }
+}
+
 /// Input text as an error message quotes it (the shared rule, [`camloc_store::quoted`]): at
 /// most [`MAX_QUOTED_CHARS`] characters (then `…`), control characters escaped.
 pub(crate) fn clip(text: &str) -> String {
@@ -536,12 +563,40 @@ fn list_or_none(items: &[String]) -> String {
     }
 }
 
-/// [`list_or_none`] of the first `items` of `total`.
-fn counted_list_or_none(items: &[String], total: usize) -> String {
+/// The first unexpected columns `items` of a CSV header's `total`, or `none`; an empty name is
+/// shown as `""`, and said to be likely pandas' index (what its `to_csv` writes).
+fn header_columns(items: &[String], total: usize) -> String {
     if total == 0 {
-        "none".to_owned()
+        return "none".to_owned();
+    }
+    let list = capped_list_of(
+        items,
+        total,
+        |c| if c.is_empty() { "\"\"".into() } else { c },
+    );
+    if items.iter().any(String::is_empty) {
+        list + "; an unnamed column is likely pandas' index: write the CSV with to_csv(index=False)"
     } else {
-        capped_list_of(items, total, |i| i)
+        list
+    }
+}
+
+/// What [`KeypointError::MissingKey`] adds for an input read as COCO keypoints.
+const COCO_MISSING_KEY_HINT: &str = "; read as COCO keypoints (what a JSON list of objects is \
+     taken for): if it is another format, name it (--format, Python's format=)";
+
+/// The likely causes of the JSON parser's `message` at `line` and `column`, as ` (...)`, or
+/// nothing: a value it did not expect at the very start is an input that is not JSON (a CSV
+/// file given `--format coco`); elsewhere a trailing comma, or `NaN` or `Infinity`, which
+/// Python's `json` module writes and JSON does not have.
+fn json_hint(message: &str, line: usize, column: usize) -> &'static str {
+    match (message, (line, column)) {
+        ("expected value", (1, 1)) => " (the input is not JSON: is its format right?)",
+        ("expected value", _) => {
+            " (a trailing comma, or NaN or Infinity, which Python's json module writes and \
+             JSON does not have: write null for a missing coordinate)"
+        }
+        _ => "",
     }
 }
 
@@ -628,7 +683,7 @@ mod tests {
             file: "a.json".into(),
             at: Location::Path("poses[1].landmarks".into()),
             keys: vec!["nose".into(), "left_kne".into()],
-            suggestion: None,
+            suggestions: Box::new([None, None]),
             allowed: "pelvis, left_hip".into(),
         };
         assert_eq!(

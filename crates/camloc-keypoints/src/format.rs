@@ -176,11 +176,7 @@ fn key_values<'a>(content: &'a str, key: &str) -> impl Iterator<Item = &'a str> 
 /// LSP CSV when the first non-blank line has `image` and `joint` columns.
 fn sniff_csv(content: &str) -> Option<KeypointFormat> {
     let header = content.lines().find(|l| !l.trim().is_empty())?;
-    let has = |column: &str| {
-        header
-            .split(',')
-            .any(|c| c.trim().eq_ignore_ascii_case(column))
-    };
+    let has = |column: &str| crate::lsp::csv_fields(header).any(|c| c.eq_ignore_ascii_case(column));
     (has("image") && has("joint")).then_some(KeypointFormat::Lsp)
 }
 

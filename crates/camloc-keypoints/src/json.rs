@@ -230,10 +230,17 @@ pub(crate) fn index_path(parent: &str, index: usize) -> String {
 /// Objects of at most this many keys are checked for a repeated key pair by pair.
 const SHORT_OBJECT_KEYS: usize = 16;
 
-/// Of `allowed`, the key nearest `key` (case aside) if at most 2 letters must be changed,
-/// inserted or deleted to make it (a typo: `nek` for `neck`, `Left_Knee` for `left_knee`).
+/// Of `allowed`, the key nearest `key` (case aside, a leading `l_` or `r_` read as `left_` or
+/// `right_`) if at most 2 letters must be changed, inserted or deleted to make it (a typo:
+/// `nek` for `neck`, `Left_Knee` for `left_knee`, `l_wrist` for `left_wrist`).
 fn nearest(key: &str, allowed: &[&'static str]) -> Option<&'static str> {
-    let key: Vec<char> = key.to_lowercase().chars().take(64).collect();
+    let key = key.to_lowercase();
+    let key = match (key.strip_prefix("l_"), key.strip_prefix("r_")) {
+        (Some(rest), _) => format!("left_{rest}"),
+        (_, Some(rest)) => format!("right_{rest}"),
+        _ => key,
+    };
+    let key: Vec<char> = key.chars().take(64).collect();
     allowed
         .iter()
         .map(|&a| (a, edit_distance(&key, &a.chars().collect::<Vec<_>>())))
@@ -275,12 +282,17 @@ pub(crate) fn check_keys(
         .map(|(k, _)| k.clone())
         .collect();
     if !unknown.is_empty() {
-        let suggestion = unknown.first().and_then(|key| nearest(key, allowed));
+        // (The keys a message names: a hostile object may have millions.)
+        let suggestions = unknown
+            .iter()
+            .take(crate::error::MAX_QUOTED_ITEMS)
+            .map(|key| nearest(key, allowed))
+            .collect();
         return Err(KeypointError::UnknownKeys {
             file: file.to_owned(),
             at: Location::Path(path.to_owned()),
             keys: unknown,
-            suggestion,
+            suggestions,
             allowed: allowed.join(", "),
         });
     }
@@ -471,6 +483,7 @@ pub(crate) fn required<'a>(
         file: file.to_owned(),
         at: Location::Path(path.to_owned()),
         key,
+        read_as_coco: false,
     })
 }
 
@@ -583,6 +596,23 @@ mod tests {
         };
         assert_eq!(*line, 3);
         assert!(!message.contains("at line"), "{message}");
+    }
+
+    #[test]
+    fn an_unexpected_value_names_its_likely_cause() {
+        let message = |text: &str| {
+            let err = serde_json::from_str::<Json>(text).unwrap_err();
+            syntax_error(&err, "f.json").to_string()
+        };
+        let nan = message("{\"neck\": [NaN, 1]}");
+        assert!(nan.contains("NaN or Infinity"), "{nan}");
+        let csv = message("image,joint,x,y,visible");
+        assert!(csv.contains("the input is not JSON"), "{csv}");
+        let other = message("{\"a\": [1 2]}");
+        assert!(
+            !other.contains("NaN") && !other.contains("not JSON"),
+            "{other}"
+        );
     }
 
     #[test]

@@ -97,7 +97,7 @@ pub(crate) fn read(
     for (line, row) in lines {
         fields.clear();
         // (One field past the header's width tells; the rest are only counted.)
-        fields.extend(row.split(',').map(str::trim).take(header.width + 1));
+        fields.extend(csv_fields(row).take(header.width + 1));
         if fields.len() != header.width {
             return Err(KeypointError::CsvFieldCount {
                 file: file.to_owned(),
@@ -195,7 +195,7 @@ fn first_row(text: &str, header: &Header, image: &str, joint: &str) -> usize {
     rows(text)
         .skip(1)
         .find(|(_, row)| {
-            let fields: Vec<&str> = row.split(',').map(str::trim).collect();
+            let fields: Vec<&str> = csv_fields(row).collect();
             fields.get(header.image) == Some(&image) && fields.get(header.joint) == Some(&joint)
         })
         .map_or(0, |(line, _)| line)
@@ -260,6 +260,19 @@ pub(crate) fn check_header_of_start(
     }
 }
 
+/// The comma-separated fields of a CSV line, white space trimmed and a field in double quotes
+/// unquoted (`"im00001"`: spreadsheets and some writers quote text; no field of this format
+/// holds a comma or a quote).
+pub(crate) fn csv_fields(line: &str) -> impl Iterator<Item = &str> {
+    line.split(',').map(|field| {
+        let field = field.trim();
+        field
+            .strip_prefix('"')
+            .and_then(|f| f.strip_suffix('"'))
+            .unwrap_or(field)
+    })
+}
+
 /// Finds the five columns in the header, in any order (names compared ignoring ASCII case).
 /// The unknown or repeated names are kept up to [`MAX_QUOTED_ITEMS`] (the message shows no
 /// more), and only counted beyond: a header of a hundred million empty names must not take
@@ -267,7 +280,7 @@ pub(crate) fn check_header_of_start(
 fn parse_header(text: &str, line: usize, file: &str) -> Result<Header, KeypointError> {
     let mut found: [Option<usize>; 5] = [None; 5];
     let (mut extra, mut extra_count, mut width) = (Vec::new(), 0, 0);
-    for (i, name) in text.split(',').map(str::trim).enumerate() {
+    for (i, name) in csv_fields(text).enumerate() {
         width += 1;
         match COLUMNS.iter().position(|c| c.eq_ignore_ascii_case(name)) {
             Some(c) if found[c].is_none() => found[c] = Some(i),

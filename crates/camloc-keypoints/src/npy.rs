@@ -312,7 +312,7 @@ fn element_error(file: &str, pose: u64, error: ArrayPoseError) -> KeypointError 
             at: Location::Array(Box::new([pose, joint as u64, 2])),
             what: "score",
             score,
-            hint: "; (N, J, 3) keypoint arrays hold x, y, score, not 3D points",
+            hint: crate::array_pose::score_hint(score),
         },
         mismatch @ ArrayPoseError::LayoutMismatch { .. } => KeypointError::LayoutMismatch {
             place: Box::new(row_place(&file, pose)),

@@ -142,7 +142,68 @@ fn a_misspelt_landmark_is_named_with_the_one_meant() {
         message.contains(r#""Left_Kne", did you mean "left_knee"?"#),
         "{message}"
     );
-    // Nothing within two letters: the list alone.
+    // Nothing within two letters: the list alone, whole.
     let message = read(r#""nose": [3, 4]"#);
     assert!(!message.contains("did you mean"), "{message}");
+    assert!(
+        message.contains("left_wrist, right_shoulder, right_elbow, right_wrist)"),
+        "{message}"
+    );
+    // Each unknown key its own, `l_` read as `left_`.
+    let message = read(r#""nek": [3, 4], "l_wrist": [5, 6], "nose": [7, 8]"#);
+    assert!(
+        message.contains(r#"did you mean "neck" for "nek", "left_wrist" for "l_wrist"?"#),
+        "{message}"
+    );
+}
+
+/// CSV as spreadsheets and pandas write it: quoted fields are read as the bare ones; an index
+/// column (an unnamed first column) is refused with what it likely is.
+#[test]
+fn lsp_csv_from_spreadsheets_and_pandas() {
+    let joints = [
+        "right_ankle",
+        "right_knee",
+        "right_hip",
+        "left_hip",
+        "left_knee",
+        "left_ankle",
+        "right_wrist",
+        "right_elbow",
+        "right_shoulder",
+        "left_shoulder",
+        "left_elbow",
+        "left_wrist",
+        "neck",
+        "head_top",
+    ];
+    let rows = |quote: &str, index: bool| {
+        let mut text = if index {
+            ",image,joint,x,y,visible\n"
+        } else {
+            "image,joint,x,y,visible\n"
+        }
+        .to_string();
+        for (k, joint) in joints.iter().enumerate() {
+            let prefix = if index {
+                format!("{k},")
+            } else {
+                String::new()
+            };
+            let (x, y) = (100.0 + 3.0 * k as f64, 50.0 + 20.0 * (k % 7) as f64);
+            text += &format!("{prefix}{quote}im1{quote},{quote}{joint}{quote},{x},{y},1\n");
+        }
+        text
+    };
+    let read = |text: &str| parse_keypoints(text, "p.csv", None, &ReadOptions::default());
+    let bare = read(&rows("", false)).unwrap();
+    let quoted = read(&rows("\"", false)).unwrap();
+    assert_eq!(bare.len(), 1);
+    assert_eq!(bare[0].pose, quoted[0].pose);
+    assert_eq!(quoted[0].id, "im1");
+    let e = read(&rows("", true)).unwrap_err().to_string();
+    assert!(
+        e.contains("unknown or repeated: \"\"; an unnamed column is likely pandas' index"),
+        "{e}"
+    );
 }

@@ -80,7 +80,8 @@ impl CameraLocalizer {
                 CamlocError::Feature { context, source } => CamlocError::Feature {
                     context: format!(
                         "{context} ({present} landmark{} present, {MIN_PRESENT_FOR_FILL} needed \
-                         to fill in a torso)",
+                         to fill in a torso; a format without a pelvis or neck derives it from \
+                         both hips or both shoulders)",
                         if present == 1 { "" } else { "s" }
                     ),
                     source,

@@ -50,8 +50,8 @@ fn camera_modes() -> [PossibleValue; 3] {
 }
 
 /// The camera mode of a run: `--camera`, else `hybrid`, the lower 3D error in
-/// docs/RESULTS.md (held-out CMU subjects, rescaled people, sequences; docs/measured.md's
-/// depth lifter row), and with the embedded lifter no slower than
+/// docs/RESULTS.md (held-out CMU subjects, rescaled people, sequences; the paragraph after
+/// docs/measured.md's table says why), and with the embedded lifter no slower than
 /// `opt` (5,000 COCO poses on 2 cores: 1.20 s against 1.31 s).
 fn camera_of(args: &Args) -> ModeKind {
     args.camera.unwrap_or(ModeKind::Hybrid)

@@ -139,6 +139,8 @@ pub struct Summary {
     /// Frames of a sequence without a single landmark ([`nothing_detected`]: the library's
     /// `CamlocError::NothingDetected`): frames the person is missing from, not failures.
     pub undetected: u64,
+    /// Poses read without a single landmark, failed or not ([`nothing_detected`]).
+    pub empty: u64,
     /// What the poses say of how they were given, for the warnings of [`Summary::exit_code`]
     /// (with the camera's intrinsics when given: [`camloc::InputConventions::aimed`]).
     pub conventions: camloc::InputConventions,
@@ -155,6 +157,7 @@ impl Summary {
     /// origin), which [`Summary::exit_code`] warns of.
     pub fn count(&mut self, pose: &camloc::PartialPose2) {
         self.poses += 1;
+        self.empty += u64::from(nothing_detected(pose));
         self.conventions.add(pose);
     }
 
@@ -164,14 +167,14 @@ impl Summary {
         for warning in self.conventions.warnings() {
             stderr_line!("camloc: warning: {warning}");
         }
+        // Every pose empty is more often a threshold above the input's scores (30 for scores
+        // from 0 to 1) than an input without anyone in it.
+        let hint = if self.empty == self.poses {
+            "; if --min-score was given, is it on the scale of the input's scores?"
+        } else {
+            ""
+        };
         if self.undetected > 0 {
-            // Every pose empty is more often a threshold above the input's scores (30 for
-            // scores from 0 to 1) than a video without anyone in it.
-            let hint = if self.undetected == self.poses {
-                "; if --min-score was given, is it on the scale of the input's scores?"
-            } else {
-                ""
-            };
             stderr_line!(
                 "camloc: {} of {} poses have no landmarks (nothing detected): taken as frames the \
                  person is missing from{hint}",
@@ -180,8 +183,10 @@ impl Summary {
             );
         }
         if self.failed_poses > 0 {
+            // (A sequence's empty frames are not failures: their line above has the hint.)
+            let hint = if self.undetected == 0 { hint } else { "" };
             stderr_line!(
-                "camloc: {} of {} poses could not be {verb}",
+                "camloc: {} of {} poses could not be {verb}{hint}",
                 self.failed_poses,
                 self.poses
             );

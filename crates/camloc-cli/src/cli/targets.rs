@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
-use camloc::store::{check_target, quoted_path};
+use camloc::store::{StoreError, check_target, quoted_path};
 
 use super::CliError;
 
@@ -285,7 +285,13 @@ pub fn numbered_targets(out: &Path, ext: &str) -> Vec<PathBuf> {
 pub fn check_numbered(out: &Path, ext: &str, force: bool) -> Result<Vec<PathBuf>, CliError> {
     let targets = numbered_targets(out, ext);
     for path in &targets {
-        check_target(path, force)?;
+        match check_target(path, force) {
+            Err(StoreError::Exists { path }) if path != out => {
+                let out = out.to_path_buf();
+                return Err(CliError::NumberedExists { path, out });
+            }
+            checked => checked?,
+        }
     }
     Ok(targets)
 }
