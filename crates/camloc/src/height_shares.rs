@@ -247,7 +247,8 @@ impl CameraLocalizer {
             shares,
             read: read.len(),
             localized: kept.len(),
-            views: weights.iter().sum(),
+            // (From 0.0: a float sum of nothing is -0.0, which Python printed for no poses.)
+            views: weights.iter().fold(0.0, |sum, w| sum + w),
         }
     }
 

@@ -7,11 +7,12 @@ use camloc::reconstruct::{Intrinsics, MIN_FOCAL_PX};
 /// The camera's focal length and principal point, when the user knows them.
 #[derive(clap::Args, Debug, Clone, Copy)]
 pub struct IntrinsicsArgs {
-    /// The camera's focal length in pixels (the keypoints must be in pixels too): each pose is
-    /// localized as the camera turned to aim at the person would see it (a person near the
-    /// edge of a wide-angle image is otherwise drawn out by the perspective); `reconstruct`
-    /// also ends with a full-perspective refinement with it (close cameras, wide lenses).
-    /// Without it `reconstruct` estimates the camera's distance (and so a focal length).
+    /// The camera's focal length in pixels (the keypoints must be in pixels too).
+    ///
+    /// Each pose is localized as the camera turned to aim at the person would see it (a person near
+    /// the edge of a wide-angle image is otherwise drawn out by the perspective); `reconstruct`
+    /// also ends with a full-perspective refinement with it (close cameras, wide lenses). Without
+    /// it `reconstruct` estimates the camera's distance (and so a focal length).
     #[arg(long, value_name = "F", value_parser = parse_focal, allow_hyphen_values = true)]
     pub focal_px: Option<f64>,
     /// With --focal-px: the principal point in pixels [default: the centre of --image-size

@@ -42,18 +42,20 @@ pub struct Args {
     pub intrinsics: IntrinsicsArgs,
     #[command(flatten)]
     pub format: FormatArgs,
-    /// Draw each pose and its predicted viewpoint as SVG to this file (several poses:
-    /// FILE-001.svg, FILE-002.svg, ...); with --sequence, one timeline per person instead.
-    /// All files are written at the end, or none.
+    /// Draw each pose and its predicted viewpoint as SVG to this file (several poses: FILE-001.svg,
+    /// FILE-002.svg, ...).
+    ///
+    /// With --sequence, one timeline per person instead. All files are written at the end, or none.
     #[arg(long, value_name = "OUT")]
     pub svg: Option<PathBuf>,
-    /// Treat the input as the frames of a video: group the poses by person, order them by
-    /// frame and smooth the viewpoint over time (a hidden Markov model over the cameras, the
-    /// mean direction over 7 frames). Output (per frame, by person then frame) has the raw
-    /// and the smoothed camera and viewpoint; a person whose pose jumps across the image
-    /// (two people under one id) is warned of, and legs or arms a detector swapped left for
-    /// right for a few frames are swapped back (docs/cli.md, section Sequences). Every frame's
-    /// 12 probabilities and landmarks are kept until the end.
+    /// Treat the input as the frames of a video.
+    ///
+    /// Group the poses by person, order them by frame and smooth the viewpoint over time (a hidden
+    /// Markov model over the cameras, the mean direction over 7 frames). Output (per frame, by
+    /// person then frame) has the raw and the smoothed camera and viewpoint; a person whose pose
+    /// jumps across the image (two people under one id) is warned of, and legs or arms a detector
+    /// swapped left for right for a few frames are swapped back (docs/cli.md, section Sequences).
+    /// Every frame's 12 probabilities and landmarks are kept until the end.
     #[arg(long)]
     pub sequence: bool,
     /// With --sequence: refuse an input of more than N poses (each is kept until the end:
@@ -69,29 +71,32 @@ pub struct Args {
     /// elevation grid, shaded by the share of poses) as SVG to this file.
     #[arg(long, value_name = "OUT")]
     pub summary_svg: Option<PathBuf>,
-    /// Write one self-contained interactive page (no network needed): per pose the 2D input,
-    /// the camera sphere with the 12 probabilities and the continuous direction with its
-    /// uncertainty, and the 3D skeleton `camloc reconstruct` gives with the same model (drag to
-    /// turn, wheel to zoom) with its reprojection; a timeline to play and scrub (with --sequence,
-    /// per person, with the smoothed camera). It reconstructs every pose, so the run takes
-    /// about as long as `camloc reconstruct` (over 100 times a plain localize), and the page
-    /// holds every pose (about 2.5 KB each; at most 100,000 poses: split larger inputs).
+    /// Write one self-contained interactive page (no network needed).
+    ///
+    /// Per pose the 2D input, the camera sphere with the 12 probabilities and the continuous
+    /// direction with its uncertainty, and the 3D skeleton `camloc reconstruct` gives with the same
+    /// model (drag to turn, wheel to zoom) with its reprojection; a timeline to play and scrub
+    /// (with --sequence, per person, with the smoothed camera). It reconstructs every pose, so the
+    /// run takes about as long as `camloc reconstruct` (over 100 times a plain localize), and the
+    /// page holds every pose (about 2.5 KB each; at most 100,000 poses: split larger inputs).
     #[arg(long, value_name = "OUT")]
     pub html: Option<PathBuf>,
-    /// Frames per second of the input video (with --sequence or --html): with --sequence the
-    /// time scale of the smoothing over frames (7 frames at 30 frames a second, as long in
-    /// time at faster rates: give the video's rate), and the page's play rate.
+    /// Frames per second of the input video (with --sequence or --html).
+    ///
+    /// With --sequence the time scale of the smoothing over frames (7 frames at 30 frames a second,
+    /// as long in time at faster rates: give the video's rate), and the page's play rate.
     #[arg(long, value_name = "FPS", default_value = "30", value_parser = export::parse_fps,
           requires = "timed")]
     pub fps: f64,
-    /// Write the results as NumPy arrays to this .npz archive (numpy.load reads it without
-    /// pickle), row n for the n-th pose read: label, folded_label, probabilities, azimuth_deg,
-    /// elevation_deg, uncertainty_deg, failed, missing, derived, frame, person, the ids as
-    /// id_utf8 and id_end, camera_height_shares and camera_height_views (the run's estimate
-    /// and the independent views it counted, NaN without one; docs/cli.md gives their types
-    /// and shapes). Written at the end of the
-    /// run, or not at all. Nothing is printed per pose unless --json or --jsonl asks for it.
-    /// Not with --sequence (whose smoothed cameras have no arrays here: use --jsonl).
+    /// Write the results as NumPy arrays to this .npz archive (numpy.load reads it without pickle),
+    /// row n for the n-th pose read.
+    ///
+    /// Label, folded_label, probabilities, azimuth_deg, elevation_deg, uncertainty_deg, failed,
+    /// missing, derived, frame, person, the ids as id_utf8 and id_end, camera_height_shares and
+    /// camera_height_views (the run's estimate and the independent views it counted, NaN without
+    /// one; docs/cli.md gives their types and shapes). Written at the end of the run, or not at
+    /// all. Nothing is printed per pose unless --json or --jsonl asks for it. Not with --sequence
+    /// (whose smoothed cameras have no arrays here: use --jsonl).
     #[arg(long, value_name = "OUT", conflicts_with = "sequence")]
     pub npz: Option<PathBuf>,
     #[command(flatten)]

@@ -58,7 +58,7 @@ folder without poses, a dataset without samples) is an error: \"no poses in INPU
 
 /// Camera localization from 2D human-pose landmarks, and 3D reconstruction.
 ///
-/// camloc tells which viewpoint on a sphere around a person (by default the 12 cameras of
+/// Camloc tells which viewpoint on a sphere around a person (by default the 12 cameras of
 /// Table 1: lower/middle/upper x front/left/back/right) a 2D pose was seen from.
 #[derive(Parser)]
 #[command(name = "camloc", version, about, long_about, after_help = EXIT_CODES)]
@@ -101,14 +101,17 @@ enum Command {
     #[command(after_help = EXIT_CODES)]
     Reconstruct(reconstruct::Args),
     /// Measure 3D error (PA-MPJPE: mm, after similarity alignment) and projection error on a
-    /// labelled dataset made by `cargo xtask gen-dataset`: one row for each of the pursuit's
-    /// camera modes alone (opt, classified, oracle with the true rotation, hybrid; no depth
-    /// lifter, the template's bone lengths), and a last row for what `reconstruct` gives by
-    /// default (hybrid with the depth lifter and the bone lengths estimated).
+    /// labelled dataset made by `cargo xtask gen-dataset`.
+    ///
+    /// One row for each of the pursuit's camera modes alone (opt, classified, oracle with the true
+    /// rotation, hybrid; no depth lifter, the template's bone lengths), and a last row for what
+    /// `reconstruct` gives by default (hybrid with the depth lifter and the bone lengths
+    /// estimated).
     #[command(after_help = EXIT_CODES)]
     EvaluateReconstruction(reconstruct::EvalArgs),
-    /// Write any readable keypoint input in camloc's own formats: camloc JSON or a
-    /// (N, 15, 2) float64 .npy array (NaN, NaN for a missing landmark).
+    /// Write any readable keypoint input in camloc's own formats.
+    ///
+    /// Camloc JSON or a (N, 15, 2) float64 .npy array (NaN, NaN for a missing landmark).
     #[command(after_help = EXIT_CODES)]
     Convert(convert::Args),
 }
@@ -280,22 +283,26 @@ pub struct InputArgs {
           value_parser = PossibleValuesParser::new(format_values())
               .try_map(|s| s.parse::<KeypointFormat>()))]
     pub format: Option<KeypointFormat>,
-    /// Joint layout of .npy arrays (and MMPose keypoints) [default: from the joint count;
-    /// 17 joints need it named in .npy arrays, MMPose's are coco17]. A 17-joint pose whose
-    /// first five joints are not the layout's (COCO-17's face, Human3.6M's pelvis and legs) is
-    /// refused with the likely layout. Any case, as in Python.
+    /// Joint layout of .npy arrays (and MMPose keypoints) [default: from the joint count; 17 joints
+    /// need it named in .npy arrays, MMPose's are coco17].
+    ///
+    /// A 17-joint pose whose first five joints are not the layout's (COCO-17's face, Human3.6M's
+    /// pelvis and legs) is refused with the likely layout. Any case, as in Python.
     #[arg(long, value_name = "NAME", ignore_case = true,
           value_parser = PossibleValuesParser::new(layout_values())
               .try_map(|s| s.parse::<Layout>()))]
     pub layout: Option<Layout>,
-    /// Joints whose score is below S are missing (COCO, OpenPose, MMPose, MediaPipe, YOLO,
-    /// (N, J, 3) .npy); a score of 0 is always missing. A finite number >= 0.
+    /// Joints whose score is below S are missing (COCO, OpenPose, MMPose, MediaPipe, YOLO, (N, J,
+    /// 3) .npy).
+    ///
+    /// A score of 0 is always missing. A finite number >= 0.
     #[arg(long, value_name = "S", default_value_t = 0.0, value_parser = parse_min_score,
           allow_hyphen_values = true)]
     pub min_score: f64,
     /// Image size in pixels that normalised coordinates are scaled by (MediaPipe, YOLO), e.g.
-    /// 1920,1080 (or 1920x1080); in `localize` and `reconstruct`, `--focal-px` also takes its
-    /// centre as the principal point.
+    /// 1920,1080 (or 1920x1080).
+    ///
+    /// In `localize` and `reconstruct`, `--focal-px` also takes its centre as the principal point.
     #[arg(long, value_name = "W,H", value_parser = |s: &str| s.parse::<ImageSize>(),
           allow_hyphen_values = true)]
     pub image_size: Option<ImageSize>,
@@ -305,9 +312,11 @@ pub struct InputArgs {
     /// LSP joints with visible=0: treat as missing, or use their coordinates.
     #[arg(long, value_enum, default_value = "missing")]
     pub lsp_invisible: InvisibleArg,
-    /// Refuse a text input (JSON, CSV) longer than N bytes (1 GiB by default; .npy arrays are
-    /// not limited). The readers stream what they read, so a larger limit costs no memory
-    /// (a 1.15 GB camloc JSON file of 2.3 million poses went through `localize` in 46 MB).
+    /// Refuse a text input (JSON, CSV) longer than N bytes (1 GiB by default; .npy arrays are not
+    /// limited).
+    ///
+    /// The readers stream what they read, so a larger limit costs no memory (a 1.15 GB camloc JSON
+    /// file of 2.3 million poses went through `localize` in 46 MB).
     #[arg(long, value_name = "N", default_value_t = ReadOptions::DEFAULT_MAX_BYTES,
           value_parser = clap::value_parser!(u64).range(1..))]
     pub max_input_bytes: u64,
@@ -362,9 +371,10 @@ impl FormatArgs {
 /// `--force` of the commands that write output files.
 #[derive(clap::Args)]
 pub struct ForceArgs {
-    /// Replace existing output files. A symbolic link at an output path is replaced by the new
-    /// file (never written through; its target is untouched); a directory, device or FIFO is
-    /// refused even with --force.
+    /// Replace existing output files.
+    ///
+    /// A symbolic link at an output path is replaced by the new file (never written through; its
+    /// target is untouched); a directory, device or FIFO is refused even with --force.
     #[arg(long)]
     pub force: bool,
 }
@@ -406,15 +416,15 @@ pub enum CameraHeightArg {
 /// The `--camera-height` option of the commands that localize.
 #[derive(clap::Args)]
 pub struct CameraHeightArgs {
-    /// What is known of the camera's height, as a prior over the cameras that reweighs the
-    /// model's probabilities (docs/conventions.md section 5, "What the caller knows of the
-    /// camera"). `from-input` first reads the input's first 20,000 poses and estimates how
-    /// its cameras divide among the three heights (a video or a studio's views: mostly one),
-    /// then localizes every pose under those shares (a photo or a short clip: about as
-    /// `eye-level`; `reconstruct --camera opt`: no estimate); `any` localizes each pose on its
-    /// own; `eye-level` suits studios, tripods and phones: on views of such
-    /// cameras it turns more of the level mistakes near the middle ring's edge into right
-    /// answers, and it costs views from far above or below.
+    /// What is known of the camera's height, as a prior over the cameras that reweighs the model's
+    /// probabilities (docs/conventions.md section 5, "What the caller knows of the camera").
+    ///
+    /// `from-input` first reads the input's first 20,000 poses and estimates how its cameras divide
+    /// among the three heights (a video or a studio's views: mostly one), then localizes every pose
+    /// under those shares (a photo or a short clip: about as `eye-level`; `reconstruct --camera
+    /// opt`: no estimate); `any` localizes each pose on its own; `eye-level` suits studios, tripods
+    /// and phones: on views of such cameras it turns more of the level mistakes near the middle
+    /// ring's edge into right answers, and it costs views from far above or below.
     #[arg(long, value_enum, default_value = "from-input", value_name = "HEIGHT")]
     pub camera_height: CameraHeightArg,
 }

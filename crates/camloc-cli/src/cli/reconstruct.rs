@@ -74,11 +74,12 @@ pub struct Args {
     pub model: Option<PathBuf>,
     #[command(flatten)]
     pub height: CameraHeightArgs,
-    /// Depth lifter file (`DepthLifter::save`'s, one lifter or with its lifter of pelvis and
-    /// neck at the hip and shoulder midpoints): the refinement of `classified` and `hybrid`
-    /// starts from the depths it predicts for the classified camera (docs/conventions.md
-    /// section 6) [default: the embedded lifters of both placements, with any model of Table
-    /// 1's cameras; none with a --model of other cameras].
+    /// Depth lifter file (`DepthLifter::save`'s, one lifter or with its lifter of pelvis and neck
+    /// at the hip and shoulder midpoints).
+    ///
+    /// The refinement of `classified` and `hybrid` starts from the depths it predicts for the
+    /// classified camera (docs/conventions.md section 6) [default: the embedded lifters of both
+    /// placements, with any model of Table 1's cameras; none with a --model of other cameras].
     #[arg(long, value_name = "LIFTER", conflicts_with = "no_lifter")]
     pub lifter: Option<PathBuf>,
     /// Reconstruct without a depth lifter (the pose basis's pose starts the refinement, as
@@ -95,48 +96,52 @@ pub struct Args {
           value_parser = clap::builder::PossibleValuesParser::new(camera_modes())
               .try_map(|s| parse_camera(&s)))]
     pub camera: Option<ModeKind>,
-    /// Keep up to N hypotheses per pose, N from 1 to 4. Where the 2D fits two poses about equally (the
-    /// mirror in depth), the one within the learned joint-angle limits comes first; the
-    /// others follow in the text output and under "alternatives" in JSON, each with its
-    /// reprojection error and limit violation. Each solve has 2 (as found and
-    /// depth-reflected); hybrid runs 2 solves, 1 with the lifter (its default), where the
-    /// first is the lifted pose and the first of the other reflection its mirror in depth. The
-    /// .npy and SVG outputs hold the first.
+    /// Keep up to N hypotheses per pose, N from 1 to 4.
+    ///
+    /// Where the 2D fits two poses about equally (the mirror in depth), the one within the learned
+    /// joint-angle limits comes first; the others follow in the text output and under
+    /// "alternatives" in JSON, each with its reprojection error and limit violation. Each solve has
+    /// 2 (as found and depth-reflected); hybrid runs 2 solves, 1 with the lifter (its default),
+    /// where the first is the lifted pose and the first of the other reflection its mirror in
+    /// depth. The .npy and SVG outputs hold the first.
     #[arg(long, default_value_t = 1, value_name = "N",
           value_parser = clap::value_parser!(u8).range(1..=4))]
     pub hypotheses: u8,
-    /// The person's bone lengths, metres (a JSON file: docs/cli.md): every pose is
-    /// reconstructed with exactly these. Without it the lengths are estimated from the 2D
-    /// under a prior learned from motion capture (with --sequence, one set per person).
+    /// The person's bone lengths, metres (a JSON file: docs/cli.md).
+    ///
+    /// Every pose is reconstructed with exactly these. Without it the lengths are estimated from
+    /// the 2D under a prior learned from motion capture (with --sequence, one set per person).
     #[arg(long, value_name = "FILE")]
     pub bone_lengths: Option<PathBuf>,
-    /// The person's standing height, metres (soles to the top of the head): the estimated
-    /// lengths keep their proportions and are scaled, with each pose and its camera, so
-    /// that the legs (thigh plus shin) are 0.491 of it (Winter's proportions); the image is
-    /// unchanged. With --sequence, and in the BVH, walks and jumps then have real distances
-    /// (with --focal-px too). Every person of the input gets this height; the rule is an
-    /// adult's (a young child comes out about 12% large: docs/cli.md). Without it the size
-    /// is the prior's (legs of about 1.7 m people): one camera cannot tell a child near it
-    /// from an adult farther away.
+    /// The person's standing height, metres (soles to the top of the head).
+    ///
+    /// The estimated lengths keep their proportions and are scaled, with each pose and its camera,
+    /// so that the legs (thigh plus shin) are 0.491 of it (Winter's proportions); the image is
+    /// unchanged. With --sequence, and in the BVH, walks and jumps then have real distances (with
+    /// --focal-px too). Every person of the input gets this height; the rule is an adult's (a young
+    /// child comes out about 12% large: docs/cli.md). Without it the size is the prior's (legs of
+    /// about 1.7 m people): one camera cannot tell a child near it from an adult farther away.
     #[arg(long, value_name = "METRES", conflicts_with = "bone_lengths",
           value_parser = parse_person_height, allow_hyphen_values = true)]
     pub person_height: Option<f64>,
     #[command(flatten)]
     pub intrinsics: IntrinsicsArgs,
-    /// Treat the input as the frames of a video: group the poses by person, order them by
-    /// frame, and reconstruct each person's frames together: one set of bone lengths per
-    /// person, the depths chosen consistently over time, temporal smoothness (a person whose
-    /// pose jumps across the image, two people under one id, is warned of; another person's
-    /// frames are left out, and legs or arms a detector swapped left for right for a few
-    /// frames are swapped back: docs/cli.md, section Sequences). Output (per
-    /// frame, by person then frame) as without it; the .npy rows stay in input order. Every
-    /// pose is kept until its person is done (about 3 KB a pose), and a person's frames
-    /// take about 12-15 KB each while they are solved together (20,000 frames: about 300 MB).
+    /// Treat the input as the frames of a video.
+    ///
+    /// Group the poses by person, order them by frame, and reconstruct each person's frames
+    /// together: one set of bone lengths per person, the depths chosen consistently over time,
+    /// temporal smoothness (a person whose pose jumps across the image, two people under one id, is
+    /// warned of; another person's frames are left out, and legs or arms a detector swapped left
+    /// for right for a few frames are swapped back: docs/cli.md, section Sequences). Output (per
+    /// frame, by person then frame) as without it; the .npy rows stay in input order. Every pose is
+    /// kept until its person is done (about 3 KB a pose), and a person's frames take about 12-15 KB
+    /// each while they are solved together (20,000 frames: about 300 MB).
     #[arg(long, conflicts_with = "hypotheses")]
     pub sequence: bool,
-    /// With --sequence: refuse an input of more than N poses. A person's frames take about
-    /// 12-15 KB each while they are solved together (100,000 frames: 1.2 GB), hence a fifth
-    /// of `localize --sequence`'s default.
+    /// With --sequence: refuse an input of more than N poses.
+    ///
+    /// A person's frames take about 12-15 KB each while they are solved together (100,000 frames:
+    /// 1.2 GB), hence a fifth of `localize --sequence`'s default.
     #[arg(
         long,
         value_name = "N",
@@ -151,41 +156,49 @@ pub struct Args {
     #[command(flatten)]
     pub format: FormatArgs,
     /// Write the 3D poses as a (N, 15, 3) float64 .npy array in metres (camloc15 layout, the
-    /// canonical frame): row n is the n-th pose read, NaN where it could not be reconstructed.
+    /// canonical frame).
+    ///
+    /// Row n is the n-th pose read, NaN where it could not be reconstructed.
     #[arg(long, value_name = "OUT")]
     pub npy: Option<PathBuf>,
-    /// Draw input, reprojection and three views of the 3D pose as SVG to this file (several
-    /// poses: FILE-001.svg, ...). All files are written at the end, or none.
+    /// Draw input, reprojection and three views of the 3D pose as SVG to this file (several poses:
+    /// FILE-001.svg, ...).
+    ///
+    /// All files are written at the end, or none.
     #[arg(long, value_name = "OUT")]
     pub svg: Option<PathBuf>,
-    /// Write the 3D poses as a BVH animation (centimetres, y up; Blender: import with scale
-    /// 0.01) for Blender, MotionBuilder and other 3D packages: one file per pose
-    /// (FILE-001.bvh, ... when there are several), or with --sequence one per person. Bone
-    /// lengths are the mean limb lengths of the file's poses (with --sequence: the person's
-    /// shared lengths, given or estimated); each frame keeps its limb directions. A frame that
-    /// could not be reconstructed turns from the frame before to the one after (holds at the
+    /// Write the 3D poses as a BVH animation (centimetres, y up; Blender: import with scale 0.01)
+    /// for Blender, MotionBuilder and other 3D packages.
+    ///
+    /// One file per pose (FILE-001.bvh, ... when there are several), or with --sequence one per
+    /// person. Bone lengths are the mean limb lengths of the file's poses (with --sequence: the
+    /// person's shared lengths, given or estimated); each frame keeps its limb directions. A frame
+    /// that could not be reconstructed turns from the frame before to the one after (holds at the
     /// ends), and with --sequence so does a frame number the person is missing from. With
-    /// --sequence the person moves and turns as the camera saw them, for a camera that stood
-    /// still (root motion, planted feet kept in place, on the floor; --bvh-in-place for a
-    /// camera that moved); one pose stands on the floor, its pelvis above the origin.
+    /// --sequence the person moves and turns as the camera saw them, for a camera that stood still
+    /// (root motion, planted feet kept in place, on the floor; --bvh-in-place for a camera that
+    /// moved); one pose stands on the floor, its pelvis above the origin.
     #[arg(long, value_name = "OUT")]
     pub bvh: Option<PathBuf>,
-    /// With --sequence and --bvh: no root motion; every frame's pelvis above the origin,
-    /// facing one way, at the height root motion gives it (feet on the floor; for footage
-    /// from a camera that panned or moved, whose motion would become the person's).
+    /// With --sequence and --bvh: no root motion.
+    ///
+    /// Every frame's pelvis above the origin, facing one way, at the height root motion gives it
+    /// (feet on the floor; for footage from a camera that panned or moved, whose motion would
+    /// become the person's).
     #[arg(long, requires = "bvh", requires = "sequence")]
     pub bvh_in_place: bool,
-    /// Write one self-contained interactive page (no network needed): per pose the 2D input
-    /// and reprojection, the 3D skeleton (drag to turn, wheel to zoom) and the camera sphere
-    /// with the 12 probabilities and the continuous direction (from the localizer: --model),
-    /// with a timeline to play and scrub. The page holds every pose (about 2.5 KB each; at
-    /// most 100,000 poses: split larger inputs).
+    /// Write one self-contained interactive page (no network needed).
+    ///
+    /// Per pose the 2D input and reprojection, the 3D skeleton (drag to turn, wheel to zoom) and
+    /// the camera sphere with the 12 probabilities and the continuous direction (from the
+    /// localizer: --model), with a timeline to play and scrub. The page holds every pose (about 2.5
+    /// KB each; at most 100,000 poses: split larger inputs).
     #[arg(long, value_name = "OUT")]
     pub html: Option<PathBuf>,
-    /// Frames per second of the input video (with --sequence, --bvh or --html): with
-    /// --sequence the time scale of the smoothing over frames (its windows are 1/30 s and
-    /// longer at faster rates: give the video's rate), the BVH frame time and the page's play
-    /// rate.
+    /// Frames per second of the input video (with --sequence, --bvh or --html).
+    ///
+    /// With --sequence the time scale of the smoothing over frames (its windows are 1/30 s and
+    /// longer at faster rates: give the video's rate), the BVH frame time and the page's play rate.
     #[arg(long, value_name = "FPS", default_value = "30", value_parser = export::parse_fps,
           allow_hyphen_values = true, requires = "timed")]
     pub fps: f64,

@@ -56,17 +56,19 @@ pub struct Args {
     #[arg(long, default_value_t = TrainOptions::default().capacity, value_name = "CAPACITY",
           value_parser = str::parse::<Capacity>)]
     pub capacity: Capacity,
-    /// Ridge weight lambda of eq. 11 (on the sum of the per-sample losses; scikit-learn's
-    /// C = 1 / (2 lambda)): a finite number >= 0 [default: 1 for a linear classifier, 100
-    /// for a quadratic one].
+    /// Ridge weight lambda of eq. 11 (on the sum of the per-sample losses; scikit-learn's C = 1 /
+    /// (2 lambda)).
+    ///
+    /// A finite number >= 0 [default: 1 for a linear classifier, 100 for a quadratic one].
     #[arg(long, value_name = "L", value_parser = parse_lambda, allow_hyphen_values = true)]
     pub lambda: Option<f64>,
     /// Classifier: multinomial softmax (eq. 8) or one-vs-rest (eq. 9).
     #[arg(long, value_enum, default_value = "multinomial")]
     pub mode: ModeArg,
-    /// Copies of the training set with 1-3 random landmarks dropped, so that localization
-    /// copes with missing landmarks: a number from 0 (disables) to 10; fractions take that
-    /// share of the samples.
+    /// Copies of the training set with 1-3 random landmarks dropped, so that localization copes
+    /// with missing landmarks.
+    ///
+    /// A number from 0 (disables) to 10; fractions take that share of the samples.
     #[arg(long, default_value_t = 1.0, value_name = "COPIES", value_parser = parse_dropout,
           allow_hyphen_values = true)]
     pub dropout: f64,
@@ -75,9 +77,11 @@ pub struct Args {
     /// landmarks, and the model is mirror-symmetric).
     #[arg(long)]
     pub no_mirror: bool,
-    /// Do not fit the continuous-viewpoint heads (the model then gives the camera class
-    /// without an azimuth, elevation and uncertainty): for a dataset that lacks views of some
-    /// camera, such as one of only `rig` views (nearly all in the middle ring).
+    /// Do not fit the continuous-viewpoint heads (the model then gives the camera class without an
+    /// azimuth, elevation and uncertainty).
+    ///
+    /// For a dataset that lacks views of some camera, such as one of only `rig` views (nearly all
+    /// in the middle ring).
     #[arg(long)]
     pub no_viewpoint: bool,
     #[command(flatten)]
