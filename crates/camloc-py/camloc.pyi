@@ -47,6 +47,12 @@ BONE_KEYS: List[str]
 class CamlocError(Exception):
     """An error of camloc's Rust library (malformed file, unusable model, ...), with its message."""
 
+class CamlocWarning(UserWarning):
+    """The warnings camloc gives (points with v up, a rolled camera, a call whose every pose
+    failed, rows of a sequence that jump between people, ...): a ``UserWarning``, so shown once
+    per place by default; ``warnings.simplefilter("ignore", camloc.CamlocWarning)`` silences
+    them without matching their text, which names the call's numbers."""
+
 _Path = Union[str, PathLike]
 
 class Localizer:
@@ -385,7 +391,7 @@ def reconstruct(
       world_points3d (N, 15, 3): with ``sequence``, the frames placed where a camera standing
         still saw them, as ``camloc reconstruct --sequence --bvh`` animates them (a z-up world
         of the camera, the first pelvis above the origin, planted feet kept in place on the
-        floor; docs/animation.md): ``to_bvh(r["world_points3d"], fps,
+        floor; docs/animation.md): ``to_bvh(r["world_points3d"], r["fps"],
         r["person_bone_lengths"])`` walks and turns (the command line's file, whose limbs are
         the mean lengths of its frames' poses, has its root up to a few millimetres higher);
         NaN where a frame failed. Without ``frames`` the rows are
@@ -396,6 +402,9 @@ def reconstruct(
       camera_height_shares (3,), camera_height_views: as ``Localizer.localize`` returns
         them (NaN for ``opt``, which localizes no complete pose);
       camera: the mode used;
+      fps: the frames a second the call took (its ``fps``), to give ``to_bvh``, whose own
+        default is 30: the animation of a 120 fps video written without it plays 4 times
+        slower;
       error: list of N messages, None where the pose was reconstructed.
 
     Raises ValueError for a wrong shape, layout or camera mode, a ``person_height`` outside
@@ -517,7 +526,8 @@ def to_bvh(
       complete frames it turns from one to the other (the pelvis along a straight line, each
       limb's direction along the great circle), before the first and after the last it holds
       that frame.
-    fps: frames per second (``Frame Time`` = 1 / fps).
+    fps: frames per second (``Frame Time`` = 1 / fps): the video's, as ``reconstruct``
+      returns the one it took (``r["fps"]``).
     limb_lengths: the 14 bone lengths in metres, as ``reconstruct``'s ``bone_lengths`` takes
       them (a mapping of ``BONE_KEYS``, 14 numbers in that order, or a bone lengths JSON file;
       each 0.01-1.5 m); default: the mean of each limb over the complete frames, held to the

@@ -80,9 +80,10 @@ pub(crate) fn score_hint(score: f64) -> &'static str {
 /// Maps one pose given as raw numbers to the 15 landmarks: `values` holds J × C numbers in row
 /// order (joint by joint), J = `layout.joint_count()`, C = 2 (`x, y`) or 3 (`x, y, score`).
 ///
-/// A joint is missing when both coordinates are NaN, or (C = 3) when its score is 0 or below
-/// [`ReadOptions::min_score`]. Scores must lie in [0, 1]; infinities, a NaN score or a single
-/// NaN coordinate are errors. The head of COCO-17 and BODY_25 is the mean of the present face
+/// A joint is missing when both coordinates are NaN (whatever its score: an export that fills
+/// an undetected joint with NaN in every channel), or (C = 3) when its score is 0 or below
+/// [`ReadOptions::min_score`]. Scores must lie in [0, 1]; infinities, a present joint's NaN
+/// score or a single NaN coordinate are errors. The head of COCO-17 and BODY_25 is the mean of the present face
 /// points, and pelvis and neck are derived per [`ReadOptions::derive_torso`].
 pub fn pose_from_array(
     layout: Layout,
@@ -101,6 +102,9 @@ pub fn pose_from_array(
     }
     // Every joint is checked first, so that mapping (which reads the rows again) cannot fail.
     for (joint, row) in values.chunks_exact(channels).enumerate() {
+        if row[0].is_nan() && row[1].is_nan() {
+            continue;
+        }
         for (channel, &value) in row.iter().enumerate() {
             if value.is_infinite() || (channel == 2 && value.is_nan()) {
                 return Err(ArrayPoseError::NonFinite {
@@ -131,7 +135,10 @@ pub fn pose_from_array(
         let mut scores = [1.0; 17];
         for (j, row) in values.chunks_exact(channels).enumerate() {
             points[j] = point(row);
-            scores[j] = row.get(2).copied().unwrap_or(1.0);
+            // (A joint missing by its NaN coordinates may have a NaN score: read as 0.)
+            scores[j] = row
+                .get(2)
+                .map_or(1.0, |&s| if s.is_nan() { 0.0 } else { s });
         }
         let scored = (channels == 3).then_some(&scores[..]);
         if let Some((likely, spread)) = contradicted(layout, &points, scored) {
@@ -203,6 +210,28 @@ mod tests {
                 .contains("the layout is likely coco17, not h36m17"),
             "{e}"
         );
+    }
+
+    /// A joint NaN in all three channels (an export's undetected joint) is missing, as NaN, NaN
+    /// is, whatever its score; a present joint's NaN score is still an error.
+    #[test]
+    fn a_joint_nan_in_every_channel_is_missing() {
+        let options = ReadOptions::default();
+        // The left wrist of each.
+        for (layout, wrist) in [(Layout::Camloc15, 11), (Layout::Coco17, 9)] {
+            let mut values: Vec<f64> = (0..layout.joint_count())
+                .flat_map(|j| [j as f64, 2.0 * j as f64 + 0.3 * (j % 3) as f64, 0.9])
+                .collect();
+            values[3 * wrist..3 * wrist + 3].fill(f64::NAN);
+            let mapped = pose_from_array(layout, &values, 3, &options).unwrap();
+            assert_eq!(mapped.pose.points.iter().flatten().count(), 14, "{layout}");
+            values[3 * wrist..3 * wrist + 3].copy_from_slice(&[1.0, 2.0, f64::NAN]);
+            let e = pose_from_array(layout, &values, 3, &options).unwrap_err();
+            assert!(
+                matches!(e, ArrayPoseError::NonFinite { joint, channel: 2, .. } if joint == wrist),
+                "{e:?}"
+            );
+        }
     }
 
     /// A score out of range names its likely cause: COCO's visibility flag 2, a percentage,

@@ -114,10 +114,26 @@ impl<'a, 'py, K: MaskedKind> FromPyObject<'a, 'py> for Unmasked<'py, K> {
             })?;
             fill.bind(py).call1((ob, K::KIND))?.extract()?
         } else {
-            ob.extract()?
+            ob.extract()
+                .map_err(|e: PyErr| missing_value_hint(py, e, K::KIND))?
         };
         Ok(Unmasked(array, PhantomData))
     }
+}
+
+/// `error` of converting an argument of `kind` to float64, with what to do when a pandas
+/// missing value (`pd.NA`, which NumPy cannot make a float) caused it: pandas' nullable
+/// columns (`Float64`, `Int64`) hold those where a plain float column holds NaN.
+fn missing_value_hint(py: Python<'_>, error: PyErr, kind: &str) -> PyErr {
+    if error.is_instance_of::<pyo3::exceptions::PyTypeError>(py)
+        && error.to_string().contains("NAType")
+    {
+        return pyo3::exceptions::PyTypeError::new_err(format!(
+            "{kind}: pandas' missing value pd.NA is not a number: convert with \
+             .to_numpy(dtype=float, na_value=np.nan), NaN marking a missing joint"
+        ));
+    }
+    error
 }
 
 /// A `TypeError` for a NumPy array or scalar of complex numbers, or a list or tuple of them,
@@ -213,6 +229,35 @@ fn too_large(items: usize, bytes_per_item: usize, what: &str) -> PyErr {
     ))
 }
 
+/// The message of points of `shape` whose joint count is not `layout`'s: columns that are a
+/// layout's x, y (and score) flattened (a table of one pose a row) are named so, with the
+/// reshape that makes them poses; another joint count names the layouts that have it.
+fn joint_count_error(shape: &[usize], layout: Layout) -> String {
+    let joints = layout.joint_count();
+    let (j, c) = (shape[shape.len() - 2], shape[shape.len() - 1]);
+    let found = format!(
+        "points have {j} joints per pose but layout {layout} has {joints} (shape {shape:?})"
+    );
+    if shape.len() == 2 && (c == 2 * joints || c == 3 * joints) {
+        let channels = c / joints;
+        return format!(
+            "{found}: {c} columns look like one pose a row, the {joints} joints' {} flattened: \
+             give points.reshape(-1, {joints}, {channels})",
+            if channels == 2 { "x, y" } else { "x, y, score" }
+        );
+    }
+    let named: Vec<&str> = Layout::ALL
+        .iter()
+        .filter(|l| l.joint_count() == j)
+        .map(|l| l.name())
+        .collect();
+    if named.is_empty() {
+        return found;
+    }
+    let choices: Vec<String> = named.iter().map(|n| format!("layout=\"{n}\"")).collect();
+    format!("{found}: for {j} joints give {}", choices.join(" or "))
+}
+
 /// A checked batch of raw poses: N poses of J joints (the layout's count) with C = 2 (x, y)
 /// or 3 (x, y, score) channels, and optional separate scores (N × J). Read-only and `Sync`, so
 /// poses are mapped on any thread without the GIL.
@@ -240,7 +285,13 @@ impl<'a> PoseBatch<'a> {
     ) -> PyResult<Self> {
         let layout: Layout = layout.parse().map_err(|e| value_error(format!("{e}")))?;
         let joints = layout.joint_count();
-        let shape = points.shape();
+        // An empty list (a frame without detections) is no poses, as an (0, J, 2) array.
+        let empty = [0, joints, 2];
+        let shape = if points.shape() == [0] {
+            &empty[..]
+        } else {
+            points.shape()
+        };
         let (poses, single) = match shape.len() {
             3 => (shape[0], false),
             2 => (1, true),
@@ -257,9 +308,7 @@ impl<'a> PoseBatch<'a> {
         };
         let (j, channels) = (shape[shape.len() - 2], shape[shape.len() - 1]);
         if j != joints {
-            return Err(value_error(format!(
-                "points have {j} joints per pose but layout {layout} has {joints} (shape {shape:?})"
-            )));
+            return Err(value_error(joint_count_error(shape, layout)));
         }
         if !(channels == 2 || channels == 3) {
             return Err(value_error(format!(

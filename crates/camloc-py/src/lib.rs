@@ -9,7 +9,7 @@
 //! documented in `camloc.pyi` beside this crate's Cargo.toml.
 
 use pyo3::create_exception;
-use pyo3::exceptions::{PyException, PyOSError, PyValueError};
+use pyo3::exceptions::{PyException, PyOSError, PyUserWarning, PyValueError};
 use pyo3::prelude::*;
 
 mod arrays;
@@ -27,6 +27,13 @@ create_exception!(
     CamlocError,
     PyException,
     "An error reported by camloc's Rust library (unreadable or malformed file, unusable model, ...); the message is the library's."
+);
+
+create_exception!(
+    camloc,
+    CamlocWarning,
+    PyUserWarning,
+    "The warnings camloc gives (a UserWarning): filter them with warnings.simplefilter(\"ignore\", camloc.CamlocWarning)."
 );
 
 /// The Python exception for a camloc error: `OSError` when a file could not be opened or read,
@@ -59,6 +66,7 @@ fn camloc_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     pool::note_importing_process();
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add("CamlocError", m.py().get_type::<CamlocError>())?;
+    m.add("CamlocWarning", m.py().get_type::<CamlocWarning>())?;
     m.add(
         "LAYOUTS",
         camloc::keypoints::Layout::ALL.map(|l| l.name()).to_vec(),

@@ -105,7 +105,7 @@ pub(crate) fn for_poses(
             localizer
                 .clone()
                 .with_camera_height(estimate.camera_height()),
-            estimate.views,
+            estimate.reported_views(),
         )
     })
 }
@@ -222,17 +222,17 @@ impl Localizer {
 
     // Localizes the camera of every pose.
     #[doc = include_str!(concat!(env!("OUT_DIR"), "/doc/Localizer.localize.txt"))]
-    #[pyo3(signature = (points, layout = "camloc15", scores = None, min_score = 0.0, sequence = false, focal_px = None, principal_point = None, fps = 30.0, frames = None, camera_height_shares = None))]
+    #[pyo3(signature = (points, layout = Some("camloc15"), scores = None, min_score = 0.0, sequence = false, focal_px = None, principal_point = None, fps = 30.0, frames = None, camera_height_shares = None))]
     // Python's keyword arguments, as the stub names them.
     #[allow(clippy::too_many_arguments)]
     fn localize<'py>(
         &self,
         py: Python<'py>,
         points: UnmaskedPoints<'py>,
-        layout: &str,
+        layout: Option<&str>,
         scores: Option<UnmaskedScores<'py>>,
         #[pyo3(from_py_with = crate::number::min_score)] min_score: f64,
-        sequence: bool,
+        #[pyo3(from_py_with = crate::number::sequence)] sequence: bool,
         focal_px: Option<Bound<'py, PyAny>>,
         principal_point: Option<Bound<'py, PyAny>>,
         #[pyo3(from_py_with = crate::number::fps)] fps: f64,
@@ -269,7 +269,13 @@ impl Localizer {
         let k = self.inner.cameras().len();
         let output_bytes = (k + 6) * std::mem::size_of::<f64>()
             + std::mem::size_of::<Option<camloc::PartialPose2>>();
-        let batch = PoseBatch::new(&points, layout, scores.as_deref(), min_score, output_bytes)?;
+        let batch = PoseBatch::new(
+            &points,
+            layout.unwrap_or("camloc15"),
+            scores.as_deref(),
+            min_score,
+            output_bytes,
+        )?;
         // Mapped once for the warnings and the height estimate: a sequence's every pose.
         let leading = batch.leading_poses(if sequence {
             batch.len()

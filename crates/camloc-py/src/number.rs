@@ -1,7 +1,8 @@
-//! Float arguments that refuse `True` and `False` (Python's `bool` and NumPy's `bool_`, which
-//! convert to 1.0 and 0.0 and would be read as a height of 1 m, a minimum score of 1 or 1
-//! frame a second without a word). Each is read with `#[pyo3(from_py_with = ...)]`, so the
-//! signature keeps its plain default and the refusal names the argument.
+//! Number and flag arguments read strictly, each refusal naming its argument: floats that
+//! refuse `True` and `False` (Python's `bool` and NumPy's `bool_`, which convert to 1.0 and 0.0
+//! and would be read as a height of 1 m, a minimum score of 1 or 1 frame a second without a
+//! word), flags that take only a bool, counts that take only a whole number. Each is read with
+//! `#[pyo3(from_py_with = ...)]`, so the signature keeps its plain default.
 
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
@@ -46,4 +47,72 @@ pub(crate) fn person_height(value: &Bound<'_, PyAny>) -> PyResult<Option<f64>> {
         return Ok(None);
     }
     number(value, "person_height").map(Some)
+}
+
+/// The name of `value`'s type, for messages.
+fn type_name(value: &Bound<'_, PyAny>) -> String {
+    value
+        .get_type()
+        .name()
+        .map_or_else(|_| "another type".to_owned(), |n| n.to_string())
+}
+
+/// `value` as a bool (Python's `bool` or NumPy's `bool_`), or a `TypeError` naming the
+/// argument `name` (`1` for `True` is refused, as the type hints say).
+fn flag(value: &Bound<'_, PyAny>, name: &str) -> PyResult<bool> {
+    let numpy_bool = value.py().import("numpy")?.getattr("bool_")?;
+    if value.is_instance_of::<PyBool>() || value.is_instance(&numpy_bool)? {
+        return value.is_truthy();
+    }
+    Err(PyTypeError::new_err(format!(
+        "{name}: expected True or False, got {}",
+        type_name(value)
+    )))
+}
+
+/// The `sequence` argument.
+pub(crate) fn sequence(value: &Bound<'_, PyAny>) -> PyResult<bool> {
+    flag(value, "sequence")
+}
+
+/// The `derive_torso` argument.
+pub(crate) fn derive_torso(value: &Bound<'_, PyAny>) -> PyResult<bool> {
+    flag(value, "derive_torso")
+}
+
+/// The `recursive` argument.
+pub(crate) fn recursive(value: &Bound<'_, PyAny>) -> PyResult<bool> {
+    flag(value, "recursive")
+}
+
+/// `value` as a whole number of at least 0 (an `int` or a NumPy integer; not a bool, not a
+/// float such as `1e5`), or a `TypeError` or `ValueError` naming the argument `name`.
+fn count(value: &Bound<'_, PyAny>, name: &str) -> PyResult<u64> {
+    let numpy_integer = value.py().import("numpy")?.getattr("integer")?;
+    let whole =
+        value.is_instance_of::<pyo3::types::PyInt>() || value.is_instance(&numpy_integer)?;
+    if value.is_instance_of::<PyBool>() || !whole {
+        return Err(PyTypeError::new_err(format!(
+            "{name}: expected a whole number (an int), got {}",
+            type_name(value)
+        )));
+    }
+    value.extract::<u64>().map_err(|_| {
+        pyo3::exceptions::PyValueError::new_err(format!(
+            "{name}: expected a whole number >= 0, got {value}"
+        ))
+    })
+}
+
+/// The `sequence_max_rows` argument.
+pub(crate) fn sequence_max_rows(value: &Bound<'_, PyAny>) -> PyResult<usize> {
+    let rows = count(value, "sequence_max_rows")?;
+    usize::try_from(rows).map_err(|_| {
+        pyo3::exceptions::PyValueError::new_err(format!("sequence_max_rows: {rows} is too large"))
+    })
+}
+
+/// The `max_input_bytes` argument.
+pub(crate) fn max_input_bytes(value: &Bound<'_, PyAny>) -> PyResult<u64> {
+    count(value, "max_input_bytes")
 }

@@ -115,9 +115,9 @@ pub(crate) fn read_keypoints<'py>(
     #[pyo3(from_py_with = crate::number::min_score)] min_score: f64,
     image_size: Option<ImageSizeArg>,
     lsp_invisible: &str,
-    derive_torso: bool,
-    recursive: bool,
-    max_input_bytes: u64,
+    #[pyo3(from_py_with = crate::number::derive_torso)] derive_torso: bool,
+    #[pyo3(from_py_with = crate::number::recursive)] recursive: bool,
+    #[pyo3(from_py_with = crate::number::max_input_bytes)] max_input_bytes: u64,
 ) -> PyResult<Bound<'py, PyDict>> {
     let format = format
         .map(str::parse::<KeypointFormat>)

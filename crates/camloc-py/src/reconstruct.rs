@@ -191,21 +191,45 @@ pub(crate) fn bone_lengths_json_text(lengths: Bound<'_, PyAny>) -> PyResult<Stri
 }
 
 /// `reconstruct`'s `lifter`: whether to use the embedded depth lifter, or a lifter file.
-#[derive(FromPyObject)]
 pub(crate) enum LifterArg {
     Use(bool),
     File(PathBuf),
 }
 
+impl<'a, 'py> FromPyObject<'a, 'py> for LifterArg {
+    type Error = PyErr;
+
+    /// A bool (`None`: the default, the embedded lifter), or a path (`str` or `os.PathLike`);
+    /// else a `TypeError` naming the argument.
+    fn extract(ob: Borrowed<'a, 'py, PyAny>) -> PyResult<Self> {
+        if ob.is_none() {
+            return Ok(LifterArg::Use(true));
+        }
+        let numpy_bool = ob.py().import("numpy")?.getattr("bool_")?;
+        if ob.is_instance_of::<pyo3::types::PyBool>() || ob.is_instance(&numpy_bool)? {
+            return ob.is_truthy().map(LifterArg::Use);
+        }
+        ob.extract::<PathBuf>().map(LifterArg::File).map_err(|_| {
+            let kind = ob
+                .get_type()
+                .name()
+                .map_or_else(|_| "another type".to_owned(), |n| n.to_string());
+            pyo3::exceptions::PyTypeError::new_err(format!(
+                "lifter: expected True, False or a lifter file's path, got {kind}"
+            ))
+        })
+    }
+}
+
 // Reconstructs the 3D pose of every pose: its docstring is camloc.pyi's (build.rs).
 #[doc = include_str!(concat!(env!("OUT_DIR"), "/doc/reconstruct.txt"))]
 #[pyfunction]
-#[pyo3(signature = (points, layout = "camloc15", camera = None, scores = None, min_score = 0.0, localizer = None, basis = None, bone_lengths = None, focal_px = None, principal_point = None, sequence = false, camera_height = None, lifter = LifterArg::Use(true), person_height = None, fps = 30.0, frames = None, sequence_max_rows = SEQUENCE_MAX_ROWS, camera_height_shares = None))]
+#[pyo3(signature = (points, layout = Some("camloc15"), camera = None, scores = None, min_score = 0.0, localizer = None, basis = None, bone_lengths = None, focal_px = None, principal_point = None, sequence = false, camera_height = None, lifter = LifterArg::Use(true), person_height = None, fps = 30.0, frames = None, sequence_max_rows = SEQUENCE_MAX_ROWS, camera_height_shares = None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn reconstruct<'py>(
     py: Python<'py>,
     points: UnmaskedPoints<'py>,
-    layout: &str,
+    layout: Option<&str>,
     camera: Option<&str>,
     scores: Option<UnmaskedScores<'py>>,
     #[pyo3(from_py_with = crate::number::min_score)] min_score: f64,
@@ -214,13 +238,13 @@ pub(crate) fn reconstruct<'py>(
     bone_lengths: Option<Bound<'py, PyAny>>,
     focal_px: Option<Bound<'py, PyAny>>,
     principal_point: Option<Bound<'py, PyAny>>,
-    sequence: bool,
+    #[pyo3(from_py_with = crate::number::sequence)] sequence: bool,
     camera_height: Option<&str>,
     lifter: LifterArg,
     #[pyo3(from_py_with = crate::number::person_height)] person_height: Option<f64>,
     #[pyo3(from_py_with = crate::number::fps)] fps: f64,
     frames: Option<Bound<'py, PyAny>>,
-    sequence_max_rows: usize,
+    #[pyo3(from_py_with = crate::number::sequence_max_rows)] sequence_max_rows: usize,
     camera_height_shares: Option<Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     // The command line's default.
@@ -240,7 +264,13 @@ pub(crate) fn reconstruct<'py>(
         + std::mem::size_of::<Result<PoseReconstruction, String>>()
         + std::mem::size_of::<Option<Pose3>>()
         + std::mem::size_of::<camloc::PartialPose2>();
-    let batch = PoseBatch::new(&points, layout, scores.as_deref(), min_score, output_bytes)?;
+    let batch = PoseBatch::new(
+        &points,
+        layout.unwrap_or("camloc15"),
+        scores.as_deref(),
+        min_score,
+        output_bytes,
+    )?;
     // Mapped once for the warning and the height estimate.
     let leading = batch.leading_poses(HEIGHT_SHARE_MAX_POSES);
     let intrinsics = intrinsics_arg(focal_px.as_ref(), principal_point.as_ref())?;
@@ -509,6 +539,8 @@ pub(crate) fn reconstruct<'py>(
     warn_if_every_pose_failed(py, n, &errors)?;
     out.errors(errors)?;
     out.set("camera", mode.name())?;
+    // The rate the call solved at, for `to_bvh(r["world_points3d"], r["fps"], ...)`.
+    out.set("fps", fps)?;
     out.set(
         "camera_height_shares",
         height_shares(py, reconstructor.localizer()),

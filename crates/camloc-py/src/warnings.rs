@@ -1,4 +1,5 @@
-//! The warnings the Python functions give (`UserWarning`), as the command line gives them on
+//! The warnings the Python functions give (`camloc.CamlocWarning`, a `UserWarning`), as the
+//! command line gives them on
 //! standard error: points with v up, a rolled camera or joints at the image origin, rows of a
 //! sequence that jump between people, and a call whose every pose failed.
 
@@ -7,13 +8,13 @@ use camloc::{
     HEIGHT_SHARE_MAX_POSES, InputConventions, PartialPose2, TorsoAnchor, identity_jumps,
     left_out_of_sequence, swap_sides_back,
 };
-use pyo3::exceptions::PyUserWarning;
 use pyo3::prelude::*;
 
-/// Gives `message` as a `UserWarning`.
+/// Gives `message` as a [`CamlocWarning`](crate::CamlocWarning), which callers can filter
+/// by its class instead of its text.
 pub(crate) fn warn(py: Python<'_>, message: String) -> PyResult<()> {
     let message = std::ffi::CString::new(message).unwrap_or_default();
-    PyErr::warn(py, &py.get_type::<PyUserWarning>(), &message, 1)
+    PyErr::warn(py, &py.get_type::<crate::CamlocWarning>(), &message, 1)
 }
 
 /// Warns (`UserWarning`) when most of the first [`HEIGHT_SHARE_MAX_POSES`] poses of a call

@@ -386,9 +386,14 @@ def test_shapes_and_dtypes(alone):
     empty = alone.localize(np.zeros((0, 15, 2)))
     assert empty["label"].shape == (0,) and empty["probabilities"].shape == (0, 12)
     assert empty["error"] == []
-    # No poses are worth no views: 0.0, not a float sum's -0.0.
-    views = camloc.Localizer().localize(np.zeros((0, 15, 2)))["camera_height_views"]
-    assert views == 0.0 and np.copysign(1.0, views) == 1.0
+    # No estimate (no poses, or none with a torso): NaN views beside the NaN shares.
+    for none in (np.zeros((0, 15, 2)), np.full((3, 15, 2), np.nan), []):
+        unseen = camloc.Localizer().localize(none)
+        assert np.isnan(unseen["camera_height_views"]), unseen["camera_height_views"]
+        assert np.isnan(unseen["camera_height_shares"]).all()
+        unsolved = camloc.reconstruct(none)
+        assert np.isnan(unsolved["camera_height_views"])
+        assert np.isnan(unsolved["camera_height_shares"]).all()
 
     rec = camloc.reconstruct(points)
     assert rec["points3d"].shape == (3, 15, 3) and rec["points3d"].dtype == np.float64

@@ -43,6 +43,17 @@ impl HeightEstimate {
         self.shares
             .map_or(crate::CameraHeight::Any, crate::CameraHeight::Shares)
     }
+
+    /// [`views`](Self::views) when the estimate gave shares, NaN when it gave none (no pose
+    /// could be localized): what `camloc localize --npz` and Python's `camera_height_views`
+    /// report, NaN beside the NaN shares.
+    pub fn reported_views(&self) -> f64 {
+        if self.shares.is_some() {
+            self.views
+        } else {
+            f64::NAN
+        }
+    }
 }
 
 /// At most this many rounds of the estimate (it usually settles in a few dozen).

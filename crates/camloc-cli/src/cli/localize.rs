@@ -203,7 +203,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
             npz,
             localizer.cameras().len(),
             localizer.camera_height(),
-            estimate.map_or(f64::NAN, |e| e.views),
+            estimate.map_or(f64::NAN, |e| e.reported_views()),
         )?) as _),
         None => None,
     };

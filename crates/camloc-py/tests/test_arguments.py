@@ -1,0 +1,101 @@
+"""Tests of what a notebook user passes and gets back (a simulated user's trial): arguments
+refused with their names, inputs people have (an empty list, a table of one pose a row,
+pandas' missing values, joints NaN in every channel), the warnings' class, the rate a
+sequence was solved at."""
+
+import warnings
+
+import numpy as np
+import pytest
+
+import camloc
+from helpers import example_points
+
+
+def test_arguments_of_the_wrong_type_are_named():
+    points = example_points()
+    cases = [
+        (dict(sequence=1), "sequence: expected True or False, got int"),
+        (dict(lifter=0), "lifter: expected True, False or a lifter file's path, got int"),
+        (dict(sequence_max_rows=1e5), "sequence_max_rows: expected a whole number"),
+    ]
+    for kwargs, message in cases:
+        with pytest.raises(TypeError, match=message):
+            camloc.reconstruct(points, **kwargs)
+    with pytest.raises(TypeError, match="sequence: expected True or False"):
+        camloc.Localizer().localize(points, sequence="yes")
+    with pytest.raises(ValueError, match="sequence_max_rows: expected a whole number >= 0"):
+        camloc.reconstruct(points, sequence_max_rows=-1)
+    with pytest.raises(TypeError, match="recursive: expected True or False"):
+        camloc.read_keypoints(".", recursive=None)
+    # None where a default is meant: the default.
+    default = camloc.reconstruct(points)
+    unset = camloc.reconstruct(points, lifter=None, layout=None)
+    np.testing.assert_array_equal(default["points3d"], unset["points3d"])
+    np.testing.assert_array_equal(
+        camloc.Localizer().localize(points, layout=None)["label"],
+        camloc.Localizer().localize(points)["label"],
+    )
+    # NumPy's bools are bools.
+    assert camloc.reconstruct(points, sequence=np.bool_(False))["points3d"].shape == (3, 15, 3)
+
+
+def test_an_empty_list_is_no_poses():
+    got = camloc.Localizer().localize([])
+    assert got["label"].shape == (0,) and got["probabilities"].shape == (0, 12)
+    assert camloc.reconstruct([])["points3d"].shape == (0, 15, 3)
+
+
+def test_shape_mistakes_say_what_to_give():
+    points = example_points()
+    # A table of one pose a row: x, y of the 15 joints flattened.
+    with pytest.raises(ValueError, match=r"reshape\(-1, 15, 2\)"):
+        camloc.Localizer().localize(points.reshape(3, 30))
+    # 17 joints without a layout: the layouts of 17 joints are named.
+    seventeen = np.zeros((2, 17, 2))
+    with pytest.raises(ValueError, match='layout="coco17" or layout="h36m17"'):
+        camloc.Localizer().localize(seventeen)
+
+
+def test_pandas_missing_values_are_named():
+    class NAType:
+        """What pandas' pd.NA is to NumPy: an object that is no float."""
+
+    points = example_points().astype(object)
+    points[0, 3, 0] = NAType()
+    with pytest.raises(TypeError, match=r"pd.NA is not a number.*na_value=np.nan"):
+        camloc.Localizer().localize(points)
+
+
+def test_a_joint_nan_in_every_channel_is_missing():
+    points = example_points()
+    scored = np.concatenate([points, np.full(points.shape[:2] + (1,), 0.8)], axis=-1)
+    scored[1, 11] = np.nan
+    got = camloc.Localizer().localize(scored)
+    assert got["error"][1] is None
+    zero = scored.copy()
+    zero[1, 11, 2] = 0.0
+    np.testing.assert_array_equal(got["probabilities"], camloc.Localizer().localize(zero)["probabilities"])
+    # A present joint's NaN score stays an error.
+    scored[1, 11] = [1.0, 2.0, np.nan]
+    assert "channel 2" in camloc.Localizer().localize(scored)["error"][1]
+
+
+def test_warnings_are_camloc_warnings():
+    flipped = example_points() * [1.0, -1.0]
+    with pytest.warns(camloc.CamlocWarning, match="head below both ankles"):
+        camloc.Localizer().localize(flipped)
+    assert issubclass(camloc.CamlocWarning, UserWarning)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        warnings.simplefilter("ignore", camloc.CamlocWarning)
+        camloc.reconstruct(flipped)
+
+
+def test_a_sequence_returns_the_rate_it_was_solved_at():
+    points = example_points()
+    assert camloc.reconstruct(points)["fps"] == 30.0
+    seq = camloc.reconstruct(points, sequence=True, fps=120)
+    assert seq["fps"] == 120.0
+    bvh = camloc.to_bvh(seq["world_points3d"], seq["fps"], seq["person_bone_lengths"])
+    assert "Frame Time: 0.00833333" in bvh
