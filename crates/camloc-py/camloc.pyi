@@ -382,7 +382,10 @@ def reconstruct(
       imputed (N, 15) bool: the landmarks that were missing and filled in (their 3D is the
         basis's guess, not a measurement);
       person_bone_lengths (14,): with ``sequence``, the person's lengths (given or estimated;
-        NaN when none were given and no frame of the sequence was reconstructed);
+        NaN when none were given and no frame of the sequence was reconstructed), between the
+        input's own landmarks: from a detector's (the neck and pelvis at the shoulder and hip
+        midpoints) the torso is longer and the pelvis-to-hip shorter than a motion-capture
+        skeleton's of the same person (docs/cli.md);
       swapped_sides (N, 2) bool: with ``sequence``, whether the row's legs (column 0) and arms
         (column 1) were read with the left and right sides swapped and swapped back;
       left_out_of_sequence (N,) bool: with ``sequence``, the rows reconstructed on their own,
