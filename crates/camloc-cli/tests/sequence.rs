@@ -493,3 +493,89 @@ fn frames_with_nothing_detected_are_gaps_of_a_sequence() {
         assert_eq!(single.status.code(), Some(1), "{command}");
     }
 }
+
+/// A folder whose files are videos of their own (a camera's `.npy` array each, rows numbered
+/// from 0) is a video per file: no poses repeat, and each file's frames are smoothed as when
+/// it is read alone (they had been one video, every camera's smoothed camera the first's).
+#[test]
+fn a_folder_of_videos_is_smoothed_a_video_per_file() {
+    let dir = TempDir::new("videos");
+    let take = TempDir(dir.0.join("take"));
+    std::fs::create_dir(&take.0).unwrap();
+    let example: Value = serde_json::from_str(
+        &std::fs::read_to_string(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../fixtures/keypoints/example.json"
+        ))
+        .unwrap(),
+    )
+    .unwrap();
+    for (camera, reversed) in [("a", false), ("b", true)] {
+        let mut poses = example["poses"].as_array().unwrap().clone();
+        if reversed {
+            poses.reverse();
+        }
+        let json = dir.path(&format!("{camera}.json"));
+        std::fs::write(&json, serde_json::json!({ "poses": poses }).to_string()).unwrap();
+        let npy = take.0.join(format!("{camera}.npy"));
+        let out = camloc(&[
+            "convert",
+            "--input",
+            &json,
+            "--to",
+            "npy",
+            "--out",
+            npy.to_str().unwrap(),
+        ]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    for command in ["localize", "reconstruct"] {
+        let folder = camloc(&[
+            command,
+            "--input",
+            &dir.path("take"),
+            "--sequence",
+            "--jsonl",
+            "-q",
+        ]);
+        let stderr = String::from_utf8_lossy(&folder.stderr);
+        assert!(folder.status.success(), "{stderr}");
+        assert!(!stderr.contains("repeat"), "{stderr}");
+        let objects = json_lines(&folder);
+        assert_eq!(objects.len(), 6);
+        for camera in ["a", "b"] {
+            let npy = take.0.join(format!("{camera}.npy"));
+            let alone = camloc(&[
+                command,
+                "--input",
+                npy.to_str().unwrap(),
+                "--sequence",
+                "--jsonl",
+                "-q",
+            ]);
+            let key = if command == "localize" {
+                "smoothed_label"
+            } else {
+                "landmarks_m"
+            };
+            let from_folder: Vec<&Value> = objects
+                .iter()
+                .filter(|o| {
+                    o["source"]
+                        .as_str()
+                        .unwrap()
+                        .contains(&format!("{camera}.npy"))
+                })
+                .map(|o| &o[key])
+                .collect();
+            let alone = json_lines(&alone);
+            let alone: Vec<&Value> = alone.iter().map(|o| &o[key]).collect();
+            assert_eq!(from_folder, alone, "{command} {camera}");
+        }
+    }
+    drop(take);
+}

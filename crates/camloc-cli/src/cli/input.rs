@@ -102,6 +102,11 @@ impl Inputs {
         Ok(())
     }
 
+    /// Whether the input is a folder (else one file or standard input).
+    pub fn is_folder(&self) -> bool {
+        self.folder
+    }
+
     /// How the input is named in messages (`no poses in NAME`).
     pub fn name(&self) -> &str {
         &self.name

@@ -33,6 +33,7 @@ mod sequence;
 mod stream;
 mod targets;
 mod train;
+mod videos;
 
 pub use output::Out;
 

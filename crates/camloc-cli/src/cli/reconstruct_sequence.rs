@@ -1,6 +1,7 @@
 //! `camloc reconstruct --sequence`: every pose is read and kept (its id, source, frame,
 //! person and 2D landmarks), grouped by person and ordered by frame as `localize --sequence`
-//! groups them ([`sequences`]), and each person's frames are reconstructed together
+//! groups them ([`person_sequences`](super::videos::person_sequences): a folder of videos a
+//! video per file), and each person's frames are reconstructed together
 //! ([`PoseReconstructor::reconstruct_sequence`]: shared bone lengths, depths chosen over
 //! time, smoothness). Frames are written by person then frame; `.npy` rows stay in input
 //! order; `--bone-lengths-out` gets each person's lengths; `--bvh` one animation per person
@@ -12,7 +13,7 @@ use std::process::ExitCode;
 
 use camloc::keypoints::KeypointRecord;
 use camloc::store::{StagedFiles, check_target};
-use camloc::{ModeKind, Pose3, PoseReconstruction, PoseReconstructor, sequences};
+use camloc::{ModeKind, Pose3, PoseReconstruction, PoseReconstructor};
 use indicatif::ProgressBar;
 
 use crate::html::ViewFrame;
@@ -131,10 +132,9 @@ pub fn run(
     }
     inputs.check_read_to_end(summary.failed_files)?;
     let keys: Vec<_> = kept.iter().map(|k| (k.frame, k.person)).collect();
-    super::sequence::warn_of_repeated_frames(&keys);
-    let groups = sequences(&keys);
+    let sources: Vec<&str> = kept.iter().map(|k| k.source.as_str()).collect();
+    let (groups, names) = super::videos::person_sequences(&keys, &sources, inputs.is_folder());
     if let Some(path) = options.lengths_out {
-        let names: Vec<String> = groups.iter().map(|(p, _)| format!("person {p}")).collect();
         super::sequence::name_numbered_persons(&lengths_base(path, groups.len()), &names);
     }
     let mut staged = StagedFiles::new(options.force);

@@ -19,7 +19,7 @@ use camloc::reconstruct::FrameRate;
 use camloc::skeleton::NUM_LANDMARKS;
 use camloc::{
     CameraLabel, Localization, PartialPose2, SequenceModel, SideChain, SmoothedFrame, TorsoAnchor,
-    Viewpoint, identity_jumps, sequences, smooth_viewpoints,
+    Viewpoint, identity_jumps, smooth_viewpoints,
 };
 use indicatif::ProgressBar;
 use rayon::prelude::*;
@@ -268,10 +268,9 @@ pub fn run(
     inputs.check_read_to_end(summary.failed_files)?;
     let model = SequenceModel::with_default_switch(localizer.cameras());
     let keys: Vec<_> = frames.iter().map(|f| (f.frame, f.person)).collect();
-    warn_of_repeated_frames(&keys);
-    let groups = sequences(&keys);
+    let sources: Vec<&str> = frames.iter().map(|f| &*f.source).collect();
+    let (groups, names) = super::videos::person_sequences(&keys, &sources, inputs.is_folder());
     if let Some(svg) = svg_out {
-        let names: Vec<String> = groups.iter().map(|(p, _)| format!("person {p}")).collect();
         name_numbered_persons(svg, &names);
     }
     let mut staged = StagedFiles::new(force);
