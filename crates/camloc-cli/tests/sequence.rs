@@ -577,5 +577,25 @@ fn a_folder_of_videos_is_smoothed_a_video_per_file() {
             assert_eq!(from_folder, alone, "{command} {camera}");
         }
     }
+    // An animation per file's person, of that file's frames.
+    let bvh = dir.path("take.bvh");
+    let out = camloc(&[
+        "reconstruct",
+        "--input",
+        &dir.path("take"),
+        "--sequence",
+        "--bvh",
+        &bvh,
+        "-q",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    for n in ["001", "002"] {
+        let text = std::fs::read_to_string(dir.path(&format!("take-{n}.bvh"))).unwrap();
+        assert!(text.contains("Frames: 3"), "{n}");
+    }
     drop(take);
 }

@@ -5,35 +5,41 @@ use std::path::{Path, PathBuf};
 
 use camloc::geometry::CameraSet;
 use camloc::mocap::{BVH_FRAME_TIME_RANGE_S, BvhOptions, BvhWriteError, write_person_bvh};
-use camloc::{Pose3, frame_slots, sequences};
+use camloc::{Pose3, frame_slots};
 
 use crate::html::{self, Group, ViewFrame};
 
 use super::stream::KEEP_MAX_POSES;
+use super::videos::person_sequences;
 use super::{CliError, numbered_path};
 
 /// What `reconstruct` keeps of a pose for `--bvh` and `--html`.
 pub struct Kept {
     /// The pose's video frame and person (for `--sequence`).
     pub key: (Option<u64>, Option<u64>),
+    /// Where it was read (`file: place`), which tells a folder's videos apart (`--sequence`).
+    pub source: String,
     /// Its 3D pose (`--bvh`), `None` where it could not be reconstructed.
     pub pose: Option<Pose3>,
     /// Its record of the page (`--html`).
     pub view: Option<ViewFrame>,
 }
 
-/// The groups of poses a run's outputs are made of: with `sequence`, each person's poses in
-/// frame order ([`sequences`]); without, `each` makes one group per pose, else one group of
-/// every pose in input order. Each group has its name.
-pub fn groups(
+/// The groups of poses a run's outputs are made of: with `sequence` (the poses' `sources` and
+/// whether the input is a folder), each person's poses in frame order, a folder of videos a
+/// video per file ([`person_sequences`]); without, `each` makes one group per pose, else one
+/// group of every pose in input order. Each group has its name.
+pub fn groups<S: AsRef<str>>(
     keys: &[(Option<u64>, Option<u64>)],
-    sequence: bool,
+    sequence: Option<(&[S], bool)>,
     each: bool,
 ) -> Vec<(String, Vec<usize>)> {
-    if sequence {
-        sequences(keys)
+    if let Some((sources, folder)) = sequence {
+        let (groups, names) = person_sequences(keys, sources, folder);
+        names
             .into_iter()
-            .map(|(person, members)| (format!("person {person}"), members))
+            .zip(groups)
+            .map(|(name, (_, members))| (name, members))
             .collect()
     } else if each {
         (0..keys.len())
@@ -65,12 +71,14 @@ const FILL_MIN_FRAMES: usize = 1_000;
 pub fn bvh_files(
     out: &Path,
     kept: &[Kept],
-    sequence: bool,
+    sequence: Option<bool>,
     fps: f64,
 ) -> Result<Vec<(PathBuf, Vec<u8>)>, CliError> {
     let base = bvh_base(out);
     let keys: Vec<_> = kept.iter().map(|k| k.key).collect();
-    let groups = groups(&keys, sequence, true);
+    let sources: Vec<&str> = kept.iter().map(|k| k.source.as_str()).collect();
+    let groups = groups(&keys, sequence.map(|folder| (&sources[..], folder)), true);
+    let sequence = sequence.is_some();
     if sequence {
         let names: Vec<String> = groups.iter().map(|(name, _)| name.clone()).collect();
         super::sequence::name_numbered_persons(&base, &names);
@@ -150,18 +158,17 @@ pub fn bvh_base(out: &Path) -> PathBuf {
     }
 }
 
-/// The `--html` page of `views` (with `sequence`, one timeline per person), titled `title`,
-/// playing at `fps`.
+/// The `--html` page of `views` in `groups` ([`groups`] without `each`: with `--sequence`
+/// one timeline per person), titled `title`, playing at `fps`.
 pub fn html_file(
     out: &Path,
     title: &str,
     cameras: &CameraSet,
     views: &[ViewFrame],
-    keys: &[(Option<u64>, Option<u64>)],
-    sequence: bool,
+    groups: Vec<(String, Vec<usize>)>,
     fps: f64,
 ) -> (PathBuf, Vec<u8>) {
-    let groups: Vec<Group> = groups(keys, sequence, false)
+    let groups: Vec<Group> = groups
         .into_iter()
         .map(|(name, frames)| Group { name, frames })
         .collect();
@@ -201,14 +208,20 @@ mod tests {
     #[test]
     fn groups_are_persons_poses_or_everything() {
         let keys = [(Some(2), Some(1)), (Some(1), Some(1)), (Some(1), Some(0))];
-        let names =
+        let sources = ["v.json: poses[0]", "v.json: poses[1]", "v.json: poses[2]"];
+        let members =
             |g: Vec<(String, Vec<usize>)>| g.into_iter().map(|(_, m)| m).collect::<Vec<_>>();
-        assert_eq!(names(groups(&keys, true, true)), vec![vec![2], vec![1, 0]]);
+        let sequence = Some((&sources[..], true));
         assert_eq!(
-            names(groups(&keys, false, true)),
+            members(groups(&keys, sequence, true)),
+            vec![vec![2], vec![1, 0]]
+        );
+        let none: Option<(&[&str], bool)> = None;
+        assert_eq!(
+            members(groups(&keys, none, true)),
             vec![vec![0], vec![1], vec![2]]
         );
-        assert_eq!(names(groups(&keys, false, false)), vec![vec![0, 1, 2]]);
+        assert_eq!(members(groups(&keys, none, false)), vec![vec![0, 1, 2]]);
         assert_eq!(parse_fps("25"), Ok(25.0));
         assert!(parse_fps("0").is_err() && parse_fps("nan").is_err());
     }

@@ -192,8 +192,9 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         let title = format!("camloc localize: {}", inputs.name());
         let make: stream::Finish<ViewFrame> = Box::new(move |views: Vec<ViewFrame>| {
             let keys = vec![(None, None); views.len()];
+            let groups = export::groups::<&str>(&keys, None, false);
             Ok(vec![export::html_file(
-                &html, &title, &cameras, &views, &keys, false, fps,
+                &html, &title, &cameras, &views, groups, fps,
             )])
         });
         (vec![args.html.clone().unwrap_or_default()], make)

@@ -423,6 +423,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
                     keep: keep.then(|| {
                         Box::new(Kept {
                             key: (record.frame, record.person),
+                            source: record.source.clone(),
                             pose: None,
                             view: view(record, None, Some(message.clone())),
                         })
@@ -448,6 +449,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
             row: args.npy.as_ref().map(|_| r.pose),
             keep: keep.then(|| Kept {
                 key: (record.frame, record.person),
+                source: record.source.clone(),
                 pose: Some(export::on_the_floor(r.pose)),
                 view: view(record, Some(&result), None),
             }),
@@ -471,11 +473,17 @@ fn finish(
         paths.extend(super::targets::numbered_targets(&base, "bvh"));
     }
     paths.extend(args.html.clone());
-    let (bvh, html, sequence, fps) = (args.bvh.clone(), args.html.clone(), args.sequence, args.fps);
+    let (bvh, html, fps) = (args.bvh.clone(), args.html.clone(), args.fps);
+    // With --sequence, whether the input is a folder (whose files may be videos of their own).
+    let sequence = args.sequence.then(|| inputs.is_folder());
     let cameras = page_localizer.map(|l| l.cameras().clone());
     let title = format!(
         "camloc reconstruct{}: {}",
-        if sequence { " --sequence" } else { "" },
+        if sequence.is_some() {
+            " --sequence"
+        } else {
+            ""
+        },
         inputs.name()
     );
     let make: stream::Finish<Kept> = Box::new(move |kept: Vec<Kept>| {
@@ -485,9 +493,12 @@ fn finish(
         }
         if let (Some(html), Some(cameras)) = (&html, &cameras) {
             let keys: Vec<_> = kept.iter().map(|k| k.key).collect();
+            let sources: Vec<&str> = kept.iter().map(|k| k.source.as_str()).collect();
+            let groups =
+                export::groups(&keys, sequence.map(|folder| (&sources[..], folder)), false);
             let views: Vec<ViewFrame> = kept.into_iter().filter_map(|k| k.view).collect();
             files.push(export::html_file(
-                html, &title, cameras, &views, &keys, sequence, fps,
+                html, &title, cameras, &views, groups, fps,
             ));
         }
         Ok(files)

@@ -133,6 +133,7 @@ pub fn run(
     inputs.check_read_to_end(summary.failed_files)?;
     let keys: Vec<_> = kept.iter().map(|k| (k.frame, k.person)).collect();
     let sources: Vec<&str> = kept.iter().map(|k| k.source.as_str()).collect();
+    super::videos::warn_of_repeats(&keys, &sources, inputs.is_folder());
     let (groups, names) = super::videos::person_sequences(&keys, &sources, inputs.is_folder());
     if let Some(path) = options.lengths_out {
         super::sequence::name_numbered_persons(&lengths_base(path, groups.len()), &names);
@@ -237,6 +238,7 @@ pub fn run(
                     };
                     exported.push(Kept {
                         key: (k.frame, k.person),
+                        source: k.source.clone(),
                         pose,
                         view: (options.view)(k, r, error),
                     });

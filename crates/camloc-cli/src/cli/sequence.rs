@@ -269,6 +269,7 @@ pub fn run(
     let model = SequenceModel::with_default_switch(localizer.cameras());
     let keys: Vec<_> = frames.iter().map(|f| (f.frame, f.person)).collect();
     let sources: Vec<&str> = frames.iter().map(|f| &*f.source).collect();
+    super::videos::warn_of_repeats(&keys, &sources, inputs.is_folder());
     let (groups, names) = super::videos::person_sequences(&keys, &sources, inputs.is_folder());
     if let Some(svg) = svg_out {
         name_numbered_persons(svg, &names);
@@ -386,8 +387,16 @@ pub fn run(
     }
     if let Some((html, fps)) = files.html {
         let title = format!("camloc localize --sequence: {}", inputs.name());
-        let (path, bytes) =
-            export::html_file(html, &title, localizer.cameras(), &views, &keys, true, fps);
+        let groups = groups.iter().zip(&names);
+        let groups = groups.map(|((_, members), name)| (name.clone(), members.clone()));
+        let (path, bytes) = export::html_file(
+            html,
+            &title,
+            localizer.cameras(),
+            &views,
+            groups.collect(),
+            fps,
+        );
         staged.add(&path, &bytes)?;
     }
     emit.end(out)?;

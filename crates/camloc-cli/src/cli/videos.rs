@@ -13,46 +13,62 @@ use super::sequence::warn_of_repeated_frames;
 /// input order) read from `sources` (each record's `file: place`; `folder`: the input is a
 /// folder), as [`camloc::sequences`] gives them (the person, the records in frame order) with
 /// each one's name for files and messages (`person 3`, or `person 3 of cam_a.npy` when the
-/// folder's files are videos of their own); poses that repeat a frame and person of their
-/// video are warned of ([`warn_of_repeated_frames`]).
-pub fn person_sequences(
+/// folder's files are videos of their own).
+pub fn person_sequences<S: AsRef<str>>(
     keys: &[(Option<u64>, Option<u64>)],
-    sources: &[&str],
+    sources: &[S],
     folder: bool,
 ) -> (Vec<(u64, Vec<usize>)>, Vec<String>) {
-    let videos = if folder {
-        file_videos(keys, sources)
-    } else {
-        None
-    };
-    let Some(videos) = videos else {
-        warn_of_repeated_frames(keys);
-        let groups = sequences(keys);
-        let names = groups.iter().map(|(p, _)| format!("person {p}")).collect();
-        return (groups, names);
-    };
     let (mut groups, mut names) = (Vec::new(), Vec::new());
-    for (file, records) in videos {
+    for (file, records) in videos(keys, sources, folder) {
         let video_keys: Vec<_> = records.iter().map(|&i| keys[i]).collect();
-        warn_of_repeated_frames(&video_keys);
         for (person, members) in sequences(&video_keys) {
-            names.push(format!("person {person} of {file}"));
+            names.push(match file {
+                Some(file) => format!("person {person} of {file}"),
+                None => format!("person {person}"),
+            });
             groups.push((person, members.iter().map(|&m| records[m]).collect()));
         }
     }
     (groups, names)
 }
 
+/// Warns of the poses that repeat a frame and person of their video
+/// ([`warn_of_repeated_frames`], the videos of [`person_sequences`]).
+pub fn warn_of_repeats<S: AsRef<str>>(
+    keys: &[(Option<u64>, Option<u64>)],
+    sources: &[S],
+    folder: bool,
+) {
+    for (_, records) in videos(keys, sources, folder) {
+        let video_keys: Vec<_> = records.iter().map(|&i| keys[i]).collect();
+        warn_of_repeated_frames(&video_keys);
+    }
+}
+
+/// The videos of the records: each file of a folder whose files are videos of their own
+/// ([`file_videos`]: its name and its records' positions), else one video of every record.
+fn videos<'a, S: AsRef<str>>(
+    keys: &[(Option<u64>, Option<u64>)],
+    sources: &'a [S],
+    folder: bool,
+) -> Vec<(Option<&'a str>, Vec<usize>)> {
+    match folder.then(|| file_videos(keys, sources)).flatten() {
+        Some(videos) => videos.into_iter().map(|(f, r)| (Some(f), r)).collect(),
+        None => vec![(None, (0..keys.len()).collect())],
+    }
+}
+
 /// The records of each file of a folder (the file's name, its records' positions, files in
 /// the order they were read) when any file holds poses of two frame numbers or more (a video
 /// of its own); `None` when every file is one frame (the folder is one video).
-fn file_videos<'a>(
+fn file_videos<'a, S: AsRef<str>>(
     keys: &[(Option<u64>, Option<u64>)],
-    sources: &[&'a str],
+    sources: &'a [S],
 ) -> Option<Vec<(&'a str, Vec<usize>)>> {
     let mut videos: Vec<(&str, Vec<usize>)> = Vec::new();
     for (i, source) in sources.iter().enumerate() {
-        let file = file_of(source);
+        let file = file_of(source.as_ref());
         match videos.iter_mut().rev().find(|(f, _)| *f == file) {
             Some((_, records)) => records.push(i),
             None => videos.push((file, vec![i])),
