@@ -274,16 +274,20 @@ pub(crate) struct PoseBatch<'a> {
 
 impl<'a> PoseBatch<'a> {
     /// Checks `points` ((N, J, C) or (J, C)), `scores` ((N, J) or (J,), only with C = 2), the
-    /// layout name and `min_score`; every problem is a `ValueError` saying what was expected.
-    /// `output_bytes` is what the caller's outputs take per pose ([`ensure_memory`]).
+    /// layout name (none: `camloc15`, the functions' default) and `min_score`; every problem
+    /// is a `ValueError` saying what was expected. `output_bytes` is what the caller's outputs
+    /// take per pose ([`ensure_memory`]).
     pub(crate) fn new(
         points: &'a ArrayArg<'_>,
-        layout: &str,
+        layout: Option<&str>,
         scores: Option<&'a ArrayArg<'_>>,
         min_score: f64,
         output_bytes: usize,
     ) -> PyResult<Self> {
-        let layout: Layout = layout.parse().map_err(|e| value_error(format!("{e}")))?;
+        let layout: Layout = layout
+            .unwrap_or("camloc15")
+            .parse()
+            .map_err(|e| value_error(format!("{e}")))?;
         let joints = layout.joint_count();
         // An empty list (a frame without detections) is no poses, as an (0, J, 2) array.
         let empty = [0, joints, 2];

@@ -269,13 +269,7 @@ impl Localizer {
         let k = self.inner.cameras().len();
         let output_bytes = (k + 6) * std::mem::size_of::<f64>()
             + std::mem::size_of::<Option<camloc::PartialPose2>>();
-        let batch = PoseBatch::new(
-            &points,
-            layout.unwrap_or("camloc15"),
-            scores.as_deref(),
-            min_score,
-            output_bytes,
-        )?;
+        let batch = PoseBatch::new(&points, layout, scores.as_deref(), min_score, output_bytes)?;
         // Mapped once for the warnings and the height estimate: a sequence's every pose.
         let leading = batch.leading_poses(if sequence {
             batch.len()

@@ -264,13 +264,7 @@ pub(crate) fn reconstruct<'py>(
         + std::mem::size_of::<Result<PoseReconstruction, String>>()
         + std::mem::size_of::<Option<Pose3>>()
         + std::mem::size_of::<camloc::PartialPose2>();
-    let batch = PoseBatch::new(
-        &points,
-        layout.unwrap_or("camloc15"),
-        scores.as_deref(),
-        min_score,
-        output_bytes,
-    )?;
+    let batch = PoseBatch::new(&points, layout, scores.as_deref(), min_score, output_bytes)?;
     // Mapped once for the warning and the height estimate.
     let leading = batch.leading_poses(HEIGHT_SHARE_MAX_POSES);
     let intrinsics = intrinsics_arg(focal_px.as_ref(), principal_point.as_ref())?;
