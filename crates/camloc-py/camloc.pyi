@@ -190,6 +190,10 @@ class Localizer:
             viewpoint error over the training views' mix of postures and cameras; it held
             63-84% of held-out views by protocol, less for acrobatics (30-50%) and for low
             frames under ``jittered`` views (45-64%; docs/RESULTS.md);
+          missing, derived (N, 15) bool: the landmarks (``LANDMARKS`` order) missing from the
+            pose as read (every one of a pose that could not be read) and those derived rather
+            than read (a pelvis from the hips, a COCO head from the face points), as ``camloc
+            localize --npz`` writes them;
           camera_height_shares (3,) float64: with ``camera_height="from-input"``, how the
             call's cameras were estimated to divide among the lower, middle and upper rings
             (the prior every pose was localized under, as ``camloc localize --npz`` writes

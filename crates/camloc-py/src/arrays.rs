@@ -6,11 +6,13 @@ use std::marker::PhantomData;
 
 use camloc::PartialPose2;
 use camloc::keypoints::{ArrayPoseError, Layout, MappedPose, ReadOptions, pose_from_array};
+use camloc::skeleton::NUM_LANDMARKS;
 use numpy::{AllowTypeChange, PyArrayDyn, PyArrayLikeDyn, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::Borrowed;
 use pyo3::prelude::*;
 use pyo3::sync::PyOnceLock;
 use pyo3::types::{PyDict, PyList, PyTuple};
+use rayon::prelude::*;
 
 use crate::value_error;
 
@@ -357,6 +359,28 @@ impl<'a> PoseBatch<'a> {
     /// Number of poses N.
     pub(crate) fn len(&self) -> usize {
         self.poses
+    }
+
+    /// Per pose, 15 flags each (camloc15 order): the landmarks missing from the pose as read
+    /// (every one of a pose that cannot be read), and those derived rather than read (a
+    /// pelvis from the hips, a COCO head from the face points), as `camloc localize --npz`
+    /// writes them.
+    pub(crate) fn landmark_flags(&self) -> (Vec<bool>, Vec<bool>) {
+        let flags: Vec<(u16, u16)> = (0..self.len())
+            .into_par_iter()
+            .map(|i| match self.pose(i) {
+                Ok(m) => {
+                    let derived = m.derived.iter().fold(0u16, |f, l| f | 1 << l.index());
+                    (m.pose.missing_mask(), derived)
+                }
+                Err(_) => ((1 << NUM_LANDMARKS) - 1, 0),
+            })
+            .collect();
+        let bits = |mask: u16| (0..NUM_LANDMARKS).map(move |j| mask & (1 << j) != 0);
+        (
+            flags.iter().flat_map(|&(m, _)| bits(m)).collect(),
+            flags.iter().flat_map(|&(_, d)| bits(d)).collect(),
+        )
     }
 
     /// The first `count` poses (all, if fewer) mapped to the 15 landmarks, `None` where a

@@ -3,6 +3,7 @@
 use std::path::PathBuf;
 
 use camloc::reconstruct::FrameRate;
+use camloc::skeleton::NUM_LANDMARKS;
 use camloc::store::Persist;
 use camloc::{
     CameraHeight, CameraLocalizer, CamlocError, HEIGHT_SHARE_MAX_POSES, HeightShares, Localization,
@@ -408,6 +409,9 @@ impl Localizer {
         out.array("azimuth_deg", azimuth, &[])?;
         out.array("elevation_deg", elevation, &[])?;
         out.array("uncertainty_deg", column(2), &[])?;
+        let (missing, derived) = batch.landmark_flags();
+        out.array("missing", missing, &[NUM_LANDMARKS])?;
+        out.array("derived", derived, &[NUM_LANDMARKS])?;
         out.set("camera_height_shares", height_shares(py, Some(localizer)))?;
         out.set("camera_height_views", views)?;
         if let Some(marks) = swapped_sides {

@@ -99,3 +99,23 @@ def test_a_sequence_returns_the_rate_it_was_solved_at():
     assert seq["fps"] == 120.0
     bvh = camloc.to_bvh(seq["world_points3d"], seq["fps"], seq["person_bone_lengths"])
     assert "Frame Time: 0.00833333" in bvh
+
+
+def test_missing_and_derived_landmarks_are_the_command_line_s(cli, tmp_path):
+    """``missing`` and ``derived`` as ``camloc localize --npz`` writes them, for Human3.6M
+    poses with scores, one joint scored 0 and one row that cannot be read (a half-NaN joint)."""
+    from helpers import SAMPLES
+
+    points = np.load(SAMPLES / "h36m17_scores.npy")
+    points[0, 14, 2] = 0.0
+    points[1, 5, 0] = np.nan
+    path = tmp_path / "h36m.npy"
+    np.save(path, points)
+    cli("localize", "--input", path, "--layout", "h36m17", "--npz", tmp_path / "o.npz", "-q")
+    with np.load(tmp_path / "o.npz") as npz:
+        want = {name: npz[name] for name in ("missing", "derived")}
+    got = camloc.Localizer().localize(points, layout="h36m17")
+    for name in ("missing", "derived"):
+        assert got[name].shape == (len(points), 15) and got[name].dtype == np.bool_
+        np.testing.assert_array_equal(got[name], want[name], err_msg=name)
+    assert got["missing"][0].sum() == 1 and got["missing"][1].all()
