@@ -364,7 +364,7 @@ impl<'a> PoseBatch<'a> {
     /// Per pose, 15 flags each (camloc15 order): the landmarks missing from the pose as read
     /// (every one of a pose that cannot be read), and those derived rather than read (a
     /// pelvis from the hips, a COCO head from the face points), as `camloc localize --npz`
-    /// writes them.
+    /// writes them. Parallel: run it in [`crate::pool::run`] (a forked process's own pool).
     pub(crate) fn landmark_flags(&self) -> (Vec<bool>, Vec<bool>) {
         let flags: Vec<(u16, u16)> = (0..self.len())
             .into_par_iter()

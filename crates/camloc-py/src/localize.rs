@@ -409,7 +409,7 @@ impl Localizer {
         out.array("azimuth_deg", azimuth, &[])?;
         out.array("elevation_deg", elevation, &[])?;
         out.array("uncertainty_deg", column(2), &[])?;
-        let (missing, derived) = batch.landmark_flags();
+        let (missing, derived) = py.detach(|| crate::pool::run(|| batch.landmark_flags()));
         out.array("missing", missing, &[NUM_LANDMARKS])?;
         out.array("derived", derived, &[NUM_LANDMARKS])?;
         out.set("camera_height_shares", height_shares(py, Some(localizer)))?;
