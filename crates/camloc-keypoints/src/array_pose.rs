@@ -26,7 +26,7 @@ pub enum ArrayPoseError {
         values: usize,
     },
     /// A coordinate or score is infinite, or a score is NaN.
-    #[error("joint {joint}, channel {channel}: {value} is not a finite number")]
+    #[error("joint {joint}'s {}: {value} is not a finite number", ["x", "y", "score"][(*.channel).min(2)])]
     NonFinite {
         /// Joint index.
         joint: usize,

@@ -120,7 +120,7 @@ fn a_row_with_a_value_no_pose_holds_is_its_own_error_and_the_rows_after_it_are_r
     );
     assert_eq!(
         refused[1].0,
-        "a.npy: [1]: joint 5, channel 1: inf is not a finite number"
+        "a.npy: [1]: joint 5's y: inf is not a finite number"
     );
     assert_eq!(items[2].as_ref().unwrap().pose, poses()[0]);
 }

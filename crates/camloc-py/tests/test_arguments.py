@@ -78,7 +78,10 @@ def test_a_joint_nan_in_every_channel_is_missing():
     np.testing.assert_array_equal(got["probabilities"], camloc.Localizer().localize(zero)["probabilities"])
     # A present joint's NaN score stays an error.
     scored[1, 11] = [1.0, 2.0, np.nan]
-    assert "channel 2" in camloc.Localizer().localize(scored)["error"][1]
+    assert "joint 11's score: NaN" in camloc.Localizer().localize(scored)["error"][1]
+    # The same with the scores given apart.
+    error = camloc.Localizer().localize(scored[..., :2], scores=scored[..., 2])["error"][1]
+    assert "joint 11's score: NaN" in error
 
 
 def test_warnings_are_camloc_warnings():
