@@ -11,19 +11,23 @@ use pyo3::types::PyBool;
 /// `value` as a float (a `float`, an `int`, a NumPy scalar), or a `TypeError` naming the
 /// argument `name` when it is a bool or not a number (a string such as `"30"`).
 fn number(value: &Bound<'_, PyAny>, name: &str) -> PyResult<f64> {
-    let numpy_bool = value.py().import("numpy")?.getattr("bool_")?;
-    if value.is_instance_of::<PyBool>() || value.is_instance(&numpy_bool)? {
+    if is_bool(value)? {
         return Err(PyTypeError::new_err(format!(
             "{name}: expected a number, not a bool"
         )));
     }
     value.extract::<f64>().map_err(|_| {
-        let kind = value
-            .get_type()
-            .name()
-            .map_or_else(|_| "another type".to_owned(), |n| n.to_string());
-        PyTypeError::new_err(format!("{name}: expected a number, got {kind}"))
+        PyTypeError::new_err(format!(
+            "{name}: expected a number, got {}",
+            type_name(value)
+        ))
     })
+}
+
+/// Whether `value` is Python's `bool` or NumPy's `bool_`.
+pub(crate) fn is_bool(value: &Bound<'_, PyAny>) -> PyResult<bool> {
+    let numpy_bool = value.py().import("numpy")?.getattr("bool_")?;
+    Ok(value.is_instance_of::<PyBool>() || value.is_instance(&numpy_bool)?)
 }
 
 /// The `min_score` argument.
@@ -50,7 +54,7 @@ pub(crate) fn person_height(value: &Bound<'_, PyAny>) -> PyResult<Option<f64>> {
 }
 
 /// The name of `value`'s type, for messages.
-fn type_name(value: &Bound<'_, PyAny>) -> String {
+pub(crate) fn type_name(value: &Bound<'_, PyAny>) -> String {
     value
         .get_type()
         .name()
@@ -60,8 +64,7 @@ fn type_name(value: &Bound<'_, PyAny>) -> String {
 /// `value` as a bool (Python's `bool` or NumPy's `bool_`), or a `TypeError` naming the
 /// argument `name` (`1` for `True` is refused, as the type hints say).
 fn flag(value: &Bound<'_, PyAny>, name: &str) -> PyResult<bool> {
-    let numpy_bool = value.py().import("numpy")?.getattr("bool_")?;
-    if value.is_instance_of::<PyBool>() || value.is_instance(&numpy_bool)? {
+    if is_bool(value)? {
         return value.is_truthy();
     }
     Err(PyTypeError::new_err(format!(

@@ -60,9 +60,7 @@ pub(crate) fn intrinsics_arg(
             number.ok_or_else(|| {
                 pyo3::exceptions::PyTypeError::new_err(format!(
                     "focal_px: a number of pixels such as 1000.0; got a {}",
-                    f.get_type()
-                        .name()
-                        .map_or_else(|_| "another type".to_owned(), |n| n.to_string())
+                    crate::number::type_name(f)
                 ))
             })
         })
@@ -73,10 +71,7 @@ pub(crate) fn intrinsics_arg(
             .then(|| point.extract::<Vec<f64>>().ok())
             .flatten();
         numbers.ok_or_else(|| {
-            let type_name = point
-                .get_type()
-                .name()
-                .map_or_else(|_| "another type".to_owned(), |n| n.to_string());
+            let type_name = crate::number::type_name(point);
             let shown: String = point
                 .repr()
                 .map_or_else(|_| String::new(), |r| r.to_string())
@@ -205,17 +200,13 @@ impl<'a, 'py> FromPyObject<'a, 'py> for LifterArg {
         if ob.is_none() {
             return Ok(LifterArg::Use(true));
         }
-        let numpy_bool = ob.py().import("numpy")?.getattr("bool_")?;
-        if ob.is_instance_of::<pyo3::types::PyBool>() || ob.is_instance(&numpy_bool)? {
+        if crate::number::is_bool(&ob)? {
             return ob.is_truthy().map(LifterArg::Use);
         }
         ob.extract::<PathBuf>().map(LifterArg::File).map_err(|_| {
-            let kind = ob
-                .get_type()
-                .name()
-                .map_or_else(|_| "another type".to_owned(), |n| n.to_string());
             pyo3::exceptions::PyTypeError::new_err(format!(
-                "lifter: expected True, False or a lifter file's path, got {kind}"
+                "lifter: expected True, False or a lifter file's path, got {}",
+                crate::number::type_name(&ob)
             ))
         })
     }
