@@ -12,7 +12,6 @@ use pyo3::Borrowed;
 use pyo3::prelude::*;
 use pyo3::sync::PyOnceLock;
 use pyo3::types::{PyDict, PyList, PyTuple};
-use rayon::prelude::*;
 
 use crate::value_error;
 
@@ -361,28 +360,6 @@ impl<'a> PoseBatch<'a> {
         self.poses
     }
 
-    /// Per pose, 15 flags each (camloc15 order): the landmarks missing from the pose as read
-    /// (every one of a pose that cannot be read), and those derived rather than read (a
-    /// pelvis from the hips, a COCO head from the face points), as `camloc localize --npz`
-    /// writes them. Parallel: run it in [`crate::pool::run`] (a forked process's own pool).
-    pub(crate) fn landmark_flags(&self) -> (Vec<bool>, Vec<bool>) {
-        let flags: Vec<(u16, u16)> = (0..self.len())
-            .into_par_iter()
-            .map(|i| match self.pose(i) {
-                Ok(m) => {
-                    let derived = m.derived.iter().fold(0u16, |f, l| f | 1 << l.index());
-                    (m.pose.missing_mask(), derived)
-                }
-                Err(_) => ((1 << NUM_LANDMARKS) - 1, 0),
-            })
-            .collect();
-        let bits = |mask: u16| (0..NUM_LANDMARKS).map(move |j| mask & (1 << j) != 0);
-        (
-            flags.iter().flat_map(|&(m, _)| bits(m)).collect(),
-            flags.iter().flat_map(|&(_, d)| bits(d)).collect(),
-        )
-    }
-
     /// The first `count` poses (all, if fewer) mapped to the 15 landmarks, `None` where a
     /// pose cannot be: what the height estimate and the warnings read.
     pub(crate) fn leading_poses(&self, count: usize) -> Vec<Option<PartialPose2>> {
@@ -411,6 +388,29 @@ impl<'a> PoseBatch<'a> {
             }
         }
     }
+}
+
+/// The landmark masks of a pose as read, bit `i` for landmark `i` (camloc15 order): those
+/// missing and those derived rather than read (a pelvis from the hips, a COCO head from the
+/// face points); a pose that cannot be read is every landmark missing.
+pub(crate) fn landmark_masks(mapped: Result<&MappedPose, &ArrayPoseError>) -> (u16, u16) {
+    match mapped {
+        Ok(m) => {
+            let derived = m.derived.iter().fold(0u16, |f, l| f | 1 << l.index());
+            (m.pose.missing_mask(), derived)
+        }
+        Err(_) => ((1 << NUM_LANDMARKS) - 1, 0),
+    }
+}
+
+/// The `(N, 15)` flag arrays of per-pose [`landmark_masks`], as `camloc localize --npz`
+/// writes `missing` and `derived`.
+pub(crate) fn landmark_flags(masks: &[(u16, u16)]) -> (Vec<bool>, Vec<bool>) {
+    let bits = |mask: u16| (0..NUM_LANDMARKS).map(move |j| mask & (1 << j) != 0);
+    (
+        masks.iter().flat_map(|&(m, _)| bits(m)).collect(),
+        masks.iter().flat_map(|&(_, d)| bits(d)).collect(),
+    )
 }
 
 /// Output arrays of a batch: each value is stored with shape `(N, *rest)`, or `rest` alone

@@ -14,7 +14,9 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use rayon::prelude::*;
 
-use crate::arrays::{Output, PoseBatch, UnmaskedPoints, UnmaskedScores};
+use crate::arrays::{
+    Output, PoseBatch, UnmaskedPoints, UnmaskedScores, landmark_flags, landmark_masks,
+};
 use crate::smooth::smoothed_columns;
 use crate::warnings::{
     warn_if_every_pose_failed, warn_of_identity_jumps, warn_of_input_conventions,
@@ -314,6 +316,8 @@ impl Localizer {
         let mut probabilities = vec![f64::NAN; n * k];
         // Per pose: azimuth, elevation, uncertainty (degrees).
         let mut viewpoint = vec![f64::NAN; n * 3];
+        // Per pose: its landmarks missing and derived (`landmark_masks`).
+        let mut masks = vec![(0u16, 0u16); n];
         let mut errors: Vec<(usize, String)> = Vec::new();
         // Blocks of INTERRUPT_POSES, with a look at Python's signals (Ctrl-C) after each.
         for start in (0..n).step_by(INTERRUPT_POSES) {
@@ -326,21 +330,26 @@ impl Localizer {
                         .zip(probability[start..end].par_chunks_mut(CHUNK))
                         .zip(probabilities[start * k..end * k].par_chunks_mut(CHUNK * k))
                         .zip(viewpoint[start * 3..end * 3].par_chunks_mut(CHUNK * 3))
+                        .zip(masks[start..end].par_chunks_mut(CHUNK))
                         .enumerate()
                         .flat_map_iter(
-                            |(c, ((((label, folded), probability), probabilities), view))| {
+                            |(
+                                c,
+                                (((((label, folded), probability), probabilities), view), masks),
+                            )| {
                                 let mut errors = Vec::new();
                                 for (j, row) in probabilities.chunks_exact_mut(k).enumerate() {
                                     let i = start + c * CHUNK + j;
-                                    let result =
-                                        batch.pose(i).map_err(|e| e.to_string()).and_then(|m| {
-                                            match filler {
-                                                Some(f) => localizer
-                                                    .localize_filled(&m.pose, f.reconstructor()),
-                                                None => localizer.localize_partial(&m.pose),
-                                            }
-                                            .map_err(|e| e.to_string())
-                                        });
+                                    let mapped = batch.pose(i);
+                                    masks[j] = landmark_masks(mapped.as_ref());
+                                    let result = mapped.map_err(|e| e.to_string()).and_then(|m| {
+                                        match filler {
+                                            Some(f) => localizer
+                                                .localize_filled(&m.pose, f.reconstructor()),
+                                            None => localizer.localize_partial(&m.pose),
+                                        }
+                                        .map_err(|e| e.to_string())
+                                    });
                                     match result {
                                         Ok(loc) => {
                                             (label[j], folded[j], probability[j]) = numbers(&loc);
@@ -409,7 +418,7 @@ impl Localizer {
         out.array("azimuth_deg", azimuth, &[])?;
         out.array("elevation_deg", elevation, &[])?;
         out.array("uncertainty_deg", column(2), &[])?;
-        let (missing, derived) = py.detach(|| crate::pool::run(|| batch.landmark_flags()));
+        let (missing, derived) = landmark_flags(&masks);
         out.array("missing", missing, &[NUM_LANDMARKS])?;
         out.array("derived", derived, &[NUM_LANDMARKS])?;
         out.set("camera_height_shares", height_shares(py, Some(localizer)))?;
