@@ -25,6 +25,14 @@ pub struct Kept {
     pub view: Option<ViewFrame>,
 }
 
+/// The [`groups`] of the poses `kept` (`sequence`: with `--sequence`, whether the input is a
+/// folder).
+pub fn kept_groups(kept: &[Kept], sequence: Option<bool>, each: bool) -> Vec<(String, Vec<usize>)> {
+    let keys: Vec<_> = kept.iter().map(|k| k.key).collect();
+    let sources: Vec<&str> = kept.iter().map(|k| k.source.as_str()).collect();
+    groups(&keys, sequence.map(|folder| (&sources[..], folder)), each)
+}
+
 /// The groups of poses a run's outputs are made of: with `sequence` (the poses' `sources` and
 /// whether the input is a folder), each person's poses in frame order, a folder of videos a
 /// video per file ([`person_sequences`]); without, `each` makes one group per pose, else one
@@ -76,8 +84,7 @@ pub fn bvh_files(
 ) -> Result<Vec<(PathBuf, Vec<u8>)>, CliError> {
     let base = bvh_base(out);
     let keys: Vec<_> = kept.iter().map(|k| k.key).collect();
-    let sources: Vec<&str> = kept.iter().map(|k| k.source.as_str()).collect();
-    let groups = groups(&keys, sequence.map(|folder| (&sources[..], folder)), true);
+    let groups = kept_groups(kept, sequence, true);
     let sequence = sequence.is_some();
     if sequence {
         let names: Vec<String> = groups.iter().map(|(name, _)| name.clone()).collect();

@@ -492,10 +492,7 @@ fn finish(
             files.extend(export::bvh_files(bvh, &kept, sequence, fps)?);
         }
         if let (Some(html), Some(cameras)) = (&html, &cameras) {
-            let keys: Vec<_> = kept.iter().map(|k| k.key).collect();
-            let sources: Vec<&str> = kept.iter().map(|k| k.source.as_str()).collect();
-            let groups =
-                export::groups(&keys, sequence.map(|folder| (&sources[..], folder)), false);
+            let groups = export::kept_groups(&kept, sequence, false);
             let views: Vec<ViewFrame> = kept.into_iter().filter_map(|k| k.view).collect();
             files.push(export::html_file(
                 html, &title, cameras, &views, groups, fps,
