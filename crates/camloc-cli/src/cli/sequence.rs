@@ -359,9 +359,11 @@ pub fn run(
                 .iter()
                 .map(|&i| frames[i].best().map(|b| b.0))
                 .collect();
+            // (The person's name: a folder of videos names the file too.)
             let title = format!(
-                "{}: person {person}, {}",
+                "{}: {}, {}",
                 inputs.name(),
+                names[n],
                 counted(members.len() as u64, "frame")
             );
             // Frame numbers, else the position in the input (as the outputs' `frame`).
