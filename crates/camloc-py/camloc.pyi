@@ -169,8 +169,9 @@ class Localizer:
           walkers under a ceiling camera were 85.2% right against the command line's 99.1%).
         A ``UserWarning`` says when most of the (first 20,000) poses have the head below both
         ankles, the body within about 60 degrees of upside down: points with v up (``camloc
-        localize`` warns alike); another when their torsos lean alike by 20 degrees or more (a
-        rolled camera: turn the points upright); another when a pose has a landmark at
+        localize`` warns alike); another when their torsos lean alike by 20 degrees or more and
+        their shins 10 degrees or more the same way (a rolled camera: turn the points upright;
+        docs/keypoints.md); another when a pose has a landmark at
         exactly (0, 0) outside the box of its other landmarks (a detector's
         placeholder for a joint it did not find: give scores or NaN); another when every pose
         of the call failed, with the first error other than "nothing detected", or, when no
@@ -503,8 +504,11 @@ def read_keypoints(
       ids, sources: lists of N str (pose id; file and place in it);
       frames, persons (N,) int64: video frame and person, -1 where the format has none
         (docs/keypoints.md: e.g. COCO's integer ``image_id`` and ``track_id``, MMPose's
-        ``frame_id`` and ``track_id`` or position in the frame); split a video's rows by
-        person before ``reconstruct(..., sequence=True)``;
+        ``frame_id`` and ``track_id``); a pose without a tracker's id whose format numbers
+        people by their order in the frame (OpenPose, MMPose, YOLO) has the person followed
+        from frame to frame by where it is, as ``camloc localize --sequence`` does (docs/cli.md,
+        Sequences; at 30 frames a second), so that a bystander listed first is not the walker;
+        split a video's rows by person before ``reconstruct(..., sequence=True)``;
       file_errors: for a folder, (file, message) of each file that could not be read (the
         others are still read, and a ``UserWarning`` names the first); empty for a file.
     A file or folder without poses gives empty arrays and a ``UserWarning`` ("no poses in

@@ -79,9 +79,15 @@ fn left_right_swapped(keypoints: &Value) -> Value {
 
 /// Writes frame `t` of a video holding the given people's keypoints.
 fn write_frame(dir: &TempDir, t: usize, people: &[&Value]) {
+    let untracked: Vec<(&Value, i64)> = people.iter().map(|&k| (k, -1)).collect();
+    write_frame_with_ids(dir, t, &untracked);
+}
+
+/// An OpenPose frame file of `people`, each with its `person_id` (-1: untracked).
+fn write_frame_with_ids(dir: &TempDir, t: usize, people: &[(&Value, i64)]) {
     let people: Vec<Value> = people
         .iter()
-        .map(|k| serde_json::json!({ "pose_keypoints_2d": k }))
+        .map(|(k, id)| serde_json::json!({ "person_id": [id], "pose_keypoints_2d": k }))
         .collect();
     let json = serde_json::json!({ "version": 1.3, "people": people });
     std::fs::write(
@@ -364,11 +370,12 @@ fn repeated_frame_numbers_are_warned_of() {
     assert!(!String::from_utf8_lossy(&once.stderr).contains("repeat"));
 }
 
-/// OpenPose numbers people in the detector's order, which changes as people come and go: a
-/// person whose pose jumps across the image is warned of, and the same frames in a constant
-/// order are not.
+/// OpenPose without tracking numbers people in the detector's order, which changes as people
+/// come and go: camloc follows each person by where it is, so a change of that order leaves
+/// every person's frames its own; a tracker's ids are kept as given, and ids that swap two
+/// people are warned of as a jump.
 #[test]
-fn detector_order_changes_are_warned_of() {
+fn untracked_people_are_followed_and_tracked_ids_kept() {
     let people = fixture_people();
     // Another person 600 px to the right.
     let mut other = people[0].clone();
@@ -377,20 +384,43 @@ fn detector_order_changes_are_warned_of() {
             *v = (v.as_f64().unwrap() + 600.0).into();
         }
     }
-    for (name, swap_at) in [("swapped", 4), ("constant", 99)] {
-        let dir = TempDir::new(name);
+    for tracked in [false, true] {
+        let dir = TempDir::new(if tracked { "tracked" } else { "untracked" });
         for t in 0..8 {
-            let order = if t < swap_at {
+            let order = if t < 4 {
                 [&people[0], &other]
             } else {
                 [&other, &people[0]]
             };
-            write_frame(&dir, t, &order);
+            let listed: Vec<(&Value, i64)> = order
+                .into_iter()
+                .enumerate()
+                .map(|(p, k)| (k, if tracked { p as i64 } else { -1 }))
+                .collect();
+            write_frame_with_ids(&dir, t, &listed);
         }
-        let out = camloc(&["localize", "--input", &dir.path(""), "--sequence", "-q"]);
+        let out = camloc(&[
+            "localize",
+            "--input",
+            &dir.path(""),
+            "--sequence",
+            "-q",
+            "--jsonl",
+        ]);
         assert!(out.status.success());
         let stderr = String::from_utf8_lossy(&out.stderr);
-        if swap_at < 8 {
+        for line in json_lines(&out) {
+            let (frame, person) = (line["frame"].as_u64().unwrap(), line["person"].as_u64());
+            let listed = line["source"].as_str().unwrap().ends_with("people[0]");
+            // Untracked: person 0 is the pose listed first in frame 0 throughout.
+            let expected = if tracked || frame < 4 {
+                !listed
+            } else {
+                listed
+            };
+            assert_eq!(person, Some(u64::from(expected)), "{line}");
+        }
+        if tracked {
             for person in [0, 1] {
                 assert!(
                     stderr.contains(&format!(

@@ -291,6 +291,7 @@ mod tests {
             source: String::new(),
             frame,
             person,
+            person_is_position: false,
         }
     }
 

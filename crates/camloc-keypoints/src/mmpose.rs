@@ -99,6 +99,7 @@ fn placed(item: Item, frame: Option<u64>, n: usize) -> Item {
         Ok(record) => Ok(KeypointRecord {
             frame: frame.or(record.frame),
             person: record.person.or(Some(n as u64)),
+            person_is_position: record.person.is_none(),
             ..record
         }),
         Err(mut e) => {

@@ -254,6 +254,7 @@ impl<R: Read> NpyPoses<R> {
                 source: place.source,
                 frame: place.frame,
                 person: place.person,
+                person_is_position: false,
             }
         }))
     }

@@ -140,6 +140,7 @@ fn person_record(
     });
     Ok(KeypointRecord {
         person: Some(tracked.unwrap_or(p as u64)),
+        person_is_position: tracked.is_none(),
         ..from_joints(
             table,
             points,

@@ -29,6 +29,9 @@ pub struct KeypointRecord {
     /// person's position among the poses of its frame (0-based: OpenPose `people`, MMPose
     /// `instances`); `None` for inputs with one pose per frame or no frames.
     pub person: Option<u64>,
+    /// Whether `person` is the pose's position among its frame's poses (the detector's
+    /// order, which may change from frame to frame), not a tracker's id.
+    pub person_is_position: bool,
 }
 
 impl KeypointRecord {
@@ -50,6 +53,8 @@ impl KeypointRecord {
             source,
             frame,
             person,
+            // A refused pose has no landmarks to follow a person by: its number stays.
+            person_is_position: false,
         };
         Some((record, message))
     }
@@ -117,6 +122,7 @@ pub(crate) fn finish(
         source,
         frame: None,
         person: None,
+        person_is_position: false,
     }
 }
 
@@ -134,6 +140,7 @@ mod tests {
             source: "x.csv: line 9".into(),
             frame: None,
             person: None,
+            person_is_position: false,
         };
         let err = record.require_torso().unwrap_err();
         assert!(

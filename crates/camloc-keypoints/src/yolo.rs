@@ -125,6 +125,7 @@ fn person_record(
     let path = at.to_string();
     Ok(KeypointRecord {
         person: Some(track.unwrap_or(person as u64)),
+        person_is_position: track.is_none(),
         ..from_joints(
             &COCO17,
             points,

@@ -54,6 +54,7 @@ fn poses() -> impl Strategy<Value = Vec<KeypointRecord>> {
                     source: String::new(),
                     frame,
                     person,
+                    person_is_position: false,
                 })
                 .collect()
         },

@@ -140,3 +140,31 @@ def test_other_people_s_rows_leave_the_person_s_3d_as_it_is():
     alone = camloc.reconstruct(walker, sequence=True, camera_height="any")
     assert not crowd["left_out_of_sequence"][mine].any()
     np.testing.assert_allclose(crowd["points3d"][mine], alone["points3d"], atol=1e-9)
+
+
+def test_people_of_an_untracked_openpose_folder_are_followed(tmp_path):
+    """OpenPose without tracking numbers people by their order in each frame: a bystander
+    listed before the walker in a frame is not the walker's person there (``read_keypoints``
+    follows each person by where it is, as ``camloc --sequence`` does)."""
+    rows, numbers, second = untracked_video()
+    body25 = {"head": 0, "neck": 1, "right_shoulder": 2, "right_elbow": 3, "right_wrist": 4,
+              "left_shoulder": 5, "left_elbow": 6, "left_wrist": 7, "pelvis": 8,
+              "right_hip": 9, "right_knee": 10, "right_ankle": 11, "left_hip": 12,
+              "left_knee": 13, "left_ankle": 14}
+    frames = {}
+    for i, (pose, t) in enumerate(zip(rows, numbers)):
+        keypoints = np.zeros((25, 3))
+        for name, point in zip(camloc.LANDMARKS, pose):
+            keypoints[body25[name]] = [point[0], point[1], 0.9]
+        frames.setdefault(int(t), []).append(
+            {"person_id": [-1], "pose_keypoints_2d": keypoints.ravel().tolist()})
+    for t, people in frames.items():
+        (tmp_path / f"walk_{t:012d}_keypoints.json").write_text(
+            json.dumps({"version": 1.3, "people": people}))
+    read = camloc.read_keypoints(tmp_path)
+    bystander = read["points"][:, 0, 0] > rows[:, 0, 0].min() + 400
+    assert bystander.sum() == len(second)
+    # Listed first at frames 4 and 20, the bystander is still person 1, the walker person 0.
+    assert (read["persons"][bystander] == 1).all()
+    assert (read["persons"][~bystander] == 0).all()
+    assert {s.rsplit("people", 1)[1] for s in np.array(read["sources"])[bystander]} == {"[0]"}

@@ -31,6 +31,8 @@ pub struct InputConventions {
     few_landmarks: u64,
     /// The poses' torso leans.
     leans: LeanHistogram,
+    /// The poses' shin leans.
+    shins: LeanHistogram,
     /// The camera's intrinsics, when given: the leans are those of the poses as the camera
     /// aimed at each would see them ([`aimed_at_pelvis`]), as they are localized (a person
     /// in a corner of a wide-angle image leans in the image without any roll).
@@ -54,6 +56,7 @@ impl InputConventions {
         self.few_landmarks += u64::from(localized_from_few(pose));
         let aimed = self.aim.and_then(|k| aimed_at_pelvis(pose, &k).ok());
         self.leans.add(aimed.as_ref().unwrap_or(pose));
+        self.shins.add_shins(aimed.as_ref().unwrap_or(pose));
         if let Some(below) = head_below_ankles(pose) {
             self.upside_down.0 += 1;
             self.upside_down.1 += u64::from(below);
@@ -66,7 +69,7 @@ impl InputConventions {
     /// [`MIN_PRESENT_FOR_FILL`] landmarks.
     pub fn warnings(&self) -> impl Iterator<Item = String> {
         let (checked, upside_down) = self.upside_down;
-        orientation_warning(checked, upside_down, &self.leans)
+        orientation_warning(checked, upside_down, &self.leans, &self.shins)
             .into_iter()
             .chain(origin_placeholder_warning(
                 self.poses,

@@ -405,7 +405,7 @@ fn expected(
 /// there (a simulated user's animation jumped 4 m for 15 frames); then a reach of a torso per
 /// frame from the last pose took a bystander 2.8 torsos away for a walker missed for 3
 /// frames, and a reach in time without the velocity lost a sprinter passing a walker.
-fn other_poses_of_frames(
+pub(crate) fn other_poses_of_frames(
     frames: &[Option<u64>],
     anchors: &[Option<TorsoAnchor>],
     rate: FrameRate,

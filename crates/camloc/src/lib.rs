@@ -43,6 +43,7 @@ mod error;
 mod evaluate;
 mod far_off;
 mod filled;
+mod follow;
 mod height_shares;
 mod identity;
 mod lean;
@@ -59,6 +60,7 @@ mod torso_placement;
 mod train;
 mod train_options;
 mod upside_down;
+mod videos;
 mod view_weights;
 mod viewpoint_smoothing;
 mod world;
@@ -85,6 +87,7 @@ pub use error::CamlocError;
 pub use evaluate::{CameraAccuracy, Evaluation, LevelAccuracy, evaluate};
 pub use far_off::{FAR_OFF_RATIO, without_far_off_landmarks};
 pub use filled::MIN_PRESENT_FOR_FILL;
+pub use follow::{MAX_FOLLOWED_PER_FRAME, follow_people, follow_untracked};
 pub use height_shares::{
     HEIGHT_SHARE_MAX_POSES, HEIGHT_SHARE_PSEUDO_VIEWS, HeightEstimate, HeightShares,
     eye_level_shares,
@@ -110,8 +113,8 @@ pub use sides::{
 };
 
 pub use lean::{
-    LeanHistogram, TILT_MIN_AGREEMENT, TILT_MIN_POSES, TILT_NEAR_DEG, TILT_WARNING_DEG,
-    orientation_warning, torso_lean_deg,
+    LeanHistogram, TILT_MIN_AGREEMENT, TILT_MIN_POSES, TILT_NEAR_DEG, TILT_SHIN_DEG,
+    TILT_WARNING_DEG, orientation_warning, shin_leans_deg, torso_lean_deg,
 };
 pub use lifter::{DEFAULT_LIFTER_LAMBDA, DepthLifter, depth_targets};
 pub use localizer::{CameraLocalizer, Localization};
@@ -126,6 +129,7 @@ pub use train_options::{
     LandmarkDropout, MAX_DROPOUT_COPIES, QUADRATIC_GRADIENT_TOLERANCE, TrainOptions, TrainingInfo,
 };
 pub use upside_down::head_below_ankles;
+pub use videos::videos_of;
 pub use view_weights::NEW_VIEW_SIZES;
 pub use viewpoint_smoothing::{
     VIEWPOINT_CUT_DEG, VIEWPOINT_HALF_WINDOW, Viewpoint, smooth_viewpoints, viewpoint_half_window,

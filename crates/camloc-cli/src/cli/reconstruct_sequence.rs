@@ -131,10 +131,21 @@ pub fn run(
         return Err(inputs.no_poses());
     }
     inputs.check_read_to_end(summary.failed_files)?;
-    let keys: Vec<_> = kept.iter().map(|k| (k.frame, k.person)).collect();
+    let mut keys: Vec<_> = kept.iter().map(|k| (k.frame, k.person)).collect();
     let sources: Vec<&str> = kept.iter().map(|k| k.source.as_str()).collect();
     super::videos::warn_of_repeats(&keys, &sources, inputs.is_folder());
+    camloc::follow_untracked(
+        &mut keys,
+        &sources,
+        inputs.is_folder(),
+        |i| kept[i].person_is_position,
+        |i| camloc::TorsoAnchor::of(&kept[i].pose),
+        reconstructor.frame_rate(),
+    );
     let (groups, names) = super::videos::person_sequences(&keys, &sources, inputs.is_folder());
+    for (record, key) in kept.iter_mut().zip(&keys) {
+        record.person = key.1;
+    }
     if let Some(path) = options.lengths_out {
         super::sequence::name_numbered_persons(&lengths_base(path, groups.len()), &names);
     }
@@ -202,6 +213,7 @@ pub fn run(
         {
             let n = next + k;
             let Prepared {
+                numbers,
                 swapped_sides,
                 left_out,
                 ..
@@ -212,6 +224,7 @@ pub fn run(
                 animated,
                 reconstructed,
             } = solved;
+            super::person_solve::warn_of_sinking(&names[n], &numbers, &animated);
             let in_sequence: Vec<usize> = (0..members.len()).filter(|&m| !left_out[m]).collect();
             // A failed sequence is reported once on standard error, not once per frame (the
             // JSON outputs still hold an error object per frame).

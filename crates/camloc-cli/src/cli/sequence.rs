@@ -50,6 +50,9 @@ struct Frame {
     source: Box<str>,
     frame: Option<u64>,
     person: Option<u64>,
+    /// Whether `person` is only the pose's position among its frame's poses
+    /// ([`KeypointRecord::person_is_position`]).
+    person_is_position: bool,
     /// The pose's [`TorsoAnchor`] (pelvis x, y and torso length, single precision), for
     /// [`warn_of_identity_jumps`].
     anchor: Option<[f32; 3]>,
@@ -72,6 +75,14 @@ impl Frame {
                 (x.is_finite() && y.is_finite()).then(|| [f64::from(x), f64::from(y)])
             }),
         }
+    }
+
+    /// The pose's [`TorsoAnchor`], in double precision.
+    fn torso_anchor(&self) -> Option<TorsoAnchor> {
+        self.anchor.map(|[x, y, torso]| TorsoAnchor {
+            pelvis: [f64::from(x), f64::from(y)],
+            torso: f64::from(torso),
+        })
     }
 
     /// The most probable camera and its probability.
@@ -253,6 +264,7 @@ pub fn run(
                 source: record.source.as_str().into(),
                 frame: record.frame,
                 person: record.person,
+                person_is_position: record.person_is_position,
                 anchor: TorsoAnchor::of(&record.pose)
                     .map(|a| [a.pelvis[0] as f32, a.pelvis[1] as f32, a.torso as f32]),
                 viewpoint,
@@ -267,25 +279,29 @@ pub fn run(
     }
     inputs.check_read_to_end(summary.failed_files)?;
     let model = SequenceModel::with_default_switch(localizer.cameras());
-    let keys: Vec<_> = frames.iter().map(|f| (f.frame, f.person)).collect();
+    let mut keys: Vec<_> = frames.iter().map(|f| (f.frame, f.person)).collect();
     let sources: Vec<&str> = frames.iter().map(|f| &*f.source).collect();
     super::videos::warn_of_repeats(&keys, &sources, inputs.is_folder());
+    camloc::follow_untracked(
+        &mut keys,
+        &sources,
+        inputs.is_folder(),
+        |i| frames[i].person_is_position,
+        |i| frames[i].torso_anchor(),
+        files.rate,
+    );
     let (groups, names) = super::videos::person_sequences(&keys, &sources, inputs.is_folder());
+    for (frame, key) in frames.iter_mut().zip(&keys) {
+        frame.person = key.1;
+    }
     if let Some(svg) = svg_out {
         name_numbered_persons(svg, &names);
     }
     let mut staged = StagedFiles::new(force);
     for (n, (person, members)) in groups.iter().enumerate() {
         let numbers = frame_numbers(&keys, members);
-        let anchors: Vec<Option<TorsoAnchor>> = members
-            .iter()
-            .map(|&i| {
-                frames[i].anchor.map(|[x, y, torso]| TorsoAnchor {
-                    pelvis: [f64::from(x), f64::from(y)],
-                    torso: f64::from(torso),
-                })
-            })
-            .collect();
+        let anchors: Vec<Option<TorsoAnchor>> =
+            members.iter().map(|&i| frames[i].torso_anchor()).collect();
         let left_out = left_out_of_sequence(
             *person,
             &numbers,
@@ -310,6 +326,7 @@ pub fn run(
                 source: frame.source.to_string(),
                 frame: frame.frame,
                 person: frame.person,
+                person_is_position: false,
             };
             let (result, view, viewpoint) = localized(&locator, page, &record);
             if let (Some(kept), Some(view)) = (views.get_mut(i), view) {
@@ -567,7 +584,7 @@ pub fn side_names(bits: u8) -> Vec<&'static str> {
 /// How a warning names the frame at position `m` of a person's frames (`frames` their
 /// numbers): by its number, else by its place among the person's poses, counted from 0 as
 /// the input's `poses[i]` are.
-fn frame_name(frames: &[Option<u64>], m: usize) -> String {
+pub fn frame_name(frames: &[Option<u64>], m: usize) -> String {
     match frames[m] {
         Some(frame) => format!("frame {frame}"),
         None => format!("the person's pose {m} (counted from 0)"),

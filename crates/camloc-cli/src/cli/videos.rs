@@ -1,11 +1,8 @@
-//! The videos of a `--sequence` input: one file or standard input is one video; so is a
-//! folder of files of one frame each (OpenPose's frame files), whereas a folder whose files
-//! hold several frames each (a `.npy` array or a camloc JSON file per camera) holds a video
-//! per file, each numbering its frames from 0, which read as one video had every camera's
-//! frames smoothed as the first's (a simulated lab user's four corner cameras: 77, 43, 21 and
-//! 1% right after smoothing, 85-91% frame by frame).
+//! The people's sequences of a `--sequence` input and the warnings of its repeated frames,
+//! video by video ([`camloc::videos_of`]: a file, or a folder of frame files, is one video; a
+//! folder of files of several frames each is a video per file).
 
-use camloc::sequences;
+use camloc::{sequences, videos_of};
 
 use super::sequence::warn_of_repeated_frames;
 
@@ -20,7 +17,7 @@ pub fn person_sequences<S: AsRef<str>>(
     folder: bool,
 ) -> (Vec<(u64, Vec<usize>)>, Vec<String>) {
     let (mut groups, mut names) = (Vec::new(), Vec::new());
-    for (file, records) in videos(keys, sources, folder) {
+    for (file, records) in videos_of(keys, sources, folder) {
         let video_keys: Vec<_> = records.iter().map(|&i| keys[i]).collect();
         for (person, members) in sequences(&video_keys) {
             names.push(match file {
@@ -40,55 +37,10 @@ pub fn warn_of_repeats<S: AsRef<str>>(
     sources: &[S],
     folder: bool,
 ) {
-    for (_, records) in videos(keys, sources, folder) {
+    for (_, records) in videos_of(keys, sources, folder) {
         let video_keys: Vec<_> = records.iter().map(|&i| keys[i]).collect();
         warn_of_repeated_frames(&video_keys);
     }
-}
-
-/// The videos of the records: each file of a folder whose files are videos of their own
-/// ([`file_videos`]: its name and its records' positions), else one video of every record.
-fn videos<'a, S: AsRef<str>>(
-    keys: &[(Option<u64>, Option<u64>)],
-    sources: &'a [S],
-    folder: bool,
-) -> Vec<(Option<&'a str>, Vec<usize>)> {
-    match folder.then(|| file_videos(keys, sources)).flatten() {
-        Some(videos) => videos.into_iter().map(|(f, r)| (Some(f), r)).collect(),
-        None => vec![(None, (0..keys.len()).collect())],
-    }
-}
-
-/// The records of each file of a folder (the file's name, its records' positions, files in
-/// the order they were read) when any file holds poses of two frame numbers or more (a video
-/// of its own); `None` when every file is one frame (the folder is one video).
-fn file_videos<'a, S: AsRef<str>>(
-    keys: &[(Option<u64>, Option<u64>)],
-    sources: &'a [S],
-) -> Option<Vec<(&'a str, Vec<usize>)>> {
-    let mut videos: Vec<(&str, Vec<usize>)> = Vec::new();
-    for (i, source) in sources.iter().enumerate() {
-        let file = file_of(source.as_ref());
-        match videos.iter_mut().rev().find(|(f, _)| *f == file) {
-            Some((_, records)) => records.push(i),
-            None => videos.push((file, vec![i])),
-        }
-    }
-    let several_frames = |records: &Vec<usize>| {
-        let mut frames = records.iter().filter_map(|&i| keys[i].0);
-        frames
-            .next()
-            .is_some_and(|first| frames.any(|frame| frame != first))
-    };
-    videos
-        .iter()
-        .any(|(_, records)| several_frames(records))
-        .then_some(videos)
-}
-
-/// The file of a record's `source` (`file: place`; a place has no `": "`).
-fn file_of(source: &str) -> &str {
-    source.rsplit_once(": ").map_or(source, |(file, _)| file)
 }
 
 #[cfg(test)]
