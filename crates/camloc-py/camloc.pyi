@@ -402,7 +402,8 @@ def reconstruct(
         floor; docs/animation.md): ``to_bvh(r["world_points3d"], r["fps"],
         r["person_bone_lengths"])`` walks and turns (the command line's file, whose limbs are
         the mean lengths of its frames' poses, has its root up to a few millimetres higher);
-        NaN where a frame failed. Without ``frames`` the rows are
+        NaN where a frame failed; a ``CamlocWarning`` when rows go more than 15 cm below the
+        floor (a camera that moved, depths misjudged, or a floor that is not flat). Without ``frames`` the rows are
         taken as consecutive video frames: give a frame the person is missing from as a row
         of NaN, or the rows' ``frames``, so that time passes there (the frames on each side of
         3 or more frames in a row that fail are solved as runs of their own, with the person's

@@ -509,6 +509,19 @@ pub(crate) fn reconstruct<'py>(
         out.array("left_out_of_sequence", left_out.clone(), &[])?;
     }
     if let Some(world) = world {
+        if let Some(below) = camloc::below_floor(&world) {
+            crate::warnings::warn(
+                py,
+                format!(
+                    "world_points3d: the feet go {:.0} cm below the floor in {} row(s) (first \
+                     at row {}): {}",
+                    100.0 * below.deepest_m,
+                    below.frames,
+                    below.first,
+                    camloc::BELOW_FLOOR_CAUSES
+                ),
+            )?;
+        }
         let mut placed = vec![f64::NAN; n * 45];
         for (out, pose) in placed.chunks_exact_mut(45).zip(&world) {
             if let Some(pose) = pose {

@@ -35,6 +35,7 @@
 //! [`reconstruct`](mod@reconstruct).
 
 mod aim;
+mod below_floor;
 mod camera_height;
 mod conventions;
 mod defaults;
@@ -76,6 +77,7 @@ pub use camloc_skeleton as skeleton;
 pub use camloc_store as store;
 
 pub use aim::aimed_at_pelvis;
+pub use below_floor::{BELOW_FLOOR_CAUSES, BELOW_FLOOR_M, BelowFloor, below_floor};
 pub use camera_height::{CameraHeight, EYE_LEVEL_WEIGHT};
 pub use camloc_features::Descriptor;
 pub use camloc_geometry::CameraLabel;

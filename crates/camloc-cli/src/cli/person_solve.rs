@@ -75,54 +75,21 @@ pub struct Solved {
     pub reconstructed: usize,
 }
 
-/// How far below the floor (metres, in the animation's size) a frame's lowest landmark must
-/// go for [`warn_of_sinking`]: planted feet stay within a few centimetres of it.
-pub const SINKING_M: f64 = 0.15;
-
 /// Warns on standard error when frames of the animation of `person` (its name; `numbers`:
-/// its frames' numbers; `animated`: the frames the BVH animates, the floor at z = 0) have
-/// their lowest landmark more than [`SINKING_M`] below the floor: a camera that tilted, panned
-/// or moved, whose motion camloc, taking the camera as fixed, gives the person (a simulated
-/// animator's phone tilted by 17 deg over 12 frames, and the walker's feet went 33 cm into
-/// the floor without a word), depths misjudged, or a floor that is not flat. Of another
-/// user's 42 clips filmed by fixed cameras (walks, runs, squats, sitting on a stool; eye
-/// level, near the floor, 25-55 deg above), two were warned of: sitting down on a stool
-/// seen from near the floor (37 cm) and from 40 deg above (25 cm); none of a lab's 24
-/// (four corner cameras 1.5 m high).
+/// its frames' numbers; `animated`: the frames the BVH animates, the floor at z = 0) go below
+/// the floor ([`camloc::below_floor`]).
 pub fn warn_of_sinking(person: &str, numbers: &[Option<u64>], animated: &[Option<Pose3>]) {
-    let Some((count, first, deepest)) = sinking(animated) else {
+    let Some(below) = camloc::below_floor(animated) else {
         return;
     };
     stderr_line!(
         "camloc: warning: {person}: the animation's feet go {:.0} cm below the floor in {} \
-         (first at {}): a camera that tilted, panned or moved (camloc takes the camera as \
-         fixed and its motion for the person's), depths misjudged (a camera near the floor \
-         or high above), or a floor that is not flat (stairs down)",
-        100.0 * deepest,
-        counted(count as u64, "frame"),
-        super::sequence::frame_name(numbers, first)
+         (first at {}): {}",
+        100.0 * below.deepest_m,
+        counted(below.frames as u64, "frame"),
+        super::sequence::frame_name(numbers, below.first),
+        camloc::BELOW_FLOOR_CAUSES
     );
-}
-
-/// The frames of `animated` whose lowest landmark lies more than [`SINKING_M`] below z = 0:
-/// how many, the first's position and the deepest (metres below); `None` without any.
-fn sinking(animated: &[Option<Pose3>]) -> Option<(usize, usize, f64)> {
-    let depths: Vec<(usize, f64)> = animated
-        .iter()
-        .enumerate()
-        .filter_map(|(m, pose)| {
-            let lowest = pose
-                .as_ref()?
-                .points
-                .iter()
-                .map(|p| p[2])
-                .fold(f64::INFINITY, f64::min);
-            (lowest < -SINKING_M).then_some((m, -lowest))
-        })
-        .collect();
-    let &(first, _) = depths.first()?;
-    let deepest = depths.iter().map(|&(_, d)| d).fold(0.0, f64::max);
-    Some((depths.len(), first, deepest))
 }
 
 /// Solves each of `persons`, side by side ([`PARALLEL_FRAMES`]); with `animate`, also the
@@ -219,31 +186,5 @@ fn solve(
         lengths,
         animated,
         reconstructed,
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn frames_below_the_floor_are_counted_from_the_first() {
-        let at = |z: f64| {
-            Some(Pose3 {
-                points: [[0.0, 0.0, z]; 15],
-            })
-        };
-        let frames = [
-            at(0.0),
-            None,
-            at(-0.1),
-            at(-0.2),
-            at(-0.4),
-            at(-0.16),
-            at(0.3),
-        ];
-        assert_eq!(sinking(&frames), Some((3, 3, 0.4)));
-        assert_eq!(sinking(&frames[..3]), None);
-        assert_eq!(sinking(&[]), None);
     }
 }
