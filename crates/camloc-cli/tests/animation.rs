@@ -147,7 +147,8 @@ fn standing(object: &Value) -> Pose3 {
 }
 
 /// A folder of OpenPose frames: `frames` frames of two people (the first two fixture poses,
-/// each frame's keypoints moved a little so that the frames differ).
+/// the second 300 px to the right, each frame's keypoints moved a little so that the frames
+/// differ).
 fn video(dir: &TempDir, frames: usize) -> String {
     let samples = fixture("keypoints/samples/openpose");
     let mut people = Vec::new();
@@ -161,7 +162,8 @@ fn video(dir: &TempDir, frames: usize) -> String {
     for t in 0..frames {
         let moved: Vec<Value> = people[..2]
             .iter()
-            .map(|p| {
+            .enumerate()
+            .map(|(n, p)| {
                 let k: Vec<Value> = p["pose_keypoints_2d"]
                     .as_array()
                     .unwrap()
@@ -170,10 +172,10 @@ fn video(dir: &TempDir, frames: usize) -> String {
                     .map(|(i, v)| {
                         let v = v.as_f64().unwrap();
                         // x and y move, scores stay.
-                        let wobble = if i % 3 == 2 {
-                            0.0
-                        } else {
-                            3.0 * ((t + i) as f64).sin()
+                        let wobble = match i % 3 {
+                            2 => 0.0,
+                            0 => 3.0 * ((t + i) as f64).sin() + 300.0 * n as f64,
+                            _ => 3.0 * ((t + i) as f64).sin(),
                         };
                         Value::from(v + if v > 0.0 { wobble } else { 0.0 })
                     })

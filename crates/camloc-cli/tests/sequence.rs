@@ -52,6 +52,20 @@ fn fixture_people() -> Vec<Value> {
     people
 }
 
+/// BODY_25 keypoints moved `dx` px to the right (undetected points stay at 0): the fixture's
+/// poses overlap (20 px apart, as one detection's duplicate would), so people of one frame
+/// are moved apart.
+fn moved_right(keypoints: &Value, dx: f64) -> Value {
+    let mut out = keypoints.clone();
+    for (i, v) in out.as_array_mut().unwrap().iter_mut().enumerate() {
+        let x = v.as_f64().unwrap();
+        if i % 3 == 0 && x != 0.0 {
+            *v = (x + dx).into();
+        }
+    }
+    out
+}
+
 /// BODY_25 keypoints (x, y, score triples) with every left point and its right twin swapped.
 fn left_right_swapped(keypoints: &Value) -> Value {
     let mut out = keypoints.clone();
@@ -271,8 +285,9 @@ fn persons_are_separate_sequences() {
     std::fs::create_dir(&frames).unwrap();
     let frames_dir = TempDir(PathBuf::from(&frames));
     // Person 0 is seen from the front, person 1 from the left, in every frame.
+    let beside = moved_right(&people[1], 300.0);
     for t in 0..30 {
-        write_frame(&frames_dir, t, &[&people[0], &people[1]]);
+        write_frame(&frames_dir, t, &[&people[0], &beside]);
     }
     let svg = dir.path("people.svg");
     let out = camloc(&[
@@ -378,12 +393,7 @@ fn repeated_frame_numbers_are_warned_of() {
 fn untracked_people_are_followed_and_tracked_ids_kept() {
     let people = fixture_people();
     // Another person 600 px to the right.
-    let mut other = people[0].clone();
-    for (i, v) in other.as_array_mut().unwrap().iter_mut().enumerate() {
-        if i % 3 == 0 && v.as_f64().unwrap() != 0.0 {
-            *v = (v.as_f64().unwrap() + 600.0).into();
-        }
-    }
+    let other = moved_right(&people[0], 600.0);
     for tracked in [false, true] {
         let dir = TempDir::new(if tracked { "tracked" } else { "untracked" });
         for t in 0..8 {

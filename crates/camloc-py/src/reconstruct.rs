@@ -514,10 +514,10 @@ pub(crate) fn reconstruct<'py>(
                 py,
                 format!(
                     "world_points3d: the feet go {:.0} cm below the floor in {} row(s) (first \
-                     at row {}): {}",
+                     at {}): {}",
                     100.0 * below.deepest_m,
                     below.frames,
-                    below.first,
+                    crate::warnings::row_name(&numbers, below.first),
                     camloc::BELOW_FLOOR_CAUSES
                 ),
             )?;

@@ -89,10 +89,11 @@ pub(crate) fn warn_of_swapped_sides(
         }
         let message = format!(
             "the left and right {} of {} row(s) are swapped against the rows around them \
-             (first at row {first}: a detector's confusion?): they are swapped back, as the \
+             (first at {}: a detector's confusion?): they are swapped back, as the \
              command line does (the result's swapped_sides)",
             chain.name(),
-            swapped.len()
+            swapped.len(),
+            row_name(rows, first)
         );
         warn(py, message)?;
     }
@@ -119,31 +120,43 @@ pub(crate) fn warn_of_identity_jumps<'a>(
     let left_out = left_out_of_sequence(rows, &anchors, rate);
     if let Some(first) = left_out.second_poses.first() {
         let message = format!(
-            "{} row(s) share their frame number with another row (first at row {first}): of a \
+            "{} row(s) share their frame number with another row (first at {}): of a \
              frame's rows the one nearest where the person is expected is the person's, the \
              others are {treated} when untracked; for several tracked people give one person's \
              rows per call (read_keypoints gives each pose's person), with the \
              camera_height_shares of a call on all rows",
-            left_out.second_poses.len()
+            left_out.second_poses.len(),
+            row_name(rows, *first)
         );
         warn(py, message)?;
     }
     if let Some(first) = left_out.outliers.first() {
         let message = format!(
             "{} row(s) lie apart from the rows before and after them while those agree (first \
-             at row {first}): another person's detection, or a misplaced one? They are \
-             {treated}",
-            left_out.outliers.len()
+             at {}): another person's detection, or a misplaced one? They are {treated}",
+            left_out.outliers.len(),
+            row_name(rows, *first)
         );
         warn(py, message)?;
     }
     if let Some(first) = identity_jumps(rows, &left_out.kept_anchors(&anchors)).first() {
         let message = format!(
             "the pose jumps across the image or changes size from one row to the next (first \
-             at row {first}): these may be several people, or not consecutive frames of a \
-             video; give one person's rows per call (read_keypoints gives each pose's person)"
+             at {}): these may be several people, or not consecutive frames of a video; give \
+             one person's rows per call (read_keypoints gives each pose's person)",
+            row_name(rows, *first)
         );
         warn(py, message)?;
     }
     Ok(left_out.mask(anchors.len()))
+}
+
+/// How a warning names row `m` of a sequence whose rows are at frame numbers `rows`: `row 7`,
+/// or `row 7 (frame 12)` when its frame number is not its row's (the command line names the
+/// frame).
+pub(crate) fn row_name(rows: &[Option<u64>], m: usize) -> String {
+    match rows.get(m).copied().flatten() {
+        Some(frame) if frame != m as u64 => format!("row {m} (frame {frame})"),
+        _ => format!("row {m}"),
+    }
 }

@@ -71,6 +71,12 @@ impl CameraLocalizer {
             ) => e,
             found => return found,
         };
+        // The landmarks far off the others are missing here too, and filled in: a shoulder
+        // misplaced by 2,000 px took the neck derived from it along, and the fill of the
+        // pose as given kept both, so that it failed for "the neck is missing" (a simulated
+        // user's COCO-17 pose, which the same pose with the shoulder's score 0 was not).
+        let (cleaned, _) = crate::without_far_off_landmarks(pose);
+        let pose = &cleaned;
         let present = pose.points.iter().flatten().count();
         if present == 0 {
             return Err(CamlocError::NothingDetected);

@@ -4,26 +4,52 @@
 
 use camloc_reconstruct::FrameRate;
 
-use crate::identity::{TorsoAnchor, other_poses_of_frames};
+use crate::identity::{TRACK_POSES, TorsoAnchor, expected_step, torso_step, within_reach};
 use crate::videos_of;
 
-/// The most poses of one frame that [`follow_people`] follows: each person costs a pass over
-/// the poses not yet taken, so a frame of more poses (a crowd, or a hostile file of one frame
-/// with millions) leaves the detector's order as it is.
+/// The most poses of one frame that [`follow_people`] follows: a frame of more (a crowd, or a
+/// hostile file of one frame with millions) leaves the detector's order as it is.
 pub const MAX_FOLLOWED_PER_FRAME: usize = 64;
+
+/// How long a person may go unseen, in 1/30 s, and still be followed by [`follow_people`]
+/// when seen again within reach (2 s).
+pub const FOLLOW_GAP_STEPS: f64 = 15.0;
+
+/// How near another pose of its frame that was taken for a person a pose must lie, in torso
+/// lengths, to be taken for that person's second detection (a detector's duplicate) by
+/// [`follow_people`] rather than for another person: two people side by side stand a
+/// shoulder width (most of a torso length) apart; the sizes must also agree within this
+/// share (one person behind another differs in size).
+pub const DUPLICATE_TORSOS: f64 = 0.25;
+
+/// One person followed: its last poses with a torso (positions in frame order and anchors,
+/// newest last) and where it was last seen.
+struct Followed {
+    recent: Vec<(usize, TorsoAnchor)>,
+    last: usize,
+}
 
 /// The person of each pose of one video whose poses carry no tracker's id (`frames`: each
 /// pose's frame number; `anchors`: where each is, [`TorsoAnchor::of`]; in any order), or
-/// `None` when a frame has more than [`MAX_FOLLOWED_PER_FRAME`] poses. Person 0 is, frame by
-/// frame in frame order, the pose that [`left_out_of_sequence`](crate::left_out_of_sequence)
-/// takes for a person among a frame's poses (of those within reach of where the person is
-/// expected, the nearest; in its first frame, the first in the input; a frame of one pose is
-/// the person's), person 1 is the same among the poses left, and so on, until every pose has
-/// a person. So a single person keeps the number 0 throughout; the detector's order of people
-/// (OpenPose's `people[i]`) changes whenever one is missed or another appears, which had made a
-/// walker's frame with a bystander listed first the bystander's, and the walker's pose there
-/// a two-frame person of its own (a simulated animator's OpenPose folder: a junk animation, and
-/// the walker's frame interpolated). `rate`: frames a second, for the reach.
+/// `None` when a frame has more than [`MAX_FOLLOWED_PER_FRAME`] poses. Frame by frame, in
+/// frame order, each person seen within [`FOLLOW_GAP_STEPS`] takes the nearest pose within
+/// its reach, as [`left_out_of_sequence`](crate::left_out_of_sequence) tells a person's pose
+/// from the others of its frame (where the person is expected from its last poses and
+/// velocity; a torso length, and 0.4 of one for every further 1/30 s), nearest pairs first;
+/// a pose left over lying within [`DUPLICATE_TORSOS`] of a pose taken is that person's second
+/// detection; a pose alone in its frame goes to the nearest of the persons seen last (a
+/// misplaced detection of the one person of most videos, which the sequence then leaves
+/// out); any other pose left over is a new person, numbered in order of appearance (the
+/// first pose of the first frame is person 0). A pose without a torso goes to the person
+/// seen last that has no pose in the frame yet, else is a new person. So a single person
+/// keeps the number 0 throughout; the detector's order of people (OpenPose's `people[i]`)
+/// changes whenever one is missed or another appears, which had made a walker's frame with
+/// a bystander listed first the bystander's, and the walker's pose there a two-frame person
+/// of its own (a simulated animator's OpenPose folder: a junk animation, and the walker's
+/// frame interpolated); a simulated user's untracked videos of 2-6 people came out as 2-7
+/// persons, each 80-100% one person's, where the detector's order had given 3-10, 56-97%.
+/// People who cross, or one who leaves as another enters nearby, may still be taken for
+/// each other: no appearance is known. `rate`: frames a second, for the reach.
 pub fn follow_people(
     frames: &[u64],
     anchors: &[Option<TorsoAnchor>],
@@ -31,42 +57,141 @@ pub fn follow_people(
 ) -> Option<Vec<u64>> {
     let mut order: Vec<usize> = (0..frames.len()).collect();
     order.sort_by_key(|&i| (frames[i], i));
-    let most_per_frame = order
+    if order
         .chunk_by(|&a, &b| frames[a] == frames[b])
-        .map(<[usize]>::len)
-        .max()
-        .unwrap_or(0);
-    if most_per_frame > MAX_FOLLOWED_PER_FRAME {
+        .any(|group| group.len() > MAX_FOLLOWED_PER_FRAME)
+    {
         return None;
     }
-    let mut people = vec![0; frames.len()];
-    let mut pool = order;
-    let mut person = 0;
-    // Each pass takes at least the first pose of the pool's first frame (a person without a
-    // pose yet takes the first), and at most one pose a frame: it ends within
-    // `most_per_frame` passes.
-    while !pool.is_empty() {
-        let pool_frames: Vec<Option<u64>> = pool.iter().map(|&i| Some(frames[i])).collect();
-        let pool_anchors: Vec<Option<TorsoAnchor>> = pool
-            .iter()
-            .map(|&i| anchors.get(i).copied().flatten())
-            .collect();
-        let mut left = vec![false; pool.len()];
-        for m in other_poses_of_frames(&pool_frames, &pool_anchors, rate) {
-            left[m] = true;
-        }
-        let mut rest = Vec::with_capacity(pool.len());
-        for (&i, &left) in pool.iter().zip(&left) {
-            if left {
-                rest.push(i);
-            } else {
-                people[i] = person;
+    // Positions in frame order: their frame numbers and anchors.
+    let numbers: Vec<Option<u64>> = order.iter().map(|&i| Some(frames[i])).collect();
+    let anchor = |m: usize| anchors.get(order[m]).copied().flatten();
+    let gap = FOLLOW_GAP_STEPS * rate.step() as f64;
+    let mut people: Vec<Option<usize>> = vec![None; order.len()];
+    let mut tracks: Vec<Followed> = Vec::new();
+    let mut start = 0;
+    while start < order.len() {
+        let end = (start + 1..order.len())
+            .find(|&m| numbers[m] != numbers[start])
+            .unwrap_or(order.len());
+        let now = numbers[start].unwrap_or(0);
+        let seen_lately = |t: &Followed| now - numbers[t.last].unwrap_or(0) <= gap as u64;
+        // Pairs within reach, nearest first.
+        let mut pairs: Vec<(f64, usize, usize)> = Vec::new();
+        for (k, track) in tracks.iter().enumerate().filter(|(_, t)| seen_lately(t)) {
+            for m in start..end {
+                let distance =
+                    anchor(m).and_then(|a| within_reach(&track.recent, &numbers, m, a, rate));
+                if let Some(d) = distance {
+                    pairs.push((d, k, m));
+                }
             }
         }
-        pool = rest;
-        person += 1;
+        pairs.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut taken = vec![false; tracks.len()];
+        let mut within = Vec::new();
+        for (_, k, m) in pairs {
+            if !taken[k] && people[m].is_none() {
+                taken[k] = true;
+                people[m] = Some(k);
+                within.push(m);
+            }
+        }
+        for m in start..end {
+            if people[m].is_some() {
+                continue;
+            }
+            let person = match anchor(m) {
+                Some(a) => duplicate_of(&people, &within, &anchor, a).or_else(|| {
+                    (end - start == 1)
+                        .then(|| nearest(&tracks, &numbers, m, a, rate))
+                        .flatten()
+                }),
+                None => latest(&tracks, |k| !taken[k]),
+            };
+            let person = person.unwrap_or_else(|| {
+                tracks.push(Followed {
+                    recent: Vec::new(),
+                    last: m,
+                });
+                taken.push(false);
+                within.push(m);
+                tracks.len() - 1
+            });
+            taken[person] = true;
+            people[m] = Some(person);
+        }
+        // The persons' tracks go on from the poses within reach (and a new person's first).
+        for (m, person) in people.iter().enumerate().take(end).skip(start) {
+            let Some(k) = *person else { continue };
+            tracks[k].last = m;
+            if let (true, Some(a)) = (within.contains(&m), anchor(m)) {
+                let recent = &mut tracks[k].recent;
+                recent.push((m, a));
+                if recent.len() > TRACK_POSES {
+                    recent.remove(0);
+                }
+            }
+        }
+        start = end;
     }
-    Some(people)
+    let mut out = vec![0; frames.len()];
+    for (m, &i) in order.iter().enumerate() {
+        out[i] = people[m].unwrap_or(0) as u64;
+    }
+    Some(out)
+}
+
+/// The person of the pose taken in this frame (`within`, persons in `people`) that `a` lies
+/// within [`DUPLICATE_TORSOS`] of, by size too: a detector's second detection of it.
+fn duplicate_of(
+    people: &[Option<usize>],
+    within: &[usize],
+    anchor: &impl Fn(usize) -> Option<TorsoAnchor>,
+    a: TorsoAnchor,
+) -> Option<usize> {
+    within
+        .iter()
+        .filter_map(|&q| {
+            let (moved, ratio) = torso_step(&anchor(q)?, &a);
+            (moved <= DUPLICATE_TORSOS && ratio <= 1.0 + DUPLICATE_TORSOS)
+                .then_some((moved, people[q]?))
+        })
+        .min_by(|x, y| x.0.total_cmp(&y.0))
+        .map(|(_, k)| k)
+}
+
+/// The person a pose alone in its frame, out of every person's reach, is taken for (its
+/// sequence then leaves it out as misplaced): of the persons seen last, the one whose expected
+/// place is nearest the pose at `m` (anchor `a`). The most recently seen comes first: a
+/// walker whose image a tilting camera moved out of reach had been taken, as the nearest, for a
+/// bystander seen 50 frames before.
+fn nearest(
+    tracks: &[Followed],
+    numbers: &[Option<u64>],
+    m: usize,
+    a: TorsoAnchor,
+    rate: FrameRate,
+) -> Option<usize> {
+    let last = tracks.iter().map(|t| t.last).max()?;
+    tracks
+        .iter()
+        .enumerate()
+        .filter(|(_, t)| numbers[t.last] == numbers[last])
+        .map(|(k, t)| {
+            let cost = expected_step(&t.recent, numbers, m, a, rate)
+                .map_or(f64::INFINITY, |(moved, ratio, _)| moved + ratio.ln());
+            (cost, k)
+        })
+        .min_by(|x, y| x.0.total_cmp(&y.0))
+        .map(|(_, k)| k)
+}
+
+/// Of the persons for which `open(k)` holds, the one seen last (the lower number of a tie).
+fn latest(tracks: &[Followed], open: impl Fn(usize) -> bool) -> Option<usize> {
+    (0..tracks.len())
+        .filter(|&k| open(k))
+        .max_by_key(|&k| (tracks[k].last, std::cmp::Reverse(k)))
 }
 
 /// Gives the poses whose person is only their position among their frame's poses
@@ -104,6 +229,16 @@ pub fn follow_untracked<S: AsRef<str>>(
 mod tests {
     use super::*;
 
+    /// The frame numbers and anchors of a video's poses, `poses(f)` those of frame `f`.
+    fn video(
+        frames: impl Iterator<Item = u64>,
+        poses: impl Fn(u64) -> Vec<Option<TorsoAnchor>>,
+    ) -> (Vec<u64>, Vec<Option<TorsoAnchor>>) {
+        frames
+            .flat_map(|f| poses(f).into_iter().map(move |a| (f, a)))
+            .unzip()
+    }
+
     fn at(x: f64) -> Option<TorsoAnchor> {
         Some(TorsoAnchor {
             pelvis: [x, 300.0],
@@ -111,61 +246,55 @@ mod tests {
         })
     }
 
+    /// Whether each pose's person is 1 exactly when it stands right of `x`.
+    fn split_at(people: &[u64], anchors: &[Option<TorsoAnchor>], x: f64) {
+        for (p, a) in people.iter().zip(anchors) {
+            assert_eq!(*p, u64::from(a.unwrap().pelvis[0] > x), "{a:?}");
+        }
+    }
+
     #[test]
     fn a_walker_stays_person_0_when_a_bystander_is_listed_first() {
         // Frames 0-5: a walker moving 10 px a frame; a bystander 600 px away in frames 3 and
         // 4, listed first in frame 4.
-        let mut frames = Vec::new();
-        let mut anchors = Vec::new();
-        for f in 0..6u64 {
-            let walker = at(100.0 + 10.0 * f as f64);
-            let bystander = at(800.0);
-            let poses = match f {
+        let (frames, anchors) = video(0..6, |f| {
+            let (walker, bystander) = (at(100.0 + 10.0 * f as f64), at(800.0));
+            match f {
                 3 => vec![walker, bystander],
                 4 => vec![bystander, walker],
                 _ => vec![walker],
-            };
-            for a in poses {
-                frames.push(f);
-                anchors.push(a);
             }
-        }
+        });
         let people = follow_people(&frames, &anchors, FrameRate::default()).unwrap();
-        let walker: Vec<u64> = people
-            .iter()
-            .zip(&anchors)
-            .filter(|(_, a)| a.unwrap().pelvis[0] < 500.0)
-            .map(|(&p, _)| p)
-            .collect();
-        let bystander: Vec<u64> = people
-            .iter()
-            .zip(&anchors)
-            .filter(|(_, a)| a.unwrap().pelvis[0] > 500.0)
-            .map(|(&p, _)| p)
-            .collect();
-        assert_eq!(walker, vec![0; 6]);
-        assert_eq!(bystander, vec![1; 2]);
+        split_at(&people, &anchors, 500.0);
     }
 
     #[test]
     fn two_people_who_swap_places_in_the_list_keep_their_numbers() {
         // Two walkers 400 px apart, listed in an order that changes every other frame, given
-        // out of frame order.
-        let mut frames = Vec::new();
-        let mut anchors = Vec::new();
-        for f in (0..8u64).rev() {
+        // out of frame order; frame 0 lists the left one first: person 0.
+        let (frames, anchors) = video((0..8).rev(), |f| {
             let (a, b) = (at(100.0 + 5.0 * f as f64), at(500.0 - 5.0 * f as f64));
-            let poses = if f % 2 == 0 { [a, b] } else { [b, a] };
-            for p in poses {
-                frames.push(f);
-                anchors.push(p);
-            }
-        }
+            if f % 2 == 0 { vec![a, b] } else { vec![b, a] }
+        });
         let people = follow_people(&frames, &anchors, FrameRate::default()).unwrap();
-        for (p, a) in people.iter().zip(&anchors) {
-            // Frame 0 lists the left walker first: person 0.
-            assert_eq!(*p, u64::from(a.unwrap().pelvis[0] > 300.0), "{a:?}");
-        }
+        split_at(&people, &anchors, 300.0);
+    }
+
+    #[test]
+    fn a_pose_alone_goes_to_the_person_near_it_and_a_duplicate_to_its_person() {
+        // Two walkers 400 px apart; in frames 4-6 only the right one is detected, listed
+        // first; frame 8 has a duplicate of the left one 5 px off.
+        let (frames, anchors) = video(0..10, |f| {
+            let (left, right) = (at(100.0 + 3.0 * f as f64), at(500.0 - 3.0 * f as f64));
+            match f {
+                4..=6 => vec![right],
+                8 => vec![left, at(105.0 + 3.0 * f as f64), right],
+                _ => vec![left, right],
+            }
+        });
+        let people = follow_people(&frames, &anchors, FrameRate::default()).unwrap();
+        split_at(&people, &anchors, 300.0);
     }
 
     #[test]

@@ -148,7 +148,7 @@ fn jumps(before: &TorsoAnchor, after: &TorsoAnchor, elapsed: f64) -> bool {
 
 /// How far the pelvis moves from `before` to `after`, in their mean torso length, and the
 /// ratio of the larger torso to the smaller.
-fn torso_step(before: &TorsoAnchor, after: &TorsoAnchor) -> (f64, f64) {
+pub(crate) fn torso_step(before: &TorsoAnchor, after: &TorsoAnchor) -> (f64, f64) {
     let moved = (after.pelvis[0] - before.pelvis[0]).hypot(after.pelvis[1] - before.pelvis[1]);
     let torso = 0.5 * (after.torso + before.torso);
     let ratio = after.torso.max(before.torso) / after.torso.min(before.torso);
@@ -353,7 +353,7 @@ where
 
 /// The person's chosen poses [`other_poses_of_frames`] carries the velocity over: at most
 /// this many, newest last, spanning at most [`TRACK_SPAN_STEPS`].
-const TRACK_POSES: usize = 4;
+pub(crate) const TRACK_POSES: usize = 4;
 
 /// The longest time, in 1/30 s, over which the person's velocity is measured and carried on.
 const TRACK_SPAN_STEPS: f64 = 8.0;
@@ -391,6 +391,39 @@ fn expected(
     Some((anchor, steps))
 }
 
+/// How far a pose at position `m` of `frames` (numbers, at `rate`), where `anchor` is, lies
+/// from where the person of `track` (its last chosen poses, positions in `frames`, newest
+/// last) is expected ([`expected`]): the pelvis's distance in torso lengths plus the log of the
+/// torsos' size ratio, when within reach (a torso length, [`IDENTITY_JUMP_TORSOS`], and
+/// [`PERSON_STEP_TORSOS`] for every further 1/30 s; a size change of at most
+/// [`IDENTITY_SIZE_RATIO`] from one frame to the next); `None` beyond it.
+pub(crate) fn within_reach(
+    track: &[(usize, TorsoAnchor)],
+    frames: &[Option<u64>],
+    m: usize,
+    anchor: TorsoAnchor,
+    rate: FrameRate,
+) -> Option<f64> {
+    let (moved, ratio, steps) = expected_step(track, frames, m, anchor, rate)?;
+    let reach = IDENTITY_JUMP_TORSOS + PERSON_STEP_TORSOS * (steps - 1.0).max(0.0);
+    (moved <= reach && (steps > 1.0 || ratio <= IDENTITY_SIZE_RATIO)).then(|| moved + ratio.ln())
+}
+
+/// How far `anchor`, at position `m` of `frames`, lies from where the person of `track` is
+/// expected ([`within_reach`]'s terms, without the reach): the pelvis's distance in torso
+/// lengths, the size ratio, and the time since the track's newest pose in 1/30 s.
+pub(crate) fn expected_step(
+    track: &[(usize, TorsoAnchor)],
+    frames: &[Option<u64>],
+    m: usize,
+    anchor: TorsoAnchor,
+    rate: FrameRate,
+) -> Option<(f64, f64, f64)> {
+    let (there, steps) = expected(track, frames, m, rate)?;
+    let (moved, ratio) = torso_step(&there, &anchor);
+    Some((moved, ratio, steps))
+}
+
 /// The positions of the poses of one person's frames (`frames` numbers and `anchors` as for
 /// [`left_out_of_sequence`]) that share a frame number with another pose and are not the
 /// person's. Of each frame's poses the person's is, of those within reach of where the
@@ -413,16 +446,8 @@ pub(crate) fn other_poses_of_frames(
     let n = frames.len();
     let same = |a: usize, b: usize| frames[a].is_some() && frames[a] == frames[b];
     let anchor = |m: usize| anchors.get(m).copied().flatten();
-    // How far the pose at `m` is from where the person is expected (`track`), in torso
-    // lengths and sizes, when within reach: a detector's slack and a person's step for every
-    // further 1/30 s.
-    let distance = |track: &[(usize, TorsoAnchor)], m: usize| {
-        let (there, steps) = expected(track, frames, m, rate)?;
-        let (moved, ratio) = torso_step(&there, &anchor(m)?);
-        let reach = IDENTITY_JUMP_TORSOS + PERSON_STEP_TORSOS * (steps - 1.0).max(0.0);
-        (moved <= reach && (steps > 1.0 || ratio <= IDENTITY_SIZE_RATIO))
-            .then(|| moved + ratio.ln())
-    };
+    let distance =
+        |track: &[(usize, TorsoAnchor)], m: usize| within_reach(track, frames, m, anchor(m)?, rate);
     let mut others = Vec::new();
     // The person's last chosen poses with a torso: position and anchor, newest last.
     let mut track: Vec<(usize, TorsoAnchor)> = Vec::new();

@@ -126,12 +126,15 @@ impl LeanHistogram {
             let d = a.abs_diff(b);
             d.min(360 - d) as f64
         };
-        let cost = |c: usize| -> f64 {
-            (self.bins.iter().enumerate())
-                .map(|(k, &n)| n as f64 * apart(c, k))
-                .sum()
-        };
-        let best = (0..360).min_by(|&a, &b| cost(a).total_cmp(&cost(b)))?;
+        // The summed distance is least at a bin that holds leans (a circular median lies on
+        // a datum), and only those bins add to it: a call of one pose costs one bin, not
+        // 360 x 360 (a simulated user's per-pose calls spent 79% of their time here).
+        let held: Vec<(usize, f64)> = (self.bins.iter().enumerate())
+            .filter(|(_, n)| **n > 0)
+            .map(|(k, &n)| (k, n as f64))
+            .collect();
+        let cost = |c: usize| -> f64 { held.iter().map(|&(k, n)| n * apart(c, k)).sum() };
+        let best = (held.iter().map(|&(k, _)| k)).min_by(|&a, &b| cost(a).total_cmp(&cost(b)))?;
         // The mean direction of the leans within TILT_NEAR_DEG of that bin: its degree, not
         // the bin's middle.
         let (mut x, mut y) = (0.0, 0.0);

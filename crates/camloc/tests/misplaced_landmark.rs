@@ -122,3 +122,32 @@ fn a_landmark_far_off_without_a_camera_is_read_as_missing() {
     );
     assert_eq!(a.lengths, b.lengths);
 }
+
+/// A shoulder far off takes the neck derived from it along (COCO-17 and other formats derive
+/// the neck from the shoulders): both are read as missing and filled in, as for the pose
+/// without them, where the fill had kept them and failed for "the neck is missing" (a
+/// simulated user's shoulder 2,000 px off).
+#[test]
+fn a_shoulder_far_off_and_the_neck_derived_from_it_are_filled_in() {
+    use camloc::Landmark;
+    let pose = common::example_records()[0].pose;
+    let (shoulder, other) = (
+        Landmark::LeftShoulder.index(),
+        Landmark::RightShoulder.index(),
+    );
+    let mut glitch = pose;
+    let far = pose.points[shoulder].map(|[u, v]| [u + 2000.0, v]);
+    glitch.points[shoulder] = far;
+    glitch.points[Landmark::Neck.index()] = far
+        .zip(pose.points[other])
+        .map(|(a, b)| [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])]);
+    let mut missing = pose;
+    missing.points[shoulder] = None;
+    missing.points[Landmark::Neck.index()] = None;
+    let reconstructor = hybrid::hybrid_reconstructor();
+    let localizer = reconstructor.localizer().unwrap();
+    let filler = reconstructor.reconstructor();
+    let found = localizer.localize_filled(&glitch, filler).unwrap();
+    assert_eq!(found, localizer.localize_filled(&missing, filler).unwrap());
+    assert_eq!(found.missing, vec![Landmark::Neck, Landmark::LeftShoulder]);
+}
