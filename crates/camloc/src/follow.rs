@@ -47,7 +47,8 @@ struct Followed {
 /// a bystander listed first the bystander's, and the walker's pose there a two-frame person
 /// of its own (a simulated animator's OpenPose folder: a junk animation, and the walker's
 /// frame interpolated); a simulated user's untracked videos of 2-6 people came out as 2-7
-/// persons, each 80-100% one person's, where the detector's order had given 3-10, 56-97%.
+/// persons, each 80-100% one person's, where following one person after another (person 0
+/// through the video, then person 1 among the poses left) had given 3-10, 56-97%.
 /// People who cross, or one who leaves as another enters nearby, may still be taken for
 /// each other: no appearance is known. `rate`: frames a second, for the reach.
 pub fn follow_people(
