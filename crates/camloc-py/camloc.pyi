@@ -156,7 +156,7 @@ class Localizer:
         fps: with ``sequence``, the video's frames a second (30 by default), as ``camloc
           localize --sequence --fps``: the smoothing, the side swaps swapped back and the
           rows left out are judged over as long a time at faster rates (7 rows at 30 frames a
-          second, 28 at 120). Without ``sequence`` it changes nothing.
+          second, 25 at 120: 3 x round(fps / 30) on each side). Without ``sequence`` it changes nothing.
         frames: with ``sequence``, each row's video frame number (N,) (whole numbers from 0 to
           2^53 that do not decrease; all -1, ``read_keypoints``' frames of an input without
           numbers, are none), as ``reconstruct``'s ``frames``: the frame numbers between rows
@@ -266,8 +266,9 @@ def reconstruct(
       with landmarks filled in may differ more: they are filled in again from each mode's
       first solve), and ``hybrid`` holds the rotation of the
       localized continuous viewpoint (one solve, as ``classified``) and levels the pose to
-      the localized elevation, where ``classified`` keeps the class's camera, 30-45 degrees
-      off at the class's edges. Without the lifter (``lifter=False``) ``hybrid`` refines its
+      the localized elevation, where ``classified`` keeps the class's camera (the skeleton's
+      refinement adjusts it by a few degrees, as in every mode), 30-45 degrees off the true
+      camera at the class's edges. Without the lifter (``lifter=False``) ``hybrid`` refines its
       rotation by Procrustes and has the lower 3D error.
     localizer: the model that classifies the camera (default: the embedded one). The
       embedded depth lifter predicts depths per Table-1 camera: a model of Table 1's cameras

@@ -405,8 +405,15 @@ pub(crate) fn within_reach(
     rate: FrameRate,
 ) -> Option<f64> {
     let (moved, ratio, steps) = expected_step(track, frames, m, anchor, rate)?;
-    let reach = IDENTITY_JUMP_TORSOS + PERSON_STEP_TORSOS * (steps - 1.0).max(0.0);
-    (moved <= reach && (steps > 1.0 || ratio <= IDENTITY_SIZE_RATIO)).then(|| moved + ratio.ln())
+    (moved <= reach_torsos(steps) && (steps > 1.0 || ratio <= IDENTITY_SIZE_RATIO))
+        .then(|| moved + ratio.ln())
+}
+
+/// How far from where a person is expected its pose may lie, in torso lengths, `steps` 1/30 s
+/// after its last pose: [`IDENTITY_JUMP_TORSOS`] (a detector's slack) and
+/// [`PERSON_STEP_TORSOS`] for every further 1/30 s.
+pub(crate) fn reach_torsos(steps: f64) -> f64 {
+    IDENTITY_JUMP_TORSOS + PERSON_STEP_TORSOS * (steps - 1.0).max(0.0)
 }
 
 /// How far `anchor`, at position `m` of `frames`, lies from where the person of `track` is

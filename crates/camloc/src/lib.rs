@@ -90,7 +90,8 @@ pub use evaluate::{CameraAccuracy, Evaluation, LevelAccuracy, evaluate};
 pub use far_off::{FAR_OFF_RATIO, without_far_off_landmarks};
 pub use filled::MIN_PRESENT_FOR_FILL;
 pub use follow::{
-    DUPLICATE_TORSOS, FOLLOW_GAP_STEPS, MAX_FOLLOWED_PER_FRAME, follow_people, follow_untracked,
+    DUPLICATE_SIZE_RATIO, DUPLICATE_TORSOS, FOLLOW_GAP_STEPS, LOST_REACH_FACTOR,
+    MAX_FOLLOWED_PER_FRAME, follow_people, follow_untracked,
 };
 pub use height_shares::{
     HEIGHT_SHARE_MAX_POSES, HEIGHT_SHARE_PSEUDO_VIEWS, HeightEstimate, HeightShares,

@@ -269,7 +269,8 @@ pub struct KeypointsPath {
     /// read, exit 1 at the end) or - for standard input.
     #[arg(long = "input", value_name = "FILE|DIR|-")]
     input_flag: Option<PathBuf>,
-    /// The keypoints as the command's one argument, as --input: `camloc localize poses.json`.
+    /// The keypoints as the command's one argument, the same as --input (`camloc COMMAND
+    /// poses.json`).
     #[arg(value_name = "INPUT")]
     input_path: Option<PathBuf>,
 }
