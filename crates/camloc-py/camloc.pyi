@@ -514,7 +514,10 @@ def read_keypoints(
         ``frame_id`` and ``track_id``); a pose without a tracker's id whose format numbers
         people by their order in the frame (OpenPose, MMPose, YOLO) has the person followed
         from frame to frame by where it is, as ``camloc localize --sequence`` does (docs/cli.md,
-        Sequences; at 30 frames a second), so that a bystander listed first is not the walker;
+        Sequences; at 30 frames a second), so that a bystander listed first is not the walker,
+        with a ``CamlocWarning`` naming persons that may be one (one starting where and soon
+        after another ended) and one naming persons seen for under a third of a second (false
+        detections, duplicates);
         split a video's rows by person before ``reconstruct(..., sequence=True)``;
       file_errors: for a folder, (file, message) of each file that could not be read (the
         others are still read, and a ``UserWarning`` names the first); empty for a file.

@@ -186,18 +186,22 @@ pub(crate) fn read_keypoints<'py>(
         )?;
     }
     let mut records = records;
-    follow_people_of(&mut records, path.is_dir());
+    for warning in follow_people_of(&mut records, path.is_dir()) {
+        crate::warnings::warn(py, warning)?;
+    }
     records_dict(py, &records, file_errors)
 }
 
 /// Gives the poses whose person is only their position in the frame (OpenPose without
 /// tracking, MMPose without `track_id`) the persons the command line's `--sequence` follows
 /// ([`camloc::follow_untracked`], at 30 frames a second), video by video (`folder`: the
-/// records were read from a folder, whose files of several frames each are a video each).
-fn follow_people_of(records: &mut [KeypointRecord], folder: bool) {
+/// records were read from a folder, whose files of several frames each are a video each);
+/// the warnings of what was found (`camloc::FollowReport`: persons that may be one, persons
+/// of a few frames).
+fn follow_people_of(records: &mut [KeypointRecord], folder: bool) -> Vec<String> {
     let mut keys: Vec<_> = records.iter().map(|r| (r.frame, r.person)).collect();
     let sources: Vec<&str> = records.iter().map(|r| r.source.as_str()).collect();
-    camloc::follow_untracked(
+    let followed = camloc::follow_untracked(
         &mut keys,
         &sources,
         folder,
@@ -208,6 +212,7 @@ fn follow_people_of(records: &mut [KeypointRecord], folder: bool) {
     for (record, (_, person)) in records.iter_mut().zip(keys) {
         record.person = person;
     }
+    followed.warnings()
 }
 
 /// The records as arrays: points (N, 15, 2) with NaN for missing landmarks, derived (N, 15),

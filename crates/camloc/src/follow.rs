@@ -7,7 +7,7 @@ use camloc_reconstruct::FrameRate;
 use crate::identity::{
     TRACK_POSES, TorsoAnchor, expected_step, reach_torsos, torso_step, within_reach,
 };
-use crate::videos_of;
+use crate::{BRIEF_PERSON_STEPS, FollowReport, continuations, videos_of};
 
 /// The most poses of one frame that [`follow_people`] follows: a frame of more (a crowd, or a
 /// hostile file of one frame with millions) leaves the detector's order as it is.
@@ -252,7 +252,8 @@ fn latest(tracks: &[Followed], open: impl Fn(usize) -> bool) -> Option<usize> {
 /// `track_id`) the persons [`follow_people`] follows from `anchor(i)` at `rate`, video by video
 /// ([`videos_of`]): their `keys`' persons are replaced. A video with such a
 /// pose without a frame number, or more than [`MAX_FOLLOWED_PER_FRAME`] of them in a
-/// frame, keeps the detector's order; other poses keep their persons.
+/// frame, keeps the detector's order; other poses keep their persons. Returns what a user
+/// should hear of ([`FollowReport`]: persons that may be one, persons of a few frames).
 pub fn follow_untracked<S: AsRef<str>>(
     keys: &mut [(Option<u64>, Option<u64>)],
     sources: &[S],
@@ -260,14 +261,37 @@ pub fn follow_untracked<S: AsRef<str>>(
     positional: impl Fn(usize) -> bool,
     anchor: impl Fn(usize) -> Option<TorsoAnchor>,
     rate: FrameRate,
-) {
+) -> FollowReport {
+    let mut report = FollowReport::default();
+    let brief = BRIEF_PERSON_STEPS * rate.step() as f64;
     let followed: Vec<(Vec<usize>, Vec<u64>)> = videos_of(keys, sources, folder)
         .into_iter()
-        .filter_map(|(_, records)| {
+        .filter_map(|(file, records)| {
             let untracked: Vec<usize> = records.into_iter().filter(|&i| positional(i)).collect();
-            let frames: Option<Vec<u64>> = untracked.iter().map(|&i| keys[i].0).collect();
+            let frames: Vec<u64> = untracked
+                .iter()
+                .map(|&i| keys[i].0)
+                .collect::<Option<_>>()?;
             let anchors: Vec<Option<TorsoAnchor>> = untracked.iter().map(|&i| anchor(i)).collect();
-            let people = follow_people(&frames?, &anchors, rate)?;
+            let people = follow_people(&frames, &anchors, rate)?;
+            let file = file.map(str::to_owned);
+            for c in continuations(&frames, &anchors, &people, rate) {
+                report.continuations.push((file.clone(), c));
+            }
+            let span = frames
+                .iter()
+                .max()
+                .zip(frames.iter().min())
+                .map_or(0, |(a, b)| a - b);
+            if span as f64 >= 3.0 * brief {
+                let mut poses = std::collections::BTreeMap::<u64, usize>::new();
+                for &p in &people {
+                    *poses.entry(p).or_default() += 1;
+                }
+                for (person, n) in poses.into_iter().filter(|&(_, n)| (n as f64) < brief) {
+                    report.brief.push((file.clone(), person, n));
+                }
+            }
             Some((untracked, people))
         })
         .collect();
@@ -276,6 +300,7 @@ pub fn follow_untracked<S: AsRef<str>>(
             keys[i].1 = Some(person);
         }
     }
+    report
 }
 
 #[cfg(test)]

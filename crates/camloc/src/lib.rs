@@ -37,6 +37,7 @@
 mod aim;
 mod below_floor;
 mod camera_height;
+mod continuations;
 mod conventions;
 mod defaults;
 mod dropout;
@@ -45,6 +46,7 @@ mod evaluate;
 mod far_off;
 mod filled;
 mod follow;
+mod follow_report;
 mod height_shares;
 mod identity;
 mod lean;
@@ -84,6 +86,7 @@ pub use camloc_geometry::CameraLabel;
 pub use camloc_geometry::{CameraSet, Level, Side};
 pub use camloc_reconstruct::ModeKind;
 pub use camloc_skeleton::{Landmark, PartialPose2, Pose2, Pose3};
+pub use continuations::{Continuation, continuations};
 pub use conventions::InputConventions;
 pub use error::CamlocError;
 pub use evaluate::{CameraAccuracy, Evaluation, LevelAccuracy, evaluate};
@@ -93,6 +96,7 @@ pub use follow::{
     DUPLICATE_SIZE_RATIO, DUPLICATE_TORSOS, FOLLOW_GAP_STEPS, LOST_REACH_FACTOR,
     MAX_FOLLOWED_PER_FRAME, follow_people, follow_untracked,
 };
+pub use follow_report::{BRIEF_PERSON_STEPS, FollowReport};
 pub use height_shares::{
     HEIGHT_SHARE_MAX_POSES, HEIGHT_SHARE_PSEUDO_VIEWS, HeightEstimate, HeightShares,
     eye_level_shares,

@@ -134,7 +134,7 @@ pub fn run(
     let mut keys: Vec<_> = kept.iter().map(|k| (k.frame, k.person)).collect();
     let sources: Vec<&str> = kept.iter().map(|k| k.source.as_str()).collect();
     super::videos::warn_of_repeats(&keys, &sources, inputs.is_folder());
-    camloc::follow_untracked(
+    let followed = camloc::follow_untracked(
         &mut keys,
         &sources,
         inputs.is_folder(),
@@ -142,6 +142,9 @@ pub fn run(
         |i| camloc::TorsoAnchor::of(&kept[i].pose),
         reconstructor.frame_rate(),
     );
+    for warning in followed.warnings() {
+        stderr_line!("camloc: warning: {warning}");
+    }
     let (groups, names) = super::videos::person_sequences(&keys, &sources, inputs.is_folder());
     for (record, key) in kept.iter_mut().zip(&keys) {
         record.person = key.1;

@@ -282,7 +282,7 @@ pub fn run(
     let mut keys: Vec<_> = frames.iter().map(|f| (f.frame, f.person)).collect();
     let sources: Vec<&str> = frames.iter().map(|f| &*f.source).collect();
     super::videos::warn_of_repeats(&keys, &sources, inputs.is_folder());
-    camloc::follow_untracked(
+    let followed = camloc::follow_untracked(
         &mut keys,
         &sources,
         inputs.is_folder(),
@@ -290,6 +290,9 @@ pub fn run(
         |i| frames[i].torso_anchor(),
         files.rate,
     );
+    for warning in followed.warnings() {
+        stderr_line!("camloc: warning: {warning}");
+    }
     let (groups, names) = super::videos::person_sequences(&keys, &sources, inputs.is_folder());
     for (frame, key) in frames.iter_mut().zip(&keys) {
         frame.person = key.1;
@@ -447,9 +450,10 @@ pub fn warn_of_repeated_frames(keys: &[(Option<u64>, Option<u64>)]) {
         ),
         None => (
             format!("frame {frame}"),
-            "several videos in one input, or several people without person ids? give one \
-             video per run and each person an id (`person` in camloc JSON, `track_id` in COCO \
-             or MMPose)",
+            "a detector's duplicate or false detection (of a frame's poses the one nearest \
+             the person is the person's), several people without person ids, or several \
+             videos in one input? give one video per run and each person an id (`person` in \
+             camloc JSON, `track_id` in COCO or MMPose)",
         ),
     };
     stderr_line!(
