@@ -2,10 +2,17 @@
 //! [`follow_people`](crate::follow_people) loses a person who turns on the spot, folds up or
 //! is missed for long, and goes on with a new person.
 
+use std::collections::HashMap;
+
 use camloc_reconstruct::FrameRate;
 
 use crate::identity::{IDENTITY_SIZE_RATIO, TorsoAnchor, reach_torsos, torso_step};
 use crate::{FOLLOW_GAP_STEPS, LOST_REACH_FACTOR};
+
+/// The most persons that ended before it a person is compared with by [`continuations`] (those
+/// that ended last): a hostile input of people appearing and vanishing everywhere would make
+/// the comparisons grow with the square of the persons.
+const MAX_CANDIDATES: usize = 64;
 
 /// One person's ends: its first and last poses with an anchor (frame number and anchor), and
 /// its first and last frame numbers.
@@ -40,9 +47,10 @@ pub fn continuations(
     rate: FrameRate,
 ) -> Vec<Continuation> {
     let mut ends: Vec<Ends> = Vec::new();
+    let mut slots: HashMap<u64, usize> = HashMap::new();
     for ((&frame, anchor), &person) in frames.iter().zip(anchors).zip(people) {
-        let slot = match ends.iter().position(|e| e.person == person) {
-            Some(s) => s,
+        let slot = match slots.get(&person) {
+            Some(&s) => s,
             None => {
                 let Some(a) = *anchor else { continue };
                 ends.push(Ends {
@@ -51,6 +59,7 @@ pub fn continuations(
                     last: (frame, a),
                     span: [frame; 2],
                 });
+                slots.insert(person, ends.len() - 1);
                 ends.len() - 1
             }
         };
@@ -66,12 +75,19 @@ pub fn continuations(
         }
     }
     let step = rate.step() as f64;
+    // The persons by their last frame, so that each later person looks only at those that
+    // ended within the window before it (at most MAX_CANDIDATES, the latest).
+    let mut by_end: Vec<&Ends> = ends.iter().collect();
+    by_end.sort_by_key(|e| e.span[1]);
+    let window = (2.0 * FOLLOW_GAP_STEPS * step) as u64;
     let mut found: Vec<Continuation> = ends
         .iter()
         .filter_map(|later| {
             let (first, start) = later.first;
-            ends.iter()
-                .filter(|earlier| earlier.person != later.person && earlier.span[1] < later.span[0])
+            let before = by_end.partition_point(|e| e.span[1] < later.span[0]);
+            let from = by_end.partition_point(|e| e.span[1] + window < later.span[0]);
+            by_end[from.max(before.saturating_sub(MAX_CANDIDATES))..before]
+                .iter()
                 .filter_map(|earlier| {
                     let (last, end) = earlier.last;
                     let steps = (first - last) as f64 / step;

@@ -14,7 +14,8 @@ use crate::{BRIEF_PERSON_STEPS, FollowReport, continuations, videos_of};
 pub const MAX_FOLLOWED_PER_FRAME: usize = 64;
 
 /// How long a person may go unseen, in 1/30 s, and still be followed by [`follow_people`]
-/// when seen again within reach (2 s).
+/// when seen again within reach (half a second: unseen for 2 s, a bystander seen 50 frames
+/// before had taken a walker whose image a tilting camera moved).
 pub const FOLLOW_GAP_STEPS: f64 = 15.0;
 
 /// How near another pose of its frame that was taken for a person a pose must lie, in torso
@@ -37,6 +38,11 @@ pub const DUPLICATE_SIZE_RATIO: f64 = 1.25;
 /// people, changes of person 9 -> 15 and 16 -> 23 with the factor 2 or 3).
 pub const LOST_REACH_FACTOR: f64 = 3.0;
 
+/// The most persons seen lately that [`follow_people`] compares a frame's poses with (the
+/// latest seen): each costs a comparison with every pose of every frame, which a hostile input
+/// of people appearing everywhere at once would make grow without bound.
+const MAX_ACTIVE: usize = 4 * MAX_FOLLOWED_PER_FRAME;
+
 /// One person followed: its last poses with a torso (positions in frame order and anchors,
 /// newest last) and where it was last seen.
 struct Followed {
@@ -55,18 +61,17 @@ struct Followed {
 /// detection; while only one person has been seen lately, a pose left over within
 /// [`LOST_REACH_FACTOR`] times its reach is that person's (a misplaced detection, which its
 /// sequence then leaves out); a pose alone in its frame goes to the nearest of the persons
-/// seen last (a
-/// misplaced detection of the one person of most videos, which the sequence then leaves
-/// out); any other pose left over is a new person, numbered in order of appearance (the
-/// first pose of the first frame is person 0). A pose without a torso goes to the person
-/// seen last that has no pose in the frame yet, else is a new person. So a single person
-/// keeps the number 0 throughout; the detector's order of people (OpenPose's `people[i]`)
-/// changes whenever one is missed or another appears, which had made a walker's frame with
-/// a bystander listed first the bystander's, and the walker's pose there a two-frame person
-/// of its own (a simulated animator's OpenPose folder: a junk animation, and the walker's
-/// frame interpolated); a simulated user's untracked videos of 2-6 people came out as 2-7
-/// persons, each 80-100% one person's, where following one person after another (person 0
-/// through the video, then person 1 among the poses left) had given 3-10, 56-97%.
+/// seen last (likewise); any other pose left over is a new person, numbered in order of
+/// appearance (the first pose of the first frame is person 0). A pose without a torso goes to
+/// the person seen last that has no pose in the frame yet, else is a new person. So a single
+/// person keeps the number 0 throughout; the detector's order of people (OpenPose's
+/// `people[i]`) changes whenever one is missed or another appears, which had made a walker's
+/// frame with a bystander listed first the bystander's, and the walker's pose there a
+/// two-frame person of its own (a simulated animator's OpenPose folder: a junk animation, and
+/// the walker's frame interpolated); a simulated user's untracked videos of 2-6 people came out as 2-8
+/// persons, each 79-100% one person's, where following one person after another (person 0
+/// through the video, then person 1 among the poses left) had given 3-10, 56-97%
+/// (docs/measured.md).
 /// People who cross, or one who leaves as another enters nearby, may still be taken for
 /// each other: no appearance is known. `rate`: frames a second, for the reach.
 pub fn follow_people(
@@ -88,6 +93,9 @@ pub fn follow_people(
     let gap = FOLLOW_GAP_STEPS * rate.step() as f64;
     let mut people: Vec<Option<usize>> = vec![None; order.len()];
     let mut tracks: Vec<Followed> = Vec::new();
+    // The persons seen lately (at most MAX_ACTIVE, the latest), and those of the last frame
+    // with poses.
+    let (mut active, mut last_frame): (Vec<usize>, Vec<usize>) = (Vec::new(), Vec::new());
     let mut start = 0;
     while start < order.len() {
         let end = (start + 1..order.len())
@@ -95,9 +103,11 @@ pub fn follow_people(
             .unwrap_or(order.len());
         let now = numbers[start].unwrap_or(0);
         let seen_lately = |t: &Followed| now - numbers[t.last].unwrap_or(0) <= gap as u64;
+        active.retain(|&k| seen_lately(&tracks[k]));
         // Pairs within reach, nearest first.
         let mut pairs: Vec<(f64, usize, usize)> = Vec::new();
-        for (k, track) in tracks.iter().enumerate().filter(|(_, t)| seen_lately(t)) {
+        for &k in &active {
+            let track = &tracks[k];
             for m in start..end {
                 let distance =
                     anchor(m).and_then(|a| within_reach(&track.recent, &numbers, m, a, rate));
@@ -124,30 +134,21 @@ pub fn follow_people(
                 people[m] = Some(k);
             }
         }
-        // Then the one person seen lately, without a pose here, takes the nearest within
-        // LOST_REACH_FACTOR times its reach (its track does not move).
-        let mut lost: Vec<(f64, usize, usize)> = Vec::new();
-        let lately: Vec<usize> = (0..tracks.len())
-            .filter(|&k| seen_lately(&tracks[k]))
-            .collect();
-        for &k in lately.iter().filter(|&&k| !taken[k]) {
-            if lately.len() != 1 {
-                break;
-            }
-            let track = &tracks[k];
-            for m in (start..end).filter(|&m| people[m].is_none()) {
-                let Some(a) = anchor(m) else { continue };
-                if let Some((moved, ratio, steps)) =
-                    expected_step(&track.recent, &numbers, m, a, rate)
-                    && moved <= LOST_REACH_FACTOR * reach_torsos(steps)
-                {
-                    lost.push((moved + ratio.ln(), k, m));
-                }
-            }
-        }
-        lost.sort_by(|a, b| a.0.total_cmp(&b.0));
-        for (_, k, m) in lost {
-            if !taken[k] && people[m].is_none() {
+        // Then the one person seen lately, without a pose here, takes the nearest pose left
+        // within LOST_REACH_FACTOR times its reach (its track does not move).
+        if let [k] = active[..]
+            && !taken[k]
+        {
+            let lost = (start..end)
+                .filter(|&m| people[m].is_none())
+                .filter_map(|m| {
+                    let (moved, ratio, steps) =
+                        expected_step(&tracks[k].recent, &numbers, m, anchor(m)?, rate)?;
+                    (moved <= LOST_REACH_FACTOR * reach_torsos(steps))
+                        .then_some((moved + ratio.ln(), m))
+                })
+                .min_by(|a, b| a.0.total_cmp(&b.0));
+            if let Some((_, m)) = lost {
                 taken[k] = true;
                 people[m] = Some(k);
             }
@@ -158,9 +159,11 @@ pub fn follow_people(
             }
             let person = match anchor(m) {
                 Some(a) => (end - start == 1)
-                    .then(|| nearest(&tracks, &numbers, m, a, rate))
+                    .then(|| nearest(&tracks, &last_frame, &numbers, m, a, rate))
                     .flatten(),
-                None => latest(&tracks, |k| !taken[k]),
+                None => (active.iter().copied())
+                    .filter(|&k| !taken[k])
+                    .max_by_key(|&k| (tracks[k].last, std::cmp::Reverse(k))),
             };
             let person = person.unwrap_or_else(|| {
                 tracks.push(Followed {
@@ -185,6 +188,19 @@ pub fn follow_people(
                     recent.remove(0);
                 }
             }
+        }
+        last_frame.clear();
+        last_frame.extend(people[start..end].iter().flatten().copied());
+        last_frame.sort_unstable();
+        last_frame.dedup();
+        for &k in &last_frame {
+            if !active.contains(&k) {
+                active.push(k);
+            }
+        }
+        if active.len() > MAX_ACTIVE {
+            active.sort_by_key(|&k| std::cmp::Reverse(tracks[k].last));
+            active.truncate(MAX_ACTIVE);
         }
         start = end;
     }
@@ -215,36 +231,26 @@ fn duplicate_of(
 }
 
 /// The person a pose alone in its frame, out of every person's reach, is taken for (its
-/// sequence then leaves it out as misplaced): of the persons seen last, the one whose expected
-/// place is nearest the pose at `m` (anchor `a`). The most recently seen comes first: a
-/// walker whose image a tilting camera moved out of reach had been taken, as the nearest, for a
-/// bystander seen 50 frames before.
+/// sequence then leaves it out as misplaced): of the persons of the last frame with poses
+/// (`last_frame`), the one whose expected place is nearest the pose at `m` (anchor `a`). The
+/// most recently seen come first: a walker whose image a tilting camera moved out of reach had
+/// been taken, as the nearest, for a bystander seen 50 frames before.
 fn nearest(
     tracks: &[Followed],
+    last_frame: &[usize],
     numbers: &[Option<u64>],
     m: usize,
     a: TorsoAnchor,
     rate: FrameRate,
 ) -> Option<usize> {
-    let last = tracks.iter().map(|t| t.last).max()?;
-    tracks
-        .iter()
-        .enumerate()
-        .filter(|(_, t)| numbers[t.last] == numbers[last])
-        .map(|(k, t)| {
-            let cost = expected_step(&t.recent, numbers, m, a, rate)
+    (last_frame.iter())
+        .map(|&k| {
+            let cost = expected_step(&tracks[k].recent, numbers, m, a, rate)
                 .map_or(f64::INFINITY, |(moved, ratio, _)| moved + ratio.ln());
             (cost, k)
         })
         .min_by(|x, y| x.0.total_cmp(&y.0))
         .map(|(_, k)| k)
-}
-
-/// Of the persons for which `open(k)` holds, the one seen last (the lower number of a tie).
-fn latest(tracks: &[Followed], open: impl Fn(usize) -> bool) -> Option<usize> {
-    (0..tracks.len())
-        .filter(|&k| open(k))
-        .max_by_key(|&k| (tracks[k].last, std::cmp::Reverse(k)))
 }
 
 /// Gives the poses whose person is only their position among their frame's poses
