@@ -194,8 +194,8 @@ class Localizer:
             elevation + above); NaN where the pose failed or the model has no direction heads;
           uncertainty_deg (N,) float64: angular radius calibrated to hold about 68% of the
             viewpoint error over the training views' mix of postures and cameras; it held
-            63-79% of held-out views by protocol, less for acrobatics (29-38%) and for low
-            frames under ``jittered`` views (45-60%; docs/RESULTS.md);
+            63-84% of held-out views by protocol, less for acrobatics (30-50%) and for low
+            frames under ``jittered`` views (45-64%; docs/RESULTS.md);
           missing, derived (N, 15) bool: the landmarks (``LANDMARKS`` order) missing from the
             pose as read (every one of a pose that could not be read) and those derived rather
             than read (a pelvis from the hips, a COCO head from the face points), as ``camloc

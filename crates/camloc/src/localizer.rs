@@ -402,16 +402,12 @@ impl CameraLocalizer {
         let (best, probability) = most_probable(&probabilities);
         let (mut azimuth_deg, mut elevation_deg, mut uncertainty_deg) = (None, None, None);
         if let Some(heads) = &self.viewpoint {
-            // The head of the model's own most probable camera: a prior over the height
-            // decides the class at a ring's edge, but its class's head had pulled the
-            // elevation of cameras above the middle ring's edge 5-11 deg low (validation
-            // `rig` views 16-30+ deg up: -5.7 to -11.2 deg, now -1.6 to -4.5; docs/measured.md).
-            let (head, own_probability) = own.as_deref().map_or((best, probability), most_probable);
-            let u = heads.predict(head, heads_x)?;
+            let u = heads.predict(best, heads_x)?;
             // (`% 360`: a tiny negative angle rounds to 360 under `rem_euclid`.)
             azimuth_deg = Some(u[1].atan2(u[0]).to_degrees().rem_euclid(360.0) % 360.0);
             elevation_deg = Some(u[2].clamp(-1.0, 1.0).asin().to_degrees());
-            uncertainty_deg = Some(heads.uncertainty_deg(own_probability));
+            uncertainty_deg =
+                Some(heads.uncertainty_deg(own.as_ref().map_or(probability, |o| o[best])));
         }
         let label = CameraLabel::from_index(best)?;
         let view = self.cameras.get(label.get());
