@@ -446,6 +446,49 @@ fn untracked_people_are_followed_and_tracked_ids_kept() {
     }
 }
 
+/// Untracked people followed: a detection seen in 2 frames of a 40-frame video (a false
+/// detection on the background) is named as a brief person, and a walker who vanishes and
+/// reappears nearly five torsos further on a few frames later, beside another walker (a
+/// person the following lost), as a person that may continue the first.
+#[test]
+fn brief_persons_and_lost_ones_are_warned_of() {
+    let walker = fixture_people().swap_remove(0);
+    let (other, false_detection) = (moved_right(&walker, 900.0), moved_right(&walker, 1800.0));
+    let dir = TempDir::new("brief-and-lost");
+    for t in 0..40 {
+        // The walker moves 2 px a frame; it is missed at frames 20-23 and reappears 400 px
+        // to the right, beyond its reach.
+        let shift = 2.0 * t as f64 + if t >= 24 { 400.0 } else { 0.0 };
+        let here = moved_right(&walker, shift);
+        let mut people: Vec<&Value> = vec![&other];
+        if !(20..24).contains(&t) {
+            people.insert(0, &here);
+        }
+        if t == 10 || t == 11 {
+            people.push(&false_detection);
+        }
+        write_frame(&dir, t, &people);
+    }
+    let out = camloc(&[
+        "localize",
+        "--input",
+        &dir.path(""),
+        "--sequence",
+        "-q",
+        "--jsonl",
+    ]);
+    assert!(out.status.success());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("persons seen for under a third of a second: person 2 (2 poses)"),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("person 3 (from frame 24) after person 0 (to frame 19)"),
+        "{stderr}"
+    );
+}
+
 /// A COCO results list of a video: `image_id` is the frame and `track_id` the person, so two
 /// tracked people are two sequences; without `track_id` they are one, which is warned of.
 #[test]
