@@ -97,6 +97,22 @@ fn write_frame(dir: &TempDir, t: usize, people: &[&Value]) {
     write_frame_with_ids(dir, t, &untracked);
 }
 
+/// `camloc localize --sequence --jsonl -q` of the frame files in `dir`, which must succeed: its
+/// output and its standard error.
+fn localized_video(dir: &TempDir) -> (Output, String) {
+    let out = camloc(&[
+        "localize",
+        "--input",
+        &dir.path(""),
+        "--sequence",
+        "-q",
+        "--jsonl",
+    ]);
+    assert!(out.status.success());
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    (out, stderr)
+}
+
 /// An OpenPose frame file of `people`, each with its `person_id` (-1: untracked).
 fn write_frame_with_ids(dir: &TempDir, t: usize, people: &[(&Value, i64)]) {
     let people: Vec<Value> = people
@@ -409,16 +425,7 @@ fn untracked_people_are_followed_and_tracked_ids_kept() {
                 .collect();
             write_frame_with_ids(&dir, t, &listed);
         }
-        let out = camloc(&[
-            "localize",
-            "--input",
-            &dir.path(""),
-            "--sequence",
-            "-q",
-            "--jsonl",
-        ]);
-        assert!(out.status.success());
-        let stderr = String::from_utf8_lossy(&out.stderr);
+        let (out, stderr) = localized_video(&dir);
         for line in json_lines(&out) {
             let (frame, person) = (line["frame"].as_u64().unwrap(), line["person"].as_u64());
             let listed = line["source"].as_str().unwrap().ends_with("people[0]");
@@ -469,16 +476,7 @@ fn brief_persons_and_lost_ones_are_warned_of() {
         }
         write_frame(&dir, t, &people);
     }
-    let out = camloc(&[
-        "localize",
-        "--input",
-        &dir.path(""),
-        "--sequence",
-        "-q",
-        "--jsonl",
-    ]);
-    assert!(out.status.success());
-    let stderr = String::from_utf8_lossy(&out.stderr);
+    let (_, stderr) = localized_video(&dir);
     assert!(
         stderr.contains("persons seen for under a third of a second: person 2 (2 poses)"),
         "{stderr}"
