@@ -133,8 +133,7 @@ pub fn run(
     inputs.check_read_to_end(summary.failed_files)?;
     let mut keys: Vec<_> = kept.iter().map(|k| (k.frame, k.person)).collect();
     let sources: Vec<&str> = kept.iter().map(|k| k.source.as_str()).collect();
-    super::videos::warn_of_repeats(&keys, &sources, inputs.is_folder());
-    let followed = camloc::follow_untracked(
+    let (groups, names) = super::videos::followed_sequences(
         &mut keys,
         &sources,
         inputs.is_folder(),
@@ -142,10 +141,6 @@ pub fn run(
         |i| camloc::TorsoAnchor::of(&kept[i].pose),
         reconstructor.frame_rate(),
     );
-    for warning in followed.warnings() {
-        stderr_line!("camloc: warning: {warning}");
-    }
-    let (groups, names) = super::videos::person_sequences(&keys, &sources, inputs.is_folder());
     for (record, key) in kept.iter_mut().zip(&keys) {
         record.person = key.1;
     }

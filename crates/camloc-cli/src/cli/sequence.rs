@@ -281,8 +281,7 @@ pub fn run(
     let model = SequenceModel::with_default_switch(localizer.cameras());
     let mut keys: Vec<_> = frames.iter().map(|f| (f.frame, f.person)).collect();
     let sources: Vec<&str> = frames.iter().map(|f| &*f.source).collect();
-    super::videos::warn_of_repeats(&keys, &sources, inputs.is_folder());
-    let followed = camloc::follow_untracked(
+    let (groups, names) = super::videos::followed_sequences(
         &mut keys,
         &sources,
         inputs.is_folder(),
@@ -290,10 +289,6 @@ pub fn run(
         |i| frames[i].torso_anchor(),
         files.rate,
     );
-    for warning in followed.warnings() {
-        stderr_line!("camloc: warning: {warning}");
-    }
-    let (groups, names) = super::videos::person_sequences(&keys, &sources, inputs.is_folder());
     for (frame, key) in frames.iter_mut().zip(&keys) {
         frame.person = key.1;
     }

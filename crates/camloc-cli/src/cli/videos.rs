@@ -1,8 +1,9 @@
-//! The people's sequences of a `--sequence` input and the warnings of its repeated frames,
-//! video by video ([`camloc::videos_of`]: a file, or a folder of frame files, is one video; a
+//! The people's sequences of a `--sequence` input (untracked people followed) and the
+//! warnings of its repeated frames, video by video ([`camloc::videos_of`]: a file, or a folder of frame files, is one video; a
 //! folder of files of several frames each is a video per file).
 
-use camloc::{sequences, videos_of};
+use camloc::reconstruct::FrameRate;
+use camloc::{TorsoAnchor, follow_untracked, sequences, videos_of};
 
 use super::sequence::warn_of_repeated_frames;
 
@@ -30,9 +31,30 @@ pub fn person_sequences<S: AsRef<str>>(
     (groups, names)
 }
 
+/// The people's sequences of a `--sequence` input, as both commands make them: the poses that
+/// repeat a frame and person of their video warned of ([`warn_of_repeats`]), the poses whose
+/// person is only their position in the frame (`positional(i)`) given the persons followed
+/// from `anchor(i)` at `rate` ([`camloc::follow_untracked`], its warnings on standard error,
+/// `keys` rewritten), then [`person_sequences`] of the `keys`.
+pub fn followed_sequences<S: AsRef<str>>(
+    keys: &mut [(Option<u64>, Option<u64>)],
+    sources: &[S],
+    folder: bool,
+    positional: impl Fn(usize) -> bool,
+    anchor: impl Fn(usize) -> Option<TorsoAnchor>,
+    rate: FrameRate,
+) -> (Vec<(u64, Vec<usize>)>, Vec<String>) {
+    warn_of_repeats(keys, sources, folder);
+    let followed = follow_untracked(keys, sources, folder, positional, anchor, rate);
+    for warning in followed.warnings() {
+        stderr_line!("camloc: warning: {warning}");
+    }
+    person_sequences(keys, sources, folder)
+}
+
 /// Warns of the poses that repeat a frame and person of their video
 /// ([`warn_of_repeated_frames`], the videos of [`person_sequences`]).
-pub fn warn_of_repeats<S: AsRef<str>>(
+fn warn_of_repeats<S: AsRef<str>>(
     keys: &[(Option<u64>, Option<u64>)],
     sources: &[S],
     folder: bool,
