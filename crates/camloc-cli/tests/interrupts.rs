@@ -213,6 +213,13 @@ fn a_cut_off_input_writes_no_file() {
         assert_clean_failure(&out, "could not be read to its end");
         assert_eq!(listing(&dir.0), ["cut.json"], "{args:?}");
     }
+    // Standard output stays one JSON document: the poses read, then the error, then `]`.
+    let out = camloc(&["localize", "--input", &input, "--json"]);
+    assert_clean_failure(&out, "could not be read to its end");
+    let printed: Vec<serde_json::Value> = serde_json::from_slice(&out.stdout)
+        .unwrap_or_else(|e| panic!("{e}: {}", String::from_utf8_lossy(&out.stdout)));
+    assert!(printed.len() > 1, "{printed:?}");
+    assert!(printed.last().unwrap().get("error").is_some());
     // The whole file is written.
     let input = dir.file("whole.json", &whole);
     success(&camloc(&[

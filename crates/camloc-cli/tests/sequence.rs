@@ -450,6 +450,41 @@ fn untracked_people_are_followed_and_tracked_ids_kept() {
         } else {
             assert!(!stderr.contains("jumps"), "{stderr}");
         }
+        // `convert` writes the persons followed (camloc JSON's `person` is an identity).
+        let out_dir = TempDir::new(if tracked {
+            "tracked-out"
+        } else {
+            "untracked-out"
+        });
+        let json = out_dir.path("converted.json");
+        let out = camloc(&[
+            "convert",
+            "--input",
+            &dir.path(""),
+            "--to",
+            "camloc",
+            "--out",
+            &json,
+        ]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let converted: Value =
+            serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+        let poses = converted["poses"].as_array().unwrap();
+        assert_eq!(poses.len(), 16);
+        for pose in poses {
+            let (frame, person) = (pose["frame"].as_u64().unwrap(), pose["person"].as_u64());
+            let listed = pose["id"].as_str().unwrap().ends_with("/0");
+            let expected = if tracked || frame < 4 {
+                !listed
+            } else {
+                listed
+            };
+            assert_eq!(person, Some(u64::from(expected)), "{pose}");
+        }
     }
 }
 

@@ -6,6 +6,7 @@ use camloc::keypoints::{
     ImageSize, Invisible, KeypointFormat, KeypointRecord, Layout, ReadOptions, read_folder,
     read_keypoints as read_file,
 };
+use camloc::reconstruct::FrameRate;
 use camloc::{CamlocError, Landmark};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
@@ -186,33 +187,12 @@ pub(crate) fn read_keypoints<'py>(
         )?;
     }
     let mut records = records;
-    for warning in follow_people_of(&mut records, path.is_dir()) {
+    // Untracked people followed as the command line's `--sequence` does (30 frames a second).
+    let followed = camloc::follow_records(&mut records, path.is_dir(), FrameRate::default());
+    for warning in followed.warnings() {
         crate::warnings::warn(py, warning)?;
     }
     records_dict(py, &records, file_errors)
-}
-
-/// Gives the poses whose person is only their position in the frame (OpenPose without
-/// tracking, MMPose without `track_id`) the persons the command line's `--sequence` follows
-/// ([`camloc::follow_untracked`], at 30 frames a second), video by video (`folder`: the
-/// records were read from a folder, whose files of several frames each are a video each);
-/// the warnings of what was found (`camloc::FollowReport`: persons that may be one, persons
-/// of a few frames).
-fn follow_people_of(records: &mut [KeypointRecord], folder: bool) -> Vec<String> {
-    let mut keys: Vec<_> = records.iter().map(|r| (r.frame, r.person)).collect();
-    let sources: Vec<&str> = records.iter().map(|r| r.source.as_str()).collect();
-    let followed = camloc::follow_untracked(
-        &mut keys,
-        &sources,
-        folder,
-        |i| records[i].person_is_position,
-        |i| camloc::TorsoAnchor::of(&records[i].pose),
-        camloc::reconstruct::FrameRate::default(),
-    );
-    for (record, (_, person)) in records.iter_mut().zip(keys) {
-        record.person = person;
-    }
-    followed.warnings()
 }
 
 /// The records as arrays: points (N, 15, 2) with NaN for missing landmarks, derived (N, 15),

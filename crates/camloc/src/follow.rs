@@ -2,10 +2,11 @@
 //! video whose person numbers are only the detector's order of each frame's poses (OpenPose
 //! without tracking, MMPose without `track_id`), following each person by where it is.
 
+use camloc_keypoints::KeypointRecord;
 use camloc_reconstruct::FrameRate;
 
 use crate::identity::{
-    TRACK_POSES, TorsoAnchor, expected_step, reach_torsos, torso_step, within_reach,
+    TRACK_POSES, TorsoAnchor, expected_step, reach_torsos, step_cost, torso_step, within_reach,
 };
 use crate::{BRIEF_PERSON_STEPS, FollowReport, continuations, videos_of};
 
@@ -145,7 +146,7 @@ pub fn follow_people(
                     let (moved, ratio, steps) =
                         expected_step(&tracks[k].recent, &numbers, m, anchor(m)?, rate)?;
                     (moved <= LOST_REACH_FACTOR * reach_torsos(steps))
-                        .then_some((moved + ratio.ln(), m))
+                        .then_some((step_cost(moved, ratio), m))
                 })
                 .min_by(|a, b| a.0.total_cmp(&b.0));
             if let Some((_, m)) = lost {
@@ -246,7 +247,7 @@ fn nearest(
     (last_frame.iter())
         .map(|&k| {
             let cost = expected_step(&tracks[k].recent, numbers, m, a, rate)
-                .map_or(f64::INFINITY, |(moved, ratio, _)| moved + ratio.ln());
+                .map_or(f64::INFINITY, |(moved, ratio, _)| step_cost(moved, ratio));
             (cost, k)
         })
         .min_by(|x, y| x.0.total_cmp(&y.0))
@@ -305,6 +306,32 @@ pub fn follow_untracked<S: AsRef<str>>(
         for (i, person) in untracked.into_iter().zip(people) {
             keys[i].1 = Some(person);
         }
+    }
+    report
+}
+
+/// [`follow_untracked`] on keypoint records read from one input (`folder`: read from a folder,
+/// whose files of several frames each are a video each), with each record's frame, person,
+/// source and torso: a record whose person was only its position in the frame
+/// ([`KeypointRecord::person_is_position`]) gets the person followed at `rate`. Returns what a
+/// user should hear of ([`FollowReport`]).
+pub fn follow_records(
+    records: &mut [KeypointRecord],
+    folder: bool,
+    rate: FrameRate,
+) -> FollowReport {
+    let mut keys: Vec<_> = records.iter().map(|r| (r.frame, r.person)).collect();
+    let sources: Vec<&str> = records.iter().map(|r| r.source.as_str()).collect();
+    let report = follow_untracked(
+        &mut keys,
+        &sources,
+        folder,
+        |i| records[i].person_is_position,
+        |i| TorsoAnchor::of(&records[i].pose),
+        rate,
+    );
+    for (record, (_, person)) in records.iter_mut().zip(keys) {
+        record.person = person;
     }
     report
 }

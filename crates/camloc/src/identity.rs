@@ -406,7 +406,14 @@ pub(crate) fn within_reach(
 ) -> Option<f64> {
     let (moved, ratio, steps) = expected_step(track, frames, m, anchor, rate)?;
     (moved <= reach_torsos(steps) && (steps > 1.0 || ratio <= IDENTITY_SIZE_RATIO))
-        .then(|| moved + ratio.ln())
+        .then(|| step_cost(moved, ratio))
+}
+
+/// The cost of a pose as a person's next one, the lower the likelier: `moved` (the pelvis's
+/// distance from where the person is expected, torso lengths) plus the log of `ratio` (the
+/// torsos' size ratio, at least 1).
+pub(crate) fn step_cost(moved: f64, ratio: f64) -> f64 {
+    moved + ratio.ln()
 }
 
 /// How far from where a person is expected its pose may lie, in torso lengths, `steps` 1/30 s

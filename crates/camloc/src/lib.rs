@@ -94,7 +94,7 @@ pub use far_off::{FAR_OFF_RATIO, without_far_off_landmarks};
 pub use filled::MIN_PRESENT_FOR_FILL;
 pub use follow::{
     DUPLICATE_SIZE_RATIO, DUPLICATE_TORSOS, FOLLOW_GAP_STEPS, LOST_REACH_FACTOR,
-    MAX_FOLLOWED_PER_FRAME, follow_people, follow_untracked,
+    MAX_FOLLOWED_PER_FRAME, follow_people, follow_records, follow_untracked,
 };
 pub use follow_report::{BRIEF_PERSON_STEPS, FollowReport};
 pub use height_shares::{

@@ -3,9 +3,10 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use camloc::PartialPose2;
 use camloc::keypoints::{KeypointRecord, to_camloc_json};
+use camloc::reconstruct::FrameRate;
 use camloc::store::{StagedFiles, check_target, escaped};
+use camloc::{PartialPose2, follow_records};
 use clap::ValueEnum;
 
 use super::input::Inputs;
@@ -16,7 +17,9 @@ use super::{CliError, EXIT_ERROR, InputArgs, Out, ProgressArgs, progress, target
 /// camloc's own keypoint formats.
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub enum Target {
-    /// camloc JSON (docs/keypoints.md): ids kept, every landmark key, null for missing ones.
+    /// camloc JSON (docs/keypoints.md): ids kept, every landmark key, null for missing ones;
+    /// people a detector numbered by their order in the frame (OpenPose, MMPose without
+    /// `track_id`, YOLO) followed from frame to frame as `--sequence` follows them (30 fps).
     Camloc,
     /// A (N, 15, 2) float64 .npy array in the camloc15 layout, NaN, NaN for a missing
     /// landmark; row n is the n-th pose read (ids are not kept).
@@ -112,6 +115,12 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     match npy {
         Some(npy) => npy.finish(&mut staged)?,
         None => {
+            // camloc JSON's `person` is an identity: people a detector numbered by their
+            // order in the frame are followed, as `--sequence` follows them.
+            let followed = follow_records(&mut poses, inputs.is_folder(), FrameRate::default());
+            for warning in followed.warnings() {
+                stderr_line!("camloc: warning: {warning}");
+            }
             staged.add(&args.out, to_camloc_json(&poses).as_bytes())?;
         }
     }

@@ -540,9 +540,12 @@ where
     if summary.poses == 0 && summary.failed_files == 0 {
         return Err(inputs.no_poses());
     }
-    inputs.check_read_to_end(summary.failed_files)?;
+    // Standard output stays one valid document (the array closed after the file's error
+    // object) even when the input ended early; then the run fails without writing files.
+    let read_to_end = inputs.check_read_to_end(summary.failed_files);
     emitter.end(out)?;
     out.flush()?;
+    read_to_end?;
     if let Some(rows) = rows {
         rows.finish(&mut staged)?;
     }
