@@ -439,6 +439,17 @@ fn outputs_in_missing_folders_are_refused_before_any_work() {
         );
     }
     assert!(!missing.exists());
+    // A "folder" that is a file is named as such.
+    let out = camloc(&[
+        "localize",
+        "--input",
+        &input,
+        "--svg",
+        &format!("{input}/x.svg"),
+    ]);
+    let text = short_clean_lines(&out);
+    assert_eq!(out.status.code(), Some(2), "{text}");
+    assert!(text.contains("is not a folder"), "{text}");
 }
 
 #[test]

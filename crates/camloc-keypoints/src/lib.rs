@@ -456,6 +456,14 @@ pub fn open_keypoints_reader(
     if let Some(e) = start.utf8_error(name) {
         return Err(e);
     }
+    // Nothing but white space (its lead only counted, not held): empty, or a YOLO frame
+    // without people.
+    if start.content.is_empty() && start.ended {
+        let items = parse_items_bytes(b"", name, format, options)?;
+        return Ok(KeypointStream {
+            inner: StreamInner::Parsed(items.into_iter()),
+        });
+    }
     let extension = Path::new(name).extension().and_then(|e| e.to_str());
     let text = start.text();
     let detected = format.or_else(|| KeypointFormat::from_extension_and_content(extension, text));

@@ -29,8 +29,8 @@ const LINE: &str = "a class, a box's 4 numbers, 17 keypoints as x y v (56) or x 
 ///
 /// # Errors
 /// [`KeypointError::ImageSizeNeeded`] without [`ReadOptions::image_size`];
-/// [`KeypointError::InvalidValue`] for a value that is not a finite number, or coordinates
-/// that are pixels rather than normalised; [`KeypointError::WrongLength`] for a line of
+/// [`KeypointError::InvalidValue`] for a value that is not a finite number, a track id
+/// beyond 2^63 - 1, or coordinates that are pixels rather than normalised; [`KeypointError::WrongLength`] for a line of
 /// another count of numbers.
 pub(crate) fn parse(
     text: &str,
@@ -106,7 +106,20 @@ fn person_record(
     let keypoints_end = BOX_NUMBERS + per_keypoint * COCO17.len();
     let keypoints = &values[BOX_NUMBERS..keypoints_end];
     let track = match values[keypoints_end..] {
-        [_, id] | [id] if id.fract() == 0.0 && id >= 0.0 => Some(id as u64),
+        [_, id] | [id] if id.fract() == 0.0 && id >= 0.0 => {
+            // As every format's ids: a number JSON and `.npz` outputs keep as given (2^63 - 1
+            // itself reads as 2^63, as f64 rounds it).
+            if id >= crate::MAX_FRAME_NUMBER as f64 {
+                return Err(KeypointError::InvalidValue {
+                    file: file.to_owned(),
+                    at,
+                    field: "track id",
+                    text: format!("{id:e}"),
+                    expected: "an integer from 0 to 2^63 - 1",
+                });
+            }
+            Some(id as u64)
+        }
         _ => None,
     };
     let mut points = Vec::with_capacity(COCO17.len());
@@ -183,6 +196,15 @@ mod tests {
             "{hip:?}"
         );
         assert_eq!(records[0].pose, records[1].pose);
+        // An id beyond 2^63 - 1 (which JSON and `.npz` could not give back) is refused.
+        let text = line(true, "0.9 99999999999999999999999");
+        let e = parse(&text, "clip_0.txt", &options())
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("track id") && e.contains("2^63 - 1"), "{e}");
+        let large = line(true, "0.9 9007199254740992");
+        let records = parse(&large, "clip_0.txt", &options()).unwrap();
+        assert_eq!(records[0].person, Some(1 << 53));
     }
 
     #[test]

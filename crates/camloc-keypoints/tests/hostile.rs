@@ -450,3 +450,24 @@ fn a_layout_for_a_format_that_does_not_take_one_is_refused() {
     let e = parse_keypoints(csv, "l.csv", None, &with(Layout::Coco17)).unwrap_err();
     assert!(matches!(e, KeypointError::LayoutNotUsed { .. }), "{e:?}");
 }
+
+/// An input of nothing but white space, longer than the peek, is empty (a YOLO frame without
+/// people) after its blanks are counted, not held (a simulated user's 1 GB of spaces had been
+/// read into memory whole to say so).
+#[test]
+fn a_long_blank_input_is_empty() {
+    let blanks = || std::io::Read::take(std::io::repeat(b' '), 8 << 20);
+    let e = open_keypoints_reader(blanks(), "b.json", None, None, &ReadOptions::default())
+        .err()
+        .unwrap();
+    assert!(matches!(e, KeypointError::Empty { .. }), "{e:?}");
+    let options = ReadOptions {
+        image_size: Some(camloc_keypoints::ImageSize {
+            width: 100.0,
+            height: 100.0,
+        }),
+        ..ReadOptions::default()
+    };
+    let frame = open_keypoints_reader(blanks(), "f_1.txt", None, None, &options).unwrap();
+    assert_eq!(frame.count(), 0);
+}

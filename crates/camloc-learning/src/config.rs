@@ -211,7 +211,7 @@ impl LogisticRegression {
         if !(self.lambda.is_finite() && self.lambda >= 0.0) {
             return Err(LearningError::InvalidParameter {
                 name: "lambda",
-                value: self.lambda.to_string(),
+                value: format!("{:?}", self.lambda),
                 reason: "must be finite and >= 0",
             });
         }
@@ -236,7 +236,7 @@ impl LogisticRegression {
         if !(self.gradient_tolerance.is_finite() && self.gradient_tolerance >= 0.0) {
             return Err(LearningError::InvalidParameter {
                 name: "gradient_tolerance",
-                value: self.gradient_tolerance.to_string(),
+                value: format!("{:?}", self.gradient_tolerance),
                 reason: "must be finite and >= 0",
             });
         }

@@ -166,7 +166,7 @@ impl LogisticModel {
         if !(self.parameters.lambda.is_finite() && self.parameters.lambda >= 0.0) {
             return Err(LearningError::InvalidParameter {
                 name: "lambda",
-                value: self.parameters.lambda.to_string(),
+                value: format!("{:?}", self.parameters.lambda),
                 reason: "must be finite and >= 0",
             });
         }
@@ -428,7 +428,7 @@ pub(crate) fn all_finite(
     match weights.iter().chain(biases).find(|v| !v.is_finite()) {
         Some(v) => Err(LearningError::InvalidParameter {
             name,
-            value: v.to_string(),
+            value: format!("{v:?}"),
             reason: "every weight and bias must be finite",
         }),
         None => Ok(()),

@@ -494,7 +494,7 @@ impl NewtonProblem {
         if let Some(v) = theta.iter().find(|v| !v.is_finite()) {
             return Err(LearningError::InvalidParameter {
                 name: "theta",
-                value: v.to_string(),
+                value: format!("{v:?}"),
                 reason: "every parameter must be finite",
             });
         }

@@ -403,7 +403,7 @@ impl DirectionHeads {
         {
             return Err(LearningError::InvalidParameter {
                 name: "viewpoint uncertainty",
-                value: v.to_string(),
+                value: format!("{v:?}"),
                 reason: "must be calibrated: finite, in [0, 180] degrees",
             });
         }
@@ -454,7 +454,7 @@ fn check_lambda(lambda: f64) -> Result<(), LearningError> {
     if !(lambda.is_finite() && lambda >= 0.0) {
         return Err(LearningError::InvalidParameter {
             name: "lambda",
-            value: lambda.to_string(),
+            value: format!("{lambda:?}"),
             reason: "must be finite and >= 0",
         });
     }
@@ -485,7 +485,7 @@ fn check_targets(y: &[f64]) -> Result<(), LearningError> {
     match y.iter().find(|v| !v.is_finite()) {
         Some(v) => Err(LearningError::InvalidParameter {
             name: "target",
-            value: v.to_string(),
+            value: format!("{v:?}"),
             reason: "targets must be finite",
         }),
         None => Ok(()),

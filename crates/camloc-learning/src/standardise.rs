@@ -125,14 +125,14 @@ impl Standardiser {
         if let Some(m) = self.means.iter().find(|m| !m.is_finite()) {
             return Err(LearningError::InvalidParameter {
                 name: "standardiser mean",
-                value: m.to_string(),
+                value: format!("{m:?}"),
                 reason: "must be finite",
             });
         }
         if let Some(s) = self.scales.iter().find(|s| !(s.is_finite() && **s > 0.0)) {
             return Err(LearningError::InvalidParameter {
                 name: "standardiser scale",
-                value: s.to_string(),
+                value: format!("{s:?}"),
                 reason: "must be finite and positive",
             });
         }

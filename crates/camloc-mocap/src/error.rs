@@ -75,8 +75,8 @@ pub enum ParseProblem {
     /// The file has no content at all (or only whitespace).
     #[error("the file is empty")]
     Empty,
-    /// The bytes are not valid UTF-8 text.
-    #[error("the file is not valid UTF-8 text")]
+    /// The bytes are not valid UTF-8 text, or hold a NUL byte (not text).
+    #[error("the file is not UTF-8 text (an invalid byte or a NUL)")]
     NotUtf8,
     /// A different token was expected.
     #[error("expected {}, found '{}'", quoted(expected), quoted(found))]

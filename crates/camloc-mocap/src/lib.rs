@@ -108,8 +108,13 @@ fn read_file(path: &Path) -> Result<Vec<u8>, MocapError> {
     read_capped(path, MAX_MOCAP_FILE_BYTES)
 }
 
+/// Bytes at the start of a motion-capture file looked at before the rest is read.
+const TEXT_CHECK_BYTES: u64 = 1 << 16;
+
 /// The bytes of the file at `path`, refused ([`MocapError::TooLarge`]) beyond `limit` bytes
-/// without reading further.
+/// without reading further, and refused after its first [`TEXT_CHECK_BYTES`] when they are not
+/// text (a NUL byte or invalid UTF-8: `/dev/zero` or `/dev/urandom` had been read to the
+/// limit, 1 GiB, before the parser refused them).
 fn read_capped(path: &Path, limit: u64) -> Result<Vec<u8>, MocapError> {
     use std::io::Read;
     let io = |source| MocapError::Io {
@@ -117,9 +122,27 @@ fn read_capped(path: &Path, limit: u64) -> Result<Vec<u8>, MocapError> {
         source,
     };
     let mut bytes = Vec::new();
-    std::fs::File::open(path)
-        .and_then(|file| file.take(limit + 1).read_to_end(&mut bytes))
+    let mut file = std::fs::File::open(path).map_err(io)?;
+    (&mut file)
+        .take(TEXT_CHECK_BYTES.min(limit + 1))
+        .read_to_end(&mut bytes)
         .map_err(io)?;
+    let text_error = |line: usize| MocapError::Parse {
+        file: path.display().to_string(),
+        line,
+        problem: ParseProblem::NotUtf8,
+    };
+    let line_at = |end: usize| 1 + bytes[..end].iter().filter(|&&b| b == b'\n').count();
+    if let Some(nul) = bytes.iter().position(|&b| b == 0) {
+        return Err(text_error(line_at(nul)));
+    }
+    if let Err(e) = std::str::from_utf8(&bytes)
+        && e.error_len().is_some()
+    {
+        return Err(text_error(line_at(e.valid_up_to())));
+    }
+    let rest = (limit + 1).saturating_sub(bytes.len() as u64);
+    file.take(rest).read_to_end(&mut bytes).map_err(io)?;
     if bytes.len() as u64 > limit {
         return Err(MocapError::TooLarge {
             path: path.to_owned(),
@@ -148,10 +171,24 @@ mod tests {
 
     #[cfg(unix)]
     #[test]
-    fn an_endless_file_is_refused_at_the_limit() {
+    fn an_endless_or_long_file_is_refused_early() {
+        // Not text: refused after its first 64 KiB.
         let path = Path::new("/dev/zero");
-        match read_capped(path, 1 << 20) {
-            Err(MocapError::TooLarge { limit, .. }) => assert_eq!(limit, 1 << 20),
+        match read_capped(path, MAX_MOCAP_FILE_BYTES) {
+            Err(MocapError::Parse {
+                line: 1, problem, ..
+            }) => {
+                assert_eq!(problem, ParseProblem::NotUtf8)
+            }
+            other => panic!("{other:?}"),
+        }
+        // Text beyond the limit: refused at the limit.
+        let long = std::env::temp_dir().join(format!("camloc-long-{}.bvh", std::process::id()));
+        std::fs::write(&long, "HIERARCHY\n".repeat(300)).unwrap();
+        let read = read_capped(&long, 1000);
+        std::fs::remove_file(&long).unwrap();
+        match read {
+            Err(MocapError::TooLarge { limit, .. }) => assert_eq!(limit, 1000),
             other => panic!("{other:?}"),
         }
         let message = MocapError::TooLarge {

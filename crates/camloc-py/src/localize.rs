@@ -115,11 +115,22 @@ pub(crate) fn for_poses(
 
 /// The `camera_height_shares` argument: the shares of the lower, middle and upper cameras
 /// to localize under (three numbers, at least one > 0; normalised), as a call's
-/// `camera_height_shares` output gives them; `None` when not given.
-pub(crate) fn given_shares(value: Option<&Bound<'_, PyAny>>) -> PyResult<Option<HeightShares>> {
+/// `camera_height_shares` output gives them; `None` when not given. They replace the
+/// estimate of `camera_height="from-input"` (`from_input`): with another camera height
+/// they are a `ValueError` (a call had taken them silently over `"any"`).
+pub(crate) fn given_shares(
+    value: Option<&Bound<'_, PyAny>>,
+    from_input: bool,
+) -> PyResult<Option<HeightShares>> {
     let Some(value) = value.filter(|v| !v.is_none()) else {
         return Ok(None);
     };
+    if !from_input {
+        return Err(value_error(
+            "camera_height_shares: only with camera_height=\"from-input\" (the shares replace \
+             its estimate); this call's camera height is another",
+        ));
+    }
     let numbers: Vec<f64> = value.extract().map_err(|_| {
         pyo3::exceptions::PyTypeError::new_err(
             "camera_height_shares: expected three numbers (lower, middle, upper), as a call's \
@@ -243,7 +254,7 @@ impl Localizer {
         camera_height_shares: Option<Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyDict>> {
         let rate = crate::smooth::frame_rate(fps)?;
-        let given = given_shares(camera_height_shares.as_ref())?;
+        let given = given_shares(camera_height_shares.as_ref(), self.from_input)?;
         // With the camera's intrinsics each pose is localized as seen by the camera aimed at
         // it (a person near the edge of a wide-angle image).
         let aimed;

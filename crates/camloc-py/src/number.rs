@@ -88,9 +88,9 @@ pub(crate) fn recursive(value: &Bound<'_, PyAny>) -> PyResult<bool> {
     flag(value, "recursive")
 }
 
-/// `value` as a whole number of at least 0 (an `int` or a NumPy integer; not a bool, not a
-/// float such as `1e5`), or a `TypeError` or `ValueError` naming the argument `name`.
-fn count(value: &Bound<'_, PyAny>, name: &str) -> PyResult<u64> {
+/// `value` as a whole number of at least `least` (an `int` or a NumPy integer; not a bool, not
+/// a float such as `1e5`), or a `TypeError` or `ValueError` naming the argument `name`.
+fn count(value: &Bound<'_, PyAny>, name: &str, least: u64) -> PyResult<u64> {
     let numpy_integer = value.py().import("numpy")?.getattr("integer")?;
     let whole =
         value.is_instance_of::<pyo3::types::PyInt>() || value.is_instance(&numpy_integer)?;
@@ -100,16 +100,18 @@ fn count(value: &Bound<'_, PyAny>, name: &str) -> PyResult<u64> {
             type_name(value)
         )));
     }
-    value.extract::<u64>().map_err(|_| {
-        pyo3::exceptions::PyValueError::new_err(format!(
-            "{name}: expected a whole number >= 0, got {value}"
-        ))
-    })
+    (value.extract::<u64>().ok())
+        .filter(|&n| n >= least)
+        .ok_or_else(|| {
+            pyo3::exceptions::PyValueError::new_err(format!(
+                "{name}: expected a whole number >= {least}, got {value}"
+            ))
+        })
 }
 
 /// The `sequence_max_rows` argument.
 pub(crate) fn sequence_max_rows(value: &Bound<'_, PyAny>) -> PyResult<usize> {
-    let rows = count(value, "sequence_max_rows")?;
+    let rows = count(value, "sequence_max_rows", 0)?;
     usize::try_from(rows).map_err(|_| {
         pyo3::exceptions::PyValueError::new_err(format!("sequence_max_rows: {rows} is too large"))
     })
@@ -117,5 +119,5 @@ pub(crate) fn sequence_max_rows(value: &Bound<'_, PyAny>) -> PyResult<usize> {
 
 /// The `max_input_bytes` argument.
 pub(crate) fn max_input_bytes(value: &Bound<'_, PyAny>) -> PyResult<u64> {
-    count(value, "max_input_bytes")
+    count(value, "max_input_bytes", 1)
 }

@@ -306,7 +306,7 @@ pub(crate) fn reconstruct<'py>(
             .map_err(|e| value_error(e.to_string()))?;
     }
     // Shares given (another call's, over the whole video) replace this call's estimate.
-    if let Some(shares) = given_shares(camera_height_shares.as_ref())?
+    if let Some(shares) = given_shares(camera_height_shares.as_ref(), from_input)?
         && let Some(localizer) = reconstructor.localizer().cloned()
     {
         reconstructor = reconstructor

@@ -113,6 +113,9 @@ def test_long_sequences_and_large_files_have_limits_that_can_be_raised(tmp_path)
     with pytest.raises(camloc.CamlocError, match="max_input_bytes"):
         camloc.read_keypoints(path, max_input_bytes=100)
     assert len(camloc.read_keypoints(path, max_input_bytes=10**9)["ids"]) == len(rows)
+    for none in (0, -1):
+        with pytest.raises(ValueError, match="max_input_bytes: expected a whole number >= 1"):
+            camloc.read_keypoints(path, max_input_bytes=none)
 
 
 def test_other_people_s_rows_leave_the_person_s_3d_as_it_is():

@@ -605,6 +605,12 @@ def test_one_persons_rows_take_the_shares_of_the_whole_video():
         camloc.reconstruct(part, camera_height_shares=[-1.0, 1.0, 1.0])
     with pytest.raises(TypeError, match="camera_height_shares"):
         camloc.Localizer().localize(part, camera_height_shares="middle")
+    # The shares replace the estimate of "from-input": with another height they contradict it.
+    for height in ("any", "eye-level"):
+        with pytest.raises(ValueError, match='only with camera_height="from-input"'):
+            camloc.Localizer(height).localize(part, camera_height_shares=shares)
+        with pytest.raises(ValueError, match='only with camera_height="from-input"'):
+            camloc.reconstruct(part, camera_height=height, camera_height_shares=shares)
 
 
 def test_no_camera_height_is_the_default_one():

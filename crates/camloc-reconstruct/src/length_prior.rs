@@ -113,7 +113,7 @@ impl LengthWidening {
         match values.iter().find(|v| !(0.0..=2.0).contains(*v)) {
             Some(v) => Err(ReconstructError::InvalidConfig {
                 field: "LengthWidening",
-                value: v.to_string(),
+                value: format!("{v:?}"),
                 reason: "every deviation must lie in [0, 2]",
             }),
             None => Ok(()),

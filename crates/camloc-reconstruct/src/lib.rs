@@ -81,7 +81,7 @@ pub use error::ReconstructError;
 pub use eval::{
     EvalReport, EvalSample, ModeReport, Pipeline, PipelineReport, evaluate, evaluate_with_pipeline,
 };
-pub use frame_rate::{FrameRate, REFERENCE_FRAME_RATE_HZ};
+pub use frame_rate::{FrameRate, MOST_WINDOW_RATE_HZ, REFERENCE_FRAME_RATE_HZ};
 pub use length_prior::{IMPLAUSIBLE_LENGTHS_D2, LengthPrior, LengthWidening};
 pub use lengths::{
     BONE_KEYS, BONE_LENGTHS_FORMAT, BONE_LENGTHS_VERSION, BoneLengthError, BoneLengths,

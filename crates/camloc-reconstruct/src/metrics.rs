@@ -110,7 +110,7 @@ pub fn projection_error_eq12(
         if !is_positive_finite(value) {
             return Err(ReconstructError::InvalidConfig {
                 field,
-                value: value.to_string(),
+                value: format!("{value:?}"),
                 reason: "must be a positive finite number",
             });
         }

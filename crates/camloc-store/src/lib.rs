@@ -308,6 +308,19 @@ fn validated<T: Validate>(value: T, kind: FileKind, origin: &str) -> Result<T, S
     Ok(value)
 }
 
+/// What is wrong with a payload that does not decode, in words (bincode's own messages are
+/// its Rust debug text: `UnexpectedEnd { additional: 59936 }`).
+fn decode_problem(e: &bincode::error::DecodeError) -> String {
+    use bincode::error::DecodeError as E;
+    match e {
+        E::UnexpectedEnd { additional } => format!("it ends {additional} bytes too early"),
+        E::LimitExceeded => "a length beyond what any file of this kind holds".into(),
+        E::Utf8 { .. } => "a text that is not UTF-8".into(),
+        E::OutsideUsizeRange(n) => format!("a length of {n}, beyond this machine's"),
+        _ => "values that are not this kind of file's (a damaged or forged file)".into(),
+    }
+}
+
 /// FNV-1a 64-bit hash, the envelope checksum.
 pub fn fnv1a64(bytes: &[u8]) -> u64 {
     bytes.iter().fold(0xcbf2_9ce4_8422_2325_u64, |h, &b| {
@@ -483,7 +496,7 @@ fn read_envelope<T: DeserializeOwned>(
     }
     let config = bincode::config::standard().with_limit::<DECODE_LIMIT>();
     let (value, used) = bincode::serde::decode_from_slice(&payload, config)
-        .map_err(|e| corrupt(format!("undecodable payload: {e}")))?;
+        .map_err(|e| corrupt(format!("undecodable payload: {}", decode_problem(&e))))?;
     if used != payload.len() {
         return Err(corrupt(format!(
             "{} trailing bytes after the payload",

@@ -400,3 +400,20 @@ fn scratch_files_leave_nothing_behind() {
     drop(scratch);
     assert!(names_in(dir.path()).is_empty());
 }
+
+#[test]
+fn undecodable_payloads_are_named_in_words() {
+    use bincode::error::DecodeError;
+    let early = decode_problem(&DecodeError::UnexpectedEnd { additional: 59936 });
+    assert_eq!(early, "it ends 59936 bytes too early");
+    for e in [
+        DecodeError::LimitExceeded,
+        DecodeError::InvalidBooleanValue(7),
+    ] {
+        let words = decode_problem(&e);
+        assert!(
+            !words.contains('{') && !words.contains("Invalid"),
+            "{words}"
+        );
+    }
+}

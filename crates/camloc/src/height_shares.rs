@@ -90,7 +90,8 @@ impl HeightShares {
             return Err(CamlocError::InvalidOption {
                 name: "camera height shares",
                 detail: format!(
-                    "expected three non-negative finite shares, not all 0; got {lower}, {middle}, {upper}"
+                    "expected three non-negative finite shares, not all 0; got {lower:?}, {middle:?}, \
+                     {upper:?}"
                 ),
             });
         }

@@ -60,8 +60,13 @@ fn check_folders(outputs: &[Output]) -> Result<(), CliError> {
             continue;
         };
         if !folder.is_dir() {
+            let problem = if folder.exists() {
+                "is not a folder"
+            } else {
+                "does not exist; create it first"
+            };
             return Err(CliError::Usage(format!(
-                "{} {}: the folder {} does not exist; create it first",
+                "{} {}: the folder {} {problem}",
                 out.option,
                 quoted_path(out.path),
                 quoted_path(folder)
