@@ -118,13 +118,16 @@ class Localizer:
         coordinate of a ``numpy.ma.MaskedArray`` (or of a list of them, one per pose; a
         masked score is 0). Converted to float64; complex numbers, points given as booleans
         or text, and bools given for numbers (``min_score=True``) are ``TypeError``s.
-        A pose whose torso cannot be found (pelvis or neck missing, and a hip or shoulder to
-        stand in for it) is localized with its missing landmarks filled in from the embedded
-        pose basis seen by camera hypotheses (docs/conventions.md section 6); with fewer than
-        8 landmarks present it gets an error. Such a pose costs far more than a complete one:
+        A pose with missing landmarks, 8 or more of the 15 present, is localized with them
+        filled in from the embedded pose basis seen by camera hypotheses, its probabilities
+        tempered for what was filled in (docs/conventions.md section 6, "Filled-in poses");
+        with fewer, a pose with a torso is localized from the landmarks' training means, one
+        whose torso cannot be found (pelvis or neck missing, and a hip or shoulder to stand in
+        for it) gets an error. A filled-in pose costs far more than a complete one:
         about 0.2 ms of wall time on two cores against 1-6 us (2,100 poses of the examples
         with a shoulder missing); a simulated user's million COCO-17 poses, 12% of them
-        missing a hip or shoulder, took 50 s against 1.3 s. Each call also costs a few
+        missing a hip or shoulder, took 50 s against 1.3 s (every pose with a landmark
+        missing costs about that). Each call also costs a few
         microseconds of its own (11 us for one pose, 32 us with ``camera_height=
         "from-input"``): give many poses per call.
         scores: optional (N, J) (or (J,)) confidences in [0, 1] for 2-channel points (a
@@ -156,7 +159,8 @@ class Localizer:
         fps: with ``sequence``, the video's frames a second (30 by default), as ``camloc
           localize --sequence --fps``: the smoothing, the side swaps swapped back and the
           rows left out are judged over as long a time at faster rates (7 rows at 30 frames a
-          second, 25 at 120: 3 x round(fps / 30) on each side). Without ``sequence`` it changes nothing.
+          second, 25 at 120: 3 x round(fps / 30) on each side, fps above 1,000 taken as 1,000).
+          Without ``sequence`` it changes nothing.
         frames: with ``sequence``, each row's video frame number (N,) (whole numbers from 0 to
           2^53 that do not decrease; all -1, ``read_keypoints``' frames of an input without
           numbers, are none), as ``reconstruct``'s ``frames``: the frame numbers between rows
@@ -167,7 +171,8 @@ class Localizer:
           A ``ValueError`` without ``sequence``.
         camera_height_shares: the shares of the lower, middle and upper cameras to localize
           under (three numbers, normalised; a ``ValueError`` for a negative one or none > 0,
-          a ``TypeError`` for other than numbers), in place of this call's own estimate: give
+          or with a ``camera_height`` other than ``"from-input"``, a ``TypeError`` for other
+          than numbers), in place of this call's own estimate: give
           one person's rows of a video with the shares of a call on all its rows (its
           ``camera_height_shares``), as ``camloc localize --sequence`` estimates them once
           for the whole file (estimated from one person's rows, a simulated user's four
@@ -356,7 +361,8 @@ def reconstruct(
     camera_height_shares: as ``Localizer.localize``'s: the shares of the camera heights to
       localize under instead of this call's estimate (give each person's rows of a video the
       shares of a call on all of them, as ``camloc reconstruct --sequence`` estimates them
-      once for the whole file); with ``camera="opt"`` nothing is localized.
+      once for the whole file; a ``ValueError`` with a ``camera_height`` other than
+      ``"from-input"``); with ``camera="opt"`` nothing is localized.
 
     Returns a dict:
       points3d (N, 15, 3) float64: the 3D landmarks in metres (the given bone lengths, else

@@ -238,7 +238,10 @@ pub fn run(args: &Args) -> Result<(), String> {
          alternately left and right), which leaves the descriptor no torso: localized with the \
          missing landmarks filled in from a basis of the training subjects' poses seen by \
          camera hypotheses (`CameraLocalizer::localize_filled`, docs/conventions.md section 6; \
-         the same views complete: the `jittered` default-settings row above):\n"
+         the same views complete: the `jittered` default-settings row above); then with 1 to 6 \
+         random landmarks of the limbs and head taken away, localized both ways (what \
+         `camloc localize` does: filled in, the probabilities tempered for what was filled \
+         in):\n"
     );
     let _ = writeln!(
         md,

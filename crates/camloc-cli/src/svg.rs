@@ -52,8 +52,15 @@ fn fit_box(points: &[[f64; 2]], x: f64, y: f64, w: f64, h: f64) -> impl Fn([f64;
 
 /// Draws the limbs of a (possibly partial) 2D pose already mapped to SVG coordinates: with
 /// `band`, as a pale band 7 wide (an input under its reprojection, so that the residuals
-/// show), else as lines `width` wide with the joints dotted.
-fn draw_skeleton(svg: &mut String, points: &[Option<[f64; 2]>; 15], band: bool, width: f64) {
+/// show), else as lines `width` wide with the joints dotted, the joints `filled[i]` (filled
+/// in, not measured) as hollow rings.
+fn draw_skeleton(
+    svg: &mut String,
+    points: &[Option<[f64; 2]>; 15],
+    band: bool,
+    width: f64,
+    filled: &[bool; 15],
+) {
     let (width, opacity) = if band { (7.0, 0.3) } else { (width, 1.0) };
     for (a, b) in LIMBS {
         if let (Some(p), Some(q)) = (points[a.index()], points[b.index()]) {
@@ -69,12 +76,21 @@ fn draw_skeleton(svg: &mut String, points: &[Option<[f64; 2]>; 15], band: bool, 
         }
     }
     if !band {
-        for p in points.iter().flatten() {
-            let _ = writeln!(
-                svg,
-                r#"<circle cx="{:.1}" cy="{:.1}" r="2.5" fill="{CENTRE}"/>"#,
-                p[0], p[1]
-            );
+        for (p, &guessed) in points.iter().zip(filled) {
+            let Some(p) = p else { continue };
+            let _ = if guessed {
+                writeln!(
+                    svg,
+                    r#"<circle cx="{:.1}" cy="{:.1}" r="3.5" fill="white" stroke="{CENTRE}" stroke-width="1.5"/>"#,
+                    p[0], p[1]
+                )
+            } else {
+                writeln!(
+                    svg,
+                    r#"<circle cx="{:.1}" cy="{:.1}" r="2.5" fill="{CENTRE}"/>"#,
+                    p[0], p[1]
+                )
+            };
         }
     }
 }
@@ -179,7 +195,13 @@ pub fn localization_svg(
     let mut svg = begin(w, h);
     let present: Vec<[f64; 2]> = pose.points.iter().flatten().copied().collect();
     let map = fit_box(&present, 10.0, 10.0, 300.0, 310.0);
-    draw_skeleton(&mut svg, &pose.points.map(|p| p.map(&map)), false, 3.0);
+    draw_skeleton(
+        &mut svg,
+        &pose.points.map(|p| p.map(&map)),
+        false,
+        3.0,
+        &[false; 15],
+    );
     let sphere = draw_sphere(
         &mut svg,
         cameras,
@@ -418,17 +440,31 @@ pub fn reconstruction_svg(
         .copied()
         .collect();
     let map = fit_box(&both, 10.0, 20.0, 200.0, 210.0);
-    draw_skeleton(&mut svg, &input.points.map(|p| p.map(&map)), true, 2.0);
+    let filled = input.points.map(|p| p.is_none());
+    draw_skeleton(
+        &mut svg,
+        &input.points.map(|p| p.map(&map)),
+        true,
+        2.0,
+        &filled,
+    );
     draw_skeleton(
         &mut svg,
         &reprojection.points.map(|p| Some(map(p))),
         false,
         2.0,
+        &filled,
     );
     let _ = writeln!(
         svg,
         r#"<text x="20" y="16">input (pale band) and reprojection (thin)</text>"#
     );
+    if filled.contains(&true) {
+        let _ = writeln!(
+            svg,
+            r#"<text x="20" y="31" font-size="11">hollow rings: joints filled in, not measured</text>"#
+        );
+    }
     // One scale for the three views so that they compare; each view centred on its points.
     let views = &SKELETON_VIEWS;
     let span = views
@@ -460,7 +496,7 @@ pub fn reconstruction_svg(
                 125.0 + scale * (p[1] - c[1]),
             ]);
         }
-        draw_skeleton(&mut svg, &pts, false, 2.0);
+        draw_skeleton(&mut svg, &pts, false, 2.0, &filled);
         let _ = writeln!(
             svg,
             r#"<text x="{:.1}" y="16">3D, {name}</text>"#,

@@ -69,6 +69,21 @@ function drawLimbs(ctx, points, band, width) {
   ctx.globalAlpha = 1;
 }
 
+/** Rings at the `points` (15 screen points or null) of the landmarks missing in the frame's
+ * input `f.input`: filled in from the pose basis, not measured. */
+function ringFilled(ctx, points, f) {
+  ctx.strokeStyle = "#222222";
+  ctx.fillStyle = "#ffffff";
+  ctx.lineWidth = 1.5;
+  points.forEach((p, i) => {
+    if (!p || f.input[i] !== null) return;
+    ctx.beginPath();
+    ctx.arc(...p, 4, 0, 2 * Math.PI);
+    ctx.fill();
+    ctx.stroke();
+  });
+}
+
 /** A canvas cleared, with its 2D context and size. */
 function panel(id) {
   const canvas = document.getElementById(id);
@@ -89,6 +104,7 @@ function draw2d(f) {
   const map = (p) => p && [w / 2 + s * (p[0] - (lo[0] + hi[0]) / 2), h / 2 + s * (p[1] - (lo[1] + hi[1]) / 2)];
   drawLimbs(ctx, f.input.map(map), true, 2);
   drawLimbs(ctx, (f.reprojection || f.input).map(map), false, 2);
+  if (f.reprojection) ringFilled(ctx, f.reprojection.map(map), f);
 }
 
 /** Writes `text` from (x, y) in lines no wider than `width` pixels, `step` pixels apart. */
@@ -134,6 +150,7 @@ function draw3d(f) {
     }
   }
   drawLimbs(ctx, f.pose.map(screen), false, 4);
+  ringFilled(ctx, f.pose.map(screen), f);
 }
 
 /** The sphere panel: rings of the camera elevations, each camera sized and labelled by its
@@ -257,7 +274,7 @@ function describe(f) {
   if (f.smoothed_direction) parts.push(`smoothed direction: azimuth ${f.smoothed_direction[0].toFixed(1)}, elevation ${f.smoothed_direction[1].toFixed(1)} deg`);
   // A landmark missing in the input but reconstructed was filled in from the pose basis.
   const filled = f.pose ? data.landmarks.filter((_, i) => f.input[i] === null) : [];
-  if (filled.length) parts.push(`filled in: ${filled.join(", ")}`);
+  if (filled.length) parts.push(`filled in (rings): ${filled.join(", ")}`);
   if (f.error) parts.push(`error: ${f.error}`);
   return parts.join("; ");
 }

@@ -118,8 +118,8 @@ fn normalised_coordinates_warning(checked: u64, within: u64) -> Option<String> {
 
 /// Whether `pose` has a torso (its pelvis and neck, or the hips and shoulders they are
 /// derived from) but fewer than [`MIN_PRESENT_FOR_FILL`] landmarks: `localize` reads its
-/// camera from those few, the others imputed (a pose without a torso and as few landmarks
-/// fails with its own error instead, and `reconstruct` refuses both).
+/// camera from those few, the others at their training means (a pose without a torso and as
+/// few landmarks fails with its own error instead, and `reconstruct` refuses both).
 fn localized_from_few(pose: &PartialPose2) -> bool {
     let present = pose.points.iter().flatten().count();
     if present >= MIN_PRESENT_FOR_FILL {
@@ -139,7 +139,7 @@ fn few_landmarks_warning(checked: u64, few: u64) -> Option<String> {
         format!(
             "{few} of the {checked} pose(s) have a torso but fewer than {MIN_PRESENT_FOR_FILL} \
              of the 15 landmarks: `localize` reads their camera from those few (the others \
-             imputed), `reconstruct` refuses them"
+             at their training means: a guess), `reconstruct` refuses them"
         )
     })
 }

@@ -244,8 +244,9 @@ pub fn orientation_warning(
     Some(format!(
         "the poses' torsos lean {:.0} deg from the image's vertical (of {} poses): was the \
          camera rolled (a phone held askew, a portrait video read as landscape)? camloc takes \
-         the image upright; turn the keypoints {}. People lying, crawling or bent over lean \
-         too, as do people walking seen from a camera looking steeply down: then ignore this",
+         the image upright; turn the keypoints {}. People lying, crawling, sitting on the \
+         floor or bent over lean too, as do people walking seen from a camera looking steeply \
+         down: then ignore this",
         lean.abs(),
         leans.count(),
         turn(lean)

@@ -91,7 +91,7 @@ pub use conventions::InputConventions;
 pub use error::CamlocError;
 pub use evaluate::{CameraAccuracy, Evaluation, LevelAccuracy, evaluate};
 pub use far_off::{FAR_OFF_RATIO, without_far_off_landmarks};
-pub use filled::MIN_PRESENT_FOR_FILL;
+pub use filled::{FILL_TEMPERATURE_STEP, MIN_PRESENT_FOR_FILL, fill_temperature};
 pub use follow::{
     DUPLICATE_SIZE_RATIO, DUPLICATE_TORSOS, FOLLOW_GAP_STEPS, LOST_REACH_FACTOR,
     MAX_FOLLOWED_PER_FRAME, follow_people, follow_records, follow_untracked,

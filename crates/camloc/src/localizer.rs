@@ -275,6 +275,18 @@ impl CameraLocalizer {
     /// [`CamlocError::Feature`] when the pelvis or neck is missing, for non-finite landmarks
     /// or a degenerate torso.
     pub fn localize_partial(&self, pose: &PartialPose2) -> Result<Localization, CamlocError> {
+        self.localize_tempered(pose, 1.0)
+    }
+
+    /// [`localize_partial`](Self::localize_partial) with the model's own probabilities
+    /// tempered (`p^(1 / temperature)`, normalised; 1 leaves them as they are) before the
+    /// camera-height prior weighs them: the answer of a pose whose missing landmarks were
+    /// filled in is less certain than the filled-in pose looks (docs/conventions.md section 6).
+    pub(crate) fn localize_tempered(
+        &self,
+        pose: &PartialPose2,
+        temperature: f64,
+    ) -> Result<Localization, CamlocError> {
         // A landmark far off the others is read as missing (and so listed).
         let (cleaned, _) = crate::without_far_off_landmarks(pose);
         let pose = &cleaned;
@@ -288,6 +300,9 @@ impl CameraLocalizer {
                     rows.classes,
                     &mut probabilities,
                 )?;
+                if temperature != 1.0 {
+                    temper(&mut probabilities, temperature);
+                }
                 // The uncertainty is calibrated on the model's own probabilities (kept when
                 // a prior over the height changes them).
                 let own = (self.camera_height != CameraHeight::Any).then(|| probabilities.clone());
@@ -441,6 +456,23 @@ impl CameraLocalizer {
     }
 }
 
+/// Tempers `probabilities` in place: each `p^(1 / temperature)`, normalised to sum 1
+/// (computed from logarithms, so that tiny probabilities do not underflow first).
+fn temper(probabilities: &mut [f64], temperature: f64) {
+    let logs: Vec<f64> = probabilities.iter().map(|p| p.ln() / temperature).collect();
+    let top = logs.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    if !top.is_finite() {
+        return;
+    }
+    for (p, l) in probabilities.iter_mut().zip(&logs) {
+        *p = (l - top).exp();
+    }
+    let sum: f64 = probabilities.iter().sum();
+    for p in probabilities.iter_mut() {
+        *p /= sum;
+    }
+}
+
 /// The localizer's invariants, run after every decode of a model file: a valid descriptor
 /// and camera set, the classifier's own [`LogisticModel::validate`] (shapes against its class
 /// count and feature count, finite numbers, positive scales), and descriptor, classifier,
@@ -577,4 +609,27 @@ struct RowBuffers {
 
 thread_local! {
     static ROW_BUFFERS: std::cell::RefCell<RowBuffers> = std::cell::RefCell::default();
+}
+
+#[cfg(test)]
+mod tests {
+    use super::temper;
+
+    #[test]
+    fn tempering_keeps_the_order_and_the_sum_and_flattens() {
+        let given = [0.7, 0.2, 0.1, 0.0];
+        let mut same = given;
+        temper(&mut same, 1.0);
+        for (a, b) in same.iter().zip(&given) {
+            assert!((a - b).abs() < 1e-15);
+        }
+        let mut flat = given;
+        temper(&mut flat, 2.0);
+        assert!((flat.iter().sum::<f64>() - 1.0).abs() < 1e-12);
+        assert!(flat[0] < given[0] && flat[0] > flat[1] && flat[1] > flat[2]);
+        assert_eq!(flat[3], 0.0);
+        // sqrt(0.7) / (sqrt(0.7) + sqrt(0.2) + sqrt(0.1)).
+        let want = 0.7f64.sqrt() / (0.7f64.sqrt() + 0.2f64.sqrt() + 0.1f64.sqrt());
+        assert!((flat[0] - want).abs() < 1e-12);
+    }
 }

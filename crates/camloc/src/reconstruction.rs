@@ -498,9 +498,8 @@ impl PoseReconstructor {
         placement: Option<f64>,
     ) -> Result<Prepared, CamlocError> {
         let imputed: Vec<Landmark> = pose.missing().collect();
-        // A pose with missing landmarks is localized as it is (localization imputes its
-        // descriptor; a missing torso is filled in from the basis), and its landmarks are
-        // filled in with that camera.
+        // A pose with missing landmarks is localized with them filled in from the basis
+        // (`localize_filled`), and filled in again, mirror-symmetrically, with that camera.
         let (complete, partial_localization) = match pose.complete() {
             Some(complete) => (complete, None),
             None => {
@@ -525,10 +524,10 @@ impl PoseReconstructor {
                         needed: MIN_PRESENT_FOR_FILL,
                     }));
                 }
-                let complete = self
-                    .reconstructor
-                    .impute(pose, &localization.viewpoint_rotation())
-                    .map_err(pose_error)?;
+                let rotation = localization.viewpoint_rotation();
+                let (complete, _) =
+                    crate::filled::mirror_symmetric_fill(&self.reconstructor, pose, &rotation)
+                        .map_err(pose_error)?;
                 (complete, Some(localization))
             }
         };

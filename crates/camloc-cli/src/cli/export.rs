@@ -121,6 +121,16 @@ pub fn bvh_files(
                 .collect(),
             None => members.iter().map(|&i| kept[i].pose).collect(),
         };
+        // Frames the BVH makes up are said, with how many (a simulated animator's person
+        // who left the image for 20 frames had glided through them without a word).
+        let made_up = poses.iter().filter(|p| p.is_none()).count();
+        if sequence && made_up > 0 && made_up < poses.len() {
+            stderr_line!(
+                "camloc: warning: the BVH of {name} fills {made_up} of its {} from the frames \
+                 around them (not reconstructed, or the person not detected there)",
+                super::stream::counted(poses.len() as u64, "frame")
+            );
+        }
         // The bone lengths: `None` takes the mean limb lengths of the group's poses.
         let text = match write_person_bvh(&poses, None, &BvhOptions::at_fps(fps)) {
             Ok(text) => text,

@@ -138,3 +138,21 @@ fn a_long_title_gets_lines_above_the_drawing() {
     assert!(svg.contains(&format!(r#"y="{}""#, 20.0 - above)));
     assert!(begin_titled(300.0, 100.0, "short").contains(r#"viewBox="0 0 300 100""#));
 }
+
+#[test]
+fn filled_in_joints_are_rings_in_the_reprojection_and_every_3d_view() {
+    let points: [[f64; 2]; 15] = std::array::from_fn(|i| [i as f64, (i * i) as f64]);
+    let reprojection = Pose2::new(points);
+    let pose = Pose3::new(std::array::from_fn(|i| {
+        [0.1 * i as f64, 0.0, 0.05 * i as f64]
+    }));
+    let mut input = PartialPose2::from(reprojection);
+    let complete = reconstruction_svg(&input, &reprojection, &pose, "c");
+    input.points[Landmark::RightWrist.index()] = None;
+    let partial = reconstruction_svg(&input, &reprojection, &pose, "c");
+    let rings = |svg: &str| svg.matches(r#"r="3.5" fill="white""#).count();
+    assert_eq!(rings(&complete), 0);
+    // The reprojection and the three 3D views: one ring each.
+    assert_eq!(rings(&partial), 4, "{partial}");
+    assert!(partial.contains("hollow rings: joints filled in") && !complete.contains("hollow"));
+}
