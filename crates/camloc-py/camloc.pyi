@@ -397,7 +397,8 @@ def reconstruct(
         R = rotation, T = translation_m: the pelvis in the camera's frame in metres (absolute
         only with given ``bone_lengths`` or ``person_height``); NaN where there is none (weak perspective);
       imputed (N, 15) bool: the landmarks that were missing and filled in (their 3D is the
-        basis's guess, not a measurement);
+        basis's guess, not a measurement; with ``sequence``, a ``CamlocWarning`` names those
+        filled in a quarter or more of the reconstructed rows, as the command line does);
       person_bone_lengths (14,): with ``sequence``, the person's lengths (given or estimated;
         NaN when none were given and no frame of the sequence was reconstructed), between the
         input's own landmarks: from a detector's (the neck and pelvis at the shoulder and hip

@@ -448,6 +448,22 @@ pub(crate) fn reconstruct<'py>(
             .collect();
         reconstructor.place_on_timeline(&numbers, &found, timeline_max_slots(n))
     });
+    // A sequence's landmarks filled in, not seen, in many of its rows (the command line warns
+    // alike, per person).
+    if sequence {
+        let imputed = results.iter().flatten().map(|r| r.imputed.as_slice());
+        if let Some(often) = camloc::often_filled(imputed) {
+            crate::warnings::warn(
+                py,
+                format!(
+                    "imputed: landmarks filled in, not seen (their 3D is the pose basis's guess), \
+                     of the {} reconstructed rows: {}",
+                    often.frames,
+                    often.names()
+                ),
+            )?;
+        }
+    }
     let mut errors = Vec::new();
     for (i, result) in results.into_iter().enumerate() {
         let r = match result {

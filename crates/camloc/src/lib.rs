@@ -52,6 +52,7 @@ mod identity;
 mod lean;
 mod lifter;
 mod localizer;
+mod often_filled;
 mod placeholders;
 mod reconstruction;
 mod rows;
@@ -105,6 +106,7 @@ pub use identity::{
     IDENTITY_JUMP_TORSOS, IDENTITY_SIZE_RATIO, LeftOut, OUTLIER_END_GAP_FRAMES, OUTLIER_RUN_FRAMES,
     PERSON_STEP_TORSOS, TorsoAnchor, identity_jumps, left_out_of_sequence, outlier_frames,
 };
+pub use often_filled::{OFTEN_FILLED_SHARE, OftenFilled, often_filled};
 pub use reconstruction::{
     LANDMARK_SMOOTHING_S, PoseReconstruction, PoseReconstructor, PoseSequenceReconstruction,
     SEQUENCE_BREAK_FRAMES, default_basis, evaluation_samples, hybrid_camera, person_height_problem,

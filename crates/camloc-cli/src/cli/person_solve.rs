@@ -92,26 +92,16 @@ pub fn warn_of_sinking(person: &str, numbers: &[Option<u64>], animated: &[Option
     );
 }
 
-/// The share of a person's reconstructed frames from which a landmark filled in there (not
-/// seen) is named by [`warn_of_filled`].
-pub const FILLED_WARNING_SHARE: f64 = 0.25;
-
-/// Warns on standard error of the landmarks of `person` (its name) filled in, not seen (their
-/// 3D is the pose basis's guess), in [`FILLED_WARNING_SHARE`] or more of its `reconstructed`
-/// frames, `filled[l]` of them each: a simulated animator's walker had its far arm filled in
-/// 214 of 232 frames, where it swung three times as far as the arm it stood for, without a
-/// word.
-pub fn warn_of_filled(person: &str, filled: &[usize; 15], reconstructed: usize) {
-    let often: Vec<String> = (Landmark::ALL.iter().zip(filled))
-        .filter(|&(_, &n)| n > 0 && n as f64 >= FILLED_WARNING_SHARE * reconstructed as f64)
-        .map(|(l, &n)| format!("{} in {n}", l.name()))
-        .collect();
-    if !often.is_empty() {
+/// Warns on standard error of the landmarks of `person` (its name) filled in, not seen, often
+/// among its reconstructed frames (`imputed`: each one's filled-in landmarks;
+/// [`camloc::often_filled`]).
+pub fn warn_of_filled<'a>(person: &str, imputed: impl IntoIterator<Item = &'a [Landmark]>) {
+    if let Some(often) = camloc::often_filled(imputed) {
         stderr_line!(
             "camloc: warning: {person}: landmarks filled in, not seen (their 3D is the pose \
              basis's guess; `imputed` in JSON), of its {}: {}",
-            counted(reconstructed as u64, "reconstructed frame"),
-            often.join(", ")
+            counted(often.frames as u64, "reconstructed frame"),
+            often.names()
         );
     }
 }

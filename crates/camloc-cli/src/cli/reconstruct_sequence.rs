@@ -239,14 +239,8 @@ pub fn run(
                     message.map_or("", String::as_str),
                 );
             }
-            let mut filled = [0usize; 15];
-            for r in frames.iter().flatten() {
-                for l in &r.imputed {
-                    filled[l.index()] += 1;
-                }
-            }
-            let solved_frames = frames.iter().filter(|f| f.is_ok()).count();
-            super::person_solve::warn_of_filled(&names[n], &filled, solved_frames);
+            let imputed = frames.iter().flatten().map(|r| r.imputed.as_slice());
+            super::person_solve::warn_of_filled(&names[n], imputed);
             let outputs = members.iter().zip(frames).zip(animated).zip(left_out);
             for ((((&i, frame), pose), left), &sides) in outputs.zip(&swapped_sides) {
                 let k = &kept[i];
