@@ -332,7 +332,7 @@ def reconstruct(
     fps: with ``sequence``, the video's frames a second (30 by default), as ``camloc
       reconstruct --sequence --fps``: above 30 the smoothing over frames, the side swaps
       swapped back, the rows left out and the placement in the world keep their windows in
-      time (1/30 s and longer), so give the video's rate (a held-out walk at 120 frames a
+      time (1/30 s and longer; rates above 1,000 keep those of 1,000), so give the video's rate (a held-out walk at 120 frames a
       second: accelerations 483 m/s^2 told 30, 34 told 120). Without ``sequence`` it changes
       nothing (but must still be a number > 0).
     frames: with ``sequence``, each row's video frame number (N,) (whole numbers from 0 to
@@ -473,7 +473,7 @@ def smooth_viewpoints(
       otherwise; default: 0, 1, 2, ...), so that frames far apart in time are not averaged.
       All -1 (``read_keypoints``' frames of an input without frame numbers) is the default.
     fps: the video's frames a second (30 by default): at faster rates the frames within as
-      long a time (3 x round(fps / 30) numbers on each side).
+      long a time (3 x round(fps / 30) numbers on each side; fps above 1,000 taken as 1,000).
 
     Returns (azimuth_deg, elevation_deg), (N,) each, degrees (azimuth in [0, 360)); NaN where
     the frame had no viewpoint or the directions around it cancel (opposite views). Raises

@@ -55,11 +55,11 @@ pub fn section(md: &mut String, lsp: Option<&Path>) -> Result<(), String> {
         "`{}` read with the default options (joints marked invisible are missing; {no_torso} \
          poses have no pelvis or neck that their visible joints give: the file's invisible \
          joints are placeholders without a position, docs/keypoints.md), localized with the \
-         default model embedded in the binary (`cargo xtask train-default`; the descriptor \
-         values of missing landmarks imputed: {missing} of the localized poses have at least \
-         one; a pose without a torso localized with its missing landmarks filled in from the \
-         embedded basis, `CameraLocalizer::localize_filled`, docs/conventions.md section 6, \
-         when at least {MIN_PRESENT_FOR_FILL} landmarks are present: {} of the {no_torso}). \
+         default model embedded in the binary (`cargo xtask train-default`) under its own \
+         priors (`--camera-height any`); the missing landmarks filled in from the embedded \
+         basis, `CameraLocalizer::localize_filled`, docs/conventions.md section 6, when at \
+         least {MIN_PRESENT_FOR_FILL} landmarks are present: {missing} of the localized poses \
+         have at least one missing, {} of the {no_torso} without a torso. \
          {localized} of {} poses localized. There is no ground truth camera for these photos: \
          this is a sanity check of how the predictions spread over the sphere.\n",
         path.file_name()
@@ -104,8 +104,8 @@ pub fn section(md: &mut String, lsp: Option<&Path>) -> Result<(), String> {
         "\nMirror check: each pose mirrored horizontally with left/right labels swapped is \
          localized on the mirrored side (left <-> right, front and back unchanged) in {} of \
          the {} poses with a torso ({:.1}%) and in {} of the {} with the torso filled in \
-         ({:.1}%: the basis that fills it in is fitted to people as recorded, not mirrored, and \
-         the search may settle on another camera where two are about equally probable).\n",
+         ({:.1}%; each fill is the mean of the pose's and of the mirror image of its mirror \
+         image's, as the basis, fitted to people as recorded, is not mirror-symmetric).\n",
         consistent[0],
         ok[0],
         share(0),

@@ -21,7 +21,8 @@ pub struct ViewFrame {
     frame: Option<u64>,
     /// Its person, when the input has one.
     person: Option<u64>,
-    /// The input landmarks (image units, v down), `None` where missing.
+    /// The input landmarks (image units, v down), `None` where missing or far off the others
+    /// (read as missing and filled in: the page rings them).
     input: Vec<Option<[f64; 2]>>,
     /// The reconstruction projected by its camera (image units).
     reprojection: Option<Vec<[f64; 2]>>,
@@ -57,7 +58,10 @@ impl ViewFrame {
             id: camloc::store::escaped(&record.id).into_owned(),
             frame: record.frame,
             person: record.person,
-            input: record.pose.points.to_vec(),
+            input: camloc::without_far_off_landmarks(&record.pose)
+                .0
+                .points
+                .to_vec(),
             reprojection: reconstruction.map(|r| r.reprojection().to_vec()),
             pose: reconstruction.map(|r| r.pose.points.to_vec()),
             label: localization.map(|l| l.label),

@@ -73,8 +73,8 @@ fn person_record(
     file: &str,
     options: &ReadOptions,
 ) -> Result<KeypointRecord, KeypointError> {
-    let values = line
-        .split_whitespace()
+    let words: Vec<&str> = line.split_whitespace().collect();
+    let values = (words.iter())
         .map(|word| {
             word.parse::<f64>()
                 .ok()
@@ -83,7 +83,7 @@ fn person_record(
                     file: file.to_owned(),
                     at: at.clone(),
                     field: "value",
-                    text: word.to_owned(),
+                    text: (*word).to_owned(),
                     expected: "a finite number",
                 })
         })
@@ -107,18 +107,24 @@ fn person_record(
     let keypoints = &values[BOX_NUMBERS..keypoints_end];
     let track = match values[keypoints_end..] {
         [_, id] | [id] if id.fract() == 0.0 && id >= 0.0 => {
-            // As every format's ids: a number JSON and `.npz` outputs keep as given (2^63 - 1
-            // itself reads as 2^63, as f64 rounds it).
-            if id >= crate::MAX_FRAME_NUMBER as f64 {
+            // As every format's ids: a number JSON and `.npz` outputs keep as given, read as
+            // written (a float holds whole numbers exactly only up to 2^53: two ids beyond
+            // would have been one person).
+            let word = words[words.len() - 1];
+            let exact = match word.parse::<u64>() {
+                Ok(n) => Some(n).filter(|&n| n <= crate::MAX_FRAME_NUMBER),
+                Err(_) => (id <= (1u64 << 53) as f64).then_some(id as u64),
+            };
+            let Some(id) = exact else {
                 return Err(KeypointError::InvalidValue {
                     file: file.to_owned(),
                     at,
                     field: "track id",
-                    text: format!("{id:e}"),
-                    expected: "an integer from 0 to 2^63 - 1",
+                    text: crate::error::clip(word),
+                    expected: "an integer from 0 to 2^63 - 1 (written out beyond 2^53)",
                 });
-            }
-            Some(id as u64)
+            };
+            Some(id)
         }
         _ => None,
     };
@@ -202,9 +208,14 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("track id") && e.contains("2^63 - 1"), "{e}");
-        let large = line(true, "0.9 9007199254740992");
-        let records = parse(&large, "clip_0.txt", &options()).unwrap();
-        assert_eq!(records[0].person, Some(1 << 53));
+        // Ids are read as written: 2^63 - 1 and 2^53 + 1 exactly.
+        for id in [crate::MAX_FRAME_NUMBER, (1 << 53) + 1] {
+            let large = line(true, &format!("0.9 {id}"));
+            let records = parse(&large, "clip_0.txt", &options()).unwrap();
+            assert_eq!(records[0].person, Some(id));
+        }
+        let e = parse(&line(true, "0.9 1e300"), "clip_0.txt", &options()).unwrap_err();
+        assert!(e.to_string().contains("track id"), "{e}");
     }
 
     #[test]

@@ -1,7 +1,8 @@
-//! Localization of a pose whose torso is incomplete (a hip and so the pelvis, or a shoulder
-//! and so the neck, occluded): its missing landmarks are filled in from the pose basis seen
-//! by hypothesised cameras, and the camera is the one the filled-in pose agrees with
-//! (docs/conventions.md section 6, "Missing landmarks").
+//! Localization of a pose with missing landmarks (also one whose torso is incomplete: a hip
+//! and so the pelvis, or a shoulder and so the neck, occluded): they are filled in from the
+//! pose basis seen by hypothesised cameras, the camera is the one the filled-in pose agrees
+//! with, and its probabilities are tempered for what was filled in (docs/conventions.md
+//! section 6, "Filled-in poses").
 
 use camloc_features::FeatureError;
 use camloc_geometry::{Matrix3, Vector3};
@@ -75,8 +76,9 @@ impl CameraLocalizer {
     /// random landmarks of the limbs and head missing, both ways).
     ///
     /// Costs 15 to 39 fills (two basis fits each) and 12 to 36 localizations for a pose with
-    /// missing landmarks (docs/RESULTS.md, "Missing landmarks": 0.11-0.12 ms of wall time per
-    /// pose on two cores); a complete pose costs what `localize_partial` costs.
+    /// missing landmarks (docs/RESULTS.md, "Missing landmarks": a few tenths of a millisecond
+    /// of wall time per pose on two cores); a complete pose costs what `localize_partial`
+    /// costs.
     ///
     /// # Errors
     /// As [`CameraLocalizer::localize_partial`]; [`CamlocError::NothingDetected`] for a pose

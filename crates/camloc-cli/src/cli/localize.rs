@@ -84,7 +84,8 @@ pub struct Args {
     /// Frames per second of the input video (with --sequence or --html).
     ///
     /// With --sequence the time scale of the smoothing over frames (7 frames at 30 frames a second,
-    /// as long in time at faster rates: give the video's rate), and the page's play rate.
+    /// as long in time at faster rates up to 1,000: give the video's rate), and the page's play
+    /// rate.
     #[arg(long, value_name = "FPS", default_value = "30", value_parser = export::parse_fps,
           requires = "timed")]
     pub fps: f64,

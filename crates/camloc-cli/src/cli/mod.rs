@@ -79,12 +79,13 @@ enum Command {
     /// Localize the camera of 2D poses read from a keypoint file, a folder or standard input.
     ///
     /// Missing landmarks (null in camloc JSON, visible=0 in LSP CSV unless --lsp-invisible use,
-    /// a score of 0 or below --min-score, NaN in .npy) have their descriptor values imputed.
-    /// The pelvis and neck are derived from the hips and shoulders when missing; a pose whose
-    /// torso cannot be derived (a hip or shoulder missing too) is localized with its missing
-    /// landmarks filled in from the embedded pose basis seen by camera hypotheses
-    /// (docs/conventions.md section 6), or, with fewer than 8 landmarks present, reported as an
-    /// error while the others are still localized.
+    /// a score of 0 or below --min-score, NaN in .npy) are filled in from the embedded pose
+    /// basis seen by camera hypotheses, the answer's probabilities tempered for each one filled
+    /// in (docs/conventions.md section 6, "Filled-in poses"; a few hundred microseconds a pose).
+    /// The pelvis and neck are derived from the hips and shoulders when missing. With fewer than
+    /// 8 landmarks present a pose with a torso is localized from the descriptor values'
+    /// training means (a guess, warned of), one without is reported as an error while the
+    /// others are still localized.
     ///
     /// Poses are read, localized (in parallel) and written in batches, so memory does not grow
     /// with the input; use --jsonl for one JSON object per line, --npz for NumPy arrays.
@@ -96,9 +97,9 @@ enum Command {
     ///
     /// Poses are read, reconstructed (in parallel) and written in batches. Missing landmarks
     /// are filled in from the pose basis seen by the localized camera and named in the output
-    /// (`imputed`); a pose without a pelvis or neck and a hip or shoulder to stand in for it is
-    /// localized with its torso filled in as `localize` does. A pose with missing landmarks is
-    /// refused with fewer than 8 present (most of its 3D would be the basis's guess).
+    /// (`imputed`), after the pose is localized with them filled in as `localize` does. A pose
+    /// with missing landmarks is refused with fewer than 8 present (most of its 3D would be the
+    /// basis's guess).
     #[command(after_help = EXIT_CODES)]
     Reconstruct(reconstruct::Args),
     /// Measure 3D error (PA-MPJPE: mm, after similarity alignment) and projection error on a
@@ -200,8 +201,7 @@ pub fn run(cli: Cli, out: &mut Out) -> Result<ExitCode, CliError> {
 /// How LSP joints marked visible=0 are read.
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub enum InvisibleArg {
-    /// As missing landmarks (localize imputes their descriptor values, reconstruct fills them
-    /// in).
+    /// As missing landmarks (filled in from the pose basis, docs/conventions.md section 6).
     Missing,
     /// With their annotated coordinates; a coordinate <= 0 is a placeholder of a joint that was
     /// not annotated, which stays missing (docs/keypoints.md).

@@ -198,7 +198,8 @@ pub struct Args {
     /// Frames per second of the input video (with --sequence, --bvh or --html).
     ///
     /// With --sequence the time scale of the smoothing over frames (its windows are 1/30 s and
-    /// longer at faster rates: give the video's rate), the BVH frame time and the page's play rate.
+    /// longer, as long in time at rates up to 1,000: give the video's rate), the BVH frame time
+    /// and the page's play rate.
     #[arg(long, value_name = "FPS", default_value = "30", value_parser = export::parse_fps,
           allow_hyphen_values = true, requires = "timed")]
     pub fps: f64,

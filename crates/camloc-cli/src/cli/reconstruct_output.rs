@@ -231,7 +231,8 @@ pub fn pose_output(
 }
 
 /// The drawing of one reconstructed pose (input, reprojection, three views); the caption
-/// names the landmarks that were filled in.
+/// names the landmarks that were filled in, and the drawing rings them (a landmark far off
+/// the others too: read as missing, it was filled in, and is left out of the input drawn).
 pub fn pose_svg(
     input: &PartialPose2,
     id: &str,
@@ -241,7 +242,8 @@ pub fn pose_svg(
     let r = &result.reconstruction;
     let projected = r.reprojection();
     let caption = heading(id, choice, result);
-    svg::reconstruction_svg(input, &Pose2::new(projected), &r.pose, &caption)
+    let (read, _) = camloc::without_far_off_landmarks(input);
+    svg::reconstruction_svg(&read, &Pose2::new(projected), &r.pose, &caption)
 }
 
 /// Bone lengths as one line of text: `KEY LENGTH` pairs, metres.
