@@ -202,7 +202,8 @@ class Localizer:
             63-84% of held-out views by protocol, less for acrobatics (30-50%) and for low
             frames under ``jittered`` views (45-64%; docs/RESULTS.md);
           missing, derived (N, 15) bool: the landmarks (``LANDMARKS`` order) missing from the
-            pose as read (every one of a pose that could not be read) and those derived rather
+            pose as read, or far off the others in a localized pose (read as missing and filled
+            in; every one of a pose that could not be read) and those derived rather
             than read (a pelvis from the hips, a COCO head from the face points), as ``camloc
             localize --npz`` writes them;
           camera_height_shares (3,) float64: with ``camera_height="from-input"``, how the

@@ -363,6 +363,10 @@ impl Localizer {
                                     });
                                     match result {
                                         Ok(loc) => {
+                                            // Missing as localized: a landmark far off the
+                                            // others too (as the command line's JSON says).
+                                            masks[j].0 = (loc.missing.iter())
+                                                .fold(0, |f, l| f | 1 << l.index());
                                             (label[j], folded[j], probability[j]) = numbers(&loc);
                                             row.copy_from_slice(&loc.probabilities);
                                             view[3 * j..3 * j + 3].copy_from_slice(&angles(&loc));

@@ -620,3 +620,20 @@ def test_no_camera_height_is_the_default_one():
     assert camloc.Localizer.load(
         ROOT / "fixtures" / "default-model.bin", camera_height=None
     ).camera_height == "from-input"
+
+
+def test_a_landmark_far_off_is_missing_as_the_command_line_says(cli, tmp_path):
+    """A landmark far off the others is read as missing and filled in: ``missing`` marks it,
+    as the command line's JSON and ``--npz`` do."""
+    points = example_points()[:1].copy()
+    wrist = camloc.LANDMARKS.index("left_wrist")
+    points[0, wrist] = [5000.0, 5000.0]
+    got = camloc.Localizer().localize(points)
+    assert got["missing"][0, wrist] and got["missing"][0].sum() == 1
+    path = tmp_path / "far.npy"
+    np.save(path, points)
+    code, printed = cli("localize", "--input", path, "-q")
+    assert code == 0 and printed[0]["missing"] == ["left_wrist"]
+    code, _ = cli("localize", "--input", path, "-q", "--npz", tmp_path / "far.npz")
+    assert code == 0
+    np.testing.assert_array_equal(np.load(tmp_path / "far.npz")["missing"], got["missing"])

@@ -32,7 +32,8 @@ pub struct LocalizationArrays {
     uncertainty_deg: Column<f64>,
     /// (N,) bool: `true` where the pose could not be localized.
     failed: Column<bool>,
-    /// (N, 15) bool: landmark i (camloc15 order) is missing from the pose read.
+    /// (N, 15) bool: landmark i (camloc15 order) is missing from the pose read, or far off the
+    /// others (read as missing and filled in) in a localized pose.
     missing: Column<bool>,
     /// (N, 15) bool: landmark i was derived rather than read.
     derived: Column<bool>,
@@ -124,7 +125,11 @@ impl LocalizationArrays {
         self.elevation_deg.push(degrees(|l| l.elevation_deg))?;
         self.uncertainty_deg.push(degrees(|l| l.uncertainty_deg))?;
         self.failed.push(loc.is_none())?;
-        self.missing.extend(flags(record.pose.missing()))?;
+        // Missing as localized (a landmark far off the others too, as the JSON says).
+        match loc {
+            Some(l) => self.missing.extend(flags(l.missing.iter().copied()))?,
+            None => self.missing.extend(flags(record.pose.missing()))?,
+        }
         self.derived.extend(flags(record.derived.iter().copied()))?;
         let place = |n: Option<u64>| n.map_or(-1, |n| i64::try_from(n).unwrap_or(i64::MAX));
         self.frame.push(place(record.frame))?;
