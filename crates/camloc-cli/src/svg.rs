@@ -485,10 +485,15 @@ pub fn reconstruction_svg(
     for (k, (name, f)) in views.iter().enumerate() {
         let x0 = 230.0 + 215.0 * k as f64;
         let projected: Vec<[f64; 2]> = pose.points.iter().map(|p| f(*p)).collect();
-        let n = projected.len() as f64;
-        let c = projected
-            .iter()
-            .fold([0.0; 2], |a, p| [a[0] + p[0] / n, a[1] + p[1] / n]);
+        // Centred on its bounding box (its points' mean had put a long arm of an LSP photo
+        // past the panel's edge; the box fits the span the scale was made for).
+        let c = [0, 1].map(|k| {
+            let (lo, hi) = (projected.iter())
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
+                    (a.min(p[k]), b.max(p[k]))
+                });
+            0.5 * (lo + hi)
+        });
         let mut pts = [None; 15];
         for (o, p) in pts.iter_mut().zip(&projected) {
             *o = Some([

@@ -156,3 +156,35 @@ fn filled_in_joints_are_rings_in_the_reprojection_and_every_3d_view() {
     assert_eq!(rings(&partial), 4, "{partial}");
     assert!(partial.contains("hollow rings: joints filled in") && !complete.contains("hollow"));
 }
+
+#[test]
+fn a_lopsided_pose_stays_inside_its_3d_panels() {
+    // Fourteen landmarks near the pelvis and one far out: centred on the points' mean, the far
+    // one had been drawn past the panel's edge.
+    let mut points = [[0.0, 0.0, 0.0]; 15];
+    for (i, p) in points.iter_mut().enumerate() {
+        *p = [
+            0.01 * i as f64,
+            0.02 * (i % 3) as f64,
+            0.03 * (i % 5) as f64,
+        ];
+    }
+    points[Landmark::RightWrist.index()] = [0.9, -0.8, 0.7];
+    let pose = Pose3::new(points);
+    let flat = Pose2::new(std::array::from_fn(|i| [points[i][1], -points[i][2]]));
+    let svg = reconstruction_svg(&PartialPose2::from(flat), &flat, &pose, "c");
+    for line in svg.lines().filter(|l| l.starts_with("<line")) {
+        for key in ["y1", "y2"] {
+            let value: f64 = line
+                .split(&format!("{key}=\""))
+                .nth(1)
+                .unwrap()
+                .split('"')
+                .next()
+                .unwrap()
+                .parse()
+                .unwrap();
+            assert!((20.0..=240.0).contains(&value), "{key} {value}: {line}");
+        }
+    }
+}
