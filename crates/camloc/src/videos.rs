@@ -29,12 +29,16 @@ fn file_videos<'a, S: AsRef<str>>(
     sources: &'a [S],
 ) -> Option<Vec<(&'a str, Vec<usize>)>> {
     let mut videos: Vec<(&str, Vec<usize>)> = Vec::new();
+    // Each file's place in `videos`: a folder of 40,000 frame files had been searched file by
+    // file for every record (11.7 s for `localize --sequence`, 1.1 s without).
+    let mut place = std::collections::HashMap::new();
     for (i, source) in sources.iter().enumerate() {
         let file = file_of(source.as_ref());
-        match videos.iter_mut().rev().find(|(f, _)| *f == file) {
-            Some((_, records)) => records.push(i),
-            None => videos.push((file, vec![i])),
-        }
+        let k = *place.entry(file).or_insert_with(|| {
+            videos.push((file, Vec::new()));
+            videos.len() - 1
+        });
+        videos[k].1.push(i);
     }
     let several_frames = |records: &Vec<usize>| {
         let mut frames = records.iter().filter_map(|&i| keys[i].0);
