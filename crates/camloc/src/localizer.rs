@@ -4,7 +4,7 @@
 use camloc_dataset::PostureGroup;
 use camloc_features::Descriptor;
 use camloc_geometry::{CameraLabel, CameraSet, Level, Matrix3, Side, look_at_origin, sphere_point};
-use camloc_learning::{DirectionHeads, LogisticModel, QuadraticExpansion};
+use camloc_learning::{DirectionHeads, LogisticModel, QuadraticExpansion, softmax_in_place};
 use camloc_reconstruct::Intrinsics;
 use camloc_skeleton::{Landmark, PartialPose2, Pose2};
 use camloc_store::{FileKind, Persist, Validate};
@@ -456,21 +456,13 @@ impl CameraLocalizer {
     }
 }
 
-/// Tempers `probabilities` in place: each `p^(1 / temperature)`, normalised to sum 1
-/// (computed from logarithms, so that tiny probabilities do not underflow first).
+/// Tempers `probabilities` in place: each `p^(1 / temperature)`, normalised to sum 1 (the
+/// softmax of `ln p / temperature`, so that tiny probabilities do not underflow first).
 fn temper(probabilities: &mut [f64], temperature: f64) {
-    let logs: Vec<f64> = probabilities.iter().map(|p| p.ln() / temperature).collect();
-    let top = logs.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    if !top.is_finite() {
-        return;
-    }
-    for (p, l) in probabilities.iter_mut().zip(&logs) {
-        *p = (l - top).exp();
-    }
-    let sum: f64 = probabilities.iter().sum();
     for p in probabilities.iter_mut() {
-        *p /= sum;
+        *p = p.ln() / temperature;
     }
+    softmax_in_place(probabilities);
 }
 
 /// The localizer's invariants, run after every decode of a model file: a valid descriptor
