@@ -8,9 +8,9 @@
 use std::fmt::Write;
 use std::time::Instant;
 
-use camloc::dataset::Dataset;
+use camloc::dataset::{Dataset, Sample};
 use camloc::reconstruct::PoseBasis;
-use camloc::{CameraLocalizer, Landmark, Localization, PartialPose2, PoseReconstructor};
+use camloc::{CameraLocalizer, CameraSet, Landmark, Localization, PartialPose2, PoseReconstructor};
 use rand::SeedableRng;
 use rand::seq::IndexedRandom;
 use rayon::prelude::*;
@@ -65,51 +65,87 @@ pub fn rows(
     Ok(md)
 }
 
+/// A way of localizing a pose (the error as text).
+type Localize<'a> = &'a (dyn Fn(&PartialPose2) -> Result<Localization, String> + Sync);
+
+/// How one way of localizing did on views with landmarks taken away ([`score`]).
+struct Scores {
+    /// Views localized.
+    views: usize,
+    /// The share of them whose camera is right, and right folded (back onto front), percent.
+    right: [f64; 2],
+    /// The mean probability of the answers.
+    mean_probability: f64,
+    /// Milliseconds of wall time per view, localized in parallel.
+    ms: f64,
+}
+
+/// `localize` of each of `poses` (the landmarks of `views` with some taken away), scored
+/// against the views' cameras (`cameras`).
+fn score(
+    cameras: &CameraSet,
+    poses: &[PartialPose2],
+    views: &[&Sample],
+    localize: Localize,
+) -> Result<Scores, String> {
+    let start = Instant::now();
+    let found: Vec<(bool, bool, f64)> = (poses.par_iter().zip(views))
+        .map(|(pose, sample)| {
+            let found = localize(pose)?;
+            let folded = cameras.fold_back_to_front(sample.label);
+            Ok((
+                found.label.get() == sample.label,
+                found.folded_label.get() == folded,
+                found.probability,
+            ))
+        })
+        .collect::<Result<_, String>>()?;
+    let n = found.len().max(1) as f64;
+    let share = |f: fn(&(bool, bool, f64)) -> bool| {
+        100.0 * found.iter().filter(|h| f(h)).count() as f64 / n
+    };
+    Ok(Scores {
+        views: found.len(),
+        right: [share(|h| h.0), share(|h| h.1)],
+        mean_probability: found.iter().map(|h| h.2).sum::<f64>() / n,
+        ms: 1e3 * start.elapsed().as_secs_f64() / n,
+    })
+}
+
+/// The views of `test` with every landmark present.
+fn complete_views(test: &Dataset) -> Vec<&Sample> {
+    (test.samples.iter())
+        .filter(|s| s.missing_mask == 0)
+        .collect()
+}
+
 /// The rows of the torso cases ([`CASES`]).
 fn torso_rows(
     localizer: &CameraLocalizer,
     filler: &PoseReconstructor,
     test: &Dataset,
 ) -> Result<String, String> {
-    let cameras = localizer.cameras();
-    let views: Vec<_> = test
-        .samples
-        .iter()
-        .filter(|s| s.missing_mask == 0)
-        .collect();
+    let views = complete_views(test);
+    let filled = |p: &PartialPose2| {
+        (localizer.localize_filled(p, filler.reconstructor())).map_err(|e| e.to_string())
+    };
     let mut md = String::new();
     for (what, parts) in CASES {
-        let start = Instant::now();
-        let hits: Result<Vec<(bool, bool)>, String> = views
-            .par_iter()
-            .enumerate()
+        let poses: Vec<PartialPose2> = (views.iter().enumerate())
             .map(|(i, sample)| {
                 let mut pose = PartialPose2::from(sample.landmarks);
                 for part in parts {
                     pose.points[part.landmark(i).index()] = None;
                 }
-                let found = localizer
-                    .localize_filled(&pose, filler.reconstructor())
-                    .map_err(|e| e.to_string())?;
-                let folded = cameras.fold_back_to_front(sample.label);
-                Ok((
-                    found.label.get() == sample.label,
-                    found.folded_label.get() == folded,
-                ))
+                pose
             })
             .collect();
-        let hits = hits?;
-        let ms = 1e3 * start.elapsed().as_secs_f64() / views.len().max(1) as f64;
-        let share = |f: fn(&(bool, bool)) -> bool| {
-            100.0 * hits.iter().filter(|h| f(h)).count() as f64 / hits.len().max(1) as f64
-        };
+        let s = score(localizer.cameras(), &poses, &views, &filled)?;
         let _ = writeln!(
             md,
             "| joints + mirror + dropout (default settings), {what} missing: torso filled in \
-             ({} views, {ms:.2} ms of wall time per pose, in parallel) | {:.2}% | {:.2}% |",
-            hits.len(),
-            share(|h| h.0),
-            share(|h| h.1)
+             ({} views, {:.2} ms of wall time per pose, in parallel) | {:.2}% | {:.2}% |",
+            s.views, s.ms, s.right[0], s.right[1]
         );
     }
     Ok(md)
@@ -125,14 +161,19 @@ fn random_rows(
     filler: &PoseReconstructor,
     test: &Dataset,
 ) -> Result<String, String> {
-    let cameras = localizer.cameras();
     let limbs: Vec<Landmark> = Landmark::ALL
         .into_iter()
         .filter(|l| !matches!(l, Landmark::Pelvis | Landmark::Neck))
         .collect();
-    let views: Vec<_> = (test.samples.iter())
-        .filter(|s| s.missing_mask == 0)
-        .collect();
+    let views = complete_views(test);
+    let means = |p: &PartialPose2| localizer.localize_partial(p).map_err(|e| e.to_string());
+    let filled = |p: &PartialPose2| {
+        (localizer.localize_filled(p, filler.reconstructor())).map_err(|e| e.to_string())
+    };
+    let ways: [(&str, Localize); 2] = [
+        ("descriptor values at their training means", &means),
+        ("filled in", &filled),
+    ];
     let mut md = String::new();
     for k in RANDOM_MISSING {
         let poses: Vec<PartialPose2> = (views.iter().enumerate())
@@ -145,44 +186,19 @@ fn random_rows(
                 pose
             })
             .collect();
-        type Localize<'a> = &'a (dyn Fn(&PartialPose2) -> Result<Localization, String> + Sync);
-        let means = |p: &PartialPose2| localizer.localize_partial(p).map_err(|e| e.to_string());
-        let filled = |p: &PartialPose2| {
-            (localizer.localize_filled(p, filler.reconstructor())).map_err(|e| e.to_string())
-        };
-        let ways: [(&str, Localize); 2] = [
-            ("descriptor values at their training means", &means),
-            ("filled in", &filled),
-        ];
         for (way, localize) in ways {
-            let start = Instant::now();
-            let found: Result<Vec<(bool, bool, f64)>, String> = (poses.par_iter().zip(&views))
-                .map(|(pose, sample)| {
-                    let found = localize(pose)?;
-                    let folded = cameras.fold_back_to_front(sample.label);
-                    Ok((
-                        found.label.get() == sample.label,
-                        found.folded_label.get() == folded,
-                        found.probability,
-                    ))
-                })
-                .collect();
-            let found = found?;
-            let n = found.len().max(1) as f64;
-            let ms = 1e3 * start.elapsed().as_secs_f64() / n;
-            let share = |f: fn(&(bool, bool, f64)) -> bool| {
-                100.0 * found.iter().filter(|h| f(h)).count() as f64 / n
-            };
-            let mean_p = found.iter().map(|h| h.2).sum::<f64>() / n;
+            let s = score(localizer.cameras(), &poses, &views, localize)?;
             let _ = writeln!(
                 md,
                 "| joints + mirror + dropout (default settings), {k} random landmark{} of the \
                  limbs and head missing, {way} ({} views, mean probability of the answer \
-                 {mean_p:.2}, {ms:.3} ms of wall time per pose, in parallel) | {:.2}% | {:.2}% |",
+                 {:.2}, {:.3} ms of wall time per pose, in parallel) | {:.2}% | {:.2}% |",
                 if k == 1 { "" } else { "s" },
-                found.len(),
-                share(|h| h.0),
-                share(|h| h.1)
+                s.views,
+                s.mean_probability,
+                s.ms,
+                s.right[0],
+                s.right[1]
             );
         }
     }
