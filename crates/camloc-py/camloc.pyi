@@ -301,7 +301,9 @@ def reconstruct(
     sequence: the poses are the frames of one person, in time order: one set of bone lengths
       for all of them, depths chosen consistently over time, temporal smoothness, each
       landmark first smoothed over the frames within 1/15 s (``smooth_landmarks`` in the
-      Rust library; the limbs' jitter halved, docs/cli.md; not at 15 ``fps`` and below).
+      Rust library; the limbs' jitter halved, docs/cli.md; not at 15 ``fps`` and below),
+      and a landmark missing for at most 0.7 s between rows that have it filled in from
+      those rows (``fill_short_gaps``; ``imputed`` still names it).
       Legs or arms
       a detector read with the left and right sides swapped for up to 5 rows in a row (at 30
       frames a second; as long in time at a faster ``fps``) are

@@ -4,6 +4,7 @@
 //! and windows of consecutive frames; recovered bone lengths and PA-MPJPE with and without
 //! each part of the skeleton refinement. Part of `cargo xtask reconstruction`.
 
+mod gaps;
 mod missing;
 pub mod people;
 mod views;
@@ -669,6 +670,12 @@ pub fn measure(
             basis,
             (localizer, lifter),
             &singles,
+            options.seed,
+        )?);
+        md.push_str(&gaps::section(
+            basis,
+            (localizer, lifter),
+            &sequences,
             options.seed,
         )?);
     }

@@ -456,7 +456,8 @@ pub(crate) fn reconstruct<'py>(
             crate::warnings::warn(
                 py,
                 format!(
-                    "imputed: landmarks filled in, not seen (their 3D is the pose basis's guess), \
+                    "imputed: landmarks filled in, not seen (their 3D is a guess, from the pose basis \
+                     or the rows around a short gap), \
                      of the {} reconstructed rows: {}",
                     often.frames,
                     often.names()

@@ -108,9 +108,9 @@ pub use identity::{
 };
 pub use often_filled::{OFTEN_FILLED_SHARE, OftenFilled, often_filled};
 pub use reconstruction::{
-    LANDMARK_SMOOTHING_S, PoseReconstruction, PoseReconstructor, PoseSequenceReconstruction,
-    SEQUENCE_BREAK_FRAMES, default_basis, evaluation_samples, hybrid_camera, person_height_problem,
-    smooth_landmarks,
+    GAP_FILL_S, LANDMARK_SMOOTHING_S, PoseReconstruction, PoseReconstructor,
+    PoseSequenceReconstruction, SEQUENCE_BREAK_FRAMES, default_basis, evaluation_samples,
+    fill_short_gaps, hybrid_camera, person_height_problem, smooth_landmarks,
 };
 pub use select::{DescriptorCv, cross_validate};
 pub use sequence::{

@@ -1,5 +1,6 @@
 //! The landmarks of a person's frames that were filled in, not seen, often enough to say so
-//! ([`often_filled`]): their 3D is the pose basis's guess, frame by frame.
+//! ([`often_filled`]): their 3D is a guess, the pose basis's frame by frame or, over a short
+//! gap of a sequence, interpolated from the frames around it.
 
 use camloc_skeleton::{Landmark, NUM_LANDMARKS};
 

@@ -13,9 +13,11 @@ use camloc_store::Validate;
 use crate::rows::sample_pose;
 use crate::{CameraLocalizer, CamlocError, DepthLifter, Localization, MIN_PRESENT_FOR_FILL};
 
+mod gap_fill;
 mod landmark_smoothing;
 mod runs;
 
+pub use gap_fill::{GAP_FILL_S, fill_short_gaps};
 pub use landmark_smoothing::{LANDMARK_SMOOTHING_S, smooth_landmarks};
 pub use runs::SEQUENCE_BREAK_FRAMES;
 
@@ -33,7 +35,8 @@ pub struct PoseReconstruction {
     pub localization: Option<Localization>,
     /// The landmarks that were missing in the input, in index order: their 2D was filled in
     /// from the pose basis seen by the localized camera before the reconstruction
-    /// ([`Reconstructor::impute`]), so their 3D is the basis's guess, not a measurement.
+    /// ([`Reconstructor::impute`]), or in a sequence from the frames around a short gap
+    /// ([`PoseReconstructor::with_gap_fill`]), so their 3D is a guess, not a measurement.
     pub imputed: Vec<Landmark>,
 }
 
@@ -101,6 +104,9 @@ pub struct PoseReconstructor {
     /// The person's standing height, metres, that estimated lengths are scaled to
     /// ([`with_person_height`](PoseReconstructor::with_person_height)).
     height_m: Option<f64>,
+    /// Sequences: the longest gap (seconds) of a landmark filled in from the frames around it
+    /// ([`with_gap_fill`](PoseReconstructor::with_gap_fill)).
+    gap_fill_s: f64,
 }
 
 /// The reconstruction of one person's frames ([`PoseReconstructor::reconstruct_sequence`]).
@@ -147,6 +153,7 @@ impl PoseReconstructor {
             lifter: None,
             given: Given::default(),
             height_m: None,
+            gap_fill_s: GAP_FILL_S,
         })
     }
 
@@ -207,6 +214,25 @@ impl PoseReconstructor {
     /// ([`with_frame_rate`](Self::with_frame_rate)).
     pub fn frame_rate(&self) -> FrameRate {
         self.reconstructor.config().refinement.frame_rate
+    }
+
+    /// Sequences: landmarks missing for at most `seconds` in a row between frames that have
+    /// them are filled in from those frames ([`fill_short_gaps`]; [`GAP_FILL_S`] by default;
+    /// 0 turns it off) before the frames are localized and solved, as seen landmarks; each
+    /// frame's [`PoseReconstruction::imputed`] still names them. Longer gaps are filled in
+    /// per frame from the pose basis, as a single pose's.
+    ///
+    /// # Errors
+    /// [`CamlocError::InvalidOption`] unless `seconds` is finite and >= 0.
+    pub fn with_gap_fill(mut self, seconds: f64) -> Result<PoseReconstructor, CamlocError> {
+        if !(seconds.is_finite() && seconds >= 0.0) {
+            return Err(CamlocError::InvalidOption {
+                name: "gap fill",
+                detail: format!("{seconds:?} s: give a number of seconds >= 0"),
+            });
+        }
+        self.gap_fill_s = seconds;
+        Ok(self)
     }
 
     /// The standing height the estimated lengths are scaled to, metres, if one was given.

@@ -7,7 +7,9 @@ use std::fmt::Write;
 
 use camloc::reconstruct::{PoseBasis, align_similarity, mpjpe_after_similarity};
 use camloc::skeleton::NUM_LANDMARKS;
-use camloc::{CameraLocalizer, DepthLifter, Landmark, ModeKind, PartialPose2, PoseReconstructor};
+use camloc::{
+    CameraLocalizer, DepthLifter, Landmark, ModeKind, PartialPose2, Pose3, PoseReconstructor,
+};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
@@ -77,15 +79,7 @@ pub(super) fn section(
     singles: &[Frames],
     seed: u64,
 ) -> Result<String, String> {
-    let mut reconstructor = PoseReconstructor::new(basis.clone())
-        .map_err(|e| e.to_string())?
-        .with_localizer(localizer.clone());
-    if let Some(lifter) = lifter {
-        reconstructor = reconstructor.with_lifter(lifter.clone());
-    }
-    let reconstructor = reconstructor
-        .with_mode(ModeKind::Hybrid)
-        .map_err(|e| e.to_string())?;
+    let reconstructor = hybrid_reconstructor(basis, (localizer, lifter))?;
     let mut md = format!(
         "\nMissing landmarks: the rescaled single poses with k landmarks taken away at random \
          (any but the pelvis and neck, the same draw for every protocol), or the pelvis and one \
@@ -122,22 +116,7 @@ pub(super) fn section(
                             let mut pose = PartialPose2::from(view.pose2);
                             let dropped = taken.apply(&mut pose, &mut rng);
                             let r = reconstructor.reconstruct(&pose).ok()?;
-                            let estimate = &r.reconstruction.pose;
-                            let all = mpjpe_after_similarity(estimate, truth);
-                            let aligned = align_similarity(estimate, truth)?;
-                            let missing = dropped
-                                .iter()
-                                .map(|&j| {
-                                    let d: f64 = (0..3)
-                                        .map(|a| {
-                                            (aligned.points[j][a] - truth.points[j][a]).powi(2)
-                                        })
-                                        .sum();
-                                    1000.0 * d.sqrt()
-                                })
-                                .sum::<f64>()
-                                / dropped.len().max(1) as f64;
-                            all.is_finite().then_some((all, missing))
+                            errors_of(&r.reconstruction.pose, truth, &dropped)
                         })
                         .collect::<Vec<_>>()
                 })
@@ -163,9 +142,48 @@ pub(super) fn section(
     Ok(md)
 }
 
+/// `camloc reconstruct`'s reconstructor: `hybrid` with `localizer` (and `lifter`).
+pub(super) fn hybrid_reconstructor(
+    basis: &PoseBasis,
+    (localizer, lifter): (&CameraLocalizer, Option<&DepthLifter>),
+) -> Result<PoseReconstructor, String> {
+    let mut reconstructor = PoseReconstructor::new(basis.clone())
+        .map_err(|e| e.to_string())?
+        .with_localizer(localizer.clone());
+    if let Some(lifter) = lifter {
+        reconstructor = reconstructor.with_lifter(lifter.clone());
+    }
+    reconstructor
+        .with_mode(ModeKind::Hybrid)
+        .map_err(|e| e.to_string())
+}
+
+/// The PA-MPJPE (mm) of all 15 landmarks of `estimate` against `truth`, and the mean error
+/// of the `dropped` ones after the same alignment (0 without any); `None` when the alignment
+/// fails or the error is not finite.
+pub(super) fn errors_of(estimate: &Pose3, truth: &Pose3, dropped: &[usize]) -> Option<(f64, f64)> {
+    let all = mpjpe_after_similarity(estimate, truth);
+    let aligned = align_similarity(estimate, truth)?;
+    let missing = dropped
+        .iter()
+        .map(|&j| {
+            let d: f64 = (0..3)
+                .map(|a| (aligned.points[j][a] - truth.points[j][a]).powi(2))
+                .sum();
+            1000.0 * d.sqrt()
+        })
+        .sum::<f64>()
+        / dropped.len().max(1) as f64;
+    all.is_finite().then_some((all, missing))
+}
+
 /// Takes `k` random landmarks other than the pelvis and neck away from `pose`; returns their
 /// indices.
-fn drop_landmarks(pose: &mut PartialPose2, k: usize, rng: &mut ChaCha8Rng) -> Vec<usize> {
+pub(super) fn drop_landmarks(
+    pose: &mut PartialPose2,
+    k: usize,
+    rng: &mut ChaCha8Rng,
+) -> Vec<usize> {
     let mut candidates: Vec<usize> = (0..NUM_LANDMARKS)
         .filter(|&i| i != Landmark::Pelvis.index() && i != Landmark::Neck.index())
         .collect();

@@ -98,8 +98,8 @@ pub fn warn_of_sinking(person: &str, numbers: &[Option<u64>], animated: &[Option
 pub fn warn_of_filled<'a>(person: &str, imputed: impl IntoIterator<Item = &'a [Landmark]>) {
     if let Some(often) = camloc::often_filled(imputed) {
         stderr_line!(
-            "camloc: warning: {person}: landmarks filled in, not seen (their 3D is the pose \
-             basis's guess; `imputed` in JSON), of its {}: {}",
+            "camloc: warning: {person}: landmarks filled in, not seen (their 3D is a guess, from \
+             the pose basis or the frames around a short gap; `imputed` in JSON), of its {}: {}",
             counted(often.frames as u64, "reconstructed frame"),
             often.names()
         );

@@ -6,6 +6,7 @@
 use camloc_reconstruct::FrameRate;
 use camloc_skeleton::{NUM_LANDMARKS, PartialPose2};
 
+use super::gap_fill::run_ids;
 use crate::sequence::window_around;
 use crate::spread::centroid_and_spread;
 
@@ -58,11 +59,7 @@ pub fn smooth_landmarks(
             .and_then(|f| f.get(t))
             .map_or(t as f64, |&n| n as f64)
     };
-    let mut run = Vec::with_capacity(poses.len());
-    for t in 0..poses.len() {
-        let starts = t > 0 && breaks.get(t).copied().unwrap_or(false);
-        run.push(run.last().copied().unwrap_or(0) + usize::from(starts));
-    }
+    let run = run_ids(poses.len(), breaks);
     let sizes: Vec<Option<f64>> = poses.iter().map(size).collect();
     // Each frame's window: the frames of its run within `half` frames of it.
     let windows: Vec<_> = (0..poses.len())

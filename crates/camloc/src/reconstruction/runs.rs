@@ -7,6 +7,7 @@ use camloc_reconstruct::{
 };
 use camloc_skeleton::{PartialPose2, Pose2};
 
+use super::gap_fill::fill_short_gaps;
 use super::landmark_smoothing::smooth_landmarks;
 use super::{
     PoseReconstruction, PoseReconstructor, PoseSequenceReconstruction, Prepared, pose_error,
@@ -123,8 +124,8 @@ impl PoseReconstructor {
             .iter()
             .map(|p| crate::without_far_off_landmarks(p).0)
             .collect();
-        let mut smoothed = smooth_landmarks(&cleaned, frames, breaks, self.frame_rate());
-        let mut prepared = self.prepare_all(&smoothed);
+        let mut smoothed = self.smoothed_and_filled(&cleaned, frames, breaks);
+        let mut prepared = self.prepare_all(&smoothed, &cleaned);
         let (mut runs, mut solved, mut lengths) = self.solve_runs(&smoothed, &prepared, breaks)?;
         // A frame whose fitted camera sees landmarks behind it (a landmark misplaced, a very
         // close wide-angle view) fails, and the others are smoothed and solved again without
@@ -139,8 +140,8 @@ impl PoseReconstructor {
             for &t in &behind {
                 kept[t] = PartialPose2::empty();
             }
-            smoothed = smooth_landmarks(&kept, frames, breaks, self.frame_rate());
-            prepared = self.prepare_all(&smoothed);
+            smoothed = self.smoothed_and_filled(&kept, frames, breaks);
+            prepared = self.prepare_all(&smoothed, &kept);
             for &t in &behind {
                 prepared[t] = Err(pose_error(ReconstructError::BehindFittedCamera));
             }
@@ -194,14 +195,37 @@ impl PoseReconstructor {
         Ok(PoseSequenceReconstruction { frames, lengths })
     }
 
+    /// `poses` smoothed over time ([`smooth_landmarks`]), then their short gaps filled in
+    /// from the frames around them ([`fill_short_gaps`]).
+    fn smoothed_and_filled(
+        &self,
+        poses: &[PartialPose2],
+        frames: Option<&[u64]>,
+        breaks: &[bool],
+    ) -> Vec<PartialPose2> {
+        let rate = self.frame_rate();
+        let smoothed = smooth_landmarks(poses, frames, breaks, rate);
+        fill_short_gaps(&smoothed, frames, breaks, rate, self.gap_fill_s)
+    }
+
     /// Every frame of `smoothed` prepared, all lifted with one placement of the pelvis and the
     /// neck (`sequence_own_placement_weight`: a person keeps one, which some views hide; across
-    /// breaks too, as the bone lengths).
-    fn prepare_all(&self, smoothed: &[PartialPose2]) -> Vec<Result<Prepared, CamlocError>> {
+    /// breaks too, as the bone lengths); each frame's `imputed` the landmarks missing in
+    /// `input` (the frames before the short gaps were filled in).
+    fn prepare_all(
+        &self,
+        smoothed: &[PartialPose2],
+        input: &[PartialPose2],
+    ) -> Vec<Result<Prepared, CamlocError>> {
         let placement = sequence_own_placement_weight(smoothed);
         smoothed
             .iter()
-            .map(|p| self.prepare(p, placement))
+            .zip(input)
+            .map(|(p, seen)| {
+                let mut prepared = self.prepare(p, placement)?;
+                prepared.imputed = seen.missing().collect();
+                Ok(prepared)
+            })
             .collect()
     }
 
