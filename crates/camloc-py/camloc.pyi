@@ -258,7 +258,8 @@ def reconstruct(
     localized camera (in every mode; see ``imputed``); a pose whose torso cannot be found
     (pelvis or neck missing, and a hip or shoulder to stand in for it) has it filled in as
     ``Localizer.localize`` does. A pose with missing landmarks and fewer than 8 present gets
-    an error (most of its 3D would be the basis's guess).
+    an error (most of its 3D would be the basis's guess; with ``sequence``, counted after
+    short gaps are filled in from the rows around them).
 
     points, layout, scores, min_score: as for ``Localizer.localize``.
     camera: ``opt`` (Procrustes camera), ``classified`` (the rotation of the classified
@@ -376,9 +377,9 @@ def reconstruct(
         perspective refinement, that camera's approximation at the pelvis;
         docs/conventions.md section 6);
       projection_error (N,): norm of the reprojection residuals of the fitted camera (the
-        perspective one when there is one), image units, over all 15 landmarks: with
-        landmarks filled in (``imputed``), theirs count too, so it does not compare with a
-        complete pose's;
+        perspective one when there is one), image units, over the landmarks seen (those
+        filled in, ``imputed``, left out: divide by the square root of their count for the
+        RMS);
       outside_limits_rad (N,): how far the pose lies outside the joint-angle limits learned
         from the motion capture (the sum over thighs, shins, upper arms and forearms of the
         angle beyond them, radians; 0 within them): a pose the 2D bends beyond them (a knee

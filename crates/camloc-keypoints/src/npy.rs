@@ -135,8 +135,7 @@ impl<R: Read> NpyPoses<R> {
             file: file.to_owned(),
             problem,
         };
-        let head = read_head(&mut reader).map_err(problem)?;
-        let head_len = head.len() as u64;
+        let (head, head_len) = read_head(&mut reader).map_err(problem)?;
         let buffered =
             io::BufReader::with_capacity(READ_BUFFER, io::Cursor::new(head).chain(reader));
         let npy = npyz::NpyFile::new(buffered)
@@ -347,7 +346,7 @@ fn shape_text(shape: &[u64]) -> String {
 
 /// Reads the magic, version, header length and header, checks them (see the module
 /// documentation) and returns these bytes for `npyz` to parse again.
-fn read_head(reader: &mut impl Read) -> Result<Vec<u8>, String> {
+fn read_head(reader: &mut impl Read) -> Result<(Vec<u8>, u64), String> {
     let eof = |e: io::Error| match e.kind() {
         io::ErrorKind::UnexpectedEof => "the file ends inside the .npy header".to_owned(),
         _ => format!("cannot read: {e}"),
@@ -374,12 +373,42 @@ fn read_head(reader: &mut impl Read) -> Result<Vec<u8>, String> {
     let start = head.len();
     head.resize(start + len, 0);
     reader.read_exact(&mut head[start..]).map_err(eof)?;
-    check_header(&head[start..])?;
-    Ok(head)
+    let descr = check_header(&head[start..])?;
+    let read = head.len() as u64;
+    // NumPy reads a descr without a byte order, or with `=`, in this machine's; the header
+    // reader only takes `<` and `>`.
+    let native = if cfg!(target_endian = "little") {
+        '<'
+    } else {
+        '>'
+    };
+    let Some(explicit) = ["f8", "f4"]
+        .into_iter()
+        .find(|t| descr == *t || descr.strip_prefix('=') == Some(*t))
+        .map(|t| format!("{native}{t}"))
+    else {
+        return Ok((head, read));
+    };
+    let text = String::from_utf8_lossy(&head[start..]).into_owned();
+    let text = ['\'', '"']
+        .into_iter()
+        .map(|q| format!("{q}{descr}{q}"))
+        .find(|quoted| text.contains(quoted.as_str()))
+        .map_or(text.clone(), |quoted| {
+            text.replacen(&quoted, &format!("'{explicit}'"), 1)
+        });
+    if len_bytes == 2 && text.len() > usize::from(u16::MAX) {
+        return Err("the header is too long for a version 1.0 .npy file".into());
+    }
+    head.truncate(start - len_bytes);
+    head.extend_from_slice(&(text.len() as u32).to_le_bytes()[..len_bytes]);
+    head.extend_from_slice(text.as_bytes());
+    Ok((head, read))
 }
 
-/// Checks the header dict: plain, shallow, and a shape whose element count fits a `u64`.
-fn check_header(text: &[u8]) -> Result<(), String> {
+/// Checks the header dict: plain, shallow, and a shape whose element count fits a `u64`;
+/// returns its descr.
+fn check_header(text: &[u8]) -> Result<String, String> {
     let text = std::str::from_utf8(text).map_err(|_| "the header is not text".to_owned())?;
     let mut depth = 0usize;
     for c in text.chars() {
@@ -407,11 +436,10 @@ fn check_header(text: &[u8]) -> Result<(), String> {
     if dict.len() != 3 || !dict.iter().all(|(k, _)| known(k)) {
         return Err(format!("{} (and no other key)", bad()));
     }
-    if !get("descr").is_some_and(py_literal::Value::is_string)
-        || !matches!(get("fortran_order"), Some(py_literal::Value::Boolean(_)))
-    {
+    let descr = get("descr").and_then(py_literal::Value::as_string);
+    let (Some(descr), Some(py_literal::Value::Boolean(_))) = (descr, get("fortran_order")) else {
         return Err(format!("{} (with a plain dtype string)", bad()));
-    }
+    };
     let dims = get("shape")
         .and_then(py_literal::Value::as_tuple)
         .ok_or_else(bad)?;
@@ -420,7 +448,7 @@ fn check_header(text: &[u8]) -> Result<(), String> {
             let dim: u64 = dim.as_integer()?.to_string().parse().ok()?;
             product.checked_mul(dim)
         })
-        .map(|_| ())
+        .map(|_| descr.clone())
         .ok_or_else(|| {
             "the header's shape is not a tuple of sizes with a product below 2^64".to_owned()
         })

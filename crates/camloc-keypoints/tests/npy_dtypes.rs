@@ -1,5 +1,5 @@
 //! `.npy` keypoint arrays in every dtype the reader takes (`float64` and `float32`, little- or
-//! big-endian) give the same records, and a truncated stream fails at the same pose in each;
+//! big-endian or this machine's order, with or without `=`) give the same records, and a truncated stream fails at the same pose in each;
 //! a row with a value no pose holds is that row's error, the rows after it read.
 
 use std::io::Cursor;
@@ -43,6 +43,9 @@ fn arrays() -> Vec<(&'static str, Vec<u8>)> {
         array(">f8", |v| v.to_be_bytes().to_vec()),
         array("<f4", |v| (v as f32).to_le_bytes().to_vec()),
         array(">f4", |v| (v as f32).to_be_bytes().to_vec()),
+        // This machine's order, as NumPy reads `=` (hand-made headers).
+        array("=f8", |v| v.to_ne_bytes().to_vec()),
+        array("=f4", |v| (v as f32).to_ne_bytes().to_vec()),
     ]
 }
 
@@ -63,6 +66,30 @@ fn every_float_dtype_and_byte_order_gives_the_same_records() {
     assert_eq!(poses, self::poses());
     for (descr, bytes) in arrays {
         assert_eq!(read(&bytes).unwrap(), reference, "{descr}");
+    }
+}
+
+/// A descr without a byte order (`'f8'`, one character shorter than `'<f8'`, its header
+/// padded by one space to keep the data where it was), as NumPy reads it, also from a file
+/// whose size is known.
+#[test]
+fn a_descr_without_a_byte_order_is_read_in_this_machine_s() {
+    let (_, mut bytes) = arrays().remove(0);
+    let at = bytes.windows(5).position(|w| w == b"'<f8'").unwrap();
+    bytes.splice(at..at + 5, *b"'f8'");
+    let newline = bytes.iter().position(|&b| b == b'\n').unwrap();
+    bytes.insert(newline, b' ');
+    if cfg!(target_endian = "little") {
+        let reference = read(&arrays()[0].1).unwrap();
+        assert_eq!(read(&bytes).unwrap(), reference);
+        let size = Some(bytes.len() as u64);
+        let options = ReadOptions::default();
+        let sized: Vec<KeypointRecord> =
+            open_keypoints_reader(Cursor::new(bytes), "a.npy", size, None, &options)
+                .unwrap()
+                .collect::<Result<_, _>>()
+                .unwrap();
+        assert_eq!(sized, reference);
     }
 }
 

@@ -17,17 +17,6 @@ use crate::arrays::{ArrayArg, Output, Unmasked, c_order, ensure_memory};
 use crate::reconstruct::bone_lengths;
 use crate::value_error;
 
-/// A positive finite number, or a `ValueError` naming `what`.
-fn positive(value: f64, what: &str) -> PyResult<f64> {
-    if value > 0.0 && value.is_finite() {
-        Ok(value)
-    } else {
-        Err(value_error(format!(
-            "{what} must be a positive finite number, got {value}"
-        )))
-    }
-}
-
 /// A BVH file's unit, metres per unit, within `camloc::mocap::BVH_UNIT_RANGE_M`, or a
 /// `ValueError`.
 fn unit(unit_m: f64) -> PyResult<f64> {
@@ -90,7 +79,6 @@ pub(crate) fn to_bvh(
     limb_lengths: Option<Bound<'_, PyAny>>,
     #[pyo3(from_py_with = crate::number::unit_m)] unit_m: f64,
 ) -> PyResult<String> {
-    let fps = positive(fps, "fps")?;
     let unit_m = unit(unit_m)?;
     let frames = frames(&points3d)?;
     let lengths: Option<[f64; NUM_LIMBS]> = limb_lengths

@@ -4,7 +4,7 @@
 //! word), flags that take only a bool, counts that take only a whole number. Each is read with
 //! `#[pyo3(from_py_with = ...)]`, so the signature keeps its plain default.
 
-use pyo3::exceptions::PyTypeError;
+use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyBool;
 
@@ -35,9 +35,16 @@ pub(crate) fn min_score(value: &Bound<'_, PyAny>) -> PyResult<f64> {
     number(value, "min_score")
 }
 
-/// The `fps` argument (frames a second).
+/// The `fps` argument (frames a second), one the command line's `--fps` takes
+/// ([`camloc::frame_rate_problem`]), else a `ValueError`.
 pub(crate) fn fps(value: &Bound<'_, PyAny>) -> PyResult<f64> {
-    number(value, "fps")
+    let fps = number(value, "fps")?;
+    match camloc::frame_rate_problem(fps) {
+        None => Ok(fps),
+        Some(problem) => Err(PyValueError::new_err(format!(
+            "fps: {problem}, got {fps:?}"
+        ))),
+    }
 }
 
 /// The `unit_m` argument (metres per BVH unit).

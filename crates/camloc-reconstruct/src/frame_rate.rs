@@ -16,7 +16,9 @@ pub const REFERENCE_FRAME_RATE_HZ: f64 = 30.0;
 /// [`REFERENCE_FRAME_RATE_HZ`] (high-speed cameras); faster rates keep its windows in frames,
 /// shorter in time: the windows' work and memory grow with their frames (a simulated user's
 /// 100,000 frames at 30,000 frames a second took 2.1 GB and 28 s against 0.16 GB and 0.7 s at
-/// 30).
+/// 30). [`FrameRate::deviation_factor`] stops there too: at a million frames a second the
+/// world placement's second differences were weighted 10^17 times the camera's and its
+/// solve came out NaN (a simulated user's frames numbered 50 apart).
 pub const MOST_WINDOW_RATE_HZ: f64 = 1000.0;
 
 /// A sequence's frames a second, and what it makes of per-frame settings. At or below
@@ -77,9 +79,12 @@ impl FrameRate {
             .max(1.0) as usize
     }
 
-    /// The factor of a per-frame deviation of second differences: `min(1, 30 / hz)^1.5`.
+    /// The factor of a per-frame deviation of second differences: `min(1, 30 / hz)^1.5`,
+    /// with `hz` at most [`MOST_WINDOW_RATE_HZ`].
     pub fn deviation_factor(self) -> f64 {
-        (REFERENCE_FRAME_RATE_HZ / self.hz).min(1.0).powf(1.5)
+        (REFERENCE_FRAME_RATE_HZ / self.hz.min(MOST_WINDOW_RATE_HZ))
+            .min(1.0)
+            .powf(1.5)
     }
 }
 
@@ -105,6 +110,10 @@ mod tests {
         assert_eq!(FrameRate::new(60.0).unwrap().step(), 2);
         assert_eq!(FrameRate::new(1000.0).unwrap().step(), 33);
         assert_eq!(FrameRate::new(1e9).unwrap().step(), 33);
+        let fastest = FrameRate::new(MOST_WINDOW_RATE_HZ)
+            .unwrap()
+            .deviation_factor();
+        assert_eq!(FrameRate::new(1e6).unwrap().deviation_factor(), fastest);
         for bad in [0.0, -30.0, f64::NAN, f64::INFINITY] {
             assert!(FrameRate::new(bad).is_err(), "{bad}");
         }

@@ -139,7 +139,8 @@ fn few_landmarks_warning(checked: u64, few: u64) -> Option<String> {
         format!(
             "{few} of the {checked} pose(s) have a torso but fewer than {MIN_PRESENT_FOR_FILL} \
              of the 15 landmarks: `localize` reads their camera from those few (the others \
-             at their training means: a guess), `reconstruct` refuses them"
+             at their training means: a guess), `reconstruct` refuses them (in a sequence, \
+             unless the frames around fill a short gap in)"
         )
     })
 }

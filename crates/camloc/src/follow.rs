@@ -280,8 +280,11 @@ pub fn follow_untracked<S: AsRef<str>>(
                 .map(|&i| keys[i].0)
                 .collect::<Option<_>>()?;
             let anchors: Vec<Option<TorsoAnchor>> = untracked.iter().map(|&i| anchor(i)).collect();
-            let people = follow_people(&frames, &anchors, rate)?;
             let file = file.map(str::to_owned);
+            let Some(people) = follow_people(&frames, &anchors, rate) else {
+                report.crowded.push(file);
+                return None;
+            };
             for c in continuations(&frames, &anchors, &people, rate) {
                 report.continuations.push((file.clone(), c));
             }
@@ -437,5 +440,22 @@ mod tests {
             follow_people(&[], &[], FrameRate::default()),
             Some(Vec::new())
         );
+        // The crowd's video is named in the report (it had been left in its order without a
+        // word), its poses keep their positions as persons.
+        let mut keys: Vec<(Option<u64>, Option<u64>)> = (0..crowd.len() as u64)
+            .map(|p| (Some(0), Some(p)))
+            .collect();
+        let sources = vec!["crowd.json"; keys.len()];
+        let report = follow_untracked(
+            &mut keys,
+            &sources,
+            true,
+            |_| true,
+            |_| at(0.0),
+            FrameRate::default(),
+        );
+        // (One frame's file of a folder: the folder's files are one video, named by none.)
+        assert_eq!(report.crowded, vec![None]);
+        assert!(keys.iter().enumerate().all(|(p, k)| k.1 == Some(p as u64)));
     }
 }

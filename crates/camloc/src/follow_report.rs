@@ -1,5 +1,6 @@
 //! What following a video's untracked poses found that a user should hear of
-//! ([`FollowReport`]): persons that may be one, and persons of a few frames.
+//! ([`FollowReport`]): persons that may be one, persons of a few frames, and videos too
+//! crowded to follow.
 
 use crate::Continuation;
 
@@ -21,6 +22,10 @@ pub struct FollowReport {
     /// Persons of fewer poses than [`BRIEF_PERSON_STEPS`] (at the video's rate): the person
     /// and its poses.
     pub brief: Vec<(Option<String>, u64, usize)>,
+    /// Videos with a frame of more than
+    /// [`MAX_FOLLOWED_PER_FRAME`](crate::MAX_FOLLOWED_PER_FRAME) poses without ids, whose
+    /// people were not followed (each pose's person is its position in its frame).
+    pub crowded: Vec<Option<String>>,
 }
 
 impl FollowReport {
@@ -66,6 +71,19 @@ impl FollowReport {
                 more(self.brief.len())
             ));
         }
+        if !self.crowded.is_empty() {
+            let named: Vec<String> = (self.crowded.iter().take(NAMED))
+                .map(|file| file.clone().unwrap_or_else(|| "the input".into()))
+                .collect();
+            warnings.push(format!(
+                "a frame holds more than {} poses without ids in {}{}: their people are not \
+                 followed (each pose's person is its position in its frame, which changes \
+                 as people come and go); give ids (`person` in camloc JSON)",
+                crate::MAX_FOLLOWED_PER_FRAME,
+                named.join(", "),
+                more(self.crowded.len())
+            ));
+        }
         warnings
     }
 }
@@ -86,9 +104,11 @@ mod tests {
                 },
             )],
             brief: vec![(Some("cam.npy".into()), 3, 2)],
+            crowded: vec![None],
         };
         let warnings = report.warnings();
         assert!(warnings[0].contains("person 2 (from frame 11) after person 0 (to frame 9)"));
         assert!(warnings[1].contains("person 3 of cam.npy (2 poses)"));
+        assert!(warnings[2].contains("more than 64 poses without ids in the input"));
     }
 }

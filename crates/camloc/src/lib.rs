@@ -47,6 +47,7 @@ mod far_off;
 mod filled;
 mod follow;
 mod follow_report;
+mod fps_range;
 mod height_shares;
 mod identity;
 mod lean;
@@ -98,6 +99,7 @@ pub use follow::{
     MAX_FOLLOWED_PER_FRAME, follow_people, follow_records, follow_untracked,
 };
 pub use follow_report::{BRIEF_PERSON_STEPS, FollowReport};
+pub use fps_range::frame_rate_problem;
 pub use height_shares::{
     HEIGHT_SHARE_MAX_POSES, HEIGHT_SHARE_PSEUDO_VIEWS, HeightEstimate, HeightShares,
     eye_level_shares,

@@ -4,7 +4,8 @@
 use std::path::{Path, PathBuf};
 
 use camloc::geometry::CameraSet;
-use camloc::mocap::{BVH_FRAME_TIME_RANGE_S, BvhOptions, BvhWriteError, write_person_bvh};
+use camloc::mocap::{BvhOptions, BvhWriteError, write_person_bvh};
+use camloc::store::StagedFiles;
 use camloc::{Pose3, frame_slots};
 
 use crate::html::{self, Group, ViewFrame};
@@ -69,7 +70,9 @@ const FILL_PER_FRAME: usize = 100;
 /// See [`FILL_PER_FRAME`].
 const FILL_MIN_FRAMES: usize = 1_000;
 
-/// The BVH files of `kept` at `out` (numbered as `--svg` drawings when there are several:
+/// Stages the BVH files of `kept` at `out` in `staged`, one at a time as each is made (a
+/// thousand people seen twice each, 1,200 frames apart, had held 692 MB of BVH text in
+/// memory) (numbered as `--svg` drawings when there are several:
 /// per person with `sequence`, else per pose by its position in the input): each group's
 /// frames as [`write_person_bvh`] writes them (a frame that could not be reconstructed is
 /// filled from the frames around it), a person's on the video's timeline ([`frame_slots`]:
@@ -81,7 +84,8 @@ pub fn bvh_files(
     kept: &[Kept],
     sequence: Option<bool>,
     fps: f64,
-) -> Result<Vec<(PathBuf, Vec<u8>)>, CliError> {
+    staged: &mut StagedFiles,
+) -> Result<(), CliError> {
     let base = bvh_base(out);
     let keys: Vec<_> = kept.iter().map(|k| k.key).collect();
     let groups = kept_groups(kept, sequence, true);
@@ -90,9 +94,10 @@ pub fn bvh_files(
         let names: Vec<String> = groups.iter().map(|(name, _)| name.clone()).collect();
         super::sequence::name_numbered_persons(&base, &names);
     }
-    let mut files = Vec::new();
-    // Persons whose BVH plays its frames one after another: the first few named.
+    // Persons whose BVH plays its frames one after another, and whose BVH makes frames up:
+    // the first few named.
     let mut unfilled = 0u64;
+    let mut filling = 0u64;
     for (n, (name, members)) in groups.iter().enumerate() {
         // A person's frames on the video's timeline: a frame where they were not detected
         // is filled, as one that could not be reconstructed is.
@@ -125,11 +130,14 @@ pub fn bvh_files(
         // who left the image for 20 frames had glided through them without a word).
         let made_up = poses.iter().filter(|p| p.is_none()).count();
         if sequence && made_up > 0 && made_up < poses.len() {
-            stderr_line!(
-                "camloc: warning: the BVH of {name} fills {made_up} of its {} from the frames \
-                 around them (not reconstructed, or the person not detected there)",
-                super::stream::counted(poses.len() as u64, "frame")
-            );
+            filling += 1;
+            if filling <= super::stream::ERRORS_SHOWN {
+                stderr_line!(
+                    "camloc: warning: the BVH of {name} fills {made_up} of its {} from the \
+                     frames around them (not reconstructed, or the person not detected there)",
+                    super::stream::counted(poses.len() as u64, "frame")
+                );
+            }
         }
         // The bone lengths: `None` takes the mean limb lengths of the group's poses.
         let text = match write_person_bvh(&poses, None, &BvhOptions::at_fps(fps)) {
@@ -142,14 +150,20 @@ pub fn bvh_files(
             }
             Err(e) => return Err(CliError::Export(format!("{name}: {e}"))),
         };
-        files.push((numbered_path(&base, n, groups.len()), text.into_bytes()));
+        staged.add(&numbered_path(&base, n, groups.len()), text.as_bytes())?;
     }
     if unfilled > super::stream::ERRORS_SHOWN {
         stderr_line!(
             "camloc: the BVHs of {unfilled} persons in all play their frames one after another"
         );
     }
-    Ok(files)
+    if filling > super::stream::ERRORS_SHOWN {
+        stderr_line!(
+            "camloc: warning: the BVHs of {filling} persons in all fill frames from the frames \
+             around them"
+        );
+    }
+    Ok(())
 }
 
 /// `pose` (pelvis at the origin, z up) moved up so that its lowest landmark is on the floor
@@ -194,19 +208,13 @@ pub fn html_file(
 }
 
 /// Parses `--fps`: frames a second whose frame time a BVH file can hold
-/// ([`BVH_FRAME_TIME_RANGE_S`]: from one frame an hour to a million a second).
+/// ([`camloc::frame_rate_problem`]: from one frame an hour to a million a second).
 pub fn parse_fps(text: &str) -> Result<f64, String> {
-    let (shortest, longest) = BVH_FRAME_TIME_RANGE_S;
-    text.trim()
-        .parse::<f64>()
-        .ok()
-        .filter(|f| (1.0 / longest..=1.0 / shortest).contains(f))
-        .ok_or_else(|| {
-            format!(
-                "not a frame rate: a number of frames a second from 0.000278 (one an hour) to \
-                 1000000, got {text:?}"
-            )
-        })
+    let fps = text.trim().parse::<f64>().unwrap_or(f64::NAN);
+    match camloc::frame_rate_problem(fps) {
+        None => Ok(fps),
+        Some(problem) => Err(format!("{problem}, got {text:?}")),
+    }
 }
 
 #[cfg(test)]

@@ -87,7 +87,7 @@ pub struct Args {
     /// as long in time at faster rates up to 1,000: give the video's rate), and the page's play
     /// rate.
     #[arg(long, value_name = "FPS", default_value = "30", value_parser = export::parse_fps,
-          requires = "timed")]
+          allow_hyphen_values = true, requires = "timed")]
     pub fps: f64,
     /// Write the results as NumPy arrays to this .npz archive (numpy.load reads it without pickle),
     /// row n for the n-th pose read.
@@ -191,12 +191,12 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     let finish = args.html.clone().map(|html| {
         let (cameras, fps) = (localizer.cameras().clone(), args.fps);
         let title = format!("camloc localize: {}", inputs.name());
-        let make: stream::Finish<ViewFrame> = Box::new(move |views: Vec<ViewFrame>| {
+        let make: stream::Finish<ViewFrame> = Box::new(move |views: Vec<ViewFrame>, staged| {
             let keys = vec![(None, None); views.len()];
             let groups = export::groups::<&str>(&keys, None, false);
-            Ok(vec![export::html_file(
-                &html, &title, &cameras, &views, groups, fps,
-            )])
+            let (path, page) = export::html_file(&html, &title, &cameras, &views, groups, fps);
+            staged.add(&path, &page)?;
+            Ok(())
         });
         (vec![args.html.clone().unwrap_or_default()], make)
     });

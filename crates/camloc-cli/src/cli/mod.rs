@@ -99,7 +99,8 @@ enum Command {
     /// are filled in from the pose basis seen by the localized camera and named in the output
     /// (`imputed`), after the pose is localized with them filled in as `localize` does. A pose
     /// with missing landmarks is refused with fewer than 8 present (most of its 3D would be the
-    /// basis's guess).
+    /// basis's guess; with --sequence, counted after short gaps are filled in from the frames
+    /// around them).
     #[command(after_help = EXIT_CODES)]
     Reconstruct(reconstruct::Args),
     /// Measure 3D error (PA-MPJPE: mm, after similarity alignment) and projection error on a

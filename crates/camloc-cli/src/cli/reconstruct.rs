@@ -487,19 +487,17 @@ fn finish(
         },
         inputs.name()
     );
-    let make: stream::Finish<Kept> = Box::new(move |kept: Vec<Kept>| {
-        let mut files = Vec::new();
+    let make: stream::Finish<Kept> = Box::new(move |kept: Vec<Kept>, staged| {
         if let Some(bvh) = &bvh {
-            files.extend(export::bvh_files(bvh, &kept, sequence, fps)?);
+            export::bvh_files(bvh, &kept, sequence, fps, staged)?;
         }
         if let (Some(html), Some(cameras)) = (&html, &cameras) {
             let groups = export::kept_groups(&kept, sequence, false);
             let views: Vec<ViewFrame> = kept.into_iter().filter_map(|k| k.view).collect();
-            files.push(export::html_file(
-                html, &title, cameras, &views, groups, fps,
-            ));
+            let (path, page) = export::html_file(html, &title, cameras, &views, groups, fps);
+            staged.add(&path, &page)?;
         }
-        Ok(files)
+        Ok(())
     });
     Some((paths, make))
 }

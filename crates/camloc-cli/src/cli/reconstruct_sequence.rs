@@ -332,9 +332,7 @@ pub fn run(
         super::rename_numbered(&mut staged, svg, &drawn, kept.len());
     }
     if let Some((_, finish)) = options.finish {
-        for (path, bytes) in finish(exported)? {
-            staged.add(&path, &bytes)?;
-        }
+        finish(exported, &mut staged)?;
     }
     let written = staged.commit()?;
     super::targets::warn_left_over(&numbered, &written);

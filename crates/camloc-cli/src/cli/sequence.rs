@@ -627,11 +627,26 @@ pub fn frame_numbers(keys: &[(Option<u64>, Option<u64>)], members: &[usize]) -> 
 /// `anchors`, in time order) jump across the image or change size as one person cannot
 /// ([`identity_jumps`]): a detector's order of people (OpenPose's `people[i]`) changed, or two
 /// people share an id, and one person's smoothing, bone lengths and animation would mix them.
+/// The first [`ERRORS_SHOWN`](super::stream::ERRORS_SHOWN) persons of a run are named one
+/// by one, then one line says the rest are not (a crowd of 1,000 untracked people had made
+/// 1,000 lines).
 fn warn_of_identity_jumps(person: u64, frames: &[Option<u64>], anchors: &[Option<TorsoAnchor>]) {
+    static WARNED: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
     let jumps = identity_jumps(frames, anchors);
     let Some(&first) = jumps.first() else {
         return;
     };
+    let shown = super::stream::ERRORS_SHOWN;
+    match WARNED.fetch_add(1, std::sync::atomic::Ordering::Relaxed) {
+        n if n < shown => {}
+        n if n == shown => {
+            stderr_line!(
+                "camloc: warning: more persons' poses jump across the image: not named one by one"
+            );
+            return;
+        }
+        _ => return,
+    }
     let at = frame_name(frames, first);
     stderr_line!(
         "camloc: warning: person {person}: the pose jumps across the image or changes size \

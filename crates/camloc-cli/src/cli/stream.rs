@@ -105,7 +105,7 @@ pub fn check_kept_input(keeps: bool, inputs: &Inputs) -> Result<(), CliError> {
 
 /// Makes files, once every pose is done, from what the run kept of each (in input order):
 /// `(path, content)` pairs, written with the run's other files (all or nothing).
-pub type Finish<K> = Box<dyn FnOnce(Vec<K>) -> Result<Vec<(PathBuf, Vec<u8>)>, CliError>>;
+pub type Finish<K> = Box<dyn FnOnce(Vec<K>, &mut StagedFiles) -> Result<(), CliError>>;
 
 /// The files a run writes besides standard output.
 pub struct Files<P, K> {
@@ -556,9 +556,7 @@ where
         super::rename_numbered(&mut staged, svg, &drawn, summary.poses as usize);
     }
     if let Some((_, finish)) = files.finish {
-        for (path, bytes) in finish(kept)? {
-            staged.add(&path, &bytes)?;
-        }
+        finish(kept, &mut staged)?;
     }
     let written = staged.commit()?;
     super::targets::warn_left_over(&numbered, &written);

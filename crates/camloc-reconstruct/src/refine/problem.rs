@@ -14,7 +14,7 @@
 //! smoothness deviation; directions, not positions, so that the smoothness does not prefer
 //! short bones).
 
-use camloc_skeleton::{NECK_HEAD_LIMB, NUM_LANDMARKS, NUM_LIMBS, TORSO_LIMB};
+use camloc_skeleton::{LIMBS, NECK_HEAD_LIMB, NUM_LANDMARKS, NUM_LIMBS, TORSO_LIMB};
 use nalgebra::{Matrix2x3, Matrix3, SMatrix, SVector, Vector2, Vector3};
 
 use super::kinematics::{MAX_CHAIN, chains, forward, moved, tangent_basis};
@@ -88,6 +88,8 @@ pub(super) struct Weights {
     pub(super) direction: f64,
     /// 1 / the smoothness deviation (of unit directions); 0 without smoothness.
     pub(super) smooth: f64,
+    /// The factor of [`smooth`](Self::smooth) for a bone whose end landmark was filled in.
+    pub(super) hidden_smooth: f64,
     /// The head's limit: the angle between the neck-to-head and pelvis-to-neck bones beyond
     /// which [`head`](Self::head) holds it back (radians; infinite for none).
     pub(super) head_limit: f64,
@@ -383,7 +385,13 @@ pub(super) fn evaluate(
     cost += head_tilt(state, weights, &tangents, normal.as_mut());
     if let (Some(target), true) = (target, weights.smooth > 0.0) {
         for (b, d) in state.directions.iter().enumerate() {
-            let e = (state.rotation * d - target[b]) * weights.smooth;
+            // A bone whose end was filled in, not seen, follows its neighbours more.
+            let smooth = if data.imputed & (1 << LIMBS[b].1.index()) != 0 {
+                weights.smooth * weights.hidden_smooth
+            } else {
+                weights.smooth
+            };
+            let e = (state.rotation * d - target[b]) * smooth;
             cost += 0.5 * e.norm_squared();
             let Some((h, grad)) = normal.as_mut() else {
                 continue;
@@ -394,10 +402,10 @@ pub(super) fn evaluate(
             for row in 0..3 {
                 let mut r = Row::new();
                 for (a, turn) in turns.iter().enumerate() {
-                    r.push(a, turn[row] * weights.smooth);
+                    r.push(a, turn[row] * smooth);
                 }
                 for (k, bend) in bends.iter().enumerate() {
-                    r.push(DIR + 2 * b + k, bend[row] * weights.smooth);
+                    r.push(DIR + 2 * b + k, bend[row] * smooth);
                 }
                 r.accumulate(h, grad, e[row]);
             }
@@ -433,6 +441,7 @@ mod tests {
             huber: 1e9,
             direction: 5.0,
             smooth: 3.0,
+            hidden_smooth: 2.0,
             head_limit: 0.2,
             head: 4.0,
         };
@@ -466,7 +475,8 @@ mod tests {
                 observed,
                 anchors,
                 projection,
-                imputed: 0,
+                // The left wrist filled in: its bone's smoothness is the hidden one.
+                imputed: 1 << camloc_skeleton::Landmark::LeftWrist.index(),
             };
             let free = Free {
                 lengths: true,

@@ -64,9 +64,11 @@ pub fn fill_short_gaps(
                         let Some(base) = finite(pose.points[p]) else {
                             continue;
                         };
-                        pose.points[c] = Some(std::array::from_fn(|a| {
+                        let at: [f64; 2] = std::array::from_fn(|a| {
                             base[a] + before[a] + s * (offset[a] - before[a])
-                        }));
+                        });
+                        // (Coordinates near the largest floats can overflow: left missing.)
+                        pose.points[c] = finite(Some(at));
                     }
                 }
             }

@@ -132,11 +132,16 @@ fn size(pose: &PartialPose2) -> Option<f64> {
 }
 
 /// The value at 0 of the quadratic in `dt` fitted by least squares to each coordinate of the
-/// `(dt, point)` samples; `None` with fewer than 3 samples or a singular fit.
+/// `(dt, point)` samples; `None` with fewer than 3 samples, a singular fit or a value that is
+/// not finite. The points are fitted as offsets from the first (coordinates near the largest
+/// floats had overflowed in the sums and been reported as non-finite input).
 fn quadratic_at_zero(samples: impl Iterator<Item = (f64, [f64; 2])>) -> Option<[f64; 2]> {
+    let mut samples = samples.peekable();
+    let origin = samples.peek()?.1;
     // Sums of dt^0..dt^4, and of dt^0..dt^2 times each coordinate.
     let (mut s, mut b, mut n) = ([0.0; 5], [[0.0; 2]; 3], 0);
     for (dt, p) in samples {
+        let p = [p[0] - origin[0], p[1] - origin[1]];
         let powers = [1.0, dt, dt * dt, dt * dt * dt, dt * dt * dt * dt];
         for (sum, power) in s.iter_mut().zip(powers) {
             *sum += power;
@@ -166,7 +171,8 @@ fn quadratic_at_zero(samples: impl Iterator<Item = (f64, [f64; 2])>) -> Option<[
         }
         det3(m) / det
     };
-    Some([at(0), at(1)])
+    let fitted = [origin[0] + at(0), origin[1] + at(1)];
+    fitted.iter().all(|c| c.is_finite()).then_some(fitted)
 }
 
 #[cfg(test)]
@@ -183,6 +189,20 @@ mod tests {
 
     fn head(pose: &PartialPose2) -> Option<[f64; 2]> {
         pose.points[Landmark::Head.index()]
+    }
+
+    #[test]
+    fn coordinates_near_the_largest_floats_are_smoothed_as_small_ones() {
+        // (Their sums had overflowed: the landmarks came out non-finite.)
+        let rate = FrameRate::default();
+        let poses: Vec<_> = (0..9)
+            .map(|t| head_at([4e307 + 1e305 * f64::from(t), -3e307]))
+            .collect();
+        for (t, pose) in smooth_landmarks(&poses, None, &[], rate).iter().enumerate() {
+            let [x, y] = head(pose).unwrap();
+            assert!((x - (4e307 + 1e305 * t as f64)).abs() < 1e292, "{x}");
+            assert_eq!(y, -3e307);
+        }
     }
 
     #[test]
