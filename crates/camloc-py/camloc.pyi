@@ -160,7 +160,7 @@ class Localizer:
           localize --sequence --fps``: the smoothing, the side swaps swapped back and the
           rows left out are judged over as long a time at faster rates (7 rows at 30 frames a
           second, 25 at 120: 3 x round(fps / 30) on each side, fps above 1,000 taken as 1,000).
-          Without ``sequence`` it changes nothing.
+          Without ``sequence`` it changes nothing (from 0.000278 to 1,000,000).
         frames: with ``sequence``, each row's video frame number (N,) (whole numbers from 0 to
           2^53 that do not decrease; all -1, ``read_keypoints``' frames of an input without
           numbers, are none), as ``reconstruct``'s ``frames``: the frame numbers between rows
@@ -338,7 +338,8 @@ def reconstruct(
       swapped back, the rows left out and the placement in the world keep their windows in
       time (1/30 s and longer; rates above 1,000 keep those of 1,000), so give the video's rate (a held-out walk at 120 frames a
       second: accelerations 483 m/s^2 told 30, 34 told 120). Without ``sequence`` it changes
-      nothing (but must still be a number > 0).
+      nothing (but must still be a frame rate: 0.000278 to 1,000,000, as the command line's
+      ``--fps``).
     frames: with ``sequence``, each row's video frame number (N,) (whole numbers from 0 to
       2^53 that do not decrease; all -1, ``read_keypoints``' frames of an input without
       numbers, are none; booleans, text and float16 are a ``TypeError``), so that rows are
@@ -377,9 +378,9 @@ def reconstruct(
         perspective refinement, that camera's approximation at the pelvis;
         docs/conventions.md section 6);
       projection_error (N,): norm of the reprojection residuals of the fitted camera (the
-        perspective one when there is one), image units, over the landmarks seen (those
-        filled in, ``imputed``, left out: divide by the square root of their count for the
-        RMS);
+        perspective one when there is one), image units, over the landmarks it was fitted
+        to: all but those filled in from the basis (``imputed``; with ``sequence``, those
+        interpolated over a short gap count as seen);
       outside_limits_rad (N,): how far the pose lies outside the joint-angle limits learned
         from the motion capture (the sum over thighs, shins, upper arms and forearms of the
         angle beyond them, radians; 0 within them): a pose the 2D bends beyond them (a knee
@@ -400,8 +401,9 @@ def reconstruct(
         single pose), image = focal_px * (R X + T)[:2] / (R X + T)[2] + principal_point with
         R = rotation, T = translation_m: the pelvis in the camera's frame in metres (absolute
         only with given ``bone_lengths`` or ``person_height``); NaN where there is none (weak perspective);
-      imputed (N, 15) bool: the landmarks that were missing and filled in (their 3D is the
-        basis's guess, not a measurement; with ``sequence``, a ``CamlocWarning`` names those
+      imputed (N, 15) bool: the landmarks that were missing and filled in (their 3D is a
+        guess, from the basis or with ``sequence`` from the rows around a short gap, not a
+        measurement; with ``sequence``, a ``CamlocWarning`` names those
         filled in a quarter or more of the reconstructed rows, as the command line does);
       person_bone_lengths (14,): with ``sequence``, the person's lengths (given or estimated;
         NaN when none were given and no frame of the sequence was reconstructed), between the
@@ -576,7 +578,8 @@ def to_bvh(
     stand as ``camloc reconstruct --bvh`` does, lift it: ``p[..., 2] -= p[..., 2].min()``.
 
     Raises ValueError for a wrong shape, a frame with some (not all) NaN, no complete frame, a
-    limb without direction, or a non-positive fps, unit or length, or a unit out of range;
+    limb without direction, an fps outside 0.000278 to 1,000,000, a non-positive unit or
+    length, or a unit out of range;
     MemoryError, before any work, for more frames than can be allocated.
     """
 

@@ -578,11 +578,14 @@ fn frames_with_nothing_detected_are_gaps_of_a_sequence() {
     let first = doc["poses"][0]["landmarks"].clone();
     let poses: Vec<Value> = (0..6)
         .map(|t| {
-            let landmarks = if t == 3 {
+            let mut landmarks = if t == 3 {
                 serde_json::json!({})
             } else {
                 first.clone()
             };
+            if t == 2 {
+                landmarks.as_object_mut().unwrap().remove("left_wrist");
+            }
             serde_json::json!({"id": format!("f{t}"), "frame": t, "landmarks": landmarks})
         })
         .collect();
@@ -605,6 +608,13 @@ fn frames_with_nothing_detected_are_gaps_of_a_sequence() {
             error.ends_with("the pose has no landmarks (nothing detected)"),
             "{gap}"
         );
+        if command == "localize" {
+            // Each frame names what `localize` names: the landmarks missing and filled in.
+            let f2 = objects.iter().find(|o| o["id"] == "f2").unwrap();
+            assert_eq!(f2["missing"], serde_json::json!(["left_wrist"]), "{f2}");
+            let f0 = objects.iter().find(|o| o["id"] == "f0").unwrap();
+            assert_eq!(f0["missing"], serde_json::json!([]), "{f0}");
+        }
         let single = camloc(&[command, "--input", &file, "--jsonl", "-q"]);
         assert_eq!(single.status.code(), Some(1), "{command}");
     }

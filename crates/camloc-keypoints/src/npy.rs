@@ -103,9 +103,11 @@ impl<R: Read> Values<R> {
 /// missing joint, scores must lie in [0, 1] and below [`ReadOptions::min_score`] mark it missing.
 /// Record ids are the row numbers (`"0"`, `"1"`, ...), which are also the records' `frame`.
 /// Iteration stops after the first error, but for a pose whose joints contradict its layout
-/// ([`KeypointError::LayoutMismatch`]) or a row with an infinity, a NaN score or one NaN
-/// coordinate ([`KeypointError::BadRow`]): those are that pose's error. A score outside
-/// [0, 1] ends the array (scores on another scale, or 3D points read as keypoints).
+/// ([`KeypointError::LayoutMismatch`]) or a row with an infinity, a NaN score, one NaN
+/// coordinate or a score outside [0, 1] ([`KeypointError::BadRow`]): those are that pose's
+/// error (a score outside [0, 1] had ended the array, and a detector's one stray score lost
+/// every frame of a `--sequence` run; a 3D pose array read as keypoints now fails row by
+/// row, each with the hint).
 pub struct NpyPoses<R: Read> {
     file: String,
     /// Buffered here (whatever `R` is) so that reading one pose is a copy from the buffer.
@@ -278,7 +280,9 @@ impl<R: Read> Iterator for NpyPoses<R> {
 fn pose_error(file: &str, pose: u64, error: ArrayPoseError) -> KeypointError {
     if matches!(
         error,
-        ArrayPoseError::NonFinite { .. } | ArrayPoseError::HalfMissing { .. }
+        ArrayPoseError::NonFinite { .. }
+            | ArrayPoseError::HalfMissing { .. }
+            | ArrayPoseError::ScoreOutOfRange { .. }
     ) {
         return KeypointError::BadRow {
             why: error.to_string(),
@@ -375,8 +379,8 @@ fn read_head(reader: &mut impl Read) -> Result<(Vec<u8>, u64), String> {
     reader.read_exact(&mut head[start..]).map_err(eof)?;
     let descr = check_header(&head[start..])?;
     let read = head.len() as u64;
-    // NumPy reads a descr without a byte order, or with `=`, in this machine's; the header
-    // reader only takes `<` and `>`.
+    // NumPy reads a descr without a byte order, or with `=` or `|`, in this machine's; the
+    // header reader only takes `<` and `>`.
     let native = if cfg!(target_endian = "little") {
         '<'
     } else {
@@ -384,7 +388,7 @@ fn read_head(reader: &mut impl Read) -> Result<(Vec<u8>, u64), String> {
     };
     let Some(explicit) = ["f8", "f4"]
         .into_iter()
-        .find(|t| descr == *t || descr.strip_prefix('=') == Some(*t))
+        .find(|t| descr == *t || descr.strip_prefix(['=', '|']) == Some(*t))
         .map(|t| format!("{native}{t}"))
     else {
         return Ok((head, read));

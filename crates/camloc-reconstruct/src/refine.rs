@@ -70,11 +70,12 @@ pub struct Refinement {
     /// within 1/30 s on each side and the deviation times
     /// [`FrameRate::deviation_factor`] ([`frame_rate`](Self::frame_rate)).
     pub smoothness: f64,
-    /// Sequences: the smoothness of a bone whose end landmark was filled in, not seen, is
+    /// Sequences: the smoothness of a bone whose end landmark was imputed (filled in from the
+    /// pose basis, not seen) is
     /// this many times as strong (its deviation divided by it; >= 1): nothing in the image
     /// holds such a bone, and each frame's guess had made hidden limbs swing and jump (on
     /// held-out windows with landmarks missing over 5 to 40 frames and filled in from the
-    /// basis, 4 brought them 1-6 mm closer, `jittered` and `rig`; 10 and 25 no closer).
+    /// basis, 4 brought them 1-8 mm closer, `jittered` and `rig`; 10 and 25 no closer).
     pub hidden_smoothness: f64,
     /// Sequences: their frames a second, which scales [`smoothness`](Self::smoothness)
     /// ([`FrameRate`]; the reference rate, 30, by default).

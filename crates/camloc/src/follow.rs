@@ -260,7 +260,8 @@ fn nearest(
 /// ([`videos_of`]): their `keys`' persons are replaced. A video with such a
 /// pose without a frame number, or more than [`MAX_FOLLOWED_PER_FRAME`] of them in a
 /// frame, keeps the detector's order; other poses keep their persons. Returns what a user
-/// should hear of ([`FollowReport`]: persons that may be one, persons of a few frames).
+/// should hear of ([`FollowReport`]: persons that may be one, persons of a few frames, videos
+/// too crowded to follow).
 pub fn follow_untracked<S: AsRef<str>>(
     keys: &mut [(Option<u64>, Option<u64>)],
     sources: &[S],

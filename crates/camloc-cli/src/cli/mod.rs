@@ -134,8 +134,9 @@ pub enum CliError {
     Usage(String),
     /// `localize --sequence` met more poses than it may keep.
     #[error(
-        "more than {0} poses for --sequence, which keeps every pose until the end (reconstruct: \
-         12-15 KB a frame while a person's frames are solved): run parts of the input by \
+        "more than {0} poses for --sequence, which keeps every pose until the end (localize: \
+         about 1.3 KB a pose; reconstruct: 12-15 KB a frame while a person's frames are \
+         solved): run parts of the input by \
          person or by time apart (camloc JSON keeps the `frame` numbers), or raise \
          --sequence-max-poses if the memory is there (docs/cli.md, Sequences)"
     )]

@@ -18,8 +18,8 @@ use camloc::keypoints::KeypointRecord;
 use camloc::reconstruct::FrameRate;
 use camloc::skeleton::NUM_LANDMARKS;
 use camloc::{
-    CameraLabel, Localization, PartialPose2, SequenceModel, SideChain, SmoothedFrame, TorsoAnchor,
-    Viewpoint, identity_jumps, smooth_viewpoints,
+    CameraLabel, Landmark, Localization, PartialPose2, SequenceModel, SideChain, SmoothedFrame,
+    TorsoAnchor, Viewpoint, identity_jumps, smooth_viewpoints,
 };
 use indicatif::ProgressBar;
 use rayon::prelude::*;
@@ -46,6 +46,10 @@ struct Frame {
     points: [[f32; 2]; NUM_LANDMARKS],
     /// The chains swapped back ([`camloc::SideChain::ALL`] order, bit per chain).
     swapped_sides: u8,
+    /// The landmarks missing (or far off the others) and filled in to localize the pose, and
+    /// those derived from others (bit per landmark index), as `localize` names them.
+    missing: u16,
+    derived: u16,
     id: Box<str>,
     source: Box<str>,
     frame: Option<u64>,
@@ -146,6 +150,9 @@ struct FrameJson<'a> {
     /// The chains whose left and right sides were swapped back before the frame was localized.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     swapped_sides: Vec<&'static str>,
+    /// As `localize` names them: landmarks missing and filled in, landmarks derived.
+    missing: Vec<&'static str>,
+    derived: Vec<&'static str>,
     smoothed_label: Option<CameraLabel>,
     smoothed_probability: Option<f64>,
     /// Single precision: smoothed from the frames' single-precision angles.
@@ -216,21 +223,21 @@ pub fn run(
             .par_iter()
             .map(|item| {
                 let record = item.as_ref().ok()?;
-                let (result, view, viewpoint) = localized(&locator, page, record);
-                Some((record, result, view, viewpoint))
+                let (result, view, viewpoint, missing) = localized(&locator, page, record);
+                Some((record, result, view, viewpoint, missing))
             })
             .collect();
         for (item, frame) in batch.iter().zip(results) {
             // A pose the reader refused is a failed frame in its place, without landmarks.
             let refused_record;
-            let (record, result, view, viewpoint, refused) = match (item, frame) {
-                (_, Some((record, result, view, viewpoint))) => {
-                    (record, result, view, viewpoint, false)
+            let (record, result, view, viewpoint, missing, refused) = match (item, frame) {
+                (_, Some((record, result, view, viewpoint, missing))) => {
+                    (record, result, view, viewpoint, missing, false)
                 }
                 (Err(e), None) => match KeypointRecord::of_refused_pose(e) {
                     Some((record, message)) => {
                         refused_record = record;
-                        (&refused_record, Err(message), None, None, true)
+                        (&refused_record, Err(message), None, None, 0, true)
                     }
                     None => {
                         emit.file_error(out, &mut summary, bar, e)?;
@@ -260,6 +267,8 @@ pub fn run(
                     .points
                     .map(|p| p.map_or([f32::NAN; 2], |[x, y]| [x as f32, y as f32])),
                 swapped_sides: 0,
+                missing,
+                derived: record.derived.iter().fold(0, |m, l| m | 1 << l.index()),
                 id: record.id.as_str().into(),
                 source: record.source.as_str().into(),
                 frame: record.frame,
@@ -326,12 +335,13 @@ pub fn run(
                 person: frame.person,
                 person_is_position: false,
             };
-            let (result, view, viewpoint) = localized(&locator, page, &record);
+            let (result, view, viewpoint, missing) = localized(&locator, page, &record);
             if let (Some(kept), Some(view)) = (views.get_mut(i), view) {
                 *kept = view;
             }
             frame.swapped_sides = bits;
             frame.viewpoint = viewpoint;
+            frame.missing = missing;
             frame.result = result.map_err(|message| failures.number(message));
         }
         let viewpoints: Vec<Option<Viewpoint>> = members
@@ -514,13 +524,18 @@ pub fn left_out_of_sequence(
 }
 
 /// A pose's localization as a sequence keeps it (the camera and probabilities, or the error's
-/// message), the page's record of it (`None` without `--html`) and its continuous viewpoint
-/// with its uncertainty (single precision).
+/// message), the page's record of it (`None` without `--html`), its continuous viewpoint
+/// with its uncertainty (single precision) and its missing landmarks (bit per index).
 fn localized(
     locator: &Locator<'_>,
     page: &PageFrame,
     record: &KeypointRecord,
-) -> (Result<Cameras, String>, Option<ViewFrame>, Option<[f32; 3]>) {
+) -> (
+    Result<Cameras, String>,
+    Option<ViewFrame>,
+    Option<[f32; 3]>,
+    u16,
+) {
     let found = locator.localize(&record.pose);
     let view = match &found {
         Ok(loc) => page(record, Some(loc), None),
@@ -530,10 +545,22 @@ fn localized(
         let viewpoint = [loc.azimuth_deg?, loc.elevation_deg?, loc.uncertainty_deg?];
         Some(viewpoint.map(|v| v as f32))
     });
+    let missing = found.as_ref().map_or(0, |loc| {
+        loc.missing.iter().fold(0, |m, l| m | 1 << l.index())
+    });
     let result = found
         .map(|loc| (loc.label, loc.probabilities.into_boxed_slice()))
         .map_err(|e| e.to_string());
-    (result, view, viewpoint)
+    (result, view, viewpoint, missing)
+}
+
+/// The names of the landmarks whose bits are set in `mask`, in index order.
+fn landmark_names(mask: u16) -> Vec<&'static str> {
+    Landmark::ALL
+        .iter()
+        .filter(|l| mask & (1 << l.index()) != 0)
+        .map(|l| l.name())
+        .collect()
 }
 
 /// Swaps back in `poses` of `person` (their `frames` numbers, in time order, at `rate`; the
@@ -687,6 +714,8 @@ fn frame_output(
             uncertainty_deg: frame.viewpoint.map(|v| v[2]),
             error: frame.result.as_ref().err().map(|&n| failures.message(n)),
             swapped_sides: side_names(frame.swapped_sides),
+            missing: landmark_names(frame.missing),
+            derived: landmark_names(frame.derived),
             smoothed_label: s.map(|s| s.label),
             smoothed_probability: s.map(|s| s.probability),
             smoothed_azimuth_deg: viewpoint.map(|v| v.0 as f32),

@@ -35,9 +35,10 @@ pub struct Reconstruction {
     /// [`Refinement::distance`](crate::Refinement::distance)), that camera's approximation at
     /// the pelvis.
     pub camera: WeakPerspective,
-    /// Eq. 6 at the solution: the Euclidean norm of the 30-vector of reprojection residuals,
-    /// in the input's image units, of the camera the solution was fitted with (after a
-    /// refinement, its perspective camera when it had one).
+    /// Eq. 6 at the solution: the Euclidean norm of the reprojection residuals (2 per
+    /// landmark), in the input's image units, of the camera the solution was fitted with
+    /// (after a refinement, its perspective camera when it had one, and over the landmarks not
+    /// imputed).
     pub projection_error: f64,
     /// Indices of the pursuit's selected basis components, in order of selection (at most
     /// [`ReconstructConfig::max_basis`]).

@@ -8,8 +8,9 @@ use camloc_reconstruct::FrameRate;
 use camloc_skeleton::{LIMBS, PartialPose2};
 
 /// Longest time, in seconds, a landmark may be missing in a row (between two frames of its
-/// run that have it) to be filled in from those two frames (0.5: 15 frames at 30 frames a
-/// second). Longer gaps are left to each frame's fill from the pose basis.
+/// run that have it) to be filled in from those two frames (0.7: 21 frames at 30 frames a
+/// second, at most; docs/RESULTS.md). Longer gaps are left to each frame's fill from the
+/// pose basis.
 pub const GAP_FILL_S: f64 = 0.7;
 
 /// `poses` (one person's frames in time order, as [`smooth_landmarks`](crate::smooth_landmarks)
@@ -129,7 +130,7 @@ mod tests {
             assert!((x - want[0]).abs() < 1e-12 && (y - want[1]).abs() < 1e-12);
         }
         // The frames given: the same gap over frames 0, 10, 20, 30, 40 of a 30 fps video is
-        // 40 frames long, beyond 0.5 s: left missing, as across a break.
+        // 40 frames long, beyond 0.7 s: left missing, as across a break.
         let numbers: Vec<u64> = (0..5).map(|t| 10 * t).collect();
         let far = fill_short_gaps(&poses, Some(&numbers), &[], rate, GAP_FILL_S);
         assert!((1..4).all(|t| knee(&far[t]).is_none()));
