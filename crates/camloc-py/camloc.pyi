@@ -132,7 +132,8 @@ class Localizer:
         "from-input"``): give many poses per call.
         scores: optional (N, J) (or (J,)) confidences in [0, 1] for 2-channel points (a
           masked entry of a ``numpy.ma.MaskedArray`` is 0: the joint is missing).
-        min_score: joints scoring below it are missing (finite, >= 0).
+        min_score: joints scoring below it are missing (finite, >= 0; above 0 it needs
+          scores, given or as a third channel: a ``ValueError`` without).
         sequence: the poses are one person's frames of a video, in time order (a row of NaN
           where the person was missed): the result also has each frame's camera and viewpoint
           smoothed over the frames, as ``camloc localize --sequence`` gives them, and

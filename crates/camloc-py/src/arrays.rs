@@ -325,6 +325,14 @@ impl<'a> PoseBatch<'a> {
                 "min_score must be a finite number >= 0, got {min_score}"
             )));
         }
+        // A threshold without scores had been ignored without a word (a simulated user's
+        // flickering detector joints kept as seen).
+        if min_score > 0.0 && scores.is_none() && channels == 2 {
+            return Err(value_error(format!(
+                "min_score {min_score} needs scores: give scores (N, J) or points with a third \
+                 (score) channel"
+            )));
+        }
         if let Some(scores) = scores {
             let expected: &[usize] = if single { &shape[..1] } else { &shape[..2] };
             if channels == 3 {

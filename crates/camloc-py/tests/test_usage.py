@@ -133,6 +133,9 @@ def test_smooth_viewpoints_equals_the_command_line(cli, localizer):
     np.testing.assert_allclose(got[0], [r["smoothed_azimuth_deg"] for r in fast], atol=1e-4)
     with pytest.raises(ValueError, match="fps"):
         camloc.smooth_viewpoints([1.0], [1.0], fps=0)
+    # A threshold without scores is refused (it had been ignored without a word).
+    with pytest.raises(ValueError, match="min_score 0.3 needs scores"):
+        camloc.reconstruct(example_points(), min_score=0.3)
     # The command line's range: a rate a BVH file can hold (1e7 had been taken and solved at).
     with pytest.raises(ValueError, match="fps: not a frame rate.*got 10000000.0"):
         camloc.reconstruct(example_points(), sequence=True, fps=1e7)

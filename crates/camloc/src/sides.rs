@@ -296,11 +296,27 @@ fn swapped_frames(
         _ => Some(SwappedPart::Distal),
     };
     let first_of_run = |state: usize| state == 1 || state == run + 1;
-    let own = |state: usize| if state == 0 { 0.0 } else { per_frame };
+    // A frame is read swapped only where each pair it exchanges has both sides or neither:
+    // with one side missing a swapped reading has fewer landmarks to move and looked cheap (a
+    // simulated user's misplaced left wrist beside a missing right arm had the left arm
+    // "swapped back" onto the right).
+    let lopsided = |m: usize, part: SwappedPart| {
+        let pose = &poses[present[m].at];
+        (0..3).any(|i| {
+            let (l, r) = chain.pairs()[i];
+            part.exchanges(i)
+                && pose.points[l.index()].is_some() != pose.points[r.index()].is_some()
+        })
+    };
+    let own = |m: usize, state: usize| match reading(state) {
+        None => 0.0,
+        Some(part) if lopsided(m, part) => f64::INFINITY,
+        Some(_) => per_frame,
+    };
     let mut cost: Vec<f64> = (0..states)
         .map(|state| {
             if state == 0 || first_of_run(state) {
-                own(state)
+                own(0, state)
             } else {
                 f64::INFINITY
             }
@@ -327,7 +343,7 @@ fn swapped_frames(
                     from[state] = b as u16;
                 }
             }
-            next[state] += own(state);
+            next[state] += own(m, state);
         }
         cost = next;
         back.extend(from);
@@ -459,6 +475,23 @@ mod tests {
         let mut repaired = read.clone();
         swap_sides_back(&numbers, &mut repaired, &[], FrameRate::default());
         assert_eq!(repaired, clean);
+    }
+
+    #[test]
+    fn an_arm_missing_on_one_side_is_not_swapped_onto_it() {
+        // The right arm missing for frames 20-34, and at frame 27 the left wrist misplaced
+        // onto where the right one would be: nothing is swapped (the left arm had been put on
+        // the right side).
+        let clean = walk(60);
+        let numbers: Vec<Option<u64>> = (0..60).map(Some).collect();
+        let mut read = clean.clone();
+        for pose in &mut read[20..35] {
+            pose.points[Landmark::RightElbow.index()] = None;
+            pose.points[Landmark::RightWrist.index()] = None;
+        }
+        read[27].points[Landmark::LeftWrist.index()] =
+            clean[27].points[Landmark::RightWrist.index()];
+        assert_eq!(found_parts(&numbers, &read, SideChain::Arms), vec![]);
     }
 
     #[test]

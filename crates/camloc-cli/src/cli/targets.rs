@@ -172,7 +172,9 @@ fn check_not_input(
                 };
                 targets.into_iter().find(|file| reads_in_folder(file, path))
             } else {
-                (path.is_file() && same_file(&read, out)).then(|| out.path.to_path_buf())
+                // (Named as the input names it: a numbered output's clash is one of its
+                // numbered files, not the name given.)
+                (path.is_file() && same_file(&read, out)).then(|| path.to_path_buf())
             };
             if let Some(file) = clash {
                 return Err(CliError::Usage(format!(
