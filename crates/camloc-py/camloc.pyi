@@ -539,7 +539,8 @@ def read_keypoints(
         others are still read, and a ``UserWarning`` names the first); empty for a file.
     A file or folder without poses gives empty arrays and a ``UserWarning`` ("no poses in
     ...", which ``camloc`` on the command line makes an error); a folder without poses where
-    a file could not be read raises that file's error, as reading it alone does.
+    a file could not be read raises that file's error, as reading it alone does. A
+    ``min_score`` that leaves no pose a landmark is warned of (is it on the scores' scale?).
 
     Raises OSError if the file cannot be read, CamlocError if it is malformed (the message
     names the file and place), ValueError for bad options (also a ``layout`` the file's format

@@ -186,6 +186,19 @@ pub(crate) fn read_keypoints<'py>(
             ),
         )?;
     }
+    // Every pose empty under a threshold: the threshold on another scale than the scores? (A
+    // simulated user's min_score=30 for scores of 0-1 had given all-NaN points without a word.)
+    if min_score > 0.0 && !records.is_empty() && records.iter().all(|r| r.pose.present_mask() == 0)
+    {
+        crate::warnings::warn(
+            py,
+            format!(
+                "none of the {} poses has a landmark at min_score {min_score}: is it on the \
+                 scale of the scores (0-1 for most detectors)?",
+                records.len()
+            ),
+        )?;
+    }
     let mut records = records;
     // Untracked people followed as the command line's `--sequence` does (30 frames a second).
     let followed = camloc::follow_records(&mut records, path.is_dir(), FrameRate::default());

@@ -358,6 +358,9 @@ def test_min_score_drops_weak_joints_as_the_reader_does(alone):
     full = alone.localize(array, layout="h36m17")
     assert not np.array_equal(raw["probabilities"][1], full["probabilities"][1])
     np.testing.assert_array_equal(raw["probabilities"][[0, 2]], full["probabilities"][[0, 2]])
+    # A threshold above every score is warned of (it had given all-NaN points without a word).
+    with pytest.warns(camloc.CamlocWarning, match="none of the 3 poses has a landmark at min_score 30"):
+        camloc.read_keypoints(SAMPLES / "h36m17_scores.npy", layout="h36m17", min_score=30)
 
 
 def test_shapes_and_dtypes(alone):
