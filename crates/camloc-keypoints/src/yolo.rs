@@ -23,9 +23,9 @@ const LINE: &str = "a class, a box's 4 numbers, 17 keypoints as x y v (56) or x 
 /// line ends in one), the frame the digits that end the file's name (`video_12.txt` → 12).
 /// Keypoints whose visibility or confidence is 0 or below [`ReadOptions::min_score`], or at
 /// (0, 0) (where Ultralytics puts keypoints whose confidence is below 0.5), are missing. A
-/// line's last number after the keypoints is a track id when it is a whole number (a
-/// confidence of exactly 0 or 1 would be read as one), a confidence otherwise; two are the
-/// confidence and the id.
+/// line's last number after the keypoints is a track id when it is written as digits alone
+/// (a confidence written `0` or `1` would be read as one; `1.000000` is a confidence), a
+/// confidence otherwise; two are the confidence and the id (the id a whole number).
 ///
 /// # Errors
 /// [`KeypointError::ImageSizeNeeded`] without [`ReadOptions::image_size`];
@@ -105,12 +105,17 @@ fn person_record(
     };
     let keypoints_end = BOX_NUMBERS + per_keypoint * COCO17.len();
     let keypoints = &values[BOX_NUMBERS..keypoints_end];
+    // A single last number is the id only when written as one (digits alone): `1.000000` is a
+    // confidence of 1 (a simulated user's frame had become a person of its own).
+    let word = words[words.len() - 1];
+    let digits = word.bytes().all(|b| b.is_ascii_digit());
     let track = match values[keypoints_end..] {
-        [_, id] | [id] if id.fract() == 0.0 && id >= 0.0 => {
+        [_, id] | [id]
+            if id.fract() == 0.0 && id >= 0.0 && (digits || found > keypoints_end + 1) =>
+        {
             // As every format's ids: a number JSON and `.npz` outputs keep as given, read as
             // written (a float holds whole numbers exactly only up to 2^53: two ids beyond
             // would have been one person).
-            let word = words[words.len() - 1];
             let exact = match word.parse::<u64>() {
                 Ok(n) => Some(n).filter(|&n| n <= crate::MAX_FRAME_NUMBER),
                 Err(_) => (id <= (1u64 << 53) as f64).then_some(id as u64),
@@ -216,6 +221,11 @@ mod tests {
         }
         let e = parse(&line(true, "0.9 1e300"), "clip_0.txt", &options()).unwrap_err();
         assert!(e.to_string().contains("track id"), "{e}");
+        // A last number alone is an id when written as digits, a confidence otherwise (a
+        // confidence of 1 written `1.000000` had made its frame a person of its own).
+        let text = format!("{}\n{}\n", line(true, "1.000000"), line(true, "4"));
+        let records = parse(&text, "clip_0.txt", &options()).unwrap();
+        assert_eq!((records[0].person, records[1].person), (Some(0), Some(4)));
     }
 
     #[test]
