@@ -302,9 +302,14 @@ fn a_sequence_s_bvh_moves_as_the_camera_saw_the_person() {
 /// Pixels a frame the person of [`walk_across`] moves to the right.
 const WALK_STEP_PX: f64 = 8.0;
 
-/// A `camloc-keypoints` file in `dir` of the example's standing person moving across the image
-/// by [`WALK_STEP_PX`] a frame, with the frames of `numbers` (frame numbers kept).
+/// A `camloc-keypoints` file in `dir` of [`walk_document`]`(numbers)`.
 fn walk_across(dir: &TempDir, numbers: impl Iterator<Item = usize>) -> String {
+    dir.file("walk.json", &walk_document(numbers).to_string())
+}
+
+/// A `camloc-keypoints` document of the example's standing person moving across the image by
+/// [`WALK_STEP_PX`] a frame, with the frames of `numbers` (frame numbers kept).
+fn walk_document(numbers: impl Iterator<Item = usize>) -> Value {
     let example: Value =
         serde_json::from_str(&std::fs::read_to_string(fixture("keypoints/example.json")).unwrap())
             .unwrap();
@@ -326,11 +331,7 @@ fn walk_across(dir: &TempDir, numbers: impl Iterator<Item = usize>) -> String {
             serde_json::json!({"id": format!("f{t}"), "frame": t, "person": 0, "landmarks": moved})
         })
         .collect();
-    dir.file(
-        "walk.json",
-        &serde_json::json!({"format": "camloc-keypoints", "version": 1, "poses": poses})
-            .to_string(),
-    )
+    serde_json::json!({"format": "camloc-keypoints", "version": 1, "poses": poses})
 }
 
 /// Frames the detector missed (no record of the person) keep the video's timing in a
@@ -430,9 +431,7 @@ fn frames_the_person_is_missing_from_keep_the_timing_of_the_bvh() {
 #[test]
 fn landmarks_filled_in_most_of_a_sequence_are_warned_of() {
     let dir = TempDir::new("filled-warning");
-    let walk = walk_across(&dir, 0..16);
-    let mut document: Value =
-        serde_json::from_str(&std::fs::read_to_string(&walk).unwrap()).unwrap();
+    let mut document = walk_document(0..16);
     for (t, pose) in document["poses"]
         .as_array_mut()
         .unwrap()
@@ -481,9 +480,7 @@ fn sequence_with_bvh(dir: &TempDir, name: &str, document: &Value) -> (Output, Pa
 #[test]
 fn a_duplicate_and_a_swapped_frame_are_left_out_of_the_sequence() {
     let dir = TempDir::new("bvh-left-out");
-    let input = walk_across(&dir, 0..20);
-    let mut document: Value =
-        serde_json::from_str(&std::fs::read_to_string(&input).unwrap()).unwrap();
+    let mut document = walk_document(0..20);
     let poses = document["poses"].as_array_mut().unwrap();
     let moved = |pose: &Value, dx: f64, id: &str| {
         let mut pose = pose.clone();
@@ -549,9 +546,7 @@ fn a_duplicate_and_a_swapped_frame_are_left_out_of_the_sequence() {
 #[test]
 fn a_swap_at_the_end_of_a_track_is_left_out() {
     let dir = TempDir::new("bvh-end-swap");
-    let input = walk_across(&dir, 0..20);
-    let mut document: Value =
-        serde_json::from_str(&std::fs::read_to_string(&input).unwrap()).unwrap();
+    let mut document = walk_document(0..20);
     for pose in &mut document["poses"].as_array_mut().unwrap()[16..] {
         for p in pose["landmarks"].as_object_mut().unwrap().values_mut() {
             p[0] = (p[0].as_f64().unwrap() + 900.0).into();
@@ -592,8 +587,7 @@ fn a_swap_at_the_end_of_a_track_is_left_out() {
 fn legs_a_detector_swapped_for_two_frames_are_swapped_back() {
     let dir = TempDir::new("sides-swapped");
     let clean = walk_across(&dir, 0..20);
-    let mut document: Value =
-        serde_json::from_str(&std::fs::read_to_string(&clean).unwrap()).unwrap();
+    let mut document = walk_document(0..20);
     for pose in &mut document["poses"].as_array_mut().unwrap()[5..7] {
         let landmarks = pose["landmarks"].as_object_mut().unwrap();
         for side in ["hip", "knee", "ankle"] {

@@ -394,13 +394,14 @@ fn read_head(reader: &mut impl Read) -> Result<(Vec<u8>, u64), String> {
         return Ok((head, read));
     };
     let text = String::from_utf8_lossy(&head[start..]).into_owned();
-    let text = ['\'', '"']
+    let quoted = ['\'', '"']
         .into_iter()
         .map(|q| format!("{q}{descr}{q}"))
-        .find(|quoted| text.contains(quoted.as_str()))
-        .map_or(text.clone(), |quoted| {
-            text.replacen(&quoted, &format!("'{explicit}'"), 1)
-        });
+        .find(|quoted| text.contains(quoted.as_str()));
+    let text = match quoted {
+        Some(quoted) => text.replacen(&quoted, &format!("'{explicit}'"), 1),
+        None => text,
+    };
     if len_bytes == 2 && text.len() > usize::from(u16::MAX) {
         return Err("the header is too long for a version 1.0 .npy file".into());
     }

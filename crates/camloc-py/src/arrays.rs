@@ -6,7 +6,7 @@ use std::marker::PhantomData;
 
 use camloc::PartialPose2;
 use camloc::keypoints::{ArrayPoseError, Layout, MappedPose, ReadOptions, pose_from_array};
-use camloc::skeleton::NUM_LANDMARKS;
+use camloc::skeleton::{Landmark, NUM_LANDMARKS};
 use numpy::{AllowTypeChange, PyArrayDyn, PyArrayLikeDyn, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::Borrowed;
 use pyo3::prelude::*;
@@ -403,10 +403,7 @@ impl<'a> PoseBatch<'a> {
 /// face points); a pose that cannot be read is every landmark missing.
 pub(crate) fn landmark_masks(mapped: Result<&MappedPose, &ArrayPoseError>) -> (u16, u16) {
     match mapped {
-        Ok(m) => {
-            let derived = m.derived.iter().fold(0u16, |f, l| f | 1 << l.index());
-            (m.pose.missing_mask(), derived)
-        }
+        Ok(m) => (m.pose.missing_mask(), Landmark::mask_of(&m.derived)),
         Err(_) => ((1 << NUM_LANDMARKS) - 1, 0),
     }
 }

@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use camloc::reconstruct::FrameRate;
-use camloc::skeleton::NUM_LANDMARKS;
+use camloc::skeleton::{Landmark, NUM_LANDMARKS};
 use camloc::store::Persist;
 use camloc::{
     CameraHeight, CameraLocalizer, CamlocError, HEIGHT_SHARE_MAX_POSES, HeightShares, Localization,
@@ -365,8 +365,7 @@ impl Localizer {
                                         Ok(loc) => {
                                             // Missing as localized: a landmark far off the
                                             // others too (as the command line's JSON says).
-                                            masks[j].0 = (loc.missing.iter())
-                                                .fold(0, |f, l| f | 1 << l.index());
+                                            masks[j].0 = Landmark::mask_of(&loc.missing);
                                             (label[j], folded[j], probability[j]) = numbers(&loc);
                                             row.copy_from_slice(&loc.probabilities);
                                             view[3 * j..3 * j + 3].copy_from_slice(&angles(&loc));

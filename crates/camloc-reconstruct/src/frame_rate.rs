@@ -74,7 +74,7 @@ impl FrameRate {
     /// Frames in the time of one reference frame (1 / 30 s), at least 1, and at most that of
     /// [`MOST_WINDOW_RATE_HZ`].
     pub fn step(self) -> usize {
-        (self.hz.min(MOST_WINDOW_RATE_HZ) / REFERENCE_FRAME_RATE_HZ)
+        (self.window_hz() / REFERENCE_FRAME_RATE_HZ)
             .round()
             .max(1.0) as usize
     }
@@ -82,9 +82,14 @@ impl FrameRate {
     /// The factor of a per-frame deviation of second differences: `min(1, 30 / hz)^1.5`,
     /// with `hz` at most [`MOST_WINDOW_RATE_HZ`].
     pub fn deviation_factor(self) -> f64 {
-        (REFERENCE_FRAME_RATE_HZ / self.hz.min(MOST_WINDOW_RATE_HZ))
+        (REFERENCE_FRAME_RATE_HZ / self.window_hz())
             .min(1.0)
             .powf(1.5)
+    }
+
+    /// The rate the per-frame settings are scaled for: `hz`, at most [`MOST_WINDOW_RATE_HZ`].
+    fn window_hz(self) -> f64 {
+        self.hz.min(MOST_WINDOW_RATE_HZ)
     }
 }
 

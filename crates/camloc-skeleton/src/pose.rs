@@ -144,6 +144,20 @@ impl Landmark {
         }
         Landmark::ALL.into_iter().filter(move |l| inside[l.index()])
     }
+
+    /// The mask of `landmarks`: bit `i` set for landmark index `i` (as
+    /// [`PartialPose2::missing_mask`]).
+    pub fn mask_of<'a>(landmarks: impl IntoIterator<Item = &'a Landmark>) -> u16 {
+        landmarks.into_iter().fold(0, |m, l| m | 1 << l.index())
+    }
+
+    /// The landmarks whose bits are set in `mask`, in index order (the inverse of
+    /// [`mask_of`](Self::mask_of)).
+    pub fn in_mask(mask: u16) -> impl Iterator<Item = Landmark> {
+        Landmark::ALL
+            .into_iter()
+            .filter(move |l| mask & (1 << l.index()) != 0)
+    }
 }
 
 /// Index of the left/right counterpart of landmark `index` (see [`Landmark::mirrored`]).

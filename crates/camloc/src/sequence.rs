@@ -285,6 +285,25 @@ pub(crate) fn number_or_position(numbers: &[Option<u64>], t: usize) -> u64 {
     numbers.get(t).copied().flatten().unwrap_or(t as u64)
 }
 
+/// The time of position `t` of one person's frames, in frames: its number in `frames` when
+/// given, else its position (consecutive frames).
+pub(crate) fn frame_time(frames: Option<&[u64]>, t: usize) -> f64 {
+    frames
+        .and_then(|f| f.get(t))
+        .map_or(t as f64, |&n| n as f64)
+}
+
+/// Each frame's run among `len` frames: 0 for the first, one more at each frame that `breaks`
+/// marks (beyond its end: no break).
+pub(crate) fn run_ids(len: usize, breaks: &[bool]) -> Vec<usize> {
+    let mut run = Vec::with_capacity(len);
+    for t in 0..len {
+        let starts = t > 0 && breaks.get(t).copied().unwrap_or(false);
+        run.push(run.last().copied().unwrap_or(0) + usize::from(starts));
+    }
+    run
+}
+
 /// The positions of the frames about position `k` of `len` frames in time order that `near`
 /// accepts: the run of them around `k` (`k` itself included), which is all of them, as frames
 /// near in time are consecutive.

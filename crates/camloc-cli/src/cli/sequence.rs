@@ -268,7 +268,7 @@ pub fn run(
                     .map(|p| p.map_or([f32::NAN; 2], |[x, y]| [x as f32, y as f32])),
                 swapped_sides: 0,
                 missing,
-                derived: record.derived.iter().fold(0, |m, l| m | 1 << l.index()),
+                derived: Landmark::mask_of(&record.derived),
                 id: record.id.as_str().into(),
                 source: record.source.as_str().into(),
                 frame: record.frame,
@@ -545,9 +545,9 @@ fn localized(
         let viewpoint = [loc.azimuth_deg?, loc.elevation_deg?, loc.uncertainty_deg?];
         Some(viewpoint.map(|v| v as f32))
     });
-    let missing = found.as_ref().map_or(0, |loc| {
-        loc.missing.iter().fold(0, |m, l| m | 1 << l.index())
-    });
+    let missing = found
+        .as_ref()
+        .map_or(0, |loc| Landmark::mask_of(&loc.missing));
     let result = found
         .map(|loc| (loc.label, loc.probabilities.into_boxed_slice()))
         .map_err(|e| e.to_string());
@@ -556,11 +556,7 @@ fn localized(
 
 /// The names of the landmarks whose bits are set in `mask`, in index order.
 fn landmark_names(mask: u16) -> Vec<&'static str> {
-    Landmark::ALL
-        .iter()
-        .filter(|l| mask & (1 << l.index()) != 0)
-        .map(|l| l.name())
-        .collect()
+    Landmark::in_mask(mask).map(Landmark::name).collect()
 }
 
 /// Swaps back in `poses` of `person` (their `frames` numbers, in time order, at `rate`; the
@@ -655,38 +651,28 @@ pub fn frame_numbers(keys: &[(Option<u64>, Option<u64>)], members: &[usize]) -> 
 /// ([`identity_jumps`]): a detector's order of people (OpenPose's `people[i]`) changed, or two
 /// people share an id, and one person's smoothing, bone lengths and animation would mix them.
 /// The first [`ERRORS_SHOWN`](super::stream::ERRORS_SHOWN) persons of a run are named one
-/// by one, then one line says the rest are not (a crowd of 1,000 untracked people had made
-/// 1,000 lines).
+/// by one, then one line says the rest are not ([`JUMP_WARNINGS`](super::stream::JUMP_WARNINGS)).
 fn warn_of_identity_jumps(person: u64, frames: &[Option<u64>], anchors: &[Option<TorsoAnchor>]) {
-    static WARNED: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
     let jumps = identity_jumps(frames, anchors);
     let Some(&first) = jumps.first() else {
         return;
     };
-    let shown = super::stream::ERRORS_SHOWN;
-    match WARNED.fetch_add(1, std::sync::atomic::Ordering::Relaxed) {
-        n if n < shown => {}
-        n if n == shown => {
-            stderr_line!(
-                "camloc: warning: more persons' poses jump across the image: not named one by one"
-            );
-            return;
-        }
-        _ => return,
-    }
     let at = frame_name(frames, first);
-    stderr_line!(
-        "camloc: warning: person {person}: the pose jumps across the image or changes size \
+    let hidden = ProgressBar::hidden();
+    super::stream::report_capped(&super::stream::JUMP_WARNINGS, &hidden, || {
+        format!(
+            "warning: person {person}: the pose jumps across the image or changes size \
          from one frame to the next {} (first at {at}): these may be several people \
          (the detector's order of people changed?), or not consecutive frames of a video; \
          several people need an id each (`person` in camloc JSON, `track_id` in COCO or \
          MMPose, `person_id` in OpenPose)",
-        if jumps.len() == 1 {
-            "once".to_owned()
-        } else {
-            format!("{} times", jumps.len())
-        }
-    );
+            if jumps.len() == 1 {
+                "once".to_owned()
+            } else {
+                format!("{} times", jumps.len())
+            }
+        )
+    });
 }
 
 /// The output of one frame: a JSON object (no newline) or a line of text; `left_out`: the

@@ -318,44 +318,51 @@ impl Emitter {
 /// lines. (One input file has at most one error of its own, always written.)
 pub const ERRORS_SHOWN: u64 = 20;
 
-/// Errors of one kind ([`POSE_ERRORS`], [`FILE_ERRORS`]) reported so far in this run.
+/// Messages of one kind ([`POSE_ERRORS`], [`FILE_ERRORS`], [`JUMP_WARNINGS`]) reported so far
+/// in this run.
 pub struct ErrorCount {
     count: std::sync::atomic::AtomicU64,
-    /// What the rest are, for the line that says they are not listed ("poses", "files").
-    what: &'static str,
+    /// The line (after `camloc: `) that says the rest are not listed.
+    rest: &'static str,
 }
 
 /// The poses that failed so far.
 pub static POSE_ERRORS: ErrorCount = ErrorCount {
     count: std::sync::atomic::AtomicU64::new(0),
-    what: "poses",
+    rest: "further poses that could not be processed are not listed; their count is at the end",
 };
 
 /// The files of a folder that could not be read so far.
 pub static FILE_ERRORS: ErrorCount = ErrorCount {
     count: std::sync::atomic::AtomicU64::new(0),
-    what: "files",
+    rest: "further files that could not be processed are not listed; their count is at the end",
 };
 
-/// Writes `camloc: error: LINE` on standard error, above the progress bar, for the first
-/// [`ERRORS_SHOWN`] errors of `kind` in a run; then one line says that the rest are only
-/// counted.
-pub fn report_error(kind: &ErrorCount, bar: &ProgressBar, line: impl FnOnce() -> String) {
+/// The persons whose poses jump across the image, warned of so far (a crowd of 1,000
+/// untracked people had made 1,000 lines).
+pub static JUMP_WARNINGS: ErrorCount = ErrorCount {
+    count: std::sync::atomic::AtomicU64::new(0),
+    rest: "warning: more persons' poses jump across the image: not named one by one",
+};
+
+/// Writes `camloc: LINE` on standard error, above the progress bar, for the first
+/// [`ERRORS_SHOWN`] messages of `kind` in a run; then one line says that the rest are not
+/// listed.
+pub fn report_capped(kind: &ErrorCount, bar: &ProgressBar, line: impl FnOnce() -> String) {
     let seen = kind
         .count
         .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
     if seen < ERRORS_SHOWN {
         let line = line();
-        bar.suspend(|| stderr_line!("camloc: error: {line}"));
+        bar.suspend(|| stderr_line!("camloc: {line}"));
     } else if seen == ERRORS_SHOWN {
-        let what = kind.what;
-        bar.suspend(|| {
-            stderr_line!(
-                "camloc: further {what} that could not be processed are not listed; their \
-                 count is at the end"
-            )
-        });
+        bar.suspend(|| stderr_line!("camloc: {}", kind.rest));
     }
+}
+
+/// [`report_capped`] of `camloc: error: LINE`; the rest are only counted.
+pub fn report_error(kind: &ErrorCount, bar: &ProgressBar, line: impl FnOnce() -> String) {
+    report_capped(kind, bar, || format!("error: {}", line()));
 }
 
 /// Reports ([`report_error`]) that pose `id` of `source` failed with `message` (quoted and

@@ -7,6 +7,8 @@
 use camloc_reconstruct::FrameRate;
 use camloc_skeleton::{LIMBS, PartialPose2};
 
+use crate::sequence::{frame_time, run_ids};
+
 /// Longest time, in seconds, a landmark may be missing in a row (between two frames of its
 /// run that have it) to be filled in from those two frames (0.7: 21 frames at 30 frames a
 /// second, at most; docs/RESULTS.md). Longer gaps are left to each frame's fill from the
@@ -34,11 +36,7 @@ pub fn fill_short_gaps(
     if !(longest_s.is_finite() && longest_s > 0.0) {
         return filled;
     }
-    let time = |t: usize| {
-        frames
-            .and_then(|f| f.get(t))
-            .map_or(t as f64, |&n| n as f64)
-    };
+    let time = |t: usize| frame_time(frames, t);
     let longest_frames = longest_s * rate.hz();
     let run = run_ids(poses.len(), breaks);
     let finite = |p: Option<[f64; 2]>| p.filter(|p| p.iter().all(|c| c.is_finite()));
@@ -77,17 +75,6 @@ pub fn fill_short_gaps(
         }
     }
     filled
-}
-
-/// Each frame's run: 0 for the first, one more at each frame that `breaks` marks (beyond its
-/// end: no break).
-pub(crate) fn run_ids(len: usize, breaks: &[bool]) -> Vec<usize> {
-    let mut run = Vec::with_capacity(len);
-    for t in 0..len {
-        let starts = t > 0 && breaks.get(t).copied().unwrap_or(false);
-        run.push(run.last().copied().unwrap_or(0) + usize::from(starts));
-    }
-    run
 }
 
 #[cfg(test)]

@@ -6,8 +6,7 @@
 use camloc_reconstruct::FrameRate;
 use camloc_skeleton::{NUM_LANDMARKS, PartialPose2};
 
-use super::gap_fill::run_ids;
-use crate::sequence::window_around;
+use crate::sequence::{frame_time, run_ids, window_around};
 use crate::spread::centroid_and_spread;
 
 /// Half the time window each landmark is smoothed over, in seconds (1/15 s: 2 frames on each
@@ -54,11 +53,7 @@ pub fn smooth_landmarks(
     if half < 2 {
         return poses.to_vec();
     }
-    let time = |t: usize| {
-        frames
-            .and_then(|f| f.get(t))
-            .map_or(t as f64, |&n| n as f64)
-    };
+    let time = |t: usize| frame_time(frames, t);
     let run = run_ids(poses.len(), breaks);
     let sizes: Vec<Option<f64>> = poses.iter().map(size).collect();
     // Each frame's window: the frames of its run within `half` frames of it.
