@@ -188,7 +188,9 @@ class Localizer:
         exactly (0, 0) outside the box of its other landmarks (a detector's
         placeholder for a joint it did not find: give scores or NaN); another when every pose
         of the call failed, with the first error other than "nothing detected", or, when no
-        pose has a landmark, asking whether ``min_score`` is on the scale of the scores.
+        pose has a landmark, asking whether ``min_score`` is on the scale of the scores;
+        another, at the default ``min_score`` of 0, when 1% or more of the landmarks of the
+        first 2,000 poses score below 0.3 (used as detected; docs/keypoints.md).
         No poses ((0, J, 2) points) give empty arrays and no warning, where ``camloc
         localize`` refuses an input without poses (exit 1).
 
@@ -323,8 +325,8 @@ def reconstruct(
       the sequence's bone lengths, smoothness and world placement (``world_points3d`` NaN).
       A row of NaN (nothing detected) gets the error "the pose has no landmarks (nothing
       detected)". Like ``Localizer.localize``, it warns when most poses have the head below
-      both ankles, of a rolled camera, of landmarks at the image origin, and when every pose
-      failed.
+      both ankles, of a rolled camera, of landmarks at the image origin, of weakly scored
+      landmarks used at ``min_score`` 0, and when every pose failed.
     camera_height: ``"from-input"`` (the camera heights estimated from the poses of this
       call), ``"any"`` or ``"eye-level"``, the prior over the camera's height the localizer
       applies (as ``Localizer(camera_height=...)``; the embedded depth lifter stays).
@@ -540,7 +542,9 @@ def read_keypoints(
     A file or folder without poses gives empty arrays and a ``UserWarning`` ("no poses in
     ...", which ``camloc`` on the command line makes an error); a folder without poses where
     a file could not be read raises that file's error, as reading it alone does. A
-    ``min_score`` that leaves no pose a landmark is warned of (is it on the scores' scale?).
+    ``min_score`` that leaves no pose a landmark is warned of (is it on the scores' scale?),
+    and so is the default ``min_score`` of 0 when 1% or more of the landmarks of the first
+    2,000 poses score below 0.3 (used as detected; docs/keypoints.md).
 
     Raises OSError if the file cannot be read, CamlocError if it is malformed (the message
     names the file and place), ValueError for bad options (also a ``layout`` the file's format

@@ -551,3 +551,36 @@ fn a_pose_of_too_few_landmarks_is_warned_of() {
     ]);
     assert!(!String::from_utf8_lossy(&full.stderr).contains("fewer than 8"));
 }
+
+/// At `--min-score 0` (the default) a detector's output with weakly scored joints is read as
+/// detected, and `localize` and `reconstruct` say so with the share; at `--min-score 0.3`, or
+/// for the same detections scored strongly, nothing is said.
+#[test]
+fn weakly_scored_joints_at_the_default_minimum_are_said() {
+    let dir = TempDir::new("weak-scores");
+    let strong = std::fs::read_to_string(fixture("keypoints/tiny_coco_results.json")).unwrap();
+    // The first detection's last joint (right ankle) scored 0.1.
+    let weak = strong.replacen("300.1, 411.0, 0.9", "300.1, 411.0, 0.1", 1);
+    assert_ne!(weak, strong);
+    let weak = dir.file("weak.json", &weak);
+    let strong = dir.file("strong.json", &strong);
+    let warning = |args: &[&str]| {
+        let out = camloc(args);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        String::from_utf8_lossy(&out.stderr)
+            .lines()
+            .find(|l| l.contains("score below 0.3"))
+            .map(str::to_owned)
+    };
+    for command in ["localize", "reconstruct"] {
+        let said = warning(&[command, &weak, "-q"]).expect("no warning of weak scores");
+        assert!(said.contains("1 of the "), "{said}");
+        assert!(said.contains("--min-score 0.3"), "{said}");
+        assert_eq!(warning(&[command, &weak, "-q", "--min-score", "0.3"]), None);
+        assert_eq!(warning(&[command, &strong, "-q"]), None);
+    }
+}

@@ -138,6 +138,7 @@ mod peek;
 mod record;
 mod stream;
 mod torso;
+mod weak;
 mod yolo;
 
 use std::fmt;
@@ -174,6 +175,7 @@ pub use openpose::{OPENPOSE_FRAME_MAX_BYTES, frame_index};
 pub use peek::STREAM_PEEK_BYTES;
 pub use record::KeypointRecord;
 pub use torso::derive_torso;
+pub use weak::WeakScores;
 
 /// What to do with LSP joints marked `visible = 0`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]

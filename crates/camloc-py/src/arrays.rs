@@ -5,7 +5,9 @@ use std::borrow::Cow;
 use std::marker::PhantomData;
 
 use camloc::PartialPose2;
-use camloc::keypoints::{ArrayPoseError, Layout, MappedPose, ReadOptions, pose_from_array};
+use camloc::keypoints::{
+    ArrayPoseError, Layout, MappedPose, ReadOptions, WeakScores, pose_from_array,
+};
 use camloc::skeleton::{Landmark, NUM_LANDMARKS};
 use numpy::{AllowTypeChange, PyArrayDyn, PyArrayLikeDyn, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::Borrowed;
@@ -376,12 +378,37 @@ impl<'a> PoseBatch<'a> {
             .collect()
     }
 
+    /// The landmarks of the first `count` poses scored below [`WeakScores::THRESHOLD`] and
+    /// kept at a `min_score` of 0 ([`WeakScores`]); `None` when the poses have no scores or
+    /// `min_score` is not 0.
+    pub(crate) fn leading_weak_scores(&self, count: usize) -> Option<WeakScores> {
+        if self.options.min_score != 0.0 || (self.scores.is_none() && self.channels == 2) {
+            return None;
+        }
+        let strong = ReadOptions {
+            min_score: WeakScores::THRESHOLD,
+            ..self.options
+        };
+        let mut counts = WeakScores::default();
+        for i in 0..self.len().min(count) {
+            if let (Ok(read), Ok(kept)) = (self.pose(i), self.pose_with(i, &strong)) {
+                counts.add(&read.pose, &read.derived, &kept.pose);
+            }
+        }
+        Some(counts)
+    }
+
     /// Pose `i` mapped to the 15 landmarks (NaN coordinates = missing joint).
     pub(crate) fn pose(&self, i: usize) -> Result<MappedPose, ArrayPoseError> {
+        self.pose_with(i, &self.options)
+    }
+
+    /// Pose `i` mapped to the 15 landmarks with `options` (its `min_score`).
+    fn pose_with(&self, i: usize, options: &ReadOptions) -> Result<MappedPose, ArrayPoseError> {
         let joints = self.layout.joint_count();
         let values = &self.values[i * joints * self.channels..(i + 1) * joints * self.channels];
         match &self.scores {
-            None => pose_from_array(self.layout, values, self.channels, &self.options),
+            None => pose_from_array(self.layout, values, self.channels, options),
             Some(scores) => {
                 let scores = &scores[i * joints..(i + 1) * joints];
                 let mut joined = [0.0; 3 * MAX_JOINTS];
@@ -392,7 +419,7 @@ impl<'a> PoseBatch<'a> {
                 {
                     out.copy_from_slice(&[xy[0], xy[1], *s]);
                 }
-                pose_from_array(self.layout, &joined[..3 * joints], 3, &self.options)
+                pose_from_array(self.layout, &joined[..3 * joints], 3, options)
             }
         }
     }

@@ -4,6 +4,7 @@ use std::collections::HashMap;
 use std::path::PathBuf;
 use std::sync::OnceLock;
 
+use camloc::keypoints::WeakScores;
 use camloc::reconstruct::{BONE_KEYS, BoneLengths, Intrinsics, MIN_FOCAL_PX, PoseBasis};
 use camloc::skeleton::{NUM_LANDMARKS, NUM_LIMBS};
 use camloc::store::Persist;
@@ -20,7 +21,7 @@ use crate::localize::{Localizer, for_poses, given_shares, height_shares, parse_h
 use crate::smooth::{sequence_frames, timeline_max_slots};
 use crate::warnings::{
     warn_if_every_pose_failed, warn_of_identity_jumps, warn_of_input_conventions,
-    warn_of_swapped_sides,
+    warn_of_swapped_sides, warn_of_weak_scores,
 };
 use crate::{to_py_err, value_error};
 
@@ -260,6 +261,7 @@ pub(crate) fn reconstruct<'py>(
     let leading = batch.leading_poses(HEIGHT_SHARE_MAX_POSES);
     let intrinsics = intrinsics_arg(focal_px.as_ref(), principal_point.as_ref())?;
     warn_of_input_conventions(py, &leading, intrinsics)?;
+    warn_of_weak_scores(py, batch.leading_weak_scores(WeakScores::SAMPLE_POSES))?;
     let mut reconstructor = match basis {
         Some(path) => PoseBasis::load(&path)
             .map_err(CamlocError::from)

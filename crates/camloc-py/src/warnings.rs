@@ -3,6 +3,7 @@
 //! standard error: points with v up, a rolled camera or joints at the image origin, rows of a
 //! sequence that jump between people, and a call whose every pose failed.
 
+use camloc::keypoints::WeakScores;
 use camloc::reconstruct::{FrameRate, Intrinsics};
 use camloc::{
     HEIGHT_SHARE_MAX_POSES, InputConventions, PartialPose2, TorsoAnchor, identity_jumps,
@@ -35,6 +36,24 @@ pub(crate) fn warn_of_input_conventions(
         warn(py, warning)?;
     }
     Ok(())
+}
+
+/// Warns (`UserWarning`) when `counts` (the first poses of a call read at `min_score` 0) has
+/// many weakly scored landmarks ([`WeakScores::worth_saying`]), as the command line warns at
+/// `--min-score 0`: a detector writes coordinates for joints it cannot see.
+pub(crate) fn warn_of_weak_scores(py: Python<'_>, counts: Option<WeakScores>) -> PyResult<()> {
+    match counts {
+        Some(counts) if counts.worth_saying() => warn(
+            py,
+            format!(
+                "{counts} (min_score=0, the default): a detector writes coordinates for joints \
+                 it cannot see; min_score={} treats them as missing and fills them in (with \
+                 sequence=True from the frames around a short gap)",
+                WeakScores::THRESHOLD
+            ),
+        ),
+        _ => Ok(()),
+    }
 }
 
 /// Warns (`UserWarning`) when every one of `poses` (two or more) failed (`errors`: the

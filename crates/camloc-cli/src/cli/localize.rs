@@ -22,6 +22,7 @@ use super::localize_json::LocalizationJson;
 use super::localize_npz::LocalizationArrays;
 use super::sequence;
 use super::stream::{self, Done, Failed, Files, SummaryDrawing};
+use super::weak_scores;
 use super::{
     CameraHeightArgs, CliError, ForceArgs, FormatArgs, InputArgs, Locator, Out, ProgressArgs,
     embedded_basis, lifter_for_model, progress, targets,
@@ -128,6 +129,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
              localization: the aim at the person needs where the optical axis meets the image"
         );
     }
+    weak_scores::warn_of_weak_scores(&args.input);
     let (localizer, inputs, estimate) = heights::load_for_input(
         args.model.as_deref(),
         &args.height,

@@ -34,6 +34,7 @@ mod stream;
 mod targets;
 mod train;
 mod videos;
+mod weak_scores;
 
 pub use output::Out;
 

@@ -20,6 +20,7 @@ use super::output::NpyStage;
 use super::reconstruct_output::{PoseMeta, pose_output, pose_svg};
 use super::reconstruct_sequence;
 use super::stream::{self, Done, Failed, Files};
+use super::weak_scores;
 use super::{
     CameraHeightArg, CameraHeightArgs, CliError, ForceArgs, FormatArgs, InputArgs, Out,
     ProgressArgs, lifter_for_model, load_dataset, load_model, progress, targets,
@@ -353,6 +354,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
              camera (translation_m) places it on the optical axis, not where it stands in the image"
         );
     }
+    weak_scores::warn_of_weak_scores(&args.input);
     let (localizer, inputs, _) = heights::load_for_input(
         args.model.as_deref(),
         &height,
