@@ -63,8 +63,15 @@ fn each_pose_is_a_bvh_that_reads_back_to_its_landmarks() {
     // --fps times a sequence or an animation: alone it is refused; with --sequence it keeps
     // the smoothing's windows in time, so the answers differ from 30 frames a second's.
     let path = input.to_str().unwrap();
-    let alone = camloc(&["reconstruct", "--input", path, "--fps", "60"]);
-    assert_eq!(alone.status.code(), Some(2));
+    for (command, takes) in [
+        ("reconstruct", "without --sequence, --bvh or --html"),
+        ("localize", "without --sequence or --html"),
+    ] {
+        let alone = camloc(&[command, "--input", path, "--fps", "60"]);
+        let stderr = String::from_utf8_lossy(&alone.stderr);
+        assert_eq!(alone.status.code(), Some(2), "{stderr}");
+        assert!(stderr.contains(takes), "{stderr}");
+    }
     let at = |fps: &str| {
         success(&camloc(&[
             "reconstruct",

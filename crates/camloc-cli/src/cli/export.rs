@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 
 use camloc::geometry::CameraSet;
 use camloc::mocap::{BvhOptions, BvhWriteError, write_person_bvh};
+use camloc::reconstruct::FrameRate;
 use camloc::store::StagedFiles;
 use camloc::{Pose3, frame_slots};
 
@@ -214,6 +215,18 @@ pub fn parse_fps(text: &str) -> Result<f64, String> {
     match camloc::frame_rate_problem(fps) {
         None => Ok(fps),
         Some(problem) => Err(format!("{problem}, got {text:?}")),
+    }
+}
+
+/// The frame rate `given` with `--fps` (30 when none), or [`CliError::Usage`] when it is
+/// given and `timed` (the options it is for, named `takes`) is not.
+pub fn fps_for(given: Option<f64>, timed: bool, takes: &str) -> Result<f64, CliError> {
+    match given {
+        Some(_) if !timed => Err(CliError::Usage(format!(
+            "--fps is the frame rate of a video and changes nothing without {takes}"
+        ))),
+        Some(fps) => Ok(fps),
+        None => Ok(FrameRate::default().hz()),
     }
 }
 

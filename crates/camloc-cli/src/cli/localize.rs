@@ -30,7 +30,6 @@ use super::{
 
 /// Arguments of `camloc localize`.
 #[derive(clap::Args)]
-#[group(id = "timed", multiple = true, args = ["html", "sequence"])]
 pub struct Args {
     /// Model file [default: the model embedded in this binary].
     #[arg(long, value_name = "MODEL")]
@@ -82,14 +81,13 @@ pub struct Args {
     /// page holds every pose (about 2.5 KB each; at most 100,000 poses: split larger inputs).
     #[arg(long, value_name = "OUT")]
     pub html: Option<PathBuf>,
-    /// Frames per second of the input video (with --sequence or --html).
+    /// Frames per second of the input video (with --sequence or --html) [default: 30].
     ///
     /// With --sequence the time scale of the smoothing over frames (7 frames at 30 frames a second,
     /// as long in time at faster rates up to 1,000: give the video's rate), and the page's play
     /// rate.
-    #[arg(long, value_name = "FPS", default_value = "30", value_parser = export::parse_fps,
-          allow_hyphen_values = true, requires = "timed")]
-    pub fps: f64,
+    #[arg(long, value_name = "FPS", value_parser = export::parse_fps, allow_hyphen_values = true)]
+    pub fps: Option<f64>,
     /// Write the results as NumPy arrays to this .npz archive (numpy.load reads it without pickle),
     /// row n for the n-th pose read.
     ///
@@ -107,8 +105,21 @@ pub struct Args {
     pub progress: ProgressArgs,
 }
 
+impl Args {
+    /// The video's frame rate (`--fps`, 30 by default); a usage error when it is given
+    /// without --sequence or --html, which it changes nothing without.
+    fn fps(&self) -> Result<f64, CliError> {
+        export::fps_for(
+            self.fps,
+            self.sequence || self.html.is_some(),
+            "--sequence or --html",
+        )
+    }
+}
+
 /// Runs `camloc localize`.
 pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
+    let fps = args.fps()?;
     let outputs = [
         (args.svg.as_deref(), "--svg", Some("svg")),
         (args.summary_svg.as_deref(), "--summary-svg", None),
@@ -191,7 +202,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         })
     };
     let finish = args.html.clone().map(|html| {
-        let (cameras, fps) = (localizer.cameras().clone(), args.fps);
+        let cameras = localizer.cameras().clone();
         let title = format!("camloc localize: {}", inputs.name());
         let make: stream::Finish<ViewFrame> = Box::new(move |views: Vec<ViewFrame>, staged| {
             let keys = vec![(None, None); views.len()];
@@ -228,8 +239,8 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
             summary: args.summary_svg.as_deref(),
             force: args.force.force,
             max_poses: args.sequence_max_poses,
-            html: args.html.as_deref().map(|path| (path, args.fps)),
-            rate: FrameRate::new(args.fps).map_err(|e| CamlocError::InvalidOption {
+            html: args.html.as_deref().map(|path| (path, fps)),
+            rate: FrameRate::new(fps).map_err(|e| CamlocError::InvalidOption {
                 name: "--fps",
                 detail: e.to_string(),
             })?,

@@ -68,7 +68,6 @@ fn parse_camera(text: &str) -> Result<ModeKind, String> {
 
 /// Arguments of `camloc reconstruct`.
 #[derive(clap::Args)]
-#[group(id = "timed", multiple = true, args = ["bvh", "html", "sequence"])]
 pub struct Args {
     /// Model file for the classified camera [default: the embedded model].
     #[arg(long, value_name = "MODEL")]
@@ -196,18 +195,29 @@ pub struct Args {
     /// KB each; at most 100,000 poses: split larger inputs).
     #[arg(long, value_name = "OUT")]
     pub html: Option<PathBuf>,
-    /// Frames per second of the input video (with --sequence, --bvh or --html).
+    /// Frames per second of the input video (with --sequence, --bvh or --html) [default: 30].
     ///
     /// With --sequence the time scale of the smoothing over frames (its windows are 1/30 s and
     /// longer, as long in time at rates up to 1,000: give the video's rate), the BVH frame time
     /// and the page's play rate.
-    #[arg(long, value_name = "FPS", default_value = "30", value_parser = export::parse_fps,
-          allow_hyphen_values = true, requires = "timed")]
-    pub fps: f64,
+    #[arg(long, value_name = "FPS", value_parser = export::parse_fps, allow_hyphen_values = true)]
+    pub fps: Option<f64>,
     #[command(flatten)]
     pub force: ForceArgs,
     #[command(flatten)]
     pub progress: ProgressArgs,
+}
+
+impl Args {
+    /// The video's frame rate (`--fps`, 30 by default); a usage error when it is given
+    /// without --sequence, --bvh or --html, which it changes nothing without.
+    fn fps(&self) -> Result<f64, CliError> {
+        export::fps_for(
+            self.fps,
+            self.sequence || self.bvh.is_some() || self.html.is_some(),
+            "--sequence, --bvh or --html",
+        )
+    }
 }
 
 /// Arguments of `camloc evaluate-reconstruction`.
@@ -306,7 +316,7 @@ fn reconstructor(args: &Args, localizer: CameraLocalizer) -> Result<PoseReconstr
     if let Some(height_m) = args.person_height {
         reconstructor = reconstructor.with_person_height(height_m)?;
     }
-    reconstructor = reconstructor.with_frame_rate(args.fps)?;
+    reconstructor = reconstructor.with_frame_rate(args.fps()?)?;
     if let Some(intrinsics) = args.intrinsics.intrinsics(args.input.image_size) {
         reconstructor = reconstructor.with_intrinsics(intrinsics)?;
     }
@@ -315,6 +325,7 @@ fn reconstructor(args: &Args, localizer: CameraLocalizer) -> Result<PoseReconstr
 
 /// Runs `camloc reconstruct`.
 pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
+    let fps = args.fps()?;
     // The files as the writers name them: `--bvh OUT` writes OUT.bvh when OUT has no
     // extension; the numbered names of several files take .svg, .json and .bvh.
     let bvh = args.bvh.as_deref().map(export::bvh_base);
@@ -366,7 +377,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     // The page shows the cameras' probabilities: the reconstructor's localizer.
     let page_localizer = args.html.as_ref().and(reconstructor.localizer());
     let format = args.format.format();
-    let finish = finish(args, &inputs, page_localizer);
+    let finish = finish(args, fps, &inputs, page_localizer);
     // The localization a reconstruction used (classified, hybrid), else the page's own.
     let view = |record: &KeypointRecord, r: Option<&PoseReconstruction>, error: Option<String>| {
         page_localizer.map(|localizer| {
@@ -461,9 +472,11 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     Ok(summary.exit_code("reconstructed"))
 }
 
-/// The `--bvh` and `--html` files of a run, made from what it kept of every pose.
+/// The `--bvh` and `--html` files of a run at `fps` frames a second, made from what it kept
+/// of every pose.
 fn finish(
     args: &Args,
+    fps: f64,
     inputs: &Inputs,
     page_localizer: Option<&CameraLocalizer>,
 ) -> Option<(Vec<PathBuf>, stream::Finish<Kept>)> {
@@ -476,7 +489,7 @@ fn finish(
         paths.extend(super::targets::numbered_targets(&base, "bvh"));
     }
     paths.extend(args.html.clone());
-    let (bvh, html, fps) = (args.bvh.clone(), args.html.clone(), args.fps);
+    let (bvh, html) = (args.bvh.clone(), args.html.clone());
     // With --sequence, whether the input is a folder (whose files may be videos of their own).
     let sequence = args.sequence.then(|| inputs.is_folder());
     let cameras = page_localizer.map(|l| l.cameras().clone());
