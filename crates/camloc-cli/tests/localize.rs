@@ -576,6 +576,16 @@ fn weakly_scored_joints_at_the_default_minimum_are_said() {
             .find(|l| l.contains("score below 0.3"))
             .map(str::to_owned)
     };
+    // In a folder, a file that cannot be read (first, in natural order) is left out of the
+    // count, not the end of it.
+    let folder = dir.0.join("folder");
+    std::fs::create_dir(&folder).unwrap();
+    std::fs::write(folder.join("0_broken.json"), r#"{"poses": ["#).unwrap();
+    std::fs::copy(&weak, folder.join("1_weak.json")).unwrap();
+    let out = camloc(&["localize", folder.to_str().unwrap(), "-q"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("0_broken.json"), "{stderr}");
+    assert!(stderr.contains("score below 0.3"), "{stderr}");
     for command in ["localize", "reconstruct"] {
         let said = warning(&[command, &weak, "-q"]).expect("no warning of weak scores");
         assert!(said.contains("1 of the "), "{said}");

@@ -374,7 +374,18 @@ pub fn open_keypoints(
     format: Option<KeypointFormat>,
     options: &ReadOptions,
 ) -> Result<KeypointStream, KeypointError> {
-    let path = path.as_ref();
+    open_path(path.as_ref(), format, options, true)
+}
+
+/// [`open_keypoints`], telling the reader the file's size when `sized` (a file beyond
+/// [`ReadOptions::max_bytes`] is then refused before it is read) or not (its records before
+/// the limit are read).
+pub(crate) fn open_path(
+    path: &Path,
+    format: Option<KeypointFormat>,
+    options: &ReadOptions,
+    sized: bool,
+) -> Result<KeypointStream, KeypointError> {
     let name = path.display().to_string();
     let io_error = |source| KeypointError::Io {
         file: name.clone(),
@@ -382,7 +393,7 @@ pub fn open_keypoints(
     };
     let file = std::fs::File::open(path).map_err(io_error)?;
     let metadata = file.metadata().map_err(io_error)?;
-    let size = metadata.is_file().then_some(metadata.len());
+    let size = (sized && metadata.is_file()).then_some(metadata.len());
     let extension = path.extension().and_then(|e| e.to_str());
     let format = format.or_else(|| {
         extension

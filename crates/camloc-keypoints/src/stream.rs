@@ -75,7 +75,8 @@ impl Sender {
 ///
 /// The first message is awaited here, so that an error found before the first record (an
 /// invalid document, an unreadable start) is returned as this function's error, as for inputs
-/// that are read whole.
+/// that are read whole; a first pose the reader refused
+/// ([`KeypointError::refused_pose`]) stays the stream's first item.
 pub(crate) fn spawn(
     file: &str,
     produce: impl FnOnce(&mut Sender) + Send + 'static,
@@ -101,10 +102,12 @@ pub(crate) fn spawn(
     // Empty when the producer ended without a message (a panic: passed on by `next_item`).
     let first = receiver.recv().unwrap_or_default();
     let mut batch = first.into_iter();
-    if let Some(Err(_)) = batch.as_slice().first() {
-        if let Some(Err(e)) = batch.next() {
-            return Err(e);
-        }
+    // (A pose the reader refused is that pose's error, the next poses are still read.)
+    if let Some(Err(e)) = batch.as_slice().first()
+        && e.refused_pose().is_none()
+        && let Some(Err(e)) = batch.next()
+    {
+        return Err(e);
     }
     Ok(Received {
         receiver,

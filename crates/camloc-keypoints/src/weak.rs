@@ -2,11 +2,13 @@
 //! [`ReadOptions::min_score`](crate::ReadOptions::min_score) 0, such landmarks are used as
 //! detected although a detector writes coordinates for joints it cannot see.
 
+use std::collections::HashMap;
 use std::fmt;
+use std::path::Path;
 
 use camloc_skeleton::{Landmark, PartialPose2};
 
-use crate::KeypointRecord;
+use crate::{KeypointFormat, KeypointRecord, ReadOptions, keypoint_files, open_path};
 
 /// The landmarks of some poses that are present when read at a minimum score of 0 and missing at
 /// [`WeakScores::THRESHOLD`]: the joints a detector scored weakly (often misplaced, or guessed
@@ -31,24 +33,72 @@ impl WeakScores {
     /// which [`WeakScores::worth_saying`] holds: 1%.
     pub const SAY_FROM_SHARE: f64 = 0.01;
 
-    /// The poses read from the start of an input that callers compare (about 30,000
-    /// landmarks: the share is known to a fraction of a percent).
+    /// The poses read from the start of an input that [`WeakScores::of_input`] compares
+    /// (about 30,000 landmarks: the share is known to a fraction of a percent).
     pub const SAMPLE_POSES: usize = 2_000;
 
+    /// The bytes of each text file [`WeakScores::of_input`] reads at most, each time (a large
+    /// file with few poses, or much else before them, is not read whole twice more).
+    pub const SAMPLE_BYTES: u64 = 64 << 20;
+
+    /// Reads the first [`WeakScores::SAMPLE_POSES`] poses of the file or folder at `path`
+    /// (`format`, `options` and `recursive` as its reader takes them; at most
+    /// [`WeakScores::SAMPLE_BYTES`] of each text file) at a minimum score of 0 and again at
+    /// [`WeakScores::THRESHOLD`], and [compares](WeakScores::compare) them: poses and files
+    /// that cannot be read are left out. `None` unless `path` is a regular file or a folder
+    /// (standard input or a named pipe cannot be read again).
+    pub fn of_input(
+        path: &Path,
+        format: Option<KeypointFormat>,
+        options: &ReadOptions,
+        recursive: bool,
+    ) -> Option<WeakScores> {
+        let meta = std::fs::metadata(path).ok()?;
+        let files = if meta.is_file() {
+            vec![path.to_owned()]
+        } else if meta.is_dir() {
+            keypoint_files(path, recursive).ok()?
+        } else {
+            return None;
+        };
+        let sample = |min_score: f64| -> Vec<KeypointRecord> {
+            let options = ReadOptions {
+                min_score,
+                max_bytes: options.max_bytes.min(WeakScores::SAMPLE_BYTES),
+                ..*options
+            };
+            files
+                .iter()
+                .filter(|f| std::fs::metadata(f).is_ok_and(|m| m.is_file()))
+                .filter_map(|f| open_path(f, format, &options, false).ok())
+                .flatten()
+                .filter_map(Result::ok)
+                .take(WeakScores::SAMPLE_POSES)
+                .collect()
+        };
+        Some(WeakScores::compare(
+            &sample(0.0),
+            &sample(WeakScores::THRESHOLD),
+        ))
+    }
+
     /// Compares the same poses read at a minimum score of 0 (`all`) and at
-    /// [`WeakScores::THRESHOLD`] (`strong`), pose by pose in order ([`WeakScores::add`]).
-    /// Poses are matched by their id and source; the comparison stops at the first pair that
-    /// differs (a reader that leaves out a pose without landmarks).
+    /// [`WeakScores::THRESHOLD`] (`strong`), pose by pose ([`WeakScores::add`]), each of `all`
+    /// with the pose of `strong` of the same source and id; poses that only one of them has (a
+    /// pose refused in one reading, a reading cut short) are not counted.
     pub fn compare<'a>(
         all: impl IntoIterator<Item = &'a KeypointRecord>,
         strong: impl IntoIterator<Item = &'a KeypointRecord>,
     ) -> WeakScores {
+        let strong: HashMap<(&str, &str), &KeypointRecord> = strong
+            .into_iter()
+            .map(|r| ((r.source.as_str(), r.id.as_str()), r))
+            .collect();
         let mut counts = WeakScores::default();
-        for (read, kept) in all.into_iter().zip(strong) {
-            if read.source != kept.source || read.id != kept.id {
-                break;
+        for read in all {
+            if let Some(kept) = strong.get(&(read.source.as_str(), read.id.as_str())) {
+                counts.add(&read.pose, &read.derived, &kept.pose);
             }
-            counts.add(&read.pose, &read.derived, &kept.pose);
         }
         counts
     }
@@ -88,14 +138,17 @@ impl WeakScores {
 /// score below 0.3 and are used as detected`.
 impl fmt::Display for WeakScores {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let poses = match self.poses {
+            1 => "pose".to_owned(),
+            n => format!("{n} poses"),
+        };
         write!(
             f,
-            "{} of the {} landmarks ({:.1}%) of the first {} poses score below {} and are used \
+            "{} of the {} landmarks ({:.1}%) of the first {poses} score below {} and are used \
              as detected",
             self.weak,
             self.landmarks,
             100.0 * self.share(),
-            self.poses,
             WeakScores::THRESHOLD
         )
     }
@@ -159,13 +212,17 @@ mod tests {
     }
 
     #[test]
-    fn stops_at_poses_that_do_not_pair_up() {
+    fn poses_are_paired_by_their_source_and_the_unpaired_left_out() {
         let point = [(Landmark::Head, [0.0, 0.0])];
-        let all = [record("a", &point, &[]), record("b", &point, &[])];
+        // "a" refused in the strong reading, "c" cut off from it: only "b" is compared.
+        let all = [
+            record("a", &point, &[]),
+            record("b", &point, &[]),
+            record("c", &point, &[]),
+        ];
         let strong = [record("b", &[], &[])];
         let counts = WeakScores::compare(&all, &strong);
-        assert_eq!(counts.poses, 0);
-        assert!(!counts.worth_saying());
+        assert_eq!((counts.poses, counts.landmarks, counts.weak), (1, 1, 1));
     }
 
     #[test]

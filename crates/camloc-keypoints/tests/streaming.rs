@@ -238,9 +238,9 @@ fn h36m_points() -> Vec<[f64; 2]> {
         .collect()
 }
 
-/// An MMPose document of `frames` frames of two instances, the second instance of frame
-/// `refused` in the other 17-joint layout.
-fn mmpose_frames(frames: usize, refused: usize) -> String {
+/// An MMPose document of `frames` frames of two instances, instance `refused.1` of frame
+/// `refused.0` in the other 17-joint layout.
+fn mmpose_frames(frames: usize, refused: (usize, usize)) -> String {
     let instance = |points: Vec<[f64; 2]>| {
         let points: Vec<String> = points
             .iter()
@@ -250,14 +250,15 @@ fn mmpose_frames(frames: usize, refused: usize) -> String {
     };
     let frames: Vec<String> = (0..frames)
         .map(|f| {
-            let second = if f == refused {
-                h36m_points()
-            } else {
-                coco_points(100.0)
-            };
+            let [first, second] = [f as f64 * 0.1, 100.0].map(coco_points);
+            let mut pair = [first, second];
+            if f == refused.0 {
+                pair[refused.1] = h36m_points();
+            }
+            let [first, second] = pair;
             format!(
                 r#"{{"frame_id": {f}, "instances": [{}, {}]}}"#,
-                instance(coco_points(f as f64 * 0.1)),
+                instance(first),
                 instance(second)
             )
         })
@@ -266,12 +267,19 @@ fn mmpose_frames(frames: usize, refused: usize) -> String {
 }
 
 /// A pose refused for its layout is an error in its place, and the frame's other instance and
-/// the next frames are still read, whether the input is read whole or streamed; the whole-text
-/// parser still refuses the input with that error.
+/// the next frames are still read, whether the input is read whole or streamed, and whether it
+/// is the input's first pose or not (a streamed file whose first pose was refused had been
+/// refused whole; a simulated user); the whole-text parser still refuses the input with that
+/// error.
 #[test]
 fn a_pose_refused_for_its_layout_does_not_end_the_input() {
-    for frames in [4, 2000] {
-        let text = mmpose_frames(frames, 1);
+    for (frames, refused, at) in [
+        (4, (1, 1), 3),
+        (2000, (1, 1), 3),
+        (4, (0, 0), 0),
+        (2000, (0, 0), 0),
+    ] {
+        let text = mmpose_frames(frames, refused);
         assert_eq!(
             text.len() as u64 > STREAM_PEEK_BYTES,
             frames > 4,
@@ -289,10 +297,10 @@ fn a_pose_refused_for_its_layout_does_not_end_the_input() {
         .unwrap()
         .collect();
         assert_eq!(items.len(), 2 * frames, "{frames}");
-        let refused: Vec<usize> = (0..items.len()).filter(|&i| items[i].is_err()).collect();
-        assert_eq!(refused, [3], "{frames}");
+        let failed: Vec<usize> = (0..items.len()).filter(|&i| items[i].is_err()).collect();
+        assert_eq!(failed, [at], "{frames}");
         assert!(matches!(
-            items[3],
+            items[at],
             Err(KeypointError::LayoutMismatch { .. })
         ));
         let last = items.last().unwrap().as_ref().unwrap();

@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use camloc::keypoints::{
     ImageSize, Invisible, KeypointFormat, KeypointRecord, Layout, ReadOptions, WeakScores,
-    open_keypoints, read_folder, read_keypoints as read_file,
+    read_folder, read_keypoints as read_file,
 };
 use camloc::reconstruct::FrameRate;
 use camloc::{CamlocError, Landmark};
@@ -187,8 +187,8 @@ pub(crate) fn read_keypoints<'py>(
         )?;
     }
     if min_score == 0.0 {
-        let strong = py.detach(|| strong_records(&path, format, &options, recursive));
-        crate::warnings::warn_of_weak_scores(py, Some(WeakScores::compare(&records, &strong)))?;
+        let counts = py.detach(|| WeakScores::of_input(&path, format, &options, recursive));
+        crate::warnings::warn_of_weak_scores(py, counts)?;
     }
     // Every pose empty under a threshold: the threshold on another scale than the scores? (A
     // simulated user's min_score=30 for scores of 0-1 had given all-NaN points without a word.)
@@ -249,38 +249,4 @@ fn records_dict<'py>(
     )?;
     out.set("file_errors", PyList::new(py, file_errors)?)?;
     Ok(out.into_dict())
-}
-
-/// The first [`WeakScores::SAMPLE_POSES`] records of the file or folder at `path` read at
-/// [`WeakScores::THRESHOLD`] instead of `options.min_score`, for [`WeakScores::compare`]; they
-/// end at the first that cannot be read (a folder's files that cannot be read are left out,
-/// as `read_keypoints` leaves them out); none for a named pipe.
-fn strong_records(
-    path: &std::path::Path,
-    format: Option<KeypointFormat>,
-    options: &ReadOptions,
-    recursive: bool,
-) -> Vec<KeypointRecord> {
-    let strong = ReadOptions {
-        min_score: WeakScores::THRESHOLD,
-        ..*options
-    };
-    let take = WeakScores::SAMPLE_POSES;
-    // A named pipe is read once (by `read_keypoints`): not again.
-    if std::fs::metadata(path).is_ok_and(|m| m.is_file()) {
-        return open_keypoints(path, format, &strong)
-            .map(|stream| stream.take(take).map_while(Result::ok).collect())
-            .unwrap_or_default();
-    }
-    if !path.is_dir() {
-        return Vec::new();
-    }
-    let Ok(files) = read_folder(path, format, &strong, recursive) else {
-        return Vec::new();
-    };
-    files
-        .filter_map(|(_, read)| read.ok())
-        .flatten()
-        .take(take)
-        .collect()
 }

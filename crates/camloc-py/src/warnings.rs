@@ -47,8 +47,9 @@ pub(crate) fn warn_of_weak_scores(py: Python<'_>, counts: Option<WeakScores>) ->
             py,
             format!(
                 "{counts} (min_score=0, the default): a detector writes coordinates for joints \
-                 it cannot see; min_score={} treats them as missing and fills them in (with \
-                 sequence=True from the frames around a short gap)",
+                 it cannot see; try min_score={}, which fills them in instead (with \
+                 sequence=True from the frames around; a seated frame's hidden legs can come \
+                 out standing)",
                 WeakScores::THRESHOLD
             ),
         ),

@@ -36,11 +36,7 @@ pub struct Inputs {
 impl Inputs {
     /// Opens the input `args` name.
     pub fn open(args: &InputArgs) -> Result<Inputs, CliError> {
-        Inputs::open_with(args, args.options())
-    }
-
-    /// Opens the input `args` name, read with `options` instead of those `args` ask for.
-    pub fn open_with(args: &InputArgs, options: ReadOptions) -> Result<Inputs, CliError> {
+        let options = args.options();
         let mut inputs = Inputs {
             name: String::new(),
             kept: Vec::new().into_iter(),

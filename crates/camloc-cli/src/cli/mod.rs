@@ -303,7 +303,9 @@ pub struct InputArgs {
     /// A score of 0 is always missing. A finite number >= 0. For a detector's output try 0.3:
     /// its weak joints are often misplaced, and missing ones are filled in (with --sequence from
     /// the frames around a short gap); a simulated user's flickering COCO-17 detector came out
-    /// 6-13 mm closer (PA-MPJPE) with a third of the jitter at 0.3 than at 0. At 0, `localize`
+    /// 6-13 mm closer (PA-MPJPE) with a third of the jitter at 0.3 than at 0. Single frames of
+    /// seated people whose legs a desk hides came out worse (the legs filled in standing: 110
+    /// against 78 mm in another's office views; with --sequence 62 against 66). At 0, `localize`
     /// and `reconstruct` warn when 1% or more of the landmarks of a file's (or folder's) first
     /// 2,000 poses score below 0.3.
     #[arg(long, value_name = "S", default_value_t = 0.0, value_parser = parse_min_score,
