@@ -29,7 +29,8 @@ impl TopLevel for Frames {
 
     fn list<'de, A: SeqAccess<'de>>(self, mut seq: A, sink: &mut Sink) -> Result<(), A::Error> {
         let (file, options) = (sink.file, sink.options);
-        let size = image_size(sink)?;
+        // The image size is asked for at the first frame with landmarks: a malformed input's
+        // own error comes first.
         let Some(first) = seq.next_element::<Json>()? else {
             return Ok(());
         };
@@ -48,6 +49,7 @@ impl TopLevel for Frames {
                 }
                 found += 1;
             }
+            let size = image_size(sink)?;
             let record = frame(&landmarks, found, "", 0, size, file, options);
             return sink.send(record);
         }
@@ -56,11 +58,13 @@ impl TopLevel for Frames {
             if !matches!(value, Json::Null) {
                 let path = index_path("", i);
                 // (A wrapped frame without landmarks has nobody, as a null frame.)
-                if let Some(record) = frame_landmarks(&value, i, file, &path).transpose() {
-                    let record = record.and_then(|(list, at, n)| {
-                        frame(list, list.len(), &at, n, size, file, options)
-                    });
-                    sink.send(record)?;
+                match frame_landmarks(&value, i, file, &path) {
+                    Ok(Some((list, at, n))) => {
+                        let size = image_size(sink)?;
+                        sink.send(frame(list, list.len(), &at, n, size, file, options))?;
+                    }
+                    Ok(None) => {}
+                    Err(e) => sink.send(Err(e))?,
                 }
             }
             i += 1;
@@ -75,14 +79,14 @@ impl TopLevel for Frames {
     /// result): frame 0.
     fn object<'de, A: MapAccess<'de>>(self, map: A, sink: &mut Sink) -> Result<(), A::Error> {
         let (file, options) = (sink.file, sink.options);
-        let size = image_size(sink)?;
         let value = Json::deserialize(MapAccessDeserializer::new(map))?;
-        match frame_landmarks(&value, 0, file, "").transpose() {
-            Some(record) => sink
-                .send(record.and_then(|(list, at, n)| {
-                    frame(list, list.len(), &at, n, size, file, options)
-                })),
-            None => Ok(()),
+        match frame_landmarks(&value, 0, file, "") {
+            Ok(Some((list, at, n))) => {
+                let size = image_size(sink)?;
+                sink.send(frame(list, list.len(), &at, n, size, file, options))
+            }
+            Ok(None) => Ok(()),
+            Err(e) => sink.send(Err(e)),
         }
     }
 }

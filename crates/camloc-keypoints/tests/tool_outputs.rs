@@ -207,3 +207,31 @@ fn lsp_csv_from_spreadsheets_and_pandas() {
         "{e}"
     );
 }
+
+/// MediaPipe needs the image size, but a truncated or empty list is refused for what it is
+/// first (a hostile-input trial's `[[` had been asked for an image size): the size is asked
+/// for at the first frame with landmarks.
+#[test]
+fn mediapipe_asks_for_the_image_size_only_for_a_frame_with_landmarks() {
+    let none = ReadOptions::default();
+    let truncated = parse_keypoints("[[", "mp.json", None, &none).unwrap_err();
+    assert!(
+        !matches!(truncated, KeypointError::ImageSizeNeeded { .. }),
+        "{truncated}"
+    );
+    assert!(truncated.to_string().contains("EOF"), "{truncated}");
+    assert!(
+        parse_keypoints("[null, null]", "mp.json", None, &none)
+            .unwrap()
+            .is_empty()
+    );
+    let frame = format!("[null, {}]", mediapipe_frame(1.0));
+    let e = parse_keypoints(&frame, "mp.json", None, &none).unwrap_err();
+    assert!(matches!(e, KeypointError::ImageSizeNeeded { .. }), "{e}");
+    assert_eq!(
+        parse_keypoints(&frame, "mp.json", None, &with_size())
+            .unwrap()
+            .len(),
+        1
+    );
+}
