@@ -564,18 +564,7 @@ fn weakly_scored_joints_at_the_default_minimum_are_said() {
     assert_ne!(weak, strong);
     let weak = dir.file("weak.json", &weak);
     let strong = dir.file("strong.json", &strong);
-    let warning = |args: &[&str]| {
-        let out = camloc(args);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        String::from_utf8_lossy(&out.stderr)
-            .lines()
-            .find(|l| l.contains("score below 0.3"))
-            .map(str::to_owned)
-    };
+    let warning = |args: &[&str]| warning_line(args, "score below 0.3");
     // In a folder, a file that cannot be read (first, in natural order) is left out of the
     // count, not the end of it.
     let folder = dir.0.join("folder");

@@ -136,6 +136,7 @@ mod npy;
 mod openpose;
 mod peek;
 mod record;
+mod sample;
 mod stream;
 mod torso;
 mod weak;
@@ -174,6 +175,7 @@ pub use npy::{NPY_MAX_HEADER_BYTES, NpyPose, NpyPoseWriter, NpyPoses, read_npy_p
 pub use openpose::{OPENPOSE_FRAME_MAX_BYTES, frame_index};
 pub use peek::STREAM_PEEK_BYTES;
 pub use record::KeypointRecord;
+pub use sample::{SAMPLE_MAX_BYTES, sample_records};
 pub use torso::derive_torso;
 pub use weak::WeakScores;
 

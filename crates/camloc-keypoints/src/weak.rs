@@ -8,7 +8,7 @@ use std::path::Path;
 
 use camloc_skeleton::{Landmark, PartialPose2};
 
-use crate::{KeypointFormat, KeypointRecord, ReadOptions, keypoint_files, open_path};
+use crate::{KeypointFormat, KeypointRecord, ReadOptions, sample_records};
 
 /// The landmarks of some poses that are present when read at a minimum score of 0 and missing at
 /// [`WeakScores::THRESHOLD`]: the joints a detector scored weakly (often misplaced, or guessed
@@ -37,15 +37,10 @@ impl WeakScores {
     /// (about 30,000 landmarks: the share is known to a fraction of a percent).
     pub const SAMPLE_POSES: usize = 2_000;
 
-    /// The bytes of each text file [`WeakScores::of_input`] reads at most, each time (a large
-    /// file with few poses, or much else before them, is not read whole twice more).
-    pub const SAMPLE_BYTES: u64 = 64 << 20;
-
     /// Reads the first [`WeakScores::SAMPLE_POSES`] poses of the file or folder at `path`
-    /// (`format`, `options` and `recursive` as its reader takes them; at most
-    /// [`WeakScores::SAMPLE_BYTES`] of each text file) at a minimum score of 0 and again at
-    /// [`WeakScores::THRESHOLD`], and [compares](WeakScores::compare) them: poses and files
-    /// that cannot be read are left out. `None` unless `path` is a regular file or a folder
+    /// ([`sample_records`], with `format`, `options` and `recursive` as its reader takes them)
+    /// at a minimum score of 0 and again at [`WeakScores::THRESHOLD`], and
+    /// [compares](WeakScores::compare) them. `None` unless `path` is a regular file or a folder
     /// (standard input or a named pipe cannot be read again).
     pub fn of_input(
         path: &Path,
@@ -53,32 +48,16 @@ impl WeakScores {
         options: &ReadOptions,
         recursive: bool,
     ) -> Option<WeakScores> {
-        let meta = std::fs::metadata(path).ok()?;
-        let files = if meta.is_file() {
-            vec![path.to_owned()]
-        } else if meta.is_dir() {
-            keypoint_files(path, recursive).ok()?
-        } else {
-            return None;
-        };
-        let sample = |min_score: f64| -> Vec<KeypointRecord> {
+        let sample = |min_score: f64| {
             let options = ReadOptions {
                 min_score,
-                max_bytes: options.max_bytes.min(WeakScores::SAMPLE_BYTES),
                 ..*options
             };
-            files
-                .iter()
-                .filter(|f| std::fs::metadata(f).is_ok_and(|m| m.is_file()))
-                .filter_map(|f| open_path(f, format, &options, false).ok())
-                .flatten()
-                .filter_map(Result::ok)
-                .take(WeakScores::SAMPLE_POSES)
-                .collect()
+            sample_records(path, format, &options, recursive, WeakScores::SAMPLE_POSES)
         };
         Some(WeakScores::compare(
-            &sample(0.0),
-            &sample(WeakScores::THRESHOLD),
+            &sample(0.0)?,
+            &sample(WeakScores::THRESHOLD)?,
         ))
     }
 

@@ -50,6 +50,7 @@ mod follow_report;
 mod fps_range;
 mod height_shares;
 mod identity;
+mod image_size_check;
 mod lean;
 mod lifter;
 mod localizer;
@@ -107,6 +108,9 @@ pub use height_shares::{
 pub use identity::{
     IDENTITY_JUMP_TORSOS, IDENTITY_SIZE_RATIO, LeftOut, OUTLIER_END_GAP_FRAMES, OUTLIER_RUN_FRAMES,
     PERSON_STEP_TORSOS, TorsoAnchor, identity_jumps, left_out_of_sequence, outlier_frames,
+};
+pub use image_size_check::{
+    IMAGE_SIZE_CHECK_MIN_POSES, IMAGE_SIZE_CHECK_POSES, IMAGE_SIZE_SWAP_RATIO, ImageSizeCheck,
 };
 pub use often_filled::{OFTEN_FILLED_SHARE, OftenFilled, often_filled};
 pub use reconstruction::{

@@ -18,6 +18,7 @@ mod convert;
 mod evaluate;
 mod export;
 mod heights;
+mod image_size_check;
 mod input;
 mod localize;
 mod localize_json;

@@ -15,6 +15,7 @@ use clap::builder::{PossibleValue, TypedValueParser};
 use super::camera::IntrinsicsArgs;
 use super::export::{self, Kept};
 use super::heights;
+use super::image_size_check;
 use super::input::Inputs;
 use super::output::NpyStage;
 use super::reconstruct_output::{PoseMeta, pose_output, pose_svg};
@@ -374,6 +375,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         args.progress.quiet,
     )?;
     let reconstructor = reconstructor(args, localizer)?;
+    image_size_check::warn_of_swapped_image_size(&args.input, &reconstructor);
     // The page shows the cameras' probabilities: the reconstructor's localizer.
     let page_localizer = args.html.as_ref().and(reconstructor.localizer());
     let format = args.format.format();

@@ -164,3 +164,12 @@ pub fn npy_head(header: &str) -> Vec<u8> {
     bytes.extend_from_slice(header.as_bytes());
     bytes
 }
+
+/// Runs camloc with `args`, which must succeed, and returns the first line of its standard
+/// error that contains `text` (a warning), if any.
+pub fn warning_line(args: &[&str], text: &str) -> Option<String> {
+    let out = camloc(args);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    stderr.lines().find(|l| l.contains(text)).map(str::to_owned)
+}

@@ -1,0 +1,93 @@
+//! An image size given the wrong way round ([`ImageSizeCheck`]): coordinates normalised by the
+//! image's sides (MediaPipe, YOLO) scaled by a portrait video's size given as landscape come
+//! out stretched across, and every pose is solved as a strange body without a word (a
+//! simulated user's phone video: PA-MPJPE 25 -> 173 mm).
+
+use camloc_keypoints::ImageSize;
+use camloc_skeleton::PartialPose2;
+
+use crate::PoseReconstructor;
+use crate::spread::centroid_and_spread;
+
+/// Poses of an input that [`ImageSizeCheck::measure`] solves (twice each).
+pub const IMAGE_SIZE_CHECK_POSES: usize = 60;
+
+/// Fewest poses solved both ways for [`ImageSizeCheck::measure`] to tell.
+pub const IMAGE_SIZE_CHECK_MIN_POSES: usize = 10;
+
+/// [`ImageSizeCheck::swapped_fits_better`] when the other order's median relative
+/// reprojection error is below this share of the given order's. A simulated user's phone
+/// videos (CMU walks as MediaPipe and YOLO files, 3 px of noise, `hybrid`; and another's
+/// landscape walk): a portrait video given as landscape (stretched across) 0.32-0.35, a
+/// landscape one given as portrait (squeezed: it looks like side views) 0.56-0.72, caught in
+/// 2 of 8; given the right way, the other order 1.38-3.3 times worse.
+pub const IMAGE_SIZE_SWAP_RATIO: f64 = 0.6;
+
+/// How well the first poses of an input fit a body (the median over the poses of the
+/// reconstruction's reprojection error over the 2D pose's spread) with the image size as
+/// given and with its sides swapped.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ImageSizeCheck {
+    /// Poses solved both ways.
+    pub poses: usize,
+    /// Median relative reprojection error with the size as given.
+    pub given: f64,
+    /// Median relative reprojection error with width and height swapped.
+    pub swapped: f64,
+}
+
+impl ImageSizeCheck {
+    /// Solves the first [`IMAGE_SIZE_CHECK_POSES`] of `normalised` (poses in coordinates
+    /// divided by the image's width and height) scaled by `size` and by `size` swapped with
+    /// `reconstructor`, and compares the fits. `None` for a square size, or when fewer than
+    /// [`IMAGE_SIZE_CHECK_MIN_POSES`] poses could be solved both ways.
+    pub fn measure(
+        reconstructor: &PoseReconstructor,
+        normalised: &[PartialPose2],
+        size: ImageSize,
+    ) -> Option<ImageSizeCheck> {
+        let (w, h) = (size.width, size.height);
+        if !(w.is_finite() && h.is_finite()) || w == h {
+            return None;
+        }
+        let fit = |pose: &PartialPose2, sx: f64, sy: f64| -> Option<f64> {
+            let mut scaled = *pose;
+            for p in scaled.points.iter_mut().flatten() {
+                *p = [p[0] * sx, p[1] * sy];
+            }
+            let points: Vec<[f64; 2]> = scaled.points.iter().flatten().copied().collect();
+            let (_, spread) = centroid_and_spread(&points)?;
+            let error = reconstructor
+                .reconstruct(&scaled)
+                .ok()?
+                .reconstruction
+                .projection_error;
+            (error.is_finite()).then_some(error / spread)
+        };
+        let (mut given, mut swapped): (Vec<f64>, Vec<f64>) = normalised
+            .iter()
+            .take(IMAGE_SIZE_CHECK_POSES)
+            .filter_map(|pose| Some((fit(pose, w, h)?, fit(pose, h, w)?)))
+            .unzip();
+        if given.len() < IMAGE_SIZE_CHECK_MIN_POSES {
+            return None;
+        }
+        Some(ImageSizeCheck {
+            poses: given.len(),
+            given: median(&mut given),
+            swapped: median(&mut swapped),
+        })
+    }
+
+    /// Whether the poses fit a body clearly better with width and height swapped
+    /// ([`IMAGE_SIZE_SWAP_RATIO`]).
+    pub fn swapped_fits_better(&self) -> bool {
+        self.swapped < IMAGE_SIZE_SWAP_RATIO * self.given
+    }
+}
+
+/// The median of `values` (not empty), reordering them.
+fn median(values: &mut [f64]) -> f64 {
+    values.sort_by(f64::total_cmp);
+    values[values.len() / 2]
+}
