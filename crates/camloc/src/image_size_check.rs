@@ -20,7 +20,7 @@ pub const IMAGE_SIZE_CHECK_MIN_POSES: usize = 10;
 /// videos (CMU walks as MediaPipe and YOLO files, 3 px of noise, `hybrid`; and another's
 /// landscape walk): a portrait video given as landscape (stretched across) 0.32-0.35, a
 /// landscape one given as portrait (squeezed: it looks like side views) 0.56-0.72, caught in
-/// 2 of 8; given the right way, the other order 1.38-3.3 times worse.
+/// 2 of 8; given the right way, the other order 1.38-3.1 times worse.
 pub const IMAGE_SIZE_SWAP_RATIO: f64 = 0.6;
 
 /// How well the first poses of an input fit a body (the median over the poses of the
