@@ -7,7 +7,7 @@ use camloc::keypoints::{
     read_folder, read_keypoints as read_file,
 };
 use camloc::reconstruct::FrameRate;
-use camloc::{CamlocError, Landmark};
+use camloc::{CamlocError, ImageSizeCheck, Landmark};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
@@ -189,6 +189,12 @@ pub(crate) fn read_keypoints<'py>(
     if min_score == 0.0 {
         let counts = py.detach(|| WeakScores::of_input(&path, format, &options, recursive));
         crate::warnings::warn_of_weak_scores(py, counts)?;
+    }
+    if options.image_size.is_some() {
+        let reconstructor = crate::reconstruct::default_reconstructor()?;
+        let check = py
+            .detach(|| ImageSizeCheck::of_input(&path, format, &options, recursive, reconstructor));
+        crate::warnings::warn_of_swapped_image_size(py, check)?;
     }
     // Every pose empty under a threshold: the threshold on another scale than the scores? (A
     // simulated user's min_score=30 for scores of 0-1 had given all-NaN points without a word.)

@@ -34,7 +34,7 @@ const INTERRUPT_POSES: usize = 1024;
 const SEQUENCE_MAX_ROWS: usize = 200_000;
 
 /// The reconstructor of the defaults (`PoseReconstructor::default_reconstructor`), made once.
-fn default_reconstructor() -> PyResult<&'static PoseReconstructor> {
+pub(crate) fn default_reconstructor() -> PyResult<&'static PoseReconstructor> {
     static DEFAULT: OnceLock<Result<PoseReconstructor, String>> = OnceLock::new();
     DEFAULT
         .get_or_init(|| PoseReconstructor::default_reconstructor().map_err(|e| e.to_string()))

@@ -3,6 +3,7 @@
 //! standard error: points with v up, a rolled camera or joints at the image origin, rows of a
 //! sequence that jump between people, and a call whose every pose failed.
 
+use camloc::ImageSizeCheck;
 use camloc::keypoints::WeakScores;
 use camloc::reconstruct::{FrameRate, Intrinsics};
 use camloc::{
@@ -51,6 +52,24 @@ pub(crate) fn warn_of_weak_scores(py: Python<'_>, counts: Option<WeakScores>) ->
                  sequence=True from the frames around; a seated frame's hidden legs can come \
                  out standing)",
                 WeakScores::THRESHOLD
+            ),
+        ),
+        _ => Ok(()),
+    }
+}
+
+/// Warns (`UserWarning`) when `check` (the first poses of a `read_keypoints` of coordinates
+/// normalised by the image's sides) fits a body clearly better with the image size swapped
+/// ([`ImageSizeCheck::swapped_fits_better`]), as `camloc reconstruct` warns.
+pub(crate) fn warn_of_swapped_image_size(
+    py: Python<'_>,
+    check: Option<ImageSizeCheck>,
+) -> PyResult<()> {
+    match check {
+        Some(check) if check.swapped_fits_better() => warn(
+            py,
+            format!(
+                "{check}: image_size is (width, height); a portrait phone video is (1080, 1920)"
             ),
         ),
         _ => Ok(()),

@@ -7,6 +7,7 @@ The command-line comparisons run the `camloc` binary of the `cli` fixture (conft
 
 import json
 import threading
+import warnings
 
 import numpy as np
 import pytest
@@ -643,3 +644,33 @@ def test_a_landmark_far_off_is_missing_as_the_command_line_says(cli, tmp_path):
     code, _ = cli("localize", "--input", path, "-q", "--npz", tmp_path / "far.npz")
     assert code == 0
     np.testing.assert_array_equal(np.load(tmp_path / "far.npz")["missing"], got["missing"])
+
+
+def test_an_image_size_the_wrong_way_round_is_warned_of(tmp_path):
+    # The example poses, 5 times each a little apart, upright in a portrait 1080 x 1920 video,
+    # as YOLO-pose files (COCO-17, normalised; the face points at the head).
+    names = camloc.LANDMARKS
+    coco17 = ["head"] * 5 + [
+        f"{side}_{joint}"
+        for joint in ["shoulder", "elbow", "wrist", "hip", "knee", "ankle"]
+        for side in ["left", "right"]
+    ]
+    points = example_points()
+    for frame in range(15):
+        pose = points[frame % 3]
+        values = []
+        for name in coco17:
+            u, v = pose[names.index(name)]
+            if np.isnan(u):
+                values += [0.0, 0.0, 0.0]
+            else:
+                x, y = 3 * (u - 320) + 540 + 4 * (frame // 3), 3 * (v - 270) + 960
+                values += [x / 1080, y / 1920, 0.9]
+        line = "0 0.5 0.5 0.4 0.6 " + " ".join(f"{v:.6f}" for v in values)
+        (tmp_path / f"clip_{frame + 1}.txt").write_text(line + "\n")
+    with pytest.warns(camloc.CamlocWarning, match=r"much better with the image 1080x1920 than 1920x1080"):
+        camloc.read_keypoints(tmp_path, image_size=(1920, 1080))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        read = camloc.read_keypoints(tmp_path, image_size=(1080, 1920))
+    assert read["points"].shape == (15, 15, 2)

@@ -3,7 +3,9 @@
 //! out stretched across, and every pose is solved as a strange body without a word (a
 //! simulated user's phone video: PA-MPJPE 25 -> 173 mm).
 
-use camloc_keypoints::ImageSize;
+use std::path::Path;
+
+use camloc_keypoints::{ImageSize, KeypointFormat, ReadOptions, sample_records};
 use camloc_skeleton::PartialPose2;
 
 use crate::PoseReconstructor;
@@ -28,6 +30,8 @@ pub const IMAGE_SIZE_SWAP_RATIO: f64 = 0.6;
 /// given and with its sides swapped.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ImageSizeCheck {
+    /// The image size as given (pixels).
+    pub size: ImageSize,
     /// Poses solved both ways.
     pub poses: usize,
     /// Median relative reprojection error with the size as given.
@@ -73,10 +77,50 @@ impl ImageSizeCheck {
             return None;
         }
         Some(ImageSizeCheck {
+            size,
             poses: given.len(),
             given: median(&mut given),
             swapped: median(&mut swapped),
         })
+    }
+
+    /// [`ImageSizeCheck::measure`] of the first [`IMAGE_SIZE_CHECK_POSES`] poses of the file
+    /// or folder at `path` (read with `format`, `options` and `recursive`, as
+    /// [`sample_records`] reads them) at the image size `options` gives. `None` without an image
+    /// size, for standard input or a named pipe (not read again), and for inputs whose
+    /// coordinates the size does not scale (pixels: the poses read at a size of 1 x 1 are the
+    /// same).
+    pub fn of_input(
+        path: &Path,
+        format: Option<KeypointFormat>,
+        options: &ReadOptions,
+        recursive: bool,
+        reconstructor: &PoseReconstructor,
+    ) -> Option<ImageSizeCheck> {
+        let size = options.image_size?;
+        let unit = ReadOptions {
+            image_size: Some(ImageSize {
+                width: 1.0,
+                height: 1.0,
+            }),
+            ..*options
+        };
+        let sample = |options: &ReadOptions| {
+            sample_records(path, format, options, recursive, IMAGE_SIZE_CHECK_POSES)
+        };
+        let (normalised, given) = (sample(&unit)?, sample(options)?);
+        let scaled = normalised.iter().zip(&given).any(|(a, b)| {
+            a.pose
+                .points
+                .iter()
+                .zip(&b.pose.points)
+                .any(|(p, q)| matches!((p, q), (Some(p), Some(q)) if p != q))
+        });
+        if !scaled {
+            return None;
+        }
+        let poses: Vec<PartialPose2> = normalised.iter().map(|r| r.pose).collect();
+        ImageSizeCheck::measure(reconstructor, &poses, size)
     }
 
     /// Whether the poses fit a body clearly better with width and height swapped
@@ -90,4 +134,18 @@ impl ImageSizeCheck {
 fn median(values: &mut [f64]) -> f64 {
     values.sort_by(f64::total_cmp);
     values[values.len() / 2]
+}
+
+/// What was measured, for a warning: `the first 60 poses fit a body much better with the image
+/// 1080x1920 than 1920x1080 (median reprojection error 0.048 against 0.147 of a pose's size)`.
+impl std::fmt::Display for ImageSizeCheck {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let (w, h) = (self.size.width, self.size.height);
+        write!(
+            f,
+            "the first {} poses fit a body much better with the image {h}x{w} than {w}x{h} \
+             (median reprojection error {:.3} against {:.3} of a pose's size)",
+            self.poses, self.swapped, self.given
+        )
+    }
 }

@@ -18,6 +18,7 @@ use crate::svg;
 use super::camera::IntrinsicsArgs;
 use super::export;
 use super::heights;
+use super::image_size_check;
 use super::localize_json::LocalizationJson;
 use super::localize_npz::LocalizationArrays;
 use super::sequence;
@@ -141,6 +142,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         );
     }
     weak_scores::warn_of_weak_scores(&args.input);
+    image_size_check::warn_of_swapped_image_size(&args.input, None);
     let (localizer, inputs, estimate) = heights::load_for_input(
         args.model.as_deref(),
         &args.height,

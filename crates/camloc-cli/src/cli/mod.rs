@@ -315,6 +315,9 @@ pub struct InputArgs {
     /// Image size in pixels that normalised coordinates are scaled by (MediaPipe, YOLO), e.g.
     /// 1920,1080 (or 1920x1080).
     ///
+    /// Width first: a portrait phone video is 1080,1920 (`localize` and `reconstruct` warn when
+    /// a file's first 60 poses fit a body clearly better the other way round).
+    ///
     /// In `localize` and `reconstruct`, `--focal-px` also takes its centre as the principal point.
     #[arg(long, value_name = "W,H", value_parser = |s: &str| s.parse::<ImageSize>(),
           allow_hyphen_values = true)]
