@@ -191,8 +191,9 @@ class Localizer:
         placeholder for a joint it did not find: give scores or NaN); another when every pose
         of the call failed, with the first error other than "nothing detected", or, when no
         pose has a landmark, asking whether ``min_score`` is on the scale of the scores;
-        another, at the default ``min_score`` of 0, when 1% or more of the landmarks of the
-        first 2,000 poses score below 0.3 (used as detected; docs/keypoints.md).
+        another, at the default ``min_score`` of 0 with scores, when 1% or more of the
+        landmarks of the first 2,000 poses score below 0.3 (used as detected;
+        docs/keypoints.md).
         No poses ((0, J, 2) points) give empty arrays and no warning, where ``camloc
         localize`` refuses an input without poses (exit 1).
 

@@ -29,8 +29,8 @@ impl TopLevel for Frames {
 
     fn list<'de, A: SeqAccess<'de>>(self, mut seq: A, sink: &mut Sink) -> Result<(), A::Error> {
         let (file, options) = (sink.file, sink.options);
-        // The image size is asked for at the first frame with landmarks: a malformed input's
-        // own error comes first.
+        // The image size is asked for at the first frame holding a list of landmarks (its
+        // length is checked after): a truncated or empty input's own error comes first.
         let Some(first) = seq.next_element::<Json>()? else {
             return Ok(());
         };

@@ -60,7 +60,8 @@ pub(crate) fn warn_of_weak_scores(py: Python<'_>, counts: Option<WeakScores>) ->
 
 /// Warns (`UserWarning`) when `check` (the first poses of a `read_keypoints` of coordinates
 /// normalised by the image's sides) fits a body clearly better with the image size swapped
-/// ([`ImageSizeCheck::swapped_fits_better`]), as `camloc reconstruct` warns.
+/// ([`ImageSizeCheck::swapped_fits_better`]), as `camloc localize` and `camloc reconstruct`
+/// warn.
 pub(crate) fn warn_of_swapped_image_size(
     py: Python<'_>,
     check: Option<ImageSizeCheck>,

@@ -82,7 +82,8 @@ pub struct Args {
     /// page holds every pose (about 2.5 KB each; at most 100,000 poses: split larger inputs).
     #[arg(long, value_name = "OUT")]
     pub html: Option<PathBuf>,
-    /// Frames per second of the input video (with --sequence or --html) [default: 30].
+    /// Frames per second of the input video (only with --sequence or --html: a usage error
+    /// without) [default: 30].
     ///
     /// With --sequence the time scale of the smoothing over frames (7 frames at 30 frames a second,
     /// as long in time at faster rates up to 1,000: give the video's rate), and the page's play

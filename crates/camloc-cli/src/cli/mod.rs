@@ -308,7 +308,7 @@ pub struct InputArgs {
     /// seated people whose legs a desk hides came out worse (the legs filled in standing: 110
     /// against 78 mm in another's office views; with --sequence 62 against 66). At 0, `localize`
     /// and `reconstruct` warn when 1% or more of the landmarks of a file's (or folder's) first
-    /// 2,000 poses score below 0.3.
+    /// 2,000 poses score below 0.3 (not for standard input).
     #[arg(long, value_name = "S", default_value_t = 0.0, value_parser = parse_min_score,
           allow_hyphen_values = true)]
     pub min_score: f64,
@@ -316,7 +316,8 @@ pub struct InputArgs {
     /// 1920,1080 (or 1920x1080).
     ///
     /// Width first: a portrait phone video is 1080,1920 (`localize` and `reconstruct` warn when
-    /// a file's first 60 poses fit a body clearly better the other way round).
+    /// a file's or folder's first 60 poses, 10 or more solved, fit a body clearly better the
+    /// other way round; not for standard input).
     ///
     /// In `localize` and `reconstruct`, `--focal-px` also takes its centre as the principal point.
     #[arg(long, value_name = "W,H", value_parser = |s: &str| s.parse::<ImageSize>(),

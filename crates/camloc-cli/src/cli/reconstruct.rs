@@ -196,7 +196,8 @@ pub struct Args {
     /// KB each; at most 100,000 poses: split larger inputs).
     #[arg(long, value_name = "OUT")]
     pub html: Option<PathBuf>,
-    /// Frames per second of the input video (with --sequence, --bvh or --html) [default: 30].
+    /// Frames per second of the input video (only with --sequence, --bvh or --html: a usage error
+    /// without) [default: 30].
     ///
     /// With --sequence the time scale of the smoothing over frames (its windows are 1/30 s and
     /// longer, as long in time at rates up to 1,000: give the video's rate), the BVH frame time
