@@ -48,17 +48,32 @@ impl WeakScores {
         options: &ReadOptions,
         recursive: bool,
     ) -> Option<WeakScores> {
-        let sample = |min_score: f64| {
-            let options = ReadOptions {
-                min_score,
-                ..*options
-            };
-            sample_records(path, format, &options, recursive, WeakScores::SAMPLE_POSES)
+        let all = ReadOptions {
+            min_score: 0.0,
+            ..*options
         };
-        Some(WeakScores::compare(
-            &sample(0.0)?,
-            &sample(WeakScores::THRESHOLD)?,
-        ))
+        let read = sample_records(path, format, &all, recursive, WeakScores::SAMPLE_POSES)?;
+        WeakScores::against(&read, path, format, options, recursive)
+    }
+
+    /// [Compares](WeakScores::compare) `read`, the poses of the file or folder at `path` read
+    /// already at a minimum score of 0, with its first [`WeakScores::SAMPLE_POSES`] poses read
+    /// again at [`WeakScores::THRESHOLD`] ([`sample_records`], with `format`, `options` and
+    /// `recursive` as its reader takes them). `None` unless `path` is a regular file or a
+    /// folder.
+    pub fn against(
+        read: &[KeypointRecord],
+        path: &Path,
+        format: Option<KeypointFormat>,
+        options: &ReadOptions,
+        recursive: bool,
+    ) -> Option<WeakScores> {
+        let strong = ReadOptions {
+            min_score: WeakScores::THRESHOLD,
+            ..*options
+        };
+        let strong = sample_records(path, format, &strong, recursive, WeakScores::SAMPLE_POSES)?;
+        Some(WeakScores::compare(read, &strong))
     }
 
     /// Compares the same poses read at a minimum score of 0 (`all`) and at

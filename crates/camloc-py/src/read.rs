@@ -187,14 +187,20 @@ pub(crate) fn read_keypoints<'py>(
         )?;
     }
     if min_score == 0.0 {
-        let counts = py.detach(|| WeakScores::of_input(&path, format, &options, recursive));
+        // The poses read already are those at 0: only the reading at the threshold is new.
+        let counts =
+            py.detach(|| WeakScores::against(&records, &path, format, &options, recursive));
         crate::warnings::warn_of_weak_scores(py, counts)?;
     }
-    if options.image_size.is_some() {
-        let reconstructor = crate::reconstruct::default_reconstructor()?;
-        let check = py
-            .detach(|| ImageSizeCheck::of_input(&path, format, &options, recursive, reconstructor));
-        crate::warnings::warn_of_swapped_image_size(py, check)?;
+    if let Some(size) = options.image_size {
+        let poses =
+            py.detach(|| ImageSizeCheck::normalised_poses(&path, format, &options, recursive));
+        // The embedded models are loaded only for an input the size scales.
+        if let Some(poses) = poses {
+            let reconstructor = crate::reconstruct::default_reconstructor()?;
+            let check = py.detach(|| ImageSizeCheck::measure(reconstructor, &poses, size));
+            crate::warnings::warn_of_swapped_image_size(py, check)?;
+        }
     }
     // Every pose empty under a threshold: the threshold on another scale than the scores? (A
     // simulated user's min_score=30 for scores of 0-1 had given all-NaN points without a word.)

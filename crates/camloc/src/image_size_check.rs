@@ -84,20 +84,19 @@ impl ImageSizeCheck {
         })
     }
 
-    /// [`ImageSizeCheck::measure`] of the first [`IMAGE_SIZE_CHECK_POSES`] poses of the file
-    /// or folder at `path` (read with `format`, `options` and `recursive`, as
-    /// [`sample_records`] reads them) at the image size `options` gives. `None` without an image
-    /// size, for standard input or a named pipe (not read again), and for inputs whose
-    /// coordinates the size does not scale (pixels: the poses read at a size of 1 x 1 are the
-    /// same).
-    pub fn of_input(
+    /// The first [`IMAGE_SIZE_CHECK_POSES`] poses of the file or folder at `path` (read with
+    /// `format`, `options` and `recursive`, as [`sample_records`] reads them) in coordinates
+    /// divided by the image's sides, for [`ImageSizeCheck::measure`] at the size `options`
+    /// gives. `None` without an image size, for standard input or a named pipe (not read
+    /// again), and for inputs whose coordinates the size does not scale (pixels: the poses read
+    /// at a size of 1 x 1 are the same).
+    pub fn normalised_poses(
         path: &Path,
         format: Option<KeypointFormat>,
         options: &ReadOptions,
         recursive: bool,
-        reconstructor: &PoseReconstructor,
-    ) -> Option<ImageSizeCheck> {
-        let size = options.image_size?;
+    ) -> Option<Vec<PartialPose2>> {
+        options.image_size?;
         let unit = ReadOptions {
             image_size: Some(ImageSize {
                 width: 1.0,
@@ -116,11 +115,7 @@ impl ImageSizeCheck {
                 .zip(&b.pose.points)
                 .any(|(p, q)| matches!((p, q), (Some(p), Some(q)) if p != q))
         });
-        if !scaled {
-            return None;
-        }
-        let poses: Vec<PartialPose2> = normalised.iter().map(|r| r.pose).collect();
-        ImageSizeCheck::measure(reconstructor, &poses, size)
+        scaled.then(|| normalised.iter().map(|r| r.pose).collect())
     }
 
     /// Whether the poses fit a body clearly better with width and height swapped

@@ -14,27 +14,25 @@ use super::InputArgs;
 /// `--image-size`) fit a body clearly better with the image's width and height swapped, as
 /// `reconstructor` (by default the embedded models' `hybrid`) solves them.
 pub fn warn_of_swapped_image_size(input: &InputArgs, reconstructor: Option<&PoseReconstructor>) {
-    if input.image_size.is_none() || input.path() == Path::new("-") {
+    let Some(size) = input.image_size.filter(|_| input.path() != Path::new("-")) else {
         return;
-    }
-    let default;
-    let reconstructor = match reconstructor {
-        Some(given) => given,
-        None => match PoseReconstructor::default_reconstructor() {
-            Ok(made) => {
-                default = made;
-                &default
-            }
-            Err(_) => return,
-        },
     };
-    let check = ImageSizeCheck::of_input(
+    let poses = ImageSizeCheck::normalised_poses(
         input.path(),
         input.format,
         &input.options(),
         input.recursive,
-        reconstructor,
     );
+    // The embedded models are loaded only for an input the size scales.
+    let Some(poses) = poses else {
+        return;
+    };
+    let check = match reconstructor {
+        Some(given) => ImageSizeCheck::measure(given, &poses, size),
+        None => PoseReconstructor::default_reconstructor()
+            .ok()
+            .and_then(|made| ImageSizeCheck::measure(&made, &poses, size)),
+    };
     if let Some(check) = check.filter(ImageSizeCheck::swapped_fits_better) {
         stderr_line!(
             "camloc: warning: {check}: --image-size is width first (a portrait phone video is \
