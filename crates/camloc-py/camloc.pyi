@@ -67,8 +67,10 @@ class Localizer:
         camera_height: what is known of the camera's height, a prior over the cameras that
         reweighs the model's probabilities (docs/conventions.md section 5):
         ``"from-input"`` (each ``localize`` call first estimates from its first 20,000 poses
-        how their cameras divide among the three heights, then localizes every pose under
-        those shares: a pose's answer depends on the other poses of the call, as with
+        how their cameras divide among the three heights and the mean elevation of its middle
+        cameras, then localizes every pose under those shares, each middle-ring viewpoint
+        moved toward that elevation (give one camera's poses per call): a pose's answer
+        depends on the other poses of the call, as with
         ``camloc localize``; the estimate starts from 5 views of a camera at eye level and
         a video's frames count little each, so a few photos or a short clip are read about as
         ``"eye-level"`` reads them: give ``"any"`` for single photos from well above or below;
@@ -110,6 +112,7 @@ class Localizer:
         fps: float = 30.0,
         frames: Optional[npt.ArrayLike] = None,
         camera_height_shares: Optional[npt.ArrayLike] = None,
+        camera_height_elevations_deg: Optional[npt.ArrayLike] = None,
     ) -> Dict[str, Any]:
         """Localizes the camera of every pose.
 
@@ -182,6 +185,9 @@ class Localizer:
           ``camera_height_shares``), as ``camloc localize --sequence`` estimates them once
           for the whole file (estimated from one person's rows, a simulated user's four
           walkers under a ceiling camera were 85.2% right against the command line's 99.1%).
+        camera_height_elevations_deg: with ``camera_height_shares``, the mean elevation of
+          the cameras of each height (three numbers, degrees above the pelvis, NaN for none),
+          as that call's ``camera_height_elevations_deg`` gives them (a ``ValueError`` alone).
         A ``UserWarning`` says when most of the (first 20,000) poses have the head below both
         ankles, the body within about 60 degrees of upside down: points with v up (``camloc
         localize`` warns alike); another when their torsos lean alike by 20 degrees or more and
@@ -219,6 +225,12 @@ class Localizer:
             (the prior every pose was localized under, as ``camloc localize --npz`` writes
             it); NaN when no estimate was used (no pose with a torso, ``"any"``,
             ``"eye-level"``);
+          camera_height_elevations_deg (3,) float64: with ``camera_height="from-input"``,
+            the mean elevation above the pelvis (degrees) of the call's cameras of each
+            height (lower, middle, upper), as the direction heads read its poses with their
+            pull toward the training's elevations undone: each ``elevation_deg`` is moved
+            to lean toward it instead (docs/conventions.md section 5); NaN for a height no
+            pose was put at, and when no estimate was used;
           camera_height_views float: the number of independent views the estimate counted
             its poses as worth (a video's frames little each, unrelated photos one each; the
             estimate starts from 5 views of a camera at eye level), as ``camloc localize``
@@ -258,6 +270,7 @@ def reconstruct(
     frames: Optional[npt.ArrayLike] = None,
     sequence_max_rows: int = 200_000,
     camera_height_shares: Optional[npt.ArrayLike] = None,
+    camera_height_elevations_deg: Optional[npt.ArrayLike] = None,
 ) -> Dict[str, Any]:
     """Reconstructs the 3D pose of every pose by projected matching pursuit on camloc's pose
     basis (principal components and cluster centres), then rebuilds each pose with the
@@ -376,6 +389,7 @@ def reconstruct(
       shares of a call on all of them, as ``camloc reconstruct --sequence`` estimates them
       once for the whole file; a ``ValueError`` with a ``camera_height`` other than
       ``"from-input"``); with ``camera="opt"`` nothing is localized.
+    camera_height_elevations_deg: with ``camera_height_shares``, as ``Localizer.localize``'s.
 
     Returns a dict:
       points3d (N, 15, 3) float64: the 3D landmarks in metres (the given bone lengths, else
@@ -435,8 +449,8 @@ def reconstruct(
         of NaN, or the rows' ``frames``, so that time passes there (the frames on each side of
         3 or more frames in a row that fail are solved as runs of their own, with the person's
         one set of bone lengths);
-      camera_height_shares (3,), camera_height_views: as ``Localizer.localize`` returns
-        them (NaN for ``opt``, which localizes no complete pose);
+      camera_height_shares (3,), camera_height_elevations_deg (3,), camera_height_views: as
+        ``Localizer.localize`` returns them (NaN for ``opt``, which localizes no complete pose);
       camera: the mode used;
       fps: the frames a second the call took (its ``fps``), to give ``to_bvh``, whose own
         default is 30: the animation of a 120 fps video written without it plays 4 times

@@ -16,6 +16,7 @@ mod compare_sklearn;
 mod filled_torso;
 mod gen_dataset;
 mod generalise;
+mod height_inputs;
 mod lsp_photos;
 mod mocap_data;
 mod postures;

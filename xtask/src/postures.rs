@@ -5,7 +5,8 @@
 //! * the posture clips (sit, squat, kneel, crawl) left out by subject, in folds;
 //! * the posture clips when no posture clip is trained on at all (leave-posture-out);
 //!
-//! and, as a reference row, the camera fitted to each view's true 3D pose.
+//! each test set read as one input and each band of true elevation as one
+//! ([`crate::height_inputs`]); and, as a reference row, the camera fitted to each view's true 3D pose.
 //!
 //! Prints markdown tables; writes nothing.
 
@@ -19,6 +20,7 @@ use camloc::{
     HEIGHT_SHARE_PSEUDO_VIEWS,
 };
 
+use crate::height_inputs;
 use crate::mocap_data::{load_split, project};
 use crate::progress::newton_line;
 use crate::proportions::people::{HEAD_FACTOR, LIMB_FACTOR, factors, rescale};
@@ -148,14 +150,25 @@ const EYE_LEVEL: &str = "the last recipe with `--camera-height eye-level`";
 const FROM_INPUT: &str =
     "the last recipe with `--camera-height from-input` (the command line's default)";
 
+/// The row of [`FROM_INPUT`]'s estimate without the input's mean elevations.
+const FROM_INPUT_SHARES: &str = "the last recipe with `--camera-height from-input`, the heights' shares alone (before the input's mean elevations)";
+
+/// The row of the last recipe with each band of true elevation one input.
+const BANDS: &str = "the last recipe with `--camera-height from-input`, each band of true elevation (below) one input, as a fixed camera's footage";
+
+/// [`BANDS`] without the inputs' mean elevations.
+const BANDS_SHARES: &str = "the same, the heights' shares alone";
+
 /// One table's rows: each row's name (a recipe's, [`FROM_INPUT`], [`EYE_LEVEL`] or
 /// [`KNOWN_POSE`]) and outcomes.
 type Rows<'a> = Vec<(&'a str, Vec<ViewOutcome>)>;
 
 /// Per test set of `tests`, its table rows: one per recipe of `args` (a localizer trained on
 /// `train_seqs`; `trained` hears the recipe and the seconds of each training), the last
-/// recipe's with the camera heights estimated from the test set ([`FROM_INPUT`]) and under
-/// the eye-level prior ([`EYE_LEVEL`]), then the [`KNOWN_POSE`] reference.
+/// recipe's with the camera heights estimated from the test set ([`FROM_INPUT`], and
+/// [`FROM_INPUT_SHARES`] without the middle elevation), from each band of true elevation
+/// ([`BANDS`], [`BANDS_SHARES`]) and under the eye-level prior ([`EYE_LEVEL`]), then the
+/// [`KNOWN_POSE`] reference.
 fn score<'a>(
     train_seqs: &[PoseSequence],
     tests: &[&Dataset],
@@ -179,10 +192,18 @@ fn score<'a>(
                 "  camera heights of {} test views: {estimate:?}",
                 test.samples.len()
             );
-            let estimated = localizer
-                .clone()
-                .with_camera_height(estimate.camera_height());
-            row.push((FROM_INPUT, outcomes(&estimated, test)?));
+            for (name, shares_alone) in [(FROM_INPUT, false), (FROM_INPUT_SHARES, true)] {
+                let estimated = localizer
+                    .clone()
+                    .with_camera_height(height_inputs::prior(&estimate, shares_alone));
+                row.push((name, outcomes(&estimated, test)?));
+            }
+            for (name, shares_alone) in [(BANDS, false), (BANDS_SHARES, true)] {
+                row.push((
+                    name,
+                    height_inputs::band_outcomes(&localizer, test, shares_alone)?,
+                ));
+            }
         }
         let eye_level = localizer.with_camera_height(CameraHeight::EyeLevel);
         for (row, test) in rows.iter_mut().zip(tests) {
@@ -400,8 +421,14 @@ pub fn report_section(mocap: &[PathBuf], folds: usize) -> Result<String, String>
          views, each weighing the share of an independent view it is worth (a video's \
          frames little), expectation-maximisation with the model's probabilities held fixed, \
          {HEIGHT_SHARE_PSEUDO_VIEWS} views of a camera at eye level added), then localizes \
-         every view under those shares, as `camloc localize` and Python's `Localizer` do by \
-         default with the poses of one input or call. \
+         every view under those shares, and moves each middle-ring viewpoint toward the \
+         input's middle cameras' mean elevation, estimated with the heads' pull toward their \
+         training's elevations undone (`HeightShares::elevations_deg`, conventions.md \
+         section 5), as `camloc localize` and Python's `Localizer` do by default with the \
+         poses of one input or call. `{FROM_INPUT_SHARES}` is the same without that move. \
+         `{BANDS}` reads the views of each band of true elevation of the last table of a \
+         section as one input, as one camera's footage is (a fixed camera sees a person at a \
+         narrow band of elevations); `{BANDS_SHARES}` without the move. \
          `{EYE_LEVEL}` is today's model told that the camera stands at about eye level \
          (`camloc localize --camera-height eye-level`, `CameraHeight::EyeLevel`: a \
          middle-ring camera {EYE_LEVEL_WEIGHT} times as likely a priori), what a user filming \

@@ -125,7 +125,7 @@ fn outcome(
 /// Bands of the true camera elevation above the pelvis, degrees (`[lo, hi)`), for
 /// [`elevation_bands`]: the middle ring's upper half in 4-degree steps up to its boundary at
 /// 22.5 deg, then the upper ring's first bands.
-const ELEVATION_BANDS: [(f64, f64); 10] = [
+pub const ELEVATION_BANDS: [(f64, f64); 10] = [
     (f64::NEG_INFINITY, 0.0),
     (0.0, 4.0),
     (4.0, 8.0),

@@ -630,7 +630,23 @@ fn legs_a_detector_swapped_for_two_frames_are_swapped_back() {
         .zip(success(&swapped_out))
         .enumerate()
     {
-        assert_eq!(a["landmarks_m"], b["landmarks_m"]);
+        // The camera heights are estimated from the rows as given (two of them swapped), so
+        // the middle cameras' elevation, hence the 3D, may differ a little (about 1 mm here).
+        let (clean_m, swapped_m) = (
+            a["landmarks_m"].as_object().unwrap(),
+            b["landmarks_m"].as_object().unwrap(),
+        );
+        for (name, point) in clean_m {
+            for (x, y) in point
+                .as_array()
+                .unwrap()
+                .iter()
+                .zip(swapped_m[name].as_array().unwrap())
+            {
+                let (x, y) = (x.as_f64().unwrap(), y.as_f64().unwrap());
+                assert!((x - y).abs() < 5e-3, "frame {t} {name}: {x} against {y}");
+            }
+        }
         let marked = b.get("swapped_sides").cloned();
         let expected = (5..7).contains(&t).then(|| serde_json::json!(["legs"]));
         assert_eq!(marked, expected, "frame {t}");

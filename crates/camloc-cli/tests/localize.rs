@@ -393,6 +393,15 @@ fn the_default_estimates_the_camera_heights_from_the_input() {
     let (_, shares) = archive.array::<f64>("camera_height_shares");
     let want = estimate.shares.unwrap();
     assert_eq!(shares, [want.lower, want.middle, want.upper]);
+    let (_, elevations) = archive.array::<f64>("camera_height_elevations_deg");
+    let want_elevations = want.elevations_deg();
+    assert!(want_elevations[1].is_some(), "{want:?}");
+    for (got, want) in elevations.iter().zip(want_elevations) {
+        match want {
+            Some(e) => assert_eq!(*got, e),
+            None => assert!(got.is_nan(), "{got}"),
+        }
+    }
     assert_eq!(
         archive.array::<f64>("camera_height_views").1,
         [estimate.views]

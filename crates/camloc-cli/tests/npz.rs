@@ -13,7 +13,7 @@ mod npz_reader;
 use npz_reader::Npz;
 
 /// The arrays of an archive, in the order they are written, with their NumPy types.
-const ARRAYS: [(&str, &str); 15] = [
+const ARRAYS: [(&str, &str); 16] = [
     ("label", "'<u2'"),
     ("folded_label", "'<u2'"),
     ("probabilities", "'<f8'"),
@@ -28,6 +28,7 @@ const ARRAYS: [(&str, &str); 15] = [
     ("id_utf8", "'|u1'"),
     ("id_end", "'<u8'"),
     ("camera_height_shares", "'<f8'"),
+    ("camera_height_elevations_deg", "'<f8'"),
     ("camera_height_views", "'<f8'"),
 ];
 

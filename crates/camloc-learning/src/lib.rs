@@ -16,8 +16,8 @@
 //!   vectors and runs with AVX2 and FMA where the CPU has them (chosen at run time), else one
 //!   value at a time. The two agree up to rounding.
 //! * [`RidgeModel`] (multi-output ridge regression) and [`DirectionHeads`] (one ridge
-//!   regression of a unit direction per class, with a calibrated uncertainty) refine a
-//!   class into a continuous direction.
+//!   regression of a unit direction per class, with a calibrated uncertainty and an
+//!   [`ElevationFit`] per class) refine a class into a continuous direction.
 //! * [`QuadraticExpansion`] maps features to themselves and the pairwise products of their
 //!   leading whitened principal components, so that the same learner fits a quadratic model.
 //! * [`cross_validate_grouped`] selects hyper-parameters by k-fold cross-validation with
@@ -52,6 +52,7 @@ mod config;
 mod cv;
 mod data;
 mod design;
+mod elevation_fit;
 mod error;
 mod expansion;
 mod fit;
@@ -70,6 +71,9 @@ pub use config::{
 pub use cv::{CandidateScore, CvReport, cross_validate_grouped, group_k_fold};
 pub use data::Features;
 pub use design::DesignRows;
+pub use elevation_fit::{
+    ELEVATION_FIT_MAX_ERROR_DEG, ELEVATION_FIT_MIN_SAMPLES, ELEVATION_FIT_MIN_SLOPE, ElevationFit,
+};
 pub use error::LearningError;
 pub use expansion::{COMPONENT_LIMIT, MAX_EXPANSION_COMPONENTS, QuadraticExpansion};
 pub use model::LogisticModel;

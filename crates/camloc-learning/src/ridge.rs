@@ -8,6 +8,7 @@ use faer::{Accum, Mat, Par, Side};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
+use crate::elevation_fit::ElevationFit;
 use crate::standardise::RawLinear;
 use crate::{DesignRows, Features, LearningError, Standardiser};
 
@@ -281,6 +282,9 @@ pub struct DirectionHeads {
     /// Angular error (degrees) holding 68% of the calibration samples, per bin of
     /// [`CONFIDENCE_BINS`] (below the first bound, between bounds, above the last).
     uncertainty_deg: Vec<f64>,
+    /// Per class, how its head's elevations follow the true ones on the calibration samples
+    /// chosen as that class.
+    elevation_fits: Vec<ElevationFit>,
 }
 
 impl DirectionHeads {
@@ -313,6 +317,7 @@ impl DirectionHeads {
         let heads =
             RidgeModel::fit_per_class(x, directions.as_flattened(), 3, classes, n_classes, lambda)?;
         Ok(DirectionHeads {
+            elevation_fits: vec![ElevationFit::IDENTITY; heads.len()],
             heads,
             uncertainty_deg: vec![f64::NAN; CONFIDENCE_BINS.len() + 1],
         })
@@ -322,7 +327,8 @@ impl DirectionHeads {
     /// `chosen` for it with probability `probability`, its true unit direction), the
     /// angular error of [`predict`](Self::predict); per probability bin, the error below
     /// which 68% of its samples lie (bins without samples take the next lower bin's value,
-    /// or 180 deg).
+    /// or 180 deg). Then each class's [`ElevationFit`] of the predicted on the true
+    /// elevations of the samples chosen as that class.
     ///
     /// # Errors
     /// As [`predict`](Self::predict), and [`LearningError::SizeMismatch`].
@@ -341,11 +347,15 @@ impl DirectionHeads {
             });
         }
         let mut errors: Vec<Vec<f64>> = vec![Vec::new(); CONFIDENCE_BINS.len() + 1];
+        let mut elevations: Vec<Vec<(f64, f64)>> = vec![Vec::new(); self.heads.len()];
         x.try_for_each_row(|i, row| {
             let (class, p) = chosen[i];
-            errors[bin_of(p)].push(angle_deg(&self.predict(class, row)?, &directions[i]));
+            let predicted = self.predict(class, row)?;
+            errors[bin_of(p)].push(angle_deg(&predicted, &directions[i]));
+            elevations[class].push((elevation_deg(&directions[i]), elevation_deg(&predicted)));
             Ok(())
         })?;
+        self.elevation_fits = elevations.into_iter().map(ElevationFit::of).collect();
         let mut last = 180.0;
         for (slot, mut e) in self.uncertainty_deg.iter_mut().zip(errors) {
             if !e.is_empty() {
@@ -396,6 +406,16 @@ impl DirectionHeads {
                 found: self.uncertainty_deg.len(),
             });
         }
+        if self.elevation_fits.len() != n_classes {
+            return Err(LearningError::SizeMismatch {
+                what: "elevation fits (one per class)",
+                expected: n_classes,
+                found: self.elevation_fits.len(),
+            });
+        }
+        self.elevation_fits
+            .iter()
+            .try_for_each(ElevationFit::validate)?;
         if let Some(v) = self
             .uncertainty_deg
             .iter()
@@ -431,6 +451,16 @@ impl DirectionHeads {
             u.iter_mut().for_each(|v| *v /= norm);
         }
         Ok(u)
+    }
+
+    /// How the elevations of the head of `class` follow the true ones
+    /// ([`ElevationFit::IDENTITY`] for an unknown class or before
+    /// [`calibrate`](Self::calibrate)).
+    pub fn elevation_fit(&self, class: usize) -> ElevationFit {
+        self.elevation_fits
+            .get(class)
+            .copied()
+            .unwrap_or(ElevationFit::IDENTITY)
     }
 
     /// The number of features each head reads (0 without heads).
@@ -494,6 +524,11 @@ fn check_targets(y: &[f64]) -> Result<(), LearningError> {
 
 fn bin_of(p: f64) -> usize {
     CONFIDENCE_BINS.iter().take_while(|&&b| p >= b).count()
+}
+
+/// Elevation in degrees of a unit direction `[x, y, z]` (z up).
+fn elevation_deg(u: &[f64; 3]) -> f64 {
+    u[2].clamp(-1.0, 1.0).asin().to_degrees()
 }
 
 /// Angle in degrees between two unit vectors (atan2 of the cross and dot products, accurate

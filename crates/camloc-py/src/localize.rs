@@ -116,14 +116,24 @@ pub(crate) fn for_poses(
 
 /// The `camera_height_shares` argument: the shares of the lower, middle and upper cameras
 /// to localize under (three numbers, at least one > 0; normalised), as a call's
-/// `camera_height_shares` output gives them; `None` when not given. They replace the
-/// estimate of `camera_height="from-input"` (`from_input`): with another camera height
-/// they are a `ValueError` (a call had taken them silently over `"any"`).
+/// `camera_height_shares` output gives them, with the `camera_height_elevations_deg`
+/// argument's mean elevations (three numbers, NaN for none, as that output gives them);
+/// `None` when not given. They replace the estimate of `camera_height="from-input"`
+/// (`from_input`): with another camera height they are a `ValueError` (a call had taken
+/// them silently over `"any"`), and elevations without shares are one too.
 pub(crate) fn given_shares(
     value: Option<&Bound<'_, PyAny>>,
+    elevations: Option<&Bound<'_, PyAny>>,
     from_input: bool,
 ) -> PyResult<Option<HeightShares>> {
+    let elevations = elevations.filter(|v| !v.is_none());
     let Some(value) = value.filter(|v| !v.is_none()) else {
+        if elevations.is_some() {
+            return Err(value_error(
+                "camera_height_elevations_deg: only with camera_height_shares (the elevations \
+                 of the heights the shares give)",
+            ));
+        }
         return Ok(None);
     };
     if !from_input {
@@ -144,9 +154,28 @@ pub(crate) fn given_shares(
             numbers.len()
         )));
     };
-    HeightShares::new(lower, middle, upper)
+    let shares = HeightShares::new(lower, middle, upper)
+        .map_err(|e| value_error(format!("camera_height_shares: {e}")))?;
+    let Some(elevations) = elevations else {
+        return Ok(Some(shares));
+    };
+    let numbers: Vec<f64> = elevations.extract().map_err(|_| {
+        pyo3::exceptions::PyTypeError::new_err(
+            "camera_height_elevations_deg: expected three numbers (lower, middle, upper; NaN \
+             for none), as a call's camera_height_elevations_deg output gives them",
+        )
+    })?;
+    let [lower, middle, upper] = numbers[..] else {
+        return Err(value_error(format!(
+            "camera_height_elevations_deg: expected three numbers (lower, middle, upper), got {}",
+            numbers.len()
+        )));
+    };
+    let given = [lower, middle, upper].map(|e| (!e.is_nan()).then_some(e));
+    shares
+        .with_elevations(given)
         .map(Some)
-        .map_err(|e| value_error(format!("camera_height_shares: {e}")))
+        .map_err(|e| value_error(format!("camera_height_elevations_deg: {e}")))
 }
 
 /// The `camera_height_shares` output: how the call's cameras divide among the three heights
@@ -161,6 +190,22 @@ pub(crate) fn height_shares<'py>(
         _ => [f64::NAN; 3],
     };
     PyArray1::from_vec(py, shares.to_vec())
+}
+
+/// The `camera_height_elevations_deg` output: the mean elevation above the pelvis (degrees)
+/// of the call's cameras of each height (`from-input`'s estimate), NaN where it has none, as
+/// `camloc localize --npz` writes it.
+pub(crate) fn height_elevations<'py>(
+    py: Python<'py>,
+    localizer: Option<&CameraLocalizer>,
+) -> Bound<'py, PyArray1<f64>> {
+    let elevations = match localizer.map(CameraLocalizer::camera_height) {
+        Some(CameraHeight::Shares(shares)) => {
+            shares.elevations_deg().map(|e| e.unwrap_or(f64::NAN))
+        }
+        _ => [f64::NAN; 3],
+    };
+    PyArray1::from_vec(py, elevations.to_vec())
 }
 
 #[pymethods]
@@ -237,7 +282,7 @@ impl Localizer {
 
     // Localizes the camera of every pose.
     #[doc = include_str!(concat!(env!("OUT_DIR"), "/doc/Localizer.localize.txt"))]
-    #[pyo3(signature = (points, layout = Some("camloc15"), scores = None, min_score = 0.0, sequence = false, focal_px = None, principal_point = None, fps = 30.0, frames = None, camera_height_shares = None))]
+    #[pyo3(signature = (points, layout = Some("camloc15"), scores = None, min_score = 0.0, sequence = false, focal_px = None, principal_point = None, fps = 30.0, frames = None, camera_height_shares = None, camera_height_elevations_deg = None))]
     // Python's keyword arguments, as the stub names them.
     #[allow(clippy::too_many_arguments)]
     fn localize<'py>(
@@ -253,9 +298,14 @@ impl Localizer {
         #[pyo3(from_py_with = crate::number::fps)] fps: f64,
         frames: Option<Bound<'py, PyAny>>,
         camera_height_shares: Option<Bound<'py, PyAny>>,
+        camera_height_elevations_deg: Option<Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyDict>> {
         let rate = crate::smooth::frame_rate(fps)?;
-        let given = given_shares(camera_height_shares.as_ref(), self.from_input)?;
+        let given = given_shares(
+            camera_height_shares.as_ref(),
+            camera_height_elevations_deg.as_ref(),
+            self.from_input,
+        )?;
         // With the camera's intrinsics each pose is localized as seen by the camera aimed at
         // it (a person near the edge of a wide-angle image).
         let aimed;
@@ -438,6 +488,10 @@ impl Localizer {
         out.array("missing", missing, &[NUM_LANDMARKS])?;
         out.array("derived", derived, &[NUM_LANDMARKS])?;
         out.set("camera_height_shares", height_shares(py, Some(localizer)))?;
+        out.set(
+            "camera_height_elevations_deg",
+            height_elevations(py, Some(localizer)),
+        )?;
         out.set("camera_height_views", views)?;
         if let Some(marks) = swapped_sides {
             out.array("swapped_sides", marks.as_flattened().to_vec(), &[2])?;

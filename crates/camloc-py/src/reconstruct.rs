@@ -17,7 +17,9 @@ use pyo3::types::{PyDict, PyMapping};
 use rayon::prelude::*;
 
 use crate::arrays::{Output, PoseBatch, UnmaskedPoints, UnmaskedScores};
-use crate::localize::{Localizer, for_poses, given_shares, height_shares, parse_height};
+use crate::localize::{
+    Localizer, for_poses, given_shares, height_elevations, height_shares, parse_height,
+};
 use crate::smooth::{sequence_frames, timeline_max_slots};
 use crate::warnings::{
     warn_if_every_pose_failed, warn_of_identity_jumps, warn_of_input_conventions,
@@ -216,7 +218,7 @@ impl<'a, 'py> FromPyObject<'a, 'py> for LifterArg {
 // Reconstructs the 3D pose of every pose: its docstring is camloc.pyi's (build.rs).
 #[doc = include_str!(concat!(env!("OUT_DIR"), "/doc/reconstruct.txt"))]
 #[pyfunction]
-#[pyo3(signature = (points, layout = Some("camloc15"), camera = None, scores = None, min_score = 0.0, localizer = None, basis = None, bone_lengths = None, focal_px = None, principal_point = None, sequence = false, camera_height = None, lifter = LifterArg::Use(true), person_height = None, fps = 30.0, frames = None, sequence_max_rows = SEQUENCE_MAX_ROWS, camera_height_shares = None))]
+#[pyo3(signature = (points, layout = Some("camloc15"), camera = None, scores = None, min_score = 0.0, localizer = None, basis = None, bone_lengths = None, focal_px = None, principal_point = None, sequence = false, camera_height = None, lifter = LifterArg::Use(true), person_height = None, fps = 30.0, frames = None, sequence_max_rows = SEQUENCE_MAX_ROWS, camera_height_shares = None, camera_height_elevations_deg = None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn reconstruct<'py>(
     py: Python<'py>,
@@ -238,6 +240,7 @@ pub(crate) fn reconstruct<'py>(
     frames: Option<Bound<'py, PyAny>>,
     #[pyo3(from_py_with = crate::number::sequence_max_rows)] sequence_max_rows: usize,
     camera_height_shares: Option<Bound<'py, PyAny>>,
+    camera_height_elevations_deg: Option<Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     // The command line's default.
     let camera = camera.unwrap_or("hybrid");
@@ -308,8 +311,11 @@ pub(crate) fn reconstruct<'py>(
             .map_err(|e| value_error(e.to_string()))?;
     }
     // Shares given (another call's, over the whole video) replace this call's estimate.
-    if let Some(shares) = given_shares(camera_height_shares.as_ref(), from_input)?
-        && let Some(localizer) = reconstructor.localizer().cloned()
+    if let Some(shares) = given_shares(
+        camera_height_shares.as_ref(),
+        camera_height_elevations_deg.as_ref(),
+        from_input,
+    )? && let Some(localizer) = reconstructor.localizer().cloned()
     {
         reconstructor = reconstructor
             .with_localizer(localizer.with_camera_height(CameraHeight::Shares(shares)));
@@ -561,6 +567,10 @@ pub(crate) fn reconstruct<'py>(
     out.set(
         "camera_height_shares",
         height_shares(py, reconstructor.localizer()),
+    )?;
+    out.set(
+        "camera_height_elevations_deg",
+        height_elevations(py, reconstructor.localizer()),
     )?;
     out.set("camera_height_views", views)?;
     Ok(out.into_dict())

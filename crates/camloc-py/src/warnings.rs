@@ -164,7 +164,7 @@ pub(crate) fn warn_of_identity_jumps<'a>(
              frame's rows the one nearest where the person is expected is the person's, the \
              others are {treated} when untracked; for several tracked people give one person's \
              rows per call (read_keypoints gives each pose's person), with the \
-             camera_height_shares of a call on all rows",
+             camera_height_shares and camera_height_elevations_deg of a call on all rows",
             left_out.second_poses.len(),
             row_name(rows, *first)
         );

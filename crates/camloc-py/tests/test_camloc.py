@@ -85,6 +85,7 @@ NPZ_ARRAYS = {
     "id_utf8": (np.uint8, 1),
     "id_end": (np.uint64, 1),
     "camera_height_shares": (np.float64, 1),
+    "camera_height_elevations_deg": (np.float64, 1),
     "camera_height_views": (np.float64, 1),
 }
 
@@ -114,7 +115,8 @@ def test_localize_npz_loads_without_pickle_and_equals_the_json_of_the_same_run(
     for name, (dtype, ndim) in NPZ_ARRAYS.items():
         assert got[name].dtype == dtype and got[name].ndim == ndim, name
         assert (
-            name in ("id_utf8", "camera_height_shares", "camera_height_views")
+            name
+            in ("id_utf8", "camera_height_shares", "camera_height_elevations_deg", "camera_height_views")
             or got[name].shape[0] == n
         ), name
     # The shares the run was localized under: near eye level's for these few poses.

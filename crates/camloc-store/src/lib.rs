@@ -200,10 +200,11 @@ pub const DATASET_KIND: FileKind = FileKind {
 /// under 1 MiB). Version 2 added the continuous-viewpoint heads, version 3 the quadratic
 /// feature expansion, version 4 the posture groups of (posture, camera) classes, version 5
 /// the viewpoint heads' own expansion and the clamped components of quadratic expansions,
-/// version 6 the model's own camera priors (`TrainingInfo::camera_priors`).
+/// version 6 the model's own camera priors (`TrainingInfo::camera_priors`), version 7 the
+/// viewpoint heads' elevation fits (`camloc_learning::ElevationFit`).
 pub const MODEL_KIND: FileKind = FileKind {
     magic: *b"CAMLOCMD",
-    version: 6,
+    version: 7,
     what: "model",
     max_payload: 64 << 20,
 };

@@ -74,6 +74,13 @@ pub struct HeightShares {
     pub middle: f64,
     /// Share of cameras in the upper ring (looking down on the body).
     pub upper: f64,
+    /// Per height (lower, middle, upper), the mean elevation above the pelvis (degrees) of
+    /// the input's cameras of that height, as the viewpoint heads read its views with their
+    /// regression toward the training's elevations undone
+    /// ([`ElevationFit`](camloc_learning::ElevationFit)); `None`: not estimated. Under these
+    /// shares each continuous viewpoint of a height with one is moved by its head's
+    /// [`ElevationFit::shift_deg`](camloc_learning::ElevationFit::shift_deg) of it.
+    elevations_deg: [Option<f64>; 3],
 }
 
 impl HeightShares {
@@ -99,7 +106,38 @@ impl HeightShares {
             lower: lower / total,
             middle: middle / total,
             upper: upper / total,
+            elevations_deg: [None; 3],
         })
+    }
+
+    /// These shares with the input's mean camera elevation per height (lower, middle, upper;
+    /// degrees above the pelvis, `None` for a height without one), as
+    /// [`CameraLocalizer::estimate_height_shares`] estimates them.
+    ///
+    /// # Errors
+    /// [`CamlocError::InvalidOption`] for an elevation outside `[-90, 90]` or not finite.
+    pub fn with_elevations(
+        mut self,
+        elevations_deg: [Option<f64>; 3],
+    ) -> Result<Self, CamlocError> {
+        if let Some(e) = elevations_deg
+            .iter()
+            .flatten()
+            .find(|e| !(-90.0..=90.0).contains(*e))
+        {
+            return Err(CamlocError::InvalidOption {
+                name: "camera height elevations",
+                detail: format!("expected degrees in [-90, 90], got {e:?}"),
+            });
+        }
+        self.elevations_deg = elevations_deg;
+        Ok(self)
+    }
+
+    /// The input's mean camera elevation per height (lower, middle, upper; degrees above
+    /// the pelvis), `None` where not estimated ([`with_elevations`](Self::with_elevations)).
+    pub fn elevations_deg(&self) -> [Option<f64>; 3] {
+        self.elevations_deg
     }
 
     /// The shares in the order lower, middle, upper.
@@ -113,6 +151,7 @@ impl HeightShares {
             lower,
             middle,
             upper,
+            elevations_deg: [None; 3],
         }
     }
 
@@ -248,12 +287,15 @@ impl CameraLocalizer {
         let (kept, probabilities): (Vec<&PartialPose2>, Vec<Vec<f64>>) = rows.into_iter().unzip();
         let weights = view_weights(&kept);
         let shares = (!kept.is_empty()).then(|| {
-            estimate(
+            let shares = estimate(
                 &self.cameras,
                 &self.info.camera_priors,
                 &probabilities.concat(),
                 &weights,
-            )
+            );
+            let elevations = self.input_elevations(&kept, &weights, shares);
+            // (Means of clamped degrees: always valid.)
+            shares.with_elevations(elevations).unwrap_or(shares)
         });
         HeightEstimate {
             shares,

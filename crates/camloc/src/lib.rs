@@ -51,6 +51,7 @@ mod fps_range;
 mod height_shares;
 mod identity;
 mod image_size_check;
+mod input_elevation;
 mod lean;
 mod lifter;
 mod localizer;

@@ -37,7 +37,9 @@ pub struct Localization {
     /// (docs/conventions.md section 2: 180 = in front, 270 = the person's left, 0 = behind,
     /// 90 = the person's right); `None` when the model has no viewpoint heads.
     pub azimuth_deg: Option<f64>,
-    /// Continuous camera elevation in degrees, `[-90, 90]`, positive above the person;
+    /// Continuous camera elevation in degrees, `[-90, 90]`, positive above the person (under
+    /// [`CameraHeight::Shares`] with an input's middle-camera elevation, a middle-ring camera's
+    /// is moved toward it: [`HeightShares::elevations_deg`](crate::HeightShares::elevations_deg));
     /// `None` when the model has no viewpoint heads.
     pub elevation_deg: Option<f64>,
     /// Angular radius in degrees around (`azimuth_deg`, `elevation_deg`) that held about
@@ -420,7 +422,8 @@ impl CameraLocalizer {
             let u = heads.predict(best, heads_x)?;
             // (`% 360`: a tiny negative angle rounds to 360 under `rem_euclid`.)
             azimuth_deg = Some(u[1].atan2(u[0]).to_degrees().rem_euclid(360.0) % 360.0);
-            elevation_deg = Some(u[2].clamp(-1.0, 1.0).asin().to_degrees());
+            let read = u[2].clamp(-1.0, 1.0).asin().to_degrees();
+            elevation_deg = Some((read + self.input_elevation_shift_deg(best)).clamp(-90.0, 90.0));
             uncertainty_deg =
                 Some(heads.uncertainty_deg(own.as_ref().map_or(probability, |o| o[best])));
         }

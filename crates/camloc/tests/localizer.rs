@@ -613,6 +613,8 @@ struct RawLocalizer {
 struct RawHeads {
     heads: Vec<RawRidge>,
     uncertainty_deg: Vec<f64>,
+    /// Per class: true mean, predicted mean (degrees) and slope.
+    elevation_fits: Vec<(f64, f64, f64)>,
 }
 
 #[derive(Clone, serde::Serialize, serde::Deserialize)]
@@ -735,6 +737,16 @@ fn inconsistent_models_with_valid_checksums_are_refused_without_panic() {
         (
             "uncalibrated viewpoint uncertainty",
             Box::new(|r| r.viewpoint.as_mut().unwrap().uncertainty_deg[0] = f64::NAN),
+        ),
+        (
+            "elevation fit slope of 0",
+            Box::new(|r| r.viewpoint.as_mut().unwrap().elevation_fits[4].2 = 0.0),
+        ),
+        (
+            "one elevation fit short",
+            Box::new(|r| {
+                r.viewpoint.as_mut().unwrap().elevation_fits.pop();
+            }),
         ),
         (
             "no features at all",

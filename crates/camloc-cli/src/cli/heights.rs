@@ -8,7 +8,10 @@ use std::path::Path;
 use camloc::dataset::Dataset;
 use camloc::reconstruct::Intrinsics;
 use camloc::skeleton::PartialPose2;
-use camloc::{CameraLocalizer, HEIGHT_SHARE_MAX_POSES, HEIGHT_SHARE_PSEUDO_VIEWS, HeightEstimate};
+use camloc::{
+    CameraLocalizer, HEIGHT_SHARE_MAX_POSES, HEIGHT_SHARE_PSEUDO_VIEWS, HeightEstimate,
+    HeightShares,
+};
 
 use super::input::Inputs;
 use super::{CameraHeightArg, CameraHeightArgs, CliError, InputArgs, load_model};
@@ -106,13 +109,33 @@ fn say(estimate: &HeightEstimate, whole: bool, quiet: bool) {
     match estimate.shares {
         Some(shares) => stderr_line!(
             "camloc: camera heights of the input, from {poses}{localized}, worth {:.0} \
-             independent view(s) against {HEIGHT_SHARE_PSEUDO_VIEWS} at eye level: {shares} \
+             independent view(s) against {HEIGHT_SHARE_PSEUDO_VIEWS} at eye level: {shares}{} \
              (--camera-height any: each pose on its own)",
-            estimate.views
+            estimate.views,
+            elevations(&shares)
         ),
         None => stderr_line!(
             "camloc: no pose with a torso to estimate the camera heights of the input from \
              ({poses}): each pose is localized on its own"
         ),
+    }
+}
+
+/// The mean elevations of `shares`' heights that hold 1% of the cameras or more, e.g.
+/// `; elevation above the pelvis: middle 14.2 deg, upper 40.9 deg`; empty without any.
+fn elevations(shares: &HeightShares) -> String {
+    let named: Vec<String> = ["lower", "middle", "upper"]
+        .iter()
+        .zip(shares.to_array())
+        .zip(shares.elevations_deg())
+        .filter_map(|((name, share), elevation)| {
+            let e = elevation.filter(|_| share >= 0.01)?;
+            Some(format!("{name} {e:.1} deg"))
+        })
+        .collect();
+    if named.is_empty() {
+        String::new()
+    } else {
+        format!("; elevation above the pelvis: {}", named.join(", "))
     }
 }

@@ -47,6 +47,10 @@ pub struct LocalizationArrays {
     /// (3,) float64: the shares of the lower, middle and upper cameras the run localized
     /// under (`--camera-height from-input`'s estimate), NaN when it used none.
     camera_height_shares: Column<f64>,
+    /// (3,) float64: the mean elevation above the pelvis (degrees) of the cameras of each
+    /// height in that estimate ([`HeightShares::elevations_deg`](camloc::HeightShares::elevations_deg)),
+    /// NaN where it has none.
+    camera_height_elevations_deg: Column<f64>,
     /// (1,) float64: the independent views the estimate counted its poses as worth
     /// ([`HeightEstimate::views`](camloc::HeightEstimate::views)), NaN without an estimate.
     camera_height_views: Column<f64>,
@@ -65,12 +69,20 @@ impl LocalizationArrays {
         views: f64,
     ) -> Result<LocalizationArrays, CliError> {
         let mut camera_height_shares = Column::new(target, "camera_height_shares", None)?;
-        let shares = match height {
-            CameraHeight::Shares(s) => s.to_array(),
-            _ => [f64::NAN; 3],
+        let (shares, elevations) = match height {
+            CameraHeight::Shares(s) => (
+                s.to_array(),
+                s.elevations_deg().map(|e| e.unwrap_or(f64::NAN)),
+            ),
+            _ => ([f64::NAN; 3], [f64::NAN; 3]),
         };
         camera_height_shares
             .extend(shares)
+            .map_err(io_error(target))?;
+        let mut camera_height_elevations_deg =
+            Column::new(target, "camera_height_elevations_deg", None)?;
+        camera_height_elevations_deg
+            .extend(elevations)
             .map_err(io_error(target))?;
         let mut camera_height_views = Column::new(target, "camera_height_views", None)?;
         camera_height_views.push(views).map_err(io_error(target))?;
@@ -91,6 +103,7 @@ impl LocalizationArrays {
             id_utf8: Column::new(target, "id_utf8", None)?,
             id_end: Column::new(target, "id_end", None)?,
             camera_height_shares,
+            camera_height_elevations_deg,
             camera_height_views,
         })
     }
@@ -169,7 +182,7 @@ impl RowFile<Localization> for LocalizationArrays {
         }
         let entries = entries!(label folded_label probabilities azimuth_deg elevation_deg
             uncertainty_deg failed missing derived frame person id_utf8 id_end
-            camera_height_shares camera_height_views)
+            camera_height_shares camera_height_elevations_deg camera_height_views)
         .into_iter()
         .collect::<io::Result<Vec<_>>>()
         .map_err(io_error(&a.target))?;

@@ -419,9 +419,9 @@ pub fn load_dataset(path: &Path) -> Result<Dataset, CliError> {
 /// `--camera-height`: what is known of the camera's height before seeing the poses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum CameraHeightArg {
-    /// The shares of the three heights among the input's cameras, estimated from its first
-    /// 20,000 poses before any is localized, starting from a camera at eye level: each pose's
-    /// answer then depends on the others.
+    /// The shares of the three heights among the input's cameras and its middle cameras' mean
+    /// elevation, estimated from its first 20,000 poses before any is localized, starting from
+    /// a camera at eye level: each pose's answer then depends on the others.
     FromInput,
     /// Nothing known: the model's own priors; each pose is localized on its own.
     Any,
@@ -437,9 +437,11 @@ pub struct CameraHeightArgs {
     /// probabilities (docs/conventions.md section 5, "What the caller knows of the camera").
     ///
     /// `from-input` first reads the input's first 20,000 poses and estimates how its cameras divide
-    /// among the three heights (a video or a studio's views: mostly one), then localizes every pose
-    /// under those shares (a photo or a short clip: about as `eye-level`; `reconstruct --camera
-    /// opt`: no estimate); `any` localizes each pose on its own; `eye-level` suits studios, tripods
+    /// among the three heights (a video or a studio's views: mostly one) and how high its middle
+    /// cameras stand, then localizes every pose under those shares and moves each middle-ring
+    /// viewpoint toward that elevation (give one camera's footage per input; a photo or a short
+    /// clip: about as `eye-level`; `reconstruct --camera opt`: no estimate); `any` localizes each
+    /// pose on its own; `eye-level` suits studios, tripods
     /// and phones: on views of such cameras it turns more of the level mistakes near the middle
     /// ring's edge into right answers, and it costs views from far above or below.
     #[arg(long, value_enum, default_value = "from-input", value_name = "HEIGHT")]
