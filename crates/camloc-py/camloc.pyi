@@ -226,11 +226,15 @@ class Localizer:
             it); NaN when no estimate was used (no pose with a torso, ``"any"``,
             ``"eye-level"``);
           camera_height_elevations_deg (3,) float64: with ``camera_height="from-input"``,
-            the mean elevation above the pelvis (degrees) of the call's cameras of each
-            height (lower, middle, upper), as the direction heads read its poses with their
-            pull toward the training's elevations undone: each ``elevation_deg`` is moved
-            to lean toward it instead (docs/conventions.md section 5); NaN for a height no
-            pose was put at, and when no estimate was used;
+            per height (lower, middle, upper) the mean elevation above the pelvis (degrees)
+            of the call's cameras of that height, as the direction heads read its poses with
+            their pull toward the training's elevations undone: each ``elevation_deg`` of
+            that height is moved to lean toward it (docs/conventions.md section 5). Only the
+            middle height's (body height, within 22.5 degrees of level) is estimated, from
+            the poses put there: it is not the elevation of a camera whose poses were put
+            in the upper ring (the median ``elevation_deg`` of one camera's poses is); NaN
+            for the lower and upper heights, for the middle one when no pose was put there,
+            and when no estimate was used;
           camera_height_views float: the number of independent views the estimate counted
             its poses as worth (a video's frames little each, unrelated photos one each; the
             estimate starts from 5 views of a camera at eye level), as ``camloc localize``

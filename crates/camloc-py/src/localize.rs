@@ -193,8 +193,8 @@ pub(crate) fn height_shares<'py>(
 }
 
 /// The `camera_height_elevations_deg` output: the mean elevation above the pelvis (degrees)
-/// of the call's cameras of each height (`from-input`'s estimate), NaN where it has none, as
-/// `camloc localize --npz` writes it.
+/// of the call's cameras of each height (`from-input`'s estimate: the middle height's
+/// alone), NaN where it has none, as `camloc localize --npz` writes it.
 pub(crate) fn height_elevations<'py>(
     py: Python<'py>,
     localizer: Option<&CameraLocalizer>,

@@ -10,7 +10,7 @@ use camloc::reconstruct::Intrinsics;
 use camloc::skeleton::PartialPose2;
 use camloc::{
     CameraLocalizer, HEIGHT_SHARE_MAX_POSES, HEIGHT_SHARE_PSEUDO_VIEWS, HeightEstimate,
-    HeightShares,
+    HeightShares, Level,
 };
 
 use super::input::Inputs;
@@ -121,21 +121,14 @@ fn say(estimate: &HeightEstimate, whole: bool, quiet: bool) {
     }
 }
 
-/// The mean elevations of `shares`' heights that hold 1% of the cameras or more, e.g.
-/// `; elevation above the pelvis: middle 14.2 deg, upper 40.9 deg`; empty without any.
+/// The mean elevation of `shares`' middle cameras when the middle height holds half of the
+/// cameras or more, e.g. `; its middle cameras about 14.2 deg above the pelvis`; empty
+/// otherwise (of an input mostly seen from above it would describe few poses).
 fn elevations(shares: &HeightShares) -> String {
-    let named: Vec<String> = ["lower", "middle", "upper"]
-        .iter()
-        .zip(shares.to_array())
-        .zip(shares.elevations_deg())
-        .filter_map(|((name, share), elevation)| {
-            let e = elevation.filter(|_| share >= 0.01)?;
-            Some(format!("{name} {e:.1} deg"))
-        })
-        .collect();
-    if named.is_empty() {
-        String::new()
-    } else {
-        format!("; elevation above the pelvis: {}", named.join(", "))
+    match shares.elevations_deg()[Level::Middle.index()] {
+        Some(e) if shares.middle >= 0.5 => {
+            format!("; its middle cameras about {e:.1} deg above the pelvis")
+        }
+        _ => String::new(),
     }
 }

@@ -94,9 +94,10 @@ pub struct Args {
     /// row n for the n-th pose read.
     ///
     /// Label, folded_label, probabilities, azimuth_deg, elevation_deg, uncertainty_deg, failed,
-    /// missing, derived, frame, person, the ids as id_utf8 and id_end, camera_height_shares and
-    /// camera_height_views (the run's estimate and the independent views it counted, NaN without
-    /// one; docs/cli.md gives their types and shapes). Written at the end of the run, or not at
+    /// missing, derived, frame, person, the ids as id_utf8 and id_end, camera_height_shares,
+    /// camera_height_elevations_deg and camera_height_views (the run's estimate, its middle-ring
+    /// cameras' mean elevation and the independent views it counted, NaN without one;
+    /// docs/cli.md gives their types and shapes). Written at the end of the run, or not at
     /// all. Nothing is printed per pose unless --json or --jsonl asks for it. Not with --sequence
     /// (whose smoothed cameras have no arrays here: use --jsonl).
     #[arg(long, value_name = "OUT", conflicts_with = "sequence")]
