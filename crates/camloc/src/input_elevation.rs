@@ -8,8 +8,17 @@ use camloc_geometry::Level;
 use camloc_skeleton::PartialPose2;
 use rayon::prelude::*;
 
-use crate::height_shares::{HEIGHT_SHARE_PSEUDO_VIEWS, HeightShares};
+use crate::height_shares::HeightShares;
 use crate::{CameraHeight, CameraLocalizer};
+
+/// Views at the training's mean elevation added to an input's own when its middle cameras'
+/// mean elevation is estimated ([`HeightShares::elevations_deg`]): one person's short clip
+/// errs alike in most of its frames (a slouch reads as a lower camera throughout), so it
+/// moves the estimate little. Chosen among 5, 10, 20 and 40 on two simulated labs: clips of
+/// one person and one action per input, level cameras (1-17 views each), median viewpoint
+/// error 4.5, 4.3, 4.3, 4.2 deg (4.2 without the move); an office's eight cameras, one file
+/// each (300-500 views), 6.8, 6.8, 6.8, 6.7 deg (7.6 without it; docs/measured.md).
+pub const ELEVATION_PSEUDO_VIEWS: f64 = 40.0;
 
 impl CameraLocalizer {
     /// The mean camera elevation per height (lower, middle, upper; degrees above the pelvis)
@@ -19,7 +28,7 @@ impl CameraLocalizer {
     /// head's shrinkage ([`ElevationFit::unbiased_deg`]) averaged, each weighing its weight
     /// times the square of its head's slope (the inverse of the unshrunk reading's variance
     /// when the heads' errors are alike: a front view's head, which regresses most, counts
-    /// least), with [`HEIGHT_SHARE_PSEUDO_VIEWS`] views at the training's mean elevation added
+    /// least), with [`ELEVATION_PSEUDO_VIEWS`] views at the training's mean elevation added
     /// (a few views move it little). Only the middle height's is estimated: at the lower edge
     /// of the upper ring, where high room cameras stand, the upper heads do not regress as
     /// their fits say (`rig` views 26 deg and more above the pelvis, read as one input per
@@ -68,7 +77,7 @@ impl CameraLocalizer {
             prior += fit.true_mean_deg / classes.len() as f64;
             slope += fit.slope / classes.len() as f64;
         }
-        let pseudo = HEIGHT_SHARE_PSEUDO_VIEWS * slope * slope;
+        let pseudo = ELEVATION_PSEUDO_VIEWS * slope * slope;
         let mean = ((sum + pseudo * prior) / (total + pseudo)).clamp(-90.0, 90.0);
         let mut elevations = [None; 3];
         elevations[Level::Middle.index()] = Some(mean);

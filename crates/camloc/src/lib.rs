@@ -113,6 +113,7 @@ pub use identity::{
 pub use image_size_check::{
     IMAGE_SIZE_CHECK_MIN_POSES, IMAGE_SIZE_CHECK_POSES, IMAGE_SIZE_SWAP_RATIO, ImageSizeCheck,
 };
+pub use input_elevation::ELEVATION_PSEUDO_VIEWS;
 pub use often_filled::{OFTEN_FILLED_SHARE, OftenFilled, often_filled};
 pub use reconstruction::{
     GAP_FILL_S, LANDMARK_SMOOTHING_S, PoseReconstruction, PoseReconstructor,

@@ -2,10 +2,14 @@
 //! studio cameras is read higher than one of low cameras, its viewpoints lose most of the
 //! direction heads' pull toward the training's elevations, and given elevations are checked.
 
+mod common;
+
 use camloc::dataset::{
     GenerateConfig, Protocol, camera_direction_deg, generate, load_mocap_folders,
 };
-use camloc::{CameraHeight, CameraLocalizer, HeightShares, PartialPose2};
+use camloc::{
+    CameraHeight, CameraLocalizer, ELEVATION_PSEUDO_VIEWS, HeightShares, Level, PartialPose2,
+};
 
 /// Views of each input tried at most (every n-th generated view).
 const VIEWS: usize = 2500;
@@ -116,4 +120,33 @@ fn given_elevations_are_checked_and_shares_alone_have_none() {
     let given = shares.with_elevations([None, Some(12.5), None]).unwrap();
     assert_eq!(given.elevations_deg(), [None, Some(12.5), None]);
     assert_eq!(given.to_array(), shares.to_array());
+}
+
+/// A few poses move the middle elevation little from the training's mean: the example's three
+/// poses are worth fewer views than the [`ELEVATION_PSEUDO_VIEWS`] the estimate starts from.
+#[test]
+fn a_few_poses_move_the_middle_elevation_little() {
+    let any = CameraLocalizer::default_model().unwrap();
+    let heads = any.viewpoint_heads().unwrap();
+    let middle: Vec<f64> = any
+        .cameras()
+        .viewpoints()
+        .iter()
+        .enumerate()
+        .filter(|(_, v)| v.level == Level::Middle)
+        .map(|(c, _)| heads.elevation_fit(c).true_mean_deg)
+        .collect();
+    let training = middle.iter().sum::<f64>() / middle.len() as f64;
+    let poses: Vec<PartialPose2> = common::example_records().iter().map(|r| r.pose).collect();
+    let estimate = any.estimate_height_shares(&poses);
+    assert!(
+        estimate.views < ELEVATION_PSEUDO_VIEWS / 4.0,
+        "{estimate:?}"
+    );
+    let elevation = estimate.shares.unwrap().elevations_deg()[Level::Middle.index()];
+    let elevation = elevation.expect("a pose put in the middle ring");
+    assert!(
+        (elevation - training).abs() < 3.0,
+        "{elevation} against {training}"
+    );
 }
