@@ -69,7 +69,8 @@ class Localizer:
         ``"from-input"`` (each ``localize`` call first estimates from its first 20,000 poses
         how their cameras divide among the three heights and the mean elevation of its middle
         cameras, then localizes every pose under those shares, each middle-ring viewpoint
-        moved toward that elevation (give one camera's poses per call): a pose's answer
+        regressing toward that elevation instead of the training's (give one camera's poses
+        per call): a pose's answer
         depends on the other poses of the call, as with
         ``camloc localize``; the estimate starts from 5 views of a camera at eye level and
         a video's frames count little each, so a few photos or a short clip are read about as
@@ -182,12 +183,14 @@ class Localizer:
           or with a ``camera_height`` other than ``"from-input"``, a ``TypeError`` for other
           than numbers), in place of this call's own estimate: give
           one person's rows of a video with the shares of a call on all its rows (its
-          ``camera_height_shares``), as ``camloc localize --sequence`` estimates them once
+          ``camera_height_shares``, and its ``camera_height_elevations_deg`` too: without
+          them no viewpoint is moved), as ``camloc localize --sequence`` estimates them once
           for the whole file (estimated from one person's rows, a simulated user's four
           walkers under a ceiling camera were 85.2% right against the command line's 99.1%).
         camera_height_elevations_deg: with ``camera_height_shares``, the mean elevation of
-          the cameras of each height (three numbers, degrees above the pelvis, NaN for none),
-          as that call's ``camera_height_elevations_deg`` gives them (a ``ValueError`` alone).
+          the cameras of each height (three numbers, degrees above the pelvis, NaN for none;
+          only the middle one may be a number), as that call's
+          ``camera_height_elevations_deg`` gives them (a ``ValueError`` alone).
         A ``UserWarning`` says when most of the (first 20,000) poses have the head below both
         ankles, the body within about 60 degrees of upside down: points with v up (``camloc
         localize`` warns alike); another when their torsos lean alike by 20 degrees or more and
@@ -228,8 +231,10 @@ class Localizer:
           camera_height_elevations_deg (3,) float64: with ``camera_height="from-input"``,
             per height (lower, middle, upper) the mean elevation above the pelvis (degrees)
             of the call's cameras of that height, as the direction heads read its poses with
-            their pull toward the training's elevations undone: each ``elevation_deg`` of
-            that height is moved to lean toward it (docs/conventions.md section 5). Only the
+            their pull toward the training's elevations undone (and pulled back toward the
+            training's, about 7 degrees, when the call's poses are worth few views): each
+            ``elevation_deg`` of that height regresses toward it instead of the training's
+            mean (docs/conventions.md section 5). Only the
             middle height's (body height, within 22.5 degrees of level) is estimated, from
             the poses put there: it is not the elevation of a camera whose poses were put
             in the upper ring (the median ``elevation_deg`` of one camera's poses is); NaN

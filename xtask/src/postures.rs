@@ -421,9 +421,9 @@ pub fn report_section(mocap: &[PathBuf], folds: usize) -> Result<String, String>
          views, each weighing the share of an independent view it is worth (a video's \
          frames little), expectation-maximisation with the model's probabilities held fixed, \
          {HEIGHT_SHARE_PSEUDO_VIEWS} views of a camera at eye level added), then localizes \
-         every view under those shares, and moves each middle-ring viewpoint toward the \
-         input's middle cameras' mean elevation, estimated with the heads' pull toward their \
-         training's elevations undone (`HeightShares::elevations_deg`, conventions.md \
+         every view under those shares, each middle-ring viewpoint regressing toward the \
+         input's middle cameras' mean elevation instead of the training's, estimated with the \
+         heads' pull toward their training's elevations undone (`HeightShares::elevations_deg`, conventions.md \
          section 5), as `camloc localize` and Python's `Localizer` do by default with the \
          poses of one input or call. `{FROM_INPUT_SHARES}` is the same without that move. \
          `{BANDS}` reads the views of each band of true elevation of the last table of a \

@@ -142,40 +142,53 @@ pub(crate) fn given_shares(
              its estimate); this call's camera height is another",
         ));
     }
-    let numbers: Vec<f64> = value.extract().map_err(|_| {
-        pyo3::exceptions::PyTypeError::new_err(
-            "camera_height_shares: expected three numbers (lower, middle, upper), as a call's \
-             camera_height_shares output gives them",
-        )
-    })?;
-    let [lower, middle, upper] = numbers[..] else {
-        return Err(value_error(format!(
-            "camera_height_shares: expected three numbers (lower, middle, upper), got {}",
-            numbers.len()
-        )));
-    };
+    let [lower, middle, upper] = three_numbers(value, "camera_height_shares", "")?;
     let shares = HeightShares::new(lower, middle, upper)
         .map_err(|e| value_error(format!("camera_height_shares: {e}")))?;
     let Some(elevations) = elevations else {
         return Ok(Some(shares));
     };
-    let numbers: Vec<f64> = elevations.extract().map_err(|_| {
-        pyo3::exceptions::PyTypeError::new_err(
-            "camera_height_elevations_deg: expected three numbers (lower, middle, upper; NaN \
-             for none), as a call's camera_height_elevations_deg output gives them",
-        )
-    })?;
-    let [lower, middle, upper] = numbers[..] else {
-        return Err(value_error(format!(
-            "camera_height_elevations_deg: expected three numbers (lower, middle, upper), got {}",
-            numbers.len()
-        )));
-    };
-    let given = [lower, middle, upper].map(|e| (!e.is_nan()).then_some(e));
+    let given = three_numbers(elevations, "camera_height_elevations_deg", "; NaN for none")?
+        .map(|e| (!e.is_nan()).then_some(e));
     shares
         .with_elevations(given)
         .map(Some)
         .map_err(|e| value_error(format!("camera_height_elevations_deg: {e}")))
+}
+
+/// The three numbers (lower, middle, upper) of the argument `name`, as a call's output of
+/// that name gives them (`note` added to the expectation): a `TypeError` for other than
+/// numbers (a bool too), a `ValueError` for another count.
+fn three_numbers(value: &Bound<'_, PyAny>, name: &str, note: &str) -> PyResult<[f64; 3]> {
+    let expected = || {
+        format!(
+            "{name}: expected three numbers (lower, middle, upper{note}), as a call's {name} \
+             output gives them"
+        )
+    };
+    let items: Vec<Bound<'_, PyAny>> = value
+        .try_iter()
+        .and_then(|items| items.collect())
+        .map_err(|_| pyo3::exceptions::PyTypeError::new_err(expected()))?;
+    let mut numbers = Vec::with_capacity(items.len());
+    for item in &items {
+        if crate::number::is_bool(item)? {
+            return Err(pyo3::exceptions::PyTypeError::new_err(format!(
+                "{}, not a bool",
+                expected()
+            )));
+        }
+        numbers.push(
+            item.extract::<f64>()
+                .map_err(|_| pyo3::exceptions::PyTypeError::new_err(expected()))?,
+        );
+    }
+    numbers[..].try_into().map_err(|_| {
+        value_error(format!(
+            "{name}: expected three numbers (lower, middle, upper), got {}",
+            numbers.len()
+        ))
+    })
 }
 
 /// The `camera_height_shares` output: how the call's cameras divide among the three heights

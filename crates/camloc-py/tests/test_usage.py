@@ -626,10 +626,21 @@ def test_one_persons_rows_take_the_shares_of_the_whole_video():
         camloc.Localizer().localize(part, camera_height_shares=[0.5, 0.5])
     with pytest.raises(ValueError, match="camera_height_elevations_deg: only with"):
         camloc.Localizer().localize(part, camera_height_elevations_deg=elevations)
-    with pytest.raises(ValueError, match="camera_height_elevations_deg: invalid"):
-        camloc.Localizer().localize(
-            part, camera_height_shares=shares, camera_height_elevations_deg=[0, 95, 0]
-        )
+    for bad, match in [
+        ([np.nan, 95, np.nan], "expected degrees in"),
+        ([0, 10, np.nan], "only the middle height's is used"),
+    ]:
+        with pytest.raises(ValueError, match="camera_height_elevations_deg: invalid .*" + match):
+            camloc.Localizer().localize(
+                part, camera_height_shares=shares, camera_height_elevations_deg=bad
+            )
+    for bad in ([True, False, True], np.array([np.nan, 1, np.nan]) > 0, "abc", 5):
+        with pytest.raises(TypeError, match="camera_height_elevations_deg: expected three"):
+            camloc.Localizer().localize(
+                part, camera_height_shares=shares, camera_height_elevations_deg=bad
+            )
+    with pytest.raises(TypeError, match="camera_height_shares: expected three numbers.*bool"):
+        camloc.Localizer().localize(part, camera_height_shares=[True, True, False])
     with pytest.raises(ValueError, match="camera_height_shares"):
         camloc.reconstruct(part, camera_height_shares=[-1.0, 1.0, 1.0])
     with pytest.raises(TypeError, match="camera_height_shares"):

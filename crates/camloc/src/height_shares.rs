@@ -64,8 +64,9 @@ const SETTLED: f64 = 1e-9;
 
 /// The shares of Table 1's three camera heights among the cameras of some footage
 /// ([`Level`]: below the body, at body height within 22.5 deg, above it): non-negative, summing
-/// to 1. As a prior ([`CameraHeight::Shares`](crate::CameraHeight::Shares)) they replace the
-/// model's own priors over the heights, keeping its priors within each height.
+/// to 1, and, when estimated from the footage, the mean elevation of its middle cameras. As a
+/// prior ([`CameraHeight::Shares`](crate::CameraHeight::Shares)) they replace the model's own
+/// priors over the heights, keeping its priors within each height.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct HeightShares {
     /// Share of cameras in the lower ring (looking up at the body).
@@ -77,9 +78,11 @@ pub struct HeightShares {
     /// Per height (lower, middle, upper), the mean elevation above the pelvis (degrees) of
     /// the input's cameras of that height, as the viewpoint heads read its views with their
     /// regression toward the training's elevations undone
-    /// ([`ElevationFit`](camloc_learning::ElevationFit)); `None`: not estimated. Under these
-    /// shares each continuous viewpoint of a height with one is moved by its head's
-    /// [`ElevationFit::shift_deg`](camloc_learning::ElevationFit::shift_deg) of it.
+    /// ([`ElevationFit`](camloc_learning::ElevationFit)); `None`: not estimated (the lower
+    /// and upper heights always). Under these shares each continuous viewpoint of a height
+    /// with one is moved by its head's
+    /// [`ElevationFit::shift_deg`](camloc_learning::ElevationFit::shift_deg) of it: it
+    /// regresses toward that elevation instead of the training's mean.
     elevations_deg: [Option<f64>; 3],
 }
 
@@ -112,14 +115,24 @@ impl HeightShares {
 
     /// These shares with the input's mean camera elevation per height (lower, middle, upper;
     /// degrees above the pelvis, `None` for a height without one), as
-    /// [`CameraLocalizer::estimate_height_shares`] estimates them.
+    /// [`CameraLocalizer::estimate_height_shares`] estimates them: the middle height's alone
+    /// (the upper heads do not regress as their fits say, docs/conventions.md section 5).
     ///
     /// # Errors
-    /// [`CamlocError::InvalidOption`] for an elevation outside `[-90, 90]` or not finite.
+    /// [`CamlocError::InvalidOption`] for an elevation outside `[-90, 90]` or not finite, and
+    /// for one given for the lower or upper height.
     pub fn with_elevations(
         mut self,
         elevations_deg: [Option<f64>; 3],
     ) -> Result<Self, CamlocError> {
+        if let [Some(_), _, _] | [_, _, Some(_)] = elevations_deg {
+            return Err(CamlocError::InvalidOption {
+                name: "camera height elevations",
+                detail: "only the middle height's is used: give none (NaN) for the lower and \
+                         upper ones"
+                    .into(),
+            });
+        }
         if let Some(e) = elevations_deg
             .iter()
             .flatten()
@@ -264,8 +277,9 @@ impl CameraLocalizer {
     /// that best explain them all (expectation-maximisation with the probabilities held
     /// fixed, Saerens, Latinne and Decaestecker 2002, with [`HEIGHT_SHARE_PSEUDO_VIEWS`] views
     /// of a camera at eye level added: an input worth a few views is read about as
-    /// [`CameraHeight::EyeLevel`](crate::CameraHeight::EyeLevel) reads it). Poses that
-    /// cannot be localized (no pelvis or neck, non-finite or degenerate landmarks) are left
+    /// [`CameraHeight::EyeLevel`](crate::CameraHeight::EyeLevel) reads it), and with them
+    /// the middle cameras' mean elevation ([`HeightShares::elevations_deg`]: every pose
+    /// localized again under the shares). Poses that cannot be localized (no pelvis or neck, non-finite or degenerate landmarks) are left
     /// out; with none left there are no shares. Give the estimate's
     /// [`camera_height`](HeightEstimate::camera_height) to
     /// [`CameraLocalizer::with_camera_height`] to localize the input under it: then each

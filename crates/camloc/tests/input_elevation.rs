@@ -104,7 +104,8 @@ fn a_high_cameras_input_is_read_higher_and_loses_most_of_its_bias() {
     assert!(low.abs() <= low_alone.abs() + 1.0, "{biases:?}");
 }
 
-/// Elevations given with shares are checked: finite degrees within [-90, 90]; shares made
+/// Elevations given with shares are checked: finite degrees within [-90, 90], the middle
+/// height's alone; shares made
 /// without them have none, and a localizer under such shares answers as before they existed.
 #[test]
 fn given_elevations_are_checked_and_shares_alone_have_none() {
@@ -114,6 +115,15 @@ fn given_elevations_are_checked_and_shares_alone_have_none() {
         let err = shares.with_elevations([None, Some(bad), None]).unwrap_err();
         assert!(
             err.to_string().contains("camera height elevations"),
+            "{err}"
+        );
+    }
+    for (lower, upper) in [(Some(-30.0), None), (None, Some(40.0))] {
+        let err = shares
+            .with_elevations([lower, Some(10.0), upper])
+            .unwrap_err();
+        assert!(
+            err.to_string().contains("only the middle height's"),
             "{err}"
         );
     }

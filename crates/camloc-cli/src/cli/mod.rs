@@ -438,11 +438,11 @@ pub struct CameraHeightArgs {
     ///
     /// `from-input` first reads the input's first 20,000 poses and estimates how its cameras divide
     /// among the three heights (a video or a studio's views: mostly one) and how high its middle
-    /// cameras stand, then localizes every pose under those shares and moves each middle-ring
-    /// viewpoint toward that elevation (give one camera's footage per input; a photo or a short
-    /// clip: about as `eye-level`; `reconstruct --camera opt`: no estimate); `any` localizes each
-    /// pose on its own; `eye-level` suits studios, tripods
-    /// and phones: on views of such cameras it turns more of the level mistakes near the middle
+    /// cameras stand, then localizes every pose under those shares, each middle-ring viewpoint
+    /// regressing toward that elevation, not the training's (give one camera's footage per
+    /// input; a photo or a short clip: about as `eye-level`; `reconstruct --camera opt`: no
+    /// estimate); `any` localizes each pose on its own; `eye-level` suits studios, tripods and
+    /// phones: on views of such cameras it turns more of the level mistakes near the middle
     /// ring's edge into right answers, and it costs views from far above or below.
     #[arg(long, value_enum, default_value = "from-input", value_name = "HEIGHT")]
     pub camera_height: CameraHeightArg,
