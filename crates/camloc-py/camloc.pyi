@@ -566,7 +566,11 @@ def read_keypoints(
         detections, duplicates);
         split a video's rows by person before ``reconstruct(..., sequence=True)``;
       file_errors: for a folder, (file, message) of each file that could not be read (the
-        others are still read, and a ``UserWarning`` names the first); empty for a file.
+        others are still read, and a ``UserWarning`` names the first); empty for a file;
+      pose_errors: (source, message) of each pose the reader refused (a 17-joint pose whose
+        first five joints contradict its layout, a ``.npy`` row no pose holds): its row is
+        kept, without landmarks, and the poses after it are read, as the command line does
+        (a ``UserWarning`` names the first).
     A file or folder without poses gives empty arrays and a ``UserWarning`` ("no poses in
     ...", which ``camloc`` on the command line makes an error); a folder without poses where
     a file could not be read raises that file's error, as reading it alone does. A

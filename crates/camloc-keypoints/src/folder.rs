@@ -117,6 +117,17 @@ impl FolderRecords {
     pub fn remaining(&self) -> &[PathBuf] {
         self.files.as_slice()
     }
+
+    /// The files not read yet, each opened as a stream ([`open_folder_file`]) instead of
+    /// read whole: for a caller that keeps a refused pose's place and reads on
+    /// ([`KeypointError::refused_pose`]), as the command line does.
+    pub fn streams(self) -> impl Iterator<Item = (PathBuf, Result<KeypointStream, KeypointError>)> {
+        let (format, options) = (self.format, self.options);
+        self.files.map(move |path| {
+            let stream = open_folder_file(&path, format, &options);
+            (path, stream)
+        })
+    }
 }
 
 impl Iterator for FolderRecords {

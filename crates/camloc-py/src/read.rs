@@ -3,8 +3,8 @@
 use std::path::PathBuf;
 
 use camloc::keypoints::{
-    ImageSize, Invisible, KeypointFormat, KeypointRecord, Layout, ReadOptions, WeakScores,
-    read_folder, read_keypoints as read_file,
+    ImageSize, Invisible, KeypointError, KeypointFormat, KeypointRecord, KeypointStream, Layout,
+    ReadOptions, WeakScores, open_keypoints, read_folder,
 };
 use camloc::reconstruct::FrameRate;
 use camloc::{CamlocError, ImageSizeCheck, Landmark};
@@ -131,19 +131,22 @@ pub(crate) fn read_keypoints<'py>(
         ));
     }
     options.max_bytes = max_input_bytes;
-    // Of a folder: the poses read, each file that failed and its message, the files read.
+    // The poses read (a refused pose kept in its place without landmarks, its error in
+    // `pose_errors`); of a folder, each file that failed and its message, the files read.
+    let mut pose_errors = Vec::new();
     let (records, file_errors, read_files) = py
         .detach(|| {
             crate::pool::run(|| -> Result<_, CamlocError> {
                 if !path.is_dir() {
-                    return Ok((read_file(&path, format, &options)?, Vec::new(), 1));
+                    let stream = open_keypoints(&path, format, &options)?;
+                    return Ok((records_of(stream, &mut pose_errors)?, Vec::new(), 1));
                 }
                 let mut records = Vec::new();
                 let mut file_errors = Vec::new();
                 let mut first_error = None;
                 let mut read_files = 0;
-                for (file, result) in read_folder(&path, format, &options, recursive)? {
-                    match result {
+                for (file, stream) in read_folder(&path, format, &options, recursive)?.streams() {
+                    match stream.and_then(|s| records_of(s, &mut pose_errors)) {
                         Ok(mut read) => {
                             records.append(&mut read);
                             read_files += 1;
@@ -165,6 +168,16 @@ pub(crate) fn read_keypoints<'py>(
             })
         })
         .map_err(to_py_err)?;
+    if let Some((source, message)) = pose_errors.first() {
+        crate::warnings::warn(
+            py,
+            format!(
+                "{} pose(s) could not be read and are rows without landmarks (pose_errors); \
+                 the first, {source}: {message}",
+                pose_errors.len()
+            ),
+        )?;
+    }
     if let Some((file, message)) = file_errors.first() {
         crate::warnings::warn(
             py,
@@ -221,7 +234,31 @@ pub(crate) fn read_keypoints<'py>(
     for warning in followed.warnings() {
         crate::warnings::warn(py, warning)?;
     }
-    records_dict(py, &records, file_errors)
+    records_dict(py, &records, file_errors, pose_errors)
+}
+
+/// The records of `stream`: a pose the reader refused ([`KeypointError::refused_pose`]: a
+/// 17-joint pose whose first joints contradict its layout, a `.npy` row no pose holds) kept
+/// in its place without landmarks and its source and message added to `pose_errors`, as the
+/// command line reads on past it; any other error ends the reading.
+fn records_of(
+    stream: KeypointStream,
+    pose_errors: &mut Vec<(String, String)>,
+) -> Result<Vec<KeypointRecord>, KeypointError> {
+    let mut records = Vec::new();
+    for item in stream {
+        match item {
+            Ok(record) => records.push(record),
+            Err(e) => match KeypointRecord::of_refused_pose(&e) {
+                Some((record, _)) => {
+                    pose_errors.push((record.source.clone(), e.to_string()));
+                    records.push(record);
+                }
+                None => return Err(e),
+            },
+        }
+    }
+    Ok(records)
 }
 
 /// The records as arrays: points (N, 15, 2) with NaN for missing landmarks, derived (N, 15),
@@ -230,6 +267,7 @@ fn records_dict<'py>(
     py: Python<'py>,
     records: &[KeypointRecord],
     file_errors: Vec<(String, String)>,
+    pose_errors: Vec<(String, String)>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let n = records.len();
     let mut points = Vec::with_capacity(n * 30);
@@ -260,5 +298,6 @@ fn records_dict<'py>(
         PyList::new(py, records.iter().map(|r| &r.source))?,
     )?;
     out.set("file_errors", PyList::new(py, file_errors)?)?;
+    out.set("pose_errors", PyList::new(py, pose_errors)?)?;
     Ok(out.into_dict())
 }

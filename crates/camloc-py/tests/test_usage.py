@@ -226,9 +226,9 @@ def test_localizers_pickle_and_copy_to_the_same_answers(localizer):
     assert pickle.loads(pickle.dumps(eye)).camera_height == "eye-level"
 
 
-def test_a_sequence_row_refused_for_its_layout_is_a_failed_frame_in_its_place():
-    # Human3.6M's 17 joints of a standing person, and the same with the first five gathered
-    # as a face's: that row is refused for its layout (it had failed the whole sequence).
+def h36m_standing_and_face():
+    """Human3.6M's 17 joints of a standing person (pixels), and the same with the first five
+    gathered as a face's: a pose refused for its layout."""
     standing = np.array(
         [[100, 130], [85, 130], [84, 185], [83, 240], [115, 130], [116, 185], [117, 240],
          [100, 90], [100, 50], [100, 20], [100, 5], [125, 50], [130, 90], [132, 125],
@@ -237,12 +237,40 @@ def test_a_sequence_row_refused_for_its_layout_is_a_failed_frame_in_its_place():
     )
     face = standing.copy()
     face[:5] = [[100 + 2 * j, 20 - j] for j in range(5)]
+    return standing, face
+
+
+def test_a_sequence_row_refused_for_its_layout_is_a_failed_frame_in_its_place():
+    # Human3.6M's 17 joints of a standing person, and the same with the first five gathered
+    # as a face's: that row is refused for its layout (it had failed the whole sequence).
+    standing, face = h36m_standing_and_face()
     rows = np.stack([standing + [4.0 * t, 0.0] for t in range(6)])
     rows[2] = face + [8.0, 0.0]
     got = camloc.reconstruct(rows, layout="h36m17", sequence=True)
     assert [e is not None for e in got["error"]] == [False, False, True, False, False, False]
     assert "likely coco17" in got["error"][2]
     assert np.isnan(got["points3d"][2]).all() and not np.isnan(got["points3d"][3]).any()
+
+
+def test_a_pose_refused_for_its_layout_is_a_row_without_landmarks_in_its_place(tmp_path):
+    """``read_keypoints`` reads on past a pose the reader refuses, as the command line does
+    (a simulated user's 7,434-pose COCO file had been refused whole for one pose)."""
+    standing, face = h36m_standing_and_face()
+    folder = tmp_path / "take"
+    folder.mkdir()
+    np.save(folder / "a.npy", np.stack([standing, face, standing + [5.0, 0.0]]))
+    np.save(folder / "b.npy", np.stack([standing]))
+    with pytest.warns(UserWarning, match=r"1 pose\(s\) could not be read .*likely coco17"):
+        got = camloc.read_keypoints(folder / "a.npy", layout="h36m17")
+    assert len(got["points"]) == 3 and got["file_errors"] == []
+    assert np.isnan(got["points"][1]).all() and not np.isnan(got["points"][[0, 2]]).any()
+    [(source, message)] = got["pose_errors"]
+    assert source == got["sources"][1] and "likely coco17" in message
+    with pytest.warns(UserWarning, match=r"1 pose\(s\) could not be read"):
+        both = camloc.read_keypoints(folder, layout="h36m17")
+    assert len(both["points"]) == 4 and both["file_errors"] == [] and len(both["pose_errors"]) == 1
+    clean = camloc.read_keypoints(folder / "b.npy", layout="h36m17")
+    assert clean["pose_errors"] == []
 
 
 def test_a_focal_length_alone_changes_no_localization_and_says_so(localizer):
