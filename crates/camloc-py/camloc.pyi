@@ -459,7 +459,8 @@ def reconstruct(
         3 or more frames in a row that fail are solved as runs of their own, with the person's
         one set of bone lengths);
       camera_height_shares (3,), camera_height_elevations_deg (3,), camera_height_views: as
-        ``Localizer.localize`` returns them (NaN for ``opt``, which localizes no complete pose);
+        ``Localizer.localize`` returns them (NaN for ``opt``, which localizes no complete pose,
+        unless given: then as given);
       camera: the mode used;
       fps: the frames a second the call took (its ``fps``), to give ``to_bvh``, whose own
         default is 30: the animation of a 120 fps video written without it plays 4 times
