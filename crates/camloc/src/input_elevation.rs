@@ -1,7 +1,7 @@
-//! The input's own camera elevations: the viewpoint heads regress toward the elevations they
+//! The input's own camera elevation: the viewpoint heads regress toward the elevations they
 //! were trained on, so a camera higher than those is read lower; over an input's many views
-//! that regression is undone to estimate its cameras' mean elevation per height, and each
-//! continuous viewpoint is then moved to regress toward it instead
+//! that regression is undone to estimate its middle cameras' mean elevation, and each
+//! middle-ring viewpoint is then moved to regress toward it instead
 //! ([`HeightShares::elevations_deg`]; docs/conventions.md section 5).
 
 use camloc_geometry::Level;
@@ -13,8 +13,8 @@ use crate::{CameraHeight, CameraLocalizer};
 
 /// Views at the training's mean elevation added to an input's own when its middle cameras'
 /// mean elevation is estimated ([`HeightShares::elevations_deg`]): one person's short clip
-/// errs alike in most of its frames (a slouch reads as a lower camera throughout), so it
-/// moves the estimate little. Chosen among 5, 10, 20 and 40 on two simulated labs: clips of
+/// errs alike in most of its frames (the same build and posture read in each), so it moves
+/// the estimate little. Chosen among 5, 10, 20 and 40 on two simulated labs: clips of
 /// one person and one action per input, level cameras (1-17 views each), median viewpoint
 /// error 4.5, 4.3, 4.3, 4.2 deg (4.2 without the move); an office's eight cameras, one file
 /// each (300-500 views), 6.8, 6.8, 6.8, 6.7 deg (7.6 without it; docs/measured.md).
@@ -86,8 +86,9 @@ impl CameraLocalizer {
 
     /// Degrees to add to the elevation that the head of camera class `class` (0-based)
     /// predicts, under this localizer's [`CameraHeight`]: the head's
-    /// [`ElevationFit::shift_deg`](camloc_learning::ElevationFit::shift_deg) of the input's mean elevation of that class's height,
-    /// when the prior is [`CameraHeight::Shares`] with one; else 0.
+    /// [`ElevationFit::shift_deg`](camloc_learning::ElevationFit::shift_deg) of the input's
+    /// mean elevation of that class's height, when the prior is [`CameraHeight::Shares`] with
+    /// one; else 0.
     pub(crate) fn input_elevation_shift_deg(&self, class: usize) -> f64 {
         let (CameraHeight::Shares(shares), Some(heads)) = (self.camera_height, &self.viewpoint)
         else {
