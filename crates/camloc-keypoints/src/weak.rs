@@ -48,11 +48,7 @@ impl WeakScores {
         options: &ReadOptions,
         recursive: bool,
     ) -> Option<WeakScores> {
-        let all = ReadOptions {
-            min_score: 0.0,
-            ..*options
-        };
-        let read = sample_records(path, format, &all, recursive, WeakScores::SAMPLE_POSES)?;
+        let read = sample_at(0.0, path, format, options, recursive)?;
         WeakScores::against(&read, path, format, options, recursive)
     }
 
@@ -68,11 +64,7 @@ impl WeakScores {
         options: &ReadOptions,
         recursive: bool,
     ) -> Option<WeakScores> {
-        let strong = ReadOptions {
-            min_score: WeakScores::THRESHOLD,
-            ..*options
-        };
-        let strong = sample_records(path, format, &strong, recursive, WeakScores::SAMPLE_POSES)?;
+        let strong = sample_at(WeakScores::THRESHOLD, path, format, options, recursive)?;
         Some(WeakScores::compare(read, &strong))
     }
 
@@ -126,6 +118,22 @@ impl WeakScores {
     pub fn worth_saying(&self) -> bool {
         self.weak > 0 && self.share() >= WeakScores::SAY_FROM_SHARE
     }
+}
+
+/// The first [`WeakScores::SAMPLE_POSES`] records of the file or folder at `path`
+/// ([`sample_records`]) read with `options` but at a minimum score of `min_score`.
+fn sample_at(
+    min_score: f64,
+    path: &Path,
+    format: Option<KeypointFormat>,
+    options: &ReadOptions,
+    recursive: bool,
+) -> Option<Vec<KeypointRecord>> {
+    let options = ReadOptions {
+        min_score,
+        ..*options
+    };
+    sample_records(path, format, &options, recursive, WeakScores::SAMPLE_POSES)
 }
 
 /// What was counted, for a warning: `85 of the 3240 landmarks (2.6%) of the first 270 poses

@@ -191,34 +191,28 @@ fn three_numbers(value: &Bound<'_, PyAny>, name: &str, note: &str) -> PyResult<[
     })
 }
 
-/// The `camera_height_shares` output: how the call's cameras divide among the three heights
-/// (low, middle, high rings; `from-input`'s estimate), NaN when the localizer used none (too
-/// few poses, `any`, `eye-level`), as `camloc localize --npz` writes it.
-pub(crate) fn height_shares<'py>(
+/// The `camera_height_shares` and `camera_height_elevations_deg` outputs: how the call's
+/// cameras divide among the three heights (low, middle, high rings) and the middle cameras'
+/// mean elevation (`from-input`'s estimate, [`CameraHeight::reported`]), NaN when the
+/// localizer used none (too few poses, `any`, `eye-level`) and for the heights without an
+/// elevation, as `camloc localize --npz` writes them.
+pub(crate) fn set_height_estimate<'py>(
     py: Python<'py>,
+    out: &Output<'py>,
     localizer: Option<&CameraLocalizer>,
-) -> Bound<'py, PyArray1<f64>> {
-    let shares = match localizer.map(CameraLocalizer::camera_height) {
-        Some(CameraHeight::Shares(shares)) => shares.to_array(),
-        _ => [f64::NAN; 3],
-    };
-    PyArray1::from_vec(py, shares.to_vec())
-}
-
-/// The `camera_height_elevations_deg` output: the mean elevation above the pelvis (degrees)
-/// of the call's cameras of each height (`from-input`'s estimate: the middle height's
-/// alone), NaN where it has none, as `camloc localize --npz` writes it.
-pub(crate) fn height_elevations<'py>(
-    py: Python<'py>,
-    localizer: Option<&CameraLocalizer>,
-) -> Bound<'py, PyArray1<f64>> {
-    let elevations = match localizer.map(CameraLocalizer::camera_height) {
-        Some(CameraHeight::Shares(shares)) => {
-            shares.elevations_deg().map(|e| e.unwrap_or(f64::NAN))
-        }
-        _ => [f64::NAN; 3],
-    };
-    PyArray1::from_vec(py, elevations.to_vec())
+) -> PyResult<()> {
+    let (shares, elevations) = localizer
+        .map(CameraLocalizer::camera_height)
+        .unwrap_or_default()
+        .reported();
+    out.set(
+        "camera_height_shares",
+        PyArray1::from_vec(py, shares.to_vec()),
+    )?;
+    out.set(
+        "camera_height_elevations_deg",
+        PyArray1::from_vec(py, elevations.to_vec()),
+    )
 }
 
 #[pymethods]
@@ -500,11 +494,7 @@ impl Localizer {
         let (missing, derived) = landmark_flags(&masks);
         out.array("missing", missing, &[NUM_LANDMARKS])?;
         out.array("derived", derived, &[NUM_LANDMARKS])?;
-        out.set("camera_height_shares", height_shares(py, Some(localizer)))?;
-        out.set(
-            "camera_height_elevations_deg",
-            height_elevations(py, Some(localizer)),
-        )?;
+        set_height_estimate(py, &out, Some(localizer))?;
         out.set("camera_height_views", views)?;
         if let Some(marks) = swapped_sides {
             out.array("swapped_sides", marks.as_flattened().to_vec(), &[2])?;

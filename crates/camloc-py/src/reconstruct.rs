@@ -17,9 +17,7 @@ use pyo3::types::{PyDict, PyMapping};
 use rayon::prelude::*;
 
 use crate::arrays::{Output, PoseBatch, UnmaskedPoints, UnmaskedScores};
-use crate::localize::{
-    Localizer, for_poses, given_shares, height_elevations, height_shares, parse_height,
-};
+use crate::localize::{Localizer, for_poses, given_shares, parse_height, set_height_estimate};
 use crate::smooth::{sequence_frames, timeline_max_slots};
 use crate::warnings::{
     warn_if_every_pose_failed, warn_of_identity_jumps, warn_of_input_conventions,
@@ -564,14 +562,7 @@ pub(crate) fn reconstruct<'py>(
     out.set("camera", mode.name())?;
     // The rate the call solved at, for `to_bvh(r["world_points3d"], r["fps"], ...)`.
     out.set("fps", fps)?;
-    out.set(
-        "camera_height_shares",
-        height_shares(py, reconstructor.localizer()),
-    )?;
-    out.set(
-        "camera_height_elevations_deg",
-        height_elevations(py, reconstructor.localizer()),
-    )?;
+    set_height_estimate(py, &out, reconstructor.localizer())?;
     out.set("camera_height_views", views)?;
     Ok(out.into_dict())
 }

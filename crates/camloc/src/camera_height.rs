@@ -55,6 +55,21 @@ impl CameraHeight {
         }
     }
 
+    /// The heights' shares and the middle cameras' mean elevation (lower, middle, upper;
+    /// degrees above the pelvis) this prior localizes under, as the outputs report them
+    /// (`camloc localize --npz`, Python's `camera_height_shares` and
+    /// `camera_height_elevations_deg`): NaN for what it holds none of (all of them but under
+    /// [`CameraHeight::Shares`], the elevations of the heights without one).
+    pub fn reported(self) -> ([f64; 3], [f64; 3]) {
+        match self {
+            CameraHeight::Shares(shares) => (
+                shares.to_array(),
+                shares.elevations_deg().map(|e| e.unwrap_or(f64::NAN)),
+            ),
+            _ => ([f64::NAN; 3], [f64::NAN; 3]),
+        }
+    }
+
     /// Multiplies each camera's probability in `probabilities` (one per camera of
     /// `cameras`, summing to 1) by this prior's weight for it and normalises them again;
     /// `priors` are the model's own priors over the cameras (one per camera).

@@ -2,8 +2,6 @@
 //! coordinates normalised by the image's sides (MediaPipe, YOLO), the input's first poses
 //! solved with the size as given and swapped.
 
-use std::path::Path;
-
 use camloc::{ImageSizeCheck, PoseReconstructor};
 
 use super::InputArgs;
@@ -14,7 +12,7 @@ use super::InputArgs;
 /// `--image-size`) fit a body clearly better with the image's width and height swapped, as
 /// `reconstructor` (by default the embedded models' `hybrid`) solves them.
 pub fn warn_of_swapped_image_size(input: &InputArgs, reconstructor: Option<&PoseReconstructor>) {
-    let Some(size) = input.image_size.filter(|_| input.path() != Path::new("-")) else {
+    let Some(size) = input.image_size.filter(|_| !input.is_standard_input()) else {
         return;
     };
     let poses = ImageSizeCheck::normalised_poses(

@@ -1,7 +1,7 @@
 //! The keypoint input of a command: a file, a folder or standard input, read as one stream of
 //! records.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use camloc::keypoints::{
     KeypointError, KeypointFormat, KeypointRecord, KeypointStream, ReadOptions, keypoint_files,
@@ -48,7 +48,7 @@ impl Inputs {
             unread_folders: false,
             folder: false,
         };
-        if args.path() == Path::new("-") {
+        if args.is_standard_input() {
             inputs.name = STDIN_NAME.to_owned();
             let stream =
                 open_keypoints_reader(std::io::stdin(), STDIN_NAME, None, args.format, &options)?;

@@ -69,13 +69,7 @@ impl LocalizationArrays {
         views: f64,
     ) -> Result<LocalizationArrays, CliError> {
         let mut camera_height_shares = Column::new(target, "camera_height_shares", None)?;
-        let (shares, elevations) = match height {
-            CameraHeight::Shares(s) => (
-                s.to_array(),
-                s.elevations_deg().map(|e| e.unwrap_or(f64::NAN)),
-            ),
-            _ => ([f64::NAN; 3], [f64::NAN; 3]),
-        };
+        let (shares, elevations) = height.reported();
         camera_height_shares
             .extend(shares)
             .map_err(io_error(target))?;

@@ -350,6 +350,12 @@ impl InputArgs {
             .unwrap_or(Path::new("-"))
     }
 
+    /// Whether the keypoints come from standard input (the path `-`), which is read once:
+    /// the checks that read an input's first poses again leave it alone.
+    pub fn is_standard_input(&self) -> bool {
+        self.path() == Path::new("-")
+    }
+
     /// The reader options these arguments ask for.
     pub fn options(&self) -> ReadOptions {
         let mut options = ReadOptions {

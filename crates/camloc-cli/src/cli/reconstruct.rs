@@ -281,9 +281,13 @@ fn chosen_lifter(
     }
 }
 
-/// The reconstructor `args` ask for: basis, camera mode, localizer, given bone lengths and
-/// intrinsics.
-fn reconstructor(args: &Args, localizer: CameraLocalizer) -> Result<PoseReconstructor, CliError> {
+/// The reconstructor `args` ask for: basis, camera mode, localizer, given bone lengths,
+/// intrinsics and the video's frame rate `fps`.
+fn reconstructor(
+    args: &Args,
+    localizer: CameraLocalizer,
+    fps: f64,
+) -> Result<PoseReconstructor, CliError> {
     let choice = camera_of(args);
     // Every mode has the localizer: `opt` does not localize complete poses, but it fills in
     // missing landmarks with the localized camera.
@@ -318,7 +322,7 @@ fn reconstructor(args: &Args, localizer: CameraLocalizer) -> Result<PoseReconstr
     if let Some(height_m) = args.person_height {
         reconstructor = reconstructor.with_person_height(height_m)?;
     }
-    reconstructor = reconstructor.with_frame_rate(args.fps()?)?;
+    reconstructor = reconstructor.with_frame_rate(fps)?;
     if let Some(intrinsics) = args.intrinsics.intrinsics(args.input.image_size) {
         reconstructor = reconstructor.with_intrinsics(intrinsics)?;
     }
@@ -375,7 +379,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         intrinsics,
         args.progress.quiet,
     )?;
-    let reconstructor = reconstructor(args, localizer)?;
+    let reconstructor = reconstructor(args, localizer, fps)?;
     image_size_check::warn_of_swapped_image_size(&args.input, Some(&reconstructor));
     // The page shows the cameras' probabilities: the reconstructor's localizer.
     let page_localizer = args.html.as_ref().and(reconstructor.localizer());

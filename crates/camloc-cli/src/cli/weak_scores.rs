@@ -2,8 +2,6 @@
 //! default): the input's first poses read again at 0 and at [`WeakScores::THRESHOLD`]
 //! ([`WeakScores::of_input`]).
 
-use std::path::Path;
-
 use camloc::keypoints::WeakScores;
 
 use super::InputArgs;
@@ -14,8 +12,7 @@ use super::InputArgs;
 /// input and named pipes (which cannot be read twice) are not looked at, nor what cannot be
 /// read: the command's own reading reports it.
 pub fn warn_of_weak_scores(input: &InputArgs) {
-    // (A file named `-` is standard input's name here.)
-    if input.min_score != 0.0 || input.path() == Path::new("-") {
+    if input.min_score != 0.0 || input.is_standard_input() {
         return;
     }
     let counts = WeakScores::of_input(
