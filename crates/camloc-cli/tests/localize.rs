@@ -591,4 +591,13 @@ fn weakly_scored_joints_at_the_default_minimum_are_said() {
         assert_eq!(warning(&[command, &weak, "-q", "--min-score", "0.3"]), None);
         assert_eq!(warning(&[command, &strong, "-q"]), None);
     }
+    // The same weak joint in an export that writes scores of 0-100: said at its scale.
+    let percent = std::fs::read_to_string(&weak)
+        .unwrap()
+        .replace(", 0.9", ", 90.0")
+        .replace(", 0.1]", ", 10.0]");
+    let percent = dir.file("percent.json", &percent);
+    let said = warning_line(&["localize", &percent, "-q"], "score below 30")
+        .expect("no warning of weak scores of 0-100");
+    assert!(said.contains("--min-score 30"), "{said}");
 }

@@ -20,14 +20,21 @@ pub struct WeakScores {
     pub poses: u64,
     /// Landmarks read (not derived) in those poses at a minimum score of 0.
     pub landmarks: u64,
-    /// Of those, the landmarks scored below [`WeakScores::THRESHOLD`].
+    /// Of those, the landmarks scored below [`WeakScores::threshold`].
     pub weak: u64,
+    /// Whether the input's scores are on a scale of 0-100 (a score above
+    /// [`SCORE_SCALE_LIMIT`](crate::SCORE_SCALE_LIMIT)), so that the landmarks were read again
+    /// at [`WeakScores::PERCENT_THRESHOLD`] instead of [`WeakScores::THRESHOLD`].
+    pub percent_scale: bool,
 }
 
 impl WeakScores {
     /// The score below which a landmark counts as weak: the minimum score the documentation
     /// recommends for a detector's output (docs/keypoints.md).
     pub const THRESHOLD: f64 = 0.3;
+
+    /// [`WeakScores::THRESHOLD`] for scores of 0-100 (some exports write percentages).
+    pub const PERCENT_THRESHOLD: f64 = 30.0;
 
     /// The share of weak landmarks ([`WeakScores::weak`] over [`WeakScores::landmarks`]) from
     /// which [`WeakScores::worth_saying`] holds: 1%.
@@ -55,8 +62,9 @@ impl WeakScores {
     /// [Compares](WeakScores::compare) `read`, the poses of the file or folder at `path` read
     /// already at a minimum score of 0, with its first [`WeakScores::SAMPLE_POSES`] poses read
     /// again at [`WeakScores::THRESHOLD`] ([`sample_records`], with `format`, `options` and
-    /// `recursive` as its reader takes them). `None` unless `path` is a regular file or a
-    /// folder.
+    /// `recursive` as its reader takes them), or at [`WeakScores::PERCENT_THRESHOLD`] when
+    /// every pose is refused at the first (scores of 0-100). `None` unless `path` is a regular
+    /// file or a folder.
     pub fn against(
         read: &[KeypointRecord],
         path: &Path,
@@ -65,7 +73,33 @@ impl WeakScores {
         recursive: bool,
     ) -> Option<WeakScores> {
         let strong = sample_at(WeakScores::THRESHOLD, path, format, options, recursive)?;
-        Some(WeakScores::compare(read, &strong))
+        if !strong.is_empty() || read.is_empty() {
+            return Some(WeakScores::compare(read, &strong));
+        }
+        // Every pose refused at 0.3: scores of 0-100 (`KeypointError::ScoreScale`), read again
+        // on their own scale.
+        let strong = sample_at(
+            WeakScores::PERCENT_THRESHOLD,
+            path,
+            format,
+            options,
+            recursive,
+        )?;
+        Some(WeakScores {
+            percent_scale: !strong.is_empty(),
+            ..WeakScores::compare(read, &strong)
+        })
+    }
+
+    /// The score below which [`WeakScores::weak`] counted a landmark:
+    /// [`WeakScores::PERCENT_THRESHOLD`] for scores of 0-100, else [`WeakScores::THRESHOLD`];
+    /// the `--min-score` to suggest.
+    pub fn threshold(&self) -> f64 {
+        if self.percent_scale {
+            WeakScores::PERCENT_THRESHOLD
+        } else {
+            WeakScores::THRESHOLD
+        }
     }
 
     /// Compares the same poses read at a minimum score of 0 (`all`) and at
@@ -151,7 +185,7 @@ impl fmt::Display for WeakScores {
             self.weak,
             self.landmarks,
             100.0 * self.share(),
-            WeakScores::THRESHOLD
+            self.threshold()
         )
     }
 }
@@ -202,7 +236,8 @@ mod tests {
             WeakScores {
                 poses: 2,
                 landmarks: 5,
-                weak: 1
+                weak: 1,
+                percent_scale: false
             }
         );
         assert!(counts.worth_saying());

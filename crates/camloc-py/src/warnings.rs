@@ -51,7 +51,7 @@ pub(crate) fn warn_of_weak_scores(py: Python<'_>, counts: Option<WeakScores>) ->
                  it cannot see; try min_score={}, which fills them in instead (with \
                  sequence=True from the frames around; a seated frame's hidden legs can come \
                  out standing)",
-                WeakScores::THRESHOLD
+                counts.threshold()
             ),
         ),
         _ => Ok(()),
