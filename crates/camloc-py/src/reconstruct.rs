@@ -458,7 +458,8 @@ pub(crate) fn reconstruct<'py>(
     // alike, per person).
     if sequence {
         let imputed = results.iter().flatten().map(|r| r.imputed.as_slice());
-        if let Some(often) = camloc::often_filled(imputed) {
+        let run_frames = camloc::filled_run_frames(fps);
+        if let Some(often) = camloc::often_filled(imputed, run_frames) {
             crate::warnings::warn(
                 py,
                 format!(
@@ -466,7 +467,7 @@ pub(crate) fn reconstruct<'py>(
                      or the rows around a short gap), \
                      of the {} reconstructed rows: {}",
                     often.frames,
-                    often.names()
+                    often.names(run_frames)
                 ),
             )?;
         }

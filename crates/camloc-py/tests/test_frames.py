@@ -4,6 +4,7 @@ poses with their ``frame`` numbers (``camloc reconstruct --sequence``, ``camloc 
 --sequence``)."""
 
 import json
+import warnings
 
 import numpy as np
 import pytest
@@ -175,15 +176,28 @@ def test_people_of_an_untracked_openpose_folder_are_followed(tmp_path):
 
 
 def test_a_sequence_warns_of_landmarks_filled_in_most_of_its_rows():
-    """A landmark missing in most rows of a sequence is named in a ``CamlocWarning`` with its
-    count (its 3D is the basis's guess), as the command line names it per person; one missing
-    now and then is not."""
+    """A landmark missing in most rows of a sequence, or for half a second in a row, is named in
+    a ``CamlocWarning`` with its count (its 3D is the basis's guess), as the command line names
+    it per person; one missing now and then is not."""
     pose = example_points()[0]
     rows = np.stack([pose + [4.0 * t, 0.0] for t in range(16)])
     wrist = camloc.LANDMARKS.index("left_wrist")
     ankle = camloc.LANDMARKS.index("right_ankle")
     rows[:, wrist] = np.nan
     rows[::8, ankle] = np.nan
-    with pytest.warns(camloc.CamlocWarning, match="of the 16 reconstructed rows: left_wrist in 16$"):
+    with pytest.warns(
+        camloc.CamlocWarning,
+        match=r"of the 16 reconstructed rows: left_wrist in 16 \(all in a row\)$",
+    ):
         got = camloc.reconstruct(rows, sequence=True)
     assert got["imputed"][:, wrist].all() and got["imputed"][::8, ankle].all()
+    # 16 rows in a row of 80 (a fifth): named at 30 frames a second (half a second is 15
+    # rows), not at 60 (30 rows).
+    rows = np.stack([pose + [2.0 * t, 0.0] for t in range(80)])
+    knee = camloc.LANDMARKS.index("right_knee")
+    rows[30:46, knee] = np.nan
+    with pytest.warns(camloc.CamlocWarning, match=r"right_knee in 16 \(all in a row\)$"):
+        camloc.reconstruct(rows, sequence=True, fps=30)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", camloc.CamlocWarning)
+        camloc.reconstruct(rows, sequence=True, fps=60)

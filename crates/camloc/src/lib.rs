@@ -114,7 +114,9 @@ pub use image_size_check::{
     IMAGE_SIZE_CHECK_MIN_POSES, IMAGE_SIZE_CHECK_POSES, IMAGE_SIZE_SWAP_RATIO, ImageSizeCheck,
 };
 pub use input_elevation::ELEVATION_PSEUDO_VIEWS;
-pub use often_filled::{OFTEN_FILLED_SHARE, OftenFilled, often_filled};
+pub use often_filled::{
+    FILLED_RUN_S, FilledLandmark, OFTEN_FILLED_SHARE, OftenFilled, filled_run_frames, often_filled,
+};
 pub use reconstruction::{
     GAP_FILL_S, LANDMARK_SMOOTHING_S, PoseReconstruction, PoseReconstructor,
     PoseSequenceReconstruction, SEQUENCE_BREAK_FRAMES, default_basis, evaluation_samples,

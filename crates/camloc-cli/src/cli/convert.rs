@@ -64,7 +64,10 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     let mut inputs = Inputs::open(&args.input)?;
     let bar = progress::counter(args.progress.quiet, inputs.len_hint(), "convert", "poses");
     let mut staged = StagedFiles::new(args.force);
-    let mut summary = Summary::default();
+    let mut summary = Summary {
+        min_score: inputs.min_score(),
+        ..Summary::default()
+    };
     let mut npy = match args.to {
         Target::Npy => Some(Box::new(NpyStage::<PartialPose2>::new(&args.out)?)),
         Target::Camloc => None,

@@ -117,6 +117,11 @@ impl Inputs {
     pub fn len_hint(&self) -> Option<u64> {
         self.len_hint
     }
+
+    /// The minimum score the input is read at (`--min-score`; 0 keeps every joint).
+    pub fn min_score(&self) -> f64 {
+        self.options.min_score
+    }
 }
 
 impl Inputs {

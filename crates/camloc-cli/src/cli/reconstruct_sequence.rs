@@ -96,6 +96,7 @@ pub fn run(
     let mut emit = Emitter::new(format);
     let mut summary = Summary {
         conventions: camloc::InputConventions::aimed(reconstructor.given().intrinsics),
+        min_score: inputs.min_score(),
         ..Summary::default()
     };
     let mut kept: Vec<KeypointRecord> = Vec::new();
@@ -240,7 +241,8 @@ pub fn run(
                 );
             }
             let imputed = frames.iter().flatten().map(|r| r.imputed.as_slice());
-            super::person_solve::warn_of_filled(&names[n], imputed);
+            let run_frames = camloc::filled_run_frames(reconstructor.frame_rate().hz());
+            super::person_solve::warn_of_filled(&names[n], imputed, run_frames);
             let outputs = members.iter().zip(frames).zip(animated).zip(left_out);
             for ((((&i, frame), pose), left), &sides) in outputs.zip(&swapped_sides) {
                 let k = &kept[i];

@@ -210,6 +210,7 @@ pub fn run(
     check_kept_input(files.html.is_some(), &inputs)?;
     let mut summary = Summary {
         conventions: camloc::InputConventions::aimed(localizer.intrinsics()),
+        min_score: inputs.min_score(),
         ..Summary::default()
     };
     let mut frames: Vec<Frame> = Vec::new();

@@ -144,6 +144,9 @@ pub struct Summary {
     /// What the poses say of how they were given, for the warnings of [`Summary::exit_code`]
     /// (with the camera's intrinsics when given: [`camloc::InputConventions::aimed`]).
     pub conventions: camloc::InputConventions,
+    /// The input's `--min-score` ([`Inputs::min_score`]): when every pose is empty,
+    /// [`Summary::exit_code`] asks whether a minimum above 0 is on the scores' scale.
+    pub min_score: f64,
 }
 
 /// Whether `pose` has no landmark at all.
@@ -169,8 +172,8 @@ impl Summary {
         }
         // Every pose empty is more often a threshold above the input's scores (30 for scores
         // from 0 to 1) than an input without anyone in it.
-        let hint = if self.empty == self.poses {
-            "; if --min-score was given, is it on the scale of the input's scores?"
+        let hint = if self.empty == self.poses && self.min_score > 0.0 {
+            "; is --min-score on the scale of the input's scores?"
         } else {
             ""
         };
@@ -439,6 +442,7 @@ where
         files.svg.is_some() || rows.is_some() || files.summary.is_some() || files.finish.is_some();
     let mut summary = Summary {
         conventions: camloc::InputConventions::aimed(aim),
+        min_score: inputs.min_score(),
         ..Summary::default()
     };
     // The staged drawings: (pose index, staged file).
