@@ -601,3 +601,31 @@ fn weakly_scored_joints_at_the_default_minimum_are_said() {
         .expect("no warning of weak scores of 0-100");
     assert!(said.contains("--min-score 30"), "{said}");
 }
+
+/// Pixel keypoints outside the image of `--image-size` (a portrait video's size given
+/// landscape, which puts the principal point off) are warned of; the right size is not.
+#[test]
+fn keypoints_outside_the_given_image_are_said() {
+    let example = fixture("keypoints/example.json");
+    let example = example.to_str().unwrap();
+    // The example's people reach u = 380 px, v = 412 px.
+    for command in ["localize", "reconstruct"] {
+        let said = |size: &str| {
+            let out = camloc(&[
+                command,
+                "--input",
+                example,
+                "--focal-px",
+                "800",
+                "--image-size",
+                size,
+                "-q",
+            ]);
+            let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+            assert!(out.status.success(), "{stderr}");
+            stderr.contains("image of --image-size")
+        };
+        assert!(said("700,380"));
+        assert!(!said("400,700"));
+    }
+}

@@ -4,8 +4,8 @@
 use std::path::PathBuf;
 
 use camloc::keypoints::{
-    KeypointError, KeypointFormat, KeypointRecord, KeypointStream, ReadOptions, keypoint_files,
-    open_folder_file, open_keypoints, open_keypoints_reader,
+    ImageSize, KeypointError, KeypointFormat, KeypointRecord, KeypointStream, ReadOptions,
+    keypoint_files, open_folder_file, open_keypoints, open_keypoints_reader,
 };
 
 use super::{CliError, InputArgs};
@@ -121,6 +121,11 @@ impl Inputs {
     /// The minimum score the input is read at (`--min-score`; 0 keeps every joint).
     pub fn min_score(&self) -> f64 {
         self.options.min_score
+    }
+
+    /// The image size the input was given (`--image-size`), if any.
+    pub fn image_size(&self) -> Option<ImageSize> {
+        self.options.image_size
     }
 }
 

@@ -25,6 +25,7 @@ mod localize_json;
 mod localize_npz;
 mod npz;
 pub mod output;
+mod outside_image;
 mod person_solve;
 mod progress;
 mod reconstruct;

@@ -97,6 +97,7 @@ pub fn run(
     let mut summary = Summary {
         conventions: camloc::InputConventions::aimed(reconstructor.given().intrinsics),
         min_score: inputs.min_score(),
+        outside_image: super::outside_image::OutsideImage::new(inputs.image_size()),
         ..Summary::default()
     };
     let mut kept: Vec<KeypointRecord> = Vec::new();

@@ -16,6 +16,7 @@ use serde::Serialize;
 
 use super::input::Inputs;
 use super::output::{Out, RowFile};
+use super::outside_image::OutsideImage;
 use super::{CliError, EXIT_ERROR, numbered_path};
 
 /// Poses per batch: enough to keep both cores busy, small enough to bound memory.
@@ -147,6 +148,9 @@ pub struct Summary {
     /// The input's `--min-score` ([`Inputs::min_score`]): when every pose is empty,
     /// [`Summary::exit_code`] asks whether a minimum above 0 is on the scores' scale.
     pub min_score: f64,
+    /// The poses with landmarks outside the image of `--image-size`
+    /// ([`Inputs::image_size`]), which [`Summary::exit_code`] warns of.
+    pub outside_image: OutsideImage,
 }
 
 /// Whether `pose` has no landmark at all.
@@ -162,12 +166,14 @@ impl Summary {
         self.poses += 1;
         self.empty += u64::from(nothing_detected(pose));
         self.conventions.add(pose);
+        self.outside_image.add(pose);
     }
 
     /// Reports failures on standard error (`verb`: "localized", ...) and gives the exit code:
     /// an error when a pose failed, a file could not be read, or no pose had a landmark.
     pub fn exit_code(&self, verb: &str) -> ExitCode {
-        for warning in self.conventions.warnings() {
+        let outside = self.outside_image.warning();
+        for warning in self.conventions.warnings().chain(outside) {
             stderr_line!("camloc: warning: {warning}");
         }
         // Every pose empty is more often a threshold above the input's scores (30 for scores
@@ -443,6 +449,7 @@ where
     let mut summary = Summary {
         conventions: camloc::InputConventions::aimed(aim),
         min_score: inputs.min_score(),
+        outside_image: OutsideImage::new(inputs.image_size()),
         ..Summary::default()
     };
     // The staged drawings: (pose index, staged file).
