@@ -55,6 +55,12 @@ pub struct Refinement {
     /// lifted pose is an orthographic reading of the 2D) `direction_sigma` measured better
     /// (docs/RESULTS.md).
     pub lifted_direction_sigma: f64,
+    /// Single frames started from a lifted pose with known intrinsics: from this distance of
+    /// the camera (metres, the focal length over the pursuit's scale) on, the frame takes
+    /// [`lifted_direction_sigma`](Self::lifted_direction_sigma) as under weak perspective:
+    /// there a body's depth changes its image by a few percent, and the lifted pose (an
+    /// orthographic reading) is as good an anchor; `f64::INFINITY` for never; > 0.
+    pub weak_perspective_from_m: f64,
     /// The length prior's widening for other skeletons and detectors.
     pub widening: LengthWidening,
     /// Without intrinsics: the camera's distance from the pelvis is an unknown under this
@@ -115,7 +121,8 @@ pub struct Refinement {
 
 impl Default for Refinement {
     /// Lengths estimated; image deviation 0.04 (about 4% of a torso), Huber at 2.5
-    /// deviations, direction deviation 0.15 (0.10 from a single frame's lifted pose), the
+    /// deviations, direction deviation 0.15 (0.10 from a single frame's lifted pose, with
+    /// known intrinsics from 15 m), the
     /// default widening, the camera's distance estimated under [`DistancePrior::default`], 10
     /// steps; in sequences smoothness 0.07 (0.1 before; docs/RESULTS.md) at 30 frames a
     /// second, 4 times as strong for bones ending in a filled-in landmark, the length prior's
@@ -129,6 +136,7 @@ impl Default for Refinement {
             huber: 2.5,
             direction_sigma: 0.15,
             lifted_direction_sigma: 0.10,
+            weak_perspective_from_m: 15.0,
             widening: LengthWidening::default(),
             distance: Some(DistancePrior::default()),
             iterations: 10,
@@ -202,6 +210,13 @@ impl Refinement {
                 "Refinement::head_tilt_limit_rad",
                 self.head_tilt_limit_rad,
                 "must be > 0 (infinite for no limit)",
+            ));
+        }
+        if !(self.weak_perspective_from_m > 0.0) {
+            return Err(invalid(
+                "Refinement::weak_perspective_from_m",
+                self.weak_perspective_from_m,
+                "must be > 0 (infinite for never)",
             ));
         }
         if self.iterations == 0 {

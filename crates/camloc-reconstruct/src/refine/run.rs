@@ -104,9 +104,14 @@ fn start(frame: &RefineFrame, lengths: &[f64; NUM_LIMBS]) -> (FrameData, FrameSt
 
 /// The deviation of the bone directions from their anchors for `frames`:
 /// [`Refinement::lifted_direction_sigma`] for single frames started from a lifted pose without
-/// intrinsics, else [`Refinement::direction_sigma`].
+/// intrinsics or with a camera [`Refinement::weak_perspective_from_m`] or farther, else
+/// [`Refinement::direction_sigma`].
 fn direction_sigma(frames: &[RefineFrame], settings: &Refinement, sequence: bool) -> f64 {
-    if !sequence && frames.iter().all(|f| f.lifted && f.intrinsics.is_none()) {
+    let weak = |f: &RefineFrame| {
+        f.intrinsics
+            .is_none_or(|(focal, _)| focal / f.camera.scale >= settings.weak_perspective_from_m)
+    };
+    if !sequence && frames.iter().all(|f| f.lifted && weak(f)) {
         settings.lifted_direction_sigma
     } else {
         settings.direction_sigma
