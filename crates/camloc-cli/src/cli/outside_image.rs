@@ -66,12 +66,27 @@ impl OutsideImage {
         (self.outside > 0 && self.outside as f64 >= OUTSIDE_SHARE * self.poses as f64).then(|| {
             format!(
                 "{} of {} poses have landmarks outside the {}x{} image of --image-size (they \
-                 reach u = {:.0}, v = {:.0}): is the size width first (a portrait video is \
+                 reach u = {}, v = {}): is the size width first (a portrait video is \
                  1080,1920) and the keypoints in its pixels? The principal point is taken at \
                  its centre",
-                self.outside, self.poses, size.width, size.height, self.reach[0], self.reach[1]
+                self.outside,
+                self.poses,
+                size.width,
+                size.height,
+                pixels(self.reach[0]),
+                pixels(self.reach[1])
             )
         })
+    }
+}
+
+/// `value` (pixels) as a message quotes it: whole pixels, or in scientific notation from a
+/// million on (a coordinate of 1e300 would be 301 digits).
+fn pixels(value: f64) -> String {
+    if value.abs() < 1e6 {
+        format!("{value:.0}")
+    } else {
+        format!("{value:.3e}")
     }
 }
 
@@ -131,5 +146,10 @@ mod tests {
         let mut near = OutsideImage::new(size);
         near.add(&pose(&[[1040.0, -40.0]]));
         assert_eq!(near.warning(), None);
+        // A huge coordinate is quoted short.
+        let mut huge = OutsideImage::new(size);
+        huge.add(&pose(&[[1e300, 500.0]]));
+        let said = huge.warning().unwrap();
+        assert!(said.contains("u = 1.000e300, v = 500"), "{said}");
     }
 }
