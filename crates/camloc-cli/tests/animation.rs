@@ -4,6 +4,8 @@
 //! visibly, without Chromium).
 
 mod common;
+#[path = "common/walk.rs"]
+mod walk;
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -15,6 +17,7 @@ use camloc::mocap::{BVH_CENTIMETRE, read_bvh_with_unit};
 use camloc::skeleton::{Landmark, mean_limb_lengths};
 use common::{TempDir, assert_clean_failure, camloc, fixture};
 use serde_json::Value;
+use walk::{WALK_STEP_PX, walk_document};
 
 /// The 3D pose of one `reconstruct --json` object.
 fn landmarks(object: &Value) -> Pose3 {
@@ -306,39 +309,9 @@ fn a_sequence_s_bvh_moves_as_the_camera_saw_the_person() {
     }
 }
 
-/// Pixels a frame the person of [`walk_across`] moves to the right.
-const WALK_STEP_PX: f64 = 8.0;
-
 /// A `camloc-keypoints` file in `dir` of [`walk_document`]`(numbers)`.
 fn walk_across(dir: &TempDir, numbers: impl Iterator<Item = usize>) -> String {
     dir.file("walk.json", &walk_document(numbers).to_string())
-}
-
-/// A `camloc-keypoints` document of the example's standing person moving across the image by
-/// [`WALK_STEP_PX`] a frame, with the frames of `numbers` (frame numbers kept).
-fn walk_document(numbers: impl Iterator<Item = usize>) -> Value {
-    let example: Value =
-        serde_json::from_str(&std::fs::read_to_string(fixture("keypoints/example.json")).unwrap())
-            .unwrap();
-    let standing = &example["poses"][0]["landmarks"];
-    let poses: Vec<Value> = numbers
-        .map(|t| {
-            let moved: serde_json::Map<String, Value> = standing
-                .as_object()
-                .unwrap()
-                .iter()
-                .map(|(name, p)| {
-                    let (x, y) = (p[0].as_f64().unwrap(), p[1].as_f64().unwrap());
-                    (
-                        name.clone(),
-                        serde_json::json!([x + WALK_STEP_PX * t as f64, y]),
-                    )
-                })
-                .collect();
-            serde_json::json!({"id": format!("f{t}"), "frame": t, "person": 0, "landmarks": moved})
-        })
-        .collect();
-    serde_json::json!({"format": "camloc-keypoints", "version": 1, "poses": poses})
 }
 
 /// Frames the detector missed (no record of the person) keep the video's timing in a
@@ -431,67 +404,6 @@ fn frames_the_person_is_missing_from_keep_the_timing_of_the_bvh() {
             .len(),
         8
     );
-}
-
-/// A landmark filled in, not seen, in a quarter or more of a person's frames, or for half a
-/// second in a row, is named in a warning with its count (its 3D is the basis's guess); one
-/// filled in now and then is not. Frame by frame, the poses with landmarks filled in are
-/// counted.
-#[test]
-fn landmarks_filled_in_most_of_a_sequence_are_warned_of() {
-    let dir = TempDir::new("filled-warning");
-    let mut document = walk_document(0..16);
-    for (t, pose) in document["poses"]
-        .as_array_mut()
-        .unwrap()
-        .iter_mut()
-        .enumerate()
-    {
-        pose["landmarks"]["left_wrist"] = Value::Null;
-        if t % 8 == 0 {
-            pose["landmarks"]["right_ankle"] = Value::Null;
-        }
-    }
-    let input = dir.file("hidden.json", &document.to_string());
-    let out = camloc(&["reconstruct", "--input", &input, "--sequence", "--quiet"]);
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(out.status.success(), "{stderr}");
-    assert!(
-        stderr.contains("of its 16 reconstructed frames: left_wrist in 16 (all in a row)"),
-        "{stderr}"
-    );
-    assert!(!stderr.contains("right_ankle"), "{stderr}");
-    let out = camloc(&["reconstruct", "--input", &input, "--quiet"]);
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(out.status.success(), "{stderr}");
-    assert!(
-        stderr.contains("16 of 16 poses have landmarks filled in, not seen"),
-        "{stderr}"
-    );
-    // 16 frames in a row of 80 (a fifth): named at 30 frames a second (half a second is 15
-    // frames), not at 60 (30).
-    let mut document = walk_document(0..80);
-    let poses = document["poses"].as_array_mut().unwrap();
-    for pose in &mut poses[30..46] {
-        pose["landmarks"]["right_knee"] = Value::Null;
-    }
-    let input = dir.file("knee.json", &document.to_string());
-    let warned = |fps: &str| {
-        let out = camloc(&[
-            "reconstruct",
-            "--input",
-            &input,
-            "--sequence",
-            "--quiet",
-            "--fps",
-            fps,
-        ]);
-        let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
-        assert!(out.status.success(), "{stderr}");
-        stderr.contains("right_knee in 16 (all in a row)")
-    };
-    assert!(warned("30"));
-    assert!(!warned("60"));
 }
 
 /// `camloc reconstruct --sequence --json --bvh` of `document` written to `NAME.json` in
