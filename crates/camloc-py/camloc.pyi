@@ -435,8 +435,9 @@ def reconstruct(
       imputed (N, 15) bool: the landmarks that were missing and filled in (their 3D is a
         guess, from the basis or with ``sequence`` from the rows around a short gap, not a
         measurement; with ``sequence``, a ``CamlocWarning`` names those
-        filled in a quarter or more of the reconstructed rows or for half a second of rows
-        in a row at ``fps``, as the command line does);
+        filled in a quarter or more of the reconstructed rows or in every row over half a
+        second at ``fps`` (in ``frames``' numbers when given), and without it one counts the
+        rows with landmarks filled in, as the command line does);
       person_bone_lengths (14,): with ``sequence``, the person's lengths (given or estimated;
         NaN when none were given and no frame of the sequence was reconstructed), between the
         input's own landmarks: from a detector's (the neck and pelvis at the shoulder and hip

@@ -295,7 +295,7 @@ fn reader_options_are_checked_at_parse_time() {
 fn every_pose_emptied_by_min_score_asks_about_its_scale() {
     let mmpose = fixture("keypoints/samples/mmpose.json");
     let mmpose = mmpose.to_str().unwrap();
-    let hint = "is --min-score on the scale of the input's scores?";
+    let hint = "is --min-score on the scale of the input's scores, or above all of them?";
     for command in ["localize", "reconstruct"] {
         let out = camloc(&[command, "--input", mmpose, "--min-score", "30", "-q"]);
         assert_clean_failure(&out, hint);

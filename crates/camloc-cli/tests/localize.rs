@@ -608,7 +608,8 @@ fn weakly_scored_joints_at_the_default_minimum_are_said() {
 fn keypoints_outside_the_given_image_are_said() {
     let example = fixture("keypoints/example.json");
     let example = example.to_str().unwrap();
-    // The example's people reach u = 380 px, v = 412 px.
+    // The example's three people span u = 255 to 380 px and v = 120 to 412 px, each reaching
+    // below v = 382: past an 800 x 364 image, all within a 364 x 800 one.
     for command in ["localize", "reconstruct"] {
         let said = |size: &str| {
             let out = camloc(&[
@@ -625,7 +626,7 @@ fn keypoints_outside_the_given_image_are_said() {
             assert!(out.status.success(), "{stderr}");
             stderr.contains("image of --image-size")
         };
-        assert!(said("700,380"));
-        assert!(!said("400,700"));
+        assert!(said("800,364"));
+        assert!(!said("364,800"));
     }
 }

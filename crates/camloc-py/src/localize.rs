@@ -514,7 +514,7 @@ impl Localizer {
             out.array("smoothed_azimuth_deg", azimuth_deg, &[])?;
             out.array("smoothed_elevation_deg", elevation_deg, &[])?;
         }
-        warn_if_every_pose_failed(py, n, &errors)?;
+        warn_if_every_pose_failed(py, n, &errors, min_score)?;
         out.errors(errors)?;
         Ok(out.into_dict())
     }

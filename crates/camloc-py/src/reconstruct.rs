@@ -454,12 +454,30 @@ pub(crate) fn reconstruct<'py>(
             .collect();
         reconstructor.place_on_timeline(&numbers, &found, timeline_max_slots(n))
     });
-    // A sequence's landmarks filled in, not seen, in many of its rows (the command line warns
-    // alike, per person).
-    if sequence {
-        let imputed = results.iter().flatten().map(|r| r.imputed.as_slice());
-        let run_frames = camloc::filled_run_frames(fps);
-        if let Some(often) = camloc::often_filled(imputed, run_frames) {
+    // Rows reconstructed one by one with landmarks filled in, not seen, counted, and a
+    // sequence's landmarks filled in in many of its rows named (the command line warns alike).
+    if !sequence {
+        let mut count = camloc::FilledCount::default();
+        for r in results.iter().flatten() {
+            count.add(&r.imputed);
+        }
+        if let Some(said) = count.summary() {
+            crate::warnings::warn(
+                py,
+                format!(
+                    "imputed: {said}: their 3D is the pose basis's guess; check them before \
+                     using their joints (sequence=True fills a video's short gaps from the \
+                     rows around)"
+                ),
+            )?;
+        }
+    } else {
+        // Rows without frame numbers are consecutive frames.
+        let imputed = (results.iter().zip(&numbers).enumerate()).filter_map(|(i, (r, number))| {
+            let r = r.as_ref().ok()?;
+            Some((number.unwrap_or(i as u64), r.imputed.as_slice()))
+        });
+        if let Some(often) = camloc::often_filled(imputed, reconstructor.frame_rate()) {
             crate::warnings::warn(
                 py,
                 format!(
@@ -467,7 +485,7 @@ pub(crate) fn reconstruct<'py>(
                      or the rows around a short gap), \
                      of the {} reconstructed rows: {}",
                     often.frames,
-                    often.names(run_frames)
+                    often.names()
                 ),
             )?;
         }
@@ -558,7 +576,7 @@ pub(crate) fn reconstruct<'py>(
         let array = numpy::PyArray1::from_vec(py, l.to_vec());
         out.set("person_bone_lengths", array)?;
     }
-    warn_if_every_pose_failed(py, n, &errors)?;
+    warn_if_every_pose_failed(py, n, &errors, min_score)?;
     out.errors(errors)?;
     out.set("camera", mode.name())?;
     // The rate the call solved at, for `to_bvh(r["world_points3d"], r["fps"], ...)`.

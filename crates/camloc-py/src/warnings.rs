@@ -80,11 +80,13 @@ pub(crate) fn warn_of_swapped_image_size(
 /// Warns (`UserWarning`) when every one of `poses` (two or more) failed (`errors`: the
 /// failures, by pose): with the first failure that is not "nothing detected" (an input
 /// mistake, a layout that is not the array's, otherwise shows only in `error`), or, when no
-/// pose had a landmark, as the command line says it (a `min_score` above the scores' scale).
+/// pose had a landmark, as the command line says it (asking, with a `min_score` above 0,
+/// whether it is above the scores' scale).
 pub(crate) fn warn_if_every_pose_failed(
     py: Python<'_>,
     poses: usize,
     errors: &[(usize, String)],
+    min_score: f64,
 ) -> PyResult<()> {
     if poses < 2 || errors.len() != poses {
         return Ok(());
@@ -96,10 +98,11 @@ pub(crate) fn warn_if_every_pose_failed(
         Some((_, first)) => {
             format!("every one of the {poses} poses failed (see \"error\"); the first: {first}")
         }
-        None => format!(
-            "none of the {poses} poses has a landmark (nothing detected); if min_score was \
-             given, is it on the scale of the scores?"
+        None if min_score > 0.0 => format!(
+            "none of the {poses} poses has a landmark (nothing detected) at min_score \
+             {min_score}: is it on the scale of the scores, or above all of them?"
         ),
+        None => format!("none of the {poses} poses has a landmark (nothing detected)"),
     };
     warn(py, message)
 }

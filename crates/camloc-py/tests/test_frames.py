@@ -187,16 +187,23 @@ def test_a_sequence_warns_of_landmarks_filled_in_most_of_its_rows():
     rows[::8, ankle] = np.nan
     with pytest.warns(
         camloc.CamlocWarning,
-        match=r"of the 16 reconstructed rows: left_wrist in 16 \(all in a row\)$",
+        match=r"of the 16 reconstructed rows: left_wrist in 16 \(for 16 frames from frame 0\)$",
     ):
         got = camloc.reconstruct(rows, sequence=True)
     assert got["imputed"][:, wrist].all() and got["imputed"][::8, ankle].all()
+    # Row by row, the rows with landmarks filled in are counted, the most filled named.
+    with pytest.warns(
+        camloc.CamlocWarning,
+        match=r"16 of 16 poses have landmarks filled in, not seen \(most often left_wrist in 16, "
+        r"right_ankle in 2\)",
+    ):
+        camloc.reconstruct(rows)
     # 16 rows in a row of 80 (a fifth): named at 30 frames a second (half a second is 15
     # rows), not at 60 (30 rows).
     rows = np.stack([pose + [2.0 * t, 0.0] for t in range(80)])
     knee = camloc.LANDMARKS.index("right_knee")
     rows[30:46, knee] = np.nan
-    with pytest.warns(camloc.CamlocWarning, match=r"right_knee in 16 \(all in a row\)$"):
+    with pytest.warns(camloc.CamlocWarning, match=r"right_knee in 16 \(for 16 frames from frame 30\)$"):
         camloc.reconstruct(rows, sequence=True, fps=30)
     with warnings.catch_warnings():
         warnings.simplefilter("error", camloc.CamlocWarning)

@@ -115,7 +115,8 @@ pub use image_size_check::{
 };
 pub use input_elevation::ELEVATION_PSEUDO_VIEWS;
 pub use often_filled::{
-    FILLED_RUN_S, FilledLandmark, OFTEN_FILLED_SHARE, OftenFilled, filled_run_frames, often_filled,
+    FILLED_RUN_GAP_FRAMES, FILLED_RUN_S, FilledCount, FilledLandmark, OFTEN_FILLED_SHARE,
+    OftenFilled, often_filled,
 };
 pub use reconstruction::{
     GAP_FILL_S, LANDMARK_SMOOTHING_S, PoseReconstruction, PoseReconstructor,

@@ -2,6 +2,7 @@
 //! say so ([`often_filled`]): their 3D is a guess, the pose basis's frame by frame or, over a
 //! short gap of a sequence, interpolated from the frames around it.
 
+use camloc_reconstruct::FrameRate;
 use camloc_skeleton::{Landmark, NUM_LANDMARKS};
 
 /// The share of a person's reconstructed frames from which a landmark filled in there is
@@ -9,21 +10,16 @@ use camloc_skeleton::{Landmark, NUM_LANDMARKS};
 /// 232 frames, where it swung three times as far as the arm it stood for, without a word.
 pub const OFTEN_FILLED_SHARE: f64 = 0.25;
 
-/// The time, seconds, over which a landmark filled in in every frame in a row is named by
+/// The time, seconds, over which a landmark filled in in every frame of a run is named by
 /// [`often_filled`] however few the person's frames it is of: a simulated physiotherapist's
 /// squat with the legs unseen for 20 frames (0.67 s) at its bottom came out 20 deg short at
 /// the knees (92 deg frame by frame) without a word.
 pub const FILLED_RUN_S: f64 = 0.5;
 
-/// The frames in a row that last [`FILLED_RUN_S`] at `fps` frames a second (at least 2).
-pub fn filled_run_frames(fps: f64) -> usize {
-    let frames = (FILLED_RUN_S * fps).ceil();
-    if frames.is_finite() && frames >= 2.0 {
-        frames.min(usize::MAX as f64) as usize
-    } else {
-        2
-    }
-}
+/// The most frame numbers between two frames of one run of [`often_filled`] (times
+/// [`FrameRate::step`] above 30 frames a second): frames the person is missing from for longer
+/// end the run, as they split a sequence.
+pub const FILLED_RUN_GAP_FRAMES: u64 = 3;
 
 /// A landmark named by [`often_filled`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -32,31 +28,38 @@ pub struct FilledLandmark {
     pub landmark: Landmark,
     /// The person's frames it was filled in.
     pub frames: usize,
-    /// The most of them in a row.
-    pub longest_run: usize,
+    /// The frame numbers its longest run of filled-in frames spans (first to last, both
+    /// counted).
+    pub longest_run: u64,
+    /// The frame number that run starts at.
+    pub longest_run_from: u64,
 }
 
 /// The landmarks filled in, not seen, in [`OFTEN_FILLED_SHARE`] or more of a person's
-/// reconstructed frames, or in every frame of a run of [`filled_run_frames`]
-/// ([`often_filled`]).
+/// reconstructed frames, or over a run of [`FILLED_RUN_S`] ([`often_filled`]).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct OftenFilled {
     /// The person's reconstructed frames.
     pub frames: usize,
+    /// The frame numbers a run must span to be named ([`FILLED_RUN_S`] at the frame rate).
+    pub run_frames: u64,
     /// Each landmark filled in that often or that long, in index order.
     pub landmarks: Vec<FilledLandmark>,
 }
 
 impl OftenFilled {
-    /// The landmarks as text, e.g. `left_elbow in 207, left_wrist in 20 (all in a row)`, the
-    /// longest run said when it is at least `run_frames`.
-    pub fn names(&self, run_frames: usize) -> String {
+    /// The landmarks as text, e.g. `left_elbow in 207, left_wrist in 20 (for 20 frames from
+    /// frame 50)`, the longest run said when it spans [`run_frames`](Self::run_frames).
+    pub fn names(&self) -> String {
         (self.landmarks.iter())
             .map(|f| {
-                let run = match f.longest_run {
-                    r if r == f.frames && r >= run_frames => " (all in a row)".to_owned(),
-                    r if r >= run_frames => format!(" ({r} in a row)"),
-                    _ => String::new(),
+                let run = if f.longest_run >= self.run_frames {
+                    format!(
+                        " (for {} frames from frame {})",
+                        f.longest_run, f.longest_run_from
+                    )
+                } else {
+                    String::new()
                 };
                 format!("{} in {}{run}", f.landmark.name(), f.frames)
             })
@@ -65,35 +68,48 @@ impl OftenFilled {
     }
 }
 
-/// The landmarks filled in often or long among a person's reconstructed frames, `filled`
-/// holding each frame's filled-in landmarks (`PoseReconstruction::imputed`) in time order: in
-/// [`OFTEN_FILLED_SHARE`] of them or more, or in `run_frames` of them in a row or more
-/// ([`filled_run_frames`]); `None` when none was.
+/// The landmarks filled in often or long among a person's reconstructed frames at `rate`,
+/// `filled` holding each frame's number and filled-in landmarks (`PoseReconstruction::imputed`)
+/// in time order: in [`OFTEN_FILLED_SHARE`] of the frames or more, or in every frame of a run
+/// spanning [`FILLED_RUN_S`] of frame numbers or more (a run ends where the numbers jump by
+/// more than [`FILLED_RUN_GAP_FRAMES`]); `None` when none was.
 pub fn often_filled<'a>(
-    filled: impl IntoIterator<Item = &'a [Landmark]>,
-    run_frames: usize,
+    filled: impl IntoIterator<Item = (u64, &'a [Landmark])>,
+    rate: FrameRate,
 ) -> Option<OftenFilled> {
+    let run_frames = ((FILLED_RUN_S * rate.hz()).ceil() as u64).max(2);
+    let gap = FILLED_RUN_GAP_FRAMES * rate.step() as u64;
     let mut counts = [0usize; NUM_LANDMARKS];
-    let mut runs = [0usize; NUM_LANDMARKS];
-    let mut longest = [0usize; NUM_LANDMARKS];
+    // Per landmark, the current run's first and last frame numbers, and the longest run.
+    let mut runs: [Option<(u64, u64)>; NUM_LANDMARKS] = [None; NUM_LANDMARKS];
+    let mut longest = [(0u64, 0u64); NUM_LANDMARKS];
     let mut frames = 0;
-    for imputed in filled {
+    for (number, imputed) in filled {
         frames += 1;
-        let mut here = [false; NUM_LANDMARKS];
-        for l in imputed {
-            here[l.index()] = true;
-        }
         for i in 0..NUM_LANDMARKS {
-            counts[i] += usize::from(here[i]);
-            runs[i] = if here[i] { runs[i] + 1 } else { 0 };
-            longest[i] = longest[i].max(runs[i]);
+            let here = imputed.iter().any(|l| l.index() == i);
+            counts[i] += usize::from(here);
+            runs[i] = match (here, runs[i]) {
+                (false, _) => None,
+                (true, Some((first, last))) if number.saturating_sub(last) <= gap => {
+                    Some((first, number))
+                }
+                (true, _) => Some((number, number)),
+            };
+            if let Some((first, last)) = runs[i] {
+                let span = last.saturating_sub(first) + 1;
+                if span > longest[i].0 {
+                    longest[i] = (span, first);
+                }
+            }
         }
     }
     let landmarks: Vec<FilledLandmark> = (Landmark::ALL.into_iter().enumerate())
         .map(|(i, landmark)| FilledLandmark {
             landmark,
             frames: counts[i],
-            longest_run: longest[i],
+            longest_run: longest[i].0,
+            longest_run_from: longest[i].1,
         })
         .filter(|f| {
             f.frames > 0
@@ -101,12 +117,76 @@ pub fn often_filled<'a>(
                     || f.longest_run >= run_frames)
         })
         .collect();
-    (!landmarks.is_empty()).then_some(OftenFilled { frames, landmarks })
+    (!landmarks.is_empty()).then_some(OftenFilled {
+        frames,
+        run_frames,
+        landmarks,
+    })
+}
+
+/// The poses of a run reconstructed one by one that had landmarks filled in, not seen, and
+/// which landmarks ([`FilledCount::summary`]): frame by frame their 3D is the pose basis's guess
+/// (a simulated physiotherapist's squat with the legs unseen for 20 frames came out 92 deg off
+/// at the knees there, without a word).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct FilledCount {
+    /// Poses counted.
+    pub poses: u64,
+    /// Of those, the poses with a landmark filled in.
+    pub filled: u64,
+    /// Per landmark (index order), the poses it was filled in.
+    pub per_landmark: [u64; NUM_LANDMARKS],
+}
+
+impl FilledCount {
+    /// Counts a pose whose filled-in landmarks are `imputed`.
+    pub fn add(&mut self, imputed: &[Landmark]) {
+        self.poses += 1;
+        self.filled += u64::from(!imputed.is_empty());
+        for l in imputed {
+            self.per_landmark[l.index()] += 1;
+        }
+    }
+
+    /// `None` when no pose had a landmark filled in, else e.g. `12 of 86 poses have landmarks
+    /// filled in, not seen (most often left_ankle in 9, right_ankle in 7, left_knee in 3)`.
+    pub fn summary(&self) -> Option<String> {
+        if self.filled == 0 {
+            return None;
+        }
+        let mut most: Vec<(u64, Landmark)> = (self.per_landmark.iter().zip(Landmark::ALL))
+            .filter(|(n, _)| **n > 0)
+            .map(|(n, l)| (*n, l))
+            .collect();
+        // The most filled first, ties in index order.
+        most.sort_by_key(|m| std::cmp::Reverse(m.0));
+        let named: Vec<String> = (most.iter().take(3))
+            .map(|(n, l)| format!("{} in {n}", l.name()))
+            .collect();
+        Some(format!(
+            "{} of {} poses have landmarks filled in, not seen (most often {})",
+            self.filled,
+            self.poses,
+            named.join(", ")
+        ))
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `frames` numbered from 0 in order.
+    fn numbered(frames: &[Vec<Landmark>]) -> impl Iterator<Item = (u64, &[Landmark])> {
+        frames
+            .iter()
+            .enumerate()
+            .map(|(i, f)| (i as u64, f.as_slice()))
+    }
+
+    fn at(hz: f64) -> FrameRate {
+        FrameRate::new(hz).unwrap()
+    }
 
     #[test]
     fn a_landmark_filled_in_a_quarter_of_the_frames_is_named() {
@@ -118,7 +198,7 @@ mod tests {
                 _ => vec![],
             })
             .collect();
-        let found = often_filled(frames.iter().map(Vec::as_slice), 100).unwrap();
+        let found = often_filled(numbered(&frames), at(30.0)).unwrap();
         assert_eq!(found.frames, 8);
         // In index order: the right ankle (6) before the left wrist (11).
         let named: Vec<(Landmark, usize)> = found
@@ -127,20 +207,37 @@ mod tests {
             .map(|f| (f.landmark, f.frames))
             .collect();
         assert_eq!(named, [(RightAnkle, 2), (LeftWrist, 3)]);
-        assert_eq!(found.names(100), "right_ankle in 2, left_wrist in 3");
-        assert_eq!(
-            often_filled(frames[3..].iter().map(Vec::as_slice), 100),
-            None
-        );
+        assert_eq!(found.names(), "right_ankle in 2, left_wrist in 3");
+        assert_eq!(often_filled(numbered(&frames[3..]), at(30.0)), None);
         // One frame of eight is not often.
         let once: Vec<Vec<Landmark>> = (0..8)
             .map(|t| if t == 0 { vec![Head] } else { vec![] })
             .collect();
-        assert_eq!(often_filled(once.iter().map(Vec::as_slice), 100), None);
+        assert_eq!(often_filled(numbered(&once), at(30.0)), None);
     }
 
     #[test]
-    fn a_landmark_filled_in_a_long_run_of_few_frames_is_named() {
+    fn single_poses_with_landmarks_filled_in_are_counted_with_the_most_filled() {
+        use Landmark::*;
+        let mut count = FilledCount::default();
+        assert_eq!(count.summary(), None);
+        for imputed in [
+            vec![LeftAnkle, RightAnkle],
+            vec![LeftAnkle],
+            vec![],
+            vec![Head, LeftAnkle, RightWrist],
+        ] {
+            count.add(&imputed);
+        }
+        assert_eq!(
+            count.summary().unwrap(),
+            "3 of 4 poses have landmarks filled in, not seen (most often left_ankle in 3, \
+             right_ankle in 1, head in 1)"
+        );
+    }
+
+    #[test]
+    fn a_landmark_filled_in_over_half_a_second_is_named_in_frame_numbers() {
         use Landmark::*;
         // 15 frames in a row of 200 (7.5%), and 14 frames in two runs.
         let frames: Vec<Vec<Landmark>> = (0..200)
@@ -150,21 +247,57 @@ mod tests {
                 _ => vec![],
             })
             .collect();
-        let run = filled_run_frames(30.0);
-        assert_eq!(run, 15);
-        let found = often_filled(frames.iter().map(Vec::as_slice), run).unwrap();
+        let found = often_filled(numbered(&frames), at(30.0)).unwrap();
+        assert_eq!(found.run_frames, 15);
         assert_eq!(
             found.landmarks,
             [FilledLandmark {
                 landmark: LeftKnee,
                 frames: 15,
-                longest_run: 15
+                longest_run: 15,
+                longest_run_from: 50
             }]
         );
-        assert_eq!(found.names(run), "left_knee in 15 (all in a row)");
-        assert_eq!(often_filled(frames.iter().map(Vec::as_slice), 16), None);
-        assert_eq!(filled_run_frames(120.0), 60);
-        assert_eq!(filled_run_frames(1.0), 2);
-        assert_eq!(filled_run_frames(f64::NAN), 2);
+        assert_eq!(
+            found.names(),
+            "left_knee in 15 (for 15 frames from frame 50)"
+        );
+        assert_eq!(often_filled(numbered(&frames), at(32.0)), None);
+        // Every other frame numbered (the rest not detected): 8 frames over 15 numbers are a
+        // run; 8 frames of a run broken by the person missing for 90 frames are not.
+        let sparse: Vec<(u64, Vec<Landmark>)> = (0..100u64)
+            .map(|i| {
+                (
+                    2 * i,
+                    if (40..48).contains(&i) {
+                        vec![Head]
+                    } else {
+                        vec![]
+                    },
+                )
+            })
+            .collect();
+        let found = often_filled(sparse.iter().map(|(n, l)| (*n, l.as_slice())), at(30.0));
+        assert_eq!(
+            found.unwrap().names(),
+            "head in 8 (for 15 frames from frame 80)"
+        );
+        let apart: Vec<(u64, Vec<Landmark>)> = (0..100u64)
+            .map(|i| {
+                let number = if i < 50 { i } else { i + 90 };
+                (
+                    number,
+                    if (46..54).contains(&i) {
+                        vec![Head]
+                    } else {
+                        vec![]
+                    },
+                )
+            })
+            .collect();
+        assert_eq!(
+            often_filled(apart.iter().map(|(n, l)| (*n, l.as_slice())), at(30.0)),
+            None
+        );
     }
 }

@@ -66,7 +66,6 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     let mut staged = StagedFiles::new(args.force);
     let mut summary = Summary {
         min_score: inputs.min_score(),
-        outside_image: super::outside_image::OutsideImage::new(inputs.image_size()),
         ..Summary::default()
     };
     let mut npy = match args.to {

@@ -309,7 +309,7 @@ pub struct InputArgs {
     /// seated people whose legs a desk hides came out worse (the legs filled in standing: 110
     /// against 78 mm in another's office views; with --sequence 62 against 66). At 0, `localize`
     /// and `reconstruct` warn when 1% or more of the landmarks of a file's (or folder's) first
-    /// 2,000 poses score below 0.3 (not for standard input).
+    /// 2,000 poses score below 0.3 (below 30 for scores of 0-100; not for standard input).
     #[arg(long, value_name = "S", default_value_t = 0.0, value_parser = parse_min_score,
           allow_hyphen_values = true)]
     pub min_score: f64,
@@ -320,7 +320,9 @@ pub struct InputArgs {
     /// a file's or folder's first 60 poses, 10 or more solved, fit a body clearly better the
     /// other way round; not for standard input).
     ///
-    /// In `localize` and `reconstruct`, `--focal-px` also takes its centre as the principal point.
+    /// In `localize` and `reconstruct`, `--focal-px` also takes its centre as the principal point
+    /// (a warning says when half the pixel poses or more reach past the image and all fit it
+    /// turned).
     #[arg(long, value_name = "W,H", value_parser = |s: &str| s.parse::<ImageSize>(),
           allow_hyphen_values = true)]
     pub image_size: Option<ImageSize>,

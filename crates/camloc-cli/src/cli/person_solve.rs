@@ -93,19 +93,19 @@ pub fn warn_of_sinking(person: &str, numbers: &[Option<u64>], animated: &[Option
 }
 
 /// Warns on standard error of the landmarks of `person` (its name) filled in, not seen, often
-/// or for `run_frames` in a row ([`camloc::filled_run_frames`]) among its reconstructed
-/// frames (`imputed`: each one's filled-in landmarks, in time order; [`camloc::often_filled`]).
+/// or over half a second among its reconstructed frames at `rate` (`imputed`: each one's
+/// frame number and filled-in landmarks, in time order; [`camloc::often_filled`]).
 pub fn warn_of_filled<'a>(
     person: &str,
-    imputed: impl IntoIterator<Item = &'a [Landmark]>,
-    run_frames: usize,
+    imputed: impl IntoIterator<Item = (u64, &'a [Landmark])>,
+    rate: camloc::reconstruct::FrameRate,
 ) {
-    if let Some(often) = camloc::often_filled(imputed, run_frames) {
+    if let Some(often) = camloc::often_filled(imputed, rate) {
         stderr_line!(
             "camloc: warning: {person}: landmarks filled in, not seen (their 3D is a guess, from \
              the pose basis or the frames around a short gap; `imputed` in JSON), of its {}: {}",
             counted(often.frames as u64, "reconstructed frame"),
-            often.names(run_frames)
+            often.names()
         );
     }
 }

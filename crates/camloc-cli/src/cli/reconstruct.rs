@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 use std::process::ExitCode;
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Mutex;
 
 use camloc::keypoints::KeypointRecord;
 use camloc::reconstruct::{BoneLengths, PoseBasis};
@@ -436,7 +436,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     }
     let keep = args.bvh.is_some() || args.html.is_some();
     let aim = reconstructor.given().intrinsics;
-    let filled = AtomicU64::new(0);
+    let filled = Mutex::new(camloc::FilledCount::default());
     let summary = stream::run(inputs, out, format, files, &bar, aim, |record| {
         let result = reconstructor
             .reconstruct_hypotheses(&record.pose, usize::from(args.hypotheses))
@@ -462,7 +462,9 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
             left_out: false,
             swapped_sides: &[],
         };
-        filled.fetch_add(u64::from(!result.imputed.is_empty()), Ordering::Relaxed);
+        if let Ok(mut count) = filled.lock() {
+            count.add(&result.imputed);
+        }
         let r = &result.reconstruction;
         Ok(Done {
             text: pose_output(format, &meta, choice, &result),
@@ -479,22 +481,14 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
             }),
         })
     })?;
-    warn_of_filled_poses(filled.into_inner(), summary.poses);
-    Ok(summary.exit_code("reconstructed"))
-}
-
-/// Says on standard error how many of the `poses` read had landmarks filled in, not seen
-/// (`filled` of them): frame by frame their 3D is the pose basis's guess (a simulated
-/// physiotherapist's squat with the legs unseen for 20 frames came out 92 deg off at the
-/// knees there, without a word).
-fn warn_of_filled_poses(filled: u64, poses: u64) {
-    if filled > 0 {
+    if let Some(said) = filled.into_inner().ok().and_then(|c| c.summary()) {
         stderr_line!(
-            "camloc: warning: {filled} of {poses} poses have landmarks filled in, not seen (their \
-             3D is the pose basis's guess; `imputed` in JSON): check them before using their \
-             joints; a video's short gaps are filled from the frames around with --sequence"
+            "camloc: warning: {said}: their 3D is the pose basis's guess (`imputed` in JSON); \
+             check them before using their joints; a video's short gaps are filled from the \
+             frames around with --sequence"
         );
     }
+    Ok(summary.exit_code("reconstructed"))
 }
 
 /// The `--bvh` and `--html` files of a run at `fps` frames a second, made from what it kept

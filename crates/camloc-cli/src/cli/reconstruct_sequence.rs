@@ -97,7 +97,10 @@ pub fn run(
     let mut summary = Summary {
         conventions: camloc::InputConventions::aimed(reconstructor.given().intrinsics),
         min_score: inputs.min_score(),
-        outside_image: super::outside_image::OutsideImage::new(inputs.image_size()),
+        outside_image: super::outside_image::OutsideImage::new(
+            inputs.image_size(),
+            reconstructor.given().intrinsics,
+        ),
         ..Summary::default()
     };
     let mut kept: Vec<KeypointRecord> = Vec::new();
@@ -241,9 +244,13 @@ pub fn run(
                     message.map_or("", String::as_str),
                 );
             }
-            let imputed = frames.iter().flatten().map(|r| r.imputed.as_slice());
-            let run_frames = camloc::filled_run_frames(reconstructor.frame_rate().hz());
-            super::person_solve::warn_of_filled(&names[n], imputed, run_frames);
+            // Rows without frame numbers are consecutive frames.
+            let imputed =
+                (frames.iter().zip(&numbers).enumerate()).filter_map(|(i, (r, number))| {
+                    let r = r.as_ref().ok()?;
+                    Some((number.unwrap_or(i as u64), r.imputed.as_slice()))
+                });
+            super::person_solve::warn_of_filled(&names[n], imputed, reconstructor.frame_rate());
             let outputs = members.iter().zip(frames).zip(animated).zip(left_out);
             for ((((&i, frame), pose), left), &sides) in outputs.zip(&swapped_sides) {
                 let k = &kept[i];

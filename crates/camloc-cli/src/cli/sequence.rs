@@ -211,7 +211,10 @@ pub fn run(
     let mut summary = Summary {
         conventions: camloc::InputConventions::aimed(localizer.intrinsics()),
         min_score: inputs.min_score(),
-        outside_image: super::outside_image::OutsideImage::new(inputs.image_size()),
+        outside_image: super::outside_image::OutsideImage::new(
+            inputs.image_size(),
+            localizer.intrinsics(),
+        ),
         ..Summary::default()
     };
     let mut frames: Vec<Frame> = Vec::new();

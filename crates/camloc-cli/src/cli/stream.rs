@@ -179,7 +179,7 @@ impl Summary {
         // Every pose empty is more often a threshold above the input's scores (30 for scores
         // from 0 to 1) than an input without anyone in it.
         let hint = if self.empty == self.poses && self.min_score > 0.0 {
-            "; is --min-score on the scale of the input's scores?"
+            "; is --min-score on the scale of the input's scores, or above all of them?"
         } else {
             ""
         };
@@ -449,7 +449,7 @@ where
     let mut summary = Summary {
         conventions: camloc::InputConventions::aimed(aim),
         min_score: inputs.min_score(),
-        outside_image: OutsideImage::new(inputs.image_size()),
+        outside_image: OutsideImage::new(inputs.image_size(), aim),
         ..Summary::default()
     };
     // The staged drawings: (pose index, staged file).
