@@ -543,7 +543,7 @@ def read_keypoints(
     min_score: joints scoring below it are missing (formats with scores).
     image_size: (width, height) in pixels (a tuple, list or array) or "W,H", to scale MediaPipe's
         and YOLO's normalised coordinates (width first: a portrait phone video is (1080, 1920);
-        a ``UserWarning`` says when the first 60 poses fit a body clearly better the other way
+        a ``UserWarning`` says when the first 60 poses fit a body better the other way
         round).
     lsp_invisible: ``missing`` or ``use`` (LSP joints marked visible=0; with ``use``, a joint
       with a coordinate <= 0 is a placeholder without a position and stays missing).

@@ -1,5 +1,5 @@
 //! `--image-size` the wrong way round: `reconstruct` says so when the poses of a normalised
-//! input (YOLO, MediaPipe) fit a body clearly better with width and height swapped.
+//! input (YOLO, MediaPipe) fit a body better with width and height swapped.
 
 mod common;
 use common::*;
@@ -31,22 +31,28 @@ const COCO17: [Landmark; 17] = [
 /// A YOLO-pose folder of the example poses, 5 times each a little apart, filmed upright in a
 /// portrait 1080 x 1920 video (coordinates normalised by its sides).
 fn portrait_yolo(dir: &TempDir) -> String {
+    yolo_video(dir, "yolo", 1080.0, 1920.0)
+}
+
+/// A YOLO-pose folder `name` in `dir` of the example poses, 5 times each a little apart, three
+/// times their size at the centre of a `w` x `h` video (coordinates normalised by its sides).
+fn yolo_video(dir: &TempDir, name: &str, w: f64, h: f64) -> String {
     let records = read_keypoints(
         fixture("keypoints/example.json"),
         None,
         &ReadOptions::default(),
     )
     .unwrap();
-    let folder = dir.0.join("yolo");
+    let folder = dir.0.join(name);
     std::fs::create_dir(&folder).unwrap();
-    let (w, h) = (1080.0, 1920.0);
     for (frame, (k, record)) in records.iter().cycle().take(15).enumerate().enumerate() {
         let shift = 4.0 * k as f64;
         let mut line = String::from("0 0.5 0.5 0.4 0.6");
         for landmark in COCO17 {
             match record.pose.points[landmark.index()] {
                 Some([u, v]) => {
-                    let (x, y) = (3.0 * (u - 320.0) + 540.0 + shift, 3.0 * (v - 270.0) + 960.0);
+                    let x = 3.0 * (u - 320.0) + 0.5 * w + shift;
+                    let y = 3.0 * (v - 270.0) + 0.5 * h;
                     line.push_str(&format!(" {:.6} {:.6} 0.9", x / w, y / h));
                 }
                 None => line.push_str(" 0 0 0"),
@@ -80,4 +86,22 @@ fn a_portrait_video_given_as_landscape_is_said() {
         "-q",
     ]);
     assert!(!String::from_utf8_lossy(&out.stderr).contains("width first"));
+}
+
+/// A landscape video given as portrait (its poses squeezed across, like side views) is said
+/// too.
+#[test]
+fn a_landscape_video_given_as_portrait_is_said() {
+    let dir = TempDir::new("image-size-landscape");
+    let folder = yolo_video(&dir, "landscape", 1920.0, 1080.0);
+    let warning = |size: &str| {
+        let args = ["reconstruct", &folder, "--image-size", size, "-q", "--json"];
+        warning_line(&args, "--image-size is width first")
+    };
+    let said = warning("1080,1920").expect("no warning of a swapped image size");
+    assert!(
+        said.contains("better with the image 1920x1080 than 1080x1920"),
+        "{said}"
+    );
+    assert_eq!(warning("1920,1080"), None);
 }

@@ -317,7 +317,7 @@ pub struct InputArgs {
     /// 1920,1080 (or 1920x1080).
     ///
     /// Width first: a portrait phone video is 1080,1920 (`localize` and `reconstruct` warn when
-    /// a file's or folder's first 60 poses, 10 or more solved, fit a body clearly better the
+    /// a file's or folder's first 60 poses, 10 or more solved, fit a body better the
     /// other way round; not for standard input).
     ///
     /// In `localize` and `reconstruct`, `--focal-px` also takes its centre as the principal point
