@@ -548,7 +548,7 @@ fn stream_json(
     let file = name.to_owned();
     let options = *options;
     let received = stream::spawn(name, move |sender| {
-        let reader = io::BufReader::with_capacity(1 << 16, stream::Capped::new(reader, limit));
+        let reader = sender.buffered(reader, limit);
         let read = serde_json::de::IoRead::new(reader);
         let outcome = json_records(format, read, &file, &options, &mut |item| sender.send(item));
         let error = match outcome {

@@ -2,6 +2,7 @@
 //! batches, through a bounded channel that [`KeypointStream`](crate::KeypointStream) drains,
 //! so that memory is bounded by the channel, not by the number of poses.
 
+use std::cell::RefCell;
 use std::io::{self, Read};
 use std::sync::mpsc::{Receiver, SyncSender, sync_channel};
 use std::thread::JoinHandle;
@@ -51,23 +52,64 @@ impl Received {
 /// The producer end, given to the parser: it batches records and sends them.
 pub(crate) struct Sender {
     sender: SyncSender<Vec<Item>>,
-    batch: Vec<Item>,
+    batch: RefCell<Vec<Item>>,
 }
 
 impl Sender {
     /// Queues `item`; returns `false` when the consumer has gone (stop producing).
-    pub(crate) fn send(&mut self, item: Item) -> bool {
-        self.batch.push(item);
-        self.batch.len() < BATCH || self.flush()
+    pub(crate) fn send(&self, item: Item) -> bool {
+        let full = {
+            let mut batch = self.batch.borrow_mut();
+            batch.push(item);
+            batch.len() >= BATCH
+        };
+        !full || self.flush()
     }
 
     /// Sends the queued records; `false` when the consumer has gone.
-    fn flush(&mut self) -> bool {
-        if self.batch.is_empty() {
-            return true;
+    fn flush(&self) -> bool {
+        let batch = std::mem::replace(&mut *self.batch.borrow_mut(), Vec::with_capacity(BATCH));
+        batch.is_empty() || self.sender.send(batch).is_ok()
+    }
+
+    /// `inner`, at most `limit` bytes of it ([`Capped`]), buffered (64 KiB) through a reader
+    /// that sends the records queued here before a read that may wait ([`Flushing`]): a live
+    /// input (a detector writing to standard input) has each record answered as it comes,
+    /// where a batch had waited for 256 records.
+    pub(crate) fn buffered<R: Read>(
+        &self,
+        inner: R,
+        limit: u64,
+    ) -> io::BufReader<Flushing<'_, Capped<R>>> {
+        let flushing = Flushing {
+            inner: Capped::new(inner, limit),
+            sender: self,
+            short: false,
+        };
+        io::BufReader::with_capacity(1 << 16, flushing)
+    }
+}
+
+/// A reader that sends its [`Sender`]'s queued records before a read that may wait
+/// ([`Sender::buffered`]): one after a read that got less than it asked for (a pipe or
+/// standard input that had no more yet; a file's reads are full, and its records keep going
+/// in whole batches).
+pub(crate) struct Flushing<'a, R> {
+    inner: R,
+    sender: &'a Sender,
+    /// The last read got less than it asked for.
+    short: bool,
+}
+
+impl<R: Read> Read for Flushing<'_, R> {
+    fn read(&mut self, buf: &mut [u8]) -> io::Result<usize> {
+        if self.short {
+            // (A consumer that has gone is found by the next send.)
+            self.sender.flush();
         }
-        let batch = std::mem::replace(&mut self.batch, Vec::with_capacity(BATCH));
-        self.sender.send(batch).is_ok()
+        let n = self.inner.read(buf)?;
+        self.short = n < buf.len();
+        Ok(n)
     }
 }
 
@@ -79,7 +121,7 @@ impl Sender {
 /// ([`KeypointError::refused_pose`]) stays the stream's first item.
 pub(crate) fn spawn(
     file: &str,
-    produce: impl FnOnce(&mut Sender) + Send + 'static,
+    produce: impl FnOnce(&Sender) + Send + 'static,
 ) -> Result<Received, KeypointError> {
     let (sender, receiver) = sync_channel(CAPACITY);
     let producer = std::thread::Builder::new()
@@ -88,11 +130,11 @@ pub(crate) fn spawn(
             crate::error::clip(file)
         ))
         .spawn(move || {
-            let mut sender = Sender {
+            let sender = Sender {
                 sender,
-                batch: Vec::with_capacity(BATCH),
+                batch: RefCell::new(Vec::with_capacity(BATCH)),
             };
-            produce(&mut sender);
+            produce(&sender);
             sender.flush();
         })
         .map_err(|source| KeypointError::Io {

@@ -31,6 +31,9 @@ pub struct Inputs {
     unread_folders: bool,
     /// Whether the input is a folder (else one file or standard input).
     folder: bool,
+    /// Whether the input arrives as it is written (standard input, a named pipe), so that
+    /// poses are answered as they come rather than a batch at a time.
+    live: bool,
 }
 
 impl Inputs {
@@ -47,6 +50,8 @@ impl Inputs {
             options,
             unread_folders: false,
             folder: false,
+            live: args.is_standard_input()
+                || std::fs::metadata(args.path()).is_ok_and(|m| !m.is_file() && !m.is_dir()),
         };
         if args.is_standard_input() {
             inputs.name = STDIN_NAME.to_owned();
@@ -100,6 +105,11 @@ impl Inputs {
             return Err(CliError::NotReadToEnd(self.name.clone()));
         }
         Ok(())
+    }
+
+    /// Whether the input arrives as it is written (standard input, a named pipe).
+    pub fn is_live(&self) -> bool {
+        self.live
     }
 
     /// Whether the input is a folder (else one file or standard input).

@@ -382,7 +382,9 @@ pub struct FormatArgs {
     /// Print one JSON array with one object per pose (streamed: written as poses are done).
     #[arg(long, conflicts_with = "jsonl")]
     pub json: bool,
-    /// Print one JSON object per line, each as soon as its pose is done (for large inputs).
+    /// Print one JSON object per line, each as soon as its pose is done (for large inputs and
+    /// streams: from standard input or a named pipe with `--camera-height any`, poses are
+    /// answered as they come, once the input's first 64 KiB are read).
     #[arg(long)]
     pub jsonl: bool,
 }

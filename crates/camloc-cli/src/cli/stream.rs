@@ -459,19 +459,46 @@ where
     // it (on every core), and this one writes the results of the one before that.
     let (sender, batches) = std::sync::mpsc::sync_channel(1);
     let (done_sender, done_batches) = std::sync::mpsc::sync_channel(1);
+    let live = inputs.is_live();
     let reader = &mut inputs;
     let compute = &compute;
     std::thread::scope(|scope| -> Result<(), CliError> {
-        scope.spawn(move || {
-            loop {
-                let mut batch = Vec::with_capacity(BATCH);
-                batch.extend(reader.by_ref().take(BATCH));
-                // Stop at the end, or when the receiver has stopped (an error, a closed pipe).
-                if batch.is_empty() || sender.send(batch).is_err() {
-                    break;
+        if live {
+            // A live input's records go one by one to the batcher, which sends what has come
+            // (up to a batch) as soon as the previous batch is taken: a pose written by a
+            // detector 30 times a second is answered at once, a file piped in still goes in
+            // full batches.
+            let (record_sender, records) = std::sync::mpsc::sync_channel(BATCH);
+            scope.spawn(move || {
+                for record in reader.by_ref() {
+                    if record_sender.send(record).is_err() {
+                        break;
+                    }
                 }
-            }
-        });
+            });
+            scope.spawn(move || {
+                while let Ok(first) = records.recv() {
+                    let mut batch = Vec::with_capacity(BATCH);
+                    batch.push(first);
+                    batch.extend(records.try_iter().take(BATCH - 1));
+                    if sender.send(batch).is_err() {
+                        break;
+                    }
+                }
+            });
+        } else {
+            scope.spawn(move || {
+                loop {
+                    let mut batch = Vec::with_capacity(BATCH);
+                    batch.extend(reader.by_ref().take(BATCH));
+                    // Stop at the end, or when the receiver has stopped (an error, a closed
+                    // pipe).
+                    if batch.is_empty() || sender.send(batch).is_err() {
+                        break;
+                    }
+                }
+            });
+        }
         let computing = bar.clone();
         scope.spawn(move || {
             for batch in batches {
