@@ -594,7 +594,8 @@ fn json_hint(message: &str, line: usize, column: usize) -> &'static str {
         ("expected value", (1, 1)) => " (the input is not JSON: is its format right?)",
         ("expected value", _) => {
             " (a trailing comma, or NaN or Infinity, which Python's json module writes and \
-             JSON does not have: write null for a missing coordinate)"
+             JSON does not have: write a missing joint as null in camloc JSON, with a score of \
+             0 in a detector's format)"
         }
         _ => "",
     }
