@@ -461,7 +461,7 @@ pub fn open_keypoints_reader(
     // can match, is refused at once; an input that ends within it is parsed whole, a longer
     // JSON document is streamed.
     let mut reader = reader;
-    let start = peek::Start::read(&mut reader, limit).map_err(io_error)?;
+    let start = peek::read_start(&mut reader, limit, size, format).map_err(io_error)?;
     if start.len() > limit {
         return Err(too_large(start.len(), (limit, rule)));
     }

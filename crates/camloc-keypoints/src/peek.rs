@@ -32,16 +32,50 @@ pub(crate) struct Start {
     pub(crate) ended: bool,
 }
 
+/// Reads the start of the input `reader` ([`Start::read`]) of `size` bytes when known, in
+/// `format` when given: a live input (standard input, a pipe: no size) in a JSON format given
+/// is peeked at what its first read brings, not 64 KiB, so that a detector writing to it
+/// has its first poses answered as they come; otherwise [`STREAM_PEEK_BYTES`] are read for the
+/// format's detection.
+pub(crate) fn read_start(
+    reader: &mut impl Read,
+    limit: u64,
+    size: Option<u64>,
+    format: Option<crate::KeypointFormat>,
+) -> io::Result<Start> {
+    let eager = size.is_none() && format.is_some_and(|f| f.is_json());
+    Start::read_as(reader, limit, eager)
+}
+
 impl Start {
     /// Reads the start of `reader`; stops early (with [`Start::len`] over `limit`) when the lead
     /// alone is longer than `limit` bytes.
+    #[cfg(test)]
     pub(crate) fn read(reader: &mut impl Read, limit: u64) -> io::Result<Start> {
+        Start::read_as(reader, limit, false)
+    }
+
+    /// [`Start::read`], or with `eager` the content that one read brings past the lead
+    /// (its end known only when that read brings nothing).
+    fn read_as(reader: &mut impl Read, limit: u64, eager: bool) -> io::Result<Start> {
         let mut start = Start::default();
         let mut first = true;
         loop {
             let mut chunk = Vec::new();
-            reader.take(STREAM_PEEK_BYTES).read_to_end(&mut chunk)?;
-            let ended = (chunk.len() as u64) < STREAM_PEEK_BYTES;
+            let ended = if eager {
+                chunk.resize(STREAM_PEEK_BYTES as usize, 0);
+                let n = loop {
+                    match reader.read(&mut chunk) {
+                        Err(e) if e.kind() == io::ErrorKind::Interrupted => continue,
+                        read => break read?,
+                    }
+                };
+                chunk.truncate(n);
+                n == 0
+            } else {
+                reader.take(STREAM_PEEK_BYTES).read_to_end(&mut chunk)?;
+                (chunk.len() as u64) < STREAM_PEEK_BYTES
+            };
             let mut rest = &chunk[..];
             if first {
                 first = false;
@@ -57,6 +91,10 @@ impl Start {
             start.count_lead(&rest[..blank]);
             if blank < rest.len() || ended {
                 start.content = rest[blank..].to_vec();
+                if eager {
+                    start.ended = ended;
+                    return Ok(start);
+                }
                 let missing = STREAM_PEEK_BYTES - start.content.len() as u64;
                 if !ended {
                     reader.take(missing).read_to_end(&mut start.content)?;
@@ -152,6 +190,41 @@ mod tests {
             lead.iter().rev().position(|&c| c == b'\n'),
             original.iter().rev().position(|&c| c == b'\n')
         );
+    }
+
+    #[test]
+    fn an_eager_start_is_what_one_read_brings() {
+        // A reader that brings 5 bytes at a time (a pipe a detector writes to).
+        struct Trickle<'a>(&'a [u8]);
+        impl Read for Trickle<'_> {
+            fn read(&mut self, buf: &mut [u8]) -> io::Result<usize> {
+                let n = self.0.len().min(5).min(buf.len());
+                buf[..n].copy_from_slice(&self.0[..n]);
+                self.0 = &self.0[n..];
+                Ok(n)
+            }
+        }
+        let input = b"\n\n   [{\"frame_id\": 0}]";
+        let start = Start::read_as(&mut Trickle(input), u64::MAX, true).unwrap();
+        // The first read is all lead; the second brings the content's first bytes.
+        assert_eq!(start.newlines, 2);
+        assert_eq!(start.content, b"[{\"fr");
+        assert!(!start.ended);
+        let whole = Start::read(&mut Trickle(input), u64::MAX).unwrap();
+        assert_eq!(whole.content, b"[{\"frame_id\": 0}]");
+        assert!(whole.ended);
+        // Eager only for a live input in a JSON format given.
+        let json = Some(crate::KeypointFormat::Camloc);
+        let eager = |size, format| {
+            read_start(&mut Trickle(input), u64::MAX, size, format)
+                .unwrap()
+                .content
+                .len()
+        };
+        assert_eq!(eager(None, json), 5);
+        assert_eq!(eager(Some(22), json), 17);
+        assert_eq!(eager(None, None), 17);
+        assert_eq!(eager(None, Some(crate::KeypointFormat::Lsp)), 17);
     }
 
     #[test]

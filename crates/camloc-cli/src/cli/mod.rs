@@ -384,7 +384,7 @@ pub struct FormatArgs {
     pub json: bool,
     /// Print one JSON object per line, each as soon as its pose is done (for large inputs and
     /// streams: from standard input or a named pipe with `--camera-height any`, poses are
-    /// answered as they come, once the input's first 64 KiB are read).
+    /// answered as they come; without `--format`, once the input's first 64 KiB are read).
     #[arg(long)]
     pub jsonl: bool,
 }
