@@ -32,7 +32,7 @@ pub(crate) struct Start {
     pub(crate) ended: bool,
 }
 
-/// Reads the start of the input `reader` ([`Start::read`]) of `size` bytes when known, in
+/// Reads the start of the input `reader` ([`Start::read_as`]) of `size` bytes when known, in
 /// `format` when given: a live input (standard input, a pipe: no size) in a JSON format given
 /// is peeked at what its first read brings, not 64 KiB, so that a detector writing to it
 /// has its first poses answered as they come; otherwise [`STREAM_PEEK_BYTES`] are read for the
@@ -48,15 +48,10 @@ pub(crate) fn read_start(
 }
 
 impl Start {
-    /// Reads the start of `reader`; stops early (with [`Start::len`] over `limit`) when the lead
-    /// alone is longer than `limit` bytes.
-    #[cfg(test)]
-    pub(crate) fn read(reader: &mut impl Read, limit: u64) -> io::Result<Start> {
-        Start::read_as(reader, limit, false)
-    }
-
-    /// [`Start::read`], or with `eager` the content that one read brings past the lead
-    /// (its end known only when that read brings nothing).
+    /// Reads the start of `reader`: its lead, then [`STREAM_PEEK_BYTES`] of content, or with
+    /// `eager` the content that one read brings (its end known only when that read brings
+    /// nothing); stops early (with [`Start::len`] over `limit`) when the lead alone is longer
+    /// than `limit` bytes.
     fn read_as(reader: &mut impl Read, limit: u64, eager: bool) -> io::Result<Start> {
         let mut start = Start::default();
         let mut first = true;
@@ -176,7 +171,7 @@ mod tests {
         input.extend_from_slice(b" \t\r\n\n  ");
         input.extend(vec![b' '; 3 * STREAM_PEEK_BYTES as usize]);
         input.extend_from_slice(b"{\"poses\": []}");
-        let start = Start::read(&mut &input[..], u64::MAX).unwrap();
+        let start = Start::read_as(&mut &input[..], u64::MAX, false).unwrap();
         assert_eq!(start.content, b"{\"poses\": []}");
         assert!(start.ended);
         assert_eq!(start.len(), input.len() as u64);
@@ -210,7 +205,7 @@ mod tests {
         assert_eq!(start.newlines, 2);
         assert_eq!(start.content, b"[{\"fr");
         assert!(!start.ended);
-        let whole = Start::read(&mut Trickle(input), u64::MAX).unwrap();
+        let whole = Start::read_as(&mut Trickle(input), u64::MAX, false).unwrap();
         assert_eq!(whole.content, b"[{\"frame_id\": 0}]");
         assert!(whole.ended);
         // Eager only for a live input in a JSON format given.
@@ -229,7 +224,7 @@ mod tests {
 
     #[test]
     fn an_endless_lead_stops_past_the_limit() {
-        let start = Start::read(&mut io::repeat(b'\n'), 1 << 20).unwrap();
+        let start = Start::read_as(&mut io::repeat(b'\n'), 1 << 20, false).unwrap();
         assert!(start.len() > 1 << 20 && start.len() <= (1 << 20) + STREAM_PEEK_BYTES);
     }
 }

@@ -472,12 +472,9 @@ pub(crate) fn reconstruct<'py>(
             )?;
         }
     } else {
-        // Rows without frame numbers are consecutive frames.
-        let imputed = (results.iter().zip(&numbers).enumerate()).filter_map(|(i, (r, number))| {
-            let r = r.as_ref().ok()?;
-            Some((number.unwrap_or(i as u64), r.imputed.as_slice()))
-        });
-        if let Some(often) = camloc::often_filled(imputed, reconstructor.frame_rate()) {
+        if let Some(often) =
+            camloc::often_filled_frames(&results, &numbers, reconstructor.frame_rate())
+        {
             crate::warnings::warn(
                 py,
                 format!(

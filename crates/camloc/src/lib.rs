@@ -116,7 +116,7 @@ pub use image_size_check::{
 pub use input_elevation::ELEVATION_PSEUDO_VIEWS;
 pub use often_filled::{
     FILLED_RUN_GAP_FRAMES, FILLED_RUN_S, FilledCount, FilledLandmark, OFTEN_FILLED_SHARE,
-    OftenFilled, often_filled,
+    OftenFilled, often_filled, often_filled_frames,
 };
 pub use reconstruction::{
     GAP_FILL_S, LANDMARK_SMOOTHING_S, PoseReconstruction, PoseReconstructor,

@@ -5,6 +5,8 @@
 use camloc_reconstruct::FrameRate;
 use camloc_skeleton::{Landmark, NUM_LANDMARKS};
 
+use crate::PoseReconstruction;
+
 /// The share of a person's reconstructed frames from which a landmark filled in there is
 /// named by [`often_filled`]: a simulated animator's walker had its far arm filled in 214 of
 /// 232 frames, where it swung three times as far as the arm it stood for, without a word.
@@ -86,8 +88,11 @@ pub fn often_filled<'a>(
     let mut frames = 0;
     for (number, imputed) in filled {
         frames += 1;
-        for i in 0..NUM_LANDMARKS {
-            let here = imputed.iter().any(|l| l.index() == i);
+        let mut filled_here = [false; NUM_LANDMARKS];
+        for l in imputed {
+            filled_here[l.index()] = true;
+        }
+        for (i, &here) in filled_here.iter().enumerate() {
             counts[i] += usize::from(here);
             runs[i] = match (here, runs[i]) {
                 (false, _) => None,
@@ -122,6 +127,22 @@ pub fn often_filled<'a>(
         run_frames,
         landmarks,
     })
+}
+
+/// [`often_filled`] of a person's reconstructed `frames` (the failed ones left out) at `rate`,
+/// `numbers` their frame numbers (a frame without one is numbered by its position: rows
+/// without frame numbers are consecutive frames), as `camloc reconstruct --sequence` and
+/// Python's `reconstruct(sequence=True)` warn of them.
+pub fn often_filled_frames<E>(
+    frames: &[Result<PoseReconstruction, E>],
+    numbers: &[Option<u64>],
+    rate: FrameRate,
+) -> Option<OftenFilled> {
+    let filled = (frames.iter().zip(numbers).enumerate()).filter_map(|(i, (r, number))| {
+        let r = r.as_ref().ok()?;
+        Some((number.unwrap_or(i as u64), r.imputed.as_slice()))
+    });
+    often_filled(filled, rate)
 }
 
 /// The poses of a run reconstructed one by one that had landmarks filled in, not seen, and

@@ -93,14 +93,10 @@ pub fn warn_of_sinking(person: &str, numbers: &[Option<u64>], animated: &[Option
 }
 
 /// Warns on standard error of the landmarks of `person` (its name) filled in, not seen, often
-/// or over half a second among its reconstructed frames at `rate` (`imputed`: each one's
-/// frame number and filled-in landmarks, in time order; [`camloc::often_filled`]).
-pub fn warn_of_filled<'a>(
-    person: &str,
-    imputed: impl IntoIterator<Item = (u64, &'a [Landmark])>,
-    rate: camloc::reconstruct::FrameRate,
-) {
-    if let Some(often) = camloc::often_filled(imputed, rate) {
+/// or over half a second among its reconstructed frames (`often`:
+/// [`camloc::often_filled_frames`]).
+pub fn warn_of_filled(person: &str, often: Option<camloc::OftenFilled>) {
+    if let Some(often) = often {
         stderr_line!(
             "camloc: warning: {person}: landmarks filled in, not seen (their 3D is a guess, from \
              the pose basis or the frames around a short gap; `imputed` in JSON), of its {}: {}",

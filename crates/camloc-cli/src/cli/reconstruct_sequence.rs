@@ -244,13 +244,8 @@ pub fn run(
                     message.map_or("", String::as_str),
                 );
             }
-            // Rows without frame numbers are consecutive frames.
-            let imputed =
-                (frames.iter().zip(&numbers).enumerate()).filter_map(|(i, (r, number))| {
-                    let r = r.as_ref().ok()?;
-                    Some((number.unwrap_or(i as u64), r.imputed.as_slice()))
-                });
-            super::person_solve::warn_of_filled(&names[n], imputed, reconstructor.frame_rate());
+            let often = camloc::often_filled_frames(&frames, &numbers, reconstructor.frame_rate());
+            super::person_solve::warn_of_filled(&names[n], often);
             let outputs = members.iter().zip(frames).zip(animated).zip(left_out);
             for ((((&i, frame), pose), left), &sides) in outputs.zip(&swapped_sides) {
                 let k = &kept[i];
