@@ -401,6 +401,32 @@ fn repeated_frame_numbers_are_warned_of() {
     assert!(!String::from_utf8_lossy(&once.stderr).contains("repeat"));
 }
 
+/// The fixture video's frame 1 has a second pose, left out of person 0's sequence: the
+/// person's timeline has its two frames, not a third slot with the left-out pose's camera.
+#[test]
+fn a_pose_left_out_of_a_sequence_is_not_on_its_timeline() {
+    let dir = TempDir::new("left-out-timeline");
+    let fixture =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/keypoints/samples/openpose");
+    let svg = dir.path("timeline.svg");
+    let out = camloc(&[
+        "localize",
+        "--input",
+        &fixture.to_string_lossy(),
+        "--sequence",
+        "--svg",
+        &svg,
+        "-q",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let drawing = std::fs::read_to_string(&svg).unwrap();
+    assert!(drawing.contains("person 0, 2 frames"), "{drawing}");
+}
+
 /// OpenPose without tracking numbers people in the detector's order, which changes as people
 /// come and go: camloc follows each person by where it is, so a change of that order leaves
 /// every person's frames its own; a tracker's ids are kept as given, and ids that swap two

@@ -44,12 +44,15 @@ pub enum ArrayPoseError {
         joint: usize,
     },
     /// A score outside [0, 1].
-    #[error("joint {joint}: score {score} is outside [0, 1]{}", score_hint(*.score))]
+    #[error("joint {joint}: score {score} is outside [0, 1]{}", score_hint(*.score, *.separate))]
     ScoreOutOfRange {
         /// Joint index.
         joint: usize,
         /// The score.
         score: f64,
+        /// Whether the score came from an array of scores of its own (Python's `scores`), not
+        /// from the third channel of the points ([`pose_from_array`] sets `false`).
+        separate: bool,
     },
     /// The first five joints of a 17-joint pose contradict the layout
     /// ([`contradicted`](crate::contradicted)).
@@ -64,14 +67,16 @@ pub enum ArrayPoseError {
     },
 }
 
-/// What a score outside [0, 1] in the third channel of an `(N, J, 3)` array most likely is,
-/// as a hint starting with `; `: COCO's visibility flags (0, 1, 2), a percentage (2 to 100),
-/// else a third coordinate.
-pub(crate) fn score_hint(score: f64) -> &'static str {
+/// What a score outside [0, 1] most likely is, as a hint starting with `; `: COCO's
+/// visibility flags (0, 1, 2), a percentage (2 to 100), else, for the third channel of an
+/// `(N, J, 3)` array (not `separate` scores), a third coordinate; or nothing.
+pub(crate) fn score_hint(score: f64, separate: bool) -> &'static str {
     if score == 2.0 {
         "; COCO visibility flags (0, 1, 2)? give (v > 0) as the score, or x and y alone"
     } else if (2.0..=100.0).contains(&score) {
         "; scores in percent? divide them by 100"
+    } else if separate {
+        ""
     } else {
         "; (N, J, 3) keypoint arrays hold x, y, score, not 3D points"
     }
@@ -116,7 +121,11 @@ pub fn pose_from_array(
         }
         match row.get(2) {
             Some(&score) if !(0.0..=1.0).contains(&score) => {
-                return Err(ArrayPoseError::ScoreOutOfRange { joint, score });
+                return Err(ArrayPoseError::ScoreOutOfRange {
+                    joint,
+                    score,
+                    separate: false,
+                });
             }
             _ => {}
         }

@@ -219,12 +219,7 @@ pub enum KeypointError {
         joint: String,
     },
     /// A JSON object has keys the format does not define (all of them are listed).
-    #[error(
-        "{}: {at}: unknown key(s) {}{} (allowed: {allowed})",
-        file_name(.file),
-        quoted_list(keys),
-        suggested(keys, suggestions)
-    )]
+    #[error("{}", unknown_keys(file, at, keys, suggestions, allowed))]
     UnknownKeys {
         /// Name of the input.
         file: String,
@@ -494,29 +489,59 @@ pub use camloc_store::{MAX_QUOTED_CHARS, MAX_QUOTED_PATH_CHARS};
 /// [`MAX_QUOTED_CHARS`] characters in all.
 pub const MAX_QUOTED_ITEMS: usize = 8;
 
-/// The suggestions of [`KeypointError::UnknownKeys`]: `, did you mean "neck"?` for one unknown
-/// key, `, did you mean "neck" for "nek", "left_wrist" for "l_wrist"?` for several (those with
-/// a suggestion, at most [`MAX_QUOTED_ITEMS`]), or nothing.
-fn suggested(keys: &[String], suggestions: &[Option<&'static str>]) -> String {
-    let pairs: Vec<String> = keys
-        .iter()
-        .zip(suggestions)
-        .filter_map(|(key, s)| s.map(|s| (key, s)))
-        .take(MAX_QUOTED_ITEMS)
-        .map(|(key, s)| {
-            if keys.len() == 1 {
-                format!("\"{s}\"")
-            } else {
-                format!("\"{s}\" for \"{}\"", clip(key))
-            }
-        })
-        .collect();
-    if pairs.is_empty() {
-        String::new()
+/// The message of [`KeypointError::UnknownKeys`]: the unknown keys (at most
+/// [`MAX_QUOTED_ITEMS`], taking at most [`MAX_QUOTED_CHARS`] characters after the first,
+/// then `… and N more`), each with its suggestion (`"nek" (did you mean "neck"?)`; one key:
+/// `"nek", did you mean "neck"?`), then the `allowed` keys when some key shown has no
+/// suggestion: listed when the line stays under [`MAX_MESSAGE_CHARS`], else named by where
+/// they are written down.
+fn unknown_keys(
+    file: &str,
+    at: &Location,
+    keys: &[String],
+    suggestions: &[Option<&'static str>],
+    allowed: &str,
+) -> String {
+    let mut items: Vec<String> = Vec::new();
+    let mut length = 0;
+    let mut unsuggested = false;
+    for (i, key) in keys.iter().enumerate().take(MAX_QUOTED_ITEMS) {
+        let suggestion = suggestions.get(i).copied().flatten();
+        let item = match (suggestion, keys.len()) {
+            (Some(s), 1) => format!("\"{}\", did you mean \"{s}\"?", clip(key)),
+            (Some(s), _) => format!("\"{}\" (did you mean \"{s}\"?)", clip(key)),
+            (None, _) => format!("\"{}\"", clip(key)),
+        };
+        length += item.chars().count();
+        if !items.is_empty() && length > MAX_QUOTED_CHARS {
+            break;
+        }
+        unsuggested |= suggestion.is_none();
+        items.push(item);
+    }
+    if keys.len() > items.len() {
+        items.push(format!("… and {} more", keys.len() - items.len()));
+    }
+    let line = format!(
+        "{}: {at}: unknown key(s) {}",
+        file_name(file),
+        items.join(", ")
+    );
+    if !unsuggested {
+        return line;
+    }
+    let listed = format!("{line} (allowed: {allowed})");
+    if listed.chars().count() < MAX_MESSAGE_CHARS {
+        listed
     } else {
-        format!(", did you mean {}?", pairs.join(", "))
+        format!("{line} (allowed: see docs/keypoints.md)")
     }
 }
+
+/// The longest error message [`unknown_keys`] writes with the allowed keys listed (they are
+/// named by where they are written down beyond it): with `camloc: error: ` before it, a
+/// line under 300 characters.
+const MAX_MESSAGE_CHARS: usize = 280;
 
 /// Input text as an error message quotes it (the shared rule, [`camloc_store::quoted`]): at
 /// most [`MAX_QUOTED_CHARS`] characters (then `…`), control characters escaped.
@@ -599,11 +624,6 @@ fn json_hint(message: &str, line: usize, column: usize) -> &'static str {
         }
         _ => "",
     }
-}
-
-/// `"a", "b"`.
-fn quoted_list(items: &[String]) -> String {
-    capped_list(items, |k| format!("\"{k}\""))
 }
 
 /// `pelvis and neck`.
@@ -706,5 +726,53 @@ mod tests {
             "{msg}"
         );
         assert_eq!(Location::Path(String::new()).to_string(), "top level");
+    }
+
+    /// Ten misspelt keys of a long file name, or eight long unknown keys: the line stays
+    /// under 300 characters with `camloc: error: ` before it (700 characters before).
+    #[test]
+    fn many_unknown_keys_keep_the_line_short() {
+        // Eight names (neck to right wrist) misspelt; the 15 allowed.
+        let names: Vec<&'static str> = Landmark::ALL[7..].iter().map(|l| l.name()).collect();
+        let allowed = Landmark::ALL.map(|l| l.name()).join(", ");
+        let message = |keys: Vec<String>, suggestions: Vec<Option<&'static str>>| {
+            KeypointError::UnknownKeys {
+                file: format!("{}.json", "n".repeat(150)),
+                at: Location::Path("poses[1234567].landmarks".into()),
+                keys,
+                suggestions: suggestions.into(),
+                allowed: allowed.clone(),
+            }
+            .to_string()
+        };
+        let misspelt = message(
+            names.iter().map(|n| format!("{n}x")).collect(),
+            names.iter().map(|&n| Some(n)).collect(),
+        );
+        let long = message(vec!["x".repeat(500); 8], vec![None; 8]);
+        for msg in [&misspelt, &long] {
+            let chars = "camloc: error: ".len() + msg.chars().count();
+            assert!(chars < 300, "{chars} characters: {msg}");
+        }
+        assert!(
+            misspelt.contains("\"neckx\" (did you mean \"neck\"?), ")
+                && !misspelt.contains("allowed"),
+            "{misspelt}"
+        );
+        assert!(
+            long.ends_with("… and 7 more (allowed: see docs/keypoints.md)"),
+            "{long}"
+        );
+        let e = KeypointError::UnknownKeys {
+            file: "a.json".into(),
+            at: Location::Path("poses[0].landmarks".into()),
+            keys: vec!["nek".into(), "nose".into()],
+            suggestions: Box::new([Some("neck"), None]),
+            allowed: "neck, head".into(),
+        };
+        assert_eq!(
+            e.to_string(),
+            "a.json: poses[0].landmarks: unknown key(s) \"nek\" (did you mean \"neck\"?), \"nose\" (allowed: neck, head)"
+        );
     }
 }

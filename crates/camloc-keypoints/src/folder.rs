@@ -19,6 +19,17 @@ const YOLO_EXTENSION: &str = "txt";
 /// files (any case), not read.
 const YOLO_CLASSES: &str = "classes.txt";
 
+/// Whether `dir` holds a folder that [`keypoint_files`] reads only when recursive (a name not
+/// starting with `.`, not a link): said with an input that has no poses of its own.
+pub fn has_subfolders(dir: &Path) -> bool {
+    std::fs::read_dir(dir).is_ok_and(|entries| {
+        entries.flatten().any(|e| {
+            !e.file_name().to_string_lossy().starts_with('.')
+                && e.file_type().is_ok_and(|t| t.is_dir())
+        })
+    })
+}
+
 /// The keypoint files (`.json`, `.csv`, `.npy`, any case; `.txt` but `classes.txt` when there is
 /// none of those) in `dir`, in natural order of their paths (digit runs compare as numbers:
 /// `frame_2` before `frame_10`), files of sub-folders too when `recursive`. Names starting with `.`

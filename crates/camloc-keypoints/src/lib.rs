@@ -163,7 +163,7 @@ pub use coco::COCO_KEYPOINTS;
 pub use error::{
     KeypointError, Location, MAX_QUOTED_CHARS, MAX_QUOTED_ITEMS, MAX_QUOTED_PATH_CHARS, PosePlace,
 };
-pub use folder::{FolderRecords, keypoint_files, open_folder_file, read_folder};
+pub use folder::{FolderRecords, has_subfolders, keypoint_files, open_folder_file, read_folder};
 pub use format::{KeypointFormat, UnknownFormatName};
 pub use json::MAX_ENTRY_VALUES;
 pub use layout::{Layout, MappedPose, UnknownLayoutName};

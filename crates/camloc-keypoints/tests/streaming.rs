@@ -96,7 +96,10 @@ fn streamed_documents_give_the_records_and_errors_of_the_whole_text_reader() {
     assert_eq!(records[999].source, "doc.json: poses[999]");
     for (text, expected) in [
         (&cases[3], "unsupported camloc-keypoints version 2"),
-        (&cases[7], r#"unknown key(s) "nose", "ears""#),
+        (
+            &cases[7],
+            r#"unknown key(s) "nose" (did you mean "poses"?), "ears""#,
+        ),
         (&cases[10], "poses[700].landmarks.neck"),
         (&cases[13], "line 1000"),
     ] {

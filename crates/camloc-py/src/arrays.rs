@@ -420,8 +420,22 @@ impl<'a> PoseBatch<'a> {
                     out.copy_from_slice(&[xy[0], xy[1], *s]);
                 }
                 pose_from_array(self.layout, &joined[..3 * joints], 3, options)
+                    .map_err(of_separate_scores)
             }
         }
+    }
+}
+
+/// `error` of a pose whose scores were given on their own: a score out of range is not the
+/// third channel of the points (its message does not say so).
+fn of_separate_scores(error: ArrayPoseError) -> ArrayPoseError {
+    match error {
+        ArrayPoseError::ScoreOutOfRange { joint, score, .. } => ArrayPoseError::ScoreOutOfRange {
+            joint,
+            score,
+            separate: true,
+        },
+        other => other,
     }
 }
 

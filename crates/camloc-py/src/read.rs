@@ -191,10 +191,15 @@ pub(crate) fn read_keypoints<'py>(
     }
     // The command line refuses such an input ("no poses in ..."); here the arrays are empty.
     if records.is_empty() {
+        let hint = if !recursive && camloc::keypoints::has_subfolders(&path) {
+            " (its sub-folders are read with recursive=True)"
+        } else {
+            ""
+        };
         crate::warnings::warn(
             py,
             format!(
-                "no poses in {}: the arrays are empty",
+                "no poses in {}{hint}: the arrays are empty",
                 camloc::store::quoted_path(&path)
             ),
         )?;

@@ -349,6 +349,19 @@ def test_raw_h36m_array_gives_the_labels_of_the_same_poses_in_camloc_json(locali
     np.testing.assert_array_equal(with_channel["probabilities"], via_file["probabilities"])
 
 
+def test_a_separate_score_out_of_range_is_not_taken_for_a_third_coordinate(localizer):
+    # The hint about (N, J, 3) arrays holding x, y, score is for a third channel; scores
+    # given on their own (a simulated user's 1.5) get none, percentages still theirs.
+    points = example_points()
+    errors = localizer.localize(points, scores=np.full((3, 15), 1.5))["error"]
+    assert all("score 1.5 is outside [0, 1]" in e for e in errors), errors
+    assert not any("(N, J, 3)" in e for e in errors), errors
+    percent = localizer.localize(points, scores=np.full((3, 15), 90.0))["error"]
+    assert all("divide them by 100" in e for e in percent), percent
+    channel = np.concatenate([points, np.full((3, 15, 1), 1.5)], axis=-1)
+    assert all("(N, J, 3)" in e for e in localizer.localize(channel)["error"])
+
+
 def test_min_score_drops_weak_joints_as_the_reader_does(alone):
     # Pose 1's right wrist scores 0.05 in the sample (fixtures/keypoints/README.md).
     array = np.load(SAMPLES / "h36m17_scores.npy")

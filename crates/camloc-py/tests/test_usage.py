@@ -447,6 +447,13 @@ def test_hostile_sizes_and_units_raise_instead_of_aborting(tmp_path):
     with pytest.warns(UserWarning, match="no poses in"):
         read = camloc.read_keypoints(empty)
     assert read["points"].shape == (0, 15, 2)
+    # A folder whose poses are all in its sub-folders: said, as the command line says it.
+    nested = tmp_path / "videos" / "clip"
+    nested.mkdir(parents=True)
+    (nested / "poses.json").write_text((KEYPOINTS / "example.json").read_text())
+    with pytest.warns(UserWarning, match=r"its sub-folders are read with recursive=True"):
+        camloc.read_keypoints(tmp_path / "videos")
+    assert camloc.read_keypoints(tmp_path / "videos", recursive=True)["points"].shape[0] == 3
 
 
 def test_a_rolled_camera_is_warned_of():

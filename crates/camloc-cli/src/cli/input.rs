@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use camloc::keypoints::{
     ImageSize, KeypointError, KeypointFormat, KeypointRecord, KeypointStream, ReadOptions,
-    keypoint_files, open_folder_file, open_keypoints, open_keypoints_reader,
+    has_subfolders, keypoint_files, open_folder_file, open_keypoints, open_keypoints_reader,
 };
 
 use super::{CliError, InputArgs};
@@ -63,12 +63,7 @@ impl Inputs {
             inputs.name = args.path().display().to_string();
             inputs.folder = true;
             inputs.files = keypoint_files(args.path(), args.recursive)?.into_iter();
-            inputs.unread_folders = !args.recursive
-                && std::fs::read_dir(args.path()).is_ok_and(|entries| {
-                    entries
-                        .flatten()
-                        .any(|e| e.file_type().is_ok_and(|t| t.is_dir()))
-                });
+            inputs.unread_folders = !args.recursive && has_subfolders(args.path());
         } else {
             inputs.name = args.path().display().to_string();
             let stream = open_keypoints(args.path(), args.format, &options)?;

@@ -385,20 +385,27 @@ pub fn run(
             }
         }
         if let Some(svg) = svg_out {
-            let raw: Vec<Option<CameraLabel>> = members
+            // The person's frames: a pose left out (another of its frame's) has no place on
+            // the time line.
+            let kept: Vec<usize> = (0..members.len()).filter(|&k| !left_out[k]).collect();
+            let raw: Vec<Option<CameraLabel>> = kept
                 .iter()
-                .map(|&i| frames[i].best().map(|b| b.0))
+                .map(|&k| frames[members[k]].best().map(|b| b.0))
+                .collect();
+            let smoothed: Vec<SmoothedFrame> = kept
+                .iter()
+                .filter_map(|&k| smoothed.get(k).cloned())
                 .collect();
             // (The person's name: a folder of videos names the file too.)
             let title = format!(
                 "{}: {}, {}",
                 inputs.name(),
                 names[n],
-                counted(members.len() as u64, "frame")
+                counted(kept.len() as u64, "frame")
             );
             // Frame numbers, else the position in the input (as the outputs' `frame`).
-            let number = |i: usize| frames[i].frame.unwrap_or(i as u64);
-            let ends = [members.first(), members.last()].map(|m| m.map_or(0, |&i| number(i)));
+            let number = |k: usize| frames[members[k]].frame.unwrap_or(members[k] as u64);
+            let ends = [kept.first(), kept.last()].map(|m| m.map_or(0, |&k| number(k)));
             let drawing = svg::timeline_svg(localizer.cameras(), &raw, &smoothed, ends, &title);
             staged.add(&numbered_path(svg, n, groups.len()), drawing.as_bytes())?;
         }
