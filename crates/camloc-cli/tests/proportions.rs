@@ -105,6 +105,8 @@ fn a_sequence_shares_one_set_of_lengths_and_writes_them() {
     let written: Value =
         serde_json::from_str(&std::fs::read_to_string(&lengths_out).unwrap()).unwrap();
     assert_eq!(written["format"], "camloc-bone-lengths");
+    // Whose lengths they are (a folder of videos' numbered files say it), not read back.
+    assert_eq!(written["person"], "person 0", "{written}");
     for pose in &poses {
         for (got, key) in pose.iter().zip(KEYS) {
             let want = written["lengths"][key].as_f64().unwrap();

@@ -318,7 +318,7 @@ pub fn run(
                 if let Some(path) = options.lengths_out {
                     staged.add(
                         &numbered_path(&lengths_base(path, groups.len()), n, groups.len()),
-                        lengths.to_json_string().as_bytes(),
+                        lengths.to_json_string_of(Some(&names[n])).as_bytes(),
                     )?;
                 }
             }

@@ -97,6 +97,9 @@ struct Document {
     version: Option<u32>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     unit: Option<String>,
+    /// Whose lengths these are (written by `--bone-lengths-out`; not read).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    person: Option<String>,
     lengths: Named,
 }
 
@@ -148,10 +151,18 @@ impl BoneLengths {
     /// line, ending with a newline. Numbers are written in the shortest form that reads back
     /// to the same value.
     pub fn to_json_string(&self) -> String {
+        self.to_json_string_of(None)
+    }
+
+    /// [`to_json_string`](Self::to_json_string) with `person`, the name of whose lengths these
+    /// are (`clip.npy: person 3`), after `unit` when given: a folder of videos' numbered files
+    /// each say whose they are. Reading takes any `person` string and leaves it aside.
+    pub fn to_json_string_of(&self, person: Option<&str>) -> String {
         let document = Document {
             format: Some(BONE_LENGTHS_FORMAT.into()),
             version: Some(BONE_LENGTHS_VERSION),
             unit: Some("m".into()),
+            person: person.map(str::to_owned),
             lengths: Named(self.0),
         };
         // A struct of strings and finite numbers always serialises.
