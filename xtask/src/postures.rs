@@ -45,9 +45,10 @@ pub struct Args {
     pub exclude_subjects: Vec<String>,
     /// Recipes compared, each `+`-joined parts: `jittered` (the recipe before issue 21),
     /// `posture[=SHARE]` (0.25), `rig[=STRIDE]` (2), `balance=B` (1), `quadratic[-K]`,
-    /// `heads=quadratic-K`, `classes`, `lambda=L`, `tol=T`, `precond=N`, `products=N`, and the
-    /// augmentation's `bones=B` (0.1), `hips=LO-HI` (0.8-1.6), `head=LO-HI` (0.8-1.6),
-    /// `photo=P` (0.5); e.g. `posture+rig+balance=0.5`.
+    /// `heads=quadratic-K`, `classes`, `lambda=L`, `tol=T`, `precond=N`, `products=N`,
+    /// `no-low-below` (no views of low bodies from the lower ring), and the augmentation's
+    /// `bones=B` (0.1), `hips=LO-HI` (0.8-1.6), `head=LO-HI` (0.8-1.6), `photo=P` (0.5); e.g.
+    /// `posture+rig+balance=0.5`.
     #[arg(
         long,
         value_delimiter = ',',

@@ -2,7 +2,10 @@
 //! which options. The default model's recipe ([`DEFAULT_RECIPE`]) is one of them, so that
 //! `train-default`, `postures`, `report` and `compare-sklearn` train it the same way.
 
-use camloc::dataset::{Augmentation, Dataset, GenerateConfig, PoseSequence, Protocol};
+use camloc::dataset::{
+    Augmentation, Dataset, GenerateConfig, PoseSequence, PostureGroup, Protocol,
+};
+use camloc::geometry::Level;
 use camloc::learning::{DirectionSolver, FitReport, IterationLog};
 use camloc::{CameraLocalizer, Capacity, DepthLifter, TrainOptions};
 
@@ -85,7 +88,9 @@ pub fn training_views(
 /// `tol=T` (its per-sample gradient tolerance), `bones=B` (the bone-length scaling bound of
 /// the augmentation, 0.1 by default), `hips=LO-HI` and `head=LO-HI` (its hip width and
 /// head reach ranges, 0.8-1.6 both by default), `photo=P` (its share of photo placements,
-/// 0.5 by default).
+/// 0.5 by default), `no-low-below` (views of seated, squatting and kneeling bodies,
+/// `PostureGroup::Low`, from the lower ring's cameras left out: a camera 22.5 deg or more
+/// below a low pelvis a few metres away stands under the floor).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Recipe {
     /// The text it was parsed from, its name in tables.
@@ -95,6 +100,9 @@ pub struct Recipe {
     augmentation: Augmentation,
     /// The frame stride of the added `rig` views (`None`: none).
     rig_stride: Option<usize>,
+    /// Whether views of low bodies from a camera of the lower ring are left out of the
+    /// training views (`no-low-below`).
+    no_low_below: bool,
     /// The training options.
     pub options: TrainOptions,
 }
@@ -107,6 +115,7 @@ impl std::str::FromStr for Recipe {
             name: text.to_string(),
             augmentation: Augmentation::TRAINING,
             rig_stride: None,
+            no_low_below: false,
             options: default_options(),
         };
         let number = |v: &str| {
@@ -142,6 +151,7 @@ impl std::str::FromStr for Recipe {
                 ("lambda", Some(v)) => recipe.options.regression.lambda = number(v)?,
                 ("tol", Some(v)) => recipe.options.regression.gradient_tolerance = number(v)?,
                 ("classes", None) => recipe.options.posture_classes = true,
+                ("no-low-below", None) => recipe.no_low_below = true,
                 ("heads", Some(v)) => recipe.options.viewpoint_capacity = v.parse()?,
                 ("quadratic", None) => {
                     recipe.options = recipe.options.clone().with_capacity(Capacity::Quadratic {
@@ -271,6 +281,15 @@ impl Recipe {
             }
             views.samples.extend(rig.samples);
         }
+        if self.no_low_below {
+            let cameras = views.header.cameras.clone();
+            views.samples.retain(|s| {
+                let below = cameras
+                    .get(u16::from(s.label))
+                    .is_some_and(|v| v.level == Level::Lower);
+                !(below && PostureGroup::of(&s.pose3) == PostureGroup::Low)
+            });
+        }
         Ok(views)
     }
 
@@ -356,6 +375,13 @@ mod tests {
             .parse()
             .unwrap();
         assert_eq!((r.augmentation.posture, r.rig_stride), (0.3, Some(3)));
+        assert!(!r.no_low_below && !recipe.no_low_below);
+        assert!(
+            "posture+no-low-below"
+                .parse::<Recipe>()
+                .unwrap()
+                .no_low_below
+        );
         assert_eq!(r.options.camera_balance, 0.5);
         assert_eq!(
             r.options.viewpoint_capacity,

@@ -141,7 +141,7 @@ pub fn page(
     let json = serde_json::to_string(&data)
         .unwrap_or_else(|_| "{}".to_owned())
         .replace('<', "\\u003c");
-    let title = escape_html(title);
+    let title = camloc::store::markup_escaped(title);
     format!(
         r#"<!DOCTYPE html>
 <html lang="en"><head><meta charset="utf-8"><title>{title}</title>
@@ -171,14 +171,6 @@ canvas {{ border: 1px solid #ddd; }} #skeleton, #sphere {{ cursor: grab; }}
 </body></html>
 "#
     )
-}
-
-/// `text` for HTML text content.
-fn escape_html(text: &str) -> String {
-    camloc::store::escaped(text)
-        .replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
 }
 
 #[cfg(test)]

@@ -136,18 +136,9 @@ fn draw_caption(svg: &mut String, lines: &[String], x: f64, y: f64) {
             svg,
             r#"<text x="{x}" y="{}" fill="{CENTRE}">{}</text>"#,
             y + CAPTION_LINE_PX * k as f64,
-            escape(line)
+            camloc::store::markup_escaped(line)
         );
     }
-}
-
-/// `text` for an SVG text element: control characters escaped as messages escape them (XML
-/// cannot hold most of them, even as references), then `&`, `<` and `>`.
-fn escape(text: &str) -> String {
-    camloc::store::escaped(text)
-        .replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
 }
 
 /// The continuous viewpoint of a localization (docs/conventions.md section 2): the direction

@@ -425,6 +425,30 @@ fn a_pose_left_out_of_a_sequence_is_not_on_its_timeline() {
     );
     let drawing = std::fs::read_to_string(&svg).unwrap();
     assert!(drawing.contains("person 0, 2 frames"), "{drawing}");
+    // A frame whose pose jumps far from the frames around it is an outlier, left out of the
+    // smoothing but not of the time line: 40 frames, 40 slots.
+    let people = fixture_people();
+    let video = TempDir::new("outlier-timeline");
+    let far = moved_right(&people[0], 900.0);
+    for t in 0..40 {
+        write_frame(&video, t, &[if t == 20 { &far } else { &people[0] }]);
+    }
+    let svg = video.path("timeline.svg");
+    let out = camloc(&[
+        "localize",
+        "--input",
+        &video.path(""),
+        "--sequence",
+        "--svg",
+        &svg,
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        out.status.success() && stderr.contains("apart from"),
+        "{stderr}"
+    );
+    let drawing = std::fs::read_to_string(&svg).unwrap();
+    assert!(drawing.contains("person 0, 40 frames"), "{drawing}");
 }
 
 /// OpenPose without tracking numbers people in the detector's order, which changes as people

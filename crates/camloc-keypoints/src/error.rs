@@ -489,12 +489,9 @@ pub use camloc_store::{MAX_QUOTED_CHARS, MAX_QUOTED_PATH_CHARS};
 /// [`MAX_QUOTED_CHARS`] characters in all.
 pub const MAX_QUOTED_ITEMS: usize = 8;
 
-/// The message of [`KeypointError::UnknownKeys`]: the unknown keys (at most
-/// [`MAX_QUOTED_ITEMS`], taking at most [`MAX_QUOTED_CHARS`] characters after the first,
-/// then `… and N more`), each with its suggestion (`"nek" (did you mean "neck"?)`; one key:
-/// `"nek", did you mean "neck"?`), then the `allowed` keys when some key shown has no
-/// suggestion: listed when the line stays under [`MAX_MESSAGE_CHARS`], else named by where
-/// they are written down.
+/// The message of [`KeypointError::UnknownKeys`]: the unknown keys as [`capped_list`] gives
+/// them, each with its suggestion (`"nek" (did you mean "neck"?)`; one key: `"nek", did you
+/// mean "neck"?`), then the `allowed` keys when some key, shown or not, has none.
 fn unknown_keys(
     file: &str,
     at: &Location,
@@ -502,46 +499,21 @@ fn unknown_keys(
     suggestions: &[Option<&'static str>],
     allowed: &str,
 ) -> String {
-    let mut items: Vec<String> = Vec::new();
-    let mut length = 0;
-    let mut unsuggested = false;
-    for (i, key) in keys.iter().enumerate().take(MAX_QUOTED_ITEMS) {
-        let suggestion = suggestions.get(i).copied().flatten();
-        let item = match (suggestion, keys.len()) {
-            (Some(s), 1) => format!("\"{}\", did you mean \"{s}\"?", clip(key)),
-            (Some(s), _) => format!("\"{}\" (did you mean \"{s}\"?)", clip(key)),
-            (None, _) => format!("\"{}\"", clip(key)),
-        };
-        length += item.chars().count();
-        if !items.is_empty() && length > MAX_QUOTED_CHARS {
-            break;
+    let suggestion = |i: usize| suggestions.get(i).copied().flatten();
+    let list = capped_list_of(keys, keys.len(), |i, key| {
+        match (suggestion(i), keys.len()) {
+            (Some(s), 1) => format!("\"{key}\", did you mean \"{s}\"?"),
+            (Some(s), _) => format!("\"{key}\" (did you mean \"{s}\"?)"),
+            (None, _) => format!("\"{key}\""),
         }
-        unsuggested |= suggestion.is_none();
-        items.push(item);
-    }
-    if keys.len() > items.len() {
-        items.push(format!("… and {} more", keys.len() - items.len()));
-    }
-    let line = format!(
-        "{}: {at}: unknown key(s) {}",
-        file_name(file),
-        items.join(", ")
-    );
-    if !unsuggested {
-        return line;
-    }
-    let listed = format!("{line} (allowed: {allowed})");
-    if listed.chars().count() < MAX_MESSAGE_CHARS {
-        listed
+    });
+    let line = format!("{}: {at}: unknown key(s) {list}", file_name(file));
+    if (0..keys.len()).all(|i| suggestion(i).is_some()) {
+        line
     } else {
-        format!("{line} (allowed: see docs/keypoints.md)")
+        format!("{line} (allowed: {allowed})")
     }
 }
-
-/// The longest error message [`unknown_keys`] writes with the allowed keys listed (they are
-/// named by where they are written down beyond it): with `camloc: error: ` before it, a
-/// line under 300 characters.
-const MAX_MESSAGE_CHARS: usize = 280;
 
 /// Input text as an error message quotes it (the shared rule, [`camloc_store::quoted`]): at
 /// most [`MAX_QUOTED_CHARS`] characters (then `…`), control characters escaped.
@@ -558,15 +530,19 @@ pub(crate) fn file_name(file: &str) -> String {
 /// [`MAX_QUOTED_CHARS`] characters), each [`clip`]ped and formatted by `item`, separated by
 /// commas, then `… and N more`.
 fn capped_list(items: &[String], item: impl Fn(String) -> String) -> String {
-    capped_list_of(items, items.len(), item)
+    capped_list_of(items, items.len(), |_, text| item(text))
 }
 
-/// [`capped_list`] of the first `items` of `total`.
-fn capped_list_of(items: &[String], total: usize, item: impl Fn(String) -> String) -> String {
+/// [`capped_list`] of the first `items` of `total`, `item` given each one's index too.
+fn capped_list_of(
+    items: &[String],
+    total: usize,
+    item: impl Fn(usize, String) -> String,
+) -> String {
     let mut shown: Vec<String> = Vec::new();
     let mut length = 0;
-    for text in items.iter().take(MAX_QUOTED_ITEMS) {
-        let text = item(clip(text));
+    for (i, text) in items.iter().take(MAX_QUOTED_ITEMS).enumerate() {
+        let text = item(i, clip(text));
         length += text.chars().count();
         if !shown.is_empty() && length > MAX_QUOTED_CHARS {
             break;
@@ -597,7 +573,7 @@ fn header_columns(items: &[String], total: usize) -> String {
     let list = capped_list_of(
         items,
         total,
-        |c| if c.is_empty() { "\"\"".into() } else { c },
+        |_, c| if c.is_empty() { "\"\"".into() } else { c },
     );
     if items.iter().any(String::is_empty) {
         list + "; an unnamed column is likely pandas' index: write the CSV with to_csv(index=False)"
@@ -728,10 +704,11 @@ mod tests {
         assert_eq!(Location::Path(String::new()).to_string(), "top level");
     }
 
-    /// Ten misspelt keys of a long file name, or eight long unknown keys: the line stays
-    /// under 300 characters with `camloc: error: ` before it (700 characters before).
+    /// Misspelt keys of a long file name, long unknown keys, escaped ones: the line stays
+    /// bounded (a 700-character line before), the allowed keys listed whenever a key, shown or
+    /// not, has no suggestion.
     #[test]
-    fn many_unknown_keys_keep_the_line_short() {
+    fn many_unknown_keys_keep_the_line_bounded() {
         // Eight names (neck to right wrist) misspelt; the 15 allowed.
         let names: Vec<&'static str> = Landmark::ALL[7..].iter().map(|l| l.name()).collect();
         let allowed = Landmark::ALL.map(|l| l.name()).join(", ");
@@ -749,20 +726,28 @@ mod tests {
             names.iter().map(|n| format!("{n}x")).collect(),
             names.iter().map(|&n| Some(n)).collect(),
         );
-        let long = message(vec!["x".repeat(500); 8], vec![None; 8]);
-        for msg in [&misspelt, &long] {
-            let chars = "camloc: error: ".len() + msg.chars().count();
-            assert!(chars < 300, "{chars} characters: {msg}");
-        }
+        assert!(misspelt.chars().count() < 300, "{misspelt}");
         assert!(
             misspelt.contains("\"neckx\" (did you mean \"neck\"?), ")
                 && !misspelt.contains("allowed"),
             "{misspelt}"
         );
-        assert!(
-            long.ends_with("… and 7 more (allowed: see docs/keypoints.md)"),
-            "{long}"
+        for key in ["x".repeat(500), "\u{1b}".repeat(500)] {
+            let long = message(vec![key; 8], vec![None; 8]);
+            assert!(long.chars().count() < 500, "{long}");
+            assert!(
+                long.ends_with(&format!("… and 7 more (allowed: {allowed})")),
+                "{long}"
+            );
+        }
+        // Keys without a suggestion hidden behind suggested ones still bring the list.
+        let hidden = message(
+            ["nek", "hed", "l_wrst", "confidence", "nose"]
+                .map(String::from)
+                .to_vec(),
+            vec![Some("neck"), Some("head"), Some("left_wrist"), None, None],
         );
+        assert!(hidden.contains("more (allowed: "), "{hidden}");
         let e = KeypointError::UnknownKeys {
             file: "a.json".into(),
             at: Location::Path("poses[0].landmarks".into()),

@@ -125,6 +125,9 @@ pub(crate) fn bone_lengths(value: &Bound<'_, PyAny>, name: &str) -> PyResult<Bon
         let given: HashMap<String, Bound<'_, PyAny>> = mapping.extract()?;
         let mut named: HashMap<String, f64> = HashMap::with_capacity(given.len());
         for (key, value) in given {
+            if crate::number::is_bool(&value)? {
+                return Err(bool_length(name));
+            }
             let number = value.extract::<f64>().map_err(|_| {
                 value_error(format!(
                     "{name}: {key:?} must be a number of metres, got {}",
@@ -171,10 +174,23 @@ pub(crate) fn bone_lengths(value: &Bound<'_, PyAny>, name: &str) -> PyResult<Bon
             "{name}: expected a mapping of BONE_KEYS, 14 numbers or a file path"
         ))
     })?;
+    // (A bool converts to 1.0: 14 of them would be a person of 1 m limbs.)
+    for item in value.try_iter()? {
+        if crate::number::is_bool(&item?)? {
+            return Err(bool_length(name));
+        }
+    }
     let lengths: [f64; NUM_LIMBS] = numbers
         .try_into()
         .map_err(|v: Vec<f64>| value_error(format!("{name}: {} numbers, expected 14", v.len())))?;
     BoneLengths::from_array(lengths).map_err(invalid)
+}
+
+/// The `TypeError` of a bool given as a length of the argument `name`.
+fn bool_length(name: &str) -> PyErr {
+    pyo3::exceptions::PyTypeError::new_err(format!(
+        "{name}: a length must be a number of metres, not a bool"
+    ))
 }
 
 // A bone lengths argument as the JSON file `bone_lengths=PATH` and `camloc reconstruct

@@ -226,6 +226,19 @@ def test_proportions_options_equal_the_command_line(cli, tmp_path):
     # A value that is not a number is named (it was a bare TypeError).
     with pytest.raises(ValueError, match='"torso" must be a number of metres, got str'):
         camloc.reconstruct(example_points(), bone_lengths={**named, "torso": "0.5"})
+    # A bool is not a length (True read as 1.0 made limbs of 1 m without a word).
+    for given in ([True] * 14, dict.fromkeys(named, True), np.ones(14, bool)):
+        with pytest.raises(TypeError, match="a length must be a number of metres, not a bool"):
+            camloc.reconstruct(example_points(), bone_lengths=given)
+    # The command line's --bone-lengths-out files (with "person") are read back.
+    with_person = tmp_path / "person.json"
+    text = camloc.bone_lengths_json(named).replace('"unit": "m",', '"unit": "m", "person": "person 3 of a.npy",')
+    with_person.write_text(text)
+    np.testing.assert_allclose(
+        camloc.reconstruct(example_points(), bone_lengths=with_person)["bone_lengths"][0],
+        [named[k] for k in camloc.BONE_KEYS],
+        rtol=1e-9,
+    )
     # Every missing key is named; a path given as bytes is not read as numbers.
     with pytest.raises(ValueError, match='missing key\\(s\\) "left_pelvis_hip", "torso"'):
         camloc.reconstruct(

@@ -64,8 +64,8 @@ pub const BONE_KEYS: [&str; NUM_LIMBS] = [
 ///
 /// with all 14 keys of [`BONE_KEYS`] under `"lengths"`; `format`, `version` and `unit` may be
 /// left out and are checked when present; a `person` string (whose lengths, as
-/// `--bone-lengths-out` writes it) is read and left aside. [`BoneLengths`] serialises (serde) as the
-/// `"lengths"` object alone.
+/// `--bone-lengths-out` writes it) is read and left aside. [`BoneLengths`] serialises (serde)
+/// as the `"lengths"` object alone.
 ///
 /// ```
 /// use camloc_reconstruct::BoneLengths;

@@ -38,7 +38,9 @@ mod quote;
 mod unfinished;
 mod write;
 
-pub use quote::{MAX_QUOTED_CHARS, MAX_QUOTED_PATH_CHARS, escaped, quoted, quoted_path};
+pub use quote::{
+    MAX_QUOTED_CHARS, MAX_QUOTED_PATH_CHARS, escaped, markup_escaped, quoted, quoted_path,
+};
 pub use unfinished::{Unfinished, remove_unfinished};
 pub use write::{StagedFiles, check_target, file_type_name, scratch_beside, write_new};
 

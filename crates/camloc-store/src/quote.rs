@@ -15,13 +15,30 @@ pub const MAX_QUOTED_CHARS: usize = 80;
 /// end (the file's own name) around a `…`.
 pub const MAX_QUOTED_PATH_CHARS: usize = 100;
 
-/// Whether `c` is escaped where user text is shown: a control character, or a
-/// bidirectional formatting character (U+200E, U+200F, U+202A to U+202E, U+2066 to U+2069),
-/// which would turn the rest of a line around, numbers included ("p = 0.57" read
-/// "75.0 = p").
+/// Whether `c` is escaped where user text is shown: a control character, a bidirectional
+/// formatting character (U+200E, U+200F, U+202A to U+202E, U+2066 to U+2069), which would
+/// turn the rest of a line around, numbers included ("p = 0.57" read "75.0 = p"), or
+/// U+FFFE and U+FFFF, which XML cannot hold (a drawing's caption with one is not read).
 fn escapes(c: char) -> bool {
     c.is_control()
-        || matches!(c, '\u{200e}' | '\u{200f}' | '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}')
+        || matches!(
+            c,
+            '\u{200e}'
+                | '\u{200f}'
+                | '\u{202a}'..='\u{202e}'
+                | '\u{2066}'..='\u{2069}'
+                | '\u{fffe}'
+                | '\u{ffff}'
+        )
+}
+
+/// `text` as the text of an SVG or HTML element: [`escaped`], then `&`, `<` and `>` as
+/// references (XML cannot hold most control characters, even as references).
+pub fn markup_escaped(text: &str) -> String {
+    escaped(text)
+        .replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
 }
 
 /// `text` with its control and bidirectional formatting characters escaped (`\n`,
@@ -50,30 +67,51 @@ pub fn quoted_path(path: &Path) -> String {
 }
 
 /// Escapes `text` and keeps at most its first `head` and last `tail` characters of a longer
-/// text, with `…` between (or at the end when `tail` is 0).
+/// text, counted as shown (an escaped character takes its escape's length: a run of control
+/// characters is cut as short as plain text), with `…` between (or at the end when `tail` is
+/// 0).
 fn cut(text: &str, head: usize, tail: usize) -> String {
-    let mut out = String::new();
-    let count = text.chars().count();
-    let keep = |n: usize| n < head || count <= head.saturating_add(tail) || n >= count - tail;
-    let mut marked = false;
-    for (n, c) in text.chars().enumerate() {
-        if !keep(n) {
-            if !marked {
-                out.push('…');
-                marked = true;
-            }
-            if tail == 0 {
-                break;
-            }
-            continue;
-        }
+    let width = |c: char| {
         if escapes(c) {
-            let _ = write!(out, "{}", c.escape_default());
+            c.escape_default().count()
         } else {
-            out.push(c);
+            1
         }
+    };
+    let mut out = String::new();
+    if text.chars().map(width).sum::<usize>() <= head.saturating_add(tail) {
+        text.chars().for_each(|c| push_shown(&mut out, c));
+        return out;
     }
+    let mut used = 0usize;
+    for c in text.chars() {
+        used += width(c);
+        if used > head {
+            break;
+        }
+        push_shown(&mut out, c);
+    }
+    out.push('…');
+    // The last characters that `tail` shows.
+    let (mut used, mut start) = (0usize, text.len());
+    for (i, c) in text.char_indices().rev() {
+        used += width(c);
+        if used > tail {
+            break;
+        }
+        start = i;
+    }
+    text[start..].chars().for_each(|c| push_shown(&mut out, c));
     out
+}
+
+/// Appends `c` to `out` as messages show it: escaped when [`escapes`] says so.
+fn push_shown(out: &mut String, c: char) {
+    if escapes(c) {
+        let _ = write!(out, "{}", c.escape_default());
+    } else {
+        out.push(c);
+    }
 }
 
 #[cfg(test)]
@@ -99,5 +137,14 @@ mod tests {
             "{q}"
         );
         assert_eq!(quoted_path(Path::new("a\nb.json")), "a\\nb.json");
+        // Escapes count as shown: 100 ESC characters are cut at 80 shown characters, not
+        // 80 escapes of 6 (trial118: 480-character pieces).
+        let q = quoted(&"\u{1b}".repeat(100));
+        assert!(q.chars().count() <= MAX_QUOTED_CHARS + 1, "{q}");
+        assert!(q.starts_with("\\u{1b}") && q.ends_with('…'), "{q}");
+        let q = quoted_path(Path::new(&"a\u{202e}b".repeat(60)));
+        assert!(q.chars().count() <= MAX_QUOTED_PATH_CHARS + 1, "{q}");
+        assert_eq!(escaped(&"\u{1b}".repeat(3)), "\\u{1b}".repeat(3));
+        assert_eq!(markup_escaped("a\u{fffe}<&>"), "a\\u{fffe}&lt;&amp;&gt;");
     }
 }

@@ -417,3 +417,21 @@ fn undecodable_payloads_are_named_in_words() {
         );
     }
 }
+
+/// An output whose name is as long as a file system allows (250 bytes, non-ASCII at the cut)
+/// is written and replaced: its temporary and backup names repeat at most 200 bytes of it.
+#[test]
+fn an_output_of_a_long_name_is_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let name = format!("{}é{}.json", "n".repeat(199), "m".repeat(44));
+    assert_eq!(name.len(), 250);
+    let path = dir.path().join(&name);
+    write_new(&path, b"one", false).unwrap();
+    write_new(&path, b"two", true).unwrap();
+    assert_eq!(fs::read(&path).unwrap(), b"two");
+    let mut staged = StagedFiles::new(true);
+    staged.add(&path, b"three").unwrap();
+    staged.commit().unwrap();
+    assert_eq!(fs::read(&path).unwrap(), b"three");
+    assert_eq!(fs::read_dir(dir.path()).unwrap().count(), 1);
+}

@@ -318,13 +318,22 @@ fn folder(path: &Path) -> PathBuf {
     }
 }
 
-/// `.NAME.`, the start of the temporary names made for `path`.
+/// The most bytes of an output's name that its temporary names repeat: with the dots, six
+/// random characters and `.tmp`, a temporary name stays within the 255 bytes most file
+/// systems allow a name, as long as the output's own may be (trial118: a 250-byte name).
+const MAX_PREFIX_NAME_BYTES: usize = 200;
+
+/// `.NAME.`, the start of the temporary names made for `path` (NAME cut to
+/// [`MAX_PREFIX_NAME_BYTES`] at a character's end).
 fn hidden_prefix(path: &Path) -> String {
-    format!(
-        ".{}.",
-        path.file_name()
-            .map_or_else(|| "output".into(), |n| n.to_string_lossy())
-    )
+    let name = path
+        .file_name()
+        .map_or_else(|| "output".into(), |n| n.to_string_lossy());
+    let mut end = name.len().min(MAX_PREFIX_NAME_BYTES);
+    while !name.is_char_boundary(end) {
+        end -= 1;
+    }
+    format!(".{}.", &name[..end])
 }
 
 /// An operating-system error on `path`.

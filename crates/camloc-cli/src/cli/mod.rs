@@ -335,8 +335,9 @@ pub struct InputArgs {
     /// Refuse a text input (JSON, CSV) longer than N bytes (1 GiB by default; .npy arrays are not
     /// limited).
     ///
-    /// The readers stream what they read, so a larger limit costs no memory (a 1.15 GB camloc JSON
-    /// file of 2.3 million poses went through `localize` in 46 MB).
+    /// The JSON readers stream what they read, so a larger limit costs them no memory (a 1.15 GB
+    /// camloc JSON file of 2.3 million poses went through `localize` in 46 MB); CSV and YOLO
+    /// text is held whole.
     #[arg(long, value_name = "N", default_value_t = ReadOptions::DEFAULT_MAX_BYTES,
           value_parser = clap::value_parser!(u64).range(1..))]
     pub max_input_bytes: u64,

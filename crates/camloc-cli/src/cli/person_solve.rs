@@ -50,7 +50,8 @@ impl Prepared {
             rate,
             "reconstructed on its own, left out of the sequence (its lengths, smoothness and \
              animation)",
-        );
+        )
+        .mask(numbers.len());
         let swapped_sides =
             super::sequence::sides_swapped_back(person, &numbers, &mut poses, &left_out, rate);
         Prepared {

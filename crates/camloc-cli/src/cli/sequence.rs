@@ -18,8 +18,8 @@ use camloc::keypoints::KeypointRecord;
 use camloc::reconstruct::FrameRate;
 use camloc::skeleton::NUM_LANDMARKS;
 use camloc::{
-    CameraLabel, Landmark, Localization, PartialPose2, SequenceModel, SideChain, SmoothedFrame,
-    TorsoAnchor, Viewpoint, identity_jumps, smooth_viewpoints,
+    CameraLabel, Landmark, LeftOut, Localization, PartialPose2, SequenceModel, SideChain,
+    SmoothedFrame, TorsoAnchor, Viewpoint, identity_jumps, smooth_viewpoints,
 };
 use indicatif::ProgressBar;
 use rayon::prelude::*;
@@ -314,7 +314,7 @@ pub fn run(
         let numbers = frame_numbers(&keys, members);
         let anchors: Vec<Option<TorsoAnchor>> =
             members.iter().map(|&i| frames[i].torso_anchor()).collect();
-        let left_out = left_out_of_sequence(
+        let left_out_frames = left_out_of_sequence(
             *person,
             &numbers,
             &anchors,
@@ -322,6 +322,7 @@ pub fn run(
             "left out of the person's smoothing (its smoothed camera comes from the frames \
              around it, and it has no smoothed viewpoint)",
         );
+        let left_out = left_out_frames.mask(members.len());
         // The limbs a detector swapped left for right (in the frames kept): swapped back and
         // localized again.
         let mut poses: Vec<PartialPose2> = members.iter().map(|&i| frames[i].pose()).collect();
@@ -385,14 +386,16 @@ pub fn run(
             }
         }
         if let Some(svg) = svg_out {
-            // The person's frames: a pose left out (another of its frame's) has no place on
-            // the time line.
-            let kept: Vec<usize> = (0..members.len()).filter(|&k| !left_out[k]).collect();
+            // The person's frames: a second pose of a frame (another's) has no place on the
+            // time line; an outlier frame keeps its slot.
+            let kept: Vec<usize> = (0..members.len())
+                .filter(|k| !left_out_frames.second_poses.contains(k))
+                .collect();
             let raw: Vec<Option<CameraLabel>> = kept
                 .iter()
                 .map(|&k| frames[members[k]].best().map(|b| b.0))
                 .collect();
-            let smoothed: Vec<SmoothedFrame> = kept
+            let kept_smoothed: Vec<SmoothedFrame> = kept
                 .iter()
                 .filter_map(|&k| smoothed.get(k).cloned())
                 .collect();
@@ -406,7 +409,8 @@ pub fn run(
             // Frame numbers, else the position in the input (as the outputs' `frame`).
             let number = |k: usize| frames[members[k]].frame.unwrap_or(members[k] as u64);
             let ends = [kept.first(), kept.last()].map(|m| m.map_or(0, |&k| number(k)));
-            let drawing = svg::timeline_svg(localizer.cameras(), &raw, &smoothed, ends, &title);
+            let drawing =
+                svg::timeline_svg(localizer.cameras(), &raw, &kept_smoothed, ends, &title);
             staged.add(&numbered_path(svg, n, groups.len()), drawing.as_bytes())?;
         }
     }
@@ -491,7 +495,7 @@ pub fn left_out_of_sequence(
     anchors: &[Option<TorsoAnchor>],
     rate: FrameRate,
     treated: &str,
-) -> Vec<bool> {
+) -> LeftOut {
     let left_out = camloc::left_out_of_sequence(frames, anchors, rate);
     let at = |m: usize| frame_name(frames, m);
     if let Some(&first) = left_out.second_poses.first() {
@@ -532,7 +536,7 @@ pub fn left_out_of_sequence(
         );
     }
     warn_of_identity_jumps(person, frames, &left_out.kept_anchors(anchors));
-    left_out.mask(frames.len())
+    left_out
 }
 
 /// A pose's localization as a sequence keeps it (the camera and probabilities, or the error's
@@ -642,7 +646,7 @@ pub fn name_numbered_persons(out: &Path, persons: &[String]) {
         .iter()
         .take(10)
         .enumerate()
-        .map(|(n, person)| format!("{} is {person}", escaped(&name(n))))
+        .map(|(n, person)| format!("{} is {}", escaped(&name(n)), escaped(person)))
         .collect();
     if persons.len() > pairs.len() {
         pairs.push(format!(

@@ -155,7 +155,7 @@ impl BoneLengths {
     }
 
     /// [`to_json_string`](Self::to_json_string) with `person`, the name of whose lengths these
-    /// are (`clip.npy: person 3`), after `unit` when given: a folder of videos' numbered files
+    /// are (`person 3 of clip.npy`), after `unit` when given: a folder of videos' numbered files
     /// each say whose they are. Reading takes any `person` string and leaves it aside.
     pub fn to_json_string_of(&self, person: Option<&str>) -> String {
         let document = Document {
