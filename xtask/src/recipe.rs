@@ -285,7 +285,7 @@ impl Recipe {
             let cameras = views.header.cameras.clone();
             views.samples.retain(|s| {
                 let below = cameras
-                    .get(u16::from(s.label))
+                    .get(s.label)
                     .is_some_and(|v| v.level == Level::Lower);
                 !(below && PostureGroup::of(&s.pose3) == PostureGroup::Low)
             });

@@ -435,3 +435,20 @@ fn an_output_of_a_long_name_is_written() {
     assert_eq!(fs::read(&path).unwrap(), b"three");
     assert_eq!(fs::read_dir(dir.path()).unwrap().count(), 1);
 }
+
+/// A temporary file that cannot be made is reported on the output, with the system's reason
+/// alone: `tempfile` adds the temporary file's whole path (trial118: a 614-character line).
+#[cfg(target_os = "linux")]
+#[test]
+fn a_failed_temporary_file_is_said_without_its_path() {
+    let err = write_new(Path::new("/proc/camloc-output.bin"), b"x", false).unwrap_err();
+    let message = err.to_string();
+    assert!(
+        message.starts_with("/proc/camloc-output.bin: "),
+        "{message}"
+    );
+    assert!(
+        !message.contains("at path") && !message.contains(".tmp"),
+        "{message}"
+    );
+}

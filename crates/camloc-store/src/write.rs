@@ -336,8 +336,19 @@ fn hidden_prefix(path: &Path) -> String {
     format!(".{}.", &name[..end])
 }
 
-/// An operating-system error on `path`.
+/// An operating-system error on `path` (the output, not its temporary file): an error of the
+/// system is given as the system's alone, without the temporary file's whole path that
+/// `tempfile` adds to its errors (trial118: a 614-character line).
 fn io_error(path: &Path, source: io::Error) -> StoreError {
+    // `tempfile` wraps the system's error in one of its own (private) that adds
+    // ` at path "..."`, the temporary file's whole path: cut there.
+    let text = source.to_string();
+    let source = match text.find(" at path ") {
+        Some(end) if source.raw_os_error().is_none() => {
+            io::Error::new(source.kind(), text[..end].to_owned())
+        }
+        _ => source,
+    };
     StoreError::Io {
         path: path.to_path_buf(),
         source,
