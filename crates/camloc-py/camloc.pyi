@@ -207,10 +207,10 @@ class Localizer:
         localize`` refuses an input without poses (exit 1).
 
         Returns a dict:
-          label (N,) int64: most probable camera, 1..12 (0 where the pose failed);
+          label (N,) int64: most probable camera, 1..K, K = 12 with Table 1 (0 where it failed);
           folded_label (N,) int64: the label with back cameras folded to the front;
           probability (N,) float64: probability of ``label``;
-          probabilities (N, 12) float64: probability of each camera (column label - 1);
+          probabilities (N, K) float64: probability of each camera (column label - 1);
           azimuth_deg, elevation_deg (N,) float64: the continuous viewpoint, degrees, in the
             person's canonical frame (azimuth 180 = front, 270 = left, 0 = back, 90 = right;
             elevation + above); NaN where the pose failed or the model has no direction heads;

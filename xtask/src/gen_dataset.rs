@@ -84,7 +84,7 @@ pub struct Args {
     pub test_out: Option<PathBuf>,
     /// Subjects held out with --test-out, comma-separated [default: every fourth subject in
     /// sorted order, starting with the second].
-    #[arg(long, value_name = "IDS", value_delimiter = ',')]
+    #[arg(long, value_name = "IDS", value_delimiter = ',', requires = "test_out")]
     pub test_subjects: Vec<String>,
     /// Overwrite --out (and --test-out) if they exist.
     #[arg(long)]
@@ -180,8 +180,15 @@ pub fn run(args: &Args) -> Result<(), String> {
                 .iter()
                 .find(|t| !known.iter().any(|(s, _)| s == *t))
             {
+                // Subjects are named as their files are: `09`, not `9`.
+                let padded = format!("{unknown:0>2}");
+                let hint = if &padded != unknown && known.iter().any(|(s, _)| *s == padded) {
+                    format!(" (did you mean '{padded}'? subjects are named as their files)")
+                } else {
+                    String::new()
+                };
                 return Err(format!(
-                    "--test-subjects: no subject '{unknown}' in the data"
+                    "--test-subjects: no subject '{unknown}' in the data{hint}"
                 ));
             }
             let (train, test) = dataset.split_by_subjects(&test_subjects);

@@ -386,6 +386,36 @@ fn a_camera_height_that_cannot_apply_is_warned_of() {
         stderr.contains("changes nothing for this model: all of its cameras"),
         "{stderr}"
     );
+    // This model's 8 cameras are not Table 1's: `reconstruct` says it goes without the
+    // embedded lifter, and refuses a lifter of 12 classes before any pose (each pose had
+    // failed on its own, and `evaluate-reconstruction` had exited 0 with every pose failed).
+    let reconstruct = |extra: &[&str]| {
+        let mut args = vec![
+            "reconstruct",
+            "--input",
+            input.to_str().unwrap(),
+            "--model",
+            model,
+        ];
+        args.extend(extra);
+        camloc(&args)
+    };
+    let without = reconstruct(&["-q"]);
+    success(&without);
+    let stderr = String::from_utf8_lossy(&without.stderr);
+    assert!(
+        stderr.contains("serves Table 1's 12 cameras, not this model's 8"),
+        "{stderr}"
+    );
+    let lifter = fixture("default-lifter.bin");
+    let refused = reconstruct(&["--lifter", lifter.to_str().unwrap()]);
+    assert_eq!(refused.status.code(), Some(1));
+    assert!(refused.stdout.is_empty());
+    let stderr = String::from_utf8_lossy(&refused.stderr);
+    assert!(
+        stderr.contains("has 12 camera classes, the model 8 cameras"),
+        "{stderr}"
+    );
 }
 
 /// A camera without samples in the dataset has no accuracy: null in `evaluate --json`, `-` in

@@ -307,9 +307,10 @@ fn project_sample(
         ),
         Protocol::Jittered => {
             let j = &config.jitter;
-            let azimuth = view.azimuth_deg + symmetric(rng, j.azimuth_deg);
+            let (azimuth_bound, elevation_bound) = jitter_bounds_deg(j, &config.cameras);
+            let azimuth = view.azimuth_deg + symmetric(rng, azimuth_bound);
             let elevation =
-                (view.elevation_deg + symmetric(rng, j.elevation_deg)).clamp(-89.0, 89.0);
+                (view.elevation_deg + symmetric(rng, elevation_bound)).clamp(-89.0, 89.0);
             perspective_view(pose3, azimuth, elevation, j, rng)?
         }
         Protocol::Sphere => {
@@ -371,6 +372,25 @@ fn drop_mask(count: usize, rng: &mut ChaCha8Rng) -> u16 {
         mask |= 1 << candidates.swap_remove(k);
     }
     mask
+}
+
+/// The azimuth and elevation bounds of `jitter` on the camera set `cameras`, degrees: at most
+/// half the spacing of its azimuths and of its elevation rings, so that a jittered view stays
+/// nearer its own camera than any other (Table 1's +-30 and +-15 deg lie within its 45 and
+/// 22.5; a sphere of 8 azimuths and rings 20 deg apart gets +-22.5 and +-10, where +-30 and
+/// +-15 had labelled a simulated user's views by cameras they were not nearest).
+pub(crate) fn jitter_bounds_deg(jitter: &Jitter, cameras: &CameraSet) -> (f64, f64) {
+    let azimuth_spacing = 360.0 / cameras.azimuths().max(1) as f64;
+    let mut rings = cameras.elevations_deg().to_vec();
+    rings.sort_by(f64::total_cmp);
+    let ring_gap = rings
+        .windows(2)
+        .map(|w| w[1] - w[0])
+        .fold(f64::INFINITY, f64::min);
+    (
+        jitter.azimuth_deg.min(0.5 * azimuth_spacing),
+        jitter.elevation_deg.min(0.5 * ring_gap),
+    )
 }
 
 #[cfg(test)]
@@ -627,5 +647,28 @@ mod tests {
         let err =
             generate(&seqs, &GenerateConfig::new(Protocol::Canonical), &|_, _| {}).unwrap_err();
         assert!(err.to_string().contains("2_01 frame 2"), "{err}");
+    }
+
+    /// Table 1 keeps the jitter of conventions.md section 7; a finer sphere's is half its
+    /// spacing, so that every jittered view of a sphere of 8 azimuths and rings 20 deg apart
+    /// stays nearest its own camera (half of them had not).
+    #[test]
+    fn jitter_stays_within_half_the_spacing() {
+        let jitter = Jitter::default();
+        assert_eq!(
+            jitter_bounds_deg(&jitter, &CameraSet::table1()),
+            (30.0, 15.0)
+        );
+        let fine = CameraSet::sphere(8, &[-20.0, 0.0, 20.0, 40.0]).unwrap();
+        assert_eq!(jitter_bounds_deg(&jitter, &fine), (22.5, 10.0));
+        let mut config = GenerateConfig::new(Protocol::Jittered);
+        config.cameras = fine.clone();
+        config.min_pose_distance_mm = 0.0;
+        let data = generate(&sequences(), &config, &|_, _| {}).unwrap();
+        for s in &data.samples {
+            let (azimuth, elevation) = crate::augment::camera_direction_deg(&s.rotation);
+            let nearest = fine.by_ring_and_side(azimuth, elevation);
+            assert_eq!(nearest.label, s.label, "{azimuth} {elevation}");
+        }
     }
 }

@@ -34,7 +34,9 @@ impl CameraLocalizer {
     /// their fits say (`rig` views 26 deg and more above the pelvis, read as one input per
     /// band of elevation: 1.6 and -1.4 deg mean error without the shift, -4.9 and -7.0 with
     /// it; docs/measured.md). `None` for the other heights, for a middle height no pose was
-    /// put at, and without viewpoint heads.
+    /// put at, without viewpoint heads, and for a camera set with more than one ring in the
+    /// middle band (a custom sphere's rings at -20, 0 and 20 deg: one mean moved the 20 deg
+    /// ring's views 15 deg down, a simulated user's finding).
     pub(crate) fn input_elevations(
         &self,
         poses: &[&PartialPose2],
@@ -44,6 +46,15 @@ impl CameraLocalizer {
         let Some(heads) = &self.viewpoint else {
             return [None; 3];
         };
+        let middle_rings = self
+            .cameras
+            .elevations_deg()
+            .iter()
+            .filter(|&&e| Level::nearest(e) == Level::Middle)
+            .count();
+        if middle_rings > 1 {
+            return [None; 3];
+        }
         let under = self
             .clone()
             .with_camera_height(CameraHeight::Shares(shares));

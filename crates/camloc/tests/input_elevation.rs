@@ -3,6 +3,8 @@
 //! direction heads' pull toward the training's elevations, and given elevations are checked.
 
 mod common;
+#[path = "common/swinging.rs"]
+mod swinging;
 
 use camloc::dataset::{
     GenerateConfig, Protocol, camera_direction_deg, generate, load_mocap_folders,
@@ -159,4 +161,36 @@ fn a_few_poses_move_the_middle_elevation_little() {
         (elevation - training).abs() < 3.0,
         "{elevation} against {training}"
     );
+}
+
+/// A camera set with three rings in the middle band (8 azimuths at -20, 0, 20 and 40 deg):
+/// one mean elevation cannot stand for three rings (it moved a simulated user's 20 deg views
+/// 15 deg down), so none is estimated; the shares still are.
+#[test]
+fn a_sphere_of_several_middle_rings_gets_no_input_elevation() {
+    use camloc::dataset::{ClipInfo, PoseSequence};
+    use camloc::geometry::CameraSet;
+    let sequences: Vec<PoseSequence> = (0..3)
+        .map(|subject| PoseSequence {
+            clip: ClipInfo::new(subject.to_string(), format!("{subject}_01")),
+            frames: (0..30u32)
+                .map(|f| (f, swinging::pose(f64::from(f) * 0.2 + f64::from(subject))))
+                .collect(),
+        })
+        .collect();
+    let mut config = GenerateConfig::new(Protocol::Jittered);
+    config.cameras = CameraSet::sphere(8, &[-20.0, 0.0, 20.0, 40.0]).unwrap();
+    config.min_pose_distance_mm = 0.0;
+    let dataset = generate(&sequences, &config, &|_, _| {}).unwrap();
+    let (localizer, _) =
+        CameraLocalizer::train(&dataset, &camloc::TrainOptions::default(), |_| {}).unwrap();
+    let poses: Vec<PartialPose2> = dataset
+        .samples
+        .iter()
+        .step_by(7)
+        .map(|s| PartialPose2::from(s.landmarks))
+        .collect();
+    let estimate = localizer.estimate_height_shares(&poses);
+    let shares = estimate.shares.expect("the shares are estimated");
+    assert_eq!(shares.elevations_deg(), [None; 3]);
 }

@@ -74,7 +74,7 @@ pub struct Args {
     pub summary_svg: Option<PathBuf>,
     /// Write one self-contained interactive page (no network needed).
     ///
-    /// Per pose the 2D input, the camera sphere with the 12 probabilities and the continuous
+    /// Per pose the 2D input, the camera sphere with each camera's probability and the continuous
     /// direction with its uncertainty, and the 3D skeleton `camloc reconstruct` gives with the same
     /// model (drag to turn, wheel to zoom) with its reprojection; a timeline to play and scrub
     /// (with --sequence, per person, with the smoothed camera). It reconstructs every pose, so the
@@ -385,10 +385,11 @@ fn localization_text(
             "  viewpoint: azimuth {a:.1} deg, elevation {e:.1} deg, +- {u:.1} deg"
         );
     }
-    // The class's Table-1 camera, not the viewpoint above: named so.
+    // The class's own camera (Table 1's with the default model), not the viewpoint above:
+    // named so.
     let _ = writeln!(
         out,
-        "  camera {}'s rotation (Table 1; rows: its axes in the person's frame):",
+        "  camera {}'s rotation (the class's; rows: its axes in the person's frame):",
         loc.label
     );
     for row in rotation_rows(loc) {

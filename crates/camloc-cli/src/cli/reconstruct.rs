@@ -192,7 +192,7 @@ pub struct Args {
     /// Write one self-contained interactive page (no network needed).
     ///
     /// Per pose the 2D input and reprojection, the 3D skeleton (drag to turn, wheel to zoom) and
-    /// the camera sphere with the 12 probabilities and the continuous direction (from the
+    /// the camera sphere with each camera's probability and the continuous direction (from the
     /// localizer: --model), with a timeline to play and scrub. The page holds every pose (about 2.5
     /// KB each; at most 100,000 poses: split larger inputs).
     #[arg(long, value_name = "OUT")]
@@ -267,8 +267,10 @@ fn to_json<T: serde::Serialize>(value: &T) -> Result<String, CamlocError> {
     })
 }
 
-/// The depth lifter `--lifter` / `--no-lifter` ask for: none with `none`, the file `path`,
-/// else the embedded one for `model`'s `cameras` ([`lifter_for_model`]).
+/// The depth lifter `--lifter` / `--no-lifter` ask for: none with `none`, the file `path`
+/// (refused when its camera classes are not the model's cameras, before any pose), else the
+/// embedded one for `model`'s `cameras` ([`lifter_for_model`]; a model of other cameras than
+/// Table 1's gets none, said on standard error).
 fn chosen_lifter(
     path: Option<&std::path::Path>,
     none: bool,
@@ -277,8 +279,33 @@ fn chosen_lifter(
 ) -> Result<Option<DepthLifter>, CamlocError> {
     match path {
         _ if none => Ok(None),
-        Some(path) => Ok(Some(DepthLifter::load(super::existing(path, "--lifter")?)?)),
-        None => lifter_for_model(model, cameras),
+        Some(path) => {
+            let lifter = DepthLifter::load(super::existing(path, "--lifter")?)?;
+            if lifter.n_classes() != cameras.len() {
+                return Err(CamlocError::InvalidOption {
+                    name: "--lifter",
+                    detail: format!(
+                        "{} has {} camera classes, the model {} cameras",
+                        camloc::store::quoted_path(path),
+                        lifter.n_classes(),
+                        cameras.len()
+                    ),
+                });
+            }
+            Ok(Some(lifter))
+        }
+        None => {
+            let lifter = lifter_for_model(model, cameras)?;
+            if lifter.is_none() {
+                stderr_line!(
+                    "camloc: warning: the embedded depth lifter serves Table 1's 12 cameras, \
+                     not this model's {}: the 3D comes without it (as --no-lifter; give \
+                     --lifter a lifter of these cameras)",
+                    cameras.len()
+                );
+            }
+            Ok(lifter)
+        }
     }
 }
 
