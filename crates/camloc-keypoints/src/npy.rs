@@ -65,12 +65,6 @@ impl<R: Read> Values<R> {
         })
     }
 
-    /// Whether bytes follow the array's last number: a file's size is checked against its
-    /// shape before it is read, a stream's only here (another array or text appended).
-    fn has_more(&mut self) -> io::Result<bool> {
-        Ok(self.reader.read(&mut [0u8; 1])? > 0)
-    }
-
     /// Reads the next `count` numbers into `row` (replacing what it held).
     fn read_into(&mut self, count: usize, row: &mut Vec<f64>) -> io::Result<()> {
         self.bytes.resize(count * self.size, 0);
@@ -236,16 +230,7 @@ impl<R: Read> NpyPoses<R> {
             problem,
         };
         if n == self.count {
-            let more = values.has_more();
-            self.values = None;
-            return match more {
-                Ok(false) => None,
-                Ok(true) => Some(Err(problem(format!(
-                    "bytes follow the last of its {} poses (arrays or text appended?)",
-                    self.count
-                )))),
-                Err(e) => Some(Err(problem(format!("cannot read: {e}")))),
-            };
+            return None;
         }
         if let Err(e) = values.read_into(self.layout.joint_count() * self.channels, &mut self.row) {
             let what = if e.kind() == io::ErrorKind::UnexpectedEof {

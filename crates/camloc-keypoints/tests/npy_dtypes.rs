@@ -1,7 +1,6 @@
 //! `.npy` keypoint arrays in every dtype the reader takes (`float64` and `float32`, little- or
-//! big-endian or this machine's order, with or without `=`) give the same records; a truncated
-//! stream fails at the same pose in each, and one with bytes after its array at its end; a row
-//! with a value no pose holds is that row's error, the rows after it read.
+//! big-endian or this machine's order, with or without `=`) give the same records, and a truncated stream fails at the same pose in each;
+//! a row with a value no pose holds is that row's error, the rows after it read.
 
 use std::io::Cursor;
 
@@ -151,28 +150,4 @@ fn a_row_with_a_value_no_pose_holds_is_its_own_error_and_the_rows_after_it_are_r
         "a.npy: [1]: joint 5's y: inf is not a finite number"
     );
     assert_eq!(items[2].as_ref().unwrap().pose, poses()[0]);
-}
-
-/// A stream with bytes after its array's last pose (another array or text appended) gives
-/// its poses, then an error, as the same file is refused for its size (trial118: standard
-/// input took them in silence); one ending with its array reads to its end.
-#[test]
-fn bytes_after_a_streamed_array_are_an_error() {
-    let mut bytes = Vec::new();
-    write_npy(&mut bytes, &poses()).unwrap();
-    let read = |bytes: Vec<u8>| -> Vec<Result<KeypointRecord, String>> {
-        open_keypoints_reader(Cursor::new(bytes), "-", None, None, &ReadOptions::default())
-            .unwrap()
-            .map(|r| r.map_err(|e| e.to_string()))
-            .collect()
-    };
-    assert!(read(bytes.clone()).iter().all(Result::is_ok));
-    bytes.extend_from_slice(b"junk");
-    let results = read(bytes);
-    assert_eq!(results.len(), 3, "{results:?}");
-    assert!(results[0].is_ok() && results[1].is_ok());
-    assert_eq!(
-        results[2].as_ref().unwrap_err(),
-        "-: bytes follow the last of its 2 poses (arrays or text appended?)"
-    );
 }
