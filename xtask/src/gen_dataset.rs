@@ -188,7 +188,8 @@ pub fn run(args: &Args) -> Result<(), String> {
                     String::new()
                 };
                 return Err(format!(
-                    "--test-subjects: no subject '{unknown}' in the data{hint}"
+                    "--test-subjects: no subject '{}' in the data{hint}",
+                    camloc::store::quoted(unknown)
                 ));
             }
             let (train, test) = dataset.split_by_subjects(&test_subjects);

@@ -404,7 +404,7 @@ fn a_camera_height_that_cannot_apply_is_warned_of() {
     success(&without);
     let stderr = String::from_utf8_lossy(&without.stderr);
     assert!(
-        stderr.contains("serves Table 1's 12 cameras, not this model's 8"),
+        stderr.contains("serves Table 1's cameras, and this model's 8 cameras are others"),
         "{stderr}"
     );
     let lifter = fixture("default-lifter.bin");

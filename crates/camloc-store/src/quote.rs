@@ -16,14 +16,15 @@ pub const MAX_QUOTED_CHARS: usize = 80;
 pub const MAX_QUOTED_PATH_CHARS: usize = 100;
 
 /// Whether `c` is escaped where user text is shown: a control character, a bidirectional
-/// formatting character (U+200E, U+200F, U+202A to U+202E, U+2066 to U+2069), which would
+/// formatting character (U+061C, U+200E, U+200F, U+202A to U+202E, U+2066 to U+2069), which would
 /// turn the rest of a line around, numbers included ("p = 0.57" read "75.0 = p"), or
 /// U+FFFE and U+FFFF, which XML cannot hold (a drawing's caption with one is not read).
 fn escapes(c: char) -> bool {
     c.is_control()
         || matches!(
             c,
-            '\u{200e}'
+            '\u{061c}'
+                | '\u{200e}'
                 | '\u{200f}'
                 | '\u{202a}'..='\u{202e}'
                 | '\u{2066}'..='\u{2069}'

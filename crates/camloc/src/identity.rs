@@ -497,7 +497,7 @@ pub(crate) fn other_poses_of_frames(
 pub struct LeftOut {
     /// The poses of a frame number that another pose has too (a tracker's duplicate, an
     /// untracked second person) other than the person's: the one nearest the person's
-    /// track (see [`left_out_of_sequence`]).
+    /// track (see [`left_out_of_sequence`]); ascending.
     pub second_poses: Vec<usize>,
     /// Poses apart from the frames before and after them ([`outlier_frames`]).
     pub outliers: Vec<usize>,

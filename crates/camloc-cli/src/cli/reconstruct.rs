@@ -268,9 +268,10 @@ fn to_json<T: serde::Serialize>(value: &T) -> Result<String, CamlocError> {
 }
 
 /// The depth lifter `--lifter` / `--no-lifter` ask for: none with `none`, the file `path`
-/// (refused when its camera classes are not the model's cameras, before any pose), else the
-/// embedded one for `model`'s `cameras` ([`lifter_for_model`]; a model of other cameras than
-/// Table 1's gets none, said on standard error).
+/// (refused before any pose when its number of camera classes is not the model's: a lifter
+/// file does not record its cameras, so only their number is checked), else the embedded one
+/// for `model`'s `cameras` ([`lifter_for_model`]; a model of other cameras than Table 1's gets
+/// none, said on standard error).
 fn chosen_lifter(
     path: Option<&std::path::Path>,
     none: bool,
@@ -298,9 +299,9 @@ fn chosen_lifter(
             let lifter = lifter_for_model(model, cameras)?;
             if lifter.is_none() {
                 stderr_line!(
-                    "camloc: warning: the embedded depth lifter serves Table 1's 12 cameras, \
-                     not this model's {}: the 3D comes without it (as --no-lifter; give \
-                     --lifter a lifter of these cameras)",
+                    "camloc: warning: the embedded depth lifter serves Table 1's cameras, \
+                     and this model's {} cameras are others: the 3D comes without it (as \
+                     --no-lifter; give --lifter a lifter of these cameras)",
                     cameras.len()
                 );
             }

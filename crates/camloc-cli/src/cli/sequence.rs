@@ -389,7 +389,7 @@ pub fn run(
             // The person's frames: a second pose of a frame (another's) has no place on the
             // time line; an outlier frame keeps its slot.
             let kept: Vec<usize> = (0..members.len())
-                .filter(|k| !left_out_frames.second_poses.contains(k))
+                .filter(|k| left_out_frames.second_poses.binary_search(k).is_err())
                 .collect();
             let raw: Vec<Option<CameraLabel>> = kept
                 .iter()
