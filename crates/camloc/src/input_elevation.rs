@@ -46,13 +46,7 @@ impl CameraLocalizer {
         let Some(heads) = &self.viewpoint else {
             return [None; 3];
         };
-        let middle_rings = self
-            .cameras
-            .elevations_deg()
-            .iter()
-            .filter(|&&e| Level::nearest(e) == Level::Middle)
-            .count();
-        if middle_rings > 1 {
+        if self.several_middle_rings() {
             return [None; 3];
         }
         let under = self
@@ -99,16 +93,32 @@ impl CameraLocalizer {
     /// predicts, under this localizer's [`CameraHeight`]: the head's
     /// [`ElevationFit::shift_deg`](camloc_learning::ElevationFit::shift_deg) of the input's
     /// mean elevation of that class's height, when the prior is [`CameraHeight::Shares`] with
-    /// one; else 0.
+    /// one; else 0, also for a camera set of several middle-band rings (as
+    /// [`input_elevations`](Self::input_elevations) estimates none for it, elevations given by
+    /// hand move none of them).
     pub(crate) fn input_elevation_shift_deg(&self, class: usize) -> f64 {
         let (CameraHeight::Shares(shares), Some(heads)) = (self.camera_height, &self.viewpoint)
         else {
             return 0.0;
         };
+        if self.several_middle_rings() {
+            return 0.0;
+        }
         let Some(view) = self.cameras.viewpoints().get(class) else {
             return 0.0;
         };
         shares.elevations_deg()[view.level.index()]
             .map_or(0.0, |mean| heads.elevation_fit(class).shift_deg(mean))
+    }
+
+    /// Whether this localizer's cameras have more than one elevation ring in the middle band
+    /// (within 22.5 deg of level): one mean elevation cannot stand for them.
+    fn several_middle_rings(&self) -> bool {
+        self.cameras
+            .elevations_deg()
+            .iter()
+            .filter(|&&e| Level::nearest(e) == Level::Middle)
+            .count()
+            > 1
     }
 }

@@ -193,4 +193,17 @@ fn a_sphere_of_several_middle_rings_gets_no_input_elevation() {
     let estimate = localizer.estimate_height_shares(&poses);
     let shares = estimate.shares.expect("the shares are estimated");
     assert_eq!(shares.elevations_deg(), [None; 3]);
+    // Given by hand, such an elevation moves no viewpoint either.
+    let given = shares.with_elevations([None, Some(40.0), None]).unwrap();
+    let answers = |shares: HeightShares| {
+        let under = localizer
+            .clone()
+            .with_camera_height(CameraHeight::Shares(shares));
+        under
+            .localize_batch(&poses)
+            .into_iter()
+            .map(|l| l.unwrap().elevation_deg)
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(answers(given), answers(shares));
 }
