@@ -157,6 +157,8 @@ pub fn generate(
         .collect();
     let limits = PostureLimits::learn(donors.iter().copied());
     let undescribable = AtomicUsize::new(0);
+    // The jittered views' bounds on this camera set, once for all the samples.
+    let jitter_bounds = jitter_bounds_deg(&config.jitter, &config.cameras);
     let per_clip: Vec<Vec<Sample>> = sequences
         .par_iter()
         .enumerate()
@@ -179,7 +181,13 @@ pub fn generate(
                 for view in config.cameras.viewpoints() {
                     let mut rng = sample_rng(config.seed, clip_index as u32, *frame, view.label);
                     let mut sample = project_sample(
-                        pose3, view, config, &donors, &limits, &mut rng,
+                        pose3,
+                        view,
+                        config,
+                        jitter_bounds,
+                        &donors,
+                        &limits,
+                        &mut rng,
                     )
                     .map_err(|e| {
                         DatasetError::Invalid(format!(
@@ -276,13 +284,15 @@ fn perspective_view(
 }
 
 /// One sample: the projection of `pose3` (augmented as configured, with a random pose of
-/// `donors` for upper-body mixing and postures within `limits`) by (a jittered version of)
-/// camera `view`, under `sphere` by a random camera, under `rig` by a studio camera on
-/// `view`'s side; the caller fills in `clip` and `frame`.
+/// `donors` for upper-body mixing and postures within `limits`) by (a jittered version of,
+/// within `jitter_bounds` degrees of azimuth and elevation: [`jitter_bounds_deg`]) camera
+/// `view`, under `sphere` by a random camera, under `rig` by a studio camera on `view`'s side;
+/// the caller fills in `clip` and `frame`.
 fn project_sample(
     pose3: &Pose3,
     view: &Viewpoint,
     config: &GenerateConfig,
+    jitter_bounds: (f64, f64),
     donors: &[&Pose3],
     limits: &PostureLimits,
     rng: &mut ChaCha8Rng,
@@ -307,7 +317,7 @@ fn project_sample(
         ),
         Protocol::Jittered => {
             let j = &config.jitter;
-            let (azimuth_bound, elevation_bound) = jitter_bounds_deg(j, &config.cameras);
+            let (azimuth_bound, elevation_bound) = jitter_bounds;
             let azimuth = view.azimuth_deg + symmetric(rng, azimuth_bound);
             let elevation =
                 (view.elevation_deg + symmetric(rng, elevation_bound)).clamp(-89.0, 89.0);

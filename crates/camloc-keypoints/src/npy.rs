@@ -311,12 +311,16 @@ fn element_error(file: &str, pose: u64, error: ArrayPoseError) -> KeypointError 
             file,
             at: Location::Array(Box::new([pose, joint as u64])),
         },
-        ArrayPoseError::ScoreOutOfRange { joint, score, .. } => KeypointError::ScoreOutOfRange {
+        ArrayPoseError::ScoreOutOfRange {
+            joint,
+            score,
+            separate,
+        } => KeypointError::ScoreOutOfRange {
             file,
             at: Location::Array(Box::new([pose, joint as u64, 2])),
             what: "score",
             score,
-            hint: crate::array_pose::score_hint(score, false),
+            hint: crate::array_pose::score_hint(score, separate),
         },
         mismatch @ ArrayPoseError::LayoutMismatch { .. } => KeypointError::LayoutMismatch {
             place: Box::new(row_place(&file, pose)),
