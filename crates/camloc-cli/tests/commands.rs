@@ -68,12 +68,20 @@ fn train_evaluate_and_reconstruct_succeed_on_fixture_data() {
         .map(|l| l["level"].as_str().unwrap())
         .collect();
     assert_eq!(levels, ["lower", "middle", "upper"]);
+    assert_eq!(e["per_ring"].as_array().map(Vec::len), Some(3));
+    // The trained model has viewpoint heads: their errors against the true directions.
+    let median = e["viewpoint"]["median_error_deg"].as_f64().unwrap();
+    assert!((0.0..=180.0).contains(&median), "{median}");
     let text = camloc(&["evaluate", "--model", model, "--dataset", &data]);
     assert!(text.status.success());
+    let text = String::from_utf8_lossy(&text.stdout);
+    assert!(text.contains(&format!("accuracy:         {:.2}%", 100.0 * accuracy)));
     assert!(
-        String::from_utf8_lossy(&text.stdout)
-            .contains(&format!("accuracy:         {:.2}%", 100.0 * accuracy))
+        text.contains(&format!("viewpoint:        median {median:.1} deg off")),
+        "{text}"
     );
+    // Table 1's rings are its levels: no lines of their own.
+    assert!(!text.contains("per ring:"), "{text}");
 
     let input = fixture("keypoints/example.json");
     let input = input.to_str().unwrap();

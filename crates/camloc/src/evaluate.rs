@@ -1,6 +1,6 @@
 //! Accuracy of a [`CameraLocalizer`] on a labelled dataset.
 
-use camloc_dataset::Dataset;
+use camloc_dataset::{Dataset, Sample, angle_between_deg, camera_direction_deg};
 use camloc_geometry::{CameraLabel, Level};
 use camloc_skeleton::PartialPose2;
 use camloc_store::Validate;
@@ -12,17 +12,41 @@ use crate::localizer::most_probable;
 use crate::rows::sample_pose;
 use crate::{CameraLocalizer, CamlocError};
 
+/// How far the continuous viewpoints (`Localization::azimuth_deg`, `elevation_deg`) of a
+/// group of samples lie from each sample's true camera direction (from its camera rotation:
+/// docs/conventions.md section 2).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ViewpointAccuracy {
+    /// Median angle between the answered viewpoint and the true direction, degrees.
+    pub median_error_deg: f64,
+    /// Share of samples answered more than 45 deg from the true direction.
+    pub beyond_45: f64,
+    /// Mean answered minus true elevation, degrees (positive: read as seen from higher up).
+    pub mean_elevation_error_deg: f64,
+    /// Share of samples whose error is within the `uncertainty_deg` answered with them
+    /// (calibrated to hold about 68%).
+    pub within_uncertainty: f64,
+}
+
 /// Accuracy of one camera (by true label).
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct CameraAccuracy {
     /// The camera.
     pub label: CameraLabel,
-    /// Its level and side in words, e.g. `"lower front"`.
+    /// Its level and side in words, e.g. `"lower front"` (a sphere of more than 4 azimuths
+    /// has several cameras of one side: their angles tell them apart).
     pub name: String,
+    /// Its azimuth, degrees (docs/conventions.md section 2).
+    pub azimuth_deg: f64,
+    /// Its elevation, degrees.
+    pub elevation_deg: f64,
     /// Samples whose true camera is this one.
     pub samples: usize,
     /// Share of them classified correctly; `None` (null in JSON) when there are none.
     pub accuracy: Option<f64>,
+    /// Their continuous viewpoints' errors; `None` when there are none or the model has no
+    /// viewpoint heads.
+    pub viewpoint: Option<ViewpointAccuracy>,
 }
 
 /// Accuracy of one level (by true label).
@@ -36,6 +60,26 @@ pub struct LevelAccuracy {
     pub accuracy: f64,
     /// Share classified with the right level (any side).
     pub level_accuracy: f64,
+    /// Their continuous viewpoints' errors; `None` when the model has no viewpoint heads.
+    pub viewpoint: Option<ViewpointAccuracy>,
+}
+
+/// Accuracy of one ring of cameras, one elevation (by true label): the levels' lines split
+/// where a camera set has several rings in one level (Table 1's rings are its levels).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct RingAccuracy {
+    /// The ring's elevation, degrees.
+    pub elevation_deg: f64,
+    /// Its level.
+    pub level: Level,
+    /// Samples of its cameras.
+    pub samples: usize,
+    /// Share classified with the exact camera.
+    pub accuracy: f64,
+    /// Share classified with a camera of the right ring (any azimuth).
+    pub ring_accuracy: f64,
+    /// Their continuous viewpoints' errors; `None` when the model has no viewpoint heads.
+    pub viewpoint: Option<ViewpointAccuracy>,
 }
 
 /// Results of [`evaluate`].
@@ -47,8 +91,12 @@ pub struct Evaluation {
     pub accuracy: f64,
     /// Share correct after mirror folding both truth and prediction (back -> front).
     pub accuracy_folded: f64,
+    /// The continuous viewpoints' errors; `None` when the model has no viewpoint heads.
+    pub viewpoint: Option<ViewpointAccuracy>,
     /// Per level.
     pub per_level: Vec<LevelAccuracy>,
+    /// Per ring (elevation) of cameras.
+    pub per_ring: Vec<RingAccuracy>,
     /// Per camera.
     pub per_camera: Vec<CameraAccuracy>,
     /// `confusion[t][p]`: samples of true label `t + 1` predicted as `p + 1` (0-based
@@ -57,7 +105,8 @@ pub struct Evaluation {
 }
 
 /// Localizes every sample of `dataset` (using its missing-landmark masks) and compares with
-/// the true labels.
+/// the true labels, and, when the model has viewpoint heads, the continuous viewpoints with
+/// the true camera directions.
 ///
 /// # Errors
 /// [`CamlocError::Dataset`] for a sample whose label is not a camera of the dataset or whose
@@ -83,7 +132,7 @@ pub fn evaluate(localizer: &CameraLocalizer, dataset: &Dataset) -> Result<Evalua
         });
     }
     let poses: Vec<PartialPose2> = dataset.samples.iter().map(sample_pose).collect();
-    let predicted = localizer.predict_labels(&poses)?;
+    let (predicted, errors) = answers(localizer, dataset, &poses)?;
     let k = cameras.len();
     let mut confusion = vec![vec![0usize; k]; k];
     for (s, &p) in dataset.samples.iter().zip(&predicted) {
@@ -91,13 +140,6 @@ pub fn evaluate(localizer: &CameraLocalizer, dataset: &Dataset) -> Result<Evalua
         confusion[t][p.index()] += 1;
     }
     let n = dataset.samples.len();
-    let share = |hits: usize, total: usize| {
-        if total == 0 {
-            0.0
-        } else {
-            hits as f64 / total as f64
-        }
-    };
     let correct: usize = (0..k).map(|t| confusion[t][t]).sum();
     let folded = dataset
         .samples
@@ -106,41 +148,74 @@ pub fn evaluate(localizer: &CameraLocalizer, dataset: &Dataset) -> Result<Evalua
         .filter(|(s, p)| cameras.fold_back_to_front(s.label) == cameras.fold_back_to_front(p.get()))
         .count();
     let views = cameras.viewpoints();
+    // The viewpoint errors of the samples whose true camera `keep` accepts.
+    let viewpoint_of = |keep: &dyn Fn(usize) -> bool| {
+        errors.as_ref().and_then(|errors| {
+            let group = dataset
+                .samples
+                .iter()
+                .zip(errors)
+                .filter(|(s, _)| keep(usize::from(s.label) - 1))
+                .map(|(_, e)| *e);
+            ViewpointAccuracy::of(group)
+        })
+    };
+    // Samples, exact hits and hits of a camera `same` accepts, of the true cameras `keep`
+    // accepts.
+    let tally = |keep: &dyn Fn(usize) -> bool, same: &dyn Fn(usize) -> bool| {
+        let (mut total, mut exact, mut close) = (0, 0, 0);
+        for t in (0..k).filter(|&t| keep(t)) {
+            for (p, &c) in confusion[t].iter().enumerate() {
+                total += c;
+                exact += if p == t { c } else { 0 };
+                close += if same(p) { c } else { 0 };
+            }
+        }
+        (total, share(exact, total), share(close, total))
+    };
     let per_camera = views
         .iter()
         .map(|v| {
             let label = cameras.label(v.label)?;
-            let row = &confusion[label.index()];
+            let (samples, accuracy, _) = tally(&|t| t == label.index(), &|_| false);
             Ok(CameraAccuracy {
                 label,
                 name: format!("{} {}", v.level.name(), v.side.name()),
-                samples: row.iter().sum(),
-                accuracy: (row.iter().sum::<usize>() > 0)
-                    .then(|| share(row[label.index()], row.iter().sum())),
+                azimuth_deg: v.azimuth_deg,
+                elevation_deg: v.elevation_deg,
+                samples,
+                accuracy: (samples > 0).then_some(accuracy),
+                viewpoint: viewpoint_of(&|t| t == label.index()),
             })
         })
         .collect::<Result<_, CamlocError>>()?;
     let per_level = [Level::Lower, Level::Middle, Level::Upper]
         .into_iter()
         .filter_map(|level| {
-            let (mut total, mut exact, mut same_level) = (0, 0, 0);
-            for t in views.iter().filter(|v| v.level == level) {
-                for p in views {
-                    let c = confusion[usize::from(t.label) - 1][usize::from(p.label) - 1];
-                    total += c;
-                    if p.label == t.label {
-                        exact += c;
-                    }
-                    if p.level == level {
-                        same_level += c;
-                    }
-                }
-            }
-            (total > 0).then(|| LevelAccuracy {
+            let of_level = |c: usize| views[c].level == level;
+            let (samples, accuracy, level_accuracy) = tally(&of_level, &of_level);
+            (samples > 0).then(|| LevelAccuracy {
                 level,
-                samples: total,
-                accuracy: share(exact, total),
-                level_accuracy: share(same_level, total),
+                samples,
+                accuracy,
+                level_accuracy,
+                viewpoint: viewpoint_of(&of_level),
+            })
+        })
+        .collect();
+    let per_ring = cameras
+        .elevations_deg()
+        .iter()
+        .filter_map(|&elevation_deg| {
+            let of_ring = |c: usize| views[c].elevation_deg == elevation_deg;
+            let (samples, accuracy, ring_accuracy) = tally(&of_ring, &of_ring);
+            (samples > 0).then(|| RingAccuracy {
+                elevation_deg,
+                level: Level::nearest(elevation_deg),
+                samples,
+                accuracy,
+                ring_accuracy,
+                viewpoint: viewpoint_of(&of_ring),
             })
         })
         .collect();
@@ -148,10 +223,112 @@ pub fn evaluate(localizer: &CameraLocalizer, dataset: &Dataset) -> Result<Evalua
         samples: n,
         accuracy: share(correct, n),
         accuracy_folded: share(folded, n),
+        viewpoint: viewpoint_of(&|_| true),
         per_level,
+        per_ring,
         per_camera,
         confusion,
     })
+}
+
+/// `hits / total`, 0 for no samples.
+fn share(hits: usize, total: usize) -> f64 {
+    if total == 0 {
+        0.0
+    } else {
+        hits as f64 / total as f64
+    }
+}
+
+/// One sample's continuous-viewpoint error.
+#[derive(Clone, Copy, Debug)]
+struct ViewpointError {
+    /// Angle between the answered viewpoint and the true direction, degrees.
+    angle_deg: f64,
+    /// Answered minus true elevation, degrees.
+    elevation_deg: f64,
+    /// Whether the angle is within the answered uncertainty.
+    within_uncertainty: bool,
+}
+
+impl ViewpointAccuracy {
+    /// The summary of `errors`; `None` for none.
+    fn of(errors: impl Iterator<Item = ViewpointError>) -> Option<ViewpointAccuracy> {
+        let errors: Vec<ViewpointError> = errors.collect();
+        if errors.is_empty() {
+            return None;
+        }
+        let n = errors.len();
+        let mut angles: Vec<f64> = errors.iter().map(|e| e.angle_deg).collect();
+        angles.sort_by(f64::total_cmp);
+        let median = if n % 2 == 1 {
+            angles[n / 2]
+        } else {
+            0.5 * (angles[n / 2 - 1] + angles[n / 2])
+        };
+        let count = |f: &dyn Fn(&ViewpointError) -> bool| errors.iter().filter(|e| f(e)).count();
+        Some(ViewpointAccuracy {
+            median_error_deg: median,
+            beyond_45: share(count(&|e| e.angle_deg > 45.0), n),
+            mean_elevation_error_deg: errors.iter().map(|e| e.elevation_deg).sum::<f64>()
+                / n as f64,
+            within_uncertainty: share(count(&|e| e.within_uncertainty), n),
+        })
+    }
+}
+
+/// The label of every pose of `dataset` and, when the localizer has viewpoint heads, the
+/// error of its continuous viewpoint (by the sample's true camera direction), in parallel.
+///
+/// # Errors
+/// Descriptor errors naming the sample; prediction errors.
+fn answers(
+    localizer: &CameraLocalizer,
+    dataset: &Dataset,
+    poses: &[PartialPose2],
+) -> Result<(Vec<CameraLabel>, Option<Vec<ViewpointError>>), CamlocError> {
+    if localizer.viewpoint_heads().is_none() {
+        return Ok((localizer.predict_labels(poses)?, None));
+    }
+    let answered: Vec<(CameraLabel, ViewpointError)> = poses
+        .par_iter()
+        .zip(&dataset.samples)
+        .enumerate()
+        .map(|(i, (pose, sample))| {
+            let l = localizer.localize_tempered(pose, 1.0, || format!("sample {i}"))?;
+            let (Some(azimuth), Some(elevation), Some(uncertainty)) =
+                (l.azimuth_deg, l.elevation_deg, l.uncertainty_deg)
+            else {
+                return Err(CamlocError::Inconsistent {
+                    what: "model",
+                    detail: format!("sample {i}: its viewpoint heads gave no viewpoint"),
+                });
+            };
+            Ok((
+                l.label,
+                viewpoint_error(sample, azimuth, elevation, uncertainty),
+            ))
+        })
+        .collect::<Result<_, CamlocError>>()?;
+    let (labels, errors) = answered.into_iter().unzip();
+    Ok((labels, Some(errors)))
+}
+
+/// The error of answering the viewpoint `(azimuth, elevation)` with `uncertainty` (degrees)
+/// for `sample`.
+fn viewpoint_error(
+    sample: &Sample,
+    azimuth: f64,
+    elevation: f64,
+    uncertainty: f64,
+) -> ViewpointError {
+    let truth = camera_direction_deg(&sample.rotation);
+    let angle_deg = angle_between_deg((azimuth, elevation), truth);
+    ViewpointError {
+        angle_deg,
+        elevation_deg: elevation - truth.1,
+        within_uncertainty: angle_deg <= uncertainty,
+    }
 }
 
 impl CameraLocalizer {

@@ -194,7 +194,9 @@ impl CameraLocalizer {
         };
         let temperature = fill_temperature(&missing);
         let mut found = if temperature > 1.0 {
-            self.localize_tempered(&PartialPose2::from(filled), temperature)?
+            self.localize_tempered(&PartialPose2::from(filled), temperature, || {
+                "input pose".into()
+            })?
         } else {
             found
         };

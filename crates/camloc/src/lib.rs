@@ -93,7 +93,9 @@ pub use camloc_skeleton::{Landmark, PartialPose2, Pose2, Pose3};
 pub use continuations::{Continuation, continuations};
 pub use conventions::InputConventions;
 pub use error::CamlocError;
-pub use evaluate::{CameraAccuracy, Evaluation, LevelAccuracy, evaluate};
+pub use evaluate::{
+    CameraAccuracy, Evaluation, LevelAccuracy, RingAccuracy, ViewpointAccuracy, evaluate,
+};
 pub use far_off::{FAR_OFF_RATIO, without_far_off_landmarks};
 pub use filled::{FILL_TEMPERATURE_STEP, MIN_PRESENT_FOR_FILL, fill_temperature};
 pub use follow::{

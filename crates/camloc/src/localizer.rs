@@ -277,53 +277,48 @@ impl CameraLocalizer {
     /// [`CamlocError::Feature`] when the pelvis or neck is missing, for non-finite landmarks
     /// or a degenerate torso.
     pub fn localize_partial(&self, pose: &PartialPose2) -> Result<Localization, CamlocError> {
-        self.localize_tempered(pose, 1.0)
+        self.localize_tempered(pose, 1.0, || "input pose".into())
     }
 
     /// [`localize_partial`](Self::localize_partial) with the model's own probabilities
     /// tempered (`p^(1 / temperature)`, normalised; 1 leaves them as they are) before the
     /// camera-height prior weighs them: the answer of a pose whose missing landmarks were
     /// filled in is less certain than the filled-in pose looks (docs/conventions.md section 6).
+    /// A descriptor error is given `context()` (which names the pose).
     pub(crate) fn localize_tempered(
         &self,
         pose: &PartialPose2,
         temperature: f64,
+        context: impl FnOnce() -> String,
     ) -> Result<Localization, CamlocError> {
         // A landmark far off the others is read as missing (and so listed).
         let (cleaned, _) = crate::without_far_off_landmarks(pose);
         let pose = &cleaned;
-        self.with_clean_pose_rows(
-            pose,
-            || "input pose".into(),
-            |rows| {
-                let mut probabilities = vec![0.0; self.cameras.len()];
-                self.model_camera_probabilities_into(
-                    rows.classifier,
-                    rows.classes,
-                    &mut probabilities,
-                )?;
-                if temperature != 1.0 {
-                    temper(&mut probabilities, temperature);
+        self.with_clean_pose_rows(pose, context, |rows| {
+            let mut probabilities = vec![0.0; self.cameras.len()];
+            self.model_camera_probabilities_into(
+                rows.classifier,
+                rows.classes,
+                &mut probabilities,
+            )?;
+            if temperature != 1.0 {
+                temper(&mut probabilities, temperature);
+            }
+            // The uncertainty is calibrated on the model's own probabilities (kept when
+            // a prior over the height changes them).
+            let own = (self.camera_height != CameraHeight::Any).then(|| probabilities.clone());
+            self.camera_height
+                .reweigh(&self.cameras, &self.info.camera_priors, &mut probabilities);
+            let heads_x: &[f64] = match &self.viewpoint_expansion {
+                Some(e) => {
+                    rows.head_row.resize(e.n_outputs(), 0.0);
+                    e.expand_into(rows.descriptor, rows.head_row)?;
+                    rows.head_row
                 }
-                // The uncertainty is calibrated on the model's own probabilities (kept when
-                // a prior over the height changes them).
-                let own = (self.camera_height != CameraHeight::Any).then(|| probabilities.clone());
-                self.camera_height.reweigh(
-                    &self.cameras,
-                    &self.info.camera_priors,
-                    &mut probabilities,
-                );
-                let heads_x: &[f64] = match &self.viewpoint_expansion {
-                    Some(e) => {
-                        rows.head_row.resize(e.n_outputs(), 0.0);
-                        e.expand_into(rows.descriptor, rows.head_row)?;
-                        rows.head_row
-                    }
-                    None => rows.classifier,
-                };
-                self.localization_from(heads_x, probabilities, pose.missing().collect(), own)
-            },
-        )
+                None => rows.classifier,
+            };
+            self.localization_from(heads_x, probabilities, pose.missing().collect(), own)
+        })
     }
 
     /// Runs `f` on the rows of `pose` made in this thread's [`RowBuffers`]: its descriptor

@@ -115,8 +115,6 @@ fn quadratic_capacity_trains_round_trips_and_fits_at_least_as_well() {
     assert!(CameraLocalizer::train(&dataset, &too_many, |_| {}).is_err());
 }
 
-/// The continuous viewpoint: in range, closer to the true camera direction than the chosen
-/// class's centre on the (jittered) training views, and absent without heads.
 /// Posture classes: the samples' (posture, camera) pairs are classified, the model has one
 /// class per camera and posture group present, localizations still give one probability per
 /// camera (their sums over the groups), the file round-trips, and the pairs fit a mixture of
@@ -216,11 +214,15 @@ fn balanced_cameras_do_not_favour_the_cameras_with_more_views() {
     }
 }
 
+/// The continuous viewpoint: in range, closer to the true camera direction than the chosen
+/// class's centre on the (jittered) training views, and absent without heads.
+/// `evaluate` reports the same errors per sample, and none without heads.
 #[test]
 fn viewpoint_heads_refine_the_class_centre() {
     let (localizer, dataset) = trained();
     let cameras = localizer.cameras().clone();
     let (mut head_err, mut centre_err) = (Vec::new(), Vec::new());
+    let (mut covered, mut elevation_error) = (0usize, 0.0);
     for s in &dataset.samples {
         let l = localizer.localize(&s.landmarks).unwrap();
         let (a, e, u) = (
@@ -235,6 +237,8 @@ fn viewpoint_heads_refine_the_class_centre() {
         assert!((0.0..=180.0).contains(&u), "{u}");
         let truth = camera_direction_deg(&s.rotation);
         head_err.push(angle_between_deg((a, e), truth));
+        covered += usize::from(angle_between_deg((a, e), truth) <= u);
+        elevation_error += e - truth.1;
         let v = cameras.get(l.label.get()).unwrap();
         centre_err.push(angle_between_deg((v.azimuth_deg, v.elevation_deg), truth));
     }
@@ -244,6 +248,23 @@ fn viewpoint_heads_refine_the_class_centre() {
     };
     let (h, c) = (median(&mut head_err), median(&mut centre_err));
     assert!(h < c, "heads median {h} deg, class centre median {c} deg");
+    let n = head_err.len();
+    let report = evaluate(&localizer, &dataset).unwrap();
+    let v = report.viewpoint.unwrap();
+    let middle = 0.5 * (head_err[(n - 1) / 2] + head_err[n / 2]);
+    assert!((v.median_error_deg - middle).abs() < 1e-9, "{v:?} {middle}");
+    assert_eq!(v.within_uncertainty, covered as f64 / n as f64);
+    assert!((v.mean_elevation_error_deg - elevation_error / n as f64).abs() < 1e-9);
+    // Table 1's rings are its levels.
+    assert_eq!(report.per_ring.len(), 3);
+    for (r, l) in report.per_ring.iter().zip(&report.per_level) {
+        assert_eq!(
+            (r.level, r.samples, r.accuracy),
+            (l.level, l.samples, l.accuracy)
+        );
+        assert_eq!(r.ring_accuracy, l.level_accuracy);
+        assert!(r.viewpoint.is_some() && l.viewpoint.is_some());
+    }
 
     let mut config = GenerateConfig::new(Protocol::Jittered);
     config.seed = 3;
@@ -258,6 +279,8 @@ fn viewpoint_heads_refine_the_class_centre() {
         (l.azimuth_deg, l.elevation_deg, l.uncertainty_deg),
         (None, None, None)
     );
+    let report = evaluate(&plain, &dataset).unwrap();
+    assert!(report.viewpoint.is_none() && report.per_camera.iter().all(|c| c.viewpoint.is_none()));
     assert!(plain.fit_viewpoint(&dataset, f64::NAN).is_err());
     plain.fit_viewpoint(&dataset, 1.0).unwrap();
     assert!(
@@ -305,6 +328,40 @@ fn viewpoint_heads_refine_the_class_centre() {
         bad.validate(),
         Err(CamlocError::InvalidOption { .. })
     ));
+}
+
+/// A sphere with several rings in one level (three in the middle band): `evaluate` gives each
+/// ring its line, whose hits add up to the level's, and the cameras their angles (a side's
+/// name no longer tells 8 azimuths apart).
+#[test]
+fn evaluate_gives_each_ring_of_a_level_its_line() {
+    let mut config = GenerateConfig::new(Protocol::Jittered);
+    config.cameras = camloc::CameraSet::sphere(8, &[-20.0, 0.0, 20.0, 40.0]).unwrap();
+    config.seed = 4;
+    let dataset = generate(&sequences(), &config, &|_, _| {}).unwrap();
+    let (localizer, _) =
+        CameraLocalizer::train(&dataset, &TrainOptions::default(), |_| {}).unwrap();
+    let e = evaluate(&localizer, &dataset).unwrap();
+    let rings: Vec<f64> = e.per_ring.iter().map(|r| r.elevation_deg).collect();
+    assert_eq!(rings, [-20.0, 0.0, 20.0, 40.0]);
+    let levels: Vec<_> = e.per_level.iter().map(|l| l.level.name()).collect();
+    assert_eq!(levels, ["middle", "upper"]);
+    let hits = |samples: usize, accuracy: f64| (samples as f64 * accuracy).round() as usize;
+    let middle = &e.per_level[0];
+    let ring_hits: usize = e.per_ring[..3]
+        .iter()
+        .map(|r| hits(r.samples, r.accuracy))
+        .sum();
+    assert_eq!(ring_hits, hits(middle.samples, middle.accuracy));
+    assert_eq!(
+        e.per_ring[..3].iter().map(|r| r.samples).sum::<usize>(),
+        middle.samples
+    );
+    for r in &e.per_ring {
+        assert!(r.ring_accuracy >= r.accuracy, "{r:?}");
+    }
+    let second = &e.per_camera[1];
+    assert_eq!((second.azimuth_deg, second.elevation_deg), (225.0, -20.0));
 }
 
 /// The example poses (fixtures/keypoints/example.json, whose ids name the camera they were drawn for) get

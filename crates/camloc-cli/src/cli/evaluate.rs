@@ -4,7 +4,7 @@ use std::fmt::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use camloc::{CamlocError, evaluate};
+use camloc::{CamlocError, ViewpointAccuracy, evaluate};
 
 use super::heights;
 use super::{CameraHeightArgs, CliError, Out, ProgressArgs, load_dataset, load_model, targets};
@@ -21,8 +21,10 @@ pub struct Args {
     /// Labelled dataset (from `cargo xtask gen-dataset`).
     #[arg(long, value_name = "FILE")]
     pub dataset: PathBuf,
-    /// Print one JSON object (keys: samples, accuracy, accuracy_folded, per_level,
-    /// per_camera, confusion).
+    /// Print one JSON object (keys: samples, accuracy, accuracy_folded, viewpoint,
+    /// per_level, per_ring, per_camera, confusion; `viewpoint`: the continuous viewpoints'
+    /// median error and mean elevation error in degrees, null for a model without viewpoint
+    /// heads).
     #[arg(long)]
     pub json: bool,
     /// Draw the confusion matrix (rows: true camera, columns: predicted, shaded by the share
@@ -85,26 +87,69 @@ pub fn run(args: &Args, stdout: &mut Out) -> Result<ExitCode, CliError> {
         "accuracy folded:  {:.2}% (back cameras folded onto front)",
         100.0 * e.accuracy_folded
     );
+    if let Some(v) = &e.viewpoint {
+        let _ = writeln!(out, "viewpoint:        {}", viewpoint_text(v));
+    }
     let _ = writeln!(out, "per level:");
     for l in &e.per_level {
         let _ = writeln!(
             out,
-            "  {:<6} {:>8} samples  exact {:>6.2}%  right level {:>6.2}%",
+            "  {:<6} {:>8} samples  exact {:>6.2}%  right level {:>6.2}%{}",
             l.level.name(),
             l.samples,
             100.0 * l.accuracy,
-            100.0 * l.level_accuracy
+            100.0 * l.level_accuracy,
+            short_viewpoint_text(l.viewpoint.as_ref())
         );
     }
+    // Table 1's rings are its levels; a sphere with several rings in a level gets them apart.
+    if e.per_ring.len() != e.per_level.len() {
+        let _ = writeln!(out, "per ring:");
+        for r in &e.per_ring {
+            let _ = writeln!(
+                out,
+                "  {:>+6.1} deg {:>8} samples  exact {:>6.2}%  right ring {:>6.2}%{}",
+                r.elevation_deg,
+                r.samples,
+                100.0 * r.accuracy,
+                100.0 * r.ring_accuracy,
+                short_viewpoint_text(r.viewpoint.as_ref())
+            );
+        }
+    }
+    // A sphere of more than 4 azimuths has several cameras of a side: their angles tell them
+    // apart.
+    let names_repeat = e
+        .per_camera
+        .iter()
+        .enumerate()
+        .any(|(i, c)| e.per_camera[..i].iter().any(|d| d.name == c.name));
+    let names: Vec<String> = e
+        .per_camera
+        .iter()
+        .map(|c| {
+            if names_repeat {
+                format!(
+                    "{} (az {:.0}, el {:+.0})",
+                    c.name, c.azimuth_deg, c.elevation_deg
+                )
+            } else {
+                c.name.clone()
+            }
+        })
+        .collect();
+    let width = names.iter().map(String::len).max().unwrap_or(0).max(13);
     let _ = writeln!(out, "per camera:");
-    for c in &e.per_camera {
+    for (c, name) in e.per_camera.iter().zip(&names) {
         let accuracy = c
             .accuracy
             .map_or_else(|| "-".to_string(), |a| format!("{:.2}%", 100.0 * a));
         let _ = writeln!(
             out,
-            "  {} {:<13} {:>8} samples  {accuracy:>7}",
-            c.label, c.name, c.samples
+            "  {} {name:<width$} {:>8} samples  {accuracy:>7}{}",
+            c.label,
+            c.samples,
+            short_viewpoint_text(c.viewpoint.as_ref())
         );
     }
     let _ = writeln!(out, "confusion (rows: true camera, columns: predicted):");
@@ -124,4 +169,26 @@ pub fn run(args: &Args, stdout: &mut Out) -> Result<ExitCode, CliError> {
     stdout.flush()?;
     staged.commit()?;
     Ok(ExitCode::SUCCESS)
+}
+
+/// The whole line of the continuous viewpoints' errors.
+fn viewpoint_text(v: &ViewpointAccuracy) -> String {
+    format!(
+        "median {:.1} deg off the true direction, {:.2}% beyond 45 deg, elevation {:+.1} deg \
+         on average (+: read higher), {:.1}% within the stated uncertainty",
+        v.median_error_deg,
+        100.0 * v.beyond_45,
+        v.mean_elevation_error_deg,
+        100.0 * v.within_uncertainty
+    )
+}
+
+/// A group's median viewpoint error and elevation bias, after its accuracy ("" without).
+fn short_viewpoint_text(v: Option<&ViewpointAccuracy>) -> String {
+    v.map_or_else(String::new, |v| {
+        format!(
+            "  median {:>5.1} deg  elevation {:>+5.1} deg",
+            v.median_error_deg, v.mean_elevation_error_deg
+        )
+    })
 }
