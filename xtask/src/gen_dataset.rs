@@ -57,7 +57,7 @@ pub struct Args {
     /// section 7) [default: the training augmentation's with --augment, else 0].
     #[arg(long, value_name = "P")]
     pub posture: Option<f64>,
-    /// Camera roll bound about the optical axis, degrees (jittered and sphere) [default: 5].
+    /// Camera roll bound about the optical axis, degrees, at most 180 (jittered and sphere) [default: 5].
     #[arg(long, value_name = "DEG")]
     pub roll: Option<f64>,
     /// Camera distance range from the pelvis, metres, as NEAR,FAR (jittered and sphere)
@@ -146,7 +146,7 @@ pub fn run(args: &Args) -> Result<(), String> {
         }
     }
     let (mut sequences, summary, mut warnings) = load_sequences(&args.mocap)?;
-    warnings += categorise(&mut sequences, &args.mocap, args.index.as_ref());
+    warnings += categorise(&mut sequences, &args.mocap, args.index.as_ref())?;
     let mut config = GenerateConfig::new(args.protocol);
     config.cameras = args.sphere.clone();
     config.stride = args.stride;

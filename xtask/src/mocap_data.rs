@@ -37,13 +37,13 @@ pub fn load_sequences(
 
 /// Sets every sequence's motion category from the CMU index at `index` (default:
 /// `cmu-mocap-index-text.txt` in the first of `folders`, or in the default CMU folder), with
-/// a warning on stderr for a missing index or subjects it does not describe. Returns the
-/// number of warnings.
+/// a warning on stderr for a missing default index or subjects it does not describe. Returns
+/// the number of warnings; an index given that cannot be read is an error.
 pub fn categorise(
     sequences: &mut [PoseSequence],
     folders: &[PathBuf],
     index: Option<&PathBuf>,
-) -> usize {
+) -> Result<usize, String> {
     let path = index.cloned().unwrap_or_else(|| {
         folders
             .first()
@@ -53,16 +53,17 @@ pub fn categorise(
     });
     let index = match MocapIndex::load(&path) {
         Ok(index) => index,
+        Err(e) if index.is_some() => return Err(format!("--index: {e}")),
         Err(e) => {
             eprintln!("warning: no motion categories (every clip is 'other'): {e}");
-            return 1;
+            return Ok(1);
         }
     };
     let warnings = assign_categories(sequences, &index);
     for w in &warnings {
         eprintln!("warning: {w}");
     }
-    warnings.len()
+    Ok(warnings.len())
 }
 
 /// Generates a dataset from loaded sequences, with progress on stderr.
@@ -99,7 +100,7 @@ pub fn load_split(
     test_subjects: &[String],
 ) -> Result<(Vec<PoseSequence>, Vec<PoseSequence>), String> {
     let (mut sequences, _, _) = load_sequences(mocap)?;
-    categorise(&mut sequences, mocap, None);
+    categorise(&mut sequences, mocap, None)?;
     Ok(sequences
         .into_iter()
         .partition(|s| !test_subjects.contains(&s.clip.subject)))

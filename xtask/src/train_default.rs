@@ -66,7 +66,7 @@ pub fn run(args: &Args) -> Result<(), String> {
         }
     }
     let (mut sequences, _, _) = load_sequences(&args.mocap)?;
-    categorise(&mut sequences, &args.mocap, None);
+    categorise(&mut sequences, &args.mocap, None)?;
     if !args.basis_only {
         train_model(args, &sequences, &out, [&lifter_out, &midpoints_out])?;
     }

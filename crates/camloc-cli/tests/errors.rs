@@ -227,6 +227,7 @@ fn empty_inputs_are_an_error_in_every_command() {
     let empty = empty.to_str().unwrap();
     let model = dir.0.join("m.bin");
     let model = model.to_str().unwrap();
+    let out_model = dir.0.join("trained.bin").to_string_lossy().into_owned();
     camloc::CameraLocalizer::default_model()
         .unwrap()
         .save(Path::new(model), false)
@@ -234,10 +235,28 @@ fn empty_inputs_are_an_error_in_every_command() {
     for args in [
         vec!["evaluate", "--model", model, "--dataset", empty],
         vec!["evaluate-reconstruction", "--dataset", empty],
-        vec!["train", "--dataset", empty, "--out", out_file],
+        vec!["train", "--dataset", empty, "--out", &out_model],
     ] {
         assert_clean_failure(&camloc(&args), &format!("no poses in {empty}"));
     }
+    // Samples none of which can be measured (true 3D poses of 1e300 m, finite, so valid):
+    // an error that says so, not a table of failures with exit 0.
+    let mut far = camloc::dataset::Dataset::load(Path::new(&data)).unwrap();
+    for sample in &mut far.samples {
+        for point in &mut sample.pose3.points {
+            point[0] = 1e300 * (point[0] + 1.0);
+        }
+    }
+    let far_path = dir.0.join("far.bin");
+    far.save(&far_path, false).unwrap();
+    let out = camloc(&[
+        "evaluate-reconstruction",
+        "-q",
+        "--dataset",
+        far_path.to_str().unwrap(),
+    ]);
+    assert_clean_failure(&out, "cannot be compared with its true 3D pose");
+    assert!(out.stdout.is_empty());
 }
 
 /// A folder whose poses are all in sub-folders has no poses without --recursive, and the

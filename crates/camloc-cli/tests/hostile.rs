@@ -348,6 +348,11 @@ fn outputs_named_like_another_format_are_refused() {
     ]);
     assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
     assert!(stderr(&out).contains("--to npy writes") && !dir.0.join("p.json").exists());
+    // A model is no drawing: `train --out m.svg` is refused before the fit.
+    let dataset = fixture_dataset(&dir);
+    let out = camloc(&["train", "--dataset", &dataset, "--out", &at("m.svg")]);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(stderr(&out).contains("give a name ending in .bin") && !dir.0.join("m.svg").exists());
 }
 
 /// Any existing file a numbered output may write (`d-002.svg`, `b-003.bvh`) is found before

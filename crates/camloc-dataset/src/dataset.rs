@@ -32,6 +32,42 @@ impl ClipInfo {
     }
 }
 
+/// The most clips a dataset file may list (CMU has about 2,600): an empty clip takes 3 bytes
+/// of a file and about 80 of memory, so a forged file listing millions would have held 20
+/// times its size. Refused while the file is decoded.
+pub const MAX_CLIPS: usize = 1 << 20;
+
+/// Decodes a dataset's clips, refusing more than [`MAX_CLIPS`] before holding them.
+fn at_most_max_clips<'de, D: serde::Deserializer<'de>>(
+    decoder: D,
+) -> Result<Vec<ClipInfo>, D::Error> {
+    struct Clips;
+    impl<'de> serde::de::Visitor<'de> for Clips {
+        type Value = Vec<ClipInfo>;
+        fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+            write!(f, "at most {MAX_CLIPS} clips")
+        }
+        fn visit_seq<A: serde::de::SeqAccess<'de>>(
+            self,
+            mut seq: A,
+        ) -> Result<Self::Value, A::Error> {
+            let too_many = || serde::de::Error::custom(format!("more than {MAX_CLIPS} clips"));
+            if seq.size_hint().is_some_and(|n| n > MAX_CLIPS) {
+                return Err(too_many());
+            }
+            let mut clips = Vec::with_capacity(seq.size_hint().unwrap_or(0));
+            while let Some(clip) = seq.next_element()? {
+                if clips.len() == MAX_CLIPS {
+                    return Err(too_many());
+                }
+                clips.push(clip);
+            }
+            Ok(clips)
+        }
+    }
+    decoder.deserialize_seq(Clips)
+}
+
 /// How a dataset was made.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct DatasetHeader {
@@ -63,7 +99,8 @@ pub struct DatasetHeader {
     pub undescribable_views: usize,
     /// 2D noise standard deviation as a fraction of the 2D torso length (0 for none).
     pub noise_fraction: f64,
-    /// Clips the samples come from, indexed by [`Sample::clip`].
+    /// Clips the samples come from, indexed by [`Sample::clip`] (at most [`MAX_CLIPS`]).
+    #[serde(deserialize_with = "at_most_max_clips")]
     pub clips: Vec<ClipInfo>,
 }
 

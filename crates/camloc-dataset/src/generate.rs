@@ -113,6 +113,13 @@ impl GenerateConfig {
         {
             return bad("jitter bounds must be finite and >= 0, focal > 0".into());
         }
+        // Wider bounds turn no further; ranges of 1e308 deg overflowed the random draw.
+        if [j.azimuth_deg, j.elevation_deg, j.roll_deg]
+            .iter()
+            .any(|&v| v > 180.0)
+        {
+            return bad("jitter angles must be at most 180 deg (azimuth, elevation, roll)".into());
+        }
         Ok(())
     }
 }
@@ -445,6 +452,19 @@ mod tests {
         assert_eq!(d.subjects(), vec![("1".into(), 36), ("2".into(), 36)]);
     }
 
+    /// A roll bound of 1e308 deg is refused, not drawn from (its range overflowed the draw).
+    #[test]
+    fn jitter_angles_beyond_a_half_turn_are_refused() {
+        for protocol in [Protocol::Jittered, Protocol::Sphere] {
+            let mut config = GenerateConfig::new(protocol);
+            config.jitter.roll_deg = 1e308;
+            let e = generate(&sequences(), &config, &|_, _| {}).unwrap_err();
+            assert!(e.to_string().contains("at most 180 deg"), "{e}");
+            config.jitter.roll_deg = 180.0;
+            assert!(generate(&sequences(), &config, &|_, _| {}).is_ok());
+        }
+    }
+
     #[test]
     fn jittered_is_deterministic_and_stays_near_the_class() {
         let mut config = GenerateConfig::new(Protocol::Jittered);
@@ -641,6 +661,19 @@ mod tests {
         assert!(matches!(
             Dataset::from_bytes(&forged),
             Err(camloc_store::StoreError::TooLarge { .. })
+        ));
+        // More clips than any dataset has (3 bytes each in the file, 80 in memory) are
+        // refused while they are decoded.
+        let config = GenerateConfig::new(Protocol::Canonical);
+        let mut d = generate(&sequences(), &config, &|_, _| {}).unwrap();
+        d.header
+            .clips
+            .resize(crate::MAX_CLIPS, ClipInfo::new("", ""));
+        assert!(Dataset::from_bytes(&d.to_bytes().unwrap()).is_ok());
+        d.header.clips.push(ClipInfo::new("", ""));
+        assert!(matches!(
+            Dataset::from_bytes(&d.to_bytes().unwrap()),
+            Err(camloc_store::StoreError::Corrupt { .. })
         ));
     }
 

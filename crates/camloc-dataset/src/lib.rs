@@ -38,7 +38,9 @@ pub use augment::{
     in_class_box,
 };
 pub use camloc_mocap::{CATEGORY_RULES, CategorySource, MocapIndex, MotionCategory};
-pub use dataset::{CameraCount, ClipInfo, Dataset, DatasetHeader, Sample, default_test_subjects};
+pub use dataset::{
+    CameraCount, ClipInfo, Dataset, DatasetHeader, MAX_CLIPS, Sample, default_test_subjects,
+};
 pub use error::DatasetError;
 pub use from_mocap::{MocapSummary, assign_categories, load_mocap_folders};
 pub use generate::{GenerateConfig, PoseSequence, generate};

@@ -187,7 +187,8 @@ impl Descriptor {
             }
             if !c.bins.is_valid() {
                 return Err(FeatureError::InvalidConfig(format!(
-                    "shape-context bins need radial, angular >= 1 and 0 < inner < outer radius, got {:?}",
+                    "shape-context bins need radial, angular >= 1, at most {} cells and 0 < inner < outer radius, got {:?}",
+                    crate::shape_context::MAX_SHAPE_CONTEXT_CELLS,
                     c.bins
                 )));
             }

@@ -29,4 +29,4 @@ mod shape_context;
 
 pub use descriptor::{Descriptor, PaperConfig};
 pub use error::FeatureError;
-pub use shape_context::ShapeContextBins;
+pub use shape_context::{MAX_SHAPE_CONTEXT_CELLS, ShapeContextBins};

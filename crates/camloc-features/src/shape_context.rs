@@ -28,10 +28,14 @@ impl Default for ShapeContextBins {
     }
 }
 
+/// The most histogram cells [`ShapeContextBins::is_valid`] accepts (the default has 60): a
+/// bound that keeps a forged model's bin counts from overflowing their product.
+pub const MAX_SHAPE_CONTEXT_CELLS: usize = 1 << 16;
+
 impl ShapeContextBins {
-    /// Number of histogram cells.
+    /// Number of histogram cells (saturating: invalid bins may have more than `usize::MAX`).
     pub fn len(&self) -> usize {
-        self.radial * self.angular
+        self.radial.saturating_mul(self.angular)
     }
 
     /// `true` when there are no cells (invalid bins).
@@ -39,10 +43,12 @@ impl ShapeContextBins {
         self.len() == 0
     }
 
-    /// `true` when the bin counts are positive and the radii finite with `0 < inner < outer`.
+    /// `true` when the bin counts are positive, with at most [`MAX_SHAPE_CONTEXT_CELLS`]
+    /// cells, and the radii finite with `0 < inner < outer`.
     pub fn is_valid(&self) -> bool {
         self.radial > 0
             && self.angular > 0
+            && self.len() <= MAX_SHAPE_CONTEXT_CELLS
             && self.inner_radius > 0.0
             && self.outer_radius > self.inner_radius
             && self.outer_radius.is_finite()
@@ -83,5 +89,25 @@ mod tests {
             let mid = b.inner_radius * ratio.powf(k as f64 + 0.5);
             assert_eq!(b.cell(mid, 0.0) / b.angular, k);
         }
+    }
+
+    /// A forged file's bin counts whose product wraps to a plausible cell count (2^62 + 15
+    /// times 4 is 60 modulo 2^64) are refused, as are more cells than the bound.
+    #[test]
+    fn bin_counts_whose_product_overflows_are_invalid() {
+        let wrapped = ShapeContextBins {
+            radial: (1 << 62) + 15,
+            angular: 4,
+            ..ShapeContextBins::default()
+        };
+        assert_eq!(wrapped.len(), usize::MAX);
+        assert!(!wrapped.is_valid());
+        let many = ShapeContextBins {
+            radial: MAX_SHAPE_CONTEXT_CELLS + 1,
+            angular: 1,
+            ..ShapeContextBins::default()
+        };
+        assert!(!many.is_valid());
+        assert!(ShapeContextBins::default().is_valid());
     }
 }

@@ -73,7 +73,20 @@ fn person_record(
     file: &str,
     options: &ReadOptions,
 ) -> Result<KeypointRecord, KeypointError> {
-    let words: Vec<&str> = line.split_whitespace().collect();
+    let wrong_length = |found: usize| KeypointError::WrongLength {
+        file: file.to_owned(),
+        at: at.clone(),
+        expected: BOX_NUMBERS + 3 * COCO17.len(),
+        found,
+        items: "numbers",
+        what: LINE,
+    };
+    // No more words are held than a line can have: a line of millions is counted, not split.
+    let most = BOX_NUMBERS + 3 * COCO17.len() + 2;
+    let words: Vec<&str> = line.split_whitespace().take(most + 1).collect();
+    if words.len() > most {
+        return Err(wrong_length(line.split_whitespace().count()));
+    }
     let values = (words.iter())
         .map(|word| {
             word.parse::<f64>()
@@ -92,16 +105,7 @@ fn person_record(
     let per_keypoint = match found.checked_sub(BOX_NUMBERS) {
         Some(rest) if (3 * COCO17.len()..=3 * COCO17.len() + 2).contains(&rest) => 3,
         Some(rest) if (2 * COCO17.len()..=2 * COCO17.len() + 2).contains(&rest) => 2,
-        _ => {
-            return Err(KeypointError::WrongLength {
-                file: file.to_owned(),
-                at,
-                expected: BOX_NUMBERS + 3 * COCO17.len(),
-                found,
-                items: "numbers",
-                what: LINE,
-            });
-        }
+        _ => return Err(wrong_length(found)),
     };
     let keypoints_end = BOX_NUMBERS + per_keypoint * COCO17.len();
     let keypoints = &values[BOX_NUMBERS..keypoints_end];
@@ -243,6 +247,10 @@ mod tests {
         let short = "0 0.5 0.5 0.2 0.8 0.1 0.2";
         let e = parse(short, "f.txt", &options()).unwrap_err().to_string();
         assert!(e.contains("line 1") && e.contains("found 7"), "{e}");
+        // A line of more words than any line has is counted, not split into them all.
+        let long = format!("{} x{}", line(true, "0.9 3"), " 0".repeat(100_000));
+        let e = parse(&long, "f.txt", &options()).unwrap_err().to_string();
+        assert!(e.contains("line 1") && e.contains("found 100059"), "{e}");
         let nan = line(true, "").replacen("0.45", "nan", 1);
         let e = parse(&nan, "f.txt", &options()).unwrap_err().to_string();
         assert!(e.contains("\"nan\" is not a finite number"), "{e}");

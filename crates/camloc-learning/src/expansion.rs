@@ -169,13 +169,14 @@ impl QuadraticExpansion {
     }
 
     /// The expansion of its stored parts, with the projection on raw features derived from
-    /// them (sizes are checked by [`validate`](Self::validate); a mismatch only truncates the
-    /// derived map, and a decoded component count is not trusted with an allocation).
+    /// them (sizes are checked by [`validate`](Self::validate); with a mismatch the derived map
+    /// reads nothing, and a decoded component count is not trusted with an allocation).
     fn from_parts(standardiser: Standardiser, projection: Vec<f64>, n_components: usize) -> Self {
         let d = standardiser.n_features();
         let raw = RawLinear::fold(
             &standardiser,
             |j, a| projection.get(a * d + j).copied().unwrap_or(0.0),
+            projection.len(),
             &[0.0; MAX_EXPANSION_COMPONENTS][..n_components.min(MAX_EXPANSION_COMPONENTS)],
         );
         Self {

@@ -104,6 +104,7 @@ impl LogisticModel {
         RawLinear::fold(
             standardiser,
             |j, c| weights.get(j * k + c).copied().unwrap_or(0.0),
+            weights.len(),
             biases,
         )
     }

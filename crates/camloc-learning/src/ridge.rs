@@ -204,6 +204,7 @@ impl RidgeModel {
         let raw = RawLinear::fold(
             &p.standardiser,
             |j, k| p.weights.get(k * d + j).copied().unwrap_or(0.0),
+            p.weights.len(),
             &p.biases,
         );
         RidgeModel { parameters, raw }

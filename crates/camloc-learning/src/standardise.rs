@@ -192,18 +192,27 @@ pub(crate) struct RawLinear {
 
 impl RawLinear {
     /// Folds `standardiser` into the map whose weight of standardised feature `j` for output
-    /// `k` is `weight(j, k)` and whose biases are `biases` (one per output). Sizes are not
-    /// checked here: the models validate theirs, and a mismatch only truncates the fold.
+    /// `k` is `weight(j, k)` (`n_weights` stored weights) and whose biases are `biases` (one
+    /// per output). Sizes are not checked here: the models validate theirs, and unless the
+    /// stored weights are one per feature and output the map reads no feature (a decoded
+    /// file's sizes are not trusted with an allocation of their product before they are
+    /// validated).
     pub(crate) fn fold(
         standardiser: &Standardiser,
         weight: impl Fn(usize, usize) -> f64,
+        n_weights: usize,
         biases: &[f64],
     ) -> Self {
         let scales = &standardiser.scales;
+        let m = biases.len();
         // A decoded standardiser may have fewer scales than means until it is validated.
         let d = standardiser.means.len().min(scales.len());
+        let d = if d.checked_mul(m) == Some(n_weights) {
+            d
+        } else {
+            0
+        };
         // `V[j][k]`, feature-major, each divided once.
-        let m = biases.len();
         let folded: Vec<f64> = (0..d)
             .flat_map(|j| (0..m).map(move |k| (j, k)))
             .map(|(j, k)| weight(j, k) / scales[j])
@@ -269,7 +278,7 @@ mod tests {
             let weight = |j: usize, k: usize| at(2 * d + j * m + k);
             let biases: Vec<f64> = (0..m).map(|k| at(3 * d + d * m + k)).collect();
             let x: Vec<f64> = (0..d).map(|j| 5.0 * at(7 * j + 1) + means[j]).collect();
-            let folded = RawLinear::fold(&standardiser, weight, &biases);
+            let folded = RawLinear::fold(&standardiser, weight, d * m, &biases);
             let mut out = vec![f64::NAN; m];
             folded.apply_into(&x, &mut out);
             for (k, o) in out.iter().enumerate() {

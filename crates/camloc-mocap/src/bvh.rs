@@ -116,9 +116,11 @@ pub fn parse_bvh_with_unit<B: AsRef<[u8]> + ?Sized>(
                 Err(source.invalid(line, "`Frame Time:`".to_owned(), "must be positive"))
             }
         })?;
-    // A frame line needs at least 2 bytes per value: never trust `declared` for the allocation.
+    // Never trust `declared` for the allocation: a frame line needs at least 2 bytes per
+    // value, and beyond a few thousand frames the vector grows with the frames read (blank
+    // lines count for no frame: a file of them had reserved 180 times its size).
     let max_frames = text.len() / (2 * hierarchy.channel_count);
-    let capacity = declared.min(max_frames);
+    let capacity = declared.min(max_frames).min(RESERVED_FRAMES);
     let frames = parse_frames(
         lines,
         &hierarchy,
@@ -513,6 +515,9 @@ fn header_value<'a>(
         _ => Err(source.expected(number, &expected, line.trim())),
     }
 }
+
+/// The most frames reserved before any is read (a cgspeed clip has a few thousand).
+const RESERVED_FRAMES: usize = 4096;
 
 /// Parses the frame lines and runs forward kinematics on each.
 fn parse_frames(

@@ -149,6 +149,9 @@ impl std::str::FromStr for MotionCategory {
     }
 }
 
+/// The largest CMU index file [`MocapIndex::load`] reads (the real one is about 1 MB).
+pub const MAX_INDEX_BYTES: u64 = 64 << 20;
+
 /// The keyword rules, tried in this order; the first rule with a matching word (or
 /// consecutive words) decides. The order settles mixed descriptions: "run dive over roll" is
 /// acrobatics, "basketball signals" a gesture, "run jump over" a jump, "walk to run" a run,
@@ -370,15 +373,14 @@ impl MocapIndex {
         index
     }
 
-    /// Reads and parses the index file at `path`.
+    /// Reads and parses the index file at `path` (at most [`MAX_INDEX_BYTES`]; CMU's is about
+    /// 1 MB).
     ///
     /// # Errors
-    /// [`MocapError::Io`] naming the file when it cannot be read.
+    /// [`MocapError::Io`] naming the file when it cannot be read, [`MocapError::TooLarge`]
+    /// beyond the bound, [`MocapError::Parse`] when it is not text.
     pub fn load(path: &Path) -> Result<MocapIndex, MocapError> {
-        let bytes = std::fs::read(path).map_err(|source| MocapError::Io {
-            path: path.to_owned(),
-            source,
-        })?;
+        let bytes = crate::read_capped(path, MAX_INDEX_BYTES)?;
         Ok(MocapIndex::parse(&String::from_utf8_lossy(&bytes)))
     }
 

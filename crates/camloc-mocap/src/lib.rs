@@ -62,7 +62,7 @@ pub use bvh_write::{
     write_person_bvh,
 };
 pub use canonical::canonicalise;
-pub use category::{CATEGORY_RULES, CategorySource, MocapIndex, MotionCategory};
+pub use category::{CATEGORY_RULES, CategorySource, MAX_INDEX_BYTES, MocapIndex, MotionCategory};
 pub use discover::{MocapSource, discover};
 pub use error::{CanonicaliseError, MocapError, ParseProblem};
 

@@ -165,12 +165,16 @@ fn numpy_dtype<'py>(ob: &Bound<'py, PyAny>) -> PyResult<Option<Bound<'py, PyAny>
 }
 
 /// A `TypeError` for an argument of `kind` whose `dtype` is text (NumPy would parse `"12.5"`
-/// as a number without a word) or, for `points`, booleans (every pose would fail). Scores may
-/// be booleans (visibility flags).
+/// as a number without a word), dates, durations or records (converted to numbers without a
+/// word, and every pose failing) or, for `points`, booleans (every pose would fail). Scores
+/// may be booleans (visibility flags).
 fn refuse_text_or_flags(dtype: &Bound<'_, PyAny>, kind: &str) -> PyResult<()> {
     let code: String = dtype.getattr("kind")?.extract()?;
     let what = match code.as_str() {
         "U" | "S" => "text",
+        "M" => "dates",
+        "m" => "durations",
+        "V" => "records",
         "b" if kind == "points" => "booleans",
         _ => return Ok(()),
     };

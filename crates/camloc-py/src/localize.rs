@@ -220,8 +220,23 @@ impl Localizer {
     /// The default model embedded in this build, localizing under the prior `camera_height`
     /// (`"from-input"`, `"any"` or `"eye-level"`, as `camloc localize --camera-height`).
     #[new]
-    #[pyo3(signature = (camera_height = "from-input"))]
-    fn new(camera_height: Option<&str>) -> PyResult<Self> {
+    #[pyo3(signature = (camera_height = "from-input", **unexpected))]
+    fn new(
+        py: Python<'_>,
+        camera_height: Option<&str>,
+        unexpected: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<Self> {
+        // A model file given here (`Localizer(model=...)`, `Localizer("m.bin")`) is pointed
+        // to `Localizer.load`.
+        const LOAD: &str = "a model file is read by camloc.Localizer.load(path)";
+        if let Some((key, _)) = unexpected.and_then(|kw| kw.iter().next()) {
+            return Err(pyo3::exceptions::PyTypeError::new_err(format!(
+                "Localizer() got an unexpected keyword argument {key}: {LOAD}"
+            )));
+        }
+        if let Some(height) = camera_height.filter(|h| h.contains(['.', '/', '\\'])) {
+            parse_height(height).map_err(|e| value_error(format!("{}: {LOAD}", e.value(py))))?;
+        }
         Localizer::with_filler(
             CameraLocalizer::default_model().map_err(to_py_err)?,
             camera_height.unwrap_or(CameraHeight::FROM_INPUT),

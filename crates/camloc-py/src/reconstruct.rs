@@ -50,12 +50,12 @@ pub(crate) fn intrinsics_arg(
     focal_px: Option<&Bound<'_, PyAny>>,
     principal_point: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<Option<Intrinsics>> {
-    // A number (a NumPy scalar too), named in the error otherwise; `True` is not a focal
-    // length.
+    // A number (a NumPy scalar too), named in the error otherwise; `True` (or NumPy's) is
+    // not a focal length.
     let focal_px = focal_px
         .map(|f| {
             crate::arrays::refuse_complex(f)?;
-            let number = (!f.is_instance_of::<pyo3::types::PyBool>())
+            let number = (!crate::number::is_bool(f)?)
                 .then(|| f.extract::<f64>().ok())
                 .flatten();
             number.ok_or_else(|| {
@@ -68,7 +68,14 @@ pub(crate) fn intrinsics_arg(
         .transpose()?;
     let numbers = |point: &Bound<'_, PyAny>| -> PyResult<Vec<f64>> {
         crate::arrays::refuse_complex(point)?;
-        let numbers = (!point.is_instance_of::<pyo3::types::PyString>())
+        // `True` and `False` (or NumPy's) are no pixel coordinates.
+        let has_bool = point.try_iter().is_ok_and(|items| {
+            items
+                .flatten()
+                .take(3)
+                .any(|item| crate::number::is_bool(&item).unwrap_or(false))
+        });
+        let numbers = (!point.is_instance_of::<pyo3::types::PyString>() && !has_bool)
             .then(|| point.extract::<Vec<f64>>().ok())
             .flatten();
         numbers.ok_or_else(|| {

@@ -590,6 +590,18 @@ def test_bools_and_complex_numbers_are_refused_not_converted():
         camloc.Localizer().localize(points > 100)
     with pytest.raises(TypeError, match="points: an array of text"):
         camloc.reconstruct(points.astype(str))
+    # Dates, durations and records convert to numbers without a word: refused too.
+    for dtype, what in [("datetime64[s]", "dates"), ("timedelta64[s]", "durations")]:
+        with pytest.raises(TypeError, match=f"points: an array of {what}"):
+            camloc.Localizer().localize(points.astype(np.int64).astype(dtype))
+    records = np.zeros(points.shape, dtype=[("v", "f8")])
+    with pytest.raises(TypeError, match="points: an array of records"):
+        camloc.reconstruct(records)
+    # NumPy's bools are no focal length or principal point either.
+    with pytest.raises(TypeError, match="focal_px: .*got a"):
+        camloc.reconstruct(points, focal_px=np.bool_(True))
+    with pytest.raises(TypeError, match="principal_point: two numbers"):
+        camloc.reconstruct(points, focal_px=1500.0, principal_point=[True, False])
     # Scores may be visibility flags.
     flags = np.ones(points.shape[:2], dtype=bool)
     assert camloc.Localizer().localize(points, scores=flags)["label"].shape == (len(points),)
@@ -695,6 +707,23 @@ def test_no_camera_height_is_the_default_one():
     assert camloc.Localizer.load(
         ROOT / "fixtures" / "default-model.bin", camera_height=None
     ).camera_height == "from-input"
+
+
+def test_a_model_file_given_to_the_constructor_points_to_load():
+    """``Localizer(model=...)`` or ``Localizer("m.bin")`` (what a user tries first) says that
+    ``Localizer.load`` reads model files."""
+    model = str(ROOT / "fixtures" / "default-model.bin")
+    for call in (
+        lambda: camloc.Localizer(model=model),
+        lambda: camloc.Localizer(path=model, camera_height="any"),
+    ):
+        with pytest.raises(TypeError, match=r"keyword argument .*Localizer\.load\(path\)"):
+            call()
+    with pytest.raises(ValueError, match=r"got .*default-model\.bin.*Localizer\.load\(path\)"):
+        camloc.Localizer(model)
+    # Other wrong heights get no such hint.
+    with pytest.raises(ValueError, match='got "high"$'):
+        camloc.Localizer("high")
 
 
 def test_a_landmark_far_off_is_missing_as_the_command_line_says(cli, tmp_path):

@@ -36,8 +36,40 @@ pub struct DepthLifter {
     /// The lifter of poses whose pelvis and neck sit at the hip and shoulder midpoints
     /// (detectors' and annotations' placement), when this one was fitted on skeletons' own
     /// placement ([`with_midpoint_lifter`](Self::with_midpoint_lifter)); none: this one
-    /// lifts every pose.
+    /// lifts every pose. Decoded one level deep at most ([`shallow_midpoints`]).
+    #[serde(deserialize_with = "shallow_midpoints")]
     midpoints: Option<Box<DepthLifter>>,
+}
+
+thread_local! {
+    /// Whether this thread is decoding a midpoint lifter ([`shallow_midpoints`]).
+    static DECODING_MIDPOINTS: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
+/// What a midpoint lifter's own midpoint lifter decodes to: an error whenever there is one.
+struct NestedMidpoints;
+
+impl<'de> Deserialize<'de> for NestedMidpoints {
+    fn deserialize<D: serde::Deserializer<'de>>(_: D) -> Result<Self, D::Error> {
+        Err(serde::de::Error::custom(
+            "a midpoint lifter holds a midpoint lifter of its own",
+        ))
+    }
+}
+
+/// Decodes a lifter's midpoint lifter, refusing one inside it before decoding it: lifters
+/// nest one level at most, and a forged file of thousands of nested ones would otherwise
+/// overflow the stack while it is decoded, before [`Validate`] could refuse it.
+fn shallow_midpoints<'de, D: serde::Deserializer<'de>>(
+    decoder: D,
+) -> Result<Option<Box<DepthLifter>>, D::Error> {
+    if DECODING_MIDPOINTS.get() {
+        return Option::<NestedMidpoints>::deserialize(decoder).map(|_| None);
+    }
+    DECODING_MIDPOINTS.set(true);
+    let midpoints = Option::<Box<DepthLifter>>::deserialize(decoder);
+    DECODING_MIDPOINTS.set(false);
+    midpoints
 }
 
 impl DepthLifter {

@@ -216,3 +216,33 @@ fn hostile_model_files_fail_fast_and_name_the_file() {
         Err(StoreError::TooLarge { .. })
     ));
 }
+
+/// Forged files that exhausted the stack or memory while they were decoded, before any check
+/// could refuse them: a depth lifter of 100,000 nested midpoint lifters (7 bytes each; files
+/// nest one), and a classifier of 40,000 features and classes that holds no weight (its
+/// derived map had been allocated, 12.8 GB, before its sizes were checked).
+#[test]
+fn forged_nesting_and_sizes_are_refused_while_decoded() {
+    // Descriptor `Landmarks`, an expansion of no means, scales, projection or component, no
+    // heads; then the tag of a midpoint lifter.
+    let level = [0u8, 0, 0, 0, 0, 0];
+    let mut payload = Vec::new();
+    for _ in 0..100_000 {
+        payload.extend_from_slice(&level);
+        payload.push(1);
+    }
+    payload.extend_from_slice(&level);
+    payload.push(0);
+    let bytes = camloc::store::envelope(camloc::store::LIFTER_KIND, &payload);
+    let err = camloc::DepthLifter::from_bytes(&bytes).unwrap_err();
+    assert!(matches!(err, StoreError::Corrupt { .. }), "{err:?}");
+    let forged = tampered_model(|raw| {
+        raw.model.means = vec![0.0; 40_000];
+        raw.model.scales = vec![1.0; 40_000];
+        raw.model.n_classes = 40_000;
+        raw.model.biases = vec![0.0; 40_000];
+        raw.model.weights.clear();
+    });
+    let err = CameraLocalizer::from_bytes(&forged).unwrap_err();
+    assert!(matches!(err, StoreError::Invalid { .. }), "{err:?}");
+}

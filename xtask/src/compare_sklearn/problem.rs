@@ -79,7 +79,7 @@ pub fn from_dataset(path: &Path) -> Result<Problem, String> {
 /// their mirror images and dropout copies added (four times as many rows).
 pub fn default_training_set(mocap: &[PathBuf]) -> Result<Problem, String> {
     let (mut sequences, _, _) = load_sequences(mocap)?;
-    categorise(&mut sequences, mocap, None);
+    categorise(&mut sequences, mocap, None)?;
     let recipe = Recipe::default_model();
     let dataset = recipe.classifier_views(&sequences, DEFAULT_MIN_POSE_DISTANCE_MM)?;
     complete_poses(

@@ -594,6 +594,31 @@ pub fn run_evaluation(args: &EvalArgs, out: &mut Out) -> Result<ExitCode, CliErr
     let report = reconstructor.evaluate_with_own_pipeline(&dataset);
     bar.finish_and_clear();
     let report = report?;
+    // No row measured any sample: an error that says why, not a table of failures.
+    let measured = report.modes.iter().map(|m| m.evaluated);
+    if report.samples > 0
+        && measured
+            .chain(report.pipeline.iter().map(|p| p.report.evaluated))
+            .all(|n| n == 0)
+    {
+        let first = dataset.samples.iter().find(|s| s.missing_mask == 0);
+        let why = match first.map(|s| reconstructor.reconstruct(&s.landmarks.into())) {
+            Some(Err(e)) => format!(" (the first: {e})"),
+            Some(Ok(_)) => " (the first is reconstructed but cannot be compared with its true \
+                            3D pose: are those in metres?)"
+                .to_string(),
+            None => String::new(),
+        };
+        return Err(CamlocError::Inconsistent {
+            what: "dataset",
+            detail: format!(
+                "none of its {} complete samples could be reconstructed and measured in any \
+                 camera mode{why}",
+                report.samples
+            ),
+        }
+        .into());
+    }
     if args.json {
         out.write(&format!("{}\n", to_json(&report)?))?;
     } else {

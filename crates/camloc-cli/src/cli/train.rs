@@ -43,7 +43,8 @@ pub struct Args {
     /// Training dataset (from `cargo xtask gen-dataset`).
     #[arg(long, value_name = "FILE")]
     pub dataset: PathBuf,
-    /// Output model file (refuses to overwrite unless --force).
+    /// Output model file, e.g. `model.bin` (a name of another format, `m.svg` or `m.json`, is
+    /// refused; an existing file is replaced only with --force).
     #[arg(long, value_name = "MODEL")]
     pub out: PathBuf,
     /// Pose descriptor.
@@ -162,6 +163,8 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         [(Some(args.out.as_path()), "--out", None)],
         &[("--dataset", Some(&args.dataset))],
     )?;
+    // `--out m.svg` or `m.json` would be a model file named like a drawing or a document.
+    targets::check_format(&args.out, "--out", "a camloc model file", &["bin"])?;
     check_target(&args.out, args.force.force)?;
     let mut options = TrainOptions {
         descriptor,
