@@ -450,3 +450,46 @@ fn a_camera_without_samples_has_no_accuracy() {
         .unwrap();
     assert!(line.trim_end().ends_with(" -"), "{line}");
 }
+
+/// `train` takes several `--dataset`s and trains on them together (the message counts every
+/// sample once per file); a dataset of another camera set is refused, naming it, and no model
+/// is written.
+#[test]
+fn train_joins_several_datasets_of_one_camera_set() {
+    let dir = TempDir::new("joined");
+    let data = fixture_dataset(&dir);
+    let samples = camloc::dataset::Dataset::load(Path::new(&data))
+        .unwrap()
+        .samples
+        .len();
+    let model = dir.0.join("model.bin").to_string_lossy().into_owned();
+    let args = |second: &str| {
+        let base = [
+            "train",
+            "--dataset",
+            &data,
+            "--dataset",
+            second,
+            "--out",
+            &model,
+        ];
+        camloc(&[&base[..], &["--no-viewpoint", "--force"]].concat())
+    };
+    let out = args(&data);
+    assert!(success(&out).starts_with("wrote "));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains(&format!("training on {} samples", 2 * samples)),
+        "{stderr}"
+    );
+    std::fs::remove_file(&model).unwrap();
+    let mut other = camloc::dataset::Dataset::load(Path::new(&data)).unwrap();
+    other.header.cameras = camloc::CameraSet::sphere(4, &[-45.0, 0.0]).unwrap();
+    other.samples.retain(|s| s.label <= 8);
+    let other_path = dir.0.join("other.bin").to_string_lossy().into_owned();
+    other.save(Path::new(&other_path), false).unwrap();
+    let out = args(&other_path);
+    assert_clean_failure(&out, "other.bin");
+    assert!(String::from_utf8_lossy(&out.stderr).contains("12 cameras"));
+    assert!(!Path::new(&model).exists());
+}

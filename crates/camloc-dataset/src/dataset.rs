@@ -330,6 +330,60 @@ impl Dataset {
             .collect()
     }
 
+    /// Appends the samples of `other` (views of other protocols or seeds, trained on
+    /// together): its clips join this one's list (a clip listed by both, the same
+    /// [`ClipInfo`], once) and its samples' clip indices follow them; its undescribable views
+    /// are added, the rest of the header stays this one's.
+    ///
+    /// # Errors
+    /// [`DatasetError::Incompatible`] when `other` has another camera set (labels would mean
+    /// other cameras) or the clips would be more than [`MAX_CLIPS`].
+    pub fn append(&mut self, other: Dataset) -> Result<(), DatasetError> {
+        if other.header.cameras != self.header.cameras {
+            return Err(DatasetError::Incompatible(format!(
+                "one has {} cameras ({} azimuths at {:?} deg), the other {} ({} at {:?} deg)",
+                self.header.cameras.len(),
+                self.header.cameras.azimuths(),
+                self.header.cameras.elevations_deg(),
+                other.header.cameras.len(),
+                other.header.cameras.azimuths(),
+                other.header.cameras.elevations_deg()
+            )));
+        }
+        let index: BTreeMap<(&str, &str), usize> = (self.header.clips.iter().enumerate())
+            .map(|(i, c)| ((c.subject.as_str(), c.name.as_str()), i))
+            .collect();
+        let mut moved = Vec::with_capacity(other.header.clips.len());
+        let mut added = Vec::new();
+        for clip in other.header.clips {
+            let known = index
+                .get(&(clip.subject.as_str(), clip.name.as_str()))
+                .filter(|&&i| self.header.clips[i] == clip);
+            moved.push(match known {
+                Some(&i) => i,
+                None => {
+                    added.push(clip);
+                    self.header.clips.len() + added.len() - 1
+                }
+            });
+        }
+        if self.header.clips.len() + added.len() > MAX_CLIPS {
+            return Err(DatasetError::Incompatible(format!(
+                "together they list more than {MAX_CLIPS} clips"
+            )));
+        }
+        self.header.clips.extend(added);
+        self.header.undescribable_views += other.header.undescribable_views;
+        let clip_of = |s: &Sample| moved.get(s.clip as usize).copied();
+        for mut sample in other.samples {
+            // A sample of a clip its dataset does not list keeps an index past the list,
+            // which validation refuses.
+            sample.clip = clip_of(&sample).map_or(u32::MAX, |c| c as u32);
+            self.samples.push(sample);
+        }
+        Ok(())
+    }
+
     /// Splits by subject: samples whose subject is in `test_subjects` go to the second dataset,
     /// all others to the first. Both keep the full header. Never splits a subject.
     pub fn split_by_subjects(&self, test_subjects: &[String]) -> (Dataset, Dataset) {

@@ -64,4 +64,7 @@ pub enum DatasetError {
     /// Invalid generation settings or input poses.
     #[error("invalid dataset generation input: {0}")]
     Invalid(String),
+    /// Two datasets that cannot be joined ([`crate::Dataset::append`]): what differs.
+    #[error("datasets that cannot be joined: {0}")]
+    Incompatible(String),
 }

@@ -452,6 +452,46 @@ mod tests {
         assert_eq!(d.subjects(), vec![("1".into(), 36), ("2".into(), 36)]);
     }
 
+    /// Datasets joined for training: the same clips listed once, other clips after them with
+    /// their samples' indices moved along; another camera set refused.
+    #[test]
+    fn datasets_of_one_camera_set_are_joined() {
+        let jittered = generate(
+            &sequences(),
+            &GenerateConfig::new(Protocol::Jittered),
+            &|_, _| {},
+        );
+        let mut joined = jittered.unwrap();
+        let first = joined.clone();
+        let mut others = sequences();
+        others[1].clip = ClipInfo::new("3", "3_01");
+        let rig = generate(&others, &GenerateConfig::new(Protocol::Rig), &|_, _| {}).unwrap();
+        joined.append(rig.clone()).unwrap();
+        assert_eq!(
+            joined.samples.len(),
+            first.samples.len() + rig.samples.len()
+        );
+        let names: Vec<&str> = joined
+            .header
+            .clips
+            .iter()
+            .map(|c| c.name.as_str())
+            .collect();
+        assert_eq!(names, ["1_01", "2_01", "3_01"]);
+        for (s, r) in joined.samples[first.samples.len()..]
+            .iter()
+            .zip(&rig.samples)
+        {
+            assert_eq!(joined.clip_of(s), rig.clip_of(r));
+        }
+        assert!(Dataset::from_bytes(&joined.to_bytes().unwrap()).is_ok());
+        let mut config = GenerateConfig::new(Protocol::Jittered);
+        config.cameras = camloc_geometry::CameraSet::sphere(8, &[0.0]).unwrap();
+        let other_cameras = generate(&sequences(), &config, &|_, _| {}).unwrap();
+        let e = joined.append(other_cameras).unwrap_err().to_string();
+        assert!(e.contains("12 cameras") && e.contains("8 ("), "{e}");
+    }
+
     /// A roll bound of 1e308 deg is refused, not drawn from (its range overflowed the draw).
     #[test]
     fn jitter_angles_beyond_a_half_turn_are_refused() {

@@ -9,7 +9,7 @@ use camloc::dataset::Dataset;
 use camloc::features::PaperConfig;
 use camloc::learning::{LogisticRegression, Mode};
 use camloc::store::{Persist, StagedFiles, check_target};
-use camloc::{CameraLocalizer, Capacity, Descriptor, LandmarkDropout, TrainOptions};
+use camloc::{CameraLocalizer, CamlocError, Capacity, Descriptor, LandmarkDropout, TrainOptions};
 use clap::ValueEnum;
 
 use super::{CliError, ForceArgs, Out, load_dataset, progress, targets};
@@ -37,12 +37,38 @@ fn warn_of_thin_heads(localizer: &CameraLocalizer, dataset: &Dataset) {
     }
 }
 
+/// The datasets at `paths` joined into one ([`Dataset::append`]), and their protocols in
+/// words (`"jittered + rig"`).
+fn joined_datasets(paths: &[PathBuf]) -> Result<(Dataset, String), CliError> {
+    let mut joined: Option<Dataset> = None;
+    let mut protocols: Vec<String> = Vec::new();
+    for path in paths {
+        let dataset = load_dataset(path)?;
+        let protocol = dataset.header.protocol.to_string();
+        if !protocols.contains(&protocol) {
+            protocols.push(protocol);
+        }
+        match &mut joined {
+            None => joined = Some(dataset),
+            Some(first) => first
+                .append(dataset)
+                .map_err(|e| CamlocError::InvalidOption {
+                    name: "--dataset",
+                    detail: format!("{}: {e}", camloc::store::quoted_path(path)),
+                })?,
+        }
+    }
+    let joined = joined.ok_or_else(|| CliError::Usage("--dataset: give at least one".into()))?;
+    Ok((joined, protocols.join(" + ")))
+}
+
 /// Arguments of `camloc train`.
 #[derive(clap::Args)]
 pub struct Args {
-    /// Training dataset (from `cargo xtask gen-dataset`).
-    #[arg(long, value_name = "FILE")]
-    pub dataset: PathBuf,
+    /// Training dataset (from `cargo xtask gen-dataset`); repeat it to train on several
+    /// together (say `jittered` and `rig` views), all of one camera set.
+    #[arg(long, value_name = "FILE", required = true)]
+    pub dataset: Vec<PathBuf>,
     /// Output model file, e.g. `model.bin` (a name of another format, `m.svg` or `m.json`, is
     /// refused; an existing file is replaced only with --force).
     #[arg(long, value_name = "MODEL")]
@@ -159,10 +185,10 @@ pub enum ModeArg {
 /// Runs `camloc train`.
 pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     let descriptor = args.descriptor.descriptor();
-    targets::check(
-        [(Some(args.out.as_path()), "--out", None)],
-        &[("--dataset", Some(&args.dataset))],
-    )?;
+    let inputs: Vec<_> = (args.dataset.iter())
+        .map(|d| ("--dataset", Some(d.as_path())))
+        .collect();
+    targets::check([(Some(args.out.as_path()), "--out", None)], &inputs)?;
     // `--out m.svg` or `m.json` would be a model file named like a drawing or a document.
     targets::check_format(&args.out, "--out", "a camloc model file", &["bin"])?;
     check_target(&args.out, args.force.force)?;
@@ -188,14 +214,14 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     });
     options.validate()?;
     let start = Instant::now();
-    let dataset = load_dataset(&args.dataset)?;
+    let (dataset, protocols) = joined_datasets(&args.dataset)?;
     let quiet = args.quiet;
     if !quiet {
         stderr_line!(
             "training on {} samples of {} subjects ({} protocol, {} cameras), descriptor {}, {} classifier, lambda {}",
             dataset.samples.len(),
             dataset.subjects().len(),
-            dataset.header.protocol,
+            protocols,
             dataset.header.cameras.len(),
             descriptor.name(),
             args.capacity.name(),
