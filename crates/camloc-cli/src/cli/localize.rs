@@ -344,11 +344,22 @@ fn runner_up_text(localizer: &CameraLocalizer, loc: &Localization) -> Option<Str
         .max_by(|a, b| a.1.total_cmp(b.1))?;
     let view = localizer.cameras().viewpoints().get(index)?;
     Some(format!(
-        "  next most probable: camera {}, {} level, {} side, probability {p:.3}\n",
+        "  next most probable: camera {}, {} level, {} side{}, probability {p:.3}\n",
         view.label_text(),
         view.level.name(),
-        view.side.name()
+        view.side.name(),
+        angles_text(view)
     ))
+}
+
+/// A camera's angles as the text output gives them, ` (azimuth 270 deg, elevation 0 deg)`:
+/// what tells apart the cameras of a sphere of several rings in a level or more than 4
+/// azimuths, whose level and side names repeat.
+fn angles_text(view: &camloc::geometry::Viewpoint) -> String {
+    format!(
+        " (azimuth {:.0} deg, elevation {:.0} deg)",
+        view.azimuth_deg, view.elevation_deg
+    )
 }
 
 fn localization_text(
@@ -358,12 +369,7 @@ fn localization_text(
 ) -> String {
     let mut out = String::new();
     let view = localizer.cameras().get(loc.label.get());
-    let where_ = view.map_or_else(String::new, |v| {
-        format!(
-            " (azimuth {:.0} deg, elevation {:.0} deg)",
-            v.azimuth_deg, v.elevation_deg
-        )
-    });
+    let where_ = view.map_or_else(String::new, angles_text);
     let _ = writeln!(
         out,
         "{}: camera {}, {} level, {} side{where_}, probability {:.3}",
