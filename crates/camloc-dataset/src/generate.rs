@@ -226,7 +226,12 @@ pub fn generate(
             stride: config.stride,
             min_pose_distance_mm: config.min_pose_distance_mm,
             augmentation: config.augmentation,
-            jitter: config.jitter,
+            // The bounds the views were drawn within (a finer sphere's are narrower).
+            jitter: Jitter {
+                azimuth_deg: jitter_bounds.0,
+                elevation_deg: jitter_bounds.1,
+                ..config.jitter
+            },
             rig: config.rig,
             posture_limits: limits,
             undescribable_views: undescribable.into_inner(),
@@ -345,10 +350,11 @@ fn project_sample(
         }
     };
     let (label, inside) = if matches!(config.protocol, Protocol::Sphere | Protocol::Rig) {
-        let j = &config.jitter;
+        // The box `jittered` draws this camera's views from.
+        let (azimuth_bound, elevation_bound) = jitter_bounds;
         let (azimuth, elevation) = camera_direction_deg(&rotation);
         let camera = config.cameras.by_ring_and_side(azimuth, elevation);
-        let inside = in_class_box(camera, azimuth, elevation, j.azimuth_deg, j.elevation_deg);
+        let inside = in_class_box(camera, azimuth, elevation, azimuth_bound, elevation_bound);
         (camera.label, inside)
     } else {
         (view.label, true)
@@ -752,6 +758,23 @@ mod tests {
             let (azimuth, elevation) = crate::augment::camera_direction_deg(&s.rotation);
             let nearest = fine.by_ring_and_side(azimuth, elevation);
             assert_eq!(nearest.label, s.label, "{azimuth} {elevation}");
+        }
+        // The header records the bounds drawn within, and `sphere` views are inside their
+        // class's box by the same bounds.
+        assert_eq!(
+            (
+                data.header.jitter.azimuth_deg,
+                data.header.jitter.elevation_deg
+            ),
+            (22.5, 10.0)
+        );
+        config.protocol = Protocol::Sphere;
+        let data = generate(&sequences(), &config, &|_, _| {}).unwrap();
+        for s in &data.samples {
+            let (azimuth, elevation) = crate::augment::camera_direction_deg(&s.rotation);
+            let view = fine.get(s.label).unwrap();
+            let inside = in_class_box(view, azimuth, elevation, 22.5, 10.0);
+            assert_eq!(s.in_class_box, inside, "{azimuth} {elevation}");
         }
     }
 }
