@@ -69,6 +69,11 @@ fn train_evaluate_and_reconstruct_succeed_on_fixture_data() {
         .collect();
     assert_eq!(levels, ["lower", "middle", "upper"]);
     assert_eq!(e["per_ring"].as_array().map(Vec::len), Some(3));
+    // The prior the run localized under, and from-input's estimate.
+    assert_eq!(e["camera_height"], "from-input");
+    let shares = e["camera_height_shares"].as_array().unwrap();
+    let total: f64 = shares.iter().map(|s| s.as_f64().unwrap()).sum();
+    assert!((total - 1.0).abs() < 1e-9, "{shares:?}");
     // The trained model has viewpoint heads: their errors against the true directions.
     let median = e["viewpoint"]["median_error_deg"].as_f64().unwrap();
     assert!((0.0..=180.0).contains(&median), "{median}");

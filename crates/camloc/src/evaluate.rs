@@ -82,6 +82,39 @@ pub struct RingAccuracy {
     pub viewpoint: Option<ViewpointAccuracy>,
 }
 
+/// The bands of true camera elevation [`Evaluation::per_elevation_band`] reports, degrees
+/// (`[lo, hi)`, the last one closed): 15 deg wide with edges at Table 1's ring borders
+/// (+-22.5) and halfway between, the middle ring's upper half (where room cameras stand, 4-20
+/// deg above a pelvis) in two.
+pub const ELEVATION_BANDS_DEG: [(f64, f64); 12] = [
+    (-90.0, -67.5),
+    (-67.5, -52.5),
+    (-52.5, -37.5),
+    (-37.5, -22.5),
+    (-22.5, -7.5),
+    (-7.5, 7.5),
+    (7.5, 15.0),
+    (15.0, 22.5),
+    (22.5, 37.5),
+    (37.5, 52.5),
+    (52.5, 67.5),
+    (67.5, 90.0),
+];
+
+/// The continuous viewpoints' errors of the samples whose true camera elevation lies in one
+/// band.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct BandAccuracy {
+    /// The band's lower edge, degrees.
+    pub from_deg: f64,
+    /// Its upper edge, degrees (exclusive but for the last band).
+    pub to_deg: f64,
+    /// Samples whose true direction lies in it.
+    pub samples: usize,
+    /// Their errors.
+    pub viewpoint: ViewpointAccuracy,
+}
+
 /// Results of [`evaluate`].
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Evaluation {
@@ -97,6 +130,11 @@ pub struct Evaluation {
     pub per_level: Vec<LevelAccuracy>,
     /// Per ring (elevation) of cameras.
     pub per_ring: Vec<RingAccuracy>,
+    /// The continuous viewpoints' errors per band of true elevation ([`ELEVATION_BANDS_DEG`];
+    /// the bands with samples), where a mean over a ring hides a pull toward its middle (a
+    /// regression answers near the elevations it was trained on: cameras at a ring's edges
+    /// are read toward its centre); empty when the model has no viewpoint heads.
+    pub per_elevation_band: Vec<BandAccuracy>,
     /// Per camera.
     pub per_camera: Vec<CameraAccuracy>,
     /// `confusion[t][p]`: samples of true label `t + 1` predicted as `p + 1` (0-based
@@ -219,6 +257,28 @@ pub fn evaluate(localizer: &CameraLocalizer, dataset: &Dataset) -> Result<Evalua
             })
         })
         .collect();
+    let last = ELEVATION_BANDS_DEG.len() - 1;
+    let per_elevation_band = (errors.iter())
+        .flat_map(|errors| {
+            ELEVATION_BANDS_DEG
+                .iter()
+                .enumerate()
+                .filter_map(move |(b, &(from_deg, to_deg))| {
+                    let in_band = |e: &&ViewpointError| {
+                        let t = e.true_elevation_deg;
+                        t >= from_deg && (t < to_deg || (b == last && t <= to_deg))
+                    };
+                    let band: Vec<ViewpointError> =
+                        errors.iter().filter(in_band).copied().collect();
+                    Some(BandAccuracy {
+                        from_deg,
+                        to_deg,
+                        samples: band.len(),
+                        viewpoint: ViewpointAccuracy::of(band.into_iter())?,
+                    })
+                })
+        })
+        .collect();
     Ok(Evaluation {
         samples: n,
         accuracy: share(correct, n),
@@ -226,6 +286,7 @@ pub fn evaluate(localizer: &CameraLocalizer, dataset: &Dataset) -> Result<Evalua
         viewpoint: viewpoint_of(&|_| true),
         per_level,
         per_ring,
+        per_elevation_band,
         per_camera,
         confusion,
     })
@@ -247,6 +308,8 @@ struct ViewpointError {
     angle_deg: f64,
     /// Answered minus true elevation, degrees.
     elevation_deg: f64,
+    /// The true elevation, degrees.
+    true_elevation_deg: f64,
     /// Whether the angle is within the answered uncertainty.
     within_uncertainty: bool,
 }
@@ -327,6 +390,7 @@ fn viewpoint_error(
     ViewpointError {
         angle_deg,
         elevation_deg: elevation - truth.1,
+        true_elevation_deg: truth.1,
         within_uncertainty: angle_deg <= uncertainty,
     }
 }

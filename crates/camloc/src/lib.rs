@@ -94,7 +94,8 @@ pub use continuations::{Continuation, continuations};
 pub use conventions::InputConventions;
 pub use error::CamlocError;
 pub use evaluate::{
-    CameraAccuracy, Evaluation, LevelAccuracy, RingAccuracy, ViewpointAccuracy, evaluate,
+    BandAccuracy, CameraAccuracy, ELEVATION_BANDS_DEG, Evaluation, LevelAccuracy, RingAccuracy,
+    ViewpointAccuracy, evaluate,
 };
 pub use far_off::{FAR_OFF_RATIO, without_far_off_landmarks};
 pub use filled::{FILL_TEMPERATURE_STEP, MIN_PRESENT_FOR_FILL, fill_temperature};

@@ -255,6 +255,14 @@ fn viewpoint_heads_refine_the_class_centre() {
     assert!((v.median_error_deg - middle).abs() < 1e-9, "{v:?} {middle}");
     assert_eq!(v.within_uncertainty, covered as f64 / n as f64);
     assert!((v.mean_elevation_error_deg - elevation_error / n as f64).abs() < 1e-9);
+    // Every sample in one band of true elevation; the bands' means weigh up to the whole's.
+    let bands = &report.per_elevation_band;
+    assert_eq!(bands.iter().map(|b| b.samples).sum::<usize>(), n);
+    let weighed: f64 = (bands.iter())
+        .map(|b| b.samples as f64 * b.viewpoint.mean_elevation_error_deg)
+        .sum();
+    assert!((weighed / n as f64 - v.mean_elevation_error_deg).abs() < 1e-9);
+    assert!(bands.len() >= 3, "{bands:?}");
     // Table 1's rings are its levels.
     assert_eq!(report.per_ring.len(), 3);
     for (r, l) in report.per_ring.iter().zip(&report.per_level) {
@@ -281,6 +289,7 @@ fn viewpoint_heads_refine_the_class_centre() {
     );
     let report = evaluate(&plain, &dataset).unwrap();
     assert!(report.viewpoint.is_none() && report.per_camera.iter().all(|c| c.viewpoint.is_none()));
+    assert!(report.per_elevation_band.is_empty());
     assert!(plain.fit_viewpoint(&dataset, f64::NAN).is_err());
     plain.fit_viewpoint(&dataset, 1.0).unwrap();
     assert!(

@@ -1,6 +1,8 @@
 //! `camloc evaluate`.
 
 use std::fmt::Write;
+
+use clap::ValueEnum;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -21,10 +23,11 @@ pub struct Args {
     /// Labelled dataset (from `cargo xtask gen-dataset`).
     #[arg(long, value_name = "FILE")]
     pub dataset: PathBuf,
-    /// Print one JSON object (keys: samples, accuracy, accuracy_folded, viewpoint,
-    /// per_level, per_ring, per_camera, confusion; `viewpoint`: the continuous viewpoints'
-    /// median error and mean elevation error in degrees, null for a model without viewpoint
-    /// heads).
+    /// Print one JSON object (keys: camera_height, camera_height_shares, samples, accuracy,
+    /// accuracy_folded, viewpoint, per_level, per_ring, per_elevation_band, per_camera,
+    /// confusion; `viewpoint`: the continuous viewpoints' median error and mean elevation
+    /// error in degrees, null for a model without viewpoint heads; `per_elevation_band`: the
+    /// same by band of true elevation).
     #[arg(long)]
     pub json: bool,
     /// Draw the confusion matrix (rows: true camera, columns: predicted, shaded by the share
@@ -53,7 +56,22 @@ pub fn run(args: &Args, stdout: &mut Out) -> Result<ExitCode, CliError> {
     let localizer = load_model(args.model.as_deref(), &args.height)?;
     let dataset = load_dataset(&args.dataset)?;
     let localizer = heights::for_dataset(localizer, &args.height, &dataset, args.progress.quiet);
-    let e = evaluate(&localizer, &dataset)?;
+    let e = evaluate(&localizer, &dataset).map_err(|err| match err {
+        // Say which file: the dataset's cameras are not the model's, say.
+        CamlocError::Inconsistent { what, detail } => CamlocError::Inconsistent {
+            what,
+            detail: format!("{}: {detail}", camloc::store::quoted_path(&args.dataset)),
+        },
+        other => other,
+    })?;
+    // The prior the run localized under, as `localize --npz` reports it.
+    let prior = args
+        .height
+        .camera_height
+        .to_possible_value()
+        .map_or_else(String::new, |v| v.get_name().to_string());
+    let (shares, _) = localizer.camera_height().reported();
+    let shares = shares.iter().all(|s| s.is_finite()).then_some(shares);
     let mut staged = StagedFiles::new(args.force);
     if let Some(svg) = &args.svg {
         let title = format!(
@@ -67,10 +85,15 @@ pub fn run(args: &Args, stdout: &mut Out) -> Result<ExitCode, CliError> {
     }
     let mut out = String::new();
     if args.json {
+        let json = EvaluationJson {
+            camera_height: &prior,
+            camera_height_shares: shares,
+            evaluation: &e,
+        };
         let _ = writeln!(
             out,
             "{}",
-            serde_json::to_string_pretty(&e).map_err(|err| CamlocError::InvalidOption {
+            serde_json::to_string_pretty(&json).map_err(|err| CamlocError::InvalidOption {
                 name: "json",
                 detail: err.to_string(),
             })?
@@ -81,6 +104,7 @@ pub fn run(args: &Args, stdout: &mut Out) -> Result<ExitCode, CliError> {
         return Ok(ExitCode::SUCCESS);
     }
     let _ = writeln!(out, "samples:          {}", e.samples);
+    let _ = writeln!(out, "camera height:    {prior}{}", shares_text(shares));
     let _ = writeln!(out, "accuracy:         {:.2}%", 100.0 * e.accuracy);
     let _ = writeln!(
         out,
@@ -114,6 +138,19 @@ pub fn run(args: &Args, stdout: &mut Out) -> Result<ExitCode, CliError> {
                 100.0 * r.accuracy,
                 100.0 * r.ring_accuracy,
                 short_viewpoint_text(r.viewpoint.as_ref())
+            );
+        }
+    }
+    if !e.per_elevation_band.is_empty() {
+        let _ = writeln!(out, "by true elevation:");
+        for b in &e.per_elevation_band {
+            let _ = writeln!(
+                out,
+                "  {:>+6.1} to {:>+5.1} deg {:>8} samples{}",
+                b.from_deg,
+                b.to_deg,
+                b.samples,
+                short_viewpoint_text(Some(&b.viewpoint))
             );
         }
     }
@@ -169,6 +206,29 @@ pub fn run(args: &Args, stdout: &mut Out) -> Result<ExitCode, CliError> {
     stdout.flush()?;
     staged.commit()?;
     Ok(ExitCode::SUCCESS)
+}
+
+/// `camloc evaluate --json`: the prior the run localized under (`--camera-height`), the
+/// shares of the heights `from-input` estimated (none for the other priors), and the
+/// evaluation.
+#[derive(serde::Serialize)]
+struct EvaluationJson<'a> {
+    camera_height: &'a str,
+    camera_height_shares: Option<[f64; 3]>,
+    #[serde(flatten)]
+    evaluation: &'a camloc::Evaluation,
+}
+
+/// ` (lower L%, middle M%, upper U% estimated)` for the shares `from-input` estimated; "".
+fn shares_text(shares: Option<[f64; 3]>) -> String {
+    shares.map_or_else(String::new, |[lower, middle, upper]| {
+        format!(
+            " (lower {:.1}%, middle {:.1}%, upper {:.1}% estimated)",
+            100.0 * lower,
+            100.0 * middle,
+            100.0 * upper
+        )
+    })
 }
 
 /// The whole line of the continuous viewpoints' errors.
