@@ -188,3 +188,21 @@ fn a_lopsided_pose_stays_inside_its_3d_panels() {
         }
     }
 }
+
+/// The confusion matrix names Table 1's cameras by level and side, a finer sphere's by their
+/// angles (its names repeat: two "middle left" cameras of 8 azimuths), and shows every count.
+#[test]
+fn the_confusion_matrix_names_cameras_apart() {
+    let table1 = CameraSet::table1();
+    let mut counts = vec![vec![0usize; 12]; 12];
+    counts[4][5] = 37;
+    let svg = confusion_svg(&table1, &counts, "t");
+    assert!(
+        svg.contains(">05 middle front<") && svg.contains(">37<"),
+        "{svg}"
+    );
+    let fine = CameraSet::sphere(8, &[-20.0, 0.0, 20.0, 40.0]).unwrap();
+    let svg = confusion_svg(&fine, &vec![vec![1usize; 32]; 32], "t");
+    assert!(svg.contains(">02 az 225 el -20<") && svg.contains(">03 az 270 el -20<"));
+    assert!(!svg.contains("middle left"));
+}
