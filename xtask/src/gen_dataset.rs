@@ -216,7 +216,15 @@ pub fn run(args: &Args) -> Result<(), String> {
         config.cameras.len(),
         config.stride,
         config.min_pose_distance_mm,
-        config.noise_fraction,
+        // The rig adds its own detector-like noise besides.
+        if config.protocol == Protocol::Rig {
+            format!(
+                "{} and the rig's detector-like noise",
+                config.noise_fraction
+            )
+        } else {
+            config.noise_fraction.to_string()
+        },
         config.seed,
         start.elapsed().as_secs_f64()
     );
@@ -271,10 +279,17 @@ pub fn run(args: &Args) -> Result<(), String> {
         );
     }
     println!("samples per camera:");
+    // A finer sphere's level and side names repeat: its cameras' angles tell them apart.
+    let table1 = dataset.header.cameras == camloc::CameraSet::table1();
     for c in dataset.samples_per_camera() {
         if let Some(v) = dataset.header.cameras.get(c.label) {
+            let angles = if table1 {
+                String::new()
+            } else {
+                format!(" (az {:>3.0}, el {:>+3.0})", v.azimuth_deg, v.elevation_deg)
+            };
             println!(
-                "  {} {:<6} {:<5} {:>8}",
+                "  {} {:<6} {:<5}{angles} {:>8}",
                 v.label_text(),
                 v.level.name(),
                 v.side.name(),
