@@ -498,3 +498,36 @@ fn train_joins_several_datasets_of_one_camera_set() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("12 cameras"));
     assert!(!Path::new(&model).exists());
 }
+
+/// `evaluate`'s text for a sphere of several middle rings: a line per ring, and its cameras,
+/// whose level and side names repeat, with their angles.
+#[test]
+fn evaluate_prints_a_finer_spheres_rings_and_angles() {
+    use camloc::dataset::{GenerateConfig, Protocol, generate, load_mocap_folders};
+    let dir = TempDir::new("rings");
+    let (sequences, _) =
+        load_mocap_folders(&[fixture("mocap")], &mut |_| {}, &mut |_, _, _| {}).unwrap();
+    let mut config = GenerateConfig::new(Protocol::Jittered);
+    config.cameras = camloc::CameraSet::sphere(8, &[-20.0, 0.0, 20.0, 40.0]).unwrap();
+    let data = dir.0.join("fine.bin");
+    generate(&sequences, &config, &|_, _| {})
+        .unwrap()
+        .save(&data, false)
+        .unwrap();
+    let data = data.to_str().unwrap();
+    let model = dir.0.join("fine-model.bin");
+    let model = model.to_str().unwrap();
+    let train = ["train", "--dataset", data, "--out", model, "--no-viewpoint"];
+    success(&camloc(&[&train[..], &["-q"]].concat()));
+    let text = success(&camloc(&["evaluate", "--model", model, "--dataset", data]));
+    for line in [
+        "per ring:",
+        "   -20.0 deg ",
+        "    +0.0 deg ",
+        "   +40.0 deg ",
+    ] {
+        assert!(text.contains(line), "{line:?} in {text}");
+    }
+    assert!(text.contains("02 middle left (az 225, el -20)"), "{text}");
+    assert!(text.contains("03 middle left (az 270, el -20)"), "{text}");
+}

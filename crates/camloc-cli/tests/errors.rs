@@ -257,6 +257,16 @@ fn empty_inputs_are_an_error_in_every_command() {
     ]);
     assert_clean_failure(&out, "cannot be compared with its true 3D pose");
     assert!(out.stdout.is_empty());
+    // No complete sample at all (every sample with a landmark missing): said too.
+    let mut partial = camloc::dataset::Dataset::load(Path::new(&data)).unwrap();
+    for sample in &mut partial.samples {
+        sample.missing_mask = 1 << 3;
+    }
+    let partial_path = dir.0.join("partial.bin");
+    partial.save(&partial_path, false).unwrap();
+    let partial_path = partial_path.to_str().unwrap();
+    let out = camloc(&["evaluate-reconstruction", "-q", "--dataset", partial_path]);
+    assert_clean_failure(&out, "samples is complete");
 }
 
 /// A folder whose poses are all in sub-folders has no poses without --recursive, and the

@@ -55,7 +55,7 @@ fn at_most_max_clips<'de, D: serde::Deserializer<'de>>(
             if seq.size_hint().is_some_and(|n| n > MAX_CLIPS) {
                 return Err(too_many());
             }
-            let mut clips = Vec::with_capacity(seq.size_hint().unwrap_or(0));
+            let mut clips = Vec::with_capacity(seq.size_hint().unwrap_or(0).min(4096));
             while let Some(clip) = seq.next_element()? {
                 if clips.len() == MAX_CLIPS {
                     return Err(too_many());

@@ -118,7 +118,20 @@ impl GenerateConfig {
             .iter()
             .any(|&v| v > 180.0)
         {
-            return bad("jitter angles must be at most 180 deg (azimuth, elevation, roll)".into());
+            // 1e308 is said in a few characters, not in 309 digits.
+            let shown = |v: f64| {
+                if v < 1e6 {
+                    v.to_string()
+                } else {
+                    format!("{v:e}")
+                }
+            };
+            return bad(format!(
+                "jitter angles must be at most 180 deg, got azimuth {}, elevation {}, roll {}",
+                shown(j.azimuth_deg),
+                shown(j.elevation_deg),
+                shown(j.roll_deg)
+            ));
         }
         Ok(())
     }

@@ -149,7 +149,7 @@ impl std::str::FromStr for MotionCategory {
     }
 }
 
-/// The largest CMU index file [`MocapIndex::load`] reads (the real one is about 1 MB).
+/// The largest CMU index file [`MocapIndex::load`] reads (the real one is 68 KB).
 pub const MAX_INDEX_BYTES: u64 = 64 << 20;
 
 /// The keyword rules, tried in this order; the first rule with a matching word (or
@@ -373,14 +373,29 @@ impl MocapIndex {
         index
     }
 
-    /// Reads and parses the index file at `path` (at most [`MAX_INDEX_BYTES`]; CMU's is about
-    /// 1 MB).
+    /// Reads and parses the index file at `path` (at most [`MAX_INDEX_BYTES`]; CMU's is 68 KB;
+    /// bytes that are not UTF-8 are read as U+FFFD).
     ///
     /// # Errors
     /// [`MocapError::Io`] naming the file when it cannot be read, [`MocapError::TooLarge`]
-    /// beyond the bound, [`MocapError::Parse`] when it is not text.
+    /// beyond the bound.
     pub fn load(path: &Path) -> Result<MocapIndex, MocapError> {
-        let bytes = crate::read_capped(path, MAX_INDEX_BYTES)?;
+        use std::io::Read;
+        let io = |source| MocapError::Io {
+            path: path.to_owned(),
+            source,
+        };
+        let mut bytes = Vec::new();
+        (std::fs::File::open(path).map_err(io)?)
+            .take(MAX_INDEX_BYTES + 1)
+            .read_to_end(&mut bytes)
+            .map_err(io)?;
+        if bytes.len() as u64 > MAX_INDEX_BYTES {
+            return Err(MocapError::TooLarge {
+                path: path.to_owned(),
+                limit: MAX_INDEX_BYTES,
+            });
+        }
         Ok(MocapIndex::parse(&String::from_utf8_lossy(&bytes)))
     }
 

@@ -95,7 +95,7 @@ pub use conventions::InputConventions;
 pub use error::CamlocError;
 pub use evaluate::{
     BandAccuracy, CameraAccuracy, ELEVATION_BANDS_DEG, Evaluation, LevelAccuracy, RingAccuracy,
-    ViewpointAccuracy, evaluate,
+    ViewpointAccuracy, evaluate, evaluate_filled,
 };
 pub use far_off::{FAR_OFF_RATIO, without_far_off_landmarks};
 pub use filled::{FILL_TEMPERATURE_STEP, MIN_PRESENT_FOR_FILL, fill_temperature};

@@ -192,3 +192,46 @@ proptest! {
         }
     }
 }
+
+/// `evaluate_filled` scores the samples as `localize_filled` answers them (a sample with
+/// landmarks missing filled in), where `evaluate` reads the same poses with the descriptor's
+/// missing values at their training means: its accuracy is the share of `localize_filled`'s
+/// right labels, and its viewpoint errors are those of `localize_filled`'s viewpoints.
+#[test]
+fn evaluate_filled_scores_the_answers_localize_filled_gives() {
+    let mocap = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/mocap");
+    let (sequences, _) = load_mocap_folders(&[mocap], &mut |_| {}, &mut |_, _, _| {}).unwrap();
+    let mut config = GenerateConfig::new(Protocol::Jittered);
+    config.drop_landmarks = 3;
+    config.seed = 4;
+    let dataset = generate(&sequences, &config, &|_, _| {}).unwrap();
+    let localizer = CameraLocalizer::default_model().unwrap();
+    let filler = PoseReconstructor::new(default_basis().unwrap()).unwrap();
+    let (mut right, mut angles) = (0usize, Vec::new());
+    for sample in &dataset.samples {
+        let mut pose = PartialPose2::from(sample.landmarks);
+        for (i, point) in pose.points.iter_mut().enumerate() {
+            if sample.missing_mask & (1 << i) != 0 {
+                *point = None;
+            }
+        }
+        let found = localizer
+            .localize_filled(&pose, filler.reconstructor())
+            .unwrap();
+        right += usize::from(found.label.get() == sample.label);
+        let truth = camloc::dataset::camera_direction_deg(&sample.rotation);
+        let answer = (found.azimuth_deg.unwrap(), found.elevation_deg.unwrap());
+        angles.push(camloc::dataset::angle_between_deg(answer, truth));
+    }
+    let n = dataset.samples.len();
+    let e = camloc::evaluate_filled(&localizer, &dataset, filler.reconstructor()).unwrap();
+    assert_eq!(e.accuracy, right as f64 / n as f64);
+    angles.sort_by(f64::total_cmp);
+    let median = 0.5 * (angles[(n - 1) / 2] + angles[n / 2]);
+    let v = e.viewpoint.as_ref().unwrap();
+    assert!((v.median_error_deg - median).abs() < 1e-9, "{v:?} {median}");
+    let beyond = angles.iter().filter(|&&a| a > 45.0).count();
+    assert_eq!(v.beyond_45, beyond as f64 / n as f64);
+    // Read with the training means instead, the answers differ.
+    assert_ne!(camloc::evaluate(&localizer, &dataset).unwrap(), e);
+}

@@ -223,6 +223,8 @@ fn viewpoint_heads_refine_the_class_centre() {
     let cameras = localizer.cameras().clone();
     let (mut head_err, mut centre_err) = (Vec::new(), Vec::new());
     let (mut covered, mut elevation_error) = (0usize, 0.0);
+    // Camera 06's samples' errors, for its own line.
+    let mut camera6 = Vec::new();
     for s in &dataset.samples {
         let l = localizer.localize(&s.landmarks).unwrap();
         let (a, e, u) = (
@@ -239,6 +241,9 @@ fn viewpoint_heads_refine_the_class_centre() {
         head_err.push(angle_between_deg((a, e), truth));
         covered += usize::from(angle_between_deg((a, e), truth) <= u);
         elevation_error += e - truth.1;
+        if s.label == 6 {
+            camera6.push(angle_between_deg((a, e), truth));
+        }
         let v = cameras.get(l.label.get()).unwrap();
         centre_err.push(angle_between_deg((v.azimuth_deg, v.elevation_deg), truth));
     }
@@ -254,6 +259,13 @@ fn viewpoint_heads_refine_the_class_centre() {
     let middle = 0.5 * (head_err[(n - 1) / 2] + head_err[n / 2]);
     assert!((v.median_error_deg - middle).abs() < 1e-9, "{v:?} {middle}");
     assert_eq!(v.within_uncertainty, covered as f64 / n as f64);
+    let beyond = head_err.iter().filter(|&&a| a > 45.0).count();
+    assert_eq!(v.beyond_45, beyond as f64 / n as f64);
+    camera6.sort_by(f64::total_cmp);
+    let m = camera6.len();
+    let own = report.per_camera[5].viewpoint.as_ref().unwrap();
+    let camera6_median = 0.5 * (camera6[(m - 1) / 2] + camera6[m / 2]);
+    assert!((own.median_error_deg - camera6_median).abs() < 1e-9);
     assert!((v.mean_elevation_error_deg - elevation_error / n as f64).abs() < 1e-9);
     // Every sample in one band of true elevation; the bands' means weigh up to the whole's.
     let bands = &report.per_elevation_band;
@@ -366,8 +378,12 @@ fn evaluate_gives_each_ring_of_a_level_its_line() {
         e.per_ring[..3].iter().map(|r| r.samples).sum::<usize>(),
         middle.samples
     );
-    for r in &e.per_ring {
-        assert!(r.ring_accuracy >= r.accuracy, "{r:?}");
+    // A ring's right-ring share counts the predictions of any camera of its ring.
+    for (ring, r) in e.per_ring.iter().enumerate() {
+        let ring_hits: usize = (8 * ring..8 * ring + 8)
+            .map(|t| e.confusion[t][8 * ring..8 * ring + 8].iter().sum::<usize>())
+            .sum();
+        assert_eq!(hits(r.samples, r.ring_accuracy), ring_hits, "{r:?}");
     }
     let second = &e.per_camera[1];
     assert_eq!((second.azimuth_deg, second.elevation_deg), (225.0, -20.0));

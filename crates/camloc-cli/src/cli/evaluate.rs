@@ -56,7 +56,24 @@ pub fn run(args: &Args, stdout: &mut Out) -> Result<ExitCode, CliError> {
     let localizer = load_model(args.model.as_deref(), &args.height)?;
     let dataset = load_dataset(&args.dataset)?;
     let localizer = heights::for_dataset(localizer, &args.height, &dataset, args.progress.quiet);
-    let e = evaluate(&localizer, &dataset).map_err(|err| match err {
+    // Samples with missing landmarks are localized as `localize` localizes such poses: filled
+    // in from the embedded basis.
+    let filled = (dataset.samples.iter())
+        .filter(|s| s.missing_mask != 0)
+        .count();
+    let bar = super::progress::spinner(
+        args.progress.quiet || filled == 0,
+        &format!(
+            "evaluating {} samples, {filled} of them with missing landmarks filled in",
+            dataset.samples.len()
+        ),
+    );
+    let evaluated = match super::embedded_basis() {
+        Some(basis) => camloc::evaluate_filled(&localizer, &dataset, basis.reconstructor()),
+        None => evaluate(&localizer, &dataset),
+    };
+    bar.finish_and_clear();
+    let e = evaluated.map_err(|err| match err {
         // Say which file: the dataset's cameras are not the model's, say.
         CamlocError::Inconsistent { what, detail } => CamlocError::Inconsistent {
             what,

@@ -594,12 +594,24 @@ pub fn run_evaluation(args: &EvalArgs, out: &mut Out) -> Result<ExitCode, CliErr
     let report = reconstructor.evaluate_with_own_pipeline(&dataset);
     bar.finish_and_clear();
     let report = report?;
-    // No row measured any sample: an error that says why, not a table of failures.
+    // No complete sample (each has missing landmarks: `gen-dataset --drop-landmarks`), or
+    // no row measured any: an error that says why, not a table of zeros or failures.
+    if report.samples == 0 {
+        return Err(CamlocError::Inconsistent {
+            what: "dataset",
+            detail: format!(
+                "{}: none of its {} samples is complete (the 3D error is measured on samples \
+                 with every landmark)",
+                camloc::store::quoted_path(&args.dataset),
+                dataset.samples.len()
+            ),
+        }
+        .into());
+    }
     let measured = report.modes.iter().map(|m| m.evaluated);
-    if report.samples > 0
-        && measured
-            .chain(report.pipeline.iter().map(|p| p.report.evaluated))
-            .all(|n| n == 0)
+    if measured
+        .chain(report.pipeline.iter().map(|p| p.report.evaluated))
+        .all(|n| n == 0)
     {
         let first = dataset.samples.iter().find(|s| s.missing_mask == 0);
         let why = match first.map(|s| reconstructor.reconstruct(&s.landmarks.into())) {
