@@ -86,7 +86,10 @@ pub struct DatasetHeader {
     pub min_pose_distance_mm: f64,
     /// The 3D pose augmentation applied per sample.
     pub augmentation: Augmentation,
-    /// Camera jitter, roll and distance of the perspective protocols.
+    /// Camera jitter, roll and distance of the perspective protocols: the azimuth and
+    /// elevation bounds the views were drawn within (a finer sphere's, half its spacing, are
+    /// narrower than the configured ones; files written before this was so record the
+    /// configured ones).
     pub jitter: Jitter,
     /// The studio of the `rig` protocol.
     pub rig: Rig,
@@ -373,7 +376,8 @@ impl Dataset {
             )));
         }
         self.header.clips.extend(added);
-        self.header.undescribable_views += other.header.undescribable_views;
+        self.header.undescribable_views =
+            (self.header.undescribable_views).saturating_add(other.header.undescribable_views);
         let clip_of = |s: &Sample| moved.get(s.clip as usize).copied();
         for mut sample in other.samples {
             // A sample of a clip its dataset does not list keeps an index past the list,

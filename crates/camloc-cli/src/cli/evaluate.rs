@@ -25,11 +25,19 @@ pub struct Args {
     pub dataset: PathBuf,
     /// Print one JSON object (keys: camera_height, camera_height_shares, samples, accuracy,
     /// accuracy_folded, viewpoint, per_level, per_ring, per_elevation_band, per_camera,
-    /// confusion; `viewpoint`: the continuous viewpoints' median error and mean elevation
-    /// error in degrees, null for a model without viewpoint heads; `per_elevation_band`: the
-    /// same by band of true elevation).
+    /// confusion; `viewpoint`: the continuous viewpoints' median_error_deg, beyond_45,
+    /// mean_elevation_error_deg and within_uncertainty against the true directions, null for a
+    /// model without viewpoint heads, as in each level, ring and camera; per_elevation_band:
+    /// the bands of true elevation with samples, each with from_deg, to_deg, samples and its
+    /// viewpoint).
     #[arg(long)]
     pub json: bool,
+    /// Score samples with missing landmarks (or a landmark far off the others) with their
+    /// descriptor's missing values at the training means: fast, but not what `camloc
+    /// localize` answers for them (by default they are filled in from the
+    /// embedded basis, as `localize` fills them: a few tenths of a millisecond each).
+    #[arg(long)]
+    pub no_fill: bool,
     /// Draw the confusion matrix (rows: true camera, columns: predicted, shaded by the share
     /// of the row) as SVG to this file, written only when the run succeeds.
     #[arg(long, value_name = "OUT")]
@@ -62,13 +70,14 @@ pub fn run(args: &Args, stdout: &mut Out) -> Result<ExitCode, CliError> {
         .filter(|s| s.missing_mask != 0)
         .count();
     let bar = super::progress::spinner(
-        args.progress.quiet || filled == 0,
+        args.progress.quiet || filled == 0 || args.no_fill,
         &format!(
-            "evaluating {} samples, {filled} of them with missing landmarks filled in",
+            "evaluating {} samples, {filled} of them with missing landmarks filled in \
+             (--no-fill: faster, at the training means)",
             dataset.samples.len()
         ),
     );
-    let evaluated = match super::embedded_basis() {
+    let evaluated = match super::embedded_basis().filter(|_| !args.no_fill) {
         Some(basis) => camloc::evaluate_filled(&localizer, &dataset, basis.reconstructor()),
         None => evaluate(&localizer, &dataset),
     };

@@ -68,8 +68,8 @@ pub struct Args {
     /// Training dataset (from `cargo xtask gen-dataset`); repeat it to train on several
     /// together (say `jittered` and `rig` views), all of one camera set. The classifier, the
     /// viewpoint heads and the heads' uncertainty are all fitted on these views (the
-    /// uncertainty is then narrower on new people than on them: docs/conventions.md
-    /// section 5).
+    /// uncertainty then holds fewer of new people's errors than of theirs:
+    /// docs/conventions.md section 5).
     #[arg(long, value_name = "FILE", required = true)]
     pub dataset: Vec<PathBuf>,
     /// Output model file, e.g. `model.bin` (a name of another format, `m.svg` or `m.json`, is
