@@ -531,3 +531,41 @@ fn evaluate_prints_a_finer_spheres_rings_and_angles() {
     assert!(text.contains("02 middle left (az 225, el -20)"), "{text}");
     assert!(text.contains("03 middle left (az 270, el -20)"), "{text}");
 }
+
+/// `evaluate` scores samples with missing landmarks as `localize` answers them (filled in), and
+/// with `--no-fill` as the library's `evaluate` does (their descriptor values at the training
+/// means).
+#[test]
+fn evaluate_fills_missing_landmarks_unless_told_not_to() {
+    use camloc::dataset::{GenerateConfig, Protocol, generate, load_mocap_folders};
+    let dir = TempDir::new("no-fill");
+    let (sequences, _) =
+        load_mocap_folders(&[fixture("mocap")], &mut |_| {}, &mut |_, _, _| {}).unwrap();
+    let mut config = GenerateConfig::new(Protocol::Jittered);
+    config.drop_landmarks = 4;
+    let dataset = generate(&sequences, &config, &|_, _| {}).unwrap();
+    let path = dir.0.join("partial.bin");
+    dataset.save(&path, false).unwrap();
+    let path = path.to_str().unwrap();
+    let accuracy = |extra: &[&str]| {
+        let args = [
+            "evaluate",
+            "--dataset",
+            path,
+            "--json",
+            "--camera-height",
+            "any",
+        ];
+        let json: serde_json::Value =
+            serde_json::from_str(&success(&camloc(&[&args[..], extra].concat()))).unwrap();
+        json["accuracy"].as_f64().unwrap()
+    };
+    let localizer = camloc::CameraLocalizer::default_model().unwrap();
+    let means = camloc::evaluate(&localizer, &dataset).unwrap().accuracy;
+    assert_eq!(accuracy(&["--no-fill"]), means);
+    let basis = camloc::PoseReconstructor::new(camloc::default_basis().unwrap()).unwrap();
+    let filled = camloc::evaluate_filled(&localizer, &dataset, basis.reconstructor());
+    assert_eq!(accuracy(&[]), filled.unwrap().accuracy);
+    // On these views the two differ (4 of 15 landmarks missing).
+    assert_ne!(accuracy(&[]), means);
+}
