@@ -280,13 +280,13 @@ pub fn run(args: &Args) -> Result<(), String> {
     }
     println!("samples per camera:");
     // A finer sphere's level and side names repeat: its cameras' angles tell them apart.
-    let table1 = dataset.header.cameras == camloc::CameraSet::table1();
+    let repeat = dataset.header.cameras.names_repeat();
     for c in dataset.samples_per_camera() {
         if let Some(v) = dataset.header.cameras.get(c.label) {
-            let angles = if table1 {
-                String::new()
+            let angles = if repeat {
+                format!(" {:<16}", format!("({})", v.angles_text()))
             } else {
-                format!(" (az {:>3.0}, el {:>+3.0})", v.azimuth_deg, v.elevation_deg)
+                String::new()
             };
             println!(
                 "  {} {:<6} {:<5}{angles} {:>8}",

@@ -631,18 +631,16 @@ pub fn confusion_svg(cameras: &CameraSet, confusion: &[Vec<usize>], title: &str)
         r#"<text x="{left}" y="45" fill="{CENTRE}">predicted camera</text><text x="10" y="{:.1}" fill="{CENTRE}">true camera</text>"#,
         top - 8.0
     );
-    // Table 1's cameras by level and side; a finer sphere's by their angles, as its level
-    // and side names repeat.
-    let table1 = *cameras == CameraSet::table1();
+    // Cameras by level and side; a finer sphere's by their angles, as its names repeat.
+    let repeat = cameras.names_repeat();
     let name = |index: usize| {
         cameras.viewpoints().get(index).map_or_else(
             || format!("{:02}", index + 1),
             |v| {
-                if table1 {
-                    format!("{} {} {}", v.label_text(), v.level.name(), v.side.name())
+                if repeat {
+                    format!("{} {}", v.label_text(), v.angles_text())
                 } else {
-                    let (az, el) = (v.azimuth_deg, v.elevation_deg);
-                    format!("{} az {az:.0} el {el:+.0}", v.label_text())
+                    format!("{} {} {}", v.label_text(), v.level.name(), v.side.name())
                 }
             },
         )

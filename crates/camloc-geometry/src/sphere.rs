@@ -168,6 +168,12 @@ impl Viewpoint {
         format!("{:02}", self.label)
     }
 
+    /// Its angles in a few characters, degrees: `"az 225, el -20"` (what tells apart the
+    /// cameras of a set whose level and side names repeat: [`CameraSet::names_repeat`]).
+    pub fn angles_text(&self) -> String {
+        format!("az {:.0}, el {:+.0}", self.azimuth_deg, self.elevation_deg)
+    }
+
     /// Camera position on a sphere of `radius` metres.
     pub fn position(&self, radius: f64) -> Vector3 {
         sphere_point(self.azimuth_deg, self.elevation_deg, radius)
@@ -280,6 +286,14 @@ impl CameraSet {
     /// Always `false`: a camera set has at least one viewpoint.
     pub fn is_empty(&self) -> bool {
         self.viewpoints.is_empty()
+    }
+
+    /// Whether two of its cameras have the same level and side (a sphere of more than 4
+    /// azimuths, or of several rings in a level): their names alone do not tell them apart.
+    pub fn names_repeat(&self) -> bool {
+        let views = &self.viewpoints;
+        (views.iter().enumerate())
+            .any(|(i, v)| (views[..i].iter()).any(|w| (w.level, w.side) == (v.level, v.side)))
     }
 
     /// Number of azimuths per elevation ring.
@@ -435,6 +449,27 @@ mod tests {
             [0., 1., 0., H, 0., -H, -H, 0., -H],     // 11 upper back
             [-1., 0., 0., 0., H, -H, 0., -H, -H],    // 12 upper right
         ]
+    }
+
+    /// Table 1's names are its cameras' own; 8 azimuths or several middle rings repeat them,
+    /// and the angles tell those apart.
+    #[test]
+    fn names_repeat_on_finer_spheres() {
+        assert!(!CameraSet::table1().names_repeat());
+        assert!(CameraSet::sphere(8, &[0.0]).unwrap().names_repeat());
+        assert!(
+            CameraSet::sphere(4, &[-20.0, 0.0, 20.0])
+                .unwrap()
+                .names_repeat()
+        );
+        assert!(
+            !CameraSet::sphere(4, &[-45.0, 0.0, 45.0])
+                .unwrap()
+                .names_repeat()
+        );
+        let fine = CameraSet::sphere(8, &[-20.0, 0.0]).unwrap();
+        assert_eq!(fine.viewpoints()[1].angles_text(), "az 225, el -20");
+        assert_eq!(fine.viewpoints()[8].angles_text(), "az 180, el +0");
     }
 
     #[test]

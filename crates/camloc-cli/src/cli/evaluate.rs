@@ -180,22 +180,13 @@ pub fn run(args: &Args, stdout: &mut Out) -> Result<ExitCode, CliError> {
             );
         }
     }
-    // A sphere of more than 4 azimuths has several cameras of a side: their angles tell them
-    // apart.
-    let names_repeat = e
-        .per_camera
-        .iter()
-        .enumerate()
-        .any(|(i, c)| e.per_camera[..i].iter().any(|d| d.name == c.name));
-    let names: Vec<String> = e
-        .per_camera
-        .iter()
-        .map(|c| {
-            if names_repeat {
-                format!(
-                    "{} (az {:.0}, el {:+.0})",
-                    c.name, c.azimuth_deg, c.elevation_deg
-                )
+    // A finer sphere's cameras are told apart by their angles, as their names repeat.
+    let cameras = localizer.cameras();
+    let repeat = cameras.names_repeat();
+    let names: Vec<String> = (e.per_camera.iter().zip(cameras.viewpoints()))
+        .map(|(c, v)| {
+            if repeat {
+                format!("{} ({})", c.name, v.angles_text())
             } else {
                 c.name.clone()
             }

@@ -348,14 +348,14 @@ fn runner_up_text(localizer: &CameraLocalizer, loc: &Localization) -> Option<Str
         view.label_text(),
         view.level.name(),
         view.side.name(),
-        angles_text(view)
+        angles_in_words(view)
     ))
 }
 
 /// A camera's angles as the text output gives them, ` (azimuth 270 deg, elevation 0 deg)`:
 /// what tells apart the cameras of a sphere of several rings in a level or more than 4
 /// azimuths, whose level and side names repeat.
-fn angles_text(view: &camloc::geometry::Viewpoint) -> String {
+fn angles_in_words(view: &camloc::geometry::Viewpoint) -> String {
     format!(
         " (azimuth {:.0} deg, elevation {:.0} deg)",
         view.azimuth_deg, view.elevation_deg
@@ -369,7 +369,7 @@ fn localization_text(
 ) -> String {
     let mut out = String::new();
     let view = localizer.cameras().get(loc.label.get());
-    let where_ = view.map_or_else(String::new, angles_text);
+    let where_ = view.map_or_else(String::new, angles_in_words);
     let _ = writeln!(
         out,
         "{}: camera {}, {} level, {} side{where_}, probability {:.3}",

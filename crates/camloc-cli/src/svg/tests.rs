@@ -203,6 +203,6 @@ fn the_confusion_matrix_names_cameras_apart() {
     );
     let fine = CameraSet::sphere(8, &[-20.0, 0.0, 20.0, 40.0]).unwrap();
     let svg = confusion_svg(&fine, &vec![vec![1usize; 32]; 32], "t");
-    assert!(svg.contains(">02 az 225 el -20<") && svg.contains(">03 az 270 el -20<"));
+    assert!(svg.contains(">02 az 225, el -20<") && svg.contains(">03 az 270, el -20<"));
     assert!(!svg.contains("middle left"));
 }
