@@ -162,7 +162,7 @@ fn out_of_range_options_are_usage_errors() {
         args.extend_from_slice(extra);
         camloc(&args)
     };
-    for bad in ["-1", "NaN", "inf", "-inf", "x"] {
+    for bad in ["-1", "NaN", "inf", "-inf", "x", "1e308", "1.1e12"] {
         assert_usage_error(&train(&["--lambda", bad]), "--lambda");
     }
     for bad in ["-1", "nan", "1e15", "10.5", "inf", "many"] {

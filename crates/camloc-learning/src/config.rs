@@ -114,6 +114,11 @@ pub const PRECONDITIONER_ROWS_PER_PARAMETER: usize = 8;
 /// there are fewer).
 pub const MIN_PRECONDITIONER_ROWS: usize = 4096;
 
+/// The largest ridge weight [`LogisticRegression::validate`] accepts: far beyond any useful
+/// one (the default models use 1 and 100 on hundreds of thousands of samples), below the
+/// weights whose Newton systems overflow.
+pub const MAX_LAMBDA: f64 = 1e12;
+
 /// L2-regularised logistic regression fitted by Newton's method (docs/conventions.md section 5).
 ///
 /// Minimises, over weights `W` (`K x d`) and biases `b` (`K`),
@@ -205,14 +210,15 @@ impl LogisticRegression {
     /// Checks the hyper-parameters.
     ///
     /// # Errors
-    /// [`LearningError::InvalidParameter`] if `lambda` or `gradient_tolerance` is negative or
-    /// not finite.
+    /// [`LearningError::InvalidParameter`] if `lambda` is negative, not finite or above
+    /// [`MAX_LAMBDA`], or `gradient_tolerance` negative or not finite.
     pub fn validate(&self) -> Result<(), LearningError> {
-        if !(self.lambda.is_finite() && self.lambda >= 0.0) {
+        if !(self.lambda.is_finite() && (0.0..=MAX_LAMBDA).contains(&self.lambda)) {
             return Err(LearningError::InvalidParameter {
                 name: "lambda",
                 value: format!("{:?}", self.lambda),
-                reason: "must be finite and >= 0",
+                reason: "must be from 0 to 1e12 (a larger weight leaves only the biases, and \
+                         1e308 overflowed the Newton system)",
             });
         }
         if let DirectionSolver::TruncatedCg {

@@ -65,7 +65,7 @@ mod softmax;
 mod standardise;
 
 pub use config::{
-    DirectionSolver, LogisticRegression, MIN_PRECONDITIONER_ROWS, Mode,
+    DirectionSolver, LogisticRegression, MAX_LAMBDA, MIN_PRECONDITIONER_ROWS, Mode,
     PRECONDITIONER_ROWS_PER_PARAMETER,
 };
 pub use cv::{CandidateScore, CvReport, cross_validate_grouped, group_k_fold};

@@ -91,7 +91,7 @@ pub struct Args {
     /// Ridge weight lambda of eq. 11 (on the sum of the per-sample losses; scikit-learn's C = 1 /
     /// (2 lambda)).
     ///
-    /// A finite number >= 0 [default: 1 for a linear classifier, 100 for a quadratic one].
+    /// A number from 0 to 1e12 [default: 1 for a linear classifier, 100 for a quadratic one].
     #[arg(long, value_name = "L", value_parser = parse_lambda, allow_hyphen_values = true)]
     pub lambda: Option<f64>,
     /// Classifier: multinomial softmax (eq. 8) or one-vs-rest (eq. 9).
@@ -146,7 +146,7 @@ impl DescriptorArg {
     }
 }
 
-/// Parses `--lambda`: a finite number >= 0 (the library's check of the setting).
+/// Parses `--lambda`: a number from 0 to 1e12 (the library's check of the setting).
 fn parse_lambda(text: &str) -> Result<f64, String> {
     let value = parse_number(text)?;
     LogisticRegression::default()
