@@ -177,8 +177,8 @@ pub fn generate(
         .collect();
     let limits = PostureLimits::learn(donors.iter().copied());
     let undescribable = AtomicUsize::new(0);
-    // The jittered views' bounds on this camera set, once for all the samples.
-    let jitter_bounds = jitter_bounds_deg(&config.jitter, &config.cameras);
+    // The jitter on this camera set, once for all the samples.
+    let jitter = jitter_within_spacing(&config.jitter, &config.cameras);
     let per_clip: Vec<Vec<Sample>> = sequences
         .par_iter()
         .enumerate()
@@ -200,21 +200,14 @@ pub fn generate(
                 let (frame, pose3) = strided[k];
                 for view in config.cameras.viewpoints() {
                     let mut rng = sample_rng(config.seed, clip_index as u32, *frame, view.label);
-                    let mut sample = project_sample(
-                        pose3,
-                        view,
-                        config,
-                        jitter_bounds,
-                        &donors,
-                        &limits,
-                        &mut rng,
-                    )
-                    .map_err(|e| {
-                        DatasetError::Invalid(format!(
-                            "clip {} frame {frame} camera {:02}: {e}",
-                            seq.clip.name, view.label
-                        ))
-                    })?;
+                    let mut sample =
+                        project_sample(pose3, view, config, &jitter, &donors, &limits, &mut rng)
+                            .map_err(|e| {
+                                DatasetError::Invalid(format!(
+                                    "clip {} frame {frame} camera {:02}: {e}",
+                                    seq.clip.name, view.label
+                                ))
+                            })?;
                     // One rule for every dataset: a view no descriptor can describe (its 2D
                     // torso is degenerate) is left out and counted, so that any model trains.
                     if !Descriptor::describable_by_all(&sample.landmarks) {
@@ -240,11 +233,7 @@ pub fn generate(
             min_pose_distance_mm: config.min_pose_distance_mm,
             augmentation: config.augmentation,
             // The bounds the views were drawn within (a finer sphere's are narrower).
-            jitter: Jitter {
-                azimuth_deg: jitter_bounds.0,
-                elevation_deg: jitter_bounds.1,
-                ..config.jitter
-            },
+            jitter,
             rig: config.rig,
             posture_limits: limits,
             undescribable_views: undescribable.into_inner(),
@@ -309,15 +298,14 @@ fn perspective_view(
 }
 
 /// One sample: the projection of `pose3` (augmented as configured, with a random pose of
-/// `donors` for upper-body mixing and postures within `limits`) by (a jittered version of,
-/// within `jitter_bounds` degrees of azimuth and elevation: [`jitter_bounds_deg`]) camera
-/// `view`, under `sphere` by a random camera, under `rig` by a studio camera on `view`'s side;
+/// `donors` for upper-body mixing and postures within `limits`) by (a version of, jittered by
+/// `jitter`: [`jitter_within_spacing`]) camera `view`, under `sphere` by a random camera, under `rig` by a studio camera on `view`'s side;
 /// the caller fills in `clip` and `frame`.
 fn project_sample(
     pose3: &Pose3,
     view: &Viewpoint,
     config: &GenerateConfig,
-    jitter_bounds: (f64, f64),
+    jitter: &Jitter,
     donors: &[&Pose3],
     limits: &PostureLimits,
     rng: &mut ChaCha8Rng,
@@ -341,19 +329,16 @@ fn project_sample(
             view.rotation,
         ),
         Protocol::Jittered => {
-            let j = &config.jitter;
-            let (azimuth_bound, elevation_bound) = jitter_bounds;
-            let azimuth = view.azimuth_deg + symmetric(rng, azimuth_bound);
+            let azimuth = view.azimuth_deg + symmetric(rng, jitter.azimuth_deg);
             let elevation =
-                (view.elevation_deg + symmetric(rng, elevation_bound)).clamp(-89.0, 89.0);
-            perspective_view(pose3, azimuth, elevation, j, rng)?
+                (view.elevation_deg + symmetric(rng, jitter.elevation_deg)).clamp(-89.0, 89.0);
+            perspective_view(pose3, azimuth, elevation, jitter, rng)?
         }
         Protocol::Sphere => {
-            let j = &config.jitter;
             let azimuth = rng.random_range(0.0..360.0);
             let band = SPHERE_BAND_DEG.to_radians().sin();
             let elevation = rng.random_range(-band..=band).asin().to_degrees();
-            perspective_view(pose3, azimuth, elevation, j, rng)?
+            perspective_view(pose3, azimuth, elevation, jitter, rng)?
         }
         Protocol::Rig => {
             let half_spacing = 180.0 / config.cameras.azimuths() as f64;
@@ -364,9 +349,9 @@ fn project_sample(
     };
     let (label, inside) = if matches!(config.protocol, Protocol::Sphere | Protocol::Rig) {
         // The box `jittered` draws this camera's views from.
-        let (azimuth_bound, elevation_bound) = jitter_bounds;
         let (azimuth, elevation) = camera_direction_deg(&rotation);
         let camera = config.cameras.by_ring_and_side(azimuth, elevation);
+        let (azimuth_bound, elevation_bound) = (jitter.azimuth_deg, jitter.elevation_deg);
         let inside = in_class_box(camera, azimuth, elevation, azimuth_bound, elevation_bound);
         (camera.label, inside)
     } else {
@@ -410,23 +395,22 @@ fn drop_mask(count: usize, rng: &mut ChaCha8Rng) -> u16 {
     mask
 }
 
-/// The azimuth and elevation bounds of `jitter` on the camera set `cameras`, degrees: at most
-/// half the spacing of its azimuths and of its elevation rings, so that a jittered view stays
-/// nearer its own camera than any other (Table 1's +-30 and +-15 deg lie within its 45 and
-/// 22.5; a sphere of 8 azimuths and rings 20 deg apart gets +-22.5 and +-10, where +-30 and
-/// +-15 had labelled a simulated user's views by cameras they were not nearest).
-pub(crate) fn jitter_bounds_deg(jitter: &Jitter, cameras: &CameraSet) -> (f64, f64) {
+/// `jitter` on the camera set `cameras`: its azimuth and elevation bounds at most half the
+/// spacing of the set's azimuths and of its elevation rings (increasing, as every camera set's
+/// are), so that a jittered view stays nearer its own camera than any other (Table 1's +-30
+/// and +-15 deg lie within its 45 and 22.5; a sphere of 8 azimuths and rings 20 deg apart
+/// gets +-22.5 and +-10, where +-30 and +-15 had labelled a simulated user's views by cameras
+/// they were not nearest); its roll, distance and focal length as they are.
+pub(crate) fn jitter_within_spacing(jitter: &Jitter, cameras: &CameraSet) -> Jitter {
     let azimuth_spacing = 360.0 / cameras.azimuths().max(1) as f64;
-    let mut rings = cameras.elevations_deg().to_vec();
-    rings.sort_by(f64::total_cmp);
-    let ring_gap = rings
-        .windows(2)
+    let ring_gap = (cameras.elevations_deg().windows(2))
         .map(|w| w[1] - w[0])
         .fold(f64::INFINITY, f64::min);
-    (
-        jitter.azimuth_deg.min(0.5 * azimuth_spacing),
-        jitter.elevation_deg.min(0.5 * ring_gap),
-    )
+    Jitter {
+        azimuth_deg: jitter.azimuth_deg.min(0.5 * azimuth_spacing),
+        elevation_deg: jitter.elevation_deg.min(0.5 * ring_gap),
+        ..*jitter
+    }
 }
 
 #[cfg(test)]
@@ -757,12 +741,13 @@ mod tests {
     #[test]
     fn jitter_stays_within_half_the_spacing() {
         let jitter = Jitter::default();
-        assert_eq!(
-            jitter_bounds_deg(&jitter, &CameraSet::table1()),
-            (30.0, 15.0)
-        );
+        let bounds = |cameras: &CameraSet| {
+            let j = jitter_within_spacing(&jitter, cameras);
+            (j.azimuth_deg, j.elevation_deg)
+        };
+        assert_eq!(bounds(&CameraSet::table1()), (30.0, 15.0));
         let fine = CameraSet::sphere(8, &[-20.0, 0.0, 20.0, 40.0]).unwrap();
-        assert_eq!(jitter_bounds_deg(&jitter, &fine), (22.5, 10.0));
+        assert_eq!(bounds(&fine), (22.5, 10.0));
         let mut config = GenerateConfig::new(Protocol::Jittered);
         config.cameras = fine.clone();
         config.min_pose_distance_mm = 0.0;

@@ -144,15 +144,7 @@ fn summarise(
         (!done.is_empty()).then(|| done.iter().map(|s| f(s)).sum::<f64>() / done.len() as f64)
     };
     let mut mpjpe: Vec<f64> = done.iter().map(|s| s.pa_mpjpe_mm).collect();
-    mpjpe.sort_by(f64::total_cmp);
-    let median = (!mpjpe.is_empty()).then(|| {
-        let mid = mpjpe.len() / 2;
-        if mpjpe.len() % 2 == 1 {
-            mpjpe[mid]
-        } else {
-            0.5 * (mpjpe[mid - 1] + mpjpe[mid])
-        }
-    });
+    let median = crate::median(&mut mpjpe);
     let beats_opt_share = opt.and_then(|opt| {
         let pairs: Vec<(f64, f64)> = outcomes
             .iter()

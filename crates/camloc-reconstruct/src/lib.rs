@@ -90,7 +90,7 @@ pub use lengths::{
 };
 pub use lsq::{ConstrainedSolution, QuadraticConstraint, constrained_least_squares};
 pub use metrics::{
-    BBOX_FLOOR_IN_TORSOS, align_similarity, bounding_box, mpjpe_after_scale,
+    BBOX_FLOOR_IN_TORSOS, align_similarity, bounding_box, median, mpjpe_after_scale,
     mpjpe_after_similarity, projection_error_eq12, projection_error_eq12_bbox, rms_error_in_torsos,
 };
 pub use prior::{JointLimits, symmetrise};

@@ -7,6 +7,18 @@ use crate::{
     ReconstructError, Reconstruction, check_finite_landmarks, is_positive, is_positive_finite,
 };
 
+/// The median of `values` (the mean of the two middle ones for an even count), reordering
+/// them; `None` for none.
+pub fn median(values: &mut [f64]) -> Option<f64> {
+    values.sort_by(f64::total_cmp);
+    let mid = values.len() / 2;
+    match values.len() {
+        0 => None,
+        n if n % 2 == 1 => Some(values[mid]),
+        _ => Some(0.5 * (values[mid - 1] + values[mid])),
+    }
+}
+
 /// `estimate` mapped onto `truth` by the similarity transform (scale, proper rotation with
 /// det +1, translation) that minimises the summed squared joint distances (Umeyama 1991 with
 /// the reflection excluded). Returned in `truth`'s frame and units.

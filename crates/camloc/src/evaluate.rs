@@ -2,7 +2,7 @@
 
 use camloc_dataset::{Dataset, Sample, angle_between_deg, camera_direction_deg};
 use camloc_geometry::{CameraLabel, Level};
-use camloc_reconstruct::Reconstructor;
+use camloc_reconstruct::{Reconstructor, median};
 use camloc_skeleton::PartialPose2;
 use camloc_store::Validate;
 use serde::Serialize;
@@ -200,32 +200,28 @@ fn evaluate_with(
     }
     let poses: Vec<PartialPose2> = dataset.samples.iter().map(sample_pose).collect();
     let answered = answers(localizer, dataset, &poses, filler)?;
-    let predicted: Vec<CameraLabel> = answered.iter().map(|(label, _)| *label).collect();
     let k = cameras.len();
     let mut confusion = vec![vec![0usize; k]; k];
     // Each true camera's samples' viewpoint errors (none without viewpoint heads).
     let mut by_camera: Vec<Vec<ViewpointError>> = vec![Vec::new(); k];
-    for (s, (p, error)) in dataset.samples.iter().zip(&answered) {
+    let mut folded = 0;
+    for (s, (p, error)) in dataset.samples.iter().zip(answered) {
         let t = usize::from(s.label) - 1;
         confusion[t][p.index()] += 1;
-        by_camera[t].extend(*error);
+        by_camera[t].extend(error);
+        folded +=
+            usize::from(cameras.fold_back_to_front(s.label) == cameras.fold_back_to_front(p.get()));
     }
-    drop(answered);
     let n = dataset.samples.len();
     let correct: usize = (0..k).map(|t| confusion[t][t]).sum();
-    let folded = dataset
-        .samples
-        .iter()
-        .zip(&predicted)
-        .filter(|(s, p)| cameras.fold_back_to_front(s.label) == cameras.fold_back_to_front(p.get()))
-        .count();
     let views = cameras.viewpoints();
     // The viewpoint errors of the samples whose true camera `keep` accepts.
     let viewpoint_of = |keep: &dyn Fn(usize) -> bool| {
-        let group = (by_camera.iter().enumerate())
+        let group: Vec<ViewpointError> = (by_camera.iter().enumerate())
             .filter(|&(t, _)| keep(t))
-            .flat_map(|(_, errors)| errors.iter().copied());
-        ViewpointAccuracy::of(group)
+            .flat_map(|(_, errors)| errors.iter().copied())
+            .collect();
+        ViewpointAccuracy::of(&group)
     };
     // Samples, exact hits and hits of a camera `same` accepts, of the true cameras `keep`
     // accepts.
@@ -300,7 +296,7 @@ fn evaluate_with(
                 from_deg,
                 to_deg,
                 samples: band.len(),
-                viewpoint: ViewpointAccuracy::of(band.into_iter())?,
+                viewpoint: ViewpointAccuracy::of(&band)?,
             })
         })
         .collect();
@@ -341,19 +337,10 @@ struct ViewpointError {
 
 impl ViewpointAccuracy {
     /// The summary of `errors`; `None` for none.
-    fn of(errors: impl Iterator<Item = ViewpointError>) -> Option<ViewpointAccuracy> {
-        let errors: Vec<ViewpointError> = errors.collect();
-        if errors.is_empty() {
-            return None;
-        }
+    fn of(errors: &[ViewpointError]) -> Option<ViewpointAccuracy> {
         let n = errors.len();
         let mut angles: Vec<f64> = errors.iter().map(|e| e.angle_deg).collect();
-        angles.sort_by(f64::total_cmp);
-        let median = if n % 2 == 1 {
-            angles[n / 2]
-        } else {
-            0.5 * (angles[n / 2 - 1] + angles[n / 2])
-        };
+        let median = median(&mut angles)?;
         let count = |f: &dyn Fn(&ViewpointError) -> bool| errors.iter().filter(|e| f(e)).count();
         Some(ViewpointAccuracy {
             median_error_deg: median,

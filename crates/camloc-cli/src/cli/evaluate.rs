@@ -96,8 +96,10 @@ pub fn run(args: &Args, stdout: &mut Out) -> Result<ExitCode, CliError> {
         .camera_height
         .to_possible_value()
         .map_or_else(String::new, |v| v.get_name().to_string());
-    let (shares, _) = localizer.camera_height().reported();
-    let shares = shares.iter().all(|s| s.is_finite()).then_some(shares);
+    let shares = match localizer.camera_height() {
+        camloc::CameraHeight::Shares(shares) => Some(shares),
+        _ => None,
+    };
     let mut staged = StagedFiles::new(args.force);
     if let Some(svg) = &args.svg {
         let title = format!(
@@ -113,7 +115,7 @@ pub fn run(args: &Args, stdout: &mut Out) -> Result<ExitCode, CliError> {
     if args.json {
         let json = EvaluationJson {
             camera_height: &prior,
-            camera_height_shares: shares,
+            camera_height_shares: shares.map(|s| s.to_array()),
             evaluation: &e,
         };
         let _ = writeln!(
@@ -130,7 +132,8 @@ pub fn run(args: &Args, stdout: &mut Out) -> Result<ExitCode, CliError> {
         return Ok(ExitCode::SUCCESS);
     }
     let _ = writeln!(out, "samples:          {}", e.samples);
-    let _ = writeln!(out, "camera height:    {prior}{}", shares_text(shares));
+    let estimated = shares.map_or_else(String::new, |s| format!(" ({s} estimated)"));
+    let _ = writeln!(out, "camera height:    {prior}{estimated}");
     let _ = writeln!(out, "accuracy:         {:.2}%", 100.0 * e.accuracy);
     let _ = writeln!(
         out,
@@ -234,18 +237,6 @@ struct EvaluationJson<'a> {
     camera_height_shares: Option<[f64; 3]>,
     #[serde(flatten)]
     evaluation: &'a camloc::Evaluation,
-}
-
-/// ` (lower L%, middle M%, upper U% estimated)` for the shares `from-input` estimated; "".
-fn shares_text(shares: Option<[f64; 3]>) -> String {
-    shares.map_or_else(String::new, |[lower, middle, upper]| {
-        format!(
-            " (lower {:.1}%, middle {:.1}%, upper {:.1}% estimated)",
-            100.0 * lower,
-            100.0 * middle,
-            100.0 * upper
-        )
-    })
 }
 
 /// The whole line of the continuous viewpoints' errors.
