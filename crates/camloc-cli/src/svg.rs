@@ -3,7 +3,9 @@
 
 use std::fmt::Write;
 
-use camloc::geometry::{CameraLabel, CameraSet, Matrix3, Vector3, look_at_origin, sphere_point};
+use camloc::geometry::{
+    CameraLabel, CameraSet, Matrix3, Vector3, Viewpoint, look_at_origin, sphere_point,
+};
 use camloc::skeleton::{LIMBS, Landmark, PartialPose2, Pose2, Pose3};
 use camloc::{Localization, SmoothedFrame};
 
@@ -529,16 +531,15 @@ pub fn timeline_svg(
         top + row_h * (row as f64 + 0.5)
     };
     let mut svg = begin_titled(w, h, title);
+    let repeat = cameras.names_repeat();
     for v in cameras.viewpoints() {
         let y = y_at(usize::from(v.label.saturating_sub(1)));
         let _ = writeln!(
             svg,
-            r##"<line x1="{left}" y1="{y:.1}" x2="{:.1}" y2="{y:.1}" stroke="#eeeeee"/><text x="10" y="{:.1}" fill="{CENTRE}">{} {} {}</text>"##,
+            r##"<line x1="{left}" y1="{y:.1}" x2="{:.1}" y2="{y:.1}" stroke="#eeeeee"/><text x="10" y="{:.1}" fill="{CENTRE}">{}</text>"##,
             left + plot_w,
             y + 4.0,
-            v.label_text(),
-            v.level.name(),
-            v.side.name()
+            row_name(v, repeat)
         );
     }
     // Raw labels: one short horizontal tick per frame, all in one path.
@@ -618,6 +619,16 @@ fn ink(fraction: f64) -> &'static str {
     if fraction > 0.55 { "white" } else { CENTRE }
 }
 
+/// A camera as a drawing's row names it: `05 middle front`, or, when the set's level and
+/// side names `repeat` ([`CameraSet::names_repeat`]), by its angles: `02 az 225, el -20`.
+fn row_name(v: &Viewpoint, repeat: bool) -> String {
+    if repeat {
+        format!("{} {}", v.label_text(), v.angles_text())
+    } else {
+        format!("{} {} {}", v.label_text(), v.level.name(), v.side.name())
+    }
+}
+
 /// The confusion matrix of an evaluation: `confusion[t][p]` samples of true camera index `t`
 /// predicted as `p`, rows labelled with the true camera, columns with the predicted one, each
 /// cell shaded by its share of the row and showing its count.
@@ -631,19 +642,10 @@ pub fn confusion_svg(cameras: &CameraSet, confusion: &[Vec<usize>], title: &str)
         r#"<text x="{left}" y="45" fill="{CENTRE}">predicted camera</text><text x="10" y="{:.1}" fill="{CENTRE}">true camera</text>"#,
         top - 8.0
     );
-    // Cameras by level and side; a finer sphere's by their angles, as its names repeat.
     let repeat = cameras.names_repeat();
     let name = |index: usize| {
-        cameras.viewpoints().get(index).map_or_else(
-            || format!("{:02}", index + 1),
-            |v| {
-                if repeat {
-                    format!("{} {}", v.label_text(), v.angles_text())
-                } else {
-                    format!("{} {} {}", v.label_text(), v.level.name(), v.side.name())
-                }
-            },
-        )
+        (cameras.viewpoints().get(index))
+            .map_or_else(|| format!("{:02}", index + 1), |v| row_name(v, repeat))
     };
     for (t, row) in confusion.iter().enumerate() {
         let y = top + cell * t as f64;

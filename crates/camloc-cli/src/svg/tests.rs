@@ -189,8 +189,9 @@ fn a_lopsided_pose_stays_inside_its_3d_panels() {
     }
 }
 
-/// The confusion matrix names Table 1's cameras by level and side, a finer sphere's by their
-/// angles (its names repeat: two "middle left" cameras of 8 azimuths), and shows every count.
+/// The confusion matrix and the timeline name Table 1's cameras by level and side, a finer
+/// sphere's by their angles (its names repeat: two "middle left" cameras of 8 azimuths), and
+/// the matrix shows every count.
 #[test]
 fn the_confusion_matrix_names_cameras_apart() {
     let table1 = CameraSet::table1();
@@ -205,4 +206,9 @@ fn the_confusion_matrix_names_cameras_apart() {
     let svg = confusion_svg(&fine, &vec![vec![1usize; 32]; 32], "t");
     assert!(svg.contains(">02 az 225, el -20<") && svg.contains(">03 az 270, el -20<"));
     assert!(!svg.contains("middle left"));
+    // The timeline of `localize --sequence` names its rows by the same rule.
+    let timeline = timeline_svg(&fine, &[None], &[], [0, 0], "t");
+    assert!(timeline.contains(">02 az 225, el -20<") && !timeline.contains("middle left"));
+    let timeline = timeline_svg(&table1, &[None], &[], [0, 0], "t");
+    assert!(timeline.contains(">06 middle left<"), "{timeline}");
 }
