@@ -115,8 +115,6 @@
 //! time, memory independent of their number, and an error ends the stream after the records
 //! before it.
 
-#![warn(missing_docs)]
-
 mod array_pose;
 mod camloc_json;
 mod coco;

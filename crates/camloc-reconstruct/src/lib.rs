@@ -57,8 +57,6 @@
 //! `canonical` protocol. The measurements behind this, per protocol and mode, are in
 //! `docs/RESULTS.md` (`cargo xtask report` and the `compare_modes` example).
 
-#![warn(missing_docs)]
-
 mod basis;
 mod dense;
 mod error;
