@@ -148,8 +148,7 @@ pub fn viewpoint_errors(
         ));
     }
     let stats = |e: &mut Vec<f64>| {
-        e.sort_by(f64::total_cmp);
-        let median = e[e.len() / 2];
+        let median = camloc::reconstruct::median(e).unwrap_or(f64::NAN);
         let beyond = e.iter().filter(|&&v| v > 45.0).count() as f64 / e.len() as f64;
         (median, 100.0 * beyond)
     };

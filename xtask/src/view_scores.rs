@@ -205,14 +205,13 @@ impl Summary {
         let share =
             |f: fn(&ViewOutcome) -> bool| 100.0 * kept.iter().filter(|o| f(o)).count() as f64 / n;
         let mut angles: Vec<f64> = kept.iter().map(|o| o.angle_deg).collect();
-        angles.sort_by(f64::total_cmp);
         Summary {
             views: kept.len(),
             accuracy: share(|o| o.correct),
             level_accuracy: share(|o| o.level_correct),
             level_too_high: share(|o| o.level_offset > 0),
             level_too_low: share(|o| o.level_offset < 0),
-            median_deg: angles[angles.len() / 2],
+            median_deg: camloc::reconstruct::median(&mut angles).unwrap_or(f64::NAN),
             elevation_bias_deg: kept.iter().map(|o| o.elevation_error_deg).sum::<f64>() / n,
             within_uncertainty: kept
                 .iter()

@@ -220,20 +220,38 @@ impl Localizer {
     /// The default model embedded in this build, localizing under the prior `camera_height`
     /// (`"from-input"`, `"any"` or `"eye-level"`, as `camloc localize --camera-height`).
     #[new]
-    #[pyo3(signature = (camera_height = "from-input", **unexpected))]
+    #[pyo3(signature = (camera_height = None, **unexpected), text_signature = "(camera_height=\"from-input\")")]
     fn new(
         py: Python<'_>,
-        camera_height: Option<&str>,
+        camera_height: Option<&Bound<'_, PyAny>>,
         unexpected: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
-        // A model file given here (`Localizer(model=...)`, `Localizer("m.bin")`) is pointed
-        // to `Localizer.load`.
+        // A model file given here (`Localizer(model=...)`, `Localizer("m.bin")`,
+        // `Localizer(Path("m.bin"))`) is pointed to `Localizer.load`.
         const LOAD: &str = "a model file is read by camloc.Localizer.load(path)";
         if let Some((key, _)) = unexpected.and_then(|kw| kw.iter().next()) {
             return Err(pyo3::exceptions::PyTypeError::new_err(format!(
                 "Localizer() got an unexpected keyword argument {key}: {LOAD}"
             )));
         }
+        let camera_height: Option<String> = match camera_height.filter(|h| !h.is_none()) {
+            None => None,
+            Some(h) if h.hasattr("__fspath__")? => {
+                return Err(pyo3::exceptions::PyTypeError::new_err(format!(
+                    "Localizer() got a path as camera_height: {LOAD}"
+                )));
+            }
+            Some(h) => Some(h.extract().map_err(|_| {
+                pyo3::exceptions::PyTypeError::new_err(format!(
+                    "camera_height must be a str (\"from-input\", \"any\" or \"eye-level\"), \
+                     not {}",
+                    h.get_type()
+                        .name()
+                        .map_or_else(|_| "?".into(), |n| n.to_string())
+                ))
+            })?),
+        };
+        let camera_height = camera_height.as_deref();
         if let Some(height) = camera_height.filter(|h| h.contains(['.', '/', '\\'])) {
             parse_height(height).map_err(|e| value_error(format!("{}: {LOAD}", e.value(py))))?;
         }

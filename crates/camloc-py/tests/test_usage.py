@@ -710,8 +710,8 @@ def test_no_camera_height_is_the_default_one():
 
 
 def test_a_model_file_given_to_the_constructor_points_to_load():
-    """``Localizer(model=...)`` or ``Localizer("m.bin")`` (what a user tries first) says that
-    ``Localizer.load`` reads model files."""
+    """``Localizer(model=...)``, ``Localizer("m.bin")`` or ``Localizer(Path("m.bin"))`` (what
+    a user tries first) says that ``Localizer.load`` reads model files."""
     model = str(ROOT / "fixtures" / "default-model.bin")
     for call in (
         lambda: camloc.Localizer(model=model),
@@ -721,9 +721,14 @@ def test_a_model_file_given_to_the_constructor_points_to_load():
             call()
     with pytest.raises(ValueError, match=r"got .*default-model\.bin.*Localizer\.load\(path\)"):
         camloc.Localizer(model)
+    # A path object too (it had pyo3's "cannot be converted to 'PyString'").
+    with pytest.raises(TypeError, match=r"got a path .*Localizer\.load\(path\)"):
+        camloc.Localizer(ROOT / "fixtures" / "default-model.bin")
     # Other wrong heights get no such hint.
     with pytest.raises(ValueError, match='got "high"$'):
         camloc.Localizer("high")
+    with pytest.raises(TypeError, match="camera_height must be a str .*not int"):
+        camloc.Localizer(3)
 
 
 def test_a_landmark_far_off_is_missing_as_the_command_line_says(cli, tmp_path):
