@@ -349,26 +349,24 @@ impl Localizer {
         // With the camera's intrinsics each pose is localized as seen by the camera aimed at
         // it (a person near the edge of a wide-angle image).
         let aimed;
-        let inner = match crate::reconstruct::intrinsics_arg(
-            focal_px.as_ref(),
-            principal_point.as_ref(),
-        )? {
-            Some(k) => {
-                if k.principal_point.is_none() {
-                    crate::warnings::warn(
-                        py,
-                        "focal_px without principal_point changes no localization: the aim \
+        let inner =
+            match crate::intrinsics::intrinsics_arg(focal_px.as_ref(), principal_point.as_ref())? {
+                Some(k) => {
+                    if k.principal_point.is_none() {
+                        crate::warnings::warn(
+                            py,
+                            "focal_px without principal_point changes no localization: the aim \
                          at the person needs where the optical axis meets the image"
-                            .to_owned(),
-                    )?;
+                                .to_owned(),
+                        )?;
+                    }
+                    aimed = (self.inner.clone())
+                        .with_intrinsics(Some(k))
+                        .map_err(|e| value_error(e.to_string()))?;
+                    &aimed
                 }
-                aimed = (self.inner.clone())
-                    .with_intrinsics(Some(k))
-                    .map_err(|e| value_error(e.to_string()))?;
-                &aimed
-            }
-            None => &self.inner,
-        };
+                None => &self.inner,
+            };
         // Per pose: the probabilities and six other numbers out, a mapped pose for the
         // warnings.
         let k = self.inner.cameras().len();

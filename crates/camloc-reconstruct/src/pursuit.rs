@@ -32,7 +32,6 @@ pub use config::{DEFAULT_COEFFICIENT_PRIOR, EQUAL_FIT_TOLERANCE, LengthTarget, R
 pub use hypotheses::Reconstruction;
 pub use level::LEVEL_AZIMUTH_AGREEMENT_DEG;
 pub use mode::{CameraMode, ModeKind};
-pub(crate) use observation::rms_radius;
 pub use reconstructor::Reconstructor;
 pub use refined::{LiftedDepths, depths_along_axis};
 pub use sequence::SequenceReconstruction;

@@ -27,8 +27,8 @@ use camloc_skeleton::Pose2;
 use serde::{Deserialize, Serialize};
 
 use crate::length_prior::LengthWidening;
-use crate::pursuit::rms_radius;
 use crate::{BoneLengths, FrameRate, ReconstructError};
+use camloc_skeleton::rms_radius;
 
 pub(crate) use run::{LengthInput, RefineFrame, RefinedFrame, refine};
 

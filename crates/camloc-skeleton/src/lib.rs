@@ -10,8 +10,10 @@
 
 pub mod data;
 mod pose;
+mod spread;
 
 pub use pose::{
     LIMB_NAMES, LIMBS, Landmark, NECK_HEAD_LIMB, NUM_LANDMARKS, NUM_LIMBS, PartialPose2, Pose2,
     Pose3, SAFE_EXPONENT, TORSO_LIMB, mean_limb_lengths, mirror_landmark_index,
 };
+pub use spread::{centroid, rms_radius, rms_radius_about};

@@ -93,7 +93,7 @@ pub fn bvh_files(
     let sequence = sequence.is_some();
     if sequence {
         let names: Vec<String> = groups.iter().map(|(name, _)| name.clone()).collect();
-        super::sequence::name_numbered_persons(&base, &names);
+        super::output::name_numbered_persons(&base, &names);
     }
     // Persons whose BVH plays its frames one after another, and whose BVH makes frames up:
     // the first few named.

@@ -1,7 +1,7 @@
 //! Where results go: standard output (buffered, a closed pipe is a normal end) and files of one
 //! row per pose ([`RowFile`]: `.npy` arrays here, `.npz` archives in `localize_npz`) staged in a
 //! [`StagedFiles`] (the store's all-or-nothing output files, moved into place at the end of the
-//! run).
+//! run), and which person each numbered file of a run of several is.
 
 use std::fs::File;
 use std::io::{self, BufReader, BufWriter, Read, Seek, Write};
@@ -11,7 +11,9 @@ use camloc::keypoints::{KeypointRecord, NpyPose, NpyPoseWriter};
 use camloc::skeleton::NUM_LANDMARKS;
 use camloc::store::{StagedFiles, StoreError, scratch_beside};
 
-use super::CliError;
+use camloc::store::escaped;
+
+use super::{CliError, numbered_path};
 
 /// Standard output through a buffer. A reader that has gone away is not an error: a closed
 /// pipe (`camloc ... | head`), or a terminal that hung up (a run left behind by a closed
@@ -216,4 +218,32 @@ impl<P: NpyPose> NpyPose for Row<P> {
             push(f64::from_le_bytes(b));
         }
     }
+}
+
+/// Says on standard error which person each numbered file of `out` is, when there are
+/// several `persons` (their names, `person 7`, in order): the files are numbered in the
+/// persons' order, and a file's number is not the person's id (track ids 1, 2 and 7 write
+/// `-001` to `-003`).
+pub fn name_numbered_persons(out: &Path, persons: &[String]) {
+    if persons.len() < 2 {
+        return;
+    }
+    let name = |n: usize| {
+        let path = numbered_path(out, n, persons.len());
+        path.file_name()
+            .map_or_else(String::new, |f| f.to_string_lossy().into_owned())
+    };
+    let mut pairs: Vec<String> = persons
+        .iter()
+        .take(10)
+        .enumerate()
+        .map(|(n, person)| format!("{} is {}", escaped(&name(n)), escaped(person)))
+        .collect();
+    if persons.len() > pairs.len() {
+        pairs.push(format!(
+            "{} more in the persons' order",
+            persons.len() - pairs.len()
+        ));
+    }
+    stderr_line!("camloc: {}", pairs.join(", "));
 }

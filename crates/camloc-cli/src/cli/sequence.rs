@@ -307,7 +307,7 @@ pub fn run(
         frame.person = key.1;
     }
     if let Some(svg) = svg_out {
-        name_numbered_persons(svg, &names);
+        super::output::name_numbered_persons(svg, &names);
     }
     let mut staged = StagedFiles::new(force);
     for (n, (person, members)) in groups.iter().enumerate() {
@@ -447,42 +447,6 @@ pub fn run(
     let written = staged.commit()?;
     super::targets::warn_left_over(&numbered, &written);
     Ok(summary.exit_code("localized"))
-}
-
-/// Warns on standard error when a (frame, person) key is held by more than one pose: the
-/// poses of several videos (two cameras' folders read with `--recursive`), or several people
-/// of a frame without person ids (COCO results without `track_id`), would be smoothed as one
-/// person.
-pub fn warn_of_repeated_frames(keys: &[(Option<u64>, Option<u64>)]) {
-    let mut seen = std::collections::HashSet::new();
-    let repeated: Vec<&(Option<u64>, Option<u64>)> = keys
-        .iter()
-        .filter(|(frame, _)| frame.is_some())
-        .filter(|key| !seen.insert(**key))
-        .collect();
-    let Some(&&(Some(frame), person)) = repeated.first() else {
-        return;
-    };
-    let (first, cause) = match person {
-        Some(person) => (
-            format!("person {person}, frame {frame}"),
-            "one track id given to two detections of a frame, or several videos in one \
-             input (a folder of several videos' frame files)? give one video per run",
-        ),
-        None => (
-            format!("frame {frame}"),
-            "a detector's duplicate or false detection (of a frame's poses the one nearest \
-             the person is the person's), several people without person ids, or several \
-             videos in one input? give one video per run and each person an id (`person` in \
-             camloc JSON, `track_id` in COCO or MMPose)",
-        ),
-    };
-    stderr_line!(
-        "camloc: warning: {} repeat{} the frame and person numbers of an earlier pose (first: \
-         {first}; {cause})",
-        counted(repeated.len() as u64, "pose"),
-        if repeated.len() == 1 { "s" } else { "" }
-    );
 }
 
 /// The frames of `person` (their `frames` numbers and `anchors`, in time order, at `rate`; a
@@ -627,34 +591,6 @@ pub fn frame_name(frames: &[Option<u64>], m: usize) -> String {
         Some(frame) => format!("frame {frame}"),
         None => format!("the person's pose {m} (counted from 0)"),
     }
-}
-
-/// Says on standard error which person each numbered file of `out` is, when there are
-/// several `persons` (their names, `person 7`, in order): the files are numbered in the
-/// persons' order, and a file's number is not the person's id (track ids 1, 2 and 7 write
-/// `-001` to `-003`).
-pub fn name_numbered_persons(out: &Path, persons: &[String]) {
-    if persons.len() < 2 {
-        return;
-    }
-    let name = |n: usize| {
-        let path = numbered_path(out, n, persons.len());
-        path.file_name()
-            .map_or_else(String::new, |f| f.to_string_lossy().into_owned())
-    };
-    let mut pairs: Vec<String> = persons
-        .iter()
-        .take(10)
-        .enumerate()
-        .map(|(n, person)| format!("{} is {}", escaped(&name(n)), escaped(person)))
-        .collect();
-    if persons.len() > pairs.len() {
-        pairs.push(format!(
-            "{} more in the persons' order",
-            persons.len() - pairs.len()
-        ));
-    }
-    stderr_line!("camloc: {}", pairs.join(", "));
 }
 
 /// The frame numbers of the records at `members` (their `keys`' first part).

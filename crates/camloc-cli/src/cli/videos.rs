@@ -5,7 +5,7 @@
 use camloc::reconstruct::FrameRate;
 use camloc::{TorsoAnchor, follow_untracked, sequences, videos_of};
 
-use super::sequence::warn_of_repeated_frames;
+use super::stream::counted;
 
 /// The people's sequences of the poses with `keys` (`(frame, person)` of each record, in
 /// input order) read from `sources` (each record's `file: place`; `folder`: the input is a
@@ -63,6 +63,42 @@ fn warn_of_repeats<S: AsRef<str>>(
         let video_keys: Vec<_> = records.iter().map(|&i| keys[i]).collect();
         warn_of_repeated_frames(&video_keys);
     }
+}
+
+/// Warns on standard error when a (frame, person) key is held by more than one pose: the
+/// poses of several videos (two cameras' folders read with `--recursive`), or several people
+/// of a frame without person ids (COCO results without `track_id`), would be smoothed as one
+/// person.
+pub fn warn_of_repeated_frames(keys: &[(Option<u64>, Option<u64>)]) {
+    let mut seen = std::collections::HashSet::new();
+    let repeated: Vec<&(Option<u64>, Option<u64>)> = keys
+        .iter()
+        .filter(|(frame, _)| frame.is_some())
+        .filter(|key| !seen.insert(**key))
+        .collect();
+    let Some(&&(Some(frame), person)) = repeated.first() else {
+        return;
+    };
+    let (first, cause) = match person {
+        Some(person) => (
+            format!("person {person}, frame {frame}"),
+            "one track id given to two detections of a frame, or several videos in one \
+             input (a folder of several videos' frame files)? give one video per run",
+        ),
+        None => (
+            format!("frame {frame}"),
+            "a detector's duplicate or false detection (of a frame's poses the one nearest \
+             the person is the person's), several people without person ids, or several \
+             videos in one input? give one video per run and each person an id (`person` in \
+             camloc JSON, `track_id` in COCO or MMPose)",
+        ),
+    };
+    stderr_line!(
+        "camloc: warning: {} repeat{} the frame and person numbers of an earlier pose (first: \
+         {first}; {cause})",
+        counted(repeated.len() as u64, "pose"),
+        if repeated.len() == 1 { "s" } else { "" }
+    );
 }
 
 #[cfg(test)]

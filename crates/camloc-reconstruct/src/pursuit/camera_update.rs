@@ -4,8 +4,8 @@
 use camloc_geometry::{GeometryError, Matrix3, WeakPerspective};
 use camloc_skeleton::NUM_LANDMARKS;
 
-use super::observation::rms_radius;
 use crate::is_positive_finite;
+use camloc_skeleton::rms_radius;
 
 /// How the camera is re-estimated.
 #[derive(Clone, Copy, Debug)]

@@ -6,8 +6,8 @@ use camloc_geometry::Matrix3;
 use camloc_skeleton::{Landmark, PartialPose2, Pose2};
 use nalgebra::{DMatrix, DVector, Vector3};
 
-use super::observation::{centroid, rms_radius};
 use crate::{ReconstructError, Reconstructor};
+use camloc_skeleton::{centroid, rms_radius};
 
 impl Reconstructor {
     /// `pose` with its missing landmarks filled in (the present ones are returned as given):

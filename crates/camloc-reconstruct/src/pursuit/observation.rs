@@ -1,7 +1,7 @@
 //! The 2D input normalised for the pursuit.
 
 use camloc_geometry::WeakPerspective;
-use camloc_skeleton::{NUM_LANDMARKS, Pose2};
+use camloc_skeleton::{NUM_LANDMARKS, Pose2, centroid, rms_radius};
 
 use crate::{Intrinsics, ReconstructError, check_finite_landmarks, is_positive_finite};
 
@@ -90,23 +90,4 @@ impl Observation {
             ],
         }
     }
-}
-
-/// The mean of `points` (their units).
-pub(super) fn centroid(points: &[[f64; 2]]) -> [f64; 2] {
-    let n = points.len() as f64;
-    points
-        .iter()
-        .fold([0.0; 2], |a, p| [a[0] + p[0] / n, a[1] + p[1] / n])
-}
-
-/// Root-mean-square distance of `points` from their centroid (their units).
-pub(crate) fn rms_radius(points: &[[f64; 2]]) -> f64 {
-    let n = points.len() as f64;
-    let centre = centroid(points);
-    let sum: f64 = points
-        .iter()
-        .map(|p| (p[0] - centre[0]).powi(2) + (p[1] - centre[1]).powi(2))
-        .sum();
-    (sum / n).sqrt()
 }
