@@ -314,8 +314,12 @@ def reconstruct(
     basis: a pose basis file (default: the embedded one).
     bone_lengths: the person's 14 limb lengths in metres, as a mapping of ``BONE_KEYS``, 14
       numbers in ``BONE_KEYS`` order, or the path of a bone lengths JSON file (docs/cli.md);
-      every pose then has exactly these. Default: estimated from the 2D under a prior learned
-      from motion capture (proportions only; the size is the prior's, people of about 1.7 m).
+      every pose then has exactly these. Lengths whose legs make a person outside 0.5-2.6 m
+      are a ``ValueError`` (lengths in feet are named). With ``sequence=True`` a
+      ``UserWarning`` says when they fit the rows 1.5 times worse or more than lengths
+      estimated from the same rows (another person's, limbs swapped, another unit). Default:
+      estimated from the 2D under a prior learned from motion capture (proportions only; the
+      size is the prior's, people of about 1.7 m).
     person_height: the person's standing height in metres (soles to the top of the head,
       0.5-2.6; not a bool), as ``camloc reconstruct --person-height``: the estimated lengths
       keep their proportions and each answer is scaled, with its camera, so that its legs
@@ -416,7 +420,8 @@ def reconstruct(
         from the motion capture (the sum over thighs, shins, upper arms and forearms of the
         angle beyond them, radians; 0 within them): a pose the 2D bends beyond them (a knee
         seen bent backwards) has it above 0, check such poses before using them; NaN where
-        the pose failed;
+        the pose failed. When more than 60% of 10 or more poses are over 0.1, a ``UserWarning``
+        asks whether the landmarks are in the order of ``layout``;
       reflected (N,) bool: whether the pose is the depth-mirrored reading of the 2D (the
         command line's ``reflected``: with the lifter, of its depths, so False for every
         answer; without it, of the pursuit's pose);

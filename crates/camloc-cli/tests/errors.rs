@@ -334,3 +334,57 @@ fn every_pose_emptied_by_min_score_asks_about_its_scale() {
         assert!(!stderr.contains(hint), "{stderr}");
     }
 }
+
+/// A 14-joint array in camloc's order (the pelvis left out) read as LSP-14, a simulated
+/// animator's mistake, is reconstructed with most joints bent past the limits, and a warning
+/// says so, alone and as a sequence; the same poses in the right order say nothing.
+#[test]
+fn landmarks_in_another_order_than_the_layout_are_warned_of() {
+    let dir = TempDir::new("order");
+    let example = dir.0.join("example.npy");
+    success(&camloc(&[
+        "convert",
+        "--input",
+        fixture("keypoints/example.json").to_str().unwrap(),
+        "--to",
+        "npy",
+        "--out",
+        example.to_str().unwrap(),
+    ]));
+    let (_, values) = read_npy_f64(&example);
+    // 12 poses: the 3 examples 4 times, each coordinate moved by up to 2 px.
+    let poses: Vec<f64> = (0..4)
+        .flat_map(|copy| {
+            values
+                .iter()
+                .enumerate()
+                .map(move |(i, v)| v + 2.0 * ((i * 7 + copy * 13) as f64).sin())
+        })
+        .collect();
+    let write = |name: &str, joints: usize, values: Vec<f64>| {
+        let mut bytes = npy_head(&format!(
+            "{{'descr': '<f8', 'fortran_order': False, 'shape': (12, {joints}, 2), }}"
+        ));
+        values.iter().for_each(|v| bytes.extend(v.to_le_bytes()));
+        let path = dir.0.join(name);
+        std::fs::write(&path, bytes).unwrap();
+        path.to_string_lossy().into_owned()
+    };
+    // camloc's landmark 0 is the pelvis.
+    let without_pelvis: Vec<f64> = poses
+        .chunks_exact(30)
+        .flat_map(|pose| pose[2..].to_vec())
+        .collect();
+    let wrong = write("wrong.npy", 14, without_pelvis);
+    let right = write("right.npy", 15, poses);
+    let said = "of 12 poses were reconstructed with joints bent past the limits";
+    for extra in [&[][..], &["--sequence"]] {
+        let mut wrong_args = vec!["reconstruct", "--input", &wrong, "--layout", "lsp14", "-q"];
+        wrong_args.extend(extra);
+        let warned = warning_line(&wrong_args, said).expect("no warning");
+        assert!(warned.contains("--layout names the layout"), "{warned}");
+        let mut right_args = vec!["reconstruct", "--input", &right, "-q"];
+        right_args.extend(extra);
+        assert_eq!(warning_line(&right_args, said), None);
+    }
+}

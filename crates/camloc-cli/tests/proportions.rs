@@ -2,12 +2,15 @@
 //! `--bone-lengths-out`, `--focal-px`, and their refusals.
 
 mod common;
+#[path = "common/walk.rs"]
+mod walk;
 
 use camloc::reconstruct::BONE_KEYS as KEYS;
 use camloc::store::Persist;
 use serde_json::Value;
 
 use common::{TempDir, camloc, fixture, success};
+use walk::walk_document;
 
 /// The path of `name` in `dir` (not created).
 fn path(dir: &TempDir, name: &str) -> String {
@@ -271,7 +274,17 @@ fn bad_bone_lengths_files_are_refused_with_what_and_where() {
     let missing = document(&LENGTHS).replace("\"torso\"", "\"trunk\"");
     let two_missing = document(&LENGTHS[..6]);
     let all_centimetres = LENGTHS.map(|l| 100.0 * l);
+    // A short person's lengths in feet pass every limb's range but make a person of 4.6 m (a
+    // simulated animator's file made one of 5.6 m); a taller one's torso is past the range.
+    let short_in_feet = LENGTHS.map(|l| 0.8 * l / 0.3048);
+    let all_feet = LENGTHS.map(|l| l / 0.3048);
     let cases = [
+        (
+            document(&short_in_feet),
+            "m tall, not a person's standing height (0.5 to 2.6 m; lengths are in metres; they \
+             look like feet: divide by 3.28)",
+        ),
+        (document(&all_feet), "all 14 look like feet: divide by 3.28"),
         (document(&centimetres), "torso"),
         (missing, "trunk"),
         (
@@ -431,4 +444,44 @@ fn sequence_drawings_are_numbered_by_input_position_and_failed_people_get_no_len
     assert_eq!(out.status.code(), Some(1), "{stderr}");
     assert!(!exists("lengths.json"));
     assert!(stderr.contains("no bone lengths for person 0"), "{stderr}");
+}
+
+/// With `--sequence`, bone lengths that fit the person's frames worse than lengths estimated
+/// from them (a simulated animator's file with the thighs and forearms swapped) are warned of;
+/// the person's own estimated lengths given back are not.
+#[test]
+fn given_lengths_that_fit_the_frames_worse_than_estimated_ones_are_warned_of() {
+    let dir = TempDir::new("prop-fit");
+    let input = dir.file("walk.json", &walk_document(0..20).to_string());
+    let own = path(&dir, "own.json");
+    success(&camloc(&[
+        "reconstruct",
+        "--input",
+        &input,
+        "--sequence",
+        "--bone-lengths-out",
+        &own,
+        "-q",
+    ]));
+    let run = |lengths: &str| {
+        let out = camloc(&[
+            "reconstruct",
+            "--input",
+            &input,
+            "--sequence",
+            "--bone-lengths",
+            lengths,
+            "-q",
+        ]);
+        assert!(out.status.success());
+        String::from_utf8_lossy(&out.stderr).into_owned()
+    };
+    let said = "the bone lengths given fit its 20 frames worse than lengths estimated from them";
+    let own_run = run(&own);
+    assert!(!own_run.contains(said), "{own_run}");
+    let mut swapped = LENGTHS;
+    swapped.swap(1, 10);
+    swapped.swap(4, 13);
+    let warned = run(&dir.file("swapped.json", &document(&swapped)));
+    assert!(warned.contains(said), "{warned}");
 }

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use std::sync::OnceLock;
 
 use camloc::keypoints::WeakScores;
-use camloc::reconstruct::{BONE_KEYS, BoneLengths, Intrinsics, MIN_FOCAL_PX, PoseBasis};
+use camloc::reconstruct::{BONE_KEYS, BoneLengths, PoseBasis};
 use camloc::skeleton::{NUM_LANDMARKS, NUM_LIMBS};
 use camloc::store::Persist;
 use camloc::{
@@ -17,6 +17,7 @@ use pyo3::types::{PyDict, PyMapping};
 use rayon::prelude::*;
 
 use crate::arrays::{Output, PoseBatch, UnmaskedPoints, UnmaskedScores};
+use crate::intrinsics::intrinsics_arg;
 use crate::localize::{Localizer, for_poses, given_shares, parse_height, set_height_estimate};
 use crate::smooth::{sequence_frames, timeline_max_slots};
 use crate::warnings::{
@@ -40,80 +41,6 @@ pub(crate) fn default_reconstructor() -> PyResult<&'static PoseReconstructor> {
         .get_or_init(|| PoseReconstructor::default_reconstructor().map_err(|e| e.to_string()))
         .as_ref()
         .map_err(|message| crate::CamlocError::new_err(message.clone()))
-}
-
-/// The camera's intrinsics of the `focal_px` and `principal_point` arguments (a tuple, list
-/// or array of the two pixel coordinates), `None` without a focal length; a `ValueError` for
-/// a principal point without a focal length or not of two numbers, a `TypeError` saying what
-/// is expected for one that is not a sequence of numbers (a text "960,540", say).
-pub(crate) fn intrinsics_arg(
-    focal_px: Option<&Bound<'_, PyAny>>,
-    principal_point: Option<&Bound<'_, PyAny>>,
-) -> PyResult<Option<Intrinsics>> {
-    // A number (a NumPy scalar too), named in the error otherwise; `True` (or NumPy's) is
-    // not a focal length.
-    let focal_px = focal_px
-        .map(|f| {
-            crate::arrays::refuse_complex(f)?;
-            let number = (!crate::number::is_bool(f)?)
-                .then(|| f.extract::<f64>().ok())
-                .flatten();
-            number.ok_or_else(|| {
-                pyo3::exceptions::PyTypeError::new_err(format!(
-                    "focal_px: a number of pixels such as 1000.0; got a {}",
-                    crate::number::type_name(f)
-                ))
-            })
-        })
-        .transpose()?;
-    let numbers = |point: &Bound<'_, PyAny>| -> PyResult<Vec<f64>> {
-        crate::arrays::refuse_complex(point)?;
-        // `True` and `False` (or NumPy's) are no pixel coordinates.
-        let has_bool = point.try_iter().is_ok_and(|items| {
-            items
-                .flatten()
-                .take(3)
-                .any(|item| crate::number::is_bool(&item).unwrap_or(false))
-        });
-        let numbers = (!point.is_instance_of::<pyo3::types::PyString>() && !has_bool)
-            .then(|| point.extract::<Vec<f64>>().ok())
-            .flatten();
-        numbers.ok_or_else(|| {
-            let type_name = crate::number::type_name(point);
-            let shown: String = point
-                .repr()
-                .map_or_else(|_| String::new(), |r| r.to_string())
-                .chars()
-                .take(60)
-                .collect();
-            pyo3::exceptions::PyTypeError::new_err(format!(
-                "principal_point: two numbers (u, v) in pixels, as a tuple, list or array such \
-                 as (960, 540); got a {type_name}: {shown}"
-            ))
-        })
-    };
-    if let Some(focal) = focal_px.filter(|f| !(f.is_finite() && *f >= MIN_FOCAL_PX)) {
-        return Err(value_error(format!(
-            "focal_px must be a finite number of pixels >= {MIN_FOCAL_PX}, got {focal:?}"
-        )));
-    }
-    let principal_point = match principal_point.map(numbers).transpose()?.as_deref() {
-        None => None,
-        Some(_) if focal_px.is_none() => {
-            return Err(value_error("principal_point needs focal_px"));
-        }
-        Some(&[u, v]) => Some([u, v]),
-        Some(other) => {
-            return Err(value_error(format!(
-                "principal_point: 2 numbers (u, v), got {}",
-                other.len()
-            )));
-        }
-    };
-    Ok(focal_px.map(|focal_px| Intrinsics {
-        focal_px,
-        principal_point,
-    }))
 }
 
 /// A bone lengths argument named `name` (`reconstruct`'s `bone_lengths`, `to_bvh`'s
@@ -162,7 +89,7 @@ pub(crate) fn bone_lengths(value: &Bound<'_, PyAny>, name: &str) -> PyResult<Bon
                 missing.join(", ")
             )));
         }
-        return BoneLengths::from_array(BONE_KEYS.map(|k| named[k])).map_err(invalid);
+        return BoneLengths::given(BONE_KEYS.map(|k| named[k])).map_err(invalid);
     }
     if value.is_instance_of::<pyo3::types::PyBytes>()
         || value.is_instance_of::<pyo3::types::PyByteArray>()
@@ -190,7 +117,7 @@ pub(crate) fn bone_lengths(value: &Bound<'_, PyAny>, name: &str) -> PyResult<Bon
     let lengths: [f64; NUM_LIMBS] = numbers
         .try_into()
         .map_err(|v: Vec<f64>| value_error(format!("{name}: {} numbers, expected 14", v.len())))?;
-    BoneLengths::from_array(lengths).map_err(invalid)
+    BoneLengths::given(lengths).map_err(invalid)
 }
 
 /// The `TypeError` of a bool given as a length of the argument `name`.
@@ -409,6 +336,9 @@ pub(crate) fn reconstruct<'py>(
                 })
             })
             .map_err(to_py_err)?;
+        if let Some(said) = solved.lengths_fit.and_then(|fit| fit.warning()) {
+            crate::warnings::warn(py, format!("bone_lengths: {said}"))?;
+        }
         let frames: Vec<Result<PoseReconstruction, String>> = solved
             .frames
             .into_iter()
@@ -505,10 +435,20 @@ pub(crate) fn reconstruct<'py>(
                      or the rows around a short gap), \
                      of the {} reconstructed rows: {}",
                     often.frames,
-                    often.names()
+                    often.summary()
                 ),
             )?;
         }
+    }
+    let mut limits = camloc::LimitCount::default();
+    for r in results.iter().flatten() {
+        limits.add(r.reconstruction.outside_limits_rad);
+    }
+    if let Some(said) = limits.summary() {
+        crate::warnings::warn(
+            py,
+            format!("{said} (the result's outside_limits_rad; layout= names the layout)"),
+        )?;
     }
     let mut errors = Vec::new();
     for (i, result) in results.into_iter().enumerate() {

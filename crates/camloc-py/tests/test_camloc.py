@@ -250,6 +250,11 @@ def test_proportions_options_equal_the_command_line(cli, tmp_path):
             camloc.reconstruct(example_points(), bone_lengths=given)
     with pytest.raises(ValueError, match=r"^bone_lengths: right thigh = -0.4 m"):
         camloc.reconstruct(example_points(), bone_lengths={**named, "right_thigh": -0.4})
+    # A short person's lengths in feet pass each limb's range, not the height they make.
+    with pytest.raises(ValueError, match="look like feet: divide by 3.28"):
+        camloc.reconstruct(
+            example_points(), bone_lengths={k: 0.8 * v / 0.3048 for k, v in named.items()}
+        )
     with pytest.raises(ValueError, match="got 1e-300"):
         camloc.reconstruct(example_points(), focal_px=1e-300)
     _, expected = cli("reconstruct", "--input", path, "--sequence")

@@ -178,7 +178,8 @@ def test_people_of_an_untracked_openpose_folder_are_followed(tmp_path):
 def test_a_sequence_warns_of_landmarks_filled_in_most_of_its_rows():
     """A landmark missing in most rows of a sequence, or for half a second in a row, is named in
     a ``CamlocWarning`` with its count (its 3D is the basis's guess), as the command line names
-    it per person; one missing now and then is not."""
+    it per person, and a limb it hides in every row is named as the length prior's guess; one
+    missing now and then is not."""
     pose = example_points()[0]
     rows = np.stack([pose + [4.0 * t, 0.0] for t in range(16)])
     wrist = camloc.LANDMARKS.index("left_wrist")
@@ -187,7 +188,8 @@ def test_a_sequence_warns_of_landmarks_filled_in_most_of_its_rows():
     rows[::8, ankle] = np.nan
     with pytest.warns(
         camloc.CamlocWarning,
-        match=r"of the 16 reconstructed rows: left_wrist in 16 \(for 16 frames from frame 0\)$",
+        match=r"of the 16 reconstructed rows: left_wrist in 16 \(for 16 frames from frame 0\); "
+        r"seen in no frame, the lengths of the left forearm are the length prior's guess$",
     ):
         got = camloc.reconstruct(rows, sequence=True)
     assert got["imputed"][:, wrist].all() and got["imputed"][::8, ankle].all()

@@ -28,6 +28,9 @@ pub const MIN_HEIGHT_M: f64 = 0.5;
 /// The tallest standing height a reconstruction can be scaled to, metres.
 pub const MAX_HEIGHT_M: f64 = 2.6;
 
+/// A foot, metres.
+const FOOT_M: f64 = 0.3048;
+
 /// The JSON key of each limb, parallel to [`camloc_skeleton::LIMBS`] (docs/conventions.md
 /// section 3): `left_pelvis_hip`, `left_thigh`, `left_shin`, the same on the right, `torso`,
 /// `neck_head`, `left_collar`, `left_upper_arm`, `left_forearm`, the same on the right.
@@ -103,7 +106,21 @@ pub enum BoneLengthError {
         /// The value given, metres.
         value: f64,
         /// `""`, or what the lengths look like when every one of them would be plausible in
-        /// centimetres or millimetres (`"; all 14 look like centimetres: divide by 100"`).
+        /// centimetres, millimetres or feet (`"; all 14 look like centimetres: divide by
+        /// 100"`).
+        unit_hint: &'static str,
+    },
+    /// Given lengths whose legs make a person of a standing height outside
+    /// [`MIN_HEIGHT_M`]..=[`MAX_HEIGHT_M`] ([`BoneLengths::given`]).
+    #[error(
+        "bone lengths: the legs make a person {height_m:.2} m tall, not a person's standing \
+         height ({MIN_HEIGHT_M} to {MAX_HEIGHT_M} m; lengths are in metres{unit_hint})"
+    )]
+    Height {
+        /// The standing height of [`BoneLengths::standing_height_m`], metres.
+        height_m: f64,
+        /// `""`, or `"; they look like feet: divide by 3.28"` when the height would be one in
+        /// feet.
         unit_hint: &'static str,
     },
     /// The JSON text is malformed or does not have the documented keys.
@@ -155,6 +172,8 @@ impl BoneLengths {
                     "; all 14 look like centimetres: divide by 100"
                 } else if all_in(1000.0) {
                     "; all 14 look like millimetres: divide by 1000"
+                } else if all_in(1.0 / FOOT_M) {
+                    "; all 14 look like feet: divide by 3.28"
                 } else {
                     ""
                 };
@@ -166,6 +185,33 @@ impl BoneLengths {
             }
         }
         Ok(BoneLengths(lengths))
+    }
+
+    /// The lengths a user gives of a person (a file, an argument): [`from_array`]'s checks,
+    /// and a [`standing_height_m`] of [`MIN_HEIGHT_M`]..=[`MAX_HEIGHT_M`]. Lengths in feet pass
+    /// every limb's range (a thigh of 1.5 ft) but make a person of 5.6 m, whose animation a
+    /// simulated animator found walking 12 m for 3.8.
+    ///
+    /// # Errors
+    /// As [`from_array`]; [`BoneLengthError::Height`] for a person too short or too tall.
+    ///
+    /// [`from_array`]: Self::from_array
+    /// [`standing_height_m`]: Self::standing_height_m
+    pub fn given(lengths: [f64; NUM_LIMBS]) -> Result<BoneLengths, BoneLengthError> {
+        let person = BoneLengths::from_array(lengths)?;
+        let height_m = person.standing_height_m();
+        if (MIN_HEIGHT_M..=MAX_HEIGHT_M).contains(&height_m) {
+            return Ok(person);
+        }
+        let in_feet = (MIN_HEIGHT_M..=MAX_HEIGHT_M).contains(&(height_m * FOOT_M));
+        Err(BoneLengthError::Height {
+            height_m,
+            unit_hint: if in_feet {
+                "; they look like feet: divide by 3.28"
+            } else {
+                ""
+            },
+        })
     }
 
     /// The 14 lengths, metres, in [`camloc_skeleton::LIMBS`] order.

@@ -36,6 +36,7 @@
 
 mod aim;
 mod below_floor;
+mod beyond_limits;
 mod camera_height;
 mod continuations;
 mod conventions;
@@ -53,6 +54,7 @@ mod identity;
 mod image_size_check;
 mod input_elevation;
 mod lean;
+mod lengths_fit;
 mod lifter;
 mod localizer;
 mod often_filled;
@@ -84,6 +86,9 @@ pub use camloc_store as store;
 
 pub use aim::aimed_at_pelvis;
 pub use below_floor::{BELOW_FLOOR_CAUSES, BELOW_FLOOR_M, BelowFloor, below_floor};
+pub use beyond_limits::{
+    BEYOND_LIMITS_MIN_POSES, BEYOND_LIMITS_RAD, BEYOND_LIMITS_SHARE, LimitCount,
+};
 pub use camera_height::{CameraHeight, EYE_LEVEL_WEIGHT};
 pub use camloc_features::Descriptor;
 pub use camloc_geometry::CameraLabel;
@@ -117,6 +122,7 @@ pub use image_size_check::{
     IMAGE_SIZE_CHECK_MIN_POSES, IMAGE_SIZE_CHECK_POSES, IMAGE_SIZE_SWAP_RATIO, ImageSizeCheck,
 };
 pub use input_elevation::ELEVATION_PSEUDO_VIEWS;
+pub use lengths_fit::{LengthsFit, POOR_LENGTHS_FIT_RATIO};
 pub use often_filled::{
     FILLED_RUN_GAP_FRAMES, FILLED_RUN_S, FilledCount, FilledLandmark, OFTEN_FILLED_SHARE,
     OftenFilled, often_filled, often_filled_frames,

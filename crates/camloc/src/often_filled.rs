@@ -3,7 +3,7 @@
 //! short gap of a sequence, interpolated from the frames around it.
 
 use camloc_reconstruct::FrameRate;
-use camloc_skeleton::{Landmark, NUM_LANDMARKS};
+use camloc_skeleton::{LIMB_NAMES, LIMBS, Landmark, NUM_LANDMARKS};
 
 use crate::PoseReconstruction;
 
@@ -67,6 +67,37 @@ impl OftenFilled {
             })
             .collect::<Vec<_>>()
             .join(", ")
+    }
+
+    /// The limbs ([`LIMB_NAMES`]) with an end filled in in every frame, in limb order: with
+    /// no frame that shows them, their lengths are the length prior's guess, not the
+    /// person's (a simulated animator's actor whose legs never entered the frame got a thigh
+    /// 7% long, and its lengths file looked like a measured one).
+    pub fn unseen_limbs(&self) -> Vec<&'static str> {
+        let always = |l: Landmark| {
+            self.landmarks
+                .iter()
+                .any(|f| f.landmark == l && f.frames == self.frames)
+        };
+        (LIMBS.iter().zip(LIMB_NAMES))
+            .filter(|((a, b), _)| always(*a) || always(*b))
+            .map(|(_, name)| name)
+            .collect()
+    }
+
+    /// [`names`](Self::names), then the [`unseen_limbs`](Self::unseen_limbs) when there are
+    /// some: `left_ankle in 90 (for 90 frames from frame 0); seen in no frame, the lengths of
+    /// the left shin are the length prior's guess`.
+    pub fn summary(&self) -> String {
+        let unseen = self.unseen_limbs();
+        if unseen.is_empty() {
+            return self.names();
+        }
+        format!(
+            "{}; seen in no frame, the lengths of the {} are the length prior's guess",
+            self.names(),
+            unseen.join(", ")
+        )
     }
 }
 
@@ -320,5 +351,32 @@ mod tests {
             often_filled(apart.iter().map(|(n, l)| (*n, l.as_slice())), at(30.0)),
             None
         );
+    }
+
+    #[test]
+    fn limbs_with_an_end_filled_in_every_frame_are_the_priors_guess() {
+        use Landmark::*;
+        // The left ankle in every frame, the right knee in half of them.
+        let frames: Vec<Vec<Landmark>> = (0..10)
+            .map(|t| match t % 2 {
+                0 => vec![LeftAnkle, RightKnee],
+                _ => vec![LeftAnkle],
+            })
+            .collect();
+        let found = often_filled(numbered(&frames), at(30.0)).unwrap();
+        assert_eq!(found.unseen_limbs(), ["left shin"]);
+        assert!(
+            found.summary().ends_with(
+                "; seen in no frame, the lengths of the left shin are the length prior's guess"
+            ),
+            "{}",
+            found.summary()
+        );
+        let half: Vec<Vec<Landmark>> = frames[..4].iter().map(|_| vec![RightKnee]).collect();
+        let mut some = half.clone();
+        some.extend(vec![vec![]; 4]);
+        let found = often_filled(numbered(&some), at(30.0)).unwrap();
+        assert!(found.unseen_limbs().is_empty());
+        assert_eq!(found.summary(), found.names());
     }
 }

@@ -11,7 +11,9 @@ use camloc_store::Persist;
 use camloc_store::Validate;
 
 use crate::rows::sample_pose;
-use crate::{CameraLocalizer, CamlocError, DepthLifter, Localization, MIN_PRESENT_FOR_FILL};
+use crate::{
+    CameraLocalizer, CamlocError, DepthLifter, LengthsFit, Localization, MIN_PRESENT_FOR_FILL,
+};
 
 mod gap_fill;
 mod landmark_smoothing;
@@ -120,6 +122,9 @@ pub struct PoseSequenceReconstruction {
     /// (or none was given) nothing was estimated, and they are the length prior's own: look
     /// at `frames` before using them.
     pub lengths: BoneLengths,
+    /// With bone lengths given, how well they fit the frames against lengths estimated from
+    /// them ([`LengthsFit::warning`]); `None` without given lengths or a frame both solved.
+    pub lengths_fit: Option<LengthsFit>,
 }
 
 impl PoseReconstructor {

@@ -69,6 +69,8 @@ pub struct Solved {
     pub frames: Vec<Result<PoseReconstruction, String>>,
     /// The person's bone lengths; `None` when the sequence failed.
     pub lengths: Option<BoneLengths>,
+    /// How well the bone lengths given fit the frames (`None`: none given, or no fit).
+    pub lengths_fit: Option<camloc::LengthsFit>,
     /// The frames the BVH animates (none without `--bvh` / `--html`): placed in the world
     /// (`root_motion`) or in place.
     pub animated: Vec<Option<Pose3>>,
@@ -102,7 +104,7 @@ pub fn warn_of_filled(person: &str, often: Option<camloc::OftenFilled>) {
             "camloc: warning: {person}: landmarks filled in, not seen (their 3D is a guess, from \
              the pose basis or the frames around a short gap; `imputed` in JSON), of its {}: {}",
             counted(often.frames as u64, "reconstructed frame"),
-            often.names()
+            often.summary()
         );
     }
 }
@@ -139,6 +141,7 @@ fn solve(
     // from starts a new run (the left-out frames count for none).
     let result = reconstructor.reconstruct_sequence_at_frames(numbers, poses, left_out);
     // The left-out frames are reconstructed on their own, also when the sequence failed.
+    let lengths_fit = result.as_ref().ok().and_then(|r| r.lengths_fit);
     let (frames, lengths): (Vec<Result<PoseReconstruction, String>>, Option<BoneLengths>) =
         match result {
             Ok(r) => (
@@ -199,6 +202,7 @@ fn solve(
     Solved {
         frames,
         lengths,
+        lengths_fit,
         animated,
         reconstructed,
     }

@@ -464,7 +464,10 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     }
     let keep = args.bvh.is_some() || args.html.is_some();
     let aim = reconstructor.given().intrinsics;
-    let filled = Mutex::new(camloc::FilledCount::default());
+    let filled = Mutex::new((
+        camloc::FilledCount::default(),
+        camloc::LimitCount::default(),
+    ));
     let summary = stream::run(inputs, out, format, files, &bar, aim, |record| {
         let result = reconstructor
             .reconstruct_hypotheses(&record.pose, usize::from(args.hypotheses))
@@ -491,7 +494,8 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
             swapped_sides: &[],
         };
         if let Ok(mut count) = filled.lock() {
-            count.add(&result.imputed);
+            count.0.add(&result.imputed);
+            count.1.add(result.reconstruction.outside_limits_rad);
         }
         let r = &result.reconstruction;
         Ok(Done {
@@ -509,13 +513,15 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
             }),
         })
     })?;
-    if let Some(said) = filled.into_inner().ok().and_then(|c| c.summary()) {
+    let (filled, limits) = filled.into_inner().unwrap_or_default();
+    if let Some(said) = filled.summary() {
         stderr_line!(
             "camloc: warning: {said}: their 3D is the pose basis's guess (`imputed` in JSON); \
              check them before using their joints; a video's short gaps are filled from the \
              frames around with --sequence"
         );
     }
+    super::reconstruct_output::warn_of_limits(limits);
     Ok(summary.exit_code("reconstructed"))
 }
 

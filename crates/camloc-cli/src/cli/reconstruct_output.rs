@@ -1,4 +1,5 @@
-//! What `camloc reconstruct` writes for one pose: its JSON object or text, and its drawing.
+//! What `camloc reconstruct` writes for one pose (its JSON object or text, and its drawing) and
+//! says of a whole run (poses past the joint limits).
 
 use std::fmt::Write;
 
@@ -307,4 +308,15 @@ fn reconstruction_text(heading: &str, r: &Reconstruction) -> String {
         );
     }
     out
+}
+
+/// Warns on standard error when most poses of a run were reconstructed past the joint
+/// limits ([`camloc::LimitCount::summary`]): landmarks in another order than the layout's.
+pub fn warn_of_limits(limits: camloc::LimitCount) {
+    if let Some(said) = limits.summary() {
+        stderr_line!(
+            "camloc: warning: {said} (`outside_limits_rad` in JSON; --layout names the layout, \
+             docs/keypoints.md its joint order)"
+        );
+    }
 }

@@ -150,7 +150,7 @@ pub fn run(
         record.person = key.1;
     }
     if let Some(path) = options.lengths_out {
-        super::sequence::name_numbered_persons(&lengths_base(path, groups.len()), &names);
+        super::output::name_numbered_persons(&lengths_base(path, groups.len()), &names);
     }
     let mut staged = StagedFiles::new(options.force);
     let mut rows: Vec<Option<Pose3>> =
@@ -158,6 +158,7 @@ pub fn run(
     let mut exported: Vec<Kept> = Vec::new();
     // The staged drawings: (pose index, staged file).
     let mut drawn: Vec<(usize, usize)> = Vec::new();
+    let mut limits = camloc::LimitCount::default();
     let mut next = 0;
     while next < groups.len() {
         // Persons of a few frames each are solved side by side, in groups of at most
@@ -224,9 +225,17 @@ pub fn run(
             let Solved {
                 frames,
                 lengths,
+                lengths_fit,
                 animated,
                 reconstructed,
             } = solved;
+            if let Some(said) = lengths_fit.and_then(|fit| fit.warning()) {
+                stderr_line!(
+                    "camloc: warning: {}: {said} (--bone-lengths; without it the lengths are \
+                     estimated)",
+                    names[n]
+                );
+            }
             super::person_solve::warn_of_sinking(&names[n], &numbers, &animated);
             let in_sequence: Vec<usize> = (0..members.len()).filter(|&m| !left_out[m]).collect();
             // A failed sequence is reported once on standard error, not once per frame (the
@@ -271,6 +280,7 @@ pub fn run(
                             left_out: left,
                             swapped_sides: &super::sequence::side_names(sides),
                         };
+                        limits.add(r.reconstruction.outside_limits_rad);
                         emit.write(out, &pose_output(format, &meta, options.choice, &r))?;
                         if let Some(svg) = options.svg {
                             let drawing = pose_svg(&k.pose, &k.id, options.choice, &r);
@@ -327,6 +337,7 @@ pub fn run(
     }
     emit.end(out)?;
     out.flush()?;
+    super::reconstruct_output::warn_of_limits(limits);
     if let Some(mut npy) = NpyStage::<Pose3>::boxed(options.npy)? {
         for (record, row) in kept.iter().zip(&rows) {
             npy.push(record, row.as_ref())?;

@@ -110,7 +110,7 @@ impl BoneLengths {
     /// [`BoneLengthError::Json`] for malformed JSON, a missing, unknown or repeated key (the
     /// message names it, with line and column); [`BoneLengthError::Header`] for another
     /// `format`, `version` or `unit`, or a document that is a list; as
-    /// [`BoneLengths::from_array`] for the values.
+    /// [`BoneLengths::given`] for the values.
     pub fn from_json_str(text: &str) -> Result<BoneLengths, BoneLengthError> {
         // (serde would read a list as the document's fields in order.)
         if text.trim_start().starts_with('[') {
@@ -144,7 +144,7 @@ impl BoneLengths {
                 "\"m\"".into(),
             ));
         }
-        BoneLengths::from_array(document.lengths.0)
+        BoneLengths::given(document.lengths.0)
     }
 
     /// The JSON form (see [`BoneLengths`]), with `format`, `version` and `unit`, one length a

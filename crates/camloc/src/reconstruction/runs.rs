@@ -14,7 +14,7 @@ use super::{
 };
 use crate::sequence::number_or_position;
 use crate::torso_placement::sequence_own_placement_weight;
-use crate::{CamlocError, Viewpoint, smooth_viewpoints, viewpoint_half_window};
+use crate::{CamlocError, LengthsFit, Viewpoint, smooth_viewpoints, viewpoint_half_window};
 
 /// The runs of one person's frames (positions), each frame's solve (`None` where none) and
 /// the person's lengths.
@@ -85,6 +85,7 @@ impl PoseReconstructor {
         Ok(PoseSequenceReconstruction {
             frames,
             lengths: solved.lengths,
+            lengths_fit: solved.lengths_fit,
         })
     }
 
@@ -126,7 +127,8 @@ impl PoseReconstructor {
             .collect();
         let mut smoothed = self.smoothed_and_filled(&cleaned, frames, breaks);
         let mut prepared = self.prepare_all(&smoothed, &cleaned);
-        let (mut runs, mut solved, mut lengths) = self.solve_runs(&smoothed, &prepared, breaks)?;
+        let (mut runs, mut solved, mut lengths) =
+            self.solve_runs(&smoothed, &prepared, breaks, &self.given)?;
         // A frame whose fitted camera sees landmarks behind it (a landmark misplaced, a very
         // close wide-angle view) fails, and the others are smoothed and solved again without
         // it: it had pulled the person's lengths and smoothness (a simulated user's wrist 1000
@@ -145,8 +147,26 @@ impl PoseReconstructor {
             for &t in &behind {
                 prepared[t] = Err(pose_error(ReconstructError::BehindFittedCamera));
             }
-            (runs, solved, lengths) = self.solve_runs(&smoothed, &prepared, breaks)?;
+            (runs, solved, lengths) = self.solve_runs(&smoothed, &prepared, breaks, &self.given)?;
         }
+        // Given lengths against lengths estimated from the same frames (one solve more).
+        let lengths_fit = self.given.lengths.and_then(|_| {
+            let free = Given {
+                lengths: None,
+                ..self.given
+            };
+            let (_, estimated, _) = self.solve_runs(&smoothed, &prepared, breaks, &free).ok()?;
+            let error = |r: &Option<Result<Reconstruction, ReconstructError>>| match r {
+                Some(Ok(r)) => Some(r.projection_error),
+                _ => None,
+            };
+            LengthsFit::of(
+                solved
+                    .iter()
+                    .zip(&estimated)
+                    .map(|(g, e)| error(g).zip(error(e))),
+            )
+        });
         // A height given scales the estimated lengths and every frame solved with them alike.
         let size = match self.height_m {
             Some(height_m) => height_m / lengths.standing_height_m(),
@@ -192,7 +212,11 @@ impl PoseReconstructor {
                 })
             })
             .collect();
-        Ok(PoseSequenceReconstruction { frames, lengths })
+        Ok(PoseSequenceReconstruction {
+            frames,
+            lengths,
+            lengths_fit,
+        })
     }
 
     /// `poses` smoothed over time ([`smooth_landmarks`]), then their short gaps filled in
@@ -236,6 +260,7 @@ impl PoseReconstructor {
         poses: &[PartialPose2],
         prepared: &[Result<Prepared, CamlocError>],
         breaks: &[bool],
+        given: &Given,
     ) -> Result<SolvedRuns, CamlocError> {
         // Runs of frames that were prepared, split at gaps and at as many frames in a row
         // that were not.
@@ -274,19 +299,19 @@ impl PoseReconstructor {
         let mut solved: Vec<Option<Result<Reconstruction, ReconstructError>>> =
             (0..poses.len()).map(|_| None).collect();
         let lengths = if runs.len() <= 1 {
-            let whole = solve(&all, &self.given)?;
+            let whole = solve(&all, given)?;
             for (&t, frame) in all.iter().zip(whole.frames) {
                 solved[t] = Some(frame);
             }
             whole.lengths
         } else {
-            let lengths = match self.given.lengths {
+            let lengths = match given.lengths {
                 Some(lengths) => lengths,
-                None => solve(&all, &self.given)?.lengths,
+                None => solve(&all, given)?.lengths,
             };
             let given = Given {
                 lengths: Some(lengths),
-                ..self.given
+                ..*given
             };
             for run in &runs {
                 for (&t, frame) in run.iter().zip(solve(run, &given)?.frames) {
