@@ -29,6 +29,49 @@ fn svg_is_written_and_not_overwritten_without_force() {
     assert!(out.status.success());
 }
 
+/// When several outputs exist already, the refusal names them all (a simulated animator
+/// removed the one named, ran again and met the next); with one, that one as before; nothing
+/// is written, and `--force` writes them.
+#[test]
+fn several_existing_outputs_are_named_at_once() {
+    let dir = TempDir::new("several");
+    let example = fixture("keypoints/example.json");
+    let (bvh, lengths) = (dir.0.join("x.bvh"), dir.0.join("x_bl.json"));
+    let args = |force: bool| {
+        let mut args = vec![
+            "reconstruct".to_string(),
+            "--input".into(),
+            example.to_string_lossy().into_owned(),
+            "--sequence".into(),
+            "--bvh".into(),
+            bvh.to_string_lossy().into_owned(),
+            "--bone-lengths-out".into(),
+            lengths.to_string_lossy().into_owned(),
+            "-q".into(),
+        ];
+        if force {
+            args.push("--force".into());
+        }
+        args
+    };
+    let run = |force: bool| camloc(&args(force).iter().map(String::as_str).collect::<Vec<_>>());
+    std::fs::write(&bvh, "mine").unwrap();
+    std::fs::write(&lengths, "mine too").unwrap();
+    let out = run(false);
+    assert_clean_failure(&out, "x_bl.json, ");
+    assert_clean_failure(&out, "x.bvh: already exist (pass --force to overwrite them");
+    assert_eq!(std::fs::read_to_string(&bvh).unwrap(), "mine");
+    std::fs::remove_file(&bvh).unwrap();
+    assert_clean_failure(&run(false), "x_bl.json: already exists (pass --force");
+    assert!(!bvh.exists());
+    assert!(run(true).status.success());
+    assert!(
+        std::fs::read_to_string(&bvh)
+            .unwrap()
+            .starts_with("HIERARCHY")
+    );
+}
+
 /// Several SVGs are all written or none: an existing one (without --force) or one that cannot
 /// be replaced (a folder, even with --force) stops the run before any is written, and a failed
 /// write to standard output removes them all.

@@ -51,6 +51,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     targets::check(
         [(Some(args.out.as_path()), "--out", None)],
         &[("the input", Some(args.input.path()))],
+        args.force,
     )?;
     match args.to {
         Target::Camloc => {

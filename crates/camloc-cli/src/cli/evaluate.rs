@@ -57,6 +57,7 @@ pub fn run(args: &Args, stdout: &mut Out) -> Result<ExitCode, CliError> {
             ("--dataset", Some(&args.dataset)),
             ("--model", args.model.as_deref()),
         ],
+        args.force,
     )?;
     if let Some(svg) = &args.svg {
         check_target(svg, args.force)?;

@@ -135,6 +135,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
             ("the input", Some(args.input.path())),
             ("--model", args.model.as_deref()),
         ],
+        args.force.force,
     )?;
     let intrinsics = args.intrinsics.intrinsics(args.input.image_size);
     if intrinsics.is_some_and(|k| k.principal_point.is_none()) {

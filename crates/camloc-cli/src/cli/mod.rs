@@ -177,6 +177,27 @@ pub enum CliError {
         /// The output it is a numbered file of.
         out: PathBuf,
     },
+    /// Several of the files a run would write exist and overwriting was not requested
+    /// (checked before any work; the first [`SEVERAL_EXIST_NAMED`] are named).
+    #[error("{}: already exist (pass --force to overwrite them, or remove them)", several_named(.0))]
+    SeveralExist(Vec<PathBuf>),
+}
+
+/// How many existing files [`CliError::SeveralExist`] names.
+pub const SEVERAL_EXIST_NAMED: usize = 10;
+
+/// `paths`, quoted and comma-separated, the first [`SEVERAL_EXIST_NAMED`] of them and how many
+/// more.
+fn several_named(paths: &[PathBuf]) -> String {
+    let mut named: Vec<String> = paths
+        .iter()
+        .take(SEVERAL_EXIST_NAMED)
+        .map(|p| camloc::store::quoted_path(p))
+        .collect();
+    if paths.len() > SEVERAL_EXIST_NAMED {
+        named.push(format!("and {} more", paths.len() - SEVERAL_EXIST_NAMED));
+    }
+    named.join(", ")
 }
 
 impl From<KeypointError> for CliError {

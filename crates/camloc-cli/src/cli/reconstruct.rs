@@ -384,6 +384,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
             ("--basis", args.basis.as_deref()),
             ("--bone-lengths", args.bone_lengths.as_deref()),
         ],
+        args.force.force,
     )?;
     let choice = camera_of(args);
     // `opt` localizes no complete pose: the input's camera heights are not estimated for it.

@@ -26,10 +26,12 @@ pub struct Output<'a> {
 /// (`check_distinct`), none is a file the run reads or `-` (`check_not_input`, with
 /// `inputs` the reading options, "the input" for the keypoints given as `--input` or as the
 /// argument, and their paths, if given), every one's folder exists
-/// (`check_folders`), and none is named like a file of another format (`check_format`).
+/// (`check_folders`), none is named like a file of another format (`check_format`), and,
+/// without `force`, not several of their files exist already (`check_existing`).
 pub fn check<'a>(
     given: impl IntoIterator<Item = (Option<&'a Path>, &'static str, Option<&'static str>)>,
     inputs: &[(&'static str, Option<&Path>)],
+    force: bool,
 ) -> Result<(), CliError> {
     let outputs: Vec<Output> = given
         .into_iter()
@@ -49,7 +51,29 @@ pub fn check<'a>(
             check_format(out.path, out.option, what, own)?;
         }
     }
-    Ok(())
+    check_existing(&outputs, force)
+}
+
+/// Without `force`, refuses ([`CliError::SeveralExist`]) outputs of which several files exist
+/// already (their [`numbered_targets`] for numbered outputs), naming them all: a simulated
+/// animator removed the one named, ran again and met the next. One existing file is left to
+/// its output's own check ([`check_target`], [`check_numbered`]), which names it.
+fn check_existing(outputs: &[Output], force: bool) -> Result<(), CliError> {
+    if force {
+        return Ok(());
+    }
+    let existing: Vec<PathBuf> = outputs
+        .iter()
+        .flat_map(|out| match out.numbered {
+            Some(ext) => numbered_targets(out.path, ext),
+            None => vec![out.path.to_path_buf()],
+        })
+        .filter(|path| std::fs::symlink_metadata(path).is_ok())
+        .collect();
+    match existing.len() {
+        0 | 1 => Ok(()),
+        _ => Err(CliError::SeveralExist(existing)),
+    }
 }
 
 /// Refuses ([`CliError::Usage`]) an output whose folder does not exist (or is no folder), so

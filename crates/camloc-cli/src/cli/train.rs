@@ -191,7 +191,11 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     let inputs: Vec<_> = (args.dataset.iter())
         .map(|d| ("--dataset", Some(d.as_path())))
         .collect();
-    targets::check([(Some(args.out.as_path()), "--out", None)], &inputs)?;
+    targets::check(
+        [(Some(args.out.as_path()), "--out", None)],
+        &inputs,
+        args.force.force,
+    )?;
     // `--out m.svg` or `m.json` would be a model file named like a drawing or a document.
     targets::check_format(&args.out, "--out", "a camloc model file", &["bin"])?;
     check_target(&args.out, args.force.force)?;
