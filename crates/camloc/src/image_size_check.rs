@@ -6,6 +6,7 @@
 use std::path::Path;
 
 use camloc_keypoints::{ImageSize, KeypointFormat, ReadOptions, sample_records};
+use camloc_reconstruct::median;
 use camloc_skeleton::PartialPose2;
 
 use crate::PoseReconstructor;
@@ -80,8 +81,8 @@ impl ImageSizeCheck {
         Some(ImageSizeCheck {
             size,
             poses: given.len(),
-            given: median(&mut given),
-            swapped: median(&mut swapped),
+            given: median(&mut given)?,
+            swapped: median(&mut swapped)?,
         })
     }
 
@@ -124,12 +125,6 @@ impl ImageSizeCheck {
     pub fn swapped_fits_better(&self) -> bool {
         self.swapped < IMAGE_SIZE_SWAP_RATIO * self.given
     }
-}
-
-/// The median of `values` (not empty), reordering them.
-fn median(values: &mut [f64]) -> f64 {
-    values.sort_by(f64::total_cmp);
-    values[values.len() / 2]
 }
 
 /// What was measured, for a warning: `the first 60 poses fit a body better with the image
