@@ -258,8 +258,12 @@ fn outcome(sample: &EvalSample, recon: Option<Reconstruction>) -> Outcome {
     }
 }
 
-/// Scores one sample's reconstruction.
+/// Scores one sample's reconstruction. A true pose whose limbs all have no length (a forged
+/// dataset's all-zero poses, which scored 0.0 mm) cannot be aligned to and is not measured.
 fn score(sample: &EvalSample, recon: &Reconstruction) -> Result<Scores, ReconstructError> {
+    if sample.truth.limb_lengths().iter().all(|&l| !(l > 0.0)) {
+        return Err(ReconstructError::Numerical("a true pose of no extent"));
+    }
     let pa_mpjpe_mm = mpjpe_after_similarity(&recon.pose, &sample.truth);
     if !pa_mpjpe_mm.is_finite() {
         return Err(ReconstructError::Numerical("non-finite MPJPE"));

@@ -150,3 +150,20 @@ fn a_pipeline_is_measured_beside_the_modes() {
     assert!(half.failures > opt.failures, "{half:?}");
     assert_eq!(half.evaluated + half.failures, samples.len());
 }
+
+/// A sample whose true pose has no extent (a forged dataset's all-zero poses, which scored
+/// 0.0 mm) is not measured: it counts as a failure.
+#[test]
+fn a_true_pose_of_no_extent_is_not_measured() {
+    let (reconstructor, mut samples) = setup();
+    samples.truncate(3);
+    samples[1].truth.points = [[0.0; 3]; camloc_skeleton::NUM_LANDMARKS];
+    let report = evaluate(&samples, &reconstructor, &[ModeKind::Opt]);
+    assert_eq!(report.modes[0].evaluated, 2);
+    assert_eq!(report.modes[0].failures, 1);
+    // That sample alone: nothing measured.
+    samples.truncate(2);
+    samples.remove(0);
+    let report = evaluate(&samples, &reconstructor, &[ModeKind::Opt]);
+    assert_eq!(report.modes[0].mean_pa_mpjpe_mm, None);
+}
