@@ -314,10 +314,11 @@ def reconstruct(
     basis: a pose basis file (default: the embedded one).
     bone_lengths: the person's 14 limb lengths in metres, as a mapping of ``BONE_KEYS``, 14
       numbers in ``BONE_KEYS`` order, or the path of a bone lengths JSON file (docs/cli.md);
-      every pose then has exactly these. Lengths whose legs make a person outside 0.5-2.6 m
+      every pose then has exactly these. Lengths whose legs make a person taller than 2.6 m
       are a ``ValueError`` (lengths in feet are named). With ``sequence=True`` a
       ``UserWarning`` says when they fit the rows 1.5 times worse or more than lengths
-      estimated from the same rows (another person's, limbs swapped, another unit). Default:
+      estimated from the same rows (another person's, limbs swapped, another unit, another
+      skeleton's landmark placement; a second solve). Default:
       estimated from the 2D under a prior learned from motion capture (proportions only; the
       size is the prior's, people of about 1.7 m).
     person_height: the person's standing height in metres (soles to the top of the head,
@@ -497,8 +498,8 @@ def bone_lengths_json(
     ``person_bone_lengths`` row), or such a file. Written to a file, it is what
     ``bone_lengths=PATH`` and ``camloc reconstruct --bone-lengths`` read.
 
-    Raises ValueError for a missing or unknown key, not 14 numbers, or a length outside
-    0.01-1.5 m."""
+    Raises ValueError for a missing or unknown key, not 14 numbers, a length outside
+    0.01-1.5 m, or legs that make a person taller than 2.6 m (lengths in feet are named)."""
 
 def smooth_viewpoints(
     azimuth_deg: npt.ArrayLike,
@@ -612,8 +613,8 @@ def to_bvh(
       returns the one it took (``r["fps"]``).
     limb_lengths: the 14 bone lengths in metres, as ``reconstruct``'s ``bone_lengths`` takes
       them (a mapping of ``BONE_KEYS``, 14 numbers in that order, or a bone lengths JSON file;
-      each 0.01-1.5 m); default: the mean of each limb over the complete frames, held to the
-      same range (points in millimetres raise ValueError).
+      each 0.01-1.5 m, the legs a person of 2.6 m at most); default: the mean of each limb over
+      the complete frames, held to the same range (points in millimetres raise ValueError).
     unit_m: metres per file unit (0.01: centimetres; Blender imports them with scale 0.01),
       from 1e-6 to 1000.
 

@@ -179,6 +179,28 @@ fn a_person_height_scales_every_answer_and_the_sequence_lengths() {
         (standing_height(&lengths) - 0.95).abs() < 1e-4,
         "{lengths:?}"
     );
+    // The lengths written for the tallest and the smallest heights are read back (2.6 m came
+    // back as 2.6000000000000005 and was refused).
+    for height in ["2.6", "0.5"] {
+        let written = path(&dir, &format!("person-{height}.json"));
+        success(&camloc(&[
+            "reconstruct",
+            "--input",
+            &example(),
+            "--sequence",
+            "--person-height",
+            height,
+            "--bone-lengths-out",
+            &written,
+        ]));
+        success(&camloc(&[
+            "reconstruct",
+            "--input",
+            &example(),
+            "--bone-lengths",
+            &written,
+        ]));
+    }
     // Centimetres are refused with the metres they meant; given lengths give the size.
     let cm = camloc(&[
         "reconstruct",
@@ -281,8 +303,8 @@ fn bad_bone_lengths_files_are_refused_with_what_and_where() {
     let cases = [
         (
             document(&short_in_feet),
-            "m tall, not a person's standing height (0.5 to 2.6 m; lengths are in metres; they \
-             look like feet: divide by 3.28)",
+            "m tall, taller than a person (2.6 m at most; lengths are in metres; they look like \
+             feet: divide by 3.28)",
         ),
         (document(&all_feet), "all 14 look like feet: divide by 3.28"),
         (document(&centimetres), "torso"),

@@ -435,7 +435,7 @@ pub(crate) fn reconstruct<'py>(
                      or the rows around a short gap), \
                      of the {} reconstructed rows: {}",
                     often.frames,
-                    often.summary()
+                    often.summary(bone_lengths.is_some())
                 ),
             )?;
         }

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import camloc
-from helpers import example_points
+from helpers import LENGTHS, example_points
 
 
 def untracked_video():
@@ -193,6 +193,12 @@ def test_a_sequence_warns_of_landmarks_filled_in_most_of_its_rows():
     ):
         got = camloc.reconstruct(rows, sequence=True)
     assert got["imputed"][:, wrist].all() and got["imputed"][::8, ankle].all()
+    # With the lengths given, the hidden forearm's length is not the prior's.
+    with pytest.warns(
+        camloc.CamlocWarning,
+        match=r"of the 16 reconstructed rows: left_wrist in 16 \(for 16 frames from frame 0\)$",
+    ):
+        camloc.reconstruct(rows, sequence=True, bone_lengths=LENGTHS)
     # Row by row, the rows with landmarks filled in are counted, the most filled named.
     with pytest.warns(
         camloc.CamlocWarning,

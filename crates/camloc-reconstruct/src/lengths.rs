@@ -110,11 +110,11 @@ pub enum BoneLengthError {
         /// 100"`).
         unit_hint: &'static str,
     },
-    /// Given lengths whose legs make a person of a standing height outside
-    /// [`MIN_HEIGHT_M`]..=[`MAX_HEIGHT_M`] ([`BoneLengths::given`]).
+    /// Given lengths whose legs make a person taller than [`MAX_HEIGHT_M`]
+    /// ([`BoneLengths::given`]).
     #[error(
-        "bone lengths: the legs make a person {height_m:.2} m tall, not a person's standing \
-         height ({MIN_HEIGHT_M} to {MAX_HEIGHT_M} m; lengths are in metres{unit_hint})"
+        "bone lengths: the legs make a person {height_m:.2} m tall, taller than a person \
+         ({MAX_HEIGHT_M} m at most; lengths are in metres{unit_hint})"
     )]
     Height {
         /// The standing height of [`BoneLengths::standing_height_m`], metres.
@@ -188,19 +188,23 @@ impl BoneLengths {
     }
 
     /// The lengths a user gives of a person (a file, an argument): [`from_array`]'s checks,
-    /// and a [`standing_height_m`] of [`MIN_HEIGHT_M`]..=[`MAX_HEIGHT_M`]. Lengths in feet pass
-    /// every limb's range (a thigh of 1.5 ft) but make a person of 5.6 m, whose animation a
-    /// simulated animator found walking 12 m for 3.8.
+    /// and a [`standing_height_m`] of at most [`MAX_HEIGHT_M`] (to rounding: lengths that
+    /// camloc scaled to a person of exactly that height are taken). Lengths in feet pass every
+    /// limb's range (a thigh of 1.5 ft) but make a person of 5.6 m, whose animation a
+    /// simulated animator found walking 12 m for 3.8. No shortest height is asked: the legs'
+    /// share of a small child's height is below the adult rule's, and no unit makes a person
+    /// smaller that the limbs' range lets through.
     ///
     /// # Errors
-    /// As [`from_array`]; [`BoneLengthError::Height`] for a person too short or too tall.
+    /// As [`from_array`]; [`BoneLengthError::Height`] for a person too tall.
     ///
     /// [`from_array`]: Self::from_array
     /// [`standing_height_m`]: Self::standing_height_m
     pub fn given(lengths: [f64; NUM_LIMBS]) -> Result<BoneLengths, BoneLengthError> {
         let person = BoneLengths::from_array(lengths)?;
         let height_m = person.standing_height_m();
-        if (MIN_HEIGHT_M..=MAX_HEIGHT_M).contains(&height_m) {
+        // (A relative slack of 1e-9: 2.6 m of `--person-height` read back as 2.6000000000000005.)
+        if height_m <= MAX_HEIGHT_M * (1.0 + 1e-9) {
             return Ok(person);
         }
         let in_feet = (MIN_HEIGHT_M..=MAX_HEIGHT_M).contains(&(height_m * FOOT_M));

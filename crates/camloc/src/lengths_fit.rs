@@ -3,10 +3,13 @@
 //! lengths in another unit fit the image worse, and nothing else says so.
 
 /// How many times the estimated lengths' reprojection error the given lengths' must reach for
-/// [`LengthsFit::is_poor`]. A simulated animator's CMU actors filmed by four cameras (front,
-/// side, back, 2 m up at 45 deg; 90-299 frames, 2 px noise): each actor's own lengths 0.95-1.12
-/// times (24 runs); another actor's 1.41-4.01 times (8 runs, 6 of them 1.5 or more); a file
-/// with the thighs and forearms swapped 4.9-12.7 times.
+/// [`LengthsFit::is_poor`]. On a simulated animator's views of CMU actors (6 clips of 5
+/// actors, 25-299 frames, four cameras: front, side, back, 2 m up at 45 deg; 2 px noise), a
+/// temporary build printing the ratio gave each actor's own lengths 0.95-1.12 times (24 runs)
+/// and the thighs and forearms swapped 4.9-12.7 times on one actor's four views; a reviewer
+/// measured from the JSON's errors 0.96-1.15 on the own lengths (48 runs, with and without
+/// the focal length), another actor's lengths 1.01-4.10 (96 runs, 69% at 1.5 or more), the
+/// swapped file 2.9-12.8 (23 of 24 runs). docs/measured.md.
 pub const POOR_LENGTHS_FIT_RATIO: f64 = 1.5;
 
 /// The median over a person's frames of the reprojection error of their reconstruction with
@@ -45,13 +48,16 @@ impl LengthsFit {
 
     /// `None` unless [`is_poor`](Self::is_poor); else e.g. `the bone lengths given fit its 90
     /// frames worse than lengths estimated from them (median reprojection error 14.1 against
-    /// 4.9, image units): another person's, limbs swapped, or another unit?`.
+    /// 4.9, image units): another person's, limbs swapped, another unit, or lengths of a
+    /// skeleton whose neck, pelvis and head are placed otherwise ...?`.
     pub fn warning(&self) -> Option<String> {
         self.is_poor().then(|| {
             format!(
                 "the bone lengths given fit its {} frames worse than lengths estimated from them \
                  (median reprojection error {:.1} against {:.1}, image units): another person's, \
-                 limbs swapped, or another unit?",
+                 limbs swapped, another unit, or lengths of a skeleton whose neck, pelvis and \
+                 head are placed otherwise than the input's (a detector's neck and pelvis at the \
+                 shoulders' and hips' midpoints: docs/keypoints.md)?",
                 self.frames, self.given, self.estimated
             )
         })

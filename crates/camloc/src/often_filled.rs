@@ -85,12 +85,13 @@ impl OftenFilled {
             .collect()
     }
 
-    /// [`names`](Self::names), then the [`unseen_limbs`](Self::unseen_limbs) when there are
-    /// some: `left_ankle in 90 (for 90 frames from frame 0); seen in no frame, the lengths of
-    /// the left shin are the length prior's guess`.
-    pub fn summary(&self) -> String {
+    /// [`names`](Self::names), then, unless the person's lengths were given
+    /// (`lengths_given`), the [`unseen_limbs`](Self::unseen_limbs) when there are some:
+    /// `left_ankle in 90 (for 90 frames from frame 0); seen in no frame, the lengths of the
+    /// left shin are the length prior's guess`.
+    pub fn summary(&self, lengths_given: bool) -> String {
         let unseen = self.unseen_limbs();
-        if unseen.is_empty() {
+        if unseen.is_empty() || lengths_given {
             return self.names();
         }
         format!(
@@ -366,17 +367,18 @@ mod tests {
         let found = often_filled(numbered(&frames), at(30.0)).unwrap();
         assert_eq!(found.unseen_limbs(), ["left shin"]);
         assert!(
-            found.summary().ends_with(
+            found.summary(false).ends_with(
                 "; seen in no frame, the lengths of the left shin are the length prior's guess"
             ),
             "{}",
-            found.summary()
+            found.summary(false)
         );
-        let half: Vec<Vec<Landmark>> = frames[..4].iter().map(|_| vec![RightKnee]).collect();
-        let mut some = half.clone();
+        // Given lengths are not the prior's.
+        assert_eq!(found.summary(true), found.names());
+        let mut some: Vec<Vec<Landmark>> = vec![vec![RightKnee]; 4];
         some.extend(vec![vec![]; 4]);
         let found = often_filled(numbered(&some), at(30.0)).unwrap();
         assert!(found.unseen_limbs().is_empty());
-        assert_eq!(found.summary(), found.names());
+        assert_eq!(found.summary(false), found.names());
     }
 }

@@ -97,14 +97,15 @@ pub fn warn_of_sinking(person: &str, numbers: &[Option<u64>], animated: &[Option
 
 /// Warns on standard error of the landmarks of `person` (its name) filled in, not seen, often
 /// or over half a second among its reconstructed frames (`often`:
-/// [`camloc::often_filled_frames`]).
-pub fn warn_of_filled(person: &str, often: Option<camloc::OftenFilled>) {
+/// [`camloc::often_filled_frames`]) and, unless its lengths were given (`lengths_given`), of
+/// the limbs no frame shows.
+pub fn warn_of_filled(person: &str, often: Option<camloc::OftenFilled>, lengths_given: bool) {
     if let Some(often) = often {
         stderr_line!(
             "camloc: warning: {person}: landmarks filled in, not seen (their 3D is a guess, from \
              the pose basis or the frames around a short gap; `imputed` in JSON), of its {}: {}",
             counted(often.frames as u64, "reconstructed frame"),
-            often.summary()
+            often.summary(lengths_given)
         );
     }
 }

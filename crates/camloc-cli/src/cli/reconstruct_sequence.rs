@@ -254,7 +254,11 @@ pub fn run(
                 );
             }
             let often = camloc::often_filled_frames(&frames, &numbers, reconstructor.frame_rate());
-            super::person_solve::warn_of_filled(&names[n], often);
+            super::person_solve::warn_of_filled(
+                &names[n],
+                often,
+                reconstructor.given().lengths.is_some(),
+            );
             let outputs = members.iter().zip(frames).zip(animated).zip(left_out);
             for ((((&i, frame), pose), left), &sides) in outputs.zip(&swapped_sides) {
                 let k = &kept[i];
