@@ -215,6 +215,21 @@ pub(crate) fn set_height_estimate<'py>(
     )
 }
 
+/// A `camera_height` argument: `None`, or its text (`"from-input"`, `"any"`, `"eye-level"`, a
+/// number of metres; checked where it is used), or a `TypeError` naming its type (pyo3's own
+/// said "cannot be converted to 'PyString'").
+pub(crate) fn camera_height_text(value: &Bound<'_, PyAny>) -> PyResult<Option<String>> {
+    if value.is_none() {
+        return Ok(None);
+    }
+    value.extract().map(Some).map_err(|_| {
+        pyo3::exceptions::PyTypeError::new_err(format!(
+            "camera_height must be a str (\"from-input\", \"any\" or \"eye-level\"), not {}",
+            crate::number::type_name(value)
+        ))
+    })
+}
+
 #[pymethods]
 impl Localizer {
     /// The default model embedded in this build, localizing under the prior `camera_height`
@@ -234,22 +249,14 @@ impl Localizer {
                 "Localizer() got an unexpected keyword argument {key}: {LOAD}"
             )));
         }
-        let camera_height: Option<String> = match camera_height.filter(|h| !h.is_none()) {
-            None => None,
+        let camera_height: Option<String> = match camera_height {
             Some(h) if h.hasattr("__fspath__")? => {
                 return Err(pyo3::exceptions::PyTypeError::new_err(format!(
                     "Localizer() got a path as camera_height: {LOAD}"
                 )));
             }
-            Some(h) => Some(h.extract().map_err(|_| {
-                pyo3::exceptions::PyTypeError::new_err(format!(
-                    "camera_height must be a str (\"from-input\", \"any\" or \"eye-level\"), \
-                     not {}",
-                    h.get_type()
-                        .name()
-                        .map_or_else(|_| "?".into(), |n| n.to_string())
-                ))
-            })?),
+            Some(h) => camera_height_text(h)?,
+            None => None,
         };
         let camera_height = camera_height.as_deref();
         if let Some(height) = camera_height.filter(|h| h.contains(['.', '/', '\\'])) {
@@ -264,11 +271,14 @@ impl Localizer {
     // Reads a model file written by `camloc train`, localizing under the prior `camera_height`.
     #[doc = include_str!(concat!(env!("OUT_DIR"), "/doc/Localizer.load.txt"))]
     #[staticmethod]
-    #[pyo3(signature = (path, camera_height = "from-input"))]
-    fn load(path: PathBuf, camera_height: Option<&str>) -> PyResult<Self> {
+    #[pyo3(signature = (path, camera_height = None), text_signature = "(path, camera_height=\"from-input\")")]
+    fn load(
+        path: PathBuf,
+        #[pyo3(from_py_with = camera_height_text)] camera_height: Option<String>,
+    ) -> PyResult<Self> {
         Localizer::with_filler(
             CameraLocalizer::load(&path).map_err(|e| to_py_err(e.into()))?,
-            camera_height.unwrap_or(CameraHeight::FROM_INPUT),
+            camera_height.as_deref().unwrap_or(CameraHeight::FROM_INPUT),
         )
     }
 

@@ -181,7 +181,7 @@ pub(crate) fn reconstruct<'py>(
     focal_px: Option<Bound<'py, PyAny>>,
     principal_point: Option<Bound<'py, PyAny>>,
     #[pyo3(from_py_with = crate::number::sequence)] sequence: bool,
-    camera_height: Option<&str>,
+    #[pyo3(from_py_with = crate::localize::camera_height_text)] camera_height: Option<String>,
     lifter: LifterArg,
     #[pyo3(from_py_with = crate::number::person_height)] person_height: Option<f64>,
     #[pyo3(from_py_with = crate::number::fps)] fps: f64,
@@ -245,7 +245,7 @@ pub(crate) fn reconstruct<'py>(
         }
     }
     // A camera height given here replaces the localizer's own (the lifter stays).
-    if let Some(name) = camera_height {
+    if let Some(name) = camera_height.as_deref() {
         let height;
         (height, from_input) = parse_height(name)?;
         if let Some(localizer) = reconstructor.localizer().cloned() {

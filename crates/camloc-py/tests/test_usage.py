@@ -729,6 +729,12 @@ def test_a_model_file_given_to_the_constructor_points_to_load():
         camloc.Localizer("high")
     with pytest.raises(TypeError, match="camera_height must be a str .*not int"):
         camloc.Localizer(3)
+    # Loading a model and reconstructing say the same of a height that is not text.
+    with pytest.raises(TypeError, match="camera_height must be a str .*not float"):
+        camloc.Localizer.load(model, camera_height=1.5)
+    with pytest.raises(TypeError, match="camera_height must be a str .*not int"):
+        camloc.reconstruct(example_points(), camera_height=2)
+    assert camloc.Localizer.load(model, camera_height=None).camera_height == "from-input"
 
 
 def test_landmarks_in_another_order_than_the_layout_are_warned_of():
