@@ -2,7 +2,6 @@
 //! input, estimated from its first poses before any is localized
 //! ([`CameraLocalizer::estimate_height_shares`]).
 
-use std::io::IsTerminal;
 use std::path::Path;
 
 use camloc::dataset::Dataset;
@@ -91,7 +90,7 @@ pub fn for_dataset(
 /// Says `estimate` (of the `whole` input, or of its first poses) on standard error, unless
 /// `quiet` or not a terminal.
 fn say(estimate: &HeightEstimate, whole: bool, quiet: bool) {
-    if quiet || !std::io::stderr().is_terminal() {
+    if !super::progress::shown(quiet) {
         return;
     }
     let read = estimate.read;

@@ -433,8 +433,8 @@ pub struct ForceArgs {
 #[derive(clap::Args)]
 pub struct ProgressArgs {
     /// No progress bar on standard error, nor (commands that localize) the camera heights
-    /// `--camera-height from-input` estimated (both are shown only when standard error is a
-    /// terminal).
+    /// `--camera-height from-input` estimated, nor (`reconstruct --bvh`) the note that the
+    /// people have the length prior's size (all shown only when standard error is a terminal).
     #[arg(long, short)]
     pub quiet: bool,
 }

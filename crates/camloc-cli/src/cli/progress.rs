@@ -1,13 +1,13 @@
 //! Progress on standard error (indicatif), shown only when standard error is a terminal and
-//! `--quiet` is not given.
+//! `--quiet` is not given ([`shown`], which the notes on standard error follow too).
 
 use std::io::IsTerminal;
 use std::time::Duration;
 
 use indicatif::{ProgressBar, ProgressState, ProgressStyle};
 
-/// `true` when progress may be drawn.
-fn shown(quiet: bool) -> bool {
+/// `true` when progress, and notes such as the camera heights estimated, may be shown.
+pub fn shown(quiet: bool) -> bool {
     !quiet && std::io::stderr().is_terminal()
 }
 

@@ -537,6 +537,16 @@ fn finish(
     if args.bvh.is_none() && args.html.is_none() {
         return None;
     }
+    // One camera cannot tell a size: a simulated animator's shortest actor came out 10% large,
+    // and the distances walked with it, without a word.
+    let sized = args.person_height.is_some() || args.bone_lengths.is_some();
+    if args.bvh.is_some() && !sized && super::progress::shown(args.progress.quiet) {
+        stderr_line!(
+            "camloc: the BVH's people have the length prior's size (about 1.7 m tall), and their \
+             distances walked are in that size: --person-height or --bone-lengths gives a \
+             person's own"
+        );
+    }
     let mut paths = Vec::new();
     if let Some(bvh) = &args.bvh {
         let base = export::bvh_base(bvh);
