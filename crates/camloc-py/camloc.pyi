@@ -80,7 +80,8 @@ class Localizer:
         tripod, handheld phone or studio camera at about a standing person's eye level, a
         few metres away: a middle-ring camera is 8 times as likely a priori); ``None`` is
         ``"from-input"``, as ``reconstruct``'s ``camera_height=None`` is the localizer's own.
-        Raises ValueError for another value, as for every other bad argument."""
+        Raises ValueError for another text, as for every other bad argument, and TypeError for
+        a value that is not text (a number, a path: ``Localizer.load`` reads model files)."""
 
     @staticmethod
     def load(path: _Path, camera_height: Optional[str] = "from-input") -> "Localizer":

@@ -70,6 +70,39 @@ fn several_existing_outputs_are_named_at_once() {
             .unwrap()
             .starts_with("HIERARCHY")
     );
+    // One existing file is refused before any work too: before a missing model is looked for.
+    let out = camloc(&[
+        "reconstruct",
+        "--input",
+        example.to_str().unwrap(),
+        "--model",
+        dir.0.join("absent.bin").to_str().unwrap(),
+        "--bvh",
+        bvh.to_str().unwrap(),
+    ]);
+    assert_clean_failure(&out, "x.bvh: already exists (pass --force");
+    // Folders in the way are refused as folders (never replaced, even with --force), not as
+    // files to remove.
+    let (first, second) = (dir.0.join("f.npy"), dir.0.join("g.html"));
+    std::fs::create_dir(&first).unwrap();
+    std::fs::create_dir(&second).unwrap();
+    for force in [false, true] {
+        let mut args = vec![
+            "reconstruct",
+            "--input",
+            example.to_str().unwrap(),
+            "--npy",
+            first.to_str().unwrap(),
+            "--html",
+            second.to_str().unwrap(),
+        ];
+        if force {
+            args.push("--force");
+        }
+        let out = camloc(&args);
+        assert_clean_failure(&out, "f.npy: is a directory, not a regular file");
+        assert!(!String::from_utf8_lossy(&out.stderr).contains("remove them"));
+    }
 }
 
 /// Several SVGs are all written or none: an existing one (without --force) or one that cannot

@@ -215,9 +215,9 @@ pub(crate) fn set_height_estimate<'py>(
     )
 }
 
-/// A `camera_height` argument: `None`, or its text (`"from-input"`, `"any"`, `"eye-level"`, a
-/// number of metres; checked where it is used), or a `TypeError` naming its type (pyo3's own
-/// said "cannot be converted to 'PyString'").
+/// A `camera_height` argument: `None`, or its text (`"from-input"`, `"any"` or `"eye-level"`,
+/// checked where it is used), or a `TypeError` naming its type (pyo3's own said "cannot be
+/// converted to 'PyString'").
 pub(crate) fn camera_height_text(value: &Bound<'_, PyAny>) -> PyResult<Option<String>> {
     if value.is_none() {
         return Ok(None);

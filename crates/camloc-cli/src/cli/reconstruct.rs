@@ -542,9 +542,13 @@ fn finish(
     let sized = args.person_height.is_some() || args.bone_lengths.is_some();
     if args.bvh.is_some() && !sized && super::progress::shown(args.progress.quiet) {
         stderr_line!(
-            "camloc: the BVH's people have the length prior's size (about 1.7 m tall), and their \
-             distances walked are in that size: --person-height or --bone-lengths gives a \
-             person's own"
+            "camloc: the BVH's people have the length prior's size (about 1.7 m tall{}): \
+             --person-height or --bone-lengths gives a person's own",
+            if args.sequence {
+                ", their distances walked too"
+            } else {
+                ""
+            }
         );
     }
     let mut paths = Vec::new();

@@ -3,6 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
+use camloc::CamlocError;
 use camloc::store::{StoreError, check_target, quoted_path};
 
 use super::CliError;
@@ -26,8 +27,8 @@ pub struct Output<'a> {
 /// (`check_distinct`), none is a file the run reads or `-` (`check_not_input`, with
 /// `inputs` the reading options, "the input" for the keypoints given as `--input` or as the
 /// argument, and their paths, if given), every one's folder exists
-/// (`check_folders`), none is named like a file of another format (`check_format`), and,
-/// without `force`, not several of their files exist already (`check_existing`).
+/// (`check_folders`), none is named like a file of another format (`check_format`), and
+/// nothing is in the way of their files (`check_existing`).
 pub fn check<'a>(
     given: impl IntoIterator<Item = (Option<&'a Path>, &'static str, Option<&'static str>)>,
     inputs: &[(&'static str, Option<&Path>)],
@@ -54,25 +55,40 @@ pub fn check<'a>(
     check_existing(&outputs, force)
 }
 
-/// Without `force`, refuses ([`CliError::SeveralExist`]) outputs of which several files exist
-/// already (their [`numbered_targets`] for numbered outputs), naming them all: a simulated
-/// animator removed the one named, ran again and met the next. One existing file is left to
-/// its output's own check ([`check_target`], [`check_numbered`]), which names it.
+/// Refuses, before any work, what is in the way of the outputs' files (their
+/// [`numbered_targets`] for numbered outputs), as each output's own check does later
+/// ([`check_target`], [`check_numbered`]): a folder, device or (without `force`) symbolic link
+/// with its own message; existing files without `force` all named at once
+/// ([`CliError::SeveralExist`]; one as [`check_target`] or [`check_numbered`] names it). A
+/// simulated animator removed the one file named, ran again and met the next; a reviewer
+/// found one existing file refused only after the model was loaded and the input read.
 fn check_existing(outputs: &[Output], force: bool) -> Result<(), CliError> {
-    if force {
-        return Ok(());
-    }
-    let existing: Vec<PathBuf> = outputs
-        .iter()
-        .flat_map(|out| match out.numbered {
+    let mut existing: Vec<(PathBuf, &Output)> = Vec::new();
+    for out in outputs {
+        let targets = match out.numbered {
             Some(ext) => numbered_targets(out.path, ext),
             None => vec![out.path.to_path_buf()],
-        })
-        .filter(|path| std::fs::symlink_metadata(path).is_ok())
-        .collect();
-    match existing.len() {
-        0 | 1 => Ok(()),
-        _ => Err(CliError::SeveralExist(existing)),
+        };
+        for path in targets {
+            match check_target(&path, force) {
+                Ok(()) => {}
+                Err(StoreError::Exists { path }) => existing.push((path, out)),
+                Err(e) => return Err(CamlocError::from(e).into()),
+            }
+        }
+    }
+    match existing.as_slice() {
+        [] => Ok(()),
+        [(path, out)] if out.numbered.is_some() && path != out.path => {
+            Err(CliError::NumberedExists {
+                path: path.clone(),
+                out: out.path.to_path_buf(),
+            })
+        }
+        [(path, _)] => Err(CamlocError::from(StoreError::Exists { path: path.clone() }).into()),
+        _ => Err(CliError::SeveralExist(
+            existing.into_iter().map(|(path, _)| path).collect(),
+        )),
     }
 }
 
