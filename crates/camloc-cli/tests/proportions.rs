@@ -506,4 +506,18 @@ fn given_lengths_that_fit_the_frames_worse_than_estimated_ones_are_warned_of() {
     swapped.swap(4, 13);
     let warned = run(&dir.file("swapped.json", &document(&swapped)));
     assert!(warned.contains(said), "{warned}");
+    // The text output's person line gives both errors.
+    let text = success(&camloc(&[
+        "reconstruct",
+        "--input",
+        &input,
+        "--sequence",
+        "--bone-lengths",
+        &own,
+    ]));
+    let person = text.lines().find(|l| l.starts_with("person 0 (20 frames)"));
+    assert!(
+        person.is_some_and(|l| l.contains("(given; median reprojection error ")),
+        "{text}"
+    );
 }

@@ -323,9 +323,14 @@ pub fn run(
                     emit.write(
                         out,
                         &format!(
-                            "person {person} ({}): bone lengths (m): {}\n",
+                            "person {person} ({}): bone lengths (m): {}{}\n",
                             counted(members.len() as u64, "frame"),
-                            lengths_text(&lengths)
+                            lengths_text(&lengths),
+                            lengths_fit.map_or_else(String::new, |fit| format!(
+                                " (given; median reprojection error {:.2} with them, {:.2} with \
+                                 lengths estimated from the frames)",
+                                fit.given, fit.estimated
+                            ))
                         ),
                     )?;
                 }
