@@ -5,7 +5,7 @@ use std::process::ExitCode;
 
 use camloc::keypoints::{KeypointRecord, to_camloc_json};
 use camloc::reconstruct::FrameRate;
-use camloc::store::{StagedFiles, check_target, escaped};
+use camloc::store::{StagedFiles, escaped};
 use camloc::{PartialPose2, follow_records};
 use clap::ValueEnum;
 
@@ -61,7 +61,6 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
             targets::check_format(&args.out, "--to npy", "a NumPy .npy array", &["npy"])?
         }
     }
-    check_target(&args.out, args.force)?;
     let mut inputs = Inputs::open(&args.input)?;
     let bar = progress::counter(args.progress.quiet, inputs.len_hint(), "convert", "poses");
     let mut staged = StagedFiles::new(args.force);

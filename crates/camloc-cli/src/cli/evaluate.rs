@@ -10,7 +10,7 @@ use camloc::{CamlocError, ViewpointAccuracy, evaluate};
 
 use super::heights;
 use super::{CameraHeightArgs, CliError, Out, ProgressArgs, load_dataset, load_model, targets};
-use camloc::store::{StagedFiles, check_target};
+use camloc::store::StagedFiles;
 
 /// Arguments of `camloc evaluate`.
 #[derive(clap::Args)]
@@ -59,9 +59,6 @@ pub fn run(args: &Args, stdout: &mut Out) -> Result<ExitCode, CliError> {
         ],
         args.force,
     )?;
-    if let Some(svg) = &args.svg {
-        check_target(svg, args.force)?;
-    }
     let localizer = load_model(args.model.as_deref(), &args.height)?;
     let dataset = load_dataset(&args.dataset)?;
     let localizer = heights::for_dataset(localizer, &args.height, &dataset, args.progress.quiet);

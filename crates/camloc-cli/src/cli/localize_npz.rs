@@ -156,10 +156,6 @@ fn flags(landmarks: impl Iterator<Item = Landmark>) -> [bool; NUM_LANDMARKS] {
 }
 
 impl RowFile<Localization> for LocalizationArrays {
-    fn target(&self) -> &Path {
-        &self.target
-    }
-
     fn push(
         &mut self,
         record: &KeypointRecord,

@@ -83,9 +83,6 @@ impl Out {
 /// A file of one row per pose read, in input order, written as the poses are done and staged
 /// at the end of the run: `--npy` ([`NpyStage`]), `localize --npz`.
 pub trait RowFile<P> {
-    /// Where the file goes.
-    fn target(&self) -> &Path;
-
     /// Appends the row of the pose `record`: `row`, or the file's mark of a failed pose for
     /// `None`.
     ///
@@ -152,10 +149,6 @@ impl<P: NpyPose> NpyStage<P> {
 }
 
 impl<P: NpyPose> RowFile<P> for NpyStage<P> {
-    fn target(&self) -> &Path {
-        &self.target
-    }
-
     /// Appends one pose, or a row of NaN for `None`.
     fn push(&mut self, _record: &KeypointRecord, pose: Option<&P>) -> Result<(), CliError> {
         let mut result = Ok(());

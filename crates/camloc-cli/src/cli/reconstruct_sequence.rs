@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use camloc::keypoints::KeypointRecord;
-use camloc::store::{StagedFiles, check_target};
+use camloc::store::StagedFiles;
 use camloc::{ModeKind, Pose3, PoseReconstruction, PoseReconstructor};
 use indicatif::ProgressBar;
 
@@ -76,21 +76,21 @@ pub fn run(
     options: Options,
     bar: &ProgressBar,
 ) -> Result<ExitCode, CliError> {
-    // The numbered outputs' targets, looked at again after the run (`warn_left_over`).
+    // The numbered outputs' targets (refused before any work if they existed,
+    // `targets::check`), looked at again after the run (`warn_left_over`).
     let mut numbered = Vec::new();
     if let Some(svg) = options.svg {
-        numbered.extend(super::targets::check_numbered(svg, "svg", options.force)?);
-    }
-    if let Some(path) = options.npy {
-        check_target(path, options.force)?;
+        numbered.extend(super::targets::numbered_targets(svg, "svg"));
     }
     if let Some(path) = options.lengths_out {
-        numbered.extend(super::targets::check_numbered(path, "json", options.force)?);
+        numbered.extend(super::targets::numbered_targets(path, "json"));
     }
-    for path in options.finish.iter().flat_map(|(paths, _)| paths) {
-        check_target(path, options.force)?;
-        numbered.push(path.clone());
-    }
+    numbered.extend(
+        options
+            .finish
+            .iter()
+            .flat_map(|(paths, _)| paths.iter().cloned()),
+    );
     let keeps = options.finish.is_some();
     check_kept_input(keeps, &inputs)?;
     let mut emit = Emitter::new(format);

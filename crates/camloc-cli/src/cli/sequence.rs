@@ -36,7 +36,7 @@ use super::stream::{
     nothing_detected, report_pose_error,
 };
 use super::{CliError, Locator, numbered_path};
-use camloc::store::{StagedFiles, check_target, escaped};
+use camloc::store::{StagedFiles, escaped};
 
 /// One localized (or failed) pose of a sequence: what is kept until the sequence is smoothed
 /// (at most 250 bytes, with the id, source and probabilities on the heap).
@@ -194,18 +194,11 @@ pub fn run(
 ) -> Result<ExitCode, CliError> {
     let localizer = locator.localizer;
     let (svg_out, summary_out, force) = (files.svg, files.summary, files.force);
-    if let Some((html, _)) = files.html {
-        check_target(html, force)?;
-    }
     let mut views: Vec<ViewFrame> = Vec::new();
-    // The timelines' targets, looked at again after the run (`warn_left_over`).
-    let mut numbered = Vec::new();
-    if let Some(svg) = svg_out {
-        numbered = super::targets::check_numbered(svg, "svg", force)?;
-    }
-    if let Some(summary) = summary_out {
-        check_target(summary, force)?;
-    }
+    // The timelines' targets (refused before any work if they existed, `targets::check`),
+    // looked at again after the run (`warn_left_over`).
+    let numbered =
+        svg_out.map_or_else(Vec::new, |svg| super::targets::numbered_targets(svg, "svg"));
     let mut emit = Emitter::new(format);
     check_kept_input(files.html.is_some(), &inputs)?;
     let mut summary = Summary {

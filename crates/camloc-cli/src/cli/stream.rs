@@ -9,7 +9,7 @@ use std::process::ExitCode;
 
 use camloc::keypoints::{KeypointError, KeypointRecord};
 use camloc::reconstruct::Intrinsics;
-use camloc::store::{StagedFiles, check_target, escaped, quoted, quoted_path};
+use camloc::store::{StagedFiles, escaped, quoted, quoted_path};
 use indicatif::ProgressBar;
 use rayon::prelude::*;
 use serde::Serialize;
@@ -424,22 +424,19 @@ where
     F: Fn(&KeypointRecord) -> Result<Done<P, K>, Failed<K>> + Sync,
 {
     let svg_out = files.svg.clone();
-    // Refuse existing outputs before any work (checked again when the files are moved in
-    // place); the numbered ones are looked at again after the run (`warn_left_over`).
+    // Existing outputs were refused before any work (`targets::check`; checked again when the
+    // files are moved in place); the numbered ones are looked at again after the run
+    // (`warn_left_over`).
     let mut numbered = Vec::new();
     if let Some(svg) = &files.svg {
-        numbered = super::targets::check_numbered(svg, "svg", files.force)?;
+        numbered = super::targets::numbered_targets(svg, "svg");
     }
-    if let Some(rows) = &files.rows {
-        check_target(rows.target(), files.force)?;
-    }
-    if let Some((summary, _)) = &files.summary {
-        check_target(summary, files.force)?;
-    }
-    for path in files.finish.iter().flat_map(|(paths, _)| paths) {
-        check_target(path, files.force)?;
-        numbered.push(path.clone());
-    }
+    numbered.extend(
+        files
+            .finish
+            .iter()
+            .flat_map(|(paths, _)| paths.iter().cloned()),
+    );
     check_kept_input(files.finish.is_some(), &inputs)?;
     let mut kept = Vec::new();
     let mut staged = StagedFiles::new(files.force);

@@ -56,10 +56,10 @@ pub fn check<'a>(
 }
 
 /// Refuses, before any work, what is in the way of the outputs' files (their
-/// [`numbered_targets`] for numbered outputs), as each output's own check does later
-/// ([`check_target`], [`check_numbered`]): a folder, device or (without `force`) symbolic link
-/// with its own message; existing files without `force` all named at once
-/// ([`CliError::SeveralExist`]; one as [`check_target`] or [`check_numbered`] names it). A
+/// [`numbered_targets`] for numbered outputs; they are checked again when the files are moved
+/// into place): a folder, device or (without `force`) symbolic link as [`check_target`] says
+/// it; existing files without `force` all named at once ([`CliError::SeveralExist`]; one as
+/// [`check_target`] names it, or [`CliError::NumberedExists`] a numbered file). A
 /// simulated animator removed the one file named, ran again and met the next; a reviewer
 /// found one existing file refused only after the model was loaded and the input read.
 fn check_existing(outputs: &[Output], force: bool) -> Result<(), CliError> {
@@ -324,23 +324,6 @@ pub fn numbered_targets(out: &Path, ext: &str) -> Vec<PathBuf> {
         paths[1..].sort();
     }
     paths
-}
-
-/// Refuses, before any work, an existing file among the [`numbered_targets`] of `out` (as
-/// [`check_target`] does: without `force`, or a folder or device even with it); returns
-/// those targets, for [`warn_left_over`].
-pub fn check_numbered(out: &Path, ext: &str, force: bool) -> Result<Vec<PathBuf>, CliError> {
-    let targets = numbered_targets(out, ext);
-    for path in &targets {
-        match check_target(path, force) {
-            Err(StoreError::Exists { path }) if path != out => {
-                let out = out.to_path_buf();
-                return Err(CliError::NumberedExists { path, out });
-            }
-            checked => checked?,
-        }
-    }
-    Ok(targets)
 }
 
 /// Warns on standard error of the files among `checked` (targets checked before the run,

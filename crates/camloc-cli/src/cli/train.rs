@@ -8,7 +8,7 @@ use std::time::Instant;
 use camloc::dataset::Dataset;
 use camloc::features::PaperConfig;
 use camloc::learning::{LogisticRegression, Mode};
-use camloc::store::{Persist, StagedFiles, check_target};
+use camloc::store::{Persist, StagedFiles};
 use camloc::{CameraLocalizer, CamlocError, Capacity, Descriptor, LandmarkDropout, TrainOptions};
 use clap::ValueEnum;
 
@@ -198,7 +198,6 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
     )?;
     // `--out m.svg` or `m.json` would be a model file named like a drawing or a document.
     targets::check_format(&args.out, "--out", "a camloc model file", &["bin"])?;
-    check_target(&args.out, args.force.force)?;
     let mut options = TrainOptions {
         descriptor,
         ..TrainOptions::default()
