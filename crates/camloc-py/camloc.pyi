@@ -203,7 +203,10 @@ class Localizer:
         pose has a landmark, asking whether ``min_score`` is on the scale of the scores;
         another, at the default ``min_score`` of 0 with scores, when 1% or more of the
         landmarks of the first 2,000 poses score below 0.3 (used as detected;
-        docs/keypoints.md).
+        docs/keypoints.md); another, for a call of 100 poses or more, when the first 60 fit a
+        body clearly better with x divided or multiplied by (16/9)^2 (normalised coordinates
+        multiplied by the image's width and height swapped: a portrait phone video is 1080
+        wide; about 0.1 s more per such call; docs/keypoints.md).
         No poses ((0, J, 2) points) give empty arrays and no warning, where ``camloc
         localize`` refuses an input without poses (exit 1).
 
@@ -357,7 +360,8 @@ def reconstruct(
       A row of NaN (nothing detected) gets the error "the pose has no landmarks (nothing
       detected)". Like ``Localizer.localize``, it warns when most poses have the head below
       both ankles, of a rolled camera, of landmarks at the image origin, of weakly scored
-      landmarks used at ``min_score`` 0, and when every pose failed.
+      landmarks used at ``min_score`` 0, of pixels stretched across or squeezed, and when
+      every pose failed.
     camera_height: ``"from-input"`` (the camera heights estimated from the poses of this
       call), ``"any"`` or ``"eye-level"``, the prior over the camera's height the localizer
       applies (as ``Localizer(camera_height=...)``; the embedded depth lifter stays).
@@ -462,7 +466,9 @@ def reconstruct(
         r["person_bone_lengths"])`` walks and turns (the command line's file, whose limbs are
         the mean lengths of its frames' poses, has its root up to a few millimetres higher);
         NaN where a frame failed; a ``CamlocWarning`` when rows go more than 15 cm below the
-        floor (a camera that moved, depths misjudged, or a floor that is not flat). Without ``frames`` the rows are
+        floor (a camera that moved, depths misjudged, or a floor that is not flat); a camera
+        that panned to follow the person gives no such warning and walks them short: place
+        them in place then (``to_bvh``). Without ``frames`` the rows are
         taken as consecutive video frames: give a frame the person is missing from as a row
         of NaN, or the rows' ``frames``, so that time passes there (the frames on each side of
         3 or more frames in a row that fail are solved as runs of their own, with the person's
@@ -624,8 +630,14 @@ def to_bvh(
     joint origins are the 15 landmarks; each frame keeps its limb directions, with the given
     lengths, and the root follows the pelvis. The file is y up: a point (x, y, z) is
     (x, z, -y) / unit_m in it. The points are written where they are: a pose of
-    ``reconstruct`` has its pelvis at the origin and its feet below the floor; to make it
-    stand as ``camloc reconstruct --bvh`` does, lift it: ``p[..., 2] -= p[..., 2].min()``.
+    ``reconstruct`` has its pelvis at the origin and its feet below the floor; to make one
+    pose stand as ``camloc reconstruct --bvh`` does, lift it: ``p[:, 2] -= p[:, 2].min()``.
+    The frames of a clip have each their own lowest point (one shift for all leaves the
+    frames of a squat floating): give ``reconstruct(..., sequence=True)``'s
+    ``world_points3d``, or for a camera that panned or moved (whose motion would become the
+    person's) the frames in place as ``--bvh-in-place`` makes them, ``r["points3d"] +
+    r["world_points3d"][:, :1] * [0, 0, 1]`` (each pelvis above the origin, at the height
+    the placement gives it).
 
     Raises ValueError for a wrong shape, a frame with some (not all) NaN, no complete frame, a
     limb without direction, an fps outside 0.000278 to 1,000,000, a non-positive unit or
