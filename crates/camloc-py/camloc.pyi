@@ -13,7 +13,10 @@ width and by its height squash the pose, and all within [0, 1] are warned of), J
 - ``coco17``, ``h36m17``, ``body25``, ``mpii16``, ``lsp14``: detector and dataset layouts,
   mapped to the 15 landmarks as documented in docs/keypoints.md of the repository (the head of
   COCO-17 and BODY_25 is the mean of the face points; a missing pelvis or neck is the midpoint
-  of the hips or shoulders).
+  of the hips or shoulders);
+- ``mediapipe33``: MediaPipe Pose's 33 landmarks, in pixels (its normalised ``x``, ``y``
+  times the image's width and height; ``visibility`` as the scores, ``z`` not read): the
+  head is the mean of nose, eyes and ears, hands and feet are not used.
 
 A joint whose two coordinates are NaN is missing (a pose with a torso but fewer than 8 of the
 15 landmarks is localized from those it has, with a ``UserWarning``, and not reconstructed).
@@ -36,7 +39,7 @@ import numpy.typing as npt
 
 __version__: str
 LAYOUTS: List[str]
-"""The joint layouts: coco17, h36m17, body25, mpii16, lsp14, camloc15."""
+"""The joint layouts: coco17, h36m17, body25, mpii16, lsp14, camloc15, mediapipe33."""
 FORMATS: List[str]
 """The keypoint file formats ``read_keypoints`` reads."""
 LANDMARKS: List[str]

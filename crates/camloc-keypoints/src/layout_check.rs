@@ -156,7 +156,7 @@ fn rms_radius(points: &[[f64; 2]]) -> f64 {
 /// [`KeypointError::LayoutNotUsed`] when [`ReadOptions::layout`] is given for a `format` that does
 /// not take one (only `.npy` arrays and MMPose keypoints do) and is not the format's own layout
 /// (COCO's and YOLO's `coco17`, LSP's `lsp14`, MPII's `mpii16`, camloc's `camloc15`, OpenPose's
-/// `body25`).
+/// `body25`, MediaPipe's `mediapipe33`).
 pub(crate) fn layout_applies(
     format: KeypointFormat,
     options: &ReadOptions,
@@ -173,7 +173,7 @@ pub(crate) fn layout_applies(
         KeypointFormat::Camloc => Some(Layout::Camloc15),
         KeypointFormat::OpenPose => Some(Layout::Body25),
         KeypointFormat::Yolo => Some(Layout::Coco17),
-        KeypointFormat::MediaPipe => None,
+        KeypointFormat::MediaPipe => Some(Layout::Mediapipe33),
     };
     if own == Some(layout) {
         return Ok(());

@@ -322,8 +322,17 @@ impl<'a> PoseBatch<'a> {
             return Err(value_error(joint_count_error(shape, layout)));
         }
         if !(channels == 2 || channels == 3) {
+            // MediaPipe's landmarks as arrays are (x, y, z, visibility).
+            let hint = match (layout, channels) {
+                (Layout::Mediapipe33, 4) => {
+                    ": MediaPipe's (x, y, z, visibility) are points[..., :2] with \
+                     scores=points[..., 3]"
+                }
+                _ => "",
+            };
             return Err(value_error(format!(
-                "points must have 2 channels (x, y) or 3 (x, y, score) per joint, got {channels} (shape {shape:?})"
+                "points must have 2 channels (x, y) or 3 (x, y, score) per joint, got {channels} \
+                 (shape {shape:?}){hint}"
             )));
         }
         if !(min_score.is_finite() && min_score >= 0.0) {

@@ -122,3 +122,28 @@ def test_missing_and_derived_landmarks_are_the_command_line_s(cli, tmp_path):
         assert got[name].shape == (len(points), 15) and got[name].dtype == np.bool_
         np.testing.assert_array_equal(got[name], want[name], err_msg=name)
     assert got["missing"][0].sum() == 1 and got["missing"][1].all()
+
+
+def test_mediapipe_landmarks_are_a_layout():
+    """MediaPipe Pose's 33 landmarks in pixels (layout ``mediapipe33``; its unused joints NaN)
+    give what COCO-17 arrays of the same joints give: the same 12 limb joints, the head from
+    the same face points."""
+    points = example_points()
+    names = ["left_shoulder", "right_shoulder", "left_elbow", "right_elbow", "left_wrist",
+             "right_wrist", "left_hip", "right_hip", "left_knee", "right_knee", "left_ankle",
+             "right_ankle"]
+    head = points[:, [camloc.LANDMARKS.index("head")]]
+    limbs = points[:, [camloc.LANDMARKS.index(n) for n in names]]
+    coco17 = np.concatenate([np.repeat(head, 5, axis=1), limbs], axis=1)
+    mediapipe = np.full((len(points), 33, 2), np.nan)
+    mediapipe[:, [0, 2, 5, 7, 8]] = head
+    mediapipe[:, [11, 12, 13, 14, 15, 16, 23, 24, 25, 26, 27, 28]] = limbs
+    assert "mediapipe33" in camloc.LAYOUTS
+    alone = camloc.Localizer(camera_height="any")
+    expected = alone.localize(coco17, layout="coco17")
+    got = alone.localize(mediapipe, layout="mediapipe33")
+    np.testing.assert_array_equal(got["label"], expected["label"])
+    np.testing.assert_allclose(got["probabilities"], expected["probabilities"], atol=1e-12)
+    # MediaPipe's own four numbers a landmark are refused with the way to give them.
+    with pytest.raises(ValueError, match=r"points\[\.\.\., :2\] with scores=points\[\.\.\., 3\]"):
+        alone.localize(np.zeros((2, 33, 4)), layout="mediapipe33")

@@ -272,6 +272,10 @@ fn layout_values() -> Vec<PossibleValue> {
                 Layout::Mpii16 => "MPII (16 joints)",
                 Layout::Lsp14 => "LSP (14 joints, joints.mat order)",
                 Layout::Camloc15 => "camloc's 15 landmarks, pelvis first",
+                Layout::Mediapipe33 => {
+                    "MediaPipe Pose (33 landmarks; pixels: the normalised x, y times the image's \
+                     width and height)"
+                }
             })
         })
         .collect()
