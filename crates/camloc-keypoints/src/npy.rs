@@ -118,17 +118,13 @@ pub struct NpyPoses<R: Read> {
     options: ReadOptions,
     next: u64,
     row: Vec<f64>,
-    /// Whether the input's length was checked against the header (a regular file): without
-    /// it, the input is read one byte past the last pose to refuse what follows the array.
-    length_checked: bool,
 }
 
 impl<R: Read> NpyPoses<R> {
     /// Reads the header from `reader`. `file` names the input in records and errors; `size`, the
     /// input's length in bytes when known (a regular file), lets a truncated file or one with
     /// bytes after the array be refused at once; without it (a pipe), a truncated array is
-    /// reported at the pose where the data end, and bytes after the array (two arrays one
-    /// after the other, a header whose shape is too short) once its last pose is read.
+    /// reported at the pose where the data end, and bytes after the last pose are not read.
     /// The layout is [`ReadOptions::layout`], or the one layout with J joints (J = 17 needs it
     /// named: COCO-17 or Human3.6M).
     pub fn new(
@@ -202,7 +198,6 @@ impl<R: Read> NpyPoses<R> {
             options: *options,
             next: 0,
             row: Vec::with_capacity(layout.joint_count() * channels),
-            length_checked: size.is_some(),
         })
     }
 
@@ -235,17 +230,7 @@ impl<R: Read> NpyPoses<R> {
             problem,
         };
         if n == self.count {
-            if std::mem::replace(&mut self.length_checked, true) {
-                return None;
-            }
-            return match values.reader.read(&mut [0]) {
-                Ok(0) => None,
-                Ok(_) => Some(Err(problem(format!(
-                    "bytes follow the array's last pose ({n} poses): two arrays one after \
-                     the other, or a header whose shape is too short?"
-                )))),
-                Err(e) => Some(Err(problem(format!("cannot read after pose {n}: {e}")))),
-            };
+            return None;
         }
         if let Err(e) = values.read_into(self.layout.joint_count() * self.channels, &mut self.row) {
             let what = if e.kind() == io::ErrorKind::UnexpectedEof {

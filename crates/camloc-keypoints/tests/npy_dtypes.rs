@@ -1,7 +1,6 @@
 //! `.npy` keypoint arrays in every dtype the reader takes (`float64` and `float32`, little- or
-//! big-endian or this machine's order, with or without `=`) give the same records, and a
-//! truncated stream fails at the same pose in each; bytes after a streamed array are refused
-//! after its poses; a row with a value no pose holds is that row's error, the rows after it read.
+//! big-endian or this machine's order, with or without `=`) give the same records, and a truncated stream fails at the same pose in each;
+//! a row with a value no pose holds is that row's error, the rows after it read.
 
 use std::io::Cursor;
 
@@ -104,27 +103,6 @@ fn a_truncated_stream_fails_at_the_same_pose_in_every_dtype() {
             "{descr}"
         );
     }
-}
-
-#[test]
-fn bytes_after_a_streamed_array_are_refused_after_its_poses() {
-    let (_, bytes) = &arrays()[0];
-    // Two arrays one after the other, as `cat a.npy b.npy | camloc localize --input -`.
-    let twice = [bytes.as_slice(), bytes.as_slice()].concat();
-    let options = ReadOptions::default();
-    let items: Vec<_> = open_keypoints_reader(Cursor::new(twice), "-", None, None, &options)
-        .unwrap()
-        .collect();
-    assert_eq!(items.len(), 3);
-    assert_eq!(items[0].as_ref().unwrap().pose, poses()[0]);
-    assert_eq!(items[1].as_ref().unwrap().pose, poses()[1]);
-    assert_eq!(
-        items[2].as_ref().unwrap_err().to_string(),
-        "-: bytes follow the array's last pose (2 poses): two arrays one after the other, \
-         or a header whose shape is too short?"
-    );
-    // One array alone ends after its poses.
-    assert_eq!(read(bytes).unwrap().len(), 2);
 }
 
 #[test]
