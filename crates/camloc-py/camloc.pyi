@@ -14,9 +14,10 @@ width and by its height squash the pose, and all within [0, 1] are warned of), J
   mapped to the 15 landmarks as documented in docs/keypoints.md of the repository (the head of
   COCO-17 and BODY_25 is the mean of the face points; a missing pelvis or neck is the midpoint
   of the hips or shoulders);
-- ``mediapipe33``: MediaPipe Pose's 33 landmarks, in pixels (its normalised ``x``, ``y``
-  times the image's width and height; ``visibility`` as the scores, ``z`` not read): the
-  head is the mean of nose, eyes and ears, hands and feet are not used.
+- ``mediapipe33``: MediaPipe Pose's 33 landmarks, in pixels (its normalised ``x`` times the
+  image's width and ``y`` times its height: a portrait phone video is 1080 wide and 1920
+  high, and NumPy's ``image.shape`` is (height, width); ``visibility`` as the scores, ``z``
+  left out): the head is the mean of nose, eyes and ears, hands and feet are not used.
 
 A joint whose two coordinates are NaN is missing (a pose with a torso but fewer than 8 of the
 15 landmarks is localized from those it has, with a ``UserWarning``, and not reconstructed).
@@ -206,10 +207,7 @@ class Localizer:
         pose has a landmark, asking whether ``min_score`` is on the scale of the scores;
         another, at the default ``min_score`` of 0 with scores, when 1% or more of the
         landmarks of the first 2,000 poses score below 0.3 (used as detected;
-        docs/keypoints.md); another, for a call of 100 poses or more, when the first 60 fit a
-        body clearly better with x divided or multiplied by (16/9)^2 (normalised coordinates
-        multiplied by the image's width and height swapped: a portrait phone video is 1080
-        wide; about 0.1 s more per such call; docs/keypoints.md).
+        docs/keypoints.md).
         No poses ((0, J, 2) points) give empty arrays and no warning, where ``camloc
         localize`` refuses an input without poses (exit 1).
 
@@ -363,8 +361,7 @@ def reconstruct(
       A row of NaN (nothing detected) gets the error "the pose has no landmarks (nothing
       detected)". Like ``Localizer.localize``, it warns when most poses have the head below
       both ankles, of a rolled camera, of landmarks at the image origin, of weakly scored
-      landmarks used at ``min_score`` 0, of pixels stretched across or squeezed, and when
-      every pose failed.
+      landmarks used at ``min_score`` 0, and when every pose failed.
     camera_height: ``"from-input"`` (the camera heights estimated from the poses of this
       call), ``"any"`` or ``"eye-level"``, the prior over the camera's height the localizer
       applies (as ``Localizer(camera_height=...)``; the embedded depth lifter stays).

@@ -14,7 +14,6 @@ use pyo3::prelude::*;
 
 mod arrays;
 mod bvh;
-mod defaults;
 mod intrinsics;
 mod localize;
 mod number;

@@ -20,7 +20,7 @@ use crate::arrays::{
 };
 use crate::smooth::smoothed_columns;
 use crate::warnings::{
-    warn_if_every_pose_failed, warn_of_identity_jumps, warn_of_input_conventions, warn_of_stretch,
+    warn_if_every_pose_failed, warn_of_identity_jumps, warn_of_input_conventions,
     warn_of_swapped_sides, warn_of_weak_scores,
 };
 use crate::{to_py_err, value_error};
@@ -391,7 +391,6 @@ impl Localizer {
         });
         warn_of_input_conventions(py, &leading, inner.intrinsics())?;
         warn_of_weak_scores(py, batch.leading_weak_scores(WeakScores::SAMPLE_POSES))?;
-        warn_of_stretch(py, &leading)?;
         // With `sequence`, the rows' video frame numbers (default: consecutive frames).
         let frame_numbers = crate::smooth::sequence_frames(frames.as_ref(), sequence, batch.len())?;
         let left_out = if sequence {

@@ -3,13 +3,13 @@
 //! standard error: points with v up, a rolled camera or joints at the image origin, rows of a
 //! sequence that jump between people, and a call whose every pose failed.
 
+use camloc::ImageSizeCheck;
 use camloc::keypoints::WeakScores;
 use camloc::reconstruct::{FrameRate, Intrinsics};
 use camloc::{
     HEIGHT_SHARE_MAX_POSES, InputConventions, PartialPose2, TorsoAnchor, identity_jumps,
     left_out_of_sequence, swap_sides_back,
 };
-use camloc::{ImageSizeCheck, StretchCheck};
 use pyo3::prelude::*;
 
 /// Gives `message` as a [`CamlocWarning`](crate::CamlocWarning), which callers can filter
@@ -71,32 +71,6 @@ pub(crate) fn warn_of_swapped_image_size(
             py,
             format!(
                 "{check}: image_size is (width, height); a portrait phone video is (1080, 1920)"
-            ),
-        ),
-        _ => Ok(()),
-    }
-}
-
-/// Warns (`UserWarning`) when the first poses of a call of [`STRETCH_CHECK_MIN_POSES`] or
-/// more (`leading`) fit a body clearly better narrower or wider ([`StretchCheck`], solved with
-/// the defaults' reconstructor): coordinates normalised by the image's sides multiplied by its
-/// width and height swapped.
-///
-/// [`STRETCH_CHECK_MIN_POSES`]: camloc::STRETCH_CHECK_MIN_POSES
-pub(crate) fn warn_of_stretch(py: Python<'_>, leading: &[Option<PartialPose2>]) -> PyResult<()> {
-    if leading.len() < camloc::STRETCH_CHECK_MIN_POSES {
-        return Ok(());
-    }
-    let poses: Vec<PartialPose2> = leading.iter().flatten().copied().collect();
-    let reconstructor = crate::defaults::default_reconstructor()?;
-    let check = py.detach(|| crate::pool::run(|| StretchCheck::measure(reconstructor, &poses)));
-    match check {
-        Some(check) if check.stretched_across().is_some() => warn(
-            py,
-            format!(
-                "{check}: were coordinates normalised by the image's sides multiplied by its \
-                 width and height swapped? x = nx * width, y = ny * height (a portrait phone \
-                 video is 1080 wide and 1920 high)"
             ),
         ),
         _ => Ok(()),

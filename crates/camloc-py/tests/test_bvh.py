@@ -7,6 +7,7 @@ command line's file animates Python's `world_points3d`.
 """
 
 import json
+import os
 from pathlib import Path
 
 import numpy as np
@@ -16,6 +17,10 @@ import camloc
 
 ROOT = Path(__file__).resolve().parents[3]
 EXAMPLE = ROOT / "fixtures" / "keypoints" / "example.json"
+DATA = Path(os.environ.get("CAMLOC_DATA", ROOT.parent / "shared" / "data"))
+
+# The subjects the project's evaluations hold out (xtask/src/generalise.rs, TEST_SUBJECTS).
+HELD_OUT = ["06", "09", "16", "17", "35", "47", "113", "127", "141"]
 
 # camloc's landmark of each joint camloc's BVH files name (LANDMARKS order).
 JOINTS = [
@@ -94,6 +99,43 @@ def test_bad_input_raises_value_error():
         camloc.to_bvh(half)
     with pytest.raises(OSError):
         camloc.read_bvh(ROOT / "no-such-file.bvh")
+
+
+def held_out_walk():
+    """A walk of a held-out subject, chosen by its description in the CMU index ("walk")."""
+    index = DATA / "cmu" / "cmu-mocap-index-text.txt"
+    folder = DATA / "cmu" / "bvh"
+    if not index.is_file() or not folder.is_dir():
+        pytest.skip(f"SKIPPED: the CMU walk test: {DATA / 'cmu'} not found (set CAMLOC_DATA)")
+    walks = set()
+    for line in index.read_text(encoding="utf-8", errors="replace").splitlines():
+        trial, _, description = line.partition("\t")
+        if description.strip().lower() == "walk":
+            walks.add(trial.strip())
+    for path in sorted(folder.glob("*.bvh")):
+        subject = path.stem.split("_")[0]
+        if path.stem in walks and subject in HELD_OUT:
+            return path
+    pytest.skip("no walk of a held-out subject in the CMU folder")
+
+
+@pytest.fixture(scope="module")
+def walk_keypoints():
+    """(clip name, (200, 15, 2) keypoints) of a held-out CMU walk seen by one fixed camera: 4 m
+    from the mean pelvis, 10 degrees above it, at 200 degrees of azimuth in the clip's ground
+    plane (the walker's facing is the clip's own), 1000 px focal length."""
+    clip = held_out_walk()
+    truth = camloc.read_bvh(clip)["points3d"][:200]
+    assert truth.shape == (200, 15, 3)
+    a, e = np.radians(200.0), np.radians(10.0)
+    towards = np.array([np.cos(e) * np.cos(a), np.cos(e) * np.sin(a), np.sin(e)])
+    z = -towards
+    x = np.cross(z, [0, 0, 1.0])
+    x /= np.linalg.norm(x)
+    y = np.cross(z, x)
+    centre = truth[:, 0].mean(axis=0) + 4.0 * towards
+    local = (truth - centre) @ np.stack([x, y, z]).T
+    return clip.name, 1000.0 * local[..., :2] / local[..., 2:] + [960.0, 540.0]
 
 
 def assert_walk_reads_back(name, path, points3d, how):

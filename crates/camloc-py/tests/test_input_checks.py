@@ -1,5 +1,5 @@
 """Warnings of inputs that run but are likely wrong: landmarks in another order than the
-layout's, bone lengths that do not fit the rows, pixels stretched across or squeezed."""
+layout's, bone lengths that do not fit the rows."""
 
 import warnings
 
@@ -38,25 +38,3 @@ def test_given_lengths_that_fit_worse_than_estimated_ones_are_warned_of():
     swapped[4], swapped[13] = swapped[13], swapped[4]
     with pytest.warns(UserWarning, match="bone_lengths: the bone lengths given fit its 20 frames"):
         camloc.reconstruct(walk, sequence=True, bone_lengths=swapped)
-
-
-def test_pixels_stretched_across_are_warned_of(walk_keypoints):
-    """A held-out walk's pixels made (16/9)^2 times too wide for their height (normalised
-    coordinates multiplied by a portrait video's size given as landscape) are warned of,
-    naming the way that fits, by `localize` and `reconstruct` on 100 poses or more; as given,
-    or fewer than 100 poses, nothing is said (the command line's test checks squeezed
-    pixels too)."""
-    _, points2d = walk_keypoints
-    poses = points2d[::2]
-    with warnings.catch_warnings():
-        warnings.simplefilter("error")
-        camloc.Localizer().localize(poses)
-        camloc.reconstruct(poses)
-    scaled = poses * [(16 / 9) ** 2, 1.0]
-    with pytest.warns(UserWarning, match="the first 60 poses fit a body better with x divided by 3.16"):
-        camloc.Localizer().localize(scaled)
-    with pytest.warns(UserWarning, match="width and height swapped"):
-        camloc.reconstruct(scaled)
-    with warnings.catch_warnings():
-        warnings.simplefilter("error")
-        camloc.Localizer().localize(scaled[:99])

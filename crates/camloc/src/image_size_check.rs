@@ -56,7 +56,20 @@ impl ImageSizeCheck {
         if !(w.is_finite() && h.is_finite()) || w == h {
             return None;
         }
-        let fit = |pose: &PartialPose2, sx: f64, sy: f64| relative_fit(reconstructor, pose, sx, sy);
+        let fit = |pose: &PartialPose2, sx: f64, sy: f64| -> Option<f64> {
+            let mut scaled = *pose;
+            for p in scaled.points.iter_mut().flatten() {
+                *p = [p[0] * sx, p[1] * sy];
+            }
+            let points: Vec<[f64; 2]> = scaled.points.iter().flatten().copied().collect();
+            let (_, spread) = centroid_and_spread(&points)?;
+            let error = reconstructor
+                .reconstruct(&scaled)
+                .ok()?
+                .reconstruction
+                .projection_error;
+            (error.is_finite()).then_some(error / spread)
+        };
         let (mut given, mut swapped): (Vec<f64>, Vec<f64>) = normalised
             .iter()
             .take(IMAGE_SIZE_CHECK_POSES)
@@ -112,29 +125,6 @@ impl ImageSizeCheck {
     pub fn swapped_fits_better(&self) -> bool {
         self.swapped < IMAGE_SIZE_SWAP_RATIO * self.given
     }
-}
-
-/// How well `pose` with its x scaled by `sx` and its y by `sy` fits a body: the reprojection
-/// error of its reconstruction over the 2D pose's spread (its RMS distance from its
-/// centroid); `None` when it cannot be reconstructed or has no spread.
-pub(crate) fn relative_fit(
-    reconstructor: &PoseReconstructor,
-    pose: &PartialPose2,
-    sx: f64,
-    sy: f64,
-) -> Option<f64> {
-    let mut scaled = *pose;
-    for p in scaled.points.iter_mut().flatten() {
-        *p = [p[0] * sx, p[1] * sy];
-    }
-    let points: Vec<[f64; 2]> = scaled.points.iter().flatten().copied().collect();
-    let (_, spread) = centroid_and_spread(&points)?;
-    let error = reconstructor
-        .reconstruct(&scaled)
-        .ok()?
-        .reconstruction
-        .projection_error;
-    (error.is_finite()).then_some(error / spread)
 }
 
 /// What was measured, for a warning: `the first 60 poses fit a body better with the image

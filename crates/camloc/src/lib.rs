@@ -65,7 +65,6 @@ mod select;
 mod sequence;
 mod sides;
 mod spread;
-mod stretch_check;
 mod torso_placement;
 mod train;
 mod train_options;
@@ -143,7 +142,6 @@ pub use sides::{
     SIDE_SWAP_RUN_FRAMES, SideChain, SwappedPart, swap_sides_back, swapped_sides,
     with_part_swapped, with_sides_swapped,
 };
-pub use stretch_check::{STRETCH_CHECK_MIN_POSES, STRETCH_RATIO, StretchCheck, VIDEO_STRETCH};
 
 pub use lean::{
     LeanHistogram, TILT_MIN_AGREEMENT, TILT_MIN_POSES, TILT_NEAR_DEG, TILT_SHIN_DEG,

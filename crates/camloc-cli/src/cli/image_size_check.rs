@@ -1,11 +1,8 @@
-//! The warnings that `--image-size` may be the wrong way round ([`ImageSizeCheck`]: for
-//! coordinates normalised by the image's sides, MediaPipe's or YOLO's, the input's first poses
-//! solved with the size as given and swapped) and, without it, that the pixels look stretched
-//! across or squeezed ([`StretchCheck`]: normalised coordinates multiplied by hand by the
-//! image's width and height swapped).
+//! The warning that `--image-size` may be the wrong way round ([`ImageSizeCheck`]): for
+//! coordinates normalised by the image's sides (MediaPipe, YOLO), the input's first poses
+//! solved with the size as given and swapped.
 
-use camloc::keypoints::sample_records;
-use camloc::{ImageSizeCheck, PoseReconstructor, STRETCH_CHECK_MIN_POSES, StretchCheck};
+use camloc::{ImageSizeCheck, PoseReconstructor};
 
 use super::InputArgs;
 
@@ -38,40 +35,6 @@ pub fn warn_of_swapped_image_size(input: &InputArgs, reconstructor: Option<&Pose
         stderr_line!(
             "camloc: warning: {check}: --image-size is width first (a portrait phone video is \
              1080,1920)"
-        );
-    }
-}
-
-/// Says on standard error when the first poses of `input` (a regular file or folder read
-/// without `--image-size`, of [`STRETCH_CHECK_MIN_POSES`] poses or more) fit a body clearly
-/// better narrower or wider ([`StretchCheck`]), as `reconstructor` (by default the embedded
-/// models' `hybrid`) solves them.
-pub fn warn_of_stretch(input: &InputArgs, reconstructor: Option<&PoseReconstructor>) {
-    if input.image_size.is_some() || input.is_standard_input() {
-        return;
-    }
-    let records = sample_records(
-        input.path(),
-        input.format,
-        &input.options(),
-        input.recursive,
-        STRETCH_CHECK_MIN_POSES,
-    );
-    let Some(poses) = records.filter(|r| r.len() >= STRETCH_CHECK_MIN_POSES) else {
-        return;
-    };
-    let poses: Vec<_> = poses.iter().map(|r| r.pose).collect();
-    let check = match reconstructor {
-        Some(given) => StretchCheck::measure(given, &poses),
-        None => PoseReconstructor::default_reconstructor()
-            .ok()
-            .and_then(|made| StretchCheck::measure(&made, &poses)),
-    };
-    if let Some(check) = check.filter(|c| c.stretched_across().is_some()) {
-        stderr_line!(
-            "camloc: warning: {check}: were coordinates normalised by the image's sides \
-             multiplied by its width and height swapped? x = nx * width, y = ny * height (or \
-             give the normalised ones with --image-size W,H)"
         );
     }
 }
