@@ -213,13 +213,24 @@ fn a_cut_off_input_writes_no_file() {
         assert_clean_failure(&out, "could not be read to its end");
         assert_eq!(listing(&dir.0), ["cut.json"], "{args:?}");
     }
-    // Standard output stays one JSON document: the poses read, then the error, then `]`.
+    // Standard output stays one JSON document: the poses read, then the error, then `]`;
+    // with --sequence (which prints after the whole input is read) the error alone.
     let out = camloc(&["localize", "--input", &input, "--json"]);
     assert_clean_failure(&out, "could not be read to its end");
     let printed: Vec<serde_json::Value> = serde_json::from_slice(&out.stdout)
         .unwrap_or_else(|e| panic!("{e}: {}", String::from_utf8_lossy(&out.stdout)));
     assert!(printed.len() > 1, "{printed:?}");
     assert!(printed.last().unwrap().get("error").is_some());
+    for command in ["localize", "reconstruct"] {
+        let out = camloc(&[command, "--input", &input, "--sequence", "--json", "-q"]);
+        assert_clean_failure(&out, "could not be read to its end");
+        let printed: Vec<serde_json::Value> = serde_json::from_slice(&out.stdout)
+            .unwrap_or_else(|e| panic!("{command}: {e}: {}", String::from_utf8_lossy(&out.stdout)));
+        assert!(
+            printed.last().unwrap().get("error").is_some(),
+            "{printed:?}"
+        );
+    }
     // The whole file is written.
     let input = dir.file("whole.json", &whole);
     success(&camloc(&[

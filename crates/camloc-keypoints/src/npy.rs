@@ -156,8 +156,16 @@ impl<R: Read> NpyPoses<R> {
         let (count, joints, channels) = match shape[..] {
             [n, j, c @ (2 | 3)] => (n, j, c as usize),
             _ => {
+                // MediaPipe's landmarks as arrays are (x, y, z, visibility).
+                let hint = match shape[..] {
+                    [_, 33, 4] => {
+                        ": MediaPipe's (x, y, z, visibility)? save x, y and visibility \
+                                   (array[..., [0, 1, 3]])"
+                    }
+                    _ => "",
+                };
                 return Err(problem(format!(
-                    "shape {} is not (N, J, 2) or (N, J, 3)",
+                    "shape {} is not (N, J, 2) or (N, J, 3){hint}",
                     shape_text(&shape)
                 )));
             }

@@ -656,6 +656,16 @@ fn a_mediapipe33_array_reads_as_its_mediapipe_file() {
         }
         assert_eq!(a.derived, f.derived);
     }
+    // MediaPipe's own four numbers a landmark are refused with the way to save them.
+    let four = bytes.windows(5).position(|w| w == b", 3),").unwrap();
+    let mut wrong = bytes.clone();
+    wrong[four + 2] = b'4';
+    let e = camloc_keypoints::parse_keypoints_bytes(&wrong, "mp.npy", None, &array).unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("MediaPipe's (x, y, z, visibility)? save x, y and visibility"),
+        "{e}"
+    );
     // Without the layout, 33 joints are MediaPipe's.
     let guessed =
         camloc_keypoints::parse_keypoints_bytes(&bytes, "mp.npy", None, &ReadOptions::default())

@@ -17,8 +17,19 @@ use pyo3::types::{PyDict, PyList, PyTuple};
 
 use crate::value_error;
 
-/// Most joints of any layout (BODY_25), for the stack buffer that joins points and scores.
-const MAX_JOINTS: usize = 25;
+/// Most joints of any layout (MediaPipe's 33), for the stack buffer that joins points and
+/// scores: read from the layouts, so that a new one cannot outgrow it.
+const MAX_JOINTS: usize = {
+    let mut most = 0;
+    let mut i = 0;
+    while i < Layout::ALL.len() {
+        if Layout::ALL[i].joint_count() > most {
+            most = Layout::ALL[i].joint_count();
+        }
+        i += 1;
+    }
+    most
+};
 
 /// Points as given (any array-like of numbers, converted to float64 by NumPy when needed).
 pub(crate) type ArrayArg<'py> = PyArrayLikeDyn<'py, f64, AllowTypeChange>;

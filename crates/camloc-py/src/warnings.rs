@@ -1,7 +1,8 @@
 //! The warnings the Python functions give (`camloc.CamlocWarning`, a `UserWarning`), as the
-//! command line gives them on
-//! standard error: points with v up, a rolled camera or joints at the image origin, rows of a
-//! sequence that jump between people, and a call whose every pose failed.
+//! command line gives them on standard error: points with v up, a rolled camera or joints at
+//! the image origin, weakly scored landmarks used as detected, an image size that looks the
+//! wrong way round, legs or arms swapped back, rows of a sequence that jump between people,
+//! and a call whose every pose failed.
 
 use camloc::ImageSizeCheck;
 use camloc::keypoints::WeakScores;

@@ -144,6 +144,13 @@ def test_mediapipe_landmarks_are_a_layout():
     got = alone.localize(mediapipe, layout="mediapipe33")
     np.testing.assert_array_equal(got["label"], expected["label"])
     np.testing.assert_allclose(got["probabilities"], expected["probabilities"], atol=1e-12)
-    # MediaPipe's own four numbers a landmark are refused with the way to give them.
+    # MediaPipe's own four numbers a landmark are refused with the way to give them, and that
+    # way gives what the three channels give.
     with pytest.raises(ValueError, match=r"points\[\.\.\., :2\] with scores=points\[\.\.\., 3\]"):
         alone.localize(np.zeros((2, 33, 4)), layout="mediapipe33")
+    four = np.concatenate([mediapipe, np.zeros((len(points), 33, 1)), np.ones((len(points), 33, 1))],
+                          axis=2)
+    hinted = alone.localize(four[..., :2], layout="mediapipe33", scores=four[..., 3])
+    np.testing.assert_array_equal(hinted["label"], expected["label"])
+    rebuilt = camloc.reconstruct(four[..., :2], layout="mediapipe33", scores=four[..., 3])
+    assert all(e is None for e in rebuilt["error"])
