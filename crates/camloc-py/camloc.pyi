@@ -556,8 +556,8 @@ def read_keypoints(
     min_score: joints scoring below it are missing (formats with scores).
     image_size: (width, height) in pixels (a tuple, list or array) or "W,H", to scale MediaPipe's
         and YOLO's normalised coordinates (width first: a portrait phone video is (1080, 1920);
-        a ``UserWarning`` says when the first 60 poses fit a body better the other way
-        round).
+        a ``UserWarning`` says when those of the first 60 poses seen from a side fit a body
+        better the other way round; people seen from the front or back are not compared).
     lsp_invisible: ``missing`` or ``use`` (LSP joints marked visible=0; with ``use``, a joint
       with a coordinate <= 0 is a placeholder without a position and stays missing).
     derive_torso: derive a missing pelvis / neck from the hips / shoulders.

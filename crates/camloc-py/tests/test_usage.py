@@ -755,8 +755,9 @@ def test_a_landmark_far_off_is_missing_as_the_command_line_says(cli, tmp_path):
 
 
 def test_an_image_size_the_wrong_way_round_is_warned_of(tmp_path):
-    # The example poses, 5 times each a little apart, upright in a portrait 1080 x 1920 video,
-    # as YOLO-pose files (COCO-17, normalised; the face points at the head).
+    # The example's person seen from the left (the check compares people seen from a side),
+    # 15 times a little apart, upright in a portrait 1080 x 1920 video, as YOLO-pose files
+    # (COCO-17, normalised; the face points at the head).
     names = camloc.LANDMARKS
     coco17 = ["head"] * 5 + [
         f"{side}_{joint}"
@@ -765,14 +766,14 @@ def test_an_image_size_the_wrong_way_round_is_warned_of(tmp_path):
     ]
     points = example_points()
     for frame in range(15):
-        pose = points[frame % 3]
+        pose = points[1]
         values = []
         for name in coco17:
             u, v = pose[names.index(name)]
             if np.isnan(u):
                 values += [0.0, 0.0, 0.0]
             else:
-                x, y = 3 * (u - 320) + 540 + 4 * (frame // 3), 3 * (v - 270) + 960
+                x, y = 3 * (u - 320) + 540 + 4 * frame, 3 * (v - 270) + 960
                 values += [x / 1080, y / 1920, 0.9]
         line = "0 0.5 0.5 0.4 0.6 " + " ".join(f"{v:.6f}" for v in values)
         (tmp_path / f"clip_{frame + 1}.txt").write_text(line + "\n")
