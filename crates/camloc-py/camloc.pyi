@@ -207,7 +207,10 @@ class Localizer:
         pose has a landmark, asking whether ``min_score`` is on the scale of the scores;
         another, at the default ``min_score`` of 0 with scores, when 1% or more of the
         landmarks of the first 2,000 poses score below 0.3 (used as detected;
-        docs/keypoints.md).
+        docs/keypoints.md); another, at this localizer's first call of 100 poses or more, when
+        the first 60's ones seen from a side fit a body clearly better with x divided or
+        multiplied by (16/9)^2 (normalised coordinates multiplied by the image's width and
+        height swapped; about 0.05 s; docs/keypoints.md).
         No poses ((0, J, 2) points) give empty arrays and no warning, where ``camloc
         localize`` refuses an input without poses (exit 1).
 
@@ -361,7 +364,8 @@ def reconstruct(
       A row of NaN (nothing detected) gets the error "the pose has no landmarks (nothing
       detected)". Like ``Localizer.localize``, it warns when most poses have the head below
       both ankles, of a rolled camera, of landmarks at the image origin, of weakly scored
-      landmarks used at ``min_score`` 0, and when every pose failed.
+      landmarks used at ``min_score`` 0, of pixels stretched across or squeezed (every call
+      of 100 poses or more), and when every pose failed.
     camera_height: ``"from-input"`` (the camera heights estimated from the poses of this
       call), ``"any"`` or ``"eye-level"``, the prior over the camera's height the localizer
       applies (as ``Localizer(camera_height=...)``; the embedded depth lifter stays).

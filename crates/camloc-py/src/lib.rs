@@ -14,6 +14,7 @@ use pyo3::prelude::*;
 
 mod arrays;
 mod bvh;
+mod defaults;
 mod intrinsics;
 mod localize;
 mod number;

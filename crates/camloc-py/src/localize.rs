@@ -20,7 +20,7 @@ use crate::arrays::{
 };
 use crate::smooth::smoothed_columns;
 use crate::warnings::{
-    warn_if_every_pose_failed, warn_of_identity_jumps, warn_of_input_conventions,
+    warn_if_every_pose_failed, warn_of_identity_jumps, warn_of_input_conventions, warn_of_stretch,
     warn_of_swapped_sides, warn_of_weak_scores,
 };
 use crate::{to_py_err, value_error};
@@ -43,6 +43,9 @@ pub(crate) struct Localizer {
     /// The embedded basis, which fills in the torso of a pose that lacks one
     /// (`CameraLocalizer::localize_filled`); `None` when the build embedded no basis.
     filler: Option<PoseReconstructor>,
+    /// Whether a call has checked its pixels for a stretch ([`warn_of_stretch`]): once per
+    /// localizer, so that a loop over a video's chunks pays for it once.
+    stretch_checked: std::sync::atomic::AtomicBool,
 }
 
 impl Localizer {
@@ -54,6 +57,7 @@ impl Localizer {
             inner: inner.with_camera_height(height),
             from_input,
             filler,
+            stretch_checked: std::sync::atomic::AtomicBool::new(false),
         })
     }
 }
@@ -391,6 +395,13 @@ impl Localizer {
         });
         warn_of_input_conventions(py, &leading, inner.intrinsics())?;
         warn_of_weak_scores(py, batch.leading_weak_scores(WeakScores::SAMPLE_POSES))?;
+        if leading.len() >= camloc::STRETCH_CHECK_MIN_POSES
+            && !self
+                .stretch_checked
+                .swap(true, std::sync::atomic::Ordering::Relaxed)
+        {
+            warn_of_stretch(py, &leading)?;
+        }
         // With `sequence`, the rows' video frame numbers (default: consecutive frames).
         let frame_numbers = crate::smooth::sequence_frames(frames.as_ref(), sequence, batch.len())?;
         let left_out = if sequence {

@@ -215,7 +215,7 @@ pub(crate) fn read_keypoints<'py>(
             py.detach(|| ImageSizeCheck::normalised_poses(&path, format, &options, recursive));
         // The embedded models are loaded only for an input the size scales.
         if let Some(poses) = poses {
-            let reconstructor = crate::reconstruct::default_reconstructor()?;
+            let reconstructor = crate::defaults::default_reconstructor()?;
             let check = py.detach(|| ImageSizeCheck::measure(reconstructor, &poses, size));
             crate::warnings::warn_of_swapped_image_size(py, check)?;
         }

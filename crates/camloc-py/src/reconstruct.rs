@@ -2,7 +2,6 @@
 
 use std::collections::HashMap;
 use std::path::PathBuf;
-use std::sync::OnceLock;
 
 use camloc::keypoints::WeakScores;
 use camloc::reconstruct::{BONE_KEYS, BoneLengths, PoseBasis};
@@ -21,7 +20,7 @@ use crate::intrinsics::intrinsics_arg;
 use crate::localize::{Localizer, for_poses, given_shares, parse_height, set_height_estimate};
 use crate::smooth::{sequence_frames, timeline_max_slots};
 use crate::warnings::{
-    warn_if_every_pose_failed, warn_of_identity_jumps, warn_of_input_conventions,
+    warn_if_every_pose_failed, warn_of_identity_jumps, warn_of_input_conventions, warn_of_stretch,
     warn_of_swapped_sides, warn_of_weak_scores,
 };
 use crate::{to_py_err, value_error};
@@ -33,15 +32,6 @@ const INTERRUPT_POSES: usize = 1024;
 /// Most rows `reconstruct(sequence=True)` takes by default (`sequence_max_rows`), as `camloc
 /// reconstruct --sequence-max-poses`: a person's frames take 12-15 KB each while solved.
 const SEQUENCE_MAX_ROWS: usize = 200_000;
-
-/// The reconstructor of the defaults (`PoseReconstructor::default_reconstructor`), made once.
-pub(crate) fn default_reconstructor() -> PyResult<&'static PoseReconstructor> {
-    static DEFAULT: OnceLock<Result<PoseReconstructor, String>> = OnceLock::new();
-    DEFAULT
-        .get_or_init(|| PoseReconstructor::default_reconstructor().map_err(|e| e.to_string()))
-        .as_ref()
-        .map_err(|message| crate::CamlocError::new_err(message.clone()))
-}
 
 /// A bone lengths argument named `name` (`reconstruct`'s `bone_lengths`, `to_bvh`'s
 /// `limb_lengths`): a mapping of the 14 JSON keys, 14 numbers in the library's limb order
@@ -213,6 +203,7 @@ pub(crate) fn reconstruct<'py>(
     let intrinsics = intrinsics_arg(focal_px.as_ref(), principal_point.as_ref())?;
     warn_of_input_conventions(py, &leading, intrinsics)?;
     warn_of_weak_scores(py, batch.leading_weak_scores(WeakScores::SAMPLE_POSES))?;
+    warn_of_stretch(py, &leading)?;
     let mut reconstructor = match basis {
         Some(path) => PoseBasis::load(&path)
             .map_err(CamlocError::from)
@@ -220,7 +211,7 @@ pub(crate) fn reconstruct<'py>(
             .map_err(to_py_err)?
             .with_localizer(CameraLocalizer::default_model().map_err(to_py_err)?)
             .with_lifter(DepthLifter::default_lifter().map_err(to_py_err)?),
-        None => default_reconstructor()?.clone(),
+        None => crate::defaults::default_reconstructor()?.clone(),
     };
     // The embedded lifter serves a localizer of Table 1's cameras (the embedded model, or one
     // trained with `camloc train`), as `camloc reconstruct --model` has it; another

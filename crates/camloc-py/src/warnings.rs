@@ -1,16 +1,16 @@
 //! The warnings the Python functions give (`camloc.CamlocWarning`, a `UserWarning`), as the
 //! command line gives them on standard error: points with v up, a rolled camera or joints at
 //! the image origin, weakly scored landmarks used as detected, an image size that looks the
-//! wrong way round, legs or arms swapped back, rows of a sequence that jump between people,
-//! and a call whose every pose failed.
+//! wrong way round, pixels that look stretched across or squeezed, legs or arms swapped back,
+//! rows of a sequence that jump between people, and a call whose every pose failed.
 
-use camloc::ImageSizeCheck;
 use camloc::keypoints::WeakScores;
 use camloc::reconstruct::{FrameRate, Intrinsics};
 use camloc::{
     HEIGHT_SHARE_MAX_POSES, InputConventions, PartialPose2, TorsoAnchor, identity_jumps,
     left_out_of_sequence, swap_sides_back,
 };
+use camloc::{ImageSizeCheck, StretchCheck};
 use pyo3::prelude::*;
 
 /// Gives `message` as a [`CamlocWarning`](crate::CamlocWarning), which callers can filter
@@ -76,6 +76,35 @@ pub(crate) fn warn_of_swapped_image_size(
         ),
         _ => Ok(()),
     }
+}
+
+/// Warns (`UserWarning`) when the first poses of a call (`leading`, 100 or more) fit a body
+/// clearly better narrower or wider ([`StretchCheck`], solved with the defaults'
+/// reconstructor), as `camloc localize` and `camloc reconstruct` warn: coordinates normalised
+/// by the image's sides multiplied by its width and height swapped.
+pub(crate) fn warn_of_stretch(py: Python<'_>, leading: &[Option<PartialPose2>]) -> PyResult<()> {
+    if leading.len() < camloc::STRETCH_CHECK_MIN_POSES {
+        return Ok(());
+    }
+    let poses: Vec<PartialPose2> = leading.iter().flatten().copied().collect();
+    let reconstructor = crate::defaults::default_reconstructor()?;
+    let check = py.detach(|| crate::pool::run(|| StretchCheck::measure(reconstructor, &poses)));
+    let Some((warning, across)) = check.and_then(|c| Some((c.warning()?, c.stretched_across()?)))
+    else {
+        return Ok(());
+    };
+    let video = match across {
+        true => "a portrait phone video is 1080 wide and 1920 high",
+        false => "a landscape video is 1920 wide and 1080 high",
+    };
+    warn(
+        py,
+        format!(
+            "{warning}: were coordinates normalised by the image's sides multiplied by its \
+             width and height swapped? x = nx * width, y = ny * height ({video}; NumPy's \
+             image.shape is (height, width))"
+        ),
+    )
 }
 
 /// Warns (`UserWarning`) when every one of `poses` (two or more) failed (`errors`: the

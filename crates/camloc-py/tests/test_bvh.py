@@ -7,17 +7,16 @@ command line's file animates Python's `world_points3d`.
 """
 
 import json
-import os
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 import camloc
+from helpers import DATA, walk_trials
 
 ROOT = Path(__file__).resolve().parents[3]
 EXAMPLE = ROOT / "fixtures" / "keypoints" / "example.json"
-DATA = Path(os.environ.get("CAMLOC_DATA", ROOT.parent / "shared" / "data"))
 
 # The subjects the project's evaluations hold out (xtask/src/generalise.rs, TEST_SUBJECTS).
 HELD_OUT = ["06", "09", "16", "17", "35", "47", "113", "127", "141"]
@@ -103,15 +102,9 @@ def test_bad_input_raises_value_error():
 
 def held_out_walk():
     """A walk of a held-out subject, chosen by its description in the CMU index ("walk")."""
-    index = DATA / "cmu" / "cmu-mocap-index-text.txt"
-    folder = DATA / "cmu" / "bvh"
-    if not index.is_file() or not folder.is_dir():
+    folder, walks = DATA / "cmu" / "bvh", walk_trials()
+    if walks is None or not folder.is_dir():
         pytest.skip(f"SKIPPED: the CMU walk test: {DATA / 'cmu'} not found (set CAMLOC_DATA)")
-    walks = set()
-    for line in index.read_text(encoding="utf-8", errors="replace").splitlines():
-        trial, _, description = line.partition("\t")
-        if description.strip().lower() == "walk":
-            walks.add(trial.strip())
     for path in sorted(folder.glob("*.bvh")):
         subject = path.stem.split("_")[0]
         if path.stem in walks and subject in HELD_OUT:

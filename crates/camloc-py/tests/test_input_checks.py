@@ -1,5 +1,5 @@
 """Warnings of inputs that run but are likely wrong: landmarks in another order than the
-layout's, bone lengths that do not fit the rows."""
+layout's, bone lengths that do not fit the rows, pixels stretched across or squeezed."""
 
 import warnings
 
@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import camloc
-from helpers import LENGTHS, example_points
+from helpers import DATA, LENGTHS, example_points, walk_trials
 
 
 def test_landmarks_in_another_order_than_the_layout_are_warned_of():
@@ -38,3 +38,47 @@ def test_given_lengths_that_fit_worse_than_estimated_ones_are_warned_of():
     swapped[4], swapped[13] = swapped[13], swapped[4]
     with pytest.warns(UserWarning, match="bone_lengths: the bone lengths given fit its 20 frames"):
         camloc.reconstruct(walk, sequence=True, bone_lengths=swapped)
+
+
+def side_walk():
+    """(150, 15, 2) pixels: the first 150 frames of the first CMU clip the index describes as a
+    walk, seen from the side of its y axis (the way it walks) by a fixed camera 4 m from the
+    mean pelvis at eye level, 1000 px focal length; skipped without the shared data."""
+    folder, walks = DATA / "cmu" / "bvh", walk_trials()
+    if walks is None or not folder.is_dir():
+        pytest.skip(f"SKIPPED: the stretched-pixels test: {DATA / 'cmu'} not found (set CAMLOC_DATA)")
+    clip = next((p for p in sorted(folder.glob("*.bvh")) if p.stem in walks), None)
+    if clip is None:
+        pytest.skip("SKIPPED: the stretched-pixels test: no walk in the CMU folder")
+    truth = camloc.read_bvh(clip)["points3d"][:150]
+    mean = truth[:, 0].mean(axis=0)
+    depth = truth[..., 0] - mean[0] + 4.0
+    u = -1000.0 * (truth[..., 1] - mean[1]) / depth + 960.0
+    v = -1000.0 * (truth[..., 2] - mean[2]) / depth + 540.0
+    return np.stack([u, v], axis=-1)
+
+
+def test_pixels_stretched_across_or_squeezed_are_warned_of():
+    """A walk seen from the side, its pixels made (16/9)^2 times too wide for their height
+    (normalised coordinates multiplied by a portrait video's size given as landscape) or as
+    much too narrow, is warned of by ``reconstruct`` and by a localizer's first call of 100
+    poses or more, naming the way that fits; as given, nothing is said."""
+    walk = side_walk()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        camloc.Localizer().localize(walk)
+        camloc.reconstruct(walk)
+    for factor, way in [((16 / 9) ** 2, "divided"), ((9 / 16) ** 2, "multiplied")]:
+        scaled = walk * [factor, 1.0]
+        localizer = camloc.Localizer()
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            localizer.localize(scaled[:99])
+        with pytest.warns(UserWarning, match=f"fit a body better with x {way} by 3.16"):
+            localizer.localize(scaled)
+        # Once per localizer: a video's later chunks do not pay for it again.
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            localizer.localize(scaled)
+        with pytest.warns(UserWarning, match="width and height swapped"):
+            camloc.reconstruct(scaled)

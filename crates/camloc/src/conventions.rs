@@ -88,7 +88,7 @@ const UNIT_SQUARE_MARGIN: f64 = 0.5;
 /// give or take [`UNIT_SQUARE_MARGIN`]: image coordinates divided by the image's sides (YOLO
 /// pose labels, OpenPose's `--keypoint_scale 3`, MediaPipe's before `--image-size`), which no
 /// pixel pose has.
-fn within_unit_square(pose: &PartialPose2) -> bool {
+pub(crate) fn within_unit_square(pose: &PartialPose2) -> bool {
     let mut present = 0;
     let within = pose.points.iter().flatten().all(|point| {
         present += 1;

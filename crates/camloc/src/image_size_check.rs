@@ -33,7 +33,7 @@ pub const IMAGE_SIZE_SWAP_RATIO: f64 = 0.8;
 /// [`ImageSizeCheck::measure`] compares, read both ways: a person seen from the front or back
 /// fits a wider or narrower image about as well (twice as wide shoulders and hips), and such
 /// views made most of the check's false alarms (sin 30 deg).
-const SIDE_VIEW_MIN_SINE: f64 = 0.5;
+pub const SIDE_VIEW_MIN_SINE: f64 = 0.5;
 
 /// How well the first poses of an input fit a body (the median over the poses of the
 /// reconstruction's reprojection error, pixels) with the image size as given and with its
@@ -65,17 +65,8 @@ impl ImageSizeCheck {
         if !(w.is_finite() && h.is_finite()) || w == h {
             return None;
         }
-        // The reprojection error of `pose` scaled by (sx, sy), if it is seen from a side.
-        let fit = |pose: &PartialPose2, sx: f64, sy: f64| -> Option<f64> {
-            let mut scaled = *pose;
-            for p in scaled.points.iter_mut().flatten() {
-                *p = [p[0] * sx, p[1] * sy];
-            }
-            let solved = reconstructor.reconstruct(&scaled).ok()?;
-            let azimuth = solved.localization?.azimuth_deg?.to_radians();
-            let error = solved.reconstruction.projection_error;
-            (error.is_finite() && azimuth.sin().abs() >= SIDE_VIEW_MIN_SINE).then_some(error)
-        };
+        let fit =
+            |pose: &PartialPose2, sx: f64, sy: f64| side_view_error(reconstructor, pose, sx, sy);
         let (mut given, mut swapped): (Vec<f64>, Vec<f64>) = normalised
             .iter()
             .take(IMAGE_SIZE_CHECK_POSES)
@@ -131,6 +122,25 @@ impl ImageSizeCheck {
     pub fn swapped_fits_better(&self) -> bool {
         self.swapped < IMAGE_SIZE_SWAP_RATIO * self.given
     }
+}
+
+/// The reprojection error (in the scaled pose's units) of `pose` with its x scaled by `sx` and
+/// its y by `sy`, as `reconstructor` solves it, when it is seen from a side
+/// ([`SIDE_VIEW_MIN_SINE`]); `None` otherwise or when it cannot be solved.
+pub(crate) fn side_view_error(
+    reconstructor: &PoseReconstructor,
+    pose: &PartialPose2,
+    sx: f64,
+    sy: f64,
+) -> Option<f64> {
+    let mut scaled = *pose;
+    for p in scaled.points.iter_mut().flatten() {
+        *p = [p[0] * sx, p[1] * sy];
+    }
+    let solved = reconstructor.reconstruct(&scaled).ok()?;
+    let azimuth = solved.localization?.azimuth_deg?.to_radians();
+    let error = solved.reconstruction.projection_error;
+    (error.is_finite() && azimuth.sin().abs() >= SIDE_VIEW_MIN_SINE).then_some(error)
 }
 
 /// What was measured, for a warning: `of the first 60 poses, the 41 seen from a side fit a

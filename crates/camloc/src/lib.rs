@@ -65,6 +65,7 @@ mod select;
 mod sequence;
 mod sides;
 mod spread;
+mod stretch_check;
 mod torso_placement;
 mod train;
 mod train_options;
@@ -120,6 +121,7 @@ pub use identity::{
 };
 pub use image_size_check::{
     IMAGE_SIZE_CHECK_MIN_POSES, IMAGE_SIZE_CHECK_POSES, IMAGE_SIZE_SWAP_RATIO, ImageSizeCheck,
+    SIDE_VIEW_MIN_SINE,
 };
 pub use input_elevation::ELEVATION_PSEUDO_VIEWS;
 pub use lengths_fit::{LengthsFit, POOR_LENGTHS_FIT_RATIO};
@@ -142,6 +144,7 @@ pub use sides::{
     SIDE_SWAP_RUN_FRAMES, SideChain, SwappedPart, swap_sides_back, swapped_sides,
     with_part_swapped, with_sides_swapped,
 };
+pub use stretch_check::{STRETCH_CHECK_MIN_POSES, StretchCheck, VIDEO_STRETCH};
 
 pub use lean::{
     LeanHistogram, TILT_MIN_AGREEMENT, TILT_MIN_POSES, TILT_NEAR_DEG, TILT_SHIN_DEG,
