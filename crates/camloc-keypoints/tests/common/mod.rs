@@ -4,7 +4,13 @@
 
 use std::path::PathBuf;
 
-use camloc_keypoints::{KeypointRecord, Landmark, ReadOptions, read_keypoints};
+use camloc_keypoints::{ImageSize, KeypointRecord, Landmark, ReadOptions, read_keypoints};
+
+/// The image size of the MediaPipe and YOLO samples (pixels).
+pub const SAMPLE_IMAGE: ImageSize = ImageSize {
+    width: 640.0,
+    height: 480.0,
+};
 
 /// `fixtures/keypoints/<name>` in the repository.
 pub fn fixture(name: &str) -> PathBuf {
