@@ -207,10 +207,11 @@ class Localizer:
         pose has a landmark, asking whether ``min_score`` is on the scale of the scores;
         another, at the default ``min_score`` of 0 with scores, when 1% or more of the
         landmarks of the first 2,000 poses score below 0.3 (used as detected;
-        docs/keypoints.md); another, at this localizer's first call of 100 poses or more, when
-        the first 60's ones seen from a side fit a body clearly better with x divided or
-        multiplied by (16/9)^2 (normalised coordinates multiplied by the image's width and
-        height swapped; about 0.05 s; docs/keypoints.md).
+        docs/keypoints.md); another when, of the first 60 poses of a call of 100 or more,
+        those seen from a side fit a body clearly better with x divided or multiplied by
+        (16/9)^2 (normalised coordinates multiplied by the image's width and height swapped;
+        about 0.06 s, once per localizer: at its first call with 10 or more such poses;
+        docs/keypoints.md).
         No poses ((0, J, 2) points) give empty arrays and no warning, where ``camloc
         localize`` refuses an input without poses (exit 1).
 

@@ -43,7 +43,7 @@ pub(crate) struct Localizer {
     /// The embedded basis, which fills in the torso of a pose that lacks one
     /// (`CameraLocalizer::localize_filled`); `None` when the build embedded no basis.
     filler: Option<PoseReconstructor>,
-    /// Whether a call has checked its pixels for a stretch ([`warn_of_stretch`]): once per
+    /// Whether a call has compared its pixels for a stretch ([`warn_of_stretch`]): once per
     /// localizer, so that a loop over a video's chunks pays for it once.
     stretch_checked: std::sync::atomic::AtomicBool,
 }
@@ -395,12 +395,11 @@ impl Localizer {
         });
         warn_of_input_conventions(py, &leading, inner.intrinsics())?;
         warn_of_weak_scores(py, batch.leading_weak_scores(WeakScores::SAMPLE_POSES))?;
-        if leading.len() >= camloc::STRETCH_CHECK_MIN_POSES
-            && !self
-                .stretch_checked
-                .swap(true, std::sync::atomic::Ordering::Relaxed)
-        {
-            warn_of_stretch(py, &leading)?;
+        // Once per localizer that could compare its poses (a first chunk of people seen from
+        // the front leaves it to the next).
+        let checked = &self.stretch_checked;
+        if !checked.load(std::sync::atomic::Ordering::Relaxed) && warn_of_stretch(py, &leading)? {
+            checked.store(true, std::sync::atomic::Ordering::Relaxed);
         }
         // With `sequence`, the rows' video frame numbers (default: consecutive frames).
         let frame_numbers = crate::smooth::sequence_frames(frames.as_ref(), sequence, batch.len())?;

@@ -81,17 +81,20 @@ pub(crate) fn warn_of_swapped_image_size(
 /// Warns (`UserWarning`) when the first poses of a call (`leading`, 100 or more) fit a body
 /// clearly better narrower or wider ([`StretchCheck`], solved with the defaults'
 /// reconstructor), as `camloc localize` and `camloc reconstruct` warn: coordinates normalised
-/// by the image's sides multiplied by its width and height swapped.
-pub(crate) fn warn_of_stretch(py: Python<'_>, leading: &[Option<PartialPose2>]) -> PyResult<()> {
+/// by the image's sides multiplied by its width and height swapped. Returns whether the check
+/// could compare them (enough poses seen from a side), warned or not.
+pub(crate) fn warn_of_stretch(py: Python<'_>, leading: &[Option<PartialPose2>]) -> PyResult<bool> {
     if leading.len() < camloc::STRETCH_CHECK_MIN_POSES {
-        return Ok(());
+        return Ok(false);
     }
     let poses: Vec<PartialPose2> = leading.iter().flatten().copied().collect();
     let reconstructor = crate::defaults::default_reconstructor()?;
     let check = py.detach(|| crate::pool::run(|| StretchCheck::measure(reconstructor, &poses)));
-    let Some((warning, across)) = check.and_then(|c| Some((c.warning()?, c.stretched_across()?)))
-    else {
-        return Ok(());
+    let Some(check) = check else {
+        return Ok(false);
+    };
+    let Some((warning, across)) = check.warning().zip(check.stretched_across()) else {
+        return Ok(true);
     };
     let video = match across {
         true => "a portrait phone video is 1080 wide and 1920 high",
@@ -104,7 +107,8 @@ pub(crate) fn warn_of_stretch(py: Python<'_>, leading: &[Option<PartialPose2>]) 
              width and height swapped? x = nx * width, y = ny * height ({video}; NumPy's \
              image.shape is (height, width))"
         ),
-    )
+    )?;
+    Ok(true)
 }
 
 /// Warns (`UserWarning`) when every one of `poses` (two or more) failed (`errors`: the

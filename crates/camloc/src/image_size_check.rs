@@ -17,17 +17,23 @@ pub const IMAGE_SIZE_CHECK_POSES: usize = 60;
 /// Fewest poses solved both ways for [`ImageSizeCheck::measure`] to tell.
 pub const IMAGE_SIZE_CHECK_MIN_POSES: usize = 10;
 
-/// [`ImageSizeCheck::swapped_fits_better`] when the other order's median reprojection error
-/// is below this share of the given order's, over the poses seen from a side
-/// ([`SIDE_VIEW_MIN_SINE`]). Both orders scale the normalised coordinates by the same area
-/// (width x height), so their pixel errors compare as they are. A reviewer's sweep
-/// (`/tmp/s71/isc2`: 29 CMU clips seen by Table 1's 12 cameras, 4 m, 1000 px, 1.5 px noise,
-/// the person at the centre of a portrait and of a landscape image, YOLO files): 3 of 696
-/// inputs read the right way warned, and 342 of the same read the wrong way (side views 19-29
-/// of 29 each; front and back views 2-5 of 29: they are not compared). Before (the error over
-/// the pose's spread, every pose, 0.95): 94 of the right ones warned, most of them people seen
-/// from the front or back in a portrait video.
+/// [`ImageSizeCheck::swapped_fits_better`] when the other order reads the poses narrower
+/// (a landscape size given: the other is portrait) and its median reprojection error is below
+/// this share of the given order's, over the poses seen from a side ([`SIDE_VIEW_MIN_SINE`]).
+/// Both orders scale the normalised coordinates by the same area (width x height), so their
+/// pixel errors compare as they are. Measured with [`WIDER_READING_RATIO`]: over 29 CMU clips
+/// seen by Table 1's 12 cameras (4 m, 1000 px, 1.5 px noise, the person at the centre of a
+/// portrait and of a landscape image), 1 of 696 right-way inputs warned and 295 of 696
+/// wrong-way ones (3 and 342 with 0.8 both ways); over a reviewer's random real-world cameras
+/// (`/tmp/trial131`: 2-15 m, -60 to +70 deg, 400-3000 px, the person anywhere in the image,
+/// 16:9 and 4:3 sizes, noise 0.25-3% of the person's height), 3 of 700 right-way inputs
+/// warned and 265 of 700 wrong-way ones (16 and 357 with 0.8 both ways).
 pub const IMAGE_SIZE_SWAP_RATIO: f64 = 0.8;
+
+/// As [`IMAGE_SIZE_SWAP_RATIO`] when the other reading is the wider one (a portrait size
+/// given): a wider body fits too easily (people seen from below or above, small noisy people),
+/// and 15 of the reviewer's 16 false warnings at 0.8 were such readings.
+pub const WIDER_READING_RATIO: f64 = 0.6;
 
 /// The sine of the least angle from the front or back (azimuth 180 or 0 deg) of the poses
 /// [`ImageSizeCheck::measure`] compares, read both ways: a person seen from the front or back
@@ -118,9 +124,15 @@ impl ImageSizeCheck {
     }
 
     /// Whether the poses fit a body clearly better with width and height swapped
-    /// ([`IMAGE_SIZE_SWAP_RATIO`]).
+    /// ([`IMAGE_SIZE_SWAP_RATIO`], or [`WIDER_READING_RATIO`] when the swapped order reads
+    /// them wider: a portrait size given).
     pub fn swapped_fits_better(&self) -> bool {
-        self.swapped < IMAGE_SIZE_SWAP_RATIO * self.given
+        let ratio = if self.size.width < self.size.height {
+            WIDER_READING_RATIO
+        } else {
+            IMAGE_SIZE_SWAP_RATIO
+        };
+        self.swapped < ratio * self.given
     }
 }
 

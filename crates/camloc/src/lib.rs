@@ -121,7 +121,7 @@ pub use identity::{
 };
 pub use image_size_check::{
     IMAGE_SIZE_CHECK_MIN_POSES, IMAGE_SIZE_CHECK_POSES, IMAGE_SIZE_SWAP_RATIO, ImageSizeCheck,
-    SIDE_VIEW_MIN_SINE,
+    SIDE_VIEW_MIN_SINE, WIDER_READING_RATIO,
 };
 pub use input_elevation::ELEVATION_PSEUDO_VIEWS;
 pub use lengths_fit::{LengthsFit, POOR_LENGTHS_FIT_RATIO};
