@@ -246,7 +246,8 @@ pub fn orientation_warning(
          camera rolled (a phone held askew, a portrait video read as landscape)? camloc takes \
          the image upright; turn the keypoints {}. People lying, crawling, sitting on the \
          floor or bent over lean too, as do people walking seen from a camera looking steeply \
-         down: then ignore this",
+         down: then ignore this; and so do keypoints read in a joint order other than theirs \
+         (check --layout, Python's layout=: COCO-17 read as h36m17 leaned 177 deg)",
         lean.abs(),
         leans.count(),
         turn(lean)
@@ -290,6 +291,8 @@ mod tests {
         }
         let warning = orientation_warning(0, 0, &rolled, &none).unwrap();
         assert!(warning.contains("lean 30 deg") && warning.contains("30 deg counterclockwise"));
+        // A joint order other than the layout's leans too, and the warning says so.
+        assert!(warning.contains("a joint order other than theirs (check --layout"));
         // Shins upright or leaning the other way: people leaning, not a rolled camera; shins
         // leaning the same way: rolled.
         let shins_at = |deg: f64| {
