@@ -93,21 +93,12 @@ pub(crate) fn warn_of_stretch(py: Python<'_>, leading: &[Option<PartialPose2>]) 
     let Some(check) = check else {
         return Ok(false);
     };
-    let Some((warning, across)) = check.warning().zip(check.stretched_across()) else {
-        return Ok(true);
-    };
-    let video = match across {
-        true => "a portrait phone video is 1080 wide and 1920 high",
-        false => "a landscape video is 1920 wide and 1080 high",
-    };
-    warn(
-        py,
-        format!(
-            "{warning}: were coordinates normalised by the image's sides multiplied by its \
-             width and height swapped? x = nx * width, y = ny * height ({video}; NumPy's \
-             image.shape is (height, width))"
-        ),
-    )?;
+    if let Some(warning) = check.warning() {
+        warn(
+            py,
+            format!("{warning}; NumPy's image.shape is (height, width)"),
+        )?;
+    }
     Ok(true)
 }
 

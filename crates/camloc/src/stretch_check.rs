@@ -112,19 +112,34 @@ impl StretchCheck {
     }
 
     /// The warning, when the poses fit clearly better narrower or wider
-    /// ([`stretched_across`](Self::stretched_across)): `of the first 60 poses, the 41 seen
-    /// from a side fit a body better with x divided by 3.16 than as given (median reprojection
-    /// error 4.1 against 12.6 px): the coordinates look stretched across`.
+    /// ([`stretched_across`](Self::stretched_across)), with the likely mistake and the
+    /// video of that shape: `of the first 60 poses, the 41 seen from a side fit a body better
+    /// with x divided by 3.16 against y than as given (median reprojection error 4.1 against
+    /// 12.6 px): the coordinates look stretched across: were coordinates normalised by the
+    /// image's sides multiplied by its width and height swapped? x = nx * width, y = ny *
+    /// height (a portrait video is 1080 wide and 1920 high)`.
     pub fn warning(&self) -> Option<String> {
         let across = self.stretched_across()?;
-        let (how, fit, what) = match across {
-            true => ("divided", self.narrower, "stretched across"),
-            false => ("multiplied", self.wider, "squeezed"),
+        let (how, fit, what, video) = match across {
+            true => (
+                "divided",
+                self.narrower,
+                "stretched across",
+                "a portrait video is 1080 wide and 1920 high",
+            ),
+            false => (
+                "multiplied",
+                self.wider,
+                "squeezed",
+                "a landscape video is 1920 wide and 1080 high",
+            ),
         };
         Some(format!(
             "of the first {IMAGE_SIZE_CHECK_POSES} poses, the {} seen from a side fit a body \
              better with x {how} by {VIDEO_STRETCH:.2} against y than as given (median \
-             reprojection error {fit:.1} against {:.1} px): the coordinates look {what}",
+             reprojection error {fit:.1} against {:.1} px): the coordinates look {what}: were \
+             coordinates normalised by the image's sides multiplied by its width and height \
+             swapped? x = nx * width, y = ny * height ({video})",
             self.poses, self.given
         ))
     }

@@ -145,8 +145,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         );
     }
     weak_scores::warn_of_weak_scores(&args.input);
-    image_size_check::warn_of_swapped_image_size(&args.input, None);
-    image_size_check::warn_of_stretch(&args.input);
+    image_size_check::warn_of_image_scale(&args.input, None);
     let (localizer, inputs, estimate) = heights::load_for_input(
         args.model.as_deref(),
         &args.height,

@@ -410,8 +410,7 @@ pub fn run(args: &Args, out: &mut Out) -> Result<ExitCode, CliError> {
         args.progress.quiet,
     )?;
     let reconstructor = reconstructor(args, localizer, fps)?;
-    image_size_check::warn_of_swapped_image_size(&args.input, Some(&reconstructor));
-    image_size_check::warn_of_stretch(&args.input);
+    image_size_check::warn_of_image_scale(&args.input, Some(&reconstructor));
     // The page shows the cameras' probabilities: the reconstructor's localizer.
     let page_localizer = args.html.as_ref().and(reconstructor.localizer());
     let format = args.format.format();

@@ -135,12 +135,7 @@ pub fn run(
     if summary.poses == 0 && summary.failed_files == 0 {
         return Err(inputs.no_poses());
     }
-    // Standard output stays one valid document (a JSON array closed after the file's error
-    // object) when the input ended early, as without --sequence; then the run fails.
-    if let Err(e) = inputs.check_read_to_end(summary.failed_files) {
-        emit.end(out)?;
-        return Err(e);
-    }
+    emit.end_if_unread(out, inputs.check_read_to_end(summary.failed_files))?;
     let mut keys: Vec<_> = kept.iter().map(|k| (k.frame, k.person)).collect();
     let sources: Vec<&str> = kept.iter().map(|k| k.source.as_str()).collect();
     let (groups, names) = super::videos::followed_sequences(

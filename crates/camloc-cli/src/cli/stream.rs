@@ -319,6 +319,21 @@ impl Emitter {
         }
         Ok(())
     }
+
+    /// `read_to_end` (an input's [`check_read_to_end`](super::input::Inputs::check_read_to_end)),
+    /// the output ended first when it is an error: standard output stays one valid document (a
+    /// JSON array closed after the file's error object) when the input ended early, and the
+    /// run then fails. For commands that write their poses only after the whole input is read.
+    pub fn end_if_unread(
+        &self,
+        out: &mut Out,
+        read_to_end: Result<(), CliError>,
+    ) -> Result<(), CliError> {
+        if read_to_end.is_err() {
+            self.end(out)?;
+        }
+        read_to_end
+    }
 }
 
 /// How many errors of poses, and how many of a folder's files, are written on standard
