@@ -105,30 +105,28 @@ fn a_landscape_video_given_as_portrait_is_said() {
     swapped_size_is_said(&folder, "1920,1080", "1080,1920");
 }
 
-/// The shared data folder (`CAMLOC_DATA`, else `../shared/data` beside the repository).
-fn data_folder() -> std::path::PathBuf {
-    std::env::var_os("CAMLOC_DATA").map_or_else(
-        || std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data"),
-        std::path::PathBuf::from,
-    )
-}
-
 /// The first 200 frames of the first CMU clip the index describes as a walk, seen from the side
 /// of the clip's y axis (the first walk goes along it) by a fixed camera 4 m from its mean
 /// pelvis at eye level (1000 px focal length), in pixels with x times `stretch`, as a `.npy`
-/// array (200, 15, 2) in `dir`; `None` without the data.
+/// array (200, 15, 2) in `dir`; `None` without the data (a visible `SKIPPED` line).
 fn walk_npy(dir: &TempDir, name: &str, stretch: f64) -> Option<String> {
     use camloc::mocap::{MocapIndex, read_bvh};
-    let cmu = data_folder().join("cmu");
-    let index = MocapIndex::load(&cmu.join("cmu-mocap-index-text.txt")).ok()?;
-    let mut files: Vec<_> = std::fs::read_dir(cmu.join("bvh")).ok()?.flatten().collect();
+    let what = "camloc-cli::pixels_stretched_across_are_said";
+    let skip = camloc::skeleton::data::data_path_or_skip;
+    let index = skip("cmu/cmu-mocap-index-text.txt", what)?;
+    let folder = skip("cmu/bvh", what)?;
+    let index = MocapIndex::load(&index).unwrap();
+    let mut files: Vec<_> = std::fs::read_dir(folder).unwrap().flatten().collect();
     files.sort_by_key(|e| e.file_name());
-    let walk = files.iter().find(|e| {
-        let stem = e.path().file_stem().unwrap().to_string_lossy().into_owned();
-        index.trial_description(&stem).map(str::trim) == Some("walk")
-    })?;
+    let walk = files
+        .iter()
+        .find(|e| {
+            let stem = e.path().file_stem().unwrap().to_string_lossy().into_owned();
+            index.trial_description(&stem).map(str::trim) == Some("walk")
+        })
+        .expect("the CMU index describes a clip of cmu/bvh as a walk");
     let frames = read_bvh(walk.path()).unwrap().frames;
-    let frames = frames.get(..200)?;
+    let frames = &frames[..200];
     let n = frames.len() as f64;
     let mean: [f64; 3] =
         std::array::from_fn(|a| frames.iter().map(|p| p.points[0][a]).sum::<f64>() / n);
@@ -156,23 +154,15 @@ fn walk_npy(dir: &TempDir, name: &str, stretch: f64) -> Option<String> {
 /// Pixels of a walk seen from the side stretched across by (16/9)^2 (normalised coordinates
 /// multiplied by a portrait video's size given as landscape) or squeezed as much (a landscape
 /// one's given as portrait) are said by `localize` and `reconstruct`, naming the way that
-/// fits; the walk as it is says nothing. Skipped
-/// (visibly) without the shared data.
+/// fits; the walk as it is says nothing. Skipped (visibly) without the shared data.
 #[test]
 fn pixels_stretched_across_are_said() {
     let dir = TempDir::new("stretched");
-    let (Some(right), Some(wide), Some(narrow)) = (
-        walk_npy(&dir, "right.npy", 1.0),
-        walk_npy(&dir, "wide.npy", camloc::VIDEO_STRETCH),
-        walk_npy(&dir, "narrow.npy", 1.0 / camloc::VIDEO_STRETCH),
-    ) else {
-        use std::io::Write;
-        let _ = std::io::stderr().write_all(
-            b"\nSKIPPED: camloc-cli::pixels_stretched_across_are_said: no CMU walk in the \
-              shared data (set CAMLOC_DATA)\n",
-        );
+    let Some(right) = walk_npy(&dir, "right.npy", 1.0) else {
         return;
     };
+    let wide = walk_npy(&dir, "wide.npy", camloc::VIDEO_STRETCH).unwrap();
+    let narrow = walk_npy(&dir, "narrow.npy", 1.0 / camloc::VIDEO_STRETCH).unwrap();
     let said = |command: &str, input: &str| {
         warning_line(
             &[command, input, "--json", "-q"],
